@@ -1,0 +1,144 @@
+// Binned SAH build (16 bins on the centroid bounds of the longest axis), falling back
+// to a median split when binning cannot separate the items or the tree gets deep.
+#include "bvh.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <numeric>
+
+namespace rt {
+namespace {
+
+constexpr int kBins = 16;
+constexpr std::uint32_t kMaxLeaf = 4;
+constexpr int kMaxSahDepth = 48;
+
+// Round a double bound outward to float, with a little relative slack so that the
+// float slab test stays conservative for rays from nearby origins.
+float down(double v) {
+    float f = float(v);
+    if (double(f) > v) f = std::nextafter(f, -INFINITY);
+    return f - std::fabs(f) * 4e-7f;
+}
+float up(double v) {
+    float f = float(v);
+    if (double(f) < v) f = std::nextafter(f, INFINITY);
+    return f + std::fabs(f) * 4e-7f;
+}
+
+struct Builder {
+    const std::vector<Aabb>& boxes;
+    std::vector<Vec3> centres;
+    std::vector<std::uint32_t>& items;
+    std::vector<BvhNode>& nodes;
+
+    Aabb range_bounds(std::uint32_t begin, std::uint32_t end) const {
+        Aabb b;
+        for (std::uint32_t i = begin; i < end; ++i) b.grow(boxes[items[i]]);
+        return b;
+    }
+
+    void emit(std::uint32_t index, const Aabb& b) {
+        BvhNode& n = nodes[index];
+        for (int k = 0; k < 3; ++k) {
+            n.lo[k] = down(b.lo[k]);
+            n.hi[k] = up(b.hi[k]);
+        }
+    }
+
+    void build(std::uint32_t node, std::uint32_t begin, std::uint32_t end, int depth) {
+        Aabb b = range_bounds(begin, end);
+        emit(node, b);
+        std::uint32_t count = end - begin;
+        if (count <= kMaxLeaf) {
+            nodes[node].first = begin;
+            nodes[node].count = count;
+            return;
+        }
+        Aabb cb;
+        for (std::uint32_t i = begin; i < end; ++i) cb.grow(centres[items[i]]);
+        Vec3 ext = cb.hi - cb.lo;
+        int axis = ext.x > ext.y ? (ext.x > ext.z ? 0 : 2) : (ext.y > ext.z ? 1 : 2);
+        std::uint32_t mid = begin;
+        if (ext[axis] > 0 && depth < kMaxSahDepth) {
+            double lo = cb.lo[axis], scale = kBins / ext[axis];
+            auto bin_of = [&](std::uint32_t item) {
+                int k = int((centres[item][axis] - lo) * scale);
+                return std::min(std::max(k, 0), kBins - 1);
+            };
+            Aabb bin_box[kBins];
+            std::uint32_t bin_count[kBins] = {};
+            for (std::uint32_t i = begin; i < end; ++i) {
+                int k = bin_of(items[i]);
+                bin_box[k].grow(boxes[items[i]]);
+                ++bin_count[k];
+            }
+            double left_area[kBins], right_area[kBins];
+            std::uint32_t left_n[kBins], right_n[kBins];
+            Aabb acc;
+            std::uint32_t n = 0;
+            for (int k = 0; k < kBins; ++k) {
+                acc.grow(bin_box[k]);
+                n += bin_count[k];
+                left_area[k] = acc.area();
+                left_n[k] = n;
+            }
+            acc = Aabb();
+            n = 0;
+            for (int k = kBins - 1; k >= 0; --k) {
+                acc.grow(bin_box[k]);
+                n += bin_count[k];
+                right_area[k] = acc.area();
+                right_n[k] = n;
+            }
+            double best = DBL_MAX;
+            int split = -1;
+            for (int k = 0; k < kBins - 1; ++k) {
+                if (left_n[k] == 0 || right_n[k + 1] == 0) continue;
+                double cost = left_area[k] * left_n[k] + right_area[k + 1] * right_n[k + 1];
+                if (cost < best) best = cost, split = k;
+            }
+            double leaf_cost = b.area() * count;
+            if (split >= 0 && !(count <= 16 && best >= leaf_cost)) {
+                auto it = std::partition(items.begin() + begin, items.begin() + end,
+                                         [&](std::uint32_t item) { return bin_of(item) <= split; });
+                mid = std::uint32_t(it - items.begin());
+            } else if (split >= 0) {
+                // Cheaper as one leaf, but leaves stay small: split in the middle.
+                mid = begin;
+            }
+        }
+        if (mid == begin || mid == end) {
+            mid = begin + count / 2;
+            std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                             [&](std::uint32_t a, std::uint32_t c) { return centres[a][axis] < centres[c][axis]; });
+        }
+        std::uint32_t left = std::uint32_t(nodes.size());
+        nodes.emplace_back();
+        build(left, begin, mid, depth + 1);
+        std::uint32_t right = std::uint32_t(nodes.size());
+        nodes.emplace_back();
+        build(right, mid, end, depth + 1);
+        nodes[node].first = right;
+        nodes[node].count = 0;
+    }
+};
+
+}  // namespace
+
+void Bvh::build(const std::vector<Aabb>& boxes) {
+    nodes.clear();
+    items.clear();
+    for (std::uint32_t i = 0; i < boxes.size(); ++i)
+        if (!boxes[i].empty()) items.push_back(i);
+    if (items.empty()) return;
+    nodes.reserve(2 * items.size() / kMaxLeaf * 2 + 2);
+    Builder b{boxes, {}, items, nodes};
+    b.centres.resize(boxes.size());
+    for (std::uint32_t i : items) b.centres[i] = boxes[i].centre();
+    nodes.emplace_back();
+    b.build(0, 0, std::uint32_t(items.size()), 0);
+    nodes.shrink_to_fit();
+}
+
+}  // namespace rt

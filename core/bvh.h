@@ -1,0 +1,107 @@
+// Bounding volume hierarchy over boxes, built with a binned surface area heuristic and
+// stored as one flat array of 32-byte nodes (float bounds, padded outward so that the
+// float box test never misses what the double-precision shapes would hit).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "math.h"
+
+namespace rt {
+
+struct BvhNode {
+    float lo[3];
+    float hi[3];
+    std::uint32_t first;  // leaf: first index into Bvh::items; inner: right child (left is this + 1)
+    std::uint32_t count;  // leaf: number of items (> 0); inner: 0
+};
+static_assert(sizeof(BvhNode) == 32, "BVH nodes are 32 bytes");
+
+struct BvhRay {
+    float o[3];
+    float inv[3];
+    int neg[3];
+    static BvhRay make(const Vec3& origin, const Vec3& dir) {
+        BvhRay r;
+        for (int i = 0; i < 3; ++i) {
+            r.o[i] = float(origin[i]);
+            double inv = 1.0 / dir[i];  // +-inf for a zero component is fine in the slab test
+            r.inv[i] = float(inv);
+            r.neg[i] = dir[i] < 0;
+        }
+        return r;
+    }
+};
+
+class Bvh {
+public:
+    std::vector<BvhNode> nodes;
+    std::vector<std::uint32_t> items;  // item ids (indices of the boxes given to build)
+
+    // Items with empty boxes are left out.
+    void build(const std::vector<Aabb>& boxes);
+
+    // Entry distance of the ray into node's box if it is within [0, tmax], else +inf.
+    static inline float enter(const BvhNode& n, const BvhRay& r, float tmax) {
+        float t0 = 0.f, t1 = tmax;
+        for (int i = 0; i < 3; ++i) {
+            float a = (n.lo[i] - r.o[i]) * r.inv[i];
+            float b = (n.hi[i] - r.o[i]) * r.inv[i];
+            if (r.neg[i]) std::swap(a, b);
+            // NaN (0 * inf) must not shrink the interval: fmax/fmin ignore NaN.
+            t0 = std::fmax(t0, a);
+            t1 = std::fmin(t1, b);
+        }
+        return t0 <= t1 ? t0 : INFINITY;
+    }
+
+    // Visit the items whose boxes the ray may enter before tmax, nearest box first.
+    // `fn(item, tmax)` returns the new tmax (smaller to prune), or a negative value to stop.
+    template <class Fn>
+    void traverse(const Vec3& origin, const Vec3& dir, double tmax, Fn&& fn) const {
+        if (nodes.empty()) return;
+        BvhRay r = BvhRay::make(origin, dir);
+        float ftmax = tmax == HUGE_VAL ? INFINITY : float(tmax * (1 + 1e-6) + 1e-6);
+        std::uint32_t stack[128];
+        int sp = 0;
+        std::uint32_t cur = 0;
+        if (enter(nodes[0], r, ftmax) == INFINITY) return;
+        for (;;) {
+            const BvhNode& n = nodes[cur];
+            if (n.count > 0) {
+                for (std::uint32_t i = 0; i < n.count; ++i) {
+                    double nt = fn(items[n.first + i], tmax);
+                    if (nt < 0) return;
+                    if (nt < tmax) {
+                        tmax = nt;
+                        ftmax = float(tmax * (1 + 1e-6) + 1e-6);
+                    }
+                }
+            } else {
+                std::uint32_t a = cur + 1, b = n.first;
+                float ta = enter(nodes[a], r, ftmax), tb = enter(nodes[b], r, ftmax);
+                if (ta > tb) {
+                    std::swap(a, b);
+                    std::swap(ta, tb);
+                }
+                if (ta != INFINITY) {
+                    if (tb != INFINITY && sp < 128) stack[sp++] = b;
+                    cur = a;
+                    continue;
+                }
+            }
+            // Pop the next subtree still in reach.
+            for (;;) {
+                if (sp == 0) return;
+                cur = stack[--sp];
+                if (enter(nodes[cur], r, ftmax) != INFINITY) break;
+            }
+        }
+    }
+
+    std::size_t memory_bytes() const { return nodes.capacity() * sizeof(BvhNode) + items.capacity() * 4; }
+};
+
+}  // namespace rt

@@ -1,0 +1,32 @@
+// Pixel -> ray, exactly as the 2013 program (no half-pixel offset, pi = 3.14159),
+// except that the picture is not mirrored unless asked to be.
+#pragma once
+
+#include "math.h"
+#include "scene.h"
+
+namespace rt {
+
+struct CameraBasis {
+    Vec3 origin, forward, up, side;  // side = forward x up, the original's column-0 side
+    double tan_x = 0, tan_y = 0;     // linear: tan(angle/2)
+    double half_x = 0, half_y = 0;   // degrees, for polar
+    Projection projection = Projection::Linear;
+    int width = 1, height = 1;
+    bool mirror = false;
+
+    static CameraBasis make(const Camera& cam, int width, int height, bool mirror);
+
+    // Direction (not normalised) through pixel coordinates (i, j); integers are the
+    // original's sample points, fractions lie between them.
+    Vec3 direction(double i, double j) const;
+    Ray ray(double i, double j) const { return {origin, normalize(direction(i, j))}; }
+};
+
+// The original's degree factor.
+constexpr double kDegree = 3.14159 / 180.0;
+
+// Empty when the camera is valid; otherwise why not.
+const char* camera_problem(const Camera& cam);
+
+}  // namespace rt

@@ -1,0 +1,329 @@
+// Scheduling: a render is a list of passes, a pass a list of tiles. Workers take
+// tiles of the current pass in order (centre first); the pass after it starts only
+// when every tile of this one is committed, so each pixel sums its samples in order.
+#include "renderer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rt {
+
+struct RenderTask {
+    std::uint64_t generation = 0;
+    std::shared_ptr<const World> world;
+    CameraBasis camera;
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    int block = 0;               // coarse pass: block size; 0 for a sample pass
+    int s0 = 0, s1 = 0;          // sample pass: samples [s0, s1)
+};
+
+struct Pass {
+    int block = 0;
+    int s0 = 0, s1 = 0;
+};
+
+struct Renderer::Job {
+    std::uint64_t generation = 0;
+    std::shared_ptr<const World> world;
+    RenderSettings settings;
+    CameraBasis camera;
+    int width = 0, height = 0;
+    std::chrono::steady_clock::time_point start;
+    std::vector<Pass> passes;       // the fixed ones; sample passes are appended as needed
+    std::size_t pass = 0;           // current pass
+    std::vector<std::array<int, 4>> tiles;
+    std::size_t next_tile = 0, tiles_done = 0;
+    int samples_done = 0;
+    int passes_done = 0;
+    int coarse_level = 0;
+    bool preview_valid = false;  // something of this generation can be shown
+    double first_coarse_time = -1;
+    bool done = false;
+    bool paused = false;
+    std::uint64_t rays = 0;
+};
+
+void sample_offset(int x, int y, int s, double& dx, double& dy) {
+    if (s == 0) {
+        dx = dy = 0;
+        return;
+    }
+    // Halton (2, 3) points, rotated per pixel by a hash so that neighbouring pixels do
+    // not share a pattern; centred on the original's sample point.
+    auto radical = [](unsigned i, unsigned base) {
+        double f = 1, r = 0;
+        while (i > 0) {
+            f /= base;
+            r += f * (i % base);
+            i /= base;
+        }
+        return r;
+    };
+    std::uint32_t h = std::uint32_t(x) * 0x8da6b343u ^ std::uint32_t(y) * 0xd8163841u;
+    h ^= h >> 15;
+    h *= 0x2c1b3c6du;
+    h ^= h >> 12;
+    double rx = (h & 0xffff) / 65536.0, ry = (h >> 16) / 65536.0;
+    double u = radical(unsigned(s), 2) + rx, v = radical(unsigned(s), 3) + ry;
+    dx = u - std::floor(u) - 0.5;
+    dy = v - std::floor(v) - 0.5;
+}
+
+Renderer::Renderer(int threads) {
+    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    for (int i = 0; i < threads; ++i) workers_.emplace_back([this] { worker_main(); });
+}
+
+Renderer::~Renderer() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        quit_ = true;
+        ++cancel_gen_;
+    }
+    work_cv_.notify_all();
+    for (auto& t : workers_) t.join();
+}
+
+void Renderer::begin_pass_locked(Job& job) {
+    job.tiles.clear();
+    job.next_tile = job.tiles_done = 0;
+    int ts = std::max(8, job.settings.tile_size / 8 * 8);  // coarse blocks never straddle tiles
+    for (int y = 0; y < job.height; y += ts)
+        for (int x = 0; x < job.width; x += ts)
+            job.tiles.push_back({x, y, std::min(x + ts, job.width), std::min(y + ts, job.height)});
+    if (job.settings.order == TileOrder::CentreOut) {
+        double cx = job.width / 2.0, cy = job.height / 2.0;
+        std::stable_sort(job.tiles.begin(), job.tiles.end(), [&](const auto& a, const auto& b) {
+            double ax = (a[0] + a[2]) / 2.0 - cx, ay = (a[1] + a[3]) / 2.0 - cy;
+            double bx = (b[0] + b[2]) / 2.0 - cx, by = (b[1] + b[3]) / 2.0 - cy;
+            return ax * ax + ay * ay < bx * bx + by * by;
+        });
+    }
+}
+
+void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& settings) {
+    cancel();
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto job = std::make_shared<Job>();
+    job->generation = cancel_gen_.load();
+    job->world = world;
+    job->settings = settings;
+    job->settings.max_samples = std::max(1, settings.max_samples);
+    job->width = settings.width > 0 ? settings.width : world->width;
+    job->height = settings.height > 0 ? settings.height : world->height;
+    job->camera = CameraBasis::make(world->camera, job->width, job->height, settings.mirror);
+    job->start = std::chrono::steady_clock::now();
+    if (settings.coarse)
+        for (int b : {8, 4, 2})
+            if (job->width > b || job->height > b) job->passes.push_back({b, 0, 0});
+    // Sample passes: the given batch, or 1, 1, 2, 4, 8, 16, 16, ... samples.
+    int s = 0;
+    while (s < job->settings.max_samples) {
+        int n = settings.samples_per_pass > 0 ? settings.samples_per_pass : std::clamp(s, 1, 16);
+        n = std::min(n, job->settings.max_samples - s);
+        job->passes.push_back({0, s, s + n});
+        s += n;
+    }
+    job->paused = paused_;
+    if (film_.width != job->width || film_.height != job->height)
+        film_.reset(job->width, job->height);
+    else
+        std::fill(film_.count.begin(), film_.count.end(), 0u);
+    ++film_version_;
+    begin_pass_locked(*job);
+    job_ = job;
+    work_cv_.notify_all();
+}
+
+void Renderer::cancel() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    ++cancel_gen_;
+    job_.reset();
+    idle_cv_.wait(lock, [&] { return busy_ == 0; });
+}
+
+void Renderer::set_paused(bool paused) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        paused_ = paused;
+        if (job_) job_->paused = paused;
+    }
+    work_cv_.notify_all();
+}
+
+void Renderer::wait() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    idle_cv_.wait(lock, [&] { return !job_ || job_->done; });
+}
+
+bool Renderer::wait_for(double seconds) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return idle_cv_.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return !job_ || job_->done; });
+}
+
+// Called with mutex_ held.
+bool Renderer::next_task(RenderTask& task) {
+    if (!job_ || job_->done || job_->paused) return false;
+    Job& job = *job_;
+    if (job.next_tile >= job.tiles.size()) return false;  // others are finishing the pass
+    const auto& t = job.tiles[job.next_tile++];
+    const Pass& p = job.passes[job.pass];
+    task.generation = job.generation;
+    task.world = job.world;
+    task.camera = job.camera;
+    task.x0 = t[0], task.y0 = t[1], task.x1 = t[2], task.y1 = t[3];
+    task.block = p.block;
+    task.s0 = p.s0, task.s1 = p.s1;
+    return true;
+}
+
+void Renderer::worker_main() {
+    std::vector<float> buf;
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!quit_) {
+        RenderTask task;
+        if (!next_task(task)) {
+            work_cv_.wait(lock);
+            continue;
+        }
+        ++busy_;
+        lock.unlock();
+        RayStats stats;
+        bool complete = run_task(task, buf, stats);
+        lock.lock();
+        if (complete && job_ && job_->generation == task.generation) {
+            commit(task, buf);
+            job_->rays += stats.rays;
+        }
+        task.world.reset();
+        --busy_;
+        idle_cv_.notify_all();
+    }
+}
+
+bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStats& stats) {
+    const World& world = *task.world;
+    int w = task.x1 - task.x0, h = task.y1 - task.y0;
+    buf.assign(std::size_t(w) * h * 3, 0.f);
+    auto cancelled = [&] { return cancel_gen_.load(std::memory_order_relaxed) != task.generation; };
+    if (task.block > 0) {
+        int b = task.block;
+        for (int by = task.y0; by < task.y1; by += b) {
+            for (int bx = task.x0; bx < task.x1; bx += b) {
+                if (cancelled()) return false;
+                Colour c = world.trace_camera(task.camera, bx, by, stats);
+                for (int y = by; y < std::min(by + b, task.y1); ++y)
+                    for (int x = bx; x < std::min(bx + b, task.x1); ++x) {
+                        float* p = &buf[3 * (std::size_t(y - task.y0) * w + (x - task.x0))];
+                        p[0] = float(c.x), p[1] = float(c.y), p[2] = float(c.z);
+                    }
+            }
+        }
+        return true;
+    }
+    // Sample pass: continue each pixel's running sum. The sums of this tile are only
+    // touched by this task until it commits, so reading them unlocked is safe.
+    for (int y = task.y0; y < task.y1; ++y) {
+        for (int x = task.x0; x < task.x1; ++x) {
+            if (cancelled()) return false;
+            std::size_t idx = std::size_t(y) * film_.width + x;
+            float acc[3] = {0, 0, 0};
+            if (task.s0 > 0) {
+                acc[0] = film_.sum[3 * idx], acc[1] = film_.sum[3 * idx + 1], acc[2] = film_.sum[3 * idx + 2];
+            }
+            for (int s = task.s0; s < task.s1; ++s) {
+                double dx, dy;
+                sample_offset(x, y, s, dx, dy);
+                Colour c = world.trace_camera(task.camera, x + dx, y + dy, stats);
+                acc[0] += float(c.x), acc[1] += float(c.y), acc[2] += float(c.z);
+            }
+            float* p = &buf[3 * (std::size_t(y - task.y0) * w + (x - task.x0))];
+            p[0] = acc[0], p[1] = acc[1], p[2] = acc[2];
+        }
+    }
+    return true;
+}
+
+// Called with mutex_ held, for a task of the current job.
+void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
+    Job& job = *job_;
+    int w = task.x1 - task.x0;
+    for (int y = task.y0; y < task.y1; ++y) {
+        for (int x = task.x0; x < task.x1; ++x) {
+            std::size_t idx = std::size_t(y) * film_.width + x;
+            const float* p = &buf[3 * (std::size_t(y - task.y0) * w + (x - task.x0))];
+            float* dst = task.block > 0 ? &film_.preview[3 * idx] : &film_.sum[3 * idx];
+            dst[0] = p[0], dst[1] = p[1], dst[2] = p[2];
+            if (task.block == 0) film_.count[idx] = std::uint32_t(task.s1);
+        }
+    }
+    ++film_version_;
+    if (++job.tiles_done < job.tiles.size()) return;
+    // The pass is complete.
+    const Pass& p = job.passes[job.pass];
+    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - job.start).count();
+    ++job.passes_done;
+    job.preview_valid = true;
+    if (p.block > 0) {
+        if (job.first_coarse_time < 0) job.first_coarse_time = elapsed;
+        job.coarse_level = p.block;
+    } else {
+        job.samples_done = p.s1;
+    }
+    bool out_of_time = job.settings.time_limit > 0 && elapsed >= job.settings.time_limit && job.samples_done > 0;
+    if (++job.pass >= job.passes.size() || out_of_time) {
+        job.done = true;
+        idle_cv_.notify_all();
+        return;
+    }
+    begin_pass_locked(job);
+    work_cv_.notify_all();
+}
+
+RenderProgress Renderer::progress() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    RenderProgress r;
+    r.paused = paused_;
+    if (!job_) return r;
+    const Job& j = *job_;
+    r.generation = j.generation;
+    r.coarse_level = j.coarse_level;
+    r.samples = j.samples_done;
+    r.passes = j.passes_done;
+    r.pass_fraction = j.tiles.empty() ? 1.0 : double(j.tiles_done) / double(j.tiles.size());
+    r.rays = j.rays;
+    r.elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - j.start).count();
+    r.first_coarse_time = j.first_coarse_time;
+    r.running = !j.done && !j.paused;
+    r.done = j.done;
+    r.width = j.width;
+    r.height = j.height;
+    return r;
+}
+
+Image Renderer::snapshot(std::uint64_t* generation) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (generation) *generation = job_ ? job_->generation : 0;
+    return film_.resolve();
+}
+
+bool Renderer::snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    // Until the new render has something to show, keep showing the old picture.
+    if (!job_ || !job_->preview_valid || version == film_version_) return false;
+    version = film_version_;
+    width = film_.width;
+    height = film_.height;
+    std::size_t n = std::size_t(width) * height;
+    out.resize(n * 4);
+    for (std::size_t i = 0; i < n; ++i) {
+        Colour c = film_.pixel(i);
+        out[4 * i] = to_byte(c.x);
+        out[4 * i + 1] = to_byte(c.y);
+        out[4 * i + 2] = to_byte(c.z);
+        out[4 * i + 3] = 255;
+    }
+    return true;
+}
+
+}  // namespace rt

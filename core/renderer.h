@@ -1,0 +1,105 @@
+// Progressive tiled renderer over a pool of worker threads.
+//   start()   begins a render (cancelling any previous one) and returns at once;
+//   cancel()  stops it and returns when every worker is idle;
+//   snapshot  copies the film at any time, never torn between two renders.
+// Passes: coarse previews (one ray per 8x8, 4x4, 2x2 block) unless disabled, then
+// sample after sample at full resolution. Sample s of pixel (x, y) depends only on
+// (x, y, s), and each pixel sums its samples in order, so the film is bit-identical
+// whatever the thread count, tile order or pass grouping.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "film.h"
+#include "world.h"
+
+namespace rt {
+
+enum class TileOrder { CentreOut, Scanline };
+
+struct RenderSettings {
+    int width = 0, height = 0;  // 0: the scene's picture size
+    int max_samples = 1;        // samples per pixel to stop at (>= 1)
+    double time_limit = 0;      // seconds; 0 = none (stops after the current pass)
+    bool coarse = true;         // coarse preview passes first
+    bool mirror = false;        // the original's mirrored picture
+    int tile_size = 32;
+    int samples_per_pass = 0;   // 0: 1 for the first passes, then growing
+    TileOrder order = TileOrder::CentreOut;
+};
+
+struct RenderProgress {
+    std::uint64_t generation = 0;  // increases on every start()
+    int coarse_level = 0;          // block size of the last complete coarse pass (8, 4, 2), 0 = none
+    int samples = 0;               // samples per pixel completed everywhere
+    int passes = 0;                // passes completed (coarse included)
+    double pass_fraction = 0;      // fraction of the current pass's tiles done
+    std::uint64_t rays = 0;
+    double elapsed = 0;            // seconds since start()
+    double first_coarse_time = -1; // seconds from start() to the first complete coarse pass
+    bool running = false;
+    bool done = false;             // reached max_samples or the time limit
+    bool paused = false;
+    int width = 0, height = 0;
+};
+
+// Sample position for sample s of pixel (x, y): s = 0 is the original's exact pixel
+// corner; later samples are a per-pixel rotated low-discrepancy set around it.
+void sample_offset(int x, int y, int s, double& dx, double& dy);
+
+struct RenderTask;
+
+class Renderer {
+public:
+    explicit Renderer(int threads = 0);  // 0: all hardware threads
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    void start(std::shared_ptr<const World> world, const RenderSettings& settings);
+    void cancel();
+    void set_paused(bool paused);
+    // Block until the render is done or cancelled.
+    void wait();
+    // Block until done or the timeout passes; true if done.
+    bool wait_for(double seconds);
+
+    RenderProgress progress() const;
+    // Copy of the current film (resolved colours); generation tells which render.
+    Image snapshot(std::uint64_t* generation = nullptr) const;
+    // RGBA8 for display; returns false if nothing changed since `since_version`.
+    bool snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height,
+                        std::uint64_t& version) const;
+    int threads() const { return int(workers_.size()); }
+
+private:
+    struct Job;
+    void worker_main();
+    bool next_task(RenderTask& task);
+    bool run_task(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
+    void commit(const RenderTask& task, const std::vector<float>& buf);
+    void begin_pass_locked(Job& job);
+
+    mutable std::mutex mutex_;
+    std::condition_variable work_cv_, idle_cv_;
+    std::vector<std::thread> workers_;
+    bool quit_ = false;
+    std::atomic<std::uint64_t> cancel_gen_{0};  // workers stop a task when it differs from theirs
+
+    std::shared_ptr<Job> job_;
+    Film film_;
+    std::uint64_t film_version_ = 0;
+    int busy_ = 0;
+    bool paused_ = false;
+};
+
+}  // namespace rt

@@ -1,0 +1,164 @@
+// Plain scene data: what a scene file says, nothing more. The parser produces it,
+// the renderer compiles it, the viewer edits it and the writer prints it.
+// Materials are stored as written (after the format's clamps); the renderer
+// normalises the weights when it compiles the scene.
+#pragma once
+
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "math.h"
+
+namespace rt {
+
+// 1-based line and column of the token an item started at (0 = not from a file).
+struct SourceLoc {
+    int line = 0;
+    int col = 0;
+};
+
+struct Material {
+    double reflection = 0;
+    double refraction = 0;
+    double scattering = 1;
+    double translusans = 1;       // clamped to [0,1] by the parser
+    double refractive_index = 1;  // values below 1 become 1
+    Colour colour{0.5, 0.5, 0.5};
+
+    // An object with no material block at all: translusans 0 (scene-format §5).
+    static Material object_default() {
+        Material m;
+        m.translusans = 0;
+        return m;
+    }
+    bool operator==(const Material& o) const {
+        return reflection == o.reflection && refraction == o.refraction && scattering == o.scattering &&
+               translusans == o.translusans && refractive_index == o.refractive_index && colour == o.colour;
+    }
+    bool operator!=(const Material& o) const { return !(*this == o); }
+};
+
+struct Sphere {
+    Vec3 position{1, 1, 1};
+    double radius = 1;
+    bool operator==(const Sphere& o) const { return position == o.position && radius == o.radius; }
+};
+
+struct Tetrahedron {
+    Vec3 v[4];
+    bool operator==(const Tetrahedron& o) const {
+        return v[0] == o.v[0] && v[1] == o.v[1] && v[2] == o.v[2] && v[3] == o.v[3];
+    }
+};
+
+struct Cylinder {
+    Vec3 end1{0, 0, 0};
+    Vec3 end2{1, 1, 1};
+    double radius = 1;
+    bool operator==(const Cylinder& o) const { return end1 == o.end1 && end2 == o.end2 && radius == o.radius; }
+};
+
+struct Torus {
+    Vec3 position{0, 0, 0};
+    Vec3 direction{0, 0, 1};
+    double major = 1;
+    double minor = 2;
+    bool operator==(const Torus& o) const {
+        return position == o.position && direction == o.direction && major == o.major && minor == o.minor;
+    }
+};
+
+struct Object;
+
+enum class CsgType : char { Union = 'U', Intersection = 'I', Difference = 'C' };
+
+// Exactly two operands once parsed: operands[0] is `left`, operands[1] is `right`.
+// Operand materials are kept (they round-trip) but only the CSG's own is rendered.
+struct Csg {
+    CsgType type = CsgType::Union;
+    std::vector<Object> operands;
+    bool operator==(const Csg& o) const;
+};
+
+using Shape = std::variant<Sphere, Tetrahedron, Cylinder, Torus, Csg>;
+
+struct Object {
+    Shape shape;
+    Material material = Material::object_default();
+    bool has_material = false;  // whether the file gave a material block
+    SourceLoc loc;
+    bool operator==(const Object& o) const {
+        return shape == o.shape && material == o.material && has_material == o.has_material;
+    }
+};
+
+inline bool Csg::operator==(const Csg& o) const { return type == o.type && operands == o.operands; }
+
+// `plane` and `chess_plane` from special_thing.
+struct Plane {
+    bool chess = false;
+    Vec3 point[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    Material material = Material::object_default();   // `material` or `material 1`
+    Material material2 = Material::object_default();  // `material 2` (chess only)
+    bool has_material = false, has_material2 = false;
+    SourceLoc loc;
+    bool operator==(const Plane& o) const {
+        for (int i = 0; i < 4; ++i)
+            if (point[i] != o.point[i]) return false;
+        return chess == o.chess && material == o.material && material2 == o.material2 &&
+               has_material == o.has_material && has_material2 == o.has_material2;
+    }
+};
+
+struct Light {
+    bool lamp = false;  // lamp: point light plus a glow sphere; spotlight: point light only
+    Vec3 position{1, 1, 1};
+    Colour colour{0.5, 0.5, 0.5};
+    double size = 1;  // glow radius (lamp only); <= 0: no glow
+    SourceLoc loc;
+    bool operator==(const Light& o) const {
+        return lamp == o.lamp && position == o.position && colour == o.colour && size == o.size;
+    }
+};
+
+enum class Projection { Linear, Polar };
+
+struct Camera {
+    Vec3 position{0, 0, 0};
+    Vec3 centre{1, 0, 0};
+    Vec3 up{1, 0, 1};  // a POINT: the up hint is up - centre
+    Projection projection = Projection::Linear;
+    double angle_x = 60;  // full field of view, degrees
+    double angle_y = 45;
+    bool operator==(const Camera& o) const {
+        return position == o.position && centre == o.centre && up == o.up && projection == o.projection &&
+               angle_x == o.angle_x && angle_y == o.angle_y;
+    }
+};
+
+struct Scene {
+    std::vector<Object> objects;
+    std::vector<Plane> planes;
+    std::vector<Light> lights;
+    Camera camera;
+    int width = 320;
+    int height = 240;
+    SourceLoc camera_loc;
+    bool operator==(const Scene& o) const {
+        return objects == o.objects && planes == o.planes && lights == o.lights && camera == o.camera &&
+               width == o.width && height == o.height;
+    }
+    bool operator!=(const Scene& o) const { return !(*this == o); }
+};
+
+// Limits that keep hostile input from exhausting the machine.
+struct Limits {
+    static constexpr int max_picture_side = 16384;
+    static constexpr int max_csg_depth = 256;
+    static constexpr std::size_t max_objects = 50'000'000;
+    static constexpr std::size_t max_file_size = 256u << 20;  // bytes
+    static constexpr std::size_t max_token_length = 256;
+};
+
+}  // namespace rt

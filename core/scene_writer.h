@@ -1,0 +1,17 @@
+// Scene -> text in the scene format. parse_scene(write_scene(s)) == s for every valid
+// scene: numbers are printed with enough digits to round-trip exactly.
+#pragma once
+
+#include <string>
+
+#include "scene.h"
+
+namespace rt {
+
+std::string write_scene(const Scene& scene);
+// One `camera { ... }` block (for the viewer's "copy camera" button).
+std::string write_camera(const Camera& camera);
+// A number as the writer prints it: shortest text that reads back to the same double.
+std::string format_number(double v);
+
+}  // namespace rt

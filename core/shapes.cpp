@@ -1,0 +1,346 @@
+// Inside intervals, normals and bounds of the primitives, and the compiler from the
+// plain Scene into flat arrays. Spans cover the whole line (negative t included) so
+// that CSG can tell where a ray starts.
+#include "shapes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "roots.h"
+
+namespace rt {
+namespace {
+
+constexpr double kInf = HUGE_VAL;
+
+void sphere_spans(const SphereG& s, std::uint32_t node, const Vec3& o, const Vec3& d, std::vector<Span>& out) {
+    Vec3 oc = o - s.c;
+    double b = dot(oc, d);
+    double e = dot(oc, oc) - s.r2;
+    double disc = b * b - e;
+    if (disc < 0) return;
+    double q = std::sqrt(disc);
+    out.push_back({{-b - q, node, 0, false}, {-b + q, node, 0, false}});
+}
+
+void tetra_spans(const TetraG& s, std::uint32_t node, const Vec3& o, const Vec3& d, std::vector<Span>& out) {
+    double t0 = -kInf, t1 = kInf;
+    std::uint8_t f0 = 0, f1 = 0;
+    for (std::uint8_t i = 0; i < 4; ++i) {
+        double dist = dot(s.n[i], o) + s.d[i];
+        double dn = dot(s.n[i], d);
+        if (dn == 0) {
+            if (dist > 0) return;
+            continue;
+        }
+        double t = -dist / dn;
+        if (dn < 0) {
+            if (t > t0) t0 = t, f0 = i;
+        } else {
+            if (t < t1) t1 = t, f1 = i;
+        }
+    }
+    if (t0 <= t1) out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
+}
+
+// Faces: 0 = cap at e1, 1 = cap at e2, 2 = side.
+void cylinder_spans(const CylinderG& s, std::uint32_t node, const Vec3& o, const Vec3& d, std::vector<Span>& out) {
+    Vec3 w = o - s.e1;
+    double wa = dot(w, s.a), da = dot(d, s.a);
+    Vec3 wp = w - s.a * wa, dp = d - s.a * da;
+    double A = dot(dp, dp), B = dot(wp, dp), C = dot(wp, wp) - s.r * s.r;
+    double t0, t1;
+    std::uint8_t f0 = 2, f1 = 2;
+    if (A < 1e-24) {
+        if (C > 0) return;
+        t0 = -kInf, t1 = kInf;
+    } else {
+        double disc = B * B - A * C;
+        if (disc < 0) return;
+        double q = std::sqrt(disc);
+        // Numerically stable pair of roots.
+        double k = B >= 0 ? -(B + q) : -(B - q);
+        double ra = k / A, rb = k != 0 ? C / k : 0.0;
+        if (k == 0) ra = rb = 0;
+        t0 = std::min(ra, rb), t1 = std::max(ra, rb);
+    }
+    // Between the caps: 0 <= wa + t da <= len.
+    if (da == 0) {
+        if (wa < 0 || wa > s.len) return;
+    } else {
+        double ta = -wa / da, tb = (s.len - wa) / da;
+        std::uint8_t fa = 0, fb = 1;
+        if (ta > tb) std::swap(ta, tb), std::swap(fa, fb);
+        if (ta > t0) t0 = ta, f0 = fa;
+        if (tb < t1) t1 = tb, f1 = fb;
+    }
+    if (t0 <= t1) out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
+}
+
+double torus_f(const TorusG& s, const Vec3& p) {
+    double g = dot(p, p) + s.R * s.R - s.r * s.r;
+    return g * g - 4 * s.R * s.R * (p.x * p.x + p.y * p.y);
+}
+
+void torus_spans(const TorusG& s, std::uint32_t node, const Vec3& o, const Vec3& d, std::vector<Span>& out) {
+    // Local frame, origin moved to the point of the line nearest the centre so that the
+    // quartic is well conditioned.
+    Vec3 lo = s.frame.to_local(o - s.c), ld = s.frame.to_local(d);
+    double tc = -dot(lo, ld);
+    Vec3 p0 = lo + ld * tc;
+    double bound = s.R + s.r;
+    double h2 = bound * bound - dot(p0, p0);
+    if (h2 < 0) return;
+    double h = std::sqrt(h2) * (1 + 1e-9) + 1e-12;
+    double alpha = dot(p0, ld);  // ~0, kept for exactness
+    double beta = dot(p0, p0) + s.R * s.R - s.r * s.r;
+    double dxy = ld.x * ld.x + ld.y * ld.y;
+    double exy = 2 * (p0.x * ld.x + p0.y * ld.y);
+    double fxy = p0.x * p0.x + p0.y * p0.y;
+    double k = 4 * s.R * s.R;
+    double c[5] = {beta * beta - k * fxy, 4 * alpha * beta - k * exy, 4 * alpha * alpha + 2 * beta - k * dxy,
+                   4 * alpha, 1};
+    double roots[4];
+    int n = solve_quartic(c, -h, h, roots);
+    // Classify the pieces between roots by the sign of f at their middles; this copes
+    // with tangent (double) roots.
+    double edges[6];
+    int m = 0;
+    edges[m++] = -h;
+    for (int i = 0; i < n; ++i) edges[m++] = roots[i];
+    edges[m++] = h;
+    bool open = false;
+    double start = 0;
+    for (int i = 0; i + 1 < m; ++i) {
+        double mid = 0.5 * (edges[i] + edges[i + 1]);
+        bool inside = torus_f(s, p0 + ld * mid) < 0;
+        if (inside && !open) open = true, start = edges[i];
+        if (!inside && open) {
+            open = false;
+            out.push_back({{start + tc, node, 0, false}, {edges[i] + tc, node, 0, false}});
+        }
+    }
+    if (open) out.push_back({{start + tc, node, 0, false}, {h + tc, node, 0, false}});
+}
+
+Aabb sphere_bounds(const SphereG& s) {
+    Aabb b;
+    b.lo = s.c - Vec3{s.r, s.r, s.r};
+    b.hi = s.c + Vec3{s.r, s.r, s.r};
+    return b;
+}
+
+}  // namespace
+
+void Geometry::spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<Span>& out, SpanScratch& scratch,
+                     std::size_t depth) const {
+    const Node& node = nodes[n];
+    switch (node.kind) {
+        case NodeKind::Sphere: sphere_spans(spheres[node.index], n, o, d, out); return;
+        case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, out); return;
+        case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, out); return;
+        case NodeKind::Torus: torus_spans(tori[node.index], n, o, d, out); return;
+        case NodeKind::Csg: {
+            const CsgG& c = csgs[node.index];
+            std::vector<Span>& a = scratch.at(2 * depth);
+            spans(c.left, o, d, a, scratch, depth + 1);
+            // An empty left side decides U's and I's and C's result without the right.
+            if (a.empty() && c.type != CsgType::Union) return;
+            std::vector<Span>& b = scratch.at(2 * depth + 1);
+            spans(c.right, o, d, b, scratch, depth + 1);
+            combine_spans(c.type, a, b, out);
+            return;
+        }
+    }
+}
+
+Vec3 Geometry::normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const {
+    const Node& node = nodes[n];
+    switch (node.kind) {
+        case NodeKind::Sphere: return normalize(p - spheres[node.index].c);
+        case NodeKind::Tetra: return tetras[node.index].n[face & 3];
+        case NodeKind::Cylinder: {
+            const CylinderG& s = cylinders[node.index];
+            if (face == 0) return -s.a;
+            if (face == 1) return s.a;
+            Vec3 w = p - s.e1;
+            Vec3 r = normalize(w - s.a * dot(w, s.a));
+            return r;
+        }
+        case NodeKind::Torus: {
+            const TorusG& s = tori[node.index];
+            Vec3 l = s.frame.to_local(p - s.c);
+            Vec3 ring{l.x, l.y, 0};
+            double rl = length(ring);
+            Vec3 q = rl > 0 ? l - ring * (s.R / rl) : Vec3{0, 0, l.z};
+            return s.frame.to_world(normalize(q));
+        }
+        case NodeKind::Csg: break;
+    }
+    return {};
+}
+
+Aabb Geometry::bounds(std::uint32_t n) const {
+    const Node& node = nodes[n];
+    switch (node.kind) {
+        case NodeKind::Sphere: return sphere_bounds(spheres[node.index]);
+        case NodeKind::Tetra: {
+            // Recover the corners from the face planes: corner i is opposite face i+1.
+            Aabb b;
+            const TetraG& t = tetras[node.index];
+            for (int skip = 0; skip < 4; ++skip) {
+                int f[3], k = 0;
+                for (int i = 0; i < 4; ++i)
+                    if (i != skip) f[k++] = i;
+                Vec3 n0 = t.n[f[0]], n1 = t.n[f[1]], n2 = t.n[f[2]];
+                double det = dot(n0, cross(n1, n2));
+                Vec3 p = (cross(n1, n2) * -t.d[f[0]] + cross(n2, n0) * -t.d[f[1]] + cross(n0, n1) * -t.d[f[2]]) / det;
+                b.grow(p);
+            }
+            Vec3 pad = (b.hi - b.lo) * 1e-9 + Vec3{1e-9, 1e-9, 1e-9};
+            b.lo -= pad;
+            b.hi += pad;
+            return b;
+        }
+        case NodeKind::Cylinder: {
+            const CylinderG& s = cylinders[node.index];
+            Vec3 e2 = s.e1 + s.a * s.len;
+            Vec3 ext{s.r * std::sqrt(std::max(0.0, 1 - s.a.x * s.a.x)), s.r * std::sqrt(std::max(0.0, 1 - s.a.y * s.a.y)),
+                     s.r * std::sqrt(std::max(0.0, 1 - s.a.z * s.a.z))};
+            Aabb b;
+            b.grow(s.e1 - ext);
+            b.grow(s.e1 + ext);
+            b.grow(e2 - ext);
+            b.grow(e2 + ext);
+            return b;
+        }
+        case NodeKind::Torus: {
+            const TorusG& s = tori[node.index];
+            Vec3 a = s.frame.w;
+            Vec3 ext{s.R * std::sqrt(std::max(0.0, 1 - a.x * a.x)) + s.r, s.R * std::sqrt(std::max(0.0, 1 - a.y * a.y)) + s.r,
+                     s.R * std::sqrt(std::max(0.0, 1 - a.z * a.z)) + s.r};
+            Aabb b;
+            b.lo = s.c - ext;
+            b.hi = s.c + ext;
+            return b;
+        }
+        case NodeKind::Csg: {
+            const CsgG& c = csgs[node.index];
+            Aabb l = bounds(c.left);
+            if (c.type == CsgType::Difference) return l;
+            Aabb r = bounds(c.right);
+            if (c.type == CsgType::Intersection) return intersect(l, r);
+            l.grow(r);
+            return l;
+        }
+    }
+    return {};
+}
+
+bool Geometry::hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
+                   SpanScratch& scratch) const {
+    std::uint32_t n = object_node[obj];
+    const Node& node = nodes[n];
+    if (node.kind == NodeKind::Sphere) {
+        // The common case, without building a span.
+        const SphereG& s = spheres[node.index];
+        Vec3 oc = o - s.c;
+        double b = dot(oc, d);
+        double disc = b * b - (dot(oc, oc) - s.r2);
+        if (disc < 0) return false;
+        double t = -b - std::sqrt(disc);
+        if (!(t > tmin)) return false;
+        out = {t, n, 0, false};
+        return true;
+    }
+    std::vector<Span>& sp = scratch.at(0);
+    spans(n, o, d, sp, scratch, 1);
+    for (const Span& s : sp)
+        if (s.in.t > tmin) {
+            out = s.in;
+            return true;
+        }
+    return false;
+}
+
+bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& scratch) const {
+    std::uint32_t n = object_node[obj];
+    std::vector<Span>& sp = scratch.at(0);
+    spans(n, o, d, sp, scratch, 1);
+    for (const Span& s : sp)
+        if (s.out.t > kDelta) {
+            out = s.out;
+            return true;
+        }
+    return false;
+}
+
+std::size_t Geometry::memory_bytes() const {
+    return spheres.capacity() * sizeof(SphereG) + tetras.capacity() * sizeof(TetraG) +
+           cylinders.capacity() * sizeof(CylinderG) + tori.capacity() * sizeof(TorusG) +
+           csgs.capacity() * sizeof(CsgG) + nodes.capacity() * sizeof(Node) + object_node.capacity() * 4 +
+           object_bounds.capacity() * sizeof(Aabb) + bvh.memory_bytes();
+}
+
+namespace {
+
+std::uint32_t add_node(Geometry& g, const Object& obj) {
+    std::uint32_t id = std::uint32_t(g.nodes.size());
+    std::visit(
+        [&](const auto& s) {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, Sphere>) {
+                g.nodes.push_back({NodeKind::Sphere, std::uint32_t(g.spheres.size())});
+                g.spheres.push_back({s.position, s.radius, s.radius * s.radius});
+            } else if constexpr (std::is_same_v<T, Tetrahedron>) {
+                TetraG t;
+                for (int i = 0; i < 4; ++i) {
+                    const Vec3& a = s.v[i];
+                    const Vec3& b = s.v[(i + 1) % 4];
+                    const Vec3& c = s.v[(i + 2) % 4];
+                    const Vec3& opp = s.v[(i + 3) % 4];
+                    Vec3 n = normalize(cross(b - a, c - a));
+                    if (dot(n, opp - a) > 0) n = -n;
+                    t.n[i] = n;
+                    t.d[i] = -dot(n, a);
+                }
+                g.nodes.push_back({NodeKind::Tetra, std::uint32_t(g.tetras.size())});
+                g.tetras.push_back(t);
+            } else if constexpr (std::is_same_v<T, Cylinder>) {
+                Vec3 axis = s.end2 - s.end1;
+                g.nodes.push_back({NodeKind::Cylinder, std::uint32_t(g.cylinders.size())});
+                g.cylinders.push_back({s.end1, normalize(axis), length(axis), std::fabs(s.radius)});
+            } else if constexpr (std::is_same_v<T, Torus>) {
+                g.nodes.push_back({NodeKind::Torus, std::uint32_t(g.tori.size())});
+                g.tori.push_back({s.position, Frame::from_axis(s.direction), std::fabs(s.major), std::fabs(s.minor)});
+            } else {
+                g.nodes.push_back({NodeKind::Csg, std::uint32_t(g.csgs.size())});
+                std::uint32_t ci = std::uint32_t(g.csgs.size());
+                g.csgs.push_back({s.type, 0, 0});
+                std::uint32_t l = add_node(g, s.operands[0]);
+                std::uint32_t r = add_node(g, s.operands[1]);
+                g.csgs[ci].left = l;
+                g.csgs[ci].right = r;
+            }
+        },
+        obj.shape);
+    return id;
+}
+
+}  // namespace
+
+Geometry build_geometry(const Scene& scene) {
+    Geometry g;
+    g.object_node.reserve(scene.objects.size());
+    g.source.reserve(scene.objects.size());
+    for (const Object& obj : scene.objects) {
+        g.object_node.push_back(add_node(g, obj));
+        g.source.push_back(obj.shape);
+    }
+    g.object_bounds.reserve(scene.objects.size());
+    for (std::uint32_t n : g.object_node) g.object_bounds.push_back(g.bounds(n));
+    g.bvh.build(g.object_bounds);
+    return g;
+}
+
+}  // namespace rt

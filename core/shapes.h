@@ -1,0 +1,106 @@
+// Compiled geometry: the bounded shapes as flat arrays, each able to report the
+// intervals (spans) of the ray's line that lie inside it. CSG nodes combine their
+// operands' spans (csg.cpp); top-level objects sit in a BVH (bvh.h).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "bvh.h"
+#include "math.h"
+#include "scene.h"
+
+namespace rt {
+
+// 1.5e-5 world units: the original's surface tolerance.
+constexpr double kDelta = 1.5e-5;
+
+enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg };
+
+struct SphereG {
+    Vec3 c;
+    double r, r2;
+};
+// Inside where dot(n[i], p) + d[i] <= 0 for all four faces.
+struct TetraG {
+    Vec3 n[4];
+    double d[4];
+};
+struct CylinderG {
+    Vec3 e1, a;  // first end centre, unit axis toward the second
+    double len, r;
+};
+struct TorusG {
+    Vec3 c;
+    Frame frame;  // frame.w is the axis
+    double R, r;
+};
+struct CsgG {
+    CsgType type;
+    std::uint32_t left, right;  // node indices
+};
+
+struct Node {
+    NodeKind kind;
+    std::uint32_t index;  // into the array for its kind
+};
+
+// One end of an inside interval: where it is and which surface made it, so that the
+// normal there can be found. `flip` is set for surfaces of a subtracted operand.
+struct SpanEnd {
+    double t;
+    std::uint32_t node;
+    std::uint8_t face;
+    bool flip;
+};
+struct Span {
+    SpanEnd in, out;
+};
+
+// Scratch space for CSG span lists, reused between rays (one per thread).
+// Sized up front for the deepest CSG the parser accepts, so references into it stay
+// valid while deeper levels are in use.
+struct SpanScratch {
+    std::vector<std::vector<Span>> levels;
+    SpanScratch() : levels(2 * (Limits::max_csg_depth + 4)) {}
+    std::vector<Span>& at(std::size_t slot) {
+        std::vector<Span>& v = levels[slot];
+        v.clear();
+        return v;
+    }
+};
+
+struct Geometry {
+    std::vector<SphereG> spheres;
+    std::vector<TetraG> tetras;
+    std::vector<CylinderG> cylinders;
+    std::vector<TorusG> tori;
+    std::vector<CsgG> csgs;
+    std::vector<Node> nodes;
+    std::vector<std::uint32_t> object_node;  // top-level object -> node
+    std::vector<Aabb> object_bounds;
+    Bvh bvh;                                 // over top-level objects
+    std::vector<Shape> source;               // what was compiled, to detect changes
+
+    // Inside spans of node `n` along the whole line o + t d (d unit), ascending.
+    void spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<Span>& out, SpanScratch& scratch,
+               std::size_t depth = 0) const;
+    // Outward unit normal of surface `face` of node `n` at p.
+    Vec3 normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const;
+    Aabb bounds(std::uint32_t n) const;
+
+    // Nearest entry into object `obj` with t > tmin; false if none.
+    bool hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out, SpanScratch& s) const;
+    // Where a ray inside object `obj` (or on its surface, going in) leaves it:
+    // the first span end beyond kDelta; false if none.
+    bool exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const;
+
+    std::size_t memory_bytes() const;
+};
+
+Geometry build_geometry(const Scene& scene);
+
+// Combine two ascending span lists by a CSG operation.
+void combine_spans(CsgType type, const std::vector<Span>& a, const std::vector<Span>& b, std::vector<Span>& out);
+
+}  // namespace rt

@@ -1,0 +1,349 @@
+// Shading as in rendering.md §2-§6: direct light with the unshadowed 0.1 term and
+// coloured shadows through refractive objects, mirror reflection, refraction with the
+// interior walk, and lamp glow discs. Planes and glows are few and unbounded, so they
+// are tested one by one; everything else goes through the BVH.
+#include "world.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shapes.h"
+
+namespace rt {
+namespace {
+
+constexpr double kInf = HUGE_VAL;
+
+// k * C with the original's quirk: black for k <= 0.
+inline Colour scale(double k, const Colour& c) { return k > 0 ? c * k : Colour{}; }
+
+inline double safe_pow(double base, double e) {
+    if (e == 0) return 1;
+    if (!(base > 0)) return 0;
+    double r = std::pow(base, e);
+    return std::isfinite(r) ? r : 0;
+}
+inline Colour pow3(const Colour& base, double e) { return {safe_pow(base.x, e), safe_pow(base.y, e), safe_pow(base.z, e)}; }
+
+// rendering.md §5, with the normal-incidence fix: straight through.
+// `n` is turned to face against d (the original changes the caller's normal too).
+bool refract(const Vec3& d, double eta1, double eta2, Vec3& n, Vec3& out) {
+    if (dot(n, d) > 0) n = -n;
+    double b = -dot(n, d);
+    Vec3 t = d + n * b;
+    double tl = length(t);
+    double sin2 = tl * eta1 / eta2;  // |d| = 1
+    if (sin2 > 1) return false;
+    if (tl == 0) {
+        out = d;
+        return true;
+    }
+    out = n * -std::sqrt(1 - sin2 * sin2) + t * (sin2 / tl);
+    return true;
+}
+
+inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - n * (2 * dot(d, n)); }
+
+// Lamp glow hit: the disc at the lamp's distance, if the line passes within `size`
+// and the lamp is ahead (the original also hit lamps behind the origin).
+inline bool glow_hit(const ShadeLight& l, const Vec3& o, const Vec3& d, double& t) {
+    if (l.glow <= 0) return false;
+    Vec3 co = l.position - o;
+    double along = dot(co, d);
+    if (!(along > 0)) return false;
+    double dist2 = dot(co, co) - along * along;
+    if (dist2 > l.glow * l.glow) return false;
+    t = length(co);
+    return true;
+}
+
+}  // namespace
+
+struct World::Ctx {
+    SpanScratch scratch;
+    RayStats* stats = nullptr;
+};
+
+struct World::HitRec {
+    enum Kind { None, Object, PlaneHit, Glow } kind = None;
+    double t = kInf;
+    std::uint32_t index = 0;  // object, plane or light
+    SpanEnd end{};            // for objects: the surface that was hit
+};
+
+ShadeMaterial ShadeMaterial::from(const Material& m) {
+    ShadeMaterial s;
+    double sum = m.reflection + m.refraction + m.scattering;
+    if (sum != 0 && std::isfinite(sum)) {
+        s.reflection = m.reflection / sum;
+        s.refraction = m.refraction / sum;
+        s.scattering = m.scattering / sum;
+    } else {
+        s.reflection = s.refraction = s.scattering = 0;
+    }
+    s.translusans = std::clamp(m.translusans, 0.0, 1.0);
+    s.ior = std::max(1.0, m.refractive_index);
+    s.colour = m.colour;
+    return s;
+}
+
+PlaneShape PlaneShape::from(const Plane& p) {
+    PlaneShape q;
+    Vec3 e1 = p.point[1] - p.point[0], e2 = p.point[2] - p.point[0], e3 = p.point[3] - p.point[0];
+    q.n = normalize(cross(e1, e2));
+    if (dot(q.n, e3) < 0) q.n = -q.n;
+    q.D = -dot(q.n, p.point[0]);
+    q.p1 = p.point[0];
+    q.chess = p.chess;
+    double det = dot(e1, cross(e2, e3));
+    // Point 4 in the plane leaves the cell decomposition singular.
+    q.singular = !(std::fabs(det) > 1e-12 * length(e1) * length(e2) * length(e3));
+    if (!q.singular) {
+        q.inv_row[0] = cross(e2, e3) / det;
+        q.inv_row[1] = cross(e3, e1) / det;
+        q.inv_row[2] = cross(e1, e2) / det;
+    }
+    return q;
+}
+
+int PlaneShape::cell(const Vec3& p) const {
+    if (!chess || singular) return 0;
+    Vec3 r = p - p1;
+    double a = std::floor(dot(inv_row[0], r)), b = std::floor(dot(inv_row[1], r));
+    double s = a + b;
+    if (!std::isfinite(s)) return 0;
+    return std::fmod(std::fabs(s), 2.0) == 0 ? 0 : 1;
+}
+
+bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
+    const Geometry& g = *geometry;
+    h.kind = HitRec::None;
+    h.t = kInf;
+    g.bvh.traverse(o, d, kInf, [&](std::uint32_t obj, double tmax) -> double {
+        SpanEnd e;
+        if (g.hit(obj, o, d, kDelta, e, ctx.scratch) && e.t < tmax) {
+            h.kind = HitRec::Object;
+            h.t = e.t;
+            h.index = obj;
+            h.end = e;
+            return e.t;
+        }
+        return tmax;
+    });
+    for (std::uint32_t i = 0; i < planes.size(); ++i) {
+        const PlaneShape& p = planes[i];
+        double dn = dot(p.n, d);
+        if (dn == 0) continue;
+        double t = -(dot(p.n, o) + p.D) / dn;
+        if (t > kDelta && t < h.t) {
+            h.kind = HitRec::PlaneHit;
+            h.t = t;
+            h.index = i;
+        }
+    }
+    for (std::uint32_t i = 0; i < lights.size(); ++i) {
+        double t;
+        if (glow_hit(lights[i], o, d, t) && t > kDelta && t < h.t) {
+            h.kind = HitRec::Glow;
+            h.t = t;
+            h.index = i;
+        }
+    }
+    return h.kind != HitRec::None;
+}
+
+Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const {
+    const Geometry& g = *geometry;
+    Colour sum;
+    for (const ShadeLight& light : lights) {
+        Vec3 v = light.position - p;
+        double r2 = dot(v, v);
+        Colour e = r2 > 0 ? light.colour / r2 : Colour{1, 1, 1};
+        sum += mul(e, cp) * 0.1;
+        double vn = dot(v, n);
+        if (!(vn > 0)) continue;
+        double r = std::sqrt(r2);
+        Vec3 vh = v / r;
+        Vec3 o = p + vh * kDelta;
+        double limit = r - 10 * kDelta;
+        ++ctx.stats->rays;
+        Colour sh{1, 1, 1};
+        bool blocked = false;
+        g.bvh.traverse(o, vh, limit, [&](std::uint32_t obj, double tmax) -> double {
+            SpanEnd e;
+            if (!g.hit(obj, o, vh, 0.0, e, ctx.scratch) || !(e.t < limit)) return tmax;
+            const ShadeMaterial& m = materials[obj];
+            if (m.refraction == 0) {
+                blocked = true;
+                return -1;
+            }
+            Vec3 q = o + vh * e.t;
+            SpanEnd x;
+            double s = g.exit(obj, q, vh, x, ctx.scratch) ? x.t : 0.0;
+            sh = mul(sh, pow3(m.colour * m.translusans, s * m.refraction));
+            return tmax;
+        });
+        if (blocked) continue;
+        for (std::uint32_t i = 0; i < planes.size() && !blocked; ++i) {
+            const PlaneShape& pl = planes[i];
+            double dn = dot(pl.n, vh);
+            if (dn == 0) continue;
+            double t = -(dot(pl.n, o) + pl.D) / dn;
+            if (!(t > 0 && t < limit)) continue;
+            const ShadeMaterial& m = plane_mats[2 * i + pl.cell(o + vh * t)];
+            // A plane is a window of zero thickness: refractive ones pass light unchanged.
+            if (m.refraction == 0) blocked = true;
+        }
+        for (const ShadeLight& other : lights) {
+            double t;
+            if (!blocked && glow_hit(other, o, vh, t) && t > 0 && t < limit) blocked = true;
+        }
+        if (!blocked) sum += mul(mul(e, cp), sh) * (0.9 * vn / r);
+    }
+    return sum;
+}
+
+Colour World::walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, Ctx& ctx) const {
+    if (level >= options.max_depth) return {};
+    ++ctx.stats->rays;
+    const Geometry& g = *geometry;
+    double s = 0;
+    Vec3 n1;
+    const ShadeMaterial* m;
+    if (x.kind == HitRec::Object) {
+        m = &materials[x.index];
+        SpanEnd e;
+        if (g.exit(x.index, q0, d1, e, ctx.scratch) && std::isfinite(e.t)) {
+            s = e.t;
+            n1 = g.normal(e.node, e.face, q0 + d1 * s);
+            if (e.flip) n1 = -n1;
+        } else {
+            // The original would use a negative length here; treat it as 0 instead.
+            n1 = g.normal(x.end.node, x.end.face, q0);
+            if (x.end.flip) n1 = -n1;
+        }
+    } else {
+        const PlaneShape& p = planes[x.index];
+        m = &plane_mats[2 * x.index + p.cell(q0)];
+        n1 = p.n;
+    }
+    Vec3 q1 = q0 + d1 * s;
+    Vec3 d2;
+    Colour c;
+    if (refract(d1, eta, 1, n1, d2))
+        c = shade(q1, d2, level + 1, ctx);
+    else
+        c = walk(x, q1, reflect(d1, n1), eta, level + 1, ctx);
+    return mul(c, pow3(m->colour * m->translusans, s));
+}
+
+Colour World::shade(const Vec3& o, const Vec3& d, int depth, Ctx& ctx) const {
+    if (depth >= options.max_depth) return {};
+    ++ctx.stats->rays;
+    HitRec h;
+    if (!nearest(o, d, ctx, h)) return {};
+    Vec3 p = o + d * h.t;
+    if (h.kind == HitRec::Glow) {
+        const ShadeLight& l = lights[h.index];
+        double rho = length(l.position - p);
+        if (!(rho < l.glow)) return {};
+        double f = (l.glow - rho) / l.glow;
+        return l.colour * (f * f * f * f * f);
+    }
+    const ShadeMaterial* m;
+    Vec3 n;
+    if (h.kind == HitRec::Object) {
+        m = &materials[h.index];
+        n = geometry->normal(h.end.node, h.end.face, p);
+        if (h.end.flip) n = -n;
+    } else {
+        const PlaneShape& pl = planes[h.index];
+        m = &plane_mats[2 * h.index + pl.cell(p)];
+        n = pl.n;
+    }
+    Colour refr;
+    if (m->refraction != 0) {
+        // The original refracts first, and that turns n toward the ray for the other
+        // terms too (a transparent surface seen from behind is lit from the front).
+        if (dot(n, d) > 0) n = -n;
+        if (depth + 1 < options.max_depth && m->refraction > 0) {
+            Vec3 d1;
+            Vec3 nn = n;
+            if (refract(d, 1, m->ior, nn, d1)) refr = walk(h, p, normalize(d1), m->ior, depth + 2, ctx);
+        }
+    }
+    Colour c;
+    if (m->scattering > 0) c += direct(p, n, m->colour, ctx) * m->scattering;
+    if (m->reflection > 0) c += shade(p, reflect(d, n), depth + 2, ctx) * m->reflection;
+    c += scale(m->refraction, refr);
+    return c;
+}
+
+Colour World::trace(const Vec3& origin, const Vec3& dir, int depth, RayStats& stats) const {
+    thread_local Ctx ctx;
+    ctx.stats = &stats;
+    Colour c = shade(origin, normalize(dir), depth, ctx);
+    // No NaN ever reaches a pixel.
+    if (!std::isfinite(c.x)) c.x = c.x > 0 ? 1e30 : 0;
+    if (!std::isfinite(c.y)) c.y = c.y > 0 ? 1e30 : 0;
+    if (!std::isfinite(c.z)) c.z = c.z > 0 ? 1e30 : 0;
+    return c;
+}
+
+Colour World::trace_camera(const CameraBasis& cam, double i, double j, RayStats& stats) const {
+    return trace(cam.origin, cam.direction(i, j), 0, stats);
+}
+
+Aabb World::bounds() const {
+    Aabb b;
+    for (const Aabb& ob : geometry->object_bounds)
+        if (!ob.empty()) b.grow(ob);
+    for (const ShadeLight& l : lights) b.grow(l.position);
+    return b;
+}
+
+std::size_t World::geometry_bytes() const { return geometry->memory_bytes(); }
+
+PickResult pick(const World& world, const Ray& ray) {
+    thread_local World::Ctx ctx;
+    RayStats stats;
+    ctx.stats = &stats;
+    World::HitRec h;
+    PickResult r;
+    if (!world.nearest(ray.origin, normalize(ray.dir), ctx, h)) return r;
+    r.hit = true;
+    r.t = h.t;
+    r.point = ray.origin + normalize(ray.dir) * h.t;
+    if (h.kind == World::HitRec::Object) r.object = int(h.index);
+    if (h.kind == World::HitRec::PlaneHit) r.plane = int(h.index);
+    if (h.kind == World::HitRec::Glow) r.light = int(h.index);
+    return r;
+}
+
+std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous) {
+    auto w = std::make_shared<World>();
+    bool reuse = previous && previous->geometry && previous->geometry->source.size() == scene.objects.size();
+    if (reuse) {
+        for (std::size_t i = 0; i < scene.objects.size() && reuse; ++i)
+            reuse = previous->geometry->source[i] == scene.objects[i].shape;
+    }
+    if (reuse)
+        w->geometry = previous->geometry;
+    else
+        w->geometry = std::make_shared<const Geometry>(build_geometry(scene));
+    w->materials.reserve(scene.objects.size());
+    for (const Object& o : scene.objects) w->materials.push_back(ShadeMaterial::from(o.material));
+    for (const Plane& p : scene.planes) {
+        w->planes.push_back(PlaneShape::from(p));
+        w->plane_mats.push_back(ShadeMaterial::from(p.material));
+        w->plane_mats.push_back(ShadeMaterial::from(p.chess ? p.material2 : p.material));
+    }
+    for (const Light& l : scene.lights) w->lights.push_back({l.position, l.colour, l.lamp && l.size > 0 ? l.size : 0.0});
+    w->camera = scene.camera;
+    w->width = scene.width;
+    w->height = scene.height;
+    if (previous) w->options = previous->options;
+    return w;
+}
+
+}  // namespace rt

@@ -1,0 +1,100 @@
+// A scene compiled for tracing: flat primitive arrays, a BVH, normalised materials.
+// Geometry is shared (immutable) so that a camera, material or light change makes a
+// new World that reuses the previous one's BVH.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "camera.h"
+#include "math.h"
+#include "scene.h"
+
+namespace rt {
+
+struct Geometry;  // primitives + BVH (shapes.h, bvh.h)
+
+// Material as the tracer uses it: weights normalised to sum 1 (or all 0).
+struct ShadeMaterial {
+    double reflection = 0, refraction = 0, scattering = 1;
+    double translusans = 0, ior = 1;
+    Colour colour{0.5, 0.5, 0.5};
+    static ShadeMaterial from(const Material& m);
+};
+
+// An infinite plane, two-sided for hits, one-sided for shading (normal toward point 4).
+struct PlaneShape {
+    Vec3 n;
+    double D = 0;  // n.x + D = 0 on the plane
+    Vec3 p1;
+    bool chess = false;
+    bool singular = true;  // point 4 in the plane: every cell is material 1
+    Vec3 inv_row[3];       // cell coordinates of p - p1
+    static PlaneShape from(const Plane& p);
+    // 0 for material 1, 1 for material 2.
+    int cell(const Vec3& p) const;
+};
+
+struct ShadeLight {
+    Vec3 position;
+    Colour colour;
+    double glow = 0;  // glow-sphere radius; 0 = none
+};
+
+struct TraceOptions {
+    int max_depth = 20;  // the original's recursion limit
+};
+
+struct RayStats {
+    std::uint64_t rays = 0;  // camera + reflected + refracted + shadow rays
+};
+
+struct PickResult;
+struct Ray;
+
+class World {
+public:
+    std::shared_ptr<const Geometry> geometry;
+    std::vector<ShadeMaterial> materials;   // per top-level object
+    std::vector<PlaneShape> planes;
+    std::vector<ShadeMaterial> plane_mats;  // 2 per plane (material 1, material 2)
+    std::vector<ShadeLight> lights;
+    Camera camera;
+    int width = 1, height = 1;
+    TraceOptions options;
+
+    // Colour seen along the original's camera ray through pixel (i, j).
+    Colour trace_camera(const CameraBasis& cam, double i, double j, RayStats& stats) const;
+    Colour trace(const Vec3& origin, const Vec3& dir, int depth, RayStats& stats) const;
+    // Bounds of all bounded objects (and lamps); empty if there are none.
+    Aabb bounds() const;
+    std::size_t geometry_bytes() const;
+
+    struct Ctx;
+    struct HitRec;
+
+private:
+    bool nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const;
+    Colour shade(const Vec3& o, const Vec3& d, int depth, Ctx& ctx) const;
+    Colour direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
+    Colour walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, Ctx& ctx) const;
+    friend PickResult pick(const World& world, const Ray& ray);
+
+};
+
+// Compile a valid scene. If `previous` has the same geometry, its BVH is reused.
+std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous = nullptr);
+
+// What lies under a camera ray: the nearest object or plane.
+struct PickResult {
+    bool hit = false;
+    int object = -1;  // index into Scene::objects
+    int plane = -1;   // index into Scene::planes
+    int light = -1;   // index into Scene::lights (a lamp's glow)
+    double t = 0;
+    Vec3 point;
+};
+PickResult pick(const World& world, const Ray& ray);
+
+}  // namespace rt
