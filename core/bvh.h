@@ -50,9 +50,10 @@ public:
             float a = (n.lo[i] - r.o[i]) * r.inv[i];
             float b = (n.hi[i] - r.o[i]) * r.inv[i];
             if (r.neg[i]) std::swap(a, b);
-            // NaN (0 * inf) must not shrink the interval: fmax/fmin ignore NaN.
-            t0 = std::fmax(t0, a);
-            t1 = std::fmin(t1, b);
+            // NaN (0 * inf) must not shrink the interval: a comparison with NaN is
+            // false, so the bound is kept.
+            t0 = a > t0 ? a : t0;
+            t1 = b < t1 ? b : t1;
         }
         return t0 <= t1 ? t0 : INFINITY;
     }
@@ -63,8 +64,13 @@ public:
     void traverse(const Vec3& origin, const Vec3& dir, double tmax, Fn&& fn) const {
         if (nodes.empty()) return;
         BvhRay r = BvhRay::make(origin, dir);
-        float ftmax = tmax == HUGE_VAL ? INFINITY : float(tmax * (1 + 1e-6) + 1e-6);
-        std::uint32_t stack[128];
+        auto widen = [](double t) { return t == HUGE_VAL ? INFINITY : float(t * (1 + 1e-6) + 1e-6); };
+        float ftmax = widen(tmax);
+        struct Entry {
+            std::uint32_t node;
+            float t;
+        };
+        Entry stack[64];
         int sp = 0;
         std::uint32_t cur = 0;
         if (enter(nodes[0], r, ftmax) == INFINITY) return;
@@ -76,7 +82,7 @@ public:
                     if (nt < 0) return;
                     if (nt < tmax) {
                         tmax = nt;
-                        ftmax = float(tmax * (1 + 1e-6) + 1e-6);
+                        ftmax = widen(tmax);
                     }
                 }
             } else {
@@ -87,7 +93,15 @@ public:
                     std::swap(ta, tb);
                 }
                 if (ta != INFINITY) {
-                    if (tb != INFINITY && sp < 128) stack[sp++] = b;
+                    if (tb != INFINITY) {
+                        if (sp < 64) {
+                            stack[sp++] = {b, tb};
+                        } else {
+                            // Too deep for the stack: search that subtree now.
+                            if (!traverse_from(b, r, tmax, fn)) return;
+                            ftmax = widen(tmax);
+                        }
+                    }
                     cur = a;
                     continue;
                 }
@@ -95,10 +109,28 @@ public:
             // Pop the next subtree still in reach.
             for (;;) {
                 if (sp == 0) return;
-                cur = stack[--sp];
-                if (enter(nodes[cur], r, ftmax) != INFINITY) break;
+                --sp;
+                if (stack[sp].t <= ftmax) break;
             }
+            cur = stack[sp].node;
         }
+    }
+
+    // Fallback for pathologically deep trees: plain recursion from one node.
+    template <class Fn>
+    bool traverse_from(std::uint32_t cur, const BvhRay& r, double& tmax, Fn& fn) const {
+        float ftmax = tmax == HUGE_VAL ? INFINITY : float(tmax * (1 + 1e-6) + 1e-6);
+        if (enter(nodes[cur], r, ftmax) == INFINITY) return true;
+        const BvhNode& n = nodes[cur];
+        if (n.count > 0) {
+            for (std::uint32_t i = 0; i < n.count; ++i) {
+                double nt = fn(items[n.first + i], tmax);
+                if (nt < 0) return false;
+                if (nt < tmax) tmax = nt;
+            }
+            return true;
+        }
+        return traverse_from(cur + 1, r, tmax, fn) && traverse_from(n.first, r, tmax, fn);
     }
 
     std::size_t memory_bytes() const { return nodes.capacity() * sizeof(BvhNode) + items.capacity() * 4; }

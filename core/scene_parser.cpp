@@ -271,6 +271,7 @@ private:
             return false;
         }
         lex_.next();
+        last_number_ = {t.line, t.col};
         if (t.text.size() > Limits::max_token_length) {
             error(t, "number too long (" + std::to_string(t.text.size()) + " characters, limit " +
                          std::to_string(Limits::max_token_length) + ")");
@@ -292,7 +293,7 @@ private:
         Vec3 r;
         for (int i = 0; i < 3; ++i) {
             const Token& t = lex_.peek();
-            if (!t.eof() && !t.is("{") && !t.is("}") && !is_number_syntax(t.text)) {
+            if (!t.eof() && !is_number_syntax(t.text)) {
                 error(t, "expected 3 numbers after " + quote(key.text) + ", got " + got(t));
                 return false;
             }
@@ -402,13 +403,14 @@ private:
         if (t.is("sphere")) {
             count_object(t);
             Sphere s;
+            SourceLoc radius_at{t.line, t.col};
             if (!open(t)) return false;
             block("sphere", {"position", "radius", "material"}, [&](const Token& k) {
                 if (k.is("position")) return vec3(k, s.position);
-                if (k.is("radius")) return number(k, s.radius);
+                if (k.is("radius")) return number(k, s.radius) && (radius_at = last_number_, true);
                 return material(k, obj);
             });
-            if (!(s.radius > 0)) error_at(t.line, t.col, "sphere radius must be greater than 0");
+            if (!(s.radius > 0)) error_at(radius_at.line, radius_at.col, "sphere radius must be greater than 0");
             obj.shape = s;
             return true;
         }
@@ -434,14 +436,15 @@ private:
         if (t.is("cylinder")) {
             count_object(t);
             Cylinder s;
+            SourceLoc radius_at{t.line, t.col};
             if (!open(t)) return false;
             block("cylinder", {"end_1", "end_2", "radius", "material"}, [&](const Token& k) {
                 if (k.is("end_1")) return vec3(k, s.end1);
                 if (k.is("end_2")) return vec3(k, s.end2);
-                if (k.is("radius")) return number(k, s.radius);
+                if (k.is("radius")) return number(k, s.radius) && (radius_at = last_number_, true);
                 return material(k, obj);
             });
-            if (!(s.radius > 0)) error_at(t.line, t.col, "cylinder radius must be greater than 0");
+            if (!(s.radius > 0)) error_at(radius_at.line, radius_at.col, "cylinder radius must be greater than 0");
             if (s.end1 == s.end2) error_at(t.line, t.col, "cylinder end_1 and end_2 are the same point");
             obj.shape = s;
             return true;
@@ -449,16 +452,17 @@ private:
         if (t.is("torus")) {
             count_object(t);
             Torus s;
+            SourceLoc major_at{t.line, t.col}, minor_at{t.line, t.col};
             if (!open(t)) return false;
             block("torus", {"position", "direction", "major", "minor", "material"}, [&](const Token& k) {
                 if (k.is("position")) return vec3(k, s.position);
                 if (k.is("direction")) return vec3(k, s.direction);
-                if (k.is("major")) return number(k, s.major);
-                if (k.is("minor")) return number(k, s.minor);
+                if (k.is("major")) return number(k, s.major) && (major_at = last_number_, true);
+                if (k.is("minor")) return number(k, s.minor) && (minor_at = last_number_, true);
                 return material(k, obj);
             });
-            if (!(s.minor > 0)) error_at(t.line, t.col, "torus minor radius must be greater than 0");
-            if (s.major < 0) error_at(t.line, t.col, "torus major radius must not be negative");
+            if (!(s.minor > 0)) error_at(minor_at.line, minor_at.col, "torus minor radius must be greater than 0");
+            if (s.major < 0) error_at(major_at.line, major_at.col, "torus major radius must not be negative");
             if (length2(s.direction) == 0) error_at(t.line, t.col, "torus direction must not be 0 0 0");
             obj.shape = s;
             return true;
@@ -777,6 +781,7 @@ private:
     bool camera_seen_ = false, size_seen_ = false;
     unsigned camera_keys_ = 0, size_keys_ = 0;
     SourceLoc camera_loc_;
+    SourceLoc last_number_;
     Token size_loc_;
 };
 

@@ -13,7 +13,8 @@ namespace {
 
 constexpr double kInf = HUGE_VAL;
 
-void sphere_spans(const SphereG& s, std::uint32_t node, const Vec3& o, const Vec3& d, std::vector<Span>& out) {
+template <class Out>
+void sphere_spans(const SphereG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
     Vec3 oc = o - s.c;
     double b = dot(oc, d);
     double e = dot(oc, oc) - s.r2;
@@ -23,7 +24,8 @@ void sphere_spans(const SphereG& s, std::uint32_t node, const Vec3& o, const Vec
     out.push_back({{-b - q, node, 0, false}, {-b + q, node, 0, false}});
 }
 
-void tetra_spans(const TetraG& s, std::uint32_t node, const Vec3& o, const Vec3& d, std::vector<Span>& out) {
+template <class Out>
+void tetra_spans(const TetraG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
     double t0 = -kInf, t1 = kInf;
     std::uint8_t f0 = 0, f1 = 0;
     for (std::uint8_t i = 0; i < 4; ++i) {
@@ -44,7 +46,8 @@ void tetra_spans(const TetraG& s, std::uint32_t node, const Vec3& o, const Vec3&
 }
 
 // Faces: 0 = cap at e1, 1 = cap at e2, 2 = side.
-void cylinder_spans(const CylinderG& s, std::uint32_t node, const Vec3& o, const Vec3& d, std::vector<Span>& out) {
+template <class Out>
+void cylinder_spans(const CylinderG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
     Vec3 w = o - s.e1;
     double wa = dot(w, s.a), da = dot(d, s.a);
     Vec3 wp = w - s.a * wa, dp = d - s.a * da;
@@ -82,7 +85,8 @@ double torus_f(const TorusG& s, const Vec3& p) {
     return g * g - 4 * s.R * s.R * (p.x * p.x + p.y * p.y);
 }
 
-void torus_spans(const TorusG& s, std::uint32_t node, const Vec3& o, const Vec3& d, std::vector<Span>& out) {
+template <class Out>
+void torus_spans(const TorusG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
     // Local frame, origin moved to the point of the line nearest the centre so that the
     // quartic is well conditioned.
     Vec3 lo = s.frame.to_local(o - s.c), ld = s.frame.to_local(d);
@@ -123,6 +127,15 @@ void torus_spans(const TorusG& s, std::uint32_t node, const Vec3& o, const Vec3&
     if (open) out.push_back({{start + tc, node, 0, false}, {h + tc, node, 0, false}});
 }
 
+// At most two spans, without touching the heap (a torus gives two at most).
+struct SmallSpans {
+    Span v[2];
+    int n = 0;
+    void push_back(const Span& s) { v[n++] = s; }
+    const Span* begin() const { return v; }
+    const Span* end() const { return v + n; }
+};
+
 Aabb sphere_bounds(const SphereG& s) {
     Aabb b;
     b.lo = s.c - Vec3{s.r, s.r, s.r};
@@ -132,14 +145,26 @@ Aabb sphere_bounds(const SphereG& s) {
 
 }  // namespace
 
-void Geometry::spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<Span>& out, SpanScratch& scratch,
-                     std::size_t depth) const {
+template <class Out>
+void Geometry::leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& out) const {
     const Node& node = nodes[n];
     switch (node.kind) {
         case NodeKind::Sphere: sphere_spans(spheres[node.index], n, o, d, out); return;
         case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, out); return;
         case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, out); return;
         case NodeKind::Torus: torus_spans(tori[node.index], n, o, d, out); return;
+        case NodeKind::Csg: return;
+    }
+}
+
+void Geometry::spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<Span>& out, SpanScratch& scratch,
+                     std::size_t depth) const {
+    const Node& node = nodes[n];
+    switch (node.kind) {
+        case NodeKind::Sphere:
+        case NodeKind::Tetra:
+        case NodeKind::Cylinder:
+        case NodeKind::Torus: leaf_spans(n, o, d, out); return;
         case NodeKind::Csg: {
             const CsgG& c = csgs[node.index];
             std::vector<Span>& a = scratch.at(2 * depth);
@@ -253,26 +278,42 @@ bool Geometry::hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin,
         out = {t, n, 0, false};
         return true;
     }
+    auto first_entry = [&](const auto& list) {
+        for (const Span& s : list)
+            if (s.in.t > tmin) {
+                out = s.in;
+                return true;
+            }
+        return false;
+    };
+    if (node.kind != NodeKind::Csg) {
+        SmallSpans sp;
+        leaf_spans(n, o, d, sp);
+        return first_entry(sp);
+    }
     std::vector<Span>& sp = scratch.at(0);
     spans(n, o, d, sp, scratch, 1);
-    for (const Span& s : sp)
-        if (s.in.t > tmin) {
-            out = s.in;
-            return true;
-        }
-    return false;
+    return first_entry(sp);
 }
 
 bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& scratch) const {
     std::uint32_t n = object_node[obj];
+    auto first_exit = [&](const auto& list) {
+        for (const Span& s : list)
+            if (s.out.t > kDelta) {
+                out = s.out;
+                return true;
+            }
+        return false;
+    };
+    if (nodes[n].kind != NodeKind::Csg) {
+        SmallSpans sp;
+        leaf_spans(n, o, d, sp);
+        return first_exit(sp);
+    }
     std::vector<Span>& sp = scratch.at(0);
     spans(n, o, d, sp, scratch, 1);
-    for (const Span& s : sp)
-        if (s.out.t > kDelta) {
-            out = s.out;
-            return true;
-        }
-    return false;
+    return first_exit(sp);
 }
 
 std::size_t Geometry::memory_bytes() const {

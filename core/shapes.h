@@ -96,6 +96,10 @@ struct Geometry {
     bool exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const;
 
     std::size_t memory_bytes() const;
+
+private:
+    template <class Out>
+    void leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& out) const;
 };
 
 Geometry build_geometry(const Scene& scene);

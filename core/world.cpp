@@ -62,6 +62,9 @@ inline bool glow_hit(const ShadeLight& l, const Vec3& o, const Vec3& d, double& 
 struct World::Ctx {
     SpanScratch scratch;
     RayStats* stats = nullptr;
+    // Per light, the last opaque object that shadowed a point (+1; 0 = none). Shadows
+    // are coherent, so trying it first usually ends the search at once.
+    std::vector<std::uint32_t> blocker;
 };
 
 struct World::HitRec {
@@ -167,6 +170,14 @@ Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) c
         Vec3 o = p + vh * kDelta;
         double limit = r - 10 * kDelta;
         ++ctx.stats->rays;
+        std::size_t li = std::size_t(&light - lights.data());
+        if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
+        std::uint32_t cached = ctx.blocker[li];
+        if (cached > 0 && cached <= materials.size()) {
+            SpanEnd e;
+            if (materials[cached - 1].refraction == 0 && g.hit(cached - 1, o, vh, 0.0, e, ctx.scratch) && e.t < limit)
+                continue;
+        }
         Colour sh{1, 1, 1};
         bool blocked = false;
         g.bvh.traverse(o, vh, limit, [&](std::uint32_t obj, double tmax) -> double {
@@ -175,6 +186,7 @@ Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) c
             const ShadeMaterial& m = materials[obj];
             if (m.refraction == 0) {
                 blocked = true;
+                ctx.blocker[li] = obj + 1;
                 return -1;
             }
             Vec3 q = o + vh * e.t;
