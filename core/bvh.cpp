@@ -12,6 +12,10 @@ namespace {
 constexpr int kBins = 16;
 constexpr std::uint32_t kMaxLeaf = 4;
 constexpr int kMaxSahDepth = 48;
+constexpr double kObjectCost = 2.0;
+// Below this many items leaves may hold single objects; above it, up to kMaxLeaf, which
+// keeps big scenes' trees compact (under 64 bytes per object).
+constexpr std::size_t kSmallScene = 4096;
 
 // Round a double bound outward to float, with a little relative slack so that the
 // float slab test stays conservative for rays from nearby origins.
@@ -41,8 +45,8 @@ struct Builder {
     void emit(std::uint32_t index, const Aabb& b) {
         BvhNode& n = nodes[index];
         for (int k = 0; k < 3; ++k) {
-            n.lo[k] = down(b.lo[k]);
-            n.hi[k] = up(b.hi[k]);
+            n.b[k] = down(b.lo[k]);
+            n.b[3 + k] = up(b.hi[k]);
         }
     }
 
@@ -50,63 +54,65 @@ struct Builder {
         Aabb b = range_bounds(begin, end);
         emit(node, b);
         std::uint32_t count = end - begin;
-        if (count <= kMaxLeaf) {
+        auto make_leaf = [&] {
             nodes[node].first = begin;
             nodes[node].count = count;
-            return;
-        }
+        };
+        if (count == 1 || (count <= kMaxLeaf && items.size() > kSmallScene)) return make_leaf();
         Aabb cb;
         for (std::uint32_t i = begin; i < end; ++i) cb.grow(centres[items[i]]);
         Vec3 ext = cb.hi - cb.lo;
-        int axis = ext.x > ext.y ? (ext.x > ext.z ? 0 : 2) : (ext.y > ext.z ? 1 : 2);
+        int longest = ext.x > ext.y ? (ext.x > ext.z ? 0 : 2) : (ext.y > ext.z ? 1 : 2);
         std::uint32_t mid = begin;
-        if (ext[axis] > 0 && depth < kMaxSahDepth) {
+        // Best split over the bins of all three axes.
+        double best = DBL_MAX;
+        int best_axis = -1, split = -1;
+        if (depth < kMaxSahDepth) {
+            for (int axis = 0; axis < 3; ++axis) {
+                if (!(ext[axis] > 0)) continue;
+                double lo = cb.lo[axis], scale = kBins / ext[axis];
+                Aabb bin_box[kBins];
+                std::uint32_t bin_count[kBins] = {};
+                for (std::uint32_t i = begin; i < end; ++i) {
+                    int k = std::min(std::max(int((centres[items[i]][axis] - lo) * scale), 0), kBins - 1);
+                    bin_box[k].grow(boxes[items[i]]);
+                    ++bin_count[k];
+                }
+                double left_area[kBins];
+                std::uint32_t left_n[kBins];
+                Aabb acc;
+                std::uint32_t n = 0;
+                for (int k = 0; k < kBins; ++k) {
+                    acc.grow(bin_box[k]);
+                    n += bin_count[k];
+                    left_area[k] = acc.area();
+                    left_n[k] = n;
+                }
+                acc = Aabb();
+                n = 0;
+                for (int k = kBins - 1; k > 0; --k) {
+                    acc.grow(bin_box[k]);
+                    n += bin_count[k];
+                    if (left_n[k - 1] == 0 || n == 0) continue;
+                    double cost = left_area[k - 1] * left_n[k - 1] + acc.area() * n;
+                    if (cost < best) best = cost, best_axis = axis, split = k - 1;
+                }
+            }
+        }
+        int axis = best_axis >= 0 ? best_axis : longest;
+        if (best_axis >= 0) {
+            // Small leaves are allowed only when splitting would cost more: a box test
+            // costs about half an object test.
+            double leaf_cost = kObjectCost * b.area() * count;
+            double split_cost = b.area() + kObjectCost * best;
+            if (count <= kMaxLeaf && !(split_cost < leaf_cost)) return make_leaf();
             double lo = cb.lo[axis], scale = kBins / ext[axis];
-            auto bin_of = [&](std::uint32_t item) {
-                int k = int((centres[item][axis] - lo) * scale);
-                return std::min(std::max(k, 0), kBins - 1);
-            };
-            Aabb bin_box[kBins];
-            std::uint32_t bin_count[kBins] = {};
-            for (std::uint32_t i = begin; i < end; ++i) {
-                int k = bin_of(items[i]);
-                bin_box[k].grow(boxes[items[i]]);
-                ++bin_count[k];
-            }
-            double left_area[kBins], right_area[kBins];
-            std::uint32_t left_n[kBins], right_n[kBins];
-            Aabb acc;
-            std::uint32_t n = 0;
-            for (int k = 0; k < kBins; ++k) {
-                acc.grow(bin_box[k]);
-                n += bin_count[k];
-                left_area[k] = acc.area();
-                left_n[k] = n;
-            }
-            acc = Aabb();
-            n = 0;
-            for (int k = kBins - 1; k >= 0; --k) {
-                acc.grow(bin_box[k]);
-                n += bin_count[k];
-                right_area[k] = acc.area();
-                right_n[k] = n;
-            }
-            double best = DBL_MAX;
-            int split = -1;
-            for (int k = 0; k < kBins - 1; ++k) {
-                if (left_n[k] == 0 || right_n[k + 1] == 0) continue;
-                double cost = left_area[k] * left_n[k] + right_area[k + 1] * right_n[k + 1];
-                if (cost < best) best = cost, split = k;
-            }
-            double leaf_cost = b.area() * count;
-            if (split >= 0 && !(count <= 16 && best >= leaf_cost)) {
-                auto it = std::partition(items.begin() + begin, items.begin() + end,
-                                         [&](std::uint32_t item) { return bin_of(item) <= split; });
-                mid = std::uint32_t(it - items.begin());
-            } else if (split >= 0) {
-                // Cheaper as one leaf, but leaves stay small: split in the middle.
-                mid = begin;
-            }
+            auto it = std::partition(items.begin() + begin, items.begin() + end, [&](std::uint32_t item) {
+                return std::min(std::max(int((centres[item][axis] - lo) * scale), 0), kBins - 1) <= split;
+            });
+            mid = std::uint32_t(it - items.begin());
+        } else if (count <= kMaxLeaf) {
+            return make_leaf();
         }
         if (mid == begin || mid == end) {
             mid = begin + count / 2;

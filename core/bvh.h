@@ -12,8 +12,7 @@
 namespace rt {
 
 struct BvhNode {
-    float lo[3];
-    float hi[3];
+    float b[6];  // lo x, y, z then hi x, y, z
     std::uint32_t first;  // leaf: first index into Bvh::items; inner: right child (left is this + 1)
     std::uint32_t count;  // leaf: number of items (> 0); inner: 0
 };
@@ -22,14 +21,16 @@ static_assert(sizeof(BvhNode) == 32, "BVH nodes are 32 bytes");
 struct BvhRay {
     float o[3];
     float inv[3];
-    int neg[3];
+    int near[3], far[3];  // per axis, the index of the near and far slab in lo/hi order
     static BvhRay make(const Vec3& origin, const Vec3& dir) {
         BvhRay r;
         for (int i = 0; i < 3; ++i) {
             r.o[i] = float(origin[i]);
             double inv = 1.0 / dir[i];  // +-inf for a zero component is fine in the slab test
             r.inv[i] = float(inv);
-            r.neg[i] = dir[i] < 0;
+            bool neg = dir[i] < 0;
+            r.near[i] = neg ? 3 + i : i;
+            r.far[i] = neg ? i : 3 + i;
         }
         return r;
     }
@@ -45,16 +46,17 @@ public:
 
     // Entry distance of the ray into node's box if it is within [0, tmax], else +inf.
     static inline float enter(const BvhNode& n, const BvhRay& r, float tmax) {
-        float t0 = 0.f, t1 = tmax;
-        for (int i = 0; i < 3; ++i) {
-            float a = (n.lo[i] - r.o[i]) * r.inv[i];
-            float b = (n.hi[i] - r.o[i]) * r.inv[i];
-            if (r.neg[i]) std::swap(a, b);
-            // NaN (0 * inf) must not shrink the interval: a comparison with NaN is
-            // false, so the bound is kept.
-            t0 = a > t0 ? a : t0;
-            t1 = b < t1 ? b : t1;
-        }
+        const float* b = n.b;
+        float x0 = (b[r.near[0]] - r.o[0]) * r.inv[0], x1 = (b[r.far[0]] - r.o[0]) * r.inv[0];
+        float y0 = (b[r.near[1]] - r.o[1]) * r.inv[1], y1 = (b[r.far[1]] - r.o[1]) * r.inv[1];
+        float z0 = (b[r.near[2]] - r.o[2]) * r.inv[2], z1 = (b[r.far[2]] - r.o[2]) * r.inv[2];
+        // A NaN (0 * inf, a ray in a slab's plane) compares false and leaves the bound as it is.
+        float t0 = x0 > 0.f ? x0 : 0.f;
+        t0 = y0 > t0 ? y0 : t0;
+        t0 = z0 > t0 ? z0 : t0;
+        float t1 = x1 < tmax ? x1 : tmax;
+        t1 = y1 < t1 ? y1 : t1;
+        t1 = z1 < t1 ? z1 : t1;
         return t0 <= t1 ? t0 : INFINITY;
     }
 

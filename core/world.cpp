@@ -122,17 +122,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
     const Geometry& g = *geometry;
     h.kind = HitRec::None;
     h.t = kInf;
-    g.bvh.traverse(o, d, kInf, [&](std::uint32_t obj, double tmax) -> double {
-        SpanEnd e;
-        if (g.hit(obj, o, d, kDelta, e, ctx.scratch) && e.t < tmax) {
-            h.kind = HitRec::Object;
-            h.t = e.t;
-            h.index = obj;
-            h.end = e;
-            return e.t;
-        }
-        return tmax;
-    });
+    // Planes and glows first: their distance prunes the BVH search.
     for (std::uint32_t i = 0; i < planes.size(); ++i) {
         const PlaneShape& p = planes[i];
         double dn = dot(p.n, d);
@@ -152,6 +142,17 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
             h.index = i;
         }
     }
+    g.bvh.traverse(o, d, h.t, [&](std::uint32_t obj, double tmax) -> double {
+        SpanEnd e;
+        if (g.hit(obj, o, d, kDelta, e, ctx.scratch) && e.t < tmax) {
+            h.kind = HitRec::Object;
+            h.t = e.t;
+            h.index = obj;
+            h.end = e;
+            return e.t;
+        }
+        return tmax;
+    });
     return h.kind != HitRec::None;
 }
 
