@@ -80,9 +80,13 @@ void cylinder_spans(const CylinderG& s, std::uint32_t node, const Vec3& o, const
     if (t0 <= t1) out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
 }
 
-double torus_f(const TorusG& s, const Vec3& p) {
-    double g = dot(p, p) + s.R * s.R - s.r * s.r;
-    return g * g - 4 * s.R * s.R * (p.x * p.x + p.y * p.y);
+// The solid's own inside test, (R - rho)^2 + z^2 < r^2. The quartic's zero set also
+// holds the inner 'lemon' of a spindle torus (minor > major), which is no boundary
+// of the solid, so the pieces between roots are classified with this instead.
+double torus_inside(const TorusG& s, const Vec3& p) {
+    double rho = std::sqrt(p.x * p.x + p.y * p.y);
+    double a = s.R - rho;
+    return a * a + p.z * p.z - s.r * s.r;
 }
 
 template <class Out>
@@ -117,7 +121,7 @@ void torus_spans(const TorusG& s, std::uint32_t node, const Vec3& o, const Vec3&
     double start = 0;
     for (int i = 0; i + 1 < m; ++i) {
         double mid = 0.5 * (edges[i] + edges[i + 1]);
-        bool inside = torus_f(s, p0 + ld * mid) < 0;
+        bool inside = torus_inside(s, p0 + ld * mid) < 0;
         if (inside && !open) open = true, start = edges[i];
         if (!inside && open) {
             open = false;
