@@ -15,6 +15,8 @@ struct RenderTask {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     int block = 0;               // coarse pass: block size; 0 for a sample pass
     int s0 = 0, s1 = 0;          // sample pass: samples [s0, s1)
+    int reuse = 0;               // block size of the last coarse pass: its corner pixels
+                                 // already hold sample 0 in the preview layer
 };
 
 struct Pass {
@@ -174,6 +176,7 @@ bool Renderer::next_task(RenderTask& task) {
     task.x0 = t[0], task.y0 = t[1], task.x1 = t[2], task.y1 = t[3];
     task.block = p.block;
     task.s0 = p.s0, task.s1 = p.s1;
+    task.reuse = job.coarse_level;
     return true;
 }
 
@@ -211,7 +214,14 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
         for (int by = task.y0; by < task.y1; by += b) {
             for (int bx = task.x0; bx < task.x1; bx += b) {
                 if (cancelled()) return false;
-                Colour c = world.trace_camera(task.camera, bx, by, stats);
+                Colour c;
+                if (task.reuse > 0 && bx % task.reuse == 0 && by % task.reuse == 0) {
+                    // Traced by the previous coarse pass: the same ray, so the same colour.
+                    const float* p = &film_.preview[3 * (std::size_t(by) * film_.width + bx)];
+                    c = {p[0], p[1], p[2]};
+                } else {
+                    c = world.trace_camera(task.camera, bx, by, stats);
+                }
                 for (int y = by; y < std::min(by + b, task.y1); ++y)
                     for (int x = bx; x < std::min(bx + b, task.x1); ++x) {
                         float* p = &buf[3 * (std::size_t(y - task.y0) * w + (x - task.x0))];
@@ -231,7 +241,14 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
             if (task.s0 > 0) {
                 acc[0] = film_.sum[3 * idx], acc[1] = film_.sum[3 * idx + 1], acc[2] = film_.sum[3 * idx + 2];
             }
-            for (int s = task.s0; s < task.s1; ++s) {
+            int s = task.s0;
+            if (s == 0 && task.reuse > 0 && x % task.reuse == 0 && y % task.reuse == 0) {
+                // Sample 0 of a coarse block corner is the ray the coarse pass traced.
+                const float* p = &film_.preview[3 * idx];
+                acc[0] += p[0], acc[1] += p[1], acc[2] += p[2];
+                ++s;
+            }
+            for (; s < task.s1; ++s) {
                 double dx, dy;
                 sample_offset(x, y, s, dx, dy);
                 Colour c = world.trace_camera(task.camera, x + dx, y + dy, stats);
