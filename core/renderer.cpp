@@ -71,6 +71,16 @@ void sample_offset(int x, int y, int s, double& dx, double& dy) {
     dy = v - std::floor(v) - 0.5;
 }
 
+void accumulate_pixel(const World& world, const CameraBasis& camera, int x, int y, int s0, int s1, float acc[3],
+                      RayStats& stats) {
+    for (int s = s0; s < s1; ++s) {
+        double dx, dy;
+        sample_offset(x, y, s, dx, dy);
+        Colour c = world.trace_camera(camera, x + dx, y + dy, stats);
+        acc[0] += float(c.x), acc[1] += float(c.y), acc[2] += float(c.z);
+    }
+}
+
 Renderer::Renderer(int threads) {
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
     for (int i = 0; i < threads; ++i) workers_.emplace_back([this] { worker_main(); });
@@ -248,12 +258,7 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
                 acc[0] += p[0], acc[1] += p[1], acc[2] += p[2];
                 ++s;
             }
-            for (; s < task.s1; ++s) {
-                double dx, dy;
-                sample_offset(x, y, s, dx, dy);
-                Colour c = world.trace_camera(task.camera, x + dx, y + dy, stats);
-                acc[0] += float(c.x), acc[1] += float(c.y), acc[2] += float(c.z);
-            }
+            accumulate_pixel(world, task.camera, x, y, s, task.s1, acc, stats);
             float* p = &buf[3 * (std::size_t(y - task.y0) * w + (x - task.x0))];
             p[0] = acc[0], p[1] = acc[1], p[2] = acc[2];
         }

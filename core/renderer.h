@@ -56,6 +56,12 @@ struct RenderProgress {
 // corner; later samples are a per-pixel rotated low-discrepancy set around it.
 void sample_offset(int x, int y, int s, double& dx, double& dy);
 
+// Adds samples [s0, s1) of pixel (x, y) to acc, in sample order: the one definition of
+// a pixel's value, shared by the renderer and distributed rendering. The resolved
+// colour is acc / count (see Film::pixel).
+void accumulate_pixel(const World& world, const CameraBasis& camera, int x, int y, int s0, int s1, float acc[3],
+                      RayStats& stats);
+
 struct RenderTask;
 
 class Renderer {
