@@ -17,17 +17,20 @@ constexpr double kObjectCost = 2.0;
 // keeps big scenes' trees compact (under 64 bytes per object).
 constexpr std::size_t kSmallScene = 4096;
 
-// Round a double bound outward to float, with a little relative slack so that the
-// float slab test stays conservative for rays from nearby origins.
-float down(double v) {
-    float f = float(v);
-    if (double(f) > v) f = std::nextafter(f, -INFINITY);
-    return f - std::fabs(f) * 4e-7f;
-}
-float up(double v) {
-    float f = float(v);
-    if (double(f) < v) f = std::nextafter(f, INFINITY);
-    return f + std::fabs(f) * 4e-7f;
+// Round a double box outward to float and pad it by a few float ulps of its largest
+// coordinate, so that the float slab test (with the ray's origin and inverse
+// direction also rounded to float) never misses a box the ray really crosses.
+void to_float_box(const Aabb& b, float out[6]) {
+    double m = 0;
+    for (int k = 0; k < 3; ++k) m = std::max({m, std::fabs(b.lo[k]), std::fabs(b.hi[k])});
+    double pad = m * 1e-6 + 1e-30;
+    for (int k = 0; k < 3; ++k) {
+        float lo = float(b.lo[k] - pad), hi = float(b.hi[k] + pad);
+        if (double(lo) > b.lo[k] - pad) lo = std::nextafter(lo, -INFINITY);
+        if (double(hi) < b.hi[k] + pad) hi = std::nextafter(hi, INFINITY);
+        out[k] = lo;
+        out[3 + k] = hi;
+    }
 }
 
 struct Builder {
@@ -43,11 +46,7 @@ struct Builder {
     }
 
     void emit(std::uint32_t index, const Aabb& b) {
-        BvhNode& n = nodes[index];
-        for (int k = 0; k < 3; ++k) {
-            n.b[k] = down(b.lo[k]);
-            n.b[3 + k] = up(b.hi[k]);
-        }
+        to_float_box(b, nodes[index].b);
     }
 
     void build(std::uint32_t node, std::uint32_t begin, std::uint32_t end, int depth) {
