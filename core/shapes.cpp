@@ -266,22 +266,10 @@ Aabb Geometry::bounds(std::uint32_t n) const {
     return {};
 }
 
-bool Geometry::hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
-                   SpanScratch& scratch) const {
+bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
+                           SpanScratch& scratch) const {
     std::uint32_t n = object_node[obj];
     const Node& node = nodes[n];
-    if (node.kind == NodeKind::Sphere) {
-        // The common case, without building a span.
-        const SphereG& s = spheres[node.index];
-        Vec3 oc = o - s.c;
-        double b = dot(oc, d);
-        double disc = b * b - (dot(oc, oc) - s.r2);
-        if (disc < 0) return false;
-        double t = -b - std::sqrt(disc);
-        if (!(t > tmin)) return false;
-        out = {t, n, 0, false};
-        return true;
-    }
     auto first_entry = [&](const auto& list) {
         for (const Span& s : list)
             if (s.in.t > tmin) {

@@ -90,7 +90,23 @@ struct Geometry {
     Aabb bounds(std::uint32_t n) const;
 
     // Nearest entry into object `obj` with t > tmin; false if none.
-    bool hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out, SpanScratch& s) const;
+    bool hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out, SpanScratch& s) const {
+        std::uint32_t n = object_node[obj];
+        const Node& node = nodes[n];
+        if (node.kind != NodeKind::Sphere) return hit_general(obj, o, d, tmin, out, s);
+        // The common case, inline and without building a span.
+        const SphereG& sp = spheres[node.index];
+        Vec3 oc = o - sp.c;
+        double b = dot(oc, d);
+        double disc = b * b - (dot(oc, oc) - sp.r2);
+        if (disc < 0) return false;
+        double t = -b - std::sqrt(disc);
+        if (!(t > tmin)) return false;
+        out = {t, n, 0, false};
+        return true;
+    }
+    bool hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
+                     SpanScratch& s) const;
     // Where a ray inside object `obj` (or on its surface, going in) leaves it:
     // the first span end beyond kDelta; false if none.
     bool exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const;
