@@ -4,6 +4,7 @@
 #include "scene_parser.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -277,10 +278,17 @@ private:
                          std::to_string(Limits::max_token_length) + ")");
             return false;
         }
-        char buf[Limits::max_token_length + 1];
-        std::memcpy(buf, t.text.data(), t.text.size());
-        buf[t.text.size()] = 0;
-        double d = std::strtod(buf, nullptr);
+        // from_chars is locale-independent and fast; it rejects a leading '+', and on
+        // overflow or underflow strtod tells which of the two it was.
+        std::string_view digits = t.text[0] == '+' ? t.text.substr(1) : t.text;
+        double d = 0;
+        auto res = std::from_chars(digits.data(), digits.data() + digits.size(), d);
+        if (res.ec != std::errc() || res.ptr != digits.data() + digits.size()) {
+            char buf[Limits::max_token_length + 1];
+            std::memcpy(buf, t.text.data(), t.text.size());
+            buf[t.text.size()] = 0;
+            d = std::strtod(buf, nullptr);
+        }
         if (!std::isfinite(d) || std::fabs(d) > kMaxMagnitude) {
             error(t, "number " + quote(t.text) + " is out of range (magnitude at most 1e15)");
             return false;
