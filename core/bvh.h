@@ -7,6 +7,10 @@
 #include <cstdint>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "math.h"
 
 namespace rt {
@@ -22,16 +26,26 @@ struct BvhRay {
     float o[3];
     float inv[3];
     int near[3], far[3];  // per axis, the index of the near and far slab in lo/hi order
+#if defined(__SSE2__)
+    __m128 o4, inv4;  // x, y, z, z (the last lane repeats z so reductions can use all four)
+#endif
     static BvhRay make(const Vec3& origin, const Vec3& dir) {
         BvhRay r;
         for (int i = 0; i < 3; ++i) {
             r.o[i] = float(origin[i]);
-            double inv = 1.0 / dir[i];  // +-inf for a zero component is fine in the slab test
+            // A zero component gets a huge finite inverse instead of infinity, so the
+            // slab products stay numbers (0 * inf would be NaN).
+            double inv = dir[i] != 0 ? 1.0 / dir[i] : (std::signbit(dir[i]) ? -1e30 : 1e30);
+            inv = inv > 1e30 ? 1e30 : (inv < -1e30 ? -1e30 : inv);
             r.inv[i] = float(inv);
-            bool neg = dir[i] < 0;
+            bool neg = std::signbit(dir[i]);
             r.near[i] = neg ? 3 + i : i;
             r.far[i] = neg ? i : 3 + i;
         }
+#if defined(__SSE2__)
+        r.o4 = _mm_setr_ps(r.o[0], r.o[1], r.o[2], r.o[2]);
+        r.inv4 = _mm_setr_ps(r.inv[0], r.inv[1], r.inv[2], r.inv[2]);
+#endif
         return r;
     }
 };
@@ -46,11 +60,28 @@ public:
 
     // Entry distance of the ray into node's box if it is within [0, tmax], else +inf.
     static inline float enter(const BvhNode& n, const BvhRay& r, float tmax) {
+#if defined(__SSE2__)
+        // lo = (lx, ly, lz, lz), hi = (hx, hy, hz, hz)
+        __m128 a = _mm_loadu_ps(n.b);      // lx ly lz hx
+        __m128 b = _mm_loadu_ps(n.b + 2);  // lz hx hy hz
+        __m128 lo = _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 2, 1, 0));
+        __m128 hi = _mm_shuffle_ps(b, b, _MM_SHUFFLE(3, 3, 2, 1));
+        __m128 t1 = _mm_mul_ps(_mm_sub_ps(lo, r.o4), r.inv4);
+        __m128 t2 = _mm_mul_ps(_mm_sub_ps(hi, r.o4), r.inv4);
+        __m128 near = _mm_min_ps(t1, t2), far = _mm_max_ps(t1, t2);
+        near = _mm_max_ps(near, _mm_shuffle_ps(near, near, _MM_SHUFFLE(2, 3, 0, 1)));
+        near = _mm_max_ps(near, _mm_shuffle_ps(near, near, _MM_SHUFFLE(1, 0, 3, 2)));
+        far = _mm_min_ps(far, _mm_shuffle_ps(far, far, _MM_SHUFFLE(2, 3, 0, 1)));
+        far = _mm_min_ps(far, _mm_shuffle_ps(far, far, _MM_SHUFFLE(1, 0, 3, 2)));
+        float t0 = _mm_cvtss_f32(near), t1s = _mm_cvtss_f32(far);
+        t0 = t0 > 0.f ? t0 : 0.f;
+        t1s = t1s < tmax ? t1s : tmax;
+        return t0 <= t1s ? t0 : INFINITY;
+#else
         const float* b = n.b;
         float x0 = (b[r.near[0]] - r.o[0]) * r.inv[0], x1 = (b[r.far[0]] - r.o[0]) * r.inv[0];
         float y0 = (b[r.near[1]] - r.o[1]) * r.inv[1], y1 = (b[r.far[1]] - r.o[1]) * r.inv[1];
         float z0 = (b[r.near[2]] - r.o[2]) * r.inv[2], z1 = (b[r.far[2]] - r.o[2]) * r.inv[2];
-        // A NaN (0 * inf, a ray in a slab's plane) compares false and leaves the bound as it is.
         float t0 = x0 > 0.f ? x0 : 0.f;
         t0 = y0 > t0 ? y0 : t0;
         t0 = z0 > t0 ? z0 : t0;
@@ -58,6 +89,7 @@ public:
         t1 = y1 < t1 ? y1 : t1;
         t1 = z1 < t1 ? z1 : t1;
         return t0 <= t1 ? t0 : INFINITY;
+#endif
     }
 
     // Visit the items whose boxes the ray may enter before tmax, nearest box first.
