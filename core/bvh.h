@@ -26,8 +26,9 @@ struct BvhRay {
     float o[3];
     float inv[3];
     int near[3], far[3];  // per axis, the index of the near and far slab in lo/hi order
+    float pad[3];         // slack in t for rounding the origin to float
 #if defined(__SSE2__)
-    __m128 o4, inv4;  // x, y, z, z (the last lane repeats z so reductions can use all four)
+    __m128 o4, inv4, pad4;  // x, y, z, z (the last lane repeats z so reductions can use all four)
 #endif
     static BvhRay make(const Vec3& origin, const Vec3& dir) {
         BvhRay r;
@@ -38,6 +39,9 @@ struct BvhRay {
             double inv = dir[i] != 0 ? 1.0 / dir[i] : (std::signbit(dir[i]) ? -1e30 : 1e30);
             inv = inv > 1e30 ? 1e30 : (inv < -1e30 ? -1e30 : inv);
             r.inv[i] = float(inv);
+            // Rounding the origin to float moves the ray by up to |o| * 2^-24 on each
+            // axis; widening each slab by that much (in t) keeps the test conservative.
+            r.pad[i] = float((std::fabs(origin[i]) * 1.2e-7 + 1e-30) * std::fabs(inv));
             bool neg = std::signbit(dir[i]);
             r.near[i] = neg ? 3 + i : i;
             r.far[i] = neg ? i : 3 + i;
@@ -45,6 +49,7 @@ struct BvhRay {
 #if defined(__SSE2__)
         r.o4 = _mm_setr_ps(r.o[0], r.o[1], r.o[2], r.o[2]);
         r.inv4 = _mm_setr_ps(r.inv[0], r.inv[1], r.inv[2], r.inv[2]);
+        r.pad4 = _mm_setr_ps(r.pad[0], r.pad[1], r.pad[2], r.pad[2]);
 #endif
         return r;
     }
@@ -68,7 +73,7 @@ public:
         __m128 hi = _mm_shuffle_ps(b, b, _MM_SHUFFLE(3, 3, 2, 1));
         __m128 t1 = _mm_mul_ps(_mm_sub_ps(lo, r.o4), r.inv4);
         __m128 t2 = _mm_mul_ps(_mm_sub_ps(hi, r.o4), r.inv4);
-        __m128 near = _mm_min_ps(t1, t2), far = _mm_max_ps(t1, t2);
+        __m128 near = _mm_sub_ps(_mm_min_ps(t1, t2), r.pad4), far = _mm_add_ps(_mm_max_ps(t1, t2), r.pad4);
         near = _mm_max_ps(near, _mm_shuffle_ps(near, near, _MM_SHUFFLE(2, 3, 0, 1)));
         near = _mm_max_ps(near, _mm_shuffle_ps(near, near, _MM_SHUFFLE(1, 0, 3, 2)));
         far = _mm_min_ps(far, _mm_shuffle_ps(far, far, _MM_SHUFFLE(2, 3, 0, 1)));
@@ -76,19 +81,20 @@ public:
         float t0 = _mm_cvtss_f32(near), t1s = _mm_cvtss_f32(far);
         t0 = t0 > 0.f ? t0 : 0.f;
         t1s = t1s < tmax ? t1s : tmax;
-        return t0 <= t1s ? t0 : INFINITY;
+        // A few ulps for the rounding of the products themselves.
+        return t0 <= t1s * 1.000001f ? t0 : INFINITY;
 #else
         const float* b = n.b;
-        float x0 = (b[r.near[0]] - r.o[0]) * r.inv[0], x1 = (b[r.far[0]] - r.o[0]) * r.inv[0];
-        float y0 = (b[r.near[1]] - r.o[1]) * r.inv[1], y1 = (b[r.far[1]] - r.o[1]) * r.inv[1];
-        float z0 = (b[r.near[2]] - r.o[2]) * r.inv[2], z1 = (b[r.far[2]] - r.o[2]) * r.inv[2];
+        float x0 = (b[r.near[0]] - r.o[0]) * r.inv[0] - r.pad[0], x1 = (b[r.far[0]] - r.o[0]) * r.inv[0] + r.pad[0];
+        float y0 = (b[r.near[1]] - r.o[1]) * r.inv[1] - r.pad[1], y1 = (b[r.far[1]] - r.o[1]) * r.inv[1] + r.pad[1];
+        float z0 = (b[r.near[2]] - r.o[2]) * r.inv[2] - r.pad[2], z1 = (b[r.far[2]] - r.o[2]) * r.inv[2] + r.pad[2];
         float t0 = x0 > 0.f ? x0 : 0.f;
         t0 = y0 > t0 ? y0 : t0;
         t0 = z0 > t0 ? z0 : t0;
         float t1 = x1 < tmax ? x1 : tmax;
         t1 = y1 < t1 ? y1 : t1;
         t1 = z1 < t1 ? z1 : t1;
-        return t0 <= t1 ? t0 : INFINITY;
+        return t0 <= t1 * 1.000001f ? t0 : INFINITY;
 #endif
     }
 

@@ -149,9 +149,10 @@ public:
     void run() {
         try {
             parse_top();
+            if (errors_ == 0) validate();
         } catch (const Stop&) {
+            // Too many errors: what was collected is the result.
         }
-        if (errors_ == 0) validate();
         std::stable_sort(out_.diagnostics.begin(), out_.diagnostics.end(), [](const Diagnostic& a, const Diagnostic& b) {
             return a.line != b.line ? a.line < b.line : a.col < b.col;
         });
