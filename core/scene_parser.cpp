@@ -171,6 +171,18 @@ private:
     static std::string got(const Token& t) { return t.eof() ? "end of file" : quote(t.text); }
 
     // ---- token helpers -----------------------------------------------------------
+    static bool is_section(const Token& t) {
+        return t.is("thing") || t.is("special_thing") || t.is("light") || t.is("camera") || t.is("picture_size") ||
+               t.is("end");
+    }
+    // A section name inside a block almost always means a '}' is missing before it.
+    // Report that once and let the caller close the block, so the rest still parses.
+    bool section_inside(const Token& t, std::string_view what) {
+        if (!is_section(t)) return false;
+        error(t, quote(t.text) + " inside " + quote(what) + ": is a '}' missing before it?");
+        return true;
+    }
+
     // Consumes '{' after a block name; false (with an error) if it is not there.
     bool open(const Token& name) {
         const Token& t = lex_.peek();
@@ -232,14 +244,13 @@ private:
                 lex_.next();
                 return;
             }
+            if (section_inside(t, what)) return;
             lex_.next();
             bool known = false;
             for (const char* k : keys) known = known || t.text == k;
             if (!known) {
                 if (t.is("{"))
                     error(t, "unexpected '{' in " + quote(what));
-                else if (t.is("end"))
-                    error(t, "'end' inside " + quote(what) + ": a '}' is missing before it");
                 else
                     error(t, "unknown key " + quote(t.text) + " in " + std::string(what) + " (expected " +
                                  join_keys(keys) + ")");
@@ -359,6 +370,8 @@ private:
             } else if (t.is("camera")) {
                 if (open(t)) camera(t);
             } else if (t.is("picture_size")) {
+                if (!size_seen_) size_loc_ = {t.line, t.col};
+                size_seen_ = true;
                 if (open(t)) picture_size();
             } else {
                 error(t, "unknown section " + quote(t.text) +
@@ -397,6 +410,7 @@ private:
                 lex_.next();
                 return;
             }
+            if (section_inside(t, "thing")) return;
             Object obj;
             if (object(obj, 0)) out_.scene.objects.push_back(std::move(obj));
         }
@@ -614,9 +628,11 @@ private:
               });
         m.translusans = std::clamp(m.translusans, 0.0, 1.0);
         if (m.refractive_index < 1) m.refractive_index = 1;
-        if (m.reflection + m.refraction + m.scattering == 0 && m.reflection == 0 && m.refraction == 0)
+        if (m.reflection + m.refraction + m.scattering == 0)
             warning({start.line, start.col},
-                    "material weights reflection, refraction and scattering are all 0: the surface renders black");
+                    m.reflection == 0 && m.refraction == 0
+                        ? "material weights reflection, refraction and scattering are all 0: the surface renders black"
+                        : "material weights reflection, refraction and scattering add up to 0: the surface renders black");
         out = m;
         return true;
     }
@@ -632,6 +648,7 @@ private:
                 lex_.next();
                 return;
             }
+            if (section_inside(t, "special_thing")) return;
             lex_.next();
             if (!t.is("plane") && !t.is("chess_plane")) {
                 error(t, "unknown special thing " + quote(t.text) + " (expected plane, chess_plane)");
@@ -690,6 +707,7 @@ private:
                 lex_.next();
                 return;
             }
+            if (section_inside(t, "light")) return;
             lex_.next();
             if (!t.is("lamp") && !t.is("spotlight")) {
                 error(t, "unknown light " + quote(t.text) + " (expected lamp, spotlight)");
@@ -758,8 +776,6 @@ private:
             size_keys_ |= k.is("x_max") ? 1u : 2u;
             return true;
         });
-        if (!size_seen_) size_loc_ = lex_.end_token();
-        size_seen_ = true;
     }
 
     // Whole-scene checks that need every section read.
@@ -777,8 +793,10 @@ private:
                     error_at(camera_loc_.line, camera_loc_.col, std::string("camera: ") + why);
             }
         }
-        if (!(size_keys_ & 1u)) error_at(eof.line, eof.col, "picture_size: missing 'x_max'");
-        if (!(size_keys_ & 2u)) error_at(eof.line, eof.col, "picture_size: missing 'y_max'");
+        SourceLoc size_at = size_seen_ ? size_loc_ : SourceLoc{eof.line, eof.col};
+        if (!size_seen_) error_at(eof.line, eof.col, "the scene has no 'picture_size' section");
+        else if (!(size_keys_ & 1u)) error_at(size_at.line, size_at.col, "picture_size: missing 'x_max'");
+        if (size_seen_ && !(size_keys_ & 2u)) error_at(size_at.line, size_at.col, "picture_size: missing 'y_max'");
         out_.scene.camera_loc = camera_loc_;
     }
 
@@ -791,7 +809,7 @@ private:
     unsigned camera_keys_ = 0, size_keys_ = 0;
     SourceLoc camera_loc_;
     SourceLoc last_number_;
-    Token size_loc_;
+    SourceLoc size_loc_;
 };
 
 }  // namespace

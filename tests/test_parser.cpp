@@ -312,7 +312,12 @@ TEST_CASE("errors: each kind at its position") {
 TEST_CASE("errors: camera and picture size are required and checked") {
     auto none = parse_scene("thing { sphere { } }\nend\n");
     CHECK(has_message(none, "no 'camera' section"));
-    CHECK(has_message(none, "missing 'x_max'"));
+    CHECK(has_message(none, "no 'picture_size' section"));
+    auto half = parse_scene("camera { position 0 0 0 centre 1 0 0 up 1 0 1 angle_x 60 angle_y 45 }\n"
+                            "picture_size { x_max 4 }\nend\n");
+    CHECK(has_message(half, "picture_size: missing 'y_max'"));
+    CHECK(first_error(half).line == 2);
+    CHECK(first_error(half).col == 1);
     auto partial = parse_scene("camera { position 0 0 0 centre 1 0 0 }\npicture_size { x_max 4 y_max 4 }\nend");
     CHECK(has_message(partial, "camera: missing 'up'"));
     CHECK(has_message(partial, "camera: missing 'angle_x'"));
@@ -345,6 +350,26 @@ TEST_CASE("errors: end of file and missing end") {
     CHECK(has_message(empty, "missing 'end'"));
     auto inside = parse_scene("thing { sphere { end } }\nend");
     CHECK(has_message(inside, "'end' inside 'sphere'"));
+}
+
+TEST_CASE("a missing '}' before the next section is one error, and the rest still parses") {
+    auto r = parse_scene("thing {\n  sphere { radius 2 }\n" + std::string(kCamera) + "end\n");
+    int errors = 0;
+    for (const auto& d : r.diagnostics) errors += d.is_error();
+    CHECK(errors == 1);
+    auto d = first_error(r);
+    CHECK(d.line == 3);
+    CHECK(d.col == 1);
+    CHECK(d.message.find("'camera' inside 'thing': is a '}' missing") != std::string::npos);
+    REQUIRE(r.scene.objects.size() == 1);
+    CHECK(r.scene.camera.angle_x == 60);
+}
+
+TEST_CASE("weights that add up to zero are warned about too") {
+    auto r = parse_with_camera("thing { sphere { material { reflection 1 scattering -1 } } }");
+    CHECK(r.ok());
+    REQUIRE(r.diagnostics.size() == 1);
+    CHECK(r.diagnostics[0].message.find("add up to 0") != std::string::npos);
 }
 
 TEST_CASE("errors are capped at 20 and come in file order") {
