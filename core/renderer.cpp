@@ -209,8 +209,8 @@ void Renderer::worker_main() {
             job_->rays += stats.rays;
         }
         task.world.reset();
-        --busy_;
-        idle_cv_.notify_all();
+        // Waiters want "all idle" (cancel) or "done" (commit notifies that itself).
+        if (--busy_ == 0) idle_cv_.notify_all();
     }
 }
 
