@@ -1,0 +1,83 @@
+// Rank 0's book of the render: which tile of which pass is free, out or done, the
+// film the finished tiles go into, and the completion check before anything is written.
+// No MPI and no locking here; the coordinator guards it with its own mutex.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "film.h"
+#include "tile_pool.h"
+
+namespace rtmpi {
+
+// One unit of work: samples [s0, s1) of every pixel of tiles()[tile].
+struct Assignment {
+    int tile = -1;
+    int s0 = 0, s1 = 0;
+};
+
+struct ScheduleSettings {
+    int width = 0, height = 0;
+    int tile_side = 32;
+    int max_samples = 1;
+    int samples_per_pass = 0;  // 0: 1, 1, 2, 4, 8, 16, 16, ... as rt::Renderer
+    double time_limit = 0;     // seconds; checked when a pass completes, as rt::Renderer
+};
+
+class Schedule {
+public:
+    explicit Schedule(const ScheduleSettings& settings);
+
+    const std::vector<Tile>& tiles() const { return tiles_; }
+    int tile_side() const { return settings_.tile_side; }
+    int width() const { return film_.width; }
+    int height() const { return film_.height; }
+
+    // The next free tile of the current pass; false if none is free right now (all out,
+    // or the render is done). A pass starts only when the previous one is complete,
+    // because its pixels continue the previous pass's sums.
+    bool take(Assignment& a);
+    // The sums of samples [0, a.s0) of the tile's pixels, which the renderer of `a`
+    // continues (3 floats per pixel, row by row).
+    void prior_sums(const Assignment& a, float* out) const;
+    // Stores a finished tile. Returns "" or, for a tile that is not out in the current
+    // pass (never handed out, or returned twice), why it was refused.
+    std::string commit(const Assignment& a, const float* sums, std::uint64_t rays, double elapsed);
+
+    bool done() const { return done_; }
+    // True when every pixel holds the same number (>= 1) of samples: checked before the
+    // picture is written, so a lost tile can never leave a hole in a written image.
+    bool complete() const;
+    rt::Image image() const { return film_.resolve(); }
+
+    std::uint64_t rays() const { return rays_; }
+    int samples_done() const { return samples_done_; }
+    int pass_index() const { return int(pass_); }
+    int pass_count() const { return int(passes_.size()); }
+    int pass_tiles_done() const { return tiles_done_; }
+    // Fraction of the whole render done, as raytracer's progress bar computes it.
+    double fraction() const;
+
+private:
+    struct Pass {
+        int s0 = 0, s1 = 0;
+    };
+    enum class State : unsigned char { Free, Out, Done };
+    void begin_pass();
+
+    ScheduleSettings settings_;
+    std::vector<Tile> tiles_;
+    std::vector<Pass> passes_;
+    std::size_t pass_ = 0;
+    std::vector<State> state_;  // per tile, for the current pass
+    std::size_t next_ = 0;      // next free tile of the current pass
+    int tiles_done_ = 0;
+    int samples_done_ = 0;
+    bool done_ = false;
+    std::uint64_t rays_ = 0;
+    rt::Film film_;
+};
+
+}  // namespace rtmpi
