@@ -1,0 +1,479 @@
+// End-to-end tests of the `raytracer` command-line tool: they run the built binary
+// in a temporary folder and check exit codes, messages, prompts and the files it
+// writes (or, after a failure, leaves alone).
+#include <doctest/doctest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBinary = RT_BIN_DIR "/raytracer";
+
+// An asymmetric little scene: a red ball on the viewer's left (+y), a mirror ball on
+// the right, so mirroring and the recursion limit both change the picture.
+const char* const kScene = R"(// test scene
+thing {
+  sphere { material { colour 1 0.2 0.2 } position 5 1.2 0 radius 1 }
+  sphere { material { reflection 1 scattering 0 colour 1 1 1 } position 5 -1.2 0 radius 1 }
+}
+special_thing {
+  plane { material { colour 0.4 0.5 0.6 } point 1 0 0 -1  point 2 1 0 -1  point 3 0 1 -1  point 4 0 0 0 }
+}
+light { spotlight { colour 30 30 30 position 0 0 5 } }
+camera { position 0 0 0 centre 1 0 0 up 1 0 1 projection 2 angle_x 60 angle_y 45 }
+picture_size { x_max 32 y_max 24 }
+end
+)";
+
+std::string read_all(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+void write_all(const fs::path& p, const std::string& text) {
+    std::ofstream out(p, std::ios::binary);
+    out << text;
+}
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+struct Result {
+    int status = -1;
+    std::string out, err;
+};
+
+// A fresh folder per test, removed afterwards.
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        std::string tmpl = (fs::temp_directory_path() / "rt-cli-XXXXXX").string();
+        REQUIRE(mkdtemp(tmpl.data()) != nullptr);
+        path = tmpl;
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    fs::path operator/(const std::string& name) const { return path / name; }
+
+    // Runs the binary in this folder with `args` (already shell-quoted where needed)
+    // and `input` on stdin (empty input: stdin is at end of file).
+    Result run(const std::string& args, const std::string& input = "") const {
+        write_all(path / ".stdin", input);
+        std::string cmd = "cd " + quote(path.string()) + " && " + quote(kBinary) + " " + args +
+                          " <.stdin >.stdout 2>.stderr";
+        int raw = std::system(cmd.c_str());
+        Result r;
+        r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+        r.out = read_all(path / ".stdout");
+        r.err = read_all(path / ".stderr");
+        fs::remove(path / ".stdin");
+        fs::remove(path / ".stdout");
+        fs::remove(path / ".stderr");
+        return r;
+    }
+
+    std::vector<std::string> files() const {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
+        std::sort(names.begin(), names.end());
+        return names;
+    }
+};
+
+bool contains(const std::string& haystack, const std::string& needle) {
+    return haystack.find(needle) != std::string::npos;
+}
+
+// Width and height from a binary PPM's header, or -1 -1.
+void ppm_size(const std::string& data, int& w, int& h) {
+    w = h = -1;
+    std::istringstream in(data);
+    std::string magic;
+    int maxval = 0;
+    in >> magic >> w >> h >> maxval;
+    if (magic != "P6" || maxval != 255) w = h = -1;
+}
+
+struct Picture {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgb;
+    const std::uint8_t* at(int x, int y) const { return &rgb[3 * (std::size_t(y) * width + x)]; }
+};
+
+Picture load_ppm(const fs::path& p) {
+    Picture pic;
+    std::string err = rt::read_ppm(p.string(), pic.width, pic.height, pic.rgb);
+    REQUIRE_MESSAGE(err.empty(), err);
+    return pic;
+}
+
+// Whether process `pid` has a handler for `sig`, from the SigCgt mask in /proc.
+bool catches_signal(pid_t pid, int sig) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1;
+    return false;
+}
+
+}  // namespace
+
+TEST_CASE("cli: SCENE OUT.ppm renders a binary PPM of the scene's size, silently on stdout") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    Result r = dir.run("scene.txt out.ppm");
+    CHECK(r.status == 0);
+    CHECK(r.out.empty());
+    CHECK_MESSAGE(r.err.empty(), r.err);  // stderr is not a terminal: no progress bar
+    std::string data = read_all(dir / "out.ppm");
+    int w, h;
+    ppm_size(data, w, h);
+    CHECK(w == 32);
+    CHECK(h == 24);
+    // Header, then exactly 3 bytes per pixel.
+    CHECK(data.size() == std::string("P6\n32 24\n255\n").size() + 32 * 24 * 3);
+    Picture pic = load_ppm(dir / "out.ppm");
+    bool any_lit = false;
+    for (auto b : pic.rgb) any_lit |= b != 0;
+    CHECK(any_lit);
+    CHECK(dir.files() == std::vector<std::string>{"out.ppm", "scene.txt"});
+}
+
+TEST_CASE("cli: --width and --height override the picture size; the extension is case-insensitive") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    Result r = dir.run("--width 17 --height=9 scene.txt OUT.PPM");
+    REQUIRE(r.status == 0);
+    int w, h;
+    ppm_size(read_all(dir / "OUT.PPM"), w, h);
+    CHECK(w == 17);
+    CHECK(h == 9);
+}
+
+TEST_CASE("cli: OUT.png writes a PNG with the picture size in its header") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    Result r = dir.run("scene.txt out.png");
+    REQUIRE(r.status == 0);
+    std::string data = read_all(dir / "out.png");
+    REQUIRE(data.size() > 24);
+    CHECK(data.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
+    auto be32 = [&](std::size_t at) {
+        return (unsigned(std::uint8_t(data[at])) << 24) | (unsigned(std::uint8_t(data[at + 1])) << 16) |
+               (unsigned(std::uint8_t(data[at + 2])) << 8) | unsigned(std::uint8_t(data[at + 3]));
+    };
+    CHECK(data.compare(12, 4, "IHDR") == 0);
+    CHECK(be32(16) == 32);
+    CHECK(be32(20) == 24);
+}
+
+TEST_CASE("cli: the same picture whatever the thread count") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    REQUIRE(dir.run("--threads 1 scene.txt one.ppm").status == 0);
+    REQUIRE(dir.run("--threads 3 scene.txt three.ppm").status == 0);
+    CHECK(read_all(dir / "one.ppm") == read_all(dir / "three.ppm"));
+}
+
+TEST_CASE("cli: a parse error prints FILE:LINE:COL: error:, exits 1 and leaves OUT untouched") {
+    TempDir dir;
+    write_all(dir / "scene.txt", "thing {\n  sphere {\n    positio 1 2 3\n    radius 1\n  }\n}\nend\n");
+    const std::string sentinel = "not a picture: must survive a failed run\n";
+    write_all(dir / "out.ppm", sentinel);
+    Result r = dir.run("scene.txt out.ppm");
+    CHECK(r.status == 1);
+    CHECK_MESSAGE(contains(r.err, "scene.txt:3:5: error: "), r.err);
+    CHECK(contains(r.err, "positio"));
+    CHECK(r.out.empty());
+    CHECK(read_all(dir / "out.ppm") == sentinel);
+    CHECK(dir.files() == std::vector<std::string>{"out.ppm", "scene.txt"});  // no temp file left
+}
+
+TEST_CASE("cli: at most 20 errors are printed") {
+    TempDir dir;
+    std::string text = "thing {\n";
+    for (int i = 0; i < 40; ++i) text += "  cube { }\n";
+    text += "}\nend\n";
+    write_all(dir / "scene.txt", text);
+    Result r = dir.run("scene.txt out.ppm");
+    CHECK(r.status == 1);
+    std::size_t errors = 0;
+    for (std::size_t at = 0; (at = r.err.find(": error: ", at)) != std::string::npos; ++at) ++errors;
+    CHECK(errors >= 1);
+    CHECK(errors <= 20);
+    CHECK(!fs::exists(dir / "out.ppm"));
+}
+
+TEST_CASE("cli: warnings are printed and do not stop the render") {
+    TempDir dir;
+    // All-zero weights are a warning (scene-format §8); the ball renders black.
+    std::string text = kScene;
+    const std::string from = "material { colour 1 0.2 0.2 }";
+    text.replace(text.find(from), from.size(),
+                 "material { reflection 0 refraction 0 scattering 0 colour 1 0.2 0.2 }");
+    write_all(dir / "scene.txt", text);
+    Result r = dir.run("scene.txt out.ppm");
+    CHECK(r.status == 0);
+    CHECK_MESSAGE(contains(r.err, "scene.txt:3:"), r.err);
+    CHECK(contains(r.err, ": warning: "));
+    CHECK(fs::exists(dir / "out.ppm"));
+}
+
+TEST_CASE("cli: usage and I/O errors exit 2 and write nothing") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+
+    SUBCASE("an unsupported extension names the two accepted ones") {
+        Result r = dir.run("scene.txt out.jpg");
+        CHECK(r.status == 2);
+        CHECK(contains(r.err, ".ppm"));
+        CHECK(contains(r.err, ".png"));
+        CHECK(!fs::exists(dir / "out.jpg"));
+    }
+    SUBCASE("no extension at all") {
+        CHECK(dir.run("scene.txt out").status == 2);
+        CHECK(!fs::exists(dir / "out"));
+    }
+    SUBCASE("a missing scene file") {
+        Result r = dir.run("nosuch.txt out.ppm");
+        CHECK(r.status == 2);
+        CHECK(contains(r.err, "nosuch.txt"));
+        CHECK(!fs::exists(dir / "out.ppm"));
+    }
+    SUBCASE("an output folder that does not exist") {
+        Result r = dir.run("scene.txt nosuch/out.ppm");
+        CHECK(r.status == 2);
+        CHECK(contains(r.err, "nosuch"));
+    }
+    SUBCASE("an unknown option") {
+        Result r = dir.run("--bogus scene.txt out.ppm");
+        CHECK(r.status == 2);
+        CHECK(contains(r.err, "--bogus"));
+    }
+    SUBCASE("too many arguments") { CHECK(dir.run("scene.txt a.ppm b.ppm").status == 2); }
+    CHECK(dir.files() == std::vector<std::string>{"scene.txt"});
+}
+
+TEST_CASE("cli: numeric options are validated with a message naming the option") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    const char* bad[][2] = {
+        {"--width", "0"},       {"--width", "16385"},  {"--height", "-3"},  {"--height", "12x"},
+        {"--samples", "0"},     {"--samples", "65537"}, {"--threads", "0"}, {"--threads", "257"},
+        {"--max-depth", "0"},   {"--max-depth", "1001"}, {"--width", ""},   {"--time-limit", "0"},
+        {"--time-limit", "abc"}, {"--width", "99999999999999999999"},
+    };
+    for (auto& b : bad) {
+        CAPTURE(b[0]);
+        CAPTURE(b[1]);
+        Result r = dir.run(std::string(b[0]) + " " + quote(b[1]) + " scene.txt out.ppm");
+        CHECK(r.status == 2);
+        CHECK(contains(r.err, b[0]));
+    }
+    CHECK(dir.run("scene.txt out.ppm --width").status == 2);  // value missing
+    CHECK(!fs::exists(dir / "out.ppm"));
+    // The limits themselves are accepted.
+    CHECK(dir.run("--width 1 --height 1 --samples 2 --threads 256 --max-depth 1000 scene.txt out.ppm").status == 0);
+}
+
+TEST_CASE("cli: missing arguments are asked for on stderr and read from stdin") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+
+    SUBCASE("both") {
+        Result r = dir.run("", "scene.txt\nout.ppm\n");
+        CHECK(r.status == 0);
+        CHECK(r.out.empty());
+        CHECK(contains(r.err, "Scene file"));
+        CHECK(contains(r.err, "Output"));
+        int w, h;
+        ppm_size(read_all(dir / "out.ppm"), w, h);
+        CHECK(w == 32);
+    }
+    SUBCASE("only the output") {
+        Result r = dir.run("scene.txt", "out.png\n");
+        CHECK(r.status == 0);
+        CHECK(!contains(r.err, "Scene file"));
+        CHECK(contains(r.err, "Output"));
+        CHECK(fs::exists(dir / "out.png"));
+    }
+    SUBCASE("end of input at a prompt is a usage error") {
+        CHECK(dir.run("").status == 2);
+        CHECK(dir.run("", "scene.txt\n").status == 2);
+        CHECK(dir.run("scene.txt").status == 2);
+        CHECK(dir.files() == std::vector<std::string>{"scene.txt"});
+    }
+    SUBCASE("a prompted extension is checked too") {
+        Result r = dir.run("scene.txt", "out.bmp\n");
+        CHECK(r.status == 2);
+        CHECK(contains(r.err, ".ppm"));
+    }
+}
+
+TEST_CASE("cli: --check reports without rendering") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    write_all(dir / "bad.txt", "camera {\n  position 0 0 0 centre\n}\n");
+    Result ok = dir.run("--check scene.txt");
+    CHECK(ok.status == 0);
+    CHECK(ok.out.empty());
+    Result bad = dir.run("--check bad.txt");
+    CHECK(bad.status == 1);
+    CHECK_MESSAGE(contains(bad.err, "bad.txt:"), bad.err);
+    CHECK(contains(bad.err, ": error: "));
+    CHECK(dir.run("--check nosuch.txt").status == 2);
+    CHECK(dir.files() == std::vector<std::string>{"bad.txt", "scene.txt"});
+}
+
+TEST_CASE("cli: --print-scene prints a normalised scene that reads back the same") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    Result first = dir.run("--print-scene scene.txt");
+    REQUIRE(first.status == 0);
+    CHECK(contains(first.out, "sphere"));
+    CHECK(contains(first.out, "end"));
+    write_all(dir / "printed.txt", first.out);
+    Result second = dir.run("--print-scene printed.txt");
+    CHECK(second.status == 0);
+    CHECK(second.out == first.out);
+    // And it renders the same picture as the original text.
+    REQUIRE(dir.run("scene.txt a.ppm").status == 0);
+    REQUIRE(dir.run("printed.txt b.ppm").status == 0);
+    CHECK(read_all(dir / "a.ppm") == read_all(dir / "b.ppm"));
+}
+
+TEST_CASE("cli: --version and --help") {
+    TempDir dir;
+    Result v = dir.run("--version");
+    CHECK(v.status == 0);
+    CHECK(v.out.rfind("raytracer ", 0) == 0);
+    Result h = dir.run("--help");
+    CHECK(h.status == 0);
+    for (const char* o : {"--width", "--height", "--samples", "--threads", "--max-depth", "--time-limit", "--mirror",
+                          "--quiet", "--stats", "--check", "--print-scene", "--version", "--help", ".ppm", ".png"}) {
+        CAPTURE(o);
+        CHECK(contains(h.out, o));
+    }
+}
+
+TEST_CASE("cli: --mirror gives the 2013 program's left-right mirrored picture") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    REQUIRE(dir.run("scene.txt plain.ppm").status == 0);
+    REQUIRE(dir.run("--mirror scene.txt mirrored.ppm").status == 0);
+    Picture a = load_ppm(dir / "plain.ppm"), b = load_ppm(dir / "mirrored.ppm");
+    REQUIRE(a.width == b.width);
+    REQUIRE(a.height == b.height);
+    CHECK(a.rgb != b.rgb);
+    // The original's grid is not symmetric (column 0 sits on the half-angle edge, the
+    // last column one step short of the other), so mirrored column i looks exactly
+    // where plain column W - i does; column 0 has no twin.
+    int differing = 0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 1; x < a.width; ++x)
+            for (int c = 0; c < 3; ++c) differing += b.at(x, y)[c] != a.at(a.width - x, y)[c];
+    CHECK(differing == 0);
+    // The red ball sits at +y, the viewer's left in a right-handed z-up world: the left
+    // half of the plain picture is the redder one.
+    auto red_excess = [](const Picture& p, int x0, int x1) {
+        long s = 0;
+        for (int y = 0; y < p.height; ++y)
+            for (int x = x0; x < x1; ++x) s += long(p.at(x, y)[0]) - p.at(x, y)[2];
+        return s;
+    };
+    CHECK(red_excess(a, 0, a.width / 2) > red_excess(a, a.width / 2, a.width));
+    CHECK(red_excess(b, 0, b.width / 2) < red_excess(b, b.width / 2, b.width));
+}
+
+TEST_CASE("cli: --max-depth limits recursion; --samples, --time-limit, --stats, --quiet") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    REQUIRE(dir.run("scene.txt deep.ppm").status == 0);
+    REQUIRE(dir.run("--max-depth 1 scene.txt shallow.ppm").status == 0);
+    // At depth 1 the mirror ball reflects nothing (a reflection costs 2 levels).
+    CHECK(read_all(dir / "deep.ppm") != read_all(dir / "shallow.ppm"));
+
+    Result s = dir.run("--samples 4 --stats --quiet scene.txt s4.ppm");
+    CHECK(s.status == 0);
+    CHECK(s.out.empty());
+    CHECK(contains(s.err, "rays: "));
+    CHECK(contains(s.err, "rays/s"));
+    CHECK(contains(s.err, "4 samples"));
+
+    auto t0 = std::chrono::steady_clock::now();
+    Result t = dir.run("--time-limit 0.3 scene.txt timed.ppm");
+    double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    CHECK(t.status == 0);
+    CHECK(took < 20);
+    int w, h;
+    ppm_size(read_all(dir / "timed.ppm"), w, h);
+    CHECK(w == 32);
+}
+
+TEST_CASE("cli: SIGINT or SIGTERM during a render cancels it and writes nothing") {
+    for (int sig : {SIGINT, SIGTERM}) {
+        CAPTURE(sig);
+        TempDir dir;
+        write_all(dir / "scene.txt", kScene);
+        const std::string sentinel = "old picture\n";
+        write_all(dir / "out.ppm", sentinel);
+        pid_t pid = fork();
+        REQUIRE(pid >= 0);
+        if (pid == 0) {
+            if (chdir(dir.path.c_str()) != 0) _exit(99);
+            if (!freopen(".stderr", "w", stderr)) _exit(99);
+            // Far more work than the test waits for.
+            execl(kBinary.c_str(), "raytracer", "--threads", "2", "--samples", "65536", "--width", "2000",
+                  "--height", "2000", "scene.txt", "out.ppm", (char*)nullptr);
+            _exit(98);
+        }
+        // Signal only once the handler is in place (a loaded machine may take a while to
+        // get there), then give the render a moment to be under way.
+        bool caught = false;
+        for (int i = 0; i < 400 && !caught; ++i) {
+            caught = catches_signal(pid, sig);
+            if (!caught) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+        }
+        CHECK(caught);
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        kill(pid, sig);
+        int status = 0;
+        bool ended = false;
+        for (int i = 0; i < 200 && !ended; ++i) {  // up to 10 s
+            ended = waitpid(pid, &status, WNOHANG) == pid;
+            if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+        if (!ended) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+        }
+        REQUIRE_MESSAGE(ended, "the render did not stop within 10 s of the signal");
+        REQUIRE(WIFEXITED(status));
+        CHECK(WEXITSTATUS(status) == 128 + sig);
+        CHECK(contains(read_all(dir / ".stderr"), "interrupted"));
+        CHECK(read_all(dir / "out.ppm") == sentinel);
+        fs::remove(dir / ".stderr");
+        CHECK(dir.files() == std::vector<std::string>{"out.ppm", "scene.txt"});
+    }
+}
