@@ -1,0 +1,162 @@
+#!/usr/bin/env bash
+# Times our `raytracer` against POV-Ray 3.7 on the benchmark scene pairs in
+# bench/scenes/ and prints a markdown table: the median wall-clock and CPU time of
+# several runs of the whole process (parse, render, write), for both programs.
+#
+#   bench/run.sh [OPTIONS] [SCENE...]      (default: all four scenes)
+#
+#   -r, --runs N       runs per measurement (default 3); the median is reported
+#   -t, --threads N    threads for both renderers (default 2)
+#   -b, --binary PATH  our raytracer (default: build/bin/raytracer)
+#   -o, --out DIR      keep pictures and logs in DIR (default: a temporary folder)
+#   -s, --scaling      also time ours with 1 thread and report the speed-up
+#   -P, --no-pov       skip POV-Ray
+#   -M, --no-micro     skip renderer_bench (preview and cancel latency, BVH build)
+#   -q, --quick        160x90, 1 run, a smoke test of this script (used by CI)
+#   -h, --help         this text
+#
+# Scenes: things-like spheres-10k csg-400 glass-stack. Each renders at the size in its
+# .txt file (1920x1080 or 1280x720). POV-Ray runs as in bench/README.md:
+#   povray -D -A +W<width> +H<height> +WT<threads> File_Gamma=1.0 +INAME.pov +Oout.png
+set -euo pipefail
+
+HERE=$(cd "$(dirname "$0")" && pwd)
+ROOT=$(cd "$HERE/.." && pwd)
+RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 MICRO=1 QUICK=0
+SCENES=()
+
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
+need_value() { [ $# -ge 2 ] || { echo "run.sh: $1 needs a value" >&2; exit 2; }; }
+while [ $# -gt 0 ]; do
+    case $1 in
+        -r|--runs) need_value "$@"; RUNS=$2; shift ;;
+        -t|--threads) need_value "$@"; THREADS=$2; shift ;;
+        -b|--binary) need_value "$@"; BIN=$2; shift ;;
+        -o|--out) need_value "$@"; OUT=$2; shift ;;
+        -s|--scaling) SCALING=1 ;;
+        -P|--no-pov) POV=0 ;;
+        -M|--no-micro) MICRO=0 ;;
+        -q|--quick) QUICK=1 ;;
+        -h|--help) usage; exit 0 ;;
+        -*) echo "run.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
+        *) SCENES+=("$1") ;;
+    esac
+    shift
+done
+[ ${#SCENES[@]} -gt 0 ] || SCENES=(things-like spheres-10k csg-400 glass-stack)
+[[ $RUNS =~ ^[1-9][0-9]*$ ]] || { echo "run.sh: --runs must be a positive integer" >&2; exit 2; }
+[[ $THREADS =~ ^[1-9][0-9]*$ ]] || { echo "run.sh: --threads must be a positive integer" >&2; exit 2; }
+[ -x "$BIN" ] || { echo "run.sh: no raytracer binary at $BIN (build first, or pass -b)" >&2; exit 2; }
+for s in "${SCENES[@]}"; do
+    [ -f "$HERE/scenes/$s.txt" ] || { echo "run.sh: unknown scene '$s' (no bench/scenes/$s.txt)" >&2; exit 2; }
+done
+[ $QUICK = 1 ] && RUNS=1
+if [ $POV = 1 ] && ! command -v povray > /dev/null; then
+    echo "run.sh: povray not installed; skipping POV-Ray" >&2
+    POV=0
+fi
+
+if [ -n "$OUT" ]; then
+    mkdir -p "$OUT"
+else
+    OUT=$(mktemp -d "${TMPDIR:-/tmp}/rt-bench.XXXXXX")
+    trap 'rm -rf "$OUT"' EXIT
+fi
+
+median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END {
+    if (NR == 0) { print "n/a"; exit }
+    if (NR % 2) printf "%.3f\n", v[(NR + 1) / 2]; else printf "%.3f\n", (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "n/a" || b == "n/a" || b == 0) print "n/a"; else printf "%.2f\n", a / b }'; }
+millions() { awk -v r="$1" 'BEGIN { if (r == "n/a") print r; else printf "%.1f M\n", r }'; }
+scene_size() { awk -v k="$2" '$1 == k { print $2; exit }' "$HERE/scenes/$1.txt"; }
+
+# Runs a command with its output in LOG; prints "WALL CPU" in seconds. CPU time (user +
+# sys of the process and its threads) is reported too because this machine may be
+# shared: other load stretches wall time far more than CPU time.
+timed() {  # LOG CMD...
+    local log=$1 t rc=0 TIMEFORMAT='%R %U %S'
+    shift
+    t=$( { time "$@" > "$log" 2>&1; } 2>&1 ) || rc=$?
+    [ $rc = 0 ] || return $rc
+    awk -v t="$t" 'BEGIN { split(t, a, " "); printf "%.3f %.3f\n", a[1], a[2] + a[3] }'
+}
+run_ours() {  # NAME W H THREADS; its --stats output stays in $OUT/NAME-ours-tTHREADS.log
+    local log=$OUT/$1-ours-t$4.log
+    timed "$log" "$BIN" --quiet --stats --threads "$4" --width "$2" --height "$3" \
+        "$HERE/scenes/$1.txt" "$OUT/$1.ppm" ||
+        { echo "run.sh: our raytracer failed on $1:" >&2; cat "$log" >&2; exit 1; }
+}
+run_pov() {  # NAME W H THREADS
+    local log=$OUT/$1-pov.log
+    # POV-Ray rejects `+I FILE` with a space; the name must be attached.
+    (cd "$HERE/scenes" && timed "$log" povray -D -A +W"$2" +H"$3" +WT"$4" File_Gamma=1.0 \
+        +I"$1.pov" +O"$OUT/$1-pov.png") ||
+        { echo "run.sh: povray failed on $1:" >&2; tail -20 "$log" >&2; exit 1; }
+}
+
+echo "Machine: $(lscpu 2>/dev/null | sed -n 's/^Model name: *//p' | head -1), $(nproc) CPUs;" \
+     "$(date -u '+%Y-%m-%d %H:%M UTC'); load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "Threads: $THREADS; runs per measurement: $RUNS (medians; times of the whole process)"
+echo
+echo "| scene | resolution | ours (s) | POV-Ray (s) | POV/ours | our rays/s | ours CPU (s) | POV-Ray CPU (s) |"
+echo "|---|---|---|---|---|---|---|---|"
+
+declare -A OURS ONE
+for s in "${SCENES[@]}"; do
+    if [ $QUICK = 1 ]; then W=160 H=90; else W=$(scene_size "$s" x_max) H=$(scene_size "$s" y_max); fi
+    ours=() ours_cpu=() pov=() pov_cpu=() rps=()
+    for _ in $(seq "$RUNS"); do
+        t=$(run_ours "$s" "$W" "$H" "$THREADS"); read -r wall cpu <<< "$t"
+        ours+=("$wall") ours_cpu+=("$cpu")
+        rps+=("$(sed -n 's/.*(\([0-9.]*\) M rays\/s).*/\1/p' "$OUT/$s-ours-t$THREADS.log")")
+        if [ $POV = 1 ]; then
+            t=$(run_pov "$s" "$W" "$H" "$THREADS"); read -r wall cpu <<< "$t"
+            pov+=("$wall") pov_cpu+=("$cpu")
+        fi
+    done
+    # The picture must be what was asked for, or the timing means nothing.
+    hdr=$(head -c 64 "$OUT/$s.ppm" | LC_ALL=C tr -d '\000' | LC_ALL=C awk 'NR <= 4 && !/^#/' |
+          tr '\n' ' ' | awk '{ print $1, $2, $3 }')
+    if [ "$hdr" != "P6 $W $H" ]; then
+        echo "run.sh: $s.ppm is not a ${W}x$H PPM" >&2; exit 1
+    fi
+    OURS[$s]=$(median "${ours[@]}")
+    p=n/a pc=n/a
+    if [ $POV = 1 ]; then p=$(median "${pov[@]}") pc=$(median "${pov_cpu[@]}"); fi
+    echo "| $s | ${W}x$H | ${OURS[$s]} | $p | $(ratio "$p" "${OURS[$s]}") | $(millions "$(median "${rps[@]}")") |" \
+         "$(median "${ours_cpu[@]}") | $pc |"
+    if [ $SCALING = 1 ]; then
+        one=()
+        for _ in $(seq "$RUNS"); do
+            t=$(run_ours "$s" "$W" "$H" 1); read -r wall cpu <<< "$t"
+            one+=("$wall")
+        done
+        ONE[$s]=$(median "${one[@]}")
+    fi
+done
+echo
+
+if [ $SCALING = 1 ]; then
+    for s in "${SCENES[@]}"; do
+        echo "- $s, ours: 1 thread ${ONE[$s]} s, $THREADS threads ${OURS[$s]} s," \
+             "speed-up $(ratio "${ONE[$s]}" "${OURS[$s]}")x"
+    done
+fi
+if [ -n "${OURS[spheres-10k]:-}" ] && [ -n "${OURS[things-like]:-}" ]; then
+    echo "- ours, spheres-10k / things-like time: $(ratio "${OURS[spheres-10k]}" "${OURS[things-like]}")" \
+         "(10,000 spheres vs 8 objects at the same size)"
+fi
+
+if [ $MICRO = 1 ]; then
+    MB=$(dirname "$BIN")/renderer_bench
+    if [ -x "$MB" ]; then
+        echo
+        if [ $QUICK = 1 ]; then
+            "$MB" 64 36 --repeats 2 --spheres 2000 --threads "$THREADS"
+        else
+            "$MB" --threads "$THREADS"
+        fi
+    else
+        echo "run.sh: no renderer_bench next to $BIN; skipping the micro-benchmark" >&2
+    fi
+fi
