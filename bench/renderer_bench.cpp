@@ -20,6 +20,7 @@
 
 #include "image_io.h"
 #include "renderer.h"
+#include "shapes.h"
 #include "scene_parser.h"
 #include "world.h"
 
@@ -244,7 +245,7 @@ int main(int argc, char** argv) {
     rt::Scene many = random_spheres(spheres);
     std::vector<double> build_s;
     long long bytes = 0;
-    std::size_t material_bytes = 0;
+    std::size_t material_bytes = 0, bvh_bytes = 0;
     for (int r = 0; r < 3; ++r) {
         long long before = g_live_bytes.load();
         auto t0 = Clock::now();
@@ -252,6 +253,7 @@ int main(int argc, char** argv) {
         build_s.push_back(since(t0));
         bytes = g_live_bytes.load() - before;
         material_bytes = w->materials.capacity() * sizeof(rt::ShadeMaterial);
+        bvh_bytes = w->geometry->bvh.memory_bytes();
     }
     char label[96];
     std::snprintf(label, sizeof label, "compile_world, %d random spheres (BVH build)", spheres);
@@ -260,5 +262,6 @@ int main(int argc, char** argv) {
                 double(bytes) / spheres);
     std::printf("  of which per-object materials %.0f bytes/sphere, geometry + BVH %.0f bytes/sphere\n",
                 double(material_bytes) / spheres, double(bytes - (long long)material_bytes) / spheres);
+    std::printf("  the BVH itself (nodes + item indices): %.1f bytes per sphere\n", double(bvh_bytes) / spheres);
     return 0;
 }

@@ -42,8 +42,12 @@ inline Vec3 normalize(const Vec3& v) {
     double l = length(v);
     return l > 0 ? v / l : Vec3{};
 }
-inline Vec3 vmin(const Vec3& a, const Vec3& b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
-inline Vec3 vmax(const Vec3& a, const Vec3& b) { return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)}; }
+// Plain comparisons rather than std::fmin/fmax, which compile to library calls; a NaN
+// in `b` is ignored, as with fmin.
+constexpr double dmin(double a, double b) { return b < a ? b : a; }
+constexpr double dmax(double a, double b) { return b > a ? b : a; }
+constexpr Vec3 vmin(const Vec3& a, const Vec3& b) { return {dmin(a.x, b.x), dmin(a.y, b.y), dmin(a.z, b.z)}; }
+constexpr Vec3 vmax(const Vec3& a, const Vec3& b) { return {dmax(a.x, b.x), dmax(a.y, b.y), dmax(a.z, b.z)}; }
 inline bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 using Colour = Vec3;
