@@ -112,10 +112,15 @@ PlaneShape PlaneShape::from(const Plane& p) {
 int PlaneShape::cell(const Vec3& p) const {
     if (!chess || singular) return 0;
     Vec3 r = p - p1;
-    double a = std::floor(dot(inv_row[0], r)), b = std::floor(dot(inv_row[1], r));
-    double s = a + b;
-    if (!std::isfinite(s)) return 0;
-    return std::fmod(std::fabs(s), 2.0) == 0 ? 0 : 1;
+    double a = dot(inv_row[0], r), b = dot(inv_row[1], r);
+    // Far beyond any picture's resolution the parity is meaningless; keep it defined.
+    if (!(std::fabs(a) < 1e15 && std::fabs(b) < 1e15)) return 0;
+    // floor() by conversion: std::floor is a library call without SSE4.1.
+    auto ifloor = [](double v) {
+        long long i = static_cast<long long>(v);
+        return i - (double(i) > v ? 1 : 0);
+    };
+    return int((ifloor(a) + ifloor(b)) & 1);
 }
 
 bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
