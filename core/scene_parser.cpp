@@ -655,10 +655,7 @@ private:
                 if (lex_.peek().is("{")) skip_block();
                 continue;
             }
-            if (out_.scene.planes.size() + objects_ >= Limits::max_objects) {
-                error(t, "too many objects (limit " + std::to_string(Limits::max_objects) + ")");
-                throw Stop{};
-            }
+            count_object(t);  // planes cost memory like objects
             Plane p;
             p.chess = t.is("chess_plane");
             p.loc = {t.line, t.col};
@@ -714,6 +711,7 @@ private:
                 if (lex_.peek().is("{")) skip_block();
                 continue;
             }
+            count_object(t);
             Light l;
             l.lamp = t.is("lamp");
             l.loc = {t.line, t.col};
