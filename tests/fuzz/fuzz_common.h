@@ -1,0 +1,181 @@
+// Invariants every parse result must satisfy, shared by the fuzz targets and the
+// regression tests (tests/test_fuzz_regressions.cpp). A broken invariant throws
+// rtfuzz::Broken; the fuzz targets turn that into abort(), which libFuzzer reports as a
+// crash (saving the input), and the tests into a failed check.
+#pragma once
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "camera.h"
+#include "scene.h"
+#include "scene_parser.h"
+#include "scene_writer.h"
+
+namespace rtfuzz {
+
+struct Broken {
+    std::string what;
+};
+
+[[noreturn]] inline void fail(const char* what, const std::string& detail = {}) {
+    throw Broken{std::string(what) + (detail.empty() ? "" : ": ") + detail};
+}
+
+// For the fuzz targets: run `f`, abort with the message if an invariant broke.
+template <class F>
+void or_abort(F f) {
+    try {
+        f();
+    } catch (const Broken& b) {
+        std::fprintf(stderr, "fuzz invariant broken: %s\n", b.what.c_str());
+        std::fflush(stderr);
+        std::abort();
+    }
+}
+
+inline void check_number(double v, const char* what) {
+    // The parser accepts magnitudes up to 1e15 only, so products in the tracer stay finite.
+    if (!std::isfinite(v) || std::fabs(v) > 1e15) fail("number out of range in a parsed scene", what);
+}
+inline void check_vec(const rt::Vec3& v, const char* what) {
+    check_number(v.x, what);
+    check_number(v.y, what);
+    check_number(v.z, what);
+}
+inline void check_material(const rt::Material& m) {
+    check_number(m.reflection, "reflection");
+    check_number(m.refraction, "refraction");
+    check_number(m.scattering, "scattering");
+    check_number(m.translusans, "translusans");
+    check_number(m.refractive_index, "refractive_index");
+    check_vec(m.colour, "colour");
+    if (m.translusans < 0 || m.translusans > 1) fail("translusans not clamped to [0,1]");
+    if (m.refractive_index < 1) fail("refractive_index below 1");
+}
+
+// Returns the number of objects in `o` (operands included); checks depth and shapes.
+inline std::size_t check_object(const rt::Object& o, int csg_depth) {
+    check_material(o.material);
+    std::size_t count = 1;
+    if (const auto* s = std::get_if<rt::Sphere>(&o.shape)) {
+        check_vec(s->position, "sphere position");
+        check_number(s->radius, "sphere radius");
+        if (!(s->radius > 0)) fail("sphere with radius <= 0 accepted");
+    } else if (const auto* t = std::get_if<rt::Tetrahedron>(&o.shape)) {
+        for (const auto& v : t->v) check_vec(v, "tetrahedron corner");
+    } else if (const auto* c = std::get_if<rt::Cylinder>(&o.shape)) {
+        check_vec(c->end1, "cylinder end_1");
+        check_vec(c->end2, "cylinder end_2");
+        check_number(c->radius, "cylinder radius");
+        if (!(c->radius > 0)) fail("cylinder with radius <= 0 accepted");
+        if (c->end1 == c->end2) fail("cylinder with end_1 == end_2 accepted");
+    } else if (const auto* tor = std::get_if<rt::Torus>(&o.shape)) {
+        check_vec(tor->position, "torus position");
+        check_vec(tor->direction, "torus direction");
+        check_number(tor->major, "torus major");
+        check_number(tor->minor, "torus minor");
+        if (!(tor->minor > 0) || tor->major < 0) fail("torus with bad radii accepted");
+        if (tor->direction == rt::Vec3{0, 0, 0}) fail("torus with direction 0 0 0 accepted");
+    } else if (const auto* g = std::get_if<rt::Csg>(&o.shape)) {
+        if (csg_depth >= rt::Limits::max_csg_depth) fail("CSG nested deeper than the limit accepted");
+        if (g->operands.size() != 2) fail("CSG without exactly two operands accepted");
+        if (g->type != rt::CsgType::Union && g->type != rt::CsgType::Intersection &&
+            g->type != rt::CsgType::Difference)
+            fail("CSG with a bad type accepted");
+        for (const auto& op : g->operands) count += check_object(op, csg_depth + 1);
+    }
+    return count;
+}
+
+inline void check_scene(const rt::Scene& s) {
+    if (s.width < 1 || s.width > rt::Limits::max_picture_side || s.height < 1 ||
+        s.height > rt::Limits::max_picture_side)
+        fail("picture size outside 1..16384 accepted",
+             std::to_string(s.width) + "x" + std::to_string(s.height));
+    std::size_t objects = s.planes.size();
+    for (const auto& o : s.objects) objects += check_object(o, 0);
+    if (objects > rt::Limits::max_objects) fail("more objects than the limit accepted");
+    for (const auto& p : s.planes) {
+        for (const auto& v : p.point) check_vec(v, "plane point");
+        check_material(p.material);
+        check_material(p.material2);
+    }
+    for (const auto& l : s.lights) {
+        check_vec(l.position, "light position");
+        check_vec(l.colour, "light colour");
+        check_number(l.size, "lamp size");
+    }
+    const rt::Camera& c = s.camera;
+    check_vec(c.position, "camera position");
+    check_vec(c.centre, "camera centre");
+    check_vec(c.up, "camera up");
+    check_number(c.angle_x, "angle_x");
+    check_number(c.angle_y, "angle_y");
+    if (!(c.angle_x > 0 && c.angle_x < 180 && c.angle_y > 0 && c.angle_y < 180))
+        fail("camera angle outside (0, 180) accepted");
+    if (const char* why = rt::camera_problem(c)) fail("invalid camera accepted", why);
+}
+
+// Every diagnostic points inside the text (or just past its end) and says something.
+inline void check_diagnostics(std::string_view text, const rt::ParseResult& r) {
+    // Byte length of each line, computed lazily only when there are diagnostics.
+    if (r.diagnostics.empty()) return;
+    std::vector<std::size_t> line_len(1, 0);
+    for (char ch : text) {
+        if (ch == '\n')
+            line_len.push_back(0);
+        else
+            ++line_len.back();
+    }
+    int prev_line = 0, prev_col = 0;
+    for (const auto& d : r.diagnostics) {
+        const std::string where = std::to_string(d.line) + ":" + std::to_string(d.col) + " " + d.message;
+        if (d.line < 1 || d.col < 1) fail("diagnostic without a 1-based position", where);
+        if (std::size_t(d.line) > line_len.size()) fail("diagnostic line past the end of the text", where);
+        if (std::size_t(d.col) > line_len[std::size_t(d.line) - 1] + 1)
+            fail("diagnostic column past the end of its line", where);
+        if (d.message.empty()) fail("diagnostic without a message", where);
+        if (d.line < prev_line || (d.line == prev_line && d.col < prev_col))
+            fail("diagnostics not in file order", where);
+        prev_line = d.line;
+        prev_col = d.col;
+    }
+}
+
+// The parser's promises for any input: positioned diagnostics; a scene without
+// errors within the limits; the same verdict with a lower error cap.
+inline void check_parse(std::string_view text, int low_max_errors) {
+    const rt::ParseResult r = rt::parse_scene(text);
+    check_diagnostics(text, r);
+    if (r.ok()) check_scene(r.scene);
+    rt::ParseOptions low;
+    low.max_errors = low_max_errors;
+    const rt::ParseResult r1 = rt::parse_scene(text, low);
+    check_diagnostics(text, r1);
+    if (r1.ok() != r.ok()) fail("max_errors changed whether the scene is ok");
+}
+
+// parse -> write -> parse gives an equal scene, and writing it again the same text.
+inline void check_roundtrip(std::string_view text) {
+    const rt::ParseResult r = rt::parse_scene(text);
+    if (!r.ok()) return;
+    const std::string text2 = rt::write_scene(r.scene);
+    const rt::ParseResult r2 = rt::parse_scene(text2);
+    if (!r2.ok()) {
+        std::string why;
+        for (const auto& d : r2.diagnostics) why += "\n  " + rt::format_diagnostic("written", d);
+        fail("the written scene does not parse", why + "\n--- written text ---\n" + text2);
+    }
+    if (!(r2.scene == r.scene)) fail("parse(write(scene)) != scene", "\n--- written text ---\n" + text2);
+    const std::string text3 = rt::write_scene(r2.scene);
+    if (text3 != text2)
+        fail("write(parse(text2)) != text2", "\n--- text2 ---\n" + text2 + "--- text3 ---\n" + text3);
+}
+
+}  // namespace rtfuzz
