@@ -1,0 +1,336 @@
+// Output safety of the `raytracer` CLI (issue 6): a failed or interrupted render leaves
+// an existing output byte-identical (same inode, same modification time), leaves no
+// temporary file in the folder, says why, and exits non-zero. A successful render
+// replaces the output by renaming a finished temporary file over it.
+#include <doctest/doctest.h>
+#include <sched.h>
+#include <signal.h>
+#include <sys/mount.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kRaytracer = RT_BIN_DIR "/raytracer";
+
+const char* const kGoodScene = R"(thing {
+  sphere { material { colour 1 0.2 0.2 } position 5 0 0 radius 1 }
+  sphere { material { reflection 0.5 scattering 0.5 } position 6 -2 0 radius 1 }
+}
+special_thing { plane { point 1 0 0 -1  point 2 1 0 -1  point 3 0 1 -1  point 4 0 0 0 } }
+light { lamp { colour 30 30 30 position 0 0 5 size 0.2 } }
+camera { position 0 0 0 centre 1 0 0 up 1 0 1 angle_x 60 angle_y 45 }
+picture_size { x_max 16 y_max 12 }
+end
+)";
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+void put(const fs::path& p, const std::string& text) {
+    std::ofstream out(p, std::ios::binary);
+    out << text;
+    REQUIRE(out.good());
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// What must not change about an existing output.
+struct FileState {
+    bool exists = false;
+    std::string bytes;
+    ino_t ino = 0;
+    dev_t dev = 0;
+    timespec mtime{};
+    mode_t mode = 0;
+
+    static FileState of(const fs::path& p) {
+        FileState s;
+        struct stat st;
+        if (::stat(p.c_str(), &st) != 0) return s;
+        s.exists = true;
+        s.bytes = slurp(p);
+        s.ino = st.st_ino;
+        s.dev = st.st_dev;
+        s.mtime = st.st_mtim;
+        s.mode = st.st_mode;
+        return s;
+    }
+    bool operator==(const FileState& o) const {
+        return exists == o.exists && bytes == o.bytes && ino == o.ino && dev == o.dev &&
+               mtime.tv_sec == o.mtime.tv_sec && mtime.tv_nsec == o.mtime.tv_nsec && mode == o.mode;
+    }
+};
+
+std::vector<std::string> listing(const fs::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+std::string joined(const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : " ") + x;
+    return s;
+}
+
+// A fresh folder (mode 0755, so that an unprivileged child can enter it), removed
+// afterwards. The CLI's stdout and stderr go to a sibling folder, so that listing the
+// work folder shows only what the CLI itself left there.
+struct Sandbox {
+    fs::path root, work, logs;
+    Sandbox() {
+        std::string tmpl = (fs::temp_directory_path() / "rt-outsafe-XXXXXX").string();
+        REQUIRE(mkdtemp(tmpl.data()) != nullptr);
+        root = tmpl;
+        work = root / "work";
+        logs = root / "logs";
+        fs::create_directories(work);
+        fs::create_directories(logs);
+        for (const auto& d : {root, work, logs}) ::chmod(d.c_str(), 0755);
+    }
+    ~Sandbox() {
+        std::error_code ec;
+        fs::remove_all(root, ec);
+    }
+};
+
+struct Run {
+    int status = -1;  // exit status, or -1 if it did not exit normally
+    int signal = 0;   // the terminating signal, if any
+    std::string err;
+};
+
+// Starts the CLI in `cwd` with `args`; stdin is /dev/null. If `as_nobody`, it runs as
+// uid/gid 65534 (root ignores file permissions).
+pid_t start(const Sandbox& box, const fs::path& cwd, const std::vector<std::string>& args, bool as_nobody = false) {
+    const std::string err_path = (box.logs / "stderr").string();
+    const std::string out_path = (box.logs / "stdout").string();
+    std::fflush(nullptr);  // or the child's freopen would write out the parent's buffered output
+    pid_t pid = fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        if (!freopen("/dev/null", "r", stdin) || !freopen(out_path.c_str(), "w", stdout) ||
+            !freopen(err_path.c_str(), "w", stderr))
+            _exit(97);
+        if (chdir(cwd.c_str()) != 0) _exit(96);
+        if (as_nobody && (setgid(65534) != 0 || setuid(65534) != 0)) _exit(95);
+        std::vector<char*> argv;
+        argv.push_back(const_cast<char*>("raytracer"));
+        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        execv(kRaytracer.c_str(), argv.data());
+        _exit(98);
+    }
+    return pid;
+}
+
+Run finish(const Sandbox& box, pid_t pid, double timeout_s = 120) {
+    int raw = 0;
+    bool ended = false;
+    const auto t0 = std::chrono::steady_clock::now();
+    while (!ended) {
+        pid_t r = waitpid(pid, &raw, WNOHANG);
+        if (r == pid) {
+            ended = true;
+            break;
+        }
+        if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > timeout_s) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (!ended) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &raw, 0);
+        FAIL("the CLI did not finish within " << timeout_s << " s");
+    }
+    Run run;
+    if (WIFEXITED(raw)) run.status = WEXITSTATUS(raw);
+    if (WIFSIGNALED(raw)) run.signal = WTERMSIG(raw);
+    run.err = slurp(box.logs / "stderr");
+    return run;
+}
+
+Run run_cli(const Sandbox& box, const fs::path& cwd, const std::vector<std::string>& args, bool as_nobody = false) {
+    return finish(box, start(box, cwd, args, as_nobody));
+}
+
+// Runs `args` in box.work, where `out` exists with known content, and checks that the
+// run failed with `exit_code` and a message containing `why`, leaving `out` and the
+// folder exactly as they were.
+void check_untouched(const Sandbox& box, const fs::path& watched_dir, const fs::path& out,
+                     const std::vector<std::string>& args, int exit_code, const std::string& why,
+                     bool as_nobody = false) {
+    const FileState before = FileState::of(out);
+    const auto files_before = listing(watched_dir);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a rewrite would show in mtime
+    const Run r = run_cli(box, box.work, args, as_nobody);
+    CAPTURE(r.err);
+    CHECK(r.status == exit_code);
+    CHECK(contains(r.err, why));
+    CHECK(FileState::of(out) == before);
+    CHECK(joined(listing(watched_dir)) == joined(files_before));
+}
+
+}  // namespace
+
+TEST_CASE("output safety: a successful render replaces the output by rename, leaving no temporary") {
+    Sandbox box;
+    put(box.work / "scene.txt", kGoodScene);
+    put(box.work / "out.ppm", "old picture\n");
+    const FileState before = FileState::of(box.work / "out.ppm");
+    const Run r = run_cli(box, box.work, {"--quiet", "scene.txt", "out.ppm"});
+    CAPTURE(r.err);
+    REQUIRE(r.status == 0);
+    const FileState after = FileState::of(box.work / "out.ppm");
+    CHECK(after.bytes.compare(0, 2, "P6") == 0);
+    CHECK(after.ino != before.ino);  // a new file renamed over the old one, not a rewrite
+    CHECK((after.mode & 07777) == (before.mode & 07777));
+    CHECK(joined(listing(box.work)) == "out.ppm scene.txt");
+}
+
+TEST_CASE("output safety: a scene with errors leaves the existing output untouched") {
+    Sandbox box;
+    put(box.work / "bad.txt", "thing { sphere { radius x } }\nend\n");
+    put(box.work / "out.ppm", "precious\n");
+    put(box.work / "out.png", "precious png\n");
+    check_untouched(box, box.work, box.work / "out.ppm", {"bad.txt", "out.ppm"}, 1, "bad.txt:1:25: error:");
+    check_untouched(box, box.work, box.work / "out.png", {"bad.txt", "out.png"}, 1, "error:");
+    // Unreadable or missing scene: I/O error, output untouched.
+    check_untouched(box, box.work, box.work / "out.ppm", {"missing.txt", "out.ppm"}, 2, "missing.txt");
+    check_untouched(box, box.work, box.work / "out.ppm", {".", "out.ppm"}, 2, "cannot read");
+}
+
+TEST_CASE("output safety: an unusable target folder fails early, saying why") {
+    Sandbox box;
+    put(box.work / "scene.txt", kGoodScene);
+    put(box.work / "out.ppm", "precious\n");
+    put(box.work / "plain-file", "not a folder\n");
+    // The folder does not exist.
+    check_untouched(box, box.work, box.work / "out.ppm", {"scene.txt", "no/such/folder/out.ppm"}, 2,
+                    "does not exist");
+    // The "folder" is a file.
+    check_untouched(box, box.work, box.work / "plain-file", {"scene.txt", "plain-file/out.ppm"}, 2, "plain-file");
+    // The output is a folder, or the scene itself.
+    fs::create_directory(box.work / "dir.ppm");
+    check_untouched(box, box.work, box.work / "out.ppm", {"scene.txt", "dir.ppm"}, 2, "directory");
+    fs::remove(box.work / "dir.ppm");
+    fs::copy_file(box.work / "scene.txt", box.work / "scene.ppm");
+    check_untouched(box, box.work, box.work / "scene.ppm", {"scene.ppm", "scene.ppm"}, 2, "scene file itself");
+}
+
+TEST_CASE("output safety: a read-only folder leaves the existing output untouched") {
+    Sandbox box;
+    const fs::path ro = box.work / "ro";
+    fs::create_directory(ro);
+    put(box.work / "scene.txt", kGoodScene);
+    put(ro / "out.ppm", "precious\n");
+    ::chmod((box.work / "scene.txt").c_str(), 0644);
+    ::chmod((ro / "out.ppm").c_str(), 0666);  // the file itself is writable; its folder is not
+    ::chmod(ro.c_str(), 0555);
+    // Root ignores the folder's mode, so as root the CLI runs as nobody (uid 65534).
+    const bool root = geteuid() == 0;
+    if (root) {
+        // nobody must be able to reach the binary; skip if it is in a private folder.
+        if (access(kRaytracer.c_str(), X_OK) != 0) return;
+        pid_t probe = start(box, box.work, {"--version"}, true);
+        Run pr = finish(box, probe);
+        if (pr.status != 0) {
+            MESSAGE("skipped: the raytracer binary cannot run as nobody here (" << pr.status << ")");
+            ::chmod(ro.c_str(), 0755);
+            return;
+        }
+    }
+    check_untouched(box, ro, ro / "out.ppm", {"scene.txt", "ro/out.ppm"}, 2, "not writable", root);
+    ::chmod(ro.c_str(), 0755);
+}
+
+TEST_CASE("output safety: a full file system (64 KiB tmpfs) fails with a reason, output untouched") {
+    Sandbox box;
+    const fs::path small = box.work / "small";
+    fs::create_directory(small);
+    // The mount goes into a private mount namespace of this test process (the CLI
+    // children inherit it): nobody else sees it, and it vanishes with the process even
+    // if the process is killed before unmounting. The rest of the run is unaffected
+    // (the namespace starts as a copy of the current one).
+    static bool private_ns = unshare(CLONE_NEWNS) == 0 &&
+                             ::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) == 0;
+    if (!private_ns ||
+        ::mount("tmpfs", small.c_str(), "tmpfs", MS_NOSUID | MS_NODEV, "size=64k,mode=0755") != 0) {
+        MESSAGE("skipped: cannot mount a size-limited tmpfs here ("
+                << (geteuid() != 0 ? "not root" : private_ns ? std::strerror(errno) : "no private mount namespace")
+                << ")");
+        return;
+    }
+    struct Unmount {
+        fs::path p;
+        ~Unmount() { ::umount2(p.c_str(), MNT_DETACH); }
+    } unmount{small};
+    put(box.work / "scene.txt", kGoodScene);
+    put(small / "out.ppm", "precious\n");
+    put(small / "out.png", "precious png\n");
+    // 300 x 300 x 3 bytes = 270 KB of PPM: cannot fit in 64 KiB.
+    check_untouched(box, small, small / "out.ppm", {"--quiet", "--width", "300", "--height", "300", "scene.txt",
+                                                    "small/out.ppm"},
+                    2, "No space left on device");
+    // A PNG of noise-free pixels compresses well; a big one still does not fit.
+    check_untouched(box, small, small / "out.png", {"--quiet", "--width", "2000", "--height", "2000",
+                                                    "scene.txt", "small/out.png"},
+                    2, "No space left on device");
+    // A new output that does not fit: nothing is left behind at all.
+    const auto files_before = listing(small);
+    const Run r = run_cli(box, box.work, {"--quiet", "--width", "300", "--height", "300", "scene.txt", "small/new.ppm"});
+    CHECK(r.status == 2);
+    CHECK(contains(r.err, "No space left on device"));
+    CHECK(joined(listing(small)) == joined(files_before));
+}
+
+TEST_CASE("output safety: an interrupted render (SIGINT, SIGTERM, SIGKILL) leaves the output untouched") {
+    for (int sig : {SIGINT, SIGTERM, SIGKILL}) {
+        CAPTURE(sig);
+        Sandbox box;
+        put(box.work / "scene.txt", kGoodScene);
+        put(box.work / "out.ppm", "precious\n");
+        const FileState before = FileState::of(box.work / "out.ppm");
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        // Far more work than the 0.3 s the test waits.
+        pid_t pid = start(box, box.work,
+                          {"--quiet", "--threads", "2", "--samples", "65536", "--width", "1000", "--height", "1000",
+                           "scene.txt", "out.ppm"});
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        const auto t0 = std::chrono::steady_clock::now();
+        kill(pid, sig);
+        const Run r = finish(box, pid, 30);
+        const double stop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        CAPTURE(r.err);
+        MESSAGE("signal " << sig << ": the CLI ended " << stop_s << " s after it");
+        if (sig == SIGKILL) {
+            CHECK(r.signal == SIGKILL);
+        } else {
+            CHECK(r.status == 128 + sig);
+            CHECK(contains(r.err, "interrupted"));
+            CHECK(contains(r.err, "nothing written"));
+        }
+        CHECK(FileState::of(box.work / "out.ppm") == before);
+        CHECK(joined(listing(box.work)) == "out.ppm scene.txt");
+    }
+}
