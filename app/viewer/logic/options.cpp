@@ -1,0 +1,168 @@
+// Command-line parsing and --help for both viewer binaries (see options.h).
+#include "options.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <string_view>
+
+namespace rtview {
+
+namespace {
+
+bool parse_int(std::string_view s, int lo, int hi, int& out) {
+    int v = 0;
+    auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (r.ec != std::errc() || r.ptr != s.data() + s.size() || v < lo || v > hi) return false;
+    out = v;
+    return true;
+}
+
+bool parse_real(const std::string& s, double& out) {
+    if (s.empty()) return false;
+    char* end = nullptr;
+    double v = std::strtod(s.c_str(), &end);
+    if (end != s.c_str() + s.size() || !std::isfinite(v)) return false;
+    out = v;
+    return true;
+}
+
+}  // namespace
+
+std::string parse_options(int argc, const char* const* argv, Options& o) {
+    bool only_positional = false;
+    for (int k = 1; k < argc; ++k) {
+        std::string a = argv[k];
+        std::string value;
+        bool has_value = false;
+        if (!only_positional && a.rfind("--", 0) == 0 && a.size() > 2) {
+            if (auto eq = a.find('='); eq != std::string::npos) {
+                value = a.substr(eq + 1);
+                a = a.substr(0, eq);
+                has_value = true;
+            }
+        }
+        auto take = [&](std::string& v) {
+            if (has_value) {
+                v = value;
+                return true;
+            }
+            if (k + 1 >= argc) return false;
+            v = argv[++k];
+            return true;
+        };
+        std::string v;
+        if (only_positional || a.empty() || a[0] != '-' || a == "-") {
+            if (!o.scene.empty()) return "more than one scene file given ('" + o.scene + "' and '" + a + "')";
+            o.scene = a;
+        } else if (a == "--") {
+            only_positional = true;
+        } else if (a == "-h" || a == "--help") {
+            o.help = true;
+        } else if (a == "--version") {
+            o.version = true;
+        } else if (a == "--headless") {
+            o.headless = true;
+        } else if (a == "--print-layout") {
+            o.print_layout = true;
+        } else if (a == "--verbose" || a == "-v") {
+            o.verbose = true;
+        } else if (a == "--screenshot" || a == "--view-scene" || a == "--tab" || a == "--select") {
+            if (!take(v) || v.empty()) return "option '" + a + "' needs a value";
+            if (a == "--screenshot") o.screenshot = v;
+            else if (a == "--view-scene") o.view_scene = v;
+            else if (a == "--select") o.select = v;
+            else {
+                if (v != "objects" && v != "text" && v != "render") return "--tab must be objects, text or render";
+                o.tab = v;
+            }
+        } else if (a == "--size") {
+            if (!take(v)) return "option '--size' needs WIDTHxHEIGHT";
+            auto x = v.find('x');
+            if (x == std::string::npos || !parse_int(std::string_view(v).substr(0, x), 64, 16384, o.width) ||
+                !parse_int(std::string_view(v).substr(x + 1), 64, 16384, o.height))
+                return "--size must be WIDTHxHEIGHT, each 64..16384 (got '" + v + "')";
+            o.size_given = true;
+        } else if (a == "--samples" || a == "--threads") {
+            if (!take(v)) return "option '" + a + "' needs a number";
+            int n = 0;
+            if (!parse_int(v, a == "--samples" ? 1 : 0, a == "--samples" ? 65536 : 256, n))
+                return "option '" + a + "' must be a whole number in range (got '" + v + "')";
+            (a == "--samples" ? o.samples : o.threads) = n;
+        } else if (a == "--time-limit" || a == "--orbit") {
+            if (!take(v)) return "option '" + a + "' needs a number";
+            double d = 0;
+            if (!parse_real(v, d)) return "option '" + a + "' needs a number (got '" + v + "')";
+            if (a == "--time-limit") {
+                if (d < 0) return "--time-limit must not be negative";
+                o.time_limit = d;
+            } else {
+                o.orbit = d;
+            }
+        } else if (a == "--fit") {
+            if (!take(v)) return "option '--fit' needs window or picture";
+            if (v == "window") o.fit = FitMode::Window;
+            else if (v == "picture") o.fit = FitMode::Picture;
+            else return "--fit must be window or picture (got '" + v + "')";
+        } else {
+            return "unknown option '" + a + "'";
+        }
+        if (has_value && (a == "--headless" || a == "--help" || a == "--version" || a == "--print-layout" ||
+                          a == "--verbose"))
+            return "option '" + a + "' takes no value";
+    }
+    return {};
+}
+
+std::string help_text(bool headless_binary) {
+    std::string s;
+    if (headless_binary) {
+        s += "Usage: raytracer-view-headless [SCENE] --screenshot OUT [OPTIONS]\n"
+             "Draws the raytracer-view window (image and panels) into an offscreen OSMesa\n"
+             "buffer, without X or a GPU, waits for the samples and writes OUT.\n"
+             "`raytracer-view --headless ...` runs this program.\n\n";
+    } else {
+        s += "Usage: raytracer-view [OPTIONS] [SCENE]\n"
+             "       raytracer-view --headless [SCENE] --screenshot OUT [OPTIONS]\n"
+             "Interactive previewer for raytracer scene files. Without SCENE it opens the\n"
+             "built-in default scene.\n\n";
+    }
+    s += "Options:\n"
+         "  --headless           no window: render the UI offscreen and write --screenshot\n"
+         "  --screenshot FILE    headless: write the whole window as PNG (or PPM by extension)\n"
+         "  --size WxH           window (or headless image) size in pixels (default 1280x800)\n"
+         "  --samples N          samples per pixel to stop at (default 64 in a window, 16 headless)\n"
+         "  --time-limit SEC     stop refining after SEC seconds (default: no limit)\n"
+         "  --orbit DEG          orbit the camera DEG degrees around its centre first\n"
+         "  --fit window|picture render at the window's size (default) or at the scene's\n"
+         "                       picture_size, letterboxed\n"
+         "  --threads N          render threads (default: all hardware threads)\n"
+         "  --tab NAME           sidebar tab to show: objects (default), text or render\n"
+         "  --select WHAT        select 'object N', 'plane N' or 'light N' (1-based)\n"
+         "  --view-scene FILE    write the scene exactly as the image area shows it\n"
+         "                       (fitted camera, picture size = area): `raytracer FILE`\n"
+         "                       renders the same pixels\n"
+         "  --print-layout       print the image and panel rectangles on stdout (for scripts)\n"
+         "  -v, --verbose        print render timings on stderr\n"
+         "  -h, --help           show this help\n"
+         "  --version            show the version\n";
+    if (!headless_binary) {
+        s += "\nMouse and keys (in the image area):\n"
+             "  left drag            orbit around the point under the cursor\n"
+             "  right/middle drag, shift+left drag   pan\n"
+             "  wheel                dolly towards the point under the cursor\n"
+             "  click                select the object under the cursor\n"
+             "  W A S D / Q E        fly (shift: faster)     F  frame the scene\n"
+             "  R                    reset to the file's camera\n"
+             "  Space                pause / resume rendering\n"
+             "  Ctrl+Z / Ctrl+Y      undo / redo           Ctrl+Enter  apply the scene text\n"
+             "  Ctrl+S               save (Ctrl+Shift+S: save as)  Ctrl+O  open\n"
+             "  Ctrl+E               edit the scene text   Ctrl+P  save the image\n"
+             "  Ctrl+Q               quit (asks about unsaved changes)\n"
+             "  F12                  screenshot of the whole window\n"
+             "Recent files: $XDG_CONFIG_HOME/raytracer-view/recent.txt (or ~/.config/...).\n";
+    }
+    return s;
+}
+
+}  // namespace rtview

@@ -1,0 +1,37 @@
+// Command line of raytracer-view and raytracer-view-headless (one parser, so the two
+// binaries accept exactly the same arguments and --headless can be passed through).
+#pragma once
+
+#include <string>
+
+namespace rtview {
+
+enum class FitMode { Window, Picture };  // render at the window's size, or the scene's picture_size
+
+struct Options {
+    std::string scene;        // empty: the embedded default scene
+    bool headless = false;
+    std::string screenshot;   // headless: PNG/PPM of the whole UI
+    int width = 1280, height = 800;
+    bool size_given = false;
+    int samples = 0;          // 0: the mode's default
+    double time_limit = 0;    // seconds, 0 = none
+    double orbit = 0;         // degrees around the camera centre before rendering
+    int threads = 0;          // 0: all hardware threads
+    FitMode fit = FitMode::Window;
+    std::string tab;          // sidebar tab to open with: objects, text or render
+    std::string select;       // "object N", "plane N" or "light N" (1-based), for screenshots
+    bool print_layout = false;
+    std::string view_scene;   // write the scene exactly as the image region shows it
+    bool verbose = false;
+    bool help = false, version = false;
+};
+
+constexpr int kDefaultSamplesWindow = 64;
+constexpr int kDefaultSamplesHeadless = 16;
+
+// Fills `o`; returns an error message, empty on success.
+std::string parse_options(int argc, const char* const* argv, Options& o);
+std::string help_text(bool headless_binary);
+
+}  // namespace rtview

@@ -1,0 +1,75 @@
+// Recent files (see recent_files.h). Saved atomically like every other file the
+// viewer writes, so two viewers closing at once cannot leave half a list.
+#include "recent_files.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "image_io.h"
+
+namespace rtview {
+
+std::string absolute_path(const std::string& path) {
+    if (path.empty()) return path;
+    std::error_code ec;
+    std::filesystem::path p = std::filesystem::absolute(path, ec);
+    return ec ? path : p.lexically_normal().string();
+}
+
+std::string RecentFiles::default_path() {
+    const char* xdg = std::getenv("XDG_CONFIG_HOME");
+    std::string base;
+    if (xdg && *xdg == '/') {
+        base = xdg;
+    } else if (const char* home = std::getenv("HOME"); home && *home) {
+        base = std::string(home) + "/.config";
+    } else {
+        return {};
+    }
+    return base + "/raytracer-view/recent.txt";
+}
+
+RecentFiles::RecentFiles(std::string file) : file_(file.empty() ? default_path() : std::move(file)) { load(); }
+
+void RecentFiles::load() {
+    paths_.clear();
+    if (file_.empty()) return;
+    std::string text;
+    if (!rt::read_file(file_, text, 1 << 20).empty()) return;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line) && paths_.size() < kMax) {
+        if (!line.empty() && std::find(paths_.begin(), paths_.end(), line) == paths_.end()) paths_.push_back(line);
+    }
+}
+
+std::string RecentFiles::save() const {
+    if (file_.empty()) return {};
+    std::error_code ec;
+    std::filesystem::create_directories(std::filesystem::path(file_).parent_path(), ec);
+    if (ec) return "cannot create " + std::filesystem::path(file_).parent_path().string() + ": " + ec.message();
+    std::string text;
+    for (const auto& p : paths_) text += p + "\n";
+    return rt::write_file_atomic(file_, text);
+}
+
+std::string RecentFiles::add(const std::string& path) {
+    if (path.empty()) return {};
+    // Another viewer may have added files since we loaded; merge rather than clobber.
+    load();
+    std::string abs = absolute_path(path);
+    paths_.erase(std::remove(paths_.begin(), paths_.end(), abs), paths_.end());
+    paths_.insert(paths_.begin(), abs);
+    if (paths_.size() > kMax) paths_.resize(kMax);
+    return save();
+}
+
+std::string RecentFiles::remove(const std::string& path) {
+    load();
+    paths_.erase(std::remove(paths_.begin(), paths_.end(), path), paths_.end());
+    return save();
+}
+
+}  // namespace rtview

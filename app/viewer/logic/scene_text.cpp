@@ -1,0 +1,279 @@
+// Scene text <-> Scene agreement for the editor (see scene_text.h). The scanner here
+// follows the parser's lexical rules exactly (scene_parser.cpp's Lexer): a token is a
+// run of non-space bytes, `{` and `}` stand alone, `//` at a token start ends the line.
+#include "scene_text.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "scene_parser.h"
+#include "scene_writer.h"
+
+namespace rtview {
+
+namespace {
+
+struct Tok {
+    std::size_t begin = 0, end = 0;
+    std::string_view text;
+    bool eof() const { return text.empty(); }
+};
+
+class Scanner {
+public:
+    explicit Scanner(std::string_view t) : t_(t) {
+        if (t_.size() >= 3 && std::memcmp(t_.data(), "\xEF\xBB\xBF", 3) == 0) pos_ = 3;
+    }
+    Tok next() {
+        for (;;) {
+            while (pos_ < t_.size() && space(t_[pos_])) ++pos_;
+            if (pos_ + 1 < t_.size() && t_[pos_] == '/' && t_[pos_ + 1] == '/') {
+                while (pos_ < t_.size() && t_[pos_] != '\n') ++pos_;
+                continue;
+            }
+            break;
+        }
+        Tok k;
+        k.begin = pos_;
+        if (pos_ < t_.size()) {
+            if (t_[pos_] == '{' || t_[pos_] == '}') {
+                ++pos_;
+            } else {
+                while (pos_ < t_.size() && !space(t_[pos_]) && t_[pos_] != '{' && t_[pos_] != '}') ++pos_;
+            }
+        }
+        k.end = pos_;
+        k.text = t_.substr(k.begin, k.end - k.begin);
+        return k;
+    }
+    // After a `{` has been read: consumes up to and including its matching `}`.
+    // Returns the offset just past it, or npos at end of text.
+    std::size_t skip_block() {
+        int depth = 1;
+        for (;;) {
+            Tok k = next();
+            if (k.eof()) return std::string_view::npos;
+            if (k.text == "{") ++depth;
+            if (k.text == "}" && --depth == 0) return k.end;
+        }
+    }
+
+private:
+    static bool space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
+    std::string_view t_;
+    std::size_t pos_ = 0;
+};
+
+// Whitespace before the line's first character at `offset`'s line.
+std::string line_indent(std::string_view text, std::size_t offset) {
+    std::size_t ls = text.rfind('\n', offset == 0 ? 0 : offset - 1);
+    ls = (ls == std::string_view::npos || offset == 0) ? 0 : ls + 1;
+    std::size_t e = ls;
+    while (e < text.size() && (text[e] == ' ' || text[e] == '\t')) ++e;
+    return std::string(text.substr(ls, e - ls));
+}
+
+// Re-indents the continuation lines of `block` (written at `from_indent`) to `to_indent`.
+std::string reindent(std::string_view block, std::size_t from_indent, const std::string& to_indent) {
+    std::string out;
+    std::size_t i = 0;
+    bool first = true;
+    while (i <= block.size()) {
+        std::size_t nl = block.find('\n', i);
+        std::string_view line = block.substr(i, nl == std::string_view::npos ? std::string_view::npos : nl - i);
+        if (!first) {
+            std::size_t strip = 0;
+            while (strip < from_indent && strip < line.size() && line[strip] == ' ') ++strip;
+            out += to_indent;
+            line.remove_prefix(strip);
+        }
+        out += line;
+        if (nl == std::string_view::npos) break;
+        out += '\n';
+        i = nl + 1;
+        first = false;
+    }
+    return out;
+}
+
+// The text of one item as the writer prints it, taken from a one-item scene.
+enum class Kind { Object, Plane, Light, Camera };
+std::string written_item(const rt::Scene& one, Kind kind, std::size_t& writer_indent) {
+    std::string all = kind == Kind::Camera ? rt::write_camera(one.camera) : rt::write_scene(one);
+    SceneLayout l = scan_layout(all);
+    const std::vector<TextSpan>* v = kind == Kind::Object  ? &l.objects
+                                     : kind == Kind::Plane ? &l.planes
+                                     : kind == Kind::Light ? &l.lights
+                                                           : &l.cameras;
+    if (!l.ok || v->size() != 1) return {};
+    TextSpan s = (*v)[0];
+    writer_indent = line_indent(all, s.begin).size();
+    return all.substr(s.begin, s.end - s.begin);
+}
+
+struct Replacement {
+    TextSpan span;
+    std::string text;
+};
+
+}  // namespace
+
+SceneLayout scan_layout(std::string_view text) {
+    SceneLayout l;
+    Scanner sc(text);
+    l.append_at = text.size();
+    for (;;) {
+        Tok k = sc.next();
+        if (k.eof()) break;
+        if (k.text == "end") {
+            l.append_at = k.begin;
+            break;
+        }
+        std::vector<TextSpan>* items = nullptr;
+        if (k.text == "thing") items = &l.objects;
+        else if (k.text == "special_thing") items = &l.planes;
+        else if (k.text == "light") items = &l.lights;
+        else if (k.text != "camera" && k.text != "picture_size") return l;  // not a section: unclear
+        if (sc.next().text != "{") return l;
+        if (!items) {
+            std::size_t e = sc.skip_block();
+            if (e == std::string_view::npos) return l;
+            if (k.text == "camera") l.cameras.push_back({k.begin, e});
+            continue;
+        }
+        for (;;) {
+            Tok item = sc.next();
+            if (item.eof()) return l;
+            if (item.text == "}") break;
+            if (sc.next().text != "{") return l;
+            std::size_t e = sc.skip_block();
+            if (e == std::string_view::npos) return l;
+            items->push_back({item.begin, e});
+        }
+    }
+    l.ok = true;
+    return l;
+}
+
+std::optional<std::string> patch_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to) {
+    if (from.objects.size() != to.objects.size() || from.planes.size() != to.planes.size() ||
+        from.lights.size() != to.lights.size())
+        return std::nullopt;
+    SceneLayout l = scan_layout(text);
+    if (!l.ok || l.objects.size() != from.objects.size() || l.planes.size() != from.planes.size() ||
+        l.lights.size() != from.lights.size())
+        return std::nullopt;
+
+    std::vector<Replacement> reps;
+    auto add = [&](TextSpan span, const rt::Scene& one, Kind kind) -> bool {
+        std::size_t windent = 0;
+        std::string item = written_item(one, kind, windent);
+        if (item.empty()) return false;
+        reps.push_back({span, reindent(item, windent, line_indent(text, span.begin))});
+        return true;
+    };
+    rt::Scene one;  // carries a valid camera so the writer prints a normal scene
+    one.camera = to.camera;
+    for (std::size_t k = 0; k < to.objects.size(); ++k) {
+        if (from.objects[k] == to.objects[k]) continue;
+        one.objects = {to.objects[k]};
+        if (!add(l.objects[k], one, Kind::Object)) return std::nullopt;
+    }
+    one.objects.clear();
+    for (std::size_t k = 0; k < to.planes.size(); ++k) {
+        if (from.planes[k] == to.planes[k]) continue;
+        one.planes = {to.planes[k]};
+        if (!add(l.planes[k], one, Kind::Plane)) return std::nullopt;
+    }
+    one.planes.clear();
+    for (std::size_t k = 0; k < to.lights.size(); ++k) {
+        if (from.lights[k] == to.lights[k]) continue;
+        one.lights = {to.lights[k]};
+        if (!add(l.lights[k], one, Kind::Light)) return std::nullopt;
+    }
+    // Panels never change the picture size; a change there is left to the writer.
+    if (from.width != to.width || from.height != to.height) return std::nullopt;
+    if (!(from.camera == to.camera)) {
+        // Camera keys accumulate over all camera sections, so one complete block in
+        // place of the last section gives exactly the new camera.
+        std::size_t windent = 0;
+        std::string block = written_item(one, Kind::Camera, windent);
+        if (block.empty()) return std::nullopt;
+        TextSpan span{l.append_at, l.append_at};
+        std::string indent;
+        if (!l.cameras.empty()) {
+            span = l.cameras.back();
+            indent = line_indent(text, span.begin);
+        } else {
+            block += "\n";
+        }
+        reps.push_back({span, reindent(block, windent, indent)});
+    }
+    if (reps.empty()) return text;
+
+    std::sort(reps.begin(), reps.end(), [](const Replacement& a, const Replacement& b) {
+        return a.span.begin > b.span.begin;
+    });
+    std::string out = text;
+    for (const Replacement& r : reps) out.replace(r.span.begin, r.span.end - r.span.begin, r.text);
+
+    rt::ParseResult check = rt::parse_scene(out);
+    if (!check.ok() || check.scene != to) return std::nullopt;
+    return out;
+}
+
+std::string sync_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to) {
+    if (auto patched = patch_scene_text(text, from, to)) return *patched;
+    return rt::write_scene(to);
+}
+
+rt::Scene carry_edit(const rt::Scene& base, const rt::Scene& old_scene, const rt::Scene& new_scene,
+                     bool* complete) {
+    rt::Scene r = base;
+    bool all = true;
+    if (!(old_scene.camera == new_scene.camera)) r.camera = new_scene.camera;
+    if (old_scene.width != new_scene.width || old_scene.height != new_scene.height) {
+        r.width = new_scene.width;
+        r.height = new_scene.height;
+    }
+    auto carry = [&all](auto& dst, const auto& was, const auto& now) {
+        bool same_count = dst.size() == was.size() && was.size() == now.size();
+        for (std::size_t k = 0; k < now.size() && k < was.size(); ++k) {
+            if (was[k] == now[k]) continue;
+            if (same_count) dst[k] = now[k];
+            else all = false;
+        }
+        if (was.size() != now.size()) all = false;
+    };
+    carry(r.objects, old_scene.objects, new_scene.objects);
+    carry(r.planes, old_scene.planes, new_scene.planes);
+    carry(r.lights, old_scene.lights, new_scene.lights);
+    if (complete) *complete = all;
+    return r;
+}
+
+std::size_t offset_of(std::string_view text, int line, int col) {
+    std::size_t pos = 0;
+    for (int l = 1; l < line; ++l) {
+        std::size_t nl = text.find('\n', pos);
+        if (nl == std::string_view::npos) return text.size();
+        pos = nl + 1;
+    }
+    std::size_t eol = text.find('\n', pos);
+    if (eol == std::string_view::npos) eol = text.size();
+    return std::min(pos + std::size_t(col > 1 ? col - 1 : 0), eol);
+}
+
+void line_col_of(std::string_view text, std::size_t offset, int& line, int& col) {
+    offset = std::min(offset, text.size());
+    line = 1;
+    std::size_t ls = 0;
+    for (std::size_t i = 0; i < offset; ++i)
+        if (text[i] == '\n') {
+            ++line;
+            ls = i + 1;
+        }
+    col = int(offset - ls) + 1;
+}
+
+}  // namespace rtview

@@ -1,0 +1,52 @@
+// Keeps the scene text and the edited Scene in agreement. A panel edit replaces only
+// the text of the items it changed (one object, one light, the camera block), so the
+// user's comments and layout elsewhere survive; the result is checked by parsing it
+// back, and if that ever disagrees the whole text is rewritten with write_scene.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "scene.h"
+
+namespace rtview {
+
+struct TextSpan {
+    std::size_t begin = 0, end = 0;  // byte offsets, end exclusive
+};
+
+// Where the items of a scene text are: the structure the parser sees, found with the
+// format's lexical rules only (tokens, self-delimiting braces, // comments).
+struct SceneLayout {
+    bool ok = false;                // braces balanced and every item complete
+    std::vector<TextSpan> objects;  // top-level objects of all `thing` sections, in order
+    std::vector<TextSpan> planes;   // items of `special_thing` sections
+    std::vector<TextSpan> lights;   // items of `light` sections
+    std::vector<TextSpan> cameras;  // whole `camera { ... }` sections
+    std::size_t append_at = 0;      // where a new section goes: before `end`, or the text's end
+};
+SceneLayout scan_layout(std::string_view text);
+
+// `text` must parse to `from`. Returns `text` with the items that differ between
+// `from` and `to` rewritten, or nothing if the edit cannot be done in place (the
+// number of items changed, the layout is unclear, or the check parse disagrees).
+std::optional<std::string> patch_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to);
+
+// patch_scene_text, falling back to write_scene(to). Always returns text parsing to `to`.
+std::string sync_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to);
+
+// `base` with the items that differ between `old_scene` and `new_scene` taken from
+// `new_scene`. Item lists carry over only where all three have the same length;
+// `complete` says whether every difference could be carried. Used to carry a panel
+// edit into a draft text that parses to `base`.
+rt::Scene carry_edit(const rt::Scene& base, const rt::Scene& old_scene, const rt::Scene& new_scene,
+                     bool* complete = nullptr);
+
+// 1-based line/column <-> byte offset (columns count bytes, as the parser's do).
+std::size_t offset_of(std::string_view text, int line, int col);
+void line_col_of(std::string_view text, std::size_t offset, int& line, int& col);
+
+}  // namespace rtview
