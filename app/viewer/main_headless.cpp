@@ -1,0 +1,139 @@
+// raytracer-view-headless: the same ViewerApp drawn into an OSMesa buffer in main
+// memory (no X, no GPU, no GLFW), with ImGui's OpenGL2 backend; waits for the samples
+// and writes a screenshot of the whole window.
+#include <GL/osmesa.h>
+#include <imgui.h>
+#include <imgui_impl_opengl2.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app.h"
+#include "scene_parser.h"
+
+namespace {
+
+class NullHost : public rtview::Host {
+public:
+    void set_title(const std::string&) override {}
+    void quit() override {}
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    rtview::Options opt;
+    std::string err = rtview::parse_options(argc, argv, opt);
+    if (!err.empty()) {
+        std::fprintf(stderr, "raytracer-view-headless: %s\nTry 'raytracer-view-headless --help' for more information.\n",
+                     err.c_str());
+        return 2;
+    }
+    if (opt.help) {
+        std::fputs(rtview::help_text(true).c_str(), stdout);
+        return 0;
+    }
+    if (opt.version) {
+        std::puts("raytracer-view-headless 1.0.0");
+        return 0;
+    }
+    if (opt.screenshot.empty()) {
+        std::fprintf(stderr, "raytracer-view-headless: --screenshot OUT is required\n");
+        return 2;
+    }
+    // Mesa would otherwise keep a shader cache under $HOME.
+    setenv("MESA_SHADER_CACHE_DISABLE", "true", 0);
+
+    const int W = opt.width, H = opt.height;
+    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
+    if (!ctx) {
+        std::fprintf(stderr, "raytracer-view-headless: cannot create an OSMesa context\n");
+        return 1;
+    }
+    std::vector<unsigned char> buffer(std::size_t(W) * H * 4);
+    if (!OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, W, H)) {
+        std::fprintf(stderr, "raytracer-view-headless: cannot bind the OSMesa buffer\n");
+        OSMesaDestroyContext(ctx);
+        return 1;
+    }
+
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;
+    io.DisplaySize = ImVec2(float(W), float(H));
+    io.DisplayFramebufferScale = ImVec2(1, 1);
+    io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);  // no mouse: nothing is hovered
+    ImGui::StyleColorsDark();
+    ImGui_ImplOpenGL2_Init();
+
+    int status = 0;
+    {
+        NullHost host;
+        rtview::ViewerApp app(opt, host, false);
+        err = app.open_initial();
+        const std::string name = opt.scene.empty() ? "default.txt" : opt.scene;
+        if (!err.empty()) {
+            std::fprintf(stderr, "raytracer-view-headless: %s\n", err.c_str());
+            status = 2;
+        } else if (!app.document().has_scene()) {
+            for (const auto& d : app.document().diagnostics())
+                std::fprintf(stderr, "%s\n", rt::format_diagnostic(name, d).c_str());
+            status = 1;
+        } else {
+            for (const auto& d : app.document().diagnostics())
+                std::fprintf(stderr, "%s\n", rt::format_diagnostic(name, d).c_str());
+            if (opt.orbit != 0) app.orbit_degrees(opt.orbit);
+            auto frame = [&] {
+                io.DeltaTime = 1.f / 60;
+                ImGui_ImplOpenGL2_NewFrame();
+                ImGui::NewFrame();
+                app.frame();
+                ImGui::Render();
+                glViewport(0, 0, W, H);
+                glClearColor(0.10f, 0.10f, 0.11f, 1.f);
+                glClear(GL_COLOR_BUFFER_BIT);
+                ImGui_ImplOpenGL2_RenderDrawData(ImGui::GetDrawData());
+            };
+            auto t0 = std::chrono::steady_clock::now();
+            // A few frames first: ImGui sizes auto-fitting items on its first frames.
+            for (int n = 0;; ++n) {
+                frame();
+                if (n >= 3 && app.render_settled()) break;
+                std::this_thread::sleep_for(std::chrono::milliseconds(n < 3 ? 0 : 15));
+            }
+            frame();  // the final film, with the status bar saying "done"
+            err = rtview::save_framebuffer(opt.screenshot, W, H);
+            if (!err.empty()) {
+                std::fprintf(stderr, "raytracer-view-headless: cannot write %s: %s\n", opt.screenshot.c_str(), err.c_str());
+                status = 2;
+            }
+            if (!opt.view_scene.empty()) {
+                err = app.write_view_scene(opt.view_scene);
+                if (!err.empty()) {
+                    std::fprintf(stderr, "raytracer-view-headless: cannot write %s: %s\n", opt.view_scene.c_str(),
+                                 err.c_str());
+                    status = 2;
+                }
+            }
+            if (opt.verbose) {
+                rt::RenderProgress p = app.progress();
+                double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                std::fprintf(stderr,
+                             "raytracer-view-headless: %dx%d film, %d samples, first coarse pass %.1f ms, render %.2f s, "
+                             "total %.2f s\n",
+                             p.width, p.height, p.samples, p.first_coarse_time * 1000, p.elapsed, total);
+            }
+        }
+    }
+
+    ImGui_ImplOpenGL2_Shutdown();
+    ImGui::DestroyContext();
+    OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);  // release the buffer before the context
+    OSMesaDestroyContext(ctx);
+    return status;
+}

@@ -1,0 +1,248 @@
+// raytracer-view: the GLFW window around ViewerApp (ImGui GLFW + OpenGL2 backends,
+// libGL). With --headless it execs raytracer-view-headless from its own directory,
+// because OSMesa and libGL cannot share one process (see CMakeLists.txt).
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl2.h>
+#include <limits.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "app.h"
+#include "scene_parser.h"
+
+namespace {
+
+// Input of any kind bumps this; the loop draws a frame only when it moved or the app
+// has something animating, so an idle viewer sleeps in glfwWaitEvents*.
+std::atomic<unsigned> g_events{0};
+
+class GlfwHost : public rtview::Host {
+public:
+    explicit GlfwHost(GLFWwindow* w) : window_(w) {}
+    void set_title(const std::string& title) override { glfwSetWindowTitle(window_, title.c_str()); }
+    void quit() override { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
+
+private:
+    GLFWwindow* window_;
+};
+
+// ImGui 1.86 samples key state once per frame and has no input queue, so fast input
+// (a quick tap, or xdotool) goes wrong in three ways: a key pressed and released
+// between two frames is never seen; Ctrl released in the same batch as the S it
+// modifies turns Ctrl+S into S; and a character typed in the same frame as a Ctrl
+// press is dropped (text fields ignore characters while Ctrl is down). So key and
+// character events pass through a small queue: a release waits for the frame after
+// its press, and a key press waits for the frame after pending characters. Events
+// keep their order; the queue is drained after every frame.
+struct InputEvent {
+    bool is_char;
+    int key, scancode, action, mods;
+    unsigned codepoint;
+};
+std::vector<InputEvent> g_waiting;  // for the next frame
+bool g_frame_has_press = false, g_frame_has_chars = false;
+
+void route(GLFWwindow* w, const InputEvent& e) {
+    ++g_events;
+    bool wait = !g_waiting.empty();  // never overtake an earlier event
+    if (!wait && !e.is_char) {
+        if (e.action == GLFW_PRESS) wait = g_frame_has_chars;
+        else if (e.action == GLFW_RELEASE) wait = g_frame_has_press;
+    }
+    if (wait) {
+        g_waiting.push_back(e);
+        return;
+    }
+    if (e.is_char) {
+        g_frame_has_chars = true;
+        ImGui_ImplGlfw_CharCallback(w, e.codepoint);
+    } else {
+        if (e.action == GLFW_PRESS) g_frame_has_press = true;
+        ImGui_ImplGlfw_KeyCallback(w, e.key, e.scancode, e.action, e.mods);
+    }
+}
+
+void key_callback(GLFWwindow* w, int key, int scancode, int action, int mods) {
+    route(w, {false, key, scancode, action, mods, 0});
+}
+void char_callback(GLFWwindow* w, unsigned c) { route(w, {true, 0, 0, 0, 0, c}); }
+
+// After a frame: the waiting events get their turn (and may wait again).
+void next_frame_input(GLFWwindow* w) {
+    g_frame_has_press = g_frame_has_chars = false;
+    std::vector<InputEvent> events;
+    events.swap(g_waiting);
+    for (const InputEvent& e : events) route(w, e);
+}
+
+rtview::ViewerApp* app_of(GLFWwindow* w) { return static_cast<rtview::ViewerApp*>(glfwGetWindowUserPointer(w)); }
+
+// Installed before ImGui's backend, which chains to them.
+void install_callbacks(GLFWwindow* w) {
+    glfwSetKeyCallback(w, [](GLFWwindow*, int, int, int, int) { ++g_events; });
+    glfwSetCharCallback(w, [](GLFWwindow*, unsigned) { ++g_events; });
+    glfwSetMouseButtonCallback(w, [](GLFWwindow*, int, int, int) { ++g_events; });
+    glfwSetScrollCallback(w, [](GLFWwindow*, double, double) { ++g_events; });
+    glfwSetCursorPosCallback(w, [](GLFWwindow*, double, double) { ++g_events; });
+    glfwSetCursorEnterCallback(w, [](GLFWwindow*, int) { ++g_events; });
+    glfwSetWindowFocusCallback(w, [](GLFWwindow*, int) { ++g_events; });
+    glfwSetFramebufferSizeCallback(w, [](GLFWwindow*, int, int) { ++g_events; });
+    glfwSetWindowRefreshCallback(w, [](GLFWwindow*) { ++g_events; });
+    glfwSetDropCallback(w, [](GLFWwindow* win, int n, const char** paths) {
+        ++g_events;
+        if (auto* app = app_of(win)) app->drop_files(std::vector<std::string>(paths, paths + n));
+    });
+    glfwSetWindowCloseCallback(w, [](GLFWwindow* win) {
+        ++g_events;
+        auto* app = app_of(win);
+        if (app && !app->close_requested()) glfwSetWindowShouldClose(win, GLFW_FALSE);
+    });
+}
+
+int exec_headless(char** argv) {
+    std::string dir;
+    char self[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n > 0) {
+        self[n] = 0;
+        dir = self;
+        dir = dir.substr(0, dir.find_last_of('/') + 1);
+    }
+    std::string sibling = dir + "raytracer-view-headless";
+    argv[0] = const_cast<char*>(sibling.c_str());
+    execv(sibling.c_str(), argv);
+    // Not next to us (an unusual install): try PATH.
+    argv[0] = const_cast<char*>("raytracer-view-headless");
+    execvp("raytracer-view-headless", argv);
+    std::fprintf(stderr, "raytracer-view: cannot run %s for --headless: %s\n", sibling.c_str(), std::strerror(errno));
+    return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    rtview::Options opt;
+    std::string err = rtview::parse_options(argc, argv, opt);
+    if (!err.empty()) {
+        std::fprintf(stderr, "raytracer-view: %s\nTry 'raytracer-view --help' for more information.\n", err.c_str());
+        return 2;
+    }
+    if (opt.help) {
+        std::fputs(rtview::help_text(false).c_str(), stdout);
+        return 0;
+    }
+    if (opt.version) {
+        std::puts("raytracer-view 1.0.0");
+        return 0;
+    }
+    if (opt.headless) return exec_headless(argv);
+
+    glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "raytracer-view: GLFW error %d: %s\n", code, text); });
+    if (!glfwInit()) {
+        std::fprintf(stderr, "raytracer-view: cannot open a window (is DISPLAY set?); "
+                             "use --headless --screenshot OUT for offscreen output\n");
+        return 1;
+    }
+    // OpenGL 2.1: the film is one textured quad and ImGui's OpenGL2 backend needs no loader.
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 2);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 1);
+    GLFWwindow* window = glfwCreateWindow(opt.width, opt.height, "raytracer-view", nullptr, nullptr);
+    if (!window) {
+        glfwTerminate();
+        return 1;
+    }
+    glfwMakeContextCurrent(window);
+    glfwSwapInterval(1);
+    install_callbacks(window);
+
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;  // the layout is fixed; nothing worth remembering in a file
+    io.ConfigInputTextCursorBlink = false;  // a blinking cursor would need frames while idle
+    ImGui::StyleColorsDark();
+    {
+        // hi-DPI: content scale over framebuffer scale is how much larger the UI
+        // must be drawn (X11 reports 1:1 framebuffers and a content scale from Xft.dpi).
+        float xs = 1, ys = 1;
+        glfwGetWindowContentScale(window, &xs, &ys);
+        int ww, wh, fw, fh;
+        glfwGetWindowSize(window, &ww, &wh);
+        glfwGetFramebufferSize(window, &fw, &fh);
+        float fb = ww > 0 ? float(fw) / ww : 1.f;
+        float scale = xs / (fb > 0 ? fb : 1.f);
+        if (scale > 1.05f) {
+            ImGui::GetStyle().ScaleAllSizes(scale);
+            ImFontConfig cfg;
+            cfg.SizePixels = 13.f * scale;
+            io.Fonts->AddFontDefault(&cfg);
+        }
+    }
+    ImGui_ImplGlfw_InitForOpenGL(window, true);
+    ImGui_ImplOpenGL2_Init();
+    // In front of ImGui's own key and character callbacks, which route() calls.
+    glfwSetKeyCallback(window, key_callback);
+    glfwSetCharCallback(window, char_callback);
+
+    int status = 0;
+    {
+        GlfwHost host(window);
+        rtview::ViewerApp app(opt, host, true);
+        err = app.open_initial();
+        if (!err.empty()) {
+            std::fprintf(stderr, "raytracer-view: %s\n", err.c_str());
+            status = 2;
+        } else {
+            for (const auto& d : app.document().diagnostics())
+                std::fprintf(stderr, "%s\n", rt::format_diagnostic(opt.scene.empty() ? "default.txt" : opt.scene, d).c_str());
+            glfwSetWindowUserPointer(window, &app);
+            unsigned seen = g_events.load() - 1;  // draw the first frame at once
+            int settle = 0;
+            while (!glfwWindowShouldClose(window)) {
+                // While settling after input, ImGui needs its next frames promptly (a
+                // click is seen released, a focus request lands one frame later).
+                double timeout = settle > 0 ? 1.0 / 60 : app.wait_timeout();
+                if (timeout <= 0) glfwPollEvents();
+                else glfwWaitEventsTimeout(timeout);
+                unsigned ev = g_events.load();
+                if (ev != seen) {
+                    seen = ev;
+                    settle = 3;  // ImGui settles hover and popup state over a few frames
+                }
+                bool draw = settle > 0 || app.needs_frame();
+                if (!draw && !app.idle_tick()) continue;  // idle: no frame, no CPU
+                if (settle > 0) --settle;
+
+                ImGui_ImplOpenGL2_NewFrame();
+                ImGui_ImplGlfw_NewFrame();
+                ImGui::NewFrame();
+                app.frame();
+                ImGui::Render();
+                int fw, fh;
+                glfwGetFramebufferSize(window, &fw, &fh);
+                glViewport(0, 0, fw, fh);
+                glClearColor(0.10f, 0.10f, 0.11f, 1.f);
+                glClear(GL_COLOR_BUFFER_BIT);
+                ImGui_ImplOpenGL2_RenderDrawData(ImGui::GetDrawData());
+                app.after_render(fw, fh);
+                glfwSwapBuffers(window);
+                next_frame_input(window);
+            }
+            glfwSetWindowUserPointer(window, nullptr);
+        }
+    }  // the app (and its GL texture) goes while the context is still current
+
+    ImGui_ImplOpenGL2_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    glfwDestroyWindow(window);
+    glfwTerminate();
+    return status;
+}
