@@ -1,0 +1,135 @@
+// rtview-imgtool: the few image measurements the viewer's screenshot tests need
+// (region comparisons, colour counts), so the shell scripts need no ImageMagick
+// arithmetic. Reads PNG (stb_image) and PPM. Regions are x y w h in pixels.
+#include <stb/stb_image.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "image_io.h"
+
+namespace {
+
+struct Img {
+    int w = 0, h = 0;
+    std::vector<unsigned char> rgb;
+    const unsigned char* at(int x, int y) const { return &rgb[(std::size_t(y) * w + x) * 3]; }
+};
+
+bool load(const std::string& path, Img& img) {
+    if (rt::format_from_path(path) == rt::ImageFormat::Ppm) {
+        std::string err = rt::read_ppm(path, img.w, img.h, img.rgb);
+        if (!err.empty()) std::fprintf(stderr, "%s: %s\n", path.c_str(), err.c_str());
+        return err.empty();
+    }
+    int n = 0;
+    unsigned char* p = stbi_load(path.c_str(), &img.w, &img.h, &n, 3);
+    if (!p) {
+        std::fprintf(stderr, "%s: cannot read\n", path.c_str());
+        return false;
+    }
+    img.rgb.assign(p, p + std::size_t(img.w) * img.h * 3);
+    stbi_image_free(p);
+    return true;
+}
+
+struct Region {
+    int x = 0, y = 0, w = 0, h = 0;
+};
+
+bool region(char** a, const Img& img, Region& r) {
+    r = {std::atoi(a[0]), std::atoi(a[1]), std::atoi(a[2]), std::atoi(a[3])};
+    if (r.x < 0 || r.y < 0 || r.w < 1 || r.h < 1 || r.x + r.w > img.w || r.y + r.h > img.h) {
+        std::fprintf(stderr, "region %d %d %d %d outside the %dx%d image\n", r.x, r.y, r.w, r.h, img.w, img.h);
+        return false;
+    }
+    return true;
+}
+
+int usage() {
+    std::fputs("usage: rtview-imgtool match SHOT X Y W H REF     region of SHOT equals REF (same size) within tolerance\n"
+               "       rtview-imgtool diff A B X Y W H           fraction of pixels differing by more than 8\n"
+               "       rtview-imgtool colours IMG X Y W H        number of distinct colours\n"
+               "       rtview-imgtool near IMG X Y W H R G B T   pixels within T of colour R G B\n",
+               stderr);
+    return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) return usage();
+    std::string cmd = argv[1];
+    if (cmd == "match" && argc == 8) {
+        Img shot, ref;
+        Region r;
+        if (!load(argv[2], shot) || !load(argv[7], ref) || !region(argv + 3, shot, r)) return 2;
+        if (ref.w != r.w || ref.h != r.h) {
+            std::fprintf(stderr, "reference is %dx%d, region %dx%d\n", ref.w, ref.h, r.w, r.h);
+            return 1;
+        }
+        long big = 0;
+        double sum = 0;
+        int worst = 0;
+        for (int y = 0; y < r.h; ++y)
+            for (int x = 0; x < r.w; ++x) {
+                const unsigned char* a = shot.at(r.x + x, r.y + y);
+                const unsigned char* b = ref.at(x, y);
+                for (int c = 0; c < 3; ++c) {
+                    int d = std::abs(int(a[c]) - int(b[c]));
+                    sum += d;
+                    worst = std::max(worst, d);
+                    if (d > 3) ++big;
+                }
+            }
+        double n = double(r.w) * r.h * 3;
+        std::printf("mean abs diff %.4f, max %d, values off by more than 3: %.4f%%\n", sum / n, worst, 100 * big / n);
+        // Small tolerance: the display path may round differently than the file writer.
+        return (sum / n < 0.5 && big / n < 0.002) ? 0 : 1;
+    }
+    if (cmd == "diff" && argc == 8) {
+        Img a, b;
+        Region r;
+        if (!load(argv[2], a) || !load(argv[3], b) || !region(argv + 4, a, r) || !region(argv + 4, b, r)) return 2;
+        long n = 0;
+        for (int y = r.y; y < r.y + r.h; ++y)
+            for (int x = r.x; x < r.x + r.w; ++x) {
+                const unsigned char *p = a.at(x, y), *q = b.at(x, y);
+                if (std::abs(p[0] - q[0]) > 8 || std::abs(p[1] - q[1]) > 8 || std::abs(p[2] - q[2]) > 8) ++n;
+            }
+        std::printf("%.6f\n", double(n) / (double(r.w) * r.h));
+        return 0;
+    }
+    if (cmd == "colours" && argc == 7) {
+        Img a;
+        Region r;
+        if (!load(argv[2], a) || !region(argv + 3, a, r)) return 2;
+        std::set<unsigned> seen;
+        for (int y = r.y; y < r.y + r.h; ++y)
+            for (int x = r.x; x < r.x + r.w; ++x) {
+                const unsigned char* p = a.at(x, y);
+                seen.insert(unsigned(p[0]) << 16 | unsigned(p[1]) << 8 | p[2]);
+            }
+        std::printf("%zu\n", seen.size());
+        return 0;
+    }
+    if (cmd == "near" && argc == 11) {
+        Img a;
+        Region r;
+        if (!load(argv[2], a) || !region(argv + 3, a, r)) return 2;
+        int R = std::atoi(argv[7]), G = std::atoi(argv[8]), B = std::atoi(argv[9]), T = std::atoi(argv[10]);
+        long n = 0;
+        for (int y = r.y; y < r.y + r.h; ++y)
+            for (int x = r.x; x < r.x + r.w; ++x) {
+                const unsigned char* p = a.at(x, y);
+                if (std::abs(p[0] - R) <= T && std::abs(p[1] - G) <= T && std::abs(p[2] - B) <= T) ++n;
+            }
+        std::printf("%ld\n", n);
+        return 0;
+    }
+    return usage();
+}

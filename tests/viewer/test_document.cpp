@@ -1,0 +1,273 @@
+// The document model: undoable panel edits written back into the text, applying
+// drafts with errors, atomic saves, and reacting to changes made on disk.
+#include <doctest/doctest.h>
+#include <dirent.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "default_scene.h"
+#include "document.h"
+#include "image_io.h"
+#include "scene_parser.h"
+
+using namespace rtview;
+
+namespace {
+
+struct TempDir {
+    std::string path;
+    TempDir() {
+        char t[] = "/tmp/rtview-test-XXXXXX";
+        path = mkdtemp(t);
+    }
+    ~TempDir() { std::system(("rm -rf '" + path + "'").c_str()); }
+    std::vector<std::string> entries() const {
+        std::vector<std::string> v;
+        if (DIR* d = opendir(path.c_str())) {
+            while (dirent* e = readdir(d))
+                if (e->d_name[0] != '.') v.push_back(e->d_name);
+            closedir(d);
+        }
+        return v;
+    }
+};
+
+std::string slurp(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+void spit(const std::string& p, const std::string& s) {
+    std::ofstream(p, std::ios::binary) << s;
+}
+
+rt::Scene parsed(const std::string& text) {
+    rt::ParseResult r = rt::parse_scene(text);
+    REQUIRE(r.ok());
+    return r.scene;
+}
+
+// Rewriting a file within one mtime tick and at the same size would hide the change
+// from a stat-based watcher; tests make each version distinguishable.
+void bump_mtime(const std::string& p, int seconds) {
+    struct stat st {};
+    stat(p.c_str(), &st);
+    std::string cmd = "touch -d @" + std::to_string(st.st_mtim.tv_sec + seconds) + " '" + p + "'";
+    std::system(cmd.c_str());
+}
+
+}  // namespace
+
+TEST_CASE("a slider drag is one undo step, written into the text when it ends") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const rt::Scene original = d.scene();
+    const std::string text = d.editor_text();
+    std::uint64_t v0 = d.scene_version();
+    for (int k = 1; k <= 10; ++k) d.edit().objects[1].material.reflection = k * 0.07;
+    CHECK(d.scene_version() > v0);      // every step restarts the render
+    CHECK(d.editor_text() == text);     // the text is written once, at the end
+    d.commit();
+    CHECK(parsed(d.editor_text()) == d.scene());
+    CHECK(d.scene().objects[1].material.reflection == doctest::Approx(0.7));
+    CHECK(d.modified());
+    CHECK(d.title() == "default.txt* - raytracer-view");
+    REQUIRE(d.undo());
+    CHECK(d.scene() == original);
+    CHECK(d.editor_text() == text);
+    CHECK_FALSE(d.modified());
+    CHECK(d.title() == "default.txt - raytracer-view");
+    REQUIRE(d.redo());
+    CHECK(d.scene().objects[1].material.reflection == doctest::Approx(0.7));
+    CHECK_FALSE(d.redo());
+}
+
+TEST_CASE("applying text with errors keeps the scene and never touches the text") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const rt::Scene good = d.scene();
+    std::uint64_t sv = d.scene_version(), tv = d.text_version();
+    d.editor_text().insert(0, "oops ");
+    std::string typed = d.editor_text();
+    CHECK_FALSE(d.apply_text());
+    REQUIRE(d.has_errors());
+    CHECK(d.diagnostics().front().line == 1);
+    CHECK(d.diagnostics().front().col == 1);
+    CHECK(d.editor_text() == typed);
+    CHECK(d.scene() == good);
+    CHECK(d.scene_version() == sv);
+    CHECK(d.text_version() == tv);
+    CHECK(d.editor_dirty());
+}
+
+TEST_CASE("a good apply is undoable, and undo brings the draft back unapplied") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const rt::Scene before = d.scene();
+    std::string& t = d.editor_text();
+    t.replace(t.find("radius 1.3"), 10, "radius 2.5");
+    std::string draft = t;
+    REQUIRE(d.apply_text());
+    CHECK(std::get<rt::Sphere>(d.scene().objects[1].shape).radius == 2.5);
+    CHECK_FALSE(d.editor_dirty());
+    REQUIRE(d.undo());
+    CHECK(d.scene() == before);
+    CHECK(d.editor_text() == draft);  // the typed text is not lost
+    CHECK(d.editor_dirty());
+}
+
+TEST_CASE("a panel edit is carried into a draft that parses") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    std::string& t = d.editor_text();
+    t.insert(0, "// my note\n");  // a draft change (still the same scene)
+    d.edit().camera.angle_y = 50;
+    d.commit();
+    CHECK(d.editor_text().rfind("// my note\n", 0) == 0);
+    CHECK(parsed(d.editor_text()).camera.angle_y == 50);
+    CHECK_FALSE(d.text_behind());
+}
+
+TEST_CASE("a panel edit leaves a broken draft alone and says the text is behind") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    d.editor_text().insert(0, "{ broken\n");  // (after `end` it would be ignored)
+    std::string draft = d.editor_text();
+    d.edit().lights[0].colour = {1, 2, 3};
+    d.commit();
+    CHECK(d.editor_text() == draft);
+    CHECK(d.text_behind());
+    CHECK(d.scene().lights[0].colour == rt::Vec3{1, 2, 3});
+    d.revert_text();  // drop the draft: the text shows the scene again
+    CHECK_FALSE(d.text_behind());
+    CHECK(parsed(d.editor_text()) == d.scene());
+    REQUIRE(d.undo());  // and the draft can come back
+    CHECK(d.editor_text() == draft);
+}
+
+TEST_CASE("a file that does not parse opens with its text and errors, and no scene") {
+    Document d;
+    d.load_text("thing { sphere { radius x } }", "", "bad.txt");
+    CHECK_FALSE(d.has_scene());
+    CHECK(d.has_errors());
+    CHECK_FALSE(d.modified());
+    CHECK(d.editor_text() == "thing { sphere { radius x } }");
+}
+
+TEST_CASE("save writes the editor text atomically and clears the modified mark") {
+    TempDir dir;
+    std::string p = dir.path + "/scene.txt";
+    spit(p, rt::kDefaultScene);
+    Document d;
+    REQUIRE(d.load_file(p).empty());
+    CHECK(d.name() == "scene.txt");
+    d.edit().camera.position = {-2, 0, 3};
+    d.commit();
+    REQUIRE(d.modified());
+    REQUIRE(d.save().empty());
+    CHECK_FALSE(d.modified());
+    CHECK(slurp(p) == d.editor_text());
+    CHECK(dir.entries() == std::vector<std::string>{"scene.txt"});  // no temporary left
+    CHECK(d.file_camera().position == rt::Vec3{-2, 0, 3});          // R now resets to this
+    // A draft with errors is saved as typed: the user's text is what gets saved.
+    d.editor_text() += "\nnot valid {";
+    REQUIRE(d.save().empty());
+    CHECK(slurp(p) == d.editor_text());
+}
+
+TEST_CASE("a failed save reports why and leaves the document modified") {
+    TempDir dir;
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    CHECK_FALSE(d.save().empty());  // no file name yet
+    d.edit().camera.angle_y = 40;
+    d.commit();
+    CHECK_FALSE(d.save_as(dir.path + "/missing/dir/x.txt").empty());
+    CHECK(d.modified());
+    CHECK(d.path().empty());
+    REQUIRE(d.save_as(dir.path + "/x.txt").empty());
+    CHECK(d.name() == "x.txt");
+    CHECK_FALSE(d.modified());
+}
+
+TEST_CASE("an outside change reloads by itself when only the view was moved, keeping the view") {
+    TempDir dir;
+    std::string p = dir.path + "/s.txt";
+    spit(p, rt::kDefaultScene);
+    Document d;
+    REQUIRE(d.load_file(p).empty());
+    CHECK(d.check_disk() == Document::DiskEvent::None);
+    rt::Camera moved = d.scene().camera;
+    moved.position = {-4, 1, 3};
+    d.edit().camera = moved;
+    d.commit();
+    std::string other = rt::kDefaultScene;
+    other.replace(other.find("radius 1.3"), 10, "radius 0.7");
+    spit(p, other);
+    bump_mtime(p, 5);
+    CHECK(d.check_disk() == Document::DiskEvent::Reloaded);
+    CHECK(std::get<rt::Sphere>(d.scene().objects[1].shape).radius == 0.7);
+    CHECK(d.scene().camera == moved);
+    CHECK(parsed(d.editor_text()) == d.scene());
+    CHECK(d.check_disk() == Document::DiskEvent::None);
+}
+
+TEST_CASE("an outside change with unsaved edits is a conflict; reloading is undoable") {
+    TempDir dir;
+    std::string p = dir.path + "/s.txt";
+    spit(p, rt::kDefaultScene);
+    Document d;
+    REQUIRE(d.load_file(p).empty());
+    d.edit().objects[0].material.colour = {1, 0, 0};
+    d.commit();
+    std::string mine = d.editor_text();
+    std::string other = std::string(rt::kDefaultScene) + "\n// edited elsewhere\n";
+    spit(p, other);
+    bump_mtime(p, 5);
+    CHECK(d.check_disk() == Document::DiskEvent::Conflict);
+    CHECK(d.disk_conflict());
+    CHECK(d.editor_text() == mine);  // nothing replaced behind the user's back
+    d.resolve_conflict_reload();
+    CHECK_FALSE(d.disk_conflict());
+    CHECK(d.editor_text() == other);
+    CHECK_FALSE(d.modified());
+    REQUIRE(d.undo());
+    CHECK(d.editor_text() == mine);
+}
+
+TEST_CASE("our own saves are not taken for outside changes") {
+    TempDir dir;
+    std::string p = dir.path + "/s.txt";
+    spit(p, rt::kDefaultScene);
+    Document d;
+    REQUIRE(d.load_file(p).empty());
+    d.edit().camera.angle_y = 33;
+    d.commit();
+    REQUIRE(d.save().empty());
+    CHECK(d.check_disk() == Document::DiskEvent::None);
+    CHECK_FALSE(d.disk_conflict());
+}
+
+TEST_CASE("a scene that becomes broken on disk shows its errors but keeps rendering the last good one") {
+    TempDir dir;
+    std::string p = dir.path + "/s.txt";
+    spit(p, rt::kDefaultScene);
+    Document d;
+    REQUIRE(d.load_file(p).empty());
+    rt::Scene good = d.scene();
+    spit(p, "thing { sphere { radius } }\n");
+    bump_mtime(p, 5);
+    CHECK(d.check_disk() == Document::DiskEvent::Reloaded);
+    CHECK(d.has_scene());
+    CHECK(d.scene() == good);
+    CHECK(d.has_errors());
+    CHECK(d.editor_text() == "thing { sphere { radius } }\n");
+}

@@ -1,0 +1,196 @@
+#!/bin/bash
+# The real raytracer-view window under Xvfb, driven with xdotool as a user would:
+#  1. a left drag in the image orbits: the camera panel's values and the image change,
+#     and the title gains a '*';
+#  2. Ctrl+S saves atomically: the file on disk equals the editor text;
+#  3. typing a syntax error into the editor shows the error line (red text in the
+#     diagnostics list) while the last good image stays;
+#  4. clicking the error moves the cursor there (typing "//" comments the bad word out);
+#  5. Ctrl+Q with unsaved changes asks (a modal) instead of quitting; Escape cancels;
+#  6. a change made on disk by another program reloads by itself (the moved view stays);
+#  7. F12 writes a screenshot of the whole window; the scene lands in the recent files.
+# Screenshots (import -window root) are kept in OUT_DIR to look at.
+# Usage: xvfb_test.sh BIN_DIR OUT_DIR
+set -euo pipefail
+BIN=$(cd "$1" && pwd)
+OUT=$2
+mkdir -p "$OUT"
+OUT=$(cd "$OUT" && pwd)
+
+if [ "${RTVIEW_XVFB_INNER:-}" != 1 ]; then
+    export RTVIEW_XVFB_INNER=1
+    exec xvfb-run -a -s "-screen 0 1280x800x24" "$0" "$BIN" "$OUT"
+fi
+
+TOOL=$BIN/rtview-imgtool
+export MESA_SHADER_CACHE_DISABLE=true
+export XDG_CONFIG_HOME=$OUT/config
+# In sanitizer builds: X11, GLFW and Mesa are not instrumented, so LeakSanitizer can
+# neither unwind nor attribute their allocations; leaks in our code are checked by the
+# unit tests and the headless test. Address and UB checks stay on.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=0}"
+export TSAN_OPTIONS="${TSAN_OPTIONS:-suppressions=$(cd "$(dirname "$0")" && pwd)/tsan.supp}"
+SCENE=$OUT/scene.txt
+rm -f "$OUT"/*.png "$OUT"/layout.txt
+cp "$(dirname "$0")/../../scenes/default.txt" "$SCENE"
+ORIGINAL=$OUT/original.txt
+cp "$SCENE" "$ORIGINAL"
+
+VIEWER_PID=
+cleanup() { [ -n "$VIEWER_PID" ] && kill "$VIEWER_PID" 2>/dev/null || true; }
+trap cleanup EXIT
+fail() {
+    echo "FAIL: $*" >&2
+    import -window root "$OUT/failure.png" 2>/dev/null || true
+    echo "--- viewer stderr:" >&2
+    cat "$OUT/viewer.err" >&2 || true
+    exit 1
+}
+step() { echo "== $*"; }
+
+# Last value of a layout line (the viewer prints the layout again when it changes).
+field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$OUT/layout.txt"; }
+region() { echo "$(field "$1" 1) $(field "$1" 2) $(field "$1" 3) $(field "$1" 4)"; }
+shot() { import -window root "$OUT/$1.png"; }
+title() { xdotool getwindowname "$WID"; }
+
+# Screenshots until the image region shows a picture and stops changing (the render
+# has converged); a black region that "stays the same" is not a picture.
+wait_stable() {
+    local name=$1 prev="$OUT/.stable-prev.png" d
+    shot "$name"
+    for _ in $(seq 1 240); do
+        sleep 0.5
+        cp "$OUT/$name.png" "$prev"
+        shot "$name"
+        d=$("$TOOL" diff "$prev" "$OUT/$name.png" $IMAGE)
+        [ "$d" = "0.000000" ] && [ "$("$TOOL" colours "$OUT/$name.png" $IMAGE)" -gt 1000 ] && return 0
+    done
+    fail "the image never settled"
+}
+
+step "start the viewer"
+cd "$OUT"
+"$BIN/raytracer-view" "$SCENE" --size 1280x800 --samples 2 --print-layout > "$OUT/layout.txt" 2> "$OUT/viewer.err" &
+VIEWER_PID=$!
+WID=$(timeout 30 xdotool search --sync --name 'scene.txt' | head -1) || fail "no window appeared"
+for _ in $(seq 1 50); do grep -q end-layout "$OUT/layout.txt" && break; sleep 0.1; done
+eval "$(xdotool getwindowgeometry --shell "$WID")"
+[ "$X" = 0 ] && [ "$Y" = 0 ] || fail "expected the window at 0,0 (no window manager), got $X,$Y"
+IMAGE=$(region image)
+CAMERA=$(region camera)
+SIDEBAR=$(region sidebar)
+read -r ix iy iw ih <<< "$IMAGE"
+cx=$((ix + iw / 2)); cy=$((iy + ih / 2))
+echo "image $IMAGE, camera panel $CAMERA"
+
+wait_stable before
+colours=$("$TOOL" colours "$OUT/before.png" $IMAGE)
+[ "$colours" -gt 1000 ] || fail "the image region has only $colours colours (black window?)"
+[ "$("$TOOL" colours "$OUT/before.png" $SIDEBAR)" -gt 20 ] || fail "no panels drawn"
+[[ "$(title)" == "scene.txt - raytracer-view" ]] || fail "title '$(title)'"
+
+step "left drag orbits the camera"
+xdotool mousemove $cx $cy mousedown 1
+for dx in 20 45 70 95 120 150; do xdotool mousemove $((cx + dx)) $((cy + dx / 4)); sleep 0.05; done
+xdotool mouseup 1
+wait_stable orbit
+cam_change=$("$TOOL" diff "$OUT/before.png" "$OUT/orbit.png" $CAMERA)
+img_change=$("$TOOL" diff "$OUT/before.png" "$OUT/orbit.png" $IMAGE)
+echo "camera panel changed: $cam_change, image changed: $img_change"
+awk -v c="$cam_change" 'BEGIN { exit !(c > 0.002) }' || fail "the camera panel did not change"
+awk -v c="$img_change" 'BEGIN { exit !(c > 0.2) }' || fail "the image did not change"
+[[ "$(title)" == "scene.txt* - raytracer-view" ]] || fail "no '*' in the title after the orbit: '$(title)'"
+
+step "Ctrl+S saves the editor text"
+xdotool key ctrl+s
+sleep 0.5
+[[ "$(title)" == "scene.txt - raytracer-view" ]] || fail "title still '$(title)' after Ctrl+S"
+cmp -s "$SCENE" "$ORIGINAL" && fail "the saved file did not change"
+"$BIN/raytracer" --check "$SCENE" > /dev/null || fail "the saved scene does not parse"
+diff <(grep -v '^ *\(position\|centre\|up\) ' "$ORIGINAL") <(grep -v '^ *\(position\|centre\|up\) ' "$SCENE") \
+    > /dev/null || fail "saving changed more than camera lines"
+ls -a "$OUT" | grep -q '\.tmp' && fail "a temporary file was left behind"
+cp "$SCENE" "$OUT/saved1.txt"
+
+step "a syntax error shows, and the last image stays"
+xdotool key ctrl+e
+sleep 0.3
+xdotool key ctrl+Home
+xdotool type --delay 30 "zzbad "
+sleep 1.0   # the live check runs once typing pauses
+xdotool key ctrl+Return
+sleep 0.5
+shot error
+DIAG=$(region diagnostics)
+red=$("$TOOL" near "$OUT/error.png" $DIAG 255 107 107 40)
+echo "red pixels in the diagnostics list: $red"
+[ "$red" -gt 30 ] || fail "no error line shown"
+kept=$("$TOOL" diff "$OUT/orbit.png" "$OUT/error.png" $IMAGE)
+[ "$kept" = "0.000000" ] || fail "the image changed after a failed apply ($kept)"
+
+step "Ctrl+S writes exactly the editor text, errors and all"
+xdotool key ctrl+s
+sleep 0.5
+printf 'zzbad ' | cat - "$OUT/saved1.txt" | cmp -s - "$SCENE" || fail "the file is not the editor text"
+
+step "clicking the error moves the cursor to it"
+read -r dx dy dw dh <<< "$DIAG"
+xdotool mousemove $((dx + 60)) $((dy + 15)) click 1
+sleep 0.3
+xdotool type --delay 30 "//"
+xdotool key ctrl+Return
+sleep 0.3
+xdotool key ctrl+s
+sleep 0.5
+printf '//zzbad ' | cat - "$OUT/saved1.txt" | cmp -s - "$SCENE" || fail "'//' did not land at the error position"
+shot fixed
+[ "$("$TOOL" near "$OUT/fixed.png" $DIAG 255 107 107 40)" -lt 5 ] || fail "the error is still listed"
+xdotool mousemove $cx $cy   # keyboard focus follows the pointer without a window manager
+
+step "Ctrl+Q with unsaved changes asks first"
+xdotool mousemove $cx $cy mousedown 3   # a right-drag pan
+for dx in 10 20 30 40; do xdotool mousemove $((cx + dx)) $((cy + dx / 4)); sleep 0.05; done
+xdotool mouseup 3
+sleep 0.5
+[[ "$(title)" == *"*"* ]] || fail "the pan did not modify the document"
+wait_stable panned
+xdotool key ctrl+q
+sleep 0.8
+kill -0 "$VIEWER_PID" 2>/dev/null || fail "the viewer quit without asking"
+shot asking
+dim=$("$TOOL" diff "$OUT/panned.png" "$OUT/asking.png" $IMAGE)
+awk -v c="$dim" 'BEGIN { exit !(c > 0.5) }' || fail "no modal dialog (image region changed only $dim)"
+xdotool key Escape
+sleep 0.5
+shot cancelled
+[ "$("$TOOL" diff "$OUT/panned.png" "$OUT/cancelled.png" $IMAGE)" = "0.000000" ] || fail "the dialog did not close"
+
+step "F12 writes a screenshot of the window"
+xdotool key F12
+sleep 1
+F12=$(ls "$OUT"/raytracer-view-2*.png 2>/dev/null | head -1)
+[ -n "$F12" ] || fail "no F12 screenshot"
+[ "$("$TOOL" colours "$F12" 0 0 1280 800)" -gt 1000 ] || fail "the F12 screenshot looks empty"
+
+step "a change on disk reloads by itself, keeping the moved view"
+sed 's/radius 1.3/radius 0.6/' "$SCENE" > "$OUT/edited.tmp"
+mv "$OUT/edited.tmp" "$SCENE"   # as editors save: a new file renamed over the old
+sleep 1.5
+wait_stable reloaded
+reload_change=$("$TOOL" diff "$OUT/cancelled.png" "$OUT/reloaded.png" $IMAGE)
+awk -v c="$reload_change" 'BEGIN { exit !(c > 0.01) }' || fail "the image did not change after the file changed ($reload_change)"
+[ "$("$TOOL" diff "$OUT/cancelled.png" "$OUT/reloaded.png" $CAMERA)" = "0.000000" ] || fail "the view was not kept"
+grep -q "radius 0.6" "$SCENE" || fail "test setup: the edit did not happen"
+
+step "after saving, Ctrl+Q quits"
+xdotool key ctrl+s
+sleep 0.5
+xdotool key ctrl+q
+for _ in $(seq 1 30); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
+kill -0 "$VIEWER_PID" 2>/dev/null && fail "the viewer did not quit"
+wait "$VIEWER_PID" || fail "the viewer exited with status $?"
+VIEWER_PID=
+grep -q "radius 0.6" "$SCENE" || fail "the final save lost the reloaded change"
+grep -qx "$SCENE" "$XDG_CONFIG_HOME/raytracer-view/recent.txt" || fail "the scene is not in the recent-files list"
+echo "xvfb test passed; screenshots in $OUT"
