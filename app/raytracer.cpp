@@ -388,6 +388,10 @@ int run(int argc, char** argv) {
     const double t_parse = seconds_since(t_start);
 
     if (opt.print_scene) {
+        // Normalised form: every default written out, including the material an
+        // object gets when it has no material block (translusans 0).
+        for (rt::Object& o : scene.objects) o.has_material = true;
+        for (rt::Plane& p : scene.planes) p.has_material = p.has_material2 = true;
         std::cout << rt::write_scene(scene) << std::flush;
         return std::cout ? kExitOk : kExitUsage;
     }
