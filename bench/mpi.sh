@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Scaling of raytracer-mpi over 1, 2 and 4 ranks on this machine, against raytracer,
-# on bench/scenes/things-like.txt; prints markdown tables (see bench/MPI.md).
+# on bench/scenes/things-like.txt; prints markdown tables (see the MPI section of bench/README.md).
 #
 #   bench/mpi.sh [OPTIONS]
 #
