@@ -40,6 +40,7 @@ struct Renderer::Job {
     int coarse_level = 0;
     bool preview_valid = false;  // something of this generation can be shown
     double first_coarse_time = -1;
+    double done_time = -1;  // seconds from start to the end of the last pass
     bool done = false;
     bool paused = false;
     std::uint64_t rays = 0;
@@ -295,6 +296,7 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     bool out_of_time = job.settings.time_limit > 0 && elapsed >= job.settings.time_limit && job.samples_done > 0;
     if (++job.pass >= job.passes.size() || out_of_time) {
         job.done = true;
+        job.done_time = elapsed;
         idle_cv_.notify_all();
         return;
     }
@@ -314,7 +316,7 @@ RenderProgress Renderer::progress() const {
     r.passes = j.passes_done;
     r.pass_fraction = j.tiles.empty() ? 1.0 : double(j.tiles_done) / double(j.tiles.size());
     r.rays = j.rays;
-    r.elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - j.start).count();
+    r.elapsed = j.done ? j.done_time : std::chrono::duration<double>(std::chrono::steady_clock::now() - j.start).count();
     r.first_coarse_time = j.first_coarse_time;
     r.running = !j.done && !j.paused;
     r.done = j.done;

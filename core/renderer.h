@@ -44,7 +44,7 @@ struct RenderProgress {
     int passes = 0;                // passes completed (coarse included)
     double pass_fraction = 0;      // fraction of the current pass's tiles done
     std::uint64_t rays = 0;
-    double elapsed = 0;            // seconds since start()
+    double elapsed = 0;            // seconds since start(), or start to finish once done
     double first_coarse_time = -1; // seconds from start() to the first complete coarse pass
     bool running = false;
     bool done = false;             // reached max_samples or the time limit
