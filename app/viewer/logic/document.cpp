@@ -156,6 +156,15 @@ void Document::revert_text() {
     diagnostics_.clear();
 }
 
+void Document::restore_draft(const std::string& text) {
+    commit();
+    if (s_.editor_text == text) return;
+    DocState next = s_;
+    next.editor_text = text;
+    set_state(std::move(next), true);
+    check_text();
+}
+
 bool Document::undo() {
     commit();
     auto prev = history_.undo(s_);

@@ -83,6 +83,8 @@ public:
     // Editor text back to the text of the current scene, dropping the draft; also
     // how the user resolves text_behind() the other way round (undoable).
     void revert_text();
+    // Puts `text` in the editor as an unapplied draft (undoable): crash recovery.
+    void restore_draft(const std::string& text);
     // Re-parses the draft to refresh diagnostics() without applying it (live check).
     void check_text();
     const std::vector<rt::Diagnostic>& diagnostics() const { return diagnostics_; }

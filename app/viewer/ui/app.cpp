@@ -102,6 +102,14 @@ void ViewerApp::after_document_replaced() {
     selection_ = {};
     gesture_ = Gesture::None;
     editor_seen_version_ = 0;
+    recovery_offer_ = false;
+    if (interactive_) {
+        // Text a crashed or killed session had not saved, for this same file.
+        if (auto text = recovery_.find(doc_.path()); text && *text != doc_.editor_text()) {
+            recovered_text_ = *text;
+            recovery_offer_ = true;
+        }
+    }
     if (!doc_.has_scene() || doc_.has_errors()) want_tab_ = 1;  // show the errors
 }
 
@@ -516,6 +524,11 @@ bool ViewerApp::needs_frame() { return wait_timeout() < 0.5; }
 
 bool ViewerApp::idle_tick() {
     last_disk_check_ = ImGui::GetTime();
+    // While an offer is pending the old copy stays on disk untouched.
+    if (!recovery_offer_) {
+        std::string err = recovery_.update(doc_.path(), doc_.editor_text(), doc_.modified(), last_disk_check_);
+        if (!err.empty()) status("cannot keep a recovery copy: " + err, true);
+    }
     switch (doc_.check_disk()) {
         case Document::DiskEvent::None: return false;
         case Document::DiskEvent::Reloaded: status("Reloaded " + doc_.name() + " (changed on disk)"); break;
@@ -547,7 +560,11 @@ void ViewerApp::request(Action a, const std::string& path) {
 void ViewerApp::perform(Action a, const std::string& path) {
     switch (a) {
         case Action::None: break;
-        case Action::Quit: host_.quit(); break;
+        case Action::Quit:
+            // Quitting is the user's decision about unsaved text: no recovery copy.
+            if (!recovery_offer_) recovery_.discard(doc_.path());
+            host_.quit();
+            break;
         case Action::Open: do_open(path); break;
         case Action::OpenDefault:
             doc_.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);

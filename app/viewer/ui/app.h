@@ -15,6 +15,7 @@
 #include "film_texture.h"
 #include "options.h"
 #include "recent_files.h"
+#include "recovery.h"
 #include "renderer.h"
 #include "viewport.h"
 #include "world.h"
@@ -120,6 +121,9 @@ private:
     bool interactive_;
     Document doc_;
     RecentFiles recent_;
+    Recovery recovery_;
+    bool recovery_offer_ = false;  // a previous session's unsaved text is waiting
+    std::string recovered_text_;
 
     // Rendering
     rt::Renderer renderer_;

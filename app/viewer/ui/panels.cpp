@@ -194,6 +194,24 @@ void ViewerApp::draw_sidebar() {
         ImGui::End();
         return;
     }
+    if (recovery_offer_) {
+        ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
+        ImGui::TextWrapped("Unsaved text of %s from an earlier session (the viewer did not close normally) was kept.",
+                           doc_.name().c_str());
+        ImGui::PopStyleColor();
+        if (ImGui::Button("Restore it")) {
+            doc_.restore_draft(recovered_text_);
+            recovery_offer_ = false;
+            want_tab_ = 1;
+            status("Restored the unsaved text into the editor (Ctrl+Enter applies it, Ctrl+Z undoes)");
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Discard it")) {
+            recovery_.discard(doc_.path());
+            recovery_offer_ = false;
+        }
+        ImGui::Separator();
+    }
     if (doc_.disk_conflict()) {
         ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
         ImGui::TextWrapped("%s changed on disk, and you have unsaved edits here.", doc_.name().c_str());
