@@ -242,9 +242,19 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
         }
     });
     double worst_cancel = 0;
-    const int rounds = 300;
+    // Edits arrive as they do from the viewer's panels: a material change compiled
+    // against the running world (sharing its BVH), alternating with another scene.
+    Scene edited = parse(kSceneA);
+    std::shared_ptr<const World> current = world_a;
+    const int rounds = 2000;
     for (int i = 0; i < rounds; ++i) {
-        r.start(i % 2 ? world_b : world_a, s);
+        if (i % 2) {
+            current = world_b;
+        } else {
+            edited.objects[0].material.colour.x = (i % 100) / 100.0;
+            current = compile_world(edited, world_a.get());
+        }
+        r.start(current, s);
         if (i % 7 == 3) r.wait_for(0.001);
         if (i % 60 == 10) r.wait();
         if (i % 5 == 1) {
