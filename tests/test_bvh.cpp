@@ -14,33 +14,14 @@
 
 #include "bvh.h"
 #include "shapes.h"
+#include "test_random.h"
 #include "world.h"
 
 using namespace rt;
+using rt_test::Rng;
+using rt_test::fmt;
 
 namespace {
-
-// Portable uniform numbers (the standard fixes the engine, not the distributions).
-struct Rng {
-    std::mt19937 g;
-    explicit Rng(unsigned seed) : g(seed) {}
-    double uni() { return (double(g()) + 0.5) / 4294967296.0; }
-    double uni(double a, double b) { return a + (b - a) * uni(); }
-    std::size_t index(std::size_t n) { return std::min(n - 1, std::size_t(uni() * double(n))); }
-    Vec3 unit() {
-        for (;;) {
-            Vec3 v{uni(-1, 1), uni(-1, 1), uni(-1, 1)};
-            double l2 = length2(v);
-            if (l2 > 1e-4 && l2 <= 1) return v / std::sqrt(l2);
-        }
-    }
-};
-
-std::string fmt(const Vec3& v) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "(%.17g, %.17g, %.17g)", v.x, v.y, v.z);
-    return buf;
-}
 
 struct Failures {
     int count = 0;

@@ -14,38 +14,13 @@
 #include <vector>
 
 #include "shapes.h"
+#include "test_random.h"
 
 using namespace rt;
+using rt_test::Rng;
+using rt_test::fmt;
 
 namespace {
-
-// Portable uniform numbers: the engine is specified by the standard, the
-// distributions are not, so they are built here.
-struct Rng {
-    std::mt19937 g;
-    explicit Rng(unsigned seed) : g(seed) {}
-    double uni() { return (double(g()) + 0.5) / 4294967296.0; }
-    double uni(double a, double b) { return a + (b - a) * uni(); }
-    Vec3 unit() {
-        for (;;) {
-            Vec3 v{uni(-1, 1), uni(-1, 1), uni(-1, 1)};
-            double l2 = length2(v);
-            if (l2 > 1e-4 && l2 <= 1) return v / std::sqrt(l2);
-        }
-    }
-    Vec3 in_ball(double r) {
-        for (;;) {
-            Vec3 v{uni(-1, 1), uni(-1, 1), uni(-1, 1)};
-            if (length2(v) <= 1) return v * r;
-        }
-    }
-};
-
-std::string fmt(const Vec3& v) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "(%.17g, %.17g, %.17g)", v.x, v.y, v.z);
-    return buf;
-}
 
 // An independent model of one primitive, written from its definition rather than
 // from the implementation. sd() is negative inside, zero on the surface, positive

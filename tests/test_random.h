@@ -1,0 +1,44 @@
+// Seeded random numbers and vector printing shared by the property tests. The
+// standard fixes the engine (mt19937) but not the distributions, so they are built
+// here to give the same numbers on every platform.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <random>
+#include <string>
+
+#include "math.h"
+
+namespace rt_test {
+
+struct Rng {
+    std::mt19937 g;
+    explicit Rng(unsigned seed) : g(seed) {}
+    double uni() { return (double(g()) + 0.5) / 4294967296.0; }
+    double uni(double a, double b) { return a + (b - a) * uni(); }
+    std::size_t index(std::size_t n) { return std::min(n - 1, std::size_t(uni() * double(n))); }
+    rt::Vec3 unit() {
+        for (;;) {
+            rt::Vec3 v{uni(-1, 1), uni(-1, 1), uni(-1, 1)};
+            double l2 = rt::length2(v);
+            if (l2 > 1e-4 && l2 <= 1) return v / std::sqrt(l2);
+        }
+    }
+    rt::Vec3 in_ball(double r) {
+        for (;;) {
+            rt::Vec3 v{uni(-1, 1), uni(-1, 1), uni(-1, 1)};
+            if (rt::length2(v) <= 1) return v * r;
+        }
+    }
+};
+
+inline std::string fmt(const rt::Vec3& v) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "(%.17g, %.17g, %.17g)", v.x, v.y, v.z);
+    return buf;
+}
+
+}  // namespace rt_test
