@@ -1,16 +1,27 @@
-// Binned SAH build (16 bins on the centroid bounds of the longest axis), falling back
-// to a median split when binning cannot separate the items or the tree gets deep.
+// Binned SAH build (16 bins on the centroid bounds of each axis), falling back to a
+// median split when binning cannot separate the items or the tree gets deep. The
+// binary tree is then collapsed into 4-wide nodes: each node pulls up the children of
+// its largest inner children until it has four.
 #include "bvh.h"
 
 #include <algorithm>
 #include <cfloat>
 #include <numeric>
+#include <stdexcept>
 
 namespace rt {
 namespace {
 
+// The binary tree the SAH build makes.
+struct BinNode {
+    float b[6];           // lo x, y, z then hi x, y, z
+    std::uint32_t first;  // leaf: first index into items; inner: right child (left is this + 1)
+    std::uint32_t count;  // leaf: number of items (> 0); inner: 0
+};
+
 constexpr int kBins = 16;
 constexpr std::uint32_t kMaxLeaf = 4;
+static_assert(kMaxLeaf <= BvhNode::kMaxLeafCount, "leaf sizes fit the child reference");
 constexpr int kMaxSahDepth = 48;
 constexpr double kObjectCost = 2.0;
 // Below this many items leaves may hold single objects; above it, up to kMaxLeaf, which
@@ -37,7 +48,7 @@ struct Builder {
     const std::vector<Aabb>& boxes;
     std::vector<Vec3> centres;
     std::vector<std::uint32_t>& items;
-    std::vector<BvhNode>& nodes;
+    std::vector<BinNode>& nodes;
 
     Aabb range_bounds(std::uint32_t begin, std::uint32_t end) const {
         Aabb b;
@@ -129,6 +140,60 @@ struct Builder {
     }
 };
 
+double half_area(const float b[6]) {
+    double x = double(b[3]) - b[0], y = double(b[4]) - b[1], z = double(b[5]) - b[2];
+    return x * y + y * z + z * x;
+}
+
+struct Collapser {
+    const std::vector<BinNode>& bin;
+    std::vector<BvhNode>& out;
+
+    std::uint32_t ref(std::uint32_t i) {
+        const BinNode& n = bin[i];
+        if (n.count == 0) return make(i);
+        return BvhNode::kLeaf | (n.count - 1) << BvhNode::kCountShift | n.first;
+    }
+
+    // A 4-wide node for the binary inner node i (or for a lone leaf at the root).
+    std::uint32_t make(std::uint32_t i) {
+        std::uint32_t kids[4];
+        int k = 0;
+        if (bin[i].count > 0) {
+            kids[k++] = i;
+        } else {
+            kids[k++] = i + 1;
+            kids[k++] = bin[i].first;
+        }
+        while (k < 4) {
+            int best = -1;
+            double best_area = -1;
+            for (int j = 0; j < k; ++j) {
+                if (bin[kids[j]].count > 0) continue;
+                double a = half_area(bin[kids[j]].b);
+                if (a > best_area) best_area = a, best = j;
+            }
+            if (best < 0) break;
+            std::uint32_t n = kids[best];
+            kids[best] = n + 1;
+            kids[k++] = bin[n].first;
+        }
+        std::uint32_t index = std::uint32_t(out.size());
+        out.emplace_back();
+        std::uint32_t refs[4];
+        for (int j = 0; j < k; ++j) refs[j] = ref(kids[j]);
+        BvhNode& node = out[index];
+        for (int j = 0; j < 4; ++j) {
+            for (int a = 0; a < 3; ++a) {
+                node.b[a][j] = j < k ? bin[kids[j]].b[a] : FLT_MAX;
+                node.b[3 + a][j] = j < k ? bin[kids[j]].b[3 + a] : -FLT_MAX;
+            }
+            node.child[j] = j < k ? refs[j] : BvhNode::kEmpty;
+        }
+        return index;
+    }
+};
+
 }  // namespace
 
 void Bvh::build(const std::vector<Aabb>& boxes) {
@@ -137,12 +202,16 @@ void Bvh::build(const std::vector<Aabb>& boxes) {
     for (std::uint32_t i = 0; i < boxes.size(); ++i)
         if (!boxes[i].empty()) items.push_back(i);
     if (items.empty()) return;
-    nodes.reserve(2 * items.size() / kMaxLeaf * 2 + 2);
-    Builder b{boxes, {}, items, nodes};
+    if (items.size() >= BvhNode::kMaxItems) throw std::length_error("too many objects for the BVH");
+    std::vector<BinNode> bin;
+    bin.reserve(2 * items.size() + 1);
+    Builder b{boxes, {}, items, bin};
     b.centres.resize(boxes.size());
     for (std::uint32_t i : items) b.centres[i] = boxes[i].centre();
-    nodes.emplace_back();
+    bin.emplace_back();
     b.build(0, 0, std::uint32_t(items.size()), 0);
+    nodes.reserve(bin.size() / 3 + 1);
+    Collapser{bin, nodes}.make(0);
     nodes.shrink_to_fit();
 }
 

@@ -1,8 +1,11 @@
 // Bounding volume hierarchy over boxes, built with a binned surface area heuristic and
-// stored as one flat array of 32-byte nodes (float bounds, padded outward so that the
-// float box test never misses what the double-precision shapes would hit).
+// stored as one flat array of 4-wide nodes: each node holds its (up to) four children's
+// boxes in float, laid out so that one SSE instruction works on all four, and padded
+// outward so that the float box test never misses what the double-precision shapes
+// would hit.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -15,86 +18,91 @@
 
 namespace rt {
 
-struct BvhNode {
-    float b[6];  // lo x, y, z then hi x, y, z
-    std::uint32_t first;  // leaf: first index into Bvh::items; inner: right child (left is this + 1)
-    std::uint32_t count;  // leaf: number of items (> 0); inner: 0
+// b[k][i]: child i's lo x, y, z (k = 0..2) and hi x, y, z (k = 3..5). An unused slot has
+// an inverted box that no ray enters.
+struct alignas(16) BvhNode {
+    float b[6][4];
+    // Per child: an inner node's index, or kLeaf | (count - 1) << kCountShift | first
+    // for a leaf holding items[first, first + count), or kEmpty.
+    std::uint32_t child[4];
+
+    static constexpr std::uint32_t kLeaf = 0x80000000u;
+    static constexpr int kCountShift = 27;
+    static constexpr std::uint32_t kMaxLeafCount = 16;
+    static constexpr std::uint32_t kMaxItems = 1u << kCountShift;
+    static constexpr std::uint32_t kEmpty = 0xffffffffu;  // an unused slot (never entered)
+    static bool is_leaf(std::uint32_t ref) { return ref & kLeaf; }
+    static std::uint32_t leaf_first(std::uint32_t ref) { return ref & (kMaxItems - 1); }
+    static std::uint32_t leaf_count(std::uint32_t ref) { return ((ref & ~kLeaf) >> kCountShift) + 1; }
 };
-static_assert(sizeof(BvhNode) == 32, "BVH nodes are 32 bytes");
+static_assert(sizeof(BvhNode) == 112, "BVH nodes are 112 bytes: four boxes and four child references");
 
 struct BvhRay {
     float o[3];
     float inv[3];
-    int near[3], far[3];  // per axis, the index of the near and far slab in lo/hi order
-    float pad[3];         // slack in t for rounding the origin to float
-#if defined(__SSE2__)
-    __m128 o4, inv4, pad4;  // x, y, z, z (the last lane repeats z so reductions can use all four)
-#endif
+    int near[3], far[3];  // per axis, the row of b holding the near and the far slab
+    float pad;            // slack in t for rounding the origin to float (largest axis)
+
     static BvhRay make(const Vec3& origin, const Vec3& dir) {
         BvhRay r;
+        double pad = 0;
         for (int i = 0; i < 3; ++i) {
             r.o[i] = float(origin[i]);
             // A zero component gets a huge finite inverse instead of infinity, so the
             // slab products stay numbers (0 * inf would be NaN).
-            double inv = dir[i] != 0 ? 1.0 / dir[i] : (std::signbit(dir[i]) ? -1e30 : 1e30);
-            inv = inv > 1e30 ? 1e30 : (inv < -1e30 ? -1e30 : inv);
+            double inv = std::min(std::max(1.0 / dir[i], -1e30), 1e30);
             r.inv[i] = float(inv);
             // Rounding the origin to float moves the ray by up to |o| * 2^-24 on each
             // axis; widening each slab by that much (in t) keeps the test conservative.
-            r.pad[i] = float((std::fabs(origin[i]) * 1.2e-7 + 1e-30) * std::fabs(inv));
+            pad = std::max(pad, (std::fabs(origin[i]) * 1.2e-7 + 1e-30) * std::fabs(inv));
             bool neg = std::signbit(dir[i]);
             r.near[i] = neg ? 3 + i : i;
             r.far[i] = neg ? i : 3 + i;
         }
-#if defined(__SSE2__)
-        r.o4 = _mm_setr_ps(r.o[0], r.o[1], r.o[2], r.o[2]);
-        r.inv4 = _mm_setr_ps(r.inv[0], r.inv[1], r.inv[2], r.inv[2]);
-        r.pad4 = _mm_setr_ps(r.pad[0], r.pad[1], r.pad[2], r.pad[2]);
-#endif
+        r.pad = float(pad);
         return r;
     }
 };
 
 class Bvh {
 public:
-    std::vector<BvhNode> nodes;
+    std::vector<BvhNode> nodes;        // nodes[0] is the root (when there are items)
     std::vector<std::uint32_t> items;  // item ids (indices of the boxes given to build)
 
-    // Items with empty boxes are left out.
+    // Items with empty boxes are left out. At most BvhNode::kMaxItems items.
     void build(const std::vector<Aabb>& boxes);
 
-    // Entry distance of the ray into node's box if it is within [0, tmax], else +inf.
-    static inline float enter(const BvhNode& n, const BvhRay& r, float tmax) {
+    // Which of node's children the ray enters within [0, tmax]: a bit per child, and
+    // the entry distances in t.
+    static inline unsigned enter(const BvhNode& n, const BvhRay& r, float tmax, float t[4]) {
 #if defined(__SSE2__)
-        // lo = (lx, ly, lz, lz), hi = (hx, hy, hz, hz)
-        __m128 a = _mm_loadu_ps(n.b);      // lx ly lz hx
-        __m128 b = _mm_loadu_ps(n.b + 2);  // lz hx hy hz
-        __m128 lo = _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 2, 1, 0));
-        __m128 hi = _mm_shuffle_ps(b, b, _MM_SHUFFLE(3, 3, 2, 1));
-        __m128 t1 = _mm_mul_ps(_mm_sub_ps(lo, r.o4), r.inv4);
-        __m128 t2 = _mm_mul_ps(_mm_sub_ps(hi, r.o4), r.inv4);
-        __m128 near = _mm_sub_ps(_mm_min_ps(t1, t2), r.pad4), far = _mm_add_ps(_mm_max_ps(t1, t2), r.pad4);
-        near = _mm_max_ps(near, _mm_shuffle_ps(near, near, _MM_SHUFFLE(2, 3, 0, 1)));
-        near = _mm_max_ps(near, _mm_shuffle_ps(near, near, _MM_SHUFFLE(1, 0, 3, 2)));
-        far = _mm_min_ps(far, _mm_shuffle_ps(far, far, _MM_SHUFFLE(2, 3, 0, 1)));
-        far = _mm_min_ps(far, _mm_shuffle_ps(far, far, _MM_SHUFFLE(1, 0, 3, 2)));
-        float t0 = _mm_cvtss_f32(near), t1s = _mm_cvtss_f32(far);
-        t0 = t0 > 0.f ? t0 : 0.f;
-        t1s = t1s < tmax ? t1s : tmax;
+        __m128 ox = _mm_set1_ps(r.o[0]), oy = _mm_set1_ps(r.o[1]), oz = _mm_set1_ps(r.o[2]);
+        __m128 ix = _mm_set1_ps(r.inv[0]), iy = _mm_set1_ps(r.inv[1]), iz = _mm_set1_ps(r.inv[2]);
+        __m128 x0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[0]]), ox), ix);
+        __m128 y0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[1]]), oy), iy);
+        __m128 z0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[2]]), oz), iz);
+        __m128 x1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[0]]), ox), ix);
+        __m128 y1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[1]]), oy), iy);
+        __m128 z1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[2]]), oz), iz);
+        __m128 pad = _mm_set1_ps(r.pad);
+        __m128 t0 = _mm_max_ps(_mm_sub_ps(_mm_max_ps(_mm_max_ps(x0, y0), z0), pad), _mm_setzero_ps());
+        __m128 t1 = _mm_min_ps(_mm_add_ps(_mm_min_ps(_mm_min_ps(x1, y1), z1), pad), _mm_set1_ps(tmax));
+        _mm_storeu_ps(t, t0);
         // A few ulps for the rounding of the products themselves.
-        return t0 <= t1s * 1.000001f ? t0 : INFINITY;
+        return unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, _mm_mul_ps(t1, _mm_set1_ps(1.000001f)))));
 #else
-        const float* b = n.b;
-        float x0 = (b[r.near[0]] - r.o[0]) * r.inv[0] - r.pad[0], x1 = (b[r.far[0]] - r.o[0]) * r.inv[0] + r.pad[0];
-        float y0 = (b[r.near[1]] - r.o[1]) * r.inv[1] - r.pad[1], y1 = (b[r.far[1]] - r.o[1]) * r.inv[1] + r.pad[1];
-        float z0 = (b[r.near[2]] - r.o[2]) * r.inv[2] - r.pad[2], z1 = (b[r.far[2]] - r.o[2]) * r.inv[2] + r.pad[2];
-        float t0 = x0 > 0.f ? x0 : 0.f;
-        t0 = y0 > t0 ? y0 : t0;
-        t0 = z0 > t0 ? z0 : t0;
-        float t1 = x1 < tmax ? x1 : tmax;
-        t1 = y1 < t1 ? y1 : t1;
-        t1 = z1 < t1 ? z1 : t1;
-        return t0 <= t1 * 1.000001f ? t0 : INFINITY;
+        unsigned mask = 0;
+        for (int i = 0; i < 4; ++i) {
+            float t0 = 0.f, t1 = tmax;
+            for (int a = 0; a < 3; ++a) {
+                float lo = (n.b[r.near[a]][i] - r.o[a]) * r.inv[a], hi = (n.b[r.far[a]][i] - r.o[a]) * r.inv[a];
+                t0 = std::max(t0, lo - r.pad);
+                t1 = std::min(t1, hi + r.pad);
+            }
+            t[i] = t0;
+            if (t0 <= t1 * 1.000001f) mask |= 1u << i;
+        }
+        return mask;
 #endif
     }
 
@@ -104,21 +112,20 @@ public:
     void traverse(const Vec3& origin, const Vec3& dir, double tmax, Fn&& fn) const {
         if (nodes.empty()) return;
         BvhRay r = BvhRay::make(origin, dir);
-        auto widen = [](double t) { return t == HUGE_VAL ? INFINITY : float(t * (1 + 1e-6) + 1e-6); };
         float ftmax = widen(tmax);
         struct Entry {
-            std::uint32_t node;
+            std::uint32_t ref;
             float t;
         };
-        Entry stack[64];
+        constexpr int kStack = 256;
+        Entry stack[kStack];
         int sp = 0;
-        std::uint32_t cur = 0;
-        if (enter(nodes[0], r, ftmax) == INFINITY) return;
+        std::uint32_t cur = 0;  // the root is an inner node
         for (;;) {
-            const BvhNode& n = nodes[cur];
-            if (n.count > 0) {
-                for (std::uint32_t i = 0; i < n.count; ++i) {
-                    double nt = fn(items[n.first + i], tmax);
+            if (BvhNode::is_leaf(cur)) {
+                std::uint32_t first = BvhNode::leaf_first(cur), count = BvhNode::leaf_count(cur);
+                for (std::uint32_t i = 0; i < count; ++i) {
+                    double nt = fn(items[first + i], tmax);
                     if (nt < 0) return;
                     if (nt < tmax) {
                         tmax = nt;
@@ -126,23 +133,31 @@ public:
                     }
                 }
             } else {
-                std::uint32_t a = cur + 1, b = n.first;
-                float ta = enter(nodes[a], r, ftmax), tb = enter(nodes[b], r, ftmax);
-                if (ta > tb) {
-                    std::swap(a, b);
-                    std::swap(ta, tb);
-                }
-                if (ta != INFINITY) {
-                    if (tb != INFINITY) {
-                        if (sp < 64) {
-                            stack[sp++] = {b, tb};
+                const BvhNode& n = nodes[cur];
+                float t[4];
+                unsigned mask = enter(n, r, ftmax, t);
+                if (mask != 0) {
+                    // The children entered, nearest first; the others wait on the stack.
+                    Entry hit[4];
+                    int k = 0;
+                    for (int i = 0; i < 4; ++i) {
+                        if (!(mask >> i & 1)) continue;
+                        Entry e{n.child[i], t[i]};
+                        int j = k++;
+                        for (; j > 0 && hit[j - 1].t > e.t; --j) hit[j] = hit[j - 1];
+                        hit[j] = e;
+                    }
+                    for (int j = k - 1; j > 0; --j) {
+                        if (sp < kStack) {
+                            stack[sp++] = hit[j];
+                        } else if (!traverse_from(hit[j].ref, r, tmax, fn)) {
+                            // Too deep for the stack: that subtree was searched now.
+                            return;
                         } else {
-                            // Too deep for the stack: search that subtree now.
-                            if (!traverse_from(b, r, tmax, fn)) return;
                             ftmax = widen(tmax);
                         }
                     }
-                    cur = a;
+                    cur = hit[0].ref;
                     continue;
                 }
             }
@@ -152,28 +167,34 @@ public:
                 --sp;
                 if (stack[sp].t <= ftmax) break;
             }
-            cur = stack[sp].node;
+            cur = stack[sp].ref;
         }
     }
 
-    // Fallback for pathologically deep trees: plain recursion from one node.
+    std::size_t memory_bytes() const { return nodes.capacity() * sizeof(BvhNode) + items.capacity() * 4; }
+
+private:
+    static float widen(double t) { return t == HUGE_VAL ? INFINITY : float(t * (1 + 1e-6) + 1e-6); }
+
+    // Fallback for pathologically deep trees: plain recursion from one child reference.
     template <class Fn>
-    bool traverse_from(std::uint32_t cur, const BvhRay& r, double& tmax, Fn& fn) const {
-        float ftmax = tmax == HUGE_VAL ? INFINITY : float(tmax * (1 + 1e-6) + 1e-6);
-        if (enter(nodes[cur], r, ftmax) == INFINITY) return true;
-        const BvhNode& n = nodes[cur];
-        if (n.count > 0) {
-            for (std::uint32_t i = 0; i < n.count; ++i) {
-                double nt = fn(items[n.first + i], tmax);
+    bool traverse_from(std::uint32_t ref, const BvhRay& r, double& tmax, Fn& fn) const {
+        if (BvhNode::is_leaf(ref)) {
+            std::uint32_t first = BvhNode::leaf_first(ref), count = BvhNode::leaf_count(ref);
+            for (std::uint32_t i = 0; i < count; ++i) {
+                double nt = fn(items[first + i], tmax);
                 if (nt < 0) return false;
                 if (nt < tmax) tmax = nt;
             }
             return true;
         }
-        return traverse_from(cur + 1, r, tmax, fn) && traverse_from(n.first, r, tmax, fn);
+        const BvhNode& n = nodes[ref];
+        float t[4];
+        unsigned mask = enter(n, r, widen(tmax), t);
+        for (int i = 0; i < 4; ++i)
+            if ((mask >> i & 1) && !traverse_from(n.child[i], r, tmax, fn)) return false;
+        return true;
     }
-
-    std::size_t memory_bytes() const { return nodes.capacity() * sizeof(BvhNode) + items.capacity() * 4; }
 };
 
 }  // namespace rt
