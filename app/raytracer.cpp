@@ -437,16 +437,18 @@ int run(int argc, char** argv) {
     bar.clear();
     if (g_signal) return interrupted_exit();
     const rt::RenderProgress progress = renderer.progress();
-    rt::Image image = renderer.snapshot();
+    std::vector<std::uint8_t> pixels;
+    int width = 0, height = 0;
+    renderer.snapshot_rgb8(pixels, width, height);
     const double t_render = seconds_since(t_render0);
-    if (image.width != scene.width || image.height != scene.height || progress.samples < 1) {
-        std::cerr << "raytracer: internal error: the renderer returned a " << image.width << "x" << image.height
+    if (width != scene.width || height != scene.height || progress.samples < 1) {
+        std::cerr << "raytracer: internal error: the renderer returned a " << width << "x" << height
                   << " picture with " << progress.samples << " samples per pixel\n";
         return kExitUsage;
     }
 
     const auto t_write0 = Clock::now();
-    if (std::string err = rt::write_image(out_path, image); !err.empty()) {
+    if (std::string err = rt::write_rgb8(out_path, width, height, pixels); !err.empty()) {
         std::cerr << "raytracer: cannot write '" << out_path << "': " << err << "\n";
         return kExitUsage;
     }

@@ -3,6 +3,9 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdlib>
+#include <new>
+#include <type_traits>
 #include <vector>
 
 #include "math.h"
@@ -25,21 +28,64 @@ inline std::uint8_t to_byte(double c) {
     return static_cast<std::uint8_t>(255.0 * c);
 }
 
+// A zero-filled array of numbers. Its memory comes from calloc, so a big one is
+// mapped lazily: its pages are touched first by the threads that fill them, not all
+// up front by the one that allocates it.
+template <class T>
+class ZeroedArray {
+    static_assert(std::is_arithmetic_v<T>, "all-zero bytes must mean the value 0");
+
+public:
+    ZeroedArray() = default;
+    explicit ZeroedArray(std::size_t n) { reset(n); }
+    ZeroedArray(const ZeroedArray&) = delete;
+    ZeroedArray& operator=(const ZeroedArray&) = delete;
+    ~ZeroedArray() { std::free(p_); }
+
+    // n zeros; the old contents are dropped.
+    void reset(std::size_t n) {
+        std::free(p_);
+        p_ = nullptr;
+        n_ = 0;
+        if (n == 0) return;
+        p_ = static_cast<T*>(std::calloc(n, sizeof(T)));
+        if (!p_) throw std::bad_alloc();
+        n_ = n;
+    }
+    std::size_t size() const { return n_; }
+    bool empty() const { return n_ == 0; }
+    T* data() { return p_; }
+    const T* data() const { return p_; }
+    T& operator[](std::size_t i) { return p_[i]; }
+    const T& operator[](std::size_t i) const { return p_[i]; }
+    T* begin() { return p_; }
+    T* end() { return p_ + n_; }
+    const T* begin() const { return p_; }
+    const T* end() const { return p_ + n_; }
+
+private:
+    T* p_ = nullptr;
+    std::size_t n_ = 0;
+};
+
 struct Film {
     int width = 0, height = 0;
-    std::vector<float> sum;         // 3 per pixel
-    std::vector<std::uint32_t> count;
-    std::vector<float> preview;     // 3 per pixel, used while count == 0
+    ZeroedArray<float> sum;  // 3 per pixel
+    ZeroedArray<std::uint32_t> count;
+    ZeroedArray<float> preview;  // 3 per pixel, used while count == 0; empty if no coarse passes
 
-    void reset(int w, int h) {
+    void reset(int w, int h, bool with_preview = true) {
         width = w;
         height = h;
-        sum.assign(std::size_t(w) * h * 3, 0.f);
-        count.assign(std::size_t(w) * h, 0);
-        preview.assign(std::size_t(w) * h * 3, 0.f);
+        sum.reset(std::size_t(w) * h * 3);
+        count.reset(std::size_t(w) * h);
+        preview.reset(with_preview ? std::size_t(w) * h * 3 : 0);
     }
     Colour pixel(std::size_t idx) const {
-        if (count[idx] == 0) return {preview[3 * idx], preview[3 * idx + 1], preview[3 * idx + 2]};
+        if (count[idx] == 0) {
+            if (preview.empty()) return {};
+            return {preview[3 * idx], preview[3 * idx + 1], preview[3 * idx + 2]};
+        }
         double inv = 1.0 / count[idx];
         return {sum[3 * idx] * inv, sum[3 * idx + 1] * inv, sum[3 * idx + 2] * inv};
     }

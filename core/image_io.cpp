@@ -14,6 +14,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
+#include <string_view>
 
 namespace rt {
 namespace {
@@ -60,18 +62,22 @@ mode_t current_umask() {
 
 // Targets that are not regular files (a terminal, a pipe, /dev/null) cannot be
 // replaced by a rename and have no contents to protect: write straight into them.
-std::string write_in_place(const std::string& path, const std::string& data) {
+int write_parts(int fd, std::initializer_list<std::string_view> parts) {
+    for (std::string_view part : parts)
+        if (int err = write_all(fd, part.data(), part.size())) return err;
+    return 0;
+}
+
+std::string write_in_place(const std::string& path, std::initializer_list<std::string_view> parts) {
     const int fd = ::open(path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
     if (fd < 0) return errno_text(errno);
-    int err = write_all(fd, data.data(), data.size());
+    int err = write_parts(fd, parts);
     if (::close(fd) != 0 && err == 0) err = errno;
     return err ? errno_text(err) : std::string();
 }
 
-std::string encode_ppm(int width, int height, const std::vector<std::uint8_t>& rgb) {
-    std::string out = "P6\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n";
-    out.append(reinterpret_cast<const char*>(rgb.data()), rgb.size());
-    return out;
+std::string ppm_header(int width, int height) {
+    return "P6\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n";
 }
 
 void append_bytes(void* context, void* data, int size) {
@@ -121,7 +127,8 @@ std::string write_rgb8(const std::string& path, int width, int height, const std
         return "internal error: the image data does not match its size";
     switch (format_from_path(path)) {
         case ImageFormat::Ppm:
-            return write_file_atomic(path, encode_ppm(width, height, rgb));
+            return write_file_atomic(path, {ppm_header(width, height),
+                                            {reinterpret_cast<const char*>(rgb.data()), rgb.size()}});
         case ImageFormat::Png: {
             if (std::size_t(width) * 3 > std::size_t(INT_MAX) / std::size_t(height))
                 return "the picture is too large for a PNG file";
@@ -136,7 +143,11 @@ std::string write_rgb8(const std::string& path, int width, int height, const std
     return "unknown image format: the file name must end in .ppm or .png";
 }
 
-std::string write_file_atomic(const std::string& path_in, const std::string& data) {
+std::string write_file_atomic(const std::string& path, const std::string& data) {
+    return write_file_atomic(path, {std::string_view(data)});
+}
+
+std::string write_file_atomic(const std::string& path_in, std::initializer_list<std::string_view> parts) {
     if (path_in.empty()) return "no file name given";
     // Replace what a symbolic link points to, not the link itself.
     std::string path = path_in;
@@ -149,7 +160,7 @@ std::string write_file_atomic(const std::string& path_in, const std::string& dat
     }
     const bool exists = ::stat(path.c_str(), &st) == 0;
     if (exists && S_ISDIR(st.st_mode)) return errno_text(EISDIR);
-    if (exists && !S_ISREG(st.st_mode)) return write_in_place(path, data);
+    if (exists && !S_ISREG(st.st_mode)) return write_in_place(path, parts);
 
     // The temporary file must be in the target's folder: rename() is atomic only
     // within one file system.
@@ -165,7 +176,7 @@ std::string write_file_atomic(const std::string& path_in, const std::string& dat
     const mode_t mode = exists ? (st.st_mode & 07777) : (0666 & ~current_umask());
     int err = 0;
     if (::fchmod(fd, mode) != 0) err = errno;
-    if (!err) err = write_all(fd, data.data(), data.size());
+    if (!err) err = write_parts(fd, parts);
     // Without fsync a crash soon after the rename can leave an empty file under the
     // target's name; fsync is also where some file systems first report a full disk.
     if (!err && ::fsync(fd) != 0) err = errno;

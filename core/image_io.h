@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "film.h"
@@ -21,6 +23,8 @@ std::vector<std::uint8_t> to_rgb8(const Image& img);
 std::string write_image(const std::string& path, const Image& img);
 std::string write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
 std::string write_file_atomic(const std::string& path, const std::string& data);
+// The same for data in several pieces, written one after the other.
+std::string write_file_atomic(const std::string& path, std::initializer_list<std::string_view> parts);
 // Reads a whole file; empty message on success. Refuses files over max_bytes.
 std::string read_file(const std::string& path, std::string& out, std::size_t max_bytes);
 

@@ -138,10 +138,12 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
         s += n;
     }
     job->paused = paused_;
-    if (film_.width != job->width || film_.height != job->height)
-        film_.reset(job->width, job->height);
-    else
+    if (film_.width != job->width || film_.height != job->height) {
+        film_.reset(job->width, job->height, settings.coarse);
+    } else {
         std::fill(film_.count.begin(), film_.count.end(), 0u);
+        if (settings.coarse && film_.preview.empty()) film_.preview.reset(std::size_t(job->width) * job->height * 3);
+    }
     ++film_version_;
     begin_pass_locked(*job);
     job_ = job;
@@ -272,13 +274,10 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     Job& job = *job_;
     int w = task.x1 - task.x0;
     for (int y = task.y0; y < task.y1; ++y) {
-        for (int x = task.x0; x < task.x1; ++x) {
-            std::size_t idx = std::size_t(y) * film_.width + x;
-            const float* p = &buf[3 * (std::size_t(y - task.y0) * w + (x - task.x0))];
-            float* dst = task.block > 0 ? &film_.preview[3 * idx] : &film_.sum[3 * idx];
-            dst[0] = p[0], dst[1] = p[1], dst[2] = p[2];
-            if (task.block == 0) film_.count[idx] = std::uint32_t(task.s1);
-        }
+        std::size_t idx = std::size_t(y) * film_.width + task.x0;
+        const float* row = &buf[3 * std::size_t(y - task.y0) * w];
+        std::copy(row, row + 3 * w, (task.block > 0 ? film_.preview.data() : film_.sum.data()) + 3 * idx);
+        if (task.block == 0) std::fill_n(film_.count.data() + idx, w, std::uint32_t(task.s1));
     }
     ++film_version_;
     if (++job.tiles_done < job.tiles.size()) return;
@@ -329,6 +328,21 @@ Image Renderer::snapshot(std::uint64_t* generation) const {
     std::lock_guard<std::mutex> lock(mutex_);
     if (generation) *generation = job_ ? job_->generation : 0;
     return film_.resolve();
+}
+
+void Renderer::snapshot_rgb8(std::vector<std::uint8_t>& out, int& width, int& height) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    width = film_.width;
+    height = film_.height;
+    std::size_t n = std::size_t(width) * height;
+    out.resize(n * 3);
+    for (std::size_t i = 0; i < n; ++i) {
+        Colour c = film_.pixel(i);
+        // Through float, exactly as a snapshot() pixel would be.
+        out[3 * i] = to_byte(float(c.x));
+        out[3 * i + 1] = to_byte(float(c.y));
+        out[3 * i + 2] = to_byte(float(c.z));
+    }
 }
 
 bool Renderer::snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version) const {
