@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "csg.h"
 #include "roots.h"
 
 namespace rt {
@@ -131,11 +132,15 @@ void torus_spans(const TorusG& s, std::uint32_t node, const Vec3& o, const Vec3&
     if (open) out.push_back({{start + tc, node, 0, false}, {h + tc, node, 0, false}});
 }
 
-// At most two spans, without touching the heap (a torus gives two at most).
+// At most N spans, without touching the heap: a primitive gives two at most (a torus),
+// and a CSG of two primitives four at most (a union of two tori).
+template <int N>
 struct SmallSpans {
-    Span v[2];
+    Span v[N];
     int n = 0;
     void push_back(const Span& s) { v[n++] = s; }
+    std::size_t size() const { return std::size_t(n); }
+    const Span& operator[](std::size_t i) const { return v[i]; }
     const Span* begin() const { return v; }
     const Span* end() const { return v + n; }
 };
@@ -159,6 +164,15 @@ void Geometry::leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& ou
         case NodeKind::Torus: torus_spans(tori[node.index], n, o, d, out); return;
         case NodeKind::Csg: return;
     }
+}
+
+template <class Out>
+void Geometry::simple_csg_spans(const CsgG& c, const Vec3& o, const Vec3& d, Out& out) const {
+    SmallSpans<2> a, b;
+    leaf_spans(c.left, o, d, a);
+    if (a.n == 0 && c.type != CsgType::Union) return;
+    leaf_spans(c.right, o, d, b);
+    combine_span_lists(c.type, a, b, out);
 }
 
 void Geometry::spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<Span>& out, SpanScratch& scratch,
@@ -279,8 +293,13 @@ bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, doub
         return false;
     };
     if (node.kind != NodeKind::Csg) {
-        SmallSpans sp;
+        SmallSpans<2> sp;
         leaf_spans(n, o, d, sp);
+        return first_entry(sp);
+    }
+    if (csgs[node.index].simple) {
+        SmallSpans<4> sp;
+        simple_csg_spans(csgs[node.index], o, d, sp);
         return first_entry(sp);
     }
     std::vector<Span>& sp = scratch.at(0);
@@ -298,9 +317,15 @@ bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& ou
             }
         return false;
     };
-    if (nodes[n].kind != NodeKind::Csg) {
-        SmallSpans sp;
+    const Node& node = nodes[n];
+    if (node.kind != NodeKind::Csg) {
+        SmallSpans<2> sp;
         leaf_spans(n, o, d, sp);
+        return first_exit(sp);
+    }
+    if (csgs[node.index].simple) {
+        SmallSpans<4> sp;
+        simple_csg_spans(csgs[node.index], o, d, sp);
         return first_exit(sp);
     }
     std::vector<Span>& sp = scratch.at(0);
@@ -354,6 +379,7 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
                 std::uint32_t r = add_node(g, s.operands[1]);
                 g.csgs[ci].left = l;
                 g.csgs[ci].right = r;
+                g.csgs[ci].simple = g.nodes[l].kind != NodeKind::Csg && g.nodes[r].kind != NodeKind::Csg;
             }
         },
         obj.shape);

@@ -38,6 +38,7 @@ struct TorusG {
 struct CsgG {
     CsgType type;
     std::uint32_t left, right;  // node indices
+    bool simple = false;        // both operands are primitives: at most 2 spans each
 };
 
 struct Node {
@@ -116,6 +117,8 @@ struct Geometry {
 private:
     template <class Out>
     void leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& out) const;
+    template <class Out>
+    void simple_csg_spans(const CsgG& c, const Vec3& o, const Vec3& d, Out& out) const;
 };
 
 Geometry build_geometry(const Scene& scene);

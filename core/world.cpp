@@ -139,7 +139,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
             h.index = i;
         }
     }
-    for (std::uint32_t i = 0; i < lights.size(); ++i) {
+    for (std::uint32_t i : glows) {
         double t;
         if (glow_hit(lights[i], o, d, t) && t > kDelta && t < h.t) {
             h.kind = HitRec::Glow;
@@ -166,6 +166,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
 Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const {
     const Geometry& g = *geometry;
     Colour sum;
+    if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
     for (const ShadeLight& light : lights) {
         Vec3 v = light.position - p;
         double r2 = dot(v, v);
@@ -179,7 +180,6 @@ Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) c
         double limit = r - 10 * kDelta;
         ++ctx.stats->rays;
         std::size_t li = std::size_t(&light - lights.data());
-        if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
         std::uint32_t cached = ctx.blocker[li];
         if (cached > 0 && cached <= materials.size()) {
             SpanEnd e;
@@ -214,9 +214,9 @@ Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) c
             // A plane is a window of zero thickness: refractive ones pass light unchanged.
             if (m.refraction == 0) blocked = true;
         }
-        for (const ShadeLight& other : lights) {
+        for (std::uint32_t i : glows) {
             double t;
-            if (!blocked && glow_hit(other, o, vh, t) && t > 0 && t < limit) blocked = true;
+            if (!blocked && glow_hit(lights[i], o, vh, t) && t > 0 && t < limit) blocked = true;
         }
         if (!blocked) sum += mul(mul(e, cp), sh) * (0.9 * vn / r);
     }
@@ -358,7 +358,10 @@ std::shared_ptr<const World> compile_world(const Scene& scene, const World* prev
         w->plane_mats.push_back(ShadeMaterial::from(p.material));
         w->plane_mats.push_back(ShadeMaterial::from(p.chess ? p.material2 : p.material));
     }
-    for (const Light& l : scene.lights) w->lights.push_back({l.position, l.colour, l.lamp && l.size > 0 ? l.size : 0.0});
+    for (const Light& l : scene.lights) {
+        if (l.lamp && l.size > 0) w->glows.push_back(std::uint32_t(w->lights.size()));
+        w->lights.push_back({l.position, l.colour, l.lamp && l.size > 0 ? l.size : 0.0});
+    }
     w->camera = scene.camera;
     w->width = scene.width;
     w->height = scene.height;

@@ -60,6 +60,7 @@ public:
     std::vector<PlaneShape> planes;
     std::vector<ShadeMaterial> plane_mats;  // 2 per plane (material 1, material 2)
     std::vector<ShadeLight> lights;
+    std::vector<std::uint32_t> glows;       // indices of the lights with a glow disc
     Camera camera;
     int width = 1, height = 1;
     TraceOptions options;
