@@ -437,7 +437,7 @@ int run(int argc, char** argv) {
     bar.clear();
     if (g_signal) return interrupted_exit();
     const rt::RenderProgress progress = renderer.progress();
-    std::vector<std::uint8_t> pixels;
+    rt::ZeroedArray<std::uint8_t> pixels;
     int width = 0, height = 0;
     renderer.snapshot_rgb8(pixels, width, height);
     const double t_render = seconds_since(t_render0);
@@ -448,7 +448,7 @@ int run(int argc, char** argv) {
     }
 
     const auto t_write0 = Clock::now();
-    if (std::string err = rt::write_rgb8(out_path, width, height, pixels); !err.empty()) {
+    if (std::string err = rt::write_rgb8(out_path, width, height, pixels.data(), pixels.size()); !err.empty()) {
         std::cerr << "raytracer: cannot write '" << out_path << "': " << err << "\n";
         return kExitUsage;
     }

@@ -42,24 +42,57 @@ struct BvhRay {
     float inv[3];
     int near[3], far[3];  // per axis, the row of b holding the near and the far slab
     float pad;            // slack in t for rounding the origin to float (largest axis)
+#if defined(__SSE2__)
+    __m128 o4[3], inv4[3], pad4;  // the same, each broadcast to four lanes
+#endif
 
     static BvhRay make(const Vec3& origin, const Vec3& dir) {
         BvhRay r;
+        // Per axis: a zero component gets a huge finite inverse instead of infinity, so
+        // the slab products stay numbers (0 * inf would be NaN). Rounding the origin to
+        // float moves the ray by up to |o| * 2^-24 on each axis; widening each slab by
+        // that much (in t) keeps the test conservative.
+#if defined(__SSE2__)
+        const __m128d one = _mm_set1_pd(1.0), big = _mm_set1_pd(1e30), nbig = _mm_set1_pd(-1e30);
+        const __m128d abs_mask = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+        const __m128d rel = _mm_set1_pd(1.2e-7), tiny = _mm_set1_pd(1e-30);
+        __m128d o01 = _mm_loadu_pd(&origin.x), o2 = _mm_load_sd(&origin.z);
+        __m128d d01 = _mm_loadu_pd(&dir.x), d2 = _mm_load_sd(&dir.z);
+        __m128d i01 = _mm_min_pd(_mm_max_pd(_mm_div_pd(one, d01), nbig), big);
+        __m128d i2 = _mm_min_sd(_mm_max_sd(_mm_div_sd(one, d2), nbig), big);
+        __m128d p01 = _mm_mul_pd(_mm_add_pd(_mm_mul_pd(_mm_and_pd(o01, abs_mask), rel), tiny), _mm_and_pd(i01, abs_mask));
+        __m128d p2 = _mm_mul_sd(_mm_add_sd(_mm_mul_sd(_mm_and_pd(o2, abs_mask), rel), tiny), _mm_and_pd(i2, abs_mask));
+        __m128d pm = _mm_max_sd(_mm_max_sd(p01, _mm_unpackhi_pd(p01, p01)), p2);
+        __m128 of = _mm_movelh_ps(_mm_cvtpd_ps(o01), _mm_cvtpd_ps(o2));
+        __m128 inf = _mm_movelh_ps(_mm_cvtpd_ps(i01), _mm_cvtpd_ps(i2));
+        float ov[4], iv[4];
+        _mm_storeu_ps(ov, of);
+        _mm_storeu_ps(iv, inf);
+        r.pad = _mm_cvtss_f32(_mm_cvtpd_ps(pm));
+        int neg = _mm_movemask_pd(d01) | (_mm_movemask_pd(d2) & 1) << 2;
+        for (int i = 0; i < 3; ++i) {
+            r.o[i] = ov[i];
+            r.inv[i] = iv[i];
+            int s = neg >> i & 1;
+            r.near[i] = i + 3 * s;
+            r.far[i] = i + 3 * (1 - s);
+            r.o4[i] = _mm_set1_ps(ov[i]);
+            r.inv4[i] = _mm_set1_ps(iv[i]);
+        }
+        r.pad4 = _mm_set1_ps(r.pad);
+#else
         double pad = 0;
         for (int i = 0; i < 3; ++i) {
             r.o[i] = float(origin[i]);
-            // A zero component gets a huge finite inverse instead of infinity, so the
-            // slab products stay numbers (0 * inf would be NaN).
             double inv = std::min(std::max(1.0 / dir[i], -1e30), 1e30);
             r.inv[i] = float(inv);
-            // Rounding the origin to float moves the ray by up to |o| * 2^-24 on each
-            // axis; widening each slab by that much (in t) keeps the test conservative.
             pad = std::max(pad, (std::fabs(origin[i]) * 1.2e-7 + 1e-30) * std::fabs(inv));
             bool neg = std::signbit(dir[i]);
             r.near[i] = neg ? 3 + i : i;
             r.far[i] = neg ? i : 3 + i;
         }
         r.pad = float(pad);
+#endif
         return r;
     }
 };
@@ -76,15 +109,15 @@ public:
     // the entry distances in t.
     static inline unsigned enter(const BvhNode& n, const BvhRay& r, float tmax, float t[4]) {
 #if defined(__SSE2__)
-        __m128 ox = _mm_set1_ps(r.o[0]), oy = _mm_set1_ps(r.o[1]), oz = _mm_set1_ps(r.o[2]);
-        __m128 ix = _mm_set1_ps(r.inv[0]), iy = _mm_set1_ps(r.inv[1]), iz = _mm_set1_ps(r.inv[2]);
+        const __m128 ox = r.o4[0], oy = r.o4[1], oz = r.o4[2];
+        const __m128 ix = r.inv4[0], iy = r.inv4[1], iz = r.inv4[2];
         __m128 x0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[0]]), ox), ix);
         __m128 y0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[1]]), oy), iy);
         __m128 z0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[2]]), oz), iz);
         __m128 x1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[0]]), ox), ix);
         __m128 y1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[1]]), oy), iy);
         __m128 z1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[2]]), oz), iz);
-        __m128 pad = _mm_set1_ps(r.pad);
+        const __m128 pad = r.pad4;
         __m128 t0 = _mm_max_ps(_mm_sub_ps(_mm_max_ps(_mm_max_ps(x0, y0), z0), pad), _mm_setzero_ps());
         __m128 t1 = _mm_min_ps(_mm_add_ps(_mm_min_ps(_mm_min_ps(x1, y1), z1), pad), _mm_set1_ps(tmax));
         _mm_storeu_ps(t, t0);

@@ -22,10 +22,12 @@ struct Image {
 };
 
 // The original's output rounding: truncation, clamped to 0..255; NaN gives 0.
+// (Written as clamps of 255 c, which compile to min/max instead of branches.)
 inline std::uint8_t to_byte(double c) {
-    if (!(c > 0)) return 0;
-    if (c >= 1) return 255;
-    return static_cast<std::uint8_t>(255.0 * c);
+    double v = 255.0 * c;
+    v = v > 0 ? v : 0;  // also NaN
+    v = v < 255 ? v : 255;
+    return static_cast<std::uint8_t>(static_cast<int>(v));
 }
 
 // A zero-filled array of numbers. Its memory comes from calloc, so a big one is
@@ -86,6 +88,7 @@ struct Film {
             if (preview.empty()) return {};
             return {preview[3 * idx], preview[3 * idx + 1], preview[3 * idx + 2]};
         }
+        if (count[idx] == 1) return {sum[3 * idx], sum[3 * idx + 1], sum[3 * idx + 2]};
         double inv = 1.0 / count[idx];
         return {sum[3 * idx] * inv, sum[3 * idx + 1] * inv, sum[3 * idx + 2] * inv};
     }

@@ -123,17 +123,21 @@ std::string write_image(const std::string& path, const Image& img) {
 }
 
 std::string write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
-    if (width < 1 || height < 1 || rgb.size() != std::size_t(width) * std::size_t(height) * 3)
+    return write_rgb8(path, width, height, rgb.data(), rgb.size());
+}
+
+std::string write_rgb8(const std::string& path, int width, int height, const std::uint8_t* rgb, std::size_t size) {
+    if (width < 1 || height < 1 || size != std::size_t(width) * std::size_t(height) * 3)
         return "internal error: the image data does not match its size";
     switch (format_from_path(path)) {
         case ImageFormat::Ppm:
             return write_file_atomic(path, {ppm_header(width, height),
-                                            {reinterpret_cast<const char*>(rgb.data()), rgb.size()}});
+                                            {reinterpret_cast<const char*>(rgb), size}});
         case ImageFormat::Png: {
             if (std::size_t(width) * 3 > std::size_t(INT_MAX) / std::size_t(height))
                 return "the picture is too large for a PNG file";
             std::string png;
-            if (!stbi_write_png_to_func(append_bytes, &png, width, height, 3, rgb.data(), width * 3))
+            if (!stbi_write_png_to_func(append_bytes, &png, width, height, 3, rgb, width * 3))
                 return "PNG encoding failed";
             return write_file_atomic(path, png);
         }

@@ -22,6 +22,7 @@ std::vector<std::uint8_t> to_rgb8(const Image& img);
 // Returns an empty string on success, else a message saying why.
 std::string write_image(const std::string& path, const Image& img);
 std::string write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
+std::string write_rgb8(const std::string& path, int width, int height, const std::uint8_t* rgb, std::size_t size);
 std::string write_file_atomic(const std::string& path, const std::string& data);
 // The same for data in several pieces, written one after the other.
 std::string write_file_atomic(const std::string& path, std::initializer_list<std::string_view> parts);

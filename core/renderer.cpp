@@ -330,19 +330,28 @@ Image Renderer::snapshot(std::uint64_t* generation) const {
     return film_.resolve();
 }
 
-void Renderer::snapshot_rgb8(std::vector<std::uint8_t>& out, int& width, int& height) const {
+void Renderer::snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height) const {
     std::lock_guard<std::mutex> lock(mutex_);
     width = film_.width;
     height = film_.height;
     std::size_t n = std::size_t(width) * height;
-    out.resize(n * 3);
-    for (std::size_t i = 0; i < n; ++i) {
-        Colour c = film_.pixel(i);
-        // Through float, exactly as a snapshot() pixel would be.
-        out[3 * i] = to_byte(float(c.x));
-        out[3 * i + 1] = to_byte(float(c.y));
-        out[3 * i + 2] = to_byte(float(c.z));
-    }
+    out.reset(n * 3);
+    auto convert = [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            Colour c = film_.pixel(i);
+            // Through float, exactly as a snapshot() pixel would be.
+            out[3 * i] = to_byte(float(c.x));
+            out[3 * i + 1] = to_byte(float(c.y));
+            out[3 * i + 2] = to_byte(float(c.z));
+        }
+    };
+    // A big picture is converted by as many threads as the renderer has: the command
+    // line waits for this between the render and the file.
+    std::size_t parts = std::min<std::size_t>(workers_.size(), n / (1 << 18) + 1);
+    std::vector<std::thread> helpers;
+    for (std::size_t k = 1; k < parts; ++k) helpers.emplace_back(convert, n * k / parts, n * (k + 1) / parts);
+    convert(0, n / parts);
+    for (std::thread& t : helpers) t.join();
 }
 
 bool Renderer::snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version) const {

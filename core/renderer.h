@@ -84,7 +84,7 @@ public:
     Image snapshot(std::uint64_t* generation = nullptr) const;
     // The film as 8-bit RGB with the original's rounding, as image files hold it
     // (the same bytes as to_rgb8(snapshot()), without the float copy).
-    void snapshot_rgb8(std::vector<std::uint8_t>& out, int& width, int& height) const;
+    void snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height) const;
     // RGBA8 for display; returns false if nothing changed since `since_version`.
     bool snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height,
                         std::uint64_t& version) const;
