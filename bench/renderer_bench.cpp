@@ -221,6 +221,24 @@ int main(int argc, char** argv) {
     row("start() -> first coarse pass (seen by polling)", first_coarse_observed);
     row("start() -> coarse passes + 1 full sample done", first_full);
 
+    // The same full sample without the coarse passes: what the previews cost.
+    std::vector<double> full_only;
+    for (int r = 0; r < repeats; ++r) {
+        rt::Scene moved = scene;
+        moved.camera = orbited(scene.camera, 0.01 * (r + 1));
+        world = rt::compile_world(moved, world.get());
+        rt::RenderSettings st;
+        st.width = width;
+        st.height = height;
+        st.coarse = false;
+        st.max_samples = 1;
+        auto t0 = Clock::now();
+        renderer.start(world, st);
+        renderer.wait();
+        full_only.push_back(since(t0));
+    }
+    row("start() -> 1 full sample done, no coarse passes", full_only);
+
     // (b) cancel() in the middle of a full-resolution pass -> every worker idle.
     std::vector<double> cancel_s;
     int not_running = 0;

@@ -15,8 +15,8 @@ struct RenderTask {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     int block = 0;               // coarse pass: block size; 0 for a sample pass
     int s0 = 0, s1 = 0;          // sample pass: samples [s0, s1)
-    int reuse = 0;               // block size of the last coarse pass: its corner pixels
-                                 // already hold sample 0 in the preview layer
+    int reuse = 0;               // block size (a power of 2) of the last coarse pass: its
+                                 // corner pixels already hold sample 0 in the preview layer
 };
 
 struct Pass {
@@ -228,7 +228,7 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
             for (int bx = task.x0; bx < task.x1; bx += b) {
                 if (cancelled()) return false;
                 Colour c;
-                if (task.reuse > 0 && bx % task.reuse == 0 && by % task.reuse == 0) {
+                if (task.reuse > 0 && ((bx | by) & (task.reuse - 1)) == 0) {
                     // Traced by the previous coarse pass: the same ray, so the same colour.
                     const float* p = &film_.preview[3 * (std::size_t(by) * film_.width + bx)];
                     c = {p[0], p[1], p[2]};
@@ -255,7 +255,7 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
                 acc[0] = film_.sum[3 * idx], acc[1] = film_.sum[3 * idx + 1], acc[2] = film_.sum[3 * idx + 2];
             }
             int s = task.s0;
-            if (s == 0 && task.reuse > 0 && x % task.reuse == 0 && y % task.reuse == 0) {
+            if (s == 0 && task.reuse > 0 && ((x | y) & (task.reuse - 1)) == 0) {
                 // Sample 0 of a coarse block corner is the ray the coarse pass traced.
                 const float* p = &film_.preview[3 * idx];
                 acc[0] += p[0], acc[1] += p[1], acc[2] += p[2];
