@@ -42,8 +42,9 @@ void tetra_spans(const TetraG& s, std::uint32_t node, const Vec3& o, const Vec3&
         } else {
             if (t < t1) t1 = t, f1 = i;
         }
+        if (t0 > t1) return;  // the interval only shrinks
     }
-    if (t0 <= t1) out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
+    out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
 }
 
 // Faces: 0 = cap at e1, 1 = cap at e2, 2 = side.

@@ -17,13 +17,18 @@ constexpr double kInf = HUGE_VAL;
 // k * C with the original's quirk: black for k <= 0.
 inline Colour scale(double k, const Colour& c) { return k > 0 ? c * k : Colour{}; }
 
-inline double safe_pow(double base, double e) {
-    if (e == 0) return 1;
-    if (!(base > 0)) return 0;
-    double r = std::pow(base, e);
+// base^e from log(base) (-inf for base 0), with the original's edge cases: x^0 = 1,
+// 0^e = 0, and 0 where the power overflows.
+inline double tint_pow(double log_base, double e) {
+    if (e == 0 || log_base == 0) return 1;
+    if (log_base == -kInf) return 0;
+    double r = std::exp(e * log_base);
     return std::isfinite(r) ? r : 0;
 }
-inline Colour pow3(const Colour& base, double e) { return {safe_pow(base.x, e), safe_pow(base.y, e), safe_pow(base.z, e)}; }
+// The tint of a material after a path of length s inside it.
+inline Colour tint(const ShadeMaterial& m, double s) {
+    return {tint_pow(m.log_tint.x, s), tint_pow(m.log_tint.y, s), tint_pow(m.log_tint.z, s)};
+}
 
 // rendering.md §5, with the normal-incidence fix: straight through.
 // `n` is turned to face against d (the original changes the caller's normal too).
@@ -87,6 +92,8 @@ ShadeMaterial ShadeMaterial::from(const Material& m) {
     s.translusans = std::clamp(m.translusans, 0.0, 1.0);
     s.ior = std::max(1.0, m.refractive_index);
     s.colour = m.colour;
+    Colour base = m.colour * s.translusans;
+    for (int k = 0; k < 3; ++k) s.log_tint[k] = base[k] > 0 ? std::log(base[k]) : -kInf;
     return s;
 }
 
@@ -200,10 +207,12 @@ Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) c
             Vec3 q = o + vh * e.t;
             SpanEnd x;
             double s = g.exit(obj, q, vh, x, ctx.scratch) ? x.t : 0.0;
-            sh = mul(sh, pow3(m.colour * m.translusans, s * m.refraction));
+            sh = mul(sh, tint(m, s * m.refraction));
             return tmax;
         });
         if (blocked) continue;
+        // No object blocks this light here: neighbouring points will not try one first.
+        ctx.blocker[li] = 0;
         for (std::uint32_t i = 0; i < planes.size() && !blocked; ++i) {
             const PlaneShape& pl = planes[i];
             double dn = dot(pl.n, vh);
@@ -254,7 +263,7 @@ Colour World::walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, 
         c = shade(q1, d2, level + 1, ctx);
     else
         c = walk(x, q1, reflect(d1, n1), eta, level + 1, ctx);
-    return mul(c, pow3(m->colour * m->translusans, s));
+    return mul(c, tint(*m, s));
 }
 
 Colour World::shade(const Vec3& o, const Vec3& d, int depth, Ctx& ctx) const {

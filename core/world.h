@@ -20,6 +20,9 @@ struct ShadeMaterial {
     double reflection = 0, refraction = 0, scattering = 1;
     double translusans = 0, ior = 1;
     Colour colour{0.5, 0.5, 0.5};
+    // log(colour * translusans) per channel (-inf where that is 0): light crossing a
+    // length s of the material keeps exp(s * log_tint) of itself.
+    Colour log_tint;
     static ShadeMaterial from(const Material& m);
 };
 
