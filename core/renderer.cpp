@@ -101,6 +101,9 @@ void Renderer::begin_pass_locked(Job& job) {
     job.tiles.clear();
     job.next_tile = job.tiles_done = 0;
     int ts = std::max(8, job.settings.tile_size / 8 * 8);  // coarse blocks never straddle tiles
+    // Coarse passes trace one ray per block: their tiles grow with the block so that a
+    // task still holds enough rays to outweigh taking it from the queue.
+    if (job.passes[job.pass].block > 0) ts = std::max(ts, ts * job.passes[job.pass].block / 2);
     for (int y = 0; y < job.height; y += ts)
         for (int x = 0; x < job.width; x += ts)
             job.tiles.push_back({x, y, std::min(x + ts, job.width), std::min(y + ts, job.height)});
