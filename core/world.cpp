@@ -177,12 +177,13 @@ Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) c
     for (const ShadeLight& light : lights) {
         Vec3 v = light.position - p;
         double r2 = dot(v, v);
-        Colour e = r2 > 0 ? light.colour / r2 : Colour{1, 1, 1};
+        // (Multiplying by reciprocals: a division each would sit on the critical path.)
+        Colour e = r2 > 0 ? light.colour * (1 / r2) : Colour{1, 1, 1};
         sum += mul(e, cp) * 0.1;
         double vn = dot(v, n);
         if (!(vn > 0)) continue;
-        double r = std::sqrt(r2);
-        Vec3 vh = v / r;
+        double r = std::sqrt(r2), inv_r = 1 / r;
+        Vec3 vh = v * inv_r;
         Vec3 o = p + vh * kDelta;
         double limit = r - 10 * kDelta;
         ++ctx.stats->rays;
@@ -227,7 +228,7 @@ Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) c
             double t;
             if (!blocked && glow_hit(lights[i], o, vh, t) && t > 0 && t < limit) blocked = true;
         }
-        if (!blocked) sum += mul(mul(e, cp), sh) * (0.9 * vn / r);
+        if (!blocked) sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
     }
     return sum;
 }
