@@ -157,7 +157,10 @@ void Renderer::cancel() {
     std::unique_lock<std::mutex> lock(mutex_);
     ++cancel_gen_;
     job_.reset();
+    done_cv_.notify_all();  // wait() returns: there is no render any more
+    ++idle_waiters_;
     idle_cv_.wait(lock, [&] { return busy_ == 0; });
+    --idle_waiters_;
 }
 
 void Renderer::set_paused(bool paused) {
@@ -171,12 +174,12 @@ void Renderer::set_paused(bool paused) {
 
 void Renderer::wait() {
     std::unique_lock<std::mutex> lock(mutex_);
-    idle_cv_.wait(lock, [&] { return !job_ || job_->done; });
+    done_cv_.wait(lock, [&] { return !job_ || job_->done; });
 }
 
 bool Renderer::wait_for(double seconds) {
     std::unique_lock<std::mutex> lock(mutex_);
-    return idle_cv_.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return !job_ || job_->done; });
+    return done_cv_.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return !job_ || job_->done; });
 }
 
 // Called with mutex_ held.
@@ -215,8 +218,8 @@ void Renderer::worker_main() {
             job_->rays += stats.rays;
         }
         task.world.reset();
-        // Waiters want "all idle" (cancel) or "done" (commit notifies that itself).
-        if (--busy_ == 0) idle_cv_.notify_all();
+        // cancel() waits for all idle; waiters for "done" are woken by commit() itself.
+        if (--busy_ == 0 && idle_waiters_ > 0) idle_cv_.notify_all();
     }
 }
 
@@ -299,7 +302,7 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     if (++job.pass >= job.passes.size() || out_of_time) {
         job.done = true;
         job.done_time = elapsed;
-        idle_cv_.notify_all();
+        done_cv_.notify_all();
         return;
     }
     begin_pass_locked(job);

@@ -99,7 +99,7 @@ private:
     void begin_pass_locked(Job& job);
 
     mutable std::mutex mutex_;
-    std::condition_variable work_cv_, idle_cv_;
+    std::condition_variable work_cv_, idle_cv_, done_cv_;
     std::vector<std::thread> workers_;
     bool quit_ = false;
     std::atomic<std::uint64_t> cancel_gen_{0};  // workers stop a task when it differs from theirs
@@ -108,6 +108,7 @@ private:
     Film film_;
     std::uint64_t film_version_ = 0;
     int busy_ = 0;
+    int idle_waiters_ = 0;  // threads in cancel() waiting for busy_ == 0
     bool paused_ = false;
 };
 

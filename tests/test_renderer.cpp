@@ -302,6 +302,34 @@ TEST_CASE("renderer: cancel() of a long render returns quickly and leaves the re
     CHECK(same_film(r.snapshot(), render(world, s, 1)));
 }
 
+TEST_CASE("renderer: wait() in one thread returns when another cancels, even with every worker idle") {
+    auto world = compile_world(parse(kSceneA));
+    Renderer r(2);
+    RenderSettings s;
+    s.max_samples = 100000;
+    r.set_paused(true);  // workers stay idle: no tile will ever finish
+    r.start(world, s);
+    std::atomic<bool> returned{false};
+    std::thread waiter([&] {
+        r.wait();
+        returned = true;
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    CHECK_FALSE(returned.load());  // nothing is done yet
+    r.cancel();
+    // A waiter that were never woken would hang here; give it far more than it needs.
+    for (int i = 0; i < 500 && !returned; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    CHECK(returned.load());
+    r.set_paused(false);
+    if (!returned) {
+        // Unblock the waiter so that the test ends: a small render that finishes.
+        RenderSettings small;
+        small.width = small.height = 8;
+        r.start(world, small);
+    }
+    waiter.join();
+}
+
 // Camera at the origin looking along +x with up (0, 0, 1): in a right-handed, z-up
 // world the viewer's right is forward x up = (0, -1, 0). A red sphere at y = -1 must
 // show on the right of the picture and a blue one at y = +1 on the left; the 2013
