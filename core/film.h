@@ -74,7 +74,10 @@ struct Film {
     int width = 0, height = 0;
     ZeroedArray<float> sum;  // 3 per pixel
     ZeroedArray<std::uint32_t> count;
-    ZeroedArray<float> preview;  // 3 per pixel, used while count == 0; empty if no coarse passes
+    // Coarse previews: 3 floats per pixel, but only the corner pixel of each block holds
+    // a colour (the block's one ray); shown while count == 0. Empty if no coarse passes.
+    ZeroedArray<float> preview;
+    int preview_level = 0;  // block size of the last complete coarse pass; 0 = none
 
     void reset(int w, int h, bool with_preview = true) {
         width = w;
@@ -82,27 +85,39 @@ struct Film {
         sum.reset(std::size_t(w) * h * 3);
         count.reset(std::size_t(w) * h);
         preview.reset(with_preview ? std::size_t(w) * h * 3 : 0);
+        preview_level = 0;
     }
-    Colour pixel(std::size_t idx) const {
-        if (count[idx] == 0) {
-            if (preview.empty()) return {};
-            return {preview[3 * idx], preview[3 * idx + 1], preview[3 * idx + 2]};
+    // Pixel (x, y); idx = y * width + x.
+    Colour pixel(int x, int y, std::size_t idx) const {
+        std::uint32_t n = count[idx];
+        if (n == 0) {
+            if (preview_level == 0 || preview.empty()) return {};
+            int mask = ~(preview_level - 1);
+            const float* p = &preview[3 * (std::size_t(y & mask) * width + std::size_t(x & mask))];
+            return {p[0], p[1], p[2]};
         }
-        if (count[idx] == 1) return {sum[3 * idx], sum[3 * idx + 1], sum[3 * idx + 2]};
-        double inv = 1.0 / count[idx];
+        if (n == 1) return {sum[3 * idx], sum[3 * idx + 1], sum[3 * idx + 2]};
+        double inv = 1.0 / n;
         return {sum[3 * idx] * inv, sum[3 * idx + 1] * inv, sum[3 * idx + 2] * inv};
+    }
+    // f(x, y, idx, colour) for every pixel of rows [y0, y1).
+    template <class F>
+    void for_each_pixel(int y0, int y1, F&& f) const {
+        for (int y = y0; y < y1; ++y) {
+            std::size_t idx = std::size_t(y) * width;
+            for (int x = 0; x < width; ++x, ++idx) f(idx, pixel(x, y, idx));
+        }
     }
     Image resolve() const {
         Image img;
         img.width = width;
         img.height = height;
         img.rgb.resize(std::size_t(width) * height * 3);
-        for (std::size_t i = 0, n = std::size_t(width) * height; i < n; ++i) {
-            Colour c = pixel(i);
+        for_each_pixel(0, height, [&](std::size_t i, const Colour& c) {
             img.rgb[3 * i] = float(c.x);
             img.rgb[3 * i + 1] = float(c.y);
             img.rgb[3 * i + 2] = float(c.z);
-        }
+        });
         return img;
     }
 };

@@ -147,6 +147,7 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
         std::fill(film_.count.begin(), film_.count.end(), 0u);
         if (settings.coarse && film_.preview.empty()) film_.preview.reset(std::size_t(job->width) * job->height * 3);
     }
+    film_.preview_level = 0;
     ++film_version_;
     begin_pass_locked(*job);
     job_ = job;
@@ -226,10 +227,12 @@ void Renderer::worker_main() {
 bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStats& stats) {
     const World& world = *task.world;
     int w = task.x1 - task.x0, h = task.y1 - task.y0;
-    buf.assign(std::size_t(w) * h * 3, 0.f);
     auto cancelled = [&] { return cancel_gen_.load(std::memory_order_relaxed) != task.generation; };
     if (task.block > 0) {
+        // One colour per block, for its corner pixel, blocks in rows.
         int b = task.block;
+        buf.resize(std::size_t((w + b - 1) / b) * ((h + b - 1) / b) * 3);
+        float* out = buf.data();
         for (int by = task.y0; by < task.y1; by += b) {
             for (int bx = task.x0; bx < task.x1; bx += b) {
                 if (cancelled()) return false;
@@ -241,15 +244,12 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
                 } else {
                     c = world.trace_camera(task.camera, bx, by, stats);
                 }
-                for (int y = by; y < std::min(by + b, task.y1); ++y)
-                    for (int x = bx; x < std::min(bx + b, task.x1); ++x) {
-                        float* p = &buf[3 * (std::size_t(y - task.y0) * w + (x - task.x0))];
-                        p[0] = float(c.x), p[1] = float(c.y), p[2] = float(c.z);
-                    }
+                *out++ = float(c.x), *out++ = float(c.y), *out++ = float(c.z);
             }
         }
         return true;
     }
+    buf.resize(std::size_t(w) * h * 3);
     // Sample pass: continue each pixel's running sum. The sums of this tile are only
     // touched by this task until it commits, so reading them unlocked is safe.
     for (int y = task.y0; y < task.y1; ++y) {
@@ -279,11 +279,18 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
 void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     Job& job = *job_;
     int w = task.x1 - task.x0;
-    for (int y = task.y0; y < task.y1; ++y) {
-        std::size_t idx = std::size_t(y) * film_.width + task.x0;
-        const float* row = &buf[3 * std::size_t(y - task.y0) * w];
-        std::copy(row, row + 3 * w, (task.block > 0 ? film_.preview.data() : film_.sum.data()) + 3 * idx);
-        if (task.block == 0) std::fill_n(film_.count.data() + idx, w, std::uint32_t(task.s1));
+    if (task.block > 0) {
+        const float* c = buf.data();
+        for (int y = task.y0; y < task.y1; y += task.block)
+            for (int x = task.x0; x < task.x1; x += task.block, c += 3)
+                std::copy(c, c + 3, &film_.preview[3 * (std::size_t(y) * film_.width + x)]);
+    } else {
+        for (int y = task.y0; y < task.y1; ++y) {
+            std::size_t idx = std::size_t(y) * film_.width + task.x0;
+            const float* row = &buf[3 * std::size_t(y - task.y0) * w];
+            std::copy(row, row + 3 * w, film_.sum.data() + 3 * idx);
+            std::fill_n(film_.count.data() + idx, w, std::uint32_t(task.s1));
+        }
     }
     ++film_version_;
     if (++job.tiles_done < job.tiles.size()) return;
@@ -295,6 +302,7 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     if (p.block > 0) {
         if (job.first_coarse_time < 0) job.first_coarse_time = elapsed;
         job.coarse_level = p.block;
+        film_.preview_level = p.block;
     } else {
         job.samples_done = p.s1;
     }
@@ -342,21 +350,20 @@ void Renderer::snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& he
     height = film_.height;
     std::size_t n = std::size_t(width) * height;
     out.reset(n * 3);
-    auto convert = [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) {
-            Colour c = film_.pixel(i);
+    auto convert = [&](int y0, int y1) {
+        film_.for_each_pixel(y0, y1, [&](std::size_t i, const Colour& c) {
             // Through float, exactly as a snapshot() pixel would be.
             out[3 * i] = to_byte(float(c.x));
             out[3 * i + 1] = to_byte(float(c.y));
             out[3 * i + 2] = to_byte(float(c.z));
-        }
+        });
     };
     // A big picture is converted by as many threads as the renderer has: the command
     // line waits for this between the render and the file.
-    std::size_t parts = std::min<std::size_t>(workers_.size(), n / (1 << 18) + 1);
+    int parts = int(std::min<std::size_t>(workers_.size(), n / (1 << 18) + 1));
     std::vector<std::thread> helpers;
-    for (std::size_t k = 1; k < parts; ++k) helpers.emplace_back(convert, n * k / parts, n * (k + 1) / parts);
-    convert(0, n / parts);
+    for (int k = 1; k < parts; ++k) helpers.emplace_back(convert, height * k / parts, height * (k + 1) / parts);
+    convert(0, height / parts);
     for (std::thread& t : helpers) t.join();
 }
 
@@ -369,13 +376,12 @@ bool Renderer::snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& h
     height = film_.height;
     std::size_t n = std::size_t(width) * height;
     out.resize(n * 4);
-    for (std::size_t i = 0; i < n; ++i) {
-        Colour c = film_.pixel(i);
+    film_.for_each_pixel(0, height, [&](std::size_t i, const Colour& c) {
         out[4 * i] = to_byte(c.x);
         out[4 * i + 1] = to_byte(c.y);
         out[4 * i + 2] = to_byte(c.z);
         out[4 * i + 3] = 255;
-    }
+    });
     return true;
 }
 

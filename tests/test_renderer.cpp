@@ -302,6 +302,30 @@ TEST_CASE("renderer: cancel() of a long render returns quickly and leaves the re
     CHECK(same_film(r.snapshot(), render(world, s, 1)));
 }
 
+TEST_CASE("film: a pixel with no sample shows its block's corner colour at the last coarse level") {
+    Film f;
+    f.reset(10, 7);
+    CHECK(f.pixel(3, 2, 2 * 10 + 3) == Colour{});  // no coarse pass yet: black
+    // Corners of 4x4 blocks hold (x, y, 1); every other preview value is garbage.
+    for (int y = 0; y < 7; ++y)
+        for (int x = 0; x < 10; ++x) {
+            float* p = &f.preview[3 * (std::size_t(y) * 10 + x)];
+            bool corner = x % 4 == 0 && y % 4 == 0;
+            p[0] = corner ? float(x) : -1.f, p[1] = corner ? float(y) : -1.f, p[2] = corner ? 1.f : -1.f;
+        }
+    f.preview_level = 4;
+    for (int y = 0; y < 7; ++y)
+        for (int x = 0; x < 10; ++x) {
+            CAPTURE(x);
+            CAPTURE(y);
+            CHECK(f.pixel(x, y, std::size_t(y) * 10 + x) == Colour{double(x / 4 * 4), double(y / 4 * 4), 1});
+        }
+    // A sampled pixel shows its mean instead.
+    f.count[13] = 2;
+    f.sum[39] = 1.f, f.sum[40] = 2.f, f.sum[41] = 3.f;
+    CHECK(f.pixel(3, 1, 13) == Colour{0.5, 1, 1.5});
+}
+
 TEST_CASE("renderer: wait() in one thread returns when another cancels, even with every worker idle") {
     auto world = compile_world(parse(kSceneA));
     Renderer r(2);
