@@ -9,7 +9,9 @@
 #   -t, --threads N    threads for both renderers (default 2)
 #   -b, --binary PATH  our raytracer (default: build/bin/raytracer)
 #   -o, --out DIR      keep pictures and logs in DIR (default: a temporary folder)
-#   -s, --scaling      also time ours with 1 thread and report the speed-up
+#   -s, --scaling      also time ours with 1 thread (each run right after a multi-
+#                      threaded one) and report the speed-up, of the whole process and
+#                      of the render phase alone (from --stats)
 #   -P, --no-pov       skip POV-Ray
 #   -M, --no-micro     skip renderer_bench (preview and cancel latency, BVH build)
 #   -q, --quick        160x90, 1 run, a smoke test of this script (used by CI)
@@ -86,6 +88,7 @@ run_ours() {  # NAME W H THREADS; its --stats output stays in $OUT/NAME-ours-tTH
         "$HERE/scenes/$1.txt" "$OUT/$1.ppm" ||
         { echo "run.sh: our raytracer failed on $1:" >&2; cat "$log" >&2; exit 1; }
 }
+render_time() { sed -n 's/.*render \([0-9.]*\) s.*/\1/p' "$1"; }  # from a --stats log
 run_pov() {  # NAME W H THREADS
     local log=$OUT/$1-pov.log
     # POV-Ray rejects `+I FILE` with a space; the name must be attached.
@@ -101,14 +104,20 @@ echo
 echo "| scene | resolution | ours (s) | POV-Ray (s) | POV/ours | our rays/s | ours CPU (s) | POV-Ray CPU (s) |"
 echo "|---|---|---|---|---|---|---|---|"
 
-declare -A OURS ONE
+declare -A OURS ONE RENDER ONE_RENDER
 for s in "${SCENES[@]}"; do
     if [ $QUICK = 1 ]; then W=160 H=90; else W=$(scene_size "$s" x_max) H=$(scene_size "$s" y_max); fi
-    ours=() ours_cpu=() pov=() pov_cpu=() rps=()
+    ours=() ours_cpu=() pov=() pov_cpu=() rps=() render=() one=() one_render=()
     for _ in $(seq "$RUNS"); do
         t=$(run_ours "$s" "$W" "$H" "$THREADS"); read -r wall cpu <<< "$t"
         ours+=("$wall") ours_cpu+=("$cpu")
         rps+=("$(sed -n 's/.*(\([0-9.]*\) M rays\/s).*/\1/p' "$OUT/$s-ours-t$THREADS.log")")
+        render+=("$(render_time "$OUT/$s-ours-t$THREADS.log")")
+        if [ $SCALING = 1 ]; then
+            # Right after the multi-threaded run, so that both see the same machine.
+            t=$(run_ours "$s" "$W" "$H" 1); read -r wall cpu <<< "$t"
+            one+=("$wall") one_render+=("$(render_time "$OUT/$s-ours-t1.log")")
+        fi
         if [ $POV = 1 ]; then
             t=$(run_pov "$s" "$W" "$H" "$THREADS"); read -r wall cpu <<< "$t"
             pov+=("$wall") pov_cpu+=("$cpu")
@@ -126,12 +135,8 @@ for s in "${SCENES[@]}"; do
     echo "| $s | ${W}x$H | ${OURS[$s]} | $p | $(ratio "$p" "${OURS[$s]}") | $(millions "$(median "${rps[@]}")") |" \
          "$(median "${ours_cpu[@]}") | $pc |"
     if [ $SCALING = 1 ]; then
-        one=()
-        for _ in $(seq "$RUNS"); do
-            t=$(run_ours "$s" "$W" "$H" 1); read -r wall cpu <<< "$t"
-            one+=("$wall")
-        done
         ONE[$s]=$(median "${one[@]}")
+        RENDER[$s]=$(median "${render[@]}") ONE_RENDER[$s]=$(median "${one_render[@]}")
     fi
 done
 echo
@@ -139,7 +144,8 @@ echo
 if [ $SCALING = 1 ]; then
     for s in "${SCENES[@]}"; do
         echo "- $s, ours: 1 thread ${ONE[$s]} s, $THREADS threads ${OURS[$s]} s," \
-             "speed-up $(ratio "${ONE[$s]}" "${OURS[$s]}")x"
+             "speed-up $(ratio "${ONE[$s]}" "${OURS[$s]}")x; render phase alone" \
+             "${ONE_RENDER[$s]} s / ${RENDER[$s]} s = $(ratio "${ONE_RENDER[$s]}" "${RENDER[$s]}")x"
     done
 fi
 if [ -n "${OURS[spheres-10k]:-}" ] && [ -n "${OURS[things-like]:-}" ]; then
