@@ -8,6 +8,11 @@
 
 namespace rt {
 
+namespace {
+// Tiles remembered for snapshot_rgba8's partial updates: a full pass at 4K in 32x32 tiles.
+constexpr std::size_t kMaxChanges = 8192;
+}  // namespace
+
 struct RenderTask {
     std::uint64_t generation = 0;
     std::shared_ptr<const World> world;
@@ -149,6 +154,8 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
     }
     film_.preview_level = 0;
     ++film_version_;
+    full_version_ = film_version_;
+    changes_.clear();
     begin_pass_locked(*job);
     job_ = job;
     work_cv_.notify_all();
@@ -293,6 +300,15 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
         }
     }
     ++film_version_;
+    // A coarse tile changes nothing on screen until its whole pass is done (the screen
+    // shows the last complete level, whose corners the pass only traces again).
+    if (task.block == 0) {
+        changes_.push_back({film_version_, {task.x0, task.y0, task.x1, task.y1}});
+        if (changes_.size() > kMaxChanges) {
+            full_version_ = std::max(full_version_, changes_.front().first);
+            changes_.pop_front();
+        }
+    }
     if (++job.tiles_done < job.tiles.size()) return;
     // The pass is complete.
     const Pass& p = job.passes[job.pass];
@@ -303,6 +319,8 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
         if (job.first_coarse_time < 0) job.first_coarse_time = elapsed;
         job.coarse_level = p.block;
         film_.preview_level = p.block;
+        full_version_ = ++film_version_;
+        changes_.clear();
     } else {
         job.samples_done = p.s1;
     }
@@ -367,21 +385,44 @@ void Renderer::snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& he
     for (std::thread& t : helpers) t.join();
 }
 
-bool Renderer::snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version) const {
+bool Renderer::snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version,
+                              std::array<int, 4>* changed) const {
     std::lock_guard<std::mutex> lock(mutex_);
     // Until the new render has something to show, keep showing the old picture.
     if (!job_ || !job_->preview_valid || version == film_version_) return false;
-    version = film_version_;
+    auto convert = [&](int x0, int y0, int x1, int y1) {
+        for (int y = y0; y < y1; ++y) {
+            std::size_t idx = std::size_t(y) * film_.width + x0;
+            std::uint8_t* p = &out[4 * idx];
+            for (int x = x0; x < x1; ++x, ++idx, p += 4) {
+                Colour c = film_.pixel(x, y, idx);
+                p[0] = to_byte(c.x), p[1] = to_byte(c.y), p[2] = to_byte(c.z), p[3] = 255;
+            }
+        }
+    };
+    const std::size_t n = std::size_t(film_.width) * film_.height;
+    const bool full = out.size() != n * 4 || width != film_.width || height != film_.height ||
+                      version < full_version_ || version > film_version_;
     width = film_.width;
     height = film_.height;
-    std::size_t n = std::size_t(width) * height;
-    out.resize(n * 4);
-    film_.for_each_pixel(0, height, [&](std::size_t i, const Colour& c) {
-        out[4 * i] = to_byte(c.x);
-        out[4 * i + 1] = to_byte(c.y);
-        out[4 * i + 2] = to_byte(c.z);
-        out[4 * i + 3] = 255;
-    });
+    std::array<int, 4> box{width, height, 0, 0};
+    if (full) {
+        out.resize(n * 4);
+        convert(0, 0, width, height);
+        box = {0, 0, width, height};
+    } else {
+        // The log is in version order: convert the tiles committed after `version`.
+        auto it = std::upper_bound(changes_.begin(), changes_.end(), version,
+                                   [](std::uint64_t v, const auto& e) { return v < e.first; });
+        for (; it != changes_.end(); ++it) {
+            const auto& r = it->second;
+            convert(r[0], r[1], r[2], r[3]);
+            box = {std::min(box[0], r[0]), std::min(box[1], r[1]), std::max(box[2], r[2]), std::max(box[3], r[3])};
+        }
+        if (box[0] >= box[2]) box = {0, 0, 0, 0};
+    }
+    if (changed) *changed = box;
+    version = film_version_;
     return true;
 }
 

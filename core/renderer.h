@@ -13,6 +13,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -85,9 +86,13 @@ public:
     // The film as 8-bit RGB with the original's rounding, as image files hold it
     // (the same bytes as to_rgb8(snapshot()), without the float copy).
     void snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height) const;
-    // RGBA8 for display; returns false if nothing changed since `since_version`.
-    bool snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height,
-                        std::uint64_t& version) const;
+    // RGBA8 for display, kept up to date in `out` between calls: returns false if
+    // nothing changed since `version`; else brings `out` (as the last call with this
+    // `version` left it) up to the film's state, converting only the tiles finished in
+    // between when it can, and sets `version`. `changed`, if given, receives the
+    // rectangle {x0, y0, x1, y1} that may differ from before.
+    bool snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version,
+                        std::array<int, 4>* changed = nullptr) const;
     int threads() const { return int(workers_.size()); }
 
 private:
@@ -107,6 +112,11 @@ private:
     std::shared_ptr<Job> job_;
     Film film_;
     std::uint64_t film_version_ = 0;
+    // What changed on screen since which version, for snapshot_rgba8: the tiles of
+    // sample passes in commit order; before full_version_ (a new render, a new coarse
+    // level) or before the oldest entry kept, everything.
+    std::deque<std::pair<std::uint64_t, std::array<int, 4>>> changes_;
+    std::uint64_t full_version_ = 0;
     int busy_ = 0;
     int idle_waiters_ = 0;  // threads in cancel() waiting for busy_ == 0
     bool paused_ = false;

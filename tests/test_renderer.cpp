@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstring>
@@ -324,6 +325,44 @@ TEST_CASE("film: a pixel with no sample shows its block's corner colour at the l
     f.count[13] = 2;
     f.sum[39] = 1.f, f.sum[40] = 2.f, f.sum[41] = 3.f;
     CHECK(f.pixel(3, 1, 13) == Colour{0.5, 1, 1.5});
+}
+
+TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversion at every step") {
+    auto world = compile_world(parse(kSceneA));
+    Renderer r(2);
+    RenderSettings s;
+    s.width = 96;
+    s.height = 64;
+    s.tile_size = 8;
+    s.max_samples = 3;
+    std::vector<std::uint8_t> kept;  // updated in place, as the viewer does
+    std::uint64_t kept_version = 0;
+    int w = 0, h = 0;
+    int compared = 0, partial = 0, differing = 0;
+    for (int round = 0; round < 3; ++round) {
+        r.start(world, s);  // a new render over the same film size: a full update first
+        for (;;) {
+            RenderProgress p = r.progress();
+            std::array<int, 4> changed{};
+            if (r.snapshot_rgba8(kept, w, h, kept_version, &changed)) {
+                if (!(changed[0] == 0 && changed[1] == 0 && changed[2] == w && changed[3] == h)) ++partial;
+                // A fresh, full conversion; compare only if nothing was committed between.
+                std::vector<std::uint8_t> fresh;
+                std::uint64_t fresh_version = 0;
+                int fw = 0, fh = 0;
+                if (r.snapshot_rgba8(fresh, fw, fh, fresh_version) && fresh_version == kept_version) {
+                    ++compared;
+                    if (fresh != kept) ++differing;
+                }
+            }
+            if (p.done) break;
+        }
+    }
+    CAPTURE(compared);
+    CAPTURE(partial);
+    CHECK(differing == 0);
+    CHECK(compared > 10);
+    CHECK(partial > 0);
 }
 
 TEST_CASE("renderer: wait() in one thread returns when another cancels, even with every worker idle") {

@@ -476,9 +476,12 @@ void ViewerApp::update_render() {
 
 void ViewerApp::upload_film() {
     rt::RenderProgress before = renderer_.progress();
-    int w = 0, h = 0;
-    if (renderer_.snapshot_rgba8(rgba_, w, h, film_version_)) {
-        film_.upload(rgba_, w, h);
+    int w = film_w_seen_, h = film_h_seen_;
+    std::array<int, 4> changed{};
+    if (renderer_.snapshot_rgba8(rgba_, w, h, film_version_, &changed)) {
+        film_w_seen_ = w;
+        film_h_seen_ = h;
+        film_.upload(rgba_, w, h, changed);
         if (timing_change_ && (before.coarse_level > 0 || before.samples > 0) && w == film_w_ && h == film_h_) {
             last_latency_ms_ = seconds_since(change_time_) * 1000;
             timing_change_ = false;

@@ -144,6 +144,7 @@ private:
     FilmTexture film_;
     std::vector<std::uint8_t> rgba_;
     std::uint64_t film_version_ = 0;
+    int film_w_seen_ = 0, film_h_seen_ = 0;  // the size rgba_ holds
     std::uint64_t done_generation_ = ~std::uint64_t(0);
     double done_elapsed_ = 0;
     bool final_uploaded_ = false;

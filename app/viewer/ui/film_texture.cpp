@@ -3,6 +3,7 @@
 
 #include <GL/gl.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "image_io.h"
@@ -18,7 +19,7 @@ void FilmTexture::release() {
     nearest_ = -1;
 }
 
-void FilmTexture::upload(const std::vector<std::uint8_t>& rgba, int width, int height) {
+void FilmTexture::upload(const std::vector<std::uint8_t>& rgba, int width, int height, const std::array<int, 4>& rect) {
     if (width < 1 || height < 1 || rgba.size() < std::size_t(width) * height * 4) return;
     if (!tex_) {
         glGenTextures(1, &tex_);
@@ -34,9 +35,16 @@ void FilmTexture::upload(const std::vector<std::uint8_t>& rgba, int width, int h
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
         width_ = width;
         height_ = height;
-    } else {
-        // Same size: update in place, no reallocation on every refinement pass.
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    } else if (rect[0] < rect[2] && rect[1] < rect[3]) {
+        // Same size: update what changed in place.
+        int x0 = std::max(rect[0], 0), y0 = std::max(rect[1], 0);
+        int x1 = std::min(rect[2], width), y1 = std::min(rect[3], height);
+        if (x0 < x1 && y0 < y1) {
+            glPixelStorei(GL_UNPACK_ROW_LENGTH, width);
+            glTexSubImage2D(GL_TEXTURE_2D, 0, x0, y0, x1 - x0, y1 - y0, GL_RGBA, GL_UNSIGNED_BYTE,
+                            rgba.data() + 4 * (std::size_t(y0) * width + x0));
+            glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+        }
     }
     if (nearest_ < 0) set_nearest(true);
 }

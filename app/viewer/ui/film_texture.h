@@ -3,6 +3,7 @@
 // and against libOSMesa in the headless one.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -16,8 +17,9 @@ public:
     FilmTexture(const FilmTexture&) = delete;
     FilmTexture& operator=(const FilmTexture&) = delete;
 
-    // RGBA8, top row first (ImGui draws with the texture's v = 0 at the top).
-    void upload(const std::vector<std::uint8_t>& rgba, int width, int height);
+    // RGBA8, top row first (ImGui draws with the texture's v = 0 at the top). When the
+    // texture already has this size, only the rectangle {x0, y0, x1, y1} is sent.
+    void upload(const std::vector<std::uint8_t>& rgba, int width, int height, const std::array<int, 4>& rect);
     // Nearest filtering when shown 1:1, so every screen pixel is exactly one film pixel.
     void set_nearest(bool nearest);
     void release();
