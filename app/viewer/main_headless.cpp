@@ -88,12 +88,15 @@ int main(int argc, char** argv) {
             for (const auto& d : app.document().diagnostics())
                 std::fprintf(stderr, "%s\n", rt::format_diagnostic(name, d).c_str());
             if (opt.orbit != 0) app.orbit_degrees(opt.orbit);
-            auto frame = [&] {
+            // draw = false: the UI's logic runs (it starts and follows the render), but
+            // nothing is rasterised: OSMesa draws on the CPU the workers are using.
+            auto frame = [&](bool draw) {
                 io.DeltaTime = 1.f / 60;
                 ImGui_ImplOpenGL2_NewFrame();
                 ImGui::NewFrame();
                 app.frame();
                 ImGui::Render();
+                if (!draw) return;
                 glViewport(0, 0, W, H);
                 glClearColor(0.10f, 0.10f, 0.11f, 1.f);
                 glClear(GL_COLOR_BUFFER_BIT);
@@ -102,11 +105,11 @@ int main(int argc, char** argv) {
             auto t0 = std::chrono::steady_clock::now();
             // A few frames first: ImGui sizes auto-fitting items on its first frames.
             for (int n = 0;; ++n) {
-                frame();
+                frame(n < 3);
                 if (n >= 3 && app.render_settled()) break;
                 std::this_thread::sleep_for(std::chrono::milliseconds(n < 3 ? 0 : 15));
             }
-            frame();  // the final film, with the status bar saying "done"
+            frame(true);  // the final film, with the status bar saying "done"
             err = rtview::save_framebuffer(opt.screenshot, W, H);
             if (!err.empty()) {
                 std::fprintf(stderr, "raytracer-view-headless: cannot write %s: %s\n", opt.screenshot.c_str(), err.c_str());
