@@ -235,13 +235,22 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
     const World& world = *task.world;
     int w = task.x1 - task.x0, h = task.y1 - task.y0;
     auto cancelled = [&] { return cancel_gen_.load(std::memory_order_relaxed) != task.generation; };
+    // The camera rays of a row, made before any is traced: independent square roots and
+    // divisions overlap, where one at a time each would wait for the last.
+    thread_local std::vector<Vec3> dirs;
+    auto row_directions = [&](int y, int step) {
+        dirs.clear();
+        for (int x = task.x0; x < task.x1; x += step) dirs.push_back(normalize(task.camera.direction(x, y)));
+    };
     if (task.block > 0) {
         // One colour per block, for its corner pixel, blocks in rows.
         int b = task.block;
         buf.resize(std::size_t((w + b - 1) / b) * ((h + b - 1) / b) * 3);
         float* out = buf.data();
         for (int by = task.y0; by < task.y1; by += b) {
-            for (int bx = task.x0; bx < task.x1; bx += b) {
+            row_directions(by, b);
+            const Vec3* dir = dirs.data();
+            for (int bx = task.x0; bx < task.x1; bx += b, ++dir) {
                 if (cancelled()) return false;
                 Colour c;
                 if (task.reuse > 0 && ((bx | by) & (task.reuse - 1)) == 0) {
@@ -249,7 +258,7 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
                     const float* p = &film_.preview[3 * (std::size_t(by) * film_.width + bx)];
                     c = {p[0], p[1], p[2]};
                 } else {
-                    c = world.trace_camera(task.camera, bx, by, stats);
+                    c = world.trace_unit(task.camera.origin, *dir, stats);
                 }
                 *out++ = float(c.x), *out++ = float(c.y), *out++ = float(c.z);
             }
@@ -260,6 +269,7 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
     // Sample pass: continue each pixel's running sum. The sums of this tile are only
     // touched by this task until it commits, so reading them unlocked is safe.
     for (int y = task.y0; y < task.y1; ++y) {
+        if (task.s0 == 0) row_directions(y, 1);
         for (int x = task.x0; x < task.x1; ++x) {
             if (cancelled()) return false;
             std::size_t idx = std::size_t(y) * film_.width + x;
@@ -268,10 +278,18 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
                 acc[0] = film_.sum[3 * idx], acc[1] = film_.sum[3 * idx + 1], acc[2] = film_.sum[3 * idx + 2];
             }
             int s = task.s0;
-            if (s == 0 && task.reuse > 0 && ((x | y) & (task.reuse - 1)) == 0) {
-                // Sample 0 of a coarse block corner is the ray the coarse pass traced.
-                const float* p = &film_.preview[3 * idx];
-                acc[0] += p[0], acc[1] += p[1], acc[2] += p[2];
+            if (s == 0) {
+                Colour c;
+                if (task.reuse > 0 && ((x | y) & (task.reuse - 1)) == 0) {
+                    // Sample 0 of a coarse block corner is the ray the coarse pass traced.
+                    const float* p = &film_.preview[3 * idx];
+                    c = {p[0], p[1], p[2]};
+                } else {
+                    // Sample 0 is the pixel's corner (sample_offset gives 0, 0): the
+                    // direction made for the row.
+                    c = world.trace_unit(task.camera.origin, dirs[std::size_t(x - task.x0)], stats);
+                }
+                acc[0] += float(c.x), acc[1] += float(c.y), acc[2] += float(c.z);
                 ++s;
             }
             accumulate_pixel(world, task.camera, x, y, s, task.s1, acc, stats);

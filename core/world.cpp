@@ -310,9 +310,17 @@ Colour World::shade(const Vec3& o, const Vec3& d, int depth, Ctx& ctx) const {
 }
 
 Colour World::trace(const Vec3& origin, const Vec3& dir, int depth, RayStats& stats) const {
+    return trace_from(origin, normalize(dir), depth, stats);
+}
+
+Colour World::trace_unit(const Vec3& origin, const Vec3& unit_dir, RayStats& stats) const {
+    return trace_from(origin, unit_dir, 0, stats);
+}
+
+Colour World::trace_from(const Vec3& origin, const Vec3& d, int depth, RayStats& stats) const {
     thread_local Ctx ctx;
     ctx.stats = &stats;
-    Colour c = shade(origin, normalize(dir), depth, ctx);
+    Colour c = shade(origin, d, depth, ctx);
     // No NaN ever reaches a pixel.
     if (!std::isfinite(c.x)) c.x = c.x > 0 ? 1e30 : 0;
     if (!std::isfinite(c.y)) c.y = c.y > 0 ? 1e30 : 0;

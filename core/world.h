@@ -71,6 +71,10 @@ public:
     // Colour seen along the original's camera ray through pixel (i, j).
     Colour trace_camera(const CameraBasis& cam, double i, double j, RayStats& stats) const;
     Colour trace(const Vec3& origin, const Vec3& dir, int depth, RayStats& stats) const;
+    // A camera ray whose direction is already normalize(cam.direction(i, j)): the
+    // same colour as trace_camera(cam, i, j), for callers that make many directions
+    // in one go (their square roots and divisions then overlap).
+    Colour trace_unit(const Vec3& origin, const Vec3& unit_dir, RayStats& stats) const;
     // Bounds of all bounded objects (and lamps); empty if there are none.
     Aabb bounds() const;
     std::size_t geometry_bytes() const;
@@ -79,6 +83,7 @@ public:
     struct HitRec;
 
 private:
+    Colour trace_from(const Vec3& origin, const Vec3& unit_dir, int depth, RayStats& stats) const;
     bool nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const;
     Colour shade(const Vec3& o, const Vec3& d, int depth, Ctx& ctx) const;
     Colour direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
