@@ -46,14 +46,16 @@ struct BvhRay {
     __m128 o4[3], inv4[3], pad4;  // the same, each broadcast to four lanes
 #endif
 
-    static BvhRay make(const Vec3& origin, const Vec3& dir) {
+    // The ray along dir / len (len = 1 for a unit dir): its inverse is len / dir, one
+    // division from an unnormalised direction and its length.
+    static BvhRay make(const Vec3& origin, const Vec3& dir, double len = 1.0) {
         BvhRay r;
         // Per axis: a zero component gets a huge finite inverse instead of infinity, so
         // the slab products stay numbers (0 * inf would be NaN). Rounding the origin to
         // float moves the ray by up to |o| * 2^-24 on each axis; widening each slab by
         // that much (in t) keeps the test conservative.
 #if defined(__SSE2__)
-        const __m128d one = _mm_set1_pd(1.0), big = _mm_set1_pd(1e30), nbig = _mm_set1_pd(-1e30);
+        const __m128d one = _mm_set1_pd(len), big = _mm_set1_pd(1e30), nbig = _mm_set1_pd(-1e30);
         const __m128d abs_mask = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
         const __m128d rel = _mm_set1_pd(1.2e-7), tiny = _mm_set1_pd(1e-30);
         __m128d o01 = _mm_loadu_pd(&origin.x), o2 = _mm_load_sd(&origin.z);
@@ -84,7 +86,7 @@ struct BvhRay {
         double pad = 0;
         for (int i = 0; i < 3; ++i) {
             r.o[i] = float(origin[i]);
-            double inv = std::min(std::max(1.0 / dir[i], -1e30), 1e30);
+            double inv = std::min(std::max(len / dir[i], -1e30), 1e30);
             r.inv[i] = float(inv);
             pad = std::max(pad, (std::fabs(origin[i]) * 1.2e-7 + 1e-30) * std::fabs(inv));
             bool neg = std::signbit(dir[i]);
@@ -143,8 +145,13 @@ public:
     // `fn(item, tmax)` returns the new tmax (smaller to prune), or a negative value to stop.
     template <class Fn>
     void traverse(const Vec3& origin, const Vec3& dir, double tmax, Fn&& fn) const {
+        traverse(origin, dir, 1.0, tmax, fn);
+    }
+    // The same along the unit direction dir / len (dir need not be normalised).
+    template <class Fn>
+    void traverse(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn&& fn) const {
         if (nodes.empty()) return;
-        BvhRay r = BvhRay::make(origin, dir);
+        BvhRay r = BvhRay::make(origin, dir, len);
         float ftmax = widen(tmax);
         struct Entry {
             std::uint32_t ref;

@@ -196,7 +196,9 @@ Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) c
         }
         Colour sh{1, 1, 1};
         bool blocked = false;
-        g.bvh.traverse(o, vh, limit, [&](std::uint32_t obj, double tmax) -> double {
+        // (The box test takes v and r: its inverse direction r / v is then one division
+        // after the square root instead of two.)
+        g.bvh.traverse(o, v, r, limit, [&](std::uint32_t obj, double tmax) -> double {
             SpanEnd e;
             if (!g.hit(obj, o, vh, 0.0, e, ctx.scratch) || !(e.t < limit)) return tmax;
             const ShadeMaterial& m = materials[obj];

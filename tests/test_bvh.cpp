@@ -170,7 +170,7 @@ TEST_CASE("bvh: any-hit below a distance, stopping at the first hit, agrees with
 // The float boxes must be conservative: every item whose (double) box the ray crosses
 // within [0, tmax] is visited when fn never prunes. Boxes far from the origin, tiny
 // boxes, flat boxes and rays starting on a box face are the hard cases.
-TEST_CASE("bvh: without pruning every item whose box the ray crosses is visited, and empty boxes never are") {
+TEST_CASE("bvh: without pruning every item whose box the ray crosses is visited (unit or scaled direction), and empty boxes never are") {
     Rng rng(300);
     Failures f;
     for (int scene = 0; scene < 20; ++scene) {
@@ -211,10 +211,18 @@ TEST_CASE("bvh: without pruning every item whose box the ray crosses is visited,
             }
             double tmax = rng.uni() < 0.5 ? HUGE_VAL : rng.uni(0, 3) * scale;
             std::vector<char> seen(boxes.size(), 0);
-            bvh.traverse(o, d, tmax, [&](std::uint32_t item, double t) -> double {
+            // Half the rays are given as an unnormalised direction and its length, as
+            // shadow rays are: the same line, so the same boxes must be visited.
+            auto visit = [&](std::uint32_t item, double t) -> double {
                 seen[item]++;
                 return t;
-            });
+            };
+            if (k % 2) {
+                double len = std::pow(10.0, rng.uni(-3, 3));
+                bvh.traverse(o, d * len, len, tmax, visit);
+            } else {
+                bvh.traverse(o, d, tmax, visit);
+            }
             for (std::size_t i = 0; i < boxes.size(); ++i) {
                 const Aabb& b = boxes[i];
                 if (b.empty()) {
