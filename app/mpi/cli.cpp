@@ -1,34 +1,17 @@
-// The option parser and scene loading of app/raytracer.cpp, repeated for
-// raytracer-mpi (same options, limits and messages) plus --tile. Differences, and why:
-// SCENE and OUT are required, because a batch job under mpirun has nobody to answer a
-// prompt; exit status 3 reports a failed rank.
+// raytracer-mpi's options: those of raytracer (app/cli) plus --tile. SCENE and OUT are
+// required, because a batch job under mpirun has nobody to answer a prompt; exit
+// status 3 reports a failed rank.
 #include "cli.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <algorithm>
-#include <cctype>
-#include <cerrno>
-#include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <fstream>
-#include <iostream>
-
-#include "image_io.h"
-#include "scene_parser.h"
-
-#ifndef RT_VERSION
-#define RT_VERSION "1.0.0"
-#endif
 
 namespace rtmpi {
 
 namespace {
-
-constexpr int kMaxShownDiagnostics = 20;
 
 const char* const kHelp =
     "Usage: mpirun [-np N] raytracer-mpi [OPTIONS] SCENE OUT\n"
@@ -63,168 +46,16 @@ const char* const kHelp =
     "Exit status (of every rank): 0 success, 1 the scene has errors, 2 usage or I/O\n"
     "error, 3 a rank or MPI failed. A failed run leaves OUT untouched.\n";
 
-void usage_hint() { std::cerr << "Try 'raytracer-mpi --help' for more information.\n"; }
-
-// Whole-token integer in [lo, hi]; anything else is a usage error naming the option.
-bool parse_int(const std::string& opt, const std::string& text, long lo, long hi, int& out, std::string& err) {
-    errno = 0;
-    char* end = nullptr;
-    long v = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || errno == ERANGE) {
-        err = opt + " expects a whole number, got '" + text + "'";
-        return false;
-    }
-    if (v < lo || v > hi) {
-        err = opt + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + text;
-        return false;
-    }
-    out = int(v);
-    return true;
-}
-
-bool parse_seconds(const std::string& opt, const std::string& text, double& out, std::string& err) {
-    char* end = nullptr;
-    double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v) || v <= 0 || v > 1e7) {
-        err = opt + " expects a positive number of seconds, got '" + text + "'";
-        return false;
-    }
-    out = v;
-    return true;
-}
+const rtcli::Program kProgram{"raytracer-mpi", kHelp, true};
 
 }  // namespace
 
-int usage_error(const std::string& message) {
-    std::cerr << "raytracer-mpi: " << message << "\n";
-    usage_hint();
-    return kExitUsage;
-}
+int usage_error(const std::string& message) { return rtcli::usage_error(kProgram, message); }
 
-int parse_args(int argc, char** argv, Options& o) {
-    bool only_positional = false;
-    for (int i = 1; i < argc; ++i) {
-        std::string a = argv[i];
-        if (only_positional || a.size() < 2 || a[0] != '-') {
-            o.positional.push_back(a);
-            continue;
-        }
-        if (a == "--") {
-            only_positional = true;
-            continue;
-        }
-        // Accept both `--opt VALUE` and `--opt=VALUE`.
-        std::string name = a, value;
-        bool has_inline_value = false;
-        if (auto eq = a.find('='); a.rfind("--", 0) == 0 && eq != std::string::npos) {
-            name = a.substr(0, eq);
-            value = a.substr(eq + 1);
-            has_inline_value = true;
-        }
-        auto take_value = [&](std::string& v) -> bool {
-            if (has_inline_value) {
-                v = value;
-                return true;
-            }
-            if (i + 1 >= argc) return false;
-            v = argv[++i];
-            return true;
-        };
-        auto flag = [&](bool& f) -> int {
-            if (has_inline_value) return usage_error("option '" + name + "' takes no value");
-            f = true;
-            return -1;
-        };
-        std::string v, err;
-        int n = 0;
-        if (name == "-h" || name == "--help") {
-            std::cout << kHelp;
-            return kExitOk;
-        } else if (name == "--version") {
-            std::cout << "raytracer-mpi " RT_VERSION "\n";
-            return kExitOk;
-        } else if (name == "--mirror") {
-            if (int r = flag(o.mirror); r >= 0) return r;
-        } else if (name == "--quiet") {
-            if (int r = flag(o.quiet); r >= 0) return r;
-        } else if (name == "--stats") {
-            if (int r = flag(o.stats); r >= 0) return r;
-        } else if (name == "--print-scene") {
-            if (int r = flag(o.print_scene); r >= 0) return r;
-        } else if (name == "--width" || name == "--height" || name == "--samples" || name == "--threads" ||
-                   name == "--max-depth" || name == "--tile") {
-            if (!take_value(v)) return usage_error("option '" + name + "' needs a number");
-            long lo = 1, hi = rt::Limits::max_picture_side;
-            if (name == "--samples") hi = 65536;
-            if (name == "--threads") hi = 256;
-            if (name == "--max-depth") hi = 1000;
-            if (name == "--tile") lo = 8, hi = 256;
-            if (!parse_int(name, v, lo, hi, n, err)) return usage_error(err);
-            if (name == "--width") o.width = n;
-            else if (name == "--height") o.height = n;
-            else if (name == "--samples") o.samples = n;
-            else if (name == "--threads") o.threads = n;
-            else if (name == "--tile") o.tile = n;
-            else o.max_depth = n;
-        } else if (name == "--time-limit") {
-            if (!take_value(v)) return usage_error("option '--time-limit' needs a number of seconds");
-            if (!parse_seconds(name, v, o.time_limit, err)) return usage_error(err);
-        } else if (name == "--check") {
-            if (!take_value(v)) return usage_error("option '--check' needs a scene file");
-            o.check = v;
-        } else {
-            return usage_error("unknown option '" + a + "'");
-        }
-    }
-    return -1;
-}
+int parse_args(int argc, char** argv, Options& o) { return rtcli::parse_args(kProgram, argc, argv, o); }
 
 int load_scene(const std::string& path, std::string& text, rt::Scene& scene) {
-    std::string err = rt::read_file(path, text, rt::Limits::max_file_size);
-    if (!err.empty()) {
-        std::cerr << "raytracer-mpi: cannot read '" << path << "': " << err << "\n";
-        return kExitUsage;
-    }
-    rt::ParseOptions popts;
-    popts.max_errors = kMaxShownDiagnostics;
-    rt::ParseResult result = rt::parse_scene(text, popts);
-    int errors = 0, warnings = 0;
-    for (const auto& d : result.diagnostics) {
-        int& shown = d.is_error() ? errors : warnings;
-        if (++shown <= kMaxShownDiagnostics) std::cerr << rt::format_diagnostic(path, d) << "\n";
-    }
-    if (warnings > kMaxShownDiagnostics)
-        std::cerr << path << ": " << warnings - kMaxShownDiagnostics << " more warnings not shown\n";
-    if (!result.ok()) {
-        if (errors >= kMaxShownDiagnostics) std::cerr << path << ": too many errors; stopped reading\n";
-        return kExitScene;
-    }
-    scene = std::move(result.scene);
-    return -1;
-}
-
-std::string extension(const std::string& path) {
-    auto slash = path.find_last_of('/');
-    auto dot = path.find_last_of('.');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-    std::string ext = path.substr(dot);
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
-}
-
-std::string check_output_path(const std::string& out, const std::string& scene_path) {
-    struct stat st;
-    if (stat(out.c_str(), &st) == 0) {
-        if (S_ISDIR(st.st_mode)) return "'" + out + "' is a directory";
-        struct stat ss;
-        if (stat(scene_path.c_str(), &ss) == 0 && ss.st_dev == st.st_dev && ss.st_ino == st.st_ino)
-            return "output '" + out + "' is the scene file itself";
-    }
-    auto slash = out.find_last_of('/');
-    std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : out.substr(0, slash));
-    if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) return "folder '" + dir + "' does not exist";
-    if (access(dir.c_str(), W_OK | X_OK) != 0) return "folder '" + dir + "' is not writable";
-    return "";
+    return rtcli::load_scene(kProgram, path, text, scene);
 }
 
 bool stderr_watched() {
@@ -247,46 +78,6 @@ bool stderr_watched() {
 #else
     return false;
 #endif
-}
-
-std::string count(std::size_t n, const char* noun) {
-    return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
-}
-
-std::string with_commas(std::uint64_t v) {
-    std::string s = std::to_string(v);
-    for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(std::size_t(i), ",");
-    return s;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-void ProgressBar::update(double fraction, double elapsed, const std::string& detail) {
-    if (!enabled_) return;
-    shown_ = std::max(shown_, std::clamp(fraction, 0.0, 1.0));  // never run backwards
-    constexpr int kWidth = 30;
-    int filled = int(shown_ * kWidth);
-    char line[256];
-    int n = std::snprintf(line, sizeof line, "\r[%.*s%*s] %3d%%  %s, %.1f s", filled,
-                          "##############################", kWidth - filled, "", int(shown_ * 100), detail.c_str(),
-                          elapsed);
-    if (n > 0 && std::size_t(n) < sizeof line && shown_ > 0.02 && shown_ < 1) {
-        double eta = elapsed * (1 - shown_) / shown_;
-        std::snprintf(line + n, sizeof line - std::size_t(n), ", ETA %.1f s", eta);
-    }
-    std::fputs(line, stderr);
-    std::fputs("\033[K", stderr);  // erase leftovers of a longer previous line
-    std::fflush(stderr);
-    drawn_ = true;
-}
-
-void ProgressBar::clear() {
-    if (!drawn_) return;
-    std::fputs("\r\033[K", stderr);
-    std::fflush(stderr);
-    drawn_ = false;
 }
 
 }  // namespace rtmpi

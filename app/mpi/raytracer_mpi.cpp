@@ -144,25 +144,12 @@ void wait_polling(MPI_Request& req, MPI_Status* status, const char* what) {
 }
 
 // --- signals (rank 0) ----------------------------------------------------------------
-// Ctrl+C reaches mpirun, which signals the ranks; rank 0 reports and ends the job
-// without writing. SA_RESETHAND: a second signal kills outright.
-volatile sig_atomic_t g_signal = 0;
-extern "C" void on_signal(int sig) { g_signal = sig; }
-
-void install_signal_handlers() {
-    struct sigaction sa;
-    std::memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESTART | SA_RESETHAND;
-    sigaction(SIGINT, &sa, nullptr);
-    sigaction(SIGTERM, &sa, nullptr);
-}
-
+// Ctrl+C reaches mpirun, which signals the ranks; rank 0 (install_signal_handlers, from
+// app/cli) reports and ends the job without writing.
 // Exits without MPI_Abort: the exit status (not 0, no MPI_Finalize) is enough for
 // mpirun to end the rest of the job, and mpirun has usually started doing so already.
 [[noreturn]] void interrupted() {
-    const int sig = g_signal;
+    const int sig = caught_signal();
     if (sig == SIGTERM)
         std::cerr << "raytracer-mpi: terminated (SIGTERM, as mpirun ends a job when a rank fails or the job is "
                      "cancelled); nothing written\n";
@@ -350,7 +337,7 @@ public:
         ProgressBar bar(show_progress);
         auto next_draw = Clock::now();
         for (;;) {
-            if (g_signal) interrupted();
+            if (caught_signal()) interrupted();
             bool busy = collect_local();
             busy |= receive_results();
             busy |= feed_local();
@@ -621,7 +608,7 @@ int run(int argc, char** argv) {
     ss.time_limit = job.time_limit;
     Coordinator coord(ss, *pool);
     coord.run(!f.opt.quiet && stderr_watched());
-    if (g_signal) interrupted();
+    if (caught_signal()) interrupted();
 
     const auto t_write0 = Clock::now();
     if (std::string err = rt::write_image(f.out_path, coord.image()); !err.empty()) {

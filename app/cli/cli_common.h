@@ -1,0 +1,77 @@
+// What the two command-line renderers (raytracer, raytracer-mpi) share: the option
+// parser, scene loading with its diagnostics, the output checks, the progress bar and
+// the signal flag. Each program supplies its name, help text and extra options.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene.h"
+
+namespace rtcli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitScene = 1;  // the scene file has errors
+constexpr int kExitUsage = 2;  // bad arguments, unreadable input, unwritable output
+
+struct Program {
+    const char* name;         // in messages: "NAME: ..."
+    const char* help;         // printed by --help
+    bool tile_option = false;  // accepts --tile N (8..256)
+};
+
+struct Options {
+    std::optional<int> width, height;
+    std::optional<int> samples;
+    int threads = 0;  // 0: all cores
+    int max_depth = 20;
+    int tile = 32;
+    double time_limit = 0;
+    bool mirror = false, quiet = false, stats = false, print_scene = false;
+    std::optional<std::string> check;
+    std::vector<std::string> positional;
+};
+
+// "NAME: MESSAGE" and the --help hint on stderr; returns kExitUsage.
+int usage_error(const Program& program, const std::string& message);
+
+// Returns -1 to continue, else the exit status (for --help, --version and errors).
+int parse_args(const Program& program, int argc, char** argv, Options& o);
+
+// Reads and parses; prints the diagnostics. On success returns -1 and fills the text
+// and the scene; else the exit status.
+int load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene);
+
+// Lowercase extension including the dot, or "".
+std::string extension(const std::string& path);
+// "" or why OUT could not be written (checked before a long render).
+std::string check_output_path(const std::string& out, const std::string& scene_path);
+
+std::string count(std::size_t n, const char* noun);
+std::string with_commas(std::uint64_t v);
+double seconds_since(std::chrono::steady_clock::time_point t0);
+
+// SIGINT and SIGTERM only set a flag (caught_signal() returns it, 0 if none); the main
+// thread polls it, cancels and exits without writing. SA_RESETHAND lets a second
+// signal kill the process outright should cancelling ever hang.
+void install_signal_handlers();
+int caught_signal();
+
+// A one-line progress bar on stderr: "[####   ]  42%  1.3 s, ETA 1.8 s", with
+// `detail` (if any) before the time.
+class ProgressBar {
+public:
+    explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+    void update(double fraction, double elapsed, const std::string& detail = "");
+    void clear();
+
+private:
+    bool enabled_;
+    bool drawn_ = false;
+    double shown_ = 0;
+};
+
+}  // namespace rtcli
