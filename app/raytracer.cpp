@@ -83,17 +83,7 @@ int run(int argc, char** argv) {
     Options opt;
     if (int r = parse_args(kProgram, argc, argv, opt); r >= 0) return r;
 
-    if (opt.check) {
-        if (!opt.positional.empty()) return usage_error("--check takes only the scene file");
-        rt::Scene scene;
-        std::string text;
-        if (int r = load_scene(kProgram, *opt.check, text, scene); r >= 0) return r;
-        if (!opt.quiet)
-            std::cerr << *opt.check << ": ok: " << count(scene.objects.size(), "object") << ", "
-                      << count(scene.planes.size(), "plane") << ", " << count(scene.lights.size(), "light") << ", "
-                      << scene.width << "x" << scene.height << "\n";
-        return kExitOk;
-    }
+    if (opt.check) return check_scene(kProgram, opt);
     if (opt.positional.size() > 2) return usage_error("too many arguments");
     if (opt.print_scene && opt.positional.size() != 1)
         return usage_error("--print-scene takes exactly one scene file and no output");
@@ -114,13 +104,7 @@ int run(int argc, char** argv) {
             return usage_error("no output file given");
         }
         if (out_path.empty()) return usage_error("no output file given");
-        const std::string ext = extension(out_path);
-        if (ext != ".ppm" && ext != ".png")
-            return usage_error("cannot write '" + out_path + "': the output must end in .ppm or .png");
-        if (std::string e = check_output_path(out_path, scene_path); !e.empty()) {
-            std::cerr << "raytracer: cannot write '" << out_path << "': " << e << "\n";
-            return kExitUsage;
-        }
+        if (int r = check_output(kProgram, out_path, scene_path); r >= 0) return r;
     }
 
     // Installed only now: at a prompt, Ctrl+C should just end the program.

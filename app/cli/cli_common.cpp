@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -171,17 +170,22 @@ int load_scene(const Program& program, const std::string& path, std::string& tex
     return -1;
 }
 
-std::string extension(const std::string& path) {
-    auto slash = path.find_last_of('/');
-    auto dot = path.find_last_of('.');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-    std::string ext = path.substr(dot);
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
+int check_scene(const Program& program, const Options& o) {
+    if (!o.positional.empty()) return usage_error(program, "--check takes only the scene file");
+    rt::Scene scene;
+    std::string text;
+    if (int r = load_scene(program, *o.check, text, scene); r >= 0) return r;
+    if (!o.quiet)
+        std::cerr << *o.check << ": ok: " << count(scene.objects.size(), "object") << ", "
+                  << count(scene.planes.size(), "plane") << ", " << count(scene.lights.size(), "light") << ", "
+                  << scene.width << "x" << scene.height << "\n";
+    return kExitOk;
 }
 
-// Fails early (before a long render) on an output the final rename could not produce.
-std::string check_output_path(const std::string& out, const std::string& scene_path) {
+namespace {
+
+// "" or why OUT could not be written by the final rename.
+std::string output_problem(const std::string& out, const std::string& scene_path) {
     struct stat st;
     if (stat(out.c_str(), &st) == 0) {
         if (S_ISDIR(st.st_mode)) return "'" + out + "' is a directory";
@@ -194,6 +198,18 @@ std::string check_output_path(const std::string& out, const std::string& scene_p
     if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) return "folder '" + dir + "' does not exist";
     if (access(dir.c_str(), W_OK | X_OK) != 0) return "folder '" + dir + "' is not writable";
     return "";
+}
+
+}  // namespace
+
+int check_output(const Program& program, const std::string& out, const std::string& scene_path) {
+    if (rt::format_from_path(out) == rt::ImageFormat::Unknown)
+        return usage_error(program, "cannot write '" + out + "': the output must end in .ppm or .png");
+    if (std::string e = output_problem(out, scene_path); !e.empty()) {
+        std::cerr << program.name << ": cannot write '" << out << "': " << e << "\n";
+        return kExitUsage;
+    }
+    return -1;
 }
 
 std::string count(std::size_t n, const char* noun) {

@@ -45,10 +45,13 @@ int parse_args(const Program& program, int argc, char** argv, Options& o);
 // and the scene; else the exit status.
 int load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene);
 
-// Lowercase extension including the dot, or "".
-std::string extension(const std::string& path);
-// "" or why OUT could not be written (checked before a long render).
-std::string check_output_path(const std::string& out, const std::string& scene_path);
+// --check: parses o.check and reports errors and warnings, or a one-line summary
+// (unless --quiet). Returns the exit status.
+int check_scene(const Program& program, const Options& o);
+
+// Before a long render: -1 if OUT can be written as a picture (a .ppm or .png name in
+// a writable folder, not the scene file itself); else says why and returns kExitUsage.
+int check_output(const Program& program, const std::string& out, const std::string& scene_path);
 
 std::string count(std::size_t n, const char* noun);
 std::string with_commas(std::uint64_t v);

@@ -54,6 +54,12 @@ int usage_error(const std::string& message) { return rtcli::usage_error(kProgram
 
 int parse_args(int argc, char** argv, Options& o) { return rtcli::parse_args(kProgram, argc, argv, o); }
 
+int check_scene(const Options& o) { return rtcli::check_scene(kProgram, o); }
+
+int check_output(const std::string& out, const std::string& scene_path) {
+    return rtcli::check_output(kProgram, out, scene_path);
+}
+
 int load_scene(const std::string& path, std::string& text, rt::Scene& scene) {
     return rtcli::load_scene(kProgram, path, text, scene);
 }

@@ -16,9 +16,7 @@ using rtcli::kExitUsage;
 constexpr int kExitMpi = 3;  // a rank or the MPI runtime failed; nothing written
 
 using rtcli::caught_signal;
-using rtcli::check_output_path;
 using rtcli::count;
-using rtcli::extension;
 using rtcli::install_signal_handlers;
 using rtcli::Options;
 using rtcli::ProgressBar;
@@ -30,6 +28,11 @@ int usage_error(const std::string& message);
 
 // Returns -1 to continue, else the exit status (for --help, --version and errors).
 int parse_args(int argc, char** argv, Options& o);
+
+// --check (see rtcli::check_scene).
+int check_scene(const Options& o);
+// -1 if OUT can be written, else why on stderr and kExitUsage (rtcli::check_output).
+int check_output(const std::string& out, const std::string& scene_path);
 
 // Reads and parses; prints the diagnostics (once: only rank 0 calls this). On success
 // returns -1 and fills both the text (which is what gets broadcast) and the scene.

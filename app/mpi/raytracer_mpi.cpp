@@ -174,15 +174,7 @@ struct Front {
 int front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
     Options& opt = f.opt;
     if (int r = parse_args(argc, argv, opt); r >= 0) return r;
-    if (opt.check) {
-        if (!opt.positional.empty()) return usage_error("--check takes only the scene file");
-        if (int r = load_scene(*opt.check, f.text, scene); r >= 0) return r;
-        if (!opt.quiet)
-            std::cerr << *opt.check << ": ok: " << count(scene.objects.size(), "object") << ", "
-                      << count(scene.planes.size(), "plane") << ", " << count(scene.lights.size(), "light") << ", "
-                      << scene.width << "x" << scene.height << "\n";
-        return kExitOk;
-    }
+    if (opt.check) return check_scene(opt);
     if (opt.positional.size() > 2) return usage_error("too many arguments");
     if (opt.print_scene && opt.positional.size() != 1)
         return usage_error("--print-scene takes exactly one scene file and no output");
@@ -191,13 +183,7 @@ int front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
     if (!opt.print_scene) {
         if (opt.positional.size() < 2 || opt.positional[1].empty()) return usage_error("no output file given");
         f.out_path = opt.positional[1];
-        const std::string ext = extension(f.out_path);
-        if (ext != ".ppm" && ext != ".png")
-            return usage_error("cannot write '" + f.out_path + "': the output must end in .ppm or .png");
-        if (std::string e = check_output_path(f.out_path, f.scene_path); !e.empty()) {
-            std::cerr << "raytracer-mpi: cannot write '" << f.out_path << "': " << e << "\n";
-            return kExitUsage;
-        }
+        if (int r = check_output(f.out_path, f.scene_path); r >= 0) return r;
     }
     install_signal_handlers();
     f.t_start = Clock::now();
