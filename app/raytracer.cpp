@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli_common.h"
+#include "diagnostic_text.h"
 #include "image_io.h"
 #include "renderer.h"
 #include "scene.h"
@@ -58,8 +59,8 @@ const Program kProgram{"raytracer", kHelp};
 
 int usage_error(const std::string& message) { return rtcli::usage_error(kProgram, message); }
 
-// The main thread polls the signal flag between waits, cancels the render and exits
-// without writing.
+// A signal that came while the output was being written (the signal handler ends
+// the process itself in every other phase).
 int interrupted_exit() {
     const int sig = caught_signal();
     std::cerr << "raytracer: interrupted (" << (sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal")
@@ -108,7 +109,7 @@ int run(int argc, char** argv) {
     }
 
     // Installed only now: at a prompt, Ctrl+C should just end the program.
-    install_signal_handlers();
+    install_signal_handlers(kProgram);
 
     const auto t_start = Clock::now();
     rt::Scene scene;
@@ -124,10 +125,8 @@ int run(int argc, char** argv) {
         // object gets when it has no material block (translusans 0).
         for (rt::Object& o : scene.objects) o.has_material = true;
         for (rt::Plane& p : scene.planes) p.has_material = p.has_material2 = true;
-        std::cout << rt::write_scene(scene) << std::flush;
-        return std::cout ? kExitOk : kExitUsage;
+        return print_to_stdout(kProgram, rt::write_scene(scene));
     }
-    if (caught_signal()) return interrupted_exit();
 
     const auto t_compile0 = Clock::now();
     std::shared_ptr<const rt::World> world = rt::compile_world(scene);
@@ -137,7 +136,6 @@ int run(int argc, char** argv) {
         world = std::move(changed);
     }
     const double t_compile = seconds_since(t_compile0);
-    if (caught_signal()) return interrupted_exit();
 
     rt::RenderSettings settings;
     settings.width = scene.width;
@@ -155,19 +153,14 @@ int run(int argc, char** argv) {
     rt::Renderer renderer(opt.threads);
     ProgressBar bar(!opt.quiet && isatty(STDERR_FILENO));
     renderer.start(world, settings);
+    // SIGINT and SIGTERM end the process from the signal handler, in this phase too.
     while (!renderer.wait_for(0.1)) {
-        if (caught_signal()) {
-            renderer.cancel();
-            bar.clear();
-            return interrupted_exit();
-        }
         rt::RenderProgress p = renderer.progress();
         double fraction = (p.samples + p.pass_fraction * (settings.max_samples - p.samples)) / settings.max_samples;
         if (opt.time_limit > 0) fraction = std::max(fraction, p.elapsed / opt.time_limit);
         bar.update(fraction, p.elapsed);
     }
     bar.clear();
-    if (caught_signal()) return interrupted_exit();
     const rt::RenderProgress progress = renderer.progress();
     rt::ZeroedArray<std::uint8_t> pixels;
     int width = 0, height = 0;
@@ -181,8 +174,15 @@ int run(int argc, char** argv) {
 
     const auto t_write0 = Clock::now();
     if (std::string err = rt::write_rgb8(out_path, width, height, pixels.data(), pixels.size()); !err.empty()) {
-        std::cerr << "raytracer: cannot write '" << out_path << "': " << err << "\n";
+        if (caught_signal()) return interrupted_exit();  // the temporary file is gone
+        std::cerr << "raytracer: cannot write '" << rt::escape_text(out_path) << "': " << err << "\n";
         return kExitUsage;
+    }
+    if (const int sig = caught_signal()) {
+        // Too late to stop: the complete new picture is already in place.
+        std::cerr << "raytracer: interrupted (" << (sig == SIGINT ? "SIGINT" : "SIGTERM")
+                  << ") just after the picture was written\n";
+        return 128 + sig;
     }
     const double t_write = seconds_since(t_write0);
 

@@ -8,6 +8,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <climits>
@@ -19,6 +21,12 @@
 
 namespace rt {
 namespace {
+
+// Set by interrupt_writes() (from a signal handler); g_pending counts the temporary
+// files that exist. Lock-free atomics, so both are safe to touch in a handler.
+std::atomic<bool> g_interrupted{false};
+std::atomic<int> g_pending{0};
+constexpr int kInterrupted = -1;  // an "errno" for an interrupted write
 
 std::string errno_text(int err) { return std::strerror(err); }
 
@@ -60,14 +68,22 @@ mode_t current_umask() {
     return 022;  // the usual default, if /proc is unavailable
 }
 
-// Targets that are not regular files (a terminal, a pipe, /dev/null) cannot be
-// replaced by a rename and have no contents to protect: write straight into them.
-int write_parts(int fd, std::initializer_list<std::string_view> parts) {
-    for (std::string_view part : parts)
-        if (int err = write_all(fd, part.data(), part.size())) return err;
-    return 0;
+// An interruptible write checks for interrupt_writes() between pieces of a few MiB,
+// so that a signal stops even a picture of hundreds of MiB within a fraction of a second.
+int write_parts(int fd, std::initializer_list<std::string_view> parts, bool interruptible = false) {
+    constexpr std::size_t kPiece = std::size_t(4) << 20;
+    for (std::string_view part : parts) {
+        for (std::size_t at = 0; at < part.size(); at += kPiece) {
+            if (interruptible && g_interrupted.load()) return kInterrupted;
+            const std::size_t n = std::min(kPiece, part.size() - at);
+            if (int err = write_all(fd, part.data() + at, n)) return err;
+        }
+    }
+    return interruptible && g_interrupted.load() ? kInterrupted : 0;
 }
 
+// Targets that are not regular files (a terminal, a pipe, /dev/null) cannot be
+// replaced by a rename and have no contents to protect: write straight into them.
 std::string write_in_place(const std::string& path, std::initializer_list<std::string_view> parts) {
     const int fd = ::open(path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
     if (fd < 0) return errno_text(errno);
@@ -103,6 +119,115 @@ bool ppm_number(const std::string& s, std::size_t& i, long& value) {
     return true;
 }
 
+
+// What a write to a path really writes to: symbolic links followed to their end.
+struct Target {
+    std::string path;  // the final target (may not exist yet)
+    std::string dir;   // its folder, with the trailing '/', or "" for the current one
+    std::string name;
+    bool exists = false;
+    struct stat st {};
+};
+
+// Follows `path` through symbolic links, as open() would, but also through a
+// dangling one (whose target is then created, as the shell's `>` does). 0 or errno.
+int resolve_target(const std::string& path, Target& t) {
+    std::string p = path;
+    for (int hops = 0;; ++hops) {
+        struct stat st;
+        if (::lstat(p.c_str(), &st) != 0) {
+            if (errno != ENOENT) return errno;
+            t.exists = false;
+            break;
+        }
+        if (!S_ISLNK(st.st_mode)) {
+            t.exists = true;
+            t.st = st;
+            break;
+        }
+        if (hops >= 40) return ELOOP;  // the kernel's own limit
+        std::string link(PATH_MAX, '\0');
+        const ssize_t n = ::readlink(p.c_str(), link.data(), link.size());
+        if (n < 0) return errno;
+        if (std::size_t(n) >= link.size()) return ENAMETOOLONG;
+        link.resize(std::size_t(n));
+        const std::size_t slash = p.find_last_of('/');
+        p = link[0] == '/' || slash == std::string::npos ? link : p.substr(0, slash + 1) + link;
+        if (p.size() >= PATH_MAX) return ENAMETOOLONG;
+    }
+    const std::size_t slash = p.find_last_of('/');
+    t.dir = slash == std::string::npos ? std::string() : p.substr(0, slash + 1);
+    t.name = slash == std::string::npos ? p : p.substr(slash + 1);
+    t.path = std::move(p);
+    if (t.name.empty()) return EISDIR;  // "folder/"
+    return 0;
+}
+
+// Why an existing regular file may not be replaced (see check_writable), or 0.
+int replace_problem(const Target& t) {
+    if (!t.exists) return 0;
+    const uid_t me = ::geteuid();
+    if (me == 0) return 0;
+    // A read-only file stays: replacing it by a rename would silently defeat that.
+    if (::faccessat(AT_FDCWD, t.path.c_str(), W_OK, AT_EACCESS) != 0) return errno;
+    // The rename would fail at the end (sticky folder, someone else's file); say so now.
+    struct stat ds;
+    if (::stat(t.dir.empty() ? "." : t.dir.c_str(), &ds) == 0 && (ds.st_mode & S_ISVTX) && t.st.st_uid != me &&
+        ds.st_uid != me)
+        return EPERM;
+    return 0;
+}
+
+// Best effort: the new file gets the old one's owner and group (root can give any;
+// others only a group they belong to). A failure leaves them ours, as for a new file.
+void keep_owner(int fd, const struct stat& old) {
+    struct stat now;
+    if (::fstat(fd, &now) != 0) return;
+    if (now.st_uid != old.st_uid || now.st_gid != old.st_gid) {
+        if (::fchown(fd, old.st_uid, old.st_gid) != 0 && now.st_gid != old.st_gid) {
+            [[maybe_unused]] int ignored = ::fchown(fd, uid_t(-1), old.st_gid);
+        }
+    }
+}
+
+// The temporary file next to the target: ".NAME.XXXXXX", with NAME shortened so that
+// the whole stays within NAME_MAX (a target name of 248..255 bytes is legal). Removed
+// by the destructor unless renamed; counted in g_pending while it exists.
+struct TempFile {
+    std::string name;
+    int fd = -1;
+    int err = 0;
+
+    explicit TempFile(const Target& t) {
+        g_pending.fetch_add(1);  // before the interrupt check (see interrupt_writes)
+        if (g_interrupted.load()) {
+            err = kInterrupted;
+            return;
+        }
+        constexpr std::size_t kSuffix = 8;  // "." in front, ".XXXXXX" behind
+        name = t.dir + "." + t.name.substr(0, std::min(t.name.size(), std::size_t(NAME_MAX) - kSuffix)) + ".XXXXXX";
+        fd = ::mkostemp(name.data(), O_CLOEXEC);
+        if (fd < 0) err = errno;
+    }
+    ~TempFile() {
+        if (fd >= 0) ::close(fd);
+        if (!name_gone_) ::unlink(name.c_str());
+        g_pending.fetch_sub(1);
+    }
+    TempFile(const TempFile&) = delete;
+    TempFile& operator=(const TempFile&) = delete;
+
+    std::string error() const { return err == kInterrupted ? std::string("interrupted") : errno_text(err); }
+    int close() {
+        const int r = ::close(fd);
+        fd = -1;
+        return r != 0 ? errno : 0;
+    }
+    void renamed() { name_gone_ = true; }
+
+private:
+    bool name_gone_ = false;
+};
 }  // namespace
 
 ImageFormat format_from_path(const std::string& path) {
@@ -153,52 +278,60 @@ std::string write_file_atomic(const std::string& path, const std::string& data) 
 
 std::string write_file_atomic(const std::string& path_in, std::initializer_list<std::string_view> parts) {
     if (path_in.empty()) return "no file name given";
-    // Replace what a symbolic link points to, not the link itself.
-    std::string path = path_in;
-    struct stat st;
-    if (::lstat(path.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
-        if (char* real = ::realpath(path.c_str(), nullptr)) {
-            path = real;
-            std::free(real);
-        }
-    }
-    const bool exists = ::stat(path.c_str(), &st) == 0;
-    if (exists && S_ISDIR(st.st_mode)) return errno_text(EISDIR);
-    if (exists && !S_ISREG(st.st_mode)) return write_in_place(path, parts);
+    Target t;
+    if (int err = resolve_target(path_in, t)) return errno_text(err);
+    if (t.exists && S_ISDIR(t.st.st_mode)) return errno_text(EISDIR);
+    if (t.exists && !S_ISREG(t.st.st_mode)) return write_in_place(t.path, parts);
+    if (int err = replace_problem(t)) return errno_text(err);
 
-    // The temporary file must be in the target's folder: rename() is atomic only
-    // within one file system.
-    const std::size_t slash = path.find_last_of('/');
-    const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-    const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-    std::string tmp = dir + "." + name + ".XXXXXX";
-    const int fd = ::mkostemp(tmp.data(), O_CLOEXEC);
-    if (fd < 0) return errno_text(errno);
-
+    TempFile tmp(t);
+    if (tmp.fd < 0) return tmp.error();
     // mkstemp makes the file 0600; give it the mode the file has now, or the mode
     // a newly created file would get.
-    const mode_t mode = exists ? (st.st_mode & 07777) : (0666 & ~current_umask());
+    const mode_t mode = t.exists ? (t.st.st_mode & 07777) : (0666 & ~current_umask());
+    if (t.exists) keep_owner(tmp.fd, t.st);
     int err = 0;
-    if (::fchmod(fd, mode) != 0) err = errno;
-    if (!err) err = write_parts(fd, parts);
+    if (::fchmod(tmp.fd, mode) != 0) err = errno;
+    if (!err) err = write_parts(tmp.fd, parts, true);
     // Without fsync a crash soon after the rename can leave an empty file under the
     // target's name; fsync is also where some file systems first report a full disk.
-    if (!err && ::fsync(fd) != 0) err = errno;
-    if (::close(fd) != 0 && !err) err = errno;
-    if (!err && ::rename(tmp.c_str(), path.c_str()) != 0) err = errno;
-    if (err) {
-        ::unlink(tmp.c_str());
-        return errno_text(err);
-    }
+    if (!err && ::fsync(tmp.fd) != 0) err = errno;
+    if (!err) err = tmp.close();
+    if (!err && g_interrupted.load()) err = kInterrupted;
+    if (!err && ::rename(tmp.name.c_str(), t.path.c_str()) != 0) err = errno;
+    if (err) return err == kInterrupted ? std::string("interrupted") : errno_text(err);
+    tmp.renamed();
     // Make the rename itself durable; the new file is already in place, so a
     // failure here is not worth reporting.
-    const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    const int dfd = ::open(t.dir.empty() ? "." : t.dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dfd >= 0) {
         ::fsync(dfd);
         ::close(dfd);
     }
     return {};
 }
+
+std::string check_writable(const std::string& path) {
+    if (path.empty()) return "no file name given";
+    Target t;
+    if (int err = resolve_target(path, t)) return errno_text(err);
+    if (t.exists && S_ISDIR(t.st.st_mode)) return errno_text(EISDIR);
+    if (t.exists && !S_ISREG(t.st.st_mode)) {
+        // Not opened: a FIFO would block until somebody reads it.
+        return ::faccessat(AT_FDCWD, t.path.c_str(), W_OK, AT_EACCESS) == 0 ? std::string() : errno_text(errno);
+    }
+    if (int err = replace_problem(t)) return errno_text(err);
+    TempFile probe(t);
+    if (probe.fd < 0) return probe.error();
+    return {};  // the probe's destructor removes it
+}
+
+bool interrupt_writes() {
+    g_interrupted.store(true);
+    return g_pending.load() > 0;
+}
+
+void reset_write_interrupt() { g_interrupted.store(false); }
 
 std::string read_file(const std::string& path, std::string& out, std::size_t max_bytes) {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);

@@ -1,6 +1,7 @@
 // Image and text output. Every write goes to a temporary file in the same folder,
 // is flushed and synced, then renamed over the target: a failed or interrupted write
-// leaves any existing file untouched and no temporary file behind.
+// leaves any existing file untouched and no temporary file behind. The rules for
+// links, read-only files and other users' files are those of check_writable().
 #pragma once
 
 #include <cstdint>
@@ -26,6 +27,26 @@ std::string write_rgb8(const std::string& path, int width, int height, const std
 std::string write_file_atomic(const std::string& path, const std::string& data);
 // The same for data in several pieces, written one after the other.
 std::string write_file_atomic(const std::string& path, std::initializer_list<std::string_view> parts);
+// "" if write_file_atomic(path, ...) can be expected to succeed, else the system's
+// reason (checked before a long render, so that it fails at once). The rules, the
+// same for both: a symbolic link is followed to its end (a dangling link creates its
+// target; a loop fails with ELOOP); a folder is refused (EISDIR); a file we may not
+// write to (a read-only OUT) is refused with EACCES, as the shell's `>` does, except
+// for root, who may replace any file; a replaced file keeps its mode, and its owner
+// and group as far as the system allows (root keeps another user's file theirs); a
+// file in a sticky folder (/tmp) that belongs to someone else is refused (EPERM);
+// devices and FIFOs are written in place. The folder must accept a new file: this
+// creates and removes a temporary file there.
+std::string check_writable(const std::string& path);
+
+// For signal handlers (both async-signal-safe). interrupt_writes() makes every write
+// in progress, and every later one, stop, remove its temporary file and fail with
+// "interrupted"; it returns true if a temporary file exists right now, in which case
+// the process must let the write clean up rather than end at once.
+bool interrupt_writes();
+// Undoes interrupt_writes() (for tests).
+void reset_write_interrupt();
+
 // Reads a whole file; empty message on success. Refuses files over max_bytes.
 std::string read_file(const std::string& path, std::string& out, std::size_t max_bytes);
 

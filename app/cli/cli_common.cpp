@@ -13,6 +13,7 @@
 #include <cstring>
 #include <iostream>
 
+#include "diagnostic_text.h"
 #include "image_io.h"
 #include "scene_parser.h"
 
@@ -26,17 +27,47 @@ namespace {
 
 constexpr int kMaxShownDiagnostics = 20;
 
+// Numbers on the command line are whole decimal tokens, as in scene files: no
+// leading or trailing spaces, no hex, no "inf" or "nan" (strtol and strtod would
+// accept " 12", "0x10" and "0x1p3").
+bool is_integer_token(const std::string& s) {
+    std::size_t i = s.size() > 1 && (s[0] == '+' || s[0] == '-') ? 1 : 0;
+    if (i == s.size()) return false;
+    for (; i < s.size(); ++i)
+        if (s[i] < '0' || s[i] > '9') return false;
+    return true;
+}
+
+bool is_decimal_token(const std::string& s) {
+    std::size_t i = 0, n = s.size();
+    auto digits = [&] {
+        std::size_t k = 0;
+        while (i < n && s[i] >= '0' && s[i] <= '9') ++i, ++k;
+        return k;
+    };
+    if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
+    std::size_t mantissa = digits();
+    if (i < n && s[i] == '.') ++i, mantissa += digits();
+    if (mantissa == 0) return false;
+    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
+        ++i;
+        if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
+        if (digits() == 0) return false;
+    }
+    return i == n;
+}
+
 // Whole-token integer in [lo, hi]; anything else is a usage error naming the option.
 bool parse_int(const std::string& opt, const std::string& text, long lo, long hi, int& out, std::string& err) {
-    errno = 0;
-    char* end = nullptr;
-    long v = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || errno == ERANGE) {
-        err = opt + " expects a whole number, got '" + text + "'";
+    const std::string shown = rt::escape_text(text);
+    if (!is_integer_token(text)) {
+        err = opt + " expects a whole decimal number, got '" + shown + "'";
         return false;
     }
-    if (v < lo || v > hi) {
-        err = opt + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + text;
+    errno = 0;
+    long v = std::strtol(text.c_str(), nullptr, 10);
+    if (errno == ERANGE || v < lo || v > hi) {
+        err = opt + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + shown;
         return false;
     }
     out = int(v);
@@ -44,10 +75,14 @@ bool parse_int(const std::string& opt, const std::string& text, long lo, long hi
 }
 
 bool parse_seconds(const std::string& opt, const std::string& text, double& out, std::string& err) {
-    char* end = nullptr;
-    double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v) || v <= 0 || v > 1e7) {
-        err = opt + " expects a positive number of seconds, got '" + text + "'";
+    const std::string shown = rt::escape_text(text);
+    if (!is_decimal_token(text)) {
+        err = opt + " expects a decimal number of seconds such as 2 or 0.5, got '" + shown + "'";
+        return false;
+    }
+    double v = std::strtod(text.c_str(), nullptr);
+    if (!std::isfinite(v) || v <= 0 || v > 1e7) {
+        err = opt + " must be more than 0 and at most 10000000 seconds, got " + shown;
         return false;
     }
     out = v;
@@ -55,8 +90,39 @@ bool parse_seconds(const std::string& opt, const std::string& text, double& out,
 }
 
 volatile sig_atomic_t g_signal = 0;
+volatile sig_atomic_t g_bar_drawn = 0;  // a progress line to erase before a message
+const char* g_program_name = "raytracer";
 
-extern "C" void on_signal(int sig) { g_signal = sig; }
+void append(char* buf, std::size_t size, std::size_t& len, const char* text) {
+    while (*text && len + 1 < size) buf[len++] = *text++;
+    buf[len] = '\0';
+}
+
+// Only async-signal-safe calls. With no temporary file in existence, nothing needs
+// cleaning up whatever the main thread is doing (blocked opening a FIFO, parsing,
+// building, rendering, encoding): the process ends here, at once, without writing.
+// During the atomic write the flag stops it instead: it removes its temporary file
+// and the main thread exits. Neither SA_RESTART (a blocking open() must not swallow
+// the signal) nor SA_RESETHAND (a second signal during the write must not kill the
+// process before the temporary file is gone).
+extern "C" void on_signal(int sig) {
+    const int saved_errno = errno;
+    g_signal = sig;
+    if (rt::interrupt_writes()) {
+        errno = saved_errno;
+        return;
+    }
+    char msg[256];
+    std::size_t len = 0;
+    msg[0] = '\0';
+    if (g_bar_drawn) append(msg, sizeof msg, len, "\r\033[K");
+    append(msg, sizeof msg, len, g_program_name);
+    append(msg, sizeof msg, len, sig == SIGINT ? ": interrupted (SIGINT)" : sig == SIGTERM ? ": interrupted (SIGTERM)"
+                                                                                         : ": interrupted (signal)");
+    append(msg, sizeof msg, len, "; nothing written\n");
+    [[maybe_unused]] ssize_t ignored = ::write(STDERR_FILENO, msg, len);
+    _exit(128 + sig);
+}
 
 }  // namespace
 
@@ -147,25 +213,24 @@ int parse_args(const Program& program, int argc, char** argv, Options& o) {
 }
 
 int load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene) {
+    const std::string shown = rt::escape_text(path);
     std::string err = rt::read_file(path, text, rt::Limits::max_file_size);
     if (!err.empty()) {
-        std::cerr << program.name << ": cannot read '" << path << "': " << err << "\n";
+        std::cerr << program.name << ": cannot read '" << shown << "': " << err << "\n";
         return kExitUsage;
+    }
+    if (std::string problem = rt::encoding_problem(text); !problem.empty()) {
+        std::cerr << shown << ":1:1: error: " << problem << "\n";
+        return kExitScene;
     }
     rt::ParseOptions popts;
     popts.max_errors = kMaxShownDiagnostics;
     rt::ParseResult result = rt::parse_scene(text, popts);
-    int errors = 0, warnings = 0;
-    for (const auto& d : result.diagnostics) {
-        int& shown = d.is_error() ? errors : warnings;
-        if (++shown <= kMaxShownDiagnostics) std::cerr << rt::format_diagnostic(path, d) << "\n";
-    }
-    if (warnings > kMaxShownDiagnostics)
-        std::cerr << path << ": " << warnings - kMaxShownDiagnostics << " more warnings not shown\n";
-    if (!result.ok()) {
-        if (errors >= kMaxShownDiagnostics) std::cerr << path << ": too many errors; stopped reading\n";
-        return kExitScene;
-    }
+    int errors = 0;
+    for (const auto& d : result.diagnostics) errors += d.is_error();
+    std::cerr << rt::diagnostics_report(path, result.diagnostics, kMaxShownDiagnostics,
+                                        errors >= kMaxShownDiagnostics);
+    if (!result.ok()) return kExitScene;
     scene = std::move(result.scene);
     return -1;
 }
@@ -176,7 +241,7 @@ int check_scene(const Program& program, const Options& o) {
     std::string text;
     if (int r = load_scene(program, *o.check, text, scene); r >= 0) return r;
     if (!o.quiet)
-        std::cerr << *o.check << ": ok: " << count(scene.objects.size(), "object") << ", "
+        std::cerr << rt::escape_text(*o.check) << ": ok: " << count(scene.objects.size(), "object") << ", "
                   << count(scene.planes.size(), "plane") << ", " << count(scene.lights.size(), "light") << ", "
                   << scene.width << "x" << scene.height << "\n";
     return kExitOk;
@@ -184,32 +249,52 @@ int check_scene(const Program& program, const Options& o) {
 
 namespace {
 
-// "" or why OUT could not be written by the final rename.
+// "" or why OUT cannot be written: the rules of rt::check_writable, in the words of
+// the system's error, with the folder named when it is the folder that is missing or
+// closed to us.
 std::string output_problem(const std::string& out, const std::string& scene_path) {
-    struct stat st;
-    if (stat(out.c_str(), &st) == 0) {
-        if (S_ISDIR(st.st_mode)) return "'" + out + "' is a directory";
-        struct stat ss;
-        if (stat(scene_path.c_str(), &ss) == 0 && ss.st_dev == st.st_dev && ss.st_ino == st.st_ino)
-            return "output '" + out + "' is the scene file itself";
-    }
-    auto slash = out.find_last_of('/');
-    std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : out.substr(0, slash));
-    if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) return "folder '" + dir + "' does not exist";
-    if (access(dir.c_str(), W_OK | X_OK) != 0) return "folder '" + dir + "' is not writable";
-    return "";
+    struct stat st, ss;
+    if (stat(out.c_str(), &st) == 0 && stat(scene_path.c_str(), &ss) == 0 && ss.st_dev == st.st_dev &&
+        ss.st_ino == st.st_ino)
+        return "it is the scene file itself";
+    const std::string err = rt::check_writable(out);
+    if (err.empty()) return err;
+    const auto slash = out.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : out.substr(0, slash));
+    const int dir_errno = stat(dir.c_str(), &st) != 0 ? errno : !S_ISDIR(st.st_mode) ? ENOTDIR : 0;
+    const std::string shown = rt::escape_text(dir);
+    if (dir_errno == ENOENT) return "folder '" + shown + "' does not exist (" + err + ")";
+    if (dir_errno == ENOTDIR) return "'" + shown + "' is not a folder (" + err + ")";
+    if (dir_errno == 0 && err == std::strerror(EACCES) && access(dir.c_str(), W_OK | X_OK) != 0)
+        return "folder '" + shown + "' is not writable (" + err + ")";
+    if (err == std::strerror(EACCES) && lstat(out.c_str(), &st) == 0)
+        return "the file is read-only (" + err + "); it is not replaced";
+    if (err == std::strerror(EPERM))
+        return "another user's file in a sticky folder cannot be replaced (" + err + ")";
+    return err;
 }
 
 }  // namespace
 
 int check_output(const Program& program, const std::string& out, const std::string& scene_path) {
     if (rt::format_from_path(out) == rt::ImageFormat::Unknown)
-        return usage_error(program, "cannot write '" + out + "': the output must end in .ppm or .png");
+        return usage_error(program, "cannot write '" + rt::escape_text(out) + "': the output must end in .ppm or .png");
     if (std::string e = output_problem(out, scene_path); !e.empty()) {
-        std::cerr << program.name << ": cannot write '" << out << "': " << e << "\n";
+        std::cerr << program.name << ": cannot write '" << rt::escape_text(out) << "': " << e << "\n";
         return kExitUsage;
     }
     return -1;
+}
+
+int print_to_stdout(const Program& program, const std::string& text) {
+    // stdio rather than std::cout: errno then says why (a full disk, a closed stdout).
+    errno = 0;
+    const bool ok = std::fwrite(text.data(), 1, text.size(), stdout) == text.size() && std::fflush(stdout) == 0;
+    if (ok) return kExitOk;
+    const int err = errno;
+    std::cerr << program.name << ": cannot write to standard output: "
+              << (err ? std::strerror(err) : "write error") << "\n";
+    return kExitUsage;
 }
 
 std::string count(std::size_t n, const char* noun) {
@@ -226,12 +311,15 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void install_signal_handlers() {
+void install_signal_handlers(const Program& program) {
+    g_program_name = program.name;
     struct sigaction sa;
     std::memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESTART | SA_RESETHAND;
+    sigaddset(&sa.sa_mask, SIGINT);  // one handler at a time
+    sigaddset(&sa.sa_mask, SIGTERM);
+    sa.sa_flags = 0;
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
 }
@@ -259,6 +347,7 @@ void ProgressBar::update(double fraction, double elapsed, const std::string& det
     std::fputs("\033[K", stderr);  // erase leftovers of a longer previous line
     std::fflush(stderr);
     drawn_ = true;
+    g_bar_drawn = 1;
 }
 
 void ProgressBar::clear() {
@@ -266,6 +355,7 @@ void ProgressBar::clear() {
     std::fputs("\r\033[K", stderr);
     std::fflush(stderr);
     drawn_ = false;
+    g_bar_drawn = 0;
 }
 
 }  // namespace rtcli

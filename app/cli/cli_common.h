@@ -49,18 +49,25 @@ int load_scene(const Program& program, const std::string& path, std::string& tex
 // (unless --quiet). Returns the exit status.
 int check_scene(const Program& program, const Options& o);
 
-// Before a long render: -1 if OUT can be written as a picture (a .ppm or .png name in
-// a writable folder, not the scene file itself); else says why and returns kExitUsage.
+// Before a long render: -1 if OUT can be written as a picture (a .ppm or .png name
+// that rt::check_writable accepts, not the scene file itself); else says why, with
+// the system's error, and returns kExitUsage.
 int check_output(const Program& program, const std::string& out, const std::string& scene_path);
+
+// Writes `text` to stdout and flushes it; on failure says why (a full disk, a closed
+// stdout) and returns kExitUsage, else kExitOk.
+int print_to_stdout(const Program& program, const std::string& text);
 
 std::string count(std::size_t n, const char* noun);
 std::string with_commas(std::uint64_t v);
 double seconds_since(std::chrono::steady_clock::time_point t0);
 
-// SIGINT and SIGTERM only set a flag (caught_signal() returns it, 0 if none); the main
-// thread polls it, cancels and exits without writing. SA_RESETHAND lets a second
-// signal kill the process outright should cancelling ever hang.
-void install_signal_handlers();
+// SIGINT and SIGTERM end the process at once with 128+N and "interrupted ...; nothing
+// written", in any phase (a blocking open, parsing, building, rendering), unless a
+// temporary output file exists: then they stop the write (rt::interrupt_writes),
+// which removes it and fails with "interrupted", and caught_signal() says which
+// signal came (0 if none) so that the main thread can exit with 128+N.
+void install_signal_handlers(const Program& program);
 int caught_signal();
 
 // A one-line progress bar on stderr: "[####   ]  42%  1.3 s, ETA 1.8 s", with

@@ -64,6 +64,10 @@ int load_scene(const std::string& path, std::string& text, rt::Scene& scene) {
     return rtcli::load_scene(kProgram, path, text, scene);
 }
 
+void install_signal_handlers() { rtcli::install_signal_handlers(kProgram); }
+
+int print_to_stdout(const std::string& text) { return rtcli::print_to_stdout(kProgram, text); }
+
 bool stderr_watched() {
     if (isatty(STDERR_FILENO)) return true;
 #ifdef __linux__

@@ -17,7 +17,6 @@ constexpr int kExitMpi = 3;  // a rank or the MPI runtime failed; nothing writte
 
 using rtcli::caught_signal;
 using rtcli::count;
-using rtcli::install_signal_handlers;
 using rtcli::Options;
 using rtcli::ProgressBar;
 using rtcli::seconds_since;
@@ -37,6 +36,12 @@ int check_output(const std::string& out, const std::string& scene_path);
 // Reads and parses; prints the diagnostics (once: only rank 0 calls this). On success
 // returns -1 and fills both the text (which is what gets broadcast) and the scene.
 int load_scene(const std::string& path, std::string& text, rt::Scene& scene);
+
+// rtcli::install_signal_handlers, with this program's name in the messages.
+void install_signal_handlers();
+
+// --print-scene's output (rtcli::print_to_stdout).
+int print_to_stdout(const std::string& text);
 
 // Whether somebody watches stderr on a terminal (for the progress bar). Under mpirun
 // a rank's stderr is a pipe to mpirun, so there it is mpirun's stderr that counts.

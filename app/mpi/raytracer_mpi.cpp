@@ -144,8 +144,9 @@ void wait_polling(MPI_Request& req, MPI_Status* status, const char* what) {
 }
 
 // --- signals (rank 0) ----------------------------------------------------------------
-// Ctrl+C reaches mpirun, which signals the ranks; rank 0 (install_signal_handlers, from
-// app/cli) reports and ends the job without writing.
+// Ctrl+C reaches mpirun, which signals the ranks; rank 0's handler (app/cli) ends it at
+// once in every phase but the write of OUT, which removes its temporary file first
+// and then comes here.
 // Exits without MPI_Abort: the exit status (not 0, no MPI_Finalize) is enough for
 // mpirun to end the rest of the job, and mpirun has usually started doing so already.
 [[noreturn]] void interrupted() {
@@ -192,8 +193,7 @@ int front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
     if (opt.height) scene.height = *opt.height;
     f.t_parse = seconds_since(f.t_start);
     if (opt.print_scene) {
-        std::cout << rt::write_scene(scene) << std::flush;
-        return std::cout ? kExitOk : kExitUsage;
+        return print_to_stdout(rt::write_scene(scene));
     }
     return -1;
 }
@@ -598,6 +598,7 @@ int run(int argc, char** argv) {
 
     const auto t_write0 = Clock::now();
     if (std::string err = rt::write_image(f.out_path, coord.image()); !err.empty()) {
+        if (caught_signal()) interrupted();  // the temporary file is gone
         std::cerr << "raytracer-mpi: cannot write '" << f.out_path << "': " << err << "\n";
         return kExitUsage;
     }
