@@ -19,13 +19,9 @@ TARGETS=${FUZZ_TARGETS:-fuzz_parser fuzz_roundtrip}
 
 run() { echo "+ $*" >&2; "$@"; }
 
-# clang with libFuzzer and the sanitizer runtimes (Debian: clang, libclang-rt-14-dev).
+# clang with libFuzzer and the sanitizer runtimes: setup.sh's list has them.
 if ! command -v clang++ >/dev/null 2>&1 || ! ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1; then
-    SUDO=
-    [ "$(id -u)" = 0 ] || SUDO=sudo
-    export DEBIAN_FRONTEND=noninteractive
-    run $SUDO apt-get update
-    run $SUDO apt-get install -y --no-install-recommends clang libclang-rt-14-dev
+    run ./scripts/setup.sh --with-fuzz --deps-only
 fi
 
 run cmake -S . -B "$BUILD_DIR" \
