@@ -8,14 +8,19 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
+#include <new>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "app.h"
+#include "diagnostic_text.h"
 #include "scene_parser.h"
 
 namespace {
+
+constexpr int kMaxShownDiagnostics = 20;  // as raytracer
 
 class NullHost : public rtview::Host {
 public:
@@ -25,7 +30,7 @@ public:
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
     rtview::Options opt;
     std::string err = rtview::parse_options(argc, argv, opt);
     if (!err.empty()) {
@@ -43,6 +48,10 @@ int main(int argc, char** argv) {
     }
     if (opt.screenshot.empty()) {
         std::fprintf(stderr, "raytracer-view-headless: --screenshot OUT is required\n");
+        return 2;
+    }
+    if (std::string why = rtview::memory_problem(opt.width, opt.height, true); !why.empty()) {
+        std::fprintf(stderr, "raytracer-view-headless: %s\n", why.c_str());
         return 2;
     }
     // Mesa would otherwise keep a shader cache under $HOME.
@@ -81,12 +90,10 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "raytracer-view-headless: %s\n", err.c_str());
             status = 2;
         } else if (!app.document().has_scene()) {
-            for (const auto& d : app.document().diagnostics())
-                std::fprintf(stderr, "%s\n", rt::format_diagnostic(name, d).c_str());
+            std::fputs(rt::diagnostics_report(name, app.document().diagnostics(), kMaxShownDiagnostics).c_str(), stderr);
             status = 1;
         } else {
-            for (const auto& d : app.document().diagnostics())
-                std::fprintf(stderr, "%s\n", rt::format_diagnostic(name, d).c_str());
+            std::fputs(rt::diagnostics_report(name, app.document().diagnostics(), kMaxShownDiagnostics).c_str(), stderr);
             if (opt.orbit != 0) app.orbit_degrees(opt.orbit);
             // draw = false: the UI's logic runs (it starts and follows the render), but
             // nothing is rasterised: OSMesa draws on the CPU the workers are using.
@@ -139,4 +146,17 @@ int main(int argc, char** argv) {
     OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);  // release the buffer before the context
     OSMesaDestroyContext(ctx);
     return status;
+}
+
+int main(int argc, char** argv) {
+    // Allocation failure anywhere on this thread ends the program with a message, not
+    // an abort (the picture size itself is checked up front by memory_problem).
+    try {
+        return run(argc, argv);
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "raytracer-view-headless: out of memory\n");
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "raytracer-view-headless: %s\n", e.what());
+    }
+    return 2;
 }

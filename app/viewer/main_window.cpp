@@ -11,10 +11,13 @@
 #include <atomic>
 #include <cstdio>
 #include <cstring>
+#include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "app.h"
+#include "diagnostic_text.h"
 #include "scene_parser.h"
 
 namespace {
@@ -127,7 +130,7 @@ int exec_headless(char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
     rtview::Options opt;
     std::string err = rtview::parse_options(argc, argv, opt);
     if (!err.empty()) {
@@ -143,6 +146,10 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (opt.headless) return exec_headless(argv);
+    if (std::string why = rtview::memory_problem(opt.width, opt.height, false); !why.empty()) {
+        std::fprintf(stderr, "raytracer-view: %s\n", why.c_str());
+        return 2;
+    }
 
     glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "raytracer-view: GLFW error %d: %s\n", code, text); });
     if (!glfwInit()) {
@@ -200,8 +207,11 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "raytracer-view: %s\n", err.c_str());
             status = 2;
         } else {
-            for (const auto& d : app.document().diagnostics())
-                std::fprintf(stderr, "%s\n", rt::format_diagnostic(opt.scene.empty() ? "default.txt" : opt.scene, d).c_str());
+            std::fputs(rt::diagnostics_report(opt.scene.empty() ? "default.txt" : opt.scene,
+                                              app.document().diagnostics(), 20)  // as raytracer
+                           .c_str(),
+                       stderr);
+            if (opt.orbit != 0) app.orbit_degrees(opt.orbit);
             glfwSetWindowUserPointer(window, &app);
             unsigned seen = g_events.load() - 1;  // draw the first frame at once
             int settle = 0;
@@ -245,4 +255,16 @@ int main(int argc, char** argv) {
     glfwDestroyWindow(window);
     glfwTerminate();
     return status;
+}
+
+int main(int argc, char** argv) {
+    // Allocation failure on this thread ends the program with a message, not an abort.
+    try {
+        return run(argc, argv);
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "raytracer-view: out of memory\n");
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "raytracer-view: %s\n", e.what());
+    }
+    return 2;
 }

@@ -110,7 +110,8 @@ cmp -s "$SCENE" "$ORIGINAL" && fail "the saved file did not change"
 "$BIN/raytracer" --check "$SCENE" > /dev/null || fail "the saved scene does not parse"
 diff <(grep -v '^ *\(position\|centre\|up\) ' "$ORIGINAL") <(grep -v '^ *\(position\|centre\|up\) ' "$SCENE") \
     > /dev/null || fail "saving changed more than camera lines"
-ls -a "$OUT" | grep -q '\.tmp' && fail "a temporary file was left behind"
+# Temporary files are named .NAME.XXXXXX (core/image_io.cpp).
+ls -A "$OUT" | grep -qE '^\..*\.[A-Za-z0-9]{6}$' && fail "a temporary file was left behind: $(ls -A "$OUT")"
 cp "$SCENE" "$OUT/saved1.txt"
 
 step "a syntax error shows, and the last image stays"

@@ -1,10 +1,17 @@
 // Command-line parsing and --help for both viewer binaries (see options.h).
 #include "options.h"
 
+#include <sys/resource.h>
+#include <sys/stat.h>
+
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <fstream>
 #include <string_view>
+#include <utility>
 
 namespace rtview {
 
@@ -18,13 +25,41 @@ bool parse_int(std::string_view s, int lo, int hi, int& out) {
     return true;
 }
 
+// A whole decimal token, as numbers in scene files: no spaces, hex, inf or nan.
+bool is_decimal_token(const std::string& s) {
+    std::size_t i = 0, n = s.size(), mantissa = 0;
+    auto digits = [&] {
+        std::size_t k = 0;
+        while (i < n && s[i] >= '0' && s[i] <= '9') ++i, ++k;
+        return k;
+    };
+    if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
+    mantissa = digits();
+    if (i < n && s[i] == '.') ++i, mantissa += digits();
+    if (mantissa == 0) return false;
+    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
+        ++i;
+        if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
+        if (digits() == 0) return false;
+    }
+    return i == n;
+}
+
 bool parse_real(const std::string& s, double& out) {
-    if (s.empty()) return false;
+    if (!is_decimal_token(s)) return false;
     char* end = nullptr;
     double v = std::strtod(s.c_str(), &end);
     if (end != s.c_str() + s.size() || !std::isfinite(v)) return false;
     out = v;
     return true;
+}
+
+// Whether two names are one file: the same inode, or (not created yet) the same name.
+bool same_file(const std::string& a, const std::string& b) {
+    struct stat sa, sb;
+    if (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    return a == b;
 }
 
 }  // namespace
@@ -111,6 +146,14 @@ std::string parse_options(int argc, const char* const* argv, Options& o) {
                           a == "--verbose"))
             return "option '" + a + "' takes no value";
     }
+    // As raytracer refuses to render over its scene: an output naming the scene file
+    // would destroy it.
+    for (const auto& [opt, path] : {std::pair<const char*, const std::string*>{"--screenshot", &o.screenshot},
+                                    {"--view-scene", &o.view_scene}})
+        if (!path->empty() && !o.scene.empty() && same_file(*path, o.scene))
+            return std::string(opt) + " '" + *path + "' is the scene file itself";
+    if (!o.screenshot.empty() && !o.view_scene.empty() && same_file(o.screenshot, o.view_scene))
+        return "--screenshot and --view-scene name the same file ('" + o.screenshot + "')";
     return {};
 }
 
@@ -134,6 +177,7 @@ std::string help_text(bool headless_binary) {
          "  --samples N          samples per pixel to stop at (default 64 in a window, 16 headless)\n"
          "  --time-limit SEC     stop refining after SEC seconds (default: no limit)\n"
          "  --orbit DEG          orbit the camera DEG degrees around its centre first\n"
+         "                       (an edit, as a mouse orbit: undo with Ctrl+Z)\n"
          "  --fit window|picture render at the window's size (default) or at the scene's\n"
          "                       picture_size, letterboxed\n"
          "  --threads N          render threads (default: all hardware threads)\n"
@@ -163,6 +207,42 @@ std::string help_text(bool headless_binary) {
              "Recent files: $XDG_CONFIG_HOME/raytracer-view/recent.txt (or ~/.config/...).\n";
     }
     return s;
+}
+
+}  // namespace rtview
+
+namespace rtview {
+
+std::string memory_problem(int width, int height, bool headless) {
+    // Measured peak use of raytracer-view-headless is about 43 bytes per pixel of the
+    // window (OSMesa's buffer, the film's sums and bytes, the texture, the screenshot),
+    // plus the libraries' and threads' address space (Mesa's LLVM alone maps hundreds
+    // of MiB). Rounded up, so that a picture that passes does fit.
+    const double bytes_per_pixel = 48, base = headless ? 1024.0 * 1024 * 1024 : 512.0 * 1024 * 1024;
+    const double need = base + bytes_per_pixel * double(width) * double(height);
+    double limit = 0;  // 0: none known
+    auto lower = [&](double v) {
+        if (v > 0 && (limit == 0 || v < limit)) limit = v;
+    };
+    for (int resource : {RLIMIT_AS, RLIMIT_DATA}) {
+        struct rlimit rl;
+        if (::getrlimit(resource, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) lower(double(rl.rlim_cur));
+    }
+    // RAM plus swap: more than that can never be had, whatever the limits say.
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    double kb = 0, total = 0;
+    std::string unit;
+    while (meminfo >> key >> kb >> unit)
+        if (key == "MemTotal:" || key == "SwapTotal:") total += kb * 1024;
+    lower(total);
+    if (limit == 0 || need <= limit) return {};
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "out of memory: a %dx%d %s needs about %.1f GiB, and this process may use %.1f GiB; "
+                  "use a smaller --size",
+                  width, height, headless ? "image" : "window", need / (1 << 30), limit / (1 << 30));
+    return text;
 }
 
 }  // namespace rtview

@@ -34,4 +34,9 @@ constexpr int kDefaultSamplesHeadless = 16;
 std::string parse_options(int argc, const char* const* argv, Options& o);
 std::string help_text(bool headless_binary);
 
+// "" if a window (or headless image) of width x height pixels fits in the memory the
+// process may use (its address-space and data limits, the machine's RAM and swap);
+// else "out of memory: ..." with the estimate. Checked before allocating anything.
+std::string memory_problem(int width, int height, bool headless);
+
 }  // namespace rtview
