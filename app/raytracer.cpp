@@ -105,11 +105,15 @@ int run(int argc, char** argv) {
             return usage_error("no output file given");
         }
         if (out_path.empty()) return usage_error("no output file given");
-        if (int r = check_output(kProgram, out_path, scene_path); r >= 0) return r;
     }
 
-    // Installed only now: at a prompt, Ctrl+C should just end the program.
+    // Installed only now: at a prompt, Ctrl+C should just end the program. Before the
+    // output check, which creates (and removes) a temporary file.
     install_signal_handlers(kProgram);
+    if (!opt.print_scene) {
+        if (int r = check_output(kProgram, out_path, scene_path); r >= 0) return r;
+        if (caught_signal()) return interrupted_exit();  // came during the check
+    }
 
     const auto t_start = Clock::now();
     rt::Scene scene;

@@ -4,13 +4,16 @@
 #include <stb/stb_image.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -53,6 +56,40 @@ std::string slurp(const std::string& path) {
     ss << in.rdbuf();
     return ss.str();
 }
+
+bool have_dev_full() {
+    struct stat st;
+    return ::stat("/dev/full", &st) == 0 && S_ISCHR(st.st_mode);
+}
+
+// Runs `fn` in a child process as uid/gid 65534 (nobody) and returns what it returned:
+// root ignores file permissions, so the permission rules are checked as nobody.
+std::string as_nobody(const std::function<std::string()>& fn) {
+    int fds[2];
+    REQUIRE(::pipe(fds) == 0);
+    std::fflush(nullptr);
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        ::close(fds[0]);
+        if (::setgid(65534) != 0 || ::setuid(65534) != 0) _exit(3);
+        const std::string r = fn();
+        const bool ok = ::write(fds[1], r.data(), r.size()) == ssize_t(r.size());
+        _exit(ok ? 0 : 4);
+    }
+    ::close(fds[1]);
+    std::string out;
+    char buf[512];
+    for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) > 0;) out.append(buf, std::size_t(n));
+    ::close(fds[0]);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    REQUIRE(WIFEXITED(status));
+    REQUIRE(WEXITSTATUS(status) == 0);
+    return out;
+}
+
+const bool kRoot = ::geteuid() == 0;
 
 void spit(const std::string& path, const std::string& data) {
     std::ofstream out(path, std::ios::binary);
@@ -257,28 +294,14 @@ TEST_CASE("write_file_atomic failures say why and touch nothing") {
         std::signal(SIGXFSZ, old_handler);
         CHECK(contains(err, "File too large"));
     }
-    SUBCASE("a read-only folder") {
-        if (::geteuid() == 0) {
-            MESSAGE("skipped: running as root, where a read-only folder is still writable");
-        } else {
-            REQUIRE(::chmod(dir.path.c_str(), 0555) == 0);
-            const std::string err = write_file_atomic(target, "data");
-            ::chmod(dir.path.c_str(), 0700);
-            CHECK(contains(err, "Permission denied"));
-        }
-    }
     CHECK(slurp(target) == "precious");
     std::vector<std::string> left = dir.files();
     left.erase(std::remove(left.begin(), left.end(), "sub"), left.end());
     CHECK(left == std::vector<std::string>{"out.ppm"});  // no temporary file left behind
 }
 
-TEST_CASE("write_file_atomic writes straight into devices, reporting a full one") {
+TEST_CASE("write_file_atomic writes straight into devices, reporting a full one" * doctest::skip(!have_dev_full())) {
     struct stat st;
-    if (::stat("/dev/full", &st) != 0 || !S_ISCHR(st.st_mode)) {
-        MESSAGE("skipped: no /dev/full");
-        return;
-    }
     CHECK(contains(write_file_atomic("/dev/full", "data"), "No space left on device"));
     CHECK(::stat("/dev/full", &st) == 0);
     CHECK(S_ISCHR(st.st_mode));  // still the device, not replaced by a regular file
@@ -307,4 +330,152 @@ TEST_CASE("read_file returns the exact bytes and enforces the size limit") {
         CHECK(contains(out, "Umask"));
         CHECK(read_file("/proc/self/status", out, 10) != "");
     }
+}
+
+// --- the rules of check_writable (image_io.h), shared by write_file_atomic ---------
+
+TEST_CASE("a read-only folder refuses the write (as an unprivileged user)" * doctest::skip(kRoot)) {
+    TempDir dir;
+    spit(dir / "out.ppm", "precious");
+    REQUIRE(::chmod(dir.path.c_str(), 0555) == 0);
+    const std::string check = check_writable(dir / "out.ppm"), err = write_file_atomic(dir / "out.ppm", "data");
+    ::chmod(dir.path.c_str(), 0700);
+    CHECK(contains(check, "Permission denied"));
+    CHECK(contains(err, "Permission denied"));
+    CHECK(slurp(dir / "out.ppm") == "precious");
+}
+
+TEST_CASE("permission rules checked as nobody: read-only folder, read-only file, sticky folder" * doctest::skip(!kRoot)) {
+    TempDir dir;
+    REQUIRE(::chmod(dir.path.c_str(), 0755) == 0);
+    const std::string ro_dir = dir / "ro", open_dir = dir / "open", sticky = dir / "sticky";
+    for (const auto& d : {ro_dir, open_dir, sticky}) fs::create_directory(d);
+    REQUIRE(::chmod(ro_dir.c_str(), 0555) == 0);
+    REQUIRE(::chmod(open_dir.c_str(), 0777) == 0);
+    REQUIRE(::chmod(sticky.c_str(), 01777) == 0);
+    spit(ro_dir + "/out.ppm", "precious");
+    ::chmod((ro_dir + "/out.ppm").c_str(), 0666);
+    spit(open_dir + "/readonly.ppm", "precious");
+    REQUIRE(::chown((open_dir + "/readonly.ppm").c_str(), 65534, 65534) == 0);
+    ::chmod((open_dir + "/readonly.ppm").c_str(), 0444);
+    spit(sticky + "/roots.ppm", "precious");  // root's file, writable by all, in a sticky folder
+    ::chmod((sticky + "/roots.ppm").c_str(), 0666);
+
+    CHECK(contains(as_nobody([&] { return check_writable(ro_dir + "/out.ppm"); }), "Permission denied"));
+    CHECK(contains(as_nobody([&] { return write_file_atomic(ro_dir + "/out.ppm", "new"); }), "Permission denied"));
+    CHECK(contains(as_nobody([&] { return check_writable(open_dir + "/readonly.ppm"); }), "Permission denied"));
+    CHECK(contains(as_nobody([&] { return write_file_atomic(open_dir + "/readonly.ppm", "new"); }),
+                   "Permission denied"));
+    CHECK(contains(as_nobody([&] { return check_writable(sticky + "/roots.ppm"); }), "Operation not permitted"));
+    CHECK(contains(as_nobody([&] { return write_file_atomic(sticky + "/roots.ppm", "new"); }),
+                   "Operation not permitted"));
+    // Nobody's own new file in the sticky folder is fine.
+    CHECK(as_nobody([&] { return write_file_atomic(sticky + "/mine.ppm", "new"); }) == "");
+    CHECK(slurp(ro_dir + "/out.ppm") == "precious");
+    CHECK(slurp(open_dir + "/readonly.ppm") == "precious");
+    CHECK(slurp(sticky + "/roots.ppm") == "precious");
+    for (const auto& d : {ro_dir, open_dir}) {
+        ::chmod(d.c_str(), 0755);
+        CHECK(fs::directory_iterator(d)->path().filename().string().rfind(".", 0) != 0);  // no temporary left
+    }
+    CHECK(std::distance(fs::directory_iterator(sticky), fs::directory_iterator()) == 2);
+}
+
+TEST_CASE("root replaces another user's file, which keeps its owner, group and mode" * doctest::skip(!kRoot)) {
+    TempDir dir;
+    const std::string f = dir / "theirs.ppm";
+    spit(f, "old");
+    REQUIRE(::chown(f.c_str(), 65534, 65534) == 0);
+    REQUIRE(::chmod(f.c_str(), 0444) == 0);  // read-only does not stop root
+    REQUIRE(check_writable(f) == "");
+    REQUIRE(write_file_atomic(f, "new") == "");
+    struct stat st;
+    REQUIRE(::stat(f.c_str(), &st) == 0);
+    CHECK(slurp(f) == "new");
+    CHECK(st.st_uid == 65534);
+    CHECK(st.st_gid == 65534);
+    CHECK((st.st_mode & 07777) == 0444);
+}
+
+TEST_CASE("names of 248..255 bytes work: the temporary name is shortened to fit NAME_MAX") {
+    TempDir dir;
+    for (std::size_t len : {248, 250, 255}) {
+        CAPTURE(len);
+        const std::string name = std::string(len - 4, 'n') + ".ppm";
+        CHECK(check_writable(dir / name) == "");
+        REQUIRE(write_file_atomic(dir / name, "data") == "");
+        CHECK(slurp(dir / name) == "data");
+        REQUIRE(write_file_atomic(dir / name, "again") == "");  // replacing works too
+        CHECK(slurp(dir / name) == "again");
+        CHECK(dir.files() == std::vector<std::string>{name});
+        fs::remove(dir / name);
+    }
+    // 256 bytes is too long for the file itself: the system's reason.
+    const std::string too_long = std::string(252, 'n') + ".ppm";
+    CHECK(contains(check_writable(dir / too_long), "File name too long"));
+    CHECK(contains(write_file_atomic(dir / too_long, "data"), "File name too long"));
+}
+
+TEST_CASE("a path longer than PATH_MAX fails with the system's reason") {
+    TempDir dir;
+    std::string path = dir.path.string();
+    while (path.size() <= PATH_MAX) path += "/" + std::string(200, 'd');
+    path += "/out.ppm";
+    CHECK(contains(check_writable(path), "File name too long"));
+    CHECK(contains(write_file_atomic(path, "data"), "File name too long"));
+}
+
+TEST_CASE("symbolic links are followed to their end; a dangling one creates its target; a loop fails") {
+    TempDir dir;
+    fs::create_symlink("target.ppm", dir / "dangling.ppm");
+    REQUIRE(write_file_atomic(dir / "dangling.ppm", "new") == "");
+    CHECK(fs::is_symlink(dir / "dangling.ppm"));
+    CHECK(slurp(dir / "target.ppm") == "new");
+    // A chain of links, one of them relative to a subfolder.
+    fs::create_directory(dir / "sub");
+    fs::create_symlink("../final.ppm", dir / "sub/hop.ppm");
+    fs::create_symlink("sub/hop.ppm", dir / "first.ppm");
+    REQUIRE(write_file_atomic(dir / "first.ppm", "chained") == "");
+    CHECK(slurp(dir / "final.ppm") == "chained");
+    CHECK(fs::is_symlink(dir / "first.ppm"));
+    CHECK(fs::is_symlink(dir / "sub/hop.ppm"));
+    // Loops: to itself and through two links.
+    fs::create_symlink("self.ppm", dir / "self.ppm");
+    fs::create_symlink("b.ppm", dir / "a.ppm");
+    fs::create_symlink("a.ppm", dir / "b.ppm");
+    for (const char* name : {"self.ppm", "a.ppm"}) {
+        CHECK(contains(check_writable(dir / name), "Too many levels of symbolic links"));
+        CHECK(contains(write_file_atomic(dir / name, "x"), "Too many levels of symbolic links"));
+    }
+    CHECK(fs::is_symlink(dir / "self.ppm"));
+    CHECK(dir.files() == std::vector<std::string>{"a.ppm", "b.ppm", "dangling.ppm", "final.ppm", "first.ppm",
+                                                  "self.ppm", "sub", "target.ppm"});
+}
+
+TEST_CASE("check_writable creates nothing and names the problem") {
+    TempDir dir;
+    spit(dir / "out.ppm", "precious");
+    CHECK(check_writable(dir / "out.ppm") == "");
+    CHECK(check_writable(dir / "new.ppm") == "");
+    CHECK(contains(check_writable(dir / "nosuch/out.ppm"), "No such file or directory"));
+    CHECK(contains(check_writable(dir / "out.ppm/x.ppm"), "Not a directory"));
+    CHECK(contains(check_writable(dir.path.string()), "Is a directory"));
+    CHECK(check_writable("/dev/null") == "");
+    CHECK(dir.files() == std::vector<std::string>{"out.ppm"});
+    CHECK(slurp(dir / "out.ppm") == "precious");
+}
+
+TEST_CASE("an interrupted write (interrupt_writes, as from a signal handler) removes its temporary file") {
+    TempDir dir;
+    spit(dir / "out.ppm", "precious");
+    CHECK_FALSE(interrupt_writes());  // no temporary file exists now
+    const std::string err = write_file_atomic(dir / "out.ppm", std::string(10 << 20, 'x'));
+    const std::string err_new = write_file_atomic(dir / "new.ppm", "data");
+    reset_write_interrupt();
+    CHECK(err == "interrupted");
+    CHECK(err_new == "interrupted");
+    CHECK(slurp(dir / "out.ppm") == "precious");
+    CHECK(dir.files() == std::vector<std::string>{"out.ppm"});
+    REQUIRE(write_file_atomic(dir / "out.ppm", "after") == "");  // and writes work again after the reset
+    CHECK(slurp(dir / "out.ppm") == "after");
 }

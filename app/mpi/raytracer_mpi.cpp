@@ -184,7 +184,10 @@ int front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
     if (!opt.print_scene) {
         if (opt.positional.size() < 2 || opt.positional[1].empty()) return usage_error("no output file given");
         f.out_path = opt.positional[1];
+        // Handlers first: the output check creates (and removes) a temporary file.
+        install_signal_handlers();
         if (int r = check_output(f.out_path, f.scene_path); r >= 0) return r;
+        if (caught_signal()) interrupted();  // came during the check
     }
     install_signal_handlers();
     f.t_start = Clock::now();
