@@ -40,7 +40,7 @@ std::string escape_text(std::string_view s) {
             i += n;
         } else {
             char hex[8];
-            std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned char>(s[i]));
+            std::snprintf(hex, sizeof hex, "\\x%02x", static_cast<unsigned char>(s[i]));
             out += hex;
             ++i;
         }

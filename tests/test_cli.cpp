@@ -3,6 +3,7 @@
 // writes (or, after a failure, leaves alone).
 #include <doctest/doctest.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -475,5 +476,109 @@ TEST_CASE("cli: SIGINT or SIGTERM during a render cancels it and writes nothing"
         CHECK(read_all(dir / "out.ppm") == sentinel);
         fs::remove(dir / ".stderr");
         CHECK(dir.files() == std::vector<std::string>{"out.ppm", "scene.txt"});
+    }
+}
+
+TEST_CASE("cli: numbers on the command line are whole decimal tokens, as in scene files") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    for (const char* args : {"--time-limit 0x1p3", "--time-limit inf", "--time-limit nan", "--time-limit ' 2'",
+                             "--time-limit 2s", "--width ' 12'", "--width 0x10", "--width '12 '", "--width 1e2",
+                             "--samples +", "--threads ''", "--max-depth 5.0"}) {
+        CAPTURE(args);
+        const Result r = dir.run(std::string(args) + " scene.txt out.ppm");
+        CHECK(r.status == 2);
+        CHECK(contains(r.err, "decimal number"));
+        CHECK(contains(r.err, "--help"));
+    }
+    CHECK(dir.run("--width +20 --height 10 --time-limit 0.5e0 --quiet scene.txt out.ppm").status == 0);
+    Picture p = load_ppm(dir / "out.ppm");
+    CHECK(p.width == 20);
+    CHECK(p.height == 10);
+}
+
+TEST_CASE("cli: --print-scene to a full or closed stdout says why and exits 2") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    for (const char* redirect : {">/dev/full", ">&-"}) {
+        CAPTURE(redirect);
+        const std::string cmd = "cd " + quote(dir.path.string()) + " && " + quote(kBinary) +
+                                " --print-scene scene.txt " + redirect + " 2>.stderr";
+        const int raw = std::system(cmd.c_str());
+        CHECK((WIFEXITED(raw) && WEXITSTATUS(raw) == 2));
+        CHECK(contains(read_all(dir / ".stderr"), redirect[1] == '/' ? "cannot write to standard output: No space left"
+                                                                     : "cannot write to standard output: Bad file"));
+    }
+}
+
+TEST_CASE("cli: UTF-16 files are named as such; Latin-1 and control bytes are escaped in messages") {
+    TempDir dir;
+    std::string utf16 = "\xFF\xFE";
+    for (char c : std::string(kScene)) utf16 += std::string{c, '\0'};
+    write_all(dir / "utf16.txt", utf16);
+    Result r = dir.run("--check utf16.txt");
+    CHECK(r.status == 1);
+    CHECK(contains(r.err, "utf16.txt:1:1: error: the file looks like UTF-16"));
+    CHECK(r.err.find('\0') == std::string::npos);
+    write_all(dir / "utf16-nobom.txt", utf16.substr(2));
+    r = dir.run("--check utf16-nobom.txt");
+    CHECK(r.status == 1);
+    CHECK(contains(r.err, "looks like UTF-16"));
+
+    // Latin-1 "é" (0xE9) and an escape character in an unknown key.
+    write_all(dir / "latin1.txt", "thing { sph\xE9re\x1B[31m { } }\nend\n");
+    r = dir.run("--check latin1.txt");
+    CHECK(r.status == 1);
+    CHECK(contains(r.err, "\\xe9"));
+    CHECK(contains(r.err, "\\x1b"));
+    for (char c : r.err) CHECK((static_cast<unsigned char>(c) < 0x80 && (c >= 0x20 || c == '\n' || c == '\t')));
+    // Valid UTF-8 passes through unchanged.
+    write_all(dir / "utf8.txt", "thing { sph\xC3\xA9re { } }\nend\n");
+    r = dir.run("--check utf8.txt");
+    CHECK(contains(r.err, "sph\xC3\xA9re"));
+}
+
+TEST_CASE("cli: a FIFO as SCENE or OUT does not swallow SIGTERM or SIGINT") {
+    for (int sig : {SIGTERM, SIGINT}) {
+        for (const char* which : {"scene", "out"}) {
+            CAPTURE(sig);
+            CAPTURE(which);
+            TempDir dir;
+            write_all(dir / "scene.txt", kScene);
+            const bool scene_fifo = which == std::string("scene");
+            REQUIRE(mkfifo((dir / "fifo.ppm").c_str(), 0644) == 0);
+            pid_t pid = fork();
+            REQUIRE(pid >= 0);
+            if (pid == 0) {
+                if (chdir(dir.path.c_str()) != 0) _exit(99);
+                if (!freopen(".stderr", "w", stderr)) _exit(99);
+                execl(kBinary.c_str(), "raytracer", "--quiet", scene_fifo ? "fifo.ppm" : "scene.txt",
+                      scene_fifo ? "out.ppm" : "fifo.ppm", (char*)nullptr);
+                _exit(98);
+            }
+            // Blocked in open() until somebody opens the other end, which nobody does.
+            bool caught = false;
+            for (int i = 0; i < 400 && !caught; ++i) {
+                caught = catches_signal(pid, sig);
+                if (!caught) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+            }
+            CHECK(caught);
+            std::this_thread::sleep_for(std::chrono::milliseconds(200));
+            kill(pid, sig);
+            int status = 0;
+            bool ended = false;
+            for (int i = 0; i < 100 && !ended; ++i) {  // up to 1 s
+                ended = waitpid(pid, &status, WNOHANG) == pid;
+                if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            }
+            if (!ended) {
+                kill(pid, SIGKILL);
+                waitpid(pid, &status, 0);
+            }
+            REQUIRE_MESSAGE(ended, "not ended within 1 s of the signal");
+            REQUIRE(WIFEXITED(status));
+            CHECK(WEXITSTATUS(status) == 128 + sig);
+            CHECK(contains(read_all(dir / ".stderr"), "interrupted"));
+        }
     }
 }
