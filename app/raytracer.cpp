@@ -63,7 +63,8 @@ int usage_error(const std::string& message) { return rtcli::usage_error(kProgram
 // the process itself in every other phase).
 int interrupted_exit() {
     const int sig = caught_signal();
-    std::cerr << "raytracer: interrupted (" << (sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal")
+    std::cerr << "raytracer: interrupted ("
+              << (sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "signal")
               << "); nothing written\n";
     return 128 + sig;
 }
@@ -184,7 +185,7 @@ int run(int argc, char** argv) {
     }
     if (const int sig = caught_signal()) {
         // Too late to stop: the complete new picture is already in place.
-        std::cerr << "raytracer: interrupted (" << (sig == SIGINT ? "SIGINT" : "SIGTERM")
+        std::cerr << "raytracer: interrupted (" << (sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP")
                   << ") just after the picture was written\n";
         return 128 + sig;
     }

@@ -107,7 +107,7 @@ void append(char* buf, std::size_t size, std::size_t& len, const char* text) {
 // process before the temporary file is gone).
 extern "C" void on_signal(int sig) {
     const int saved_errno = errno;
-    g_signal = sig;
+    if (!g_signal) g_signal = sig;  // the exit status tells the first
     if (rt::interrupt_writes()) {
         errno = saved_errno;
         return;
@@ -117,11 +117,15 @@ extern "C" void on_signal(int sig) {
     msg[0] = '\0';
     if (g_bar_drawn) append(msg, sizeof msg, len, "\r\033[K");
     append(msg, sizeof msg, len, g_program_name);
-    append(msg, sizeof msg, len, sig == SIGINT ? ": interrupted (SIGINT)" : sig == SIGTERM ? ": interrupted (SIGTERM)"
-                                                                                         : ": interrupted (signal)");
+    const int first = g_signal;  // a later signal (after a cancelled write) keeps the first's status
+    append(msg, sizeof msg, len,
+           first == SIGINT    ? ": interrupted (SIGINT)"
+           : first == SIGTERM ? ": interrupted (SIGTERM)"
+           : first == SIGHUP  ? ": interrupted (SIGHUP)"
+                              : ": interrupted (signal)");
     append(msg, sizeof msg, len, "; nothing written\n");
     [[maybe_unused]] ssize_t ignored = ::write(STDERR_FILENO, msg, len);
-    _exit(128 + sig);
+    _exit(128 + first);
 }
 
 }  // namespace
@@ -317,11 +321,10 @@ void install_signal_handlers(const Program& program) {
     std::memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
-    sigaddset(&sa.sa_mask, SIGINT);  // one handler at a time
-    sigaddset(&sa.sa_mask, SIGTERM);
+    // SIGHUP too: a closed terminal must not leave a temporary file either.
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&sa.sa_mask, sig);  // one handler at a time
     sa.sa_flags = 0;
-    sigaction(SIGINT, &sa, nullptr);
-    sigaction(SIGTERM, &sa, nullptr);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
 }
 
 int caught_signal() { return g_signal; }

@@ -62,7 +62,7 @@ std::string count(std::size_t n, const char* noun);
 std::string with_commas(std::uint64_t v);
 double seconds_since(std::chrono::steady_clock::time_point t0);
 
-// SIGINT and SIGTERM end the process at once with 128+N and "interrupted ...; nothing
+// SIGINT, SIGTERM and SIGHUP end the process at once with 128+N and "interrupted ...; nothing
 // written", in any phase (a blocking open, parsing, building, rendering), unless a
 // temporary output file exists: then they stop the write (rt::interrupt_writes),
 // which removes it and fails with "interrupted", and caught_signal() says which
