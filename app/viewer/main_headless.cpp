@@ -16,6 +16,7 @@
 
 #include "app.h"
 #include "diagnostic_text.h"
+#include "image_io.h"
 #include "scene_parser.h"
 
 namespace {
@@ -53,6 +54,19 @@ static int run(int argc, char** argv) {
     if (std::string why = rtview::memory_problem(opt.width, opt.height, true); !why.empty()) {
         std::fprintf(stderr, "raytracer-view-headless: %s\n", why.c_str());
         return 2;
+    }
+    // Before rendering, as raytracer does: a render must not end in "cannot write".
+    if (rt::format_from_path(opt.screenshot) == rt::ImageFormat::Unknown) {
+        std::fprintf(stderr, "raytracer-view-headless: cannot write %s: the name must end in .png or .ppm\n",
+                     opt.screenshot.c_str());
+        return 2;
+    }
+    for (const std::string* out : {&opt.screenshot, &opt.view_scene}) {
+        if (out->empty()) continue;
+        if (std::string why = rt::check_writable(*out); !why.empty()) {
+            std::fprintf(stderr, "raytracer-view-headless: cannot write %s: %s\n", out->c_str(), why.c_str());
+            return 2;
+        }
     }
     // Mesa would otherwise keep a shader cache under $HOME.
     setenv("MESA_SHADER_CACHE_DISABLE", "true", 0);

@@ -480,7 +480,10 @@ def view_warnings_capped; case_view_warnings_capped() { need_viewer; [ -n "$SKIP
 def view_latin1_scene; case_view_latin1_scene() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; printf 'thing { sph\xe8re\x1b[2J { } }\nend\n' > "$D/s.txt"
     run 20 "$VIEW" s.txt --screenshot shot.png --size 320x240; want_rc 1; want_clean_text; clean_checks; }
 def view_missing_scene; case_view_missing_scene() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; run 20 "$VIEW" nosuch.txt --screenshot shot.png; want_rc 2; want_err 'No such file'; clean_checks; }
-def view_screenshot_missing_folder; case_view_screenshot_missing_folder() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; run 30 "$VIEW" ok.txt --screenshot no/shot.png --size 320x240 --samples 1; want_rc 2; clean_checks; }
+def view_screenshot_missing_folder; case_view_screenshot_missing_folder() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"
+    run 30 "$VIEW" ok.txt --screenshot no/shot.png --size 320x240 --samples 1; want_rc 2; want_err 'No such file'; want_fast 0.5; clean_checks; }
+def view_screenshot_bad_extension; case_view_screenshot_bad_extension() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"
+    run 30 "$VIEW" ok.txt --screenshot shot.jpg --size 320x240; want_rc 2; want_err '.png or .ppm'; want_fast 0.5; clean_checks; }
 def view_sigterm; case_view_sigterm() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; mirror_box_scene > "$D/s.txt"
     start "$VIEW" s.txt --screenshot old.ppm --size 320x240 --samples 65536; signal_after 1.5 5 TERM; want_fast 1; clean_checks; }
 def view_good; case_view_good() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; run 60 "$VIEW" ok.txt --screenshot shot.ppm --size 320x240 --samples 1; want_rc 0; want_ppm shot.ppm 320 240; clean_checks; }
