@@ -202,12 +202,16 @@ struct TempFile {
         g_pending.fetch_add(1);  // before the interrupt check (see interrupt_writes)
         if (g_interrupted.load()) {
             err = kInterrupted;
+            name_gone_ = true;
             return;
         }
         constexpr std::size_t kSuffix = 8;  // "." in front, ".XXXXXX" behind
         name = t.dir + "." + t.name.substr(0, std::min(t.name.size(), std::size_t(NAME_MAX) - kSuffix)) + ".XXXXXX";
         fd = ::mkostemp(name.data(), O_CLOEXEC);
-        if (fd < 0) err = errno;
+        if (fd < 0) {
+            err = errno;
+            name_gone_ = true;  // nothing was created: the name is only the template
+        }
     }
     ~TempFile() {
         if (fd >= 0) ::close(fd);
