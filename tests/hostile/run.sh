@@ -485,7 +485,9 @@ def view_screenshot_missing_folder; case_view_screenshot_missing_folder() { need
 def view_screenshot_bad_extension; case_view_screenshot_bad_extension() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"
     run 30 "$VIEW" ok.txt --screenshot shot.jpg --size 320x240; want_rc 2; want_err '.png or .ppm'; want_fast 0.5; clean_checks; }
 def view_sigterm; case_view_sigterm() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; mirror_box_scene > "$D/s.txt"
-    start "$VIEW" s.txt --screenshot old.ppm --size 320x240 --samples 65536; signal_after 1.5 5 TERM; want_fast 1; clean_checks; }
+    start "$VIEW" s.txt --screenshot old.ppm --size 320x240 --samples 65536; signal_after 1.5 5 TERM; want_rc 143; want_fast 1; clean_checks; }
+def view_fifo_scene_sigint; case_view_fifo_scene_sigint() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; mkfifo "$D/s.txt"
+    start "$VIEW" s.txt --screenshot old.ppm --size 320x240; signal_after 0.5 5 INT; want_rc 130; want_fast 1; clean_checks; }
 def view_good; case_view_good() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; run 60 "$VIEW" ok.txt --screenshot shot.ppm --size 320x240 --samples 1; want_rc 0; want_ppm shot.ppm 320 240; clean_checks; }
 
 # --- raytracer-mpi (where it applies) ------------------------------------------------
