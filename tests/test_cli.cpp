@@ -582,3 +582,42 @@ TEST_CASE("cli: a FIFO as SCENE or OUT does not swallow SIGTERM or SIGINT") {
         }
     }
 }
+
+TEST_CASE("cli: OUT names up to 255 bytes work; longer names and paths fail before rendering with the reason") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    const std::string longest = std::string(251, 'o') + ".ppm";
+    Result r = dir.run("--quiet scene.txt " + longest);
+    CHECK(r.status == 0);
+    CHECK(load_ppm(dir / longest).width == 32);
+    r = dir.run("--quiet scene.txt " + longest);  // and replacing it
+    CHECK(r.status == 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    r = dir.run("--samples 65536 --width 2000 --height 2000 scene.txt " + std::string(252, 'o') + ".ppm");
+    CHECK(r.status == 2);
+    CHECK(contains(r.err, "File name too long"));
+    std::string deep;
+    while (deep.size() <= 4096) deep += std::string(200, 'd') + "/";
+    r = dir.run("--samples 65536 --width 2000 --height 2000 scene.txt " + deep + "out.ppm");
+    CHECK(r.status == 2);
+    CHECK(contains(r.err, "File name too long"));
+    CHECK_FALSE(contains(r.err, "does not exist"));
+    CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
+    CHECK(dir.files() == std::vector<std::string>{longest, "scene.txt"});
+}
+
+TEST_CASE("cli: OUT links are followed: a dangling link creates its target, a loop fails before rendering") {
+    TempDir dir;
+    write_all(dir / "scene.txt", kScene);
+    fs::create_symlink("target.ppm", dir / "dangling.ppm");
+    Result r = dir.run("--quiet scene.txt dangling.ppm");
+    CHECK(r.status == 0);
+    CHECK(fs::is_symlink(dir / "dangling.ppm"));
+    CHECK(load_ppm(dir / "target.ppm").width == 32);
+    fs::create_symlink("loop-b.ppm", dir / "loop-a.ppm");
+    fs::create_symlink("loop-a.ppm", dir / "loop-b.ppm");
+    r = dir.run("--samples 65536 --width 2000 --height 2000 scene.txt loop-a.ppm");
+    CHECK(r.status == 2);
+    CHECK(contains(r.err, "Too many levels of symbolic links"));
+    CHECK(fs::is_symlink(dir / "loop-a.ppm"));
+}

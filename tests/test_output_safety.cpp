@@ -396,3 +396,38 @@ end
         CHECK(joined(listing(box.work)) == "out.ppm scene.txt");
     }
 }
+
+TEST_CASE("output safety: a read-only OUT is refused before rendering, untouched" * doctest::skip(!can_test_permissions())) {
+    Sandbox box;
+    put(box.work / "scene.txt", kGoodScene);
+    put(box.work / "out.ppm", "precious\n");
+    const bool root = geteuid() == 0;
+    // Root may replace anything, so as root the CLI runs as nobody, who owns the file.
+    if (root) {
+        REQUIRE(::chown((box.work / "out.ppm").c_str(), 65534, 65534) == 0);
+        ::chmod(box.work.c_str(), 0777);
+    }
+    ::chmod((box.work / "out.ppm").c_str(), 0444);
+    // A picture that would take long: the refusal must come first.
+    const auto t0 = std::chrono::steady_clock::now();
+    check_untouched(box, box.work, box.work / "out.ppm",
+                    {"--quiet", "--samples", "65536", "--width", "2000", "--height", "2000", "scene.txt", "out.ppm"}, 2,
+                    "read-only (Permission denied)", root);
+    CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
+}
+
+TEST_CASE("output safety: another user's file in a sticky folder is refused before rendering" * doctest::skip(geteuid() != 0 || !can_test_permissions())) {
+    Sandbox box;
+    const fs::path sticky = box.work / "sticky";
+    fs::create_directory(sticky);
+    ::chmod(sticky.c_str(), 01777);
+    put(box.work / "scene.txt", kGoodScene);
+    put(sticky / "out.ppm", "precious\n");
+    ::chmod((sticky / "out.ppm").c_str(), 0666);  // root's, writable by all: only the sticky bit protects it
+    const auto t0 = std::chrono::steady_clock::now();
+    check_untouched(box, sticky, sticky / "out.ppm",
+                    {"--quiet", "--samples", "65536", "--width", "2000", "--height", "2000", "scene.txt",
+                     "sticky/out.ppm"},
+                    2, "sticky folder cannot be replaced (Operation not permitted)", true);
+    CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
+}
