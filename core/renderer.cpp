@@ -149,10 +149,12 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
     if (settings.coarse)
         for (int b : {8, 4, 2})
             if (job->width > b || job->height > b) job->passes.push_back({b, 0, 0});
-    // Sample passes: the given batch, or 1, 1, 2, 4, 8, 16, 16, ... samples.
+    // Sample passes: the given batch, or 1, 1, 2, 4, 8, 16, 16, ... samples. Under a
+    // time limit the first pass, which always completes, is one sample.
     int s = 0;
     while (s < job->settings.max_samples) {
         int n = settings.samples_per_pass > 0 ? settings.samples_per_pass : std::clamp(s, 1, 16);
+        if (s == 0 && settings.time_limit > 0) n = 1;
         n = std::min(n, job->settings.max_samples - s);
         job->passes.push_back({0, s, s + n});
         s += n;

@@ -2,8 +2,8 @@
 // coloured shadows through refractive objects, mirror reflection, refraction with the
 // interior walk, and lamp glow discs. Planes are few and unbounded, so they are tested
 // one by one; objects go through the BVH, and glow discs too when there are many.
-// The ray tree is cut where a ray's weight makes it invisible (min_weight) and where
-// the caller asks to stop (RayStats::stop).
+// The ray tree is cut where the rays left out cannot be seen (World::omit_weight) and
+// where the caller asks to stop (RayStats::stop).
 #include "world.h"
 
 #include <algorithm>
@@ -76,9 +76,17 @@ inline bool glow_hit(const ShadeLight& l, const Vec3& o, const Vec3& d, double& 
 struct World::Ctx {
     SpanScratch scratch;
     RayStats* stats = nullptr;
-    // Rays lighter than this are not followed: the world's min_weight, or +inf once the
-    // caller has asked to stop, which unwinds the ray tree at once.
+    // The weight that the rays left out of this camera ray's tree may still add up to,
+    // and the lightest ray that is followed: a small share of that, so that the budget
+    // shrinks slowly and lasts however big the tree (+inf once the caller has asked to
+    // stop, which unwinds the tree at once).
+    double budget = 0;
     double cutoff = 0;
+    static constexpr double kShare = 1.0 / 4096;
+    void leave_out(double weight) {
+        budget -= weight;
+        cutoff = budget * kShare;
+    }
     // Per light, the last opaque object that shadowed a point (+1; 0 = none). Shadows
     // are coherent, so trying it first usually ends the search at once.
     std::vector<std::uint32_t> blocker;
@@ -86,14 +94,14 @@ struct World::Ctx {
 
 namespace {
 // Called every RayStats::kPollRays rays: has the caller asked to stop?
-[[gnu::cold, gnu::noinline]] void poll(RayStats& st, double& cutoff) {
+[[gnu::cold, gnu::noinline]] void poll(RayStats& st, double& cutoff, double& budget) {
     st.next_poll = st.rays + RayStats::kPollRays;
     const TraceStop& stop = st.stop;
     bool flagged = stop.flag && stop.flag->load(std::memory_order_relaxed);
     if (flagged || (stop.deadline != std::chrono::steady_clock::time_point::max() &&
                     std::chrono::steady_clock::now() >= stop.deadline)) {
         st.stopped = true;
-        cutoff = std::numeric_limits<double>::infinity();
+        budget = cutoff = std::numeric_limits<double>::infinity();
     }
 }
 }  // namespace
@@ -316,8 +324,12 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
 
 Colour World::walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, double weight,
                    Ctx& ctx) const {
-    if (level >= options.max_depth || weight < ctx.cutoff) return {};
-    if (++ctx.stats->rays >= ctx.stats->next_poll) poll(*ctx.stats, ctx.cutoff);
+    if (level >= options.max_depth) return {};
+    if (__builtin_expect(weight < ctx.cutoff, 0)) {
+        ctx.leave_out(weight);
+        return {};
+    }
+    if (__builtin_expect(++ctx.stats->rays >= ctx.stats->next_poll, 0)) poll(*ctx.stats, ctx.cutoff, ctx.budget);
     const Geometry& g = *geometry;
     double s = 0;
     Vec3 n1;
@@ -352,10 +364,14 @@ Colour World::walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, 
     return mul(c, seg);
 }
 
-// `weight`: how much of this ray's colour reaches the pixel (see World::min_weight).
+// `weight`: how much of this ray's colour reaches the pixel (see World::omit_weight).
 Colour World::shade(const Vec3& o, const Vec3& d, int depth, double weight, Ctx& ctx) const {
-    if (depth >= options.max_depth || weight < ctx.cutoff) return {};
-    if (++ctx.stats->rays >= ctx.stats->next_poll) poll(*ctx.stats, ctx.cutoff);
+    if (depth >= options.max_depth) return {};
+    if (__builtin_expect(weight < ctx.cutoff, 0)) {
+        ctx.leave_out(weight);
+        return {};
+    }
+    if (__builtin_expect(++ctx.stats->rays >= ctx.stats->next_poll, 0)) poll(*ctx.stats, ctx.cutoff, ctx.budget);
     HitRec h;
     if (!nearest(o, d, ctx, h)) return {};
     Vec3 p = o + d * h.t;
@@ -407,7 +423,8 @@ Colour World::trace_from(const Vec3& origin, const Vec3& d, int depth, RayStats&
     thread_local Ctx ctx;
     ctx.stats = &stats;
     if (stats.stopped) return {};
-    ctx.cutoff = min_weight;
+    ctx.budget = omit_weight;
+    ctx.cutoff = omit_weight * Ctx::kShare;
     Colour c = shade(origin, d, depth, 1.0, ctx);
     // No NaN ever reaches a pixel.
     if (!std::isfinite(c.x)) c.x = c.x > 0 ? 1e30 : 0;
@@ -490,7 +507,7 @@ double distance_to_objects(const Geometry& g, const Vec3& p) {
 }
 
 // An upper bound of the colour any ray can bring back, for the ray tree's bound
-// (World::min_weight); +inf where there is none. Every value a ray returns is a mix,
+// (World::omit_weight); +inf where there is none. Every value a ray returns is a mix,
 // with weights summing to 1, of direct light, glow colours, and the values of further
 // rays dimmed by tints: so it is bounded by the largest direct light any surface point
 // can get, or the brightest glow, provided no weight is negative and no tint brightens.
@@ -575,7 +592,11 @@ std::shared_ptr<const World> compile_world(const Scene& scene, const World* prev
     }
     w->radiance_bound = radiance_bound(*w);
     // Half a display step (1/255 of the unit colour) over the brightest possible return.
-    if (w->radiance_bound > 0 && std::isfinite(w->radiance_bound)) w->min_weight = 0.5 / 255 / w->radiance_bound;
+    // A world that cannot return any colour (nothing lit, no glow) stops at once.
+    if (w->radiance_bound == 0)
+        w->omit_weight = HUGE_VAL;
+    else if (std::isfinite(w->radiance_bound))
+        w->omit_weight = 0.5 / 255 / w->radiance_bound;
     w->camera = scene.camera;
     w->width = scene.width;
     w->height = scene.height;

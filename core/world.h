@@ -85,11 +85,14 @@ public:
     Camera camera;
     int width = 1, height = 1;
     TraceOptions options;
-    // The ray tree's bound (rendering.md, New): a ray whose weight in the pixel (the
-    // product of the reflection and refraction weights and tints on its way from the
-    // camera) is below this is not followed, because whatever it could bring back
-    // (at most radiance_bound) is less than half a display step. 0: follow every ray.
-    double min_weight = 0;
+    // The ray tree's bound. A ray's weight is the share of its colour that reaches the
+    // pixel: the product of the reflection and refraction weights and tints on its way
+    // from the camera. The rays left out of a camera ray's tree weigh less than this in
+    // all, so that all they could bring back (at most radiance_bound each) is less than
+    // half a display step: no pixel changes by more than that. The lightest rays are
+    // left out first, each for a small share of what remains, so the bound holds in a
+    // tree of any size. 0: follow every ray.
+    double omit_weight = 0;
     double radiance_bound = HUGE_VAL;
     // Glow discs of many lamps in a BVH of their own (null when a loop over them is
     // cheaper): a ray then tests the few discs near it, not every lamp.
