@@ -231,7 +231,8 @@ bool Renderer::next_task(RenderTask& task) {
     task.stop = job.stop;
     // Every pixel gets its first sample whatever the time; what comes after it stops at
     // the limit, even in the middle of a pass. (Coarse passes are too short to matter.)
-    task.deadline = p.block == 0 && p.s0 > 0 ? job.deadline : Clock::time_point::max();
+    const bool limited = job.settings.hard_time_limit || (p.block == 0 && p.s0 > 0);
+    task.deadline = limited ? job.deadline : Clock::time_point::max();
     task.camera = job.camera;
     task.x0 = t[0], task.y0 = t[1], task.x1 = t[2], task.y1 = t[3];
     task.block = p.block;
@@ -386,7 +387,8 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
         job.samples_done = p.s1;
     }
     bool out_of_time = job.settings.time_limit > 0 && elapsed >= job.settings.time_limit;
-    if (++job.pass >= job.passes.size() || (out_of_time && job.samples_done > 0)) {
+    const bool stop = out_of_time && (job.samples_done > 0 || job.settings.hard_time_limit);
+    if (++job.pass >= job.passes.size() || stop) {
         finish_locked(job);
         return;
     }

@@ -32,6 +32,8 @@ struct RenderSettings {
     int max_samples = 1;        // samples per pixel to stop at (>= 1)
     double time_limit = 0;      // seconds; 0 = none. Stops at once, even mid-pass, once
                                 // every pixel has its first sample
+    bool hard_time_limit = false;  // stop at the limit even before that (the previews
+                                   // may be all there is: enough for a viewer)
     bool coarse = true;         // coarse preview passes first
     bool mirror = false;        // the original's mirrored picture
     int tile_size = 32;

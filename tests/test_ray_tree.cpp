@@ -209,6 +209,23 @@ TEST_CASE("renderer: a time limit over the coarse previews goes on to the first 
     CHECK(p.coarse_level == 4);  // the 2 x 2 preview was skipped
 }
 
+TEST_CASE("renderer: a hard time limit stops even the first sample") {
+    auto world = endless_world();  // no pixel ever finishes
+    Renderer r(2);
+    RenderSettings s;
+    s.time_limit = 0.3;
+    s.hard_time_limit = true;
+    auto t0 = Clock::now();
+    r.start(world, s);
+    REQUIRE(r.wait_for(10));
+    double took = seconds_since(t0);
+    CAPTURE(took);
+    CHECK(took < 0.3 * 1.15 + 0.15 + 0.35);
+    RenderProgress p = r.progress();
+    CHECK(p.done);
+    CHECK(p.samples == 0);
+}
+
 TEST_CASE("ray tree: the bound changes no pixel by half a display step and cuts the work") {
     // The tree doubles at every glass surface and shrinks by 0.8 at every mirror. At
     // depth 160 it is still small enough to trace in full, which is the reference.
