@@ -70,7 +70,7 @@ std::shared_ptr<const World> endless_world() {
     return w;
 }
 
-// Real mirrors (reflection 0.9) and glass that reflects and refracts.
+// The ball of the finite trees: glass that both reflects and refracts.
 const char* kGlass = "reflection 0.3 refraction 0.6 scattering 0.1";
 
 Vec3 centre_ray(const World& w) { return normalize(w.camera.centre - w.camera.position); }
