@@ -1,6 +1,8 @@
 // Scheduling: a render is a list of passes, a pass a list of tiles. Workers take
 // tiles of the current pass in order (centre first); the pass after it starts only
 // when every tile of this one is committed, so each pixel sums its samples in order.
+// Stopping: a task's traces poll its job's stop flag and, in the passes after the
+// first sample, the time limit, so neither waits for a tile (or a pixel) to finish.
 #include "renderer.h"
 
 #include <algorithm>
@@ -13,9 +15,13 @@ namespace {
 constexpr std::size_t kMaxChanges = 8192;
 }  // namespace
 
+using Clock = std::chrono::steady_clock;
+
 struct RenderTask {
     std::uint64_t generation = 0;
     std::shared_ptr<const World> world;
+    std::shared_ptr<const std::atomic<bool>> stop;  // the job's: set when it is cancelled or done
+    Clock::time_point deadline = Clock::time_point::max();
     CameraBasis camera;
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     int block = 0;               // coarse pass: block size; 0 for a sample pass
@@ -32,10 +38,12 @@ struct Pass {
 struct Renderer::Job {
     std::uint64_t generation = 0;
     std::shared_ptr<const World> world;
+    std::shared_ptr<std::atomic<bool>> stop = std::make_shared<std::atomic<bool>>(false);
     RenderSettings settings;
     CameraBasis camera;
     int width = 0, height = 0;
-    std::chrono::steady_clock::time_point start;
+    Clock::time_point start;
+    Clock::time_point deadline = Clock::time_point::max();  // start + time limit
     std::vector<Pass> passes;       // the fixed ones; sample passes are appended as needed
     std::size_t pass = 0;           // current pass
     std::vector<std::array<int, 4>> tiles;
@@ -97,6 +105,7 @@ Renderer::~Renderer() {
         std::lock_guard<std::mutex> lock(mutex_);
         quit_ = true;
         ++cancel_gen_;
+        if (job_) job_->stop->store(true);
     }
     work_cv_.notify_all();
     for (auto& t : workers_) t.join();
@@ -133,19 +142,25 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
     job->width = settings.width > 0 ? settings.width : world->width;
     job->height = settings.height > 0 ? settings.height : world->height;
     job->camera = CameraBasis::make(world->camera, job->width, job->height, settings.mirror);
-    job->start = std::chrono::steady_clock::now();
+    job->start = Clock::now();
+    if (settings.time_limit > 0)
+        job->deadline = job->start + std::chrono::duration_cast<Clock::duration>(
+                                         std::chrono::duration<double>(std::min(settings.time_limit, 1e9)));
     if (settings.coarse)
         for (int b : {8, 4, 2})
             if (job->width > b || job->height > b) job->passes.push_back({b, 0, 0});
-    // Sample passes: the given batch, or 1, 1, 2, 4, 8, 16, 16, ... samples.
+    // Sample passes: the given batch, or 1, 1, 2, 4, 8, 16, 16, ... samples. Under a
+    // time limit the first pass, which always completes, is one sample.
     int s = 0;
     while (s < job->settings.max_samples) {
         int n = settings.samples_per_pass > 0 ? settings.samples_per_pass : std::clamp(s, 1, 16);
+        if (s == 0 && settings.time_limit > 0) n = 1;
         n = std::min(n, job->settings.max_samples - s);
         job->passes.push_back({0, s, s + n});
         s += n;
     }
     job->paused = paused_;
+    steps_ = 0;
     if (film_.width != job->width || film_.height != job->height) {
         film_.reset(job->width, job->height, settings.coarse);
     } else {
@@ -164,6 +179,7 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
 void Renderer::cancel() {
     std::unique_lock<std::mutex> lock(mutex_);
     ++cancel_gen_;
+    if (job_) job_->stop->store(true);
     job_.reset();
     done_cv_.notify_all();  // wait() returns: there is no render any more
     ++idle_waiters_;
@@ -175,7 +191,16 @@ void Renderer::set_paused(bool paused) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         paused_ = paused;
+        steps_ = 0;
         if (job_) job_->paused = paused;
+    }
+    work_cv_.notify_all();
+}
+
+void Renderer::step(int tiles) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        steps_ += std::max(0, tiles);
     }
     work_cv_.notify_all();
 }
@@ -192,13 +217,22 @@ bool Renderer::wait_for(double seconds) {
 
 // Called with mutex_ held.
 bool Renderer::next_task(RenderTask& task) {
-    if (!job_ || job_->done || job_->paused) return false;
+    if (!job_ || job_->done) return false;
     Job& job = *job_;
     if (job.next_tile >= job.tiles.size()) return false;  // others are finishing the pass
+    if (job.paused) {
+        if (steps_ <= 0) return false;
+        --steps_;
+    }
     const auto& t = job.tiles[job.next_tile++];
     const Pass& p = job.passes[job.pass];
     task.generation = job.generation;
     task.world = job.world;
+    task.stop = job.stop;
+    // Every pixel gets its first sample whatever the time; what comes after it stops at
+    // the limit, even in the middle of a pass. (Coarse passes are too short to matter.)
+    const bool limited = job.settings.hard_time_limit || (p.block == 0 && p.s0 > 0);
+    task.deadline = limited ? job.deadline : Clock::time_point::max();
     task.camera = job.camera;
     task.x0 = t[0], task.y0 = t[1], task.x1 = t[2], task.y1 = t[3];
     task.block = p.block;
@@ -219,11 +253,18 @@ void Renderer::worker_main() {
         ++busy_;
         lock.unlock();
         RayStats stats;
+        stats.stop.flag = task.stop.get();
+        stats.stop.deadline = task.deadline;
         bool complete = run_task(task, buf, stats);
         lock.lock();
-        if (complete && job_ && job_->generation == task.generation) {
+        bool current = job_ && job_->generation == task.generation && !job_->done;
+        if (current) job_->rays += stats.rays;
+        if (complete && current) {
             commit(task, buf);
-            job_->rays += stats.rays;
+        } else if (current && Clock::now() >= task.deadline) {
+            // Out of time in the middle of a pass: the tiles committed keep their extra
+            // samples, the others the samples of the passes before.
+            finish_locked(*job_);
         }
         task.world.reset();
         // cancel() waits for all idle; waiters for "done" are woken by commit() itself.
@@ -234,7 +275,10 @@ void Renderer::worker_main() {
 bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStats& stats) {
     const World& world = *task.world;
     int w = task.x1 - task.x0, h = task.y1 - task.y0;
-    auto cancelled = [&] { return cancel_gen_.load(std::memory_order_relaxed) != task.generation; };
+    // (The traces poll the stop flag and the deadline themselves and set stats.stopped.)
+    auto cancelled = [&] {
+        return stats.stopped || cancel_gen_.load(std::memory_order_relaxed) != task.generation;
+    };
     // The camera rays of a row, made before any is traced: independent square roots and
     // divisions overlap, where one at a time each would wait for the last.
     thread_local std::vector<Vec3> dirs;
@@ -263,7 +307,7 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
                 *out++ = float(c.x), *out++ = float(c.y), *out++ = float(c.z);
             }
         }
-        return true;
+        return !cancelled();
     }
     buf.resize(std::size_t(w) * h * 3);
     // Sample pass: continue each pixel's running sum. The sums of this tile are only
@@ -297,7 +341,7 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
             p[0] = acc[0], p[1] = acc[1], p[2] = acc[2];
         }
     }
-    return true;
+    return !cancelled();
 }
 
 // Called with mutex_ held, for a task of the current job.
@@ -330,7 +374,7 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     if (++job.tiles_done < job.tiles.size()) return;
     // The pass is complete.
     const Pass& p = job.passes[job.pass];
-    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - job.start).count();
+    double elapsed = std::chrono::duration<double>(Clock::now() - job.start).count();
     ++job.passes_done;
     job.preview_valid = true;
     if (p.block > 0) {
@@ -342,15 +386,24 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     } else {
         job.samples_done = p.s1;
     }
-    bool out_of_time = job.settings.time_limit > 0 && elapsed >= job.settings.time_limit && job.samples_done > 0;
-    if (++job.pass >= job.passes.size() || out_of_time) {
-        job.done = true;
-        job.done_time = elapsed;
-        done_cv_.notify_all();
+    bool out_of_time = job.settings.time_limit > 0 && elapsed >= job.settings.time_limit;
+    const bool stop = out_of_time && (job.samples_done > 0 || job.settings.hard_time_limit);
+    if (++job.pass >= job.passes.size() || stop) {
+        finish_locked(job);
         return;
     }
+    // Out of time in the previews: straight on to the first sample.
+    while (out_of_time && job.passes[job.pass].block > 0) ++job.pass;
     begin_pass_locked(job);
     work_cv_.notify_all();
+}
+
+// Called with mutex_ held: the job is over; workers still inside it stop at once.
+void Renderer::finish_locked(Job& job) {
+    job.done = true;
+    job.done_time = std::chrono::duration<double>(Clock::now() - job.start).count();
+    job.stop->store(true);
+    done_cv_.notify_all();
 }
 
 RenderProgress Renderer::progress() const {
@@ -365,7 +418,7 @@ RenderProgress Renderer::progress() const {
     r.passes = j.passes_done;
     r.pass_fraction = j.tiles.empty() ? 1.0 : double(j.tiles_done) / double(j.tiles.size());
     r.rays = j.rays;
-    r.elapsed = j.done ? j.done_time : std::chrono::duration<double>(std::chrono::steady_clock::now() - j.start).count();
+    r.elapsed = j.done ? j.done_time : std::chrono::duration<double>(Clock::now() - j.start).count();
     r.first_coarse_time = j.first_coarse_time;
     r.running = !j.done && !j.paused;
     r.done = j.done;

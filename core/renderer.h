@@ -30,7 +30,10 @@ enum class TileOrder { CentreOut, Scanline };
 struct RenderSettings {
     int width = 0, height = 0;  // 0: the scene's picture size
     int max_samples = 1;        // samples per pixel to stop at (>= 1)
-    double time_limit = 0;      // seconds; 0 = none (stops after the current pass)
+    double time_limit = 0;      // seconds; 0 = none. Stops at once, even mid-pass, once
+                                // every pixel has its first sample
+    bool hard_time_limit = false;  // stop at the limit even before that (the previews
+                                   // may be all there is: enough for a viewer)
     bool coarse = true;         // coarse preview passes first
     bool mirror = false;        // the original's mirrored picture
     int tile_size = 32;
@@ -75,6 +78,9 @@ public:
     void start(std::shared_ptr<const World> world, const RenderSettings& settings);
     void cancel();
     void set_paused(bool paused);
+    // While paused: let the workers take `tiles` more tiles. A render one tile at a
+    // time, whatever the thread count or the machine's load (tests use it).
+    void step(int tiles = 1);
     // Block until the render is done or cancelled.
     void wait();
     // Block until done or the timeout passes; true if done.
@@ -102,6 +108,7 @@ private:
     bool run_task(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
     void commit(const RenderTask& task, const std::vector<float>& buf);
     void begin_pass_locked(Job& job);
+    void finish_locked(Job& job);
 
     mutable std::mutex mutex_;
     std::condition_variable work_cv_, idle_cv_, done_cv_;
@@ -120,6 +127,7 @@ private:
     int busy_ = 0;
     int idle_waiters_ = 0;  // threads in cancel() waiting for busy_ == 0
     bool paused_ = false;
+    int steps_ = 0;  // tiles that may still be taken while paused
 };
 
 }  // namespace rt

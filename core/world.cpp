@@ -1,11 +1,14 @@
 // Shading as in rendering.md §2-§6: direct light with the unshadowed 0.1 term and
 // coloured shadows through refractive objects, mirror reflection, refraction with the
-// interior walk, and lamp glow discs. Planes and glows are few and unbounded, so they
-// are tested one by one; everything else goes through the BVH.
+// interior walk, and lamp glow discs. Planes are few and unbounded, so they are tested
+// one by one; objects go through the BVH, and glow discs too when there are many.
+// The ray tree is cut where the rays left out cannot be seen (World::omit_weight) and
+// where the caller asks to stop (RayStats::stop).
 #include "world.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "shapes.h"
 
@@ -49,6 +52,12 @@ bool refract(const Vec3& d, double eta1, double eta2, Vec3& n, Vec3& out) {
 
 inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - n * (2 * dot(d, n)); }
 
+inline double max3(const Colour& c) { return std::max(c.x, std::max(c.y, c.z)); }
+inline Colour cabs(const Colour& c) { return {std::fabs(c.x), std::fabs(c.y), std::fabs(c.z)}; }
+
+// From this many glow discs on, a BVH over them beats testing each one.
+constexpr std::size_t kGlowBvhMin = 8;
+
 // Lamp glow hit: the disc at the lamp's distance, if the line passes within `size`
 // and the lamp is ahead (the original also hit lamps behind the origin).
 inline bool glow_hit(const ShadeLight& l, const Vec3& o, const Vec3& d, double& t) {
@@ -67,10 +76,35 @@ inline bool glow_hit(const ShadeLight& l, const Vec3& o, const Vec3& d, double& 
 struct World::Ctx {
     SpanScratch scratch;
     RayStats* stats = nullptr;
+    // The weight that the rays left out of this camera ray's tree may still add up to,
+    // and the lightest ray that is followed: a small share of that, so that the budget
+    // shrinks slowly and lasts however big the tree (+inf once the caller has asked to
+    // stop, which unwinds the tree at once).
+    double budget = 0;
+    double cutoff = 0;
+    static constexpr double kShare = 1.0 / 4096;
+    void leave_out(double weight) {
+        budget -= weight;
+        cutoff = budget * kShare;
+    }
     // Per light, the last opaque object that shadowed a point (+1; 0 = none). Shadows
     // are coherent, so trying it first usually ends the search at once.
     std::vector<std::uint32_t> blocker;
 };
+
+namespace {
+// Called every RayStats::kPollRays rays: has the caller asked to stop?
+[[gnu::cold, gnu::noinline]] void poll(RayStats& st, double& cutoff, double& budget) {
+    st.next_poll = st.rays + RayStats::kPollRays;
+    const TraceStop& stop = st.stop;
+    bool flagged = stop.flag && stop.flag->load(std::memory_order_relaxed);
+    if (flagged || (stop.deadline != std::chrono::steady_clock::time_point::max() &&
+                    std::chrono::steady_clock::now() >= stop.deadline)) {
+        st.stopped = true;
+        budget = cutoff = std::numeric_limits<double>::infinity();
+    }
+}
+}  // namespace
 
 struct World::HitRec {
     enum Kind { None, Object, PlaneHit, Glow } kind = None;
@@ -130,6 +164,35 @@ int PlaneShape::cell(const Vec3& p) const {
     return int((ifloor(a) + ifloor(b)) & 1);
 }
 
+// The nearest glow disc nearer than h. (Out of line: most rays meet no glow, and
+// the callers' hot loops stay small.)
+void World::nearest_glow(const Vec3& o, const Vec3& d, HitRec& h) const {
+    if (glow_bvh) {
+        // The same disc as the loop below would find: on an exact tie the earlier lamp.
+        glow_bvh->traverse(o, d, h.t, [&](std::uint32_t gi, double tmax) -> double {
+            std::uint32_t i = glows[gi];
+            double t;
+            if (glow_hit(lights[i], o, d, t) && t > kDelta &&
+                (t < tmax || (t == tmax && h.kind == HitRec::Glow && i < h.index))) {
+                h.kind = HitRec::Glow;
+                h.t = t;
+                h.index = i;
+                return t;
+            }
+            return tmax;
+        });
+        return;
+    }
+    for (std::uint32_t i : glows) {
+        double t;
+        if (glow_hit(lights[i], o, d, t) && t > kDelta && t < h.t) {
+            h.kind = HitRec::Glow;
+            h.t = t;
+            h.index = i;
+        }
+    }
+}
+
 bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
     const Geometry& g = *geometry;
     h.kind = HitRec::None;
@@ -146,14 +209,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
             h.index = i;
         }
     }
-    for (std::uint32_t i : glows) {
-        double t;
-        if (glow_hit(lights[i], o, d, t) && t > kDelta && t < h.t) {
-            h.kind = HitRec::Glow;
-            h.t = t;
-            h.index = i;
-        }
-    }
+    if (!glows.empty()) nearest_glow(o, d, h);
     g.bvh.traverse(o, d, h.t, [&](std::uint32_t obj, double tmax) -> double {
         SpanEnd e;
         // On an exact tie the earlier object in the file wins, as in the original.
@@ -170,7 +226,34 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
     return h.kind != HitRec::None;
 }
 
+// Does a lamp's glow disc lie on the segment from o along the unit dir, before limit?
+// (rendering.md §6: the discs block other lights.)
+// (Through glow_bvh; direct() loops over a few discs itself.)
+bool World::glow_blocks(const Vec3& o, const Vec3& dir, double limit) const {
+    bool blocked = false;
+    glow_bvh->traverse(o, dir, limit, [&](std::uint32_t gi, double tmax) -> double {
+        double t;
+        if (glow_hit(lights[glows[gi]], o, dir, t) && t > 0 && t < limit) {
+            blocked = true;
+            return -1;
+        }
+        return tmax;
+    });
+    return blocked;
+}
+
 Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const {
+    // Stopped: the colour is thrown away, and with thousands of lights this is the
+    // costly part of unwinding a deep tree.
+    if (ctx.stats->stopped) return {};
+    // Two versions of the loop: a call to glow_blocks() inside it would make the
+    // compiler keep its floating-point values in memory, even where it is never made.
+    return glow_bvh ? direct_lights<true>(p, n, cp, ctx) : direct_lights<false>(p, n, cp, ctx);
+}
+
+// Glow discs are tested one by one, or through their BVH if kGlowBvh.
+template <bool kGlowBvh>
+Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const {
     const Geometry& g = *geometry;
     Colour sum;
     if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
@@ -226,18 +309,27 @@ Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) c
             // A plane is a window of zero thickness: refractive ones pass light unchanged.
             if (m.refraction == 0) blocked = true;
         }
-        for (std::uint32_t i : glows) {
-            double t;
-            if (!blocked && glow_hit(lights[i], o, vh, t) && t > 0 && t < limit) blocked = true;
+        if constexpr (kGlowBvh) {
+            if (!blocked) blocked = glow_blocks(o, vh, limit);
+        } else {
+            for (std::uint32_t i : glows) {
+                double t;
+                if (!blocked && glow_hit(lights[i], o, vh, t) && t > 0 && t < limit) blocked = true;
+            }
         }
         if (!blocked) sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
     }
     return sum;
 }
 
-Colour World::walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, Ctx& ctx) const {
+Colour World::walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, double weight,
+                   Ctx& ctx) const {
     if (level >= options.max_depth) return {};
-    ++ctx.stats->rays;
+    if (__builtin_expect(weight < ctx.cutoff, 0)) {
+        ctx.leave_out(weight);
+        return {};
+    }
+    if (__builtin_expect(++ctx.stats->rays >= ctx.stats->next_poll, 0)) poll(*ctx.stats, ctx.cutoff, ctx.budget);
     const Geometry& g = *geometry;
     double s = 0;
     Vec3 n1;
@@ -262,16 +354,24 @@ Colour World::walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, 
     Vec3 q1 = q0 + d1 * s;
     Vec3 d2;
     Colour c;
+    // The segment's absorption is known before the rest of the path is followed.
+    const Colour seg = tint(*m, s);
+    weight *= max3(seg);
     if (refract(d1, eta, 1, n1, d2))
-        c = shade(q1, d2, level + 1, ctx);
+        c = shade(q1, d2, level + 1, weight, ctx);
     else
-        c = walk(x, q1, reflect(d1, n1), eta, level + 1, ctx);
-    return mul(c, tint(*m, s));
+        c = walk(x, q1, reflect(d1, n1), eta, level + 1, weight, ctx);
+    return mul(c, seg);
 }
 
-Colour World::shade(const Vec3& o, const Vec3& d, int depth, Ctx& ctx) const {
+// `weight`: how much of this ray's colour reaches the pixel (see World::omit_weight).
+Colour World::shade(const Vec3& o, const Vec3& d, int depth, double weight, Ctx& ctx) const {
     if (depth >= options.max_depth) return {};
-    ++ctx.stats->rays;
+    if (__builtin_expect(weight < ctx.cutoff, 0)) {
+        ctx.leave_out(weight);
+        return {};
+    }
+    if (__builtin_expect(++ctx.stats->rays >= ctx.stats->next_poll, 0)) poll(*ctx.stats, ctx.cutoff, ctx.budget);
     HitRec h;
     if (!nearest(o, d, ctx, h)) return {};
     Vec3 p = o + d * h.t;
@@ -301,12 +401,12 @@ Colour World::shade(const Vec3& o, const Vec3& d, int depth, Ctx& ctx) const {
         if (depth + 1 < options.max_depth && m->refraction > 0) {
             Vec3 d1;
             Vec3 nn = n;
-            if (refract(d, 1, m->ior, nn, d1)) refr = walk(h, p, normalize(d1), m->ior, depth + 2, ctx);
+            if (refract(d, 1, m->ior, nn, d1)) refr = walk(h, p, normalize(d1), m->ior, depth + 2, weight * m->refraction, ctx);
         }
     }
     Colour c;
     if (m->scattering > 0) c += direct(p, n, m->colour, ctx) * m->scattering;
-    if (m->reflection > 0) c += shade(p, reflect(d, n), depth + 2, ctx) * m->reflection;
+    if (m->reflection > 0) c += shade(p, reflect(d, n), depth + 2, weight * m->reflection, ctx) * m->reflection;
     c += scale(m->refraction, refr);
     return c;
 }
@@ -322,7 +422,10 @@ Colour World::trace_unit(const Vec3& origin, const Vec3& unit_dir, RayStats& sta
 Colour World::trace_from(const Vec3& origin, const Vec3& d, int depth, RayStats& stats) const {
     thread_local Ctx ctx;
     ctx.stats = &stats;
-    Colour c = shade(origin, d, depth, ctx);
+    if (stats.stopped) return {};
+    ctx.budget = omit_weight;
+    ctx.cutoff = omit_weight * Ctx::kShare;
+    Colour c = shade(origin, d, depth, 1.0, ctx);
     // No NaN ever reaches a pixel.
     if (!std::isfinite(c.x)) c.x = c.x > 0 ? 1e30 : 0;
     if (!std::isfinite(c.y)) c.y = c.y > 0 ? 1e30 : 0;
@@ -360,6 +463,90 @@ PickResult pick(const World& world, const Ray& ray) {
     return r;
 }
 
+namespace {
+
+double box_distance2(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        double e = std::max({lo[k] - p[k], 0.0, p[k] - hi[k]});
+        d2 += e * e;
+    }
+    return d2;
+}
+
+// The distance from p to the nearest object box: a lower bound of its distance to any
+// surface point of an object. Branch and bound through the BVH.
+double distance_to_objects(const Geometry& g, const Vec3& p) {
+    const Bvh& bvh = g.bvh;
+    double best2 = HUGE_VAL;
+    if (bvh.nodes.empty()) return HUGE_VAL;
+    std::vector<std::pair<double, std::uint32_t>> todo{{0.0, 0u}};  // (distance², inner node)
+    while (!todo.empty()) {
+        auto [d2, ref] = todo.back();
+        todo.pop_back();
+        if (d2 >= best2) continue;
+        const BvhNode& n = bvh.nodes[ref];
+        for (int i = 0; i < 4; ++i) {
+            std::uint32_t c = n.child[i];
+            if (c == BvhNode::kEmpty) continue;
+            if (BvhNode::is_leaf(c)) {
+                std::uint32_t first = BvhNode::leaf_first(c), count = BvhNode::leaf_count(c);
+                for (std::uint32_t k = 0; k < count; ++k) {
+                    const Aabb& b = g.object_bounds[bvh.items[first + k]];
+                    best2 = std::min(best2, box_distance2(p, b.lo, b.hi));
+                }
+                continue;
+            }
+            // The node's float boxes are padded outward: their distance is a lower bound too.
+            Vec3 lo{n.b[0][i], n.b[1][i], n.b[2][i]}, hi{n.b[3][i], n.b[4][i], n.b[5][i]};
+            double cd2 = box_distance2(p, lo, hi);
+            if (cd2 < best2) todo.push_back({cd2, c});
+        }
+    }
+    return std::sqrt(best2);
+}
+
+// An upper bound of the colour any ray can bring back, for the ray tree's bound
+// (World::omit_weight); +inf where there is none. Every value a ray returns is a mix,
+// with weights summing to 1, of direct light, glow colours, and the values of further
+// rays dimmed by tints: so it is bounded by the largest direct light any surface point
+// can get, or the brightest glow, provided no weight is negative and no tint brightens.
+// Direct light at p is at most sum over lights of |colour| |Cp| / r^2 (rendering.md
+// §3), with r at least the light's distance to the nearest surface.
+double radiance_bound(const World& w) {
+    const double inf = HUGE_VAL;
+    double cp = 0;
+    auto usable = [&](const ShadeMaterial& m) {
+        if (!(m.reflection >= 0 && m.refraction >= 0 && m.scattering >= 0)) return false;
+        if (m.refraction > 0 && max3(m.log_tint) > 0) return false;  // a tint above 1
+        double c = max3(cabs(m.colour));
+        if (!std::isfinite(c)) return false;
+        if (m.scattering > 0) cp = std::max(cp, c);
+        return true;
+    };
+    for (const ShadeMaterial& m : w.materials)
+        if (!usable(m)) return inf;
+    for (const ShadeMaterial& m : w.plane_mats)
+        if (!usable(m)) return inf;
+    double glow = 0, direct = 0;
+    for (const ShadeLight& l : w.lights) {
+        double c = max3(cabs(l.colour));
+        if (!std::isfinite(c)) return inf;
+        if (l.glow > 0) glow = std::max(glow, c);
+        if (c == 0 || cp == 0) continue;
+        double r = distance_to_objects(*w.geometry, l.position);
+        for (const PlaneShape& pl : w.planes) r = std::min(r, std::fabs(dot(pl.n, l.position) + pl.D));
+        // Hit points lie on their surface only to within rounding and the original's
+        // surface tolerance.
+        r -= 100 * kDelta + 1e-9 * max3(cabs(l.position));
+        if (!(r > 0)) return inf;
+        direct += c / (r * r);
+    }
+    return std::max(glow, cp * direct);
+}
+
+}  // namespace
+
 std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous) {
     auto w = std::make_shared<World>();
     bool reuse = previous && previous->geometry && previous->geometry->source.size() == scene.objects.size();
@@ -382,6 +569,34 @@ std::shared_ptr<const World> compile_world(const Scene& scene, const World* prev
         if (l.lamp && l.size > 0) w->glows.push_back(std::uint32_t(w->lights.size()));
         w->lights.push_back({l.position, l.colour, l.lamp && l.size > 0 ? l.size : 0.0});
     }
+    if (w->glows.size() >= kGlowBvhMin) {
+        bool same = previous && previous->glow_bvh && previous->glows == w->glows;
+        for (std::size_t k = 0; same && k < w->glows.size(); ++k) {
+            const ShadeLight &a = w->lights[w->glows[k]], &b = previous->lights[previous->glows[k]];
+            same = a.position == b.position && a.glow == b.glow;
+        }
+        if (same) {
+            w->glow_bvh = previous->glow_bvh;
+        } else {
+            std::vector<Aabb> boxes;
+            boxes.reserve(w->glows.size());
+            for (std::uint32_t i : w->glows) {
+                const ShadeLight& l = w->lights[i];
+                Vec3 e{l.glow, l.glow, l.glow};
+                boxes.push_back({l.position - e, l.position + e});
+            }
+            auto bvh = std::make_shared<Bvh>();
+            bvh->build(boxes);
+            w->glow_bvh = std::move(bvh);
+        }
+    }
+    w->radiance_bound = radiance_bound(*w);
+    // Half a display step (1/255 of the unit colour) over the brightest possible return.
+    // A world that cannot return any colour (nothing lit, no glow) stops at once.
+    if (w->radiance_bound == 0)
+        w->omit_weight = HUGE_VAL;
+    else if (std::isfinite(w->radiance_bound))
+        w->omit_weight = 0.5 / 255 / w->radiance_bound;
     w->camera = scene.camera;
     w->width = scene.width;
     w->height = scene.height;

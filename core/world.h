@@ -3,6 +3,8 @@
 // new World that reuses the previous one's BVH.
 #pragma once
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -14,6 +16,7 @@
 namespace rt {
 
 struct Geometry;  // primitives + BVH (shapes.h, bvh.h)
+class Bvh;
 
 // Material as the tracer uses it: weights normalised to sum 1 (or all 0).
 struct ShadeMaterial {
@@ -49,8 +52,23 @@ struct TraceOptions {
     int max_depth = 20;  // the original's recursion limit
 };
 
+// When to give up tracing: another thread's flag, a deadline, or both (default never).
+struct TraceStop {
+    const std::atomic<bool>* flag = nullptr;
+    std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+};
+
+// What one thread's run of traces counts, and how it is stopped. A ray tree can take
+// minutes (glass among mirrors at a high depth limit), so the tracer polls `stop` every
+// kPollRays rays from inside the tree, not only between traces.
 struct RayStats {
+    static constexpr std::uint64_t kPollRays = 4096;  // about a millisecond of tracing
     std::uint64_t rays = 0;  // camera + reflected + refracted + shadow rays
+    TraceStop stop;          // set by the caller
+    // Set by the tracer once it has given up: the colours it returned since are
+    // meaningless, and every later trace with these stats returns at once.
+    bool stopped = false;
+    std::uint64_t next_poll = 0;  // the ray count at which `stop` is polled next
 };
 
 struct PickResult;
@@ -67,6 +85,18 @@ public:
     Camera camera;
     int width = 1, height = 1;
     TraceOptions options;
+    // The ray tree's bound. A ray's weight is the share of its colour that reaches the
+    // pixel: the product of the reflection and refraction weights and tints on its way
+    // from the camera. The rays left out of a camera ray's tree weigh less than this in
+    // all, so that all they could bring back (at most radiance_bound each) is less than
+    // half a display step: no pixel changes by more than that. The lightest rays are
+    // left out first, each for a small share of what remains, so the bound holds in a
+    // tree of any size. 0: follow every ray.
+    double omit_weight = 0;
+    double radiance_bound = HUGE_VAL;
+    // Glow discs of many lamps in a BVH of their own (null when a loop over them is
+    // cheaper): a ray then tests the few discs near it, not every lamp.
+    std::shared_ptr<const Bvh> glow_bvh;
 
     // Colour seen along the original's camera ray through pixel (i, j).
     Colour trace_camera(const CameraBasis& cam, double i, double j, RayStats& stats) const;
@@ -85,9 +115,14 @@ public:
 private:
     Colour trace_from(const Vec3& origin, const Vec3& unit_dir, int depth, RayStats& stats) const;
     bool nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const;
-    Colour shade(const Vec3& o, const Vec3& d, int depth, Ctx& ctx) const;
+    Colour shade(const Vec3& o, const Vec3& d, int depth, double weight, Ctx& ctx) const;
     Colour direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
-    Colour walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, Ctx& ctx) const;
+    template <bool kGlowBvh>
+    Colour direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
+    Colour walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, double weight,
+                Ctx& ctx) const;
+    [[gnu::noinline]] void nearest_glow(const Vec3& o, const Vec3& d, HitRec& h) const;
+    [[gnu::noinline]] bool glow_blocks(const Vec3& o, const Vec3& dir, double limit) const;
     friend PickResult pick(const World& world, const Ray& ray);
 
 };

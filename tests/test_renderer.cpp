@@ -338,31 +338,50 @@ TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversio
     std::vector<std::uint8_t> kept;  // updated in place, as the viewer does
     std::uint64_t kept_version = 0;
     int w = 0, h = 0;
-    int compared = 0, partial = 0, differing = 0;
+    int compared = 0, partial = 0, differing = 0, steps = 0;
+    // Paused and stepped one tile at a time, so that every intermediate state is seen
+    // whatever the machine's load. Per render: coarse passes of 6, 24 and 96 tiles (a
+    // coarse tile grows with its block: 32, 16, 8 pixels), then 3 sample passes of 96.
+    r.set_paused(true);
     for (int round = 0; round < 3; ++round) {
         r.start(world, s);  // a new render over the same film size: a full update first
         for (;;) {
-            RenderProgress p = r.progress();
+            RenderProgress before = r.progress();
+            if (before.done) break;
+            r.step(1);
+            // The tile is committed when the progress moves.
+            auto t0 = std::chrono::steady_clock::now();
+            RenderProgress p;
+            for (;;) {
+                p = r.progress();
+                if (p.done || p.passes != before.passes || p.pass_fraction != before.pass_fraction) break;
+                REQUIRE(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(30));
+                std::this_thread::sleep_for(std::chrono::microseconds(200));
+            }
+            ++steps;
             std::array<int, 4> changed{};
             if (r.snapshot_rgba8(kept, w, h, kept_version, &changed)) {
                 if (!(changed[0] == 0 && changed[1] == 0 && changed[2] == w && changed[3] == h)) ++partial;
-                // A fresh, full conversion; compare only if nothing was committed between.
+                // A fresh, full conversion of the same state (nothing runs in between).
                 std::vector<std::uint8_t> fresh;
                 std::uint64_t fresh_version = 0;
                 int fw = 0, fh = 0;
-                if (r.snapshot_rgba8(fresh, fw, fh, fresh_version) && fresh_version == kept_version) {
-                    ++compared;
-                    if (fresh != kept) ++differing;
-                }
+                REQUIRE(r.snapshot_rgba8(fresh, fw, fh, fresh_version));
+                REQUIRE(fresh_version == kept_version);
+                ++compared;
+                if (fresh != kept) ++differing;
             }
-            if (p.done) break;
         }
     }
+    CAPTURE(steps);
     CAPTURE(compared);
     CAPTURE(partial);
+    CHECK(steps == 3 * (6 + 24 + 96 + 3 * 96));
     CHECK(differing == 0);
-    CHECK(compared > 10);
-    CHECK(partial > 0);
+    // Each state is compared once the first coarse pass is complete (its first 5 tiles
+    // show nothing yet); every sample tile is a partial update.
+    CHECK(compared == steps - 3 * 5);
+    CHECK(partial >= 3 * 3 * 96);
 }
 
 TEST_CASE("renderer: wait() in one thread returns when another cancels, even with every worker idle") {

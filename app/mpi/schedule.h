@@ -23,7 +23,7 @@ struct ScheduleSettings {
     int tile_side = 32;
     int max_samples = 1;
     int samples_per_pass = 0;  // 0: 1, 1, 2, 4, 8, 16, 16, ... as rt::Renderer
-    double time_limit = 0;     // seconds; checked when a pass completes, as rt::Renderer
+    double time_limit = 0;     // seconds; checked when a pass completes (rt::Renderer also stops mid-pass)
 };
 
 class Schedule {

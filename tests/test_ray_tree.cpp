@@ -1,0 +1,407 @@
+// Tests for how much work a picture can cost and how it is stopped (core/world.h,
+// core/renderer.h): a trace stops within a fraction of a second of a stop flag or a
+// deadline at any depth; the renderer's cancel() and time limit act in the middle of
+// a pixel's ray tree; the ray tree's bound changes no pixel by half a display step and
+// makes a deep glass-and-mirror scene cheap; lamps' glow discs cost log(lamps) per ray.
+#include <doctest/doctest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "renderer.h"
+#include "scene_parser.h"
+#include "world.h"
+
+using namespace rt;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+Scene parse(const std::string& text) {
+    ParseResult r = parse_scene(text);
+    std::string errors;
+    for (const Diagnostic& d : r.diagnostics) errors += std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message + "\n";
+    REQUIRE_MESSAGE(r.ok(), errors);
+    return r.scene;
+}
+
+// A glass ball inside a closed box of six mirror planes, lit from inside. Every ray
+// stays in the box; at the ball it splits into a reflected and a refracted ray.
+std::string mirror_box(double mirror_reflection, double mirror_scattering, const char* ball, int w = 16, int h = 12) {
+    std::string m = "material { reflection " + std::to_string(mirror_reflection) + " scattering " +
+                    std::to_string(mirror_scattering) + " colour 0.9 0.9 0.9 }";
+    std::string planes;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side : {-3, 3}) {
+            double p[3][3] = {};
+            for (auto& q : p) q[axis] = side;
+            p[1][(axis + 1) % 3] = 1;
+            p[2][(axis + 2) % 3] = 1;
+            planes += "  plane { " + m;
+            for (int i = 0; i < 3; ++i)
+                planes += " point " + std::to_string(i + 1) + " " + std::to_string(p[i][0]) + " " +
+                          std::to_string(p[i][1]) + " " + std::to_string(p[i][2]);
+            planes += " point 4 0 0 0.5 }\n";  // shaded on the inside
+        }
+    return std::string("thing {\n  sphere { material { ") + ball +
+           " translusans 1 refractive_index 1.5 colour 1 1 1 } position 0 0 0 radius 1.2 }\n}\n"
+           "special_thing {\n" +
+           planes +
+           "}\n"
+           "light { spotlight { colour 20 20 20 position 1.5 2 2.2 } }\n"
+           "camera { position -2.5 -2 1 centre 0 0 0 up 0 0 1 angle_x 60 angle_y 45 }\n"
+           "picture_size { x_max " +
+           std::to_string(w) + " y_max " + std::to_string(h) + " }\nend\n";
+}
+
+// Perfect mirrors, the bound switched off and depth 1000: a pixel's tree doubles at
+// every pass through the ball and would take longer than anyone waits.
+std::shared_ptr<const World> endless_world() {
+    auto w = std::make_shared<World>(*compile_world(parse(mirror_box(1, 0, "reflection 0.45 refraction 0.45 scattering 0.1"))));
+    w->options.max_depth = 1000;
+    w->omit_weight = 0;
+    return w;
+}
+
+// The ball of the finite trees: glass that both reflects and refracts.
+const char* kGlass = "reflection 0.3 refraction 0.6 scattering 0.1";
+
+Vec3 centre_ray(const World& w) { return normalize(w.camera.centre - w.camera.position); }
+
+}  // namespace
+
+TEST_CASE("ray tree: a trace of any depth stops within a fraction of a second of its stop flag") {
+    auto world = endless_world();
+    std::atomic<bool> stop{false};
+    RayStats stats;
+    stats.stop.flag = &stop;
+    Clock::time_point flagged;
+    std::thread stopper([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        flagged = Clock::now();
+        stop = true;
+    });
+    world->trace(world->camera.position, centre_ray(*world), 0, stats);
+    Clock::time_point returned = Clock::now();
+    stopper.join();
+    // It was stopped, not finished: the tree is far bigger than 200 ms of tracing.
+    CHECK(stats.stopped);
+    double late = std::chrono::duration<double>(returned - flagged).count();
+    CAPTURE(late);
+    CHECK(late < 0.5);
+    // A stopped RayStats ends every later trace at once.
+    std::uint64_t rays = stats.rays;
+    world->trace(world->camera.position, centre_ray(*world), 0, stats);
+    CHECK(stats.rays == rays);
+}
+
+TEST_CASE("ray tree: a trace stops at its deadline") {
+    auto world = endless_world();
+    RayStats stats;
+    auto t0 = Clock::now();
+    stats.stop.deadline = t0 + std::chrono::milliseconds(300);
+    world->trace(world->camera.position, centre_ray(*world), 0, stats);
+    double took = seconds_since(t0);
+    CAPTURE(took);
+    CHECK(stats.stopped);
+    CHECK(took >= 0.3);
+    CHECK(took < 0.8);
+}
+
+TEST_CASE("renderer: cancel() in the middle of one pixel's ray tree returns within a second") {
+    auto world = endless_world();
+    for (int threads : {1, 2}) {
+        CAPTURE(threads);
+        Renderer r(threads);
+        RenderSettings s;
+        r.start(world, s);
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        CHECK_FALSE(r.progress().done);
+        auto t0 = Clock::now();
+        r.cancel();
+        double took = seconds_since(t0);
+        CAPTURE(took);
+        CHECK(took < 1.0);
+        CHECK_FALSE(r.progress().running);
+    }
+}
+
+// A first pass of one cheap sample per pixel, then passes of 4096 samples that take
+// far longer than the limit: a limit checked only between passes (or not at all) would
+// let the render run for seconds to minutes.
+TEST_CASE("renderer: the time limit stops a render in the middle of a pass; every pixel has a sample") {
+    const char* text = R"(
+thing {
+  sphere { material { reflection 0.2 refraction 0.7 scattering 0.1 translusans 0.9 refractive_index 1.5 colour 1 1 1 } position 5 0 1 radius 1 }
+  sphere { material { reflection 0.5 scattering 0.5 colour 0.9 0.3 0.2 } position 8 1.5 1 radius 1 }
+}
+special_thing { plane { material { reflection 0.3 scattering 0.7 colour 0.6 0.7 0.9 } point 1 0 0 0 point 2 1 0 0 point 3 0 1 0 point 4 0 0 5 } }
+light { lamp { colour 60 60 60 position 3 3 5 size 0.3 } }
+camera { position 0 0 1.5 centre 5 0 1 up 5 0 2 angle_x 60 angle_y 45 }
+picture_size { x_max 32 y_max 24 }
+end
+)";
+    auto world = compile_world(parse(text));
+    for (double limit : {0.3, 1.0}) {
+        CAPTURE(limit);
+        Renderer r(2);
+        RenderSettings s;
+        s.max_samples = 65536;
+        s.samples_per_pass = 4096;
+        s.time_limit = limit;
+        s.coarse = false;
+        auto t0 = Clock::now();
+        r.start(world, s);
+        bool done = r.wait_for(limit * 1.15 + 10);
+        double took = seconds_since(t0);
+        REQUIRE(done);
+        CAPTURE(took);
+        // The target is 1.15 limit + 0.15 s; the rest is for a loaded test machine.
+        CHECK(took <= limit * 1.15 + 0.15 + 0.35);
+        CHECK(took >= limit);
+        RenderProgress p = r.progress();
+        CHECK(p.done);
+        CHECK(p.samples == 1);  // the first pass is complete, the second is not
+        CHECK(p.elapsed <= limit * 1.15 + 0.15 + 0.35);
+        // Every pixel has its first sample: the same as a one-sample render.
+        Image got = r.snapshot();
+        RenderSettings one;
+        one.coarse = false;
+        Renderer ref(1);
+        ref.start(world, one);
+        ref.wait();
+        Image want = ref.snapshot();
+        REQUIRE(got.rgb.size() == want.rgb.size());
+        int lit = 0, far = 0;
+        for (std::size_t i = 0; i < got.rgb.size(); ++i) {
+            lit += got.rgb[i] > 0;
+            // Pixels that got more samples are averages close to the first sample; no pixel is empty.
+            far += want.rgb[i] > 0.05f && !(got.rgb[i] > 0);
+        }
+        CHECK(far == 0);
+        CHECK(lit > int(got.rgb.size()) / 2);
+    }
+}
+
+TEST_CASE("renderer: a time limit over the coarse previews goes on to the first sample and stops there") {
+    // A pixel costs about a thousand rays, so the first preview (4 x 4 blocks) takes
+    // longer than the limit.
+    auto world = std::make_shared<World>(*compile_world(parse(mirror_box(0.9, 0.1, kGlass))));
+    world->options.max_depth = 1000;
+    Renderer r(2);
+    RenderSettings s;
+    s.width = 8;
+    s.height = 6;
+    s.max_samples = 65536;
+    s.time_limit = 1e-4;
+    r.start(world, s);
+    REQUIRE(r.wait_for(60));
+    RenderProgress p = r.progress();
+    CHECK(p.done);
+    CHECK(p.samples == 1);
+    CHECK(p.coarse_level == 4);  // the 2 x 2 preview was skipped
+}
+
+TEST_CASE("renderer: a hard time limit stops even the first sample") {
+    auto world = endless_world();  // no pixel ever finishes
+    Renderer r(2);
+    RenderSettings s;
+    s.time_limit = 0.3;
+    s.hard_time_limit = true;
+    auto t0 = Clock::now();
+    r.start(world, s);
+    REQUIRE(r.wait_for(10));
+    double took = seconds_since(t0);
+    CAPTURE(took);
+    CHECK(took < 0.3 * 1.15 + 0.15 + 0.35);
+    RenderProgress p = r.progress();
+    CHECK(p.done);
+    CHECK(p.samples == 0);
+}
+
+TEST_CASE("ray tree: the bound changes no pixel by half a display step and cuts the work") {
+    // The tree doubles at every glass surface and shrinks by 0.8 at every mirror. At
+    // depth 160 it is still small enough to trace in full, which is the reference.
+    const int w = 4, h = 3;
+    auto bounded = std::make_shared<World>(*compile_world(parse(mirror_box(0.8, 0.2, kGlass, w, h))));
+    bounded->options.max_depth = 160;
+    REQUIRE(bounded->omit_weight > 0);
+    REQUIRE(std::isfinite(bounded->radiance_bound));
+    auto full = std::make_shared<World>(*bounded);
+    full->omit_weight = 0;
+    CameraBasis cam = CameraBasis::make(bounded->camera, w, h, false);
+    RayStats bounded_stats, full_stats;
+    double worst = 0, brightest = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            Colour a = bounded->trace_camera(cam, x, y, bounded_stats);
+            Colour b = full->trace_camera(cam, x, y, full_stats);
+            for (int k = 0; k < 3; ++k) {
+                worst = std::max(worst, std::fabs(a[k] - b[k]));
+                brightest = std::max(brightest, b[k]);
+            }
+        }
+    CAPTURE(worst);
+    CAPTURE(bounded_stats.rays);
+    CAPTURE(full_stats.rays);
+    CHECK(brightest > 0.2);  // a picture, not black
+    CHECK(worst < 0.5 / 255);
+    CHECK(bounded_stats.rays * 2 < full_stats.rays);
+    // The bound holds: no pixel is brighter than it.
+    CHECK(brightest <= bounded->radiance_bound);
+}
+
+TEST_CASE("ray tree: a glass ball among mirrors at depth 1000 finishes quickly") {
+    auto world = std::make_shared<World>(*compile_world(parse(mirror_box(0.8, 0.2, kGlass))));
+    world->options.max_depth = 1000;
+    Renderer r(2);
+    RenderSettings s;
+    s.coarse = false;
+    auto t0 = Clock::now();
+    r.start(world, s);
+    REQUIRE(r.wait_for(30));
+    RenderProgress p = r.progress();
+    CAPTURE(seconds_since(t0));
+    CAPTURE(p.rays);
+    CHECK(p.samples == 1);
+    // About 1,500 rays per pixel: the tree stops where its weight does.
+    CHECK(p.rays < 16 * 12 * 5000);
+    // Without the bound the same picture is far from done after a second.
+    auto unbounded = std::make_shared<World>(*world);
+    unbounded->omit_weight = 0;
+    RayStats stats;
+    stats.stop.deadline = Clock::now() + std::chrono::seconds(1);
+    CameraBasis cam = CameraBasis::make(world->camera, 16, 12, false);
+    for (int y = 0; y < 12 && !stats.stopped; ++y)
+        for (int x = 0; x < 16 && !stats.stopped; ++x) unbounded->trace_camera(cam, x, y, stats);
+    CHECK(stats.stopped);
+}
+
+TEST_CASE("ray tree: no bound where a colour could grow along a ray; an unlit world is black at once") {
+    const char* lit = R"(
+thing { sphere { material { reflection 0.5 scattering 0.5 colour 1 1 1 } position 5 0 0 radius 1 } }
+light { spotlight { colour 10 10 10 position 0 0 3 } }
+camera { position 0 0 0 centre 1 0 0 up 1 0 1 angle_x 60 angle_y 45 }
+picture_size { x_max 8 y_max 6 }
+end
+)";
+    Scene scene = parse(lit);
+    auto w = compile_world(scene);
+    // One light at (0, 0, 3): 10 / r^2 with r at least its distance to the sphere's
+    // box [4, 6] x [-1, 1] x [-1, 1], sqrt(4^2 + 2^2).
+    CHECK(w->radiance_bound == doctest::Approx(10.0 / 20).epsilon(0.001));
+    CHECK(w->radiance_bound >= 10.0 / 20);
+    CHECK(w->omit_weight == doctest::Approx(0.5 / 255 / w->radiance_bound));
+    // A tint above 1 in a refractive material: light may come out brighter than it went in.
+    Scene bright = scene;
+    bright.objects[0].material.refraction = 0.5;
+    bright.objects[0].material.translusans = 1;
+    bright.objects[0].material.colour = {1.5, 1, 1};
+    CHECK(compile_world(bright)->omit_weight == 0);
+    // A negative weight makes another above 1 after normalising.
+    Scene negative = scene;
+    negative.objects[0].material.scattering = -0.25;
+    CHECK(compile_world(negative)->omit_weight == 0);
+    // A light inside an object's box: no bound on 1/r^2.
+    Scene inside = scene;
+    inside.lights[0].position = {5, 0, 0.5};
+    CHECK(compile_world(inside)->omit_weight == 0);
+    // Nothing can be lit: every ray is black, and none is followed.
+    Scene dark = scene;
+    dark.lights.clear();
+    auto wd = compile_world(dark);
+    RayStats stats;
+    CHECK(wd->trace_camera(CameraBasis::make(wd->camera, 8, 6, false), 4, 3, stats) == Colour{});
+    CHECK(stats.rays == 0);
+}
+
+namespace {
+// n lamps scattered over a room with a glass ball, a mirror ball and a chess floor.
+std::string lamp_room(int n) {
+    std::string lamps;
+    std::uint32_t h = 12345;
+    auto next = [&] {
+        h = h * 1664525u + 1013904223u;
+        return (h >> 8) / double(1 << 24);
+    };
+    for (int i = 0; i < n; ++i) {
+        double x = 2 + 18 * next(), y = -8 + 16 * next(), z = 0.5 + 5.5 * next();
+        lamps += "  lamp { colour 0.5 0.4 0.3 position " + std::to_string(x) + " " + std::to_string(y) + " " +
+                 std::to_string(z) + " size 0.05 }\n";
+    }
+    // Lamps in a row along the camera's line of sight: their discs hide each other.
+    for (int i = 0; i < 4; ++i) lamps += "  lamp { colour 2 2 2 position " + std::to_string(4 + i) + " 0 1 size 0.2 }\n";
+    return R"(
+thing {
+  sphere { material { reflection 0.3 scattering 0.7 colour 0.8 0.8 0.8 } position 8 0 1 radius 1 }
+  sphere { material { reflection 0.1 refraction 0.8 scattering 0.1 translusans 0.9 refractive_index 1.5 colour 1 1 1 } position 6 2 1 radius 0.8 }
+}
+special_thing {
+  chess_plane { material 1 { colour 0.9 0.9 0.9 } material 2 { colour 0.2 0.2 0.2 } point 1 0 0 0 point 2 1 0 0 point 3 0 1 0 point 4 0 0 1 }
+}
+light {
+)" + lamps + R"(}
+camera { position -2 0 1 centre 8 0 1 up 8 0 2 angle_x 60 angle_y 45 }
+picture_size { x_max 24 y_max 18 }
+end
+)";
+}
+}  // namespace
+
+TEST_CASE("ray tree: glow discs through their BVH give the same picture as one by one") {
+    auto world = compile_world(parse(lamp_room(100)));
+    REQUIRE(world->glow_bvh.get() != nullptr);
+    auto looped = std::make_shared<World>(*world);
+    looped->glow_bvh.reset();
+    RenderSettings s;
+    s.coarse = false;
+    s.max_samples = 2;
+    s.width = 16;
+    s.height = 12;
+    Renderer r(2);
+    r.start(world, s);
+    r.wait();
+    Image a = r.snapshot();
+    r.start(looped, s);
+    r.wait();
+    Image b = r.snapshot();
+    REQUIRE(a.rgb.size() == b.rgb.size());
+    CHECK(a.rgb == b.rgb);
+    // Glows are in view (the row of lamps ahead), and shadows of discs too: the picture
+    // differs from the one with the discs removed.
+    Scene no_glow = parse(lamp_room(100));
+    for (Light& l : no_glow.lights) l.size = 0;
+    r.start(compile_world(no_glow), s);
+    r.wait();
+    CHECK(r.snapshot().rgb != a.rgb);
+    // pick() finds the nearest of the row's discs.
+    CameraBasis cam = CameraBasis::make(world->camera, 16, 12, false);
+    PickResult hit = pick(*world, cam.ray(8, 6));
+    CHECK(hit.light == 100);
+    CHECK(pick(*looped, cam.ray(8, 6)).light == 100);
+}
+
+TEST_CASE("ray tree: the cost of lamps grows with lamps + lights, not their product") {
+    // Every point is lit by every lamp (that part is lights x points), but each light's
+    // shadow ray meets only the discs near it. Testing every disc, 5,000 lamps at 8x6
+    // took half a minute; now well under a second.
+    auto world = compile_world(parse(lamp_room(5000)));
+    RenderSettings s;
+    s.coarse = false;
+    s.width = 8;
+    s.height = 6;
+    Renderer r(2);
+    auto t0 = Clock::now();
+    r.start(world, s);
+    REQUIRE(r.wait_for(60));
+    double took = seconds_since(t0);
+    CAPTURE(took);
+    CHECK(took < 6.0);
+}
