@@ -11,6 +11,10 @@
 #include <cstring>
 #include <string>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace rt {
 namespace {
 
@@ -34,26 +38,29 @@ SceneLexer::SceneLexer(std::string_view text) : text_(text) {
 }
 
 void SceneLexer::advance() {
-    const char* p = text_.data();
-    const std::size_t n = text_.size();
-    std::size_t i = pos_;
+    const char* const begin = text_.data();
+    const char* const end = begin + text_.size();
+    const char* p = begin + pos_;
     for (;;) {
-        while (i < n && char_class(p[i]) == kSpace) ++i;
-        if (i + 1 < n && p[i] == '/' && p[i + 1] == '/') {
-            while (i < n && p[i] != '\n' && p[i] != '\r') ++i;
+        while (p != end && char_class(*p) == kSpace) ++p;
+        if (end - p >= 2 && p[0] == '/' && p[1] == '/') {
+            while (p != end && *p != '\n' && *p != '\r') ++p;
             continue;
         }
         break;
     }
-    const std::size_t start = i;
-    if (i < n) {
-        if (char_class(p[i]) == kBrace)
-            ++i;
-        else
-            while (i < n && char_class(p[i]) == kWord) ++i;
+    const char* const start = p;
+    if (p != end) {
+        if (char_class(*p) == kBrace) {
+            ++p;
+        } else {
+            do ++p;
+            while (p != end && char_class(*p) == kWord);
+        }
     }
-    pos_ = i;
-    cur_ = Token{text_.substr(start, i - start), start};
+    pos_ = std::size_t(p - begin);
+    cur_.text = std::string_view(start, std::size_t(p - start));
+    cur_.offset = std::size_t(start - begin);
 }
 
 // ---- lines ----------------------------------------------------------------------
@@ -75,6 +82,34 @@ std::size_t offset_at(std::string_view text, int line, int col) {
     return std::min(pos + std::size_t(col > 1 ? col - 1 : 0), eol);
 }
 
+namespace {
+
+// Line ends among p[from..to), where p holds n bytes: LF, and CR not followed by LF.
+int count_line_ends(const char* p, std::size_t from, std::size_t to, std::size_t n) {
+    int lines = 0;
+    std::size_t k = from;
+#if defined(__SSE2__)
+    // 16 bytes at a time (the look-ahead load at k + 1 needs k + 17 <= n), counted in
+    // byte lanes that are summed before they can overflow.
+    const __m128i lf = _mm_set1_epi8('\n'), cr = _mm_set1_epi8('\r'), zero = _mm_setzero_si128();
+    while (k + 16 <= to && k + 17 <= n) {
+        __m128i lanes = zero;
+        for (int round = 0; round < 255 && k + 16 <= to && k + 17 <= n; ++round, k += 16) {
+            const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k));
+            const __m128i next = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k + 1));
+            const __m128i lone_cr = _mm_andnot_si128(_mm_cmpeq_epi8(next, lf), _mm_cmpeq_epi8(here, cr));
+            lanes = _mm_sub_epi8(lanes, _mm_or_si128(_mm_cmpeq_epi8(here, lf), lone_cr));  // -1 each
+        }
+        const __m128i sums = _mm_sad_epu8(lanes, zero);
+        lines += _mm_cvtsi128_si32(sums) + _mm_cvtsi128_si32(_mm_srli_si128(sums, 8));
+    }
+#endif
+    for (; k < to; ++k) lines += (p[k] == '\n') | ((p[k] == '\r') & (k + 1 == n || p[k + 1] != '\n'));
+    return lines;
+}
+
+}  // namespace
+
 void LineMap::scan_to(std::size_t offset) {
     const char* p = text_.data();
     const std::size_t n = text_.size();
@@ -82,10 +117,8 @@ void LineMap::scan_to(std::size_t offset) {
     while (i < offset) {
         // Stop at each checkpoint boundary so that backward look-ups restart nearby.
         const std::size_t stop = std::min(offset, (i / kCheckpoint + 1) * kCheckpoint);
-        // Count first (a loop the compiler vectorises), then find the last line start.
-        int lines = 0;
-        for (std::size_t k = i; k < stop; ++k)
-            lines += (p[k] == '\n') | ((p[k] == '\r') & (k + 1 == n || p[k + 1] != '\n'));
+        // Count first, then find the last line start.
+        const int lines = count_line_ends(p, i, stop, n);
         if (lines > 0) {
             std::size_t k = stop;
             while (!is_line_end(text_, k - 1)) --k;
@@ -113,24 +146,61 @@ LineCol LineMap::at(std::size_t offset) {
 
 // ---- numbers --------------------------------------------------------------------
 
+NumberScan scan_number(std::string_view s, double& value) {
+    static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    const char* p = s.data();
+    const char* const e = p + s.size();
+    bool negative = false;
+    if (p != e && (*p == '+' || *p == '-')) negative = *p++ == '-';
+    // All digits go into m (value = m * 10^scale); past 19 significant digits m has
+    // wrapped, and the library reads the token instead.
+    std::uint64_t m = 0;
+    const char* const mantissa = p;
+    for (; p != e && unsigned(*p - '0') < 10; ++p) m = m * 10 + unsigned(*p - '0');
+    std::ptrdiff_t digits = p - mantissa, frac_digits = 0;
+    if (p != e && *p == '.') {
+        const char* const frac = ++p;
+        for (; p != e && unsigned(*p - '0') < 10; ++p) m = m * 10 + unsigned(*p - '0');
+        frac_digits = p - frac;
+        digits += frac_digits;
+    }
+    if (digits == 0) return NumberScan::NotNumber;
+    bool exact = true;
+    std::ptrdiff_t scale = -frac_digits;
+    if (p != e && (*p == 'e' || *p == 'E')) {
+        ++p;
+        bool neg_exp = false;
+        if (p != e && (*p == '+' || *p == '-')) neg_exp = *p++ == '-';
+        const char* const exp_start = p;
+        std::ptrdiff_t x = 0;
+        for (; p != e && unsigned(*p - '0') < 10; ++p) {
+            if (x > 100000) exact = false;
+            else x = x * 10 + (*p - '0');
+        }
+        if (p == exp_start) return NumberScan::NotNumber;
+        scale += neg_exp ? -x : x;
+    }
+    if (p != e) return NumberScan::NotNumber;
+    if (digits > 19) {
+        // Leading zeros add nothing to m; more than 19 other digits do not fit.
+        std::ptrdiff_t zeros = 0;
+        for (const char* q = mantissa; q != e && (*q == '0' || *q == '.'); ++q) zeros += *q == '0';
+        exact = exact && digits - zeros <= 19;
+    }
+    // Clinger's fast path: digits that fit in 53 bits, scaled by at most 10^22, give
+    // exactly one correctly rounded IEEE multiplication or division of two exact
+    // doubles, so the result equals what from_chars/strtod return.
+    if (!exact || m > (std::uint64_t(1) << 53) || (m != 0 && (scale < -22 || scale > 22))) return NumberScan::Library;
+    double v = double(m);
+    if (m != 0) v = scale < 0 ? v / kPow10[-scale] : v * kPow10[scale];
+    value = negative ? -v : v;
+    return NumberScan::Exact;
+}
+
 bool is_number_syntax(std::string_view s) {
-    std::size_t i = 0, n = s.size();
-    if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
-    std::size_t int_digits = 0, frac_digits = 0;
-    while (i < n && s[i] >= '0' && s[i] <= '9') ++i, ++int_digits;
-    if (i < n && s[i] == '.') {
-        ++i;
-        while (i < n && s[i] >= '0' && s[i] <= '9') ++i, ++frac_digits;
-    }
-    if (int_digits + frac_digits == 0) return false;
-    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
-        ++i;
-        if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
-        std::size_t exp_digits = 0;
-        while (i < n && s[i] >= '0' && s[i] <= '9') ++i, ++exp_digits;
-        if (exp_digits == 0) return false;
-    }
-    return i == n;
+    double unused = 0;
+    return scan_number(s, unused) != NumberScan::NotNumber;
 }
 
 bool is_integer_syntax(std::string_view s) {
@@ -142,65 +212,19 @@ bool is_integer_syntax(std::string_view s) {
     return true;
 }
 
-namespace {
-
-// Clinger's fast path: a decimal whose digits fit in 53 bits, scaled by at most 10^22,
-// is exactly one correctly rounded IEEE multiplication or division of two exact
-// doubles, so it equals what from_chars/strtod return. Nearly every number in a scene
-// file qualifies; false sends the rest to the library.
-bool fast_number(std::string_view s, double& out) {
-    static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-    std::size_t i = 0, n = s.size();
-    bool negative = false;
-    if (s[0] == '+' || s[0] == '-') negative = s[i++] == '-';
-    std::uint64_t m = 0;
-    int digits = 0, scale = 0;  // significant digits taken; value = m * 10^scale
-    for (; i < n && s[i] >= '0' && s[i] <= '9'; ++i) {
-        if (m == 0 && s[i] == '0') continue;
-        if (++digits > 19) return false;
-        m = m * 10 + std::uint64_t(s[i] - '0');
-    }
-    if (i < n && s[i] == '.') {
-        for (++i; i < n && s[i] >= '0' && s[i] <= '9'; ++i) {
-            --scale;
-            if (m == 0 && s[i] == '0') continue;
-            if (++digits > 19) return false;
-            m = m * 10 + std::uint64_t(s[i] - '0');
-        }
-    }
-    if (i < n) {  // an exponent, as the syntax check guarantees
-        ++i;
-        bool neg_exp = false;
-        if (s[i] == '+' || s[i] == '-') neg_exp = s[i++] == '-';
-        int e = 0;
-        for (; i < n; ++i) {
-            if (e > 10000) return false;
-            e = e * 10 + (s[i] - '0');
-        }
-        scale += neg_exp ? -e : e;
-    }
-    if (m > (std::uint64_t(1) << 53)) return false;
-    double v = double(m);
-    if (m != 0) {
-        if (scale < -22 || scale > 22) return false;
-        v = scale < 0 ? v / kPow10[-scale] : v * kPow10[scale];
-    }
-    out = negative ? -v : v;
-    return true;
-}
-
-}  // namespace
-
-double number_value(std::string_view s) {
-    double d = 0;
-    if (fast_number(s, d)) return d;
+double library_number_value(std::string_view s) {
     // from_chars is locale-independent; it rejects a leading '+', and on overflow or
     // underflow strtod tells which of the two it was.
+    double d = 0;
     std::string_view digits = s[0] == '+' ? s.substr(1) : s;
     auto res = std::from_chars(digits.data(), digits.data() + digits.size(), d);
     if (res.ec != std::errc() || res.ptr != digits.data() + digits.size()) d = std::strtod(std::string(s).c_str(), nullptr);
     return d;
+}
+
+double number_value(std::string_view s) {
+    double d = 0;
+    return scan_number(s, d) == NumberScan::Exact ? d : library_number_value(s);
 }
 
 }  // namespace rt

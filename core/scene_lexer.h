@@ -79,8 +79,13 @@ private:
 bool is_number_syntax(std::string_view s);
 bool is_integer_syntax(std::string_view s);
 
+// Checks the syntax and, for the common short decimals, computes the value in the same
+// pass. Library: the syntax is right, but the value needs library_number_value.
+enum class NumberScan { NotNumber, Exact, Library };
+NumberScan scan_number(std::string_view s, double& value);
 // The double a token of number syntax stands for, correctly rounded (as strtod);
 // infinite or 0 when out of double range. Precondition: is_number_syntax(s).
-double number_value(std::string_view s);
+double library_number_value(std::string_view s);
+double number_value(std::string_view s);  // either of the two ways
 
 }  // namespace rt
