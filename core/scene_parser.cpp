@@ -512,7 +512,7 @@ private:
         ++depth_;
         if (!object(operand)) st.bad = true;
         --depth_;
-        k.access.operand(csg, 0) = std::move(operand);
+        *k.access.operand(csg, 0) = std::move(operand);  // make() gave the CSG both
         st.given |= 1u << index;
         const Token& close = lex_.peek();
         if (!close.is('}')) {

@@ -125,8 +125,13 @@ const Choice kCsgType{{{"U", int(CsgType::Union)}, {"I", int(CsgType::Intersecti
                       nullptr,
                       true};
 
+Object* side(Object& o, std::size_t i) {
+    std::vector<Object>& operands = shape<Csg>(o).operands;
+    return i < operands.size() ? &operands[i] : nullptr;
+}
+
 Block<Object> csg() {
-    auto operand = [](std::string_view name, Object& (*f)(Object&, int)) {
+    auto operand = [](std::string_view name, Object* (*f)(Object&, int)) {
         Key<Object> k{name, Kind::Operand, {}};
         k.access.operand = f;
         k.required = true;
@@ -138,8 +143,8 @@ Block<Object> csg() {
     type.choice = &kCsgType;
     type.lead = true;
     return {"constructive_solid_geometry",
-            {operand("left", [](Object& o, int) -> Object& { return shape<Csg>(o).operands[0]; }),
-             operand("right", [](Object& o, int) -> Object& { return shape<Csg>(o).operands[1]; }), type,
+            {operand("left", [](Object& o, int) { return side(o, 0); }),
+             operand("right", [](Object& o, int) { return side(o, 1); }), type,
              object_material()},
             [] {
                 Csg s;

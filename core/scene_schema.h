@@ -59,7 +59,7 @@ struct Access {
     void (*set_choice)(T&, int) = nullptr;
     Material& (*material)(T&, int i) = nullptr;
     bool& (*has_material)(T&, int i) = nullptr;  // a Material key given in the file
-    Object& (*operand)(T&, int i) = nullptr;
+    Object* (*operand)(T&, int i) = nullptr;  // null: the item has no such operand
 };
 
 template <class T>
@@ -80,7 +80,7 @@ struct Key {
     int integer(const T& t, int i = 0) const { return access.integer(const_cast<T&>(t), i); }
     const Material& material(const T& t, int i = 0) const { return access.material(const_cast<T&>(t), i); }
     bool has_material(const T& t, int i = 0) const { return access.has_material(const_cast<T&>(t), i); }
-    const Object& operand(const T& t, int i = 0) const { return access.operand(const_cast<T&>(t), i); }
+    const Object* operand(const T& t, int i = 0) const { return access.operand(const_cast<T&>(t), i); }
 };
 
 // A rule across keys, checked once the block is read. Reported at the item's name.
