@@ -30,6 +30,18 @@ constexpr std::array<unsigned char, 256> kClass = make_classes();
 
 inline unsigned char char_class(char c) { return kClass[static_cast<unsigned char>(c)]; }
 
+#if defined(__SSE2__)
+// Bit i set if p[i] ends a word: a space (9..13 or ' ') or a brace.
+inline unsigned word_ends(const char* p) {
+    const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+    const __m128i x = _mm_sub_epi8(c, _mm_set1_epi8(9));
+    const __m128i control = _mm_cmpeq_epi8(_mm_min_epu8(x, _mm_set1_epi8(4)), x);  // 9..13
+    const __m128i space = _mm_or_si128(control, _mm_cmpeq_epi8(c, _mm_set1_epi8(' ')));
+    const __m128i brace = _mm_or_si128(_mm_cmpeq_epi8(c, _mm_set1_epi8('{')), _mm_cmpeq_epi8(c, _mm_set1_epi8('}')));
+    return unsigned(_mm_movemask_epi8(_mm_or_si128(space, brace)));
+}
+#endif
+
 }  // namespace
 
 SceneLexer::SceneLexer(std::string_view text) : text_(text) {
@@ -54,10 +66,20 @@ void SceneLexer::advance() {
         if (char_class(*p) == kBrace) {
             ++p;
         } else {
-            do ++p;
-            while (p != end && char_class(*p) == kWord);
+            ++p;
+#if defined(__SSE2__)
+            for (; end - p >= 16; p += 16)
+                if (const unsigned m = word_ends(p)) {
+                    p += __builtin_ctz(m);
+                    goto done;
+                }
+#endif
+            while (p != end && char_class(*p) == kWord) ++p;
         }
     }
+#if defined(__SSE2__)
+done:
+#endif
     pos_ = std::size_t(p - begin);
     cur_.text = std::string_view(start, std::size_t(p - start));
     cur_.offset = std::size_t(start - begin);
@@ -82,52 +104,34 @@ std::size_t offset_at(std::string_view text, int line, int col) {
     return std::min(pos + std::size_t(col > 1 ? col - 1 : 0), eol);
 }
 
-namespace {
-
-// Line ends among p[from..to), where p holds n bytes: LF, and CR not followed by LF.
-int count_line_ends(const char* p, std::size_t from, std::size_t to, std::size_t n) {
-    int lines = 0;
-    std::size_t k = from;
-#if defined(__SSE2__)
-    // 16 bytes at a time (the look-ahead load at k + 1 needs k + 17 <= n), counted in
-    // byte lanes that are summed before they can overflow.
-    const __m128i lf = _mm_set1_epi8('\n'), cr = _mm_set1_epi8('\r'), zero = _mm_setzero_si128();
-    while (k + 16 <= to && k + 17 <= n) {
-        __m128i lanes = zero;
-        for (int round = 0; round < 255 && k + 16 <= to && k + 17 <= n; ++round, k += 16) {
-            const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k));
-            const __m128i next = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k + 1));
-            const __m128i lone_cr = _mm_andnot_si128(_mm_cmpeq_epi8(next, lf), _mm_cmpeq_epi8(here, cr));
-            lanes = _mm_sub_epi8(lanes, _mm_or_si128(_mm_cmpeq_epi8(here, lf), lone_cr));  // -1 each
-        }
-        const __m128i sums = _mm_sad_epu8(lanes, zero);
-        lines += _mm_cvtsi128_si32(sums) + _mm_cvtsi128_si32(_mm_srli_si128(sums, 8));
-    }
-#endif
-    for (; k < to; ++k) lines += (p[k] == '\n') | ((p[k] == '\r') & (k + 1 == n || p[k + 1] != '\n'));
-    return lines;
-}
-
-}  // namespace
-
 void LineMap::scan_to(std::size_t offset) {
     const char* p = text_.data();
     const std::size_t n = text_.size();
-    std::size_t i = cur_.offset;
-    while (i < offset) {
+    std::size_t k = cur_.offset;
+    while (k < offset) {
         // Stop at each checkpoint boundary so that backward look-ups restart nearby.
-        const std::size_t stop = std::min(offset, (i / kCheckpoint + 1) * kCheckpoint);
-        // Count first, then find the last line start.
-        const int lines = count_line_ends(p, i, stop, n);
-        if (lines > 0) {
-            std::size_t k = stop;
-            while (!is_line_end(text_, k - 1)) --k;
-            cur_.line_start = k;
-            cur_.line += lines;
+        const std::size_t stop = std::min(offset, (k / kCheckpoint + 1) * kCheckpoint);
+#if defined(__SSE2__)
+        // 16 bytes at a time; the look-ahead load at k + 1 needs k + 17 <= n.
+        const __m128i lf = _mm_set1_epi8('\n'), cr = _mm_set1_epi8('\r');
+        for (; k < stop && k + 17 <= n; k += std::min<std::size_t>(16, stop - k)) {
+            const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k));
+            const __m128i next = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k + 1));
+            const __m128i lone_cr = _mm_andnot_si128(_mm_cmpeq_epi8(next, lf), _mm_cmpeq_epi8(here, cr));
+            unsigned ends = unsigned(_mm_movemask_epi8(_mm_or_si128(_mm_cmpeq_epi8(here, lf), lone_cr)));
+            if (stop - k < 16) ends &= (1u << (stop - k)) - 1;
+            if (ends == 0) continue;
+            cur_.line_start = k + std::size_t(32 - __builtin_clz(ends));  // after the last one
+            for (; ends != 0; ends &= ends - 1) ++cur_.line;                // line ends are sparse
         }
-        i = stop;
-        cur_.offset = i;
-        if (i % kCheckpoint == 0 && (checkpoints_.empty() || checkpoints_.back().offset < i))
+#endif
+        for (; k < stop; ++k)
+            if (is_line_end(text_, k)) {
+                ++cur_.line;
+                cur_.line_start = k + 1;
+            }
+        cur_.offset = k;
+        if (k % kCheckpoint == 0 && (checkpoints_.empty() || checkpoints_.back().offset < k))
             checkpoints_.push_back(cur_);
     }
 }
@@ -166,6 +170,13 @@ NumberScan scan_number(std::string_view s, double& value) {
         digits += frac_digits;
     }
     if (digits == 0) return NumberScan::NotNumber;
+    if (p == e && digits <= 15) {
+        // The usual case, and the fast path below at its simplest: m < 10^15 < 2^53.
+        double v = double(m);
+        if (frac_digits > 0) v /= kPow10[frac_digits];
+        value = negative ? -v : v;
+        return NumberScan::Exact;
+    }
     bool exact = true;
     std::ptrdiff_t scale = -frac_digits;
     if (p != e && (*p == 'e' || *p == 'E')) {
