@@ -428,7 +428,7 @@ private:
         const Token t = lex_.next();
         const sc::Block<T>* b = nullptr;
         for (const sc::Block<T>& x : blocks)
-            if (x.name == t.text) b = &x;
+            if (sc::same_word(x.name, t.text)) b = &x;
         if (!b) {
             error(t, "unknown " + std::string(s.item_noun) + " " + quote(t.text) + " (expected " + sc::names_of(blocks) +
                          ")");

@@ -303,7 +303,7 @@ const std::vector<Block<Object>>& object_blocks() {
 
 const Block<Object>* object_block(std::string_view name) {
     for (const Block<Object>& b : object_blocks())
-        if (b.name.size() == name.size() && b.name[0] == name[0] && b.name == name) return &b;
+        if (same_word(b.name, name)) return &b;
     return nullptr;
 }
 
@@ -354,7 +354,7 @@ const std::vector<Section>& sections() {
 
 const Section* find_section(std::string_view name) {
     for (const Section& s : sections())
-        if (s.name.size() == name.size() && s.name[0] == name[0] && s.name == name) return &s;
+        if (same_word(s.name, name)) return &s;
     return nullptr;
 }
 

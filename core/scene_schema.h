@@ -90,6 +90,15 @@ struct Problem {
     explicit operator bool() const { return severity != Severity::None; }
 };
 
+// a == b for the short words of the format, without a library call per comparison
+// (the parser compares every key it reads with its block's keys).
+inline bool same_word(std::string_view a, std::string_view b) {
+    if (a.size() != b.size() || a.empty() || a[0] != b[0]) return a.size() == b.size() && a.empty();
+    for (std::size_t i = 1; i < a.size(); ++i)
+        if (a[i] != b[i]) return false;
+    return true;
+}
+
 template <class T>
 struct Block {
     std::string_view name;
@@ -98,8 +107,8 @@ struct Block {
     Problem (*check)(const T&) = nullptr;
 
     const Key<T>* find(std::string_view key) const {
-        for (const Key<T>& k : keys)  // the first byte rules out most keys cheaply
-            if (k.name.size() == key.size() && k.name[0] == key[0] && k.name == key) return &k;
+        for (const Key<T>& k : keys)
+            if (same_word(k.name, key)) return &k;
         return nullptr;
     }
     // "a, b, c": the keys as error messages list them.
