@@ -109,12 +109,13 @@ std::string first_word(const std::string& text) {
     return {};
 }
 
+// The section an item's block belongs in, from the schema.
 const char* section_for(const std::string& item) {
-    static const std::set<std::string> objects = {"sphere", "tetrahedron", "cylinder", "torus",
-                                                  "constructive_solid_geometry"};
-    if (objects.count(item)) return "thing";
-    if (item == "plane" || item == "chess_plane") return "special_thing";
-    if (item == "lamp" || item == "spotlight") return "light";
+    if (schema::object_block(item)) return "thing";
+    for (const auto& b : schema::plane_blocks())
+        if (b.name == item) return "special_thing";
+    for (const auto& b : schema::light_blocks())
+        if (b.name == item) return "light";
     return nullptr;
 }
 
