@@ -1,7 +1,10 @@
 // The scene language, defined once: its sections, the blocks they hold and each block's
 // keys (kind, index, range or clamp, the messages for bad values, where the value lives
 // in the structs of scene.h). The parser checks keys from it, the writer writes them
-// from it, and tools (docs test, editing panels) can iterate it.
+// from it, and tools (docs test, editing panels) can iterate it:
+//   for (const auto& k : schema::camera_block().keys)  // name, kind, range, ...
+//       if (k.kind == schema::Kind::Number) edit(k.name, k.access.number(camera, 0));
+// A key's default is its value in the block's make() item (scene.h's initialisers).
 #pragma once
 
 #include <string>
