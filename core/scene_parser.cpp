@@ -1,84 +1,23 @@
-// Recursive-descent reader for the scene format. It collects diagnostics instead of
-// stopping at the first problem: after an error it skips to the next key it knows in
-// the same block (or the block's closing brace), so one typo gives one message.
+// Recursive-descent reader for the scene format, driven by the schema (scene_schema.h):
+// a block's keys, their kinds, ranges and messages come from there. It collects
+// diagnostics instead of stopping at the first problem: after an error it skips to the
+// next key it knows in the same block (or the block's closing brace), so one typo gives
+// one message. Positions are byte offsets until a diagnostic or an item's location
+// needs a line and column.
 #include "scene_parser.h"
 
 #include <algorithm>
-#include <charconv>
-#include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <initializer_list>
+#include <cstdio>
+#include <new>
+#include <type_traits>
 
-#include "camera.h"
+#include "scene_lexer.h"
+#include "scene_schema.h"
 
 namespace rt {
 namespace {
 
-struct Token {
-    std::string_view text;
-    int line = 0, col = 0;
-    bool eof() const { return text.empty(); }
-    bool is(std::string_view s) const { return text == s; }
-};
-
-// Splits text into tokens: runs of non-space characters, with `{` and `}` always
-// tokens of their own and `//` at the start of a token commenting out the line.
-class Lexer {
-public:
-    explicit Lexer(std::string_view text) : text_(text) {
-        // A UTF-8 byte-order mark is not part of the scene.
-        if (text_.size() >= 3 && std::memcmp(text_.data(), "\xEF\xBB\xBF", 3) == 0) pos_ = 3, col_ = 4;
-        advance();
-    }
-    const Token& peek() const { return cur_; }
-    Token next() {
-        Token t = cur_;
-        advance();
-        return t;
-    }
-    // Position just past the last character, for end-of-file diagnostics.
-    Token end_token() const { return Token{{}, line_, col_}; }
-
-private:
-    static bool space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
-    void bump() {
-        if (text_[pos_] == '\n') {
-            ++line_;
-            col_ = 1;
-        } else {
-            ++col_;
-        }
-        ++pos_;
-    }
-    void advance() {
-        for (;;) {
-            while (pos_ < text_.size() && space(text_[pos_])) bump();
-            if (pos_ + 1 < text_.size() && text_[pos_] == '/' && text_[pos_ + 1] == '/') {
-                while (pos_ < text_.size() && text_[pos_] != '\n') bump();
-                continue;
-            }
-            break;
-        }
-        if (pos_ >= text_.size()) {
-            cur_ = Token{{}, line_, col_};
-            return;
-        }
-        std::size_t start = pos_;
-        int line = line_, col = col_;
-        if (text_[pos_] == '{' || text_[pos_] == '}') {
-            bump();
-        } else {
-            while (pos_ < text_.size() && !space(text_[pos_]) && text_[pos_] != '{' && text_[pos_] != '}') bump();
-        }
-        cur_ = Token{text_.substr(start, pos_ - start), line, col};
-    }
-
-    std::string_view text_;
-    std::size_t pos_ = 0;
-    int line_ = 1, col_ = 1;
-    Token cur_;
-};
+namespace sc = schema;
 
 // Raised to abandon parsing (too many errors, or the end of the file inside a block).
 struct Stop {};
@@ -99,52 +38,30 @@ std::string quote(std::string_view s) {
     return out + "'";
 }
 
-std::string join_keys(std::initializer_list<const char*> keys) {
-    std::string out;
-    for (const char* k : keys) {
-        if (!out.empty()) out += ", ";
-        out += k;
-    }
-    return out;
-}
-
-bool is_number_syntax(std::string_view s) {
-    std::size_t i = 0, n = s.size();
-    if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
-    std::size_t int_digits = 0, frac_digits = 0;
-    while (i < n && s[i] >= '0' && s[i] <= '9') ++i, ++int_digits;
-    if (i < n && s[i] == '.') {
-        ++i;
-        while (i < n && s[i] >= '0' && s[i] <= '9') ++i, ++frac_digits;
-    }
-    if (int_digits + frac_digits == 0) return false;
-    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
-        ++i;
-        if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
-        std::size_t exp_digits = 0;
-        while (i < n && s[i] >= '0' && s[i] <= '9') ++i, ++exp_digits;
-        if (exp_digits == 0) return false;
-    }
-    return i == n;
-}
-
-bool is_integer_syntax(std::string_view s) {
-    std::size_t i = 0;
-    if (i < s.size() && s[i] == '+') ++i;
-    if (i == s.size()) return false;
-    for (; i < s.size(); ++i)
-        if (s[i] < '0' || s[i] > '9') return false;
-    return true;
-}
-
 // Every number must stay well inside double range so that squares and products in
 // the tracer stay finite.
 constexpr double kMaxMagnitude = 1e15;
+constexpr std::size_t kNone = std::size_t(-1);
+
+// What the parser tracks about one item while reading its block: which keys were
+// given, where each one's last value was (for range errors), and whether an error
+// made the item unusable.
+struct ItemState {
+    static constexpr int kMaxKeys = 8;
+    unsigned given = 0;
+    std::size_t value_at[kMaxKeys] = {kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone};
+    bool bad = false;
+};
+
+template <class T>
+int key_index(const sc::Block<T>& b, const sc::Key<T>& k) {
+    return int(&k - b.keys.data());
+}
 
 class Parser {
 public:
     Parser(std::string_view text, const ParseOptions& opt, ParseResult& out)
-        : lex_(text), opt_(opt), out_(out) {}
+        : lex_(text), lines_(text), opt_(opt), out_(out) {}
 
     void run() {
         try {
@@ -160,25 +77,33 @@ public:
 
 private:
     // ---- diagnostics -------------------------------------------------------------
-    void error_at(int line, int col, std::string msg) {
-        out_.diagnostics.push_back({Diagnostic::Severity::Error, line, col, std::move(msg)});
-        if (++errors_ >= opt_.max_errors) throw Stop{};
+    SourceLoc loc_of(std::size_t offset) {
+        LineCol lc = lines_.at(offset);
+        return {lc.line, lc.col};
     }
-    void error(const Token& t, std::string msg) { error_at(t.line, t.col, std::move(msg)); }
-    void warning(SourceLoc loc, std::string msg) {
-        out_.diagnostics.push_back({Diagnostic::Severity::Warning, loc.line, loc.col, std::move(msg)});
+    void report(Diagnostic::Severity severity, SourceLoc at, std::string msg) {
+        out_.diagnostics.push_back({severity, at.line, at.col, std::move(msg)});
+        if (severity == Diagnostic::Severity::Error && ++errors_ >= opt_.max_errors) throw Stop{};
+    }
+    void error_at(SourceLoc at, std::string msg) { report(Diagnostic::Severity::Error, at, std::move(msg)); }
+    void error_at(std::size_t offset, std::string msg) { error_at(loc_of(offset), std::move(msg)); }
+    void error(const Token& t, std::string msg) { error_at(t.offset, std::move(msg)); }
+    void report(const sc::Problem& p, SourceLoc at) {
+        report(p.severity == sc::Problem::Severity::Error ? Diagnostic::Severity::Error
+                                                          : Diagnostic::Severity::Warning,
+               at, p.message);
+    }
+    [[noreturn]] void fatal(const Token& t, std::string msg) {
+        error(t, std::move(msg));
+        throw Stop{};
     }
     static std::string got(const Token& t) { return t.eof() ? "end of file" : quote(t.text); }
 
-    // ---- token helpers -----------------------------------------------------------
-    static bool is_section(const Token& t) {
-        return t.is("thing") || t.is("special_thing") || t.is("light") || t.is("camera") || t.is("picture_size") ||
-               t.is("end");
-    }
+    // ---- structure ---------------------------------------------------------------
     // A section name inside a block almost always means a '}' is missing before it.
     // Report that once and let the caller close the block, so the rest still parses.
     bool section_inside(const Token& t, std::string_view what) {
-        if (!is_section(t)) return false;
+        if (!sc::find_section(t.text)) return false;
         error(t, quote(t.text) + " inside " + quote(what) + ": is a '}' missing before it?");
         return true;
     }
@@ -186,121 +111,143 @@ private:
     // Consumes '{' after a block name; false (with an error) if it is not there.
     bool open(const Token& name) {
         const Token& t = lex_.peek();
-        if (t.is("{")) {
+        if (t.is('{')) {
             lex_.next();
             return true;
         }
-        if (t.eof()) {
-            error(t, "unexpected end of file: expected '{' after " + quote(name.text));
-            throw Stop{};
-        }
+        if (t.eof()) fatal(t, "unexpected end of file: expected '{' after " + quote(name.text));
         error(t, "expected '{' after " + quote(name.text) + ", got " + got(t));
         return false;
     }
 
-    // Skips a balanced { ... } block whose '{' is the next token; iterative so that
-    // absurd nesting cannot exhaust the stack.
-    void skip_block() {
-        if (!lex_.peek().is("{")) return;
-        std::size_t depth = 0;
-        do {
+    // Consumes tokens up to and including the '}' that brings `depth` open braces back
+    // to none; iterative so that absurd nesting cannot exhaust the stack. At the end of
+    // the file: `eof_outer` if only the outermost block is open, else "unbalanced".
+    void skip_to_close(std::size_t depth, const char* eof_outer = nullptr) {
+        while (depth > 0) {
             Token t = lex_.next();
-            if (t.eof()) {
-                error(t, "unexpected end of file: unbalanced '{'");
-                throw Stop{};
-            }
-            if (t.is("{")) ++depth;
-            if (t.is("}")) --depth;
-        } while (depth > 0);
+            if (t.eof())
+                fatal(t, depth == 1 && eof_outer ? eof_outer : "unexpected end of file: unbalanced '{'");
+            depth += t.is('{') ? 1 : t.is('}') ? -1 : 0;
+        }
     }
+    // Skips a balanced { ... } block if one comes next.
+    void skip_block() {
+        if (!lex_.peek().is('{')) return;
+        lex_.next();
+        skip_to_close(1);
+    }
+    // Skips the rest of the block we are in, its closing '}' included.
+    void skip_rest_of_block() { skip_to_close(1, "unexpected end of file: expected '}'"); }
 
     // After an error inside a block: skip to the next known key, a nested block, or
     // the closing brace.
-    void recover(std::initializer_list<const char*> keys) {
+    template <class T>
+    void recover(const sc::Block<T>& b) {
         for (;;) {
             const Token& t = lex_.peek();
-            if (t.eof() || t.is("}")) return;
-            if (t.is("{")) {
+            if (t.eof() || t.is('}') || b.find(t.text)) return;
+            if (t.is('{'))
                 skip_block();
-                continue;
-            }
-            for (const char* k : keys)
-                if (t.text == k) return;
-            lex_.next();
+            else
+                lex_.next();
         }
     }
 
-    // Reads the body of a block up to and including its '}'. `key` handles one key and
-    // returns false if it reported an error.
-    template <class KeyFn>
-    void block(std::string_view what, std::initializer_list<const char*> keys, KeyFn key) {
+    void unknown_key(const Token& t, std::string_view what, const std::string& keys) {
+        if (t.is('{')) {
+            error(t, "unexpected '{' in " + quote(what));
+            skip_to_close(1);  // an unnamed block: skip it whole
+        } else {
+            error(t, "unknown key " + quote(t.text) + " in " + std::string(what) + " (expected " + keys + ")");
+        }
+    }
+
+    // Reads the body of a block up to and including its '}' into `item`.
+    template <class T>
+    void read_block(const sc::Block<T>& b, T& item, ItemState& st) {
         for (;;) {
             Token t = lex_.peek();
-            if (t.eof()) {
-                error(t, "unexpected end of file inside " + quote(what) + ": expected '}'");
-                throw Stop{};
-            }
-            if (t.is("}")) {
+            if (t.eof()) fatal(t, "unexpected end of file inside " + quote(b.name) + ": expected '}'");
+            if (t.is('}')) {
                 lex_.next();
                 return;
             }
-            if (section_inside(t, what)) return;
-            lex_.next();
-            bool known = false;
-            for (const char* k : keys) known = known || t.text == k;
-            if (!known) {
-                if (t.is("{"))
-                    error(t, "unexpected '{' in " + quote(what));
-                else
-                    error(t, "unknown key " + quote(t.text) + " in " + std::string(what) + " (expected " +
-                                 join_keys(keys) + ")");
-                if (t.is("{")) {
-                    // Treat the brace as an unnamed block and skip it whole.
-                    std::size_t depth = 1;
-                    while (depth > 0) {
-                        Token u = lex_.next();
-                        if (u.eof()) {
-                            error(u, "unexpected end of file: unbalanced '{'");
-                            throw Stop{};
-                        }
-                        depth += u.is("{") ? 1 : u.is("}") ? -1 : 0;
-                    }
-                }
-                recover(keys);
+            const sc::Key<T>* k = b.find(t.text);
+            if (!k) {
+                if (section_inside(t, b.name)) return;
+                lex_.next();
+                unknown_key(t, b.name, b.key_list());
+                recover(b);
                 continue;
             }
-            if (!key(t)) recover(keys);
+            lex_.next();
+            if (!read_key(b, *k, t, item, st)) recover(b);
         }
     }
 
+    // One key's value (after its name). False after an error that calls for recovery.
+    template <class T>
+    bool read_key(const sc::Block<T>& b, const sc::Key<T>& k, const Token& name, T& item, ItemState& st) {
+        int i = 0;
+        if (k.count > 0) {
+            long n = 0;
+            if (!integer(name, 1, k.count, n, k.count_error)) return false;
+            i = int(n - 1);
+        }
+        const int index = key_index(b, k);
+        const std::size_t at = lex_.peek().offset;
+        switch (k.kind) {
+        case sc::Kind::Number:
+            if (!number(name, k.access.number(item, i))) return false;
+            break;
+        case sc::Kind::Vec3:
+            if (!vec3(name, k.access.vec3(item, i))) return false;
+            break;
+        case sc::Kind::Integer: {
+            long v = 0;
+            if (!integer(name, long(k.range.min), long(k.range.max), v, k.range.message)) return false;
+            k.access.integer(item, i) = int(v);
+            break;
+        }
+        case sc::Kind::Choice:
+            return choice(k, name, item, st, index);
+        case sc::Kind::Material: {
+            Material m;
+            if (!material(name, m)) return false;
+            k.access.material(item, i) = m;
+            k.access.has_material(item, i) = true;
+            break;
+        }
+        case sc::Kind::Operand:
+            if constexpr (std::is_same_v<T, Object>) return operand(k, name, item, st, index);
+            return false;
+        }
+        st.given |= 1u << index;
+        st.value_at[index] = at;
+        return true;
+    }
+
+    // ---- values ------------------------------------------------------------------
     bool number(const Token& key, double& v) {
-        Token t = lex_.peek();
-        if (t.eof() || t.is("{") || t.is("}") || !is_number_syntax(t.text)) {
-            if (t.eof()) {
-                error(t, "unexpected end of file: expected a number after " + quote(key.text));
-                throw Stop{};
-            }
+        const Token& t = lex_.peek();
+        if (t.eof()) fatal(t, "unexpected end of file: expected a number after " + quote(key.text));
+        double fast = 0;
+        const NumberScan scan = scan_number(t.text, fast);
+        if (scan == NumberScan::NotNumber) {  // braces included
             error(t, "expected a number after " + quote(key.text) + ", got " + got(t));
             return false;
         }
-        lex_.next();
-        last_number_ = {t.line, t.col};
+        return take_number(lex_.next(), scan, fast, v);
+    }
+    // A token of number syntax, with what scan_number found.
+    bool take_number(const Token& t, NumberScan scan, double fast, double& v) {
         if (t.text.size() > Limits::max_token_length) {
             error(t, "number too long (" + std::to_string(t.text.size()) + " characters, limit " +
                          std::to_string(Limits::max_token_length) + ")");
             return false;
         }
-        // from_chars is locale-independent and fast; it rejects a leading '+', and on
-        // overflow or underflow strtod tells which of the two it was.
-        std::string_view digits = t.text[0] == '+' ? t.text.substr(1) : t.text;
-        double d = 0;
-        auto res = std::from_chars(digits.data(), digits.data() + digits.size(), d);
-        if (res.ec != std::errc() || res.ptr != digits.data() + digits.size()) {
-            char buf[Limits::max_token_length + 1];
-            std::memcpy(buf, t.text.data(), t.text.size());
-            buf[t.text.size()] = 0;
-            d = std::strtod(buf, nullptr);
-        }
+        const double d = scan == NumberScan::Exact ? fast : library_number_value(t.text);
         if (!std::isfinite(d) || std::fabs(d) > kMaxMagnitude) {
             error(t, "number " + quote(t.text) + " is out of range (magnitude at most 1e15)");
             return false;
@@ -313,11 +260,14 @@ private:
         Vec3 r;
         for (int i = 0; i < 3; ++i) {
             const Token& t = lex_.peek();
-            if (!t.eof() && !is_number_syntax(t.text)) {
+            if (t.eof()) return number(key, r[i]);  // reports the end of the file
+            double fast = 0;
+            const NumberScan scan = scan_number(t.text, fast);
+            if (scan == NumberScan::NotNumber) {
                 error(t, "expected 3 numbers after " + quote(key.text) + ", got " + got(t));
                 return false;
             }
-            if (!number(key, r[i])) return false;
+            if (!take_number(lex_.next(), scan, fast, r[i])) return false;
         }
         v = r;
         return true;
@@ -326,13 +276,10 @@ private:
     // Unsigned integer slot; `lo..hi` inclusive.
     bool integer(const Token& key, long lo, long hi, long& v, const char* range_msg) {
         Token t = lex_.peek();
-        if (t.eof()) {
-            error(t, "unexpected end of file: expected an integer after " + quote(key.text));
-            throw Stop{};
-        }
+        if (t.eof()) fatal(t, "unexpected end of file: expected an integer after " + quote(key.text));
         if (!is_integer_syntax(t.text)) {
             error(t, "expected an integer after " + quote(key.text) + ", got " + got(t));
-            if (!t.is("{") && !t.is("}")) lex_.next();
+            if (!t.is('{') && !t.is('}')) lex_.next();
             return false;
         }
         lex_.next();
@@ -352,6 +299,56 @@ private:
         return true;
     }
 
+    template <class T>
+    bool choice(const sc::Key<T>& k, const Token& name, T& item, ItemState& st, int index) {
+        const sc::Choice& c = *k.choice;
+        const Token v = lex_.peek();
+        if (v.eof()) fatal(v, "unexpected end of file: expected " + std::string(c.eof_expects) + " after " + quote(name.text));
+        const bool brace = v.is('{') || v.is('}');
+        int value = 0;
+        if (!brace && c.find(v.text, value)) {
+            lex_.next();
+            k.access.set_choice(item, value);
+            st.given |= 1u << index;
+            return true;
+        }
+        error(v, std::string(brace && c.brace ? c.brace : c.wrong) + got(v));
+        if (!brace) lex_.next();
+        if (!c.drops_item) return false;
+        st.bad = true;
+        return true;
+    }
+
+    bool material(const Token& key, Material& out) {
+        if (!open(key)) return false;
+        const sc::Block<Material>& b = sc::material_block();
+        Material m = b.make();
+        ItemState st;
+        read_block(b, m, st);
+        finish(b, m, st, key.offset, [&] { return loc_of(key.offset); });
+        out = m;
+        return true;
+    }
+
+    // Clamps and range rules of the item's numbers, then the block's rule across keys
+    // (reported at the item's name: `name_loc` gives its line and column).
+    template <class T, class LocFn>
+    void finish(const sc::Block<T>& b, T& item, const ItemState& st, std::size_t name_offset, LocFn name_loc) {
+        for (const sc::Key<T>& k : b.keys) {
+            if (k.kind != sc::Kind::Number || k.range.rule == sc::Range::Rule::None) continue;
+            double& v = k.access.number(item, 0);
+            if (k.range.contains(v)) continue;
+            if (k.range.rule == sc::Range::Rule::Clamp) {
+                v = std::clamp(v, k.range.min, k.range.max);
+            } else {
+                const std::size_t at = st.value_at[key_index(b, k)];
+                error_at(at != kNone ? at : name_offset, k.range.message);
+            }
+        }
+        if (b.check)
+            if (sc::Problem p = b.check(item)) report(p, name_loc());
+    }
+
     // ---- sections ----------------------------------------------------------------
     void parse_top() {
         for (;;) {
@@ -360,454 +357,212 @@ private:
                 error(t, "missing 'end' at the end of the scene");
                 return;
             }
-            if (t.is("end")) return;
-            if (t.is("thing")) {
-                if (open(t)) things(t);
-            } else if (t.is("special_thing")) {
-                if (open(t)) specials();
-            } else if (t.is("light")) {
-                if (open(t)) lights();
-            } else if (t.is("camera")) {
-                if (open(t)) camera(t);
-            } else if (t.is("picture_size")) {
-                if (!size_seen_) size_loc_ = {t.line, t.col};
-                size_seen_ = true;
-                if (open(t)) picture_size();
-            } else {
-                error(t, "unknown section " + quote(t.text) +
-                             " (expected thing, special_thing, light, camera, picture_size or end)");
-                if (lex_.peek().is("{")) skip_block();
-                // Resynchronise on the next section name.
-                for (;;) {
-                    const Token& u = lex_.peek();
-                    if (u.eof() || u.is("thing") || u.is("special_thing") || u.is("light") || u.is("camera") ||
-                        u.is("picture_size") || u.is("end"))
-                        break;
-                    if (u.is("{"))
-                        skip_block();
-                    else
-                        lex_.next();
-                }
+            const sc::Section* s = sc::find_section(t.text);
+            if (!s) {
+                unknown_section(t);
+                continue;
             }
+            switch (s->kind) {
+            case sc::SectionKind::End:
+                return;
+            case sc::SectionKind::Things:
+                if (open(t)) section_items(*s, [&] { thing_item(); });
+                break;
+            case sc::SectionKind::Specials:
+                if (open(t)) section_items(*s, [&] { item(*s, sc::plane_blocks(), out_.scene.planes); });
+                break;
+            case sc::SectionKind::Lights:
+                if (open(t)) section_items(*s, [&] { item(*s, sc::light_blocks(), out_.scene.lights); });
+                break;
+            case sc::SectionKind::Camera:
+                if (!open(t)) break;
+                if (!camera_seen_) camera_loc_ = loc_of(t.offset);
+                camera_seen_ = true;
+                read_block(sc::camera_block(), out_.scene.camera, camera_keys_);
+                break;
+            case sc::SectionKind::PictureSize:
+                if (!size_seen_) size_loc_ = loc_of(t.offset);
+                size_seen_ = true;
+                if (open(t)) read_block(sc::picture_size_block(), out_.scene, size_keys_);
+                break;
+            }
+        }
+    }
+
+    void unknown_section(const Token& t) {
+        error(t, "unknown section " + quote(t.text) + " (expected " + sc::section_list() + ")");
+        skip_block();
+        // Resynchronise on the next section name.
+        for (;;) {
+            const Token& u = lex_.peek();
+            if (u.eof() || sc::find_section(u.text)) return;
+            if (u.is('{'))
+                skip_block();
+            else
+                lex_.next();
+        }
+    }
+
+    // The items of a section up to its '}'; `read_item` reads one.
+    template <class ReadItem>
+    void section_items(const sc::Section& s, ReadItem read_item) {
+        for (;;) {
+            const Token& t = lex_.peek();
+            if (t.eof()) fatal(t, "unexpected end of file inside " + quote(s.name) + ": expected '}'");
+            if (t.is('}')) {
+                lex_.next();
+                return;
+            }
+            if (section_inside(t, s.name)) return;
+            read_item();
         }
     }
 
     void count_object(const Token& t) {
-        if (++objects_ > Limits::max_objects) {
-            error(t, "too many objects (limit " + std::to_string(Limits::max_objects) + ")");
-            throw Stop{};
-        }
+        if (++objects_ > Limits::max_objects) fatal(t, "too many objects (limit " + std::to_string(Limits::max_objects) + ")");
     }
 
-    void things(const Token&) {
-        for (;;) {
-            Token t = lex_.peek();
-            if (t.eof()) {
-                error(t, "unexpected end of file inside 'thing': expected '}'");
-                throw Stop{};
-            }
-            if (t.is("}")) {
-                lex_.next();
-                return;
-            }
-            if (section_inside(t, "thing")) return;
-            Object obj;
-            if (object(obj, 0)) out_.scene.objects.push_back(std::move(obj));
+    // A plane or a light.
+    template <class T>
+    void item(const sc::Section& s, const std::vector<sc::Block<T>>& blocks, std::vector<T>& out) {
+        const Token t = lex_.next();
+        const sc::Block<T>* b = nullptr;
+        for (const sc::Block<T>& x : blocks)
+            if (sc::same_word(x.name, t.text)) b = &x;
+        if (!b) {
+            error(t, "unknown " + std::string(s.item_noun) + " " + quote(t.text) + " (expected " + sc::names_of(blocks) +
+                         ")");
+            skip_block();
+            return;
         }
+        count_object(t);  // planes and lights cost memory like objects
+        T it = b->make();
+        it.loc = loc_of(t.offset);
+        if (!open(t)) return;
+        ItemState st;
+        read_block(*b, it, st);
+        finish(*b, it, st, t.offset, [&] { return it.loc; });
+        out.push_back(std::move(it));
     }
 
-    static constexpr std::initializer_list<const char*> kObjectNames = {"sphere", "tetrahedron", "cylinder", "torus",
-                                                                        "constructive_solid_geometry"};
+    // Read in place: an Object is ~200 bytes, and big scenes hold millions.
+    void thing_item() {
+        std::vector<Object>& objects = out_.scene.objects;
+        if (!object(objects.emplace_back())) objects.pop_back();
+    }
 
     // Reads one object (its name is the next token). False if it was unusable.
-    bool object(Object& obj, int depth) {
-        Token t = lex_.next();
-        obj.loc = {t.line, t.col};
-        if (t.is("sphere")) {
-            count_object(t);
-            Sphere s;
-            SourceLoc radius_at{t.line, t.col};
-            if (!open(t)) return false;
-            block("sphere", {"position", "radius", "material"}, [&](const Token& k) {
-                if (k.is("position")) return vec3(k, s.position);
-                if (k.is("radius")) return number(k, s.radius) && (radius_at = last_number_, true);
-                return material(k, obj);
-            });
-            if (!(s.radius > 0)) error_at(radius_at.line, radius_at.col, "sphere radius must be greater than 0");
-            obj.shape = s;
-            return true;
-        }
-        if (t.is("tetrahedron")) {
-            count_object(t);
-            Tetrahedron s;
-            if (!open(t)) return false;
-            block("tetrahedron", {"vect1", "vect2", "vect3", "vect4", "material"}, [&](const Token& k) {
-                if (k.is("vect1")) return vec3(k, s.v[0]);
-                if (k.is("vect2")) return vec3(k, s.v[1]);
-                if (k.is("vect3")) return vec3(k, s.v[2]);
-                if (k.is("vect4")) return vec3(k, s.v[3]);
-                return material(k, obj);
-            });
-            Vec3 e1 = s.v[1] - s.v[0], e2 = s.v[2] - s.v[0], e3 = s.v[3] - s.v[0];
-            double vol = std::fabs(dot(cross(e1, e2), e3));
-            double scale = std::max({length2(e1), length2(e2), length2(e3)});
-            if (!(vol > 1e-12 * scale * std::sqrt(scale)) || scale == 0)
-                error_at(t.line, t.col, "tetrahedron is flat: its four corners lie in one plane");
-            obj.shape = s;
-            return true;
-        }
-        if (t.is("cylinder")) {
-            count_object(t);
-            Cylinder s;
-            SourceLoc radius_at{t.line, t.col};
-            if (!open(t)) return false;
-            block("cylinder", {"end_1", "end_2", "radius", "material"}, [&](const Token& k) {
-                if (k.is("end_1")) return vec3(k, s.end1);
-                if (k.is("end_2")) return vec3(k, s.end2);
-                if (k.is("radius")) return number(k, s.radius) && (radius_at = last_number_, true);
-                return material(k, obj);
-            });
-            if (!(s.radius > 0)) error_at(radius_at.line, radius_at.col, "cylinder radius must be greater than 0");
-            if (s.end1 == s.end2) error_at(t.line, t.col, "cylinder end_1 and end_2 are the same point");
-            obj.shape = s;
-            return true;
-        }
-        if (t.is("torus")) {
-            count_object(t);
-            Torus s;
-            SourceLoc major_at{t.line, t.col}, minor_at{t.line, t.col};
-            if (!open(t)) return false;
-            block("torus", {"position", "direction", "major", "minor", "material"}, [&](const Token& k) {
-                if (k.is("position")) return vec3(k, s.position);
-                if (k.is("direction")) return vec3(k, s.direction);
-                if (k.is("major")) return number(k, s.major) && (major_at = last_number_, true);
-                if (k.is("minor")) return number(k, s.minor) && (minor_at = last_number_, true);
-                return material(k, obj);
-            });
-            if (!(s.minor > 0)) error_at(minor_at.line, minor_at.col, "torus minor radius must be greater than 0");
-            if (s.major < 0) error_at(major_at.line, major_at.col, "torus major radius must not be negative");
-            if (length2(s.direction) == 0) error_at(t.line, t.col, "torus direction must not be 0 0 0");
-            obj.shape = s;
-            return true;
-        }
-        if (t.is("constructive_solid_geometry")) {
-            count_object(t);
-            if (depth >= Limits::max_csg_depth) {
-                error(t, "CSG nested too deeply (limit " + std::to_string(Limits::max_csg_depth) + " levels)");
-                skip_block();
-                return false;
-            }
-            Csg s;
-            s.operands.resize(2);
-            bool have[2] = {false, false};
-            bool bad = false;
-            if (!open(t)) return false;
-            block("constructive_solid_geometry", {"left", "right", "type", "material"}, [&](const Token& k) {
-                if (k.is("left") || k.is("right")) {
-                    int side = k.is("left") ? 0 : 1;
-                    if (!open(k)) return false;
-                    const Token& first = lex_.peek();
-                    if (first.is("}")) {
-                        error(first, "CSG " + std::string(k.text) + " operand is empty: expected one object");
-                        lex_.next();
-                        bad = true;
-                        return true;
-                    }
-                    if (!is_object_name(first)) {
-                        error(first, "unknown object " + got(first) + " in CSG " + std::string(k.text) +
-                                         " operand (expected " + join_keys(kObjectNames) + ")");
-                        skip_rest_of_block();
-                        bad = true;
-                        return true;
-                    }
-                    Object operand;
-                    if (!object(operand, depth + 1)) bad = true;
-                    s.operands[side] = std::move(operand);
-                    have[side] = true;
-                    const Token& close = lex_.peek();
-                    if (!close.is("}")) {
-                        error(close, "expected '}' after the CSG " + std::string(k.text) +
-                                         " operand (it holds exactly one object), got " + got(close));
-                        skip_rest_of_block();
-                        bad = true;
-                        return true;
-                    }
-                    lex_.next();
-                    return true;
-                }
-                if (k.is("type")) {
-                    Token v = lex_.peek();
-                    if (v.eof()) {
-                        error(v, "unexpected end of file: expected U, I or C after 'type'");
-                        throw Stop{};
-                    }
-                    if (v.is("U") || v.is("I") || v.is("C")) {
-                        lex_.next();
-                        s.type = static_cast<CsgType>(v.text[0]);
-                        return true;
-                    }
-                    error(v, "CSG type must be U, I or C, got " + got(v));
-                    if (!v.is("{") && !v.is("}")) lex_.next();
-                    bad = true;
-                    return true;
-                }
-                return material(k, obj);
-            });
-            if (!have[0]) error_at(t.line, t.col, "CSG is missing its 'left' operand"), bad = true;
-            if (!have[1]) error_at(t.line, t.col, "CSG is missing its 'right' operand"), bad = true;
-            obj.shape = std::move(s);
-            return !bad;
-        }
-        if (t.is("{") || t.is("}")) {
-            error(t, "expected an object name (" + join_keys(kObjectNames) + "), got " + got(t));
-            if (t.is("{")) {
-                // Skip the anonymous block: we already consumed its '{'.
-                std::size_t d = 1;
-                while (d > 0) {
-                    Token u = lex_.next();
-                    if (u.eof()) {
-                        error(u, "unexpected end of file: unbalanced '{'");
-                        throw Stop{};
-                    }
-                    d += u.is("{") ? 1 : u.is("}") ? -1 : 0;
-                }
-            }
+    bool object(Object& obj) {
+        const Token t = lex_.next();
+        obj.loc = loc_of(t.offset);
+        if (const sc::Block<Object>* b = sc::object_block(t.text)) return object_body(*b, t, obj);
+        if (t.is('{') || t.is('}')) {
+            error(t, "expected an object name (" + sc::names_of(sc::object_blocks()) + "), got " + got(t));
+            if (t.is('{')) skip_to_close(1);  // we already consumed its '{'
             return false;
         }
-        error(t, "unknown object " + quote(t.text) + " (expected " + join_keys(kObjectNames) + ")");
-        if (lex_.peek().is("{")) skip_block();
+        error(t, "unknown object " + quote(t.text) + " (expected " + sc::names_of(sc::object_blocks()) + ")");
+        skip_block();
         return false;
     }
 
-    static bool is_object_name(const Token& t) {
-        for (const char* k : kObjectNames)
-            if (t.text == k) return true;
-        return false;
-    }
-
-    // Skips tokens (and nested blocks) up to and including the '}' closing the block
-    // we are in.
-    void skip_rest_of_block() {
-        for (;;) {
-            Token t = lex_.peek();
-            if (t.eof()) {
-                error(t, "unexpected end of file: expected '}'");
-                throw Stop{};
-            }
-            if (t.is("}")) {
-                lex_.next();
-                return;
-            }
-            if (t.is("{"))
-                skip_block();
-            else
-                lex_.next();
+    bool object_body(const sc::Block<Object>& b, const Token& t, Object& obj) {
+        count_object(t);
+        const bool nests = std::any_of(b.keys.begin(), b.keys.end(),
+                                       [](const sc::Key<Object>& k) { return k.kind == sc::Kind::Operand; });
+        if (nests && depth_ >= Limits::max_csg_depth) {
+            error(t, "CSG nested too deeply (limit " + std::to_string(Limits::max_csg_depth) + " levels)");
+            skip_block();
+            return false;
         }
-    }
-
-    bool material(const Token& k, Object& obj) {
-        Material m;
-        if (!material_block(k, m)) return false;
-        obj.material = m;
-        obj.has_material = true;
-        return true;
-    }
-
-    bool material_block(const Token& k, Material& out) {
-        if (!open(k)) return false;
-        Material m;  // in-block defaults
-        Token start = k;
-        block("material", {"reflection", "refraction", "scattering", "translusans", "refractive_index", "colour"},
-              [&](const Token& key) {
-                  if (key.is("reflection")) return number(key, m.reflection);
-                  if (key.is("refraction")) return number(key, m.refraction);
-                  if (key.is("scattering")) return number(key, m.scattering);
-                  if (key.is("translusans")) return number(key, m.translusans);
-                  if (key.is("refractive_index")) return number(key, m.refractive_index);
-                  return vec3(key, m.colour);
-              });
-        m.translusans = std::clamp(m.translusans, 0.0, 1.0);
-        if (m.refractive_index < 1) m.refractive_index = 1;
-        if (m.reflection + m.refraction + m.scattering == 0)
-            warning({start.line, start.col},
-                    m.reflection == 0 && m.refraction == 0
-                        ? "material weights reflection, refraction and scattering are all 0: the surface renders black"
-                        : "material weights reflection, refraction and scattering add up to 0: the surface renders black");
-        out = m;
-        return true;
-    }
-
-    void specials() {
-        for (;;) {
-            Token t = lex_.peek();
-            if (t.eof()) {
-                error(t, "unexpected end of file inside 'special_thing': expected '}'");
-                throw Stop{};
+        if (!open(t)) return false;
+        const SourceLoc loc = obj.loc;
+        obj = b.make();
+        obj.loc = loc;
+        ItemState st;
+        read_block(b, obj, st);
+        finish(b, obj, st, t.offset, [&] { return obj.loc; });
+        for (const sc::Key<Object>& k : b.keys)
+            if (k.kind == sc::Kind::Operand && !(st.given & (1u << key_index(b, k)))) {
+                error_at(obj.loc, "CSG is missing its '" + std::string(k.name) + "' operand");
+                st.bad = true;
             }
-            if (t.is("}")) {
-                lex_.next();
-                return;
-            }
-            if (section_inside(t, "special_thing")) return;
+        return !st.bad;
+    }
+
+    // A CSG's `left { OBJECT }` or `right { OBJECT }` (after its name).
+    bool operand(const sc::Key<Object>& k, const Token& name, Object& csg, ItemState& st, int index) {
+        if (!open(name)) return false;
+        const std::string side(name.text);
+        const Token& first = lex_.peek();
+        if (first.is('}')) {
+            error(first, "CSG " + side + " operand is empty: expected one object");
             lex_.next();
-            if (!t.is("plane") && !t.is("chess_plane")) {
-                error(t, "unknown special thing " + quote(t.text) + " (expected plane, chess_plane)");
-                if (lex_.peek().is("{")) skip_block();
-                continue;
-            }
-            count_object(t);  // planes cost memory like objects
-            Plane p;
-            p.chess = t.is("chess_plane");
-            p.loc = {t.line, t.col};
-            if (!open(t)) continue;
-            block(t.text, {"point", "material"}, [&](const Token& k) {
-                if (k.is("point")) {
-                    long n = 0;
-                    if (!integer(k, 1, 4, n, "point number must be 1..4")) return false;
-                    return vec3(k, p.point[n - 1]);
-                }
-                if (p.chess) {
-                    long n = 0;
-                    if (!integer(k, 1, 2, n, "material number must be 1 or 2")) return false;
-                    Material m;
-                    if (!material_block(k, m)) return false;
-                    (n == 1 ? p.material : p.material2) = m;
-                    (n == 1 ? p.has_material : p.has_material2) = true;
-                    return true;
-                }
-                Material m;
-                if (!material_block(k, m)) return false;
-                p.material = m;
-                p.has_material = true;
-                return true;
-            });
-            Vec3 e1 = p.point[1] - p.point[0], e2 = p.point[2] - p.point[0];
-            Vec3 n = cross(e1, e2);
-            if (!(length2(n) > 1e-24 * length2(e1) * length2(e2)) || length2(n) == 0) {
-                error_at(t.line, t.col, std::string(t.text) + ": points 1, 2 and 3 lie on one line");
-            } else if (std::fabs(dot(normalize(n), p.point[3] - p.point[0])) <= 1.5e-5) {
-                warning(p.loc, std::string(t.text) + ": point 4 lies in the plane, so the lit side is arbitrary" +
-                                   (p.chess ? " and every cell gets material 1" : ""));
-            }
-            out_.scene.planes.push_back(p);
-        }
-    }
-
-    void lights() {
-        for (;;) {
-            Token t = lex_.peek();
-            if (t.eof()) {
-                error(t, "unexpected end of file inside 'light': expected '}'");
-                throw Stop{};
-            }
-            if (t.is("}")) {
-                lex_.next();
-                return;
-            }
-            if (section_inside(t, "light")) return;
-            lex_.next();
-            if (!t.is("lamp") && !t.is("spotlight")) {
-                error(t, "unknown light " + quote(t.text) + " (expected lamp, spotlight)");
-                if (lex_.peek().is("{")) skip_block();
-                continue;
-            }
-            count_object(t);
-            Light l;
-            l.lamp = t.is("lamp");
-            l.loc = {t.line, t.col};
-            if (!open(t)) continue;
-            auto key = [&](const Token& k) {
-                if (k.is("position")) return vec3(k, l.position);
-                if (k.is("colour")) return vec3(k, l.colour);
-                return number(k, l.size);
-            };
-            if (l.lamp)
-                block(t.text, {"position", "colour", "size"}, key);
-            else
-                block(t.text, {"position", "colour"}, key);
-            out_.scene.lights.push_back(l);
-        }
-    }
-
-    void camera(const Token& name) {
-        if (!camera_seen_) camera_loc_ = {name.line, name.col};
-        camera_seen_ = true;
-        Camera& c = out_.scene.camera;
-        block("camera", {"position", "centre", "up", "projection", "angle_x", "angle_y"}, [&](const Token& k) {
-            if (k.is("position")) return cam_set(0), vec3(k, c.position);
-            if (k.is("centre")) return cam_set(1), vec3(k, c.centre);
-            if (k.is("up")) return cam_set(2), vec3(k, c.up);
-            if (k.is("angle_x")) return cam_set(3), number(k, c.angle_x);
-            if (k.is("angle_y")) return cam_set(4), number(k, c.angle_y);
-            Token v = lex_.peek();
-            if (v.eof()) {
-                error(v, "unexpected end of file: expected a projection after 'projection'");
-                throw Stop{};
-            }
-            if (v.is("{") || v.is("}")) {
-                error(v, "expected a projection (linear, polar or a single character) after 'projection', got " +
-                             got(v));
-                return false;
-            }
-            lex_.next();
-            if (v.is("1") || v.is("polar") || v.is("angular")) {
-                c.projection = Projection::Polar;
-            } else if (v.text.size() == 1 || v.is("linear")) {
-                c.projection = Projection::Linear;
-            } else {
-                error(v, "projection must be 'linear', 'polar' (or 1), or a single character for linear; got " +
-                             got(v));
-                return false;
-            }
+            st.bad = true;
             return true;
-        });
-    }
-    void cam_set(int i) { camera_keys_ |= 1u << i; }
-
-    void picture_size() {
-        block("picture_size", {"x_max", "y_max"}, [&](const Token& k) {
-            long v = 0;
-            if (!integer(k, 1, Limits::max_picture_side, v,
-                         "picture size must be 1..16384 pixels on each side"))
-                return false;
-            (k.is("x_max") ? out_.scene.width : out_.scene.height) = int(v);
-            size_keys_ |= k.is("x_max") ? 1u : 2u;
+        }
+        if (!sc::object_block(first.text)) {
+            error(first, "unknown object " + got(first) + " in CSG " + side + " operand (expected " +
+                             sc::names_of(sc::object_blocks()) + ")");
+            skip_rest_of_block();
+            st.bad = true;
             return true;
-        });
+        }
+        Object operand;
+        ++depth_;
+        if (!object(operand)) st.bad = true;
+        --depth_;
+        *k.access.operand(csg, 0) = std::move(operand);  // make() gave the CSG both
+        st.given |= 1u << index;
+        const Token& close = lex_.peek();
+        if (!close.is('}')) {
+            error(close, "expected '}' after the CSG " + side + " operand (it holds exactly one object), got " +
+                             got(close));
+            skip_rest_of_block();
+            st.bad = true;
+            return true;
+        }
+        lex_.next();
+        return true;
     }
 
     // Whole-scene checks that need every section read.
     void validate() {
-        Token eof = lex_.end_token();
-        if (!camera_seen_) {
-            error_at(eof.line, eof.col, "the scene has no 'camera' section");
-        } else {
-            static const char* names[] = {"position", "centre", "up", "angle_x", "angle_y"};
-            for (int i = 0; i < 5; ++i)
-                if (!(camera_keys_ & (1u << i)))
-                    error_at(camera_loc_.line, camera_loc_.col, std::string("camera: missing '") + names[i] + "'");
-            if (camera_keys_ == 31u) {
-                if (const char* why = camera_problem(out_.scene.camera))
-                    error_at(camera_loc_.line, camera_loc_.col, std::string("camera: ") + why);
-            }
-        }
-        SourceLoc size_at = size_seen_ ? size_loc_ : SourceLoc{eof.line, eof.col};
-        if (!size_seen_) error_at(eof.line, eof.col, "the scene has no 'picture_size' section");
-        else if (!(size_keys_ & 1u)) error_at(size_at.line, size_at.col, "picture_size: missing 'x_max'");
-        if (size_seen_ && !(size_keys_ & 2u)) error_at(size_at.line, size_at.col, "picture_size: missing 'y_max'");
+        // Just past the token after `end` (or the end of the file), where the old
+        // line-counting lexer stood.
+        const std::size_t eof = lex_.peek().end();
+        required(sc::camera_block(), out_.scene.camera, camera_seen_, camera_loc_, camera_keys_, eof);
+        required(sc::picture_size_block(), out_.scene, size_seen_, size_loc_, size_keys_, eof);
         out_.scene.camera_loc = camera_loc_;
     }
 
-    Lexer lex_;
+    // A section that must be present with all its required keys.
+    template <class T>
+    void required(const sc::Block<T>& b, const T& item, bool seen, SourceLoc at, const ItemState& st, std::size_t eof) {
+        if (!seen) {
+            error_at(eof, "the scene has no '" + std::string(b.name) + "' section");
+            return;
+        }
+        bool complete = true;
+        for (const sc::Key<T>& k : b.keys)
+            if (k.required && !(st.given & (1u << key_index(b, k)))) {
+                error_at(at, std::string(b.name) + ": missing '" + std::string(k.name) + "'");
+                complete = false;
+            }
+        if (complete && b.check)
+            if (sc::Problem p = b.check(item)) report(p, at);
+    }
+
+    SceneLexer lex_;
+    LineMap lines_;
     const ParseOptions& opt_;
     ParseResult& out_;
     int errors_ = 0;
+    int depth_ = 0;  // CSG nesting of the object being read
     std::size_t objects_ = 0;
     bool camera_seen_ = false, size_seen_ = false;
-    unsigned camera_keys_ = 0, size_keys_ = 0;
-    SourceLoc camera_loc_;
-    SourceLoc last_number_;
-    SourceLoc size_loc_;
+    ItemState camera_keys_, size_keys_;  // keys accumulate over repeated sections
+    SourceLoc camera_loc_, size_loc_;
 };
 
 }  // namespace
@@ -819,6 +574,15 @@ ParseResult parse_scene(std::string_view text, const ParseOptions& options) {
                                       "scene file too large (" + std::to_string(text.size()) +
                                           " bytes, limit " + std::to_string(Limits::max_file_size) + ")"});
         return result;
+    }
+    // Growing the object list by doubling would move every object about once more and
+    // touch twice its final memory. Files spend well over 64 bytes on an object in
+    // practice, so this is usually enough; pages the list never reaches are never
+    // touched, so an overestimate costs address space only.
+    try {
+        result.scene.objects.reserve(text.size() / 64);
+    } catch (const std::bad_alloc&) {
+        // Then the list grows as it goes.
     }
     Parser p(text, options, result);
     p.run();

@@ -1,6 +1,7 @@
-// Scene -> scene-format text, indented two spaces per level. Every key is written,
-// defaults included, so the text does not depend on the parser's defaults; numbers
-// use the shortest digits that read back to the same double.
+// Scene -> scene-format text, indented two spaces per level, driven by the schema
+// (scene_schema.h): every key of every block is written, defaults included, so the
+// text does not depend on the parser's defaults; numbers use the shortest digits that
+// read back to the same double.
 #include "scene_writer.h"
 
 #include <cfloat>
@@ -8,6 +9,8 @@
 #include <cmath>
 #include <string>
 #include <variant>
+
+#include "scene_schema.h"
 
 namespace rt {
 
@@ -48,6 +51,8 @@ std::string format_number(double v) {
 
 namespace {
 
+namespace sc = schema;
+
 class Writer {
 public:
     std::string out;
@@ -62,93 +67,56 @@ public:
 
     // One line: six keys are easier to scan side by side than stacked.
     static std::string material_body(const Material& m) {
-        return "{ reflection " + num(m.reflection) + " refraction " + num(m.refraction) + " scattering " +
-               num(m.scattering) + " translusans " + num(m.translusans) + " refractive_index " +
-               num(m.refractive_index) + " colour " + vec(m.colour) + " }";
+        std::string s = "{";
+        for (const sc::Key<Material>& k : sc::material_block().keys) s += " " + simple_value(k, m, 0);
+        return s + " }";
     }
 
-    void object(int depth, const Object& obj) {
-        std::visit([&](const auto& s) { shape(depth, s, obj); }, obj.shape);
-    }
-
-    // Only when the file had a block: has_material is part of the scene, and a
-    // block-less object's default (translusans 0) differs from a block's (1).
-    void material_of(int depth, const Object& obj) {
-        if (obj.has_material) line(depth, "material " + material_body(obj.material));
-    }
-
-    void shape(int depth, const Sphere& s, const Object& obj) {
-        line(depth, "sphere {");
-        material_of(depth + 1, obj);
-        line(depth + 1, "position " + vec(s.position));
-        line(depth + 1, "radius " + num(s.radius));
-        line(depth, "}");
-    }
-    void shape(int depth, const Tetrahedron& s, const Object& obj) {
-        line(depth, "tetrahedron {");
-        material_of(depth + 1, obj);
-        for (int i = 0; i < 4; ++i) line(depth + 1, "vect" + std::to_string(i + 1) + " " + vec(s.v[i]));
-        line(depth, "}");
-    }
-    void shape(int depth, const Cylinder& s, const Object& obj) {
-        line(depth, "cylinder {");
-        material_of(depth + 1, obj);
-        line(depth + 1, "end_1 " + vec(s.end1));
-        line(depth + 1, "end_2 " + vec(s.end2));
-        line(depth + 1, "radius " + num(s.radius));
-        line(depth, "}");
-    }
-    void shape(int depth, const Torus& s, const Object& obj) {
-        line(depth, "torus {");
-        material_of(depth + 1, obj);
-        line(depth + 1, "position " + vec(s.position));
-        line(depth + 1, "direction " + vec(s.direction));
-        line(depth + 1, "major " + num(s.major));
-        line(depth + 1, "minor " + num(s.minor));
-        line(depth, "}");
-    }
-    void shape(int depth, const Csg& s, const Object& obj) {
-        line(depth, "constructive_solid_geometry {");
-        line(depth + 1, std::string("type ") + static_cast<char>(s.type));
-        material_of(depth + 1, obj);
-        static const char* const side[2] = {"left", "right"};
-        for (std::size_t i = 0; i < s.operands.size() && i < 2; ++i) {
-            line(depth + 1, std::string(side[i]) + " {");
-            object(depth + 2, s.operands[i]);
-            line(depth + 1, "}");
+    // `name value` for the keys that fit on one line.
+    template <class T>
+    static std::string simple_value(const sc::Key<T>& k, const T& t, int i) {
+        std::string s(k.name);
+        if (k.count > 0) s += " " + std::to_string(i + 1);
+        switch (k.kind) {
+        case sc::Kind::Number: return s + " " + num(k.number(t, i));
+        case sc::Kind::Vec3: return s + " " + vec(k.vec3(t, i));
+        case sc::Kind::Integer: return s + " " + std::to_string(k.integer(t, i));
+        case sc::Kind::Choice: return s + " " + std::string(k.choice->word_for(k.access.get_choice(t)));
+        case sc::Kind::Material: return s + " " + material_body(k.material(t, i));
+        case sc::Kind::Operand: break;
         }
+        return s;
+    }
+
+    // A block: the lead keys first, then the rest, each in schema order.
+    template <class T>
+    void item(int depth, const sc::Block<T>& b, const T& t) {
+        line(depth, std::string(b.name) + " {");
+        for (bool lead : {true, false})
+            for (const sc::Key<T>& k : b.keys)
+                if (k.lead == lead) key(depth + 1, k, t);
         line(depth, "}");
     }
 
-    void plane(int depth, const Plane& p) {
-        line(depth, p.chess ? "chess_plane {" : "plane {");
-        if (p.chess) {
-            if (p.has_material) line(depth + 1, "material 1 " + material_body(p.material));
-            if (p.has_material2) line(depth + 1, "material 2 " + material_body(p.material2));
-        } else if (p.has_material) {
-            line(depth + 1, "material " + material_body(p.material));
+    template <class T>
+    void key(int depth, const sc::Key<T>& k, const T& t) {
+        for (int i = 0; i < std::max(k.count, 1); ++i) {
+            if (k.kind == sc::Kind::Operand) {
+                // Only CSGs have operands.
+                if constexpr (std::is_same_v<T, Object>) {
+                    const Object* o = k.operand(t, i);
+                    if (!o) continue;
+                    line(depth, std::string(k.name) + " {");
+                    item(depth + 1, sc::object_block(*o), *o);
+                    line(depth, "}");
+                }
+                continue;
+            }
+            // Only when the file had a block: has_material is part of the scene, and a
+            // block-less item's default (translusans 0) differs from a block's (1).
+            if (k.kind == sc::Kind::Material && !k.has_material(t, i)) continue;
+            line(depth, simple_value(k, t, i));
         }
-        for (int i = 0; i < 4; ++i) line(depth + 1, "point " + std::to_string(i + 1) + " " + vec(p.point[i]));
-        line(depth, "}");
-    }
-
-    void light(int depth, const Light& l) {
-        line(depth, l.lamp ? "lamp {" : "spotlight {");
-        line(depth + 1, "position " + vec(l.position));
-        line(depth + 1, "colour " + vec(l.colour));
-        if (l.lamp) line(depth + 1, "size " + num(l.size));
-        line(depth, "}");
-    }
-
-    void camera(const Camera& c) {
-        line(0, "camera {");
-        line(1, "position " + vec(c.position));
-        line(1, "centre " + vec(c.centre));
-        line(1, "up " + vec(c.up));
-        line(1, c.projection == Projection::Polar ? "projection polar" : "projection linear");
-        line(1, "angle_x " + num(c.angle_x));
-        line(1, "angle_y " + num(c.angle_y));
-        line(0, "}");
     }
 };
 
@@ -156,33 +124,41 @@ public:
 
 std::string write_camera(const Camera& camera) {
     Writer w;
-    w.camera(camera);
+    w.item(0, sc::camera_block(), camera);
     return w.out;
 }
 
 std::string write_scene(const Scene& scene) {
     Writer w;
-    if (!scene.objects.empty()) {
-        w.line(0, "thing {");
-        for (const Object& o : scene.objects) w.object(1, o);
+    // Sections of items are left out when empty; camera and picture size always written.
+    auto items = [&w](const sc::Section& s, const auto& list, auto block_of) {
+        if (list.empty()) return;
+        w.line(0, std::string(s.name) + " {");
+        for (const auto& item : list) w.item(1, block_of(item), item);
         w.line(0, "}");
+    };
+    for (const sc::Section& s : sc::sections()) {
+        switch (s.kind) {
+        case sc::SectionKind::Things:
+            items(s, scene.objects, [](const Object& o) -> const auto& { return sc::object_block(o); });
+            break;
+        case sc::SectionKind::Specials:
+            items(s, scene.planes, [](const Plane& p) -> const auto& { return sc::plane_block(p); });
+            break;
+        case sc::SectionKind::Lights:
+            items(s, scene.lights, [](const Light& l) -> const auto& { return sc::light_block(l); });
+            break;
+        case sc::SectionKind::Camera:
+            w.item(0, sc::camera_block(), scene.camera);
+            break;
+        case sc::SectionKind::PictureSize:
+            w.item(0, sc::picture_size_block(), scene);
+            break;
+        case sc::SectionKind::End:
+            w.line(0, std::string(s.name));
+            break;
+        }
     }
-    if (!scene.planes.empty()) {
-        w.line(0, "special_thing {");
-        for (const Plane& p : scene.planes) w.plane(1, p);
-        w.line(0, "}");
-    }
-    if (!scene.lights.empty()) {
-        w.line(0, "light {");
-        for (const Light& l : scene.lights) w.light(1, l);
-        w.line(0, "}");
-    }
-    w.camera(scene.camera);
-    w.line(0, "picture_size {");
-    w.line(1, "x_max " + std::to_string(scene.width));
-    w.line(1, "y_max " + std::to_string(scene.height));
-    w.line(0, "}");
-    w.line(0, "end");
     return w.out;
 }
 

@@ -15,6 +15,9 @@
 //                        defaults: must also equal the same item written as `NAME { }`
 //   ```text, ```sh       output, commands and schematic text; never a scene
 //
+// Each block's key table lists exactly the keys of the schema (scene_schema.h), and
+// where a row gives one key a single default, it is the schema's default.
+//
 // Any other tag, or an untagged fence, fails the test, so nothing slips through unchecked.
 #include <doctest/doctest.h>
 
@@ -26,6 +29,8 @@
 #include <vector>
 
 #include "scene_parser.h"
+#include "scene_schema.h"
+#include "scene_writer.h"
 
 using namespace rt;
 
@@ -104,12 +109,13 @@ std::string first_word(const std::string& text) {
     return {};
 }
 
+// The section an item's block belongs in, from the schema.
 const char* section_for(const std::string& item) {
-    static const std::set<std::string> objects = {"sphere", "tetrahedron", "cylinder", "torus",
-                                                  "constructive_solid_geometry"};
-    if (objects.count(item)) return "thing";
-    if (item == "plane" || item == "chess_plane") return "special_thing";
-    if (item == "lamp" || item == "spotlight") return "light";
+    if (schema::object_block(item)) return "thing";
+    for (const auto& b : schema::plane_blocks())
+        if (b.name == item) return "special_thing";
+    for (const auto& b : schema::light_blocks())
+        if (b.name == item) return "light";
     return nullptr;
 }
 
@@ -234,4 +240,125 @@ TEST_CASE("docs/gallery.md shows every scene in scenes/") {
         CHECK_MESSAGE(file_exists(RT_SOURCE_DIR "/docs/" + img), "docs/" << img << " is missing: run docs/make-gallery.sh");
     }
     CHECK(n > 0);
+}
+
+namespace {
+
+// The key table after a heading: rows of `| key | value | default | meaning |`.
+struct Row {
+    std::vector<std::string> keys;  // first words of the first cell's `code` spans
+    std::vector<int> indices;       // "point 2": 2, else 0
+    std::string default_cell;
+};
+
+std::vector<std::string> code_spans(const std::string& cell) {
+    std::vector<std::string> spans;
+    for (std::size_t a = cell.find('`'); a != std::string::npos; a = cell.find('`', a)) {
+        const std::size_t b = cell.find('`', a + 1);
+        if (b == std::string::npos) break;
+        spans.push_back(cell.substr(a + 1, b - a - 1));
+        a = b + 1;
+    }
+    return spans;
+}
+
+std::vector<std::string> cells(const std::string& line) {
+    std::vector<std::string> out;
+    std::size_t a = line.find('|');
+    while (a != std::string::npos) {
+        const std::size_t b = line.find('|', a + 1);
+        if (b == std::string::npos) break;
+        out.push_back(line.substr(a + 1, b - a - 1));
+        a = b;
+    }
+    return out;
+}
+
+std::vector<Row> key_table(const std::string& md, const std::string& heading) {
+    std::vector<Row> rows;
+    std::size_t at = md.find("\n" + heading + "\n");
+    if (at == std::string::npos) return rows;
+    std::istringstream in(md.substr(at + heading.size() + 2));
+    bool in_table = false;
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("| `", 0) != 0) {
+            if (in_table) break;
+            continue;
+        }
+        in_table = true;
+        const auto c = cells(line);
+        if (c.size() < 3) continue;
+        Row row;
+        row.default_cell = c[2];
+        const auto spans = code_spans(c[0]);
+        for (const std::string& sp : spans) {
+            const auto w = split_words(sp);
+            row.keys.push_back(w.empty() ? "" : w[0]);
+            row.indices.push_back(w.size() > 1 ? std::atoi(w[1].c_str()) : 0);
+        }
+        // `vect1` … `vect4`: the keys in between too.
+        if (c[0].find("\u2026") != std::string::npos && spans.size() == 2) {
+            const std::string a = row.keys[0];
+            const std::string b = row.keys[1];
+            if (a != b && !a.empty() && a.substr(0, a.size() - 1) == b.substr(0, b.size() - 1))
+                for (char d = char(a.back() + 1); d < b.back(); ++d) row.keys.push_back(a.substr(0, a.size() - 1) + d);
+        }
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+template <class T>
+std::string default_text(const schema::Key<T>& k, const T& item, int i) {
+    switch (k.kind) {
+    case schema::Kind::Number: return format_number(k.number(item, i));
+    case schema::Kind::Vec3: {
+        const Vec3 v = k.vec3(item, i);
+        return format_number(v.x) + " " + format_number(v.y) + " " + format_number(v.z);
+    }
+    case schema::Kind::Choice: return std::string(k.choice->word_for(k.access.get_choice(item)));
+    default: return {};
+    }
+}
+
+template <class T>
+void check_table(const std::string& md, const std::string& heading, const schema::Block<T>& b) {
+    INFO("the key table under '" << heading << "' and the schema's block " << std::string(b.name));
+    const auto rows = key_table(md, heading);
+    REQUIRE_MESSAGE(!rows.empty(), "no key table found");
+    std::set<std::string> documented, schema_keys;
+    for (const auto& k : b.keys) schema_keys.insert(std::string(k.name));
+    const T item = b.make();
+    for (const Row& row : rows) {
+        documented.insert(row.keys.begin(), row.keys.end());
+        // One key with one default value written as code: it must be the schema's.
+        const auto defaults = code_spans(row.default_cell);
+        if (row.keys.size() != 1 || defaults.size() != 1 || row.default_cell.find("each") != std::string::npos) continue;
+        const schema::Key<T>* k = b.find(row.keys[0]);
+        if (!k) continue;
+        const int i = row.indices[0] > 0 ? row.indices[0] - 1 : 0;
+        const std::string want = default_text(*k, item, i);
+        if (!want.empty()) CHECK_MESSAGE(defaults[0] == want, "default of " << row.keys[0]);
+    }
+    CHECK(documented == schema_keys);
+}
+
+}  // namespace
+
+TEST_CASE("docs/scene-format.md: each block's key table lists the schema's keys and defaults") {
+    const std::string md = read_text(kDocs);
+    REQUIRE(!md.empty());
+    int blocks = 0;
+    for (const auto& b : schema::object_blocks()) check_table(md, "### " + std::string(b.name), b), ++blocks;
+    for (const auto& b : schema::plane_blocks()) check_table(md, "### " + std::string(b.name), b), ++blocks;
+    for (const auto& b : schema::light_blocks()) check_table(md, "### " + std::string(b.name), b), ++blocks;
+    check_table(md, "## Materials", schema::material_block());
+    check_table(md, "## Camera", schema::camera_block());
+    check_table(md, "## Picture size", schema::picture_size_block());
+    CHECK(blocks == 9);
+    // The layout table names every section.
+    for (const auto& s : schema::sections())
+        if (s.kind != schema::SectionKind::End)
+            CHECK_MESSAGE(md.find("| `" + std::string(s.name) + " { ... }` |") != std::string::npos,
+                          "section " << std::string(s.name) << " missing from the layout table");
 }

@@ -429,3 +429,52 @@ TEST_CASE("format_diagnostic prints file:line:col: error: message") {
     d.severity = Diagnostic::Severity::Warning;
     CHECK(format_diagnostic("a.txt", d) == "a.txt:3:7: warning: expected '}'");
 }
+
+TEST_CASE("errors: an unknown key in each block names exactly that block's keys") {
+    // The messages as the format documents them; each list is the block's keys in order.
+    struct Case {
+        const char* body;
+        const char* message;
+    };
+    const Case cases[] = {
+        {"thing { sphere { bogus 1 } }", "unknown key 'bogus' in sphere (expected position, radius, material)"},
+        {"thing { tetrahedron { vect2 1 0 0 vect3 0 1 0 vect4 0 0 1 bogus 1 } }",
+         "unknown key 'bogus' in tetrahedron (expected vect1, vect2, vect3, vect4, material)"},
+        {"thing { cylinder { bogus 1 } }", "unknown key 'bogus' in cylinder (expected end_1, end_2, radius, material)"},
+        {"thing { torus { bogus 1 } }",
+         "unknown key 'bogus' in torus (expected position, direction, major, minor, material)"},
+        {"thing { constructive_solid_geometry { left { sphere { } } right { sphere { } } bogus 1 } }",
+         "unknown key 'bogus' in constructive_solid_geometry (expected left, right, type, material)"},
+        {"thing { sphere { material { bogus 1 } } }",
+         "unknown key 'bogus' in material (expected reflection, refraction, scattering, translusans, "
+         "refractive_index, colour)"},
+        {"special_thing { plane { bogus 1 } }", "unknown key 'bogus' in plane (expected point, material)"},
+        {"special_thing { chess_plane { bogus 1 } }", "unknown key 'bogus' in chess_plane (expected point, material)"},
+        {"light { lamp { bogus 1 } }", "unknown key 'bogus' in lamp (expected position, colour, size)"},
+        {"light { spotlight { bogus 1 } }", "unknown key 'bogus' in spotlight (expected position, colour)"},
+        {"camera { bogus 1 }",
+         "unknown key 'bogus' in camera (expected position, centre, up, projection, angle_x, angle_y)"},
+        {"picture_size { bogus 1 }", "unknown key 'bogus' in picture_size (expected x_max, y_max)"},
+        // A key of another block is just as unknown: none is taken for a default.
+        {"thing { sphere { major 1 } }", "unknown key 'major' in sphere (expected position, radius, material)"},
+        {"light { spotlight { size 1 } }", "unknown key 'size' in spotlight (expected position, colour)"},
+        {"special_thing { plane { radius 1 } }", "unknown key 'radius' in plane (expected point, material)"},
+        {"picture_size { position 1 }", "unknown key 'position' in picture_size (expected x_max, y_max)"},
+    };
+    for (const Case& c : cases) {
+        const std::string body = c.body;
+        CAPTURE(body);
+        auto r = parse_with_camera(c.body);
+        REQUIRE_FALSE(r.ok());
+        CHECK(first_error(r).message == std::string(c.message));
+        int errors = 0;
+        for (const auto& d : r.diagnostics) errors += d.is_error();
+        CHECK(errors == 1);  // the value after it is skipped quietly
+    }
+    auto section = parse_with_camera("scenery { }");
+    CHECK(first_error(section).message ==
+          "unknown section 'scenery' (expected thing, special_thing, light, camera, picture_size or end)");
+    auto object = parse_with_camera("thing { cube { } }");
+    CHECK(first_error(object).message ==
+          "unknown object 'cube' (expected sphere, tetrahedron, cylinder, torus, constructive_solid_geometry)");
+}

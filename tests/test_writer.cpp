@@ -13,6 +13,7 @@
 #include <string>
 
 #include "scene_parser.h"
+#include "scene_schema.h"
 #include "scene_writer.h"
 
 using namespace rt;
@@ -485,4 +486,104 @@ TEST_CASE("round trip: every example scene in scenes/") {
         check_round_trip(parse_ok(text.str()));
     }
     CHECK(files >= 15);
+}
+
+// Every key of every block, set through the schema's own accessors to a value other
+// than its default, must be written and read back: the writer and the parser cannot
+// skip a key the schema lists, nor confuse two of them.
+namespace {
+
+// A value the format accepts for key `k` that differs from what `item` holds.
+template <class T>
+void change_key(const schema::Key<T>& k, T& item, int i, double step) {
+    switch (k.kind) {
+    case schema::Kind::Number: {
+        double& v = k.access.number(item, i);
+        v = k.range.contains(v + step) ? v + step : v - step;  // stay inside a clamp or rule
+        break;
+    }
+    case schema::Kind::Vec3: k.access.vec3(item, i) += Vec3{step, 2 * step, -step}; break;
+    case schema::Kind::Integer: k.access.integer(item, i) += 7; break;
+    case schema::Kind::Choice: {
+        // Another value of the list.
+        const int now = k.access.get_choice(item);
+        for (const auto& w : k.choice->words)
+            if (w.value != now) {
+                k.access.set_choice(item, w.value);
+                break;
+            }
+        break;
+    }
+    case schema::Kind::Material:
+        k.access.material(item, i).colour = Colour{0.1 * step, 0.2, 0.3};
+        k.access.has_material(item, i) = true;
+        break;
+    case schema::Kind::Operand: {
+        Object* o = k.access.operand(item, i);
+        REQUIRE(o != nullptr);
+        std::get<Sphere>(o->shape).radius += step;
+        break;
+    }
+    }
+}
+
+}  // namespace
+
+TEST_CASE("round trip: every key the schema lists, changed one at a time, is written and read back") {
+    const std::string kCamera = "camera { position 0 0 0 centre 1 0 0 up 1 0 1 angle_x 60 angle_y 45 }\n";
+    int keys = 0;
+    auto check_item = [&](const std::string& section, const std::string& name, auto make, const auto& block,
+                          auto get_list) {
+        for (const auto& k : block.keys) {
+            for (int i = 0; i < std::max(k.count, 1); ++i) {
+                CAPTURE(name);
+                CAPTURE(std::string(k.name));
+                CAPTURE(i);
+                auto item = make();
+                if constexpr (std::is_same_v<decltype(item), Object>)
+                    if (auto* t = std::get_if<Tetrahedron>(&item.shape))  // the default one is flat
+                        *t = Tetrahedron{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+                change_key(k, item, i, 0.375);
+                Scene s = parse_ok(kCamera + "picture_size { x_max 4 y_max 4 }\nend\n");
+                get_list(s).push_back(item);
+                const std::string text = write_scene(s);
+                CHECK(text.find(section + " {") != std::string::npos);
+                CHECK(text.find(std::string(k.name)) != std::string::npos);
+                ParseResult r = parse_scene(text);
+                INFO(text);
+                REQUIRE(r.ok());
+                CHECK(r.scene == s);
+                ++keys;
+            }
+        }
+    };
+    for (const auto& b : schema::object_blocks())
+        check_item("thing", std::string(b.name), b.make, b, [](Scene& s) -> std::vector<Object>& { return s.objects; });
+    for (const auto& b : schema::plane_blocks())
+        check_item("special_thing", std::string(b.name), b.make, b,
+                   [](Scene& s) -> std::vector<Plane>& { return s.planes; });
+    for (const auto& b : schema::light_blocks())
+        check_item("light", std::string(b.name), b.make, b, [](Scene& s) -> std::vector<Light>& { return s.lights; });
+    CHECK(keys == 3 + 5 + 4 + 5 + 4 + (4 + 1) + (4 + 2) + 3 + 2);  // sphere ... spotlight
+
+    // Camera, picture size and material keys through whole scenes.
+    for (const auto& k : schema::camera_block().keys) {
+        CAPTURE(std::string(k.name));
+        Scene s = base_scene();
+        change_key(k, s.camera, 0, 0.5);
+        check_round_trip(s);
+    }
+    for (const auto& k : schema::picture_size_block().keys) {
+        Scene s = base_scene();
+        change_key(k, s, 0, 1);
+        check_round_trip(s);
+    }
+    for (const auto& k : schema::material_block().keys) {
+        CAPTURE(std::string(k.name));
+        Material m;
+        change_key(k, m, 0, 0.25);
+        Scene s = base_scene();
+        s.objects.push_back(with_material(sphere({5, 0, 1}, 1), m));
+        check_round_trip(s);
+    }
 }

@@ -126,9 +126,10 @@ inline void check_scene(const rt::Scene& s) {
 inline void check_diagnostics(std::string_view text, const rt::ParseResult& r) {
     // Byte length of each line, computed lazily only when there are diagnostics.
     if (r.diagnostics.empty()) return;
+    // Lines end at LF, at CR LF (the CR counts in the line) and at a CR alone.
     std::vector<std::size_t> line_len(1, 0);
-    for (char ch : text) {
-        if (ch == '\n')
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (text[i] == '\n' || (text[i] == '\r' && (i + 1 == text.size() || text[i + 1] != '\n')))
             line_len.push_back(0);
         else
             ++line_len.back();

@@ -1,72 +1,44 @@
-// Scene text <-> Scene agreement for the editor (see scene_text.h). The scanner here
-// follows the parser's lexical rules exactly (scene_parser.cpp's Lexer): a token is a
-// run of non-space bytes, `{` and `}` stand alone, `//` at a token start ends the line.
+// Scene text <-> Scene agreement for the editor (see scene_text.h). Items are found
+// with the parser's own lexer (scene_lexer.h), so the two cannot disagree about tokens,
+// comments or line ends.
 #include "scene_text.h"
 
 #include <algorithm>
 #include <cstring>
 
+#include "scene_lexer.h"
 #include "scene_parser.h"
+#include "scene_schema.h"
 #include "scene_writer.h"
 
 namespace rtview {
 
 namespace {
 
-struct Tok {
-    std::size_t begin = 0, end = 0;
-    std::string_view text;
-    bool eof() const { return text.empty(); }
-};
-
+// The parser's lexer, plus skipping a block to its matching brace.
 class Scanner {
 public:
-    explicit Scanner(std::string_view t) : t_(t) {
-        if (t_.size() >= 3 && std::memcmp(t_.data(), "\xEF\xBB\xBF", 3) == 0) pos_ = 3;
-    }
-    Tok next() {
-        for (;;) {
-            while (pos_ < t_.size() && space(t_[pos_])) ++pos_;
-            if (pos_ + 1 < t_.size() && t_[pos_] == '/' && t_[pos_ + 1] == '/') {
-                while (pos_ < t_.size() && t_[pos_] != '\n') ++pos_;
-                continue;
-            }
-            break;
-        }
-        Tok k;
-        k.begin = pos_;
-        if (pos_ < t_.size()) {
-            if (t_[pos_] == '{' || t_[pos_] == '}') {
-                ++pos_;
-            } else {
-                while (pos_ < t_.size() && !space(t_[pos_]) && t_[pos_] != '{' && t_[pos_] != '}') ++pos_;
-            }
-        }
-        k.end = pos_;
-        k.text = t_.substr(k.begin, k.end - k.begin);
-        return k;
-    }
+    explicit Scanner(std::string_view t) : lex_(t) {}
+    rt::Token next() { return lex_.next(); }
     // After a `{` has been read: consumes up to and including its matching `}`.
     // Returns the offset just past it, or npos at end of text.
     std::size_t skip_block() {
         int depth = 1;
         for (;;) {
-            Tok k = next();
+            rt::Token k = next();
             if (k.eof()) return std::string_view::npos;
-            if (k.text == "{") ++depth;
-            if (k.text == "}" && --depth == 0) return k.end;
+            if (k.is('{')) ++depth;
+            if (k.is('}') && --depth == 0) return k.end();
         }
     }
 
 private:
-    static bool space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
-    std::string_view t_;
-    std::size_t pos_ = 0;
+    rt::SceneLexer lex_;
 };
 
 // Whitespace before the line's first character at `offset`'s line.
 std::string line_indent(std::string_view text, std::size_t offset) {
-    std::size_t ls = text.rfind('\n', offset == 0 ? 0 : offset - 1);
+    std::size_t ls = text.find_last_of("\r\n", offset == 0 ? 0 : offset - 1);  // CR alone ends lines too
     ls = (ls == std::string_view::npos || offset == 0) ? 0 : ls + 1;
     std::size_t e = ls;
     while (e < text.size() && (text[e] == ' ' || text[e] == '\t')) ++e;
@@ -123,32 +95,33 @@ SceneLayout scan_layout(std::string_view text) {
     Scanner sc(text);
     l.append_at = text.size();
     for (;;) {
-        Tok k = sc.next();
+        rt::Token k = sc.next();
         if (k.eof()) break;
         if (k.text == "end") {
-            l.append_at = k.begin;
+            l.append_at = k.offset;
             break;
         }
+        const rt::schema::Section* section = rt::schema::find_section(k.text);
+        if (!section) return l;  // not a section: unclear
         std::vector<TextSpan>* items = nullptr;
-        if (k.text == "thing") items = &l.objects;
-        else if (k.text == "special_thing") items = &l.planes;
-        else if (k.text == "light") items = &l.lights;
-        else if (k.text != "camera" && k.text != "picture_size") return l;  // not a section: unclear
+        if (section->kind == rt::schema::SectionKind::Things) items = &l.objects;
+        else if (section->kind == rt::schema::SectionKind::Specials) items = &l.planes;
+        else if (section->kind == rt::schema::SectionKind::Lights) items = &l.lights;
         if (sc.next().text != "{") return l;
         if (!items) {
             std::size_t e = sc.skip_block();
             if (e == std::string_view::npos) return l;
-            if (k.text == "camera") l.cameras.push_back({k.begin, e});
+            if (section->kind == rt::schema::SectionKind::Camera) l.cameras.push_back({k.offset, e});
             continue;
         }
         for (;;) {
-            Tok item = sc.next();
+            rt::Token item = sc.next();
             if (item.eof()) return l;
-            if (item.text == "}") break;
+            if (item.is('}')) break;
             if (sc.next().text != "{") return l;
             std::size_t e = sc.skip_block();
             if (e == std::string_view::npos) return l;
-            items->push_back({item.begin, e});
+            items->push_back({item.offset, e});
         }
     }
     l.ok = true;
@@ -252,28 +225,12 @@ rt::Scene carry_edit(const rt::Scene& base, const rt::Scene& old_scene, const rt
     return r;
 }
 
-std::size_t offset_of(std::string_view text, int line, int col) {
-    std::size_t pos = 0;
-    for (int l = 1; l < line; ++l) {
-        std::size_t nl = text.find('\n', pos);
-        if (nl == std::string_view::npos) return text.size();
-        pos = nl + 1;
-    }
-    std::size_t eol = text.find('\n', pos);
-    if (eol == std::string_view::npos) eol = text.size();
-    return std::min(pos + std::size_t(col > 1 ? col - 1 : 0), eol);
-}
+std::size_t offset_of(std::string_view text, int line, int col) { return rt::offset_at(text, line, col); }
 
 void line_col_of(std::string_view text, std::size_t offset, int& line, int& col) {
-    offset = std::min(offset, text.size());
-    line = 1;
-    std::size_t ls = 0;
-    for (std::size_t i = 0; i < offset; ++i)
-        if (text[i] == '\n') {
-            ++line;
-            ls = i + 1;
-        }
-    col = int(offset - ls) + 1;
+    const rt::LineCol lc = rt::line_col_at(text, offset);
+    line = lc.line;
+    col = lc.col;
 }
 
 }  // namespace rtview

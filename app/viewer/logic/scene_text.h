@@ -45,7 +45,8 @@ std::string sync_scene_text(const std::string& text, const rt::Scene& from, cons
 rt::Scene carry_edit(const rt::Scene& base, const rt::Scene& old_scene, const rt::Scene& new_scene,
                      bool* complete = nullptr);
 
-// 1-based line/column <-> byte offset (columns count bytes, as the parser's do).
+// 1-based line/column <-> byte offset, as the parser counts them (columns count bytes;
+// LF, CR LF and a lone CR each end a line).
 std::size_t offset_of(std::string_view text, int line, int col);
 void line_col_of(std::string_view text, std::size_t offset, int& line, int& col);
 

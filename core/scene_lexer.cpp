@@ -1,0 +1,241 @@
+// Tokens, line ends and numbers of the scene format. The lexer touches each byte once
+// and keeps no line count: the parser reads 100+ MB files, and positions are needed
+// only for the few tokens a diagnostic or an item's location points at.
+#include "scene_lexer.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace rt {
+namespace {
+
+enum CharClass : unsigned char { kWord = 0, kSpace = 1, kBrace = 2 };
+
+constexpr std::array<unsigned char, 256> make_classes() {
+    std::array<unsigned char, 256> c{};
+    for (unsigned char s : {' ', '\t', '\n', '\r', '\v', '\f'}) c[s] = kSpace;
+    c['{'] = c['}'] = kBrace;
+    return c;
+}
+constexpr std::array<unsigned char, 256> kClass = make_classes();
+
+inline unsigned char char_class(char c) { return kClass[static_cast<unsigned char>(c)]; }
+
+#if defined(__SSE2__)
+// Bit i set if p[i] ends a word: a space (9..13 or ' ') or a brace.
+inline unsigned word_ends(const char* p) {
+    const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+    const __m128i x = _mm_sub_epi8(c, _mm_set1_epi8(9));
+    const __m128i control = _mm_cmpeq_epi8(_mm_min_epu8(x, _mm_set1_epi8(4)), x);  // 9..13
+    const __m128i space = _mm_or_si128(control, _mm_cmpeq_epi8(c, _mm_set1_epi8(' ')));
+    const __m128i brace = _mm_or_si128(_mm_cmpeq_epi8(c, _mm_set1_epi8('{')), _mm_cmpeq_epi8(c, _mm_set1_epi8('}')));
+    return unsigned(_mm_movemask_epi8(_mm_or_si128(space, brace)));
+}
+#endif
+
+}  // namespace
+
+SceneLexer::SceneLexer(std::string_view text) : text_(text) {
+    if (text_.size() >= 3 && std::memcmp(text_.data(), "\xEF\xBB\xBF", 3) == 0) pos_ = 3;
+    advance();
+}
+
+void SceneLexer::advance() {
+    const char* const begin = text_.data();
+    const char* const end = begin + text_.size();
+    const char* p = begin + pos_;
+    for (;;) {
+        while (p != end && char_class(*p) == kSpace) ++p;
+        if (end - p >= 2 && p[0] == '/' && p[1] == '/') {
+            while (p != end && *p != '\n' && *p != '\r') ++p;
+            continue;
+        }
+        break;
+    }
+    const char* const start = p;
+    if (p != end) {
+        if (char_class(*p) == kBrace) {
+            ++p;
+        } else {
+            ++p;
+#if defined(__SSE2__)
+            for (; end - p >= 16; p += 16)
+                if (const unsigned m = word_ends(p)) {
+                    p += __builtin_ctz(m);
+                    goto done;
+                }
+#endif
+            while (p != end && char_class(*p) == kWord) ++p;
+        }
+    }
+#if defined(__SSE2__)
+done:
+#endif
+    pos_ = std::size_t(p - begin);
+    cur_.text = std::string_view(start, std::size_t(p - start));
+    cur_.offset = std::size_t(start - begin);
+}
+
+// ---- lines ----------------------------------------------------------------------
+
+LineCol line_col_at(std::string_view text, std::size_t offset) {
+    LineMap m(text);
+    return m.at(offset);
+}
+
+std::size_t offset_at(std::string_view text, int line, int col) {
+    std::size_t pos = 0;
+    for (int l = 1; l < line; ++l) {
+        while (pos < text.size() && !is_line_end(text, pos)) ++pos;
+        if (pos == text.size()) return text.size();
+        ++pos;
+    }
+    std::size_t eol = pos;
+    while (eol < text.size() && text[eol] != '\n' && text[eol] != '\r') ++eol;
+    return std::min(pos + std::size_t(col > 1 ? col - 1 : 0), eol);
+}
+
+void LineMap::scan_to(std::size_t offset) {
+    const char* p = text_.data();
+    const std::size_t n = text_.size();
+    std::size_t k = cur_.offset;
+    while (k < offset) {
+        // Stop at each checkpoint boundary so that backward look-ups restart nearby.
+        const std::size_t stop = std::min(offset, (k / kCheckpoint + 1) * kCheckpoint);
+#if defined(__SSE2__)
+        // 16 bytes at a time; the look-ahead load at k + 1 needs k + 17 <= n.
+        const __m128i lf = _mm_set1_epi8('\n'), cr = _mm_set1_epi8('\r');
+        for (; k < stop && k + 17 <= n; k += std::min<std::size_t>(16, stop - k)) {
+            const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k));
+            const __m128i next = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k + 1));
+            const __m128i lone_cr = _mm_andnot_si128(_mm_cmpeq_epi8(next, lf), _mm_cmpeq_epi8(here, cr));
+            unsigned ends = unsigned(_mm_movemask_epi8(_mm_or_si128(_mm_cmpeq_epi8(here, lf), lone_cr)));
+            if (stop - k < 16) ends &= (1u << (stop - k)) - 1;
+            if (ends == 0) continue;
+            cur_.line_start = k + std::size_t(32 - __builtin_clz(ends));  // after the last one
+            for (; ends != 0; ends &= ends - 1) ++cur_.line;                // line ends are sparse
+        }
+#endif
+        for (; k < stop; ++k)
+            if (is_line_end(text_, k)) {
+                ++cur_.line;
+                cur_.line_start = k + 1;
+            }
+        cur_.offset = k;
+        if (k % kCheckpoint == 0 && (checkpoints_.empty() || checkpoints_.back().offset < k))
+            checkpoints_.push_back(cur_);
+    }
+}
+
+LineCol LineMap::at(std::size_t offset) {
+    offset = std::min(offset, text_.size());
+    if (offset < cur_.offset) {
+        // Backwards: restart from the last checkpoint at or before the offset.
+        auto it = std::upper_bound(checkpoints_.begin(), checkpoints_.end(), offset,
+                                   [](std::size_t o, const Mark& m) { return o < m.offset; });
+        cur_ = it == checkpoints_.begin() ? Mark{0, 0, 1} : *(it - 1);
+    }
+    scan_to(offset);
+    return {cur_.line, int(offset - cur_.line_start) + 1};
+}
+
+// ---- numbers --------------------------------------------------------------------
+
+NumberScan scan_number(std::string_view s, double& value) {
+    static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    const char* p = s.data();
+    const char* const e = p + s.size();
+    bool negative = false;
+    if (p != e && (*p == '+' || *p == '-')) negative = *p++ == '-';
+    // All digits go into m (value = m * 10^scale); past 19 significant digits m has
+    // wrapped, and the library reads the token instead.
+    std::uint64_t m = 0;
+    const char* const mantissa = p;
+    for (; p != e && unsigned(*p - '0') < 10; ++p) m = m * 10 + unsigned(*p - '0');
+    std::ptrdiff_t digits = p - mantissa, frac_digits = 0;
+    if (p != e && *p == '.') {
+        const char* const frac = ++p;
+        for (; p != e && unsigned(*p - '0') < 10; ++p) m = m * 10 + unsigned(*p - '0');
+        frac_digits = p - frac;
+        digits += frac_digits;
+    }
+    if (digits == 0) return NumberScan::NotNumber;
+    if (p == e && digits <= 15) {
+        // The usual case, and the fast path below at its simplest: m < 10^15 < 2^53.
+        double v = double(m);
+        if (frac_digits > 0) v /= kPow10[frac_digits];
+        value = negative ? -v : v;
+        return NumberScan::Exact;
+    }
+    bool exact = true;
+    std::ptrdiff_t scale = -frac_digits;
+    if (p != e && (*p == 'e' || *p == 'E')) {
+        ++p;
+        bool neg_exp = false;
+        if (p != e && (*p == '+' || *p == '-')) neg_exp = *p++ == '-';
+        const char* const exp_start = p;
+        std::ptrdiff_t x = 0;
+        for (; p != e && unsigned(*p - '0') < 10; ++p) {
+            if (x > 100000) exact = false;
+            else x = x * 10 + (*p - '0');
+        }
+        if (p == exp_start) return NumberScan::NotNumber;
+        scale += neg_exp ? -x : x;
+    }
+    if (p != e) return NumberScan::NotNumber;
+    if (digits > 19) {
+        // Leading zeros add nothing to m; more than 19 other digits do not fit.
+        std::ptrdiff_t zeros = 0;
+        for (const char* q = mantissa; q != e && (*q == '0' || *q == '.'); ++q) zeros += *q == '0';
+        exact = exact && digits - zeros <= 19;
+    }
+    // Clinger's fast path: digits that fit in 53 bits, scaled by at most 10^22, give
+    // exactly one correctly rounded IEEE multiplication or division of two exact
+    // doubles, so the result equals what from_chars/strtod return.
+    if (!exact || m > (std::uint64_t(1) << 53) || (m != 0 && (scale < -22 || scale > 22))) return NumberScan::Library;
+    double v = double(m);
+    if (m != 0) v = scale < 0 ? v / kPow10[-scale] : v * kPow10[scale];
+    value = negative ? -v : v;
+    return NumberScan::Exact;
+}
+
+bool is_number_syntax(std::string_view s) {
+    double unused = 0;
+    return scan_number(s, unused) != NumberScan::NotNumber;
+}
+
+bool is_integer_syntax(std::string_view s) {
+    std::size_t i = 0;
+    if (i < s.size() && s[i] == '+') ++i;
+    if (i == s.size()) return false;
+    for (; i < s.size(); ++i)
+        if (s[i] < '0' || s[i] > '9') return false;
+    return true;
+}
+
+double library_number_value(std::string_view s) {
+    // from_chars is locale-independent; it rejects a leading '+', and on overflow or
+    // underflow strtod tells which of the two it was.
+    double d = 0;
+    std::string_view digits = s[0] == '+' ? s.substr(1) : s;
+    auto res = std::from_chars(digits.data(), digits.data() + digits.size(), d);
+    if (res.ec != std::errc() || res.ptr != digits.data() + digits.size()) d = std::strtod(std::string(s).c_str(), nullptr);
+    return d;
+}
+
+double number_value(std::string_view s) {
+    double d = 0;
+    return scan_number(s, d) == NumberScan::Exact ? d : library_number_value(s);
+}
+
+}  // namespace rt

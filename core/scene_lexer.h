@@ -1,0 +1,91 @@
+// The scene format's lexical rules, in one place for the parser and the viewer's text
+// tools: tokens with their byte offsets, the number syntax, and line:column found from
+// an offset only when someone asks (a diagnostic, an item's location).
+#pragma once
+
+#include <cstddef>
+#include <string_view>
+#include <vector>
+
+namespace rt {
+
+// A run of non-space bytes; `{` and `}` are always tokens of their own; `//` at the
+// start of a token comments out the rest of the line.
+struct Token {
+    std::string_view text;   // empty at the end of the text
+    std::size_t offset = 0;  // of the first byte; the text's size at its end
+    bool eof() const { return text.empty(); }
+    bool is(std::string_view s) const { return text == s; }
+    bool is(char c) const { return text.size() == 1 && text[0] == c; }
+    std::size_t end() const { return offset + text.size(); }
+};
+
+class SceneLexer {
+public:
+    // A UTF-8 byte-order mark at the start is not part of the scene.
+    explicit SceneLexer(std::string_view text);
+    const Token& peek() const { return cur_; }
+    Token next() {
+        Token t = cur_;
+        advance();
+        return t;
+    }
+    std::string_view text() const { return text_; }
+
+private:
+    void advance();
+    std::string_view text_;
+    std::size_t pos_ = 0;
+    Token cur_;
+};
+
+// Whether a byte ends a line: LF, CR LF (one end, at the LF) and a CR alone all do.
+inline bool is_line_end(std::string_view text, std::size_t i) {
+    return text[i] == '\n' || (text[i] == '\r' && (i + 1 == text.size() || text[i + 1] != '\n'));
+}
+
+// 1-based line and column (columns count bytes) of a byte offset.
+struct LineCol {
+    int line = 1;
+    int col = 1;
+};
+LineCol line_col_at(std::string_view text, std::size_t offset);
+// Offset of the 1-based line and column, clamped to the line's end and the text's end.
+std::size_t offset_at(std::string_view text, int line, int col);
+
+// line_col_at for many offsets in mostly increasing order: each look-up scans only
+// from the previous one (or from a checkpoint before it), so looking up every item's
+// start costs one pass over the text.
+class LineMap {
+public:
+    explicit LineMap(std::string_view text) : text_(text) {}
+    LineCol at(std::size_t offset);
+
+private:
+    struct Mark {
+        std::size_t offset, line_start;
+        int line;
+    };
+    void scan_to(std::size_t offset);
+    std::string_view text_;
+    Mark cur_{0, 0, 1};
+    std::vector<Mark> checkpoints_;  // every kCheckpoint bytes of what was scanned
+    static constexpr std::size_t kCheckpoint = 1 << 16;
+};
+
+// ---- numbers --------------------------------------------------------------------
+// A number is a whole token: [+-] digits [. digits] [(e|E) [+-] digits], with at least
+// one digit before or after the point. Integer slots take [+] digits.
+bool is_number_syntax(std::string_view s);
+bool is_integer_syntax(std::string_view s);
+
+// Checks the syntax and, for the common short decimals, computes the value in the same
+// pass. Library: the syntax is right, but the value needs library_number_value.
+enum class NumberScan { NotNumber, Exact, Library };
+NumberScan scan_number(std::string_view s, double& value);
+// The double a token of number syntax stands for, correctly rounded (as strtod);
+// infinite or 0 when out of double range. Precondition: is_number_syntax(s).
+double library_number_value(std::string_view s);
+double number_value(std::string_view s);  // either of the two ways
+
+}  // namespace rt
