@@ -1,4 +1,4 @@
-// Pixel -> ray, exactly as the 2013 program (no half-pixel offset, pi = 3.14159),
+// Pixel -> ray (docs/rendering.md §1), as the 2013 program (no half-pixel offset, pi = 3.14159),
 // except that the picture is not mirrored unless asked to be.
 #pragma once
 

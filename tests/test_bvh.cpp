@@ -323,7 +323,7 @@ TEST_CASE("bvh: a skewed scene (exponentially spaced spheres) still gives the br
 
 TEST_CASE("bvh: the world's nearest hit on exact ties is the earlier object (file order)") {
     // Many copies of the same few spheres: which copy the BVH visits first depends on
-    // how the build partitioned them, but rendering.md §2 says the earlier one wins.
+    // how the build partitioned them, but docs/rendering.md §2 says the earlier one wins.
     Rng rng(500);
     Scene scene;
     std::vector<Object> originals;

@@ -1,7 +1,7 @@
 // Tests for CSG (core/csg.cpp and the CSG nodes of core/shapes.cpp): the spans of
 // random union / intersection / difference trees agree with point membership under
 // the boolean combination of inside tests written here from each primitive's
-// definition, and the cases the 2013 program got wrong (rendering.md §8) come out
+// definition, and the cases the 2013 program got wrong (docs/rendering.md §8) come out
 // right: non-convex operands, a difference subtracted from a difference, tori.
 // All randomness is seeded, so a failure repeats.
 #include <doctest/doctest.h>

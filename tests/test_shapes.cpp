@@ -1,6 +1,6 @@
 // Tests for the primitives in core/shapes.cpp: the inside intervals (spans) that
 // Geometry::spans reports along random lines agree with inside tests written here
-// straight from each shape's definition (rendering.md §7), span ends lie on the
+// straight from each shape's definition (docs/rendering.md §7), span ends lie on the
 // surface, normals are unit and outward, and a few hits have a known distance.
 // The torus is also checked against a sphere-traced march of its distance function.
 // All randomness is seeded, so a failure repeats.
@@ -573,7 +573,7 @@ TEST_CASE("shape: torus with an oblique axis: through the hole along the axis mi
     CHECK(length(n + u) < 1e-9);
 }
 
-// The torus's solid is (R - sqrt(x^2 + y^2))^2 + z^2 < r^2 (rendering.md §7), which for
+// The torus's solid is (R - sqrt(x^2 + y^2))^2 + z^2 < r^2 (docs/rendering.md §7), which for
 // minor > major (the format's default torus: major 1, minor 2) is a self-intersecting
 // "spindle" whose inner lemon is inside as well.
 TEST_CASE("shape: spindle torus (minor > major, the format default) is solid inside its inner lemon") {
