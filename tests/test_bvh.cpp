@@ -15,21 +15,15 @@
 #include "bvh.h"
 #include "shapes.h"
 #include "test_random.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rt;
+using rt_test::Failures;
 using rt_test::Rng;
 using rt_test::fmt;
 
 namespace {
-
-struct Failures {
-    int count = 0;
-    std::string first;
-    void add(const std::string& what) {
-        if (count++ == 0) first = what;
-    }
-};
 
 Object sphere(const Vec3& c, double r) {
     Object o;

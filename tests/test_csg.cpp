@@ -15,118 +15,19 @@
 #include <vector>
 
 #include "shapes.h"
+#include "test_models.h"
 #include "test_random.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rt;
+using rt_test::Failures;
 using rt_test::Rng;
 using rt_test::fmt;
 
 namespace {
 
-// Independent primitive model (as in test_shapes.cpp): sd < 0 inside, 0 on the surface.
-struct Prim {
-    enum Kind { Sph, Tet, Cyl, Tor } kind = Sph;
-    Vec3 c;
-    double r = 1;
-    Vec3 v[4];
-    Vec3 e1, e2;
-    Vec3 axis{0, 0, 1};
-    double R = 1;
-
-    Shape shape() const {
-        switch (kind) {
-            case Sph: return Sphere{c, r};
-            case Tet: {
-                Tetrahedron t;
-                for (int i = 0; i < 4; ++i) t.v[i] = v[i];
-                return t;
-            }
-            case Cyl: return Cylinder{e1, e2, r};
-            case Tor: return Torus{c, axis, R, r};
-        }
-        return Sphere{};
-    }
-    double tet_height(int i) const {
-        const Vec3& a = v[(i + 1) % 4];
-        const Vec3& b = v[(i + 2) % 4];
-        const Vec3& cc = v[(i + 3) % 4];
-        return std::fabs(dot(v[1] - v[0], cross(v[2] - v[0], v[3] - v[0]))) / length(cross(b - a, cc - a));
-    }
-    double sd(const Vec3& p) const {
-        switch (kind) {
-            case Sph: return length(p - c) - r;
-            case Tet: {
-                // Barycentric coordinates by Cramer's rule, scaled to distances.
-                Vec3 a = v[1] - v[0], b = v[2] - v[0], cc = v[3] - v[0], q = p - v[0];
-                double det = dot(a, cross(b, cc));
-                double l[4];
-                l[1] = dot(q, cross(b, cc)) / det;
-                l[2] = dot(a, cross(q, cc)) / det;
-                l[3] = dot(a, cross(b, q)) / det;
-                l[0] = 1 - l[1] - l[2] - l[3];
-                double m = -HUGE_VAL;
-                for (int i = 0; i < 4; ++i) m = std::max(m, -l[i] * tet_height(i));
-                return m;
-            }
-            case Cyl: {
-                Vec3 a = normalize(e2 - e1);
-                double s = dot(p - e1, a);
-                double radial = length((p - e1) - a * s);
-                return std::max({-s, s - length(e2 - e1), radial - r});
-            }
-            case Tor: {
-                Vec3 w = normalize(axis);
-                Vec3 helper = std::fabs(w.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-                Vec3 u = normalize(cross(helper, w));
-                Vec3 vv = cross(w, u);
-                Vec3 q = p - c;
-                double x = dot(q, u), y = dot(q, vv), z = dot(q, w);
-                double rho = std::sqrt(x * x + y * y);
-                return std::sqrt((R - rho) * (R - rho) + z * z) - r;
-            }
-        }
-        return 0;
-    }
-    // Distance from p to the nearest edge of the primitive, roughly: for convex
-    // pieces, the second-largest piece distance; +inf for smooth shapes.
-    double edge_margin(const Vec3& p) const {
-        double q[4];
-        int n = 0;
-        if (kind == Tet) {
-            Vec3 a = v[1] - v[0], b = v[2] - v[0], cc = v[3] - v[0], d = p - v[0];
-            double det = dot(a, cross(b, cc));
-            double l[4];
-            l[1] = dot(d, cross(b, cc)) / det;
-            l[2] = dot(a, cross(d, cc)) / det;
-            l[3] = dot(a, cross(b, d)) / det;
-            l[0] = 1 - l[1] - l[2] - l[3];
-            for (int i = 0; i < 4; ++i) q[n++] = std::fabs(l[i] * tet_height(i));
-        } else if (kind == Cyl) {
-            Vec3 a = normalize(e2 - e1);
-            double s = dot(p - e1, a);
-            q[n++] = std::fabs(s);
-            q[n++] = std::fabs(s - length(e2 - e1));
-            q[n++] = std::fabs(length((p - e1) - a * s) - r);
-        } else {
-            return HUGE_VAL;
-        }
-        std::sort(q, q + n);
-        return q[1];
-    }
-    void bound(Vec3& centre, double& radius) const {
-        switch (kind) {
-            case Sph: centre = c, radius = r; return;
-            case Tet:
-                centre = (v[0] + v[1] + v[2] + v[3]) / 4;
-                radius = 0;
-                for (const Vec3& p : v) radius = std::max(radius, length(p - centre));
-                return;
-            case Cyl: centre = (e1 + e2) / 2, radius = std::sqrt(length2(e2 - e1) / 4 + r * r); return;
-            case Tor: centre = c, radius = R + r; return;
-        }
-    }
-};
+using rt_test::Prim;
 
 // Primitives near the origin, so that operands overlap.
 Prim random_prim(Rng& rng) {
@@ -142,7 +43,7 @@ Prim random_prim(Rng& rng) {
                 Vec3 base = rng.in_ball(0.8);
                 for (Vec3& q : p.v) q = base + rng.in_ball(1.5);
                 bool ok = true;
-                for (int i = 0; i < 4; ++i) ok = ok && p.tet_height(i) > 0.15;
+                for (int i = 0; i < 4; ++i) ok = ok && p.height(i) > 0.15;
                 if (ok) break;
             }
             break;
@@ -247,14 +148,6 @@ struct Compiled {
         scene.objects.push_back(t.object());
         g = build_geometry(scene);
         node = g.object_node[0];
-    }
-};
-
-struct Failures {
-    int count = 0;
-    std::string first;
-    void add(const std::string& what) {
-        if (count++ == 0) first = what;
     }
 };
 

@@ -18,46 +18,17 @@
 #include <vector>
 
 #include "image_io.h"
+#include "test_util.h"
 
 using namespace rt;
 namespace fs = std::filesystem;
 
 namespace {
 
-// A fresh folder per test, removed afterwards (made writable again first, in case a
-// test took the write permission away).
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string tmpl = (fs::temp_directory_path() / "rt-imageio-XXXXXX").string();
-        REQUIRE(::mkdtemp(tmpl.data()) != nullptr);
-        path = tmpl;
-    }
-    ~TempDir() {
-        ::chmod(path.c_str(), 0700);
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-    std::vector<std::string> files() const {
-        std::vector<std::string> names;
-        for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
-        std::sort(names.begin(), names.end());
-        return names;
-    }
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-void spit(const std::string& path, const std::string& data) {
-    std::ofstream out(path, std::ios::binary);
-    out << data;
-}
+using rt_test::contains;
+using rt_test::slurp;
+using rt_test::TempDir;
+using rt_test::put;
 
 std::vector<std::uint8_t> random_rgb(int w, int h, std::uint64_t seed) {
     std::mt19937_64 rng(seed);
@@ -65,8 +36,6 @@ std::vector<std::uint8_t> random_rgb(int w, int h, std::uint64_t seed) {
     for (auto& b : rgb) b = std::uint8_t(rng());
     return rgb;
 }
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 mode_t mode_of(const std::string& path) {
     struct stat st;
@@ -98,7 +67,7 @@ TEST_CASE("to_rgb8 truncates and clamps like the original, NaN to 0") {
 }
 
 TEST_CASE("a PPM written is read back pixel for pixel") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     for (int w : {1, 7, 64}) {
         for (int h : {1, 5}) {
             const auto rgb = random_rgb(w, h, std::uint64_t(w * 100 + h));
@@ -126,8 +95,8 @@ TEST_CASE("a PPM written is read back pixel for pixel") {
 }
 
 TEST_CASE("read_ppm reads ASCII P3 with comments, and rejects broken files") {
-    TempDir dir;
-    spit(dir / "a.ppm", "P3\n# file 'a.ppm'.\n# made by hand\n2 1\n255\n255 0 7\t1 2 3\t\n");
+    TempDir dir("rt-imageio");
+    put(dir / "a.ppm", "P3\n# file 'a.ppm'.\n# made by hand\n2 1\n255\n255 0 7\t1 2 3\t\n");
     int w = 0, h = 0;
     std::vector<std::uint8_t> rgb;
     REQUIRE(read_ppm(dir / "a.ppm", w, h, rgb) == "");
@@ -135,25 +104,25 @@ TEST_CASE("read_ppm reads ASCII P3 with comments, and rejects broken files") {
     CHECK(h == 1);
     CHECK(rgb == std::vector<std::uint8_t>{255, 0, 7, 1, 2, 3});
 
-    spit(dir / "max15.ppm", "P3 1 1 15 15 0 5\n");  // another maximum value is rescaled
+    put(dir / "max15.ppm", "P3 1 1 15 15 0 5\n");  // another maximum value is rescaled
     REQUIRE(read_ppm(dir / "max15.ppm", w, h, rgb) == "");
     CHECK(rgb == std::vector<std::uint8_t>{255, 0, 85});
 
-    spit(dir / "short.ppm", "P6\n2 2\n255\nabc");
+    put(dir / "short.ppm", "P6\n2 2\n255\nabc");
     CHECK(read_ppm(dir / "short.ppm", w, h, rgb) != "");
-    spit(dir / "short3.ppm", "P3\n2 1\n255\n1 2 3 4 5\n");
+    put(dir / "short3.ppm", "P3\n2 1\n255\n1 2 3 4 5\n");
     CHECK(read_ppm(dir / "short3.ppm", w, h, rgb) != "");
-    spit(dir / "big.ppm", "P3\n1 1\n255\n1 2 256\n");
+    put(dir / "big.ppm", "P3\n1 1\n255\n1 2 256\n");
     CHECK(read_ppm(dir / "big.ppm", w, h, rgb) != "");
-    spit(dir / "png.ppm", "\x89PNG\r\n");
+    put(dir / "png.ppm", "\x89PNG\r\n");
     CHECK(read_ppm(dir / "png.ppm", w, h, rgb) != "");
-    spit(dir / "huge.ppm", "P6\n65536 65536\n255\n");  // claims 12 GB, holds nothing
+    put(dir / "huge.ppm", "P6\n65536 65536\n255\n");  // claims 12 GB, holds nothing
     CHECK(read_ppm(dir / "huge.ppm", w, h, rgb) != "");
     CHECK(read_ppm(dir / "missing.ppm", w, h, rgb) != "");
 }
 
 TEST_CASE("a PNG written has the PNG signature and decodes to the same pixels") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     const int w = 13, h = 9;
     const auto rgb = random_rgb(w, h, 77);
     REQUIRE(write_rgb8(dir / "out.png", w, h, rgb) == "");
@@ -171,7 +140,7 @@ TEST_CASE("a PNG written has the PNG signature and decodes to the same pixels") 
 }
 
 TEST_CASE("write_image refuses unknown extensions and mismatched data, writing nothing") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     Image img;
     img.width = 2;
     img.height = 2;
@@ -183,9 +152,9 @@ TEST_CASE("write_image refuses unknown extensions and mismatched data, writing n
 }
 
 TEST_CASE("write_file_atomic replaces the whole file and leaves no temporary behind") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     const std::string path = dir / "scene.txt";
-    spit(path, std::string(100000, 'x'));
+    put(path, std::string(100000, 'x'));
     REQUIRE(write_file_atomic(path, "short") == "");
     CHECK(slurp(path) == "short");  // not "short" followed by the old tail
     REQUIRE(write_file_atomic(path, "") == "");
@@ -202,7 +171,7 @@ TEST_CASE("write_file_atomic replaces the whole file and leaves no temporary beh
 }
 
 TEST_CASE("write_file_atomic gives new files the umask's mode and keeps an existing file's") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     const mode_t old_mask = ::umask(027);
     const std::string err = write_file_atomic(dir / "new.txt", "n");
     ::umask(old_mask);
@@ -212,7 +181,7 @@ TEST_CASE("write_file_atomic gives new files the umask's mode and keeps an exist
     REQUIRE(write_file_atomic(dir / "default.txt", "d") == "");
     CHECK(mode_of(dir / "default.txt") == (0666 & ~old_mask));
 
-    spit(dir / "private.txt", "old");
+    put(dir / "private.txt", "old");
     ::chmod((dir / "private.txt").c_str(), 0600);
     REQUIRE(write_file_atomic(dir / "private.txt", "new") == "");
     CHECK(mode_of(dir / "private.txt") == 0600);
@@ -220,8 +189,8 @@ TEST_CASE("write_file_atomic gives new files the umask's mode and keeps an exist
 }
 
 TEST_CASE("write_file_atomic writes through a symbolic link, keeping the link") {
-    TempDir dir;
-    spit(dir / "real.txt", "old");
+    TempDir dir("rt-imageio");
+    put(dir / "real.txt", "old");
     fs::create_symlink("real.txt", dir / "link.txt");
     REQUIRE(write_file_atomic(dir / "link.txt", "new") == "");
     CHECK(fs::is_symlink(dir / "link.txt"));
@@ -230,9 +199,9 @@ TEST_CASE("write_file_atomic writes through a symbolic link, keeping the link") 
 }
 
 TEST_CASE("write_file_atomic failures say why and touch nothing") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     const std::string target = dir / "out.ppm";
-    spit(target, "precious");
+    put(target, "precious");
 
     SUBCASE("a folder that does not exist") {
         const std::string err = write_file_atomic(dir / "nosuch/out.ppm", "data");
@@ -288,11 +257,11 @@ TEST_CASE("write_file_atomic writes straight into devices, reporting a full one"
 }
 
 TEST_CASE("read_file returns the exact bytes and enforces the size limit") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     std::string data("a\0b\r\n", 5);
     data += std::string(70000, 'z');  // more than one read() buffer
     data.push_back('\0');
-    spit(dir / "f", data);
+    put(dir / "f", data);
     std::string out = "stale";
     REQUIRE(read_file(dir / "f", out, data.size()) == "");
     CHECK(out == data);

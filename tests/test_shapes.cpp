@@ -14,133 +14,18 @@
 #include <vector>
 
 #include "shapes.h"
+#include "test_models.h"
 #include "test_random.h"
+#include "test_util.h"
 
 using namespace rt;
+using rt_test::Failures;
 using rt_test::Rng;
 using rt_test::fmt;
 
 namespace {
 
-// An independent model of one primitive, written from its definition rather than
-// from the implementation. sd() is negative inside, zero on the surface, positive
-// outside; for the sphere and torus it is the exact signed distance, for the
-// tetrahedron and cylinder the largest signed distance to a bounding plane / tube.
-struct Model {
-    enum Kind { Sph, Tet, Cyl, Tor } kind = Sph;
-    Vec3 c;            // sphere centre, torus centre
-    double r = 1;      // sphere radius, cylinder radius, torus minor
-    Vec3 v[4];         // tetrahedron corners
-    Vec3 e1, e2;       // cylinder ends
-    Vec3 axis{0, 0, 1};
-    double R = 1;      // torus major
-
-    Object object() const {
-        Object o;
-        switch (kind) {
-            case Sph: o.shape = Sphere{c, r}; break;
-            case Tet: {
-                Tetrahedron t;
-                for (int i = 0; i < 4; ++i) t.v[i] = v[i];
-                o.shape = t;
-                break;
-            }
-            case Cyl: o.shape = Cylinder{e1, e2, r}; break;
-            case Tor: o.shape = Torus{c, axis, R, r}; break;
-        }
-        return o;
-    }
-
-    // Barycentric coordinates of p in the tetrahedron (Cramer's rule).
-    void bary(const Vec3& p, double l[4]) const {
-        Vec3 a = v[1] - v[0], b = v[2] - v[0], cc = v[3] - v[0], q = p - v[0];
-        double det = dot(a, cross(b, cc));
-        l[1] = dot(q, cross(b, cc)) / det;
-        l[2] = dot(a, cross(q, cc)) / det;
-        l[3] = dot(a, cross(b, q)) / det;
-        l[0] = 1 - l[1] - l[2] - l[3];
-    }
-    // Height of corner i over the opposite face: turns a barycentric coordinate
-    // into a distance.
-    double height(int i) const {
-        const Vec3& a = v[(i + 1) % 4];
-        const Vec3& b = v[(i + 2) % 4];
-        const Vec3& cc = v[(i + 3) % 4];
-        double vol6 = std::fabs(dot(v[1] - v[0], cross(v[2] - v[0], v[3] - v[0])));
-        double area2 = length(cross(b - a, cc - a));
-        return vol6 / area2;
-    }
-    // Torus local coordinates in a frame built here (not Frame::from_axis).
-    Vec3 torus_local(const Vec3& p) const {
-        Vec3 w = normalize(axis);
-        Vec3 helper = std::fabs(w.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-        Vec3 u = normalize(cross(helper, w));
-        Vec3 vv = cross(w, u);
-        Vec3 q = p - c;
-        return {dot(q, u), dot(q, vv), dot(q, w)};
-    }
-    // The signed "distances" of the pieces whose maximum is sd (one for the sphere
-    // and torus), to tell whether a point is near an edge.
-    int pieces(const Vec3& p, double out[4]) const {
-        switch (kind) {
-            case Sph: out[0] = length(p - c) - r; return 1;
-            case Tet: {
-                double l[4];
-                bary(p, l);
-                for (int i = 0; i < 4; ++i) out[i] = -l[i] * height(i);
-                return 4;
-            }
-            case Cyl: {
-                Vec3 a = normalize(e2 - e1);
-                double len = length(e2 - e1);
-                double s = dot(p - e1, a);
-                double radial = length((p - e1) - a * s);
-                out[0] = -s;
-                out[1] = s - len;
-                out[2] = radial - r;
-                return 3;
-            }
-            case Tor: {
-                Vec3 l = torus_local(p);
-                double rho = std::sqrt(l.x * l.x + l.y * l.y);
-                out[0] = std::sqrt((R - rho) * (R - rho) + l.z * l.z) - r;
-                return 1;
-            }
-        }
-        return 0;
-    }
-    double sd(const Vec3& p) const {
-        double q[4];
-        int n = pieces(p, q);
-        double m = q[0];
-        for (int i = 1; i < n; ++i) m = std::max(m, q[i]);
-        return m;
-    }
-    bool inside(const Vec3& p) const { return sd(p) < 0; }
-    // How many pieces are within `tol` of their surface: more than one near an edge.
-    int near_pieces(const Vec3& p, double tol) const {
-        double q[4];
-        int n = pieces(p, q), k = 0;
-        for (int i = 0; i < n; ++i) k += std::fabs(q[i]) < tol;
-        return k;
-    }
-    // A ball that holds the solid.
-    void bound(Vec3& centre, double& radius) const {
-        switch (kind) {
-            case Sph: centre = c, radius = r; return;
-            case Tet:
-                centre = (v[0] + v[1] + v[2] + v[3]) / 4;
-                radius = 0;
-                for (const Vec3& p : v) radius = std::max(radius, length(p - centre));
-                return;
-            case Cyl:
-                centre = (e1 + e2) / 2;
-                radius = std::sqrt(length2(e2 - e1) / 4 + r * r);
-                return;
-            case Tor: centre = c, radius = R + r; return;
-        }
-    }
-};
+using Model = rt_test::Prim;
 
 Model random_sphere(Rng& rng) {
     Model m;
@@ -225,15 +110,6 @@ Line random_line(Rng& rng, const Model& m, bool from_inside) {
     }
     return l;
 }
-
-// Collects failures so that one CHECK reports the count and the first case.
-struct Failures {
-    int count = 0;
-    std::string first;
-    void add(const std::string& what) {
-        if (count++ == 0) first = what;
-    }
-};
 
 // The shared property: membership, span order, ends on the surface, normals.
 void check_spans_against_model(const Model& m, const Compiled& cg, const Line& l, Rng& rng, Failures& f,
