@@ -42,8 +42,8 @@ end
 )";
 
 using rt_test::contains;
-using rt_test::put;
-using rt_test::slurp;
+const auto read_all = rt_test::slurp;
+const auto write_all = rt_test::put;
 const auto quote = rt_test::shell_quote;
 
 struct Result {
@@ -58,14 +58,14 @@ struct TempDir : rt_test::TempDir {
     // Runs the binary in this folder with `args` (already shell-quoted where needed)
     // and `input` on stdin (empty input: stdin is at end of file).
     Result run(const std::string& args, const std::string& input = "") const {
-        put(path / ".stdin", input);
+        write_all(path / ".stdin", input);
         std::string cmd = "cd " + quote(path.string()) + " && " + quote(kBinary) + " " + args +
                           " <.stdin >.stdout 2>.stderr";
         int raw = std::system(cmd.c_str());
         Result r;
         r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-        r.out = slurp(path / ".stdout");
-        r.err = slurp(path / ".stderr");
+        r.out = read_all(path / ".stdout");
+        r.err = read_all(path / ".stderr");
         fs::remove(path / ".stdin");
         fs::remove(path / ".stdout");
         fs::remove(path / ".stderr");
@@ -108,12 +108,12 @@ bool catches_signal(pid_t pid, int sig) {
 
 TEST_CASE("cli: SCENE OUT.ppm renders a binary PPM of the scene's size, silently on stdout") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
+    write_all(dir / "scene.txt", kScene);
     Result r = dir.run("scene.txt out.ppm");
     CHECK(r.status == 0);
     CHECK(r.out.empty());
     CHECK_MESSAGE(r.err.empty(), r.err);  // stderr is not a terminal: no progress bar
-    std::string data = slurp(dir / "out.ppm");
+    std::string data = read_all(dir / "out.ppm");
     int w, h;
     ppm_size(data, w, h);
     CHECK(w == 32);
@@ -129,21 +129,21 @@ TEST_CASE("cli: SCENE OUT.ppm renders a binary PPM of the scene's size, silently
 
 TEST_CASE("cli: --width and --height override the picture size; the extension is case-insensitive") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
+    write_all(dir / "scene.txt", kScene);
     Result r = dir.run("--width 17 --height=9 scene.txt OUT.PPM");
     REQUIRE(r.status == 0);
     int w, h;
-    ppm_size(slurp(dir / "OUT.PPM"), w, h);
+    ppm_size(read_all(dir / "OUT.PPM"), w, h);
     CHECK(w == 17);
     CHECK(h == 9);
 }
 
 TEST_CASE("cli: OUT.png writes a PNG with the picture size in its header") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
+    write_all(dir / "scene.txt", kScene);
     Result r = dir.run("scene.txt out.png");
     REQUIRE(r.status == 0);
-    std::string data = slurp(dir / "out.png");
+    std::string data = read_all(dir / "out.png");
     REQUIRE(data.size() > 24);
     CHECK(data.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
     auto be32 = [&](std::size_t at) {
@@ -157,23 +157,23 @@ TEST_CASE("cli: OUT.png writes a PNG with the picture size in its header") {
 
 TEST_CASE("cli: the same picture whatever the thread count") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
+    write_all(dir / "scene.txt", kScene);
     REQUIRE(dir.run("--threads 1 scene.txt one.ppm").status == 0);
     REQUIRE(dir.run("--threads 3 scene.txt three.ppm").status == 0);
-    CHECK(slurp(dir / "one.ppm") == slurp(dir / "three.ppm"));
+    CHECK(read_all(dir / "one.ppm") == read_all(dir / "three.ppm"));
 }
 
 TEST_CASE("cli: a parse error prints FILE:LINE:COL: error:, exits 1 and leaves OUT untouched") {
     TempDir dir;
-    put(dir / "scene.txt", "thing {\n  sphere {\n    positio 1 2 3\n    radius 1\n  }\n}\nend\n");
+    write_all(dir / "scene.txt", "thing {\n  sphere {\n    positio 1 2 3\n    radius 1\n  }\n}\nend\n");
     const std::string sentinel = "not a picture: must survive a failed run\n";
-    put(dir / "out.ppm", sentinel);
+    write_all(dir / "out.ppm", sentinel);
     Result r = dir.run("scene.txt out.ppm");
     CHECK(r.status == 1);
     CHECK_MESSAGE(contains(r.err, "scene.txt:3:5: error: "), r.err);
     CHECK(contains(r.err, "positio"));
     CHECK(r.out.empty());
-    CHECK(slurp(dir / "out.ppm") == sentinel);
+    CHECK(read_all(dir / "out.ppm") == sentinel);
     CHECK(dir.files() == std::vector<std::string>{"out.ppm", "scene.txt"});  // no temp file left
 }
 
@@ -182,7 +182,7 @@ TEST_CASE("cli: at most 20 errors are printed") {
     std::string text = "thing {\n";
     for (int i = 0; i < 40; ++i) text += "  cube { }\n";
     text += "}\nend\n";
-    put(dir / "scene.txt", text);
+    write_all(dir / "scene.txt", text);
     Result r = dir.run("scene.txt out.ppm");
     CHECK(r.status == 1);
     std::size_t errors = 0;
@@ -199,7 +199,7 @@ TEST_CASE("cli: warnings are printed and do not stop the render") {
     const std::string from = "material { colour 1 0.2 0.2 }";
     text.replace(text.find(from), from.size(),
                  "material { reflection 0 refraction 0 scattering 0 colour 1 0.2 0.2 }");
-    put(dir / "scene.txt", text);
+    write_all(dir / "scene.txt", text);
     Result r = dir.run("scene.txt out.ppm");
     CHECK(r.status == 0);
     CHECK_MESSAGE(contains(r.err, "scene.txt:3:"), r.err);
@@ -209,7 +209,7 @@ TEST_CASE("cli: warnings are printed and do not stop the render") {
 
 TEST_CASE("cli: usage and I/O errors exit 2 and write nothing") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
+    write_all(dir / "scene.txt", kScene);
 
     SUBCASE("an unsupported extension names the two accepted ones") {
         Result r = dir.run("scene.txt out.jpg");
@@ -244,7 +244,7 @@ TEST_CASE("cli: usage and I/O errors exit 2 and write nothing") {
 
 TEST_CASE("cli: numeric options are validated with a message naming the option") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
+    write_all(dir / "scene.txt", kScene);
     const char* bad[][2] = {
         {"--width", "0"},       {"--width", "16385"},  {"--height", "-3"},  {"--height", "12x"},
         {"--samples", "0"},     {"--samples", "65537"}, {"--threads", "0"}, {"--threads", "257"},
@@ -266,7 +266,7 @@ TEST_CASE("cli: numeric options are validated with a message naming the option")
 
 TEST_CASE("cli: missing arguments are asked for on stderr and read from stdin") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
+    write_all(dir / "scene.txt", kScene);
 
     SUBCASE("both") {
         Result r = dir.run("", "scene.txt\nout.ppm\n");
@@ -275,7 +275,7 @@ TEST_CASE("cli: missing arguments are asked for on stderr and read from stdin") 
         CHECK(contains(r.err, "Scene file"));
         CHECK(contains(r.err, "Output"));
         int w, h;
-        ppm_size(slurp(dir / "out.ppm"), w, h);
+        ppm_size(read_all(dir / "out.ppm"), w, h);
         CHECK(w == 32);
     }
     SUBCASE("only the output") {
@@ -300,8 +300,8 @@ TEST_CASE("cli: missing arguments are asked for on stderr and read from stdin") 
 
 TEST_CASE("cli: --check reports without rendering") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
-    put(dir / "bad.txt", "camera {\n  position 0 0 0 centre\n}\n");
+    write_all(dir / "scene.txt", kScene);
+    write_all(dir / "bad.txt", "camera {\n  position 0 0 0 centre\n}\n");
     Result ok = dir.run("--check scene.txt");
     CHECK(ok.status == 0);
     CHECK(ok.out.empty());
@@ -315,19 +315,19 @@ TEST_CASE("cli: --check reports without rendering") {
 
 TEST_CASE("cli: --print-scene prints a normalised scene that reads back the same") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
+    write_all(dir / "scene.txt", kScene);
     Result first = dir.run("--print-scene scene.txt");
     REQUIRE(first.status == 0);
     CHECK(contains(first.out, "sphere"));
     CHECK(contains(first.out, "end"));
-    put(dir / "printed.txt", first.out);
+    write_all(dir / "printed.txt", first.out);
     Result second = dir.run("--print-scene printed.txt");
     CHECK(second.status == 0);
     CHECK(second.out == first.out);
     // And it renders the same picture as the original text.
     REQUIRE(dir.run("scene.txt a.ppm").status == 0);
     REQUIRE(dir.run("printed.txt b.ppm").status == 0);
-    CHECK(slurp(dir / "a.ppm") == slurp(dir / "b.ppm"));
+    CHECK(read_all(dir / "a.ppm") == read_all(dir / "b.ppm"));
 }
 
 TEST_CASE("cli: --version and --help") {
@@ -346,7 +346,7 @@ TEST_CASE("cli: --version and --help") {
 
 TEST_CASE("cli: --mirror gives the 2013 program's left-right mirrored picture") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
+    write_all(dir / "scene.txt", kScene);
     REQUIRE(dir.run("scene.txt plain.ppm").status == 0);
     REQUIRE(dir.run("--mirror scene.txt mirrored.ppm").status == 0);
     Picture a = load_ppm(dir / "plain.ppm"), b = load_ppm(dir / "mirrored.ppm");
@@ -375,11 +375,11 @@ TEST_CASE("cli: --mirror gives the 2013 program's left-right mirrored picture") 
 
 TEST_CASE("cli: --max-depth limits recursion; --samples, --time-limit, --stats, --quiet") {
     TempDir dir;
-    put(dir / "scene.txt", kScene);
+    write_all(dir / "scene.txt", kScene);
     REQUIRE(dir.run("scene.txt deep.ppm").status == 0);
     REQUIRE(dir.run("--max-depth 1 scene.txt shallow.ppm").status == 0);
     // At depth 1 the mirror ball reflects nothing (a reflection costs 2 levels).
-    CHECK(slurp(dir / "deep.ppm") != slurp(dir / "shallow.ppm"));
+    CHECK(read_all(dir / "deep.ppm") != read_all(dir / "shallow.ppm"));
 
     Result s = dir.run("--samples 4 --stats --quiet scene.txt s4.ppm");
     CHECK(s.status == 0);
@@ -394,7 +394,7 @@ TEST_CASE("cli: --max-depth limits recursion; --samples, --time-limit, --stats, 
     CHECK(t.status == 0);
     CHECK(took < 20);
     int w, h;
-    ppm_size(slurp(dir / "timed.ppm"), w, h);
+    ppm_size(read_all(dir / "timed.ppm"), w, h);
     CHECK(w == 32);
 }
 
@@ -402,9 +402,9 @@ TEST_CASE("cli: SIGINT or SIGTERM during a render cancels it and writes nothing"
     for (int sig : {SIGINT, SIGTERM}) {
         CAPTURE(sig);
         TempDir dir;
-        put(dir / "scene.txt", kScene);
+        write_all(dir / "scene.txt", kScene);
         const std::string sentinel = "old picture\n";
-        put(dir / "out.ppm", sentinel);
+        write_all(dir / "out.ppm", sentinel);
         pid_t pid = fork();
         REQUIRE(pid >= 0);
         if (pid == 0) {
@@ -438,8 +438,8 @@ TEST_CASE("cli: SIGINT or SIGTERM during a render cancels it and writes nothing"
         REQUIRE_MESSAGE(ended, "the render did not stop within 10 s of the signal");
         REQUIRE(WIFEXITED(status));
         CHECK(WEXITSTATUS(status) == 128 + sig);
-        CHECK(contains(slurp(dir / ".stderr"), "interrupted"));
-        CHECK(slurp(dir / "out.ppm") == sentinel);
+        CHECK(contains(read_all(dir / ".stderr"), "interrupted"));
+        CHECK(read_all(dir / "out.ppm") == sentinel);
         fs::remove(dir / ".stderr");
         CHECK(dir.files() == std::vector<std::string>{"out.ppm", "scene.txt"});
     }

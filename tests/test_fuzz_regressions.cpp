@@ -45,7 +45,7 @@ bool survives(F f) {
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
-using rt_test::slurp;
+const auto read_bytes = rt_test::slurp;
 
 // The fuzzers' invariants on one input; the message of the first broken one, or "".
 std::string broken_invariant(std::string_view text, int low_max_errors) {
@@ -103,7 +103,7 @@ TEST_CASE("fuzz regression: every saved input passes the fuzzers' checks") {
     MESSAGE(files.size() << " saved fuzz inputs in " << dir.string());
     for (const fs::path& f : files) {
         CAPTURE(f.filename().string());
-        const std::string text = slurp(f);
+        const std::string text = read_bytes(f);
         // In a child: a crash in the parser fails this input only. Cap 1: the
         // strictest, as fuzz_parser uses.
         CHECK(survives([&] {

@@ -28,7 +28,7 @@ namespace {
 using rt_test::contains;
 using rt_test::slurp;
 using rt_test::TempDir;
-using rt_test::put;
+const auto spit = rt_test::put;
 
 std::vector<std::uint8_t> random_rgb(int w, int h, std::uint64_t seed) {
     std::mt19937_64 rng(seed);
@@ -96,7 +96,7 @@ TEST_CASE("a PPM written is read back pixel for pixel") {
 
 TEST_CASE("read_ppm reads ASCII P3 with comments, and rejects broken files") {
     TempDir dir("rt-imageio");
-    put(dir / "a.ppm", "P3\n# file 'a.ppm'.\n# made by hand\n2 1\n255\n255 0 7\t1 2 3\t\n");
+    spit(dir / "a.ppm", "P3\n# file 'a.ppm'.\n# made by hand\n2 1\n255\n255 0 7\t1 2 3\t\n");
     int w = 0, h = 0;
     std::vector<std::uint8_t> rgb;
     REQUIRE(read_ppm(dir / "a.ppm", w, h, rgb) == "");
@@ -104,19 +104,19 @@ TEST_CASE("read_ppm reads ASCII P3 with comments, and rejects broken files") {
     CHECK(h == 1);
     CHECK(rgb == std::vector<std::uint8_t>{255, 0, 7, 1, 2, 3});
 
-    put(dir / "max15.ppm", "P3 1 1 15 15 0 5\n");  // another maximum value is rescaled
+    spit(dir / "max15.ppm", "P3 1 1 15 15 0 5\n");  // another maximum value is rescaled
     REQUIRE(read_ppm(dir / "max15.ppm", w, h, rgb) == "");
     CHECK(rgb == std::vector<std::uint8_t>{255, 0, 85});
 
-    put(dir / "short.ppm", "P6\n2 2\n255\nabc");
+    spit(dir / "short.ppm", "P6\n2 2\n255\nabc");
     CHECK(read_ppm(dir / "short.ppm", w, h, rgb) != "");
-    put(dir / "short3.ppm", "P3\n2 1\n255\n1 2 3 4 5\n");
+    spit(dir / "short3.ppm", "P3\n2 1\n255\n1 2 3 4 5\n");
     CHECK(read_ppm(dir / "short3.ppm", w, h, rgb) != "");
-    put(dir / "big.ppm", "P3\n1 1\n255\n1 2 256\n");
+    spit(dir / "big.ppm", "P3\n1 1\n255\n1 2 256\n");
     CHECK(read_ppm(dir / "big.ppm", w, h, rgb) != "");
-    put(dir / "png.ppm", "\x89PNG\r\n");
+    spit(dir / "png.ppm", "\x89PNG\r\n");
     CHECK(read_ppm(dir / "png.ppm", w, h, rgb) != "");
-    put(dir / "huge.ppm", "P6\n65536 65536\n255\n");  // claims 12 GB, holds nothing
+    spit(dir / "huge.ppm", "P6\n65536 65536\n255\n");  // claims 12 GB, holds nothing
     CHECK(read_ppm(dir / "huge.ppm", w, h, rgb) != "");
     CHECK(read_ppm(dir / "missing.ppm", w, h, rgb) != "");
 }
@@ -154,7 +154,7 @@ TEST_CASE("write_image refuses unknown extensions and mismatched data, writing n
 TEST_CASE("write_file_atomic replaces the whole file and leaves no temporary behind") {
     TempDir dir("rt-imageio");
     const std::string path = dir / "scene.txt";
-    put(path, std::string(100000, 'x'));
+    spit(path, std::string(100000, 'x'));
     REQUIRE(write_file_atomic(path, "short") == "");
     CHECK(slurp(path) == "short");  // not "short" followed by the old tail
     REQUIRE(write_file_atomic(path, "") == "");
@@ -181,7 +181,7 @@ TEST_CASE("write_file_atomic gives new files the umask's mode and keeps an exist
     REQUIRE(write_file_atomic(dir / "default.txt", "d") == "");
     CHECK(mode_of(dir / "default.txt") == (0666 & ~old_mask));
 
-    put(dir / "private.txt", "old");
+    spit(dir / "private.txt", "old");
     ::chmod((dir / "private.txt").c_str(), 0600);
     REQUIRE(write_file_atomic(dir / "private.txt", "new") == "");
     CHECK(mode_of(dir / "private.txt") == 0600);
@@ -190,7 +190,7 @@ TEST_CASE("write_file_atomic gives new files the umask's mode and keeps an exist
 
 TEST_CASE("write_file_atomic writes through a symbolic link, keeping the link") {
     TempDir dir("rt-imageio");
-    put(dir / "real.txt", "old");
+    spit(dir / "real.txt", "old");
     fs::create_symlink("real.txt", dir / "link.txt");
     REQUIRE(write_file_atomic(dir / "link.txt", "new") == "");
     CHECK(fs::is_symlink(dir / "link.txt"));
@@ -201,7 +201,7 @@ TEST_CASE("write_file_atomic writes through a symbolic link, keeping the link") 
 TEST_CASE("write_file_atomic failures say why and touch nothing") {
     TempDir dir("rt-imageio");
     const std::string target = dir / "out.ppm";
-    put(target, "precious");
+    spit(target, "precious");
 
     SUBCASE("a folder that does not exist") {
         const std::string err = write_file_atomic(dir / "nosuch/out.ppm", "data");
@@ -261,7 +261,7 @@ TEST_CASE("read_file returns the exact bytes and enforces the size limit") {
     std::string data("a\0b\r\n", 5);
     data += std::string(70000, 'z');  // more than one read() buffer
     data.push_back('\0');
-    put(dir / "f", data);
+    spit(dir / "f", data);
     std::string out = "stale";
     REQUIRE(read_file(dir / "f", out, data.size()) == "");
     CHECK(out == data);
