@@ -121,10 +121,16 @@ struct Prim {
     double edge_margin(const rt::Vec3& p) const {
         double q[4] = {};
         int n = pieces(p, q);
-        if (n < 2) return HUGE_VAL;
-        for (int i = 0; i < n; ++i) q[i] = std::fabs(q[i]);
-        std::sort(q, q + n);
-        return q[1];
+        double first = HUGE_VAL, second = HUGE_VAL;
+        for (int i = 0; i < n; ++i) {
+            double a = std::fabs(q[i]);
+            if (a < first) {
+                second = first, first = a;
+            } else if (a < second) {
+                second = a;
+            }
+        }
+        return second;
     }
     // A ball that holds the solid.
     void bound(rt::Vec3& centre, double& radius) const {

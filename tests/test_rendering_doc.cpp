@@ -3,8 +3,8 @@
 // and the document's contents list must match its sections.
 #include <doctest/doctest.h>
 
+#include <cctype>
 #include <filesystem>
-#include <regex>
 #include <set>
 #include <string>
 
@@ -15,13 +15,23 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kDoc = RT_SOURCE_DIR "/docs/rendering.md";
+const std::string kSection = "\xC2\xA7";  // §
+
+// The number at text[at...], or -1 if there is none.
+int number_at(const std::string& text, std::size_t at) {
+    int n = -1;
+    while (at < text.size() && std::isdigit(static_cast<unsigned char>(text[at])))
+        n = (n < 0 ? 0 : n * 10) + (text[at++] - '0');
+    return n;
+}
 
 // Section numbers of the document's "## N. Title" headings.
 std::set<int> section_numbers(const std::string& md) {
     std::set<int> out;
-    static const std::regex heading(R"((^|\n)## (\d+)\. )");
-    for (std::sregex_iterator it(md.begin(), md.end(), heading), end; it != end; ++it)
-        out.insert(std::stoi((*it)[2].str()));
+    for (std::size_t at = md.find("\n## "); at != std::string::npos; at = md.find("\n## ", at + 1)) {
+        const int n = number_at(md, at + 4);
+        if (n >= 0 && md.compare(at + 4 + std::to_string(n).size(), 2, ". ") == 0) out.insert(n);
+    }
     return out;
 }
 
@@ -34,22 +44,26 @@ TEST_CASE("docs/rendering.md: every section cited in the code exists") {
     CHECK(sections.size() >= 10);
 
     // "docs/rendering.md §2", "docs/rendering.md §2-§6"
-    static const std::regex cite(R"(rendering\.md §(\d+)(?:-§(\d+))?)");
+    const std::string cite = "rendering.md " + kSection;
     int citations = 0;
     for (const char* dir : {"core", "app", "tests"}) {
         for (const auto& e : fs::recursive_directory_iterator(std::string(RT_SOURCE_DIR) + "/" + dir)) {
             const std::string ext = e.path().extension().string();
             if (ext != ".cpp" && ext != ".h") continue;
             const std::string text = rt_test::slurp(e.path());
-            for (std::sregex_iterator it(text.begin(), text.end(), cite), end; it != end; ++it) {
+            for (std::size_t at = text.find(cite); at != std::string::npos; at = text.find(cite, at + 1)) {
+                const std::size_t num = at + cite.size();
+                const int first = number_at(text, num);
+                if (first < 0) continue;  // prose about citations, like this file's
                 ++citations;
-                const std::string where = e.path().string() + ": " + it->str();
+                const std::string where = e.path().string() + ": " + text.substr(at, 24);
                 // The project's document, not some other rendering.md.
-                const auto at = std::size_t(it->position());
-                CHECK_MESSAGE(at >= 5, where);
-                if (at >= 5) CHECK_MESSAGE(text.compare(at - 5, 5, "docs/") == 0, where);
-                const int first = std::stoi((*it)[1].str());
-                const int last = (*it)[2].matched ? std::stoi((*it)[2].str()) : first;
+                CHECK_MESSAGE((at >= 5 && text.compare(at - 5, 5, "docs/") == 0), where);
+                int last = first;
+                const std::size_t after = num + std::to_string(first).size();
+                if (text.compare(after, 1 + kSection.size(), "-" + kSection) == 0)
+                    last = number_at(text, after + 1 + kSection.size());
+                CHECK_MESSAGE(last >= first, where);
                 for (int n = first; n <= last; ++n) CHECK_MESSAGE(sections.count(n) == 1, where);
             }
         }
@@ -59,11 +73,11 @@ TEST_CASE("docs/rendering.md: every section cited in the code exists") {
 
 TEST_CASE("docs/rendering.md: the contents list links every section, in order") {
     const std::string md = rt_test::slurp(kDoc);
-    static const std::regex entry(R"(\n- \[§(\d+) )");
+    const std::string entry = "\n- [" + kSection;
     std::set<int> listed;
     int previous = -1;
-    for (std::sregex_iterator it(md.begin(), md.end(), entry), end; it != end; ++it) {
-        const int n = std::stoi((*it)[1].str());
+    for (std::size_t at = md.find(entry); at != std::string::npos; at = md.find(entry, at + 1)) {
+        const int n = number_at(md, at + entry.size());
         CHECK(n > previous);
         previous = n;
         listed.insert(n);
