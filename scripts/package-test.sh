@@ -80,7 +80,9 @@ scene=$root/usr/share/raytracer/scenes/showcase.txt
 "$BUILD_DIR/bin/raytracer" "$scene" "$scratch/built.ppm" --width 64 --height 48 --samples 2 2> /dev/null
 cmp -s "$scratch/packaged.ppm" "$scratch/built.ppm" || fail "the packaged raytracer renders differently"
 head -c 2 "$scratch/packaged.ppm" | grep -q P6 || fail "no PPM written"
-"$root/usr/bin/raytracer" --version > /dev/null || fail "raytracer --version"
+for exe in "$root"/usr/bin/*; do
+    "$exe" --version > /dev/null 2>&1 || fail "$(basename "$exe") --version exited with $?"
+done
 man -l "$root/usr/share/man/man1/raytracer.1" > /dev/null 2>&1 || ! command -v man > /dev/null ||
     fail "man cannot read raytracer.1"
 echo "package-test: the packaged raytracer renders showcase.txt as the build does"
