@@ -140,15 +140,8 @@ Tree random_tree(Rng& rng, int depth) {
     return node(type, std::move(a), std::move(b));
 }
 
-struct Compiled {
-    Scene scene;
-    Geometry g;
-    std::uint32_t node = 0;
-    explicit Compiled(const Tree& t) {
-        scene.objects.push_back(t.object());
-        g = build_geometry(scene);
-        node = g.object_node[0];
-    }
+struct Compiled : rt_test::CompiledObject {
+    explicit Compiled(const Tree& t) : CompiledObject(t.object()) {}
 };
 
 // Spans of the tree's node along o + t d against membership sampling; span ends on
@@ -158,66 +151,34 @@ void check_tree_line(const Tree& tree, const Compiled& cg, const Vec3& o, const 
     std::vector<Span> spans;
     SpanScratch scratch;
     cg.g.spans(cg.node, o, d, spans, scratch);
-    std::string ray = "o=" + fmt(o) + " d=" + fmt(d);
-    for (std::size_t i = 0; i < spans.size(); ++i) {
-        if (!(spans[i].in.t < spans[i].out.t)) f.add("empty or reversed span; " + ray);
-        if (i > 0 && !(spans[i - 1].out.t <= spans[i].in.t)) f.add("spans not ascending and disjoint; " + ray);
-    }
     Vec3 bc;
     double br = 0;
     tree.bound(bc, br);
-    double tc = dot(bc - o, d);
-    const int kSamples = 200;
-    for (int k = 0; k < kSamples; ++k) {
-        double t = tc - 1.2 * br + 2.4 * br * (k + rng.uni()) / kSamples;
-        double eps = 1e-6 * std::max(1.0, std::fabs(t));
-        bool in_span = false, near_end = false;
-        for (const Span& s : spans) {
-            if (t > s.in.t + eps && t < s.out.t - eps) in_span = true;
-            if (std::fabs(t - s.in.t) <= eps || std::fabs(t - s.out.t) <= eps) near_end = true;
-        }
-        if (near_end) continue;
-        Vec3 p = o + d * t;
-        double best = HUGE_VAL, second = HUGE_VAL;
-        const Prim* which = nullptr;
+    auto nearest = [&](const Vec3& p, double& second, const Prim*& which) {
+        double best = HUGE_VAL;
+        second = HUGE_VAL;
+        which = nullptr;
         tree.nearest_surface(p, best, second, which);
-        if (best < 1e-9) continue;  // within rounding of an operand's surface
-        bool want = tree.inside(p);
-        inside_samples += want;
-        if (in_span != want) {
-            char buf[128];
-            std::snprintf(buf, sizeof buf, "t=%.17g: spans say %s, the model %s; ", t, in_span ? "inside" : "outside",
-                          want ? "inside" : "outside");
-            f.add(buf + ray);
-        }
-    }
-    for (const Span& s : spans) {
-        for (int k = 0; k < 2; ++k) {
-            const SpanEnd& e = k == 0 ? s.in : s.out;
-            if (!std::isfinite(e.t)) {
-                f.add("infinite span end; " + ray);
-                continue;
-            }
-            Vec3 p = o + d * e.t;
-            double best = HUGE_VAL, second = HUGE_VAL;
-            const Prim* which = nullptr;
-            tree.nearest_surface(p, best, second, which);
-            if (!(best < 1e-7)) f.add("span end off every operand's surface at " + fmt(p) + "; " + ray);
-            Vec3 n = cg.g.normal(e.node, e.face, p);
-            if (e.flip) n = -n;
-            if (!(std::fabs(length(n) - 1) < 1e-9)) f.add("normal not unit at " + fmt(p) + "; " + ray);
-            double dn = dot(n, d);
-            if (k == 0 ? dn > 1e-9 : dn < -1e-9)
-                f.add(std::string(k == 0 ? "entry" : "exit") + " normal faces the wrong way at " + fmt(p) + "; " + ray);
+        return best;
+    };
+    rt_test::check_spans(
+        spans, cg.g, o, d, bc, br, false, rng, f, inside_samples, [&](const Vec3& p) { return tree.inside(p); },
+        [&](const Vec3& p) {
+            double second;
+            const Prim* which;
+            return nearest(p, second, which);
+        },
+        [&](const Vec3& p, const Vec3& n, const auto& fail) {
             // Outward for the combined solid, away from where operands meet or edges.
             const double h = 1e-4;
+            double second;
+            const Prim* which;
+            nearest(p, second, which);
             if (second > 20 * h && which && which->edge_margin(p) > 20 * h) {
-                if (tree.inside(p + n * h)) f.add("p + h n is inside the solid at " + fmt(p) + " n=" + fmt(n) + "; " + ray);
-                if (!tree.inside(p - n * h))
-                    f.add("p - h n is outside the solid at " + fmt(p) + " n=" + fmt(n) + "; " + ray);
+                if (tree.inside(p + n * h)) fail("p + h n is inside the solid");
+                if (!tree.inside(p - n * h)) fail("p - h n is outside the solid");
             }
-        }
-    }
+        });
 }
 
 void check_random_trees(unsigned seed, int depth, int trees, int lines_per_tree) {

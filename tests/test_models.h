@@ -1,13 +1,22 @@
 // One model of the bounded primitives for the property tests (shapes, CSG), written
 // from each shape's definition (docs/rendering.md §7) rather than from core/shapes.cpp,
-// so that the spans the core reports can be checked against it.
+// so that the spans the core reports can be checked against it; and the checks every
+// span list must pass, whatever solid it belongs to.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "math.h"
 #include "scene.h"
+#include "shapes.h"
+#include "test_random.h"
+#include "test_util.h"
 
 namespace rt_test {
 
@@ -149,5 +158,89 @@ struct Prim {
         }
     }
 };
+
+// One object compiled alone, and its node in the geometry.
+struct CompiledObject {
+    rt::Scene scene;
+    rt::Geometry g;
+    std::uint32_t node = 0;
+    explicit CompiledObject(rt::Object o) {
+        scene.objects.push_back(std::move(o));
+        g = rt::build_geometry(scene);
+        node = g.object_node[0];
+    }
+};
+
+// Checks the inside spans a solid reports along the line o + t d (d unit) against a
+// model of the solid:
+//  - spans ascending and disjoint, each with in < out (in <= out if `allow_empty`,
+//    for a primitive a ray can graze);
+//  - at 200 jittered points of the line through the ball (centre, radius) that holds
+//    the solid, "inside a span" agrees with inside(p), except within rounding of a
+//    surface: surface(p) is the distance from p to the model's nearest surface;
+//  - span ends are finite and on a surface; their normals are unit, face against the
+//    ray at entries and along it at exits; normal_check(p, n, why) may add what the
+//    solid knows about its normal at an end (report through `why`).
+// Counts the sample points that were inside in `inside_samples`.
+template <class Inside, class Surface, class NormalCheck>
+void check_spans(const std::vector<rt::Span>& spans, const rt::Geometry& g, const rt::Vec3& o, const rt::Vec3& d,
+                 const rt::Vec3& centre, double radius, bool allow_empty, Rng& rng, Failures& f, int& inside_samples,
+                 Inside inside, Surface surface, NormalCheck normal_check) {
+    const std::string ray = "o=" + fmt(o) + " d=" + fmt(d);
+    for (std::size_t i = 0; i < spans.size(); ++i) {
+        if (allow_empty ? !(spans[i].in.t <= spans[i].out.t) : !(spans[i].in.t < spans[i].out.t))
+            f.add("empty or reversed span; " + ray);
+        if (i > 0 && !(spans[i - 1].out.t <= spans[i].in.t)) f.add("spans not ascending and disjoint; " + ray);
+    }
+
+    const double tc = dot(centre - o, d);
+    const double t0 = tc - 1.2 * radius, t1 = tc + 1.2 * radius;
+    const int kSamples = 200;
+    for (int k = 0; k < kSamples; ++k) {
+        const double t = t0 + (t1 - t0) * (k + rng.uni()) / kSamples;
+        const double eps = 1e-6 * std::max(1.0, std::fabs(t));
+        bool in_span = false, near_end = false;
+        for (const rt::Span& s : spans) {
+            if (t > s.in.t + eps && t < s.out.t - eps) in_span = true;
+            if (std::fabs(t - s.in.t) <= eps || std::fabs(t - s.out.t) <= eps) near_end = true;
+        }
+        if (near_end) continue;
+        const rt::Vec3 p = o + d * t;
+        if (surface(p) < 1e-9) continue;  // within rounding of a surface: either way
+        const bool want = inside(p);
+        inside_samples += want;
+        if (in_span != want) {
+            char buf[128];
+            std::snprintf(buf, sizeof buf, "t=%.17g: spans say %s, the model %s; ", t, in_span ? "inside" : "outside",
+                          want ? "inside" : "outside");
+            f.add(buf + ray);
+        }
+    }
+
+    for (const rt::Span& s : spans) {
+        for (int k = 0; k < 2; ++k) {
+            const rt::SpanEnd& e = k == 0 ? s.in : s.out;
+            if (!std::isfinite(e.t)) {
+                f.add("infinite span end of a bounded solid; " + ray);
+                continue;
+            }
+            const rt::Vec3 p = o + d * e.t;
+            const double off = surface(p);
+            if (!(off < 1e-7)) {
+                char buf[120];
+                std::snprintf(buf, sizeof buf, "span end t=%.17g is off the surface by %.3g; ", e.t, off);
+                f.add(buf + ray);
+            }
+            rt::Vec3 n = g.normal(e.node, e.face, p);
+            if (e.flip) n = -n;
+            if (!(std::fabs(length(n) - 1) < 1e-9)) f.add("normal not unit at " + fmt(p) + "; " + ray);
+            const double dn = dot(n, d);
+            if (k == 0 ? dn > 1e-9 : dn < -1e-9)
+                f.add(std::string(k == 0 ? "entry" : "exit") + " normal faces the wrong way along the ray at " + fmt(p) +
+                      "; " + ray);
+            normal_check(p, n, [&](const std::string& why) { f.add(why + " at " + fmt(p) + " n=" + fmt(n) + "; " + ray); });
+        }
+    }
+}
 
 }  // namespace rt_test

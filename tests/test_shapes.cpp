@@ -77,15 +77,8 @@ Model random_model(Rng& rng, int kind) {
     }
 }
 
-struct Compiled {
-    Scene scene;
-    Geometry g;
-    std::uint32_t node = 0;
-    explicit Compiled(const Model& m) {
-        scene.objects.push_back(m.object());
-        g = build_geometry(scene);
-        node = g.object_node[0];
-    }
+struct Compiled : rt_test::CompiledObject {
+    explicit Compiled(const Model& m) : CompiledObject(m.object()) {}
 };
 
 // A line that crosses the model's bounding ball, from outside or from inside.
@@ -117,71 +110,19 @@ void check_spans_against_model(const Model& m, const Compiled& cg, const Line& l
     std::vector<Span> spans;
     SpanScratch scratch;
     cg.g.spans(cg.node, l.o, l.d, spans, scratch);
-    std::string ray = "o=" + fmt(l.o) + " d=" + fmt(l.d);
-
-    for (std::size_t i = 0; i < spans.size(); ++i) {
-        if (!(spans[i].in.t <= spans[i].out.t)) f.add("span with in > out; " + ray);
-        if (i > 0 && !(spans[i - 1].out.t <= spans[i].in.t)) f.add("spans not ascending and disjoint; " + ray);
-    }
-
-    // Membership at 200 jittered points over the bounding ball's chord.
     Vec3 bc;
     double br = 0;
     m.bound(bc, br);
-    double tc = dot(bc - l.o, l.d);
-    double t0 = tc - 1.2 * br, t1 = tc + 1.2 * br;
-    const int kSamples = 200;
-    for (int k = 0; k < kSamples; ++k) {
-        double t = t0 + (t1 - t0) * (k + rng.uni()) / kSamples;
-        double eps = 1e-6 * std::max(1.0, std::fabs(t));
-        bool in_span = false, near_end = false;
-        for (const Span& s : spans) {
-            if (t > s.in.t + eps && t < s.out.t - eps) in_span = true;
-            if (std::fabs(t - s.in.t) <= eps || std::fabs(t - s.out.t) <= eps) near_end = true;
-        }
-        if (near_end) continue;
-        Vec3 p = l.o + l.d * t;
-        double sd = m.sd(p);
-        // A point within rounding of the true surface may go either way.
-        if (std::fabs(sd) < 1e-9) continue;
-        inside_samples += in_span;
-        if (in_span != (sd < 0)) {
-            char buf[160];
-            std::snprintf(buf, sizeof buf, "t=%.17g: spans say %s, model sd=%.3g; ", t, in_span ? "inside" : "outside", sd);
-            f.add(buf + ray);
-        }
-    }
-
-    // Ends on the surface; normals unit, against the ray at entries, outward.
-    for (const Span& s : spans) {
-        for (int k = 0; k < 2; ++k) {
-            const SpanEnd& e = k == 0 ? s.in : s.out;
-            if (!std::isfinite(e.t)) {
-                f.add("infinite span end for a bounded shape; " + ray);
-                continue;
-            }
-            Vec3 p = l.o + l.d * e.t;
-            double sd = m.sd(p);
-            if (!(std::fabs(sd) < 1e-7)) {
-                char buf[120];
-                std::snprintf(buf, sizeof buf, "span end t=%.17g is off the surface by %.3g; ", e.t, sd);
-                f.add(buf + ray);
-            }
-            Vec3 n = cg.g.normal(e.node, e.face, p);
-            if (e.flip) n = -n;
-            if (!(std::fabs(length(n) - 1) < 1e-9)) f.add("normal not unit at " + fmt(p) + "; " + ray);
-            double dn = dot(n, l.d);
-            if (k == 0 ? dn > 1e-9 : dn < -1e-9)
-                f.add(std::string(k == 0 ? "entry" : "exit") + " normal faces the wrong way along the ray at " + fmt(p) +
-                      "; " + ray);
+    rt_test::check_spans(
+        spans, cg.g, l.o, l.d, bc, br, true, rng, f, inside_samples, [&](const Vec3& p) { return m.sd(p) < 0; },
+        [&](const Vec3& p) { return std::fabs(m.sd(p)); },
+        [&](const Vec3& p, const Vec3& n, const auto& fail) {
             const double h = 1e-4;
-            if (!(m.sd(p + n * h) > 0)) f.add("p + h n is not outside at " + fmt(p) + " n=" + fmt(n) + "; " + ray);
+            if (!(m.sd(p + n * h) > 0)) fail("p + h n is not outside");
             // Near an edge, stepping back along one face's normal can leave through
             // the neighbouring face.
-            if (m.near_pieces(p, 20 * h) == 1 && !(m.sd(p - n * h) < 0))
-                f.add("p - h n is not inside at " + fmt(p) + " n=" + fmt(n) + "; " + ray);
-        }
-    }
+            if (m.near_pieces(p, 20 * h) == 1 && !(m.sd(p - n * h) < 0)) fail("p - h n is not inside");
+        });
 }
 
 const char* kind_name(int kind) {
