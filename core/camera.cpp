@@ -1,4 +1,4 @@
-// Camera rays as in rendering.md §1, with column 0 on the camera's left unless the
+// Camera rays as in docs/rendering.md §1, with column 0 on the camera's left unless the
 // original's mirrored picture is asked for.
 #include "camera.h"
 

@@ -1,4 +1,4 @@
-// Pixel -> ray, exactly as the 2013 program (no half-pixel offset, pi = 3.14159),
+// Pixel -> ray (docs/rendering.md §1), as the 2013 program (no half-pixel offset, pi = 3.14159),
 // except that the picture is not mirrored unless asked to be.
 #pragma once
 
@@ -15,18 +15,18 @@ struct CameraBasis {
     int width = 1, height = 1;
     bool mirror = false;
 
-    static CameraBasis make(const Camera& cam, int width, int height, bool mirror);
+    [[nodiscard]] static CameraBasis make(const Camera& cam, int width, int height, bool mirror);
 
     // Direction (not normalised) through pixel coordinates (i, j); integers are the
     // original's sample points, fractions lie between them.
-    Vec3 direction(double i, double j) const;
-    Ray ray(double i, double j) const { return {origin, normalize(direction(i, j))}; }
+    [[nodiscard]] Vec3 direction(double i, double j) const;
+    [[nodiscard]] Ray ray(double i, double j) const { return {origin, normalize(direction(i, j))}; }
 };
 
 // The original's degree factor.
 constexpr double kDegree = 3.14159 / 180.0;
 
 // Empty when the camera is valid; otherwise why not.
-const char* camera_problem(const Camera& cam);
+[[nodiscard]] const char* camera_problem(const Camera& cam);
 
 }  // namespace rt

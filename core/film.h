@@ -21,7 +21,7 @@ struct Image {
     }
 };
 
-// The original's output rounding: truncation, clamped to 0..255; NaN gives 0.
+// The original's output rounding (docs/rendering.md §9): truncation, clamped to 0..255; NaN gives 0.
 // (Written as clamps of 255 c, which compile to min/max instead of branches.)
 inline std::uint8_t to_byte(double c) {
     double v = 255.0 * c;
@@ -100,7 +100,7 @@ struct Film {
         double inv = 1.0 / n;
         return {sum[3 * idx] * inv, sum[3 * idx + 1] * inv, sum[3 * idx + 2] * inv};
     }
-    // f(x, y, idx, colour) for every pixel of rows [y0, y1).
+    // f(idx, colour) for every pixel of rows [y0, y1).
     template <class F>
     void for_each_pixel(int y0, int y1, F&& f) const {
         for (int y = y0; y < y1; ++y) {

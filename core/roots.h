@@ -5,12 +5,12 @@
 namespace rt {
 
 // Real roots of c[0] + c[1] t + c[2] t^2 in [lo, hi], ascending; returns the count (<= 2).
-int solve_quadratic(const double c[3], double lo, double hi, double roots[2]);
+[[nodiscard]] int solve_quadratic(const double c[3], double lo, double hi, double roots[2]);
 // Real roots of the quartic in [lo, hi], ascending, each to near machine precision;
 // a double root counts once. Returns the count (<= 4).
 // Works by splitting [lo, hi] at the roots of the derivative (recursively) and
 // bisecting each monotone piece with safeguarded Newton steps.
-int solve_quartic(const double c[5], double lo, double hi, double roots[4]);
-int solve_cubic(const double c[4], double lo, double hi, double roots[3]);
+[[nodiscard]] int solve_quartic(const double c[5], double lo, double hi, double roots[4]);
+[[nodiscard]] int solve_cubic(const double c[4], double lo, double hi, double roots[3]);
 
 }  // namespace rt

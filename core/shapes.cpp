@@ -281,57 +281,47 @@ Aabb Geometry::bounds(std::uint32_t n) const {
     return {};
 }
 
-bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
-                           SpanScratch& scratch) const {
+template <class F>
+bool Geometry::with_spans(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, F&& pick) const {
     std::uint32_t n = object_node[obj];
     const Node& node = nodes[n];
-    auto first_entry = [&](const auto& list) {
-        for (const Span& s : list)
-            if (s.in.t > tmin) {
-                out = s.in;
-                return true;
-            }
-        return false;
-    };
     if (node.kind != NodeKind::Csg) {
         SmallSpans<2> sp;
         leaf_spans(n, o, d, sp);
-        return first_entry(sp);
+        return pick(sp);
     }
     if (csgs[node.index].simple) {
         SmallSpans<4> sp;
         simple_csg_spans(csgs[node.index], o, d, sp);
-        return first_entry(sp);
+        return pick(sp);
     }
     std::vector<Span>& sp = scratch.at(0);
     spans(n, o, d, sp, scratch, 1);
-    return first_entry(sp);
+    return pick(sp);
+}
+
+namespace {
+// The first entry (or exit) of an ascending span list beyond tmin.
+template <class List>
+bool first_end(const List& list, bool entry, double tmin, SpanEnd& out) {
+    for (const Span& s : list) {
+        const SpanEnd& e = entry ? s.in : s.out;
+        if (e.t > tmin) {
+            out = e;
+            return true;
+        }
+    }
+    return false;
+}
+}  // namespace
+
+bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
+                           SpanScratch& scratch) const {
+    return with_spans(obj, o, d, scratch, [&](const auto& list) { return first_end(list, true, tmin, out); });
 }
 
 bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& scratch) const {
-    std::uint32_t n = object_node[obj];
-    auto first_exit = [&](const auto& list) {
-        for (const Span& s : list)
-            if (s.out.t > kDelta) {
-                out = s.out;
-                return true;
-            }
-        return false;
-    };
-    const Node& node = nodes[n];
-    if (node.kind != NodeKind::Csg) {
-        SmallSpans<2> sp;
-        leaf_spans(n, o, d, sp);
-        return first_exit(sp);
-    }
-    if (csgs[node.index].simple) {
-        SmallSpans<4> sp;
-        simple_csg_spans(csgs[node.index], o, d, sp);
-        return first_exit(sp);
-    }
-    std::vector<Span>& sp = scratch.at(0);
-    spans(n, o, d, sp, scratch, 1);
-    return first_exit(sp);
+    return with_spans(obj, o, d, scratch, [&](const auto& list) { return first_end(list, false, kDelta, out); });
 }
 
 std::size_t Geometry::memory_bytes() const {

@@ -87,11 +87,11 @@ struct Geometry {
     void spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<Span>& out, SpanScratch& scratch,
                std::size_t depth = 0) const;
     // Outward unit normal of surface `face` of node `n` at p.
-    Vec3 normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const;
+    [[nodiscard]] Vec3 normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const;
     Aabb bounds(std::uint32_t n) const;
 
     // Nearest entry into object `obj` with t > tmin; false if none.
-    bool hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out, SpanScratch& s) const {
+    [[nodiscard]] bool hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out, SpanScratch& s) const {
         std::uint32_t n = object_node[obj];
         const Node& node = nodes[n];
         if (node.kind != NodeKind::Sphere) return hit_general(obj, o, d, tmin, out, s);
@@ -106,11 +106,11 @@ struct Geometry {
         out = {t, n, 0, false};
         return true;
     }
-    bool hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
-                     SpanScratch& s) const;
+    [[nodiscard]] bool hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
+                                   SpanScratch& s) const;
     // Where a ray inside object `obj` (or on its surface, going in) leaves it:
     // the first span end beyond kDelta; false if none.
-    bool exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const;
+    [[nodiscard]] bool exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const;
 
     std::size_t memory_bytes() const;
 
@@ -119,9 +119,13 @@ private:
     void leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& out) const;
     template <class Out>
     void simple_csg_spans(const CsgG& c, const Vec3& o, const Vec3& d, Out& out) const;
+    // pick(list) on the spans of object `obj` along the line: on the stack for a
+    // primitive or a CSG of two primitives, else in `scratch`.
+    template <class F>
+    bool with_spans(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, F&& pick) const;
 };
 
-Geometry build_geometry(const Scene& scene);
+[[nodiscard]] Geometry build_geometry(const Scene& scene);
 
 // Combine two ascending span lists by a CSG operation.
 void combine_spans(CsgType type, const std::vector<Span>& a, const std::vector<Span>& b, std::vector<Span>& out);

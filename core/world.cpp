@@ -1,4 +1,4 @@
-// Shading as in rendering.md §2-§6: direct light with the unshadowed 0.1 term and
+// Shading as in docs/rendering.md §2-§6: direct light with the unshadowed 0.1 term and
 // coloured shadows through refractive objects, mirror reflection, refraction with the
 // interior walk, and lamp glow discs. Planes are few and unbounded, so they are tested
 // one by one; objects go through the BVH, and glow discs too when there are many.
@@ -33,7 +33,7 @@ inline Colour tint(const ShadeMaterial& m, double s) {
     return {tint_pow(m.log_tint.x, s), tint_pow(m.log_tint.y, s), tint_pow(m.log_tint.z, s)};
 }
 
-// rendering.md §5, with the normal-incidence fix: straight through.
+// docs/rendering.md §5, with the normal-incidence fix: straight through.
 // `n` is turned to face against d (the original changes the caller's normal too).
 bool refract(const Vec3& d, double eta1, double eta2, Vec3& n, Vec3& out) {
     if (dot(n, d) > 0) n = -n;

@@ -15,21 +15,15 @@
 #include "bvh.h"
 #include "shapes.h"
 #include "test_random.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rt;
+using rt_test::Failures;
 using rt_test::Rng;
 using rt_test::fmt;
 
 namespace {
-
-struct Failures {
-    int count = 0;
-    std::string first;
-    void add(const std::string& what) {
-        if (count++ == 0) first = what;
-    }
-};
 
 Object sphere(const Vec3& c, double r) {
     Object o;
@@ -323,7 +317,7 @@ TEST_CASE("bvh: a skewed scene (exponentially spaced spheres) still gives the br
 
 TEST_CASE("bvh: the world's nearest hit on exact ties is the earlier object (file order)") {
     // Many copies of the same few spheres: which copy the BVH visits first depends on
-    // how the build partitioned them, but rendering.md §2 says the earlier one wins.
+    // how the build partitioned them, but docs/rendering.md §2 says the earlier one wins.
     Rng rng(500);
     Scene scene;
     std::vector<Object> originals;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "image_io.h"
+#include "test_util.h"
 
 namespace fs = std::filesystem;
 
@@ -41,42 +42,19 @@ picture_size { x_max 32 y_max 24 }
 end
 )";
 
-std::string read_all(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-void write_all(const fs::path& p, const std::string& text) {
-    std::ofstream out(p, std::ios::binary);
-    out << text;
-}
-
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
+using rt_test::contains;
+const auto read_all = rt_test::slurp;
+const auto write_all = rt_test::put;
+const auto quote = rt_test::shell_quote;
 
 struct Result {
     int status = -1;
     std::string out, err;
 };
 
-// A fresh folder per test, removed afterwards.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string tmpl = (fs::temp_directory_path() / "rt-cli-XXXXXX").string();
-        REQUIRE(mkdtemp(tmpl.data()) != nullptr);
-        path = tmpl;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    fs::path operator/(const std::string& name) const { return path / name; }
+// A fresh folder per test, removed afterwards, in which the binary runs.
+struct TempDir : rt_test::TempDir {
+    TempDir() : rt_test::TempDir("rt-cli") {}
 
     // Runs the binary in this folder with `args` (already shell-quoted where needed)
     // and `input` on stdin (empty input: stdin is at end of file).
@@ -94,18 +72,7 @@ struct TempDir {
         fs::remove(path / ".stderr");
         return r;
     }
-
-    std::vector<std::string> files() const {
-        std::vector<std::string> names;
-        for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
-        std::sort(names.begin(), names.end());
-        return names;
-    }
 };
-
-bool contains(const std::string& haystack, const std::string& needle) {
-    return haystack.find(needle) != std::string::npos;
-}
 
 // Width and height from a binary PPM's header, or -1 -1.
 void ppm_size(const std::string& data, int& w, int& h) {

@@ -1,7 +1,7 @@
 // Tests for CSG (core/csg.cpp and the CSG nodes of core/shapes.cpp): the spans of
 // random union / intersection / difference trees agree with point membership under
 // the boolean combination of inside tests written here from each primitive's
-// definition, and the cases the 2013 program got wrong (rendering.md §8) come out
+// definition, and the cases the 2013 program got wrong (docs/rendering.md §8) come out
 // right: non-convex operands, a difference subtracted from a difference, tori.
 // All randomness is seeded, so a failure repeats.
 #include <doctest/doctest.h>
@@ -15,118 +15,19 @@
 #include <vector>
 
 #include "shapes.h"
+#include "test_models.h"
 #include "test_random.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rt;
+using rt_test::Failures;
 using rt_test::Rng;
 using rt_test::fmt;
 
 namespace {
 
-// Independent primitive model (as in test_shapes.cpp): sd < 0 inside, 0 on the surface.
-struct Prim {
-    enum Kind { Sph, Tet, Cyl, Tor } kind = Sph;
-    Vec3 c;
-    double r = 1;
-    Vec3 v[4];
-    Vec3 e1, e2;
-    Vec3 axis{0, 0, 1};
-    double R = 1;
-
-    Shape shape() const {
-        switch (kind) {
-            case Sph: return Sphere{c, r};
-            case Tet: {
-                Tetrahedron t;
-                for (int i = 0; i < 4; ++i) t.v[i] = v[i];
-                return t;
-            }
-            case Cyl: return Cylinder{e1, e2, r};
-            case Tor: return Torus{c, axis, R, r};
-        }
-        return Sphere{};
-    }
-    double tet_height(int i) const {
-        const Vec3& a = v[(i + 1) % 4];
-        const Vec3& b = v[(i + 2) % 4];
-        const Vec3& cc = v[(i + 3) % 4];
-        return std::fabs(dot(v[1] - v[0], cross(v[2] - v[0], v[3] - v[0]))) / length(cross(b - a, cc - a));
-    }
-    double sd(const Vec3& p) const {
-        switch (kind) {
-            case Sph: return length(p - c) - r;
-            case Tet: {
-                // Barycentric coordinates by Cramer's rule, scaled to distances.
-                Vec3 a = v[1] - v[0], b = v[2] - v[0], cc = v[3] - v[0], q = p - v[0];
-                double det = dot(a, cross(b, cc));
-                double l[4];
-                l[1] = dot(q, cross(b, cc)) / det;
-                l[2] = dot(a, cross(q, cc)) / det;
-                l[3] = dot(a, cross(b, q)) / det;
-                l[0] = 1 - l[1] - l[2] - l[3];
-                double m = -HUGE_VAL;
-                for (int i = 0; i < 4; ++i) m = std::max(m, -l[i] * tet_height(i));
-                return m;
-            }
-            case Cyl: {
-                Vec3 a = normalize(e2 - e1);
-                double s = dot(p - e1, a);
-                double radial = length((p - e1) - a * s);
-                return std::max({-s, s - length(e2 - e1), radial - r});
-            }
-            case Tor: {
-                Vec3 w = normalize(axis);
-                Vec3 helper = std::fabs(w.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-                Vec3 u = normalize(cross(helper, w));
-                Vec3 vv = cross(w, u);
-                Vec3 q = p - c;
-                double x = dot(q, u), y = dot(q, vv), z = dot(q, w);
-                double rho = std::sqrt(x * x + y * y);
-                return std::sqrt((R - rho) * (R - rho) + z * z) - r;
-            }
-        }
-        return 0;
-    }
-    // Distance from p to the nearest edge of the primitive, roughly: for convex
-    // pieces, the second-largest piece distance; +inf for smooth shapes.
-    double edge_margin(const Vec3& p) const {
-        double q[4];
-        int n = 0;
-        if (kind == Tet) {
-            Vec3 a = v[1] - v[0], b = v[2] - v[0], cc = v[3] - v[0], d = p - v[0];
-            double det = dot(a, cross(b, cc));
-            double l[4];
-            l[1] = dot(d, cross(b, cc)) / det;
-            l[2] = dot(a, cross(d, cc)) / det;
-            l[3] = dot(a, cross(b, d)) / det;
-            l[0] = 1 - l[1] - l[2] - l[3];
-            for (int i = 0; i < 4; ++i) q[n++] = std::fabs(l[i] * tet_height(i));
-        } else if (kind == Cyl) {
-            Vec3 a = normalize(e2 - e1);
-            double s = dot(p - e1, a);
-            q[n++] = std::fabs(s);
-            q[n++] = std::fabs(s - length(e2 - e1));
-            q[n++] = std::fabs(length((p - e1) - a * s) - r);
-        } else {
-            return HUGE_VAL;
-        }
-        std::sort(q, q + n);
-        return q[1];
-    }
-    void bound(Vec3& centre, double& radius) const {
-        switch (kind) {
-            case Sph: centre = c, radius = r; return;
-            case Tet:
-                centre = (v[0] + v[1] + v[2] + v[3]) / 4;
-                radius = 0;
-                for (const Vec3& p : v) radius = std::max(radius, length(p - centre));
-                return;
-            case Cyl: centre = (e1 + e2) / 2, radius = std::sqrt(length2(e2 - e1) / 4 + r * r); return;
-            case Tor: centre = c, radius = R + r; return;
-        }
-    }
-};
+using rt_test::Prim;
 
 // Primitives near the origin, so that operands overlap.
 Prim random_prim(Rng& rng) {
@@ -142,7 +43,7 @@ Prim random_prim(Rng& rng) {
                 Vec3 base = rng.in_ball(0.8);
                 for (Vec3& q : p.v) q = base + rng.in_ball(1.5);
                 bool ok = true;
-                for (int i = 0; i < 4; ++i) ok = ok && p.tet_height(i) > 0.15;
+                for (int i = 0; i < 4; ++i) ok = ok && p.height(i) > 0.15;
                 if (ok) break;
             }
             break;
@@ -239,23 +140,8 @@ Tree random_tree(Rng& rng, int depth) {
     return node(type, std::move(a), std::move(b));
 }
 
-struct Compiled {
-    Scene scene;
-    Geometry g;
-    std::uint32_t node = 0;
-    explicit Compiled(const Tree& t) {
-        scene.objects.push_back(t.object());
-        g = build_geometry(scene);
-        node = g.object_node[0];
-    }
-};
-
-struct Failures {
-    int count = 0;
-    std::string first;
-    void add(const std::string& what) {
-        if (count++ == 0) first = what;
-    }
+struct Compiled : rt_test::CompiledObject {
+    explicit Compiled(const Tree& t) : CompiledObject(t.object()) {}
 };
 
 // Spans of the tree's node along o + t d against membership sampling; span ends on
@@ -265,66 +151,34 @@ void check_tree_line(const Tree& tree, const Compiled& cg, const Vec3& o, const 
     std::vector<Span> spans;
     SpanScratch scratch;
     cg.g.spans(cg.node, o, d, spans, scratch);
-    std::string ray = "o=" + fmt(o) + " d=" + fmt(d);
-    for (std::size_t i = 0; i < spans.size(); ++i) {
-        if (!(spans[i].in.t < spans[i].out.t)) f.add("empty or reversed span; " + ray);
-        if (i > 0 && !(spans[i - 1].out.t <= spans[i].in.t)) f.add("spans not ascending and disjoint; " + ray);
-    }
     Vec3 bc;
     double br = 0;
     tree.bound(bc, br);
-    double tc = dot(bc - o, d);
-    const int kSamples = 200;
-    for (int k = 0; k < kSamples; ++k) {
-        double t = tc - 1.2 * br + 2.4 * br * (k + rng.uni()) / kSamples;
-        double eps = 1e-6 * std::max(1.0, std::fabs(t));
-        bool in_span = false, near_end = false;
-        for (const Span& s : spans) {
-            if (t > s.in.t + eps && t < s.out.t - eps) in_span = true;
-            if (std::fabs(t - s.in.t) <= eps || std::fabs(t - s.out.t) <= eps) near_end = true;
-        }
-        if (near_end) continue;
-        Vec3 p = o + d * t;
-        double best = HUGE_VAL, second = HUGE_VAL;
-        const Prim* which = nullptr;
+    auto nearest = [&](const Vec3& p, double& second, const Prim*& which) {
+        double best = HUGE_VAL;
+        second = HUGE_VAL;
+        which = nullptr;
         tree.nearest_surface(p, best, second, which);
-        if (best < 1e-9) continue;  // within rounding of an operand's surface
-        bool want = tree.inside(p);
-        inside_samples += want;
-        if (in_span != want) {
-            char buf[128];
-            std::snprintf(buf, sizeof buf, "t=%.17g: spans say %s, the model %s; ", t, in_span ? "inside" : "outside",
-                          want ? "inside" : "outside");
-            f.add(buf + ray);
-        }
-    }
-    for (const Span& s : spans) {
-        for (int k = 0; k < 2; ++k) {
-            const SpanEnd& e = k == 0 ? s.in : s.out;
-            if (!std::isfinite(e.t)) {
-                f.add("infinite span end; " + ray);
-                continue;
-            }
-            Vec3 p = o + d * e.t;
-            double best = HUGE_VAL, second = HUGE_VAL;
-            const Prim* which = nullptr;
-            tree.nearest_surface(p, best, second, which);
-            if (!(best < 1e-7)) f.add("span end off every operand's surface at " + fmt(p) + "; " + ray);
-            Vec3 n = cg.g.normal(e.node, e.face, p);
-            if (e.flip) n = -n;
-            if (!(std::fabs(length(n) - 1) < 1e-9)) f.add("normal not unit at " + fmt(p) + "; " + ray);
-            double dn = dot(n, d);
-            if (k == 0 ? dn > 1e-9 : dn < -1e-9)
-                f.add(std::string(k == 0 ? "entry" : "exit") + " normal faces the wrong way at " + fmt(p) + "; " + ray);
+        return best;
+    };
+    rt_test::check_spans(
+        spans, cg.g, o, d, bc, br, false, rng, f, inside_samples, [&](const Vec3& p) { return tree.inside(p); },
+        [&](const Vec3& p) {
+            double second;
+            const Prim* which;
+            return nearest(p, second, which);
+        },
+        [&](const Vec3& p, const Vec3& n, const auto& fail) {
             // Outward for the combined solid, away from where operands meet or edges.
             const double h = 1e-4;
+            double second;
+            const Prim* which;
+            nearest(p, second, which);
             if (second > 20 * h && which && which->edge_margin(p) > 20 * h) {
-                if (tree.inside(p + n * h)) f.add("p + h n is inside the solid at " + fmt(p) + " n=" + fmt(n) + "; " + ray);
-                if (!tree.inside(p - n * h))
-                    f.add("p - h n is outside the solid at " + fmt(p) + " n=" + fmt(n) + "; " + ray);
+                if (tree.inside(p + n * h)) fail("p + h n is inside the solid");
+                if (!tree.inside(p - n * h)) fail("p - h n is outside the solid");
             }
-        }
-    }
+        });
 }
 
 void check_random_trees(unsigned seed, int depth, int trees, int lines_per_tree) {

@@ -31,6 +31,7 @@
 #include "scene_parser.h"
 #include "scene_schema.h"
 #include "scene_writer.h"
+#include "test_util.h"
 
 using namespace rt;
 
@@ -44,12 +45,7 @@ struct Block {
     int line = 0;  // of the opening fence
 };
 
-std::string read_text(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+std::string read_text(const std::string& path) { return rt_test::slurp(path); }
 
 bool file_exists(const std::string& path) { return std::ifstream(path).good(); }
 

@@ -16,6 +16,7 @@
 #include "fuzz/fuzz_common.h"
 #include "scene_parser.h"
 #include "scene_writer.h"
+#include "test_util.h"
 
 using namespace rt;
 namespace fs = std::filesystem;
@@ -44,12 +45,7 @@ bool survives(F f) {
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
-std::string read_bytes(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+const auto read_bytes = rt_test::slurp;
 
 // The fuzzers' invariants on one input; the message of the first broken one, or "".
 std::string broken_invariant(std::string_view text, int low_max_errors) {

@@ -21,11 +21,15 @@
 #include <vector>
 
 #include "image_io.h"
+#include "test_util.h"
 
 using namespace rt;
 namespace fs = std::filesystem;
 
 namespace {
+
+using rt_test::contains;
+using rt_test::slurp;
 
 // A fresh folder per test, removed afterwards (made writable again first, in case a
 // test took the write permission away).
@@ -49,13 +53,6 @@ struct TempDir {
         return names;
     }
 };
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 bool have_dev_full() {
     struct stat st;
@@ -103,8 +100,6 @@ std::vector<std::uint8_t> random_rgb(int w, int h, std::uint64_t seed) {
     return rgb;
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
 mode_t mode_of(const std::string& path) {
     struct stat st;
     REQUIRE(::stat(path.c_str(), &st) == 0);
@@ -135,7 +130,7 @@ TEST_CASE("to_rgb8 truncates and clamps like the original, NaN to 0") {
 }
 
 TEST_CASE("a PPM written is read back pixel for pixel") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     for (int w : {1, 7, 64}) {
         for (int h : {1, 5}) {
             const auto rgb = random_rgb(w, h, std::uint64_t(w * 100 + h));
@@ -163,7 +158,7 @@ TEST_CASE("a PPM written is read back pixel for pixel") {
 }
 
 TEST_CASE("read_ppm reads ASCII P3 with comments, and rejects broken files") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     spit(dir / "a.ppm", "P3\n# file 'a.ppm'.\n# made by hand\n2 1\n255\n255 0 7\t1 2 3\t\n");
     int w = 0, h = 0;
     std::vector<std::uint8_t> rgb;
@@ -190,7 +185,7 @@ TEST_CASE("read_ppm reads ASCII P3 with comments, and rejects broken files") {
 }
 
 TEST_CASE("a PNG written has the PNG signature and decodes to the same pixels") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     const int w = 13, h = 9;
     const auto rgb = random_rgb(w, h, 77);
     REQUIRE(write_rgb8(dir / "out.png", w, h, rgb) == "");
@@ -208,7 +203,7 @@ TEST_CASE("a PNG written has the PNG signature and decodes to the same pixels") 
 }
 
 TEST_CASE("write_image refuses unknown extensions and mismatched data, writing nothing") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     Image img;
     img.width = 2;
     img.height = 2;
@@ -220,7 +215,7 @@ TEST_CASE("write_image refuses unknown extensions and mismatched data, writing n
 }
 
 TEST_CASE("write_file_atomic replaces the whole file and leaves no temporary behind") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     const std::string path = dir / "scene.txt";
     spit(path, std::string(100000, 'x'));
     REQUIRE(write_file_atomic(path, "short") == "");
@@ -239,7 +234,7 @@ TEST_CASE("write_file_atomic replaces the whole file and leaves no temporary beh
 }
 
 TEST_CASE("write_file_atomic gives new files the umask's mode and keeps an existing file's") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     const mode_t old_mask = ::umask(027);
     const std::string err = write_file_atomic(dir / "new.txt", "n");
     ::umask(old_mask);
@@ -257,7 +252,7 @@ TEST_CASE("write_file_atomic gives new files the umask's mode and keeps an exist
 }
 
 TEST_CASE("write_file_atomic writes through a symbolic link, keeping the link") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     spit(dir / "real.txt", "old");
     fs::create_symlink("real.txt", dir / "link.txt");
     REQUIRE(write_file_atomic(dir / "link.txt", "new") == "");
@@ -267,7 +262,7 @@ TEST_CASE("write_file_atomic writes through a symbolic link, keeping the link") 
 }
 
 TEST_CASE("write_file_atomic failures say why and touch nothing") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     const std::string target = dir / "out.ppm";
     spit(target, "precious");
 
@@ -311,7 +306,7 @@ TEST_CASE("write_file_atomic writes straight into devices, reporting a full one"
 }
 
 TEST_CASE("read_file returns the exact bytes and enforces the size limit") {
-    TempDir dir;
+    TempDir dir("rt-imageio");
     std::string data("a\0b\r\n", 5);
     data += std::string(70000, 'z');  // more than one read() buffer
     data.push_back('\0');

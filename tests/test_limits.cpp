@@ -26,6 +26,7 @@
 
 #include "scene.h"
 #include "scene_parser.h"
+#include "test_util.h"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define RT_LIMITS_SANITIZED 1
@@ -219,26 +220,20 @@ TEST_CASE("limits: file size, just over 256 MiB is refused before reading") {
 }
 
 TEST_CASE("limits: file size through the CLI, a sparse 256 MiB + 1 file is refused") {
-    std::string dir_tmpl = (fs::temp_directory_path() / "rt-limits-XXXXXX").string();
-    REQUIRE(mkdtemp(dir_tmpl.data()) != nullptr);
-    const fs::path dir = dir_tmpl;
+    const rt_test::TempDir tmp("rt-limits");
+    const fs::path dir = tmp.path;
     const fs::path big = dir / "big.txt";
-    {
-        std::ofstream(big) << "end\n";
-    }
+    rt_test::put(big, "end\n");
     fs::resize_file(big, Limits::max_file_size + 1);  // sparse: no disk space used
     const std::string cmd = "'" RT_BIN_DIR "/raytracer' --check '" + big.string() + "' >'" +
                             (dir / "out").string() + "' 2>'" + (dir / "err").string() + "'";
     const int raw = std::system(cmd.c_str());
-    std::ifstream in(dir / "err");
-    std::stringstream err;
-    err << in.rdbuf();
-    fs::remove_all(dir);
+    const std::string err = rt_test::slurp(dir / "err");
     REQUIRE(WIFEXITED(raw));
     CHECK(WEXITSTATUS(raw) != 0);
-    CAPTURE(err.str());
-    CHECK(err.str().find("big.txt") != std::string::npos);
-    CHECK(err.str().find("268435456") != std::string::npos);
+    CAPTURE(err);
+    CHECK(err.find("big.txt") != std::string::npos);
+    CHECK(err.find("268435456") != std::string::npos);
 }
 
 TEST_CASE("limits: numbers that overflow, underflow or are not finite") {
@@ -429,9 +424,8 @@ TEST_CASE("hostile: non-ASCII names are errors naming them; non-ASCII comments a
 }
 
 TEST_CASE("hostile: malformed scenes through the CLI give FILE:LINE:COL: error: and exit 1") {
-    std::string dir_tmpl = (fs::temp_directory_path() / "rt-hostile-XXXXXX").string();
-    REQUIRE(mkdtemp(dir_tmpl.data()) != nullptr);
-    const fs::path dir = dir_tmpl;
+    const rt_test::TempDir tmp("rt-hostile");
+    const fs::path dir = tmp.path;
     const std::vector<std::string> inputs = {
         "",
         std::string("\0\x01\x02\xff\xfe", 5),
@@ -446,28 +440,25 @@ TEST_CASE("hostile: malformed scenes through the CLI give FILE:LINE:COL: error: 
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         CAPTURE(i);
         const fs::path scene = dir / ("s" + std::to_string(i) + ".txt");
-        std::ofstream(scene, std::ios::binary) << inputs[i];
+        rt_test::put(scene, inputs[i]);
         const std::string cmd = "'" RT_BIN_DIR "/raytracer' '" + scene.string() + "' '" + (dir / "o.ppm").string() +
                                 "' 2>'" + (dir / "err").string() + "'";
         const int raw = std::system(cmd.c_str());
-        std::ifstream in(dir / "err");
-        std::stringstream err;
-        err << in.rdbuf();
+        const std::string err = rt_test::slurp(dir / "err");
         REQUIRE(WIFEXITED(raw));
         CHECK(WEXITSTATUS(raw) == 1);
         const std::string prefix = scene.string() + ":";
-        CAPTURE(err.str());
-        REQUIRE(err.str().compare(0, prefix.size(), prefix) == 0);
+        CAPTURE(err);
+        REQUIRE(err.compare(0, prefix.size(), prefix) == 0);
         // FILE:LINE:COL: error:
         int line = 0, col = 0;
         char tail[8] = {};
-        CHECK(std::sscanf(err.str().c_str() + prefix.size(), "%d:%d: %7s", &line, &col, tail) == 3);
+        CHECK(std::sscanf(err.c_str() + prefix.size(), "%d:%d: %7s", &line, &col, tail) == 3);
         CHECK(line >= 1);
         CHECK(col >= 1);
         CHECK(std::string(tail) == "error:");
         CHECK_FALSE(fs::exists(dir / "o.ppm"));
     }
-    fs::remove_all(dir);
 }
 
 // ---- memory ---------------------------------------------------------------------

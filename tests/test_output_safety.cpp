@@ -22,6 +22,8 @@
 #include <thread>
 #include <vector>
 
+#include "test_util.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -39,20 +41,10 @@ picture_size { x_max 16 y_max 12 }
 end
 )";
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-void put(const fs::path& p, const std::string& text) {
-    std::ofstream out(p, std::ios::binary);
-    out << text;
-    REQUIRE(out.good());
-}
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using rt_test::contains;
+using rt_test::listing;
+using rt_test::put;
+using rt_test::slurp;
 
 // What must not change about an existing output.
 struct FileState {
@@ -80,13 +72,6 @@ struct FileState {
                mtime.tv_sec == o.mtime.tv_sec && mtime.tv_nsec == o.mtime.tv_nsec && mode == o.mode;
     }
 };
-
-std::vector<std::string> listing(const fs::path& dir) {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-}
 
 std::string joined(const std::vector<std::string>& v) {
     std::string s;

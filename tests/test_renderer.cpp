@@ -415,7 +415,7 @@ TEST_CASE("renderer: wait() in one thread returns when another cancels, even wit
 // Camera at the origin looking along +x with up (0, 0, 1): in a right-handed, z-up
 // world the viewer's right is forward x up = (0, -1, 0). A red sphere at y = -1 must
 // show on the right of the picture and a blue one at y = +1 on the left; the 2013
-// program drew them the other way round (rendering.md §1), which `mirror` reproduces.
+// program drew them the other way round (docs/rendering.md §1), which `mirror` reproduces.
 TEST_CASE("renderer: the picture is not mirrored: the viewer's right is on the right, unless mirror is asked for") {
     const char* text = R"(
 thing {

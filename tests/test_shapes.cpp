@@ -1,6 +1,6 @@
 // Tests for the primitives in core/shapes.cpp: the inside intervals (spans) that
 // Geometry::spans reports along random lines agree with inside tests written here
-// straight from each shape's definition (rendering.md §7), span ends lie on the
+// straight from each shape's definition (docs/rendering.md §7), span ends lie on the
 // surface, normals are unit and outward, and a few hits have a known distance.
 // The torus is also checked against a sphere-traced march of its distance function.
 // All randomness is seeded, so a failure repeats.
@@ -14,133 +14,18 @@
 #include <vector>
 
 #include "shapes.h"
+#include "test_models.h"
 #include "test_random.h"
+#include "test_util.h"
 
 using namespace rt;
+using rt_test::Failures;
 using rt_test::Rng;
 using rt_test::fmt;
 
 namespace {
 
-// An independent model of one primitive, written from its definition rather than
-// from the implementation. sd() is negative inside, zero on the surface, positive
-// outside; for the sphere and torus it is the exact signed distance, for the
-// tetrahedron and cylinder the largest signed distance to a bounding plane / tube.
-struct Model {
-    enum Kind { Sph, Tet, Cyl, Tor } kind = Sph;
-    Vec3 c;            // sphere centre, torus centre
-    double r = 1;      // sphere radius, cylinder radius, torus minor
-    Vec3 v[4];         // tetrahedron corners
-    Vec3 e1, e2;       // cylinder ends
-    Vec3 axis{0, 0, 1};
-    double R = 1;      // torus major
-
-    Object object() const {
-        Object o;
-        switch (kind) {
-            case Sph: o.shape = Sphere{c, r}; break;
-            case Tet: {
-                Tetrahedron t;
-                for (int i = 0; i < 4; ++i) t.v[i] = v[i];
-                o.shape = t;
-                break;
-            }
-            case Cyl: o.shape = Cylinder{e1, e2, r}; break;
-            case Tor: o.shape = Torus{c, axis, R, r}; break;
-        }
-        return o;
-    }
-
-    // Barycentric coordinates of p in the tetrahedron (Cramer's rule).
-    void bary(const Vec3& p, double l[4]) const {
-        Vec3 a = v[1] - v[0], b = v[2] - v[0], cc = v[3] - v[0], q = p - v[0];
-        double det = dot(a, cross(b, cc));
-        l[1] = dot(q, cross(b, cc)) / det;
-        l[2] = dot(a, cross(q, cc)) / det;
-        l[3] = dot(a, cross(b, q)) / det;
-        l[0] = 1 - l[1] - l[2] - l[3];
-    }
-    // Height of corner i over the opposite face: turns a barycentric coordinate
-    // into a distance.
-    double height(int i) const {
-        const Vec3& a = v[(i + 1) % 4];
-        const Vec3& b = v[(i + 2) % 4];
-        const Vec3& cc = v[(i + 3) % 4];
-        double vol6 = std::fabs(dot(v[1] - v[0], cross(v[2] - v[0], v[3] - v[0])));
-        double area2 = length(cross(b - a, cc - a));
-        return vol6 / area2;
-    }
-    // Torus local coordinates in a frame built here (not Frame::from_axis).
-    Vec3 torus_local(const Vec3& p) const {
-        Vec3 w = normalize(axis);
-        Vec3 helper = std::fabs(w.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-        Vec3 u = normalize(cross(helper, w));
-        Vec3 vv = cross(w, u);
-        Vec3 q = p - c;
-        return {dot(q, u), dot(q, vv), dot(q, w)};
-    }
-    // The signed "distances" of the pieces whose maximum is sd (one for the sphere
-    // and torus), to tell whether a point is near an edge.
-    int pieces(const Vec3& p, double out[4]) const {
-        switch (kind) {
-            case Sph: out[0] = length(p - c) - r; return 1;
-            case Tet: {
-                double l[4];
-                bary(p, l);
-                for (int i = 0; i < 4; ++i) out[i] = -l[i] * height(i);
-                return 4;
-            }
-            case Cyl: {
-                Vec3 a = normalize(e2 - e1);
-                double len = length(e2 - e1);
-                double s = dot(p - e1, a);
-                double radial = length((p - e1) - a * s);
-                out[0] = -s;
-                out[1] = s - len;
-                out[2] = radial - r;
-                return 3;
-            }
-            case Tor: {
-                Vec3 l = torus_local(p);
-                double rho = std::sqrt(l.x * l.x + l.y * l.y);
-                out[0] = std::sqrt((R - rho) * (R - rho) + l.z * l.z) - r;
-                return 1;
-            }
-        }
-        return 0;
-    }
-    double sd(const Vec3& p) const {
-        double q[4];
-        int n = pieces(p, q);
-        double m = q[0];
-        for (int i = 1; i < n; ++i) m = std::max(m, q[i]);
-        return m;
-    }
-    bool inside(const Vec3& p) const { return sd(p) < 0; }
-    // How many pieces are within `tol` of their surface: more than one near an edge.
-    int near_pieces(const Vec3& p, double tol) const {
-        double q[4];
-        int n = pieces(p, q), k = 0;
-        for (int i = 0; i < n; ++i) k += std::fabs(q[i]) < tol;
-        return k;
-    }
-    // A ball that holds the solid.
-    void bound(Vec3& centre, double& radius) const {
-        switch (kind) {
-            case Sph: centre = c, radius = r; return;
-            case Tet:
-                centre = (v[0] + v[1] + v[2] + v[3]) / 4;
-                radius = 0;
-                for (const Vec3& p : v) radius = std::max(radius, length(p - centre));
-                return;
-            case Cyl:
-                centre = (e1 + e2) / 2;
-                radius = std::sqrt(length2(e2 - e1) / 4 + r * r);
-                return;
-            case Tor: centre = c, radius = R + r; return;
-        }
-    }
-};
+using Model = rt_test::Prim;
 
 Model random_sphere(Rng& rng) {
     Model m;
@@ -192,15 +77,8 @@ Model random_model(Rng& rng, int kind) {
     }
 }
 
-struct Compiled {
-    Scene scene;
-    Geometry g;
-    std::uint32_t node = 0;
-    explicit Compiled(const Model& m) {
-        scene.objects.push_back(m.object());
-        g = build_geometry(scene);
-        node = g.object_node[0];
-    }
+struct Compiled : rt_test::CompiledObject {
+    explicit Compiled(const Model& m) : CompiledObject(m.object()) {}
 };
 
 // A line that crosses the model's bounding ball, from outside or from inside.
@@ -226,86 +104,25 @@ Line random_line(Rng& rng, const Model& m, bool from_inside) {
     return l;
 }
 
-// Collects failures so that one CHECK reports the count and the first case.
-struct Failures {
-    int count = 0;
-    std::string first;
-    void add(const std::string& what) {
-        if (count++ == 0) first = what;
-    }
-};
-
 // The shared property: membership, span order, ends on the surface, normals.
 void check_spans_against_model(const Model& m, const Compiled& cg, const Line& l, Rng& rng, Failures& f,
                                int& inside_samples) {
     std::vector<Span> spans;
     SpanScratch scratch;
     cg.g.spans(cg.node, l.o, l.d, spans, scratch);
-    std::string ray = "o=" + fmt(l.o) + " d=" + fmt(l.d);
-
-    for (std::size_t i = 0; i < spans.size(); ++i) {
-        if (!(spans[i].in.t <= spans[i].out.t)) f.add("span with in > out; " + ray);
-        if (i > 0 && !(spans[i - 1].out.t <= spans[i].in.t)) f.add("spans not ascending and disjoint; " + ray);
-    }
-
-    // Membership at 200 jittered points over the bounding ball's chord.
     Vec3 bc;
     double br = 0;
     m.bound(bc, br);
-    double tc = dot(bc - l.o, l.d);
-    double t0 = tc - 1.2 * br, t1 = tc + 1.2 * br;
-    const int kSamples = 200;
-    for (int k = 0; k < kSamples; ++k) {
-        double t = t0 + (t1 - t0) * (k + rng.uni()) / kSamples;
-        double eps = 1e-6 * std::max(1.0, std::fabs(t));
-        bool in_span = false, near_end = false;
-        for (const Span& s : spans) {
-            if (t > s.in.t + eps && t < s.out.t - eps) in_span = true;
-            if (std::fabs(t - s.in.t) <= eps || std::fabs(t - s.out.t) <= eps) near_end = true;
-        }
-        if (near_end) continue;
-        Vec3 p = l.o + l.d * t;
-        double sd = m.sd(p);
-        // A point within rounding of the true surface may go either way.
-        if (std::fabs(sd) < 1e-9) continue;
-        inside_samples += in_span;
-        if (in_span != (sd < 0)) {
-            char buf[160];
-            std::snprintf(buf, sizeof buf, "t=%.17g: spans say %s, model sd=%.3g; ", t, in_span ? "inside" : "outside", sd);
-            f.add(buf + ray);
-        }
-    }
-
-    // Ends on the surface; normals unit, against the ray at entries, outward.
-    for (const Span& s : spans) {
-        for (int k = 0; k < 2; ++k) {
-            const SpanEnd& e = k == 0 ? s.in : s.out;
-            if (!std::isfinite(e.t)) {
-                f.add("infinite span end for a bounded shape; " + ray);
-                continue;
-            }
-            Vec3 p = l.o + l.d * e.t;
-            double sd = m.sd(p);
-            if (!(std::fabs(sd) < 1e-7)) {
-                char buf[120];
-                std::snprintf(buf, sizeof buf, "span end t=%.17g is off the surface by %.3g; ", e.t, sd);
-                f.add(buf + ray);
-            }
-            Vec3 n = cg.g.normal(e.node, e.face, p);
-            if (e.flip) n = -n;
-            if (!(std::fabs(length(n) - 1) < 1e-9)) f.add("normal not unit at " + fmt(p) + "; " + ray);
-            double dn = dot(n, l.d);
-            if (k == 0 ? dn > 1e-9 : dn < -1e-9)
-                f.add(std::string(k == 0 ? "entry" : "exit") + " normal faces the wrong way along the ray at " + fmt(p) +
-                      "; " + ray);
+    rt_test::check_spans(
+        spans, cg.g, l.o, l.d, bc, br, true, rng, f, inside_samples, [&](const Vec3& p) { return m.sd(p) < 0; },
+        [&](const Vec3& p) { return std::fabs(m.sd(p)); },
+        [&](const Vec3& p, const Vec3& n, const auto& fail) {
             const double h = 1e-4;
-            if (!(m.sd(p + n * h) > 0)) f.add("p + h n is not outside at " + fmt(p) + " n=" + fmt(n) + "; " + ray);
+            if (!(m.sd(p + n * h) > 0)) fail("p + h n is not outside");
             // Near an edge, stepping back along one face's normal can leave through
             // the neighbouring face.
-            if (m.near_pieces(p, 20 * h) == 1 && !(m.sd(p - n * h) < 0))
-                f.add("p - h n is not inside at " + fmt(p) + " n=" + fmt(n) + "; " + ray);
-        }
-    }
+            if (m.near_pieces(p, 20 * h) == 1 && !(m.sd(p - n * h) < 0)) fail("p - h n is not inside");
+        });
 }
 
 const char* kind_name(int kind) {
@@ -573,7 +390,7 @@ TEST_CASE("shape: torus with an oblique axis: through the hole along the axis mi
     CHECK(length(n + u) < 1e-9);
 }
 
-// The torus's solid is (R - sqrt(x^2 + y^2))^2 + z^2 < r^2 (rendering.md §7), which for
+// The torus's solid is (R - sqrt(x^2 + y^2))^2 + z^2 < r^2 (docs/rendering.md §7), which for
 // minor > major (the format's default torus: major 1, minor 2) is a self-intersecting
 // "spindle" whose inner lemon is inside as well.
 TEST_CASE("shape: spindle torus (minor > major, the format default) is solid inside its inner lemon") {

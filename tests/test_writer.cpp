@@ -15,6 +15,7 @@
 #include "scene_parser.h"
 #include "scene_schema.h"
 #include "scene_writer.h"
+#include "test_util.h"
 
 using namespace rt;
 
@@ -478,12 +479,9 @@ TEST_CASE("round trip: every example scene in scenes/") {
     int files = 0;
     for (const auto& entry : std::filesystem::directory_iterator(RT_SOURCE_DIR "/scenes")) {
         if (entry.path().extension() != ".txt") continue;
-        std::ifstream in(entry.path(), std::ios::binary);
-        std::ostringstream text;
-        text << in.rdbuf();
         INFO(entry.path().string());
         ++files;
-        check_round_trip(parse_ok(text.str()));
+        check_round_trip(parse_ok(rt_test::slurp(entry.path())));
     }
     CHECK(files >= 15);
 }

@@ -1,0 +1,82 @@
+// Helpers the test files share: a temporary folder per test, reading and writing
+// whole files, shell quoting, collecting failures of a property test. Header-only, included by tests in both test programs.
+#pragma once
+
+#include <doctest/doctest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace rt_test {
+
+namespace fs = std::filesystem;
+
+// The whole file as bytes ("" if it cannot be read).
+inline std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// Writes `data` as the whole file; the test fails if that does not work.
+inline void put(const fs::path& p, const std::string& data) {
+    std::ofstream out(p, std::ios::binary);
+    out << data;
+    REQUIRE(out.good());
+}
+
+inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// `s` as one word for /bin/sh.
+inline std::string shell_quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+// The names in a folder, sorted.
+inline std::vector<std::string> listing(const fs::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+// Collects failures so that one CHECK reports the count and the first case.
+struct Failures {
+    int count = 0;
+    std::string first;
+    void add(const std::string& what) {
+        if (count++ == 0) first = what;
+    }
+};
+
+// A fresh folder (mode 0700) per test, removed afterwards with everything in it; made
+// writable again first, in case a test took the write permission away.
+struct TempDir {
+    fs::path path;
+    explicit TempDir(const std::string& prefix = "rt-test") {
+        std::string tmpl = (fs::temp_directory_path() / (prefix + "-XXXXXX")).string();
+        REQUIRE(::mkdtemp(tmpl.data()) != nullptr);
+        path = tmpl;
+    }
+    ~TempDir() {
+        ::chmod(path.c_str(), 0700);
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    fs::path operator/(const std::string& name) const { return path / name; }
+    std::vector<std::string> files() const { return listing(path); }
+};
+
+}  // namespace rt_test
