@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "shapes.h"
 
@@ -362,17 +363,29 @@ PickResult pick(const World& world, const Ray& ray) {
 
 std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous) {
     auto w = std::make_shared<World>();
-    bool reuse = previous && previous->geometry && previous->geometry->source.size() == scene.objects.size();
-    if (reuse) {
-        for (std::size_t i = 0; i < scene.objects.size() && reuse; ++i)
-            reuse = previous->geometry->source[i] == scene.objects[i].shape;
-    }
-    if (reuse)
-        w->geometry = previous->geometry;
-    else
+    if (previous && previous->geometry && previous->geometry->object_node.size() == scene.objects.size()) {
+        // The shapes compiled again are cheap to compare; only the BVH is worth keeping.
+        Geometry g = build_geometry(scene, false);
+        if (same_shapes(g, *previous->geometry)) {
+            w->geometry = previous->geometry;
+        } else {
+            g.bvh.build(g.object_bounds);
+            w->geometry = std::make_shared<const Geometry>(std::move(g));
+        }
+    } else {
         w->geometry = std::make_shared<const Geometry>(build_geometry(scene));
+    }
     w->materials.reserve(scene.objects.size());
-    for (const Object& o : scene.objects) w->materials.push_back(ShadeMaterial::from(o.material));
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        // Big scenes repeat a few materials, often alternating: one equal (bit for bit)
+        // to either of the last two objects' is copied, saving its three logarithms.
+        static_assert(sizeof(Material) == 8 * sizeof(double), "materials compare as bytes");
+        const Material& m = scene.objects[i].material;
+        std::size_t k = 1;
+        for (; k <= 2 && k <= i; ++k)
+            if (std::memcmp(&m, &scene.objects[i - k].material, sizeof m) == 0) break;
+        w->materials.push_back(k <= 2 && k <= i ? w->materials[i - k] : ShadeMaterial::from(m));
+    }
     for (const Plane& p : scene.planes) {
         w->planes.push_back(PlaneShape::from(p));
         w->plane_mats.push_back(ShadeMaterial::from(p.material));
