@@ -334,7 +334,7 @@ struct Collapser {
 
 }  // namespace
 
-void Bvh::build(const std::vector<Aabb>& boxes) {
+void Bvh::build(const std::vector<Aabb>& boxes, int threads) {
     nodes.clear();
     items.clear();
     std::size_t n = 0;
@@ -358,7 +358,7 @@ void Bvh::build(const std::vector<Aabb>& boxes) {
     }
     std::vector<BinNode> bin;
     bin.reserve(2 * items.size() + 1);
-    int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
     std::atomic<int> spare{threads - 1};
     Builder b{boxes, centres, items, spare};
     bin.emplace_back();

@@ -104,8 +104,9 @@ public:
     std::vector<BvhNode> nodes;        // nodes[0] is the root (when there are items)
     std::vector<std::uint32_t> items;  // item ids (indices of the boxes given to build)
 
-    // Items with empty boxes are left out. At most BvhNode::kMaxItems items.
-    void build(const std::vector<Aabb>& boxes);
+    // Items with empty boxes are left out. At most BvhNode::kMaxItems items. Built on
+    // up to `threads` threads (0: all hardware threads); the tree is the same for any.
+    void build(const std::vector<Aabb>& boxes, int threads = 0);
 
     // Which of node's children the ray enters within [0, tmax]: a bit per child, and
     // the entry distances in t.
