@@ -13,6 +13,10 @@
 #                      threaded one) and report the speed-up, of the whole process and
 #                      of the render phase alone (from --stats)
 #   -P, --no-pov       skip POV-Ray
+#   -E, --no-embree    skip the Embree reference (build/bin/embree_ref, built where
+#                      Embree 3 is installed): for spheres-10k and things-like it
+#                      traces the same camera, shadow and mirror rays without shading,
+#                      and Embree's best time over ours is printed
 #   -M, --no-micro     skip renderer_bench (preview and cancel latency, BVH build)
 #   -g, --grid N       also an N x N sphere grid (bench/make-grid.sh; 1000 gives a
 #                      million spheres, a ~100 MB file), generated into the output
@@ -29,7 +33,7 @@ set -euo pipefail
 
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
-RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 MICRO=1 QUICK=0 GRID=0
+RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 EMBREE=1 MICRO=1 QUICK=0 GRID=0
 SCENES=()
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
@@ -42,6 +46,7 @@ while [ $# -gt 0 ]; do
         -o|--out) need_value "$@"; OUT=$2; shift ;;
         -s|--scaling) SCALING=1 ;;
         -P|--no-pov) POV=0 ;;
+        -E|--no-embree) EMBREE=0 ;;
         -M|--no-micro) MICRO=0 ;;
         -g|--grid) need_value "$@"; GRID=$2; shift ;;
         -q|--quick) QUICK=1 ;;
@@ -142,9 +147,9 @@ for s in "${SCENES[@]}"; do
     if [ $POV = 1 ]; then p=$(median "${pov[@]}") pc=$(median "${pov_cpu[@]}"); fi
     echo "| $s | ${W}x$H | ${OURS[$s]} | $p | $(ratio "$p" "${OURS[$s]}") | $(millions "$(median "${rps[@]}")") |" \
          "$(median "${ours_cpu[@]}") | $pc |"
+    RENDER[$s]=$(median "${render[@]}")
     if [ $SCALING = 1 ]; then
-        ONE[$s]=$(median "${one[@]}")
-        RENDER[$s]=$(median "${render[@]}") ONE_RENDER[$s]=$(median "${one_render[@]}")
+        ONE[$s]=$(median "${one[@]}") ONE_RENDER[$s]=$(median "${one_render[@]}")
     fi
 done
 echo
@@ -159,6 +164,24 @@ fi
 if [ -n "${OURS[spheres-10k]:-}" ] && [ -n "${OURS[things-like]:-}" ]; then
     echo "- ours, spheres-10k / things-like time: $(ratio "${OURS[spheres-10k]}" "${OURS[things-like]}")" \
          "(10,000 spheres vs 8 objects at the same size)"
+fi
+
+ER=$(dirname "$BIN")/embree_ref
+if [ $EMBREE = 1 ] && [ -x "$ER" ]; then
+    for s in "${SCENES[@]}"; do
+        case $s in spheres-10k|things-like) ;; *) continue ;; esac
+        if [ $QUICK = 1 ]; then size=(--width 160 --height 90); else size=(); fi
+        "$ER" "$HERE/scenes/$s.txt" --threads "$THREADS" --repeats "$RUNS" "${size[@]}" > "$OUT/$s-embree.log" 2>&1 ||
+            { echo "run.sh: embree_ref failed on $s:" >&2; cat "$OUT/$s-embree.log" >&2; exit 1; }
+        best=$(sed -n 's/^best \([0-9.]*\)$/\1/p' "$OUT/$s-embree.log")
+        single=$(sed -n 's/^ *single rays: *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
+        packets=$(sed -n 's/^ *packets of 8: *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
+        echo "- $s, Embree $THREADS threads, traversal only (camera, shadow, mirror rays): single rays" \
+             "$single s, packets of 8 $packets s; Embree best / ours: $(ratio "$best" "${OURS[$s]}") (our whole" \
+             "process ${OURS[$s]} s), $(ratio "$best" "${RENDER[$s]}") (our render phase ${RENDER[$s]} s)"
+    done
+elif [ $EMBREE = 1 ]; then
+    echo "run.sh: no embree_ref next to $BIN (Embree 3 not installed?); skipping Embree" >&2
 fi
 
 if [ "$GRID" != 0 ]; then
