@@ -283,9 +283,10 @@ double half_area(const float b[6]) {
     return x * y + y * z + z * x;
 }
 
+template <class Node, int W>
 struct Collapser {
     const std::vector<BinNode>& bin;
-    std::vector<BvhNode>& out;
+    std::vector<Node>& out;
 
     std::uint32_t ref(std::uint32_t i) {
         const BinNode& n = bin[i];
@@ -293,9 +294,9 @@ struct Collapser {
         return BvhNode::kLeaf | (n.count - 1) << BvhNode::kCountShift | n.first;
     }
 
-    // A 4-wide node for the binary inner node i (or for a lone leaf at the root).
+    // A W-wide node for the binary inner node i (or for a lone leaf at the root).
     std::uint32_t make(std::uint32_t i) {
-        std::uint32_t kids[4];
+        std::uint32_t kids[W];
         int k = 0;
         if (bin[i].count > 0) {
             kids[k++] = i;
@@ -303,7 +304,7 @@ struct Collapser {
             kids[k++] = i + 1;
             kids[k++] = bin[i].first;
         }
-        while (k < 4) {
+        while (k < W) {
             int best = -1;
             double best_area = -1;
             for (int j = 0; j < k; ++j) {
@@ -318,10 +319,10 @@ struct Collapser {
         }
         std::uint32_t index = std::uint32_t(out.size());
         out.emplace_back();
-        std::uint32_t refs[4];
+        std::uint32_t refs[W];
         for (int j = 0; j < k; ++j) refs[j] = ref(kids[j]);
-        BvhNode& node = out[index];
-        for (int j = 0; j < 4; ++j) {
+        Node& node = out[index];
+        for (int j = 0; j < W; ++j) {
             for (int a = 0; a < 3; ++a) {
                 node.b[a][j] = j < k ? bin[kids[j]].b[a] : FLT_MAX;
                 node.b[3 + a][j] = j < k ? bin[kids[j]].b[3 + a] : -FLT_MAX;
@@ -336,6 +337,7 @@ struct Collapser {
 
 void Bvh::build(const std::vector<Aabb>& boxes, int threads) {
     nodes.clear();
+    nodes8.clear();
     items.clear();
     std::size_t n = 0;
     for (const Aabb& b : boxes) n += !b.empty();
@@ -364,8 +366,14 @@ void Bvh::build(const std::vector<Aabb>& boxes, int threads) {
     bin.emplace_back();
     b.build(bin, 0, 0, std::uint32_t(items.size()), root, root_c, 0);
     nodes.reserve(bin.size() / 3 + 1);
-    Collapser{bin, nodes}.make(0);
+    Collapser<BvhNode, 4>{bin, nodes}.make(0);
     nodes.shrink_to_fit();
+    nodes8.clear();
+    if (active_isa() == Isa::Avx2) {
+        nodes8.reserve(bin.size() / 7 + 1);
+        Collapser<BvhNode8, 8>{bin, nodes8}.make(0);
+        nodes8.shrink_to_fit();
+    }
 }
 
 }  // namespace rt

@@ -155,7 +155,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
             h.index = i;
         }
     }
-    g.bvh.traverse(o, d, h.t, [&](std::uint32_t obj, double tmax) -> double {
+    g.bvh.traverse_nearest(o, d, h.t, [&](std::uint32_t obj, double tmax) -> double {
         SpanEnd e;
         // On an exact tie the earlier object in the file wins, as in the original.
         if (g.hit(obj, o, d, kDelta, e, ctx.scratch) &&
