@@ -13,7 +13,16 @@
 #                      threaded one) and report the speed-up, of the whole process and
 #                      of the render phase alone (from --stats)
 #   -P, --no-pov       skip POV-Ray
+#   -E, --no-embree    skip the Embree reference (build/bin/embree_ref, built where
+#                      Embree 3 is installed): for spheres-10k and things-like it
+#                      traces the same camera, shadow and mirror rays without shading,
+#                      and Embree's best time over ours is printed
 #   -M, --no-micro     skip renderer_bench (preview and cancel latency, BVH build)
+#   -g, --grid N       also an N x N sphere grid (bench/make-grid.sh; 1000 gives a
+#                      million spheres, a ~100 MB file), generated into the output
+#                      folder with its POV-Ray twin: our whole run split into parse
+#                      (and its MB/s), compile (BVH build), render and write, peak
+#                      memory, and POV-Ray's whole run on the twin
 #   -q, --quick        160x90, 1 run, a smoke test of this script (used by CI)
 #   -h, --help         this text
 #
@@ -24,7 +33,7 @@ set -euo pipefail
 
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
-RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 MICRO=1 QUICK=0
+RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 EMBREE=1 MICRO=1 QUICK=0 GRID=0
 SCENES=()
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
@@ -37,7 +46,9 @@ while [ $# -gt 0 ]; do
         -o|--out) need_value "$@"; OUT=$2; shift ;;
         -s|--scaling) SCALING=1 ;;
         -P|--no-pov) POV=0 ;;
+        -E|--no-embree) EMBREE=0 ;;
         -M|--no-micro) MICRO=0 ;;
+        -g|--grid) need_value "$@"; GRID=$2; shift ;;
         -q|--quick) QUICK=1 ;;
         -h|--help) usage; exit 0 ;;
         -*) echo "run.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
@@ -48,6 +59,8 @@ done
 [ ${#SCENES[@]} -gt 0 ] || SCENES=(things-like spheres-10k csg-400 glass-stack)
 [[ $RUNS =~ ^[1-9][0-9]*$ ]] || { echo "run.sh: --runs must be a positive integer" >&2; exit 2; }
 [[ $THREADS =~ ^[1-9][0-9]*$ ]] || { echo "run.sh: --threads must be a positive integer" >&2; exit 2; }
+[[ $GRID =~ ^[0-9]+$ ]] && { [ "$GRID" = 0 ] || [ "$GRID" -ge 2 ]; } ||
+    { echo "run.sh: --grid must be an integer of at least 2" >&2; exit 2; }
 [ -x "$BIN" ] || { echo "run.sh: no raytracer binary at $BIN (build first, or pass -b)" >&2; exit 2; }
 for s in "${SCENES[@]}"; do
     [ -f "$HERE/scenes/$s.txt" ] || { echo "run.sh: unknown scene '$s' (no bench/scenes/$s.txt)" >&2; exit 2; }
@@ -134,9 +147,9 @@ for s in "${SCENES[@]}"; do
     if [ $POV = 1 ]; then p=$(median "${pov[@]}") pc=$(median "${pov_cpu[@]}"); fi
     echo "| $s | ${W}x$H | ${OURS[$s]} | $p | $(ratio "$p" "${OURS[$s]}") | $(millions "$(median "${rps[@]}")") |" \
          "$(median "${ours_cpu[@]}") | $pc |"
+    RENDER[$s]=$(median "${render[@]}")
     if [ $SCALING = 1 ]; then
-        ONE[$s]=$(median "${one[@]}")
-        RENDER[$s]=$(median "${render[@]}") ONE_RENDER[$s]=$(median "${one_render[@]}")
+        ONE[$s]=$(median "${one[@]}") ONE_RENDER[$s]=$(median "${one_render[@]}")
     fi
 done
 echo
@@ -151,6 +164,70 @@ fi
 if [ -n "${OURS[spheres-10k]:-}" ] && [ -n "${OURS[things-like]:-}" ]; then
     echo "- ours, spheres-10k / things-like time: $(ratio "${OURS[spheres-10k]}" "${OURS[things-like]}")" \
          "(10,000 spheres vs 8 objects at the same size)"
+fi
+
+ER=$(dirname "$BIN")/embree_ref
+if [ $EMBREE = 1 ] && [ -x "$ER" ]; then
+    for s in "${SCENES[@]}"; do
+        case $s in spheres-10k|things-like) ;; *) continue ;; esac
+        if [ $QUICK = 1 ]; then size=(--width 160 --height 90); else size=(); fi
+        "$ER" "$HERE/scenes/$s.txt" --threads "$THREADS" --repeats "$RUNS" "${size[@]}" > "$OUT/$s-embree.log" 2>&1 ||
+            { echo "run.sh: embree_ref failed on $s:" >&2; cat "$OUT/$s-embree.log" >&2; exit 1; }
+        best=$(sed -n 's/^best \([0-9.]*\)$/\1/p' "$OUT/$s-embree.log")
+        single=$(sed -n 's/^ *single rays: *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
+        packets=$(sed -n 's/^ *packets of 8: *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
+        echo "- $s, Embree $THREADS threads, traversal only (camera, shadow, mirror rays): single rays" \
+             "$single s, packets of 8 $packets s; Embree best / ours: $(ratio "$best" "${OURS[$s]}") (our whole" \
+             "process ${OURS[$s]} s), $(ratio "$best" "${RENDER[$s]}") (our render phase ${RENDER[$s]} s)"
+    done
+elif [ $EMBREE = 1 ]; then
+    echo "run.sh: no embree_ref next to $BIN (Embree 3 not installed?); skipping Embree" >&2
+fi
+
+if [ "$GRID" != 0 ]; then
+    # The big scene: generated here (never committed), rendered at its own 1920x1080.
+    G=$OUT/grid$GRID
+    "$HERE/make-grid.sh" "$GRID" "$G.txt" "$G.pov"
+    bytes=$(stat -c %s "$G.txt")
+    walls=() parses=() compiles=() renders=() writes=() rss=() pov=() pov_cpu=()
+    for _ in $(seq "$RUNS"); do
+        # GNU time's %M is the peak resident set of the process in KiB.
+        if [ -x /usr/bin/time ]; then
+            t=$( { /usr/bin/time -f '%e %M' "$BIN" --quiet --stats --threads "$THREADS" "$G.txt" "$G.ppm" \
+                     2> "$G-ours.log" > /dev/null; } 2>&1; tail -1 "$G-ours.log")
+        else
+            t="$(timed "$G-ours.log" "$BIN" --quiet --stats --threads "$THREADS" "$G.txt" "$G.ppm" | cut -d' ' -f1) n/a"
+        fi
+        grep -q '^time:' "$G-ours.log" || { echo "run.sh: our raytracer failed on the grid:" >&2; cat "$G-ours.log" >&2; exit 1; }
+        read -r wall kb <<< "$t"
+        walls+=("$wall") rss+=("$kb")
+        parses+=("$(sed -n 's/.*parse \([0-9.]*\) s.*/\1/p' "$G-ours.log")")
+        compiles+=("$(sed -n 's/.*compile \([0-9.]*\) s.*/\1/p' "$G-ours.log")")
+        renders+=("$(render_time "$G-ours.log")")
+        writes+=("$(sed -n 's/.*write \([0-9.]*\) s.*/\1/p' "$G-ours.log")")
+        if [ $POV = 1 ]; then
+            t=$(cd "$OUT" && timed "$G-pov.log" povray -D -A +W1920 +H1080 +WT"$THREADS" File_Gamma=1.0 \
+                    +I"grid$GRID.pov" +O"$G-pov.png") ||
+                { echo "run.sh: povray failed on the grid:" >&2; tail -20 "$G-pov.log" >&2; exit 1; }
+            read -r wall cpu <<< "$t"
+            pov+=("$wall") pov_cpu+=("$cpu")
+        fi
+    done
+    p=$(median "${parses[@]}")
+    mbs=$(awk -v b="$bytes" -v t="$p" 'BEGIN { if (t > 0) printf "%.0f", b / t / 1e6; else print "n/a" }')
+    kb=n/a
+    [ "${rss[0]}" != n/a ] && kb=$(median "${rss[@]}")
+    mem=$(awk -v k="$kb" 'BEGIN { if (k == "n/a") print k; else printf "%.0f MB", k * 1024 / 1e6 }')
+    pw=n/a
+    [ $POV = 1 ] && pw=$(median "${pov[@]}")
+    echo
+    echo "Grid of $GRID x $GRID spheres ($(awk -v b="$bytes" 'BEGIN { printf "%.1f", b / 1e6 }') MB file), 1920x1080, 1 sample per pixel, $THREADS threads, medians:"
+    echo
+    echo "| ours whole (s) | parse (s) | parse MB/s | compile (s) | render (s) | write (s) | ours peak memory | POV-Ray whole (s) | POV/ours |"
+    echo "|---|---|---|---|---|---|---|---|---|"
+    echo "| $(median "${walls[@]}") | $p | $mbs | $(median "${compiles[@]}") | $(median "${renders[@]}") |" \
+         "$(median "${writes[@]}") | $mem | $pw | $(ratio "$pw" "$(median "${walls[@]}")") |"
+    rm -f "$G.txt" "$G.pov"
 fi
 
 if [ $MICRO = 1 ]; then

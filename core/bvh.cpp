@@ -5,9 +5,14 @@
 #include "bvh.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
-#include <numeric>
+#include <cstdlib>
+#include <exception>
+#include <memory>
+#include <new>
 #include <stdexcept>
+#include <thread>
 
 namespace rt {
 namespace {
@@ -27,6 +32,8 @@ constexpr double kObjectCost = 2.0;
 // Below this many items leaves may hold single objects; above it, up to kMaxLeaf, which
 // keeps big scenes' trees compact (under 64 bytes per object).
 constexpr std::size_t kSmallScene = 4096;
+// Subtrees of at least this many items may be built on another thread.
+constexpr std::uint32_t kParallelItems = 4096;
 
 // Round a double box outward to float and pad it by a few float ulps of its largest
 // coordinate, so that the float slab test (with the ray's origin and inverse
@@ -44,72 +51,154 @@ void to_float_box(const Aabb& b, float out[6]) {
     }
 }
 
+// Per axis, the bins of one node's items: their boxes and counts. The children's
+// boxes are unions of bins, and their centroid bounds are taken while partitioning, so
+// no extra pass over the items finds them (min and max are exact: the unions equal
+// the bounds taken item by item).
+struct Bins {
+#if defined(__SSE2__)
+    // lo x y, lo z, hi x y, hi z: a bin grows by four SSE2 min/max, in the order
+    // dmin/dmax take their operands (the same result for NaN and signed zeros).
+    struct Box {
+        __m128d lo01 = _mm_set1_pd(HUGE_VAL), lo2 = _mm_set1_pd(HUGE_VAL);
+        __m128d hi01 = _mm_set1_pd(-HUGE_VAL), hi2 = _mm_set1_pd(-HUGE_VAL);
+        Aabb aabb() const {
+            Aabb b;
+            _mm_storeu_pd(&b.lo.x, lo01);
+            _mm_store_sd(&b.lo.z, lo2);
+            _mm_storeu_pd(&b.hi.x, hi01);
+            _mm_store_sd(&b.hi.z, hi2);
+            return b;
+        }
+    };
+    Box box[3][kBins];
+#else
+    Aabb box[3][kBins];
+#endif
+    std::uint32_t count[3][kBins] = {};
+    Aabb at(int axis, int k) const {
+#if defined(__SSE2__)
+        return box[axis][k].aabb();
+#else
+        return box[axis][k];
+#endif
+    }
+};
+
 struct Builder {
     const std::vector<Aabb>& boxes;
-    std::vector<Vec3> centres;
+    const Vec3* centres;
     std::vector<std::uint32_t>& items;
-    std::vector<BinNode>& nodes;
+    // Threads that may still be started for subtrees (all but the caller's).
+    std::atomic<int>& spare;
 
     Aabb range_bounds(std::uint32_t begin, std::uint32_t end) const {
         Aabb b;
         for (std::uint32_t i = begin; i < end; ++i) b.grow(boxes[items[i]]);
         return b;
     }
-
-    void emit(std::uint32_t index, const Aabb& b) {
-        to_float_box(b, nodes[index].b);
+    Aabb range_centres(std::uint32_t begin, std::uint32_t end) const {
+        Aabb b;
+        for (std::uint32_t i = begin; i < end; ++i) b.grow(centres[items[i]]);
+        return b;
     }
 
-    void build(std::uint32_t node, std::uint32_t begin, std::uint32_t end, int depth) {
-        Aabb b = range_bounds(begin, end);
-        emit(node, b);
+    bool take_thread() {
+        int n = spare.load(std::memory_order_relaxed);
+        while (n > 0)
+            if (spare.compare_exchange_weak(n, n - 1, std::memory_order_relaxed)) return true;
+        return false;
+    }
+
+    // The subtree over items [begin, end), whose bounds are b and centroid bounds cb, in
+    // preorder: out[node] (already allocated, the last element) is its root, its left
+    // child follows at node + 1, its right child after the left subtree. The tree does
+    // not depend on which subtrees were built by other threads: those are built apart
+    // and spliced in at the place the serial order gives them.
+    void build(std::vector<BinNode>& out, std::uint32_t node, std::uint32_t begin, std::uint32_t end, const Aabb& b,
+               const Aabb& cb, int depth) {
+        to_float_box(b, out[node].b);
         std::uint32_t count = end - begin;
         auto make_leaf = [&] {
-            nodes[node].first = begin;
-            nodes[node].count = count;
+            out[node].first = begin;
+            out[node].count = count;
         };
         if (count == 1 || (count <= kMaxLeaf && items.size() > kSmallScene)) return make_leaf();
-        Aabb cb;
-        for (std::uint32_t i = begin; i < end; ++i) cb.grow(centres[items[i]]);
         Vec3 ext = cb.hi - cb.lo;
         int longest = ext.x > ext.y ? (ext.x > ext.z ? 0 : 2) : (ext.y > ext.z ? 1 : 2);
         std::uint32_t mid = begin;
-        // Best split over the bins of all three axes.
+        // Best split over the bins of all three axes, binned in one pass over the items.
         double best = DBL_MAX;
         int best_axis = -1, split = -1;
+        Bins bins;
         if (depth < kMaxSahDepth) {
+            double lo[3], scale[3];
+            bool use[3];
             for (int axis = 0; axis < 3; ++axis) {
-                if (!(ext[axis] > 0)) continue;
-                double lo = cb.lo[axis], scale = kBins / ext[axis];
-                Aabb bin_box[kBins];
-                std::uint32_t bin_count[kBins] = {};
-                for (std::uint32_t i = begin; i < end; ++i) {
-                    int k = std::min(std::max(int((centres[items[i]][axis] - lo) * scale), 0), kBins - 1);
-                    bin_box[k].grow(boxes[items[i]]);
-                    ++bin_count[k];
+                use[axis] = ext[axis] > 0;
+                lo[axis] = cb.lo[axis];
+                scale[axis] = use[axis] ? kBins / ext[axis] : 0.0;
+            }
+            for (std::uint32_t i = begin; i < end; ++i) {
+                std::uint32_t item = items[i];
+                const Vec3& c = centres[item];
+                const Aabb& box = boxes[item];
+#if defined(__SSE2__)
+                __m128d lo01 = _mm_loadu_pd(&box.lo.x), lo2 = _mm_load_sd(&box.lo.z);
+                __m128d hi01 = _mm_loadu_pd(&box.hi.x), hi2 = _mm_load_sd(&box.hi.z);
+#endif
+                for (int axis = 0; axis < 3; ++axis) {
+                    if (!use[axis]) continue;
+                    int k = std::min(std::max(int((c[axis] - lo[axis]) * scale[axis]), 0), kBins - 1);
+#if defined(__SSE2__)
+                    Bins::Box& bb = bins.box[axis][k];
+                    // dmin(acc, v) is v < acc ? v : acc, which is minpd(v, acc).
+                    bb.lo01 = _mm_min_pd(lo01, bb.lo01);
+                    bb.lo2 = _mm_min_sd(lo2, bb.lo2);
+                    bb.hi01 = _mm_max_pd(hi01, bb.hi01);
+                    bb.hi2 = _mm_max_sd(hi2, bb.hi2);
+#else
+                    bins.box[axis][k].grow(box);
+#endif
+                    ++bins.count[axis][k];
                 }
+            }
+            for (int axis = 0; axis < 3; ++axis) {
+                if (!use[axis]) continue;
+                // Empty bins leave the running box and its area as they are: skipping
+                // them saves most of the sweep in small nodes.
                 double left_area[kBins];
                 std::uint32_t left_n[kBins];
                 Aabb acc;
+                double area = 0;
                 std::uint32_t n = 0;
                 for (int k = 0; k < kBins; ++k) {
-                    acc.grow(bin_box[k]);
-                    n += bin_count[k];
-                    left_area[k] = acc.area();
+                    if (bins.count[axis][k] != 0) {
+                        acc.grow(bins.at(axis, k));
+                        n += bins.count[axis][k];
+                        area = acc.area();
+                    }
+                    left_area[k] = area;
                     left_n[k] = n;
                 }
                 acc = Aabb();
+                area = 0;
                 n = 0;
                 for (int k = kBins - 1; k > 0; --k) {
-                    acc.grow(bin_box[k]);
-                    n += bin_count[k];
+                    if (bins.count[axis][k] != 0) {
+                        acc.grow(bins.at(axis, k));
+                        n += bins.count[axis][k];
+                        area = acc.area();
+                    }
                     if (left_n[k - 1] == 0 || n == 0) continue;
-                    double cost = left_area[k - 1] * left_n[k - 1] + acc.area() * n;
+                    double cost = left_area[k - 1] * left_n[k - 1] + area * n;
                     if (cost < best) best = cost, best_axis = axis, split = k - 1;
                 }
             }
         }
         int axis = best_axis >= 0 ? best_axis : longest;
+        Aabb lb, lcb, rb, rcb;
+        bool known = false;  // the children's bounds came from the bins
         if (best_axis >= 0) {
             // Small leaves are allowed only when splitting would cost more: a box test
             // costs about half an object test.
@@ -117,10 +206,16 @@ struct Builder {
             double split_cost = b.area() + kObjectCost * best;
             if (count <= kMaxLeaf && !(split_cost < leaf_cost)) return make_leaf();
             double lo = cb.lo[axis], scale = kBins / ext[axis];
+            // (std::partition applies the predicate exactly once per item.)
             auto it = std::partition(items.begin() + begin, items.begin() + end, [&](std::uint32_t item) {
-                return std::min(std::max(int((centres[item][axis] - lo) * scale), 0), kBins - 1) <= split;
+                const Vec3& c = centres[item];
+                bool left = std::min(std::max(int((c[axis] - lo) * scale), 0), kBins - 1) <= split;
+                (left ? lcb : rcb).grow(c);
+                return left;
             });
             mid = std::uint32_t(it - items.begin());
+            for (int k = 0; k < kBins; ++k) (k <= split ? lb : rb).grow(bins.at(axis, k));
+            known = true;
         } else if (count <= kMaxLeaf) {
             return make_leaf();
         }
@@ -128,15 +223,58 @@ struct Builder {
             mid = begin + count / 2;
             std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
                              [&](std::uint32_t a, std::uint32_t c) { return centres[a][axis] < centres[c][axis]; });
+            known = false;
         }
-        std::uint32_t left = std::uint32_t(nodes.size());
-        nodes.emplace_back();
-        build(left, begin, mid, depth + 1);
-        std::uint32_t right = std::uint32_t(nodes.size());
-        nodes.emplace_back();
-        build(right, mid, end, depth + 1);
-        nodes[node].first = right;
-        nodes[node].count = 0;
+        if (!known) {
+            lb = range_bounds(begin, mid), lcb = range_centres(begin, mid);
+            rb = range_bounds(mid, end), rcb = range_centres(mid, end);
+        }
+        if (end - begin >= kParallelItems && take_thread()) {
+            // The left subtree on a thread of its own, the right one here, each into its
+            // own array; then both are copied in after this node, in serial order.
+            std::vector<BinNode> left(1), right(1);
+            left.reserve(2 * std::size_t(mid - begin));
+            right.reserve(2 * std::size_t(end - mid));
+            std::exception_ptr failed;
+            std::thread t([&] {
+                try {
+                    build(left, 0, begin, mid, lb, lcb, depth + 1);
+                } catch (...) {
+                    failed = std::current_exception();
+                }
+                spare.fetch_add(1, std::memory_order_relaxed);
+            });
+            try {
+                build(right, 0, mid, end, rb, rcb, depth + 1);
+            } catch (...) {
+                t.join();
+                throw;
+            }
+            t.join();
+            if (failed) std::rethrow_exception(failed);
+            out[node].first = node + 1 + std::uint32_t(left.size());
+            out[node].count = 0;
+            splice(out, left);
+            splice(out, right);
+            return;
+        }
+        std::uint32_t left = std::uint32_t(out.size());
+        out.emplace_back();
+        build(out, left, begin, mid, lb, lcb, depth + 1);
+        std::uint32_t right = std::uint32_t(out.size());
+        out.emplace_back();
+        build(out, right, mid, end, rb, rcb, depth + 1);
+        out[node].first = right;
+        out[node].count = 0;
+    }
+
+    // Appends a subtree built with its root at index 0, moving its inner nodes' child
+    // indices to where it now starts.
+    static void splice(std::vector<BinNode>& out, const std::vector<BinNode>& sub) {
+        std::uint32_t offset = std::uint32_t(out.size());
+        out.insert(out.end(), sub.begin(), sub.end());
+        for (std::size_t i = offset; i < out.size(); ++i)
+            if (out[i].count == 0) out[i].first += offset;
     }
 };
 
@@ -145,9 +283,10 @@ double half_area(const float b[6]) {
     return x * y + y * z + z * x;
 }
 
+template <class Node, int W>
 struct Collapser {
     const std::vector<BinNode>& bin;
-    std::vector<BvhNode>& out;
+    std::vector<Node>& out;
 
     std::uint32_t ref(std::uint32_t i) {
         const BinNode& n = bin[i];
@@ -155,9 +294,9 @@ struct Collapser {
         return BvhNode::kLeaf | (n.count - 1) << BvhNode::kCountShift | n.first;
     }
 
-    // A 4-wide node for the binary inner node i (or for a lone leaf at the root).
+    // A W-wide node for the binary inner node i (or for a lone leaf at the root).
     std::uint32_t make(std::uint32_t i) {
-        std::uint32_t kids[4];
+        std::uint32_t kids[W];
         int k = 0;
         if (bin[i].count > 0) {
             kids[k++] = i;
@@ -165,7 +304,7 @@ struct Collapser {
             kids[k++] = i + 1;
             kids[k++] = bin[i].first;
         }
-        while (k < 4) {
+        while (k < W) {
             int best = -1;
             double best_area = -1;
             for (int j = 0; j < k; ++j) {
@@ -180,10 +319,10 @@ struct Collapser {
         }
         std::uint32_t index = std::uint32_t(out.size());
         out.emplace_back();
-        std::uint32_t refs[4];
+        std::uint32_t refs[W];
         for (int j = 0; j < k; ++j) refs[j] = ref(kids[j]);
-        BvhNode& node = out[index];
-        for (int j = 0; j < 4; ++j) {
+        Node& node = out[index];
+        for (int j = 0; j < W; ++j) {
             for (int a = 0; a < 3; ++a) {
                 node.b[a][j] = j < k ? bin[kids[j]].b[a] : FLT_MAX;
                 node.b[3 + a][j] = j < k ? bin[kids[j]].b[3 + a] : -FLT_MAX;
@@ -196,23 +335,45 @@ struct Collapser {
 
 }  // namespace
 
-void Bvh::build(const std::vector<Aabb>& boxes) {
+void Bvh::build(const std::vector<Aabb>& boxes, int threads) {
     nodes.clear();
+    nodes8.clear();
     items.clear();
-    for (std::uint32_t i = 0; i < boxes.size(); ++i)
-        if (!boxes[i].empty()) items.push_back(i);
-    if (items.empty()) return;
-    if (items.size() >= BvhNode::kMaxItems) throw std::length_error("too many objects for the BVH");
+    std::size_t n = 0;
+    for (const Aabb& b : boxes) n += !b.empty();
+    if (n == 0) return;
+    if (n >= BvhNode::kMaxItems) throw std::length_error("too many objects for the BVH");
+    items.reserve(n);
+    // Centres are read only for the items kept; the others stay unwritten (malloc,
+    // not a vector: its zero fill would touch every page before the real values do).
+    std::unique_ptr<Vec3, void (*)(void*)> centre_mem(static_cast<Vec3*>(std::malloc(boxes.size() * sizeof(Vec3))),
+                                                   std::free);
+    if (!centre_mem) throw std::bad_alloc();
+    Vec3* centres = centre_mem.get();
+    Aabb root, root_c;
+    for (std::uint32_t i = 0; i < boxes.size(); ++i) {
+        if (boxes[i].empty()) continue;
+        items.push_back(i);
+        centres[i] = boxes[i].centre();
+        root.grow(boxes[i]);
+        root_c.grow(centres[i]);
+    }
     std::vector<BinNode> bin;
     bin.reserve(2 * items.size() + 1);
-    Builder b{boxes, {}, items, bin};
-    b.centres.resize(boxes.size());
-    for (std::uint32_t i : items) b.centres[i] = boxes[i].centre();
+    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    std::atomic<int> spare{threads - 1};
+    Builder b{boxes, centres, items, spare};
     bin.emplace_back();
-    b.build(0, 0, std::uint32_t(items.size()), 0);
+    b.build(bin, 0, 0, std::uint32_t(items.size()), root, root_c, 0);
     nodes.reserve(bin.size() / 3 + 1);
-    Collapser{bin, nodes}.make(0);
+    Collapser<BvhNode, 4>{bin, nodes}.make(0);
     nodes.shrink_to_fit();
+    nodes8.clear();
+    if (active_isa() == Isa::Avx2) {
+        nodes8.reserve(bin.size() / 7 + 1);
+        Collapser<BvhNode8, 8>{bin, nodes8}.make(0);
+        nodes8.shrink_to_fit();
+    }
 }
 
 }  // namespace rt

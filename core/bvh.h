@@ -15,6 +15,14 @@
 #endif
 
 #include "math.h"
+#include "simd.h"
+
+#if RT_HAVE_AVX2_KERNELS
+#include <immintrin.h>
+// Compiled for AVX2 whatever the rest of the build targets; called only when the
+// processor has it (simd.h). No FMA: every path rounds alike.
+#define RT_TARGET_AVX2 __attribute__((target("avx2")))
+#endif
 
 namespace rt {
 
@@ -37,13 +45,25 @@ struct alignas(16) BvhNode {
 };
 static_assert(sizeof(BvhNode) == 112, "BVH nodes are 112 bytes: four boxes and four child references");
 
+// The same tree with up to eight children per node, for the AVX2 kernels: one node's
+// eight boxes are tested by one pass of 8-wide instructions. Child references as in
+// BvhNode.
+struct alignas(32) BvhNode8 {
+    float b[6][8];
+    std::uint32_t child[8];
+};
+static_assert(sizeof(BvhNode8) == 224, "8-wide nodes are 224 bytes: eight boxes and eight child references");
+
 struct BvhRay {
+    int near[3], far[3];  // per axis, the row of b holding the near and the far slab
+#if defined(__SSE2__)
+    // Origin, inverse direction and the slack in t for rounding the origin to float
+    // (largest axis), each broadcast to four lanes.
+    __m128 o4[3], inv4[3], pad4;
+#else
     float o[3];
     float inv[3];
-    int near[3], far[3];  // per axis, the row of b holding the near and the far slab
-    float pad;            // slack in t for rounding the origin to float (largest axis)
-#if defined(__SSE2__)
-    __m128 o4[3], inv4[3], pad4;  // the same, each broadcast to four lanes
+    float pad;
 #endif
 
     // The ray along dir / len (len = 1 for a unit dir): its inverse is len / dir, one
@@ -67,21 +87,22 @@ struct BvhRay {
         __m128d pm = _mm_max_sd(_mm_max_sd(p01, _mm_unpackhi_pd(p01, p01)), p2);
         __m128 of = _mm_movelh_ps(_mm_cvtpd_ps(o01), _mm_cvtpd_ps(o2));
         __m128 inf = _mm_movelh_ps(_mm_cvtpd_ps(i01), _mm_cvtpd_ps(i2));
-        float ov[4], iv[4];
-        _mm_storeu_ps(ov, of);
-        _mm_storeu_ps(iv, inf);
-        r.pad = _mm_cvtss_f32(_mm_cvtpd_ps(pm));
+        // Broadcasts by shuffles, rows from the sign bits: the scalar fields are only
+        // for the plain C++ path below and stay unset here.
+        __m128 pf = _mm_cvtpd_ps(pm);
+        r.pad4 = _mm_shuffle_ps(pf, pf, 0x00);
+        r.o4[0] = _mm_shuffle_ps(of, of, 0x00);
+        r.o4[1] = _mm_shuffle_ps(of, of, 0x55);
+        r.o4[2] = _mm_shuffle_ps(of, of, 0xaa);
+        r.inv4[0] = _mm_shuffle_ps(inf, inf, 0x00);
+        r.inv4[1] = _mm_shuffle_ps(inf, inf, 0x55);
+        r.inv4[2] = _mm_shuffle_ps(inf, inf, 0xaa);
         int neg = _mm_movemask_pd(d01) | (_mm_movemask_pd(d2) & 1) << 2;
         for (int i = 0; i < 3; ++i) {
-            r.o[i] = ov[i];
-            r.inv[i] = iv[i];
-            int s = neg >> i & 1;
-            r.near[i] = i + 3 * s;
-            r.far[i] = i + 3 * (1 - s);
-            r.o4[i] = _mm_set1_ps(ov[i]);
-            r.inv4[i] = _mm_set1_ps(iv[i]);
+            int s3 = 3 * (neg >> i & 1);
+            r.near[i] = i + s3;
+            r.far[i] = i + 3 - s3;
         }
-        r.pad4 = _mm_set1_ps(r.pad);
 #else
         double pad = 0;
         for (int i = 0; i < 3; ++i) {
@@ -103,9 +124,13 @@ class Bvh {
 public:
     std::vector<BvhNode> nodes;        // nodes[0] is the root (when there are items)
     std::vector<std::uint32_t> items;  // item ids (indices of the boxes given to build)
+    // The 8-wide form of the same tree (same leaves), made by build() when the AVX2
+    // path is active (simd.h); empty otherwise.
+    std::vector<BvhNode8> nodes8;
 
-    // Items with empty boxes are left out. At most BvhNode::kMaxItems items.
-    void build(const std::vector<Aabb>& boxes);
+    // Items with empty boxes are left out. At most BvhNode::kMaxItems items. Built on
+    // up to `threads` threads (0: all hardware threads); the tree is the same for any.
+    void build(const std::vector<Aabb>& boxes, int threads = 0);
 
     // Which of node's children the ray enters within [0, tmax]: a bit per child, and
     // the entry distances in t.
@@ -211,9 +236,132 @@ public:
         }
     }
 
-    std::size_t memory_bytes() const { return nodes.capacity() * sizeof(BvhNode) + items.capacity() * 4; }
+    // Nearest-hit queries: like traverse(), but the items may come in any order (the
+    // caller keeps the nearest, ties broken by item, so the order cannot change its
+    // answer). Runs the 8-wide AVX2 kernel where it is active.
+    template <class Fn>
+    void traverse_nearest(const Vec3& origin, const Vec3& dir, double tmax, Fn&& fn) const {
+#if RT_HAVE_AVX2_KERNELS
+        if (!nodes8.empty() && avx2_active()) {
+            traverse8(origin, dir, tmax, fn);
+            return;
+        }
+#endif
+        traverse(origin, dir, 1.0, tmax, fn);
+    }
+
+    std::size_t memory_bytes() const {
+        return nodes.capacity() * sizeof(BvhNode) + nodes8.capacity() * sizeof(BvhNode8) + items.capacity() * 4;
+    }
 
 private:
+#if RT_HAVE_AVX2_KERNELS
+    // Which of an 8-wide node's children the ray enters within [0, tmax], with their
+    // entry distances: BvhNode's test, lane for lane the same float operations.
+    struct Ray8 {
+        __m256 o[3], inv[3], pad;
+        int near[3], far[3];
+    };
+    RT_TARGET_AVX2 static inline unsigned enter8(const BvhNode8& n, const Ray8& r, float tmax, float t[8]) {
+        __m256 x0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[0]]), r.o[0]), r.inv[0]);
+        __m256 y0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[1]]), r.o[1]), r.inv[1]);
+        __m256 z0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[2]]), r.o[2]), r.inv[2]);
+        __m256 x1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[0]]), r.o[0]), r.inv[0]);
+        __m256 y1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[1]]), r.o[1]), r.inv[1]);
+        __m256 z1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[2]]), r.o[2]), r.inv[2]);
+        __m256 t0 = _mm256_max_ps(_mm256_sub_ps(_mm256_max_ps(_mm256_max_ps(x0, y0), z0), r.pad), _mm256_setzero_ps());
+        __m256 t1 = _mm256_min_ps(_mm256_add_ps(_mm256_min_ps(_mm256_min_ps(x1, y1), z1), r.pad), _mm256_set1_ps(tmax));
+        _mm256_storeu_ps(t, t0);
+        return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(1.000001f)), _CMP_LE_OS)));
+    }
+
+    template <class Fn>
+    RT_TARGET_AVX2 void traverse8(const Vec3& origin, const Vec3& dir, double tmax, Fn& fn) const {
+        BvhRay br = BvhRay::make(origin, dir, 1.0);
+        Ray8 r;
+        for (int i = 0; i < 3; ++i) {
+            r.o[i] = _mm256_set_m128(br.o4[i], br.o4[i]);
+            r.inv[i] = _mm256_set_m128(br.inv4[i], br.inv4[i]);
+            r.near[i] = br.near[i];
+            r.far[i] = br.far[i];
+        }
+        r.pad = _mm256_set_m128(br.pad4, br.pad4);
+        float ftmax = widen(tmax);
+        struct Entry {
+            std::uint32_t ref;
+            float t;
+        };
+        constexpr int kStack = 512;
+        Entry stack[kStack];
+        int sp = 0;
+        std::uint32_t cur = 0;
+        for (;;) {
+            if (BvhNode::is_leaf(cur)) {
+                std::uint32_t first = BvhNode::leaf_first(cur), count = BvhNode::leaf_count(cur);
+                for (std::uint32_t i = 0; i < count; ++i) {
+                    double nt = fn(items[first + i], tmax);
+                    if (nt < 0) return;
+                    if (nt < tmax) {
+                        tmax = nt;
+                        ftmax = widen(tmax);
+                    }
+                }
+            } else {
+                const BvhNode8& n = nodes8[cur];
+                float t[8];
+                unsigned mask = enter8(n, r, ftmax, t);
+                if (mask != 0) {
+                    Entry hit[8];
+                    int k = 0;
+                    for (int i = 0; i < 8; ++i) {
+                        if (!(mask >> i & 1)) continue;
+                        Entry e{n.child[i], t[i]};
+                        int j = k++;
+                        for (; j > 0 && hit[j - 1].t > e.t; --j) hit[j] = hit[j - 1];
+                        hit[j] = e;
+                    }
+                    for (int j = k - 1; j > 0; --j) {
+                        if (sp < kStack) {
+                            stack[sp++] = hit[j];
+                        } else if (!traverse8_from(hit[j].ref, r, tmax, fn)) {
+                            return;
+                        } else {
+                            ftmax = widen(tmax);
+                        }
+                    }
+                    cur = hit[0].ref;
+                    continue;
+                }
+            }
+            for (;;) {
+                if (sp == 0) return;
+                --sp;
+                if (stack[sp].t <= ftmax) break;
+            }
+            cur = stack[sp].ref;
+        }
+    }
+
+    template <class Fn>
+    RT_TARGET_AVX2 bool traverse8_from(std::uint32_t ref, const Ray8& r, double& tmax, Fn& fn) const {
+        if (BvhNode::is_leaf(ref)) {
+            std::uint32_t first = BvhNode::leaf_first(ref), count = BvhNode::leaf_count(ref);
+            for (std::uint32_t i = 0; i < count; ++i) {
+                double nt = fn(items[first + i], tmax);
+                if (nt < 0) return false;
+                if (nt < tmax) tmax = nt;
+            }
+            return true;
+        }
+        const BvhNode8& n = nodes8[ref];
+        float t[8];
+        unsigned mask = enter8(n, r, widen(tmax), t);
+        for (int i = 0; i < 8; ++i)
+            if ((mask >> i & 1) && !traverse8_from(n.child[i], r, tmax, fn)) return false;
+        return true;
+    }
+#endif
+
     static float widen(double t) { return t == HUGE_VAL ? INFINITY : float(t * (1 + 1e-6) + 1e-6); }
 
     // Fallback for pathologically deep trees: plain recursion from one child reference.

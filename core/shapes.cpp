@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "csg.h"
 #include "roots.h"
@@ -379,18 +380,54 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
 
 }  // namespace
 
-Geometry build_geometry(const Scene& scene) {
+Geometry build_geometry(const Scene& scene, bool with_bvh) {
     Geometry g;
+    // Reserved up front (top-level shapes; CSG operands may grow them): grown by
+    // doubling, a million spheres' arrays would be written about twice.
+    static_assert(std::is_same_v<std::variant_alternative_t<0, Shape>, Sphere> &&
+                      std::is_same_v<std::variant_alternative_t<4, Shape>, Csg>,
+                  "counted by the variant's index");
+    std::size_t count[5] = {};
+    for (const Object& obj : scene.objects) ++count[obj.shape.index()];
+    g.spheres.reserve(count[0]);
+    g.tetras.reserve(count[1]);
+    g.cylinders.reserve(count[2]);
+    g.tori.reserve(count[3]);
+    g.csgs.reserve(count[4]);
+    g.nodes.reserve(scene.objects.size() + 2 * count[4]);
     g.object_node.reserve(scene.objects.size());
-    g.source.reserve(scene.objects.size());
-    for (const Object& obj : scene.objects) {
-        g.object_node.push_back(add_node(g, obj));
-        g.source.push_back(obj.shape);
-    }
+    for (const Object& obj : scene.objects) g.object_node.push_back(add_node(g, obj));
     g.object_bounds.reserve(scene.objects.size());
     for (std::uint32_t n : g.object_node) g.object_bounds.push_back(g.bounds(n));
-    g.bvh.build(g.object_bounds);
+    if (with_bvh) g.bvh.build(g.object_bounds);
     return g;
+}
+
+namespace {
+// For records without padding only.
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+}  // namespace
+
+bool same_shapes(const Geometry& a, const Geometry& b) {
+    static_assert(sizeof(SphereG) == 5 * sizeof(double) && sizeof(TetraG) == 16 * sizeof(double) &&
+                      sizeof(CylinderG) == 8 * sizeof(double) && sizeof(TorusG) == 14 * sizeof(double) &&
+                      sizeof(Aabb) == 6 * sizeof(double),
+                  "shape records are plain doubles");
+    if (!same_bits(a.spheres, b.spheres) || !same_bits(a.tetras, b.tetras) || !same_bits(a.cylinders, b.cylinders) ||
+        !same_bits(a.tori, b.tori) || !same_bits(a.object_node, b.object_node) ||
+        !same_bits(a.object_bounds, b.object_bounds) || a.csgs.size() != b.csgs.size() ||
+        a.nodes.size() != b.nodes.size())
+        return false;
+    for (std::size_t i = 0; i < a.csgs.size(); ++i) {
+        const CsgG &x = a.csgs[i], &y = b.csgs[i];
+        if (x.type != y.type || x.left != y.left || x.right != y.right || x.simple != y.simple) return false;
+    }
+    for (std::size_t i = 0; i < a.nodes.size(); ++i)
+        if (a.nodes[i].kind != b.nodes[i].kind || a.nodes[i].index != b.nodes[i].index) return false;
+    return true;
 }
 
 }  // namespace rt

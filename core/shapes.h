@@ -81,7 +81,6 @@ struct Geometry {
     std::vector<std::uint32_t> object_node;  // top-level object -> node
     std::vector<Aabb> object_bounds;
     Bvh bvh;                                 // over top-level objects
-    std::vector<Shape> source;               // what was compiled, to detect changes
 
     // Inside spans of node `n` along the whole line o + t d (d unit), ascending.
     void spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<Span>& out, SpanScratch& scratch,
@@ -125,7 +124,11 @@ private:
     bool with_spans(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, F&& pick) const;
 };
 
-[[nodiscard]] Geometry build_geometry(const Scene& scene);
+// The BVH is left empty when with_bvh is false (to compare with same_shapes first).
+[[nodiscard]] Geometry build_geometry(const Scene& scene, bool with_bvh = true);
+// Whether two geometries hold the same compiled shapes, bit for bit (their BVHs aside):
+// then they render alike, and one's BVH serves the other.
+[[nodiscard]] bool same_shapes(const Geometry& a, const Geometry& b);
 
 // Combine two ascending span lists by a CSG operation.
 void combine_spans(CsgType type, const std::vector<Span>& a, const std::vector<Span>& b, std::vector<Span>& out);

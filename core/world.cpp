@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "shapes.h"
@@ -210,7 +211,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
         }
     }
     if (!glows.empty()) nearest_glow(o, d, h);
-    g.bvh.traverse(o, d, h.t, [&](std::uint32_t obj, double tmax) -> double {
+    g.bvh.traverse_nearest(o, d, h.t, [&](std::uint32_t obj, double tmax) -> double {
         SpanEnd e;
         // On an exact tie the earlier object in the file wins, as in the original.
         if (g.hit(obj, o, d, kDelta, e, ctx.scratch) &&
@@ -549,17 +550,29 @@ double radiance_bound(const World& w) {
 
 std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous) {
     auto w = std::make_shared<World>();
-    bool reuse = previous && previous->geometry && previous->geometry->source.size() == scene.objects.size();
-    if (reuse) {
-        for (std::size_t i = 0; i < scene.objects.size() && reuse; ++i)
-            reuse = previous->geometry->source[i] == scene.objects[i].shape;
-    }
-    if (reuse)
-        w->geometry = previous->geometry;
-    else
+    if (previous && previous->geometry && previous->geometry->object_node.size() == scene.objects.size()) {
+        // The shapes compiled again are cheap to compare; only the BVH is worth keeping.
+        Geometry g = build_geometry(scene, false);
+        if (same_shapes(g, *previous->geometry)) {
+            w->geometry = previous->geometry;
+        } else {
+            g.bvh.build(g.object_bounds);
+            w->geometry = std::make_shared<const Geometry>(std::move(g));
+        }
+    } else {
         w->geometry = std::make_shared<const Geometry>(build_geometry(scene));
+    }
     w->materials.reserve(scene.objects.size());
-    for (const Object& o : scene.objects) w->materials.push_back(ShadeMaterial::from(o.material));
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        // Big scenes repeat a few materials, often alternating: one equal (bit for bit)
+        // to either of the last two objects' is copied, saving its three logarithms.
+        static_assert(sizeof(Material) == 8 * sizeof(double), "materials compare as bytes");
+        const Material& m = scene.objects[i].material;
+        std::size_t k = 1;
+        for (; k <= 2 && k <= i; ++k)
+            if (std::memcmp(&m, &scene.objects[i - k].material, sizeof m) == 0) break;
+        w->materials.push_back(k <= 2 && k <= i ? w->materials[i - k] : ShadeMaterial::from(m));
+    }
     for (const Plane& p : scene.planes) {
         w->planes.push_back(PlaneShape::from(p));
         w->plane_mats.push_back(ShadeMaterial::from(p.material));

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -394,4 +395,36 @@ TEST_CASE("bvh: objects tried per ray grow roughly with log(objects): 100k grid 
     CAPTURE(small);
     CAPTURE(large);
     CHECK(large < 4 * small);
+}
+
+// The build splits big subtrees across threads; each thread count must give the same
+// tree, node for node, or pictures would depend on the machine. A single-threaded
+// build is the reference.
+TEST_CASE("bvh: the tree is the same, byte for byte, whatever the number of build threads") {
+    Rng rng(800);
+    std::vector<Aabb> boxes;
+    const std::size_t n = 60000;
+    for (std::size_t i = 0; i < n; ++i) {
+        Aabb b;
+        if (i % 101 != 7) {  // some empty boxes, left out of the tree
+            Vec3 c{rng.uni(-50, 50), rng.uni(-50, 50), rng.uni(-5, 5)};
+            double r = rng.uni(0.01, 2);
+            b.lo = c - Vec3{r, r, r};
+            b.hi = c + Vec3{r, r, r};
+            if (i % 13 == 0 && i > 0) b = boxes[i / 2];  // duplicates
+        }
+        boxes.push_back(b);
+    }
+    Bvh one;
+    one.build(boxes, 1);
+    REQUIRE(!one.nodes.empty());
+    for (int threads : {2, 3, 8}) {
+        CAPTURE(threads);
+        Bvh many;
+        many.build(boxes, threads);
+        REQUIRE(many.nodes.size() == one.nodes.size());
+        REQUIRE(many.items.size() == one.items.size());
+        CHECK(std::memcmp(many.nodes.data(), one.nodes.data(), one.nodes.size() * sizeof(BvhNode)) == 0);
+        CHECK(many.items == one.items);
+    }
 }
