@@ -31,28 +31,7 @@ namespace {
 using rt_test::contains;
 using rt_test::slurp;
 
-// A fresh folder per test, removed afterwards (made writable again first, in case a
-// test took the write permission away).
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string tmpl = (fs::temp_directory_path() / "rt-imageio-XXXXXX").string();
-        REQUIRE(::mkdtemp(tmpl.data()) != nullptr);
-        path = tmpl;
-    }
-    ~TempDir() {
-        ::chmod(path.c_str(), 0700);
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-    std::vector<std::string> files() const {
-        std::vector<std::string> names;
-        for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
-        std::sort(names.begin(), names.end());
-        return names;
-    }
-};
+using rt_test::TempDir;
 
 bool have_dev_full() {
     struct stat st;
