@@ -228,7 +228,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
 }
 
 // Does a lamp's glow disc lie on the segment from o along the unit dir, before limit?
-// (rendering.md §6: the discs block other lights.)
+// (docs/rendering.md §6: the discs block other lights.)
 // (Through glow_bvh; direct() loops over a few discs itself.)
 bool World::glow_blocks(const Vec3& o, const Vec3& dir, double limit) const {
     bool blocked = false;

@@ -78,7 +78,7 @@ TEST_CASE("shading reference: a lit sphere's centre pixel is the direct-light fo
     Colour got = trace(*world, {0, 0, 0}, {1, 0, 0});
     for (int k = 0; k < 3; ++k) CHECK(got[k] == doctest::Approx(want[k]).epsilon(1e-12));
     // The picture's centre pixel (column W/2, row H/2 looks straight along the camera
-    // axis: rendering.md §1), through the renderer.
+    // axis: docs/rendering.md §1), through the renderer.
     RenderSettings s;
     s.coarse = false;
     Renderer r(2);
