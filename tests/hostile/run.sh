@@ -10,6 +10,8 @@
 # runs the cases that need the in-renderer fixes of issue 13 (deep glass and mirror
 # trees, thousands of lamps, --time-limit accuracy): they are listed as "skip (render)"
 # until then. Cases that need root (to act as another user) are skipped otherwise.
+# Against a sanitizer build (tests/hostile/run.sh build-asan/bin, about 200 s) any
+# AddressSanitizer or UndefinedBehaviorSanitizer report fails the case.
 set -uo pipefail
 
 BIN=$(cd "${1:?usage: run.sh BIN_DIR [WORK_DIR]}" && pwd)
@@ -22,6 +24,12 @@ chmod 755 "$WORK"
 FILTER=${HOSTILE_FILTER:-}
 RENDER_FIXES=${HOSTILE_RENDER:-0}
 ROOT=0; [ "$(id -u)" = 0 ] && ROOT=1
+# A sanitizer build (scripts/sanitize.sh) can run the cases too: Mesa's own leaks are
+# suppressed as in the viewer's tests, and the memory-limit cases are skipped there
+# (AddressSanitizer cannot start under `ulimit -v`).
+SANITIZED=0
+ldd "$RT" 2> /dev/null | grep -qE 'libasan|libtsan' && SANITIZED=1
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$(cd "$(dirname "$0")/../viewer" && pwd)/lsan.supp}
 
 pass=0 fail=0 skip=0
 failed=()
@@ -123,10 +131,13 @@ run_case() {
     [ -n "$FILTER" ] && ! grep -qE -- "$FILTER" <<< "$name" && return
     PROBLEMS=
     SKIPPED=
+    : > "$WORK/.err"
     local t0
     t0=$(date +%s%N)
     SECS=
     "case_$name"
+    # Whatever the case expected, a sanitizer's report is a failure.
+    if grep -qE 'Sanitizer|runtime error:' "$WORK/.err" 2> /dev/null; then problem "sanitizer report: $(grep -m1 -E 'Sanitizer|runtime error:' "$WORK/.err")"; fi
     SECS="${SECS:-0} s (case $(( ($(date +%s%N) - t0) / 1000000 )) ms)"
     if [ -n "$SKIPPED" ]; then
         skip=$((skip + 1)); printf 'skip  %-44s %s\n' "$name" "$SKIPPED"
@@ -138,6 +149,7 @@ run_case() {
 }
 need_root() { [ "$ROOT" = 1 ] || SKIPPED="(needs root to act as another user)"; }
 need_render_fixes() { [ "$RENDER_FIXES" = 1 ] || SKIPPED="(render: needs the in-renderer fixes; HOSTILE_RENDER=1)"; }
+need_no_sanitizer() { [ "$SANITIZED" = 0 ] || SKIPPED="(a sanitizer build cannot run under ulimit -v)"; }
 need_viewer() { [ -x "$VIEW" ] || SKIPPED="(no raytracer-view-headless)"; }
 AS_NOBODY=(setpriv --reuid=65534 --regid=65534 --clear-groups)
 
@@ -273,7 +285,7 @@ def time_limit_accuracy; case_time_limit_accuracy() { need_render_fixes; [ -n "$
     run 30 "$RT" --quiet --samples 65536 --time-limit 1 --width 160 --height 120 s.txt new.ppm; want_rc 0; want_fast 1.3; want_ppm new.ppm 160 120; clean_checks; }
 def huge_picture_sigterm; case_huge_picture_sigterm() { newdir "$FUNCNAME"
     start "$RT" --quiet --width 16384 --height 16384 ok.txt old.ppm; signal_after 1.5 5 TERM; want_rc 143; want_fast 1; clean_checks; }
-def huge_picture_memory_limit; case_huge_picture_memory_limit() { newdir "$FUNCNAME"
+def huge_picture_memory_limit; case_huge_picture_memory_limit() { need_no_sanitizer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"
     start bash -c "ulimit -v 8000000; exec '$RT' --quiet --width 16384 --height 16384 ok.txt old.ppm"; signal_after 2 5 TERM
     [ "$RC" = 143 ] || { want_rc 2; want_err 'out of memory'; }; clean_checks; }
 def huge_picture_check; case_huge_picture_check() { newdir "$FUNCNAME"
@@ -467,7 +479,7 @@ def view_screenshot_link_to_scene; case_view_screenshot_link_to_scene() { need_v
     run 20 "$VIEW" ok.txt --screenshot l.png; want_rc 2; want_err 'scene file itself'; cmp -s "$D/ok.txt" <(printf '%s\n' "$SCENE_OK") || problem "scene overwritten"; clean_checks; }
 def view_view_scene_is_scene; case_view_view_scene_is_scene() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"
     run 20 "$VIEW" ok.txt --screenshot shot.png --view-scene ./ok.txt; want_rc 2; want_err 'scene file itself'; cmp -s "$D/ok.txt" <(printf '%s\n' "$SCENE_OK") || problem "scene rewritten"; clean_checks; }
-def view_size_16384_memory_limit; case_view_size_16384_memory_limit() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"
+def view_size_16384_memory_limit; case_view_size_16384_memory_limit() { need_viewer; need_no_sanitizer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"
     run 30 bash -c "ulimit -v 8000000; exec '$VIEW' ok.txt --screenshot shot.png --size 16384x16384"; want_rc 2; want_err 'out of memory'; want_fast 5; [ -e "$D/shot.png" ] && problem "shot.png written"; clean_checks; }
 def view_size_too_small; case_view_size_too_small() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; run 10 "$VIEW" --screenshot s.png --size 63x63; want_rc 2; want_err 'size'; clean_checks; }
 def view_size_garbage; case_view_size_garbage() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; run 10 "$VIEW" --screenshot s.png --size ' 640x480'; want_rc 2; want_err 'size'; clean_checks; }
