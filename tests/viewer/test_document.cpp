@@ -198,26 +198,39 @@ TEST_CASE("a failed save reports why and leaves the document modified") {
     CHECK_FALSE(d.modified());
 }
 
-TEST_CASE("an outside change reloads by itself when only the view was moved, keeping the view") {
+TEST_CASE("an outside change reloads by itself when there are no unsaved edits") {
     TempDir dir;
     std::string p = dir.path + "/s.txt";
     spit(p, rt::kDefaultScene);
     Document d;
     REQUIRE(d.load_file(p).empty());
     CHECK(d.check_disk() == Document::DiskEvent::None);
-    rt::Camera moved = d.scene().camera;
-    moved.position = {-4, 1, 3};
-    d.edit().camera = moved;
-    d.commit();
     std::string other = rt::kDefaultScene;
     other.replace(other.find("radius 1.3"), 10, "radius 0.7");
     spit(p, other);
     bump_mtime(p, 5);
     CHECK(d.check_disk() == Document::DiskEvent::Reloaded);
     CHECK(std::get<rt::Sphere>(d.scene().objects[1].shape).radius == 0.7);
-    CHECK(d.scene().camera == moved);
-    CHECK(parsed(d.editor_text()) == d.scene());
+    CHECK(d.editor_text() == other);
+    CHECK_FALSE(d.modified());
     CHECK(d.check_disk() == Document::DiskEvent::None);
+}
+
+TEST_CASE("a camera edit is a real edit: an outside change is then a conflict") {
+    TempDir dir;
+    std::string p = dir.path + "/s.txt";
+    spit(p, rt::kDefaultScene);
+    Document d;
+    REQUIRE(d.load_file(p).empty());
+    rt::Camera moved = d.scene().camera;
+    moved.position = {-4, 1, 3};
+    REQUIRE(d.set_camera(moved));
+    std::string other = rt::kDefaultScene;
+    other.replace(other.find("radius 1.3"), 10, "radius 0.7");
+    spit(p, other);
+    bump_mtime(p, 5);
+    CHECK(d.check_disk() == Document::DiskEvent::Conflict);
+    CHECK(d.scene().camera == moved);
 }
 
 TEST_CASE("an outside change with unsaved edits is a conflict; reloading is undoable") {

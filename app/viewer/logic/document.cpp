@@ -29,29 +29,40 @@ std::string base_name(const std::string& path) {
     return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
+bool same_except_camera(const rt::Scene& a, const rt::Scene& b) {
+    return a.objects == b.objects && a.planes == b.planes && a.lights == b.lights && a.width == b.width &&
+           a.height == b.height;
+}
+
 }  // namespace
 
 Document::Document() { load_text("", "", "untitled"); }
 
 void Document::load_text(const std::string& text, const std::string& path, const std::string& name) {
+    load_parsed(text, rt::parse_scene(text), path, name);
+}
+
+void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::string& path,
+                           const std::string& name) {
     history_.clear();
     pending_ = false;
     conflict_ = false;
     path_ = path;
     name_ = name;
     DocState s;
-    s.editor_text = text;
-    rt::ParseResult r = rt::parse_scene(text);
-    diagnostics_ = r.diagnostics;
-    if (r.ok()) {
-        s.scene = r.scene;
+    bool ok = parsed.ok();
+    diagnostics_ = std::move(parsed.diagnostics);
+    if (ok) {
+        s.scene = std::move(parsed.scene);
         s.has_scene = true;
         s.applied_text = text;
     }
+    s.editor_text = std::move(text);
     s_ = std::move(s);
     ++scene_version_;
+    ++content_version_;
     ++text_version_;
-    mark_saved(text);
+    mark_saved(s_.editor_text);
     if (s_.has_scene) file_camera_ = s_.scene.camera;
 }
 
@@ -71,7 +82,17 @@ rt::Scene& Document::edit() {
         pending_ = true;
     }
     ++scene_version_;
+    ++content_version_;
     return s_.scene;
+}
+
+rt::Camera& Document::edit_camera() {
+    if (!pending_) {
+        before_ = s_;
+        pending_ = true;
+    }
+    ++scene_version_;
+    return s_.scene.camera;
 }
 
 void Document::cancel_edit() {
@@ -79,6 +100,15 @@ void Document::cancel_edit() {
     pending_ = false;
     s_ = before_;
     ++scene_version_;
+    ++content_version_;
+}
+
+bool Document::set_camera(const rt::Camera& camera) {
+    if (!s_.has_scene || camera == s_.scene.camera) return false;
+    commit();
+    edit_camera() = camera;
+    commit();
+    return true;
 }
 
 void Document::commit() {
@@ -115,10 +145,12 @@ void Document::commit() {
 
 void Document::set_state(DocState s, bool push_history) {
     bool scene_changed = s.has_scene != s_.has_scene || s.scene != s_.scene;
+    bool content_changed = scene_changed && (s.has_scene != s_.has_scene || !same_except_camera(s.scene, s_.scene));
     bool text_changed = s.editor_text != s_.editor_text;
     if (push_history) history_.push(s_);
     s_ = std::move(s);
     if (scene_changed) ++scene_version_;
+    if (content_changed) ++content_version_;
     if (text_changed) ++text_version_;
 }
 
@@ -185,12 +217,9 @@ bool Document::redo() {
 
 void Document::mark_saved(const std::string& text) {
     saved_text_ = text;
-    rt::ParseResult r = rt::parse_scene(text);
-    saved_ok_ = r.ok();
-    if (saved_ok_) {
-        saved_scene_ = std::move(r.scene);
-        file_camera_ = saved_scene_.camera;
-    }
+    // No second parse of the saved text: it is the text of the current scene whenever
+    // that has no unapplied draft.
+    if (s_.has_scene && s_.applied_text == text) file_camera_ = s_.scene.camera;
     stamp_ = FileStamp::of(path_);
     conflict_ = false;
 }
@@ -215,31 +244,15 @@ std::string Document::save_as(const std::string& path) {
     return {};
 }
 
-bool Document::edits_beyond_view() const {
-    if (!modified()) return false;
-    if (editor_dirty() || s_.text_behind || !saved_ok_ || !s_.has_scene) return true;
-    rt::Scene a = s_.scene;
-    a.camera = saved_scene_.camera;
-    return a != saved_scene_;
-}
-
 void Document::reload_text(const std::string& text) {
     rt::ParseResult r = rt::parse_scene(text);
     DocState next = s_;
     diagnostics_ = r.diagnostics;
     if (r.ok()) {
-        // Keep the user's view if they moved it away from the file's camera; a camera
-        // changed in the file itself wins otherwise.
-        bool keep_view = s_.has_scene && !(s_.scene.camera == file_camera_);
-        next.scene = r.scene;
+        next.scene = std::move(r.scene);
         next.has_scene = true;
-        if (keep_view) {
-            next.scene.camera = s_.scene.camera;
-            next.applied_text = sync_scene_text(text, r.scene, next.scene);
-        } else {
-            next.applied_text = text;
-        }
-        next.editor_text = next.applied_text;
+        next.applied_text = text;
+        next.editor_text = text;
         next.text_behind = false;
     } else {
         // Show the new text with its errors; the last good scene keeps rendering.
@@ -258,7 +271,7 @@ Document::DiskEvent Document::check_disk() {
     std::string text;
     if (!rt::read_file(path_, text, rt::Limits::max_file_size).empty()) return DiskEvent::None;
     if (text == saved_text_) return DiskEvent::None;  // touched, or our own save
-    if (!edits_beyond_view()) {
+    if (!modified()) {
         reload_text(text);
         return DiskEvent::Reloaded;
     }

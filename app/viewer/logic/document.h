@@ -43,6 +43,9 @@ public:
     // --- opening ---------------------------------------------------------------
     // Replaces everything (history too). `path` empty: an unsaved scene called `name`.
     void load_text(const std::string& text, const std::string& path, const std::string& name);
+    // Takes a text parsed elsewhere (a background load): nothing is parsed again and
+    // the text is moved in, not copied.
+    void load_parsed(std::string text, rt::ParseResult parsed, const std::string& path, const std::string& name);
     // Reads and loads a file; on failure returns why and leaves the document as it was.
     std::string load_file(const std::string& path);
 
@@ -54,8 +57,11 @@ public:
     // --- the scene -------------------------------------------------------------
     const rt::Scene& scene() const { return s_.scene; }
     bool has_scene() const { return s_.has_scene; }
-    // Increases whenever scene() changes (the renderer restarts on it).
+    // Increases whenever scene() changes.
     std::uint64_t scene_version() const { return scene_version_; }
+    // Increases when anything but the camera changes: the compiled world depends
+    // on this only (the renderer takes its camera from the view).
+    std::uint64_t content_version() const { return content_version_; }
     // The camera of the file as last loaded or saved ("R" goes back to it).
     const rt::Camera& file_camera() const { return file_camera_; }
 
@@ -63,10 +69,14 @@ public:
     // A continuous edit (a slider drag, a mouse orbit) calls edit() on every change
     // and commit() when the gesture ends: one undo step, and the text is written once.
     rt::Scene& edit();  // marks the scene changed; opens a pending edit
+    rt::Camera& edit_camera();  // the same for the camera alone (no world to recompile)
     bool editing() const { return pending_; }
     void commit();
     // Drops a pending edit, restoring the scene as it was before it.
     void cancel_edit();
+    // Makes `camera` the scene camera ("Set scene camera from view"): one undo step
+    // that rewrites only the camera block of the text. False if nothing changed.
+    bool set_camera(const rt::Camera& camera);
 
     // --- editor ----------------------------------------------------------------
     std::string& editor_text() { return s_.editor_text; }
@@ -93,6 +103,7 @@ public:
     // --- undo ------------------------------------------------------------------
     bool can_undo() const { return history_.can_undo(); }
     bool can_redo() const { return history_.can_redo(); }
+    std::size_t undo_depth() const { return history_.undo_size(); }
     bool undo();
     bool redo();
 
@@ -103,9 +114,9 @@ public:
 
     // --- the file on disk ------------------------------------------------------
     enum class DiskEvent { None, Reloaded, Conflict, Removed };
-    // Call now and then (the viewer: once a second). Reloads by itself when the
-    // viewer holds no edits other than the view (camera), keeping the view; reports
-    // a conflict when there are other unsaved edits.
+    // Call now and then (the viewer: once a second). Reloads by itself when there
+    // are no unsaved edits (looking around is not an edit: the view camera lives
+    // outside the document); reports a conflict otherwise.
     DiskEvent check_disk();
     bool disk_conflict() const { return conflict_; }
     void resolve_conflict_reload();  // take the disk version (undoable)
@@ -115,18 +126,15 @@ private:
     void set_state(DocState s, bool push_history);
     void mark_saved(const std::string& text);
     void reload_text(const std::string& text);
-    bool edits_beyond_view() const;
 
     DocState s_;
     UndoHistory<DocState> history_;
     std::string path_, name_;
     std::string saved_text_;
-    rt::Scene saved_scene_;  // parse of saved_text_ (when it parses)
-    bool saved_ok_ = false;
     rt::Camera file_camera_;
     FileStamp stamp_;
     std::vector<rt::Diagnostic> diagnostics_;
-    std::uint64_t scene_version_ = 1, text_version_ = 1;
+    std::uint64_t scene_version_ = 1, content_version_ = 1, text_version_ = 1;
     bool pending_ = false;
     DocState before_;  // state at the start of the pending edit
     bool conflict_ = false;

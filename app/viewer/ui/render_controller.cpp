@@ -1,0 +1,242 @@
+// The render controller (see render_controller.h): world compilation, render
+// restarts with preview pacing, and the film texture.
+#include "render_controller.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "shapes.h"
+
+namespace rtview {
+
+namespace {
+
+// Time the first preview of a moving view may take: a 30 Hz stream of input then
+// still gets a new picture on nearly every frame, with room left for the UI itself.
+constexpr double kPreviewBudget = 0.025;
+// The view counts as resting this long after its last change: the render refines.
+constexpr double kRestAfter = 0.15;
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// What of a render's progress shows on screen: a new one of these means new pixels.
+std::array<std::uint64_t, 5> signature(const rt::RenderProgress& p) {
+    return {p.generation, std::uint64_t(p.passes), std::uint64_t(p.coarse_level), std::uint64_t(p.samples),
+            std::uint64_t(p.pass_fraction * 16)};
+}
+
+bool same_shapes(const rt::World& w, const rt::Scene& s) {
+    if (!w.geometry || w.geometry->source.size() != s.objects.size()) return false;
+    for (std::size_t i = 0; i < s.objects.size(); ++i)
+        if (!(w.geometry->source[i] == s.objects[i].shape)) return false;
+    return true;
+}
+
+}  // namespace
+
+RenderController::RenderController(int threads, bool interactive, int max_samples, double time_limit)
+    : interactive_(interactive), renderer_(threads), max_samples_(max_samples), time_limit_(time_limit) {}
+
+RenderController::~RenderController() {
+    renderer_.cancel();
+    if (building_.valid()) building_.wait();
+}
+
+void RenderController::sync_world(const Document& doc) {
+    if (building_.valid() && building_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+        world_ = building_.get();
+        world_version_ = building_version_;
+    }
+    if (!doc.has_scene()) {
+        clear();
+        return;
+    }
+    if (doc.content_version() == world_version_ || building_.valid()) return;
+    const rt::Scene& s = doc.scene();
+    if (world_ && same_shapes(*world_, s)) {
+        // Same geometry: materials, lights or the camera changed. compile_world reuses
+        // the BVH, so this stays well under a frame even for big scenes.
+        world_ = rt::compile_world(s, world_.get());
+        world_version_ = doc.content_version();
+    } else {
+        // New geometry: build the BVH on another thread; the last world keeps
+        // rendering and the UI keeps running meanwhile.
+        building_version_ = doc.content_version();
+        building_ = std::async(std::launch::async, [scene = s] { return rt::compile_world(scene, nullptr); });
+    }
+}
+
+void RenderController::adopt_world(std::shared_ptr<const rt::World> world, std::uint64_t content_version) {
+    if (building_.valid()) building_.wait();
+    building_ = {};
+    world_ = std::move(world);
+    world_version_ = content_version;
+}
+
+void RenderController::clear() {
+    if (started_world_) {
+        renderer_.cancel();
+        started_world_ = nullptr;
+    }
+}
+
+void RenderController::set_max_samples(int n) {
+    if (n != max_samples_) settings_changed_ = true;
+    max_samples_ = n;
+}
+
+void RenderController::set_time_limit(double s) {
+    if (s != time_limit_) settings_changed_ = true;
+    time_limit_ = s;
+}
+
+void RenderController::set_paused(bool p) {
+    paused_ = p;
+    held_ = false;
+    renderer_.set_paused(p);
+}
+
+void RenderController::update(const rt::Camera& camera, int film_w, int film_h, bool moving) {
+    if (!world_ || film_w < 1 || film_h < 1) return;
+    rt::RenderProgress p = renderer_.progress();
+    // The first coarse pass of the running render measures what a ray costs now.
+    if (!measured_ && p.generation == started_generation_ && p.first_coarse_time >= 0) {
+        double rays = std::ceil(double(started_w_) / started_block_) * std::ceil(double(started_h_) / started_block_);
+        pacer_.measured(rays, p.first_coarse_time);
+        measured_ = true;
+    }
+    bool changed = world_ != started_world_ || !(camera == started_camera_) || film_w != started_w_ ||
+                   film_h != started_h_ || settings_changed_;
+    if (!changed) {
+        // While the view keeps moving, refining a picture that the next frame replaces
+        // only takes the CPU from the UI thread: hold the render once its preview is
+        // on screen, and let it refine as soon as the view rests.
+        bool hold = moving && preview_shown_ && seconds_since(last_change_) < kRestAfter;
+        if (hold != held_) {
+            held_ = hold;
+            renderer_.set_paused(hold || paused_);
+        }
+        return;
+    }
+    last_change_ = std::chrono::steady_clock::now();
+    if (!timing_change_) {
+        change_time_ = std::chrono::steady_clock::now();
+        timing_change_ = true;
+    }
+    // A render whose preview is not on screen yet is replaced only once it is overdue:
+    // otherwise a stream of input would cancel every preview before it is shown.
+    bool running = !held_ && p.running && !p.done && p.generation == started_generation_;
+    bool unshown = started_world_ && running && !preview_shown_;
+    if (unshown) {
+        double running_for = seconds_since(started_at_);
+        if (!PreviewPacer::may_replace(false, running_for, kPreviewBudget, replaced_unshown_)) return;
+        // Overdue: what it has cost so far is a lower bound of what it would have.
+        if (!measured_)
+            pacer_.measured(std::ceil(double(started_w_) / started_block_) * std::ceil(double(started_h_) / started_block_),
+                            running_for);
+        replaced_unshown_ = true;
+    }
+    start(camera, film_w, film_h, moving);
+}
+
+void RenderController::start(const rt::Camera& camera, int film_w, int film_h, bool moving) {
+    rt::RenderSettings st;
+    st.width = film_w;
+    st.height = film_h;
+    st.max_samples = max_samples_;
+    st.time_limit = time_limit_;
+    st.camera = camera;
+    // At rest the usual 8x8 first pass; while moving, the block the pacer says lands
+    // within the budget. Either way the render refines to full samples by itself.
+    st.coarse_block = moving ? pacer_.coarse_block(film_w, film_h, kPreviewBudget) : 8;
+    if (paused_ && interactive_ && started_world_) {
+        // Moving the view while paused would show nothing new; resume instead.
+        set_paused(false);
+    }
+    if (held_) {
+        held_ = false;
+        renderer_.set_paused(paused_);
+    }
+    renderer_.start(world_, st);
+    started_world_ = world_;
+    started_camera_ = camera;
+    started_w_ = film_w;
+    started_h_ = film_h;
+    started_block_ = st.coarse_block;
+    started_generation_ = renderer_.progress().generation;
+    started_at_ = std::chrono::steady_clock::now();
+    preview_shown_ = false;
+    measured_ = false;
+    settings_changed_ = false;
+    final_uploaded_ = false;
+}
+
+bool RenderController::has_new_picture() const {
+    return started_world_ && signature(renderer_.progress()) != uploaded_sig_;
+}
+
+void RenderController::upload() {
+    rt::RenderProgress before = renderer_.progress();
+    uploaded_sig_ = signature(before);
+    int w = film_w_seen_, h = film_h_seen_;
+    std::array<int, 4> changed{};
+    if (renderer_.snapshot_rgba8(rgba_, w, h, film_version_, &changed)) {
+        film_w_seen_ = w;
+        film_h_seen_ = h;
+        film_.upload(rgba_, w, h, changed);
+        bool has_picture = before.coarse_level > 0 || before.samples > 0;
+        if (has_picture && before.generation == started_generation_) {
+            if (!preview_shown_ || before.samples > 0) ++pictures_;
+            preview_shown_ = true;
+            replaced_unshown_ = false;
+        }
+        if (timing_change_ && has_picture && before.generation == started_generation_ && w == started_w_ &&
+            h == started_h_) {
+            last_latency_ms_ = seconds_since(change_time_) * 1000;
+            timing_change_ = false;
+            if (verbose)
+                std::fprintf(stderr,
+                             "raytracer-view: view change -> first image on screen %.1f ms (renderer: %.1f ms, %dx%d, "
+                             "block %d)\n",
+                             last_latency_ms_, before.first_coarse_time * 1000, w, h, started_block_);
+        }
+    }
+    // RenderProgress::elapsed keeps counting after the render is done; the status bar
+    // wants the time the render took, so keep the value seen when it finished.
+    if (before.done && done_generation_ != before.generation) {
+        done_generation_ = before.generation;
+        done_elapsed_ = before.elapsed;
+    }
+    // The snapshot was taken after `before`: if the render was already done then, the
+    // texture now holds the final film.
+    if (before.done && started_world_ && before.generation == started_generation_) final_uploaded_ = true;
+}
+
+void RenderController::draw(const Rect& image, float fb_scale) {
+    if (!film_.valid() || !started_world_) return;
+    ImDrawList* dl = ImGui::GetBackgroundDrawList();
+    ImVec2 p0(float(image.x), float(image.y)), p1(float(image.x + image.w), float(image.y + image.h));
+    // 1:1 in framebuffer pixels: nearest filtering shows the film's pixels exactly.
+    bool exact = std::fabs(image.w * fb_scale - film_.width()) < 0.5 &&
+                 std::fabs(image.h * fb_scale - film_.height()) < 0.5;
+    film_.set_nearest(exact);
+    dl->AddImage(film_.id(), p0, p1);
+}
+
+bool RenderController::settled(int film_w, int film_h) const {
+    if (!started_world_ || building_.valid()) return false;
+    rt::RenderProgress p = renderer_.progress();
+    return p.done && final_uploaded_ && p.width == film_w && p.height == film_h;
+}
+
+bool RenderController::busy() const {
+    rt::RenderProgress p = renderer_.progress();
+    return p.running || building_.valid() || (!final_uploaded_ && !paused_ && started_world_);
+}
+
+}  // namespace rtview

@@ -1,0 +1,121 @@
+// The render side of the viewer: owns the renderer, the compiled world, the preview
+// pacing and the film texture. Each frame it is told what to show (world from the
+// document, view camera, film size) and decides when to (re)start the renderer, so
+// that a stream of input always leaves a picture on screen.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <future>
+#include <memory>
+#include <vector>
+
+#include "document.h"
+#include "film_texture.h"
+#include "pacing.h"
+#include "renderer.h"
+#include "viewport.h"
+#include "world.h"
+
+namespace rtview {
+
+class RenderController {
+public:
+    RenderController(int threads, bool interactive, int max_samples, double time_limit);
+    ~RenderController();
+
+    // The document's scene changed (or not): compile it, reusing the BVH when only
+    // materials, lights or the camera changed; new geometry is built off the UI thread
+    // while the last world keeps rendering.
+    void sync_world(const Document& doc);
+    // Takes a world compiled elsewhere (a scene loaded in the background) for the
+    // document's current content version.
+    void adopt_world(std::shared_ptr<const rt::World> world, std::uint64_t content_version);
+    // Drops the world (the document has no scene).
+    void clear();
+
+    // Starts or restarts the render for this view when anything changed. `moving`:
+    // the view or a slider is being dragged, so a coarse preview within the frame
+    // budget matters more than detail.
+    void update(const rt::Camera& camera, int film_w, int film_h, bool moving);
+    // New film pixels to the texture. Call once per frame, after update().
+    void upload();
+    // Draws the film into `image`.
+    void draw(const Rect& image, float fb_scale);
+
+    const rt::World* world() const { return world_.get(); }
+    bool building() const { return building_.valid(); }
+    bool started() const { return started_world_ != nullptr; }
+    // All requested samples are in and the texture shows the final film of this size.
+    bool settled(int film_w, int film_h) const;
+    // Work is under way that needs display-rate frames.
+    bool busy() const;
+    // A view change is waiting for its first preview: poll faster than the display.
+    bool awaiting_preview() const { return timing_change_ && renderer_.progress().running; }
+    // The film has something the texture does not show yet (cheap: no pixels copied).
+    bool has_new_picture() const;
+    rt::RenderProgress progress() const { return renderer_.progress(); }
+    rt::Image snapshot() const { return renderer_.snapshot(); }
+    int threads() const { return renderer_.threads(); }
+
+    int max_samples() const { return max_samples_; }
+    void set_max_samples(int n);
+    double time_limit() const { return time_limit_; }
+    void set_time_limit(double s);
+    bool paused() const { return paused_; }
+    void set_paused(bool p);
+
+    double done_elapsed() const { return done_elapsed_; }
+    std::uint64_t done_generation() const { return done_generation_; }
+    double last_latency_ms() const { return last_latency_ms_; }
+    int last_coarse_block() const { return started_block_; }
+    // Pictures put on screen (texture uploads of a new preview or pass).
+    std::uint64_t pictures_shown() const { return pictures_; }
+    bool verbose = false;
+
+private:
+    void start(const rt::Camera& camera, int film_w, int film_h, bool moving);
+
+    bool interactive_;
+    rt::Renderer renderer_;
+    PreviewPacer pacer_;
+    std::shared_ptr<const rt::World> world_;  // compiled doc scene
+    std::uint64_t world_version_ = 0;         // doc content_version world_ matches
+    std::future<std::shared_ptr<const rt::World>> building_;
+    std::uint64_t building_version_ = 0;
+
+    // The render as last started.
+    std::shared_ptr<const rt::World> started_world_;
+    rt::Camera started_camera_;
+    int started_w_ = 0, started_h_ = 0;
+    int started_block_ = 8;
+    std::uint64_t started_generation_ = 0;
+    std::chrono::steady_clock::time_point started_at_{};
+    bool preview_shown_ = false;  // something of the started render reached the texture
+    bool measured_ = false;       // its first coarse pass went into the pacer
+    bool held_ = false;           // paused after its preview while the view moves
+    bool replaced_unshown_ = false;  // an unshown preview was thrown away since the last picture
+    std::chrono::steady_clock::time_point last_change_{};
+
+    int max_samples_;
+    double time_limit_;
+    bool settings_changed_ = false;
+    bool paused_ = false;
+
+    FilmTexture film_;
+    std::vector<std::uint8_t> rgba_;
+    std::uint64_t film_version_ = 0;
+    int film_w_seen_ = 0, film_h_seen_ = 0;
+    std::uint64_t done_generation_ = ~std::uint64_t(0);
+    double done_elapsed_ = 0;
+    bool final_uploaded_ = false;
+    std::uint64_t pictures_ = 0;
+    std::array<std::uint64_t, 5> uploaded_sig_{};  // progress signature of the last upload
+    // Timing of "a view change -> coarse image on screen" (printed with --verbose).
+    std::chrono::steady_clock::time_point change_time_{};
+    bool timing_change_ = false;
+    double last_latency_ms_ = -1;
+};
+
+}  // namespace rtview
