@@ -15,6 +15,7 @@
 #include "document.h"
 #include "image_io.h"
 #include "scene_parser.h"
+#include "scene_writer.h"
 
 using namespace rtview;
 
@@ -283,4 +284,88 @@ TEST_CASE("a scene that becomes broken on disk shows its errors but keeps render
     CHECK(d.scene() == good);
     CHECK(d.has_errors());
     CHECK(d.editor_text() == "thing { sphere { radius } }\n");
+}
+
+namespace {
+
+// A scene text of about `bytes` bytes: a grid of spheres, a plane and two lights.
+std::string big_scene_text(std::size_t bytes) {
+    rt::Scene s = parsed(rt::kDefaultScene);
+    rt::Object proto = s.objects[0];
+    s.objects.clear();
+    for (int k = 0; rt::write_scene(s).size() < bytes; k += 64) {
+        for (int j = 0; j < 64; ++j) {
+            rt::Object o = proto;
+            o.shape = rt::Sphere{{double(k + j) * 0.01, 0.5 * (j % 7), 1}, 0.25};
+            s.objects.push_back(o);
+        }
+    }
+    return rt::write_scene(s);
+}
+
+}  // namespace
+
+TEST_CASE("a panel edit rewrites only its own block, and its undo step is small") {
+    Document d;
+    std::string text = big_scene_text(200000);
+    d.load_text(text, "", "big.txt");
+    REQUIRE(d.has_scene());
+    std::size_t n = d.scene().objects.size();
+    d.edit_object(n / 2).material.reflection = 0.25;
+    d.commit();
+    const std::string& after = d.editor_text();
+    CHECK(parsed(after) == d.scene());
+    // Everything before and after the object's block is as it was.
+    std::size_t p = 0;
+    while (p < text.size() && text[p] == after[p]) ++p;
+    std::size_t s = 0;
+    while (s < text.size() - p && text[text.size() - 1 - s] == after[after.size() - 1 - s]) ++s;
+    CHECK(text.size() - p - s < 400);
+    CHECK(d.undo_bytes() < 4000);
+    REQUIRE(d.undo());
+    CHECK(d.editor_text() == text);
+}
+
+TEST_CASE("the undo byte budget holds over 1,000 edits of a 1 MB document") {
+    Document d;
+    const std::string text = big_scene_text(1 << 20);
+    REQUIRE(text.size() >= (1u << 20));
+    d.load_text(text, "", "big.txt");
+    REQUIRE(d.has_scene());
+    const std::size_t budget = 256 << 10;
+    d.set_undo_budget(budget);
+    std::size_t n = d.scene().objects.size();
+    std::vector<double> reflection_after;  // object 7's reflection after each edit
+    for (int k = 0; k < 1000; ++k) {
+        switch (k % 4) {
+            case 0: d.edit_object(7).material.reflection = 0.001 * k; break;
+            case 1: d.edit_object((std::size_t(k) * 37) % n).material.colour = {0.1, 0.001 * k, 0.3}; break;
+            case 2: d.edit_light(0).position.z = 5 + 0.01 * k; break;
+            default: d.edit_camera().angle_y = 30 + 0.01 * k; break;
+        }
+        d.commit();
+        reflection_after.push_back(d.scene().objects[7].material.reflection);
+        CHECK(d.undo_bytes() <= budget);
+    }
+    CHECK(parsed(d.editor_text()) == d.scene());
+    std::size_t depth = d.undo_depth();
+    CHECK(depth > 50);     // the budget holds many steps of this size...
+    CHECK(depth < 1000);   // ...but not all of them: the oldest went
+    // Every step still held undoes exactly.
+    for (std::size_t k = 0; k < depth; ++k) {
+        REQUIRE(d.undo());
+        CHECK(d.scene().objects[7].material.reflection == reflection_after[1000 - 2 - k]);
+    }
+    CHECK_FALSE(d.undo());
+    CHECK(parsed(d.editor_text()) == d.scene());
+    // With the default budget (64 MB) all steps of such edits fit.
+    Document e;
+    e.load_text(text, "", "big.txt");
+    for (int k = 0; k < 300; ++k) {
+        e.edit_light(1).colour = {1, 1, 0.001 * k};
+        e.commit();
+    }
+    CHECK(e.undo_depth() == 300);
+    CHECK(e.undo_bytes() < 300 * 4096);  // a step is its block, not a copy of the text
+    CHECK(parsed(e.editor_text()) == e.scene());
 }

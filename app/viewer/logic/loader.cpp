@@ -78,6 +78,15 @@ std::string read_with_progress(const std::string& path, std::string& out, std::a
 
 }  // namespace
 
+bool apply_load(LoadResult& r, Document& doc, std::shared_ptr<const rt::World>& world) {
+    if (r.status != LoadResult::Status::Ok) return false;
+    std::size_t slash = r.path.find_last_of('/');
+    std::string name = slash == std::string::npos ? r.path : r.path.substr(slash + 1);
+    world = std::move(r.world);
+    doc.load_parsed(std::move(r.text), std::move(r.parsed), r.path, name);
+    return true;
+}
+
 SceneLoader::~SceneLoader() {
     cancel();
     reap(true);

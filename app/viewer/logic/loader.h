@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "document.h"
 #include "scene_parser.h"
 #include "world.h"
 
@@ -26,6 +27,11 @@ struct LoadResult {
     rt::ParseResult parsed; // Ok: the scene, or the diagnostics of a text that does not parse
     std::shared_ptr<const rt::World> world;  // Ok and parsed: compiled
 };
+
+// Puts a finished load into `doc` (moving the text and scene in: nothing is copied
+// or parsed again) and hands over its compiled world. Only an Ok result does that; a
+// failed or cancelled load leaves `doc` exactly as it was and returns false.
+bool apply_load(LoadResult& result, Document& doc, std::shared_ptr<const rt::World>& world);
 
 class SceneLoader {
 public:

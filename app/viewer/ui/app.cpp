@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <cstdio>
@@ -42,6 +43,10 @@ std::string base_name(const std::string& path) {
     return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
+// Program start, near enough: for --verbose timings.
+const auto g_start = std::chrono::steady_clock::now();
+double since_start() { return std::chrono::duration<double>(std::chrono::steady_clock::now() - g_start).count(); }
+
 std::string megabytes(std::uint64_t b) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.1f", double(b) / (1 << 20));
@@ -63,6 +68,7 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
       panels_(*this, editor_, nav_, render_, layout_, status_) {
     layout_.fit = opt_.fit;
     render_.verbose = opt_.verbose;
+    render_.clock = &since_start;
     if (opt_.tab == "text") panels_.show_tab(Panels::Text);
     else if (opt_.tab == "render") panels_.show_tab(Panels::Render);
     else panels_.show_tab(Panels::Objects);
@@ -84,9 +90,8 @@ std::string ViewerApp::open_initial() {
     } else {
         loader_.start(opt_.scene);
         std::optional<LoadResult> r = loader_.wait();
-        if (!r || r->status != LoadResult::Status::Ok) return "cannot open '" + opt_.scene + "': " + (r ? r->error : "");
-        std::shared_ptr<const rt::World> world = std::move(r->world);
-        doc.load_parsed(std::move(r->text), std::move(r->parsed), opt_.scene, base_name(opt_.scene));
+        std::shared_ptr<const rt::World> world;
+        if (!r || !apply_load(*r, doc, world)) return "cannot open '" + opt_.scene + "': " + (r ? r->error : "");
         if (world) render_.adopt_world(std::move(world), doc.content_version());
         after_document_replaced();
     }
@@ -112,26 +117,25 @@ void ViewerApp::poll_loader() {
     if (r->status == LoadResult::Status::Failed) {
         // The old scene stays.
         status_.set("Cannot open " + r->path + ": " + r->error, true);
-        if (r->path == opt_.scene && !editor_.doc().has_scene() && editor_.doc().editor_text().empty()) {
+        if (r->path == opt_.scene && !document().has_scene() && document().editor_text().empty()) {
             // The start-up file could not be read: show the default scene instead.
             editor_.doc().load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
             after_document_replaced();
         }
         return;
     }
-    if (r->status != LoadResult::Status::Ok) return;
     Document& doc = editor_.doc();
-    std::shared_ptr<const rt::World> world = std::move(r->world);
     std::string path = r->path;
     bool ok = r->parsed.ok();
-    doc.load_parsed(std::move(r->text), std::move(r->parsed), path, base_name(path));
+    std::shared_ptr<const rt::World> world;
+    if (!apply_load(*r, doc, world)) return;  // cancelled: the old scene stays
     if (world) render_.adopt_world(std::move(world), doc.content_version());
     if (interactive_) editor_.recent().add(path);
     if (path == opt_.scene)
         for (const auto& d : doc.diagnostics()) std::fprintf(stderr, "%s\n", rt::format_diagnostic(path, d).c_str());
     after_document_replaced();
     status_.set(ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)", !ok);
-    if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.2f s\n", path.c_str(), ImGui::GetTime());
+    if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.3f s\n", path.c_str(), since_start());
 }
 
 // ---------------------------------------------------------------------------------
@@ -336,7 +340,12 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
         case Command::CancelLoad:
             if (!loader_.active()) return false;
             loader_.cancel();
-            status_.set("Cancelled opening; still showing " + doc.name());
+            if (!document().has_scene() && document().editor_text().empty() && document().path().empty()) {
+                // The start-up file was cancelled: there is no old scene to keep showing.
+                doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
+                after_document_replaced();
+            }
+            status_.set("Cancelled opening; showing " + doc.name());
             return true;
         case Command::Save: return do_save();
         case Command::SaveAsDialog: dialogs_.show(Dialogs::Kind::SaveAs, doc.path().empty() ? doc.name() : doc.path()); return true;
@@ -489,6 +498,8 @@ void ViewerApp::drop_files(const std::vector<std::string>& paths) {
 }
 
 void ViewerApp::after_render(int fb_width, int fb_height) {
+    if (frames_ == 1 && opt_.verbose)
+        std::fprintf(stderr, "raytracer-view: first frame drawn at %.3f s\n", since_start());
     if (screenshot_request_.empty()) return;
     std::string path = screenshot_request_;
     screenshot_request_.clear();

@@ -6,6 +6,7 @@
 #include <imgui_stdlib.h>
 
 #include <algorithm>
+#include <utility>
 
 #include "scene_text.h"
 
@@ -25,12 +26,33 @@ bool escape_pressed() {
 
 }  // namespace
 
+namespace {
+// Bigger texts are not edited in the ImGui widget: it would hold several more copies
+// of the text (and lay all of it out on every keystroke).
+constexpr std::size_t kMaxEditableBytes = 16u << 20;
+constexpr double kRecoveryInterval = 3.0;
+}  // namespace
+
+DocumentEditor::~DocumentEditor() {
+    if (recovery_write_.valid()) recovery_write_.wait();
+}
+
+bool DocumentEditor::recovery_busy() {
+    if (!recovery_write_.valid()) return false;
+    if (recovery_write_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return true;
+    std::string err = recovery_write_.get();
+    if (!err.empty()) status_.set("cannot keep a recovery copy: " + err, true);
+    return false;
+}
+
 void DocumentEditor::replaced() {
     seen_version_ = 0;
     recovery_offer_ = false;
     if (interactive_) {
         // Text a crashed or killed session had not saved, for this same file.
-        if (auto text = recovery_.find(doc_.path()); text && *text != doc_.editor_text()) {
+        if (recovery_busy()) recovery_write_.wait();
+        recovery_busy();
+        if (auto text = recovery_.find(doc_.path()); text && *text != std::as_const(doc_).editor_text()) {
             recovered_text_ = std::move(*text);
             recovery_offer_ = true;
         }
@@ -46,10 +68,24 @@ void DocumentEditor::tick(double now) {
 }
 
 bool DocumentEditor::idle_tick(double now) {
-    // While an offer is pending the old copy stays on disk untouched.
-    if (!recovery_offer_) {
-        std::string err = recovery_.update(doc_.path(), doc_.editor_text(), doc_.modified(), now);
-        if (!err.empty()) status_.set("cannot keep a recovery copy: " + err, true);
+    // While an offer is pending the old copy stays on disk untouched. A copy is
+    // written only when the text changed, and off the UI thread: writing 100 MB
+    // must never stall a frame.
+    if (!recovery_offer_ && !recovery_busy()) {
+        const Document& doc = doc_;
+        std::uint64_t key = doc.text_version() * 0x9E3779B97F4A7C15ull + doc.typed();
+        bool modified = doc.modified();
+        if (!modified) {
+            std::string err = recovery_.update(doc.path(), {}, false, now);  // removes a copy, if any
+            if (!err.empty()) status_.set("cannot keep a recovery copy: " + err, true);
+            recovery_key_ = ~std::uint64_t(0);
+        } else if (key != recovery_key_ && now - recovery_last_ >= kRecoveryInterval) {
+            recovery_key_ = key;
+            recovery_last_ = now;
+            recovery_write_ = std::async(std::launch::async, [this, path = doc.path(), text = doc.editor_text(), now] {
+                return recovery_.update(path, text, true, now, 0);
+            });
+        }
     }
     switch (doc_.check_disk()) {
         case Document::DiskEvent::None: return false;
@@ -63,6 +99,8 @@ bool DocumentEditor::idle_tick(double now) {
 }
 
 void DocumentEditor::discard_recovery() {
+    if (recovery_write_.valid()) recovery_write_.wait();
+    recovery_busy();
     if (!recovery_offer_) recovery_.discard(doc_.path());
 }
 
@@ -97,6 +135,8 @@ void DocumentEditor::draw_banners() {
         }
         ImGui::SameLine();
         if (ImGui::Button("Discard it")) {
+            if (recovery_write_.valid()) recovery_write_.wait();
+            recovery_busy();
             recovery_.discard(doc_.path());
             recovered_text_.clear();
             recovery_offer_ = false;
@@ -174,11 +214,24 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
     }
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
-    bool changed = ImGui::InputTextMultiline("##scene_text", &doc_.editor_text(), ImVec2(-1, editor_h),
-                                             ImGuiInputTextFlags_AllowTabInput | ImGuiInputTextFlags_CallbackAlways,
-                                             &DocumentEditor::callback, this);
-    id_ = ImGui::GetItemID();
-    active_ = ImGui::IsItemActive();
+    bool changed = false;
+    if (std::as_const(doc_).editor_text().size() > kMaxEditableBytes) {
+        ImGui::BeginChild("##too_big", ImVec2(-1, editor_h), true);
+        ImGui::TextWrapped("This scene text is %.0f MB: too large to edit here. The panels still edit it "
+                           "(each change rewrites only its own block), and changes made to the file in "
+                           "another editor are reloaded by themselves.",
+                           double(std::as_const(doc_).editor_text().size()) / (1 << 20));
+        ImGui::EndChild();
+        id_ = 0;
+        active_ = false;
+    } else {
+        changed = ImGui::InputTextMultiline("##scene_text", &doc_.editor_text(), ImVec2(-1, editor_h),
+                                            ImGuiInputTextFlags_AllowTabInput | ImGuiInputTextFlags_CallbackAlways,
+                                            &DocumentEditor::callback, this);
+        id_ = ImGui::GetItemID();
+        active_ = ImGui::IsItemActive();
+        if (changed) doc_.note_typed();
+    }
     layout.editor = {top.x, top.y, width, editor_h};
     if (changed) check_due_ = ImGui::GetTime() + 0.3;  // live check once typing pauses
 
@@ -192,7 +245,7 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
             ImGui::PushID(int(k));
             ImGui::PushStyleColor(ImGuiCol_Text, d.is_error() ? kErrorColour : kWarnColour);
             if (ImGui::Selectable(text.c_str())) {
-                pending_cursor_ = int(offset_of(doc_.editor_text(), d.line, d.col));
+                pending_cursor_ = int(offset_of(std::as_const(doc_).editor_text(), d.line, d.col));
                 focus_ = true;
             }
             ImGui::PopStyleColor();

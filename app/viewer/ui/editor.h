@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <future>
 #include <string>
 
 #include "document.h"
@@ -19,6 +20,7 @@ namespace rtview {
 class DocumentEditor {
 public:
     DocumentEditor(bool interactive, StatusLine& status) : interactive_(interactive), status_(status) {}
+    ~DocumentEditor();
 
     Document& doc() { return doc_; }
     const Document& doc() const { return doc_; }
@@ -54,7 +56,11 @@ private:
     StatusLine& status_;
     Document doc_;
     RecentFiles recent_;
-    Recovery recovery_;
+    Recovery recovery_;            // touched by one thread at a time: see recovery_busy()
+    std::future<std::string> recovery_write_;  // a copy being written off the UI thread
+    std::uint64_t recovery_key_ = ~std::uint64_t(0);  // text state last handed to it
+    double recovery_last_ = -1e300;
+    bool recovery_busy();          // a write is under way (collects a finished one)
     bool recovery_offer_ = false;  // a previous session's unsaved text is waiting
     std::string recovered_text_;
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 #include "camera_control.h"
 #include "scene_text.h"
@@ -431,7 +432,7 @@ void Panels::draw_properties() {
             if (o->loc.line > 0) {
                 ImGui::SameLine();
                 if (ImGui::SmallButton("show in text")) {
-                    editor_.focus(int(offset_of(editor_.doc().editor_text(), o->loc.line, o->loc.col)));
+                    editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), o->loc.line, o->loc.col)));
                 }
             }
             shape_details(o->shape);
@@ -444,7 +445,7 @@ void Panels::draw_properties() {
             ImGui::Text(o->has_material ? "Material" : "Material (none in the file: object default)");
             rt::Material m = o->material;
             if (material_editor("material", m)) {
-                rt::Object& e = editor_.doc().edit().objects[std::size_t(selection_.index)];
+                rt::Object& e = editor_.doc().edit_object(std::size_t(selection_.index));
                 e.material = m;
                 e.has_material = true;
             }
@@ -458,7 +459,7 @@ void Panels::draw_properties() {
             ImGui::Text(p.chess ? "Material 1" : "Material");
             rt::Material m = p.material;
             if (material_editor("m1", m)) {
-                rt::Plane& e = editor_.doc().edit().planes[std::size_t(selection_.index)];
+                rt::Plane& e = editor_.doc().edit_plane(std::size_t(selection_.index));
                 e.material = m;
                 e.has_material = true;
             }
@@ -466,7 +467,7 @@ void Panels::draw_properties() {
                 ImGui::Text("Material 2");
                 rt::Material m2 = p.material2;
                 if (material_editor("m2", m2)) {
-                    rt::Plane& e = editor_.doc().edit().planes[std::size_t(selection_.index)];
+                    rt::Plane& e = editor_.doc().edit_plane(std::size_t(selection_.index));
                     e.material2 = m2;
                     e.has_material2 = true;
                 }
@@ -501,7 +502,7 @@ void Panels::draw_properties() {
             ImGui::TextDisabled("colour %s", fmt_vec(l.colour).c_str());
             if (changed) {
                 l.colour = tint * intensity;
-                rt::Light& e = editor_.doc().edit().lights[std::size_t(selection_.index)];
+                rt::Light& e = editor_.doc().edit_light(std::size_t(selection_.index));
                 e.position = l.position;
                 e.colour = l.colour;
                 e.size = l.size;

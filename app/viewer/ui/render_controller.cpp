@@ -191,6 +191,10 @@ void RenderController::upload() {
         film_.upload(rgba_, w, h, changed);
         bool has_picture = before.coarse_level > 0 || before.samples > 0;
         if (has_picture && before.generation == started_generation_) {
+            if (verbose && clock && !first_picture_reported_) {
+                std::fprintf(stderr, "raytracer-view: first picture on screen at %.3f s\n", clock());
+                first_picture_reported_ = true;
+            }
             if (!preview_shown_ || before.samples > 0) ++pictures_;
             preview_shown_ = true;
             replaced_unshown_ = false;

@@ -73,6 +73,8 @@ public:
     // Pictures put on screen (texture uploads of a new preview or pass).
     std::uint64_t pictures_shown() const { return pictures_; }
     bool verbose = false;
+    // Seconds since the program started (for --verbose timings of the first picture).
+    double (*clock)() = nullptr;
 
 private:
     void start(const rt::Camera& camera, int film_w, int film_h, bool moving);
@@ -111,6 +113,7 @@ private:
     double done_elapsed_ = 0;
     bool final_uploaded_ = false;
     std::uint64_t pictures_ = 0;
+    bool first_picture_reported_ = false;
     std::array<std::uint64_t, 5> uploaded_sig_{};  // progress signature of the last upload
     // Timing of "a view change -> coarse image on screen" (printed with --verbose).
     std::chrono::steady_clock::time_point change_time_{};
