@@ -51,9 +51,12 @@ std::string read_with_progress(const std::string& path, std::string& out, std::a
             out.clear();
             return "cancelled";
         }
+        // Within the size the file said it has, the buffer never grows: a 100 MB
+        // scene must not pass through a 200 MB reallocation.
         std::size_t at = out.size();
-        out.resize(at + kChunk);
-        ssize_t n = ::read(fd, &out[at], kChunk);
+        std::size_t want = at < total ? std::min<std::size_t>(kChunk, std::size_t(total) - at) : kChunk;
+        out.resize(at + want);
+        ssize_t n = ::read(fd, &out[at], want);
         if (n < 0) {
             out.resize(at);
             if (errno == EINTR) continue;
@@ -72,7 +75,6 @@ std::string read_with_progress(const std::string& path, std::string& out, std::a
         report(out.size(), std::max<std::uint64_t>(total, out.size()));
     }
     ::close(fd);
-    out.shrink_to_fit();
     return {};
 }
 

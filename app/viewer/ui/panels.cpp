@@ -582,7 +582,12 @@ void Panels::draw_status_bar(const LoadStatus& load) {
                                 : render_.building() ? "building"
                                 : p.running      ? "rendering"
                                                  : "idle";
-            ImGui::Text("spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, state,
+            char preview[32] = "";
+            if (render_.showing_preview())
+                std::snprintf(preview, sizeof preview, "preview %dx%d", render_.last_preview_block(),
+                              render_.last_preview_block());
+            ImGui::Text("spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed,
+                        render_.showing_preview() ? preview : state,
                         layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
         }
         if (!status_.text().empty()) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "film.h"
 #include "shapes.h"
 
 namespace rtview {
@@ -17,6 +18,8 @@ namespace {
 // Time the first preview of a moving view may take: a 30 Hz stream of input then
 // still gets a new picture on nearly every frame, with room left for the UI itself.
 constexpr double kPreviewBudget = 0.025;
+// What the UI thread's own preview may take of a frame.
+constexpr double kUiPreviewBudget = 0.010;
 // The view counts as resting this long after its last change: the render refines.
 constexpr double kRestAfter = 0.15;
 
@@ -112,36 +115,64 @@ void RenderController::update(const rt::Camera& camera, int film_w, int film_h, 
     }
     bool changed = world_ != started_world_ || !(camera == started_camera_) || film_w != started_w_ ||
                    film_h != started_h_ || settings_changed_;
-    if (!changed) {
-        // While the view keeps moving, refining a picture that the next frame replaces
-        // only takes the CPU from the UI thread: hold the render once its preview is
-        // on screen, and let it refine as soon as the view rests.
-        bool hold = moving && preview_shown_ && seconds_since(last_change_) < kRestAfter;
-        if (hold != held_) {
-            held_ = hold;
-            renderer_.set_paused(hold || paused_);
-        }
-        return;
-    }
-    last_change_ = std::chrono::steady_clock::now();
+    bool preview_changed = world_ != preview_world_ || !(camera == preview_camera_) || film_w != preview_w_ ||
+                           film_h != preview_h_;
+    if (changed && preview_changed) last_change_ = std::chrono::steady_clock::now();
+    if (!changed) return;
     if (!timing_change_) {
         change_time_ = std::chrono::steady_clock::now();
         timing_change_ = true;
     }
-    // A render whose preview is not on screen yet is replaced only once it is overdue:
-    // otherwise a stream of input would cancel every preview before it is shown.
-    bool running = !held_ && p.running && !p.done && p.generation == started_generation_;
-    bool unshown = started_world_ && running && !preview_shown_;
-    if (unshown) {
-        double running_for = seconds_since(started_at_);
-        if (!PreviewPacer::may_replace(false, running_for, kPreviewBudget, replaced_unshown_)) return;
-        // Overdue: what it has cost so far is a lower bound of what it would have.
-        if (!measured_)
-            pacer_.measured(std::ceil(double(started_w_) / started_block_) * std::ceil(double(started_h_) / started_block_),
-                            running_for);
-        replaced_unshown_ = true;
+    // The view is moving: this frame's picture is traced here and now, and the render
+    // threads wait (refining a view that the next frame replaces would only take the
+    // CPU the UI needs). A view that stopped for a moment counts as resting.
+    if (interactive_ && moving && seconds_since(last_change_) < kRestAfter) {
+        if (!held_ && !paused_) {
+            renderer_.set_paused(true);
+            held_ = true;
+        }
+        if (preview_changed) trace_preview(camera, film_w, film_h);
+        return;
     }
-    start(camera, film_w, film_h, moving);
+    start(camera, film_w, film_h, false);
+}
+
+void RenderController::trace_preview(const rt::Camera& camera, int film_w, int film_h) {
+    auto t0 = std::chrono::steady_clock::now();
+    int b = ui_pacer_.coarse_block(film_w, film_h, kUiPreviewBudget);
+    // The rays of the renderer's coarse pass of that block size: one per block corner.
+    rt::CameraBasis basis = rt::CameraBasis::make(camera, film_w, film_h, false);
+    int pw = (film_w + b - 1) / b, ph = (film_h + b - 1) / b;
+    preview_rgba_.resize(std::size_t(pw) * ph * 4);
+    rt::RayStats stats;
+    std::uint8_t* out = preview_rgba_.data();
+    for (int by = 0; by < ph; ++by)
+        for (int bx = 0; bx < pw; ++bx, out += 4) {
+            rt::Colour c = world_->trace_unit(basis.origin, rt::normalize(basis.direction(bx * b, by * b)), stats);
+            // Through float, as the film stores it: the same bytes as the coarse pass.
+            out[0] = rt::to_byte(float(c.x)), out[1] = rt::to_byte(float(c.y)), out[2] = rt::to_byte(float(c.z));
+            out[3] = 255;
+        }
+    double took = seconds_since(t0);
+    ui_pacer_.measured(double(pw) * ph, took);
+    preview_tex_.upload(preview_rgba_, pw, ph, {0, 0, pw, ph});
+    preview_tex_.set_nearest(true);
+    showing_preview_ = true;
+    preview_block_ = b;
+    preview_w_ = film_w;
+    preview_h_ = film_h;
+    preview_world_ = world_;
+    preview_camera_ = camera;
+    ++pictures_;
+    if (timing_change_) {
+        last_latency_ms_ = seconds_since(change_time_) * 1000;
+        timing_change_ = false;
+        if (verbose)
+            std::fprintf(stderr,
+                         "raytracer-view: view change -> first image on screen %.1f ms (preview traced on the UI "
+                         "thread: %.1f ms, %dx%d, block %d)\n",
+                         last_latency_ms_, took * 1000, film_w, film_h, b);
+    }
 }
 
 void RenderController::start(const rt::Camera& camera, int film_w, int film_h, bool moving) {
@@ -151,9 +182,10 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h, b
     st.max_samples = max_samples_;
     st.time_limit = time_limit_;
     st.camera = camera;
-    // At rest the usual 8x8 first pass; while moving, the block the pacer says lands
-    // within the budget. Either way the render refines to full samples by itself.
-    st.coarse_block = moving ? pacer_.coarse_block(film_w, film_h, kPreviewBudget) : 8;
+    // The usual 8x8 first pass, or coarser when the scene is so expensive that it
+    // would not land within the budget; the render refines to full samples by itself.
+    st.coarse_block = std::max(8, pacer_.coarse_block(film_w, film_h, kPreviewBudget));
+    (void)moving;
     if (paused_ && interactive_ && started_world_) {
         // Moving the view while paused would show nothing new; resume instead.
         set_paused(false);
@@ -191,6 +223,7 @@ void RenderController::upload() {
         film_.upload(rgba_, w, h, changed);
         bool has_picture = before.coarse_level > 0 || before.samples > 0;
         if (has_picture && before.generation == started_generation_) {
+            showing_preview_ = false;
             if (verbose && clock && !first_picture_reported_) {
                 std::fprintf(stderr, "raytracer-view: first picture on screen at %.3f s\n", clock());
                 first_picture_reported_ = true;
@@ -222,9 +255,16 @@ void RenderController::upload() {
 }
 
 void RenderController::draw(const Rect& image, float fb_scale) {
-    if (!film_.valid() || !started_world_) return;
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
     ImVec2 p0(float(image.x), float(image.y)), p1(float(image.x + image.w), float(image.y + image.h));
+    if (showing_preview_ && preview_tex_.valid()) {
+        // Texel k covers film pixels [k b, (k + 1) b): the last one may overhang the film.
+        float u = float(preview_w_) / float(preview_tex_.width() * preview_block_);
+        float v = float(preview_h_) / float(preview_tex_.height() * preview_block_);
+        dl->AddImage(preview_tex_.id(), p0, p1, ImVec2(0, 0), ImVec2(u, v));
+        return;
+    }
+    if (!film_.valid() || !started_world_) return;
     // 1:1 in framebuffer pixels: nearest filtering shows the film's pixels exactly.
     bool exact = std::fabs(image.w * fb_scale - film_.width()) < 0.5 &&
                  std::fabs(image.h * fb_scale - film_.height()) < 0.5;
@@ -240,7 +280,7 @@ bool RenderController::settled(int film_w, int film_h) const {
 
 bool RenderController::busy() const {
     rt::RenderProgress p = renderer_.progress();
-    return p.running || building_.valid() || (!final_uploaded_ && !paused_ && started_world_);
+    return p.running || building_.valid() || (!final_uploaded_ && !paused_ && started_world_) || showing_preview_;
 }
 
 }  // namespace rtview

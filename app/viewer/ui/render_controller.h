@@ -1,7 +1,10 @@
 // The render side of the viewer: owns the renderer, the compiled world, the preview
 // pacing and the film texture. Each frame it is told what to show (world from the
-// document, view camera, film size) and decides when to (re)start the renderer, so
-// that a stream of input always leaves a picture on screen.
+// document, view camera, film size). While the view moves, the frame's picture is
+// traced right here on the UI thread, as coarse as the measured cost of recent
+// previews requires to fit the frame budget: a picture on every frame whatever the
+// render threads are doing (under load, handing work to them and back costs more
+// than the preview itself). When the view rests, the renderer refines it.
 #pragma once
 
 #include <array>
@@ -39,6 +42,9 @@ public:
     // the view or a slider is being dragged, so a coarse preview within the frame
     // budget matters more than detail.
     void update(const rt::Camera& camera, int film_w, int film_h, bool moving);
+    // Block size of the last preview traced on the UI thread (0: none yet).
+    int last_preview_block() const { return preview_block_; }
+    bool showing_preview() const { return showing_preview_; }
     // New film pixels to the texture. Call once per frame, after update().
     void upload();
     // Draws the film into `image`.
@@ -78,6 +84,7 @@ public:
 
 private:
     void start(const rt::Camera& camera, int film_w, int film_h, bool moving);
+    void trace_preview(const rt::Camera& camera, int film_w, int film_h);
 
     bool interactive_;
     rt::Renderer renderer_;
@@ -104,6 +111,15 @@ private:
     double time_limit_;
     bool settings_changed_ = false;
     bool paused_ = false;
+
+    // The UI thread's own previews while the view moves.
+    PreviewPacer ui_pacer_;
+    FilmTexture preview_tex_;
+    std::vector<std::uint8_t> preview_rgba_;
+    bool showing_preview_ = false;  // the preview is on screen, not the film
+    int preview_block_ = 0, preview_w_ = 0, preview_h_ = 0;  // of the film it previews
+    std::shared_ptr<const rt::World> preview_world_;
+    rt::Camera preview_camera_;
 
     FilmTexture film_;
     std::vector<std::uint8_t> rgba_;
