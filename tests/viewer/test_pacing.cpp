@@ -1,8 +1,11 @@
-// Preview pacing: the first coarse pass is chosen from measured costs so that it fits
-// the frame budget, and an unshown preview is only replaced once overdue.
+// Preview pacing: the block size of a preview is chosen from measured costs so that
+// it fits the frame budget.
 #include <doctest/doctest.h>
 
+#include "default_scene.h"
+#include "film.h"
 #include "pacing.h"
+#include "scene_parser.h"
 
 using namespace rtview;
 
@@ -41,12 +44,29 @@ TEST_CASE("faster passes are believed at once, slower ones halfway") {
     CHECK(p.seconds_per_ray() == doctest::Approx(1e-5));
 }
 
-TEST_CASE("an unshown preview is replaced only once overdue, and once per picture shown") {
-    CHECK(PreviewPacer::may_replace(true, 0.0, 0.025, false));
-    CHECK(PreviewPacer::may_replace(true, 0.0, 0.025, true));
-    CHECK_FALSE(PreviewPacer::may_replace(false, 0.01, 0.025, false));
-    CHECK_FALSE(PreviewPacer::may_replace(false, 0.049, 0.025, false));
-    CHECK(PreviewPacer::may_replace(false, 0.05, 0.025, false));
-    // One was thrown away already since the last picture: wait for this one.
-    CHECK_FALSE(PreviewPacer::may_replace(false, 10.0, 0.025, true));
+TEST_CASE("a preview is the picture's block corners, traced as the camera ray through each") {
+    rt::ParseResult r = rt::parse_scene(rt::kDefaultScene);
+    REQUIRE(r.ok());
+    auto world = rt::compile_world(r.scene);
+    const int w = 101, h = 67, b = 8;
+    std::vector<std::uint8_t> rgba;
+    int pw = 0, ph = 0;
+    trace_preview(*world, r.scene.camera, w, h, b, rgba, pw, ph);
+    CHECK(pw == 13);  // ceil(101 / 8)
+    CHECK(ph == 9);   // ceil(67 / 8)
+    REQUIRE(rgba.size() == std::size_t(pw * ph * 4));
+    rt::CameraBasis basis = rt::CameraBasis::make(r.scene.camera, w, h, false);
+    int distinct = 0;
+    for (int by = 0; by < ph; ++by)
+        for (int bx = 0; bx < pw; ++bx) {
+            rt::RayStats stats;
+            rt::Colour c = world->trace_camera(basis, bx * b, by * b, stats);
+            const std::uint8_t* p = &rgba[std::size_t(by * pw + bx) * 4];
+            CHECK(int(p[0]) == int(rt::to_byte(float(c.x))));
+            CHECK(int(p[1]) == int(rt::to_byte(float(c.y))));
+            CHECK(int(p[2]) == int(rt::to_byte(float(c.z))));
+            CHECK(p[3] == 255);
+            distinct += p[0] != rgba[0] || p[1] != rgba[1] || p[2] != rgba[2];
+        }
+    CHECK(distinct > 20);  // a picture, not a flat colour
 }

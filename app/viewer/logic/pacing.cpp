@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "film.h"
+
 namespace rtview {
 
 void PreviewPacer::measured(double rays, double seconds) {
@@ -24,6 +26,24 @@ int PreviewPacer::coarse_block(int width, int height, double budget) const {
     for (int b = 2; b < 64; b *= 2)
         if (pixels / (double(b) * b) * per_ray_ <= budget) return b;
     return 64;
+}
+
+void trace_preview(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
+                   std::vector<std::uint8_t>& rgba, int& width, int& height) {
+    int b = std::max(1, block);
+    rt::CameraBasis basis = rt::CameraBasis::make(camera, film_w, film_h, false);
+    width = (film_w + b - 1) / b;
+    height = (film_h + b - 1) / b;
+    rgba.resize(std::size_t(width) * std::size_t(height) * 4);
+    rt::RayStats stats;
+    std::uint8_t* out = rgba.data();
+    for (int by = 0; by < height; ++by)
+        for (int bx = 0; bx < width; ++bx, out += 4) {
+            rt::Colour c = world.trace_unit(basis.origin, rt::normalize(basis.direction(bx * b, by * b)), stats);
+            // Through float, as the film stores it: the same bytes as the coarse pass.
+            out[0] = rt::to_byte(float(c.x)), out[1] = rt::to_byte(float(c.y)), out[2] = rt::to_byte(float(c.z));
+            out[3] = 255;
+        }
 }
 
 }  // namespace rtview

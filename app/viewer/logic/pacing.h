@@ -1,8 +1,13 @@
-// Preview pacing: how coarse the first preview pass of a moving view must be so that
-// it lands within a frame budget, from the measured cost of recent passes (dynamic
-// resolution), and when a newer view may replace a render whose preview has not been
-// shown yet. No window, no GL: unit-tested.
+// Preview pacing: how coarse a preview of a moving view must be so that it lands
+// within a frame budget, from the measured cost of recent previews (dynamic
+// resolution). No window, no GL: unit-tested.
 #pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "camera.h"
+#include "world.h"
 
 namespace rtview {
 
@@ -19,17 +24,14 @@ public:
     // it is expected within `budget` seconds. Before any measurement: 8.
     int coarse_block(int width, int height, double budget) const;
 
-    // May a render that started `running_for` seconds ago be replaced by a newer view?
-    // Always once its preview is on screen. An unshown preview is thrown away only
-    // when it is overdue (twice the budget) and, even then, at most once per picture
-    // shown (`replaced_unshown`: one was already thrown away since the last picture):
-    // under load a stream of input must not starve the picture.
-    static bool may_replace(bool preview_shown, double running_for, double budget, bool replaced_unshown) {
-        return preview_shown || (running_for >= 2 * budget && !replaced_unshown);
-    }
-
 private:
     double per_ray_ = 0;
 };
+
+// A preview of a film_w x film_h picture of `world` through `camera`: one ray per
+// `block` x `block` block, through its corner pixel (the rays of the renderer's coarse
+// pass of that block size), as RGBA8 of ceil(w / block) x ceil(h / block) pixels.
+void trace_preview(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
+                   std::vector<std::uint8_t>& rgba, int& width, int& height);
 
 }  // namespace rtview

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdio>
 
-#include "film.h"
 #include "shapes.h"
 
 namespace rtview {
@@ -140,19 +139,8 @@ void RenderController::update(const rt::Camera& camera, int film_w, int film_h, 
 void RenderController::trace_preview(const rt::Camera& camera, int film_w, int film_h) {
     auto t0 = std::chrono::steady_clock::now();
     int b = ui_pacer_.coarse_block(film_w, film_h, kUiPreviewBudget);
-    // The rays of the renderer's coarse pass of that block size: one per block corner.
-    rt::CameraBasis basis = rt::CameraBasis::make(camera, film_w, film_h, false);
-    int pw = (film_w + b - 1) / b, ph = (film_h + b - 1) / b;
-    preview_rgba_.resize(std::size_t(pw) * ph * 4);
-    rt::RayStats stats;
-    std::uint8_t* out = preview_rgba_.data();
-    for (int by = 0; by < ph; ++by)
-        for (int bx = 0; bx < pw; ++bx, out += 4) {
-            rt::Colour c = world_->trace_unit(basis.origin, rt::normalize(basis.direction(bx * b, by * b)), stats);
-            // Through float, as the film stores it: the same bytes as the coarse pass.
-            out[0] = rt::to_byte(float(c.x)), out[1] = rt::to_byte(float(c.y)), out[2] = rt::to_byte(float(c.z));
-            out[3] = 255;
-        }
+    int pw = 0, ph = 0;
+    rtview::trace_preview(*world_, camera, film_w, film_h, b, preview_rgba_, pw, ph);
     double took = seconds_since(t0);
     ui_pacer_.measured(double(pw) * ph, took);
     preview_tex_.upload(preview_rgba_, pw, ph, {0, 0, pw, ph});
@@ -230,7 +218,6 @@ void RenderController::upload() {
             }
             if (!preview_shown_ || before.samples > 0) ++pictures_;
             preview_shown_ = true;
-            replaced_unshown_ = false;
         }
         if (timing_change_ && has_picture && before.generation == started_generation_ && w == started_w_ &&
             h == started_h_) {

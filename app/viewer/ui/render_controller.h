@@ -104,7 +104,6 @@ private:
     bool preview_shown_ = false;  // something of the started render reached the texture
     bool measured_ = false;       // its first coarse pass went into the pacer
     bool held_ = false;           // paused after its preview while the view moves
-    bool replaced_unshown_ = false;  // an unshown preview was thrown away since the last picture
     std::chrono::steady_clock::time_point last_change_{};
 
     int max_samples_;
