@@ -186,6 +186,13 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
     if (has_scene_) file_camera_ = scene_.camera;
 }
 
+void Document::load_pending(const std::string& name) {
+    load_parsed("", rt::ParseResult{}, "", name);
+    has_scene_ = false;
+    scene_ = rt::Scene{};
+    applied_ = std::string();
+}
+
 std::string Document::load_file(const std::string& path) {
     std::string text;
     std::string err = rt::read_file(path, text, rt::Limits::max_file_size);

@@ -65,6 +65,9 @@ public:
     // Takes a text parsed elsewhere (a background load): nothing is parsed again and
     // the text is moved in, not copied.
     void load_parsed(std::string text, rt::ParseResult parsed, const std::string& path, const std::string& name);
+    // An empty document with no scene and no errors: the window's state while its
+    // first file loads in the background.
+    void load_pending(const std::string& name);
     // Reads and loads a file; on failure returns why and leaves the document as it was.
     std::string load_file(const std::string& path);
 

@@ -85,7 +85,7 @@ std::string ViewerApp::open_initial() {
         // The window paints and its menus work while the file loads. A file that
         // cannot be read at all is still a message for the terminal.
         if (::access(opt_.scene.c_str(), R_OK) != 0) return "cannot open '" + opt_.scene + "': " + std::strerror(errno);
-        doc.load_text("", "", base_name(opt_.scene));
+        doc.load_pending(base_name(opt_.scene));
         start_load(opt_.scene);
     } else {
         loader_.start(opt_.scene);
@@ -199,12 +199,14 @@ void ViewerApp::frame() {
     render_.upload();
     panels_.draw_surround();
     if (doc.has_scene() || render_.started()) render_.draw(layout_.image, layout_.fb_scale);
-    if (!doc.has_scene() && !loader_.active()) {
-        const char* msg = "No image: the scene text has errors (see the Text tab).";
+    if (!doc.has_scene()) {
+        std::string opening = "Opening " + base_name(loader_.progress().path) + " ...";
+        const char* msg = loader_.active() ? opening.c_str() : "No image: the scene text has errors (see the Text tab).";
         ImVec2 sz = ImGui::CalcTextSize(msg);
         ImGui::GetBackgroundDrawList()->AddText(
             ImVec2(float(layout_.area.x + (layout_.area.w - sz.x) / 2), float(layout_.area.y + (layout_.area.h - sz.y) / 2)),
-            ImGui::GetColorU32(ImVec4(1.0f, 0.42f, 0.42f, 1.0f)), msg);
+            ImGui::GetColorU32(loader_.active() ? ImVec4(0.75f, 0.75f, 0.75f, 1.0f) : ImVec4(1.0f, 0.42f, 0.42f, 1.0f)),
+            msg);
     }
 
     std::string title = doc.title();

@@ -266,7 +266,10 @@ void Panels::draw_camera_panel() {
     float width = ImGui::GetContentRegionAvail().x;
     const Document& doc = editor_.doc();
     ImGui::SetNextItemOpen(true, ImGuiCond_Once);
-    if (ImGui::CollapsingHeader("Camera")) {
+    bool open = ImGui::CollapsingHeader("Camera");
+    if (open && !doc.has_scene()) {
+        ImGui::TextDisabled("No scene yet.");
+    } else if (open) {
         ImGui::BeginDisabled(!doc.has_scene());
         float speed = float(scene_size() * 0.002);
         ImGui::PushItemWidth(-84);
@@ -364,7 +367,8 @@ void Panels::draw_object_node(const rt::Object& obj, int top, std::vector<int>& 
 
 void Panels::draw_outline() {
     if (!editor_.doc().has_scene()) {
-        ImGui::TextDisabled("No scene yet: fix the errors in the Text tab.");
+        ImGui::TextDisabled(editor_.doc().has_errors() ? "No scene yet: fix the errors in the Text tab."
+                                                       : "No scene yet.");
         return;
     }
     const rt::Scene& s = editor_.doc().scene();
