@@ -614,7 +614,9 @@ bool Document::redo() {
 void Document::mark_saved() {
     saved_hash_ = text_hash(editor_);
     saved_size_ = editor_.size();
-    modified_key_ = ~std::uint64_t(0);
+    // The text is the saved one now: no need to hash it again to know that.
+    modified_key_ = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    modified_cache_ = false;
     // Revert of a text that never parsed goes back to the file: keep it (such files
     // are small; a scene that parses is not kept twice).
     saved_broken_text_ = has_scene_ ? std::string() : editor_;

@@ -186,10 +186,7 @@ void ViewerApp::frame() {
     editor_.tick(now);
     if (interactive_ && now - last_disk_check_ >= 1.0) idle_tick();
 
-    if (!loader_.active() || doc.has_scene()) {
-        render_.sync_world(doc);
-        if (!doc.has_scene()) render_.clear();
-    }
+    render_.sync_world(doc);
     // A slider held in a panel is motion too: previews within the frame budget.
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
     bool moving = nav_input_.moving(now) || widget_busy;
@@ -459,7 +456,7 @@ bool ViewerApp::render_settled() const {
 
 bool ViewerApp::ui_busy() const {
     const Document& doc = editor_.doc();
-    return loader_.active() || nav_.dragging() || nav_input_.moving(ImGui::GetTime()) || doc.editing() || frames_ < 3 ||
+    return nav_.dragging() || nav_input_.moving(ImGui::GetTime()) || doc.editing() || frames_ < 3 ||
            editor_.wants_frames() || panels_.wants_frames() || dialogs_.wants_frames() || !screenshot_request_.empty() ||
            render_.building();
 }
@@ -472,6 +469,8 @@ double ViewerApp::wait_timeout() const {
     if (render_.awaiting_preview()) return 0.004;
     // Anything animating or arriving needs display-rate frames.
     if (ui_busy() || render_.busy()) return 1.0 / 60;
+    // A load's progress needs a few frames a second, not 60: its thread wants the CPU.
+    if (loader_.active()) return 0.1;
     // Idle: sleep until input, waking once a second to look at the file on disk.
     return 1.0;
 }
@@ -480,7 +479,7 @@ bool ViewerApp::needs_frame() {
     if (!interactive_) return true;
     // A frame costs the UI thread and the GL rasteriser CPU time the render threads
     // could use: draw one only for new pixels or for UI that is changing.
-    return ui_busy() || render_.has_new_picture() || (render_.busy() && !render_.awaiting_preview());
+    return ui_busy() || loader_.active() || render_.has_new_picture() || (render_.busy() && !render_.awaiting_preview());
 }
 
 bool ViewerApp::idle_tick() {
