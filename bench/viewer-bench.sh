@@ -99,15 +99,23 @@ start_viewer "$GRID" "$OUT/big.err"
 FIRST_FRAME=$(awk '/first frame drawn at/ { print $(NF - 1) }' "$OUT/big.err")
 FIRST_PICTURE=$(awk '/first picture on screen at/ { print $(NF - 1) }' "$OUT/big.err")
 RSS0=$(awk '/VmRSS/ { print $2 }' /proc/$VP/status)
-for _ in $(seq 1 10); do
+for _ in $(seq 1 9); do
     xdotool mousemove $CX $CY click 4
     sleep 0.8
 done
+# The last notch, timed from outside: from the click to the first change on screen.
+"$BIN/rtview-xframes" "$IX" "$IY" "$IW" "$IH" 5 1.5 > "$OUT/notch.txt" &
+XF=$!
+sleep 0.3
+T_CLICK=$(date +%s.%N)
+xdotool mousemove $CX $CY click 4
+wait "$XF"
+LAST_NOTCH=$(awk -v tc="$T_CLICK" '/^start/ { s = $2 } / change / && !done { t = s + $1; if (t > tc) { printf "%.0f", (t - tc) * 1000; done = 1 } }
+    END { if (!done) print "none" }' "$OUT/notch.txt")
 sleep 1.5
 RSS1=$(awk '/VmRSS/ { print $2 }' /proc/$VP/status)
 HWM=$(awk '/VmHWM/ { print $2 }' /proc/$VP/status)
 TITLE=$(xdotool search --name 'grid' getwindowname 2> /dev/null | head -1)
-LAST_NOTCH=$(awk '/view change -> first image/ { v = $9 } END { print v }' "$OUT/big.err")
 stop_viewer
 echo "viewer on $(basename "$GRID"): first frame drawn at ${FIRST_FRAME} s, first picture at ${FIRST_PICTURE} s (load $(load))"
 echo

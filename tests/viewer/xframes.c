@@ -2,7 +2,8 @@
  * window shows, e.g. while xdotool drags in it under Xvfb). Samples the region every
  * PERIOD_MS for SECONDS through MIT-SHM and prints one line per change, then
  *   "changes C samples N max_gap_ms G"
- * where G is the longest time the region stood still.
+ * where G is the longest time the region stood still. The first line,
+ *   "start E", gives the wall-clock time (seconds since the epoch) of time 0.
  * Usage: DISPLAY=:N xframes X Y W H PERIOD_MS SECONDS */
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
@@ -51,6 +52,9 @@ int main(int argc, char** argv) {
     XShmAttach(dpy, &shm);
     shmctl(shm.shmid, IPC_RMID, NULL); /* freed when detached, even if we are killed */
     double t0 = seconds(), last = t0, max_gap = 0;
+    struct timespec wall;
+    clock_gettime(CLOCK_REALTIME, &wall);
+    printf("start %.6f\n", (double)wall.tv_sec + (double)wall.tv_nsec * 1e-9);
     uint64_t prev = 0;
     int changes = 0, samples = 0;
     while (seconds() - t0 < duration) {
