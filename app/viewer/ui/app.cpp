@@ -141,6 +141,31 @@ void ViewerApp::poll_loader() {
 // ---------------------------------------------------------------------------------
 // Frame
 
+// What the status bar says while a file loads in the background.
+LoadStatus ViewerApp::load_status() const {
+    LoadStatus load;
+    if (!loader_.active()) return load;
+    SceneLoader::Progress p = loader_.progress();
+    load.active = true;
+    std::string name = base_name(p.path);
+    switch (p.stage) {
+        case SceneLoader::Stage::Reading:
+            load.text = "Reading " + name + ": " + megabytes(p.bytes) + " of " + megabytes(p.total) + " MB";
+            load.fraction = p.total ? 0.3 * double(p.bytes) / double(p.total) : 0;
+            break;
+        case SceneLoader::Stage::Parsing:
+            load.text = "Parsing " + name + " (" + megabytes(p.total) + " MB)";
+            load.fraction = 0.3;
+            break;
+        case SceneLoader::Stage::Building:
+            load.text = "Building the BVH of " + name + ": " + std::to_string(p.objects) + " objects";
+            load.fraction = 0.75;
+            break;
+        default: load.text = "Opening " + name; break;
+    }
+    return load;
+}
+
 void ViewerApp::frame() {
     ++frames_;
     double now = ImGui::GetTime();
@@ -151,28 +176,7 @@ void ViewerApp::frame() {
     if (interactive_) handle_shortcuts();
     panels_.draw_menu_bar();
     panels_.draw_sidebar();
-    LoadStatus load;
-    if (loader_.active()) {
-        SceneLoader::Progress p = loader_.progress();
-        load.active = true;
-        std::string name = base_name(p.path);
-        switch (p.stage) {
-            case SceneLoader::Stage::Reading:
-                load.text = "Reading " + name + ": " + megabytes(p.bytes) + " of " + megabytes(p.total) + " MB";
-                load.fraction = p.total ? 0.3 * double(p.bytes) / double(p.total) : 0;
-                break;
-            case SceneLoader::Stage::Parsing:
-                load.text = "Parsing " + name + " (" + megabytes(p.total) + " MB)";
-                load.fraction = 0.3;
-                break;
-            case SceneLoader::Stage::Building:
-                load.text = "Building the BVH of " + name + ": " + std::to_string(p.objects) + " objects";
-                load.fraction = 0.75;
-                break;
-            default: load.text = "Opening " + name; break;
-        }
-    }
-    panels_.draw_status_bar(load);
+    panels_.draw_status_bar(load_status());
     dialogs_.draw(doc.name(), !doc.path().empty(), layout_.fit == FitMode::Window ? "window size" : "picture frame");
 
     // The view follows real edits of the scene camera (panel fields, undo, reload).

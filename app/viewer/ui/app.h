@@ -79,6 +79,7 @@ private:
     void handle_shortcuts();
     void end_edits();
     void poll_loader();
+    LoadStatus load_status() const;
     void after_document_replaced();
     void start_load(const std::string& path);
     void select_at(double px, double py);
