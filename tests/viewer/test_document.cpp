@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "default_scene.h"
@@ -149,9 +150,16 @@ TEST_CASE("a panel edit leaves a broken draft alone and says the text is behind"
     CHECK(d.scene().lights[0].colour == rt::Vec3{1, 2, 3});
     d.revert_text();  // drop the draft: the text shows the scene again
     CHECK_FALSE(d.text_behind());
+    CHECK_FALSE(d.editor_dirty());
     CHECK(parsed(d.editor_text()) == d.scene());
-    REQUIRE(d.undo());  // and the draft can come back
-    CHECK(d.editor_text() == draft);
+    REQUIRE(d.undo());  // and the draft can come back, still unapplied
+    CHECK(std::as_const(d).editor_text() == draft);
+    CHECK(d.editor_dirty());
+    CHECK(d.text_behind());
+    CHECK(parsed(d.applied_text()) == d.scene());
+    REQUIRE(d.redo());
+    CHECK_FALSE(d.editor_dirty());
+    CHECK(parsed(std::as_const(d).editor_text()) == d.scene());
 }
 
 TEST_CASE("a file that does not parse opens with its text and errors, and no scene") {

@@ -484,12 +484,15 @@ void Document::record(DocStep step) {
 void Document::replace_state(const std::string* editor, std::optional<std::string> applied,
                              std::optional<rt::Scene> scene, bool behind) {
     DocStep step;
+    // The state before, as it was: the applied text is "the editor text" only if it
+    // was equal to the editor text before that changes.
+    normalize_applied();
+    step.applied_before = applied_;
+    if (!applied_) applied_ = editor_;  // (replaced below; keeps the old text meanwhile)
     if (editor && *editor != editor_) {
         step.editor.push_back(diff_texts(editor_, *editor));
         editor_ = *editor;
     }
-    normalize_applied();
-    step.applied_before = applied_;
     step.has_scene_before = has_scene_;
     step.behind_before = behind_;
     bool content_changed = false, scene_changed = false;
