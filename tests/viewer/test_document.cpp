@@ -377,3 +377,109 @@ TEST_CASE("the undo byte budget holds over 1,000 edits of a 1 MB document") {
     CHECK(e.undo_bytes() < 300 * 4096);  // a step is its block, not a copy of the text
     CHECK(parsed(e.editor_text()) == e.scene());
 }
+
+namespace {
+
+// The reference keeps a full copy of the document after every step; the document
+// keeps only what each step changed. Random panel edits, typing, applies,
+// reverts, undos and redos must agree with the copies at every point.
+void check_against_full_copies(std::uint32_t seed) {
+    struct Snap {
+        std::string editor, applied;
+        rt::Scene scene;
+        bool behind, dirty;
+        bool operator==(const Snap& o) const {
+            return editor == o.editor && applied == o.applied && scene == o.scene && behind == o.behind &&
+                   dirty == o.dirty;
+        }
+    };
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    auto snap = [&] {
+        return Snap{std::as_const(d).editor_text(), d.applied_text(), d.scene(), d.text_behind(), d.editor_dirty()};
+    };
+    std::vector<Snap> states{snap()};  // states[k]: after k steps
+    std::size_t at = 0;                // where the document is in `states`
+    std::uint32_t rng = seed;
+    auto next = [&](std::uint32_t n) {
+        rng = rng * 1664525u + 1013904223u;
+        return (rng >> 8) % n;
+    };
+    // Typing is not a step until something else happens: then it becomes one, first.
+    std::size_t depth = 0;
+    auto before_op = [&] {
+        depth = d.undo_depth();
+        Snap now = snap();
+        if (now.editor != states[at].editor) {
+            states.resize(at + 1);
+            states.push_back(now);
+            ++at;
+            ++depth;
+        }
+    };
+    auto stepped = [&] {
+        if (d.undo_depth() == depth) {
+            states[at] = snap();  // no new step (for example an apply of the same scene)
+            return;
+        }
+        REQUIRE(d.undo_depth() == depth + 1);
+        states.resize(at + 1);
+        states.push_back(snap());
+        ++at;
+    };
+    for (int k = 0; k < 300; ++k) {
+        double r = 0.01 * double(next(100));
+        int op = int(next(9));
+        if (op != 3) before_op();
+        switch (op) {
+            case 0: d.edit_object(next(6)).material.reflection = r; d.commit(); stepped(); break;
+            case 1: d.edit_light(next(2)).colour = {r, 1, 2}; d.commit(); stepped(); break;
+            case 2: d.edit_camera().angle_y = 30 + r; d.commit(); stepped(); break;
+            case 3: {
+                // Typing: a comment at the start (the text keeps parsing) or a stray word.
+                std::string& t = d.editor_text();
+                t.insert(0, next(4) == 0 ? "stray " : "// typed " + std::to_string(k) + "\n");
+                break;
+            }
+            case 4: d.apply_text(); stepped(); break;
+            case 5: d.revert_text(); stepped(); break;
+            case 6:
+            case 7:
+                if (d.undo()) {
+                    REQUIRE(at > 0);
+                    --at;
+                } else {
+                    CHECK(at == 0);
+                }
+                break;
+            default:
+                if (d.redo()) ++at;
+                break;
+        }
+        REQUIRE(at < states.size());
+        if (op != 3) {
+            CHECK(snap() == states[at]);
+            CHECK(d.undo_depth() == at);
+        }
+    }
+    before_op();
+    // All the way back, and forward again.
+    while (d.undo()) {
+        --at;
+        CHECK(snap() == states[at]);
+    }
+    CHECK(at == 0);
+    while (d.redo()) {
+        ++at;
+        CHECK(snap() == states[at]);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("undo and redo of edit steps give back exactly the states a full-copy history would") {
+    for (std::uint32_t seed : {12345u, 1u, 2u, 77u, 4242u}) {
+        CAPTURE(seed);
+        check_against_full_copies(seed);
+    }
+}

@@ -162,6 +162,8 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
     history_.clear();
     pending_ = false;
     saved_ = {};
+    typing_base_.reset();
+    layout_.reset();
     conflict_ = false;
     conflict_text_.clear();
     path_ = path;
@@ -214,10 +216,25 @@ bool Document::modified() const {
 std::string Document::title() const { return name_ + (modified() ? "*" : "") + " - raytracer-view"; }
 
 std::string& Document::editor_text() {
-    // The caller may type into it: from now on the applied text needs its own copy.
+    // The caller may type into it: from now on the applied text needs its own copy,
+    // and the text as it is now is where the typing starts.
     if (!applied_) applied_ = editor_;
+    if (!typing_base_) typing_base_ = editor_;
     ++typed_;
     return editor_;
+}
+
+void Document::flush_typing() {
+    if (!typing_base_) return;
+    std::string base = std::move(*typing_base_);
+    typing_base_.reset();
+    if (base == editor_) return;
+    DocStep step;
+    step.editor.push_back(diff_texts(base, editor_));
+    step.keep_applied = true;
+    step.has_scene_before = step.has_scene_after = has_scene_;
+    step.behind_before = step.behind_after = behind_;
+    record(std::move(step));
 }
 
 void Document::normalize_applied() {
@@ -304,6 +321,7 @@ bool Document::set_camera(const rt::Camera& camera) {
 
 void Document::commit() {
     if (!pending_) return;
+    flush_typing();
     pending_ = false;
     DocStep step;
     step.has_scene_before = step.has_scene_after = has_scene_;
@@ -474,6 +492,7 @@ rt::Scene Document::scene_before_edit_from(const DocStep& step) const {
 }
 
 void Document::record(DocStep step) {
+    typing_base_.reset();
     std::size_t bytes = step.bytes();
     history_.push(std::move(step), bytes);
 }
@@ -533,12 +552,16 @@ void Document::replace_state(const std::string* editor, std::optional<std::strin
 }
 
 void Document::apply_step(const DocStep& s, bool forward) {
+    // A typing step leaves the applied text alone: it is the editor text as it is
+    // before the step when they are one and the same now.
+    if (s.keep_applied && !applied_) applied_ = editor_;
     if (forward) {
         for (const TextSplice& t : s.editor) editor_.replace(t.pos, t.before.size(), t.after);
     } else {
         for (auto it = s.editor.rbegin(); it != s.editor.rend(); ++it) editor_.replace(it->pos, it->after.size(), it->before);
     }
-    applied_ = forward ? s.applied_after : s.applied_before;
+    if (!s.keep_applied) applied_ = forward ? s.applied_after : s.applied_before;
+    else normalize_applied();
     has_scene_ = forward ? s.has_scene_after : s.has_scene_before;
     if (s.reparse) {
         if (has_scene_) {
@@ -557,6 +580,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
         s.has_scene_before != s.has_scene_after)
         ++content_version_;
     if (!s.editor.empty() || s.applied_before != s.applied_after) ++text_version_;
+    typing_base_.reset();
     diagnostics_ = editor_dirty() ? rt::parse_scene(editor_).diagnostics : std::vector<rt::Diagnostic>{};
 }
 
@@ -568,6 +592,7 @@ bool Document::has_errors() const {
 
 bool Document::apply_text() {
     commit();
+    flush_typing();
     rt::ParseResult r = rt::parse_scene(editor_);
     diagnostics_ = r.diagnostics;
     if (!r.ok()) return false;
@@ -581,6 +606,7 @@ void Document::check_text() { diagnostics_ = rt::parse_scene(editor_).diagnostic
 
 void Document::revert_text() {
     commit();
+    flush_typing();
     std::string target = has_scene_ ? applied_text() : saved_broken_text_;
     if (editor_ == target && !behind_) return;
     replace_state(&target, has_scene_ ? std::nullopt : std::optional<std::string>(std::string()), std::nullopt, false);
@@ -589,6 +615,7 @@ void Document::revert_text() {
 
 void Document::restore_draft(const std::string& text) {
     commit();
+    flush_typing();
     if (editor_ == text) return;
     std::string applied = applied_text();
     replace_state(&text, std::move(applied), std::nullopt, behind_);
@@ -597,6 +624,7 @@ void Document::restore_draft(const std::string& text) {
 
 bool Document::undo() {
     commit();
+    flush_typing();
     const DocStep* s = history_.undo();
     if (!s) return false;
     apply_step(*s, false);
@@ -605,6 +633,7 @@ bool Document::undo() {
 
 bool Document::redo() {
     commit();
+    flush_typing();
     const DocStep* s = history_.redo();
     if (!s) return false;
     apply_step(*s, true);
@@ -651,6 +680,7 @@ std::string Document::save_as(const std::string& path) {
 }
 
 void Document::reload_text(const std::string& text) {
+    flush_typing();
     rt::ParseResult r = rt::parse_scene(text);
     diagnostics_ = r.diagnostics;
     if (r.ok()) {

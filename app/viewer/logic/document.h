@@ -52,6 +52,7 @@ struct DocStep {
     std::optional<rt::Camera> camera_before, camera_after;
     bool has_scene_before = false, has_scene_after = false;
     bool behind_before = false, behind_after = false;
+    bool keep_applied = false;  // typing: the applied text is not part of the step
     std::size_t bytes() const;
 };
 
@@ -174,6 +175,9 @@ private:
     bool commit_in_place(DocStep& step);
     void commit_generic(DocStep& step);
     void record(DocStep step);
+    // Text typed into the editor since the last step becomes a step of its own
+    // (every step's splices hold for the text exactly as the previous step left it).
+    void flush_typing();
     // Replaces the texts and scene as one undoable step (apply, revert, reload...).
     // `editor` null: the editor text stays; `scene` empty: the scene stays.
     void replace_state(const std::string* editor, std::optional<std::string> applied, std::optional<rt::Scene> scene,
@@ -185,6 +189,7 @@ private:
 
     std::string editor_;
     std::optional<std::string> applied_;  // only while it differs from editor_ (or may)
+    std::optional<std::string> typing_base_;  // editor_ as the last step left it, while typed into
     rt::Scene scene_;
     bool has_scene_ = false;
     bool behind_ = false;
