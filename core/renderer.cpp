@@ -141,13 +141,16 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
     job->settings.max_samples = std::max(1, settings.max_samples);
     job->width = settings.width > 0 ? settings.width : world->width;
     job->height = settings.height > 0 ? settings.height : world->height;
-    job->camera = CameraBasis::make(world->camera, job->width, job->height, settings.mirror);
+    job->camera = CameraBasis::make(settings.camera ? *settings.camera : world->camera, job->width, job->height,
+                                    settings.mirror);
     job->start = Clock::now();
     if (settings.time_limit > 0)
         job->deadline = job->start + std::chrono::duration_cast<Clock::duration>(
                                          std::chrono::duration<double>(std::min(settings.time_limit, 1e9)));
+    int first_block = 2;  // the largest power of 2 <= coarse_block (blocks are masks)
+    while (first_block < 256 && first_block * 2 <= settings.coarse_block) first_block *= 2;
     if (settings.coarse)
-        for (int b : {8, 4, 2})
+        for (int b = first_block; b >= 2; b /= 2)
             if (job->width > b || job->height > b) job->passes.push_back({b, 0, 0});
     // Sample passes: the given batch, or 1, 1, 2, 4, 8, 16, 16, ... samples. Under a
     // time limit the first pass, which always completes, is one sample.

@@ -17,6 +17,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -39,6 +40,12 @@ struct RenderSettings {
     int tile_size = 32;
     int samples_per_pass = 0;   // 0: 1 for the first passes, then growing
     TileOrder order = TileOrder::CentreOut;
+    // Renders through this camera instead of world->camera: an interactive view moves
+    // without copying the world (whose per-object tables can be large).
+    std::optional<Camera> camera;
+    // Block size of the first coarse pass (a power of 2, then halved down to 2): a
+    // viewer picks a larger one when the scene is expensive, so a preview lands in time.
+    int coarse_block = 8;
 };
 
 struct RenderProgress {

@@ -8,6 +8,8 @@
 #include <limits.h>
 #include <unistd.h>
 
+#include <time.h>
+
 #include <atomic>
 #include <cstdio>
 #include <cstring>
@@ -207,14 +209,17 @@ static int run(int argc, char** argv) {
             std::fprintf(stderr, "raytracer-view: %s\n", err.c_str());
             status = 2;
         } else {
-            std::fputs(rt::diagnostics_report(opt.scene.empty() ? "default.txt" : opt.scene,
-                                              app.document().diagnostics(), 20)  // as raytracer
-                           .c_str(),
-                       stderr);
-            if (opt.orbit != 0) app.orbit_degrees(opt.orbit);
+            // The scene loads in the background; its diagnostics are printed when it arrives.
             glfwSetWindowUserPointer(window, &app);
             unsigned seen = g_events.load() - 1;  // draw the first frame at once
             int settle = 0;
+            long frames = 0;
+            double frame_cpu = 0;  // UI thread CPU seconds spent drawing frames (--verbose)
+            auto thread_cpu = [] {
+                timespec t{};
+                clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+                return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
+            };
             while (!glfwWindowShouldClose(window)) {
                 // While settling after input, ImGui needs its next frames promptly (a
                 // click is seen released, a focus request lands one frame later).
@@ -230,6 +235,7 @@ static int run(int argc, char** argv) {
                 if (!draw && !app.idle_tick()) continue;  // idle: no frame, no CPU
                 if (settle > 0) --settle;
 
+                double cpu0 = thread_cpu();
                 ImGui_ImplOpenGL2_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
                 ImGui::NewFrame();
@@ -244,7 +250,12 @@ static int run(int argc, char** argv) {
                 app.after_render(fw, fh);
                 glfwSwapBuffers(window);
                 next_frame_input(window);
+                frame_cpu += thread_cpu() - cpu0;
+                ++frames;
             }
+            if (opt.verbose)
+                std::fprintf(stderr, "raytracer-view: %ld frames, %.2f ms of UI-thread CPU each\n", frames,
+                             frames ? frame_cpu / double(frames) * 1000 : 0.0);
             glfwSetWindowUserPointer(window, nullptr);
         }
     }  // the app (and its GL texture) goes while the context is still current

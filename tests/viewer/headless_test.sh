@@ -1,7 +1,9 @@
 #!/bin/sh
 # Headless screenshot test of raytracer-view (OSMesa; needs no X display):
 #  - the image region of the screenshot equals a `raytracer` render of the same
-#    view (camera fitted to the region, same size and samples), within a small tolerance;
+#    view (same size and samples), within a small tolerance: by default the scene's
+#    picture letterboxed at its picture_size aspect (the letterbox left out), and with
+#    --fit window the camera fitted to the whole area;
 #  - the panel region is drawn (not the background colour) and the whole image is not
 #    uniform; repeated with --orbit so the camera maths is on the path too.
 # Usage: headless_test.sh BIN_DIR OUT_DIR   (screenshots stay in OUT_DIR to look at)
@@ -52,6 +54,14 @@ check_case() {
 
 check_case default
 check_case orbit --orbit 35 --select "object 2"
+check_case window --fit window
+# The picture frame keeps the scene's aspect; fill-window mode takes the whole area.
+aspect_ok=$(awk -v w="$(field image 3 "$OUT/default-layout.txt")" -v h="$(field image 4 "$OUT/default-layout.txt")" \
+    'BEGIN { r = w / h; exit !(r > 640 / 480 - 0.01 && r < 640 / 480 + 0.01) }' && echo yes || echo no)
+[ "$aspect_ok" = yes ] || fail "the default image region is not at the scene's 640x480 aspect"
+[ "$(field image 3 "$OUT/window-layout.txt")" -gt "$(field image 3 "$OUT/default-layout.txt")" ] || \
+    [ "$(field image 4 "$OUT/window-layout.txt")" -gt "$(field image 4 "$OUT/default-layout.txt")" ] || \
+    fail "fill-window mode does not use more of the area"
 # The orbit must really have moved the camera.
 cmp -s "$OUT/default-view.txt" "$OUT/orbit-view.txt" && fail "--orbit did not change the camera"
 # Errors: a broken scene exits with status 1 and a compiler-style message.

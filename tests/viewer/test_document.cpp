@@ -9,12 +9,14 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "default_scene.h"
 #include "document.h"
 #include "image_io.h"
 #include "scene_parser.h"
+#include "scene_writer.h"
 
 using namespace rtview;
 
@@ -148,9 +150,16 @@ TEST_CASE("a panel edit leaves a broken draft alone and says the text is behind"
     CHECK(d.scene().lights[0].colour == rt::Vec3{1, 2, 3});
     d.revert_text();  // drop the draft: the text shows the scene again
     CHECK_FALSE(d.text_behind());
+    CHECK_FALSE(d.editor_dirty());
     CHECK(parsed(d.editor_text()) == d.scene());
-    REQUIRE(d.undo());  // and the draft can come back
-    CHECK(d.editor_text() == draft);
+    REQUIRE(d.undo());  // and the draft can come back, still unapplied
+    CHECK(std::as_const(d).editor_text() == draft);
+    CHECK(d.editor_dirty());
+    CHECK(d.text_behind());
+    CHECK(parsed(d.applied_text()) == d.scene());
+    REQUIRE(d.redo());
+    CHECK_FALSE(d.editor_dirty());
+    CHECK(parsed(std::as_const(d).editor_text()) == d.scene());
 }
 
 TEST_CASE("a file that does not parse opens with its text and errors, and no scene") {
@@ -198,26 +207,39 @@ TEST_CASE("a failed save reports why and leaves the document modified") {
     CHECK_FALSE(d.modified());
 }
 
-TEST_CASE("an outside change reloads by itself when only the view was moved, keeping the view") {
+TEST_CASE("an outside change reloads by itself when there are no unsaved edits") {
     TempDir dir;
     std::string p = dir.path + "/s.txt";
     spit(p, rt::kDefaultScene);
     Document d;
     REQUIRE(d.load_file(p).empty());
     CHECK(d.check_disk() == Document::DiskEvent::None);
-    rt::Camera moved = d.scene().camera;
-    moved.position = {-4, 1, 3};
-    d.edit().camera = moved;
-    d.commit();
     std::string other = rt::kDefaultScene;
     other.replace(other.find("radius 1.3"), 10, "radius 0.7");
     spit(p, other);
     bump_mtime(p, 5);
     CHECK(d.check_disk() == Document::DiskEvent::Reloaded);
     CHECK(std::get<rt::Sphere>(d.scene().objects[1].shape).radius == 0.7);
-    CHECK(d.scene().camera == moved);
-    CHECK(parsed(d.editor_text()) == d.scene());
+    CHECK(d.editor_text() == other);
+    CHECK_FALSE(d.modified());
     CHECK(d.check_disk() == Document::DiskEvent::None);
+}
+
+TEST_CASE("a camera edit is a real edit: an outside change is then a conflict") {
+    TempDir dir;
+    std::string p = dir.path + "/s.txt";
+    spit(p, rt::kDefaultScene);
+    Document d;
+    REQUIRE(d.load_file(p).empty());
+    rt::Camera moved = d.scene().camera;
+    moved.position = {-4, 1, 3};
+    REQUIRE(d.set_camera(moved));
+    std::string other = rt::kDefaultScene;
+    other.replace(other.find("radius 1.3"), 10, "radius 0.7");
+    spit(p, other);
+    bump_mtime(p, 5);
+    CHECK(d.check_disk() == Document::DiskEvent::Conflict);
+    CHECK(d.scene().camera == moved);
 }
 
 TEST_CASE("an outside change with unsaved edits is a conflict; reloading is undoable") {
@@ -270,4 +292,194 @@ TEST_CASE("a scene that becomes broken on disk shows its errors but keeps render
     CHECK(d.scene() == good);
     CHECK(d.has_errors());
     CHECK(d.editor_text() == "thing { sphere { radius } }\n");
+}
+
+namespace {
+
+// A scene text of about `bytes` bytes: a grid of spheres, a plane and two lights.
+std::string big_scene_text(std::size_t bytes) {
+    rt::Scene s = parsed(rt::kDefaultScene);
+    rt::Object proto = s.objects[0];
+    s.objects.clear();
+    for (int k = 0; rt::write_scene(s).size() < bytes; k += 64) {
+        for (int j = 0; j < 64; ++j) {
+            rt::Object o = proto;
+            o.shape = rt::Sphere{{double(k + j) * 0.01, 0.5 * (j % 7), 1}, 0.25};
+            s.objects.push_back(o);
+        }
+    }
+    return rt::write_scene(s);
+}
+
+}  // namespace
+
+TEST_CASE("a panel edit rewrites only its own block, and its undo step is small") {
+    Document d;
+    std::string text = big_scene_text(200000);
+    d.load_text(text, "", "big.txt");
+    REQUIRE(d.has_scene());
+    std::size_t n = d.scene().objects.size();
+    d.edit_object(n / 2).material.reflection = 0.25;
+    d.commit();
+    const std::string& after = d.editor_text();
+    CHECK(parsed(after) == d.scene());
+    // Everything before and after the object's block is as it was.
+    std::size_t p = 0;
+    while (p < text.size() && text[p] == after[p]) ++p;
+    std::size_t s = 0;
+    while (s < text.size() - p && text[text.size() - 1 - s] == after[after.size() - 1 - s]) ++s;
+    CHECK(text.size() - p - s < 400);
+    CHECK(d.undo_bytes() < 4000);
+    REQUIRE(d.undo());
+    CHECK(d.editor_text() == text);
+}
+
+TEST_CASE("the undo byte budget holds over 1,000 edits of a 1 MB document") {
+    Document d;
+    const std::string text = big_scene_text(1 << 20);
+    REQUIRE(text.size() >= (1u << 20));
+    d.load_text(text, "", "big.txt");
+    REQUIRE(d.has_scene());
+    const std::size_t budget = 256 << 10;
+    d.set_undo_budget(budget);
+    std::size_t n = d.scene().objects.size();
+    std::vector<double> reflection_after;  // object 7's reflection after each edit
+    for (int k = 0; k < 1000; ++k) {
+        switch (k % 4) {
+            case 0: d.edit_object(7).material.reflection = 0.001 * k; break;
+            case 1: d.edit_object((std::size_t(k) * 37) % n).material.colour = {0.1, 0.001 * k, 0.3}; break;
+            case 2: d.edit_light(0).position.z = 5 + 0.01 * k; break;
+            default: d.edit_camera().angle_y = 30 + 0.01 * k; break;
+        }
+        d.commit();
+        reflection_after.push_back(d.scene().objects[7].material.reflection);
+        CHECK(d.undo_bytes() <= budget);
+    }
+    CHECK(parsed(d.editor_text()) == d.scene());
+    std::size_t depth = d.undo_depth();
+    CHECK(depth > 50);     // the budget holds many steps of this size...
+    CHECK(depth < 1000);   // ...but not all of them: the oldest went
+    // Every step still held undoes exactly.
+    for (std::size_t k = 0; k < depth; ++k) {
+        REQUIRE(d.undo());
+        CHECK(d.scene().objects[7].material.reflection == reflection_after[1000 - 2 - k]);
+    }
+    CHECK_FALSE(d.undo());
+    CHECK(parsed(d.editor_text()) == d.scene());
+    // With the default budget (64 MB) all steps of such edits fit.
+    Document e;
+    e.load_text(text, "", "big.txt");
+    for (int k = 0; k < 300; ++k) {
+        e.edit_light(1).colour = {1, 1, 0.001 * k};
+        e.commit();
+    }
+    CHECK(e.undo_depth() == 300);
+    CHECK(e.undo_bytes() < 300 * 4096);  // a step is its block, not a copy of the text
+    CHECK(parsed(e.editor_text()) == e.scene());
+}
+
+namespace {
+
+// The reference keeps a full copy of the document after every step; the document
+// keeps only what each step changed. Random panel edits, typing, applies,
+// reverts, undos and redos must agree with the copies at every point.
+void check_against_full_copies(std::uint32_t seed) {
+    struct Snap {
+        std::string editor, applied;
+        rt::Scene scene;
+        bool behind, dirty;
+        bool operator==(const Snap& o) const {
+            return editor == o.editor && applied == o.applied && scene == o.scene && behind == o.behind &&
+                   dirty == o.dirty;
+        }
+    };
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    auto snap = [&] {
+        return Snap{std::as_const(d).editor_text(), d.applied_text(), d.scene(), d.text_behind(), d.editor_dirty()};
+    };
+    std::vector<Snap> states{snap()};  // states[k]: after k steps
+    std::size_t at = 0;                // where the document is in `states`
+    std::uint32_t rng = seed;
+    auto next = [&](std::uint32_t n) {
+        rng = rng * 1664525u + 1013904223u;
+        return (rng >> 8) % n;
+    };
+    // Typing is not a step until something else happens: then it becomes one, first.
+    std::size_t depth = 0;
+    auto before_op = [&] {
+        depth = d.undo_depth();
+        Snap now = snap();
+        if (now.editor != states[at].editor) {
+            states.resize(at + 1);
+            states.push_back(now);
+            ++at;
+            ++depth;
+        }
+    };
+    auto stepped = [&] {
+        if (d.undo_depth() == depth) {
+            states[at] = snap();  // no new step (for example an apply of the same scene)
+            return;
+        }
+        REQUIRE(d.undo_depth() == depth + 1);
+        states.resize(at + 1);
+        states.push_back(snap());
+        ++at;
+    };
+    for (int k = 0; k < 300; ++k) {
+        double r = 0.01 * double(next(100));
+        int op = int(next(9));
+        if (op != 3) before_op();
+        switch (op) {
+            case 0: d.edit_object(next(6)).material.reflection = r; d.commit(); stepped(); break;
+            case 1: d.edit_light(next(2)).colour = {r, 1, 2}; d.commit(); stepped(); break;
+            case 2: d.edit_camera().angle_y = 30 + r; d.commit(); stepped(); break;
+            case 3: {
+                // Typing: a comment at the start (the text keeps parsing) or a stray word.
+                std::string& t = d.editor_text();
+                t.insert(0, next(4) == 0 ? "stray " : "// typed " + std::to_string(k) + "\n");
+                break;
+            }
+            case 4: d.apply_text(); stepped(); break;
+            case 5: d.revert_text(); stepped(); break;
+            case 6:
+            case 7:
+                if (d.undo()) {
+                    REQUIRE(at > 0);
+                    --at;
+                } else {
+                    CHECK(at == 0);
+                }
+                break;
+            default:
+                if (d.redo()) ++at;
+                break;
+        }
+        REQUIRE(at < states.size());
+        if (op != 3) {
+            CHECK(snap() == states[at]);
+            CHECK(d.undo_depth() == at);
+        }
+    }
+    before_op();
+    // All the way back, and forward again.
+    while (d.undo()) {
+        --at;
+        CHECK(snap() == states[at]);
+    }
+    CHECK(at == 0);
+    while (d.redo()) {
+        ++at;
+        CHECK(snap() == states[at]);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("undo and redo of edit steps give back exactly the states a full-copy history would") {
+    for (std::uint32_t seed : {12345u, 1u, 2u, 77u, 4242u}) {
+        CAPTURE(seed);
+        check_against_full_copies(seed);
+    }
 }

@@ -1,14 +1,17 @@
 #!/bin/bash
 # The real raytracer-view window under Xvfb, driven with xdotool as a user would:
-#  1. a left drag in the image orbits: the camera panel's values and the image change,
-#     and the title gains a '*';
-#  2. Ctrl+S saves atomically: the file on disk equals the editor text;
+#  1. a 2 s left drag in the image orbits the view: the image area shows at least 5
+#     new pictures during it (counted on screen by rtview-xframes), the camera panel
+#     changes, and the title gains no '*' (the view is not the document);
+#  2. Ctrl+K sets the scene camera from the view ('*'), and Ctrl+S saves atomically:
+#     the file on disk equals the editor text and only camera lines changed;
 #  3. typing a syntax error into the editor shows the error line (red text in the
 #     diagnostics list) while the last good image stays;
 #  4. clicking the error moves the cursor there (typing "//" comments the bad word out);
 #  5. Ctrl+Q with unsaved changes asks (a modal) instead of quitting; Escape cancels;
 #  6. a change made on disk by another program reloads by itself (the moved view stays);
-#  7. F12 writes a screenshot of the whole window; the scene lands in the recent files.
+#  7. F12 writes a screenshot of the whole window; the scene lands in the recent files;
+#  8. a 100,000-sphere scene opens (the window paints while it loads) and navigates.
 # Screenshots (import -window root) are kept in OUT_DIR to look at.
 # Usage: xvfb_test.sh BIN_DIR OUT_DIR
 set -euo pipefail
@@ -19,12 +22,19 @@ OUT=$(cd "$OUT" && pwd)
 
 if [ "${RTVIEW_XVFB_INNER:-}" != 1 ]; then
     export RTVIEW_XVFB_INNER=1
+    # RTVIEW_XVFB_DISPLAY=N picks the display number (machines shared by several runs).
+    if [ -n "${RTVIEW_XVFB_DISPLAY:-}" ]; then
+        exec xvfb-run -n "$RTVIEW_XVFB_DISPLAY" -s "-screen 0 1280x800x24" "$0" "$BIN" "$OUT"
+    fi
     exec xvfb-run -a -s "-screen 0 1280x800x24" "$0" "$BIN" "$OUT"
 fi
 
 TOOL=$BIN/rtview-imgtool
+SRC=$(cd "$(dirname "$0")/../.." && pwd)
+XFRAMES=$BIN/rtview-xframes
 export MESA_SHADER_CACHE_DISABLE=true
 export XDG_CONFIG_HOME=$OUT/config
+export XDG_STATE_HOME=$OUT/state   # recovery copies of this run only
 # In sanitizer builds: X11, GLFW and Mesa are not instrumented, so LeakSanitizer can
 # neither unwind nor attribute their allocations; leaks in our code are checked by the
 # unit tests and the headless test. Address and UB checks stay on.
@@ -53,6 +63,7 @@ field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$O
 region() { echo "$(field "$1" 1) $(field "$1" 2) $(field "$1" 3) $(field "$1" 4)"; }
 shot() { import -window root "$OUT/$1.png"; }
 title() { xdotool getwindowname "$WID"; }
+still_loading() { case "$(title)" in "(loading)"*) return 0 ;; esac; return 1; }
 
 # Screenshots until the image region shows a picture and stops changing (the render
 # has converged); a black region that "stays the same" is not a picture.
@@ -74,6 +85,9 @@ cd "$OUT"
 "$BIN/raytracer-view" "$SCENE" --size 1280x800 --samples 2 --print-layout > "$OUT/layout.txt" 2> "$OUT/viewer.err" &
 VIEWER_PID=$!
 WID=$(timeout 30 xdotool search --sync --name 'scene.txt' | head -1) || fail "no window appeared"
+# The file loads in the background; the image area takes the scene's aspect then.
+for _ in $(seq 1 300); do still_loading || break; sleep 0.1; done
+sleep 0.3
 for _ in $(seq 1 50); do grep -q end-layout "$OUT/layout.txt" && break; sleep 0.1; done
 eval "$(xdotool getwindowgeometry --shell "$WID")"
 [ "$X" = 0 ] && [ "$Y" = 0 ] || fail "expected the window at 0,0 (no window manager), got $X,$Y"
@@ -90,19 +104,43 @@ colours=$("$TOOL" colours "$OUT/before.png" $IMAGE)
 [ "$("$TOOL" colours "$OUT/before.png" $SIDEBAR)" -gt 20 ] || fail "no panels drawn"
 [[ "$(title)" == "scene.txt - raytracer-view" ]] || fail "title '$(title)'"
 
-step "left drag orbits the camera"
+step "a 2 s drag orbits the view, with a new picture on many frames, and edits nothing"
+# The middle of the image area (any new picture of an orbit changes it; sampling less
+# of the screen keeps the counting itself from loading the X server).
+"$XFRAMES" $((ix + iw / 4)) $((iy + ih / 4)) $((iw / 2)) $((ih / 2)) 10 2.4 > "$OUT/drag-frames.txt" &
+XF_PID=$!
 xdotool mousemove $cx $cy mousedown 1
-for dx in 20 45 70 95 120 150; do xdotool mousemove $((cx + dx)) $((cy + dx / 4)); sleep 0.05; done
+for i in $(seq 1 60); do   # 30 pointer events a second for 2 s
+    xdotool mousemove $((cx + i * 3)) $((cy + i / 2))
+    sleep 0.033
+done
 xdotool mouseup 1
+wait "$XF_PID"
+# A screenshot in the middle of a drag, to look at (not during the count: grabbing
+# the screen stalls the X server).
+xdotool mousemove $cx $cy mousedown 1
+for i in $(seq 1 10); do xdotool mousemove $((cx - i * 3)) $((cy - i / 2)); sleep 0.033; done
+shot mid-drag
+for i in $(seq 11 20); do xdotool mousemove $((cx - i * 3)) $((cy - i / 2)); sleep 0.033; done
+xdotool mouseup 1
+tail -1 "$OUT/drag-frames.txt"
+drag_changes=$(awk '/^changes/ { print $2 }' "$OUT/drag-frames.txt")
+[ "${drag_changes:-0}" -ge 5 ] || fail "the image area changed only ${drag_changes:-0} times during a 2 s drag"
 wait_stable orbit
 cam_change=$("$TOOL" diff "$OUT/before.png" "$OUT/orbit.png" $CAMERA)
 img_change=$("$TOOL" diff "$OUT/before.png" "$OUT/orbit.png" $IMAGE)
 echo "camera panel changed: $cam_change, image changed: $img_change"
 awk -v c="$cam_change" 'BEGIN { exit !(c > 0.002) }' || fail "the camera panel did not change"
 awk -v c="$img_change" 'BEGIN { exit !(c > 0.2) }' || fail "the image did not change"
-[[ "$(title)" == "scene.txt* - raytracer-view" ]] || fail "no '*' in the title after the orbit: '$(title)'"
+[[ "$(title)" == "scene.txt - raytracer-view" ]] || fail "navigating marked the document modified: '$(title)'"
+cmp -s "$SCENE" "$ORIGINAL" || fail "navigating wrote the file"
 
-step "Ctrl+S saves the editor text"
+step "Ctrl+K sets the scene camera from the view; Ctrl+S saves the editor text"
+xdotool key ctrl+k
+sleep 0.5
+[[ "$(title)" == "scene.txt* - raytracer-view" ]] || fail "no '*' after setting the scene camera: '$(title)'"
+wait_stable set-camera
+[ "$("$TOOL" diff "$OUT/orbit.png" "$OUT/set-camera.png" $IMAGE)" = "0.000000" ] || fail "setting the scene camera changed the picture"
 xdotool key ctrl+s
 sleep 0.5
 [[ "$(title)" == "scene.txt - raytracer-view" ]] || fail "title still '$(title)' after Ctrl+S"
@@ -154,7 +192,10 @@ xdotool mousemove $cx $cy mousedown 3   # a right-drag pan
 for dx in 10 20 30 40; do xdotool mousemove $((cx + dx)) $((cy + dx / 4)); sleep 0.05; done
 xdotool mouseup 3
 sleep 0.5
-[[ "$(title)" == *"*"* ]] || fail "the pan did not modify the document"
+[[ "$(title)" == *"*"* ]] && fail "the pan modified the document"
+xdotool key ctrl+k   # a real edit, so that quitting asks
+sleep 0.3
+[[ "$(title)" == *"*"* ]] || fail "Ctrl+K did not modify the document"
 wait_stable panned
 xdotool key ctrl+q
 sleep 0.8
@@ -175,6 +216,13 @@ F12=$(ls "$OUT"/raytracer-view-2*.png 2>/dev/null | head -1)
 [ "$("$TOOL" colours "$F12" 0 0 1280 800)" -gt 1000 ] || fail "the F12 screenshot looks empty"
 
 step "a change on disk reloads by itself, keeping the moved view"
+xdotool key ctrl+s
+sleep 0.3
+xdotool mousemove $cx $cy mousedown 3   # move the view away from the scene camera
+for dx in 10 20 30; do xdotool mousemove $((cx - dx)) $((cy + dx / 3)); sleep 0.05; done
+xdotool mouseup 3
+wait_stable cancelled
+[[ "$(title)" == "scene.txt - raytracer-view" ]] || fail "the pan marked the document modified: '$(title)'"
 sed 's/radius 1.3/radius 0.6/' "$SCENE" > "$OUT/edited.tmp"
 mv "$OUT/edited.tmp" "$SCENE"   # as editors save: a new file renamed over the old
 sleep 1.5
@@ -194,4 +242,34 @@ wait "$VIEWER_PID" || fail "the viewer exited with status $?"
 VIEWER_PID=
 grep -q "radius 0.6" "$SCENE" || fail "the final save lost the reloaded change"
 grep -qx "$SCENE" "$XDG_CONFIG_HOME/raytracer-view/recent.txt" || fail "the scene is not in the recent-files list"
+
+step "a 100,000-sphere scene opens and navigates"
+BIG=$OUT/grid100k.txt
+[ -s "$BIG" ] || "$SRC/bench/make-grid.sh" 317 "$BIG"
+"$BIN/raytracer-view" "$BIG" --size 1280x800 --samples 1 --print-layout > "$OUT/layout.txt" 2> "$OUT/viewer.err" &
+VIEWER_PID=$!
+WID=$(timeout 30 xdotool search --sync --name 'grid100k.txt' | head -1) || fail "no window appeared"
+for _ in $(seq 1 50); do grep -q end-layout "$OUT/layout.txt" && break; sleep 0.1; done
+# The window paints while the file loads: its title says so, then drops the mark.
+for _ in $(seq 1 600); do still_loading || break; sleep 0.1; done
+[[ "$(title)" == "grid100k.txt - raytracer-view" ]] || fail "the big scene did not open: '$(title)'"
+sleep 0.3
+IMAGE=$(region image)
+read -r ix iy iw ih <<< "$IMAGE"
+cx=$((ix + iw / 2)); cy=$((iy + ih / 2))
+wait_stable big-before
+xdotool mousemove $cx $cy mousedown 1
+for i in $(seq 1 20); do xdotool mousemove $((cx + i * 4)) $((cy - i)); sleep 0.033; done
+xdotool mouseup 1
+xdotool mousemove $cx $cy click --repeat 3 4   # three wheel notches in
+wait_stable big-after
+big_change=$("$TOOL" diff "$OUT/big-before.png" "$OUT/big-after.png" $IMAGE)
+echo "big scene: image changed $big_change"
+awk -v c="$big_change" 'BEGIN { exit !(c > 0.2) }' || fail "navigating the big scene did not change the image"
+[[ "$(title)" == "grid100k.txt - raytracer-view" ]] || fail "navigating the big scene modified it: '$(title)'"
+xdotool key ctrl+q
+for _ in $(seq 1 50); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
+kill -0 "$VIEWER_PID" 2>/dev/null && fail "the viewer did not quit"
+wait "$VIEWER_PID" || fail "the viewer exited with status $?"
+VIEWER_PID=
 echo "xvfb test passed; screenshots in $OUT"

@@ -1,8 +1,12 @@
-// The viewer's document model (see document.h): undoable edits, text write-back,
-// atomic saves and external-change handling.
+// The viewer's document model (see document.h): undoable edits stored as what they
+// changed, text write-back into single blocks, atomic saves and external changes.
 #include "document.h"
 
 #include <sys/stat.h>
+
+#include <algorithm>
+#include <cstring>
+#include <utility>
 
 #include "image_io.h"
 #include "scene_text.h"
@@ -22,6 +26,20 @@ FileStamp FileStamp::of(const std::string& path) {
     return s;
 }
 
+std::uint64_t text_hash(const std::string& text) {
+    // FNV-1a over 8-byte words (then the tail): fast enough for 100 MB scenes.
+    std::uint64_t h = 1469598103934665603ull ^ text.size();
+    std::size_t i = 0, n = text.size();
+    for (; i + 8 <= n; i += 8) {
+        std::uint64_t w;
+        std::memcpy(&w, text.data() + i, 8);
+        h = (h ^ w) * 1099511628211ull;
+        h ^= h >> 29;
+    }
+    for (; i < n; ++i) h = (h ^ std::uint8_t(text[i])) * 1099511628211ull;
+    return h;
+}
+
 namespace {
 
 std::string base_name(const std::string& path) {
@@ -29,30 +47,152 @@ std::string base_name(const std::string& path) {
     return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
+bool same_except_camera(const rt::Scene& a, const rt::Scene& b) {
+    return a.objects == b.objects && a.planes == b.planes && a.lights == b.lights && a.width == b.width &&
+           a.height == b.height;
+}
+
+// Whitespace that starts the line holding `offset`.
+std::string line_indent(std::string_view text, std::size_t offset) {
+    std::size_t ls = offset == 0 ? 0 : text.rfind('\n', offset - 1);
+    ls = ls == std::string_view::npos ? 0 : (offset == 0 ? 0 : ls + 1);
+    std::size_t e = ls;
+    while (e < text.size() && (text[e] == ' ' || text[e] == '\t')) ++e;
+    return std::string(text.substr(ls, e - ls));
+}
+
+// An item's text as the writer prints it, indented for a line that starts with `indent`.
+// `kind`: 0 object, 1 plane, 2 light, 3 camera. Empty if the writer's text is unclear.
+std::string written_item(const rt::Scene& one, int kind, const std::string& indent) {
+    std::string all = kind == 3 ? rt::write_camera(one.camera) : rt::write_scene(one);
+    SceneLayout l = scan_layout(all);
+    const std::vector<TextSpan>& v = kind == 0 ? l.objects : kind == 1 ? l.planes : kind == 2 ? l.lights : l.cameras;
+    if (!l.ok || v.size() != 1) return {};
+    std::string from = line_indent(all, v[0].begin);
+    std::string_view block(all.data() + v[0].begin, v[0].end - v[0].begin);
+    std::string out;
+    std::size_t i = 0;
+    for (bool first = true;; first = false) {
+        std::size_t nl = block.find('\n', i);
+        std::string_view line = block.substr(i, nl == std::string_view::npos ? std::string_view::npos : nl - i);
+        if (!first) {
+            if (line.substr(0, from.size()) == from) line.remove_prefix(from.size());
+            out += indent;
+        }
+        out += line;
+        if (nl == std::string_view::npos) break;
+        out += '\n';
+        i = nl + 1;
+    }
+    return out;
+}
+
+// The one splice that turns `a` into `b` (common prefix and suffix left out).
+TextSplice diff_texts(const std::string& a, const std::string& b) {
+    std::size_t p = 0, n = std::min(a.size(), b.size());
+    while (p < n && a[p] == b[p]) ++p;
+    std::size_t s = 0;
+    while (s < n - p && a[a.size() - 1 - s] == b[b.size() - 1 - s]) ++s;
+    return {p, a.substr(p, a.size() - p - s), b.substr(p, b.size() - p - s)};
+}
+
+// Changed items of two equally long lists, as (index, value) pairs both ways.
+template <class T>
+bool diff_items(const std::vector<T>& a, const std::vector<T>& b, std::vector<std::pair<std::size_t, T>>& before,
+                std::vector<std::pair<std::size_t, T>>& after, std::size_t limit) {
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (a[i] == b[i]) continue;
+        if (before.size() >= limit) return false;
+        before.push_back({i, a[i]});
+        after.push_back({i, b[i]});
+    }
+    return true;
+}
+
+// The layout after [pos, pos + old_len) of the text became new_len bytes long: spans
+// after it move, the span that was it (if any) takes the new length.
+void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::size_t new_len) {
+    auto fix = [&](std::size_t& x) {
+        if (x >= pos + old_len) x = x - old_len + new_len;
+    };
+    for (auto* v : {&l.objects, &l.planes, &l.lights, &l.cameras})
+        for (TextSpan& t : *v) {
+            if (t.begin == pos && t.end == pos + old_len) {
+                t.end = pos + new_len;
+                continue;
+            }
+            fix(t.begin);
+            fix(t.end);
+        }
+    fix(l.append_at);
+}
+
+// Beyond this many changed items an undo step parses the text again instead.
+constexpr std::size_t kMaxStepItems = 4096;
+
+std::size_t object_bytes(const rt::Object& o) {
+    std::size_t b = sizeof(rt::Object);
+    if (auto* g = std::get_if<rt::Csg>(&o.shape))
+        for (const rt::Object& k : g->operands) b += object_bytes(k);
+    return b;
+}
+
 }  // namespace
+
+std::size_t DocStep::bytes() const {
+    std::size_t b = sizeof(DocStep);
+    for (const TextSplice& s : editor) b += sizeof(TextSplice) + s.before.size() + s.after.size();
+    if (applied_before) b += applied_before->size();
+    if (applied_after) b += applied_after->size();
+    for (const auto& o : objects_before) b += object_bytes(o.second) + sizeof(std::size_t);
+    for (const auto& o : objects_after) b += object_bytes(o.second) + sizeof(std::size_t);
+    b += (planes_before.size() + planes_after.size()) * (sizeof(rt::Plane) + sizeof(std::size_t));
+    b += (lights_before.size() + lights_after.size()) * (sizeof(rt::Light) + sizeof(std::size_t));
+    return b;
+}
 
 Document::Document() { load_text("", "", "untitled"); }
 
 void Document::load_text(const std::string& text, const std::string& path, const std::string& name) {
+    load_parsed(text, rt::parse_scene(text), path, name);
+}
+
+void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::string& path,
+                           const std::string& name) {
     history_.clear();
     pending_ = false;
+    saved_ = {};
+    typing_base_.reset();
+    layout_.reset();
     conflict_ = false;
+    conflict_text_.clear();
     path_ = path;
     name_ = name;
-    DocState s;
-    s.editor_text = text;
-    rt::ParseResult r = rt::parse_scene(text);
-    diagnostics_ = r.diagnostics;
-    if (r.ok()) {
-        s.scene = r.scene;
-        s.has_scene = true;
-        s.applied_text = text;
+    bool ok = parsed.ok();
+    diagnostics_ = std::move(parsed.diagnostics);
+    editor_ = std::move(text);
+    behind_ = false;
+    if (ok) {
+        scene_ = std::move(parsed.scene);
+        has_scene_ = true;
+        applied_.reset();
+    } else {
+        scene_ = rt::Scene{};
+        has_scene_ = false;
+        applied_ = std::string();  // nothing applied yet
     }
-    s_ = std::move(s);
     ++scene_version_;
+    ++content_version_;
     ++text_version_;
-    mark_saved(text);
-    if (s_.has_scene) file_camera_ = s_.scene.camera;
+    mark_saved();
+    if (has_scene_) file_camera_ = scene_.camera;
+}
+
+void Document::load_pending(const std::string& name) {
+    load_parsed("", rt::ParseResult{}, "", name);
+    has_scene_ = false;
+    scene_ = rt::Scene{};
+    applied_ = std::string();
 }
 
 std::string Document::load_file(const std::string& path) {
@@ -63,63 +203,385 @@ std::string Document::load_file(const std::string& path) {
     return {};
 }
 
+bool Document::modified() const {
+    // Hashing a big text is not free: once per change of the text, not per frame.
+    std::uint64_t key = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    if (key != modified_key_) {
+        modified_cache_ = editor_.size() != saved_size_ || text_hash(editor_) != saved_hash_;
+        modified_key_ = key;
+    }
+    return modified_cache_;
+}
+
 std::string Document::title() const { return name_ + (modified() ? "*" : "") + " - raytracer-view"; }
 
-rt::Scene& Document::edit() {
+std::string& Document::editor_text() {
+    // The caller may type into it: from now on the applied text needs its own copy,
+    // and the text as it is now is where the typing starts.
+    if (!applied_) applied_ = editor_;
+    if (!typing_base_) typing_base_ = editor_;
+    ++typed_;
+    return editor_;
+}
+
+void Document::flush_typing() {
+    if (!typing_base_) return;
+    std::string base = std::move(*typing_base_);
+    typing_base_.reset();
+    if (base == editor_) return;
+    DocStep step;
+    step.editor.push_back(diff_texts(base, editor_));
+    step.keep_applied = true;
+    step.has_scene_before = step.has_scene_after = has_scene_;
+    step.behind_before = step.behind_after = behind_;
+    record(std::move(step));
+}
+
+void Document::normalize_applied() {
+    if (applied_ && has_scene_ && *applied_ == editor_) applied_.reset();
+}
+
+// ---------------------------------------------------------------------------------
+// Panel edits
+
+void Document::open_edit() {
     if (!pending_) {
-        before_ = s_;
+        saved_ = {};
         pending_ = true;
     }
     ++scene_version_;
-    return s_.scene;
+}
+
+rt::Object& Document::edit_object(std::size_t i) {
+    open_edit();
+    ++content_version_;
+    auto& v = saved_.objects;
+    if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
+        v.push_back({i, scene_.objects.at(i)});
+    return scene_.objects.at(i);
+}
+
+rt::Plane& Document::edit_plane(std::size_t i) {
+    open_edit();
+    ++content_version_;
+    auto& v = saved_.planes;
+    if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
+        v.push_back({i, scene_.planes.at(i)});
+    return scene_.planes.at(i);
+}
+
+rt::Light& Document::edit_light(std::size_t i) {
+    open_edit();
+    ++content_version_;
+    auto& v = saved_.lights;
+    if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
+        v.push_back({i, scene_.lights.at(i)});
+    return scene_.lights.at(i);
+}
+
+rt::Camera& Document::edit_camera() {
+    open_edit();
+    if (!saved_.whole && !saved_.camera) saved_.camera = scene_.camera;
+    return scene_.camera;
+}
+
+rt::Scene& Document::edit() {
+    open_edit();
+    ++content_version_;
+    if (!saved_.whole) saved_.whole = scene_before_edit();
+    return scene_;
+}
+
+rt::Scene Document::scene_before_edit() const {
+    if (saved_.whole) return *saved_.whole;
+    rt::Scene s = scene_;
+    for (const auto& p : saved_.objects) s.objects[p.first] = p.second;
+    for (const auto& p : saved_.planes) s.planes[p.first] = p.second;
+    for (const auto& p : saved_.lights) s.lights[p.first] = p.second;
+    if (saved_.camera) s.camera = *saved_.camera;
+    return s;
 }
 
 void Document::cancel_edit() {
     if (!pending_) return;
     pending_ = false;
-    s_ = before_;
+    scene_ = scene_before_edit();
+    saved_ = {};
     ++scene_version_;
+    ++content_version_;
+}
+
+bool Document::set_camera(const rt::Camera& camera) {
+    if (!has_scene_ || camera == scene_.camera) return false;
+    commit();
+    edit_camera() = camera;
+    commit();
+    return true;
 }
 
 void Document::commit() {
     if (!pending_) return;
+    flush_typing();
     pending_ = false;
-    if (s_.scene == before_.scene) return;
-    DocState next = s_;
-    next.applied_text = before_.has_scene ? sync_scene_text(before_.applied_text, before_.scene, s_.scene)
-                                          : rt::write_scene(s_.scene);
-    if (before_.editor_text == before_.applied_text) {
-        next.editor_text = next.applied_text;
-    } else {
-        // The user has an unapplied draft: carry the edit into it only where that is
-        // unambiguous (the draft parses and has the same items); never overwrite it.
-        rt::ParseResult draft = rt::parse_scene(before_.editor_text);
-        bool carried = false;
-        if (draft.ok()) {
-            bool complete = false;
-            rt::Scene target = carry_edit(draft.scene, before_.scene, s_.scene, &complete);
-            if (auto patched = patch_scene_text(before_.editor_text, draft.scene, target)) {
-                next.editor_text = *patched;
-                carried = complete;
-            }
+    DocStep step;
+    step.has_scene_before = step.has_scene_after = has_scene_;
+    step.behind_before = behind_;
+    bool wide = false;
+    if (saved_.whole) {
+        const rt::Scene& b = *saved_.whole;
+        if (b.objects.size() != scene_.objects.size() || b.planes.size() != scene_.planes.size() ||
+            b.lights.size() != scene_.lights.size() || b.width != scene_.width || b.height != scene_.height ||
+            !diff_items(b.objects, scene_.objects, step.objects_before, step.objects_after, kMaxStepItems) ||
+            !diff_items(b.planes, scene_.planes, step.planes_before, step.planes_after, kMaxStepItems) ||
+            !diff_items(b.lights, scene_.lights, step.lights_before, step.lights_after, kMaxStepItems)) {
+            wide = true;
         }
-        next.text_behind = before_.text_behind || !carried;
+        if (!(b.camera == scene_.camera)) {
+            step.camera_before = b.camera;
+            step.camera_after = scene_.camera;
+        }
+        if (wide) {
+            step.reparse = true;
+            step.objects_before.clear(), step.objects_after.clear();
+            step.planes_before.clear(), step.planes_after.clear();
+            step.lights_before.clear(), step.lights_after.clear();
+        }
+    } else {
+        for (const auto& p : saved_.objects)
+            if (!(p.second == scene_.objects[p.first])) {
+                step.objects_before.push_back(p);
+                step.objects_after.push_back({p.first, scene_.objects[p.first]});
+            }
+        for (const auto& p : saved_.planes)
+            if (!(p.second == scene_.planes[p.first])) {
+                step.planes_before.push_back(p);
+                step.planes_after.push_back({p.first, scene_.planes[p.first]});
+            }
+        for (const auto& p : saved_.lights)
+            if (!(p.second == scene_.lights[p.first])) {
+                step.lights_before.push_back(p);
+                step.lights_after.push_back({p.first, scene_.lights[p.first]});
+            }
+        if (saved_.camera && !(*saved_.camera == scene_.camera)) {
+            step.camera_before = saved_.camera;
+            step.camera_after = scene_.camera;
+        }
     }
-    DocState prev = std::move(before_);
-    before_ = DocState{};
-    bool text_changed = next.editor_text != prev.editor_text;
-    history_.push(std::move(prev));
-    s_ = std::move(next);
-    if (text_changed) ++text_version_;
+    bool changed = wide || !step.objects_before.empty() || !step.planes_before.empty() || !step.lights_before.empty() ||
+                   step.camera_before.has_value();
+    if (!changed) {
+        saved_ = {};
+        return;
+    }
+    normalize_applied();
+    if (applied_ || wide || !commit_in_place(step)) commit_generic(step);
+    saved_ = {};
+    step.behind_after = behind_;
+    if (!step.editor.empty()) ++text_version_;
+    record(std::move(step));
 }
 
-void Document::set_state(DocState s, bool push_history) {
-    bool scene_changed = s.has_scene != s_.has_scene || s.scene != s_.scene;
-    bool text_changed = s.editor_text != s_.editor_text;
-    if (push_history) history_.push(s_);
-    s_ = std::move(s);
+// The fast path: no draft, so the editor text is the scene's text; each changed item's
+// block is rewritten where it stands. Nothing else of the text is touched or parsed.
+bool Document::commit_in_place(DocStep& step) {
+    // The layout of the text is scanned once and then kept up to date through the
+    // document's own splices: an edit costs its block, not a pass over the text.
+    std::uint64_t key = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    if (!layout_ || layout_key_ != key) {
+        layout_ = scan_layout(editor_);
+        layout_key_ = key;
+    }
+    SceneLayout& l = *layout_;
+    if (!l.ok || l.objects.size() != scene_.objects.size() || l.planes.size() != scene_.planes.size() ||
+        l.lights.size() != scene_.lights.size())
+        return false;
+    struct Rep {
+        TextSpan span;
+        std::string text;
+    };
+    std::vector<Rep> reps;
+    rt::Scene one;  // carries a valid camera so the writer prints a normal scene
+    one.camera = scene_.camera;
+    auto add = [&](TextSpan span, int kind) {
+        std::string t = written_item(one, kind, line_indent(editor_, span.begin));
+        if (t.empty()) return false;
+        reps.push_back({span, std::move(t)});
+        return true;
+    };
+    for (const auto& p : step.objects_after) {
+        one.objects = {p.second};
+        if (!add(l.objects[p.first], 0)) return false;
+    }
+    one.objects.clear();
+    for (const auto& p : step.planes_after) {
+        one.planes = {p.second};
+        if (!add(l.planes[p.first], 1)) return false;
+    }
+    one.planes.clear();
+    for (const auto& p : step.lights_after) {
+        one.lights = {p.second};
+        if (!add(l.lights[p.first], 2)) return false;
+    }
+    one.lights.clear();
+    if (step.camera_after) {
+        // Camera keys accumulate over all camera sections, so one complete block in
+        // place of the last section gives exactly the new camera.
+        if (!l.cameras.empty()) {
+            if (!add(l.cameras.back(), 3)) return false;
+        } else {
+            std::string t = written_item(one, 3, "");
+            if (t.empty()) return false;
+            reps.push_back({{l.append_at, l.append_at}, t + "\n"});
+        }
+    }
+    // Back to front, so every span still holds where the text was read.
+    std::sort(reps.begin(), reps.end(), [](const Rep& a, const Rep& b) { return a.span.begin > b.span.begin; });
+    for (Rep& r : reps) {
+        TextSplice s{r.span.begin, editor_.substr(r.span.begin, r.span.end - r.span.begin), std::move(r.text)};
+        editor_.replace(s.pos, s.before.size(), s.after);
+        shift_layout(l, s.pos, s.before.size(), s.after.size());
+        step.editor.push_back(std::move(s));
+    }
+    // The text changes its version below: the layout stays valid for the new one.
+    layout_key_ = (text_version_ + 1) * 0x9E3779B97F4A7C15ull + typed_;
+    return true;
+}
+
+// Drafts and wide edits: the text is synchronised the careful way (this copies the
+// scene once; panels do not come here for documents without a draft).
+void Document::commit_generic(DocStep& step) {
+    rt::Scene before = scene_before_edit_from(step);
+    const std::string old_applied = applied_text();
+    std::string new_applied = has_scene_ ? sync_scene_text(old_applied, before, scene_) : rt::write_scene(scene_);
+    if (!applied_) {
+        // No draft: the editor text is the applied text.
+        TextSplice s = diff_texts(editor_, new_applied);
+        editor_ = std::move(new_applied);
+        if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
+        return;
+    }
+    // The user has an unapplied draft: carry the edit into it only where that is
+    // unambiguous (the draft parses and has the same items); never overwrite it.
+    rt::ParseResult draft = rt::parse_scene(editor_);
+    bool carried = false;
+    if (draft.ok()) {
+        bool complete = false;
+        rt::Scene target = carry_edit(draft.scene, before, scene_, &complete);
+        if (auto patched = patch_scene_text(editor_, draft.scene, target)) {
+            TextSplice s = diff_texts(editor_, *patched);
+            editor_ = std::move(*patched);
+            if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
+            carried = complete;
+        }
+    }
+    behind_ = behind_ || !carried;
+    step.applied_before = *applied_;
+    applied_ = std::move(new_applied);
+    normalize_applied();
+    step.applied_after = applied_;
+}
+
+rt::Scene Document::scene_before_edit_from(const DocStep& step) const {
+    if (saved_.whole) return *saved_.whole;
+    rt::Scene s = scene_;
+    for (const auto& p : step.objects_before) s.objects[p.first] = p.second;
+    for (const auto& p : step.planes_before) s.planes[p.first] = p.second;
+    for (const auto& p : step.lights_before) s.lights[p.first] = p.second;
+    if (step.camera_before) s.camera = *step.camera_before;
+    return s;
+}
+
+void Document::record(DocStep step) {
+    typing_base_.reset();
+    std::size_t bytes = step.bytes();
+    history_.push(std::move(step), bytes);
+}
+
+// ---------------------------------------------------------------------------------
+// Whole-text changes
+
+void Document::replace_state(const std::string* editor, std::optional<std::string> applied,
+                             std::optional<rt::Scene> scene, bool behind) {
+    DocStep step;
+    // The state before, as it was: the applied text is "the editor text" only if it
+    // was equal to the editor text before that changes.
+    normalize_applied();
+    step.applied_before = applied_;
+    if (!applied_) applied_ = editor_;  // (replaced below; keeps the old text meanwhile)
+    if (editor && *editor != editor_) {
+        step.editor.push_back(diff_texts(editor_, *editor));
+        editor_ = *editor;
+    }
+    step.has_scene_before = has_scene_;
+    step.behind_before = behind_;
+    bool content_changed = false, scene_changed = false;
+    if (scene) {
+        bool same_counts = has_scene_ && scene->objects.size() == scene_.objects.size() &&
+                           scene->planes.size() == scene_.planes.size() &&
+                           scene->lights.size() == scene_.lights.size() && scene->width == scene_.width &&
+                           scene->height == scene_.height;
+        bool small = same_counts &&
+                     diff_items(scene_.objects, scene->objects, step.objects_before, step.objects_after, kMaxStepItems) &&
+                     diff_items(scene_.planes, scene->planes, step.planes_before, step.planes_after, kMaxStepItems) &&
+                     diff_items(scene_.lights, scene->lights, step.lights_before, step.lights_after, kMaxStepItems);
+        if (!small) {
+            step.reparse = true;
+            step.objects_before.clear(), step.objects_after.clear();
+            step.planes_before.clear(), step.planes_after.clear();
+            step.lights_before.clear(), step.lights_after.clear();
+        }
+        if (!has_scene_ || !(scene->camera == scene_.camera)) {
+            step.camera_before = scene_.camera;
+            step.camera_after = scene->camera;
+        }
+        scene_changed = !has_scene_ || !(*scene == scene_);
+        content_changed = !has_scene_ || !same_except_camera(*scene, scene_);
+        scene_ = std::move(*scene);
+        has_scene_ = true;
+    }
+    applied_ = std::move(applied);
+    normalize_applied();
+    behind_ = behind;
+    step.applied_after = applied_;
+    step.has_scene_after = has_scene_;
+    step.behind_after = behind_;
     if (scene_changed) ++scene_version_;
-    if (text_changed) ++text_version_;
+    if (content_changed) ++content_version_;
+    if (!step.editor.empty()) ++text_version_;
+    record(std::move(step));
+}
+
+void Document::apply_step(const DocStep& s, bool forward) {
+    // A typing step leaves the applied text alone: it is the editor text as it is
+    // before the step when they are one and the same now.
+    if (s.keep_applied && !applied_) applied_ = editor_;
+    if (forward) {
+        for (const TextSplice& t : s.editor) editor_.replace(t.pos, t.before.size(), t.after);
+    } else {
+        for (auto it = s.editor.rbegin(); it != s.editor.rend(); ++it) editor_.replace(it->pos, it->after.size(), it->before);
+    }
+    if (!s.keep_applied) applied_ = forward ? s.applied_after : s.applied_before;
+    else normalize_applied();
+    has_scene_ = forward ? s.has_scene_after : s.has_scene_before;
+    if (s.reparse) {
+        if (has_scene_) {
+            rt::ParseResult r = rt::parse_scene(applied_text());
+            scene_ = std::move(r.scene);
+        }
+    } else {
+        for (const auto& p : forward ? s.objects_after : s.objects_before) scene_.objects[p.first] = p.second;
+        for (const auto& p : forward ? s.planes_after : s.planes_before) scene_.planes[p.first] = p.second;
+        for (const auto& p : forward ? s.lights_after : s.lights_before) scene_.lights[p.first] = p.second;
+    }
+    if (s.camera_before) scene_.camera = forward ? *s.camera_after : *s.camera_before;
+    behind_ = forward ? s.behind_after : s.behind_before;
+    ++scene_version_;
+    if (s.reparse || !s.objects_before.empty() || !s.planes_before.empty() || !s.lights_before.empty() ||
+        s.has_scene_before != s.has_scene_after)
+        ++content_version_;
+    if (!s.editor.empty() || s.applied_before != s.applied_after) ++text_version_;
+    typing_base_.reset();
+    diagnostics_ = editor_dirty() ? rt::parse_scene(editor_).diagnostics : std::vector<rt::Diagnostic>{};
 }
 
 bool Document::has_errors() const {
@@ -130,67 +592,69 @@ bool Document::has_errors() const {
 
 bool Document::apply_text() {
     commit();
-    rt::ParseResult r = rt::parse_scene(s_.editor_text);
+    flush_typing();
+    rt::ParseResult r = rt::parse_scene(editor_);
     diagnostics_ = r.diagnostics;
     if (!r.ok()) return false;
-    if (s_.has_scene && r.scene == s_.scene && s_.applied_text == s_.editor_text && !s_.text_behind) return true;
-    DocState next = s_;
-    next.scene = std::move(r.scene);
-    next.has_scene = true;
-    next.applied_text = next.editor_text;
-    next.text_behind = false;
-    set_state(std::move(next), true);
+    normalize_applied();
+    if (has_scene_ && !applied_ && !behind_ && r.scene == scene_) return true;
+    replace_state(nullptr, std::nullopt, std::move(r.scene), false);
     return true;
 }
 
-void Document::check_text() { diagnostics_ = rt::parse_scene(s_.editor_text).diagnostics; }
+void Document::check_text() { diagnostics_ = rt::parse_scene(editor_).diagnostics; }
 
 void Document::revert_text() {
     commit();
-    const std::string& target = s_.has_scene ? s_.applied_text : saved_text_;
-    if (s_.editor_text == target && !s_.text_behind) return;
-    DocState next = s_;
-    next.editor_text = target;
-    next.text_behind = false;
-    set_state(std::move(next), true);
+    flush_typing();
+    std::string target = has_scene_ ? applied_text() : saved_broken_text_;
+    if (editor_ == target && !behind_) return;
+    replace_state(&target, has_scene_ ? std::nullopt : std::optional<std::string>(std::string()), std::nullopt, false);
     diagnostics_.clear();
 }
 
 void Document::restore_draft(const std::string& text) {
     commit();
-    if (s_.editor_text == text) return;
-    DocState next = s_;
-    next.editor_text = text;
-    set_state(std::move(next), true);
+    flush_typing();
+    if (editor_ == text) return;
+    std::string applied = applied_text();
+    replace_state(&text, std::move(applied), std::nullopt, behind_);
     check_text();
 }
 
 bool Document::undo() {
     commit();
-    auto prev = history_.undo(s_);
-    if (!prev) return false;
-    set_state(std::move(*prev), false);
-    diagnostics_ = editor_dirty() ? rt::parse_scene(s_.editor_text).diagnostics : std::vector<rt::Diagnostic>{};
+    flush_typing();
+    const DocStep* s = history_.undo();
+    if (!s) return false;
+    apply_step(*s, false);
     return true;
 }
 
 bool Document::redo() {
     commit();
-    auto next = history_.redo(s_);
-    if (!next) return false;
-    set_state(std::move(*next), false);
-    diagnostics_ = editor_dirty() ? rt::parse_scene(s_.editor_text).diagnostics : std::vector<rt::Diagnostic>{};
+    flush_typing();
+    const DocStep* s = history_.redo();
+    if (!s) return false;
+    apply_step(*s, true);
     return true;
 }
 
-void Document::mark_saved(const std::string& text) {
-    saved_text_ = text;
-    rt::ParseResult r = rt::parse_scene(text);
-    saved_ok_ = r.ok();
-    if (saved_ok_) {
-        saved_scene_ = std::move(r.scene);
-        file_camera_ = saved_scene_.camera;
-    }
+// ---------------------------------------------------------------------------------
+// Saving and the file on disk
+
+void Document::mark_saved() {
+    saved_hash_ = text_hash(editor_);
+    saved_size_ = editor_.size();
+    // The text is the saved one now: no need to hash it again to know that.
+    modified_key_ = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    modified_cache_ = false;
+    // Revert of a text that never parsed goes back to the file: keep it (such files
+    // are small; a scene that parses is not kept twice).
+    saved_broken_text_ = has_scene_ ? std::string() : editor_;
+    // No second parse of the saved text: it is the text of the current scene whenever
+    // that has no unapplied draft.
+    if (has_scene_ && !editor_dirty()) file_camera_ = scene_.camera;
     stamp_ = FileStamp::of(path_);
     conflict_ = false;
 }
@@ -198,55 +662,35 @@ void Document::mark_saved(const std::string& text) {
 std::string Document::save() {
     commit();
     if (path_.empty()) return "the scene has no file name yet: use Save As";
-    std::string err = rt::write_file_atomic(path_, s_.editor_text);
+    std::string err = rt::write_file_atomic(path_, editor_);
     if (!err.empty()) return err;
-    mark_saved(s_.editor_text);
+    mark_saved();
     return {};
 }
 
 std::string Document::save_as(const std::string& path) {
     commit();
     if (path.empty()) return "no file name given";
-    std::string err = rt::write_file_atomic(path, s_.editor_text);
+    std::string err = rt::write_file_atomic(path, editor_);
     if (!err.empty()) return err;
     path_ = path;
     name_ = base_name(path);
-    mark_saved(s_.editor_text);
+    mark_saved();
     return {};
 }
 
-bool Document::edits_beyond_view() const {
-    if (!modified()) return false;
-    if (editor_dirty() || s_.text_behind || !saved_ok_ || !s_.has_scene) return true;
-    rt::Scene a = s_.scene;
-    a.camera = saved_scene_.camera;
-    return a != saved_scene_;
-}
-
 void Document::reload_text(const std::string& text) {
+    flush_typing();
     rt::ParseResult r = rt::parse_scene(text);
-    DocState next = s_;
     diagnostics_ = r.diagnostics;
     if (r.ok()) {
-        // Keep the user's view if they moved it away from the file's camera; a camera
-        // changed in the file itself wins otherwise.
-        bool keep_view = s_.has_scene && !(s_.scene.camera == file_camera_);
-        next.scene = r.scene;
-        next.has_scene = true;
-        if (keep_view) {
-            next.scene.camera = s_.scene.camera;
-            next.applied_text = sync_scene_text(text, r.scene, next.scene);
-        } else {
-            next.applied_text = text;
-        }
-        next.editor_text = next.applied_text;
-        next.text_behind = false;
+        replace_state(&text, std::nullopt, std::move(r.scene), false);
     } else {
         // Show the new text with its errors; the last good scene keeps rendering.
-        next.editor_text = text;
+        std::string applied = has_scene_ ? applied_text() : std::string();
+        replace_state(&text, std::move(applied), std::nullopt, behind_);
     }
-    set_state(std::move(next), true);
-    mark_saved(text);
+    mark_saved();
 }
 
 Document::DiskEvent Document::check_disk() {
@@ -257,22 +701,27 @@ Document::DiskEvent Document::check_disk() {
     if (!st.exists) return DiskEvent::Removed;
     std::string text;
     if (!rt::read_file(path_, text, rt::Limits::max_file_size).empty()) return DiskEvent::None;
-    if (text == saved_text_) return DiskEvent::None;  // touched, or our own save
-    if (!edits_beyond_view()) {
+    if (text.size() == saved_size_ && text_hash(text) == saved_hash_) return DiskEvent::None;  // touched, or our own save
+    if (!modified()) {
         reload_text(text);
         return DiskEvent::Reloaded;
     }
     conflict_ = true;
-    conflict_text_ = text;
+    conflict_text_ = std::move(text);
     return DiskEvent::Conflict;
 }
 
 void Document::resolve_conflict_reload() {
     if (!conflict_) return;
     conflict_ = false;
-    reload_text(conflict_text_);
+    std::string text = std::move(conflict_text_);
+    conflict_text_.clear();
+    reload_text(text);
 }
 
-void Document::resolve_conflict_keep() { conflict_ = false; }
+void Document::resolve_conflict_keep() {
+    conflict_ = false;
+    conflict_text_.clear();
+}
 
 }  // namespace rtview

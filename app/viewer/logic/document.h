@@ -2,26 +2,22 @@
 // undo history. The UI changes the document only through these calls, so every rule
 // (text never lost, panels written back into the text, atomic saves, reload on
 // external change) lives here and is unit-tested without a window.
+// Big scenes: the text is held once (a second copy only while an unapplied draft
+// exists), a panel edit rewrites only its own block of the text, and undo steps hold
+// what an edit changed, within a byte budget.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "scene.h"
 #include "scene_parser.h"
+#include "scene_text.h"
 #include "undo.h"
 
 namespace rtview {
-
-// What the undo history stores: everything an edit can change.
-struct DocState {
-    rt::Scene scene;            // last good scene: what renders
-    bool has_scene = false;     // false until some text has parsed
-    std::string applied_text;   // text that parses to `scene`
-    std::string editor_text;    // what the editor shows (may be an unapplied draft)
-    bool text_behind = false;   // panel edits could not be written into the draft
-};
 
 // Identity of a file version on disk, to notice changes made by other programs.
 struct FileStamp {
@@ -36,6 +32,30 @@ struct FileStamp {
     static FileStamp of(const std::string& path);
 };
 
+// A replacement in a text: [pos, pos + before.size()) held `before` and now holds `after`.
+struct TextSplice {
+    std::size_t pos = 0;
+    std::string before, after;
+};
+
+// One undo step: what an edit changed, both ways.
+struct DocStep {
+    std::vector<TextSplice> editor;  // applied in order going forward, in reverse going back
+    // The applied text when it differed from the editor text (a draft), before and after.
+    std::optional<std::string> applied_before, applied_after;
+    // The scene: the items that changed (index, value), or, for wide changes, nothing:
+    // the scene is parsed again from the applied text.
+    bool reparse = false;
+    std::vector<std::pair<std::size_t, rt::Object>> objects_before, objects_after;
+    std::vector<std::pair<std::size_t, rt::Plane>> planes_before, planes_after;
+    std::vector<std::pair<std::size_t, rt::Light>> lights_before, lights_after;
+    std::optional<rt::Camera> camera_before, camera_after;
+    bool has_scene_before = false, has_scene_after = false;
+    bool behind_before = false, behind_after = false;
+    bool keep_applied = false;  // typing: the applied text is not part of the step
+    std::size_t bytes() const;
+};
+
 class Document {
 public:
     Document();
@@ -43,40 +63,67 @@ public:
     // --- opening ---------------------------------------------------------------
     // Replaces everything (history too). `path` empty: an unsaved scene called `name`.
     void load_text(const std::string& text, const std::string& path, const std::string& name);
+    // Takes a text parsed elsewhere (a background load): nothing is parsed again and
+    // the text is moved in, not copied.
+    void load_parsed(std::string text, rt::ParseResult parsed, const std::string& path, const std::string& name);
+    // An empty document with no scene and no errors: the window's state while its
+    // first file loads in the background.
+    void load_pending(const std::string& name);
     // Reads and loads a file; on failure returns why and leaves the document as it was.
     std::string load_file(const std::string& path);
 
     const std::string& path() const { return path_; }
     const std::string& name() const { return name_; }
-    bool modified() const { return s_.editor_text != saved_text_; }
+    // The editor text differs from the file as last loaded or saved.
+    bool modified() const;
     std::string title() const;  // "name* - raytracer-view"
 
     // --- the scene -------------------------------------------------------------
-    const rt::Scene& scene() const { return s_.scene; }
-    bool has_scene() const { return s_.has_scene; }
-    // Increases whenever scene() changes (the renderer restarts on it).
+    const rt::Scene& scene() const { return scene_; }
+    bool has_scene() const { return has_scene_; }
+    // Increases whenever scene() changes.
     std::uint64_t scene_version() const { return scene_version_; }
-    // The camera of the file as last loaded or saved ("R" goes back to it).
+    // Increases when anything but the camera changes: the compiled world depends
+    // on this only (the renderer takes its camera from the view).
+    std::uint64_t content_version() const { return content_version_; }
+    // The camera of the file as last loaded or saved.
     const rt::Camera& file_camera() const { return file_camera_; }
 
     // --- panel edits -----------------------------------------------------------
-    // A continuous edit (a slider drag, a mouse orbit) calls edit() on every change
-    // and commit() when the gesture ends: one undo step, and the text is written once.
-    rt::Scene& edit();  // marks the scene changed; opens a pending edit
+    // A continuous edit (a slider drag) changes the scene on every frame and commit()
+    // ends it: one undo step, and the text is written once. The item calls remember
+    // only that item as it was, and the text is patched in that item's block; edit()
+    // may change anything (it keeps a copy of the whole scene until the commit).
+    rt::Object& edit_object(std::size_t i);
+    rt::Plane& edit_plane(std::size_t i);
+    rt::Light& edit_light(std::size_t i);
+    rt::Camera& edit_camera();
+    rt::Scene& edit();
     bool editing() const { return pending_; }
     void commit();
     // Drops a pending edit, restoring the scene as it was before it.
     void cancel_edit();
+    // Makes `camera` the scene camera ("Set scene camera from view"): one undo step
+    // that rewrites only the camera block of the text. False if nothing changed.
+    bool set_camera(const rt::Camera& camera);
 
     // --- editor ----------------------------------------------------------------
-    std::string& editor_text() { return s_.editor_text; }
-    const std::string& editor_text() const { return s_.editor_text; }
-    bool editor_dirty() const { return s_.editor_text != s_.applied_text; }
+    // The text for a widget to edit in place: from here on the applied text is kept
+    // apart (a draft may begin).
+    std::string& editor_text();
+    const std::string& editor_text() const { return editor_; }
+    // The text the scene was made from.
+    const std::string& applied_text() const { return applied_ ? *applied_ : editor_; }
+    bool editor_dirty() const { return applied_ && *applied_ != editor_; }
     // Panel edits since the draft was typed are not in the editor text.
-    bool text_behind() const { return s_.text_behind; }
+    bool text_behind() const { return behind_; }
     // Increases when editor_text() is replaced by the document (undo, reload, panel
     // write-back), so an active text widget knows to reload its buffer.
     std::uint64_t text_version() const { return text_version_; }
+    // The editor text was typed into (call after a widget changed it).
+    void note_typed() { ++typed_; }
+    // Changes with every possible change of the editor text (with text_version()).
+    std::uint64_t typed() const { return typed_; }
     // Parses the editor text. Errors: diagnostics() lists them, the scene and the text
     // stay as they are. Success: the scene becomes the text's (one undo step).
     bool apply_text();
@@ -93,6 +140,9 @@ public:
     // --- undo ------------------------------------------------------------------
     bool can_undo() const { return history_.can_undo(); }
     bool can_redo() const { return history_.can_redo(); }
+    std::size_t undo_depth() const { return history_.undo_size(); }
+    std::size_t undo_bytes() const { return history_.bytes(); }
+    void set_undo_budget(std::size_t bytes) { history_.set_budget(bytes); }
     bool undo();
     bool redo();
 
@@ -103,34 +153,69 @@ public:
 
     // --- the file on disk ------------------------------------------------------
     enum class DiskEvent { None, Reloaded, Conflict, Removed };
-    // Call now and then (the viewer: once a second). Reloads by itself when the
-    // viewer holds no edits other than the view (camera), keeping the view; reports
-    // a conflict when there are other unsaved edits.
+    // Call now and then (the viewer: once a second). Reloads by itself when there
+    // are no unsaved edits (looking around is not an edit: the view camera lives
+    // outside the document); reports a conflict otherwise.
     DiskEvent check_disk();
     bool disk_conflict() const { return conflict_; }
     void resolve_conflict_reload();  // take the disk version (undoable)
     void resolve_conflict_keep();    // keep ours; ask again only on the next change
 
 private:
-    void set_state(DocState s, bool push_history);
-    void mark_saved(const std::string& text);
+    struct Saved {  // an item as it was when a pending edit first touched it
+        std::vector<std::pair<std::size_t, rt::Object>> objects;
+        std::vector<std::pair<std::size_t, rt::Plane>> planes;
+        std::vector<std::pair<std::size_t, rt::Light>> lights;
+        std::optional<rt::Camera> camera;
+        std::optional<rt::Scene> whole;  // edit(): everything
+    };
+    void open_edit();
+    rt::Scene scene_before_edit() const;  // (a copy: only for the slow paths)
+    rt::Scene scene_before_edit_from(const DocStep& step) const;
+    bool commit_in_place(DocStep& step);
+    void commit_generic(DocStep& step);
+    void record(DocStep step);
+    // Text typed into the editor since the last step becomes a step of its own
+    // (every step's splices hold for the text exactly as the previous step left it).
+    void flush_typing();
+    // Replaces the texts and scene as one undoable step (apply, revert, reload...).
+    // `editor` null: the editor text stays; `scene` empty: the scene stays.
+    void replace_state(const std::string* editor, std::optional<std::string> applied, std::optional<rt::Scene> scene,
+                       bool behind);
+    void apply_step(const DocStep& s, bool forward);
+    void normalize_applied();
+    void mark_saved();
     void reload_text(const std::string& text);
-    bool edits_beyond_view() const;
 
-    DocState s_;
-    UndoHistory<DocState> history_;
+    std::string editor_;
+    std::optional<std::string> applied_;  // only while it differs from editor_ (or may)
+    std::optional<std::string> typing_base_;  // editor_ as the last step left it, while typed into
+    rt::Scene scene_;
+    bool has_scene_ = false;
+    bool behind_ = false;
+
+    UndoHistory<DocStep> history_;
     std::string path_, name_;
-    std::string saved_text_;
-    rt::Scene saved_scene_;  // parse of saved_text_ (when it parses)
-    bool saved_ok_ = false;
+    // The file as last loaded or saved: its hash and size (the text itself is not
+    // kept twice); its text only when it does not parse (Revert needs it then).
+    std::uint64_t saved_hash_ = 0;
+    std::size_t saved_size_ = 0;
+    std::string saved_broken_text_;
+    mutable std::uint64_t modified_key_ = ~std::uint64_t(0);  // (text_version_, typed_) the cache is for
+    mutable bool modified_cache_ = false;
     rt::Camera file_camera_;
     FileStamp stamp_;
     std::vector<rt::Diagnostic> diagnostics_;
-    std::uint64_t scene_version_ = 1, text_version_ = 1;
+    std::uint64_t scene_version_ = 1, content_version_ = 1, text_version_ = 1, typed_ = 0;
     bool pending_ = false;
-    DocState before_;  // state at the start of the pending edit
+    Saved saved_;
+    std::optional<SceneLayout> layout_;  // of editor_ when layout_key_ matches
+    std::uint64_t layout_key_ = 0;
     bool conflict_ = false;
     std::string conflict_text_;
 };
+
+// FNV-1a of a text (the saved file's identity for modified()).
+std::uint64_t text_hash(const std::string& text);
 
 }  // namespace rtview

@@ -6,7 +6,9 @@
 
 namespace rtview {
 
-enum class FitMode { Window, Picture };  // render at the window's size, or the scene's picture_size
+// Picture: the scene's picture letterboxed at its aspect (what `raytracer` makes);
+// Window: the view fills the image area (angle_x refitted).
+enum class FitMode { Window, Picture };
 
 struct Options {
     std::string scene;        // empty: the embedded default scene
@@ -18,7 +20,7 @@ struct Options {
     double time_limit = 0;    // seconds, 0 = none
     double orbit = 0;         // degrees around the camera centre before rendering
     int threads = 0;          // 0: all hardware threads
-    FitMode fit = FitMode::Window;
+    FitMode fit = FitMode::Picture;
     std::string tab;          // sidebar tab to open with: objects, text or render
     std::string select;       // "object N", "plane N" or "light N" (1-based), for screenshots
     bool print_layout = false;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <system_error>
 
+#include "document.h"
 #include "image_io.h"
 
 namespace rtview {
@@ -45,21 +46,22 @@ std::string Recovery::update(const std::string& doc_path, const std::string& tex
                              double interval) {
     if (doc_path != last_path_) {
         last_path_ = doc_path;
-        last_text_.clear();
+        last_hash_ = 0;
         written_ = false;
     }
     if (!modified) {
         if (written_) discard(doc_path);
         return {};
     }
-    if (written_ && text == last_text_) return {};
+    std::uint64_t h = text_hash(text);
+    if (written_ && h == last_hash_) return {};
     if (now - last_write_ < interval) return {};
     std::error_code ec;
     fs::create_directories(dir_, ec);
     std::string err = rt::write_file_atomic(file_for(doc_path), absolute(doc_path) + "\n" + text);
     last_write_ = now;
     if (!err.empty()) return err;
-    last_text_ = text;
+    last_hash_ = h;
     written_ = true;
     return {};
 }
@@ -77,7 +79,7 @@ void Recovery::discard(const std::string& doc_path) {
     fs::remove(file_for(doc_path), ec);
     if (doc_path == last_path_) {
         written_ = false;
-        last_text_.clear();
+        last_hash_ = 0;
     }
 }
 

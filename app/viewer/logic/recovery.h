@@ -1,8 +1,10 @@
 // Crash recovery for the scene editor: while the document has unsaved text, a copy is
-// kept on disk (written atomically every few seconds), and a later start that opens
-// the same file finds it and offers it back. Saving or closing cleanly removes it.
+// kept on disk (written atomically, at most every few seconds and only when the text
+// changed), and a later start that opens the same file finds it and offers it back.
+// Saving or closing cleanly removes it. The viewer calls update() off the UI thread.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -29,7 +31,8 @@ public:
 
 private:
     std::string dir_;
-    std::string last_path_, last_text_;
+    std::string last_path_;
+    std::uint64_t last_hash_ = 0;  // of the text last written (not a second copy of it)
     double last_write_ = -1e300;
     bool written_ = false;
 };

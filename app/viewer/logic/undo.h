@@ -1,52 +1,74 @@
-// Undo/redo history of whole document states. Scenes are small next to the cost of a
-// render, so storing complete states (not deltas) keeps undo trivially correct.
+// Undo/redo history of edits (not of whole documents): each step holds what one edit
+// changed and knows its size, and the history keeps at most a byte budget of them,
+// dropping the oldest first. A step bigger than the whole budget is not kept at all.
 #pragma once
 
 #include <cstddef>
 #include <deque>
-#include <optional>
 #include <utility>
 
 namespace rtview {
 
-template <class State>
+template <class Step>
 class UndoHistory {
 public:
-    explicit UndoHistory(std::size_t limit = 256) : limit_(limit < 1 ? 1 : limit) {}
+    explicit UndoHistory(std::size_t budget_bytes = 64u << 20, std::size_t max_steps = 10000)
+        : budget_(budget_bytes), max_steps_(max_steps < 1 ? 1 : max_steps) {}
 
-    // Records the state as it was before an edit. A new edit forgets the redo branch.
-    void push(State before) {
-        undo_.push_back(std::move(before));
-        if (undo_.size() > limit_) undo_.pop_front();
+    // Records an edit just made. A new edit forgets the redo branch.
+    void push(Step step, std::size_t bytes) {
         redo_.clear();
+        redo_bytes_ = 0;
+        undo_.push_back({std::move(step), bytes});
+        undo_bytes_ += bytes;
+        trim();
     }
-    // Returns the state to go back to and remembers `current` for redo.
-    std::optional<State> undo(State current) {
-        if (undo_.empty()) return std::nullopt;
-        State s = std::move(undo_.back());
+    // The step to take back (then on the redo side), or null.
+    const Step* undo() {
+        if (undo_.empty()) return nullptr;
+        undo_bytes_ -= undo_.back().second;
+        redo_bytes_ += undo_.back().second;
+        redo_.push_back(std::move(undo_.back()));
         undo_.pop_back();
-        redo_.push_back(std::move(current));
-        return s;
+        return &redo_.back().first;
     }
-    std::optional<State> redo(State current) {
-        if (redo_.empty()) return std::nullopt;
-        State s = std::move(redo_.back());
+    // The step to do again (then on the undo side), or null.
+    const Step* redo() {
+        if (redo_.empty()) return nullptr;
+        redo_bytes_ -= redo_.back().second;
+        undo_bytes_ += redo_.back().second;
+        undo_.push_back(std::move(redo_.back()));
         redo_.pop_back();
-        undo_.push_back(std::move(current));
-        return s;
+        return &undo_.back().first;
     }
     bool can_undo() const { return !undo_.empty(); }
     bool can_redo() const { return !redo_.empty(); }
     std::size_t undo_size() const { return undo_.size(); }
     std::size_t redo_size() const { return redo_.size(); }
+    // Bytes held by all steps (undo and redo side).
+    std::size_t bytes() const { return undo_bytes_ + redo_bytes_; }
+    std::size_t budget() const { return budget_; }
+    void set_budget(std::size_t b) {
+        budget_ = b;
+        trim();
+    }
     void clear() {
         undo_.clear();
         redo_.clear();
+        undo_bytes_ = redo_bytes_ = 0;
     }
 
 private:
-    std::size_t limit_;
-    std::deque<State> undo_, redo_;
+    void trim() {
+        while (!undo_.empty() && (bytes() > budget_ || undo_.size() > max_steps_)) {
+            undo_bytes_ -= undo_.front().second;
+            undo_.pop_front();
+        }
+    }
+
+    std::size_t budget_, max_steps_;
+    std::deque<std::pair<Step, std::size_t>> undo_, redo_;
+    std::size_t undo_bytes_ = 0, redo_bytes_ = 0;
 };
 
 }  // namespace rtview

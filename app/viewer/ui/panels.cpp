@@ -1,15 +1,15 @@
-// The ImGui panels of ViewerApp: menu bar, sidebar (camera, outline and properties,
-// scene text editor, render settings), status bar, modal dialogs and the film quad.
-// Panels read the document and change it only through Document::edit()/apply etc.
+// The ImGui panels (see panels.h): menu bar, sidebar, status bar.
+#include "panels.h"
+
 #include <imgui.h>
-#include <imgui_internal.h>  // GetActiveID, ClearActiveID: 1.86 has no public equivalent
-#include <imgui_stdlib.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
+#include <utility>
 
-#include "app.h"
+#include "camera_control.h"
 #include "scene_text.h"
 #include "scene_writer.h"
 
@@ -100,81 +100,95 @@ bool drag_vec3(const char* label, rt::Vec3& v, float speed) {
     return true;
 }
 
-// Guarded: the headless binary has no key map, and index -1 means "not mapped".
-bool imgui_escape_pressed() {
-    int k = ImGui::GetKeyIndex(ImGuiKey_Escape);
-    return k >= 0 && ImGui::IsKeyPressed(k, false);
-}
-
 Rect item_block(const ImVec2& top_left, float width) {
     ImVec2 end = ImGui::GetCursorScreenPos();
     return {top_left.x, top_left.y, width, end.y - top_left.y};
 }
 
+bool material_editor(const char* id, rt::Material& m) {
+    ImGui::PushID(id);
+    bool changed = false;
+    const double zero = 0, one = 1, ior_max = 3;
+    ImGui::PushItemWidth(-120);
+    // Weights are normalised by their sum when rendering, so values above 1 are legal:
+    // Ctrl+click a slider to type one.
+    changed |= ImGui::SliderScalar("reflection", ImGuiDataType_Double, &m.reflection, &zero, &one, "%.3f");
+    changed |= ImGui::SliderScalar("refraction", ImGuiDataType_Double, &m.refraction, &zero, &one, "%.3f");
+    changed |= ImGui::SliderScalar("scattering", ImGuiDataType_Double, &m.scattering, &zero, &one, "%.3f");
+    changed |= ImGui::SliderScalar("translusans", ImGuiDataType_Double, &m.translusans, &zero, &one, "%.3f",
+                                   ImGuiSliderFlags_AlwaysClamp);
+    const double ior_min = 1;
+    changed |= ImGui::SliderScalar("refractive_index", ImGuiDataType_Double, &m.refractive_index, &ior_min, &ior_max,
+                                   "%.3f", ImGuiSliderFlags_AlwaysClamp);
+    float col[3] = {float(m.colour.x), float(m.colour.y), float(m.colour.z)};
+    if (ImGui::ColorEdit3("colour", col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR)) {
+        m.colour = {col[0], col[1], col[2]};
+        changed = true;
+    }
+    ImGui::PopItemWidth();
+    double sum = m.reflection + m.refraction + m.scattering;
+    if (sum != 0)
+        ImGui::TextDisabled("used as: reflection %.2f, refraction %.2f, scattering %.2f", m.reflection / sum,
+                            m.refraction / sum, m.scattering / sum);
+    else
+        ImGui::TextColored(kWarnColour, "all weights 0: the surface renders black");
+    ImGui::PopID();
+    return changed;
+}
+
 }  // namespace
+
 
 // ---------------------------------------------------------------------------------
 // Menu bar
 
-void ViewerApp::draw_menu_bar() {
+void Panels::draw_menu_bar() {
     if (!ImGui::BeginMainMenuBar()) return;
+    const Document& doc = editor_.doc();
     if (ImGui::BeginMenu("File")) {
-        if (ImGui::MenuItem("Open...", "Ctrl+O")) {
-            path_input_.clear();
-            open_open_popup_ = true;
-        }
+        if (ImGui::MenuItem("Open...", "Ctrl+O")) commands_.run(Command::OpenDialog);
         if (ImGui::BeginMenu("Open Recent")) {
-            if (recent_.paths().empty()) ImGui::MenuItem("(none yet)", nullptr, false, false);
-            for (const std::string& p : recent_.paths())
-                if (ImGui::MenuItem(p.c_str())) request(Action::Open, p);
+            if (editor_.recent().paths().empty()) ImGui::MenuItem("(none yet)", nullptr, false, false);
+            for (const std::string& p : editor_.recent().paths())
+                if (ImGui::MenuItem(p.c_str())) commands_.run(Command::Open, p);
             ImGui::EndMenu();
         }
-        if (ImGui::MenuItem("Open the default scene")) request(Action::OpenDefault);
+        if (ImGui::MenuItem("Open the default scene")) commands_.run(Command::OpenDefault);
         ImGui::Separator();
-        if (ImGui::MenuItem("Save", "Ctrl+S")) do_save();
-        if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) {
-            path_input_ = doc_.path().empty() ? doc_.name() : doc_.path();
-            open_save_as_popup_ = true;
-        }
+        if (ImGui::MenuItem("Save", "Ctrl+S")) commands_.run(Command::Save);
+        if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) commands_.run(Command::SaveAsDialog);
         ImGui::Separator();
-        if (ImGui::MenuItem("Save Image...", "Ctrl+P")) {
-            std::string base = doc_.path().empty() ? doc_.name() : doc_.path();
-            std::size_t dot = base.find_last_of('.');
-            path_input_ = (dot == std::string::npos ? base : base.substr(0, dot)) + ".png";
-            open_image_popup_ = true;
-        }
-        if (ImGui::MenuItem("Screenshot", "F12")) screenshot_request_ = "raytracer-view-screenshot.png";
+        if (ImGui::MenuItem("Save Image...", "Ctrl+P")) commands_.run(Command::SaveImageDialog);
+        if (ImGui::MenuItem("Screenshot", "F12")) commands_.run(Command::Screenshot, "raytracer-view-screenshot.png");
         ImGui::Separator();
-        if (ImGui::MenuItem("Quit", "Ctrl+Q")) request(Action::Quit);
+        if (ImGui::MenuItem("Quit", "Ctrl+Q")) commands_.run(Command::Quit);
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Edit")) {
-        if (ImGui::MenuItem("Undo", "Ctrl+Z", false, doc_.can_undo() || doc_.editing())) doc_.undo();
-        if (ImGui::MenuItem("Redo", "Ctrl+Y", false, doc_.can_redo())) doc_.redo();
+        if (ImGui::MenuItem("Undo", "Ctrl+Z", false, doc.can_undo() || doc.editing())) commands_.run(Command::Undo);
+        if (ImGui::MenuItem("Redo", "Ctrl+Y", false, doc.can_redo())) commands_.run(Command::Redo);
         ImGui::Separator();
-        if (ImGui::MenuItem("Edit scene text", "Ctrl+E")) {
-            want_tab_ = 1;
-            focus_editor_ = true;
-        }
-        if (ImGui::MenuItem("Apply text", "Ctrl+Enter")) {
-            bool ok = doc_.apply_text();
-            status(ok ? "Applied the scene text" : "The scene text has errors", !ok);
-        }
-        if (ImGui::MenuItem("Revert text", nullptr, false, doc_.editor_dirty())) doc_.revert_text();
+        if (ImGui::MenuItem("Edit scene text", "Ctrl+E")) commands_.run(Command::EditText);
+        if (ImGui::MenuItem("Apply text", "Ctrl+Enter")) commands_.run(Command::ApplyText);
+        if (ImGui::MenuItem("Revert text", nullptr, false, doc.editor_dirty())) commands_.run(Command::RevertText);
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("View")) {
-        if (ImGui::MenuItem("Frame the scene", "F")) frame_scene();
-        if (ImGui::MenuItem("Reset to the file's camera", "R")) reset_camera();
+        if (ImGui::MenuItem("Frame the scene", "F")) commands_.run(Command::FrameScene);
+        if (ImGui::MenuItem("Reset the view to the scene camera", "R")) commands_.run(Command::ResetView);
+        if (ImGui::MenuItem("Set scene camera from view", "Ctrl+K", false, doc.has_scene() && nav_.differs_from(doc.scene().camera)))
+            commands_.run(Command::SetSceneCamera);
+        if (ImGui::MenuItem("Copy camera block of the view")) commands_.run(Command::CopyCamera);
         ImGui::Separator();
-        if (ImGui::MenuItem("Fill the window", nullptr, fit_ == FitMode::Window)) fit_ = FitMode::Window;
-        if (ImGui::MenuItem("Scene picture size (letterboxed)", nullptr, fit_ == FitMode::Picture)) fit_ = FitMode::Picture;
+        if (ImGui::MenuItem("Picture frame (letterboxed, as rendered)", nullptr, layout_.fit == FitMode::Picture))
+            commands_.run(Command::FitPicture);
+        if (ImGui::MenuItem("Fill the window", nullptr, layout_.fit == FitMode::Window)) commands_.run(Command::FitWindow);
         ImGui::Separator();
-        if (ImGui::MenuItem("Pause rendering", "Space", paused_)) toggle_pause();
+        if (ImGui::MenuItem("Pause rendering", "Space", render_.paused())) commands_.run(Command::TogglePause);
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Help")) {
-        if (ImGui::MenuItem("Mouse and keys...")) open_help_popup_ = true;
+        if (ImGui::MenuItem("Mouse and keys...")) commands_.run(Command::Help);
         ImGui::EndMenu();
     }
     ImGui::EndMainMenuBar();
@@ -183,10 +197,37 @@ void ViewerApp::draw_menu_bar() {
 // ---------------------------------------------------------------------------------
 // Sidebar
 
-void ViewerApp::draw_sidebar() {
+void Panels::select(const Selection& s) {
+    selection_ = s;
+    scroll_to_selection_ = true;
+    if (s.kind != Selection::Kind::None && current_tab_ != Objects) want_tab_ = Objects;
+}
+
+void Panels::select_from_option(const std::string& spec) {
+    std::istringstream in(spec);
+    std::string kind;
+    int n = 0;
+    in >> kind >> n;
+    const rt::Scene& s = editor_.doc().scene();
+    if (kind == "object" && n >= 1 && n <= int(s.objects.size())) selection_ = {Selection::Kind::Object, n - 1, {}};
+    if (kind == "plane" && n >= 1 && n <= int(s.planes.size())) selection_ = {Selection::Kind::Plane, n - 1, {}};
+    if (kind == "light" && n >= 1 && n <= int(s.lights.size())) selection_ = {Selection::Kind::Light, n - 1, {}};
+    scroll_to_selection_ = true;
+}
+
+double Panels::scene_size() const {
+    if (const rt::World* w = render_.world()) {
+        rt::Aabb b = w->bounds();
+        if (!b.empty() && rt::finite(b.lo) && rt::finite(b.hi)) return std::max(rt::length(b.hi - b.lo), 1e-3);
+    }
+    const rt::Camera& c = editor_.doc().scene().camera;
+    return std::max(rt::length(c.centre - c.position), 1e-3);
+}
+
+void Panels::draw_sidebar() {
     ImGuiIO& io = ImGui::GetIO();
-    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - sidebar_w_, menu_h_));
-    ImGui::SetNextWindowSize(ImVec2(sidebar_w_, io.DisplaySize.y - menu_h_));
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - layout_.sidebar_w, layout_.menu_h));
+    ImGui::SetNextWindowSize(ImVec2(layout_.sidebar_w, io.DisplaySize.y - layout_.menu_h));
     ImGuiWindowFlags flags = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
                              ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings |
                              ImGuiWindowFlags_NoBringToFrontOnFocus;
@@ -194,51 +235,24 @@ void ViewerApp::draw_sidebar() {
         ImGui::End();
         return;
     }
-    if (recovery_offer_) {
-        ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
-        ImGui::TextWrapped("Unsaved text of %s from an earlier session (the viewer did not close normally) was kept.",
-                           doc_.name().c_str());
-        ImGui::PopStyleColor();
-        if (ImGui::Button("Restore it")) {
-            doc_.restore_draft(recovered_text_);
-            recovery_offer_ = false;
-            want_tab_ = 1;
-            status("Restored the unsaved text into the editor (Ctrl+Enter applies it, Ctrl+Z undoes)");
-        }
-        ImGui::SameLine();
-        if (ImGui::Button("Discard it")) {
-            recovery_.discard(doc_.path());
-            recovery_offer_ = false;
-        }
-        ImGui::Separator();
-    }
-    if (doc_.disk_conflict()) {
-        ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
-        ImGui::TextWrapped("%s changed on disk, and you have unsaved edits here.", doc_.name().c_str());
-        ImGui::PopStyleColor();
-        if (ImGui::Button("Reload from disk")) {
-            doc_.resolve_conflict_reload();
-            status("Reloaded " + doc_.name() + " (Ctrl+Z brings your edits back)");
-        }
-        ImGui::SameLine();
-        if (ImGui::Button("Keep mine")) doc_.resolve_conflict_keep();
-        ImGui::Separator();
-    }
+    editor_.draw_banners();
     draw_camera_panel();
+    if (editor_.wants_text_tab()) want_tab_ = Text;
     if (ImGui::BeginTabBar("tabs")) {
         static const char* const names[3] = {"Objects", "Text", "Render"};
+        const Document& doc = editor_.doc();
         for (int t = 0; t < 3; ++t) {
             ImGuiTabItemFlags tf = want_tab_ == t ? ImGuiTabItemFlags_SetSelected : 0;
             std::string label = names[t];
-            if (t == 1 && (doc_.editor_dirty() || doc_.has_errors()))
-                label += doc_.has_errors() ? " (errors)" : " (unapplied)";
+            if (t == Text && (doc.editor_dirty() || doc.has_errors()))
+                label += doc.has_errors() ? " (errors)" : " (unapplied)";
             label += "###tab" + std::to_string(t);  // stable ID while the label changes
             if (ImGui::BeginTabItem(label.c_str(), nullptr, tf)) {
                 current_tab_ = t;
                 if (want_tab_ == t) want_tab_ = -1;
-                if (t == 0) draw_objects_tab();
-                if (t == 1) draw_text_tab();
-                if (t == 2) draw_render_tab();
+                if (t == Objects) draw_objects_tab();
+                if (t == Text) editor_.draw_text_tab(layout_);
+                if (t == Render) draw_render_tab();
                 ImGui::EndTabItem();
             }
         }
@@ -247,16 +261,50 @@ void ViewerApp::draw_sidebar() {
     ImGui::End();
 }
 
-void ViewerApp::draw_camera_panel() {
+void Panels::draw_camera_panel() {
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
+    const Document& doc = editor_.doc();
     ImGui::SetNextItemOpen(true, ImGuiCond_Once);
-    if (ImGui::CollapsingHeader("Camera")) {
-        ImGui::BeginDisabled(!doc_.has_scene());
-        rt::Camera cam = doc_.scene().camera;
-        bool changed = false;
+    bool open = ImGui::CollapsingHeader("Camera");
+    if (open && !doc.has_scene()) {
+        ImGui::TextDisabled("No scene yet.");
+    } else if (open) {
+        ImGui::BeginDisabled(!doc.has_scene());
         float speed = float(scene_size() * 0.002);
         ImGui::PushItemWidth(-84);
+
+        // The view: what the image shows. Moving it never edits the file.
+        rt::Camera view = nav_.camera();
+        bool differs = doc.has_scene() && nav_.differs_from(doc.scene().camera);
+        ImGui::TextDisabled("View%s", differs ? " (moved; not in the file)" : " (= scene camera)");
+        ImGui::Text("eye    %.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
+        ImGui::Text("centre %.3f %.3f %.3f", view.centre.x, view.centre.y, view.centre.z);
+        ViewAngles va = view_angles(view, nav_.world_up());
+        double v3[3] = {va.azimuth, va.elevation, va.distance};
+        if (ImGui::DragScalarN("az, el, dist", ImGuiDataType_Double, v3, 3, 0.25f, nullptr, nullptr, "%.2f"))
+            nav_.set(set_view_angles(view, nav_.world_up(), {v3[0], std::clamp(v3[1], -89.0, 89.0), std::max(v3[2], 1e-6)}));
+        if (layout_.fit == FitMode::Window && doc.has_scene()) {
+            rt::Camera vc = fit_camera_to_aspect(view, layout_.film_w, layout_.film_h);
+            ImGui::TextDisabled("window shows angle_x %.1f (fitted to %dx%d)", vc.angle_x, layout_.film_w, layout_.film_h);
+        }
+        ImGui::BeginDisabled(!differs);
+        if (ImGui::Button("Set scene camera from view")) commands_.run(Command::SetSceneCamera);
+        ImGui::EndDisabled();
+        ImGui::SameLine();
+        if (ImGui::Button("Copy camera block")) commands_.run(Command::CopyCamera);
+        if (ImGui::Button("Frame (F)")) commands_.run(Command::FrameScene);
+        ImGui::SameLine();
+        ImGui::BeginDisabled(!differs);
+        if (ImGui::Button("Reset view (R)")) commands_.run(Command::ResetView);
+        ImGui::EndDisabled();
+
+        // The scene camera: part of the document (edits here are undoable edits of
+        // the file, and the view follows them).
+        ImGui::Separator();
+        ImGui::TextDisabled("Scene camera (in the file)");
+        rt::Camera cam = doc.scene().camera;
+        bool changed = false;
         changed |= drag_vec3("position", cam.position, speed);
         changed |= drag_vec3("centre", cam.centre, speed);
         changed |= drag_vec3("up point", cam.up, speed);
@@ -272,44 +320,26 @@ void ViewerApp::draw_camera_panel() {
             cam.projection = proj ? rt::Projection::Polar : rt::Projection::Linear;
             changed = true;
         }
-        ViewAngles va = view_angles(cam, world_up());
-        double v3[3] = {va.azimuth, va.elevation, va.distance};
-        if (ImGui::DragScalarN("az, el, dist", ImGuiDataType_Double, v3, 3, 0.25f, nullptr, nullptr, "%.2f")) {
-            cam = set_view_angles(cam, world_up(), {v3[0], std::clamp(v3[1], -89.0, 89.0), std::max(v3[2], 1e-6)});
-            changed = true;
-        }
         ImGui::PopItemWidth();
-        if (changed) set_camera(cam);
-        if (fit_ == FitMode::Window && doc_.has_scene()) {
-            rt::Camera vc = view_camera();
-            ImGui::TextDisabled("window shows angle_x %.1f (fitted to %dx%d)", vc.angle_x, film_w_, film_h_);
-        }
-        if (ImGui::Button("Copy camera block")) {
-            ImGui::SetClipboardText(rt::write_camera(doc_.scene().camera).c_str());
-            status("Copied the camera block to the clipboard");
-        }
-        ImGui::SameLine();
-        if (ImGui::Button("Frame (F)")) frame_scene();
-        ImGui::SameLine();
-        if (ImGui::Button("Reset (R)")) reset_camera();
+        if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;
         ImGui::EndDisabled();
     }
-    camera_panel_ = item_block(top, width);
+    layout_.camera_panel = item_block(top, width);
 }
 
-void ViewerApp::draw_objects_tab() {
-    if (!selection_valid(doc_.scene(), selection_)) selection_ = {};
+void Panels::draw_objects_tab() {
+    if (!selection_valid(editor_.doc().scene(), selection_)) selection_ = {};
     float h = std::max(120.f, ImGui::GetContentRegionAvail().y * 0.45f);
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
     if (ImGui::BeginChild("outline", ImVec2(0, h), true)) draw_outline();
     ImGui::EndChild();
-    outline_rect_ = item_block(top, width);
+    layout_.outline = item_block(top, width);
     if (ImGui::BeginChild("properties", ImVec2(0, 0), false)) draw_properties();
     ImGui::EndChild();
 }
 
-void ViewerApp::draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label) {
+void Panels::draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label) {
     Selection me{Selection::Kind::Object, top, path};
     auto* csg = std::get_if<rt::Csg>(&obj.shape);
     ImGuiTreeNodeFlags f = ImGuiTreeNodeFlags_OpenOnArrow | ImGuiTreeNodeFlags_SpanAvailWidth;
@@ -335,12 +365,13 @@ void ViewerApp::draw_object_node(const rt::Object& obj, int top, std::vector<int
     }
 }
 
-void ViewerApp::draw_outline() {
-    if (!doc_.has_scene()) {
-        ImGui::TextDisabled("No scene yet: fix the errors in the Text tab.");
+void Panels::draw_outline() {
+    if (!editor_.doc().has_scene()) {
+        ImGui::TextDisabled(editor_.doc().has_errors() ? "No scene yet: fix the errors in the Text tab."
+                                                       : "No scene yet.");
         return;
     }
-    const rt::Scene& s = doc_.scene();
+    const rt::Scene& s = editor_.doc().scene();
     auto leaf = [&](Selection me, const std::string& label) {
         ImGuiTreeNodeFlags f = ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen |
                                ImGuiTreeNodeFlags_SpanAvailWidth;
@@ -391,40 +422,9 @@ void ViewerApp::draw_outline() {
     scroll_to_selection_ = false;
 }
 
-bool ViewerApp::material_editor(const char* id, rt::Material& m) {
-    ImGui::PushID(id);
-    bool changed = false;
-    const double zero = 0, one = 1, ior_max = 3;
-    ImGui::PushItemWidth(-120);
-    // Weights are normalised by their sum when rendering, so values above 1 are legal:
-    // Ctrl+click a slider to type one.
-    changed |= ImGui::SliderScalar("reflection", ImGuiDataType_Double, &m.reflection, &zero, &one, "%.3f");
-    changed |= ImGui::SliderScalar("refraction", ImGuiDataType_Double, &m.refraction, &zero, &one, "%.3f");
-    changed |= ImGui::SliderScalar("scattering", ImGuiDataType_Double, &m.scattering, &zero, &one, "%.3f");
-    changed |= ImGui::SliderScalar("translusans", ImGuiDataType_Double, &m.translusans, &zero, &one, "%.3f",
-                                   ImGuiSliderFlags_AlwaysClamp);
-    const double ior_min = 1;
-    changed |= ImGui::SliderScalar("refractive_index", ImGuiDataType_Double, &m.refractive_index, &ior_min, &ior_max,
-                                   "%.3f", ImGuiSliderFlags_AlwaysClamp);
-    float col[3] = {float(m.colour.x), float(m.colour.y), float(m.colour.z)};
-    if (ImGui::ColorEdit3("colour", col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR)) {
-        m.colour = {col[0], col[1], col[2]};
-        changed = true;
-    }
-    ImGui::PopItemWidth();
-    double sum = m.reflection + m.refraction + m.scattering;
-    if (sum != 0)
-        ImGui::TextDisabled("used as: reflection %.2f, refraction %.2f, scattering %.2f", m.reflection / sum,
-                            m.refraction / sum, m.scattering / sum);
-    else
-        ImGui::TextColored(kWarnColour, "all weights 0: the surface renders black");
-    ImGui::PopID();
-    return changed;
-}
-
-void ViewerApp::draw_properties() {
-    if (!doc_.has_scene()) return;
-    const rt::Scene& s = doc_.scene();
+void Panels::draw_properties() {
+    if (!editor_.doc().has_scene()) return;
+    const rt::Scene& s = editor_.doc().scene();
     switch (selection_.kind) {
         case Selection::Kind::None:
             ImGui::TextDisabled("Click an object in the image or in the list above.");
@@ -436,9 +436,7 @@ void ViewerApp::draw_properties() {
             if (o->loc.line > 0) {
                 ImGui::SameLine();
                 if (ImGui::SmallButton("show in text")) {
-                    want_tab_ = 1;
-                    focus_editor_ = true;
-                    pending_cursor_ = int(offset_of(doc_.editor_text(), o->loc.line, o->loc.col));
+                    editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), o->loc.line, o->loc.col)));
                 }
             }
             shape_details(o->shape);
@@ -451,7 +449,7 @@ void ViewerApp::draw_properties() {
             ImGui::Text(o->has_material ? "Material" : "Material (none in the file: object default)");
             rt::Material m = o->material;
             if (material_editor("material", m)) {
-                rt::Object& e = doc_.edit().objects[std::size_t(selection_.index)];
+                rt::Object& e = editor_.doc().edit_object(std::size_t(selection_.index));
                 e.material = m;
                 e.has_material = true;
             }
@@ -465,7 +463,7 @@ void ViewerApp::draw_properties() {
             ImGui::Text(p.chess ? "Material 1" : "Material");
             rt::Material m = p.material;
             if (material_editor("m1", m)) {
-                rt::Plane& e = doc_.edit().planes[std::size_t(selection_.index)];
+                rt::Plane& e = editor_.doc().edit_plane(std::size_t(selection_.index));
                 e.material = m;
                 e.has_material = true;
             }
@@ -473,7 +471,7 @@ void ViewerApp::draw_properties() {
                 ImGui::Text("Material 2");
                 rt::Material m2 = p.material2;
                 if (material_editor("m2", m2)) {
-                    rt::Plane& e = doc_.edit().planes[std::size_t(selection_.index)];
+                    rt::Plane& e = editor_.doc().edit_plane(std::size_t(selection_.index));
                     e.material2 = m2;
                     e.has_material2 = true;
                 }
@@ -508,7 +506,7 @@ void ViewerApp::draw_properties() {
             ImGui::TextDisabled("colour %s", fmt_vec(l.colour).c_str());
             if (changed) {
                 l.colour = tint * intensity;
-                rt::Light& e = doc_.edit().lights[std::size_t(selection_.index)];
+                rt::Light& e = editor_.doc().edit_light(std::size_t(selection_.index));
                 e.position = l.position;
                 e.colour = l.colour;
                 e.size = l.size;
@@ -518,311 +516,111 @@ void ViewerApp::draw_properties() {
     }
 }
 
-// ---------------------------------------------------------------------------------
-// Scene text editor
-
-int ViewerApp::editor_callback(ImGuiInputTextCallbackData* data) {
-    auto* app = static_cast<ViewerApp*>(data->UserData);
-    if (data->EventFlag == ImGuiInputTextFlags_CallbackAlways) {
-        // ImGui 1.86 has no call to place the cursor of a text field: do it from inside.
-        if (app->pending_cursor_ >= 0) {
-            int p = std::min(app->pending_cursor_, data->BufTextLen);
-            data->CursorPos = data->SelectionStart = data->SelectionEnd = p;
-            app->pending_cursor_ = -1;
-        }
-        app->editor_cursor_ = data->CursorPos;
-    }
-    return 0;
-}
-
-void ViewerApp::draw_text_tab() {
-    bool can_apply = doc_.editor_dirty() || doc_.has_errors();
-    ImGui::BeginDisabled(!can_apply);
-    if (ImGui::Button("Apply (Ctrl+Enter)")) {
-        bool ok = doc_.apply_text();
-        status(ok ? "Applied the scene text" : "The scene text has errors; still showing the last good scene", !ok);
-    }
-    ImGui::EndDisabled();
-    ImGui::SameLine();
-    ImGui::BeginDisabled(!doc_.editor_dirty() && !doc_.text_behind());
-    if (ImGui::Button("Revert")) doc_.revert_text();
-    ImGui::EndDisabled();
-    ImGui::SameLine();
-    if (doc_.editor_dirty()) ImGui::TextColored(kWarnColour, "unapplied changes");
-    else ImGui::TextColored(kOkColour, "text = scene");
-    if (doc_.text_behind()) {
-        ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
-        ImGui::TextWrapped("Panel edits are not in this text: it has unapplied changes that do not parse. "
-                           "Apply uses the text; Revert drops the text changes.");
-        ImGui::PopStyleColor();
-    }
-
-    const auto& diags = doc_.diagnostics();
-    float line = ImGui::GetTextLineHeightWithSpacing();
-    float diag_h = line * float(std::clamp(int(diags.size()), 1, 6)) + ImGui::GetStyle().WindowPadding.y * 2;
-    float editor_h = std::max(line * 4, ImGui::GetContentRegionAvail().y - diag_h - ImGui::GetStyle().ItemSpacing.y);
-
-    // Escape in an ImGui text field reverts everything typed since it was focused.
-    // The user's text must never be lost, so Escape just leaves the field instead.
-    if (editor_active_ && imgui_escape_pressed()) ImGui::ClearActiveID();
-    if (doc_.text_version() != editor_seen_version_) {
-        // The document replaced the text (undo, reload, panel edit): an active field
-        // keeps its own copy, so make it let go and take the new text.
-        if (editor_id_ != 0 && ImGui::GetActiveID() == editor_id_) {
-            ImGui::ClearActiveID();
-            focus_editor_ = true;
-            pending_cursor_ = editor_cursor_;
-        }
-        editor_seen_version_ = doc_.text_version();
-    }
-    if (focus_editor_) {
-        ImGui::SetKeyboardFocusHere();
-        focus_editor_ = false;
-    }
-    ImVec2 top = ImGui::GetCursorScreenPos();
-    float width = ImGui::GetContentRegionAvail().x;
-    bool changed = ImGui::InputTextMultiline("##scene_text", &doc_.editor_text(), ImVec2(-1, editor_h),
-                                             ImGuiInputTextFlags_AllowTabInput | ImGuiInputTextFlags_CallbackAlways,
-                                             &ViewerApp::editor_callback, this);
-    editor_id_ = ImGui::GetItemID();
-    editor_active_ = ImGui::IsItemActive();
-    editor_rect_ = {top.x, top.y, width, editor_h};
-    if (changed) check_due_ = ImGui::GetTime() + 0.3;  // live check once typing pauses
-
-    diag_rect_ = {ImGui::GetCursorScreenPos().x, ImGui::GetCursorScreenPos().y, width, diag_h};
-    if (ImGui::BeginChild("diagnostics", ImVec2(0, diag_h), true)) {
-        if (diags.empty()) ImGui::TextDisabled(doc_.editor_dirty() ? "No errors (Ctrl+Enter applies)." : "No errors.");
-        for (std::size_t k = 0; k < diags.size(); ++k) {
-            const rt::Diagnostic& d = diags[k];
-            std::string text = std::to_string(d.line) + ":" + std::to_string(d.col) + ": " +
-                               (d.is_error() ? "error: " : "warning: ") + d.message;
-            ImGui::PushID(int(k));
-            ImGui::PushStyleColor(ImGuiCol_Text, d.is_error() ? kErrorColour : kWarnColour);
-            if (ImGui::Selectable(text.c_str())) {
-                pending_cursor_ = int(offset_of(doc_.editor_text(), d.line, d.col));
-                focus_editor_ = true;
-            }
-            ImGui::PopStyleColor();
-            ImGui::PopID();
-        }
-    }
-    ImGui::EndChild();
-}
-
-// ---------------------------------------------------------------------------------
-// Render settings and status
-
-void ViewerApp::draw_render_tab() {
+void Panels::draw_render_tab() {
     ImGui::PushItemWidth(-150);
-    int samples = max_samples_;
+    int samples = render_.max_samples();
     ImGui::InputInt("samples per pixel", &samples, 1, 16);
-    samples = std::clamp(samples, 1, 65536);
-    if (samples != max_samples_) {
-        max_samples_ = samples;
-        settings_changed_ = true;
-    }
-    double limit = time_limit_;
+    render_.set_max_samples(std::clamp(samples, 1, 65536));
+    double limit = render_.time_limit();
     const double step = 1, fast = 10;
     ImGui::InputScalar("time limit (s)", ImGuiDataType_Double, &limit, &step, &fast, "%.1f");
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Stop refining after this many seconds; 0: no limit.");
-    limit = std::max(0.0, limit);
-    if (limit != time_limit_) {
-        time_limit_ = limit;
-        settings_changed_ = true;
-    }
+    render_.set_time_limit(std::max(0.0, limit));
     ImGui::PopItemWidth();
-    bool paused = paused_;
-    if (ImGui::Checkbox("Paused (Space)", &paused)) toggle_pause();
+    bool paused = render_.paused();
+    if (ImGui::Checkbox("Paused (Space)", &paused)) commands_.run(Command::TogglePause);
     ImGui::Separator();
     ImGui::Text("Render size");
-    if (ImGui::RadioButton("fill the window", fit_ == FitMode::Window)) fit_ = FitMode::Window;
+    if (ImGui::RadioButton("fill the window", layout_.fit == FitMode::Window)) commands_.run(Command::FitWindow);
     std::string pic = "scene picture_size";
-    if (doc_.has_scene()) pic += " (" + std::to_string(doc_.scene().width) + "x" + std::to_string(doc_.scene().height) + ", letterboxed)";
-    if (ImGui::RadioButton(pic.c_str(), fit_ == FitMode::Picture)) fit_ = FitMode::Picture;
+    if (editor_.doc().has_scene())
+        pic += " (" + std::to_string(editor_.doc().scene().width) + "x" + std::to_string(editor_.doc().scene().height) +
+               ", letterboxed)";
+    if (ImGui::RadioButton(pic.c_str(), layout_.fit == FitMode::Picture)) commands_.run(Command::FitPicture);
     ImGui::Separator();
-    rt::RenderProgress p = renderer_.progress();
-    ImGui::Text("film %dx%d, %d render threads", p.width, p.height, renderer_.threads());
+    rt::RenderProgress p = render_.progress();
+    ImGui::Text("film %dx%d, %d render threads", p.width, p.height, render_.threads());
     ImGui::Text("rays traced: %.3g", double(p.rays));
-    if (p.first_coarse_time >= 0) ImGui::Text("first coarse pass: %.1f ms", p.first_coarse_time * 1000);
-    if (last_latency_ms_ >= 0) ImGui::Text("last view change to image: %.1f ms", last_latency_ms_);
+    if (p.first_coarse_time >= 0)
+        ImGui::Text("first coarse pass: %.1f ms (%dx%d blocks)", p.first_coarse_time * 1000, render_.last_coarse_block(),
+                    render_.last_coarse_block());
+    if (render_.last_latency_ms() >= 0) ImGui::Text("last view change to image: %.1f ms", render_.last_latency_ms());
     ImGui::Separator();
-    if (ImGui::Button("Save image... (Ctrl+P)")) {
-        std::string base = doc_.path().empty() ? doc_.name() : doc_.path();
-        std::size_t dot = base.find_last_of('.');
-        path_input_ = (dot == std::string::npos ? base : base.substr(0, dot)) + ".png";
-        open_image_popup_ = true;
-    }
+    if (ImGui::Button("Save image... (Ctrl+P)")) commands_.run(Command::SaveImageDialog);
     ImGui::SameLine();
-    if (ImGui::Button("Screenshot (F12)")) screenshot_request_ = "raytracer-view-screenshot.png";
+    if (ImGui::Button("Screenshot (F12)")) commands_.run(Command::Screenshot, "raytracer-view-screenshot.png");
 }
 
-void ViewerApp::draw_status_bar() {
+void Panels::draw_status_bar(const LoadStatus& load) {
     ImGuiIO& io = ImGui::GetIO();
-    ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - status_h_));
-    ImGui::SetNextWindowSize(ImVec2(float(area_.w), status_h_));
+    ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - layout_.status_h));
+    ImGui::SetNextWindowSize(ImVec2(float(layout_.area.w), layout_.status_h));
     ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(6, 4));
     ImGuiWindowFlags flags = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
                              ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings |
                              ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoBringToFrontOnFocus;
     if (ImGui::Begin("##status", nullptr, flags)) {
-        rt::RenderProgress p = renderer_.progress();
-        if (ImGui::Button(paused_ ? "Resume" : "Pause", ImVec2(ImGui::GetFontSize() * 4.5f, 0))) toggle_pause();
-        ImGui::SameLine();
-        double elapsed = p.done && done_generation_ == p.generation ? done_elapsed_ : p.elapsed;
-        double frac = std::clamp((p.samples + p.pass_fraction) / std::max(1, max_samples_), 0.0, 1.0);
-        if (time_limit_ > 0) frac = std::max(frac, std::min(1.0, elapsed / time_limit_));
-        if (p.done) frac = 1;
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%d / %d", p.samples, max_samples_);
-        ImGui::ProgressBar(float(frac), ImVec2(ImGui::GetFontSize() * 8, 0), buf);
-        ImGui::SameLine();
-        double rate = elapsed > 0 ? double(p.rays) / elapsed : 0;
-        const char* state = paused_ ? "paused" : p.done ? "done" : building_.valid() ? "building" : p.running ? "rendering" : "idle";
-        ImGui::Text("spp  pass %d  %.2f Mrays/s  %.1f s  %s", p.passes, rate / 1e6, elapsed, state);
-        if (!status_text_.empty()) {
+        if (load.active) {
+            // Loading in the background: its progress replaces the render's.
+            if (ImGui::Button("Cancel", ImVec2(ImGui::GetFontSize() * 4.5f, 0))) commands_.run(Command::CancelLoad);
             ImGui::SameLine();
-            ImGui::TextColored(status_error_ ? kErrorColour : ImVec4(0.75f, 0.75f, 0.75f, 1), "| %s", status_text_.c_str());
+            ImGui::ProgressBar(float(load.fraction), ImVec2(ImGui::GetFontSize() * 8, 0));
+            ImGui::SameLine();
+            ImGui::Text("%s (Esc cancels)", load.text.c_str());
+        } else {
+            rt::RenderProgress p = render_.progress();
+            if (ImGui::Button(render_.paused() ? "Resume" : "Pause", ImVec2(ImGui::GetFontSize() * 4.5f, 0)))
+                commands_.run(Command::TogglePause);
+            ImGui::SameLine();
+            double elapsed = p.done && render_.done_generation() == p.generation ? render_.done_elapsed() : p.elapsed;
+            double frac = std::clamp((p.samples + p.pass_fraction) / std::max(1, render_.max_samples()), 0.0, 1.0);
+            if (render_.time_limit() > 0) frac = std::max(frac, std::min(1.0, elapsed / render_.time_limit()));
+            if (p.done) frac = 1;
+            char buf[64];
+            std::snprintf(buf, sizeof buf, "%d / %d", p.samples, render_.max_samples());
+            ImGui::ProgressBar(float(frac), ImVec2(ImGui::GetFontSize() * 8, 0), buf);
+            ImGui::SameLine();
+            double rate = elapsed > 0 ? double(p.rays) / elapsed : 0;
+            const char* state = render_.paused() ? "paused"
+                                : p.done         ? "done"
+                                : render_.building() ? "building"
+                                : p.running      ? "rendering"
+                                                 : "idle";
+            char preview[32] = "";
+            if (render_.showing_preview())
+                std::snprintf(preview, sizeof preview, "preview %dx%d", render_.last_preview_block(),
+                              render_.last_preview_block());
+            ImGui::Text("spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed,
+                        render_.showing_preview() ? preview : state,
+                        layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
+        }
+        if (!status_.text().empty()) {
+            ImGui::SameLine();
+            ImGui::TextColored(status_.error() ? kErrorColour : ImVec4(0.75f, 0.75f, 0.75f, 1), "| %s",
+                               status_.text().c_str());
         }
     }
     ImGui::End();
     ImGui::PopStyleVar();
 }
 
-// ---------------------------------------------------------------------------------
-// Dialogs
-
-void ViewerApp::draw_popups() {
-    if (open_unsaved_popup_) ImGui::OpenPopup("Unsaved changes");
-    if (open_open_popup_) ImGui::OpenPopup("Open scene");
-    if (open_save_as_popup_) ImGui::OpenPopup("Save scene as");
-    if (open_image_popup_) ImGui::OpenPopup("Save image");
-    if (open_help_popup_) ImGui::OpenPopup("Mouse and keys");
-    bool focus_path = open_open_popup_ || open_save_as_popup_ || open_image_popup_;
-    open_unsaved_popup_ = open_open_popup_ = open_save_as_popup_ = open_image_popup_ = open_help_popup_ = false;
-
-    ImVec2 centre = ImGui::GetMainViewport()->GetCenter();
-    auto path_field = [&](const char* hint) {
-        if (focus_path) ImGui::SetKeyboardFocusHere();
-        ImGui::SetNextItemWidth(ImGui::GetFontSize() * 30);
-        return ImGui::InputTextWithHint("##path", hint, &path_input_, ImGuiInputTextFlags_EnterReturnsTrue);
-    };
-
-    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    if (ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        ImGui::Text("%s has unsaved changes.", doc_.name().c_str());
-        if (ImGui::Button("Save")) {
-            ImGui::CloseCurrentPopup();
-            if (doc_.path().empty()) {
-                path_input_ = doc_.name();
-                open_save_as_popup_ = true;  // the pending action runs after Save As
-            } else {
-                std::string err = doc_.save();
-                if (err.empty()) {
-                    Action a = pending_action_;
-                    pending_action_ = Action::None;
-                    perform(a, pending_path_);
-                } else {
-                    status("Save failed: " + err, true);
-                    pending_action_ = Action::None;
-                }
-            }
-        }
-        ImGui::SameLine();
-        if (ImGui::Button("Discard changes")) {
-            ImGui::CloseCurrentPopup();
-            Action a = pending_action_;
-            pending_action_ = Action::None;
-            perform(a, pending_path_);
-        }
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel") || imgui_escape_pressed()) {
-            ImGui::CloseCurrentPopup();
-            pending_action_ = Action::None;
-        }
-        ImGui::EndPopup();
-    }
-
-    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    if (ImGui::BeginPopupModal("Open scene", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        bool go = path_field("scene file path");
-        if (!recent_.paths().empty()) {
-            ImGui::TextDisabled("Recent:");
-            for (const std::string& p : recent_.paths())
-                if (ImGui::Selectable(p.c_str())) path_input_ = p;
-        }
-        go |= ImGui::Button("Open");
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel") || imgui_escape_pressed()) ImGui::CloseCurrentPopup();
-        else if (go && !path_input_.empty()) {
-            ImGui::CloseCurrentPopup();
-            request(Action::Open, path_input_);
-        }
-        ImGui::EndPopup();
-    }
-
-    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    if (ImGui::BeginPopupModal("Save scene as", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        bool go = path_field("new scene file path");
-        go |= ImGui::Button("Save");
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel") || imgui_escape_pressed()) {
-            ImGui::CloseCurrentPopup();
-            pending_action_ = Action::None;
-        } else if (go && !path_input_.empty()) {
-            ImGui::CloseCurrentPopup();
-            if (do_save_as(path_input_) && pending_action_ != Action::None) {
-                Action a = pending_action_;
-                pending_action_ = Action::None;
-                perform(a, pending_path_);
-            }
-        }
-        ImGui::EndPopup();
-    }
-
-    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    if (ImGui::BeginPopupModal("Save image", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        ImGui::TextDisabled("The film as rendered so far (%s); .png or .ppm.",
-                            fit_ == FitMode::Window ? "window size" : "picture size");
-        bool go = path_field("image path (.png or .ppm)");
-        go |= ImGui::Button("Save");
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel") || imgui_escape_pressed()) ImGui::CloseCurrentPopup();
-        else if (go && !path_input_.empty()) {
-            ImGui::CloseCurrentPopup();
-            do_save_image(path_input_);
-        }
-        ImGui::EndPopup();
-    }
-
-    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    if (ImGui::BeginPopupModal("Mouse and keys", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        std::string help = help_text(false);
-        std::size_t at = help.find("Mouse and keys");
-        ImGui::TextUnformatted(at == std::string::npos ? help.c_str() : help.c_str() + at);
-        if (ImGui::Button("Close") || imgui_escape_pressed()) ImGui::CloseCurrentPopup();
-        ImGui::EndPopup();
-    }
-}
-
-// ---------------------------------------------------------------------------------
-// The film
-
-void ViewerApp::draw_film() {
+void Panels::draw_surround() {
+    const Rect& a = layout_.area;
+    const Rect& im = layout_.image;
+    if (im.w >= a.w && im.h >= a.h) return;
+    // What lies outside the scene's picture is not rendered: a dimmed passepartout
+    // shows where the picture ends.
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
-    ImVec2 p0(float(image_.x), float(image_.y)), p1(float(image_.x + image_.w), float(image_.y + image_.h));
-    if (film_.valid() && (doc_.has_scene() || started_world_)) {
-        // 1:1 in framebuffer pixels: nearest filtering shows the film's pixels exactly.
-        bool exact = std::fabs(image_.w * fb_scale_ - film_.width()) < 0.5 &&
-                     std::fabs(image_.h * fb_scale_ - film_.height()) < 0.5;
-        film_.set_nearest(exact);
-        dl->AddImage(film_.id(), p0, p1);
-    }
-    if (!doc_.has_scene()) {
-        const char* msg = "No image: the scene text has errors (see the Text tab).";
-        ImVec2 sz = ImGui::CalcTextSize(msg);
-        dl->AddText(ImVec2(float(area_.x + (area_.w - sz.x) / 2), float(area_.y + (area_.h - sz.y) / 2)),
-                    ImGui::GetColorU32(kErrorColour), msg);
-    }
+    ImU32 dim = IM_COL32(12, 12, 13, 255);
+    auto fill = [&](double x0, double y0, double x1, double y1) {
+        if (x1 > x0 && y1 > y0) dl->AddRectFilled(ImVec2(float(x0), float(y0)), ImVec2(float(x1), float(y1)), dim);
+    };
+    fill(a.x, a.y, a.x + a.w, im.y);                        // above
+    fill(a.x, im.y + im.h, a.x + a.w, a.y + a.h);           // below
+    fill(a.x, im.y, im.x, im.y + im.h);                     // left
+    fill(im.x + im.w, im.y, a.x + a.w, im.y + im.h);        // right
+    dl->AddRect(ImVec2(float(im.x) - 1, float(im.y) - 1), ImVec2(float(im.x + im.w) + 1, float(im.y + im.h) + 1),
+                IM_COL32(70, 70, 74, 255));
 }
 
 }  // namespace rtview

@@ -1,0 +1,194 @@
+// Background scene loading (see loader.h).
+#include "loader.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <functional>
+
+#include "scene.h"
+
+namespace rtview {
+
+struct SceneLoader::Job {
+    std::string path;
+    bool compile = true;
+    std::atomic<bool> cancel{false};
+    std::atomic<bool> finished{false};
+    mutable std::mutex mutex;
+    Progress progress;  // under mutex
+    LoadResult result;  // written by the worker before `finished`
+};
+
+namespace {
+
+// Reads the whole file in pieces, reporting bytes and stopping on cancel.
+std::string read_with_progress(const std::string& path, std::string& out, std::atomic<bool>& cancel,
+                               const std::function<void(std::uint64_t, std::uint64_t)>& report) {
+    int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return std::strerror(errno);
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
+        int e = S_ISDIR(st.st_mode) ? EISDIR : errno;
+        ::close(fd);
+        return std::strerror(e);
+    }
+    const std::size_t max_bytes = rt::Limits::max_file_size;
+    std::uint64_t total = S_ISREG(st.st_mode) ? std::uint64_t(st.st_size) : 0;
+    if (total > max_bytes) {
+        ::close(fd);
+        return "the file is larger than " + std::to_string(max_bytes) + " bytes";
+    }
+    out.clear();
+    out.reserve(std::size_t(total));
+    constexpr std::size_t kChunk = 4u << 20;
+    for (;;) {
+        if (cancel) {
+            ::close(fd);
+            out.clear();
+            return "cancelled";
+        }
+        // Within the size the file said it has, the buffer never grows: a 100 MB
+        // scene must not pass through a 200 MB reallocation.
+        std::size_t at = out.size();
+        std::size_t want = at < total ? std::min<std::size_t>(kChunk, std::size_t(total) - at) : kChunk;
+        out.resize(at + want);
+        ssize_t n = ::read(fd, &out[at], want);
+        if (n < 0) {
+            out.resize(at);
+            if (errno == EINTR) continue;
+            int e = errno;
+            ::close(fd);
+            out.clear();
+            return std::strerror(e);
+        }
+        out.resize(at + std::size_t(n));
+        if (n == 0) break;
+        if (out.size() > max_bytes) {
+            ::close(fd);
+            out.clear();
+            return "the file is larger than " + std::to_string(max_bytes) + " bytes";
+        }
+        report(out.size(), std::max<std::uint64_t>(total, out.size()));
+    }
+    ::close(fd);
+    return {};
+}
+
+}  // namespace
+
+bool apply_load(LoadResult& r, Document& doc, std::shared_ptr<const rt::World>& world) {
+    if (r.status != LoadResult::Status::Ok) return false;
+    std::size_t slash = r.path.find_last_of('/');
+    std::string name = slash == std::string::npos ? r.path : r.path.substr(slash + 1);
+    world = std::move(r.world);
+    doc.load_parsed(std::move(r.text), std::move(r.parsed), r.path, name);
+    return true;
+}
+
+SceneLoader::~SceneLoader() {
+    cancel();
+    reap(true);
+}
+
+void SceneLoader::run(std::shared_ptr<Job> job) {
+    auto stage = [&](Stage s) {
+        std::lock_guard<std::mutex> lock(job->mutex);
+        job->progress.stage = s;
+    };
+    LoadResult r;
+    r.path = job->path;
+    stage(Stage::Reading);
+    std::string err = read_with_progress(job->path, r.text, job->cancel, [&](std::uint64_t b, std::uint64_t t) {
+        std::lock_guard<std::mutex> lock(job->mutex);
+        job->progress.bytes = b;
+        job->progress.total = t;
+    });
+    if (job->cancel) {
+        r.status = LoadResult::Status::Cancelled;
+    } else if (!err.empty()) {
+        r.status = LoadResult::Status::Failed;
+        r.error = err;
+    } else {
+        stage(Stage::Parsing);
+        r.parsed = rt::parse_scene(r.text);
+        if (job->cancel) {
+            r.status = LoadResult::Status::Cancelled;
+        } else {
+            {
+                std::lock_guard<std::mutex> lock(job->mutex);
+                job->progress.objects = r.parsed.scene.objects.size();
+            }
+            if (job->compile && r.parsed.ok()) {
+                stage(Stage::Building);
+                r.world = rt::compile_world(r.parsed.scene, nullptr);
+            }
+            r.status = job->cancel ? LoadResult::Status::Cancelled : LoadResult::Status::Ok;
+        }
+    }
+    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, {}, {}, {}, {}};
+    job->result = std::move(r);
+    stage(Stage::Done);
+    job->finished = true;
+}
+
+void SceneLoader::start(const std::string& path, bool compile) {
+    cancel();
+    job_ = std::make_shared<Job>();
+    job_->path = path;
+    job_->compile = compile;
+    job_->progress.path = path;
+    job_->progress.stage = Stage::Reading;
+    thread_ = std::thread(&SceneLoader::run, job_);
+}
+
+void SceneLoader::cancel() {
+    if (!job_) return;
+    job_->cancel = true;
+    // The worker stops at its next check (a parse in progress runs to its end): it is
+    // joined later, so cancelling never waits.
+    retired_.emplace_back(std::move(job_), std::move(thread_));
+    job_ = nullptr;
+    reap(false);
+}
+
+void SceneLoader::reap(bool wait_all) {
+    for (auto it = retired_.begin(); it != retired_.end();) {
+        if (wait_all || it->first->finished) {
+            it->second.join();
+            it = retired_.erase(it);
+        } else {
+            ++it;
+        }
+    }
+}
+
+bool SceneLoader::active() const { return job_ != nullptr; }
+
+SceneLoader::Progress SceneLoader::progress() const {
+    if (!job_) return {};
+    std::lock_guard<std::mutex> lock(job_->mutex);
+    return job_->progress;
+}
+
+std::optional<LoadResult> SceneLoader::poll() {
+    reap(false);
+    if (!job_ || !job_->finished) return std::nullopt;
+    thread_.join();
+    LoadResult r = std::move(job_->result);
+    job_ = nullptr;
+    return r;
+}
+
+std::optional<LoadResult> SceneLoader::wait() {
+    if (!job_) return std::nullopt;
+    thread_.join();
+    LoadResult r = std::move(job_->result);
+    job_ = nullptr;
+    return r;
+}
+
+}  // namespace rtview

@@ -1,0 +1,73 @@
+// Opening a scene file off the UI thread: reading (with byte progress), parsing and
+// building the world run on a worker, so the window keeps painting and the old scene
+// stays on screen until the new one is ready. A load can be cancelled (Esc, or opening
+// another file); a cancelled or failed load leaves the caller's scene alone.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "document.h"
+#include "scene_parser.h"
+#include "world.h"
+
+namespace rtview {
+
+struct LoadResult {
+    enum class Status { Ok, Failed, Cancelled } status = Status::Failed;
+    std::string path;
+    std::string error;      // Failed: why the file could not be read
+    std::string text;       // the file's bytes (Ok)
+    rt::ParseResult parsed; // Ok: the scene, or the diagnostics of a text that does not parse
+    std::shared_ptr<const rt::World> world;  // Ok and parsed: compiled
+};
+
+// Puts a finished load into `doc` (moving the text and scene in: nothing is copied
+// or parsed again) and hands over its compiled world. Only an Ok result does that; a
+// failed or cancelled load leaves `doc` exactly as it was and returns false.
+bool apply_load(LoadResult& result, Document& doc, std::shared_ptr<const rt::World>& world);
+
+class SceneLoader {
+public:
+    enum class Stage { Idle, Reading, Parsing, Building, Done };
+    struct Progress {
+        Stage stage = Stage::Idle;
+        std::uint64_t bytes = 0, total = 0;  // read so far, file size
+        std::size_t objects = 0;             // once parsed
+        std::string path;
+    };
+
+    SceneLoader() = default;
+    ~SceneLoader();
+    SceneLoader(const SceneLoader&) = delete;
+    SceneLoader& operator=(const SceneLoader&) = delete;
+
+    // Starts loading `path`, cancelling a load under way. `compile`: build the world
+    // too (the viewer does; the world is then ready when the result arrives).
+    void start(const std::string& path, bool compile = true);
+    // Stops the load under way; its result is never delivered.
+    void cancel();
+    bool active() const;
+    Progress progress() const;
+    // The finished load, once; nothing while it runs (or after a cancel).
+    std::optional<LoadResult> poll();
+    // Blocks until the load under way finishes (headless start, tests).
+    std::optional<LoadResult> wait();
+
+private:
+    struct Job;
+    static void run(std::shared_ptr<Job> job);
+    void reap(bool wait_all);
+
+    std::shared_ptr<Job> job_;
+    std::thread thread_;
+    std::vector<std::pair<std::shared_ptr<Job>, std::thread>> retired_;  // cancelled, still finishing a stage
+};
+
+}  // namespace rtview

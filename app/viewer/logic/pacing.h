@@ -1,0 +1,37 @@
+// Preview pacing: how coarse a preview of a moving view must be so that it lands
+// within a frame budget, from the measured cost of recent previews (dynamic
+// resolution). No window, no GL: unit-tested.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "camera.h"
+#include "world.h"
+
+namespace rtview {
+
+class PreviewPacer {
+public:
+    // The first preview of a film of `rays` primary rays took `seconds` (from start to
+    // the end of the pass). Recent passes weigh most; a single slow outlier (another
+    // process took the CPU for a moment) moves the estimate only part of the way.
+    void measured(double rays, double seconds);
+    // Seconds per primary ray, as estimated (0 before any measurement).
+    double seconds_per_ray() const { return per_ray_; }
+
+    // Block size (a power of 2, 2..64) of the first coarse pass of a w x h film so that
+    // it is expected within `budget` seconds. Before any measurement: 8.
+    int coarse_block(int width, int height, double budget) const;
+
+private:
+    double per_ray_ = 0;
+};
+
+// A preview of a film_w x film_h picture of `world` through `camera`: one ray per
+// `block` x `block` block, through its corner pixel (the rays of the renderer's coarse
+// pass of that block size), as RGBA8 of ceil(w / block) x ceil(h / block) pixels.
+void trace_preview(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
+                   std::vector<std::uint8_t>& rgba, int& width, int& height);
+
+}  // namespace rtview

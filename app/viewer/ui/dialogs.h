@@ -1,0 +1,47 @@
+// The modal dialogs: unsaved changes, open, save as, save image, help. Other parts
+// ask for one with show(); a dialog's answer goes back as a Command, so no part
+// talks to another through flags.
+#pragma once
+
+#include <string>
+
+#include "recent_files.h"
+#include "shared.h"
+
+namespace rtview {
+
+class Dialogs {
+public:
+    enum class Kind { None, Unsaved, Open, SaveAs, SaveImage, Help };
+
+    Dialogs(Commands& commands, const RecentFiles& recent) : commands_(commands), recent_(recent) {}
+
+    // Opens a dialog on the next frame; `path` pre-fills its path field.
+    void show(Kind k, const std::string& path = {}) {
+        request_ = k;
+        path_ = path;
+    }
+    // The document has unsaved edits: ask before running `pending` (with `arg`).
+    void ask_unsaved(Command pending, const std::string& arg) {
+        pending_ = pending;
+        pending_arg_ = arg;
+        has_pending_ = true;
+        show(Kind::Unsaved);
+    }
+    // `doc_name`: for the unsaved-changes question; `image_mode`: the Save Image hint.
+    void draw(const std::string& doc_name, bool has_path, const char* image_mode);
+    bool wants_frames() const { return request_ != Kind::None; }
+
+private:
+    void run_pending();
+
+    Commands& commands_;
+    const RecentFiles& recent_;
+    Kind request_ = Kind::None;
+    std::string path_;
+    bool has_pending_ = false;
+    Command pending_ = Command::Quit;
+    std::string pending_arg_;
+};
+
+}  // namespace rtview

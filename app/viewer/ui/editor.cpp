@@ -1,0 +1,258 @@
+// The document and its editor widget (see editor.h).
+#include "editor.h"
+
+#include <imgui.h>
+#include <imgui_internal.h>  // GetActiveID, ClearActiveID: 1.86 has no public equivalent
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <utility>
+
+#include "scene_text.h"
+
+namespace rtview {
+
+namespace {
+
+const ImVec4 kErrorColour{1.0f, 0.42f, 0.42f, 1.0f};
+const ImVec4 kWarnColour{1.0f, 0.80f, 0.35f, 1.0f};
+const ImVec4 kOkColour{0.55f, 0.85f, 0.55f, 1.0f};
+
+// Guarded: the headless binary has no key map, and index -1 means "not mapped".
+bool escape_pressed() {
+    int k = ImGui::GetKeyIndex(ImGuiKey_Escape);
+    return k >= 0 && ImGui::IsKeyPressed(k, false);
+}
+
+}  // namespace
+
+namespace {
+// Bigger texts are not edited in the ImGui widget: it would hold several more copies
+// of the text (and lay all of it out on every keystroke).
+constexpr std::size_t kMaxEditableBytes = 16u << 20;
+constexpr double kRecoveryInterval = 3.0;
+}  // namespace
+
+DocumentEditor::~DocumentEditor() {
+    if (recovery_write_.valid()) recovery_write_.wait();
+}
+
+bool DocumentEditor::recovery_busy() {
+    if (!recovery_write_.valid()) return false;
+    if (recovery_write_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return true;
+    std::string err = recovery_write_.get();
+    if (!err.empty()) status_.set("cannot keep a recovery copy: " + err, true);
+    return false;
+}
+
+void DocumentEditor::replaced() {
+    seen_version_ = 0;
+    recovery_offer_ = false;
+    if (interactive_) {
+        // Text a crashed or killed session had not saved, for this same file.
+        if (recovery_busy()) recovery_write_.wait();
+        recovery_busy();
+        if (auto text = recovery_.find(doc_.path()); text && *text != std::as_const(doc_).editor_text()) {
+            recovered_text_ = std::move(*text);
+            recovery_offer_ = true;
+        }
+    }
+    if (!doc_.has_scene() || doc_.has_errors()) want_tab_ = true;  // show the errors
+}
+
+void DocumentEditor::tick(double now) {
+    if (check_due_ >= 0 && now >= check_due_) {
+        doc_.check_text();
+        check_due_ = -1;
+    }
+}
+
+bool DocumentEditor::idle_tick(double now) {
+    // While an offer is pending the old copy stays on disk untouched. A copy is
+    // written only when the text changed, and off the UI thread: writing 100 MB
+    // must never stall a frame.
+    if (!recovery_offer_ && !recovery_busy()) {
+        const Document& doc = doc_;
+        std::uint64_t key = doc.text_version() * 0x9E3779B97F4A7C15ull + doc.typed();
+        bool modified = doc.modified();
+        if (!modified) {
+            std::string err = recovery_.update(doc.path(), {}, false, now);  // removes a copy, if any
+            if (!err.empty()) status_.set("cannot keep a recovery copy: " + err, true);
+            recovery_key_ = ~std::uint64_t(0);
+        } else if (key != recovery_key_ && now - recovery_last_ >= kRecoveryInterval) {
+            recovery_key_ = key;
+            recovery_last_ = now;
+            recovery_write_ = std::async(std::launch::async, [this, path = doc.path(), text = doc.editor_text(), now] {
+                return recovery_.update(path, text, true, now, 0);
+            });
+        }
+    }
+    switch (doc_.check_disk()) {
+        case Document::DiskEvent::None: return false;
+        case Document::DiskEvent::Reloaded: status_.set("Reloaded " + doc_.name() + " (changed on disk)"); break;
+        case Document::DiskEvent::Conflict: status_.set(doc_.name() + " changed on disk; you have unsaved edits"); break;
+        case Document::DiskEvent::Removed:
+            status_.set(doc_.name() + " was removed on disk; Save writes it again", true);
+            break;
+    }
+    return true;
+}
+
+void DocumentEditor::discard_recovery() {
+    if (recovery_write_.valid()) recovery_write_.wait();
+    recovery_busy();
+    if (!recovery_offer_) recovery_.discard(doc_.path());
+}
+
+void DocumentEditor::focus(int cursor) {
+    want_tab_ = true;
+    focus_ = true;
+    if (cursor >= 0) pending_cursor_ = cursor;
+}
+
+void DocumentEditor::apply() {
+    bool ok = doc_.apply_text();
+    status_.set(ok ? "Applied the scene text" : "The scene text has errors; still showing the last good scene", !ok);
+    if (active_) {
+        // ImGui drops focus on Ctrl+Enter; take it back with the cursor where it was.
+        focus_ = true;
+        pending_cursor_ = cursor_;
+    }
+}
+
+void DocumentEditor::draw_banners() {
+    if (recovery_offer_) {
+        ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
+        ImGui::TextWrapped("Unsaved text of %s from an earlier session (the viewer did not close normally) was kept.",
+                           doc_.name().c_str());
+        ImGui::PopStyleColor();
+        if (ImGui::Button("Restore it")) {
+            doc_.restore_draft(recovered_text_);
+            recovered_text_.clear();
+            recovery_offer_ = false;
+            want_tab_ = true;
+            status_.set("Restored the unsaved text into the editor (Ctrl+Enter applies it, Ctrl+Z undoes)");
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Discard it")) {
+            if (recovery_write_.valid()) recovery_write_.wait();
+            recovery_busy();
+            recovery_.discard(doc_.path());
+            recovered_text_.clear();
+            recovery_offer_ = false;
+        }
+        ImGui::Separator();
+    }
+    if (doc_.disk_conflict()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
+        ImGui::TextWrapped("%s changed on disk, and you have unsaved edits here.", doc_.name().c_str());
+        ImGui::PopStyleColor();
+        if (ImGui::Button("Reload from disk")) {
+            doc_.resolve_conflict_reload();
+            status_.set("Reloaded " + doc_.name() + " (Ctrl+Z brings your edits back)");
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Keep mine")) doc_.resolve_conflict_keep();
+        ImGui::Separator();
+    }
+}
+
+int DocumentEditor::callback(ImGuiInputTextCallbackData* data) {
+    auto* ed = static_cast<DocumentEditor*>(data->UserData);
+    if (data->EventFlag == ImGuiInputTextFlags_CallbackAlways) {
+        // ImGui 1.86 has no call to place the cursor of a text field: do it from inside.
+        if (ed->pending_cursor_ >= 0) {
+            int p = std::min(ed->pending_cursor_, data->BufTextLen);
+            data->CursorPos = data->SelectionStart = data->SelectionEnd = p;
+            ed->pending_cursor_ = -1;
+        }
+        ed->cursor_ = data->CursorPos;
+    }
+    return 0;
+}
+
+void DocumentEditor::draw_text_tab(Layout& layout) {
+    bool can_apply = doc_.editor_dirty() || doc_.has_errors();
+    ImGui::BeginDisabled(!can_apply);
+    if (ImGui::Button("Apply (Ctrl+Enter)")) apply();
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!doc_.editor_dirty() && !doc_.text_behind());
+    if (ImGui::Button("Revert")) doc_.revert_text();
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    if (doc_.editor_dirty()) ImGui::TextColored(kWarnColour, "unapplied changes");
+    else ImGui::TextColored(kOkColour, "text = scene");
+    if (doc_.text_behind()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
+        ImGui::TextWrapped("Panel edits are not in this text: it has unapplied changes that do not parse. "
+                           "Apply uses the text; Revert drops the text changes.");
+        ImGui::PopStyleColor();
+    }
+
+    const auto& diags = doc_.diagnostics();
+    float line = ImGui::GetTextLineHeightWithSpacing();
+    float diag_h = line * float(std::clamp(int(diags.size()), 1, 6)) + ImGui::GetStyle().WindowPadding.y * 2;
+    float editor_h = std::max(line * 4, ImGui::GetContentRegionAvail().y - diag_h - ImGui::GetStyle().ItemSpacing.y);
+
+    // Escape in an ImGui text field reverts everything typed since it was focused.
+    // The user's text must never be lost, so Escape just leaves the field instead.
+    if (active_ && escape_pressed()) ImGui::ClearActiveID();
+    if (doc_.text_version() != seen_version_) {
+        // The document replaced the text (undo, reload, panel edit): an active field
+        // keeps its own copy, so make it let go and take the new text.
+        if (id_ != 0 && ImGui::GetActiveID() == id_) {
+            ImGui::ClearActiveID();
+            focus_ = true;
+            pending_cursor_ = cursor_;
+        }
+        seen_version_ = doc_.text_version();
+    }
+    if (focus_) {
+        ImGui::SetKeyboardFocusHere();
+        focus_ = false;
+    }
+    ImVec2 top = ImGui::GetCursorScreenPos();
+    float width = ImGui::GetContentRegionAvail().x;
+    bool changed = false;
+    if (std::as_const(doc_).editor_text().size() > kMaxEditableBytes) {
+        ImGui::BeginChild("##too_big", ImVec2(-1, editor_h), true);
+        ImGui::TextWrapped("This scene text is %.0f MB: too large to edit here. The panels still edit it "
+                           "(each change rewrites only its own block), and changes made to the file in "
+                           "another editor are reloaded by themselves.",
+                           double(std::as_const(doc_).editor_text().size()) / (1 << 20));
+        ImGui::EndChild();
+        id_ = 0;
+        active_ = false;
+    } else {
+        changed = ImGui::InputTextMultiline("##scene_text", &doc_.editor_text(), ImVec2(-1, editor_h),
+                                            ImGuiInputTextFlags_AllowTabInput | ImGuiInputTextFlags_CallbackAlways,
+                                            &DocumentEditor::callback, this);
+        id_ = ImGui::GetItemID();
+        active_ = ImGui::IsItemActive();
+        if (changed) doc_.note_typed();
+    }
+    layout.editor = {top.x, top.y, width, editor_h};
+    if (changed) check_due_ = ImGui::GetTime() + 0.3;  // live check once typing pauses
+
+    layout.diagnostics = {ImGui::GetCursorScreenPos().x, ImGui::GetCursorScreenPos().y, width, diag_h};
+    if (ImGui::BeginChild("diagnostics", ImVec2(0, diag_h), true)) {
+        if (diags.empty()) ImGui::TextDisabled(doc_.editor_dirty() ? "No errors (Ctrl+Enter applies)." : "No errors.");
+        for (std::size_t k = 0; k < diags.size(); ++k) {
+            const rt::Diagnostic& d = diags[k];
+            std::string text = std::to_string(d.line) + ":" + std::to_string(d.col) + ": " +
+                               (d.is_error() ? "error: " : "warning: ") + d.message;
+            ImGui::PushID(int(k));
+            ImGui::PushStyleColor(ImGuiCol_Text, d.is_error() ? kErrorColour : kWarnColour);
+            if (ImGui::Selectable(text.c_str())) {
+                pending_cursor_ = int(offset_of(std::as_const(doc_).editor_text(), d.line, d.col));
+                focus_ = true;
+            }
+            ImGui::PopStyleColor();
+            ImGui::PopID();
+        }
+    }
+    ImGui::EndChild();
+}
+
+}  // namespace rtview

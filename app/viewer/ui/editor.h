@@ -1,0 +1,77 @@
+// The document and its editor: the open scene (Document), the scene text widget with
+// its cursor and focus requests, the live syntax check, the recent-files list and
+// crash recovery, plus the banners that offer recovered text or resolve a conflict
+// with the file on disk.
+#pragma once
+
+#include <cstdint>
+#include <future>
+#include <string>
+
+#include "document.h"
+#include "recent_files.h"
+#include "recovery.h"
+#include "shared.h"
+
+struct ImGuiInputTextCallbackData;
+
+namespace rtview {
+
+class DocumentEditor {
+public:
+    DocumentEditor(bool interactive, StatusLine& status) : interactive_(interactive), status_(status) {}
+    ~DocumentEditor();
+
+    Document& doc() { return doc_; }
+    const Document& doc() const { return doc_; }
+    RecentFiles& recent() { return recent_; }
+
+    // After the document was replaced by a load: drop widget state, look for recovery.
+    void replaced();
+    // Once a frame: the live check when typing paused.
+    void tick(double now);
+    // Once a second while idle: the recovery copy and the file on disk. True if the
+    // document changed (a reload) or a message appeared.
+    bool idle_tick(double now);
+    // Quitting cleanly: the unsaved text is the user's decision, no recovery copy.
+    void discard_recovery();
+
+    // The editor: show it focused, with the cursor at a byte offset (or where it was).
+    void focus(int cursor = -1);
+    void apply();
+    bool active() const { return active_; }
+    // ImGui's id of the text widget (a slider drag holds an edit open, the editor not).
+    unsigned widget_id() const { return id_; }
+    bool wants_frames() const { return focus_ || pending_cursor_ >= 0 || check_due_ >= 0; }
+
+    // Drawing (inside the sidebar window).
+    void draw_banners();   // recovery offer, disk conflict
+    void draw_text_tab(Layout& layout);
+    bool wants_text_tab() { bool w = want_tab_; want_tab_ = false; return w; }
+
+private:
+    static int callback(ImGuiInputTextCallbackData* data);
+
+    bool interactive_;
+    StatusLine& status_;
+    Document doc_;
+    RecentFiles recent_;
+    Recovery recovery_;            // touched by one thread at a time: see recovery_busy()
+    std::future<std::string> recovery_write_;  // a copy being written off the UI thread
+    std::uint64_t recovery_key_ = ~std::uint64_t(0);  // text state last handed to it
+    double recovery_last_ = -1e300;
+    bool recovery_busy();          // a write is under way (collects a finished one)
+    bool recovery_offer_ = false;  // a previous session's unsaved text is waiting
+    std::string recovered_text_;
+
+    std::uint64_t seen_version_ = 0;
+    unsigned id_ = 0;
+    bool active_ = false;
+    bool focus_ = false;
+    bool want_tab_ = false;
+    int pending_cursor_ = -1;
+    int cursor_ = 0;
+    double check_due_ = -1;  // live syntax check of the draft after typing stops
+};
+
+}  // namespace rtview

@@ -1,0 +1,68 @@
+// The ImGui panels: menu bar, sidebar (camera, outline and properties, scene text,
+// render settings) and status bar, plus the dimmed surround of the image. Panels
+// read the parts they show and change things only through the document's edit calls,
+// the navigator (the view) and Commands.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "editor.h"
+#include "navigator.h"
+#include "render_controller.h"
+#include "shared.h"
+
+namespace rtview {
+
+// What is loading in the background, for the status bar.
+struct LoadStatus {
+    bool active = false;
+    std::string text;   // "reading 40 of 114 MB", "building the BVH", ...
+    double fraction = 0;
+};
+
+class Panels {
+public:
+    enum Tab { Objects = 0, Text = 1, Render = 2 };
+
+    Panels(Commands& commands, DocumentEditor& editor, Navigator& nav, RenderController& render, Layout& layout,
+           StatusLine& status)
+        : commands_(commands), editor_(editor), nav_(nav), render_(render), layout_(layout), status_(status) {}
+
+    void draw_menu_bar();
+    void draw_sidebar();
+    void draw_status_bar(const LoadStatus& load);
+    void draw_surround();  // the area around a letterboxed image, dimmed
+
+    void show_tab(Tab t) { want_tab_ = t; }
+    bool wants_frames() const { return want_tab_ >= 0; }
+    Tab current_tab() const { return Tab(current_tab_); }
+    void select(const Selection& s);
+    const Selection& selection() const { return selection_; }
+    void clear_selection() { selection_ = {}; }
+    // --select "object N" etc.
+    void select_from_option(const std::string& spec);
+    double scene_size() const;
+
+private:
+    void draw_camera_panel();
+    void draw_objects_tab();
+    void draw_outline();
+    void draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label);
+    void draw_properties();
+    void draw_render_tab();
+
+    Commands& commands_;
+    DocumentEditor& editor_;
+    Navigator& nav_;
+    RenderController& render_;
+    Layout& layout_;
+    StatusLine& status_;
+
+    Selection selection_;
+    bool scroll_to_selection_ = false;
+    int want_tab_ = -1;  // select this tab on the next frame
+    int current_tab_ = 0;
+};
+
+}  // namespace rtview

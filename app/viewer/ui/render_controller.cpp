@@ -1,0 +1,329 @@
+// The render controller (see render_controller.h): world compilation, render
+// restarts with preview pacing, and the film texture.
+#include "render_controller.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <type_traits>
+#include <variant>
+
+#include "shapes.h"
+
+namespace rtview {
+
+namespace {
+
+// Time the first preview of a moving view may take: a 30 Hz stream of input then
+// still gets a new picture on nearly every frame, with room left for the UI itself.
+constexpr double kPreviewBudget = 0.025;
+// What the UI thread's own preview may take of a frame.
+constexpr double kUiPreviewBudget = 0.010;
+// The view counts as resting this long after its last change: the render refines.
+constexpr double kRestAfter = 0.15;
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// What of a render's progress shows on screen: a new one of these means new pixels.
+std::array<std::uint64_t, 5> signature(const rt::RenderProgress& p) {
+    return {p.generation, std::uint64_t(p.passes), std::uint64_t(p.coarse_level), std::uint64_t(p.samples),
+            std::uint64_t(p.pass_fraction * 16)};
+}
+
+// A fingerprint of the scene's shapes: equal fingerprints mean a material, light or
+// camera edit, compiled at once on this thread (compile_world checks the shapes exactly
+// and rebuilds the BVH itself if they differ, so a collision costs time, not pictures).
+struct ShapeHash {
+    std::uint64_t h = 1469598103934665603ull;
+    void add(std::uint64_t v) { h = (h ^ v) * 1099511628211ull ^ (h >> 29); }
+    void add(double d) {
+        std::uint64_t v;
+        std::memcpy(&v, &d, sizeof v);
+        add(v);
+    }
+    void add(const rt::Vec3& v) {
+        add(v.x);
+        add(v.y);
+        add(v.z);
+    }
+    void add(const rt::Shape& shape) {
+        add(std::uint64_t(shape.index()));
+        std::visit(
+            [&](const auto& x) {
+                using T = std::decay_t<decltype(x)>;
+                if constexpr (std::is_same_v<T, rt::Sphere>) {
+                    add(x.position), add(x.radius);
+                } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
+                    for (const rt::Vec3& v : x.v) add(v);
+                } else if constexpr (std::is_same_v<T, rt::Cylinder>) {
+                    add(x.end1), add(x.end2), add(x.radius);
+                } else if constexpr (std::is_same_v<T, rt::Torus>) {
+                    add(x.position), add(x.direction), add(x.major), add(x.minor);
+                } else {
+                    add(std::uint64_t(x.type));
+                    for (const rt::Object& o : x.operands) add(o.shape);
+                }
+            },
+            shape);
+    }
+};
+
+std::uint64_t shapes_hash(const rt::Scene& s) {
+    ShapeHash h;
+    h.add(std::uint64_t(s.objects.size()));
+    for (const rt::Object& o : s.objects) h.add(o.shape);
+    return h.h;
+}
+
+}  // namespace
+
+RenderController::RenderController(int threads, bool interactive, int max_samples, double time_limit)
+    : interactive_(interactive), renderer_(threads), max_samples_(max_samples), time_limit_(time_limit) {}
+
+RenderController::~RenderController() {
+    renderer_.cancel();
+    if (building_.valid()) building_.wait();
+}
+
+void RenderController::sync_world(const Document& doc) {
+    if (building_.valid() && building_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+        world_ = building_.get();
+        world_version_ = building_version_;
+        world_shapes_ = building_shapes_;
+        world_shapes_known_ = true;
+    }
+    if (!doc.has_scene()) {
+        clear();
+        return;
+    }
+    if (world_ && !world_shapes_known_ && doc.content_version() == world_version_) {
+        world_shapes_ = shapes_hash(doc.scene());  // an adopted world: its scene is the document's
+        world_shapes_known_ = true;
+    }
+    if (doc.content_version() == world_version_ || building_.valid()) return;
+    const rt::Scene& s = doc.scene();
+    const std::uint64_t shapes = shapes_hash(s);
+    if (world_ && world_shapes_known_ && shapes == world_shapes_) {
+        // Same geometry: materials, lights or the camera changed. compile_world reuses
+        // the BVH, so this stays well under a frame even for big scenes.
+        world_ = rt::compile_world(s, world_.get());
+        world_version_ = doc.content_version();
+    } else {
+        // New geometry: build the BVH on another thread; the last world keeps
+        // rendering and the UI keeps running meanwhile.
+        building_version_ = doc.content_version();
+        building_shapes_ = shapes;
+        building_ = std::async(std::launch::async, [scene = s] { return rt::compile_world(scene, nullptr); });
+    }
+}
+
+void RenderController::adopt_world(std::shared_ptr<const rt::World> world, std::uint64_t content_version) {
+    if (building_.valid()) building_.wait();
+    building_ = {};
+    world_ = std::move(world);
+    world_version_ = content_version;
+    world_shapes_known_ = false;
+}
+
+void RenderController::clear() {
+    if (started_world_) {
+        renderer_.cancel();
+        started_world_ = nullptr;
+    }
+}
+
+void RenderController::set_max_samples(int n) {
+    if (n != max_samples_) settings_changed_ = true;
+    max_samples_ = n;
+}
+
+void RenderController::set_time_limit(double s) {
+    if (s != time_limit_) settings_changed_ = true;
+    time_limit_ = s;
+}
+
+void RenderController::set_paused(bool p) {
+    paused_ = p;
+    held_ = false;
+    renderer_.set_paused(p);
+}
+
+void RenderController::update(const rt::Camera& camera, int film_w, int film_h, bool moving) {
+    if (!world_ || film_w < 1 || film_h < 1) return;
+    rt::RenderProgress p = renderer_.progress();
+    // The first coarse pass of the running render measures what a ray costs now.
+    if (!measured_ && p.generation == started_generation_ && p.first_coarse_time >= 0) {
+        double rays = std::ceil(double(started_w_) / started_block_) * std::ceil(double(started_h_) / started_block_);
+        pacer_.measured(rays, p.first_coarse_time);
+        measured_ = true;
+    }
+    bool changed = world_ != started_world_ || !(camera == started_camera_) || film_w != started_w_ ||
+                   film_h != started_h_ || settings_changed_;
+    bool preview_changed = world_ != preview_world_ || !(camera == preview_camera_) || film_w != preview_w_ ||
+                           film_h != preview_h_;
+    if (changed && preview_changed) last_change_ = std::chrono::steady_clock::now();
+    if (!changed) return;
+    if (!timing_change_) {
+        change_time_ = std::chrono::steady_clock::now();
+        timing_change_ = true;
+    }
+    // The view is moving: this frame's picture is traced here and now, and the render
+    // threads wait (refining a view that the next frame replaces would only take the
+    // CPU the UI needs). A view that stopped for a moment counts as resting.
+    if (interactive_ && moving && seconds_since(last_change_) < kRestAfter) {
+        if (!held_ && !paused_) {
+            renderer_.set_paused(true);
+            held_ = true;
+        }
+        if (preview_changed) {
+            // Timed from the frame that saw the change (what came before it is the
+            // event loop's: bench/viewer-bench.sh measures that from outside).
+            change_time_ = std::chrono::steady_clock::now();
+            timing_change_ = true;
+            trace_preview(camera, film_w, film_h);
+        }
+        return;
+    }
+    start(camera, film_w, film_h, false);
+}
+
+void RenderController::trace_preview(const rt::Camera& camera, int film_w, int film_h) {
+    auto t0 = std::chrono::steady_clock::now();
+    int b = ui_pacer_.coarse_block(film_w, film_h, kUiPreviewBudget);
+    int pw = 0, ph = 0;
+    rtview::trace_preview(*world_, camera, film_w, film_h, b, preview_rgba_, pw, ph);
+    double took = seconds_since(t0);
+    ui_pacer_.measured(double(pw) * ph, took);
+    preview_tex_.upload(preview_rgba_, pw, ph, {0, 0, pw, ph});
+    preview_tex_.set_nearest(true);
+    showing_preview_ = true;
+    preview_block_ = b;
+    preview_w_ = film_w;
+    preview_h_ = film_h;
+    preview_world_ = world_;
+    preview_camera_ = camera;
+    ++pictures_;
+    if (timing_change_) {
+        last_latency_ms_ = seconds_since(change_time_) * 1000;
+        timing_change_ = false;
+        if (verbose)
+            std::fprintf(stderr,
+                         "raytracer-view: view change -> first image on screen %.1f ms (preview traced on the UI "
+                         "thread: %.1f ms, %dx%d, block %d)\n",
+                         last_latency_ms_, took * 1000, film_w, film_h, b);
+    }
+}
+
+void RenderController::start(const rt::Camera& camera, int film_w, int film_h, bool moving) {
+    rt::RenderSettings st;
+    st.width = film_w;
+    st.height = film_h;
+    st.max_samples = max_samples_;
+    st.time_limit = time_limit_;
+    st.camera = camera;
+    // The usual 8x8 first pass, or coarser when the scene is so expensive that it
+    // would not land within the budget; the render refines to full samples by itself.
+    st.coarse_block = std::max(8, pacer_.coarse_block(film_w, film_h, kPreviewBudget));
+    (void)moving;
+    if (paused_ && interactive_ && started_world_) {
+        // Moving the view while paused would show nothing new; resume instead.
+        set_paused(false);
+    }
+    if (held_) {
+        held_ = false;
+        renderer_.set_paused(paused_);
+    }
+    renderer_.start(world_, st);
+    started_world_ = world_;
+    started_camera_ = camera;
+    started_w_ = film_w;
+    started_h_ = film_h;
+    started_block_ = st.coarse_block;
+    started_generation_ = renderer_.progress().generation;
+    started_at_ = std::chrono::steady_clock::now();
+    preview_shown_ = false;
+    measured_ = false;
+    settings_changed_ = false;
+    final_uploaded_ = false;
+}
+
+bool RenderController::has_new_picture() const {
+    return started_world_ && signature(renderer_.progress()) != uploaded_sig_;
+}
+
+void RenderController::upload() {
+    rt::RenderProgress before = renderer_.progress();
+    uploaded_sig_ = signature(before);
+    int w = film_w_seen_, h = film_h_seen_;
+    std::array<int, 4> changed{};
+    if (renderer_.snapshot_rgba8(rgba_, w, h, film_version_, &changed)) {
+        film_w_seen_ = w;
+        film_h_seen_ = h;
+        film_.upload(rgba_, w, h, changed);
+        bool has_picture = before.coarse_level > 0 || before.samples > 0;
+        if (has_picture && before.generation == started_generation_) {
+            showing_preview_ = false;
+            if (verbose && clock && !first_picture_reported_) {
+                std::fprintf(stderr, "raytracer-view: first picture on screen at %.3f s\n", clock());
+                first_picture_reported_ = true;
+            }
+            if (!preview_shown_ || before.samples > 0) ++pictures_;
+            preview_shown_ = true;
+        }
+        if (timing_change_ && has_picture && before.generation == started_generation_ && w == started_w_ &&
+            h == started_h_) {
+            last_latency_ms_ = seconds_since(change_time_) * 1000;
+            timing_change_ = false;
+            if (verbose)
+                std::fprintf(stderr,
+                             "raytracer-view: view change -> first image on screen %.1f ms (renderer: %.1f ms, %dx%d, "
+                             "block %d)\n",
+                             last_latency_ms_, before.first_coarse_time * 1000, w, h, started_block_);
+        }
+    }
+    // RenderProgress::elapsed keeps counting after the render is done; the status bar
+    // wants the time the render took, so keep the value seen when it finished.
+    if (before.done && done_generation_ != before.generation) {
+        done_generation_ = before.generation;
+        done_elapsed_ = before.elapsed;
+    }
+    // The snapshot was taken after `before`: if the render was already done then, the
+    // texture now holds the final film.
+    if (before.done && started_world_ && before.generation == started_generation_) final_uploaded_ = true;
+}
+
+void RenderController::draw(const Rect& image, float fb_scale) {
+    ImDrawList* dl = ImGui::GetBackgroundDrawList();
+    ImVec2 p0(float(image.x), float(image.y)), p1(float(image.x + image.w), float(image.y + image.h));
+    if (showing_preview_ && preview_tex_.valid()) {
+        // Texel k covers film pixels [k b, (k + 1) b): the last one may overhang the film.
+        float u = float(preview_w_) / float(preview_tex_.width() * preview_block_);
+        float v = float(preview_h_) / float(preview_tex_.height() * preview_block_);
+        dl->AddImage(preview_tex_.id(), p0, p1, ImVec2(0, 0), ImVec2(u, v));
+        return;
+    }
+    if (!film_.valid() || !started_world_) return;
+    // 1:1 in framebuffer pixels: nearest filtering shows the film's pixels exactly.
+    bool exact = std::fabs(image.w * fb_scale - film_.width()) < 0.5 &&
+                 std::fabs(image.h * fb_scale - film_.height()) < 0.5;
+    film_.set_nearest(exact);
+    dl->AddImage(film_.id(), p0, p1);
+}
+
+bool RenderController::settled(int film_w, int film_h) const {
+    if (!started_world_ || building_.valid()) return false;
+    rt::RenderProgress p = renderer_.progress();
+    return p.done && final_uploaded_ && p.width == film_w && p.height == film_h;
+}
+
+bool RenderController::busy() const {
+    rt::RenderProgress p = renderer_.progress();
+    return p.running || building_.valid() || (!final_uploaded_ && !paused_ && started_world_) || showing_preview_;
+}
+
+}  // namespace rtview

@@ -1,0 +1,142 @@
+// The render side of the viewer: owns the renderer, the compiled world, the preview
+// pacing and the film texture. Each frame it is told what to show (world from the
+// document, view camera, film size). While the view moves, the frame's picture is
+// traced right here on the UI thread, as coarse as the measured cost of recent
+// previews requires to fit the frame budget: a picture on every frame whatever the
+// render threads are doing (under load, handing work to them and back costs more
+// than the preview itself). When the view rests, the renderer refines it.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <future>
+#include <memory>
+#include <vector>
+
+#include "document.h"
+#include "film_texture.h"
+#include "pacing.h"
+#include "renderer.h"
+#include "viewport.h"
+#include "world.h"
+
+namespace rtview {
+
+class RenderController {
+public:
+    RenderController(int threads, bool interactive, int max_samples, double time_limit);
+    ~RenderController();
+
+    // The document's scene changed (or not): compile it, reusing the BVH when only
+    // materials, lights or the camera changed; new geometry is built off the UI thread
+    // while the last world keeps rendering.
+    void sync_world(const Document& doc);
+    // Takes a world compiled elsewhere (a scene loaded in the background) for the
+    // document's current content version.
+    void adopt_world(std::shared_ptr<const rt::World> world, std::uint64_t content_version);
+    // Drops the world (the document has no scene).
+    void clear();
+
+    // Starts or restarts the render for this view when anything changed. `moving`:
+    // the view or a slider is being dragged, so a coarse preview within the frame
+    // budget matters more than detail.
+    void update(const rt::Camera& camera, int film_w, int film_h, bool moving);
+    // Block size of the last preview traced on the UI thread (0: none yet).
+    int last_preview_block() const { return preview_block_; }
+    bool showing_preview() const { return showing_preview_; }
+    // New film pixels to the texture. Call once per frame, after update().
+    void upload();
+    // Draws the film into `image`.
+    void draw(const Rect& image, float fb_scale);
+
+    const rt::World* world() const { return world_.get(); }
+    bool building() const { return building_.valid(); }
+    bool started() const { return started_world_ != nullptr; }
+    // All requested samples are in and the texture shows the final film of this size.
+    bool settled(int film_w, int film_h) const;
+    // Work is under way that needs display-rate frames.
+    bool busy() const;
+    // A view change is waiting for its first preview: poll faster than the display.
+    bool awaiting_preview() const { return timing_change_ && renderer_.progress().running; }
+    // The film has something the texture does not show yet (cheap: no pixels copied).
+    bool has_new_picture() const;
+    rt::RenderProgress progress() const { return renderer_.progress(); }
+    rt::Image snapshot() const { return renderer_.snapshot(); }
+    int threads() const { return renderer_.threads(); }
+
+    int max_samples() const { return max_samples_; }
+    void set_max_samples(int n);
+    double time_limit() const { return time_limit_; }
+    void set_time_limit(double s);
+    bool paused() const { return paused_; }
+    void set_paused(bool p);
+
+    double done_elapsed() const { return done_elapsed_; }
+    std::uint64_t done_generation() const { return done_generation_; }
+    double last_latency_ms() const { return last_latency_ms_; }
+    int last_coarse_block() const { return started_block_; }
+    // Pictures put on screen (texture uploads of a new preview or pass).
+    std::uint64_t pictures_shown() const { return pictures_; }
+    bool verbose = false;
+    // Seconds since the program started (for --verbose timings of the first picture).
+    double (*clock)() = nullptr;
+
+private:
+    void start(const rt::Camera& camera, int film_w, int film_h, bool moving);
+    void trace_preview(const rt::Camera& camera, int film_w, int film_h);
+
+    bool interactive_;
+    rt::Renderer renderer_;
+    PreviewPacer pacer_;
+    std::shared_ptr<const rt::World> world_;  // compiled doc scene
+    std::uint64_t world_version_ = 0;         // doc content_version world_ matches
+    std::future<std::shared_ptr<const rt::World>> building_;
+    std::uint64_t building_version_ = 0;
+    std::uint64_t building_shapes_ = 0;   // shapes_hash of the scene being built
+    std::uint64_t world_shapes_ = 0;      // shapes_hash of world_'s scene, when known
+    bool world_shapes_known_ = false;
+
+    // The render as last started.
+    std::shared_ptr<const rt::World> started_world_;
+    rt::Camera started_camera_;
+    int started_w_ = 0, started_h_ = 0;
+    int started_block_ = 8;
+    std::uint64_t started_generation_ = 0;
+    std::chrono::steady_clock::time_point started_at_{};
+    bool preview_shown_ = false;  // something of the started render reached the texture
+    bool measured_ = false;       // its first coarse pass went into the pacer
+    bool held_ = false;           // paused after its preview while the view moves
+    std::chrono::steady_clock::time_point last_change_{};
+
+    int max_samples_;
+    double time_limit_;
+    bool settings_changed_ = false;
+    bool paused_ = false;
+
+    // The UI thread's own previews while the view moves.
+    PreviewPacer ui_pacer_;
+    FilmTexture preview_tex_;
+    std::vector<std::uint8_t> preview_rgba_;
+    bool showing_preview_ = false;  // the preview is on screen, not the film
+    int preview_block_ = 0, preview_w_ = 0, preview_h_ = 0;  // of the film it previews
+    std::shared_ptr<const rt::World> preview_world_;
+    rt::Camera preview_camera_;
+
+    FilmTexture film_;
+    std::vector<std::uint8_t> rgba_;
+    std::uint64_t film_version_ = 0;
+    int film_w_seen_ = 0, film_h_seen_ = 0;
+    std::uint64_t done_generation_ = ~std::uint64_t(0);
+    double done_elapsed_ = 0;
+    bool final_uploaded_ = false;
+    std::uint64_t pictures_ = 0;
+    bool first_picture_reported_ = false;
+    std::array<std::uint64_t, 5> uploaded_sig_{};  // progress signature of the last upload
+    // Timing of "a view change -> coarse image on screen" (printed with --verbose).
+    std::chrono::steady_clock::time_point change_time_{};
+    bool timing_change_ = false;
+    double last_latency_ms_ = -1;
+};
+
+}  // namespace rtview

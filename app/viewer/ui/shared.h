@@ -1,0 +1,82 @@
+// What the parts of the viewer share: the frame's layout, the status line, the
+// selection, and the commands that menus, panels, dialogs and keys ask the app to run
+// (so that no part reaches into another's state).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "options.h"
+#include "viewport.h"
+
+namespace rtview {
+
+// Where everything is this frame (ImGui logical coordinates) and the film it implies.
+struct Layout {
+    float menu_h = 0, status_h = 0, sidebar_w = 0;
+    float fb_scale = 1;
+    Rect area;   // all space for the image
+    Rect image;  // where the film is drawn (letterboxed in picture mode)
+    int film_w = 1, film_h = 1;
+    FitMode fit = FitMode::Picture;
+    // Rectangles of some panels, for --print-layout.
+    Rect camera_panel, editor, diagnostics, outline;
+};
+
+class StatusLine {
+public:
+    void set(const std::string& text, bool error = false) {
+        text_ = text;
+        error_ = error;
+    }
+    const std::string& text() const { return text_; }
+    bool error() const { return error_; }
+
+private:
+    std::string text_;
+    bool error_ = false;
+};
+
+struct Selection {
+    enum class Kind { None, Object, Plane, Light } kind = Kind::None;
+    int index = -1;         // top-level object, plane or light
+    std::vector<int> path;  // CSG operand path below an object (0 = left, 1 = right)
+    bool operator==(const Selection& o) const { return kind == o.kind && index == o.index && path == o.path; }
+};
+
+enum class Command {
+    OpenDialog,      // ask for a path
+    Open,            // arg: path (asks about unsaved edits first)
+    OpenDefault,
+    Save,
+    SaveAsDialog,
+    SaveAs,          // arg: path
+    SaveImageDialog,
+    SaveImage,       // arg: path
+    Screenshot,      // arg: path
+    Quit,            // asks about unsaved edits first
+    Undo,
+    Redo,
+    EditText,        // show and focus the editor
+    ApplyText,
+    RevertText,
+    FrameScene,
+    ResetView,       // the view back to the scene camera
+    SetSceneCamera,  // the scene camera becomes the view (one undo step)
+    CopyCamera,      // the view's camera block to the clipboard
+    TogglePause,
+    FitWindow,
+    FitPicture,
+    Help,
+    CancelLoad,
+};
+
+class Commands {
+public:
+    virtual ~Commands() = default;
+    // Returns false if the command failed (the status line says why). `confirmed`:
+    // the user already chose to drop unsaved edits (Quit, Open, OpenDefault).
+    virtual bool run(Command c, const std::string& arg = {}, bool confirmed = false) = 0;
+};
+
+}  // namespace rtview

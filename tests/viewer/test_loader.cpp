@@ -1,0 +1,157 @@
+// Loading off the UI thread: a load delivers the file's text, scene and world; a
+// cancelled load delivers nothing and a failed one an error, and neither touches the
+// document that was open.
+#include <doctest/doctest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "default_scene.h"
+#include "document.h"
+#include "loader.h"
+#include "scene_parser.h"
+
+using namespace rtview;
+
+namespace {
+
+struct TempFile {
+    std::string path;
+    explicit TempFile(const std::string& text) {
+        char t[] = "/tmp/rtview-load-XXXXXX";
+        int fd = mkstemp(t);
+        path = t;
+        if (fd >= 0) close(fd);
+        std::ofstream(path, std::ios::binary) << text;
+    }
+    ~TempFile() { std::remove(path.c_str()); }
+};
+
+// About `n` spheres: a text that takes a while to parse and build.
+std::string many_spheres(int n) {
+    std::string s = "thing {\n";
+    for (int i = 0; i < n; ++i)
+        s += "  sphere { position " + std::to_string(i % 100) + " " + std::to_string(i / 100) + " 0 radius 0.4 }\n";
+    s += "}\ncamera { position 50 -100 80 centre 50 50 0 up 50 50 1 }\nend\n";
+    return s;
+}
+
+struct DocSnapshot {
+    std::string text, path;
+    rt::Scene scene;
+    std::uint64_t scene_version, text_version;
+    explicit DocSnapshot(const Document& d)
+        : text(d.editor_text()), path(d.path()), scene(d.scene()), scene_version(d.scene_version()),
+          text_version(d.text_version()) {}
+    void check_same(const Document& d) const {
+        CHECK(d.editor_text() == text);
+        CHECK(d.path() == path);
+        CHECK(d.scene() == scene);
+        CHECK(d.scene_version() == scene_version);
+        CHECK(d.text_version() == text_version);
+    }
+};
+
+}  // namespace
+
+TEST_CASE("a load delivers the text, the parsed scene and the compiled world") {
+    TempFile f(rt::kDefaultScene);
+    SceneLoader loader;
+    loader.start(f.path);
+    CHECK(loader.active());
+    std::optional<LoadResult> r = loader.wait();
+    REQUIRE(r);
+    CHECK_FALSE(loader.active());
+    REQUIRE(r->status == LoadResult::Status::Ok);
+    CHECK(r->text == rt::kDefaultScene);
+    CHECK(r->parsed.ok());
+    CHECK(r->parsed.scene == rt::parse_scene(rt::kDefaultScene).scene);
+    REQUIRE(r->world);
+    Document d;
+    std::shared_ptr<const rt::World> world;
+    REQUIRE(apply_load(*r, d, world));
+    CHECK(world);
+    CHECK(d.path() == f.path);
+    CHECK(d.editor_text() == rt::kDefaultScene);
+    CHECK_FALSE(d.modified());
+    CHECK(d.scene() == rt::parse_scene(rt::kDefaultScene).scene);
+}
+
+TEST_CASE("a failed load reports why and keeps the old scene") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    d.edit_light(0).colour = {1, 2, 3};  // with an unsaved edit, even
+    d.commit();
+    const DocSnapshot before(d);
+    SceneLoader loader;
+    loader.start("/nonexistent/dir/scene.txt");
+    std::optional<LoadResult> r = loader.wait();
+    REQUIRE(r);
+    CHECK(r->status == LoadResult::Status::Failed);
+    CHECK(r->error.find("No such file") != std::string::npos);
+    std::shared_ptr<const rt::World> world;
+    CHECK_FALSE(apply_load(*r, d, world));
+    CHECK_FALSE(world);
+    before.check_same(d);
+    CHECK(d.modified());
+    CHECK(d.can_undo());
+    // A directory is not a scene either.
+    loader.start("/tmp");
+    r = loader.wait();
+    REQUIRE(r);
+    CHECK(r->status == LoadResult::Status::Failed);
+    CHECK_FALSE(apply_load(*r, d, world));
+    before.check_same(d);
+}
+
+TEST_CASE("a load can be cancelled: nothing arrives, and the next load does") {
+    TempFile big(many_spheres(200000));  // ~10 MB: reading, parsing and building take a while
+    TempFile small(rt::kDefaultScene);
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const DocSnapshot before(d);
+    SceneLoader loader;
+    loader.start(big.path);
+    CHECK(loader.active());
+    loader.cancel();
+    CHECK_FALSE(loader.active());
+    // Nothing is ever delivered for it, however long we wait.
+    auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
+    while (std::chrono::steady_clock::now() < until) {
+        CHECK_FALSE(loader.poll());
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    before.check_same(d);
+    // Opening another file while one loads cancels the first: only the second arrives.
+    loader.start(big.path);
+    loader.start(small.path);
+    std::optional<LoadResult> r;
+    for (int i = 0; i < 3000 && !r; ++i) {
+        r = loader.poll();
+        if (!r) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    REQUIRE(r);
+    CHECK(r->status == LoadResult::Status::Ok);
+    CHECK(r->path == small.path);
+    CHECK_FALSE(loader.poll());
+}
+
+TEST_CASE("a file with errors loads as text with its diagnostics and no world") {
+    TempFile f("thing { sphere { radius x } }\nend\n");
+    SceneLoader loader;
+    loader.start(f.path);
+    std::optional<LoadResult> r = loader.wait();
+    REQUIRE(r);
+    REQUIRE(r->status == LoadResult::Status::Ok);
+    CHECK_FALSE(r->parsed.ok());
+    CHECK_FALSE(r->world);
+    Document d;
+    std::shared_ptr<const rt::World> world;
+    REQUIRE(apply_load(*r, d, world));
+    CHECK_FALSE(d.has_scene());
+    CHECK(d.has_errors());
+}

@@ -1,0 +1,152 @@
+// The view camera is not the document: every kind of navigation leaves the text, the
+// undo history and the modified mark alone; "Set scene camera from view" is the one
+// way the view gets into the file (one undo step, exact through the text).
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+
+#include "default_scene.h"
+#include "document.h"
+#include "navigator.h"
+#include "scene_parser.h"
+#include "world.h"
+
+using namespace rtview;
+
+namespace {
+
+struct Snapshot {
+    std::string text;
+    std::size_t undo_depth;
+    bool modified, can_redo;
+    std::uint64_t scene_version, text_version;
+    rt::Scene scene;
+    explicit Snapshot(const Document& d)
+        : text(d.editor_text()),
+          undo_depth(d.undo_depth()),
+          modified(d.modified()),
+          can_redo(d.can_redo()),
+          scene_version(d.scene_version()),
+          text_version(d.text_version()),
+          scene(d.scene()) {}
+    void check_same(const Document& d) const {
+        CHECK(d.editor_text() == text);
+        CHECK(d.undo_depth() == undo_depth);
+        CHECK(d.modified() == modified);
+        CHECK(d.can_redo() == can_redo);
+        CHECK(d.scene_version() == scene_version);
+        CHECK(d.text_version() == text_version);
+        CHECK(d.scene() == scene);
+        CHECK(d.title().find('*') == std::string::npos);
+    }
+};
+
+ViewGeometry geometry() { return {Rect{0, 20, 800, 450}, 800, 450, false}; }
+
+}  // namespace
+
+TEST_CASE("navigation moves the view and leaves the document untouched") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    REQUIRE(d.has_scene());
+    auto world = rt::compile_world(d.scene());
+    Navigator nav;
+    nav.follow(d.scene().camera);
+    const Snapshot before(d);
+    const rt::Camera start = nav.camera();
+    ViewGeometry g = geometry();
+
+    // Orbit: press and drag with the left button.
+    nav.press(0, false, 400, 245, world.get(), g);
+    CHECK(nav.drag(460, 260, world.get(), g));
+    CHECK_FALSE(nav.release());  // a drag, not a click
+    CHECK_FALSE(nav.camera() == start);
+    rt::Camera after_orbit = nav.camera();
+    // Pan with the right button.
+    nav.press(1, false, 300, 200, world.get(), g);
+    CHECK(nav.drag(340, 230, world.get(), g));
+    nav.release();
+    CHECK_FALSE(nav.camera() == after_orbit);
+    // Wheel, fly, frame, turn, direct placement.
+    rt::Camera c = nav.camera();
+    nav.wheel(3, 400, 245, world.get(), g);
+    CHECK(rt::length(nav.camera().position - c.position) > 1e-6);
+    c = nav.camera();
+    nav.fly({0, 0, 1}, 0.05, false, 10);
+    CHECK(rt::length(nav.camera().position - c.position) > 1e-6);
+    nav.frame(world->bounds(), g);
+    nav.orbit_degrees(30);
+    rt::Camera placed = nav.camera();
+    placed.position = placed.position + rt::Vec3{0.5, 0, 0};
+    CHECK(nav.set(placed));
+    CHECK(nav.differs_from(d.scene().camera));
+
+    before.check_same(d);
+    // The view is kept while the document's camera stays what it was.
+    nav.follow(d.scene().camera);
+    CHECK(nav.camera() == placed);
+    // R: back to the scene camera.
+    nav.reset(d.scene().camera);
+    CHECK(nav.camera() == d.scene().camera);
+    before.check_same(d);
+}
+
+TEST_CASE("a degenerate view is refused and the last good one kept") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    Navigator nav;
+    nav.follow(d.scene().camera);
+    rt::Camera bad = nav.camera();
+    bad.centre = bad.position;  // no view direction
+    CHECK_FALSE(nav.set(bad));
+    CHECK(nav.camera() == d.scene().camera);
+}
+
+TEST_CASE("Set scene camera from view is one undo step and round-trips through the text") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    auto world = rt::compile_world(d.scene());
+    Navigator nav;
+    nav.follow(d.scene().camera);
+    const std::string original_text = d.editor_text();
+    const rt::Camera original = d.scene().camera;
+    ViewGeometry g = geometry();
+    nav.press(0, false, 400, 245, world.get(), g);
+    nav.drag(517, 281, world.get(), g);  // an orbit to coordinates no text holds yet
+    nav.release();
+    nav.wheel(1.5, 410, 250, world.get(), g);
+    const rt::Camera view = nav.camera();
+    REQUIRE_FALSE(view == original);
+    REQUIRE(d.undo_depth() == 0);
+
+    REQUIRE(d.set_camera(view));
+    CHECK(d.undo_depth() == 1);
+    CHECK(d.modified());
+    CHECK(d.scene().camera == view);
+    // The text holds exactly the view: parsing it gives the same camera, bit for bit,
+    // and nothing but the camera block changed.
+    rt::ParseResult back = rt::parse_scene(d.editor_text());
+    REQUIRE(back.ok());
+    CHECK(back.scene.camera == view);
+    rt::Scene rest = back.scene;
+    rest.camera = original;
+    CHECK(rest == rt::parse_scene(original_text).scene);
+    // The view stays where it is (it is the scene camera now).
+    nav.follow(d.scene().camera);
+    CHECK(nav.camera() == view);
+    CHECK_FALSE(nav.differs_from(d.scene().camera));
+    // Setting it again is no step at all.
+    CHECK_FALSE(d.set_camera(view));
+    CHECK(d.undo_depth() == 1);
+
+    // One undo takes the whole command back; the view follows the scene camera.
+    REQUIRE(d.undo());
+    CHECK(d.editor_text() == original_text);
+    CHECK_FALSE(d.modified());
+    CHECK(d.undo_depth() == 0);
+    nav.follow(d.scene().camera);
+    CHECK(nav.camera() == original);
+    REQUIRE(d.redo());
+    CHECK(d.scene().camera == view);
+}
