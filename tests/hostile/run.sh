@@ -277,7 +277,7 @@ def lamps_1000; case_lamps_1000() { newdir "$FUNCNAME"; lamps_scene 1000 > "$D/s
 def lamps_10000_check; case_lamps_10000_check() { newdir "$FUNCNAME"; lamps_scene 10000 > "$D/s.txt"
     run 10 "$RT" --check s.txt; want_rc 0; want_fast 3; want_err '10000 lights'; clean_checks; }
 def lamps_10000_sigterm; case_lamps_10000_sigterm() { newdir "$FUNCNAME"; lamps_scene 10000 > "$D/s.txt"
-    start "$RT" --quiet s.txt old.ppm; signal_after 1 5 TERM; want_rc 143; want_fast 1; clean_checks; }
+    start "$RT" --quiet --width 640 --height 480 s.txt old.ppm; signal_after 1 5 TERM; want_rc 143; want_fast 1; clean_checks; }
 def lamps_10000_finishes; case_lamps_10000_finishes() { need_render_fixes; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; lamps_scene 10000 > "$D/s.txt"
     run 60 "$RT" --quiet s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; want_fast 5; clean_checks; }
 def lamps_10000_viewer_time_limit; case_lamps_10000_viewer_time_limit() { need_render_fixes; need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; lamps_scene 10000 > "$D/s.txt"

@@ -225,6 +225,7 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h, b
     st.height = film_h;
     st.max_samples = max_samples_;
     st.time_limit = time_limit_;
+    st.hard_time_limit = true;  // a viewer shows what it has: the limit holds even before the first full sample
     st.camera = camera;
     // The usual 8x8 first pass, or coarser when the scene is so expensive that it
     // would not land within the budget; the render refines to full samples by itself.
