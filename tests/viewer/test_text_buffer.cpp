@@ -48,6 +48,15 @@ TEST_CASE("text buffer: random replacements agree with std::string, and undo/red
     std::mt19937 rng(15);
     std::string ref = "thing {\n  sphere { position 1 2 3 radius 0.5 }\n}\nend\n";
     TextBuffer b(ref);
+    b.set_logging(true);
+    std::string mirror = ref;  // follows the edit log
+    auto replay = [&] {
+        for (const TextEdit& e : b.take_edits()) {
+            REQUIRE(mirror.compare(e.offset, e.removed.size(), e.removed) == 0);
+            mirror.replace(e.offset, e.removed.size(), e.inserted);
+        }
+        REQUIRE(mirror == b.text());
+    };
     std::vector<std::string> history{ref};
     const char* const pieces[] = {"", "x", "\n", "ab\ncd", "{ }", "\n\n", "é", "  // c\n"};
     for (int step = 0; step < 400; ++step) {
@@ -64,18 +73,22 @@ TEST_CASE("text buffer: random replacements agree with std::string, and undo/red
         REQUIRE(b.size() == ref.size());
         CHECK(b.offset_of(b.cursor()) == a + ins.size());
         history.push_back(ref);
+        if (step % 50 == 0) replay();
     }
+    replay();
     // Each replace() is its own step: undo walks back through every state.
     for (std::size_t k = history.size() - 1; k > 0; --k) {
         REQUIRE(b.undo());
         REQUIRE(b.text() == history[k - 1]);
     }
     CHECK_FALSE(b.undo());
+    replay();
     for (std::size_t k = 1; k < history.size(); ++k) {
         REQUIRE(b.redo());
         REQUIRE(b.text() == history[k]);
     }
     CHECK_FALSE(b.redo());
+    replay();
 }
 
 TEST_CASE("text buffer: typing merges into one undo step per word; backspace runs merge; a move breaks it") {
@@ -235,9 +248,9 @@ TEST_CASE("text buffer: the edit log replays onto a copy of the text, undo inclu
     b.insert("light");
     for (const TextEdit& e : b.take_edits()) {
         // Offsets are those of the text before each edit: replay in order.
-        std::size_t at = ref_offset(mirror, e.at);
-        REQUIRE(mirror.compare(at, e.removed.size(), e.removed) == 0);
-        mirror.replace(at, e.removed.size(), e.inserted);
+        REQUIRE(e.offset == ref_offset(mirror, e.at));
+        REQUIRE(mirror.compare(e.offset, e.removed.size(), e.removed) == 0);
+        mirror.replace(e.offset, e.removed.size(), e.inserted);
     }
     CHECK(mirror == b.text());
     CHECK(mirror == "light {\ntorus { }\n}\n");

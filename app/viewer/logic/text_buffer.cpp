@@ -360,6 +360,8 @@ TextPos TextBuffer::apply(TextPos at, TextPos end, std::string_view s, std::stri
     at = clamp(at);
     end = clamp(end);
     if (end < at) std::swap(at, end);
+    // Near the previous edit the line index is still valid: this costs little.
+    if (logging_) last_offset_ = offset_of(at);
     std::size_t removed_bytes = 0;
     if (removed) *removed = text_in({at, end});
     {
@@ -425,7 +427,10 @@ TextPos TextBuffer::apply(TextPos at, TextPos end, std::string_view s, std::stri
 
 void TextBuffer::record(TextEdit e, bool mergeable_insert, bool mergeable_erase) {
     redo_.clear();
-    if (logging_) log_.push_back(e);
+    if (logging_) {
+        e.offset = last_offset_;
+        log_.push_back(e);
+    }
     if (merge_ok_ && !undo_.empty()) {
         TextEdit& last = undo_.back();
         if (mergeable_insert && last_ == LastKind::Insert && last.removed.empty() &&
@@ -561,7 +566,7 @@ bool TextBuffer::undo() {
     TextEdit e = std::move(undo_.back());
     undo_.pop_back();
     apply(e.at, end_after(e.at, e.inserted), e.removed, nullptr);
-    if (logging_) log_.push_back({e.at, e.inserted, e.removed, {}, {}, {}});
+    if (logging_) log_.push_back({e.at, e.inserted, e.removed, {}, {}, {}, last_offset_});
     cursor_ = e.cursor_before;
     anchor_ = e.anchor_before;
     want_dcol_ = -1;
@@ -575,7 +580,7 @@ bool TextBuffer::redo() {
     TextEdit e = std::move(redo_.back());
     redo_.pop_back();
     apply(e.at, end_after(e.at, e.removed), e.inserted, nullptr);
-    if (logging_) log_.push_back({e.at, e.removed, e.inserted, {}, {}, {}});
+    if (logging_) log_.push_back({e.at, e.removed, e.inserted, {}, {}, {}, last_offset_});
     cursor_ = anchor_ = e.cursor_after;
     want_dcol_ = -1;
     merge_ok_ = false;

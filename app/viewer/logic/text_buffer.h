@@ -36,6 +36,7 @@ struct TextEdit {
     std::string removed, inserted;
     TextPos cursor_before, anchor_before;  // restored by undo
     TextPos cursor_after;                  // restored by redo
+    std::size_t offset = 0;                // byte offset of `at` (in the edit log only)
 };
 
 // ---- colouring ----------------------------------------------------------------
@@ -115,8 +116,10 @@ public:
     void break_merge() { merge_ok_ = false; }
 
     // With logging on, every applied edit (undo and redo as edits of their own) is
-    // kept, oldest first, for a host that mirrors the text elsewhere; take_edits()
-    // empties the list. set_text() is not an edit: it clears the list.
+    // kept, oldest first, with its byte offset in the text as it was just before it,
+    // for a host that mirrors the text in a std::string: replaying
+    // `s.replace(e.offset, e.removed.size(), e.inserted)` in order keeps s == text().
+    // take_edits() empties the list. set_text() is not an edit: it clears the list.
     void set_logging(bool on) { logging_ = on; }
     std::vector<TextEdit> take_edits();
 
@@ -169,6 +172,7 @@ private:
     bool merge_ok_ = false;
     bool logging_ = false;
     std::vector<TextEdit> log_;
+    std::size_t last_offset_ = 0;  // of the last apply(), when logging
     std::vector<LineShift> shifts_;
 };
 
