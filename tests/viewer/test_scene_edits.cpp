@@ -4,7 +4,9 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <utility>
 
+#include "document.h"
 #include "scene_edits.h"
 #include "scene_parser.h"
 
@@ -304,4 +306,50 @@ TEST_CASE("scene edits: nothing when the text does not match the scene") {
     CHECK_FALSE(delete_item(text, s, {SceneItem::Kind::Object, 0}));
     CHECK_FALSE(add_item("thing { sphere {", s, NewItem::Sphere, {{0, 0, 0}}));
     CHECK_FALSE(add_item(text, parse_ok(text), NewItem::Sphere, {{NAN, 0, 0}}));
+}
+
+TEST_CASE("scene edits through the document: one undo step each, undo and redo restore the text byte for byte") {
+    const std::string text = kScene;
+    Document doc;
+    doc.load_text(text, "", "demo");
+    const rt::Scene s = parse_ok(text);
+    REQUIRE(doc.scene() == s);
+    std::vector<std::string> texts{text};
+    std::vector<rt::Scene> scenes{s};
+    auto step = [&](std::optional<SceneEdit> e) {
+        REQUIRE(e);
+        const std::size_t depth = doc.undo_depth();
+        REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
+        CHECK(doc.undo_depth() == depth + 1);
+        texts.push_back(std::as_const(doc).editor_text());
+        CHECK(texts.back() == e->replacement.applied_to(texts[texts.size() - 2]));
+        scenes.push_back(parse_ok(texts.back()));
+        CHECK(doc.scene() == scenes.back());
+        CHECK_FALSE(doc.editor_dirty());
+    };
+    step(add_item(texts.back(), doc.scene(), NewItem::Sphere, {{1, 2, 0}, {0, 0, 1}}));
+    step(duplicate_item(texts.back(), doc.scene(), {SceneItem::Kind::Object, 5}, {0.5, 0, 0}));
+    step(delete_item(texts.back(), doc.scene(), {SceneItem::Kind::Object, 0}));
+    step(switch_light_kind(texts.back(), doc.scene(), 0));
+    step(make_csg(texts.back(), doc.scene(), 0, 1, rt::CsgType::Union));
+    step(switch_light_kind(texts.back(), doc.scene(), 0));
+    CHECK(doc.scene().lights[0].size == 0.3);
+    for (std::size_t k = texts.size() - 1; k > 0; --k) {
+        REQUIRE(doc.undo());
+        CHECK(std::as_const(doc).editor_text() == texts[k - 1]);
+        CHECK(doc.scene() == scenes[k - 1]);
+    }
+    for (std::size_t k = 1; k < texts.size(); ++k) {
+        REQUIRE(doc.redo());
+        CHECK(std::as_const(doc).editor_text() == texts[k]);
+        CHECK(doc.scene() == scenes[k]);
+    }
+    // Not over an unapplied draft, and not when the result would not parse.
+    CHECK_FALSE(doc.replace_text(0, 0, "thing { sphere {"));
+    CHECK(std::as_const(doc).editor_text() == texts.back());
+    doc.editor_text() += "\n// typed";
+    doc.note_typed();
+    auto e = delete_item(texts.back(), doc.scene(), {SceneItem::Kind::Object, 0});
+    REQUIRE(e);
+    CHECK_FALSE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
 }
