@@ -207,9 +207,12 @@ TEST_CASE("scene edits: add every kind at a point, sized from the scene, also in
                 CHECK_FALSE(o.has_material);
                 if (k == NewItem::Sphere) {
                     auto sp = std::get<rt::Sphere>(o.shape);
-                    // Resting on the surface at p: centre one radius above it.
-                    CHECK(sp.radius > 0.02 * extent);
-                    CHECK(sp.radius < 0.1 * extent);
+                    // Resting on the surface at p: centre one radius above it. As big
+                    // as the scene's objects (radii 0.5 to 0.8 here), or a twentieth
+                    // of a scene without any (10 across: 0.5).
+                    CHECK(sp.radius >= 0.25);
+                    CHECK(sp.radius <= 1.6);
+                    if (s.objects.empty()) CHECK(sp.radius == doctest::Approx(0.05 * extent));
                     CHECK(dist(sp.position, p + rt::Vec3{0, 0, sp.radius}) < 1e-9);
                 } else if (k == NewItem::Cylinder) {
                     auto c = std::get<rt::Cylinder>(o.shape);

@@ -281,11 +281,25 @@ void translate(rt::Plane& p, Vec3 d) {
     for (Vec3& v : p.point) v += d;
 }
 
+double typical_size(const rt::Scene& scene) {
+    // Half the box diagonal over sqrt(3): a sphere's radius for a sphere.
+    std::vector<double> sizes;
+    for (const rt::Object& o : scene.objects) {
+        rt::Aabb b;
+        grow(b, o);
+        double d = rt::length(b.hi - b.lo) / (2 * std::sqrt(3.0));
+        if (b.lo.x <= b.hi.x && d > 0 && std::isfinite(d)) sizes.push_back(d);
+    }
+    if (sizes.empty()) return 0.05 * scene_extent(scene);  // a twentieth of the scene
+    std::nth_element(sizes.begin(), sizes.begin() + std::ptrdiff_t(sizes.size() / 2), sizes.end());
+    return sizes[sizes.size() / 2];
+}
+
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at) {
     auto l = layout_of(text, scene);
     if (!l || !rt::finite(at.point)) return std::nullopt;
     const double extent = scene_extent(scene);
-    const double r = nice_size(0.05 * extent);  // a twentieth of the scene
+    const double r = nice_size(typical_size(scene));
     const Vec3 up = up_of(scene, at);
     const rt::Frame f = rt::Frame::from_axis(up);
     const Vec3 p = at.point;

@@ -51,13 +51,16 @@ struct Placement {
 // camera's distance to its centre when there is nothing to bound. New items are
 // scaled from it.
 double scene_extent(const rt::Scene& scene);
+// The size new objects get: the median size of the scene's objects (a sphere's
+// radius), or a twentieth of scene_extent when there are none.
+double typical_size(const rt::Scene& scene);
 
 // All edits take the scene text and the scene it parses to (its items must match
 // the text's blocks one for one), and return nothing when the text's structure is
 // unclear or the item does not exist. The result is a plain block of the format, so
 // applying it and parsing gives the scene with the edit made.
 
-// A new item with a size from scene_extent: objects after the last object (or in a
+// A new item with a size from typical_size: objects after the last object (or in a
 // new `thing` section), planes after the last plane, lights after the last light.
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at);
 // A copy right after the original. With a zero offset the original's text is copied
