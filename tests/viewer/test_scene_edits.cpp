@@ -146,7 +146,11 @@ TEST_CASE("scene edits: duplicate copies the block verbatim, or moved by an offs
     // A moved sphere really is moved (translate checked against numbers by hand).
     rt::Object sp = s.objects[0];
     translate(sp, {1, 0, -0.5});
-    CHECK(std::get<rt::Sphere>(sp.shape).position == rt::Vec3{7, 1.5, 0.30000000000000004});
+    CHECK(std::get<rt::Sphere>(sp.shape).position == rt::Vec3{7, 1.5, 0.3});  // not 0.30000000000000004
+    rt::Light li;
+    li.position = {2.07, 0, 0};
+    translate(li, {-2.5, 0, 0});
+    CHECK(li.position.x == -0.43);
     rt::Object csg = s.objects[4];
     translate(csg, {1, 0, 0});
     CHECK(std::get<rt::Sphere>(std::get<rt::Csg>(csg.shape).operands[1].shape).position == rt::Vec3{8, 0.5, 2.2});

@@ -246,6 +246,21 @@ std::optional<double> kept_size(const std::string& block) {
     return v;
 }
 
+// A sum like 2.07 - 2.5 gives -0.43000000000000016; twelve significant digits drop
+// that noise, so a moved item's numbers read as a person would write them.
+double tidy(double v) {
+    if (!std::isfinite(v)) return v;
+    char buf[40];
+    auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 12);
+    double back = v;
+    std::from_chars(buf, r.ptr, back);
+    return back;
+}
+void move_point(Vec3& p, Vec3 d) {
+    p += d;
+    p = {tidy(p.x), tidy(p.y), tidy(p.z)};
+}
+
 }  // namespace
 
 double scene_extent(const rt::Scene& scene) {
@@ -264,12 +279,12 @@ void translate(rt::Object& o, Vec3 d) {
     std::visit(
         [&](auto& s) {
             using T = std::decay_t<decltype(s)>;
-            if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus>) s.position += d;
+            if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus>) move_point(s.position, d);
             else if constexpr (std::is_same_v<T, rt::Cylinder>) {
-                s.end1 += d;
-                s.end2 += d;
+                move_point(s.end1, d);
+                move_point(s.end2, d);
             } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
-                for (Vec3& v : s.v) v += d;
+                for (Vec3& v : s.v) move_point(v, d);
             } else {
                 for (rt::Object& op : s.operands) translate(op, d);
             }
@@ -278,8 +293,10 @@ void translate(rt::Object& o, Vec3 d) {
 }
 
 void translate(rt::Plane& p, Vec3 d) {
-    for (Vec3& v : p.point) v += d;
+    for (Vec3& v : p.point) move_point(v, d);
 }
+
+void translate(rt::Light& l, Vec3 d) { move_point(l.position, d); }
 
 double typical_size(const rt::Scene& scene) {
     // Half the box diagonal over sqrt(3): a sphere's radius for a sphere.
@@ -390,7 +407,7 @@ std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene
         translate(one.planes[0], offset);
     } else {
         one.lights.push_back(scene.lights[std::size_t(item.index)]);
-        one.lights[0].position += offset;
+        translate(one.lights[0], offset);
     }
     e.replacement = insert_block(text, *l, item.kind, one, std::size_t(item.index));
     return e;

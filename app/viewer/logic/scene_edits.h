@@ -76,8 +76,11 @@ std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scen
 // block as a comment (`// lamp size S`) from which switching back restores it.
 std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Scene& scene, int light);
 
-// Moves every point of an item (for duplicate with an offset, and the move tool).
+// Moves every point of an item (for duplicate with an offset, and the move tool),
+// rounding each coordinate to 12 significant digits so that float noise of the sum
+// (2.07 - 2.5 = -0.43000000000000016) does not reach the text.
 void translate(rt::Object& o, rt::Vec3 d);
 void translate(rt::Plane& p, rt::Vec3 d);
+void translate(rt::Light& l, rt::Vec3 d);
 
 }  // namespace rtview

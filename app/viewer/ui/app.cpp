@@ -496,11 +496,20 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             done = std::string("Added a ") + arg;
             break;
         }
-        case Command::Duplicate:
+        case Command::Duplicate: {
             if (!sel) return false;
-            e = duplicate_item(text, scene, *sel);
+            // The copy goes one object-width to the right in the view, so it is seen
+            // (a round step: the copy's numbers stay as short as the original's).
+            rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
+            rt::Vec3 right = rt::normalize(rt::cross(vc.centre - vc.position, nav_.world_up()));
+            double step = 2.5 * typical_size(scene);
+            double q = std::pow(10.0, std::floor(std::log10(step > 0 ? step : 1.0)) - 1);
+            rt::Vec3 off = right * step;
+            off = {std::round(off.x / q) * q, std::round(off.y / q) * q, std::round(off.z / q) * q};
+            e = duplicate_item(text, scene, *sel, rt::finite(off) ? off : rt::Vec3{});
             done = "Duplicated";
             break;
+        }
         case Command::Delete:
             if (!sel) return false;
             e = delete_item(text, scene, *sel);
