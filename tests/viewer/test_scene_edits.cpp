@@ -360,3 +360,23 @@ TEST_CASE("scene edits through the document: one undo step each, undo and redo r
     REQUIRE(e);
     CHECK_FALSE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
 }
+
+TEST_CASE("scene edits through the document after typing: the typing stays a step of its own") {
+    const std::string text = kScene;
+    Document doc;
+    doc.load_text(text, "", "demo");
+    doc.editor_text().insert(0, "// typed\n");
+    doc.note_typed();
+    REQUIRE(doc.apply_text());
+    const std::string typed = std::as_const(doc).editor_text();
+    auto e = add_item(typed, doc.scene(), NewItem::Torus, {{0, 0, 0}});
+    REQUIRE(e);
+    REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
+    CHECK(doc.scene().objects.size() == 6);
+    REQUIRE(doc.undo());
+    CHECK(std::as_const(doc).editor_text() == typed);
+    while (doc.undo()) {
+    }
+    CHECK(std::as_const(doc).editor_text() == text);
+    CHECK(doc.scene() == parse_ok(text));
+}

@@ -604,6 +604,7 @@ bool Document::apply_text() {
 
 bool Document::replace_text(std::size_t pos, std::size_t length, const std::string& text) {
     commit();
+    flush_typing();  // text typed since the last step is a step of its own, first
     normalize_applied();
     if (applied_ || behind_ || pos > editor_.size() || length > editor_.size() - pos) return false;
     std::string edited = editor_;
