@@ -602,6 +602,20 @@ bool Document::apply_text() {
     return true;
 }
 
+bool Document::replace_text(std::size_t pos, std::size_t length, const std::string& text) {
+    commit();
+    flush_typing();  // text typed since the last step is a step of its own, first
+    normalize_applied();
+    if (applied_ || behind_ || pos > editor_.size() || length > editor_.size() - pos) return false;
+    std::string edited = editor_;
+    edited.replace(pos, length, text);
+    rt::ParseResult r = rt::parse_scene(edited);
+    if (!r.ok()) return false;
+    diagnostics_ = r.diagnostics;
+    replace_state(&edited, std::nullopt, std::move(r.scene), false);
+    return true;
+}
+
 void Document::check_text() { diagnostics_ = rt::parse_scene(editor_).diagnostics; }
 
 void Document::revert_text() {

@@ -130,6 +130,11 @@ public:
     // Editor text back to the text of the current scene, dropping the draft; also
     // how the user resolves text_behind() the other way round (undoable).
     void revert_text();
+    // A structural edit of the text (add, duplicate, delete: scene_edits.h): replaces
+    // `length` bytes at `pos` with `text` and applies the result, as one undo step
+    // that stores the replacement. Only when the editor text is the scene's (no
+    // draft) and the result parses; else false and nothing changes.
+    bool replace_text(std::size_t pos, std::size_t length, const std::string& text);
     // Puts `text` in the editor as an unapplied draft (undoable): crash recovery.
     void restore_draft(const std::string& text);
     // Re-parses the draft to refresh diagnostics() without applying it (live check).

@@ -196,6 +196,8 @@ std::string help_text(bool headless_binary) {
              "  wheel                dolly towards the point under the cursor\n"
              "  (moving the view never edits the file; Ctrl+K sets the scene camera from it)\n"
              "  click                select the object under the cursor\n"
+             "  right click          add here / duplicate / delete / lamp<->spotlight / CSG menu\n"
+             "  Ctrl+D / Delete      duplicate / delete the selected object, plane or light\n"
              "  W A S D / Q E        fly (shift: faster)     F  frame the scene\n"
              "  R                    reset the view to the scene camera\n"
              "  Esc                  cancel opening a file (the old scene stays)\n"
@@ -203,6 +205,7 @@ std::string help_text(bool headless_binary) {
              "  Ctrl+Z / Ctrl+Y      undo / redo           Ctrl+Enter  apply the scene text\n"
              "  Ctrl+S               save (Ctrl+Shift+S: save as)  Ctrl+O  open\n"
              "  Ctrl+E               edit the scene text   Ctrl+P  save the image\n"
+             "  in the text: Ctrl+F find (Enter next, Shift+Enter previous), Ctrl+G go to line\n"
              "  Ctrl+Q               quit (asks about unsaved changes)\n"
              "  F12                  screenshot of the whole window\n"
              "Recent files: $XDG_CONFIG_HOME/raytracer-view/recent.txt (or ~/.config/...).\n";

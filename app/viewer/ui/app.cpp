@@ -14,9 +14,12 @@
 #include <cstring>
 #include <cstdio>
 #include <ctime>
+#include <optional>
+#include <utility>
 
 #include "default_scene.h"
 #include "image_io.h"
+#include "scene_edits.h"
 #include "scene_writer.h"
 #include "diagnostic_text.h"
 
@@ -26,7 +29,7 @@ namespace {
 
 // Letter and function keys as the GLFW backend reports them in io.KeysDown (GLFW key
 // codes: letters are their upper-case ASCII codes). ImGui 1.86 maps only a few keys.
-constexpr int kKeyE = 'E', kKeyF = 'F', kKeyK = 'K', kKeyO = 'O', kKeyP = 'P', kKeyQ = 'Q', kKeyR = 'R', kKeyS = 'S';
+constexpr int kKeyD = 'D', kKeyE = 'E', kKeyF = 'F', kKeyK = 'K', kKeyO = 'O', kKeyP = 'P', kKeyQ = 'Q', kKeyR = 'R', kKeyS = 'S';
 constexpr int kKeyF12 = 301;
 
 bool key_pressed(int k, bool repeat = false) {
@@ -191,6 +194,8 @@ void ViewerApp::frame() {
     if (interactive_) {
         NavigationInput::Result r = nav_input_.handle(layout_, render_.world(), usable, panels_.scene_size());
         if (r.clicked) select_at(r.x, r.y);
+        handle_context_menu(usable);
+        draw_context_menu();
     }
     end_edits();
     editor_.tick(now);
@@ -289,7 +294,9 @@ void ViewerApp::handle_shortcuts() {
     }
     if (loader_.active() && imgui_key_pressed(ImGuiKey_Escape) && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId))
         run(Command::CancelLoad);
+    if (!io.WantCaptureKeyboard && ctrl && !io.KeyAlt && key_pressed(kKeyD)) run(Command::Duplicate);
     if (!io.WantCaptureKeyboard && !ctrl && !io.KeyAlt) {
+        if (imgui_key_pressed(ImGuiKey_Delete)) run(Command::Delete);
         if (imgui_key_pressed(ImGuiKey_Space)) run(Command::TogglePause);
         if (key_pressed(kKeyF)) run(Command::FrameScene);
         if (key_pressed(kKeyR)) run(Command::ResetView);
@@ -409,8 +416,193 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             status_.set("Picture frame: exactly the scene's picture");
             return true;
         case Command::Help: dialogs_.show(Dialogs::Kind::Help); return true;
+        case Command::AddItem:
+        case Command::Duplicate:
+        case Command::Delete:
+        case Command::SwitchLight:
+        case Command::MakeCsg: return scene_edit(arg, c);
     }
     return false;
+}
+
+// ---------------------------------------------------------------------------------
+// Structural edits: one text replacement each (scene_edits.h), applied by the document
+// as one undo step. The text must be the scene's: a draft is applied or reverted first.
+
+namespace {
+
+Selection selection_of(const SceneItem& item) {
+    if (item.index < 0) return {};
+    Selection::Kind k = item.kind == SceneItem::Kind::Object ? Selection::Kind::Object
+                        : item.kind == SceneItem::Kind::Plane ? Selection::Kind::Plane
+                                                              : Selection::Kind::Light;
+    return {k, item.index, {}};
+}
+
+std::optional<SceneItem> item_of(const Selection& s) {
+    // A CSG operand is edited as its top-level object.
+    switch (s.kind) {
+        case Selection::Kind::Object: return SceneItem{SceneItem::Kind::Object, s.index};
+        case Selection::Kind::Plane: return SceneItem{SceneItem::Kind::Plane, s.index};
+        case Selection::Kind::Light: return SceneItem{SceneItem::Kind::Light, s.index};
+        case Selection::Kind::None: break;
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+bool ViewerApp::scene_edit(const std::string& arg, Command c) {
+    Document& doc = editor_.doc();
+    if (!doc.has_scene() || loader_.active()) return false;
+    if (doc.editor_dirty() || doc.text_behind()) {
+        status_.set("The scene text has unapplied changes: apply (Ctrl+Enter) or revert them first", true);
+        return false;
+    }
+    const std::string& text = std::as_const(doc).editor_text();
+    const rt::Scene& scene = doc.scene();
+    std::optional<SceneEdit> e;
+    std::string done;
+    std::optional<SceneItem> sel = item_of(panels_.selection());
+    switch (c) {
+        case Command::AddItem: {
+            static const std::pair<const char*, NewItem> kinds[] = {
+                {"sphere", NewItem::Sphere}, {"cylinder", NewItem::Cylinder}, {"tetrahedron", NewItem::Tetrahedron},
+                {"torus", NewItem::Torus},   {"plane", NewItem::Plane},       {"chess_plane", NewItem::ChessPlane},
+                {"lamp", NewItem::Lamp},     {"spotlight", NewItem::Spotlight}};
+            const NewItem* kind = nullptr;
+            for (const auto& k : kinds)
+                if (arg == k.first) kind = &k.second;
+            if (!kind) return false;
+            // On the surface under the point (its normal from two neighbouring picks),
+            // or in front of the camera at the distance it looks at.
+            const Rect& im = layout_.image;
+            double px = place_x_ >= 0 ? place_x_ : im.x + im.w / 2, py = place_x_ >= 0 ? place_y_ : im.y + im.h / 2;
+            place_x_ = place_y_ = -1;
+            rt::Camera vc = nav_.display_camera({im, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
+            Placement at;
+            const rt::World* w = render_.world();
+            rt::PickResult r0 = w ? pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py) : rt::PickResult{};
+            if (r0.hit && std::isfinite(r0.t)) {
+                at.point = r0.point;
+                rt::PickResult rx = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px + 2, py);
+                rt::PickResult ry = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py + 2);
+                bool same = rx.hit && ry.hit && rx.object == r0.object && ry.object == r0.object &&
+                            rx.plane == r0.plane && ry.plane == r0.plane;
+                if (same) {
+                    rt::Vec3 n = rt::normalize(rt::cross(rx.point - r0.point, ry.point - r0.point));
+                    if (rt::dot(n, vc.position - r0.point) < 0) n = -n;
+                    at.normal = n;
+                }
+            } else {
+                rt::Ray ray = ray_at(vc, im, layout_.film_w, layout_.film_h, px, py);
+                at.point = ray.origin + ray.dir * rt::length(vc.centre - vc.position);
+            }
+            e = add_item(text, scene, *kind, at);
+            done = std::string("Added a ") + arg;
+            break;
+        }
+        case Command::Duplicate: {
+            if (!sel) return false;
+            // The copy goes one object-width to the right in the view, so it is seen
+            // (a round step: the copy's numbers stay as short as the original's).
+            rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
+            rt::Vec3 right = rt::normalize(rt::cross(vc.centre - vc.position, nav_.world_up()));
+            double step = 2.5 * typical_size(scene);
+            double q = std::pow(10.0, std::floor(std::log10(step > 0 ? step : 1.0)) - 1);
+            rt::Vec3 off = right * step;
+            off = {std::round(off.x / q) * q, std::round(off.y / q) * q, std::round(off.z / q) * q};
+            e = duplicate_item(text, scene, *sel, rt::finite(off) ? off : rt::Vec3{});
+            done = "Duplicated";
+            break;
+        }
+        case Command::Delete:
+            if (!sel) return false;
+            e = delete_item(text, scene, *sel);
+            done = "Deleted";
+            break;
+        case Command::SwitchLight:
+            if (!sel || sel->kind != SceneItem::Kind::Light) return false;
+            e = switch_light_kind(text, scene, sel->index);
+            done = scene.lights[std::size_t(sel->index)].lamp ? "The lamp is a spotlight now (its size is kept)"
+                                                              : "The spotlight is a lamp now";
+            break;
+        case Command::MakeCsg: {
+            char type = arg.empty() ? 'U' : arg[0];
+            int other = arg.size() > 2 ? std::atoi(arg.c_str() + 2) : -1;
+            if (!sel || sel->kind != SceneItem::Kind::Object || (type != 'U' && type != 'I' && type != 'C')) return false;
+            e = make_csg(text, scene, sel->index, other, rt::CsgType(type));
+            done = "Made a CSG of the two objects";
+            break;
+        }
+        default: return false;
+    }
+    if (!e || !doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text)) {
+        status_.set("Cannot do that to this scene text", true);
+        return false;
+    }
+    panels_.select(selection_of(e->select));
+    status_.set(done + " (Ctrl+Z undoes)");
+    return true;
+}
+
+void ViewerApp::handle_context_menu(bool usable) {
+    ImGuiIO& io = ImGui::GetIO();
+    double mx = io.MousePos.x, my = io.MousePos.y;
+    if (usable && ImGui::IsMouseClicked(1) && !io.WantCaptureMouse && layout_.image.contains(mx, my)) {
+        rclick_armed_ = true;
+        rclick_x_ = mx;
+        rclick_y_ = my;
+    }
+    if (rclick_armed_ && !ImGui::IsMouseDown(1)) {
+        rclick_armed_ = false;
+        // A right drag pans; only a click (the pointer stayed put) opens the menu.
+        if (std::hypot(mx - rclick_x_, my - rclick_y_) < 4 && usable) {
+            menu_prev_selection_ = panels_.selection();
+            select_at(rclick_x_, rclick_y_);
+            ImGui::OpenPopup("image_menu");
+        }
+    }
+}
+
+void ViewerApp::draw_context_menu() {
+    if (!ImGui::BeginPopup("image_menu")) return;
+    const Selection& sel = panels_.selection();
+    const rt::Scene& scene = editor_.doc().scene();
+    if (ImGui::BeginMenu("Add here")) {
+        static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
+        for (const char* k : kinds)
+            if (ImGui::MenuItem(k)) {
+                place_x_ = rclick_x_;
+                place_y_ = rclick_y_;
+                run(Command::AddItem, k);
+            }
+        ImGui::EndMenu();
+    }
+    bool has = sel.kind != Selection::Kind::None;
+    if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) run(Command::Duplicate);
+    if (ImGui::MenuItem("Delete", "Del", false, has)) run(Command::Delete);
+    if (sel.kind == Selection::Kind::Light && sel.index >= 0 && std::size_t(sel.index) < scene.lights.size()) {
+        bool lamp = scene.lights[std::size_t(sel.index)].lamp;
+        if (ImGui::MenuItem(lamp ? "Make it a spotlight" : "Make it a lamp")) run(Command::SwitchLight);
+    }
+    const Selection& prev = menu_prev_selection_;
+    if (sel.kind == Selection::Kind::Object && prev.kind == Selection::Kind::Object && prev.index != sel.index &&
+        prev.index >= 0 && std::size_t(prev.index) < scene.objects.size()) {
+        std::string label = "CSG of object " + std::to_string(prev.index + 1) + " and this one";
+        if (ImGui::BeginMenu(label.c_str())) {
+            std::string other = " " + std::to_string(sel.index);
+            auto csg = [&](const char* type) {
+                panels_.select(prev);  // the left operand
+                run(Command::MakeCsg, type + other);
+            };
+            if (ImGui::MenuItem("union")) csg("U");
+            if (ImGui::MenuItem("intersection")) csg("I");
+            if (ImGui::MenuItem("difference (first minus this)")) csg("C");
+            ImGui::EndMenu();
+        }
+    }
+    ImGui::EndPopup();
 }
 
 std::string ViewerApp::default_image_name() const {

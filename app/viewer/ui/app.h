@@ -83,6 +83,10 @@ private:
     void after_document_replaced();
     void start_load(const std::string& path);
     void select_at(double px, double py);
+    // Structural edits and the image's context menu.
+    bool scene_edit(const std::string& arg, Command c);
+    void handle_context_menu(bool usable);
+    void draw_context_menu();
     bool do_save();
     bool do_save_as(const std::string& path);
     void do_save_image(const std::string& path);
@@ -102,6 +106,11 @@ private:
     Dialogs dialogs_;
     Panels panels_;
 
+    // Right button in the image: a click (no drag) opens the context menu there.
+    bool rclick_armed_ = false;
+    double rclick_x_ = 0, rclick_y_ = 0;
+    double place_x_ = -1, place_y_ = -1;  // where AddItem puts things (screen); < 0: image centre
+    Selection menu_prev_selection_;       // the selection before the right click (for CSG)
     std::string screenshot_request_;
     std::string last_title_, last_layout_;
     double last_disk_check_ = 0;

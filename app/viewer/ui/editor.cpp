@@ -2,8 +2,6 @@
 #include "editor.h"
 
 #include <imgui.h>
-#include <imgui_internal.h>  // GetActiveID, ClearActiveID: 1.86 has no public equivalent
-#include <imgui_stdlib.h>
 
 #include <algorithm>
 #include <utility>
@@ -18,18 +16,12 @@ const ImVec4 kErrorColour{1.0f, 0.42f, 0.42f, 1.0f};
 const ImVec4 kWarnColour{1.0f, 0.80f, 0.35f, 1.0f};
 const ImVec4 kOkColour{0.55f, 0.85f, 0.55f, 1.0f};
 
-// Guarded: the headless binary has no key map, and index -1 means "not mapped".
-bool escape_pressed() {
-    int k = ImGui::GetKeyIndex(ImGuiKey_Escape);
-    return k >= 0 && ImGui::IsKeyPressed(k, false);
-}
-
 }  // namespace
 
 namespace {
-// Bigger texts are not edited in the ImGui widget: it would hold several more copies
-// of the text (and lay all of it out on every keystroke).
-constexpr std::size_t kMaxEditableBytes = 16u << 20;
+// Bigger texts are not edited in the widget: it holds a second copy of the text, as
+// lines (the document's copy is the first).
+constexpr std::size_t kMaxEditableBytes = 64u << 20;
 constexpr double kRecoveryInterval = 3.0;
 }  // namespace
 
@@ -113,11 +105,6 @@ void DocumentEditor::focus(int cursor) {
 void DocumentEditor::apply() {
     bool ok = doc_.apply_text();
     status_.set(ok ? "Applied the scene text" : "The scene text has errors; still showing the last good scene", !ok);
-    if (active_) {
-        // ImGui drops focus on Ctrl+Enter; take it back with the cursor where it was.
-        focus_ = true;
-        pending_cursor_ = cursor_;
-    }
 }
 
 void DocumentEditor::draw_banners() {
@@ -157,18 +144,33 @@ void DocumentEditor::draw_banners() {
     }
 }
 
-int DocumentEditor::callback(ImGuiInputTextCallbackData* data) {
-    auto* ed = static_cast<DocumentEditor*>(data->UserData);
-    if (data->EventFlag == ImGuiInputTextFlags_CallbackAlways) {
-        // ImGui 1.86 has no call to place the cursor of a text field: do it from inside.
-        if (ed->pending_cursor_ >= 0) {
-            int p = std::min(ed->pending_cursor_, data->BufTextLen);
-            data->CursorPos = data->SelectionStart = data->SelectionEnd = p;
-            ed->pending_cursor_ = -1;
-        }
-        ed->cursor_ = data->CursorPos;
+// The widget keeps the text as lines; the document keeps it as one string. A new
+// document text (load, undo, a panel edit) replaces the widget's; typing is carried
+// the other way as the widget's edit log, one small replacement per edit.
+void DocumentEditor::sync_widget() {
+    if (doc_.text_version() != seen_version_) {
+        widget_.set_text(std::as_const(doc_).editor_text());
+        widget_.buffer().set_logging(true);
+        seen_version_ = doc_.text_version();
     }
-    return 0;
+    const auto& diags = doc_.diagnostics();
+    bool same = diags.size() == marked_.size();
+    for (std::size_t k = 0; same && k < diags.size(); ++k)
+        same = diags[k].line == marked_[k].line && diags[k].message == marked_[k].message;
+    if (!same) {
+        std::vector<LineMark> marks;
+        for (const rt::Diagnostic& d : diags) marks.push_back({d.line, d.is_error(), d.message});
+        widget_.set_marks(std::move(marks));
+        marked_ = diags;
+    }
+    if (focus_) {
+        widget_.focus();
+        focus_ = false;
+    }
+    if (pending_cursor_ >= 0) {
+        widget_.show(widget_.buffer().pos_of(std::size_t(pending_cursor_)));
+        pending_cursor_ = -1;
+    }
 }
 
 void DocumentEditor::draw_text_tab(Layout& layout) {
@@ -183,6 +185,9 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
     ImGui::SameLine();
     if (doc_.editor_dirty()) ImGui::TextColored(kWarnColour, "unapplied changes");
     else ImGui::TextColored(kOkColour, "text = scene");
+    ImGui::SameLine();
+    bool wrap = widget_.wrap();
+    if (ImGui::Checkbox("wrap", &wrap)) widget_.set_wrap(wrap);
     if (doc_.text_behind()) {
         ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
         ImGui::TextWrapped("Panel edits are not in this text: it has unapplied changes that do not parse. "
@@ -195,23 +200,6 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
     float diag_h = line * float(std::clamp(int(diags.size()), 1, 6)) + ImGui::GetStyle().WindowPadding.y * 2;
     float editor_h = std::max(line * 4, ImGui::GetContentRegionAvail().y - diag_h - ImGui::GetStyle().ItemSpacing.y);
 
-    // Escape in an ImGui text field reverts everything typed since it was focused.
-    // The user's text must never be lost, so Escape just leaves the field instead.
-    if (active_ && escape_pressed()) ImGui::ClearActiveID();
-    if (doc_.text_version() != seen_version_) {
-        // The document replaced the text (undo, reload, panel edit): an active field
-        // keeps its own copy, so make it let go and take the new text.
-        if (id_ != 0 && ImGui::GetActiveID() == id_) {
-            ImGui::ClearActiveID();
-            focus_ = true;
-            pending_cursor_ = cursor_;
-        }
-        seen_version_ = doc_.text_version();
-    }
-    if (focus_) {
-        ImGui::SetKeyboardFocusHere();
-        focus_ = false;
-    }
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
     bool changed = false;
@@ -222,16 +210,18 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
                            "another editor are reloaded by themselves.",
                            double(std::as_const(doc_).editor_text().size()) / (1 << 20));
         ImGui::EndChild();
-        id_ = 0;
         active_ = false;
     } else {
-        changed = ImGui::InputTextMultiline("##scene_text", &doc_.editor_text(), ImVec2(-1, editor_h),
-                                            ImGuiInputTextFlags_AllowTabInput | ImGuiInputTextFlags_CallbackAlways,
-                                            &DocumentEditor::callback, this);
-        id_ = ImGui::GetItemID();
-        active_ = ImGui::IsItemActive();
-        if (changed) doc_.note_typed();
+        sync_widget();
+        changed = widget_.draw("scene_text", ImVec2(-1, editor_h));
+        active_ = widget_.focused();
+        if (changed) {
+            std::string& text = doc_.editor_text();
+            for (const TextEdit& e : widget_.buffer().take_edits()) text.replace(e.offset, e.removed.size(), e.inserted);
+            doc_.note_typed();
+        }
     }
+    id_ = 0;  // the widget holds no ImGui active id while typing
     layout.editor = {top.x, top.y, width, editor_h};
     if (changed) check_due_ = ImGui::GetTime() + 0.3;  // live check once typing pauses
 
@@ -244,10 +234,7 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
                                (d.is_error() ? "error: " : "warning: ") + d.message;
             ImGui::PushID(int(k));
             ImGui::PushStyleColor(ImGuiCol_Text, d.is_error() ? kErrorColour : kWarnColour);
-            if (ImGui::Selectable(text.c_str())) {
-                pending_cursor_ = int(offset_of(std::as_const(doc_).editor_text(), d.line, d.col));
-                focus_ = true;
-            }
+            if (ImGui::Selectable(text.c_str())) widget_.show({d.line - 1, d.col - 1});
             ImGui::PopStyleColor();
             ImGui::PopID();
         }

@@ -12,8 +12,7 @@
 #include "recent_files.h"
 #include "recovery.h"
 #include "shared.h"
-
-struct ImGuiInputTextCallbackData;
+#include "text_editor.h"
 
 namespace rtview {
 
@@ -50,7 +49,7 @@ public:
     bool wants_text_tab() { bool w = want_tab_; want_tab_ = false; return w; }
 
 private:
-    static int callback(ImGuiInputTextCallbackData* data);
+    void sync_widget();
 
     bool interactive_;
     StatusLine& status_;
@@ -64,6 +63,8 @@ private:
     bool recovery_offer_ = false;  // a previous session's unsaved text is waiting
     std::string recovered_text_;
 
+    TextEditor widget_;
+    std::vector<rt::Diagnostic> marked_;  // the diagnostics the widget's gutter shows
     std::uint64_t seen_version_ = 0;
     unsigned id_ = 0;
     bool active_ = false;

@@ -171,6 +171,24 @@ void Panels::draw_menu_bar() {
         if (ImGui::MenuItem("Edit scene text", "Ctrl+E")) commands_.run(Command::EditText);
         if (ImGui::MenuItem("Apply text", "Ctrl+Enter")) commands_.run(Command::ApplyText);
         if (ImGui::MenuItem("Revert text", nullptr, false, doc.editor_dirty())) commands_.run(Command::RevertText);
+        ImGui::Separator();
+        // Structural edits: written into the text as ordinary blocks, one undo step each.
+        const bool can = doc.has_scene() && !doc.editor_dirty() && !doc.text_behind();
+        if (ImGui::BeginMenu("Add (in front of the view)", can)) {
+            static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
+            for (const char* k : kinds)
+                if (ImGui::MenuItem(k)) commands_.run(Command::AddItem, k);
+            ImGui::EndMenu();
+        }
+        const bool has = can && selection_.kind != Selection::Kind::None;
+        if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) commands_.run(Command::Duplicate);
+        if (ImGui::MenuItem("Delete", "Del", false, has)) commands_.run(Command::Delete);
+        const bool light = has && selection_.kind == Selection::Kind::Light && selection_.index >= 0 &&
+                           std::size_t(selection_.index) < doc.scene().lights.size();
+        if (ImGui::MenuItem(light && !doc.scene().lights[std::size_t(selection_.index)].lamp ? "Make the spotlight a lamp"
+                                                                                            : "Make the lamp a spotlight",
+                            nullptr, false, light))
+            commands_.run(Command::SwitchLight);
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("View")) {

@@ -69,6 +69,12 @@ enum class Command {
     FitPicture,
     Help,
     CancelLoad,
+    // Structural edits (scene_edits.h), each one undo step written into the text.
+    AddItem,         // arg: "sphere", ..., "spotlight"; at the point set by place_at (else the image centre)
+    Duplicate,       // the selected object, plane or light
+    Delete,
+    SwitchLight,     // the selected lamp <-> spotlight
+    MakeCsg,         // arg: "U", "I" or "C" and an object number: "U 3" (the selection is left)
 };
 
 class Commands {

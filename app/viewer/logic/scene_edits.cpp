@@ -1,0 +1,484 @@
+// Structural edits as text replacements (see scene_edits.h). Block extents come from
+// scene_text's scan_layout (the parser's lexical rules); new blocks come from the
+// scene writer, re-indented to sit where they go.
+#include "scene_edits.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <vector>
+
+#include "scene_text.h"
+#include "scene_writer.h"
+
+namespace rtview {
+
+TextReplacement TextReplacement::apply(std::string& s) const {
+    std::size_t off = std::min(offset, s.size());
+    std::size_t len = std::min(length, s.size() - off);
+    TextReplacement back{off, text.size(), s.substr(off, len)};
+    s.replace(off, len, text);
+    return back;
+}
+
+const char* new_item_name(NewItem k) {
+    switch (k) {
+    case NewItem::Sphere: return "sphere";
+    case NewItem::Cylinder: return "cylinder";
+    case NewItem::Tetrahedron: return "tetrahedron";
+    case NewItem::Torus: return "torus";
+    case NewItem::Plane: return "plane";
+    case NewItem::ChessPlane: return "chess_plane";
+    case NewItem::Lamp: return "lamp";
+    case NewItem::Spotlight: return "spotlight";
+    }
+    return "";
+}
+
+namespace {
+
+using rt::Vec3;
+
+// ---- bounds -----------------------------------------------------------------------
+
+void grow(rt::Aabb& b, Vec3 p, double r = 0) {
+    if (!rt::finite(p) || !std::isfinite(r)) return;
+    b.lo = rt::vmin(b.lo, p - Vec3{r, r, r});
+    b.hi = rt::vmax(b.hi, p + Vec3{r, r, r});
+}
+
+void grow(rt::Aabb& b, const rt::Object& o) {
+    std::visit(
+        [&](const auto& s) {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, rt::Sphere>) grow(b, s.position, std::fabs(s.radius));
+            else if constexpr (std::is_same_v<T, rt::Cylinder>) {
+                grow(b, s.end1, std::fabs(s.radius));
+                grow(b, s.end2, std::fabs(s.radius));
+            } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
+                for (const Vec3& v : s.v) grow(b, v);
+            } else if constexpr (std::is_same_v<T, rt::Torus>) {
+                grow(b, s.position, std::fabs(s.major) + std::fabs(s.minor));
+            } else {
+                for (const rt::Object& op : s.operands) grow(b, op);
+            }
+        },
+        o.shape);
+}
+
+// ---- numbers a person would write --------------------------------------------------
+
+// One or two significant digits: sizes of new items (0.37 -> 0.4, 12.3 -> 10).
+double nice_size(double v) {
+    if (!(v > 0) || !std::isfinite(v)) return 1;
+    double e = std::floor(std::log10(v));
+    double p = std::pow(10.0, e);
+    double m = v / p;  // 1 <= m < 10
+    double steps[] = {1, 2, 5, 10};
+    double best = 1;
+    for (double s : steps)
+        if (std::fabs(std::log(m / s)) < std::fabs(std::log(m / best))) best = s;
+    // Divide by an exact power of ten for small values so 0.2 is the double nearest 0.2.
+    return e < 0 ? best / std::pow(10.0, -e) : best * p;
+}
+
+// A coordinate rounded to a thousandth of the scene's extent, so a click at
+// 2.3418765 becomes 2.342 in the text.
+double round_to(double v, double extent) {
+    if (!std::isfinite(v)) return 0;
+    double e = std::floor(std::log10(extent > 0 && std::isfinite(extent) ? extent : 1.0)) - 3;
+    if (e < 0) {
+        double k = std::pow(10.0, -e);
+        return std::round(v * k) / k;
+    }
+    double q = std::pow(10.0, e);
+    return std::round(v / q) * q;
+}
+Vec3 round_to(Vec3 v, double extent) { return {round_to(v.x, extent), round_to(v.y, extent), round_to(v.z, extent)}; }
+
+// ---- text helpers -----------------------------------------------------------------
+
+bool blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+std::string line_indent(const std::string& text, std::size_t offset) {
+    std::size_t ls = offset == 0 ? 0 : text.rfind('\n', offset - 1);
+    ls = (ls == std::string::npos || offset == 0) ? 0 : ls + 1;
+    std::size_t e = ls;
+    while (e < text.size() && (text[e] == ' ' || text[e] == '\t')) ++e;
+    return text.substr(ls, e - ls);
+}
+
+// Continuation lines of `block` get `indent` instead of the first `strip` spaces.
+std::string reindent(const std::string& block, std::size_t strip, const std::string& indent) {
+    std::string out;
+    std::size_t i = 0;
+    bool first = true;
+    for (;;) {
+        std::size_t nl = block.find('\n', i);
+        std::string line = block.substr(i, nl == std::string::npos ? std::string::npos : nl - i);
+        if (!first) {
+            std::size_t s = 0;
+            while (s < strip && s < line.size() && line[s] == ' ') ++s;
+            line = indent + line.substr(s);
+        }
+        out += line;
+        if (nl == std::string::npos) break;
+        out += '\n';
+        i = nl + 1;
+        first = false;
+    }
+    return out;
+}
+
+// The writer's text of the only item of `one`, indented for a line starting with `indent`.
+std::string written_block(const rt::Scene& one, SceneItem::Kind kind, const std::string& indent) {
+    std::string all = rt::write_scene(one);
+    SceneLayout l = scan_layout(all);
+    const std::vector<TextSpan>& v = kind == SceneItem::Kind::Object  ? l.objects
+                                     : kind == SceneItem::Kind::Plane ? l.planes
+                                                                      : l.lights;
+    if (!l.ok || v.size() != 1) return {};
+    std::size_t windent = line_indent(all, v[0].begin).size();
+    return reindent(all.substr(v[0].begin, v[0].end - v[0].begin), windent, indent);
+}
+
+const std::vector<TextSpan>& spans_of(const SceneLayout& l, SceneItem::Kind k) {
+    return k == SceneItem::Kind::Object ? l.objects : k == SceneItem::Kind::Plane ? l.planes : l.lights;
+}
+std::size_t count_of(const rt::Scene& s, SceneItem::Kind k) {
+    return k == SceneItem::Kind::Object ? s.objects.size() : k == SceneItem::Kind::Plane ? s.planes.size() : s.lights.size();
+}
+
+// The layout, if it matches the scene item for item.
+std::optional<SceneLayout> layout_of(const std::string& text, const rt::Scene& scene) {
+    SceneLayout l = scan_layout(text);
+    if (!l.ok || l.objects.size() != scene.objects.size() || l.planes.size() != scene.planes.size() ||
+        l.lights.size() != scene.lights.size())
+        return std::nullopt;
+    return l;
+}
+
+// Text for a new block of `kind`: after the last block of that kind (on its own line,
+// with that block's indentation), or in a new section before `end`.
+TextReplacement insert_block(const std::string& text, const SceneLayout& l, SceneItem::Kind kind,
+                             const rt::Scene& one, std::size_t after_index = std::size_t(-1)) {
+    const std::vector<TextSpan>& spans = spans_of(l, kind);
+    if (!spans.empty()) {
+        TextSpan s = spans[std::min(after_index, spans.size() - 1)];
+        std::string indent = line_indent(text, s.begin);
+        return {s.end, 0, "\n" + indent + written_block(one, kind, indent)};
+    }
+    const char* section = kind == SceneItem::Kind::Object  ? "thing"
+                          : kind == SceneItem::Kind::Plane ? "special_thing"
+                                                           : "light";
+    std::string block = std::string(section) + " {\n  " + written_block(one, kind, "  ") + "\n}\n";
+    std::size_t at = l.append_at;
+    if (at > 0 && text[at - 1] != '\n') block = "\n" + block;
+    return {at, 0, block};
+}
+
+// The span of a block to delete: its whole line(s) when nothing else is on them (a
+// trailing // comment goes with it), else the block and the blanks after it.
+TextSpan deletion_span(const std::string& text, TextSpan s) {
+    std::size_t b = s.begin, e = s.end;
+    while (b > 0 && blank(text[b - 1]) && text[b - 1] != '\r') --b;
+    bool line_start = b == 0 || text[b - 1] == '\n';
+    std::size_t t = e;
+    while (t < text.size() && blank(text[t])) ++t;
+    bool comment = t + 1 < text.size() && text[t] == '/' && text[t + 1] == '/';
+    if (comment)
+        while (t < text.size() && text[t] != '\n') ++t;
+    bool line_end = t == text.size() || text[t] == '\n';
+    if (line_start && line_end) {
+        if (t < text.size()) return {b, t + 1};  // the line and its newline
+        // Last line without a newline: take the newline before it instead.
+        if (b > 0) --b;
+        return {b, t};
+    }
+    std::size_t after = e;
+    while (after < text.size() && blank(text[after])) ++after;
+    if (after < text.size() && text[after] != '\n') return {s.begin, after};
+    std::size_t before = s.begin;
+    while (before > 0 && blank(text[before - 1])) --before;
+    return {before, e};
+}
+
+// One replacement covering several (sorted, disjoint) ones, with the text between
+// them unchanged.
+TextReplacement merge(const std::string& text, std::vector<TextReplacement> reps) {
+    std::sort(reps.begin(), reps.end(), [](const TextReplacement& a, const TextReplacement& b) { return a.offset < b.offset; });
+    TextReplacement out{reps.front().offset, 0, {}};
+    std::size_t pos = out.offset;
+    for (const TextReplacement& r : reps) {
+        out.text += text.substr(pos, r.offset - pos);
+        out.text += r.text;
+        pos = r.offset + r.length;
+    }
+    out.length = pos - out.offset;
+    return out;
+}
+
+Vec3 up_of(const rt::Scene& scene, const Placement& at) {
+    if (rt::length2(at.normal) > 0) return rt::normalize(at.normal);
+    Vec3 up = rt::normalize(scene.camera.up - scene.camera.centre);
+    return rt::length2(up) > 0 ? up : Vec3{0, 0, 1};
+}
+
+rt::Colour new_light_colour(const rt::Scene& scene, double extent) {
+    if (!scene.lights.empty()) return scene.lights.back().colour;
+    // Light falls off as 1/r^2: about 1 at half the scene's size.
+    double c = nice_size(std::max(1.0, 0.25 * extent * extent));
+    return {c, c, c};
+}
+
+constexpr const char* kSizeMark = "// lamp size ";
+
+// The number after the last `// lamp size ` in `block`, if any.
+std::optional<double> kept_size(const std::string& block) {
+    std::size_t p = block.rfind(kSizeMark);
+    if (p == std::string::npos) return std::nullopt;
+    p += std::string(kSizeMark).size();
+    std::size_t e = p;
+    while (e < block.size() && !blank(block[e]) && block[e] != '\n' && block[e] != '}') ++e;
+    double v = 0;
+    auto r = std::from_chars(block.data() + p, block.data() + e, v);
+    if (r.ec != std::errc() || r.ptr != block.data() + e || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+// A sum like 2.07 - 2.5 gives -0.43000000000000016; twelve significant digits drop
+// that noise, so a moved item's numbers read as a person would write them.
+double tidy(double v) {
+    if (!std::isfinite(v)) return v;
+    char buf[40];
+    auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 12);
+    double back = v;
+    std::from_chars(buf, r.ptr, back);
+    return back;
+}
+void move_point(Vec3& p, Vec3 d) {
+    p += d;
+    p = {tidy(p.x), tidy(p.y), tidy(p.z)};
+}
+
+}  // namespace
+
+double scene_extent(const rt::Scene& scene) {
+    rt::Aabb b;
+    for (const rt::Object& o : scene.objects) grow(b, o);
+    for (const rt::Light& l : scene.lights) grow(b, l.position);
+    if (b.lo.x <= b.hi.x) {
+        double d = rt::length(b.hi - b.lo);
+        if (d > 0 && std::isfinite(d)) return d;
+    }
+    double d = rt::length(scene.camera.centre - scene.camera.position);
+    return d > 0 && std::isfinite(d) ? d : 1;
+}
+
+void translate(rt::Object& o, Vec3 d) {
+    std::visit(
+        [&](auto& s) {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus>) move_point(s.position, d);
+            else if constexpr (std::is_same_v<T, rt::Cylinder>) {
+                move_point(s.end1, d);
+                move_point(s.end2, d);
+            } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
+                for (Vec3& v : s.v) move_point(v, d);
+            } else {
+                for (rt::Object& op : s.operands) translate(op, d);
+            }
+        },
+        o.shape);
+}
+
+void translate(rt::Plane& p, Vec3 d) {
+    for (Vec3& v : p.point) move_point(v, d);
+}
+
+void translate(rt::Light& l, Vec3 d) { move_point(l.position, d); }
+
+double typical_size(const rt::Scene& scene) {
+    // Half the box diagonal over sqrt(3): a sphere's radius for a sphere.
+    std::vector<double> sizes;
+    for (const rt::Object& o : scene.objects) {
+        rt::Aabb b;
+        grow(b, o);
+        double d = rt::length(b.hi - b.lo) / (2 * std::sqrt(3.0));
+        if (b.lo.x <= b.hi.x && d > 0 && std::isfinite(d)) sizes.push_back(d);
+    }
+    if (sizes.empty()) return 0.05 * scene_extent(scene);  // a twentieth of the scene
+    std::nth_element(sizes.begin(), sizes.begin() + std::ptrdiff_t(sizes.size() / 2), sizes.end());
+    return sizes[sizes.size() / 2];
+}
+
+std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at) {
+    auto l = layout_of(text, scene);
+    if (!l || !rt::finite(at.point)) return std::nullopt;
+    const double extent = scene_extent(scene);
+    const double r = nice_size(typical_size(scene));
+    const Vec3 up = up_of(scene, at);
+    const rt::Frame f = rt::Frame::from_axis(up);
+    const Vec3 p = at.point;
+    auto rp = [&](Vec3 v) { return round_to(v, extent); };
+
+    rt::Scene one;
+    one.camera = scene.camera;
+    SceneItem::Kind where = SceneItem::Kind::Object;
+    rt::Object o;
+    switch (kind) {
+    case NewItem::Sphere: o.shape = rt::Sphere{rp(p + up * r), r}; break;
+    case NewItem::Cylinder: o.shape = rt::Cylinder{rp(p), rp(p + up * (2 * r)), r}; break;
+    case NewItem::Tetrahedron: {
+        // Three corners on the surface around the point, the fourth above it.
+        rt::Tetrahedron t;
+        for (int k = 0; k < 3; ++k) {
+            double a = 2.0943951023931957 * k;  // 120 degrees apart
+            t.v[k] = rp(p + (f.u * std::cos(a) + f.v * std::sin(a)) * r);
+        }
+        t.v[3] = rp(p + up * (1.5 * r));
+        o.shape = t;
+        break;
+    }
+    case NewItem::Torus: {
+        double minor = nice_size(r / 3);
+        o.shape = rt::Torus{rp(p + up * minor), rp(up), r, minor};
+        break;
+    }
+    case NewItem::Plane:
+    case NewItem::ChessPlane: {
+        // Through the point, facing `up`; a chess plane's cells are 2r wide.
+        rt::Plane pl;
+        pl.chess = kind == NewItem::ChessPlane;
+        const double cell = 2 * r;
+        pl.point[0] = rp(p);
+        pl.point[1] = rp(p + f.u * cell);
+        pl.point[2] = rp(p + f.v * cell);
+        pl.point[3] = rp(p + up * cell);
+        if (pl.chess) {
+            pl.has_material = pl.has_material2 = true;
+            pl.material = rt::Material{};
+            pl.material.colour = {0.9, 0.9, 0.9};
+            pl.material2 = rt::Material{};
+            pl.material2.colour = {0.1, 0.1, 0.1};
+        }
+        one.planes.push_back(pl);
+        where = SceneItem::Kind::Plane;
+        break;
+    }
+    case NewItem::Lamp:
+    case NewItem::Spotlight: {
+        rt::Light li;
+        li.lamp = kind == NewItem::Lamp;
+        // Off the surface, so it lights it rather than sitting inside it.
+        li.position = rp(p + up * (4 * r));
+        li.colour = new_light_colour(scene, extent);
+        li.size = li.lamp ? nice_size(r / 2) : 1;
+        one.lights.push_back(li);
+        where = SceneItem::Kind::Light;
+        break;
+    }
+    }
+    if (where == SceneItem::Kind::Object) one.objects.push_back(o);
+    SceneEdit e;
+    e.replacement = insert_block(text, *l, where, one);
+    e.select = {where, int(count_of(scene, where))};
+    return e;
+}
+
+std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene& scene, SceneItem item, Vec3 offset) {
+    auto l = layout_of(text, scene);
+    if (!l || item.index < 0 || std::size_t(item.index) >= count_of(scene, item.kind)) return std::nullopt;
+    const TextSpan s = spans_of(*l, item.kind)[std::size_t(item.index)];
+    SceneEdit e;
+    e.select = {item.kind, item.index + 1};
+    if (offset == Vec3{0, 0, 0}) {
+        std::string indent = line_indent(text, s.begin);
+        e.replacement = {s.end, 0, "\n" + indent + text.substr(s.begin, s.end - s.begin)};
+        return e;
+    }
+    rt::Scene one;
+    one.camera = scene.camera;
+    if (item.kind == SceneItem::Kind::Object) {
+        one.objects.push_back(scene.objects[std::size_t(item.index)]);
+        translate(one.objects[0], offset);
+    } else if (item.kind == SceneItem::Kind::Plane) {
+        one.planes.push_back(scene.planes[std::size_t(item.index)]);
+        translate(one.planes[0], offset);
+    } else {
+        one.lights.push_back(scene.lights[std::size_t(item.index)]);
+        translate(one.lights[0], offset);
+    }
+    e.replacement = insert_block(text, *l, item.kind, one, std::size_t(item.index));
+    return e;
+}
+
+std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& scene, SceneItem item) {
+    auto l = layout_of(text, scene);
+    if (!l || item.index < 0 || std::size_t(item.index) >= count_of(scene, item.kind)) return std::nullopt;
+    TextSpan d = deletion_span(text, spans_of(*l, item.kind)[std::size_t(item.index)]);
+    SceneEdit e;
+    e.replacement = {d.begin, d.end - d.begin, {}};
+    // Select the neighbour that takes its place, if any.
+    int n = int(count_of(scene, item.kind)) - 1;
+    e.select = {item.kind, n == 0 ? -1 : std::min(item.index, n - 1)};
+    return e;
+}
+
+std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scene, int a, int b, rt::CsgType type) {
+    auto l = layout_of(text, scene);
+    const int n = int(scene.objects.size());
+    if (!l || a == b || a < 0 || b < 0 || a >= n || b >= n) return std::nullopt;
+    rt::Csg csg;
+    csg.type = type;
+    csg.operands = {scene.objects[std::size_t(a)], scene.objects[std::size_t(b)]};
+    rt::Object o;
+    o.material = scene.objects[std::size_t(a)].material;
+    o.has_material = scene.objects[std::size_t(a)].has_material;
+    o.shape = std::move(csg);
+    rt::Scene one;
+    one.camera = scene.camera;
+    one.objects.push_back(std::move(o));
+
+    const TextSpan sa = l->objects[std::size_t(a)], sb = l->objects[std::size_t(b)];
+    std::string indent = line_indent(text, sa.begin);
+    TextSpan db = deletion_span(text, sb);
+    // The CSG replaces a's block; b's block goes. Both at once: one replacement.
+    SceneEdit e;
+    e.replacement = merge(text, {{sa.begin, sa.end - sa.begin, written_block(one, SceneItem::Kind::Object, indent)},
+                                 {db.begin, db.end - db.begin, {}}});
+    e.select = {SceneItem::Kind::Object, b < a ? a - 1 : a};
+    return e;
+}
+
+std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Scene& scene, int light) {
+    auto l = layout_of(text, scene);
+    if (!l || light < 0 || std::size_t(light) >= scene.lights.size()) return std::nullopt;
+    const TextSpan s = l->lights[std::size_t(light)];
+    const std::string old_block = text.substr(s.begin, s.end - s.begin);
+    rt::Light li = scene.lights[std::size_t(light)];
+    rt::Scene one;
+    one.camera = scene.camera;
+    std::string indent = line_indent(text, s.begin);
+    std::string block;
+    if (li.lamp) {
+        li.lamp = false;
+        one.lights.push_back(li);
+        block = written_block(one, SceneItem::Kind::Light, indent);
+        // Before the closing brace, on its own line (a comment runs to the line's end).
+        std::size_t close = block.rfind('}');
+        block.insert(close, "  " + std::string(kSizeMark) + rt::format_number(scene.lights[std::size_t(light)].size) + "\n" + indent);
+    } else {
+        li.lamp = true;
+        if (auto kept = kept_size(old_block)) li.size = *kept;
+        else li.size = nice_size(0.025 * scene_extent(scene));
+        one.lights.push_back(li);
+        block = written_block(one, SceneItem::Kind::Light, indent);
+    }
+    SceneEdit e;
+    e.replacement = {s.begin, s.end - s.begin, block};
+    e.select = {SceneItem::Kind::Light, light};
+    return e;
+}
+
+}  // namespace rtview

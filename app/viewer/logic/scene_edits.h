@@ -1,0 +1,86 @@
+// Structural scene edits as text edits: add an item, duplicate or delete one, make a
+// CSG of two objects, switch a lamp to a spotlight and back. Each edit is one minimal
+// replacement of the scene text (offset, length, new text), so undo can store the
+// replacement instead of a copy of the document, and the user's comments and layout
+// outside the touched blocks survive. No GL: unit-tested in tests/viewer.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include "scene.h"
+
+namespace rtview {
+
+// Replace `length` bytes at `offset` with `text`.
+struct TextReplacement {
+    std::size_t offset = 0, length = 0;
+    std::string text;
+    // Applies it to `s` and returns the replacement that takes it back.
+    TextReplacement apply(std::string& s) const;
+    std::string applied_to(std::string s) const {
+        apply(s);
+        return s;
+    }
+};
+
+// A top-level item of a scene: scene.objects[index], planes[index] or lights[index].
+struct SceneItem {
+    enum class Kind { Object, Plane, Light } kind = Kind::Object;
+    int index = -1;
+    bool operator==(const SceneItem& o) const { return kind == o.kind && index == o.index; }
+};
+
+struct SceneEdit {
+    TextReplacement replacement;
+    SceneItem select;  // what to select afterwards: the new item, or -1 when none
+};
+
+enum class NewItem { Sphere, Cylinder, Tetrahedron, Torus, Plane, ChessPlane, Lamp, Spotlight };
+const char* new_item_name(NewItem k);  // "sphere", ..., as in the format
+
+// Where a new item goes: a point on a surface with its normal, or a point in space
+// (normal zero; the camera's up then orients it).
+struct Placement {
+    rt::Vec3 point;
+    rt::Vec3 normal{0, 0, 0};
+};
+
+// The size of the scene: the diagonal of its objects' and lights' bounds, or the
+// camera's distance to its centre when there is nothing to bound. New items are
+// scaled from it.
+double scene_extent(const rt::Scene& scene);
+// The size new objects get: the median size of the scene's objects (a sphere's
+// radius), or a twentieth of scene_extent when there are none.
+double typical_size(const rt::Scene& scene);
+
+// All edits take the scene text and the scene it parses to (its items must match
+// the text's blocks one for one), and return nothing when the text's structure is
+// unclear or the item does not exist. The result is a plain block of the format, so
+// applying it and parsing gives the scene with the edit made.
+
+// A new item with a size from typical_size: objects after the last object (or in a
+// new `thing` section), planes after the last plane, lights after the last light.
+std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at);
+// A copy right after the original. With a zero offset the original's text is copied
+// as it is (comments included); otherwise the copy is written moved by `offset`.
+std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene& scene, SceneItem item,
+                                        rt::Vec3 offset = {0, 0, 0});
+// Removes the item's block, with its line when the line holds nothing else.
+std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& scene, SceneItem item);
+// Objects a and b (top level, a != b) become one CSG `left a, right b` at a's place,
+// with a's material (only the CSG's own material is rendered).
+std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scene, int a, int b, rt::CsgType type);
+// lamp <-> spotlight. A spotlight has no size, so the lamp's size is kept in the
+// block as a comment (`// lamp size S`) from which switching back restores it.
+std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Scene& scene, int light);
+
+// Moves every point of an item (for duplicate with an offset, and the move tool),
+// rounding each coordinate to 12 significant digits so that float noise of the sum
+// (2.07 - 2.5 = -0.43000000000000016) does not reach the text.
+void translate(rt::Object& o, rt::Vec3 d);
+void translate(rt::Plane& p, rt::Vec3 d);
+void translate(rt::Light& l, rt::Vec3 d);
+
+}  // namespace rtview

@@ -1,0 +1,179 @@
+// The scene text editor's model, without GL or ImGui: the text as a vector of lines,
+// the cursor and selection, edits recorded for undo, find, go to line, and the
+// colouring of one line. Every keystroke touches only the lines it changes, so typing
+// in a 10 MB file costs about as much as typing in a small one.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace rtview {
+
+// A place in the text: 0-based line, byte column inside that line.
+struct TextPos {
+    int line = 0;
+    int col = 0;
+    bool operator==(const TextPos& o) const { return line == o.line && col == o.col; }
+    bool operator!=(const TextPos& o) const { return !(*this == o); }
+    bool operator<(const TextPos& o) const { return line < o.line || (line == o.line && col < o.col); }
+    bool operator<=(const TextPos& o) const { return !(o < *this); }
+};
+
+struct TextRange {
+    TextPos begin, end;  // begin <= end
+    bool empty() const { return begin == end; }
+};
+
+// One replacement, with what it replaced: enough to apply it again or take it back.
+// `removed` started at `at`; after the edit `inserted` starts there.
+struct TextEdit {
+    TextPos at;
+    std::string removed, inserted;
+    TextPos cursor_before, anchor_before;  // restored by undo
+    TextPos cursor_after;                  // restored by redo
+    std::size_t offset = 0;                // byte offset of `at` (in the edit log only)
+};
+
+// ---- colouring ----------------------------------------------------------------
+enum class TokenKind : unsigned char { Text, Section, Object, Key, Number, Comment, Brace };
+struct TokenSpan {
+    int begin = 0, end = 0;  // byte columns in the line, end exclusive
+    TokenKind kind = TokenKind::Text;
+};
+// Splits one line into coloured spans (spans may leave gaps: plain text). The
+// format's tokens never span lines (`//` ends at the line's end), so a line can be
+// coloured without looking at its neighbours, and only the visible lines need it.
+using LineTokeniser = std::function<void(std::string_view line, std::vector<TokenSpan>& out)>;
+// The scene format's words, by kind; numbers as the parser reads them (whole tokens).
+void tokenise_scene_line(std::string_view line, std::vector<TokenSpan>& out);
+// Whether `token` is a whole number in the scene format ([+-]digits[.digits][e[+-]digits]).
+bool is_scene_number(std::string_view token);
+
+// ---- the buffer ----------------------------------------------------------------
+class TextBuffer {
+public:
+    TextBuffer();
+    explicit TextBuffer(std::string_view text) { set_text(text); }
+
+    // Replaces everything; forgets the undo history; cursor to the start.
+    void set_text(std::string_view text);
+    // The whole text (lines joined by '\n'): O(size), for saving and parsing.
+    std::string text() const;
+
+    int line_count() const { return int(lines_.size()); }
+    const std::string& line(int i) const { return lines_[std::size_t(i)]; }
+    std::size_t size() const { return size_; }  // bytes of text(), newlines included
+    // Increases with every change of the text.
+    std::uint64_t version() const { return version_; }
+
+    // Byte offset in text() <-> position. The line start index is kept up to date
+    // lazily from the first changed line, so a query near the edit is cheap.
+    std::size_t offset_of(TextPos p) const;
+    TextPos pos_of(std::size_t offset) const;
+    TextPos clamp(TextPos p) const;
+    TextPos end_pos() const { return {line_count() - 1, int(lines_.back().size())}; }
+
+    // ---- cursor and selection -------------------------------------------------
+    TextPos cursor() const { return cursor_; }
+    TextPos anchor() const { return anchor_; }
+    bool has_selection() const { return cursor_ != anchor_; }
+    TextRange selection() const;
+    std::string selected_text() const;
+    std::string text_in(TextRange r) const;
+    // Moves the cursor; `extend` keeps the anchor (Shift), else the selection collapses.
+    void set_cursor(TextPos p, bool extend = false);
+    void select(TextRange r);  // anchor at begin, cursor at end
+    void select_all();
+    void select_word_at(TextPos p);
+
+    enum class Move { Left, Right, WordLeft, WordRight, Up, Down, Home, End, PageUp, PageDown, DocStart, DocEnd };
+    // Left/Right step over whole UTF-8 characters; Up/Down keep the column the cursor
+    // had before the vertical run (in display columns, a tab counting 4); Home goes to
+    // the first non-blank, then to column 0. `page` is lines per page.
+    void move(Move m, bool extend, int page = 20);
+
+    // ---- editing (each call is one undoable edit; typing merges) ---------------
+    // Replaces the selection (or inserts at the cursor).
+    void insert(std::string_view s);
+    void newline();  // keeps the current line's indentation
+    void backspace();
+    void erase_forward();
+    // Replaces `r` with `s`, cursor after it. The primitive every edit goes through.
+    void replace(TextRange r, std::string_view s);
+    // The same by byte offsets (an edit computed on text(), e.g. from scene_edits).
+    void replace_bytes(std::size_t offset, std::size_t length, std::string_view s);
+
+    bool can_undo() const { return !undo_.empty(); }
+    bool can_redo() const { return !redo_.empty(); }
+    bool undo();
+    bool redo();
+    // The next edit starts a new undo step even if it would merge (a click, a pause).
+    void break_merge() { merge_ok_ = false; }
+
+    // With logging on, every applied edit (undo and redo as edits of their own) is
+    // kept, oldest first, with its byte offset in the text as it was just before it,
+    // for a host that mirrors the text in a std::string: replaying
+    // `s.replace(e.offset, e.removed.size(), e.inserted)` in order keeps s == text().
+    // take_edits() empties the list. set_text() is not an edit: it clears the list.
+    void set_logging(bool on) { logging_ = on; }
+    std::vector<TextEdit> take_edits();
+
+    // Lines [first, first+removed) were replaced by `added` lines by the last edit;
+    // for markers attached to lines (diagnostics) that should follow the text.
+    struct LineShift {
+        int first = 0, removed = 0, added = 0;
+    };
+    const std::vector<LineShift>& line_shifts() const { return shifts_; }
+    void clear_line_shifts() { shifts_.clear(); }
+
+    // ---- find and go to line --------------------------------------------------
+    // Next match of `needle` (no newlines) starting at `from` (forward) or ending
+    // before it (backward), wrapping around the end. Empty needle: nothing.
+    std::optional<TextRange> find(std::string_view needle, TextPos from, bool forward, bool match_case) const;
+    // All matches in one line (for highlighting the visible ones).
+    void find_in_line(int line, std::string_view needle, bool match_case, std::vector<TextRange>& out) const;
+    // 1-based line number, clamped; selects nothing, cursor to the line's first column.
+    void goto_line(int line1);
+
+    // Display columns of a line prefix (tabs count 4, a UTF-8 character counts 1).
+    int display_col(int line, int col) const;
+    // The byte column whose display column is nearest `dcol` (not past the line).
+    int col_at_display(int line, int dcol) const;
+    // Widest line in display columns (kept incrementally).
+    int max_display_width() const;
+    int display_width(int line) const { return widths_[std::size_t(line)]; }
+
+private:
+    TextPos apply(TextPos at, TextPos end, std::string_view s, std::string* removed);
+    void record(TextEdit e, bool mergeable_insert, bool mergeable_erase);
+    void touch_lines(int from);
+    static int width_of(std::string_view s);
+
+    std::vector<std::string> lines_;
+    std::vector<int> widths_;  // display width of each line
+    mutable int max_width_ = 0;
+    mutable bool max_dirty_ = false;
+    std::size_t size_ = 0;
+    std::uint64_t version_ = 0;
+    // Line start offsets, valid for lines [0, starts_valid_).
+    mutable std::vector<std::size_t> starts_;
+    mutable int starts_valid_ = 0;
+
+    TextPos cursor_, anchor_;
+    int want_dcol_ = -1;  // column kept across Up/Down runs
+
+    std::vector<TextEdit> undo_, redo_;
+    enum class LastKind { None, Insert, Erase } last_ = LastKind::None;
+    bool merge_ok_ = false;
+    bool logging_ = false;
+    std::vector<TextEdit> log_;
+    std::size_t last_offset_ = 0;  // of the last apply(), when logging
+    std::vector<LineShift> shifts_;
+};
+
+}  // namespace rtview

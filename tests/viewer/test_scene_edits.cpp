@@ -1,0 +1,382 @@
+// Structural edits as text replacements: each kind applied to the text parses to the
+// scene with the edit made on the Scene directly; the inverse restores the text byte
+// for byte; lamp -> spotlight -> lamp keeps the size; comments elsewhere survive.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <utility>
+
+#include "document.h"
+#include "scene_edits.h"
+#include "scene_parser.h"
+
+using namespace rtview;
+
+namespace {
+
+// Every kind of item, comments in awkward places, items sharing lines, no final newline.
+const char* const kScene = R"(// demo scene
+thing {
+  sphere {                         // glass ball
+    material { reflection 0.1 refraction 0.8 scattering 0.1
+               translusans 0.9 refractive_index 1.5 colour 0.9 0.95 1 }
+    position 6 1.5 0.8
+    radius 0.8
+  }
+  tetrahedron {
+    material { reflection 0.3 scattering 0.7 colour 1 0.3 0.2 }
+    vect1 5 -2 0  vect2 6 -1 0  vect3 6.5 -2.5 0  vect4 5.8 -1.8 1.6
+  }
+  cylinder { material { colour 0.3 0.4 1 } end_1 8 0 0 end_2 8 0 2 radius 0.5 } torus { position 4.5 0 0.25 major 0.6 minor 0.2 }
+  constructive_solid_geometry {    // a lens
+    type C
+    left { sphere { position 7 -0.3 2.2 radius 0.8 } }
+    right { sphere { position 7 0.5 2.2 radius 0.8 } }
+    material { reflection 0.2 scattering 0.8 colour 0.3 1 0.4 }
+  }
+}
+special_thing {
+  chess_plane {
+    material 1 { reflection 0.3 scattering 0.7 colour 1 1 1 }
+    material 2 { colour 0.1 0.1 0.1 }
+    point 1 0.5 0.5 0  point 2 1.5 0.5 0  point 3 0.5 1.5 0  point 4 0 0 1
+  }
+  plane { point 1 20 0 0  point 2 20 1 0  point 3 20 0 1  point 4 0 0 0 }
+}
+light {
+  lamp { colour 60 60 50 position 2 3 5 size 0.3 } // warm
+  spotlight { colour 40 40 60 position 0 -4 3 }
+}
+camera { position 0 0 2 centre 6 0 1 up 6 0 2 projection x angle_x 60 angle_y 45 }
+picture_size { x_max 320 y_max 240 }
+end
+after end { unbalanced)";
+
+// Only the camera: every section has to be created.
+const char* const kEmpty = "camera { position 0 0 0 centre 10 0 0 up 10 0 1 angle_x 60 angle_y 45 }\n"
+                           "picture_size { x_max 32 y_max 24 }\nend\n";
+
+rt::Scene parse_ok(const std::string& text) {
+    rt::ParseResult r = rt::parse_scene(text);
+    std::string why;
+    for (const auto& d : r.diagnostics) why += rt::format_diagnostic("scene", d) + "\n";
+    INFO(why);
+    REQUIRE(r.ok());
+    return r.scene;
+}
+
+// Applies the edit, checks the parse against `expected`, and that the inverse
+// restores the original text exactly.
+std::string check_edit(const std::string& text, const SceneEdit& e, const rt::Scene& expected) {
+    std::string t = text;
+    TextReplacement back = e.replacement.apply(t);
+    INFO("edited text:\n" << t);
+    rt::Scene got = parse_ok(t);
+    CHECK(got == expected);
+    std::string undone = t;
+    TextReplacement again = back.apply(undone);
+    CHECK(undone == text);
+    // And redo (the inverse of the inverse) gives the edited text again.
+    again.apply(undone);
+    CHECK(undone == t);
+    return t;
+}
+
+double dist(rt::Vec3 a, rt::Vec3 b) { return rt::length(a - b); }
+
+}  // namespace
+
+TEST_CASE("scene edits: delete each object, plane and light") {
+    const std::string text = kScene;
+    const rt::Scene s = parse_ok(text);
+    REQUIRE(s.objects.size() == 5);
+    for (int i = 0; i < 5; ++i) {
+        CAPTURE(i);
+        auto e = delete_item(text, s, {SceneItem::Kind::Object, i});
+        REQUIRE(e);
+        rt::Scene want = s;
+        want.objects.erase(want.objects.begin() + i);
+        std::string t = check_edit(text, *e, want);
+        CHECK(t.find("// demo scene") == 0);
+        CHECK(t.find("after end { unbalanced") != std::string::npos);
+        CHECK(e->select.index == std::min(i, 3));
+    }
+    for (int i = 0; i < 2; ++i) {
+        auto e = delete_item(text, s, {SceneItem::Kind::Plane, i});
+        REQUIRE(e);
+        rt::Scene want = s;
+        want.planes.erase(want.planes.begin() + i);
+        check_edit(text, *e, want);
+        e = delete_item(text, s, {SceneItem::Kind::Light, i});
+        REQUIRE(e);
+        want = s;
+        want.lights.erase(want.lights.begin() + i);
+        std::string t = check_edit(text, *e, want);
+        // A block alone on its line goes with its line and its trailing comment.
+        if (i == 0) CHECK(t.find("// warm") == std::string::npos);
+    }
+    // The whole line went: no blank line where the glass ball was.
+    auto e = delete_item(text, s, {SceneItem::Kind::Object, 0});
+    std::string t = e->replacement.applied_to(text);
+    CHECK(t.find("thing {\n  tetrahedron {") != std::string::npos);
+    CHECK_FALSE(delete_item(text, s, {SceneItem::Kind::Object, 5}));
+    CHECK_FALSE(delete_item(text, s, {SceneItem::Kind::Light, -1}));
+}
+
+TEST_CASE("scene edits: duplicate copies the block verbatim, or moved by an offset") {
+    const std::string text = kScene;
+    const rt::Scene s = parse_ok(text);
+    for (int i = 0; i < 5; ++i) {
+        CAPTURE(i);
+        auto e = duplicate_item(text, s, {SceneItem::Kind::Object, i});
+        REQUIRE(e);
+        rt::Scene want = s;
+        want.objects.insert(want.objects.begin() + i + 1, s.objects[std::size_t(i)]);
+        check_edit(text, *e, want);
+        CHECK(e->select.index == i + 1);
+
+        e = duplicate_item(text, s, {SceneItem::Kind::Object, i}, {1, 0, -0.5});
+        REQUIRE(e);
+        rt::Object moved = s.objects[std::size_t(i)];
+        translate(moved, {1, 0, -0.5});
+        want = s;
+        want.objects.insert(want.objects.begin() + i + 1, moved);
+        check_edit(text, *e, want);
+    }
+    // A moved sphere really is moved (translate checked against numbers by hand).
+    rt::Object sp = s.objects[0];
+    translate(sp, {1, 0, -0.5});
+    CHECK(std::get<rt::Sphere>(sp.shape).position == rt::Vec3{7, 1.5, 0.3});  // not 0.30000000000000004
+    rt::Light li;
+    li.position = {2.07, 0, 0};
+    translate(li, {-2.5, 0, 0});
+    CHECK(li.position.x == -0.43);
+    rt::Object csg = s.objects[4];
+    translate(csg, {1, 0, 0});
+    CHECK(std::get<rt::Sphere>(std::get<rt::Csg>(csg.shape).operands[1].shape).position == rt::Vec3{8, 0.5, 2.2});
+
+    auto e = duplicate_item(text, s, {SceneItem::Kind::Plane, 0});
+    REQUIRE(e);
+    rt::Scene want = s;
+    want.planes.insert(want.planes.begin() + 1, s.planes[0]);
+    check_edit(text, *e, want);
+    e = duplicate_item(text, s, {SceneItem::Kind::Light, 1}, {0, 0, 1});
+    REQUIRE(e);
+    want = s;
+    rt::Light l = s.lights[1];
+    l.position = {0, -4, 4};
+    want.lights.push_back(l);
+    check_edit(text, *e, want);
+}
+
+TEST_CASE("scene edits: add every kind at a point, sized from the scene, also into a scene without sections") {
+    for (const char* src : {kScene, kEmpty}) {
+        const std::string text = src;
+        const rt::Scene s = parse_ok(text);
+        const double extent = scene_extent(s);
+        const rt::Vec3 p{3, 0.5, 0};
+        for (NewItem k : {NewItem::Sphere, NewItem::Cylinder, NewItem::Tetrahedron, NewItem::Torus, NewItem::Plane,
+                          NewItem::ChessPlane, NewItem::Lamp, NewItem::Spotlight}) {
+            CAPTURE(new_item_name(k));
+            auto e = add_item(text, s, k, {p, {0, 0, 1}});
+            REQUIRE(e);
+            std::string t = e->replacement.applied_to(text);
+            INFO(t);
+            rt::Scene got = parse_ok(t);
+            rt::Scene want = s;
+            // Everything else is unchanged; the new item is last of its kind.
+            if (k == NewItem::Plane || k == NewItem::ChessPlane) {
+                REQUIRE(got.planes.size() == s.planes.size() + 1);
+                const rt::Plane& pl = got.planes.back();
+                CHECK(pl.chess == (k == NewItem::ChessPlane));
+                CHECK(dist(pl.point[0], p) < 1e-9);
+                // Facing the normal: P4 above P1, P2 and P3 in the plane z = 0.
+                CHECK(pl.point[1].z == doctest::Approx(0));
+                CHECK(pl.point[2].z == doctest::Approx(0));
+                CHECK(pl.point[3].z > 0);
+                want.planes.push_back(pl);
+                CHECK(e->select.kind == SceneItem::Kind::Plane);
+                CHECK(e->select.index == int(s.planes.size()));
+            } else if (k == NewItem::Lamp || k == NewItem::Spotlight) {
+                REQUIRE(got.lights.size() == s.lights.size() + 1);
+                const rt::Light& l = got.lights.back();
+                CHECK(l.lamp == (k == NewItem::Lamp));
+                CHECK(l.position.z > 0);  // above the surface
+                CHECK(dist({l.position.x, l.position.y, 0}, p) < 1e-9);
+                if (!s.lights.empty()) CHECK(l.colour == s.lights.back().colour);
+                want.lights.push_back(l);
+            } else {
+                REQUIRE(got.objects.size() == s.objects.size() + 1);
+                const rt::Object& o = got.objects.back();
+                CHECK_FALSE(o.has_material);
+                if (k == NewItem::Sphere) {
+                    auto sp = std::get<rt::Sphere>(o.shape);
+                    // Resting on the surface at p: centre one radius above it. As big
+                    // as the scene's objects (radii 0.5 to 0.8 here), or a twentieth
+                    // of a scene without any (10 across: 0.5).
+                    CHECK(sp.radius >= 0.25);
+                    CHECK(sp.radius <= 1.6);
+                    if (s.objects.empty()) CHECK(sp.radius == doctest::Approx(0.05 * extent));
+                    CHECK(dist(sp.position, p + rt::Vec3{0, 0, sp.radius}) < 1e-9);
+                } else if (k == NewItem::Cylinder) {
+                    auto c = std::get<rt::Cylinder>(o.shape);
+                    CHECK(dist(c.end1, p) < 1e-9);
+                    CHECK(c.end2.z > 0);
+                } else if (k == NewItem::Tetrahedron) {
+                    auto tt = std::get<rt::Tetrahedron>(o.shape);
+                    for (int v = 0; v < 3; ++v) CHECK(tt.v[v].z == doctest::Approx(0));
+                    CHECK(tt.v[3].z > 0);
+                } else {
+                    auto to = std::get<rt::Torus>(o.shape);
+                    CHECK(to.direction == rt::Vec3{0, 0, 1});
+                    CHECK(to.major > to.minor);
+                }
+                want.objects.push_back(o);
+            }
+            CHECK(got == want);
+            check_edit(text, *e, want);
+            if (std::string(src) == kScene) CHECK(t.find("after end { unbalanced") != std::string::npos);
+        }
+    }
+    // Sizes follow the scene: the same scene ten times larger gets items ten times larger.
+    const std::string small = kEmpty;
+    std::string big = "camera { position 0 0 0 centre 100 0 0 up 100 0 1 angle_x 60 angle_y 45 }\n"
+                      "picture_size { x_max 32 y_max 24 }\nend\n";
+    auto es = add_item(small, parse_ok(small), NewItem::Sphere, {{5, 0, 0}});
+    auto eb = add_item(big, parse_ok(big), NewItem::Sphere, {{50, 0, 0}});
+    REQUIRE(es);
+    REQUIRE(eb);
+    double rs = std::get<rt::Sphere>(parse_ok(es->replacement.applied_to(small)).objects[0].shape).radius;
+    double rb = std::get<rt::Sphere>(parse_ok(eb->replacement.applied_to(big)).objects[0].shape).radius;
+    CHECK(rb == doctest::Approx(10 * rs));
+}
+
+TEST_CASE("scene edits: a CSG of two top-level objects replaces both, left then right") {
+    const std::string text = kScene;
+    const rt::Scene s = parse_ok(text);
+    for (auto [a, b] : {std::pair{0, 1}, std::pair{3, 2}, std::pair{4, 0}, std::pair{1, 4}}) {
+        CAPTURE(a);
+        CAPTURE(b);
+        auto e = make_csg(text, s, a, b, rt::CsgType::Difference);
+        REQUIRE(e);
+        rt::Object o;
+        rt::Csg c;
+        c.type = rt::CsgType::Difference;
+        c.operands = {s.objects[std::size_t(a)], s.objects[std::size_t(b)]};
+        o.shape = c;
+        o.material = s.objects[std::size_t(a)].material;
+        o.has_material = s.objects[std::size_t(a)].has_material;
+        rt::Scene want = s;
+        want.objects[std::size_t(a)] = o;
+        want.objects.erase(want.objects.begin() + b);
+        check_edit(text, *e, want);
+        CHECK(e->select.index == (b < a ? a - 1 : a));
+    }
+    CHECK_FALSE(make_csg(text, s, 1, 1, rt::CsgType::Union));
+    CHECK_FALSE(make_csg(text, s, 0, 9, rt::CsgType::Union));
+}
+
+TEST_CASE("scene edits: lamp -> spotlight -> lamp keeps the size; a spotlight without one gets a scaled size") {
+    const std::string text = kScene;
+    const rt::Scene s = parse_ok(text);
+    REQUIRE(s.lights[0].lamp);
+    REQUIRE(s.lights[0].size == 0.3);
+    auto e = switch_light_kind(text, s, 0);
+    REQUIRE(e);
+    rt::Scene want = s;
+    want.lights[0].lamp = false;
+    want.lights[0].size = 1;  // what the parser gives a spotlight
+    std::string t1 = check_edit(text, *e, want);
+    CHECK(t1.find("// warm") != std::string::npos);  // outside the block: kept
+
+    rt::Scene s1 = parse_ok(t1);
+    auto e2 = switch_light_kind(t1, s1, 0);
+    REQUIRE(e2);
+    std::string t2 = check_edit(t1, *e2, s);  // the original lights, size 0.3 included
+
+    // A spotlight that never was a lamp.
+    auto e3 = switch_light_kind(text, s, 1);
+    REQUIRE(e3);
+    rt::Scene got = parse_ok(e3->replacement.applied_to(text));
+    CHECK(got.lights[1].lamp);
+    CHECK(got.lights[1].size > 0);
+    CHECK(got.lights[1].size < scene_extent(s));
+    CHECK(got.lights[1].position == s.lights[1].position);
+    CHECK(got.lights[1].colour == s.lights[1].colour);
+    CHECK_FALSE(switch_light_kind(text, s, 2));
+}
+
+TEST_CASE("scene edits: nothing when the text does not match the scene") {
+    const std::string text = kScene;
+    rt::Scene s = parse_ok(text);
+    s.objects.pop_back();
+    CHECK_FALSE(delete_item(text, s, {SceneItem::Kind::Object, 0}));
+    CHECK_FALSE(add_item("thing { sphere {", s, NewItem::Sphere, {{0, 0, 0}}));
+    CHECK_FALSE(add_item(text, parse_ok(text), NewItem::Sphere, {{NAN, 0, 0}}));
+}
+
+TEST_CASE("scene edits through the document: one undo step each, undo and redo restore the text byte for byte") {
+    const std::string text = kScene;
+    Document doc;
+    doc.load_text(text, "", "demo");
+    const rt::Scene s = parse_ok(text);
+    REQUIRE(doc.scene() == s);
+    std::vector<std::string> texts{text};
+    std::vector<rt::Scene> scenes{s};
+    auto step = [&](std::optional<SceneEdit> e) {
+        REQUIRE(e);
+        const std::size_t depth = doc.undo_depth();
+        REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
+        CHECK(doc.undo_depth() == depth + 1);
+        texts.push_back(std::as_const(doc).editor_text());
+        CHECK(texts.back() == e->replacement.applied_to(texts[texts.size() - 2]));
+        scenes.push_back(parse_ok(texts.back()));
+        CHECK(doc.scene() == scenes.back());
+        CHECK_FALSE(doc.editor_dirty());
+    };
+    step(add_item(texts.back(), doc.scene(), NewItem::Sphere, {{1, 2, 0}, {0, 0, 1}}));
+    step(duplicate_item(texts.back(), doc.scene(), {SceneItem::Kind::Object, 5}, {0.5, 0, 0}));
+    step(delete_item(texts.back(), doc.scene(), {SceneItem::Kind::Object, 0}));
+    step(switch_light_kind(texts.back(), doc.scene(), 0));
+    step(make_csg(texts.back(), doc.scene(), 0, 1, rt::CsgType::Union));
+    step(switch_light_kind(texts.back(), doc.scene(), 0));
+    CHECK(doc.scene().lights[0].size == 0.3);
+    for (std::size_t k = texts.size() - 1; k > 0; --k) {
+        REQUIRE(doc.undo());
+        CHECK(std::as_const(doc).editor_text() == texts[k - 1]);
+        CHECK(doc.scene() == scenes[k - 1]);
+    }
+    for (std::size_t k = 1; k < texts.size(); ++k) {
+        REQUIRE(doc.redo());
+        CHECK(std::as_const(doc).editor_text() == texts[k]);
+        CHECK(doc.scene() == scenes[k]);
+    }
+    // Not over an unapplied draft, and not when the result would not parse.
+    CHECK_FALSE(doc.replace_text(0, 0, "thing { sphere {"));
+    CHECK(std::as_const(doc).editor_text() == texts.back());
+    doc.editor_text() += "\n// typed";
+    doc.note_typed();
+    auto e = delete_item(texts.back(), doc.scene(), {SceneItem::Kind::Object, 0});
+    REQUIRE(e);
+    CHECK_FALSE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
+}
+
+TEST_CASE("scene edits through the document after typing: the typing stays a step of its own") {
+    const std::string text = kScene;
+    Document doc;
+    doc.load_text(text, "", "demo");
+    doc.editor_text().insert(0, "// typed\n");
+    doc.note_typed();
+    REQUIRE(doc.apply_text());
+    const std::string typed = std::as_const(doc).editor_text();
+    auto e = add_item(typed, doc.scene(), NewItem::Torus, {{0, 0, 0}});
+    REQUIRE(e);
+    REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
+    CHECK(doc.scene().objects.size() == 6);
+    REQUIRE(doc.undo());
+    CHECK(std::as_const(doc).editor_text() == typed);
+    while (doc.undo()) {
+    }
+    CHECK(std::as_const(doc).editor_text() == text);
+    CHECK(doc.scene() == parse_ok(text));
+}
