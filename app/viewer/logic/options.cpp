@@ -67,9 +67,11 @@ std::string parse_options(int argc, const char* const* argv, Options& o) {
             o.print_layout = true;
         } else if (a == "--verbose" || a == "-v") {
             o.verbose = true;
-        } else if (a == "--screenshot" || a == "--view-scene" || a == "--tab" || a == "--select") {
+        } else if (a == "--screenshot" || a == "--view-scene" || a == "--tab" || a == "--select" ||
+                   a == "--render") {
             if (!take(v) || v.empty()) return "option '" + a + "' needs a value";
             if (a == "--screenshot") o.screenshot = v;
+            else if (a == "--render") o.render = v;
             else if (a == "--view-scene") o.view_scene = v;
             else if (a == "--select") o.select = v;
             else {
@@ -118,18 +120,23 @@ std::string help_text(bool headless_binary) {
     std::string s;
     if (headless_binary) {
         s += "Usage: raytracer-view-headless [SCENE] --screenshot OUT [OPTIONS]\n"
+             "       raytracer-view-headless [SCENE] --render OUT [--samples N] [--time-limit SEC]\n"
              "Draws the raytracer-view window (image and panels) into an offscreen OSMesa\n"
              "buffer, without X or a GPU, waits for the samples and writes OUT.\n"
              "`raytracer-view --headless ...` runs this program.\n\n";
     } else {
         s += "Usage: raytracer-view [OPTIONS] [SCENE]\n"
              "       raytracer-view --headless [SCENE] --screenshot OUT [OPTIONS]\n"
+             "       raytracer-view --headless [SCENE] --render OUT [--samples N]\n"
              "Interactive previewer for raytracer scene files. Without SCENE it opens the\n"
              "built-in default scene.\n\n";
     }
     s += "Options:\n"
          "  --headless           no window: render the UI offscreen and write --screenshot\n"
          "  --screenshot FILE    headless: write the whole window as PNG (or PPM by extension)\n"
+         "  --render FILE        headless: render the scene at its picture_size to FILE (.png or\n"
+         "                       .ppm), the same bytes as `raytracer --samples N SCENE FILE`\n"
+         "                       (default 1 sample, or as many as --time-limit allows)\n"
          "  --size WxH           window (or headless image) size in pixels (default 1280x800)\n"
          "  --samples N          samples per pixel to stop at (default 64 in a window, 16 headless)\n"
          "  --time-limit SEC     stop refining after SEC seconds (default: no limit)\n"
