@@ -109,6 +109,25 @@ void ImageTools::set_exposure(double stops) {
     message(buf);
 }
 
+void ImageTools::set_ui_scale(double s) {
+    if (s == settings_.ui_scale()) return;
+    std::string err = settings_.set_ui_scale(s);
+    ui_scale_changed_ = true;
+    if (!err.empty()) message("UI scale not saved: " + err, true);
+    else message("UI scale " + std::to_string(int(std::lround(settings_.ui_scale() * 100))) + "%");
+}
+
+void ImageTools::set_compare(int mode) {
+    if (mode != 0 && snapshots_.list().empty()) {
+        message("No snapshot to compare with: K keeps one", true);
+        return;
+    }
+    compare_ = Compare(std::clamp(mode, 0, 2));
+    message(compare_ == Compare::Split        ? "Compare: snapshot | live (drag the line)"
+            : compare_ == Compare::Difference ? "Compare: difference"
+                                              : "Compare off");
+}
+
 // ---------------------------------------------------------------------------------
 // Input
 
@@ -123,12 +142,7 @@ void ImageTools::handle_keys() {
         if (plus) s = next_ui_scale(s, +1);
         if (minus) s = next_ui_scale(s, -1);
         if (zero) s = 1;
-        if (s != settings_.ui_scale()) {
-            std::string err = settings_.set_ui_scale(s);
-            ui_scale_changed_ = true;
-            if (!err.empty()) message("UI scale not saved: " + err, true);
-            else message("UI scale " + std::to_string(int(std::lround(s * 100))) + "%");
-        }
+        set_ui_scale(s);
         if (f_.keys_free && key_pressed(kKeyR) && !io.KeyShift && f_.scene) {
             std::string name = render_path_.empty() ? "render.png" : render_path_;
             open_render_dialog(name);
@@ -159,14 +173,7 @@ void ImageTools::handle_keys() {
         message("Zoom to fit");
     }
     if (key_pressed(kKeyK)) keep_snapshot();
-    if (key_pressed(kKeyB)) {
-        if (snapshots_.list().empty()) {
-            message("No snapshot to compare with: K keeps one", true);
-        } else {
-            compare_ = compare_ == Compare::Off ? Compare::Split : compare_ == Compare::Split ? Compare::Difference : Compare::Off;
-            message(compare_ == Compare::Split ? "Compare: snapshot | live" : compare_ == Compare::Difference ? "Compare: difference" : "Compare off");
-        }
-    }
+    if (key_pressed(kKeyB)) set_compare((int(compare_) + 1) % 3);
     if (key_pressed(kKeyC) && region_active()) clear_region();
 }
 
@@ -526,12 +533,12 @@ void ImageTools::draw_panel() {
     int mode = int(compare_);
     ImGui::TextUnformatted("compare (B):");
     ImGui::SameLine();
-    ImGui::RadioButton("off", &mode, 0);
+    bool picked = ImGui::RadioButton("off", &mode, 0);
     ImGui::SameLine();
-    ImGui::RadioButton("split", &mode, 1);
+    picked |= ImGui::RadioButton("split", &mode, 1);
     ImGui::SameLine();
-    ImGui::RadioButton("difference", &mode, 2);
-    compare_ = Compare(mode);
+    picked |= ImGui::RadioButton("difference", &mode, 2);
+    if (picked && mode != int(compare_)) set_compare(mode);
     if (compare_ == Compare::Difference) {
         ImGui::SetNextItemWidth(ImGui::GetFontSize() * 10);
         int s = diff_scale_log2_;
@@ -580,6 +587,40 @@ void ImageTools::draw_panel() {
     ImGui::Separator();
     if (ImGui::Button("Render to file... (Ctrl+R)") && f_.scene) open_render_dialog(render_path_.empty() ? "render.png" : render_path_);
     ImGui::PopID();
+}
+
+void ImageTools::file_menu_items() {
+    if (ImGui::MenuItem("Render to File...", "Ctrl+R", false, f_.scene != nullptr))
+        open_render_dialog(render_path_.empty() ? "render.png" : render_path_);
+}
+
+void ImageTools::view_menu_items() {
+    if (ImGui::BeginMenu("Exposure")) {
+        if (ImGui::MenuItem("One stop brighter", "+")) set_exposure(display_.exposure + 1);
+        if (ImGui::MenuItem("One stop darker", "-")) set_exposure(display_.exposure - 1);
+        if (ImGui::MenuItem("Reset", "0", false, display_.exposure != 0)) set_exposure(0);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Soft tone curve", "T", display_.curve == ToneCurve::Soft))
+            display_.curve = display_.curve == ToneCurve::Soft ? ToneCurve::Clip : ToneCurve::Soft;
+        if (ImGui::MenuItem("Mark clipped pixels", "O", display_.show_clipped)) display_.show_clipped = !display_.show_clipped;
+        ImGui::EndMenu();
+    }
+    if (ImGui::MenuItem("Zoom 1:1", "1"))
+        view_.one_to_one(f_.area, pic_w(), pic_h(), f_.fb_scale, f_.area.x + f_.area.w / 2, f_.area.y + f_.area.h / 2);
+    if (ImGui::MenuItem("Zoom to fit", "Home", view_.fitted())) view_.fit();
+    ImGui::Separator();
+    if (ImGui::MenuItem("Keep snapshot", "K")) keep_snapshot();
+    if (ImGui::BeginMenu("Compare with snapshot", !snapshots_.list().empty())) {
+        if (ImGui::MenuItem("Off", "B", compare_ == Compare::Off)) set_compare(0);
+        if (ImGui::MenuItem("Side by side", "B", compare_ == Compare::Split)) set_compare(1);
+        if (ImGui::MenuItem("Difference", "B", compare_ == Compare::Difference)) set_compare(2);
+        ImGui::EndMenu();
+    }
+    if (ImGui::MenuItem("Clear render region", "C", false, region_active())) clear_region();
+    ImGui::Separator();
+    if (ImGui::MenuItem("Larger UI", "Ctrl++")) set_ui_scale(next_ui_scale(settings_.ui_scale(), +1));
+    if (ImGui::MenuItem("Smaller UI", "Ctrl+-")) set_ui_scale(next_ui_scale(settings_.ui_scale(), -1));
+    if (ImGui::MenuItem("Reset UI size", "Ctrl+0", false, settings_.ui_scale() != 1)) set_ui_scale(1);
 }
 
 void ImageTools::open_render_dialog(const std::string& default_path) {

@@ -56,6 +56,10 @@ public:
     void draw();
     // The "Picture" controls, into the current ImGui window.
     void draw_panel();
+    // Menu items: in File ("Render to file...") and in View (display, zoom, compare,
+    // region, UI scale).
+    void file_menu_items();
+    void view_menu_items();
     // The "Render to file" dialog: call where the app draws its popups.
     void draw_popups();
     void open_render_dialog(const std::string& default_path);
@@ -90,6 +94,8 @@ private:
     double zoom_ratio() const;
     void message(const std::string& text, bool error = false);
     void set_exposure(double stops);
+    void set_ui_scale(double scale);
+    void set_compare(int mode);
     void update_readout();
     void update_compare();
     void start_region(const PixelRect& r);
