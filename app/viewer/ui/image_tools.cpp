@@ -30,6 +30,13 @@ bool key_pressed(int k, bool repeat = false) {
 
 ImU32 rgba(int r, int g, int b, int a = 255) { return IM_COL32(r, g, b, a); }
 
+// A hint that wraps at the panel's edge instead of running off it.
+void hint(const char* text) {
+    ImGui::PushTextWrapPos(0);
+    ImGui::TextDisabled("%s", text);
+    ImGui::PopTextWrapPos();
+}
+
 // Text with a dark box behind it, legible on any picture.
 void label(ImDrawList* dl, ImVec2 at, const std::string& text, ImU32 colour = IM_COL32(255, 255, 255, 255)) {
     ImVec2 sz = ImGui::CalcTextSize(text.c_str());
@@ -514,7 +521,7 @@ void ImageTools::draw_panel() {
     ImGui::SameLine();
     if (ImGui::RadioButton("soft (T)", curve == 1)) display_.curve = ToneCurve::Soft;
     ImGui::Checkbox("mark clipped pixels (O)", &display_.show_clipped);
-    ImGui::TextDisabled("+ / - one stop, 0 resets; display only: saved images are unchanged.");
+    hint("+ / - one stop, 0 resets. Display only: saved images are unchanged.");
 
     ImGui::Separator();
     double ratio = zoom_ratio();
@@ -525,11 +532,10 @@ void ImageTools::draw_panel() {
     ImGui::SameLine();
     if (ImGui::SmallButton("1:1 (1)"))
         view_.one_to_one(f_.area, pic_w(), pic_h(), f_.fb_scale, f_.area.x + f_.area.w / 2, f_.area.y + f_.area.h / 2);
-    ImGui::TextDisabled("Ctrl+wheel zooms about the cursor, Ctrl+right drag pans.");
+    hint("Ctrl+wheel zooms about the cursor, Ctrl+right drag pans the picture.");
 
     ImGui::Separator();
     if (ImGui::Button("Keep snapshot (K)")) keep_snapshot();
-    ImGui::SameLine();
     int mode = int(compare_);
     ImGui::TextUnformatted("compare (B):");
     ImGui::SameLine();
@@ -571,7 +577,7 @@ void ImageTools::draw_panel() {
         compare_made_id_ = -1;
         if (snapshots_.list().empty()) compare_ = Compare::Off;
     }
-    if (snapshots_.list().empty()) ImGui::TextDisabled("No snapshots: K keeps the picture to compare with later.");
+    if (snapshots_.list().empty()) hint("No snapshots: K keeps the picture to compare with later.");
     else ImGui::TextDisabled("%zu kept, %.0f MB of %.0f MB", snapshots_.list().size(), snapshots_.bytes() / 1048576.0,
                              snapshots_.max_bytes() / 1048576.0);
 
@@ -582,7 +588,7 @@ void ImageTools::draw_panel() {
         ImGui::SameLine();
         if (ImGui::SmallButton("Clear (C)")) clear_region();
     } else {
-        ImGui::TextDisabled("Ctrl+drag in the picture: refine only that region.");
+        hint("Ctrl+drag in the picture: refine only that region.");
     }
     ImGui::Separator();
     if (ImGui::Button("Render to file... (Ctrl+R)") && f_.scene) open_render_dialog(render_path_.empty() ? "render.png" : render_path_);
