@@ -18,6 +18,7 @@
 #include "cli_common.h"
 #include "default_scene.h"
 #include "final_render.h"
+#include "fonts.h"
 #include "scene_parser.h"
 
 namespace {
@@ -132,7 +133,8 @@ int main(int argc, char** argv) {
     io.DisplaySize = ImVec2(float(W), float(H));
     io.DisplayFramebufferScale = ImVec2(1, 1);
     io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);  // no mouse: nothing is hovered
-    ImGui::StyleColorsDark();
+    // The UI at scale 1 whatever the user's setting: screenshots are reproducible.
+    rtview::build_ui_font_and_style(1);
     ImGui_ImplOpenGL2_Init();
 
     int status = 0;

@@ -80,6 +80,10 @@ public:
     // Not 1:1 or fitted: the app's picking must use this image rectangle.
     Rect image_rect() const;
     const DisplaySettings& display() const { return display_; }
+    // The film texture: how often it changed, and its size.
+    std::uint64_t film_updates() const { return film_updates_; }
+    int film_width() const { return film_.width(); }
+    int film_height() const { return film_.height(); }
 
     // Scripting and tests.
     void keep_snapshot();
