@@ -150,10 +150,7 @@ void ImageTools::handle_keys() {
         if (minus) s = next_ui_scale(s, -1);
         if (zero) s = 1;
         set_ui_scale(s);
-        if (f_.keys_free && key_pressed(kKeyR) && !io.KeyShift && f_.scene) {
-            std::string name = render_path_.empty() ? "render.png" : render_path_;
-            open_render_dialog(name);
-        }
+        if (f_.keys_free && key_pressed(kKeyR) && !io.KeyShift && f_.scene) open_render_dialog();
         return;
     }
     if (!f_.keys_free || io.KeyAlt || io.KeySuper) return;
@@ -591,13 +588,12 @@ void ImageTools::draw_panel() {
         hint("Ctrl+drag in the picture: refine only that region.");
     }
     ImGui::Separator();
-    if (ImGui::Button("Render to file... (Ctrl+R)") && f_.scene) open_render_dialog(render_path_.empty() ? "render.png" : render_path_);
+    if (ImGui::Button("Render to file... (Ctrl+R)") && f_.scene) open_render_dialog();
     ImGui::PopID();
 }
 
 void ImageTools::file_menu_items() {
-    if (ImGui::MenuItem("Render to File...", "Ctrl+R", false, f_.scene != nullptr))
-        open_render_dialog(render_path_.empty() ? "render.png" : render_path_);
+    if (ImGui::MenuItem("Render to File...", "Ctrl+R", false, f_.scene != nullptr)) open_render_dialog();
 }
 
 void ImageTools::view_menu_items() {
@@ -629,8 +625,15 @@ void ImageTools::view_menu_items() {
     if (ImGui::MenuItem("Reset UI size", "Ctrl+0", false, settings_.ui_scale() != 1)) set_ui_scale(1);
 }
 
-void ImageTools::open_render_dialog(const std::string& default_path) {
-    if (render_path_.empty()) render_path_ = default_path;
+void ImageTools::open_render_dialog() {
+    if (render_path_.empty()) {
+        // "scene.txt" -> "scene.png", beside the scene.
+        std::string base = f_.scene_path.empty() ? "render" : f_.scene_path;
+        std::size_t dot = base.find_last_of('.'), slash = base.find_last_of('/');
+        if (dot != std::string::npos && (slash == std::string::npos || dot > slash)) base.resize(dot);
+        render_path_ = base + ".png";
+    }
+    focus_render_path_ = true;
     render_samples_ = std::max(1, f_.max_samples);
     render_error_.clear();
     open_render_popup_ = true;
@@ -660,6 +663,8 @@ void ImageTools::draw_popups() {
             ImGui::Text("The scene at its picture_size, %dx%d, as `raytracer` renders it.", f_.scene->width, f_.scene->height);
         }
         ImGui::SetNextItemWidth(fs * 24);
+        if (focus_render_path_) ImGui::SetKeyboardFocusHere();
+        focus_render_path_ = false;
         bool go = ImGui::InputTextWithHint("file", "picture.png or .ppm", &render_path_, ImGuiInputTextFlags_EnterReturnsTrue);
         ImGui::SetNextItemWidth(fs * 8);
         ImGui::InputInt("samples per pixel", &render_samples_);

@@ -37,6 +37,7 @@ struct ImageFrame {
     bool mouse_free = false;                 // not over a panel, no popup open
     bool keys_free = false;                  // no text field has the keyboard
     double now = 0;                          // seconds
+    std::string scene_path;                  // the document's file (empty: not saved yet)
 };
 
 class ImageTools {
@@ -62,7 +63,8 @@ public:
     void view_menu_items();
     // The "Render to file" dialog: call where the app draws its popups.
     void draw_popups();
-    void open_render_dialog(const std::string& default_path);
+    // Opens the dialog; the file name proposed is the scene's, ending in .png.
+    void open_render_dialog();
 
     // The readout of the pixel under the cursor; empty when it is not over the picture.
     const std::string& readout_line() const { return readout_text_; }
@@ -156,6 +158,7 @@ private:
     double render_time_limit_ = 0;
     std::string render_error_;
     bool render_finished_ = false;
+    bool focus_render_path_ = false;
 
     std::string message_;
     bool message_error_ = false;
