@@ -82,7 +82,7 @@ TEST_CASE("the texture shows the renderer's bytes, or the exposed film, and a re
     green.objects[0].material.colour = {0.2, 1, 0.2};
     RegionRenderer region(2);
     const PixelRect rect{20, 10, 44, 38};
-    region.start(rt::compile_world(green), rect, 3);
+    region.start(rt::compile_world(green), green.camera, 64, 48, rect, 3);
     for (int k = 0; k < 3000 && !region.done(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     REQUIRE(region.done());
     d.exposure = 0;

@@ -68,7 +68,7 @@ TEST_CASE("region pixels are the full render's pixels at the same sample count")
 
     RegionRenderer rr(2);
     const PixelRect rect{7, 9, 41, 30};
-    rr.start(world, rect, 5);
+    rr.start(world, s.camera, 64, 48, rect, 5);
     REQUIRE(wait_done(rr));
     CHECK(rr.samples() == 5);
     RegionPicture pic;
@@ -103,16 +103,16 @@ TEST_CASE("a region render can be cancelled and started again") {
     rt::Scene s = scene();
     auto world = rt::compile_world(s);
     RegionRenderer rr(2);
-    rr.start(world, {0, 0, 64, 48}, 4096);
+    rr.start(world, s.camera, 64, 48, {0, 0, 64, 48}, 4096);
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     rr.cancel();
     CHECK_FALSE(rr.active());
     CHECK(rr.rect().empty());
-    rr.start(world, {1, 1, 3, 3}, 2);
+    rr.start(world, s.camera, 64, 48, {1, 1, 3, 3}, 2);
     REQUIRE(wait_done(rr));
     CHECK(rr.samples() == 2);
     // A rectangle outside the picture starts nothing.
-    rr.start(world, {60, 40, 70, 50}, 2);
+    rr.start(world, s.camera, 64, 48, {60, 40, 70, 50}, 2);
     CHECK_FALSE(rr.active());
 }
 

@@ -29,6 +29,13 @@ void FilmView::refresh_linear(const rt::Renderer& renderer, double now) {
 
 bool FilmView::update(const rt::Renderer& renderer, const DisplaySettings& settings, const RegionRenderer* region,
                       double now, Box& changed) {
+    bool r = update_inner(renderer, settings, region, now, changed);
+    updates_ += r;
+    return r;
+}
+
+bool FilmView::update_inner(const rt::Renderer& renderer, const DisplaySettings& settings, const RegionRenderer* region,
+                            double now, Box& changed) {
     const bool settings_changed = !have_settings_ || settings != settings_;
     const bool was_fast = uses_fast();
     settings_ = settings;
@@ -37,6 +44,7 @@ bool FilmView::update(const rt::Renderer& renderer, const DisplaySettings& setti
     int w = width_, h = height_;
     Box rect{0, 0, 0, 0};
     const bool film_changed = renderer.snapshot_rgba8(fast_, w, h, fast_version_, &rect);
+    film_changed_ = film_changed;
     const bool resized = film_changed && (w != width_ || h != height_);
     if (film_changed) {
         width_ = w;

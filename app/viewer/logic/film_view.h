@@ -29,6 +29,13 @@ public:
     int width() const { return width_; }
     int height() const { return height_; }
     bool empty() const { return width_ < 1; }
+    // How many updates changed rgba() so far; and whether the last update() saw new
+    // film pixels (not only a display or region change).
+    std::uint64_t updates() const { return updates_; }
+    bool film_changed() const { return film_changed_; }
+    const DisplaySettings& settings() const { return settings_; }
+    // Film pixels are waiting to be mapped (at most kMappedInterval): keep updating.
+    bool pending() const { return !uses_fast() && pending_[0] < pending_[2] && pending_[1] < pending_[3]; }
 
     // The linear value of pixel (x, y) as shown (the region's where it covers it),
     // from a float copy of the film at most `max_age` seconds behind the renderer.
@@ -40,6 +47,8 @@ public:
     int samples_at(int x, int y, int film_samples) const;
 
 private:
+    bool update_inner(const rt::Renderer& renderer, const DisplaySettings& settings, const RegionRenderer* region,
+                      double now, std::array<int, 4>& changed);
     bool uses_fast() const { return settings_.identity() && region_.rect.empty(); }
     void refresh_linear(const rt::Renderer& renderer, double now);
 
@@ -60,6 +69,8 @@ private:
     RegionPicture region_;              // the last region pixels seen (empty rect: none)
     std::uint64_t region_version_ = 0;
     double region_time_ = -1e9;
+    std::uint64_t updates_ = 0;
+    bool film_changed_ = false;
 };
 
 }  // namespace rtview

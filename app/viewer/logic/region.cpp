@@ -77,14 +77,13 @@ void RegionRenderer::cancel() {
     idle_cv_.wait(lock, [&] { return busy_ == 0; });
 }
 
-void RegionRenderer::start(std::shared_ptr<const rt::World> world, const PixelRect& rect, int max_samples,
-                           double time_limit) {
+void RegionRenderer::start(std::shared_ptr<const rt::World> world, const rt::Camera& camera, int width, int height,
+                           const PixelRect& rect, int max_samples, double time_limit) {
     cancel();
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!world || rect.empty() || rect.x0 < 0 || rect.y0 < 0 || rect.x1 > world->width || rect.y1 > world->height)
-        return;
+    if (!world || rect.empty() || rect.x0 < 0 || rect.y0 < 0 || rect.x1 > width || rect.y1 > height) return;
     world_ = std::move(world);
-    basis_ = rt::CameraBasis::make(world_->camera, world_->width, world_->height, false);
+    basis_ = rt::CameraBasis::make(camera, width, height, false);
     rect_ = rect;
     max_samples_ = std::max(1, max_samples);
     time_limit_ = time_limit;

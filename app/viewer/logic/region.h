@@ -54,9 +54,11 @@ public:
     RegionRenderer(const RegionRenderer&) = delete;
     RegionRenderer& operator=(const RegionRenderer&) = delete;
 
-    // Renders `rect` of `world` (its camera, width and height) up to max_samples, in
-    // passes of 1, 1, 2, 4, ... samples, stopping after time_limit seconds (0: none).
-    void start(std::shared_ptr<const rt::World> world, const PixelRect& rect, int max_samples, double time_limit = 0);
+    // Renders `rect` of a width x height film of `world` seen through `camera`, up to
+    // max_samples, in passes of 1, 1, 2, 4, ... samples, stopping after time_limit
+    // seconds (0: none).
+    void start(std::shared_ptr<const rt::World> world, const rt::Camera& camera, int width, int height,
+               const PixelRect& rect, int max_samples, double time_limit = 0);
     void cancel();  // returns when no worker touches the region any more
     bool active() const;
     bool done() const;

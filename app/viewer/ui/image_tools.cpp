@@ -205,7 +205,7 @@ bool ImageTools::handle_mouse() {
         }
         return true;
     }
-    if (!f_.mouse_free || !f_.area.contains(mx, my) || film_.empty()) return false;
+    if (!f_.mouse_free || !f_.area.contains(mx, my) || !film_ready()) return false;
     // Ctrl+wheel: zoom about the cursor (the plain wheel stays the camera's dolly).
     if (io.KeyCtrl && io.MouseWheel != 0) {
         view_.zoom_steps(f_.area, pic_w(), pic_h(), f_.fb_scale, mx, my, io.MouseWheel > 0 ? 1 : -1);
@@ -231,21 +231,15 @@ bool ImageTools::handle_mouse() {
 // ---------------------------------------------------------------------------------
 // Region
 
-std::shared_ptr<const rt::World> ImageTools::film_world() const {
-    if (!f_.world) return nullptr;
-    auto w = std::make_shared<rt::World>(*f_.world);
-    w->camera = f_.view_camera;
-    w->width = pic_w();
-    w->height = pic_h();
-    return w;
-}
-
 void ImageTools::start_region(const PixelRect& r) {
+    if (!f_.world) return;
     region_rect_ = r;
     region_world_ = f_.world;
     region_camera_ = f_.view_camera;
     region_samples_ = f_.max_samples;
-    region_.start(film_world(), r, f_.max_samples, f_.time_limit);
+    region_w_ = f_.film_w;
+    region_h_ = f_.film_h;
+    region_.start(f_.world, f_.view_camera, f_.film_w, f_.film_h, r, f_.max_samples, f_.time_limit);
     char buf[128];
     std::snprintf(buf, sizeof buf, "Render region %d,%d - %d,%d (%dx%d); C clears it", r.x0, r.y0, r.x1, r.y1,
                   r.width(), r.height());
@@ -254,8 +248,8 @@ void ImageTools::start_region(const PixelRect& r) {
 
 void ImageTools::restart_region_if_needed() {
     if (!region_active()) return;
-    if (film_.width() > 0 && (region_rect_.x1 > film_.width() || region_rect_.y1 > film_.height())) {
-        clear_region();  // the film shrank under it
+    if (!region_fits(f_.film_w, f_.film_h)) {
+        clear_region();  // a new film size renders everything again
         return;
     }
     // An edit or a camera move re-renders the region only; the rest keeps its picture.
@@ -275,11 +269,11 @@ void ImageTools::clear_region() {
 // Snapshots
 
 void ImageTools::keep_snapshot() {
-    if (film_.empty() || !f_.renderer || !f_.scene) {
+    if (!film_ready() || !f_.scene) {
         message("No picture to keep yet", true);
         return;
     }
-    rt::Image img = film_.linear_picture(*f_.renderer, f_.now);
+    rt::Image img = f_.film->linear_picture(*f_.renderer, f_.now);
     int samples = f_.renderer->progress().samples;
     const Snapshot* s = snapshots_.add(std::move(img), samples, *f_.scene, std::time(nullptr));
     if (!s) {
@@ -301,8 +295,8 @@ const Snapshot* ImageTools::compared() const {
 
 void ImageTools::update_compare() {
     const Snapshot* snap = compared();
-    if (compare_ == Compare::Off || !snap || film_.empty() || !f_.renderer) return;
-    const int w = film_.width(), h = film_.height();
+    if (compare_ == Compare::Off || !snap || !film_ready()) return;
+    const int w = f_.film->width(), h = f_.film->height();
     bool same = compare_made_id_ == snap->id && compare_made_w_ == w && compare_made_h_ == h;
     std::vector<std::uint8_t> bytes;
     if (compare_ == Compare::Split) {
@@ -313,15 +307,15 @@ void ImageTools::update_compare() {
         compare_made_film_ = ~std::uint64_t(0);
     } else {
         // The live side changes while rendering: a new difference a few times a second.
-        bool fresh = same && compare_made_film_ == film_updates_;
+        bool fresh = same && compare_made_film_ == f_.film->updates();
         if (fresh && compare_made_display_ == display_) return;
         if (same && compare_made_time_ >= 0 && f_.now - compare_made_time_ < kDiffRefresh &&
             !f_.renderer->progress().done)
             return;
-        rt::Image live = film_.linear_picture(*f_.renderer, f_.now);
+        rt::Image live = f_.film->linear_picture(*f_.renderer, f_.now);
         rt::Image a = snap->image.width == w && snap->image.height == h ? snap->image : resample_nearest(snap->image, w, h);
         if (!difference_rgba8(a, live, std::exp2(double(diff_scale_log2_)), bytes, &diff_stats_)) return;
-        compare_made_film_ = film_updates_;
+        compare_made_film_ = f_.film->updates();
     }
     compare_texture_.upload(bytes, w, h, {0, 0, w, h});
     compare_made_id_ = snap->id;
@@ -335,13 +329,7 @@ void ImageTools::update_compare() {
 // Per frame
 
 void ImageTools::update() {
-    if (!f_.renderer) return;
     restart_region_if_needed();
-    std::array<int, 4> changed{};
-    if (film_.update(*f_.renderer, display_, region_active() ? &region_ : nullptr, f_.now, changed)) {
-        texture_.upload(film_.rgba(), film_.width(), film_.height(), changed);
-        ++film_updates_;
-    }
     update_compare();
     update_readout();
 
@@ -363,7 +351,7 @@ void ImageTools::update() {
 void ImageTools::update_readout() {
     ImGuiIO& io = ImGui::GetIO();
     int x = -1, y = -1;
-    const bool over = f_.mouse_free && !film_.empty() && f_.renderer &&
+    const bool over = f_.mouse_free && film_ready() &&
                       picture_pixel_at(transform(), pic_w(), pic_h(), io.MousePos.x, io.MousePos.y, x, y);
     if (!over) {
         readout_text_.clear();
@@ -375,8 +363,8 @@ void ImageTools::update_readout() {
     PixelReadout r;
     r.x = x;
     r.y = y;
-    r.has_colour = film_.linear_at(*f_.renderer, f_.now, kReadoutRefresh, x, y, r.linear);
-    r.samples = film_.samples_at(x, y, f_.renderer->progress().samples);
+    r.has_colour = f_.film->linear_at(*f_.renderer, f_.now, kReadoutRefresh, x, y, r.linear);
+    r.samples = f_.film->samples_at(x, y, f_.renderer->progress().samples);
     if (f_.world && f_.scene) {
         r.hit = pick_pixel(*f_.world, f_.view_camera, pic_w(), pic_h(), x, y);
         r.hit_name = outline_name(*f_.scene, r.hit);
@@ -397,7 +385,8 @@ void ImageTools::update_readout() {
 
 void ImageTools::draw() {
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
-    if (!texture_.valid() || film_.empty()) return;
+    if (!f_.texture || !f_.texture->valid() || !f_.film || f_.film->empty()) return;
+    FilmTexture& texture = *f_.texture;
     const ViewTransform t = transform();
     const Rect img = t.image(pic_w(), pic_h());
     const double ratio = zoom_ratio();
@@ -405,11 +394,11 @@ void ImageTools::draw() {
     const ImVec2 p0(float(img.x), float(img.y)), p1(float(img.x + img.w), float(img.y + img.h));
     // Nearest filtering from 1:1 up: every film pixel is a crisp square.
     const bool nearest = ratio >= 1 - 1e-6;
-    texture_.set_nearest(nearest);
+    texture.set_nearest(nearest);
     dl->PushClipRect(a0, a1, true);
 
-    const bool comparing = compare_ != Compare::Off && compare_texture_.valid() && compare_made_w_ == film_.width() &&
-                           compare_made_h_ == film_.height();
+    const bool comparing = compare_ != Compare::Off && compare_texture_.valid() && compare_made_w_ == f_.film->width() &&
+                           compare_made_h_ == f_.film->height();
     const Snapshot* snap = compared();
     if (comparing && compare_ == Compare::Difference) {
         compare_texture_.set_nearest(nearest);
@@ -421,10 +410,10 @@ void ImageTools::draw() {
         dl->AddImage(compare_texture_.id(), p0, p1);
         dl->PopClipRect();
         dl->PushClipRect(ImVec2(std::min(a1.x, std::max(sx, a0.x)), a0.y), a1, true);
-        dl->AddImage(texture_.id(), p0, p1);
+        dl->AddImage(texture.id(), p0, p1);
         dl->PopClipRect();
     } else {
-        dl->AddImage(texture_.id(), p0, p1);
+        dl->AddImage(texture.id(), p0, p1);
     }
 
     // Pixel grid at high zoom.
@@ -660,7 +649,10 @@ void ImageTools::draw_popups() {
         if (!f_.scene) {
             ImGui::TextUnformatted("The scene has errors: nothing to render.");
         } else {
-            ImGui::Text("The scene at its picture_size, %dx%d, as `raytracer` renders it.", f_.scene->width, f_.scene->height);
+            ImGui::Text("The scene at its picture_size, %dx%d, on the renderer of `raytracer`.", f_.scene->width,
+                        f_.scene->height);
+            ImGui::Checkbox("through the scene's camera (as `raytracer SCENE` renders it), not the view",
+                            &render_scene_camera_);
         }
         ImGui::SetNextItemWidth(fs * 24);
         if (focus_render_path_) ImGui::SetKeyboardFocusHere();
@@ -677,7 +669,9 @@ void ImageTools::draw_popups() {
         ImGui::SameLine();
         if (ImGui::Button("Close") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) ImGui::CloseCurrentPopup();
         else if (go && f_.scene) {
-            render_error_ = final_.start(*f_.scene, render_path_, render_samples_, render_time_limit_, f_.world.get());
+            rt::Scene scene = *f_.scene;
+            if (!render_scene_camera_) scene.camera = f_.render_camera;
+            render_error_ = final_.start(scene, render_path_, render_samples_, render_time_limit_, f_.world.get());
         }
     }
     // Finished (written or not): the popup closes, the status bar says how it went.

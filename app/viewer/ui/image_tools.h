@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -26,9 +27,13 @@ namespace rtview {
 // What the picture tools need from the app each frame.
 struct ImageFrame {
     const rt::Renderer* renderer = nullptr;
-    std::shared_ptr<const rt::World> world;  // compiled document scene (file camera); may be null
+    FilmView* film = nullptr;                // the film's bytes (the render controller keeps them current)
+    FilmTexture* texture = nullptr;          // and their texture
+    std::shared_ptr<const rt::World> world;  // compiled document scene; may be null
     const rt::Scene* scene = nullptr;        // the document's scene; null when it has errors
-    rt::Camera view_camera;                  // as the film is rendered
+    rt::Camera view_camera;                  // the film's camera (fitted to the film in window mode)
+    rt::Camera render_camera;                // the view as `raytracer` would see it at picture_size
+    int film_w = 1, film_h = 1;              // the film the app asks for
     Rect area;                               // all the space for the picture (window units)
     Rect image;                              // where the app fits the film (letterboxed)
     float fb_scale = 1;                      // framebuffer pixels per window unit
@@ -51,7 +56,8 @@ public:
     // Mouse over the picture, before the camera's gestures: true while the picture
     // tools own the mouse (Ctrl+wheel, Ctrl+drag, the split line).
     bool handle_mouse();
-    // After the app has (re)started its render: textures, readout, region restarts.
+    // After the app has (re)started its render and uploaded the film: compare
+    // textures, readout, region restarts, the final render's end.
     void update();
     // The picture and its overlays, on the background draw list.
     void draw();
@@ -73,19 +79,19 @@ public:
     // The app keeps its render as it is while a region refines (the rest keeps its
     // last picture), and pauses it while a final render runs.
     bool region_active() const { return !region_rect_.empty(); }
+    // The film size the region was drawn on: another film size ends it.
+    bool region_fits(int film_w, int film_h) const { return film_w == region_w_ && film_h == region_h_; }
+    const RegionRenderer* region() const { return region_active() ? &region_ : nullptr; }
     bool final_render_running() const { return final_.active(); }
     // Something animates: a region or final render in progress, a drag.
     bool busy() const;
     // The UI scale the user asked for (saved); true once after each change.
     double ui_scale() const { return settings_.ui_scale(); }
     bool take_ui_scale_change();
-    // Not 1:1 or fitted: the app's picking must use this image rectangle.
+    // Zoomed or panned: the app's picking must use this image rectangle.
     Rect image_rect() const;
+    bool fitted() const { return view_.fitted(); }
     const DisplaySettings& display() const { return display_; }
-    // The film texture: how often it changed, and its size.
-    std::uint64_t film_updates() const { return film_updates_; }
-    int film_width() const { return film_.width(); }
-    int film_height() const { return film_.height(); }
 
     // Scripting and tests.
     void keep_snapshot();
@@ -94,8 +100,12 @@ public:
 private:
     enum class Compare { Off, Split, Difference };
     enum class Drag { None, Region, Pan, Split };
-    int pic_w() const { return film_.width() > 0 ? film_.width() : 1; }
-    int pic_h() const { return film_.height() > 0 ? film_.height() : 1; }
+    int pic_w() const { return std::max(1, f_.film_w); }
+    int pic_h() const { return std::max(1, f_.film_h); }
+    // The film on screen matches the one asked for (it lags a frame after a resize).
+    bool film_ready() const {
+        return f_.film && f_.renderer && f_.film->width() == f_.film_w && f_.film->height() == f_.film_h;
+    }
     ViewTransform transform() const;
     double zoom_ratio() const;
     void message(const std::string& text, bool error = false);
@@ -106,7 +116,6 @@ private:
     void update_compare();
     void start_region(const PixelRect& r);
     void restart_region_if_needed();
-    std::shared_ptr<const rt::World> film_world() const;
     const Snapshot* compared() const;
 
     bool verbose_;
@@ -116,8 +125,6 @@ private:
 
     DisplaySettings display_;
     ImageView view_;
-    FilmView film_;
-    FilmTexture texture_;
 
     // Readout
     std::string readout_text_;
@@ -136,7 +143,6 @@ private:
     int compare_made_w_ = 0, compare_made_h_ = 0;
     double compare_made_time_ = -1;
     std::uint64_t compare_made_film_ = 0;
-    std::uint64_t film_updates_ = 0;
     DiffStats diff_stats_;
 
     // Region
@@ -145,6 +151,7 @@ private:
     std::shared_ptr<const rt::World> region_world_;  // the document world it renders
     rt::Camera region_camera_;
     int region_samples_ = 0;
+    int region_w_ = 0, region_h_ = 0;
 
     // Mouse
     Drag drag_ = Drag::None;
@@ -159,6 +166,7 @@ private:
     std::string render_error_;
     bool render_finished_ = false;
     bool focus_render_path_ = false;
+    bool render_scene_camera_ = false;  // the scene's camera instead of the view
 
     std::string message_;
     bool message_error_ = false;
