@@ -313,6 +313,13 @@ ImageFrame ViewerApp::image_frame(double now) {
     }
     f.film_w = layout_.film_w;
     f.film_h = layout_.film_h;
+    if (layout_.fit == FitMode::Picture && doc.has_scene()) {
+        f.pic_w = doc.scene().width;
+        f.pic_h = doc.scene().height;
+    } else {
+        f.pic_w = layout_.film_w;
+        f.pic_h = layout_.film_h;
+    }
     f.area = layout_.area;
     f.image = layout_.fit_image;
     f.fb_scale = layout_.fb_scale;

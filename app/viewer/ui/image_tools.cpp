@@ -233,13 +233,16 @@ bool ImageTools::handle_mouse() {
 
 void ImageTools::start_region(const PixelRect& r) {
     if (!f_.world) return;
+    PixelRect fr = scale_region(r, pic_w(), pic_h(), f_.film_w, f_.film_h);
+    if (fr.empty()) return;
     region_rect_ = r;
+    region_film_rect_ = fr;
     region_world_ = f_.world;
     region_camera_ = f_.view_camera;
     region_samples_ = f_.max_samples;
     region_w_ = f_.film_w;
     region_h_ = f_.film_h;
-    region_.start(f_.world, f_.view_camera, f_.film_w, f_.film_h, r, f_.max_samples, f_.time_limit);
+    region_.start(f_.world, f_.view_camera, f_.film_w, f_.film_h, fr, f_.max_samples, f_.time_limit);
     char buf[128];
     std::snprintf(buf, sizeof buf, "Render region %d,%d - %d,%d (%dx%d); C clears it", r.x0, r.y0, r.x1, r.y1,
                   r.width(), r.height());
@@ -363,10 +366,13 @@ void ImageTools::update_readout() {
     PixelReadout r;
     r.x = x;
     r.y = y;
-    r.has_colour = f_.film->linear_at(*f_.renderer, f_.now, kReadoutRefresh, x, y, r.linear);
-    r.samples = f_.film->samples_at(x, y, f_.renderer->progress().samples);
+    // The film may be a preview of the picture at the size it is shown.
+    int fx = x, fy = y;
+    picture_to_film_pixel(x, y, pic_w(), pic_h(), f_.film_w, f_.film_h, fx, fy);
+    r.has_colour = f_.film->linear_at(*f_.renderer, f_.now, kReadoutRefresh, fx, fy, r.linear);
+    r.samples = f_.film->samples_at(fx, fy, f_.renderer->progress().samples);
     if (f_.world && f_.scene) {
-        r.hit = pick_pixel(*f_.world, f_.view_camera, pic_w(), pic_h(), x, y);
+        r.hit = pick_pixel(*f_.world, f_.view_camera, f_.film_w, f_.film_h, fx, fy);
         r.hit_name = outline_name(*f_.scene, r.hit);
     }
     std::string text = format_readout(r);

@@ -34,6 +34,8 @@ struct ImageFrame {
     rt::Camera view_camera;                  // the film's camera (fitted to the film in window mode)
     rt::Camera render_camera;                // the view as `raytracer` would see it at picture_size
     int film_w = 1, film_h = 1;              // the film the app asks for
+    int pic_w = 1, pic_h = 1;                // the picture zoom and readout count in: the scene's
+                                             // picture_size in the picture frame, else the film
     Rect area;                               // all the space for the picture (window units)
     Rect image;                              // where the app fits the film (letterboxed)
     float fb_scale = 1;                      // framebuffer pixels per window unit
@@ -100,8 +102,8 @@ public:
 private:
     enum class Compare { Off, Split, Difference };
     enum class Drag { None, Region, Pan, Split };
-    int pic_w() const { return std::max(1, f_.film_w); }
-    int pic_h() const { return std::max(1, f_.film_h); }
+    int pic_w() const { return std::max(1, f_.pic_w); }
+    int pic_h() const { return std::max(1, f_.pic_h); }
     // The film on screen matches the one asked for (it lags a frame after a resize).
     bool film_ready() const {
         return f_.film && f_.renderer && f_.film->width() == f_.film_w && f_.film->height() == f_.film_h;
@@ -147,7 +149,8 @@ private:
 
     // Region
     RegionRenderer region_;
-    PixelRect region_rect_;
+    PixelRect region_rect_;       // in picture pixels (drawn with the zoom)
+    PixelRect region_film_rect_;  // the same in film pixels (rendered)
     std::shared_ptr<const rt::World> region_world_;  // the document world it renders
     rt::Camera region_camera_;
     int region_samples_ = 0;
