@@ -169,7 +169,18 @@ std::string help_text(bool headless_binary) {
              "  Ctrl+E               edit the scene text   Ctrl+P  save the image\n"
              "  Ctrl+Q               quit (asks about unsaved changes)\n"
              "  F12                  screenshot of the whole window\n"
-             "Recent files: $XDG_CONFIG_HOME/raytracer-view/recent.txt (or ~/.config/...).\n";
+             "The picture (display only; saved images are unchanged):\n"
+             "  + / - / 0            exposure one stop up / down / back to 0\n"
+             "  T                    soft tone curve / clip     O  stripe clipped pixels\n"
+             "  hover                pixel, linear RGB, samples, object hit and distance\n"
+             "  Ctrl+wheel           zoom about the cursor      1  1:1    Home  fit\n"
+             "  Ctrl+right drag      pan the picture (not the camera)\n"
+             "  K                    keep a snapshot            B  compare: split / difference / off\n"
+             "  Ctrl+left drag       render only that region    C  clear the region\n"
+             "  Ctrl+R               render to file at the scene's picture_size\n"
+             "  Ctrl+= / Ctrl+- / Ctrl+0   UI size larger / smaller / 100%\n"
+             "Recent files: $XDG_CONFIG_HOME/raytracer-view/recent.txt (or ~/.config/...),\n"
+             "the UI size: settings.txt beside it.\n";
     }
     return s;
 }

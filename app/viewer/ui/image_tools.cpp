@@ -361,6 +361,9 @@ void ImageTools::update_readout() {
         readout_x_ = readout_y_ = -1;
         return;
     }
+    // While a button is held (orbiting, panning, dragging a region) the picture moves
+    // under the cursor: no readout, and no float copies of the film.
+    if (ImGui::IsAnyMouseDown()) return;
     // A new pixel at once; the same pixel a few times a second while samples arrive.
     if (x == readout_x_ && y == readout_y_ && f_.now - readout_time_ < kReadoutRefresh) return;
     PixelReadout r;
