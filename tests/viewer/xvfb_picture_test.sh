@@ -20,9 +20,9 @@ OUT=$(cd "$OUT" && pwd)
 
 if [ "${RTVIEW_XVFB_INNER:-}" != 1 ]; then
     export RTVIEW_XVFB_INNER=1
-    # XVFB_SERVERNUM picks the display (default: the first free one).
-    if [ -n "${XVFB_SERVERNUM:-}" ]; then
-        exec xvfb-run -n "$XVFB_SERVERNUM" -s "-screen 0 1280x800x24" "$0" "$BIN" "$OUT"
+    # RTVIEW_XVFB_DISPLAY=N picks the display number (machines shared by several runs).
+    if [ -n "${RTVIEW_XVFB_DISPLAY:-}" ]; then
+        exec xvfb-run -n "$RTVIEW_XVFB_DISPLAY" -s "-screen 0 1280x800x24" "$0" "$BIN" "$OUT"
     fi
     exec xvfb-run -a -s "-screen 0 1280x800x24" "$0" "$BIN" "$OUT"
 fi

@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <cstdio>
 #include <ctime>
@@ -286,7 +287,10 @@ void ViewerApp::update_layout() {
         // Zoomed or panned: in the picture frame the film is the scene's own picture,
         // so that 1:1 shows the pixels `raytracer` writes; in window mode it stays
         // the window's. The picture tools place it.
-        if (l.fit == FitMode::Picture && doc.has_scene()) {
+        // (Up to 4096x4096 pixels: a larger picture_size would take gigabytes of film;
+        // it is magnified from the shown size instead.)
+        if (l.fit == FitMode::Picture && doc.has_scene() &&
+            std::int64_t(doc.scene().width) * doc.scene().height <= std::int64_t(4096) * 4096) {
             l.film_w = doc.scene().width;
             l.film_h = doc.scene().height;
         }
