@@ -107,7 +107,7 @@ EX=$(( (MX - IX) * 320 / IW )); EY=$(( (MY - IY) * 240 / IH ))
 xdotool mousemove "$MX" "$MY"; sleep 0.2; xdotool mousemove "$((MX + 1))" "$MY"; sleep 0.2
 xdotool mousemove "$MX" "$MY"
 wait_readout "^readout: x $EX y $EY .*plane 1 \(chess_plane\) at "
-echo "readout: $(readout)"
+echo "$(readout)"
 
 step "1:1 about the cursor, then exact pixel steps"
 xdotool key 1
@@ -126,7 +126,7 @@ CX=$((MX + 160 - PX)); CY=$((MY + 120 - PY))
 xdotool mousemove "$CX" "$CY"
 wait_readout "^readout: x 160 y 120 .* object 1 \(sphere\) at 9(\.0+)?$"
 R=$(readout)
-echo "readout: $R"
+echo "$R"
 read -r RR RG RB <<< "$(echo "$R" | awk '{ print $7, $8, $9 }')"
 awk -v r="$RR" -v g="$RG" -v b="$RB" 'BEGIN { exit !(r > 2 * g && r > 2 * b && r > 0.05) }' \
     || fail "the sphere's pixel should read red, got RGB $RR $RG $RB"
