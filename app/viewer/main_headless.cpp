@@ -1,10 +1,10 @@
 // raytracer-view-headless: the same ViewerApp drawn into an OSMesa buffer in main
 // memory (no X, no GPU, no GLFW), with ImGui's OpenGL2 backend; waits for the samples
-// and writes a screenshot of the whole window.
+// and writes a screenshot of the whole window. With --render it draws no UI at all and
+// makes the final render of the scene instead (the same file as `raytracer`).
 #include <GL/osmesa.h>
 #include <imgui.h>
 #include <imgui_impl_opengl2.h>
-
 #include <signal.h>
 #include <unistd.h>
 
@@ -18,7 +18,11 @@
 #include <vector>
 
 #include "app.h"
+#include "cli_common.h"
+#include "default_scene.h"
 #include "diagnostic_text.h"
+#include "final_render.h"
+#include "fonts.h"
 #include "image_io.h"
 #include "scene_parser.h"
 
@@ -52,6 +56,58 @@ public:
     void quit() override {}
 };
 
+// --render OUT: the scene at its own picture_size, as `raytracer --samples N SCENE
+// OUT` renders it; the same messages and exit statuses (1: the scene has errors, 2:
+// usage or I/O, 128+N: signal N, OUT untouched).
+int render_to_file(const rtview::Options& opt) {
+    const rtcli::Program program{"raytracer-view-headless", ""};
+    const std::string scene_path = opt.scene;
+    if (int r = rtcli::check_output(program, opt.render, scene_path); r >= 0) return r;
+    rtcli::install_signal_handlers();
+    rt::Scene scene;
+    if (scene_path.empty()) {
+        rt::ParseResult parsed = rt::parse_scene(rt::kDefaultScene);
+        if (!parsed.ok()) return rtcli::kExitScene;
+        scene = std::move(parsed.scene);
+    } else {
+        std::string text;
+        if (int r = rtcli::load_scene(program, scene_path, text, scene); r >= 0) return r;
+    }
+    auto interrupted = [] {
+        std::fprintf(stderr, "raytracer-view-headless: interrupted; nothing written\n");
+        return 128 + rtcli::caught_signal();
+    };
+    if (rtcli::caught_signal()) return interrupted();
+
+    rtview::FinalRender render(opt.threads);
+    std::string err = render.start(scene, opt.render, opt.samples, opt.time_limit);
+    if (!err.empty()) {
+        std::fprintf(stderr, "raytracer-view-headless: cannot render: %s\n", err.c_str());
+        return rtcli::kExitUsage;
+    }
+    rtcli::ProgressBar bar(isatty(STDERR_FILENO));
+    while (!render.wait_for(0.1)) {
+        if (rtcli::caught_signal()) {
+            render.cancel();
+            bar.clear();
+            return interrupted();
+        }
+        bar.update(render.fraction(), render.progress().elapsed);
+    }
+    bar.clear();
+    if (rtcli::caught_signal()) return interrupted();
+    rt::RenderProgress p = render.progress();
+    err = render.write();
+    if (!err.empty()) {
+        std::fprintf(stderr, "raytracer-view-headless: cannot write '%s': %s\n", opt.render.c_str(), err.c_str());
+        return rtcli::kExitUsage;
+    }
+    if (opt.verbose)
+        std::fprintf(stderr, "raytracer-view-headless: wrote %s (%dx%d, %d samples per pixel, %.2f s)\n",
+                     opt.render.c_str(), p.width, p.height, p.samples, p.elapsed);
+    return rtcli::kExitOk;
+}
+
 }  // namespace
 
 static int run(int argc, char** argv) {
@@ -70,8 +126,15 @@ static int run(int argc, char** argv) {
         std::puts("raytracer-view-headless 1.0.0");
         return 0;
     }
+    if (!opt.render.empty()) {
+        if (!opt.screenshot.empty()) {
+            std::fprintf(stderr, "raytracer-view-headless: --render and --screenshot are separate runs; give one\n");
+            return 2;
+        }
+        return render_to_file(opt);
+    }
     if (opt.screenshot.empty()) {
-        std::fprintf(stderr, "raytracer-view-headless: --screenshot OUT is required\n");
+        std::fprintf(stderr, "raytracer-view-headless: --screenshot OUT or --render OUT is required\n");
         return 2;
     }
     if (std::string why = rtview::memory_problem(opt.width, opt.height, true); !why.empty()) {
@@ -115,7 +178,8 @@ static int run(int argc, char** argv) {
     io.DisplaySize = ImVec2(float(W), float(H));
     io.DisplayFramebufferScale = ImVec2(1, 1);
     io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);  // no mouse: nothing is hovered
-    ImGui::StyleColorsDark();
+    // The UI at scale 1 whatever the user's setting: screenshots are reproducible.
+    rtview::build_ui_font_and_style(1);
     ImGui_ImplOpenGL2_Init();
 
     int status = 0;

@@ -20,7 +20,9 @@
 
 #include "app.h"
 #include "diagnostic_text.h"
+#include "fonts.h"
 #include "scene_parser.h"
+#include "ui_settings.h"
 
 namespace {
 
@@ -176,24 +178,24 @@ static int run(int argc, char** argv) {
     ImGuiIO& io = ImGui::GetIO();
     io.IniFilename = nullptr;  // the layout is fixed; nothing worth remembering in a file
     io.ConfigInputTextCursorBlink = false;  // a blinking cursor would need frames while idle
-    ImGui::StyleColorsDark();
+    // hi-DPI: content scale over framebuffer scale is how much larger the UI must be
+    // drawn (X11 reports 1:1 framebuffers and a content scale from Xft.dpi); the UI
+    // scale setting (Ctrl+ / Ctrl-, kept beside the recent files) multiplies it.
+    float content_scale = 1;
     {
-        // hi-DPI: content scale over framebuffer scale is how much larger the UI
-        // must be drawn (X11 reports 1:1 framebuffers and a content scale from Xft.dpi).
         float xs = 1, ys = 1;
         glfwGetWindowContentScale(window, &xs, &ys);
         int ww, wh, fw, fh;
         glfwGetWindowSize(window, &ww, &wh);
         glfwGetFramebufferSize(window, &fw, &fh);
         float fb = ww > 0 ? float(fw) / ww : 1.f;
-        float scale = xs / (fb > 0 ? fb : 1.f);
-        if (scale > 1.05f) {
-            ImGui::GetStyle().ScaleAllSizes(scale);
-            ImFontConfig cfg;
-            cfg.SizePixels = 13.f * scale;
-            io.Fonts->AddFontDefault(&cfg);
-        }
+        content_scale = xs / (fb > 0 ? fb : 1.f);
+        if (!(content_scale > 0.5f)) content_scale = 1;
     }
+    rtview::UiFont font = rtview::build_ui_font_and_style(float(rtview::UiSettings().ui_scale()) * content_scale);
+    if (opt.verbose)
+        std::fprintf(stderr, "raytracer-view: UI font %s, %.0f px\n", font.path.empty() ? "(ImGui's own)" : font.path.c_str(),
+                     font.pixels);
     ImGui_ImplGlfw_InitForOpenGL(window, true);
     ImGui_ImplOpenGL2_Init();
     // In front of ImGui's own key and character callbacks, which route() calls.
@@ -250,6 +252,13 @@ static int run(int argc, char** argv) {
                 app.after_render(fw, fh);
                 glfwSwapBuffers(window);
                 next_frame_input(window);
+                if (app.take_ui_scale_change()) {
+                    // Between frames: a new font atlas at the new size, and its texture.
+                    ImGui_ImplOpenGL2_DestroyFontsTexture();
+                    rtview::build_ui_font_and_style(float(app.ui_scale()) * content_scale);
+                    ImGui_ImplOpenGL2_CreateFontsTexture();
+                    settle = 3;
+                }
                 frame_cpu += thread_cpu() - cpu0;
                 ++frames;
             }

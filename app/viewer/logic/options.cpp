@@ -102,9 +102,11 @@ std::string parse_options(int argc, const char* const* argv, Options& o) {
             o.print_layout = true;
         } else if (a == "--verbose" || a == "-v") {
             o.verbose = true;
-        } else if (a == "--screenshot" || a == "--view-scene" || a == "--tab" || a == "--select") {
+        } else if (a == "--screenshot" || a == "--view-scene" || a == "--tab" || a == "--select" ||
+                   a == "--render") {
             if (!take(v) || v.empty()) return "option '" + a + "' needs a value";
             if (a == "--screenshot") o.screenshot = v;
+            else if (a == "--render") o.render = v;
             else if (a == "--view-scene") o.view_scene = v;
             else if (a == "--select") o.select = v;
             else {
@@ -161,18 +163,23 @@ std::string help_text(bool headless_binary) {
     std::string s;
     if (headless_binary) {
         s += "Usage: raytracer-view-headless [SCENE] --screenshot OUT [OPTIONS]\n"
+             "       raytracer-view-headless [SCENE] --render OUT [--samples N] [--time-limit SEC]\n"
              "Draws the raytracer-view window (image and panels) into an offscreen OSMesa\n"
              "buffer, without X or a GPU, waits for the samples and writes OUT.\n"
              "`raytracer-view --headless ...` runs this program.\n\n";
     } else {
         s += "Usage: raytracer-view [OPTIONS] [SCENE]\n"
              "       raytracer-view --headless [SCENE] --screenshot OUT [OPTIONS]\n"
+             "       raytracer-view --headless [SCENE] --render OUT [--samples N]\n"
              "Interactive previewer for raytracer scene files. Without SCENE it opens the\n"
              "built-in default scene.\n\n";
     }
     s += "Options:\n"
          "  --headless           no window: render the UI offscreen and write --screenshot\n"
          "  --screenshot FILE    headless: write the whole window as PNG (or PPM by extension)\n"
+         "  --render FILE        headless: render the scene at its picture_size to FILE (.png or\n"
+         "                       .ppm), the same bytes as `raytracer --samples N SCENE FILE`\n"
+         "                       (default 1 sample, or as many as --time-limit allows)\n"
          "  --size WxH           window (or headless image) size in pixels (default 1280x800)\n"
          "  --samples N          samples per pixel to stop at (default 64 in a window, 16 headless)\n"
          "  --time-limit SEC     stop refining after SEC seconds (default: no limit)\n"
@@ -208,7 +215,18 @@ std::string help_text(bool headless_binary) {
              "  in the text: Ctrl+F find (Enter next, Shift+Enter previous), Ctrl+G go to line\n"
              "  Ctrl+Q               quit (asks about unsaved changes)\n"
              "  F12                  screenshot of the whole window\n"
-             "Recent files: $XDG_CONFIG_HOME/raytracer-view/recent.txt (or ~/.config/...).\n";
+             "The picture (display only; saved images are unchanged):\n"
+             "  + / - / 0            exposure one stop up / down / back to 0\n"
+             "  T                    soft tone curve / clip     O  stripe clipped pixels\n"
+             "  hover                pixel, linear RGB, samples, object hit and distance\n"
+             "  Ctrl+wheel           zoom about the cursor      1  1:1    Home  fit\n"
+             "  Ctrl+right drag      pan the picture (not the camera)\n"
+             "  K                    keep a snapshot            B  compare: split / difference / off\n"
+             "  Ctrl+left drag       render only that region    C  clear the region\n"
+             "  Ctrl+R               render to file at the scene's picture_size\n"
+             "  Ctrl+= / Ctrl+- / Ctrl+0   UI size larger / smaller / 100%\n"
+             "Recent files: $XDG_CONFIG_HOME/raytracer-view/recent.txt (or ~/.config/...),\n"
+             "the UI size: settings.txt beside it.\n";
     }
     return s;
 }

@@ -14,6 +14,7 @@ struct Options {
     std::string scene;        // empty: the embedded default scene
     bool headless = false;
     std::string screenshot;   // headless: PNG/PPM of the whole UI
+    std::string render;       // headless: the final render (the scene's picture_size) to this file
     int width = 1280, height = 800;
     bool size_given = false;
     int samples = 0;          // 0: the mode's default

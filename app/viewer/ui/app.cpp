@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <cstdio>
 #include <ctime>
@@ -69,7 +70,8 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
               options.samples > 0 ? options.samples : (interactive ? kDefaultSamplesWindow : kDefaultSamplesHeadless),
               options.time_limit),
       dialogs_(*this, editor_.recent()),
-      panels_(*this, editor_, nav_, render_, layout_, status_) {
+      tools_(options.verbose, options.threads),
+      panels_(*this, editor_, nav_, render_, layout_, status_, tools_) {
     layout_.fit = opt_.fit;
     render_.verbose = opt_.verbose;
     render_.clock = &since_start;
@@ -182,17 +184,26 @@ void ViewerApp::frame() {
 
     poll_loader();
     update_layout();
-    if (interactive_) handle_shortcuts();
+    tools_.begin(image_frame(now));
+    if (interactive_) {
+        handle_shortcuts();
+        tools_.handle_keys();
+    }
     panels_.draw_menu_bar();
     panels_.draw_sidebar();
     panels_.draw_status_bar(load_status());
     dialogs_.draw(doc.name(), !doc.path().empty(), layout_.fit == FitMode::Window ? "window size" : "picture frame");
+    tools_.draw_popups();
 
     // The view follows real edits of the scene camera (panel fields, undo, reload).
     if (doc.has_scene()) nav_.follow(doc.scene().camera);
     bool usable = doc.has_scene() && render_.world() && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId);
     if (interactive_) {
-        NavigationInput::Result r = nav_input_.handle(layout_, render_.world(), usable, panels_.scene_size());
+        // Ctrl+wheel, Ctrl+drag and the A/B split line belong to the picture tools:
+        // navigation then sees no image under the mouse.
+        Layout nav_layout = layout_;
+        if (tools_.handle_mouse()) nav_layout.image = Rect{};
+        NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, panels_.scene_size());
         if (r.clicked) select_at(r.x, r.y);
         handle_context_menu(usable);
         draw_context_menu();
@@ -205,12 +216,30 @@ void ViewerApp::frame() {
     // A slider held in a panel is motion too: previews within the frame budget.
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
     bool moving = nav_input_.moving(now) || widget_busy;
-    if (doc.has_scene() && nav_.has_view())
+    // While a render region refines, the rest of the picture stays as it was (the
+    // region re-renders on edits and view changes); a new film size ends the region.
+    bool region_holds = tools_.region_active() && tools_.region_fits(layout_.film_w, layout_.film_h);
+    // A final render ("Render to file...") or a refining region gets the processors.
+    render_.set_yield(tools_.final_render_running() || (region_holds && tools_.busy()));
+    if (doc.has_scene() && nav_.has_view() && !region_holds)
         render_.update(nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
                        layout_.film_w, layout_.film_h, moving);
+    tools_.begin(image_frame(now));  // the world and view as the render now has them
+    render_.set_display(tools_.display(), tools_.region());
     render_.upload();
+    tools_.update();
+    {
+        std::string text;
+        bool error = false;
+        if (tools_.take_message(text, error)) status_.set(text, error);
+    }
     panels_.draw_surround();
-    if (doc.has_scene() || render_.started()) render_.draw(layout_.image, layout_.fb_scale);
+    if (doc.has_scene() || render_.started()) {
+        // While the view moves, the UI thread's own preview; else the film as the
+        // picture tools show it (zoom, display mapping, A/B, region).
+        if (render_.showing_preview()) render_.draw(layout_.image, layout_.fb_scale);
+        else tools_.draw();
+    }
     if (!doc.has_scene()) {
         std::string opening = "Opening " + base_name(loader_.progress().path) + " ...";
         const char* msg = loader_.active() ? opening.c_str() : "No image: the scene text has errors (see the Text tab).";
@@ -264,6 +293,60 @@ void ViewerApp::update_layout() {
     }
     l.film_w = std::max(1, int(std::lround(l.image.w * l.fb_scale)));
     l.film_h = std::max(1, int(std::lround(l.image.h * l.fb_scale)));
+    l.fit_image = l.image;
+    if (!tools_.fitted()) {
+        // Zoomed or panned: in the picture frame the film is the scene's own picture,
+        // so that 1:1 shows the pixels `raytracer` writes; in window mode it stays
+        // the window's. The picture tools place it.
+        // (Up to 4096x4096 pixels: a larger picture_size would take gigabytes of film;
+        // it is magnified from the shown size instead.)
+        if (l.fit == FitMode::Picture && doc.has_scene() &&
+            std::int64_t(doc.scene().width) * doc.scene().height <= std::int64_t(4096) * 4096) {
+            l.film_w = doc.scene().width;
+            l.film_h = doc.scene().height;
+        }
+        ImageFrame f = image_frame(ImGui::GetTime());
+        tools_.begin(f);
+        l.image = tools_.image_rect();
+    }
+}
+
+ImageFrame ViewerApp::image_frame(double now) {
+    const Document& doc = editor_.doc();
+    ImageFrame f;
+    f.renderer = &render_.renderer();
+    f.film = &render_.film_view();
+    f.texture = &render_.texture();
+    f.world = render_.world_ptr();
+    f.scene = doc.has_scene() ? &doc.scene() : nullptr;
+    ViewGeometry g{layout_.fit_image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window};
+    if (nav_.has_view()) {
+        f.view_camera = nav_.display_camera(g);
+        f.render_camera = nav_.camera();
+    } else if (doc.has_scene()) {
+        f.view_camera = f.render_camera = doc.scene().camera;
+    }
+    f.film_w = layout_.film_w;
+    f.film_h = layout_.film_h;
+    if (layout_.fit == FitMode::Picture && doc.has_scene()) {
+        f.pic_w = doc.scene().width;
+        f.pic_h = doc.scene().height;
+    } else {
+        f.pic_w = layout_.film_w;
+        f.pic_h = layout_.film_h;
+    }
+    f.area = layout_.area;
+    f.image = layout_.fit_image;
+    f.fb_scale = layout_.fb_scale;
+    f.max_samples = render_.max_samples();
+    f.time_limit = render_.time_limit();
+    ImGuiIO& io = ImGui::GetIO();
+    bool modal = ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId);
+    f.mouse_free = !io.WantCaptureMouse && !modal;
+    f.keys_free = !io.WantCaptureKeyboard && !modal;
+    f.now = now;
+    f.scene_path = doc.path();
+    return f;
 }
 
 // ---------------------------------------------------------------------------------
@@ -660,7 +743,7 @@ bool ViewerApp::ui_busy() const {
     const Document& doc = editor_.doc();
     return nav_.dragging() || nav_input_.moving(ImGui::GetTime()) || doc.editing() || frames_ < 3 ||
            editor_.wants_frames() || panels_.wants_frames() || dialogs_.wants_frames() || !screenshot_request_.empty() ||
-           render_.building();
+           render_.building() || tools_.busy();
 }
 
 double ViewerApp::wait_timeout() const {

@@ -6,6 +6,8 @@
 //   RenderController  renderer, compiled world, preview pacing, film texture
 //   SceneLoader       reading, parsing and building a file off the UI thread
 //   Panels, Dialogs   ImGui drawing; they act through Commands
+//   ImageTools        looking at the picture: exposure, readout, zoom, snapshots,
+//                     render region, render to file, UI scale
 // The GLFW window binary and the OSMesa headless binary both drive one ViewerApp.
 #pragma once
 
@@ -15,6 +17,7 @@
 
 #include "dialogs.h"
 #include "editor.h"
+#include "image_tools.h"
 #include "loader.h"
 #include "navigation.h"
 #include "navigator.h"
@@ -70,12 +73,17 @@ public:
     const Document& document() const { return editor_.doc(); }
     const Navigator& navigator() const { return nav_; }
     bool loading() const { return loader_.active(); }
+    // The UI scale the user chose (Ctrl+ / Ctrl-); true once after each change, when
+    // the host rebuilds the font.
+    double ui_scale() const { return tools_.ui_scale(); }
+    bool take_ui_scale_change() { return tools_.take_ui_scale_change(); }
 
 private:
     bool run(Command c, const std::string& arg = {}, bool confirmed = false) override;
 
     bool ui_busy() const;
     void update_layout();
+    ImageFrame image_frame(double now);
     void handle_shortcuts();
     void end_edits();
     void poll_loader();
@@ -104,6 +112,7 @@ private:
     RenderController render_;
     SceneLoader loader_;
     Dialogs dialogs_;
+    ImageTools tools_;
     Panels panels_;
 
     // Right button in the image: a click (no drag) opens the context menu there.

@@ -109,7 +109,7 @@ bool material_editor(const char* id, rt::Material& m) {
     ImGui::PushID(id);
     bool changed = false;
     const double zero = 0, one = 1, ior_max = 3;
-    ImGui::PushItemWidth(-120);
+    ImGui::PushItemWidth(-ImGui::GetFontSize() * 9);
     // Weights are normalised by their sum when rendering, so values above 1 are legal:
     // Ctrl+click a slider to type one.
     changed |= ImGui::SliderScalar("reflection", ImGuiDataType_Double, &m.reflection, &zero, &one, "%.3f");
@@ -160,6 +160,7 @@ void Panels::draw_menu_bar() {
         ImGui::Separator();
         if (ImGui::MenuItem("Save Image...", "Ctrl+P")) commands_.run(Command::SaveImageDialog);
         if (ImGui::MenuItem("Screenshot", "F12")) commands_.run(Command::Screenshot, "raytracer-view-screenshot.png");
+        tools_.file_menu_items();
         ImGui::Separator();
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) commands_.run(Command::Quit);
         ImGui::EndMenu();
@@ -203,6 +204,8 @@ void Panels::draw_menu_bar() {
         if (ImGui::MenuItem("Fill the window", nullptr, layout_.fit == FitMode::Window)) commands_.run(Command::FitWindow);
         ImGui::Separator();
         if (ImGui::MenuItem("Pause rendering", "Space", render_.paused())) commands_.run(Command::TogglePause);
+        ImGui::Separator();
+        tools_.view_menu_items();
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Help")) {
@@ -290,7 +293,11 @@ void Panels::draw_camera_panel() {
     } else if (open) {
         ImGui::BeginDisabled(!doc.has_scene());
         float speed = float(scene_size() * 0.002);
-        ImGui::PushItemWidth(-84);
+        // Room for the longest label at any font size (UI scale).
+        float label_w = 0;
+        for (const char* l : {"position", "up point", "angle x, y", "projection", "az, el, dist"})
+            label_w = std::max(label_w, ImGui::CalcTextSize(l).x);
+        ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
 
         // The view: what the image shows. Moving it never edits the file.
         rt::Camera view = nav_.camera();
@@ -347,7 +354,8 @@ void Panels::draw_camera_panel() {
 
 void Panels::draw_objects_tab() {
     if (!selection_valid(editor_.doc().scene(), selection_)) selection_ = {};
-    float h = std::max(120.f, ImGui::GetContentRegionAvail().y * 0.45f);
+    // At least seven rows of the outline, whatever the UI scale.
+    float h = std::max(ImGui::GetTextLineHeightWithSpacing() * 7, ImGui::GetContentRegionAvail().y * 0.45f);
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
     if (ImGui::BeginChild("outline", ImVec2(0, h), true)) draw_outline();
@@ -500,7 +508,7 @@ void Panels::draw_properties() {
             rt::Light l = s.lights[std::size_t(selection_.index)];
             ImGui::Text("Light %d: %s", selection_.index + 1, l.lamp ? "lamp (point light and glow)" : "spotlight (point light)");
             bool changed = false;
-            ImGui::PushItemWidth(-120);
+            ImGui::PushItemWidth(-ImGui::GetFontSize() * 9);
             changed |= drag_vec3("position", l.position, float(scene_size() * 0.002));
             // Light colours are intensities (often >> 1 because of the 1/r^2 fall-off):
             // edit them as a tint and a strength.
@@ -535,7 +543,12 @@ void Panels::draw_properties() {
 }
 
 void Panels::draw_render_tab() {
-    ImGui::PushItemWidth(-150);
+    ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+    if (ImGui::CollapsingHeader("Picture")) {
+        tools_.draw_panel();
+        ImGui::Spacing();
+    }
+    ImGui::PushItemWidth(-ImGui::GetFontSize() * 11);
     int samples = render_.max_samples();
     ImGui::InputInt("samples per pixel", &samples, 1, 16);
     render_.set_max_samples(std::clamp(samples, 1, 65536));
@@ -608,11 +621,16 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             if (render_.showing_preview())
                 std::snprintf(preview, sizeof preview, "preview %dx%d", render_.last_preview_block(),
                               render_.last_preview_block());
-            ImGui::Text("spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed,
-                        render_.showing_preview() ? preview : state,
-                        layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
+            const char* shown = render_.showing_preview() ? preview : state;
+            // Over the picture: the readout of the pixel under the cursor instead of the
+            // statistics and the last message.
+            if (!tools_.readout_line().empty())
+                ImGui::Text("spp  %s  | %s", shown, tools_.readout_line().c_str());
+            else
+                ImGui::Text("spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
+                            layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
         }
-        if (!status_.text().empty()) {
+        if (!status_.text().empty() && (load.active || tools_.readout_line().empty())) {
             ImGui::SameLine();
             ImGui::TextColored(status_.error() ? kErrorColour : ImVec4(0.75f, 0.75f, 0.75f, 1), "| %s",
                                status_.text().c_str());

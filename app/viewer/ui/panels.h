@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "editor.h"
+#include "image_tools.h"
 #include "navigator.h"
 #include "render_controller.h"
 #include "shared.h"
@@ -26,8 +27,9 @@ public:
     enum Tab { Objects = 0, Text = 1, Render = 2 };
 
     Panels(Commands& commands, DocumentEditor& editor, Navigator& nav, RenderController& render, Layout& layout,
-           StatusLine& status)
-        : commands_(commands), editor_(editor), nav_(nav), render_(render), layout_(layout), status_(status) {}
+           StatusLine& status, ImageTools& tools)
+        : commands_(commands), editor_(editor), nav_(nav), render_(render), layout_(layout), status_(status),
+          tools_(tools) {}
 
     void draw_menu_bar();
     void draw_sidebar();
@@ -58,6 +60,7 @@ private:
     RenderController& render_;
     Layout& layout_;
     StatusLine& status_;
+    ImageTools& tools_;
 
     Selection selection_;
     bool scroll_to_selection_ = false;

@@ -150,7 +150,13 @@ void RenderController::set_time_limit(double s) {
 void RenderController::set_paused(bool p) {
     paused_ = p;
     held_ = false;
-    renderer_.set_paused(p);
+    renderer_.set_paused(p || yield_);
+}
+
+void RenderController::set_yield(bool y) {
+    if (y == yield_) return;
+    yield_ = y;
+    renderer_.set_paused(paused_ || held_ || yield_);
 }
 
 void RenderController::update(const rt::Camera& camera, int film_w, int film_h, bool moving) {
@@ -237,7 +243,7 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h, b
     }
     if (held_) {
         held_ = false;
-        renderer_.set_paused(paused_);
+        renderer_.set_paused(paused_ || yield_);
     }
     renderer_.start(world_, st);
     started_world_ = world_;
@@ -254,18 +260,19 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h, b
 }
 
 bool RenderController::has_new_picture() const {
-    return started_world_ && signature(renderer_.progress()) != uploaded_sig_;
+    return started_world_ && (signature(renderer_.progress()) != uploaded_sig_ || view_.pending());
 }
 
 void RenderController::upload() {
     rt::RenderProgress before = renderer_.progress();
     uploaded_sig_ = signature(before);
-    int w = film_w_seen_, h = film_h_seen_;
     std::array<int, 4> changed{};
-    if (renderer_.snapshot_rgba8(rgba_, w, h, film_version_, &changed)) {
-        film_w_seen_ = w;
-        film_h_seen_ = h;
-        film_.upload(rgba_, w, h, changed);
+    // With the default display settings and no region these are the renderer's own
+    // tile-incremental bytes (see FilmView).
+    if (view_.update(renderer_, display_, region_, ImGui::GetTime(), changed))
+        film_.upload(view_.rgba(), view_.width(), view_.height(), changed);
+    if (view_.film_changed()) {
+        int w = view_.width(), h = view_.height();
         bool has_picture = before.coarse_level > 0 || before.samples > 0;
         if (has_picture && before.generation == started_generation_) {
             showing_preview_ = false;

@@ -15,7 +15,10 @@
 #include <vector>
 
 #include "document.h"
+#include "display.h"
 #include "film_texture.h"
+#include "film_view.h"
+#include "region.h"
 #include "pacing.h"
 #include "renderer.h"
 #include "viewport.h"
@@ -45,12 +48,25 @@ public:
     // Block size of the last preview traced on the UI thread (0: none yet).
     int last_preview_block() const { return preview_block_; }
     bool showing_preview() const { return showing_preview_; }
+    // How the film is shown (exposure, tone curve, clipped overlay) and a render
+    // region to show over it (null: none); used by upload().
+    void set_display(const DisplaySettings& display, const RegionRenderer* region) {
+        display_ = display;
+        region_ = region;
+    }
     // New film pixels to the texture. Call once per frame, after update().
     void upload();
+    // The film's bytes and texture (for the picture tools, which draw them).
+    FilmView& film_view() { return view_; }
+    FilmTexture& texture() { return film_; }
+    const rt::Renderer& renderer() const { return renderer_; }
+    // Yield the processors (to a final render): pauses the render until called with false.
+    void set_yield(bool y);
     // Draws the film into `image`.
     void draw(const Rect& image, float fb_scale);
 
     const rt::World* world() const { return world_.get(); }
+    const std::shared_ptr<const rt::World>& world_ptr() const { return world_; }
     bool building() const { return building_.valid(); }
     bool started() const { return started_world_ != nullptr; }
     // All requested samples are in and the texture shows the final film of this size.
@@ -124,9 +140,10 @@ private:
     rt::Camera preview_camera_;
 
     FilmTexture film_;
-    std::vector<std::uint8_t> rgba_;
-    std::uint64_t film_version_ = 0;
-    int film_w_seen_ = 0, film_h_seen_ = 0;
+    FilmView view_;
+    DisplaySettings display_;
+    const RegionRenderer* region_ = nullptr;
+    bool yield_ = false;
     std::uint64_t done_generation_ = ~std::uint64_t(0);
     double done_elapsed_ = 0;
     bool final_uploaded_ = false;

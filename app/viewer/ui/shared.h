@@ -16,7 +16,8 @@ struct Layout {
     float menu_h = 0, status_h = 0, sidebar_w = 0;
     float fb_scale = 1;
     Rect area;   // all space for the image
-    Rect image;  // where the film is drawn (letterboxed in picture mode)
+    Rect image;  // where the film is drawn (letterboxed in picture mode; zoomed by the picture tools)
+    Rect fit_image;  // where it is drawn unzoomed
     int film_w = 1, film_h = 1;
     FitMode fit = FitMode::Picture;
     // Rectangles of some panels, for --print-layout.

@@ -1,0 +1,76 @@
+// The final render (see final_render.h). The settings mirror app/raytracer.cpp line
+// for line: any difference would show up as different bytes in the file.
+#include "final_render.h"
+
+#include <algorithm>
+
+#include "image_io.h"
+
+namespace rtview {
+
+rt::RenderSettings final_render_settings(int width, int height, int samples, double time_limit) {
+    rt::RenderSettings s;
+    s.width = width;
+    s.height = height;
+    s.coarse = false;  // nobody watches a preview of the final render
+    s.mirror = false;
+    s.time_limit = time_limit;
+    // A time limit with no sample count means "as good as fits in the time".
+    s.max_samples = samples > 0 ? samples : (time_limit > 0 ? 65536 : 1);
+    // Without a time limit one pass holds every sample, so the pass fraction is the
+    // whole render's progress.
+    if (time_limit <= 0) s.samples_per_pass = s.max_samples;
+    return s;
+}
+
+FinalRender::FinalRender(int threads) : renderer_(threads) {}
+
+FinalRender::~FinalRender() { renderer_.cancel(); }
+
+std::string FinalRender::start(const rt::Scene& scene, const std::string& out_path, int samples, double time_limit,
+                               const rt::World* previous) {
+    cancel();
+    if (rt::format_from_path(out_path) == rt::ImageFormat::Unknown)
+        return "'" + out_path + "': the name must end in .png or .ppm";
+    if (scene.width < 1 || scene.height < 1) return "the scene has no picture size";
+    std::shared_ptr<const rt::World> world = rt::compile_world(scene, previous);
+    settings_ = final_render_settings(scene.width, scene.height, samples, time_limit);
+    width_ = scene.width;
+    height_ = scene.height;
+    out_ = out_path;
+    renderer_.start(world, settings_);
+    active_ = true;
+    return {};
+}
+
+void FinalRender::cancel() {
+    if (!active_) return;
+    renderer_.cancel();
+    active_ = false;
+}
+
+bool FinalRender::done() const { return active_ && renderer_.progress().done; }
+
+double FinalRender::fraction() const {
+    if (!active_) return 0;
+    rt::RenderProgress p = renderer_.progress();
+    if (p.done) return 1;
+    double n = settings_.max_samples;
+    double f = (p.samples + p.pass_fraction * (n - p.samples)) / n;
+    if (settings_.time_limit > 0) f = std::max(f, p.elapsed / settings_.time_limit);
+    return std::clamp(f, 0.0, 1.0);
+}
+
+std::string FinalRender::write() {
+    if (!active_) return "no render to write";
+    rt::RenderProgress p = renderer_.progress();
+    if (!p.done) return "the render is not finished";
+    rt::ZeroedArray<std::uint8_t> pixels;
+    int w = 0, h = 0;
+    renderer_.snapshot_rgb8(pixels, w, h);
+    active_ = false;
+    if (w != width_ || h != height_ || p.samples < 1) return "the renderer returned an incomplete picture";
+    return rt::write_rgb8(out_, w, h, pixels.data(), pixels.size());
+}
+
+}  // namespace rtview

@@ -1,0 +1,53 @@
+// The final render: the scene at its own picture_size on the same rt::Renderer and
+// with the same settings as the `raytracer` command line, so that the file it writes
+// is byte for byte what `raytracer --samples N SCENE OUT` writes. Used by the
+// window's "Render to file..." and by `raytracer-view --headless SCENE --render OUT`.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "renderer.h"
+#include "scene.h"
+#include "world.h"
+
+namespace rtview {
+
+// What `raytracer` asks of the renderer for `--samples samples --time-limit
+// time_limit` (samples 0: not given) on a scene of width x height.
+rt::RenderSettings final_render_settings(int width, int height, int samples, double time_limit);
+
+class FinalRender {
+public:
+    explicit FinalRender(int threads = 0);  // 0: all hardware threads
+    ~FinalRender();
+    FinalRender(const FinalRender&) = delete;
+    FinalRender& operator=(const FinalRender&) = delete;
+
+    // Starts rendering `scene` (its own camera and picture size) for `out_path`.
+    // `previous`, if it has the same geometry, lends its BVH. Returns an error
+    // message (bad output name) and starts nothing then.
+    std::string start(const rt::Scene& scene, const std::string& out_path, int samples, double time_limit,
+                      const rt::World* previous = nullptr);
+    void cancel();
+    bool active() const { return active_; }
+    bool done() const;
+    // 0..1, as the command line's progress bar counts it.
+    double fraction() const;
+    rt::RenderProgress progress() const { return renderer_.progress(); }
+    const std::string& out_path() const { return out_; }
+    // Once done(): writes the picture atomically (PNG or PPM by the name) and ends
+    // the render. Empty on success, else why not; the target is untouched on failure.
+    std::string write();
+    // Blocks until done (for the headless binary). False if cancelled meanwhile.
+    bool wait_for(double seconds) { return renderer_.wait_for(seconds); }
+
+private:
+    rt::Renderer renderer_;
+    rt::RenderSettings settings_;
+    std::string out_;
+    int width_ = 0, height_ = 0;
+    bool active_ = false;
+};
+
+}  // namespace rtview

@@ -1,0 +1,196 @@
+// Render region (see region.h).
+#include "region.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "renderer.h"
+
+namespace rtview {
+
+PixelRect region_from_drag(const ViewTransform& t, int pic_w, int pic_h, double ax, double ay, double bx, double by) {
+    double u0 = std::floor(t.to_picture_x(std::min(ax, bx))), u1 = std::floor(t.to_picture_x(std::max(ax, bx)));
+    double v0 = std::floor(t.to_picture_y(std::min(ay, by))), v1 = std::floor(t.to_picture_y(std::max(ay, by)));
+    PixelRect r;
+    r.x0 = int(std::clamp(u0, 0.0, double(pic_w)));
+    r.y0 = int(std::clamp(v0, 0.0, double(pic_h)));
+    r.x1 = int(std::clamp(u1 + 1, 0.0, double(pic_w)));
+    r.y1 = int(std::clamp(v1 + 1, 0.0, double(pic_h)));
+    if (r.empty()) return {};
+    return r;
+}
+
+PixelRect scale_region(const PixelRect& r, int from_w, int from_h, int to_w, int to_h) {
+    if (r.empty() || from_w < 1 || from_h < 1) return {};
+    if (from_w == to_w && from_h == to_h) return r;
+    auto sc = [](int v, int from, int to, bool up) {
+        double x = double(v) * to / from;
+        return std::clamp(int(up ? std::ceil(x) : std::floor(x)), 0, to);
+    };
+    PixelRect s{sc(r.x0, from_w, to_w, false), sc(r.y0, from_h, to_h, false), sc(r.x1, from_w, to_w, true),
+                sc(r.y1, from_h, to_h, true)};
+    return s.empty() ? PixelRect{} : s;
+}
+
+void paste_region(const RegionPicture& reg, rt::Image& full) {
+    const PixelRect& r = reg.rect;
+    if (r.empty() || r.x1 > full.width || r.y1 > full.height || r.x0 < 0 || r.y0 < 0) return;
+    for (int y = r.y0; y < r.y1; ++y) {
+        if (reg.row_samples[std::size_t(y - r.y0)] == 0) continue;
+        const float* src = &reg.image.rgb[3 * std::size_t(y - r.y0) * r.width()];
+        std::copy(src, src + 3 * r.width(), &full.rgb[3 * (std::size_t(y) * full.width + r.x0)]);
+    }
+}
+
+void paste_region_rgba8(const RegionPicture& reg, const DisplaySettings& s, int width, std::vector<std::uint8_t>& rgba) {
+    const PixelRect& r = reg.rect;
+    if (r.empty() || r.x0 < 0 || r.y0 < 0 || r.x1 > width || rgba.size() < 4 * std::size_t(width) * r.y1) return;
+    std::vector<std::uint8_t> local;
+    map_to_rgba8(reg.image, s, local);
+    for (int y = r.y0; y < r.y1; ++y) {
+        if (reg.row_samples[std::size_t(y - r.y0)] == 0) continue;
+        const std::uint8_t* src = &local[4 * std::size_t(y - r.y0) * r.width()];
+        std::copy(src, src + 4 * r.width(), &rgba[4 * (std::size_t(y) * width + r.x0)]);
+    }
+}
+
+RegionRenderer::RegionRenderer(int threads) {
+    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { worker(); });
+}
+
+RegionRenderer::~RegionRenderer() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        quit_ = true;
+        ++generation_;
+    }
+    work_cv_.notify_all();
+    for (std::thread& t : threads_) t.join();
+}
+
+void RegionRenderer::cancel() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    ++generation_;
+    active_ = false;
+    idle_cv_.wait(lock, [&] { return busy_ == 0; });
+}
+
+void RegionRenderer::start(std::shared_ptr<const rt::World> world, const rt::Camera& camera, int width, int height,
+                           const PixelRect& rect, int max_samples, double time_limit) {
+    cancel();
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!world || rect.empty() || rect.x0 < 0 || rect.y0 < 0 || rect.x1 > width || rect.y1 > height) return;
+    world_ = std::move(world);
+    basis_ = rt::CameraBasis::make(camera, width, height, false);
+    rect_ = rect;
+    max_samples_ = std::max(1, max_samples);
+    time_limit_ = time_limit;
+    start_ = std::chrono::steady_clock::now();
+    sum_.assign(3 * std::size_t(rect.width()) * rect.height(), 0.f);
+    row_samples_.assign(std::size_t(rect.height()), 0);
+    samples_done_ = 0;
+    pass_s0_ = 0;
+    pass_s1_ = 1;
+    next_row_ = rows_done_ = 0;
+    active_ = true;
+    done_ = false;
+    ++version_;
+    work_cv_.notify_all();
+}
+
+bool RegionRenderer::active() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return active_;
+}
+
+bool RegionRenderer::done() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return active_ && done_;
+}
+
+int RegionRenderer::samples() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return samples_done_;
+}
+
+PixelRect RegionRenderer::rect() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return active_ ? rect_ : PixelRect{};
+}
+
+void RegionRenderer::worker() {
+    std::vector<float> row;
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+        work_cv_.wait(lock, [&] { return quit_ || (active_ && !done_ && next_row_ < rect_.height()); });
+        if (quit_) return;
+        const std::uint64_t gen = generation_.load();
+        const int r = next_row_++;
+        const int s0 = pass_s0_, s1 = pass_s1_;
+        const PixelRect rect = rect_;
+        std::shared_ptr<const rt::World> world = world_;
+        const rt::CameraBasis basis = basis_;
+        const int w = rect.width();
+        // This row's sums are only written by whoever holds the row, under the lock.
+        row.assign(sum_.begin() + 3 * std::ptrdiff_t(r) * w, sum_.begin() + 3 * std::ptrdiff_t(r + 1) * w);
+        ++busy_;
+        lock.unlock();
+
+        rt::RayStats stats;
+        bool cancelled = false;
+        for (int x = 0; x < w; ++x) {
+            if (generation_.load(std::memory_order_relaxed) != gen) {
+                cancelled = true;
+                break;
+            }
+            // The renderer's order of additions: the sum so far, then samples s0..s1-1.
+            rt::accumulate_pixel(*world, basis, rect.x0 + x, rect.y0 + r, s0, s1, &row[3 * std::size_t(x)], stats);
+        }
+
+        lock.lock();
+        --busy_;
+        if (busy_ == 0) idle_cv_.notify_all();
+        if (cancelled || generation_.load() != gen) continue;
+        std::copy(row.begin(), row.end(), sum_.begin() + 3 * std::ptrdiff_t(r) * w);
+        row_samples_[std::size_t(r)] = s1;
+        ++version_;
+        if (++rows_done_ < rect.height()) continue;
+        // The pass is complete: the next one doubles the samples, as the renderer's do.
+        samples_done_ = s1;
+        double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        if (s1 >= max_samples_ || (time_limit_ > 0 && elapsed >= time_limit_)) {
+            done_ = true;
+            continue;
+        }
+        pass_s0_ = s1;
+        pass_s1_ = std::min(max_samples_, s1 + std::max(1, std::min(s1, 16)));
+        next_row_ = rows_done_ = 0;
+        work_cv_.notify_all();
+    }
+}
+
+bool RegionRenderer::snapshot(RegionPicture& out, std::uint64_t& version) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!active_ || version == version_) return false;
+    version = version_;
+    out.rect = rect_;
+    out.samples = samples_done_;
+    out.row_samples = row_samples_;
+    const std::size_t n = std::size_t(rect_.width()) * rect_.height();
+    out.image.width = rect_.width();
+    out.image.height = rect_.height();
+    out.image.rgb.resize(3 * n);
+    for (int r = 0; r < rect_.height(); ++r) {
+        const int k = row_samples_[std::size_t(r)];
+        // As Film::pixel resolves: one sample as is, more divided in double.
+        const double inv = k > 1 ? 1.0 / k : 1.0;
+        for (std::size_t i = std::size_t(r) * rect_.width(); i < std::size_t(r + 1) * rect_.width(); ++i)
+            for (int c = 0; c < 3; ++c)
+                out.image.rgb[3 * i + c] = k > 1 ? float(sum_[3 * i + c] * inv) : sum_[3 * i + c];
+    }
+    return true;
+}
+
+}  // namespace rtview

@@ -1,0 +1,95 @@
+// Render region: a rectangle of the picture that keeps refining while the rest keeps
+// its last picture. The rectangle comes from a drag in window coordinates; its pixels
+// are rendered by accumulate_pixel, the renderer's own definition of a pixel, so a
+// region pixel at N samples is the full render's pixel at N samples.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "display.h"
+#include "film.h"
+#include "image_view.h"
+#include "world.h"
+
+namespace rtview {
+
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1)
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+    int width() const { return x1 - x0; }
+    int height() const { return y1 - y0; }
+    bool operator==(const PixelRect& o) const { return x0 == o.x0 && y0 == o.y0 && x1 == o.x1 && y1 == o.y1; }
+};
+
+// The picture pixels a drag from (ax, ay) to (bx, by) covers: both end pixels
+// included, cut to the picture; empty if it misses the picture.
+PixelRect region_from_drag(const ViewTransform& t, int pic_w, int pic_h, double ax, double ay, double bx, double by);
+// The same region in a film of another size (the film follows the window's size).
+PixelRect scale_region(const PixelRect& r, int from_w, int from_h, int to_w, int to_h);
+
+// The region's pixels as rendered so far.
+struct RegionPicture {
+    PixelRect rect;
+    rt::Image image;               // rect.width() x rect.height(), resolved linear colour
+    std::vector<int> row_samples;  // per row of the rect; 0: nothing yet (keep the old picture)
+    int samples = 0;               // complete everywhere in the rect
+};
+// Copies the rows that have samples into `full` (the whole picture, same size as the
+// world the region was rendered for).
+void paste_region(const RegionPicture& region, rt::Image& full);
+// The same into display bytes of a picture `width` wide.
+void paste_region_rgba8(const RegionPicture& region, const DisplaySettings& settings, int width,
+                        std::vector<std::uint8_t>& rgba);
+
+class RegionRenderer {
+public:
+    explicit RegionRenderer(int threads = 0);  // 0: all hardware threads
+    ~RegionRenderer();
+    RegionRenderer(const RegionRenderer&) = delete;
+    RegionRenderer& operator=(const RegionRenderer&) = delete;
+
+    // Renders `rect` of a width x height film of `world` seen through `camera`, up to
+    // max_samples, in passes of 1, 1, 2, 4, ... samples, stopping after time_limit
+    // seconds (0: none).
+    void start(std::shared_ptr<const rt::World> world, const rt::Camera& camera, int width, int height,
+               const PixelRect& rect, int max_samples, double time_limit = 0);
+    void cancel();  // returns when no worker touches the region any more
+    bool active() const;
+    bool done() const;
+    int samples() const;
+    PixelRect rect() const;
+    // A copy of the region if it changed since `version` (which it then updates).
+    bool snapshot(RegionPicture& out, std::uint64_t& version) const;
+
+private:
+    void worker();
+    mutable std::mutex mutex_;
+    std::condition_variable work_cv_, idle_cv_;
+    std::vector<std::thread> threads_;
+    bool quit_ = false;
+    std::atomic<std::uint64_t> generation_{0};
+    int busy_ = 0;
+
+    // The job (guarded by mutex_).
+    std::shared_ptr<const rt::World> world_;
+    rt::CameraBasis basis_;
+    PixelRect rect_;
+    bool active_ = false, done_ = false;
+    int max_samples_ = 1;
+    double time_limit_ = 0;
+    std::chrono::steady_clock::time_point start_;
+    int pass_s0_ = 0, pass_s1_ = 0;  // samples of the current pass
+    int next_row_ = 0, rows_done_ = 0;
+    int samples_done_ = 0;
+    std::vector<float> sum_;  // 3 per pixel of the rect
+    std::vector<int> row_samples_;
+    std::uint64_t version_ = 1;
+};
+
+}  // namespace rtview

@@ -1,0 +1,57 @@
+// Settings the viewer remembers beside the recent files ($XDG_CONFIG_HOME/
+// raytracer-view/settings.txt): the UI scale; plus where the UI font is found and the
+// colours whose contrast the panels rely on.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace rtview {
+
+class UiSettings {
+public:
+    static constexpr double kMinScale = 0.75, kMaxScale = 3;
+
+    // `file` empty: settings.txt beside the recent-files list (memory only if there is
+    // no config directory).
+    explicit UiSettings(std::string file = {});
+    static std::string default_path();
+
+    double ui_scale() const { return ui_scale_; }
+    // Sets (clamped) and saves; returns why saving failed.
+    std::string set_ui_scale(double scale);
+    void load();
+
+private:
+    std::string save() const;
+    std::string file_;
+    double ui_scale_ = 1;
+    std::vector<std::string> other_lines_;  // settings this version does not know: kept
+};
+
+// Ctrl+ / Ctrl-: the next step of 0.75, 1, 1.25, 1.5, 1.75, 2, 2.5, 3 up or down.
+double next_ui_scale(double scale, int direction);
+
+// The UI font: $RAYTRACER_VIEW_FONT if it names a file, else DejaVu Sans (Debian's
+// fonts-dejavu-core) under the fonts folder of $XDG_DATA_DIRS or the usual places.
+// Empty if none is found: the caller falls back to ImGui's built-in font.
+std::string find_ui_font();
+// The same search over given data folders (each containing fonts/), for tests.
+std::string find_ui_font_in(const std::vector<std::string>& data_dirs);
+
+// Font sizes at scale 1, in pixels: DejaVu Sans is drawn larger than ImGui's
+// bitmap font, whose 13 px is its native size.
+constexpr float kUiFontPixels = 15.f, kFallbackFontPixels = 13.f;
+
+// Colours (linear 0..1 sRGB components as ImGui takes them) chosen for legible text.
+struct Rgb {
+    float r, g, b;
+};
+constexpr Rgb kPanelBackground{0.06f, 0.06f, 0.06f};   // ImGui dark style's WindowBg
+constexpr Rgb kHintText{0.68f, 0.68f, 0.72f};         // TextDisabled: hints and notes
+constexpr Rgb kProgressFill{0.16f, 0.38f, 0.66f};     // progress bar (white text on it)
+constexpr Rgb kWhite{1, 1, 1};
+// WCAG 2 contrast ratio of two sRGB colours (1 .. 21; 4.5 is the bar for text).
+double contrast_ratio(const Rgb& a, const Rgb& b);
+
+}  // namespace rtview

@@ -1,0 +1,179 @@
+// Looking at the picture: display controls (exposure, tone curve, clipped overlay),
+// the pixel readout, zoom and pan apart from the camera, snapshots and A/B compare,
+// the render region, "Render to file..." and the UI scale keys. One object the app
+// owns and calls at fixed points of its frame; the logic lives in logic/ (display,
+// image_view, snapshots, region, film_view, final_render, readout, ui_settings).
+#pragma once
+
+#include <cstdint>
+#include <algorithm>
+#include <memory>
+#include <string>
+
+#include "display.h"
+#include "film_texture.h"
+#include "film_view.h"
+#include "final_render.h"
+#include "image_view.h"
+#include "readout.h"
+#include "region.h"
+#include "renderer.h"
+#include "snapshots.h"
+#include "ui_settings.h"
+#include "viewport.h"
+
+namespace rtview {
+
+// What the picture tools need from the app each frame.
+struct ImageFrame {
+    const rt::Renderer* renderer = nullptr;
+    FilmView* film = nullptr;                // the film's bytes (the render controller keeps them current)
+    FilmTexture* texture = nullptr;          // and their texture
+    std::shared_ptr<const rt::World> world;  // compiled document scene; may be null
+    const rt::Scene* scene = nullptr;        // the document's scene; null when it has errors
+    rt::Camera view_camera;                  // the film's camera (fitted to the film in window mode)
+    rt::Camera render_camera;                // the view as `raytracer` would see it at picture_size
+    int film_w = 1, film_h = 1;              // the film the app asks for
+    int pic_w = 1, pic_h = 1;                // the picture zoom and readout count in: the scene's
+                                             // picture_size in the picture frame, else the film
+    Rect area;                               // all the space for the picture (window units)
+    Rect image;                              // where the app fits the film (letterboxed)
+    float fb_scale = 1;                      // framebuffer pixels per window unit
+    int max_samples = 1;
+    double time_limit = 0;
+    bool mouse_free = false;                 // not over a panel, no popup open
+    bool keys_free = false;                  // no text field has the keyboard
+    double now = 0;                          // seconds
+    std::string scene_path;                  // the document's file (empty: not saved yet)
+};
+
+class ImageTools {
+public:
+    explicit ImageTools(bool verbose, int threads);
+    ~ImageTools();
+
+    void begin(const ImageFrame& f) { f_ = f; }
+    // Keys of the picture (see the help text). Ctrl+= / Ctrl+- / Ctrl+0 change the UI scale.
+    void handle_keys();
+    // Mouse over the picture, before the camera's gestures: true while the picture
+    // tools own the mouse (Ctrl+wheel, Ctrl+drag, the split line).
+    bool handle_mouse();
+    // After the app has (re)started its render and uploaded the film: compare
+    // textures, readout, region restarts, the final render's end.
+    void update();
+    // The picture and its overlays, on the background draw list.
+    void draw();
+    // The "Picture" controls, into the current ImGui window.
+    void draw_panel();
+    // Menu items: in File ("Render to file...") and in View (display, zoom, compare,
+    // region, UI scale).
+    void file_menu_items();
+    void view_menu_items();
+    // The "Render to file" dialog: call where the app draws its popups.
+    void draw_popups();
+    // Opens the dialog; the file name proposed is the scene's, ending in .png.
+    void open_render_dialog();
+
+    // The readout of the pixel under the cursor; empty when it is not over the picture.
+    const std::string& readout_line() const { return readout_text_; }
+    // A message for the status bar (taken once).
+    bool take_message(std::string& text, bool& error);
+    // The app keeps its render as it is while a region refines (the rest keeps its
+    // last picture), and pauses it while a final render runs.
+    bool region_active() const { return !region_rect_.empty(); }
+    // The film size the region was drawn on: another film size ends it.
+    bool region_fits(int film_w, int film_h) const { return film_w == region_w_ && film_h == region_h_; }
+    const RegionRenderer* region() const { return region_active() ? &region_ : nullptr; }
+    bool final_render_running() const { return final_.active(); }
+    // Something animates: a region or final render in progress, a drag.
+    bool busy() const;
+    // The UI scale the user asked for (saved); true once after each change.
+    double ui_scale() const { return settings_.ui_scale(); }
+    bool take_ui_scale_change();
+    // Zoomed or panned: the app's picking must use this image rectangle.
+    Rect image_rect() const;
+    bool fitted() const { return view_.fitted(); }
+    const DisplaySettings& display() const { return display_; }
+
+    // Scripting and tests.
+    void keep_snapshot();
+    void clear_region();
+
+private:
+    enum class Compare { Off, Split, Difference };
+    enum class Drag { None, Region, Pan, Split };
+    int pic_w() const { return std::max(1, f_.pic_w); }
+    int pic_h() const { return std::max(1, f_.pic_h); }
+    // The film on screen matches the one asked for (it lags a frame after a resize).
+    bool film_ready() const {
+        return f_.film && f_.renderer && f_.film->width() == f_.film_w && f_.film->height() == f_.film_h;
+    }
+    ViewTransform transform() const;
+    double zoom_ratio() const;
+    void message(const std::string& text, bool error = false);
+    void set_exposure(double stops);
+    void set_ui_scale(double scale);
+    void set_compare(int mode);
+    void update_readout();
+    void update_compare();
+    void start_region(const PixelRect& r);
+    void restart_region_if_needed();
+    const Snapshot* compared() const;
+
+    bool verbose_;
+    ImageFrame f_;
+    UiSettings settings_;
+    bool ui_scale_changed_ = false;
+
+    DisplaySettings display_;
+    ImageView view_;
+
+    // Readout
+    std::string readout_text_;
+    int readout_x_ = -1, readout_y_ = -1;
+    double readout_time_ = -1;
+
+    // Snapshots and A/B
+    SnapshotStore snapshots_;
+    int compare_id_ = 0;  // the snapshot compared with (0: the newest)
+    Compare compare_ = Compare::Off;
+    double split_ = 0.5;  // fraction of the picture's width
+    int diff_scale_log2_ = 3;
+    FilmTexture compare_texture_;
+    int compare_made_id_ = -1;
+    DisplaySettings compare_made_display_;
+    int compare_made_w_ = 0, compare_made_h_ = 0;
+    double compare_made_time_ = -1;
+    std::uint64_t compare_made_film_ = 0;
+    DiffStats diff_stats_;
+
+    // Region
+    RegionRenderer region_;
+    PixelRect region_rect_;       // in picture pixels (drawn with the zoom)
+    PixelRect region_film_rect_;  // the same in film pixels (rendered)
+    std::shared_ptr<const rt::World> region_world_;  // the document world it renders
+    rt::Camera region_camera_;
+    int region_samples_ = 0;
+    int region_w_ = 0, region_h_ = 0;
+
+    // Mouse
+    Drag drag_ = Drag::None;
+    double drag_x_ = 0, drag_y_ = 0, drag_last_x_ = 0, drag_last_y_ = 0;
+
+    // Render to file
+    FinalRender final_;
+    bool open_render_popup_ = false;
+    std::string render_path_;
+    int render_samples_ = 64;
+    double render_time_limit_ = 0;
+    std::string render_error_;
+    bool render_finished_ = false;
+    bool focus_render_path_ = false;
+    bool render_scene_camera_ = false;  // the scene's camera instead of the view
+
+    std::string message_;
+    bool message_error_ = false;
+    bool has_message_ = false;
+};
+
+}  // namespace rtview

@@ -1,0 +1,144 @@
+// Zoom and pan of the picture: the pixel readout's window -> picture pixel mapping at
+// several zooms and letterboxings, checked against the placement worked out by hand.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "image_view.h"
+
+using namespace rtview;
+
+namespace {
+
+// The pixel under a window point, or (-1, -1) outside the picture.
+std::array<int, 2> at(const ImageView& v, const Rect& area, int w, int h, double px, double py) {
+    int x = -1, y = -1;
+    if (!picture_pixel_at(v.transform(area, w, h), w, h, px, py, x, y)) return {-1, -1};
+    return {x, y};
+}
+
+using P = std::array<int, 2>;
+
+}  // namespace
+
+TEST_CASE("fitted: letterboxed top and bottom") {
+    // 1000x250 in 800x600 at y 20: 0.8 window units a pixel, bars of 200 above and below.
+    Rect area{0, 20, 800, 600};
+    ImageView v;
+    CHECK(v.fitted());
+    ViewTransform t = v.transform(area, 1000, 250);
+    CHECK(t.x0 == 0);
+    CHECK(t.y0 == 220);
+    CHECK(t.sx == doctest::Approx(0.8));
+    CHECK(at(v, area, 1000, 250, 0.1, 220.1) == P{0, 0});
+    CHECK(at(v, area, 1000, 250, 8.1, 220.1) == P{10, 0});        // 8.1 / 0.8 = 10.1
+    CHECK(at(v, area, 1000, 250, 799.9, 419.9) == P{999, 249});
+    CHECK(at(v, area, 1000, 250, 400, 219.5) == P{-1, -1});       // in the bar above
+    CHECK(at(v, area, 1000, 250, 400, 420.5) == P{-1, -1});       // in the bar below
+    CHECK(v.ratio(area, 1000, 250, 1) == doctest::Approx(0.8));
+}
+
+TEST_CASE("fitted: pillarboxed left and right") {
+    // 100x400 in 500x500 at (10, 10): 1.25 a pixel, 125 wide from x = 197.
+    Rect area{10, 10, 500, 500};
+    ImageView v;
+    CHECK(at(v, area, 100, 400, 197 + 1.25 * 37 + 0.1, 10 + 1.25 * 399 + 0.5) == P{37, 399});
+    CHECK(at(v, area, 100, 400, 196.9, 100) == P{-1, -1});
+    CHECK(at(v, area, 100, 400, 322.1, 100) == P{-1, -1});
+}
+
+TEST_CASE("1:1 keeps the pixel under the cursor and puts texels on whole pixels") {
+    Rect area{0, 0, 800, 600};
+    ImageView v;  // 320x240 fitted at 2.5 a pixel
+    CHECK(at(v, area, 320, 240, 400.3, 300.3) == P{160, 120});
+    v.one_to_one(area, 320, 240, 1, 400.3, 300.3);
+    CHECK_FALSE(v.fitted());
+    ViewTransform t = v.transform(area, 320, 240);
+    CHECK(t.sx == 1);
+    CHECK(t.x0 == 240);  // round(400.3 - 160.12)
+    CHECK(t.y0 == 180);
+    CHECK(at(v, area, 320, 240, 400.3, 300.3) == P{160, 120});
+    CHECK(at(v, area, 320, 240, 240.5, 180.5) == P{0, 0});
+    CHECK(at(v, area, 320, 240, 559.5, 419.5) == P{319, 239});
+    CHECK(at(v, area, 320, 240, 239.5, 300) == P{-1, -1});
+    CHECK(v.ratio(area, 320, 240, 1) == 1);
+}
+
+TEST_CASE("1:1 on a hi-DPI screen is one picture pixel per framebuffer pixel") {
+    // Window units are half a framebuffer pixel's size apart: 0.5 units a pixel.
+    Rect area{0, 30, 600, 400};
+    ImageView v;
+    v.one_to_one(area, 2000, 1000, 2, 300, 230);
+    ViewTransform t = v.transform(area, 2000, 1000);
+    CHECK(t.sx == 0.5);
+    CHECK(v.ratio(area, 2000, 1000, 2) == 1);
+    CHECK(std::fmod(t.x0 * 2, 1.0) == 0);  // on a framebuffer pixel boundary
+    // Fitted, 2000 px spanned 600 units: the point (300, 230) was pixel (1000, 500).
+    CHECK(at(v, area, 2000, 1000, 300, 230) == P{1000, 500});
+    CHECK(at(v, area, 2000, 1000, 300.5, 230) == P{1001, 500});
+    CHECK(at(v, area, 2000, 1000, 300 + 0.5 * 10, 230 - 0.5 * 7) == P{1010, 493});
+}
+
+TEST_CASE("wheel zoom steps through 1:1 and magnifies about the cursor") {
+    Rect area{0, 0, 800, 600};
+    ImageView v;
+    v.one_to_one(area, 320, 240, 1, 400, 300);
+    P under = at(v, area, 320, 240, 410.5, 305.5);
+    v.zoom_steps(area, 320, 240, 1, 410.5, 305.5, 4);
+    CHECK(v.ratio(area, 320, 240, 1) == doctest::Approx(2));
+    v.zoom_steps(area, 320, 240, 1, 410.5, 305.5, 8);
+    CHECK(v.ratio(area, 320, 240, 1) == doctest::Approx(8));
+    CHECK(at(v, area, 320, 240, 410.5, 305.5) == under);
+    // At 8x a pixel is 8 units wide: 8 units right is the next pixel.
+    CHECK(at(v, area, 320, 240, 410.5 + 8, 305.5) == P{under[0] + 1, under[1]});
+    CHECK(at(v, area, 320, 240, 410.5, 305.5 - 16) == P{under[0], under[1] - 2});
+    v.zoom_steps(area, 320, 240, 1, 410.5, 305.5, -12);
+    CHECK(v.ratio(area, 320, 240, 1) == doctest::Approx(1));
+    // From a fitted 2.5 the first step in lands on the ladder at 2^(6/4).
+    ImageView f;
+    f.zoom_steps(area, 320, 240, 1, 400, 300, 1);
+    CHECK(f.ratio(area, 320, 240, 1) == doctest::Approx(std::exp2(1.5)));
+    f.fit();
+    CHECK(f.ratio(area, 320, 240, 1) == doctest::Approx(2.5));
+}
+
+TEST_CASE("pan moves the picture and never loses it") {
+    Rect area{0, 0, 800, 600};
+    ImageView v;
+    v.one_to_one(area, 320, 240, 1, 400, 300);
+    P before = at(v, area, 320, 240, 400.5, 300.5);
+    v.pan(area, 320, 240, 10, -3);
+    CHECK(at(v, area, 320, 240, 400.5, 300.5) == P{before[0] - 10, before[1] + 3});
+    v.pan(area, 320, 240, 1e6, 1e6);
+    // The area's centre stays on the picture: its top-left corner at the most.
+    CHECK(at(v, area, 320, 240, 400.5, 300.5) == P{0, 0});
+}
+
+TEST_CASE("a preview film of another resolution: the pixel covering the same spot") {
+    int fx, fy;
+    picture_to_film_pixel(799, 599, 800, 600, 400, 300, fx, fy);
+    CHECK((fx == 399 && fy == 299));
+    picture_to_film_pixel(1, 2, 800, 600, 400, 300, fx, fy);
+    CHECK((fx == 0 && fy == 1));
+    picture_to_film_pixel(5, 7, 800, 600, 800, 600, fx, fy);
+    CHECK((fx == 5 && fy == 7));
+}
+
+TEST_CASE("the visible part of the picture, as pixels and as texture coordinates") {
+    Rect area{0, 0, 800, 600};
+    ImageView v;
+    Rect win;
+    std::array<double, 4> uv;
+    visible_uv(v.transform(area, 320, 240), area, 320, 240, win, uv);
+    CHECK(win.w == 800);
+    CHECK(uv == std::array<double, 4>{0, 0, 1, 1});
+    // At 10x about the centre: 80x60 pixels around (160, 120).
+    v.zoom_about(area, 320, 240, 1, 400, 300, 4);
+    CHECK(v.ratio(area, 320, 240, 1) == doctest::Approx(10));
+    std::array<int, 4> px = visible_pixels(v.transform(area, 320, 240), area, 320, 240);
+    CHECK(px == std::array<int, 4>{120, 90, 200, 150});
+    visible_uv(v.transform(area, 320, 240), area, 320, 240, win, uv);
+    CHECK(win.w == doctest::Approx(800));
+    CHECK(uv[0] == doctest::Approx(120.0 / 320));
+    CHECK(uv[3] == doctest::Approx(150.0 / 240));
+}
