@@ -30,25 +30,10 @@ namespace {
 
 constexpr int kMaxShownDiagnostics = 20;  // as raytracer
 
-volatile sig_atomic_t g_signal = 0;
-
-// As raytracer's: a signal ends the program at once, unless a temporary output file
-// exists; then the write stops, removes it and fails, and main exits with 128+N.
-extern "C" void on_signal(int sig) {
-    if (!g_signal) g_signal = sig;
-    if (rt::interrupt_writes()) return;
-    static const char msg[] = "raytracer-view-headless: interrupted; nothing written\n";
-    [[maybe_unused]] ssize_t ignored = ::write(STDERR_FILENO, msg, sizeof msg - 1);
-    _exit(128 + g_signal);
-}
-
-void install_signal_handlers() {
-    struct sigaction sa {};
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&sa.sa_mask, sig);
-    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
-}
+// Signals as raytracer's (app/cli): a signal ends the program at once, unless a
+// temporary output file exists; then the write stops, removes it and fails, and main
+// exits with 128+N.
+const rtcli::Program kProgram{"raytracer-view-headless", ""};
 
 class NullHost : public rtview::Host {
 public:
@@ -60,10 +45,10 @@ public:
 // OUT` renders it; the same messages and exit statuses (1: the scene has errors, 2:
 // usage or I/O, 128+N: signal N, OUT untouched).
 int render_to_file(const rtview::Options& opt) {
-    const rtcli::Program program{"raytracer-view-headless", ""};
+    const rtcli::Program& program = kProgram;
     const std::string scene_path = opt.scene;
     if (int r = rtcli::check_output(program, opt.render, scene_path); r >= 0) return r;
-    rtcli::install_signal_handlers();
+    rtcli::install_signal_handlers(program);
     rt::Scene scene;
     if (scene_path.empty()) {
         rt::ParseResult parsed = rt::parse_scene(rt::kDefaultScene);
@@ -141,7 +126,7 @@ static int run(int argc, char** argv) {
         std::fprintf(stderr, "raytracer-view-headless: %s\n", why.c_str());
         return 2;
     }
-    install_signal_handlers();
+    rtcli::install_signal_handlers(kProgram);
     // Before rendering, as raytracer does: a render must not end in "cannot write".
     if (rt::format_from_path(opt.screenshot) == rt::ImageFormat::Unknown) {
         std::fprintf(stderr, "raytracer-view-headless: cannot write %s: the name must end in .png or .ppm\n",
@@ -247,9 +232,9 @@ static int run(int argc, char** argv) {
     ImGui::DestroyContext();
     OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);  // release the buffer before the context
     OSMesaDestroyContext(ctx);
-    if (g_signal) {  // came while a file was written: that write stopped and cleaned up
+    if (rtcli::caught_signal()) {  // came while a file was written: that write stopped and cleaned up
         std::fprintf(stderr, "raytracer-view-headless: interrupted; nothing more written\n");
-        return 128 + g_signal;
+        return 128 + rtcli::caught_signal();
     }
     return status;
 }
