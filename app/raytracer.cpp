@@ -90,17 +90,6 @@ int settle_paths(const Options& opt, std::string& scene_path, std::string& out_p
     return -1;
 }
 
-// Phase 3: the compiled world, with --max-depth applied.
-std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, const Options& opt) {
-    std::shared_ptr<const rt::World> world = rt::compile_world(scene);
-    if (opt.max_depth != world->options.max_depth) {
-        auto changed = std::make_shared<rt::World>(*world);  // shares the geometry
-        changed->options.max_depth = opt.max_depth;
-        world = std::move(changed);
-    }
-    return world;
-}
-
 // What the render phase hands on to the write and the statistics.
 struct Rendered {
     rt::RenderProgress progress;
@@ -208,7 +197,7 @@ int run(int argc, char** argv) {
     if (opt.print_scene) return print_scene(kProgram, std::move(scene));
 
     const auto t_compile0 = Clock::now();
-    const std::shared_ptr<const rt::World> world = build_world(scene, opt);
+    const std::shared_ptr<const rt::World> world = build_world(scene, opt.max_depth);
     times.compile = seconds_since(t_compile0);
 
     const auto t_render0 = Clock::now();

@@ -338,6 +338,16 @@ int check_output(const Program& program, const std::string& out, const std::stri
     return -1;
 }
 
+std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_depth) {
+    std::shared_ptr<const rt::World> world = rt::compile_world(scene);
+    if (max_depth != world->options.max_depth) {
+        auto changed = std::make_shared<rt::World>(*world);  // shares the geometry
+        changed->options.max_depth = max_depth;
+        world = std::move(changed);
+    }
+    return world;
+}
+
 int print_scene(const Program& program, rt::Scene scene) {
     for (rt::Object& o : scene.objects) o.has_material = true;
     for (rt::Plane& p : scene.planes) p.has_material = p.has_material2 = true;

@@ -1,15 +1,18 @@
 // What the two command-line renderers (raytracer, raytracer-mpi) share: the option
-// parser, scene loading with its diagnostics, the output checks, the progress bar and
-// the signal flag. Each program supplies its name, help text and extra options.
+// parser and help text, scene loading with its diagnostics, --print-scene, building
+// the world, the output checks, the progress bar and the signal flag. Each program
+// supplies its name, the parts of its help text of its own, and extra options.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "scene.h"
+#include "world.h"
 
 namespace rtcli {
 
@@ -60,6 +63,10 @@ int check_scene(const Program& program, const Options& o);
 // that rt::check_writable accepts, not the scene file itself); else says why, with
 // the system's error, and returns kExitUsage.
 int check_output(const Program& program, const std::string& out, const std::string& scene_path);
+
+// The scene compiled for rendering, with --max-depth in place of the scene's own
+// recursion limit.
+std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_depth);
 
 // --print-scene: writes the scene in normalised form, every default written out,
 // including the material an object or plane gets without a material block. Both

@@ -207,13 +207,7 @@ std::shared_ptr<const rt::World> build_world(const std::string& text, const JobH
     rt::Scene& scene = parsed.scene;
     scene.width = job.width;
     scene.height = job.height;
-    std::shared_ptr<const rt::World> world = rt::compile_world(scene);
-    if (job.max_depth != world->options.max_depth) {
-        auto changed = std::make_shared<rt::World>(*world);  // shares the geometry
-        changed->options.max_depth = job.max_depth;
-        world = std::move(changed);
-    }
-    return world;
+    return rtcli::build_world(scene, job.max_depth);
 }
 
 // --- workers -----------------------------------------------------------------------
