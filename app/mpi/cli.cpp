@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <utility>
 
 namespace rtmpi {
 
@@ -49,7 +50,7 @@ int load_scene(const std::string& path, std::string& text, rt::Scene& scene) {
 
 void install_signal_handlers() { rtcli::install_signal_handlers(kProgram); }
 
-int print_scene(const rt::Scene& scene) { return rtcli::print_scene(kProgram, scene); }
+int print_scene(rt::Scene scene) { return rtcli::print_scene(kProgram, std::move(scene)); }
 
 bool stderr_watched() {
     if (isatty(STDERR_FILENO)) return true;

@@ -41,7 +41,7 @@ int load_scene(const std::string& path, std::string& text, rt::Scene& scene);
 void install_signal_handlers();
 
 // --print-scene's output, the same as raytracer's (rtcli::print_scene).
-int print_scene(const rt::Scene& scene);
+int print_scene(rt::Scene scene);
 
 // Whether somebody watches stderr on a terminal (for the progress bar). Under mpirun
 // a rank's stderr is a pipe to mpirun, so there it is mpirun's stderr that counts.

@@ -195,7 +195,7 @@ int front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
     if (opt.width) scene.width = *opt.width;
     if (opt.height) scene.height = *opt.height;
     f.t_parse = seconds_since(f.t_start);
-    if (opt.print_scene) return print_scene(scene);
+    if (opt.print_scene) return print_scene(std::move(scene));  // nothing needs it after
     return -1;
 }
 
