@@ -19,43 +19,25 @@
 #include "renderer.h"
 #include "scene.h"
 #include "scene_parser.h"
-#include "scene_writer.h"
 #include "world.h"
 
 namespace {
 
 using namespace rtcli;
 
-const char* const kHelp =
+const Program kProgram{
+    "raytracer",
     "Usage: raytracer [OPTIONS] [SCENE [OUT]]\n"
     "Render a raytracer2 scene file to an image. Missing SCENE or OUT are asked for\n"
     "on the terminal, as the 2013 program did.\n"
     "\n"
     "  OUT ends in .ppm (binary PPM, P6) or .png.\n"
     "\n"
-    "Options:\n"
-    "  --width N          picture width in pixels, overriding the scene (1..16384)\n"
-    "  --height N         picture height in pixels, overriding the scene (1..16384)\n"
-    "  --samples N        samples per pixel (1..65536, default 1: the original's\n"
-    "                     single ray through each pixel corner)\n"
-    "  --threads N        worker threads (1..256, default: all cores)\n"
-    "  --max-depth N      recursion limit (1..1000, default 20 as in the original;\n"
-    "                     a reflection costs 2 levels, a refraction 3)\n"
-    "  --time-limit SEC   stop adding samples after SEC seconds (every pixel still gets\n"
-    "                     at least one); without --samples, render as many as fit\n"
-    "  --mirror           mirror the picture left-right, as the 2013 program did\n"
-    "  --quiet            no progress bar\n"
-    "  --stats            print times, ray count and rays per second to stderr\n"
-    "  --check SCENE      parse SCENE and report errors and warnings; render nothing\n"
-    "  --print-scene      print SCENE in normalised form to stdout; render nothing\n"
-    "  --version          print the version and exit\n"
-    "  -h, --help         print this help and exit\n"
-    "\n"
+    "Options:\n",
+    "  --threads N        worker threads (1..256, default: all cores)\n",
     "Exit status: 0 success, 1 the scene has errors, 2 usage or I/O error,\n"
     "128+N interrupted by signal N (130 for Ctrl+C). An interrupted or failed run\n"
-    "leaves OUT untouched.\n";
-
-const Program kProgram{"raytracer", kHelp};
+    "leaves OUT untouched.\n"};
 
 int usage_error(const std::string& message) { return rtcli::usage_error(kProgram, message); }
 
@@ -80,18 +62,16 @@ bool prompt(const char* question, std::string& answer) {
     return true;
 }
 
-int run(int argc, char** argv) {
-    using Clock = std::chrono::steady_clock;
-    Options opt;
-    if (int r = parse_args(kProgram, argc, argv, opt); r >= 0) return r;
+using Clock = std::chrono::steady_clock;
 
-    if (opt.check) return check_scene(kProgram, opt);
+// Phase 1: the scene and output paths, from the command line or asked for. Returns -1
+// to go on, else the exit status.
+int settle_paths(const Options& opt, std::string& scene_path, std::string& out_path) {
     if (opt.positional.size() > 2) return usage_error("too many arguments");
     if (opt.print_scene && opt.positional.size() != 1)
         return usage_error("--print-scene takes exactly one scene file and no output");
 
     // As in the 2013 program: ask for what the command line did not give.
-    std::string scene_path, out_path;
     if (!opt.positional.empty()) {
         scene_path = opt.positional[0];
     } else if (!prompt("Scene file: ", scene_path)) {
@@ -107,41 +87,20 @@ int run(int argc, char** argv) {
         }
         if (out_path.empty()) return usage_error("no output file given");
     }
+    return -1;
+}
 
-    // Installed only now: at a prompt, Ctrl+C should just end the program. Before the
-    // output check, which creates (and removes) a temporary file.
-    install_signal_handlers(kProgram);
-    if (!opt.print_scene) {
-        if (int r = check_output(kProgram, out_path, scene_path); r >= 0) return r;
-        if (caught_signal()) return interrupted_exit();  // came during the check
-    }
+// What the render phase hands on to the write and the statistics.
+struct Rendered {
+    rt::RenderProgress progress;
+    rt::ZeroedArray<std::uint8_t> pixels;
+    int width = 0, height = 0;
+    int threads = 0;
+};
 
-    const auto t_start = Clock::now();
-    rt::Scene scene;
-    std::string text;
-    if (int r = load_scene(kProgram, scene_path, text, scene); r >= 0) return r;
-    std::string().swap(text);  // the parsed scene is all that is needed from here
-    if (opt.width) scene.width = *opt.width;
-    if (opt.height) scene.height = *opt.height;
-    const double t_parse = seconds_since(t_start);
-
-    if (opt.print_scene) {
-        // Normalised form: every default written out, including the material an
-        // object gets when it has no material block (translusans 0).
-        for (rt::Object& o : scene.objects) o.has_material = true;
-        for (rt::Plane& p : scene.planes) p.has_material = p.has_material2 = true;
-        return print_to_stdout(kProgram, rt::write_scene(scene));
-    }
-
-    const auto t_compile0 = Clock::now();
-    std::shared_ptr<const rt::World> world = rt::compile_world(scene);
-    if (opt.max_depth != world->options.max_depth) {
-        auto changed = std::make_shared<rt::World>(*world);  // shares the geometry
-        changed->options.max_depth = opt.max_depth;
-        world = std::move(changed);
-    }
-    const double t_compile = seconds_since(t_compile0);
-
+// Phase 4: renders with the progress bar. Returns -1 to go on, else the exit status.
+int render(const std::shared_ptr<const rt::World>& world, const rt::Scene& scene, const Options& opt,
+           Rendered& out) {
     rt::RenderSettings settings;
     settings.width = scene.width;
     settings.height = scene.height;
@@ -154,7 +113,6 @@ int run(int argc, char** argv) {
     // pass makes pass_fraction the whole render's progress.
     if (opt.time_limit <= 0) settings.samples_per_pass = settings.max_samples;
 
-    const auto t_render0 = Clock::now();
     rt::Renderer renderer(opt.threads);
     ProgressBar bar(!opt.quiet && isatty(STDERR_FILENO));
     renderer.start(world, settings);
@@ -166,19 +124,21 @@ int run(int argc, char** argv) {
         bar.update(fraction, p.elapsed);
     }
     bar.clear();
-    const rt::RenderProgress progress = renderer.progress();
-    rt::ZeroedArray<std::uint8_t> pixels;
-    int width = 0, height = 0;
-    renderer.snapshot_rgb8(pixels, width, height);
-    const double t_render = seconds_since(t_render0);
-    if (width != scene.width || height != scene.height || progress.samples < 1) {
-        std::cerr << "raytracer: internal error: the renderer returned a " << width << "x" << height
-                  << " picture with " << progress.samples << " samples per pixel\n";
+    out.progress = renderer.progress();
+    out.threads = renderer.threads();
+    renderer.snapshot_rgb8(out.pixels, out.width, out.height);
+    if (out.width != scene.width || out.height != scene.height || out.progress.samples < 1) {
+        std::cerr << "raytracer: internal error: the renderer returned a " << out.width << "x" << out.height
+                  << " picture with " << out.progress.samples << " samples per pixel\n";
         return kExitUsage;
     }
+    return -1;
+}
 
-    const auto t_write0 = Clock::now();
-    if (std::string err = rt::write_rgb8(out_path, width, height, pixels.data(), pixels.size()); !err.empty()) {
+// Phase 5: writes OUT. Returns -1 to go on, else the exit status.
+int write_picture(const std::string& out_path, const Rendered& r) {
+    if (std::string err = rt::write_rgb8(out_path, r.width, r.height, r.pixels.data(), r.pixels.size());
+        !err.empty()) {
         if (caught_signal()) return interrupted_exit();  // the temporary file is gone
         std::cerr << "raytracer: cannot write '" << rt::escape_text(out_path) << "': " << err << "\n";
         return kExitUsage;
@@ -189,20 +149,69 @@ int run(int argc, char** argv) {
                   << ") just after the picture was written\n";
         return 128 + sig;
     }
-    const double t_write = seconds_since(t_write0);
+    return -1;
+}
+
+// Seconds each phase took, for --stats.
+struct Times {
+    double parse = 0, compile = 0, render = 0, write = 0, total = 0;
+};
+
+void print_stats(const std::string& scene_path, const rt::Scene& scene, const Rendered& r, const Times& t) {
+    char line[256];
+    std::snprintf(line, sizeof line, "time: parse %.3f s, compile %.3f s, render %.3f s, write %.3f s, total %.3f s\n",
+                  t.parse, t.compile, t.render, t.write, t.total);
+    std::cerr << scene_path << ": " << scene.width << "x" << scene.height << ", " << r.progress.samples
+              << (r.progress.samples == 1 ? " sample" : " samples") << " per pixel, " << r.threads
+              << (r.threads == 1 ? " thread" : " threads") << "\n"
+              << line << "rays: " << with_commas(r.progress.rays);
+    std::snprintf(line, sizeof line, " (%.2f M rays/s)\n", t.render > 0 ? r.progress.rays / t.render / 1e6 : 0.0);
+    std::cerr << line;
+}
+
+int run(int argc, char** argv) {
+    Options opt;
+    if (int r = parse_args(kProgram, argc, argv, opt); r >= 0) return r;
+    if (opt.check) return check_scene(kProgram, opt);
+    std::string scene_path, out_path;
+    if (int r = settle_paths(opt, scene_path, out_path); r >= 0) return r;
+
+    // Installed only now: at a prompt, Ctrl+C should just end the program. Before the
+    // output check, which creates (and removes) a temporary file.
+    install_signal_handlers(kProgram);
+    if (!opt.print_scene) {
+        if (int r = check_output(kProgram, out_path, scene_path); r >= 0) return r;
+        if (caught_signal()) return interrupted_exit();  // came during the check
+    }
+
+    // Phase 2: read and parse.
+    Times times;
+    const auto t_start = Clock::now();
+    rt::Scene scene;
+    std::string text;
+    if (int r = load_scene(kProgram, scene_path, text, scene); r >= 0) return r;
+    std::string().swap(text);  // the parsed scene is all that is needed from here
+    if (opt.width) scene.width = *opt.width;
+    if (opt.height) scene.height = *opt.height;
+    times.parse = seconds_since(t_start);
+    if (opt.print_scene) return print_scene(kProgram, std::move(scene));
+
+    const auto t_compile0 = Clock::now();
+    const std::shared_ptr<const rt::World> world = build_world(scene, opt.max_depth);
+    times.compile = seconds_since(t_compile0);
+
+    const auto t_render0 = Clock::now();
+    Rendered rendered;
+    if (int r = render(world, scene, opt, rendered); r >= 0) return r;
+    times.render = seconds_since(t_render0);
+
+    const auto t_write0 = Clock::now();
+    if (int r = write_picture(out_path, rendered); r >= 0) return r;
+    times.write = seconds_since(t_write0);
 
     if (opt.stats) {
-        const double total = seconds_since(t_start);
-        char line[256];
-        std::snprintf(line, sizeof line,
-                      "time: parse %.3f s, compile %.3f s, render %.3f s, write %.3f s, total %.3f s\n", t_parse,
-                      t_compile, t_render, t_write, total);
-        std::cerr << scene_path << ": " << scene.width << "x" << scene.height << ", " << progress.samples
-                  << (progress.samples == 1 ? " sample" : " samples") << " per pixel, " << renderer.threads()
-                  << (renderer.threads() == 1 ? " thread" : " threads") << "\n"
-                  << line << "rays: " << with_commas(progress.rays);
-        std::snprintf(line, sizeof line, " (%.2f M rays/s)\n", t_render > 0 ? progress.rays / t_render / 1e6 : 0.0);
-        std::cerr << line;
+        times.total = seconds_since(t_start);
+        print_stats(scene_path, scene, rendered, times);
     }
     return kExitOk;
 }

@@ -16,6 +16,8 @@
 #include "diagnostic_text.h"
 #include "image_io.h"
 #include "scene_parser.h"
+#include "scene_writer.h"
+#include "status.h"
 
 #ifndef RT_VERSION
 #define RT_VERSION "1.0.0"
@@ -130,6 +132,72 @@ extern "C" void on_signal(int sig) {
 
 }  // namespace
 
+std::string help_text(const Program& program) {
+    std::string s = program.help_head;
+    s += "  --width N          picture width in pixels, overriding the scene (1..16384)\n"
+         "  --height N         picture height in pixels, overriding the scene (1..16384)\n"
+         "  --samples N        samples per pixel (1..65536, default 1: the original's\n"
+         "                     single ray through each pixel corner)\n";
+    s += program.threads_help;
+    s += "  --max-depth N      recursion limit (1..1000, default 20 as in the original;\n"
+         "                     a reflection costs 2 levels, a refraction 3)\n"
+         "  --time-limit SEC   stop adding samples after SEC seconds (every pixel still gets\n"
+         "                     at least one); without --samples, render as many as fit\n";
+    if (program.tile_option) s += "  --tile N           side of the square tiles handed out (8..256, default 32)\n";
+    s += "  --mirror           mirror the picture left-right, as the 2013 program did\n"
+         "  --quiet            no progress bar\n"
+         "  --stats            print times, ray count and rays per second to stderr\n"
+         "  --check SCENE      parse SCENE and report errors and warnings; render nothing\n"
+         "  --print-scene      print SCENE in normalised form to stdout; render nothing\n"
+         "  --version          print the version and exit\n"
+         "  -h, --help         print this help and exit\n"
+         "\n";
+    return s + program.help_tail;
+}
+
+namespace {
+
+// What the option with a value expects, as "needs ..." says it, or null if `name`
+// takes no value.
+const char* value_kind(const Program& program, const std::string& name) {
+    if (name == "--width" || name == "--height" || name == "--samples" || name == "--threads" ||
+        name == "--max-depth" || (program.tile_option && name == "--tile"))
+        return "a number";
+    if (name == "--time-limit") return "a number of seconds";
+    if (name == "--check") return "a scene file";
+    return nullptr;
+}
+
+// Sets the option `name` (one value_kind knows) from `v`, or says why not.
+rt::Status set_value(const Program& program, const std::string& name, const std::string& v, Options& o) {
+    std::string err;
+    if (name == "--time-limit") {
+        if (!parse_seconds(name, v, o.time_limit, err)) return rt::Status::error(err, kExitUsage);
+        return {};
+    }
+    if (name == "--check") {
+        o.check = v;
+        return {};
+    }
+    const bool tile = program.tile_option && name == "--tile";
+    long lo = 1, hi = rt::Limits::max_picture_side;
+    if (name == "--samples") hi = 65536;
+    if (name == "--threads") hi = 256;
+    if (name == "--max-depth") hi = 1000;
+    if (tile) lo = 8, hi = 256;
+    int n = 0;
+    if (!parse_int(name, v, lo, hi, n, err)) return rt::Status::error(err, kExitUsage);
+    if (name == "--width") o.width = n;
+    else if (name == "--height") o.height = n;
+    else if (name == "--samples") o.samples = n;
+    else if (name == "--threads") o.threads = n;
+    else if (tile) o.tile = n;
+    else o.max_depth = n;
+    return {};
+}
+
+}  // namespace
+
 int usage_error(const Program& program, const std::string& message) {
     std::cerr << program.name << ": " << message << "\n";
     std::cerr << "Try '" << program.name << " --help' for more information.\n";
@@ -171,11 +239,9 @@ int parse_args(const Program& program, int argc, char** argv, Options& o) {
             f = true;
             return -1;
         };
-        const bool tile = program.tile_option && name == "--tile";
-        std::string v, err;
-        int n = 0;
+        std::string v;
         if (name == "-h" || name == "--help") {
-            std::cout << program.help;
+            std::cout << help_text(program);
             return kExitOk;
         } else if (name == "--version") {
             std::cout << program.name << " " RT_VERSION "\n";
@@ -188,27 +254,9 @@ int parse_args(const Program& program, int argc, char** argv, Options& o) {
             if (int r = flag(o.stats); r >= 0) return r;
         } else if (name == "--print-scene") {
             if (int r = flag(o.print_scene); r >= 0) return r;
-        } else if (name == "--width" || name == "--height" || name == "--samples" || name == "--threads" ||
-                   name == "--max-depth" || tile) {
-            if (!take_value(v)) return fail("option '" + name + "' needs a number");
-            long lo = 1, hi = rt::Limits::max_picture_side;
-            if (name == "--samples") hi = 65536;
-            if (name == "--threads") hi = 256;
-            if (name == "--max-depth") hi = 1000;
-            if (tile) lo = 8, hi = 256;
-            if (!parse_int(name, v, lo, hi, n, err)) return fail(err);
-            if (name == "--width") o.width = n;
-            else if (name == "--height") o.height = n;
-            else if (name == "--samples") o.samples = n;
-            else if (name == "--threads") o.threads = n;
-            else if (tile) o.tile = n;
-            else o.max_depth = n;
-        } else if (name == "--time-limit") {
-            if (!take_value(v)) return fail("option '--time-limit' needs a number of seconds");
-            if (!parse_seconds(name, v, o.time_limit, err)) return fail(err);
-        } else if (name == "--check") {
-            if (!take_value(v)) return fail("option '--check' needs a scene file");
-            o.check = v;
+        } else if (const char* wants = value_kind(program, name)) {
+            if (!take_value(v)) return fail("option '" + name + "' needs " + wants);
+            if (rt::Status st = set_value(program, name, v, o); !st) return fail(st.message());
         } else {
             return fail("unknown option '" + a + "'");
         }
@@ -288,6 +336,22 @@ int check_output(const Program& program, const std::string& out, const std::stri
         return kExitUsage;
     }
     return -1;
+}
+
+std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_depth) {
+    std::shared_ptr<const rt::World> world = rt::compile_world(scene);
+    if (max_depth != world->options.max_depth) {
+        auto changed = std::make_shared<rt::World>(*world);  // shares the geometry
+        changed->options.max_depth = max_depth;
+        world = std::move(changed);
+    }
+    return world;
+}
+
+int print_scene(const Program& program, rt::Scene scene) {
+    for (rt::Object& o : scene.objects) o.has_material = true;
+    for (rt::Plane& p : scene.planes) p.has_material = p.has_material2 = true;
+    return print_to_stdout(program, rt::write_scene(scene));
 }
 
 int print_to_stdout(const Program& program, const std::string& text) {

@@ -1,15 +1,18 @@
 // What the two command-line renderers (raytracer, raytracer-mpi) share: the option
-// parser, scene loading with its diagnostics, the output checks, the progress bar and
-// the signal flag. Each program supplies its name, help text and extra options.
+// parser and help text, scene loading with its diagnostics, --print-scene, building
+// the world, the output checks, the progress bar and the signal flag. Each program
+// supplies its name, the parts of its help text of its own, and extra options.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "scene.h"
+#include "world.h"
 
 namespace rtcli {
 
@@ -17,11 +20,18 @@ constexpr int kExitOk = 0;
 constexpr int kExitScene = 1;  // the scene file has errors
 constexpr int kExitUsage = 2;  // bad arguments, unreadable input, unwritable output
 
+// The help text is assembled by help_text(): the program's own head, its --threads
+// line and exit-status paragraph around the option lines both programs share.
 struct Program {
-    const char* name;         // in messages: "NAME: ..."
-    const char* help;         // printed by --help
+    const char* name;          // in messages: "NAME: ..."
+    const char* help_head;     // usage and description, up to and including "Options:\n"
+    const char* threads_help;  // the --threads entry (per process or per rank)
+    const char* help_tail;     // after the option list: the exit statuses
     bool tile_option = false;  // accepts --tile N (8..256)
 };
+
+// What --help prints.
+std::string help_text(const Program& program);
 
 struct Options {
     std::optional<int> width, height;
@@ -53,6 +63,15 @@ int check_scene(const Program& program, const Options& o);
 // that rt::check_writable accepts, not the scene file itself); else says why, with
 // the system's error, and returns kExitUsage.
 int check_output(const Program& program, const std::string& out, const std::string& scene_path);
+
+// The scene compiled for rendering, with --max-depth in place of the scene's own
+// recursion limit.
+std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_depth);
+
+// --print-scene: writes the scene in normalised form, every default written out,
+// including the material an object or plane gets without a material block. Both
+// programs print through here, so their outputs agree. Returns the exit status.
+int print_scene(const Program& program, rt::Scene scene);
 
 // Writes `text` to stdout and flushes it; on failure says why (a full disk, a closed
 // stdout) and returns kExitUsage, else kExitOk.

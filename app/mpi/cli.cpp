@@ -8,12 +8,14 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <utility>
 
 namespace rtmpi {
 
 namespace {
 
-const char* const kHelp =
+const rtcli::Program kProgram{
+    "raytracer-mpi",
     "Usage: mpirun [-np N] raytracer-mpi [OPTIONS] SCENE OUT\n"
     "Render a raytracer2 scene file to an image on the ranks of an MPI job. Rank 0\n"
     "reads the scene and hands out tiles on request; every rank renders with all its\n"
@@ -22,31 +24,13 @@ const char* const kHelp =
     "\n"
     "  OUT ends in .ppm (binary PPM, P6) or .png.\n"
     "\n"
-    "Options:\n"
-    "  --width N          picture width in pixels, overriding the scene (1..16384)\n"
-    "  --height N         picture height in pixels, overriding the scene (1..16384)\n"
-    "  --samples N        samples per pixel (1..65536, default 1: the original's\n"
-    "                     single ray through each pixel corner)\n"
+    "Options:\n",
     "  --threads N        worker threads per rank (1..256, default: the CPUs the\n"
     "                     rank may use; mpirun may bind a rank to one core: run one\n"
-    "                     rank per machine with `mpirun --bind-to none`)\n"
-    "  --max-depth N      recursion limit (1..1000, default 20 as in the original;\n"
-    "                     a reflection costs 2 levels, a refraction 3)\n"
-    "  --time-limit SEC   stop adding samples after SEC seconds (every pixel still gets\n"
-    "                     at least one); without --samples, render as many as fit\n"
-    "  --tile N           side of the square tiles handed out (8..256, default 32)\n"
-    "  --mirror           mirror the picture left-right, as the 2013 program did\n"
-    "  --quiet            no progress bar\n"
-    "  --stats            print times, ray count and rays per second to stderr\n"
-    "  --check SCENE      parse SCENE and report errors and warnings; render nothing\n"
-    "  --print-scene      print SCENE in normalised form to stdout; render nothing\n"
-    "  --version          print the version and exit\n"
-    "  -h, --help         print this help and exit\n"
-    "\n"
+    "                     rank per machine with `mpirun --bind-to none`)\n",
     "Exit status (of every rank): 0 success, 1 the scene has errors, 2 usage or I/O\n"
-    "error, 3 a rank or MPI failed. A failed run leaves OUT untouched.\n";
-
-const rtcli::Program kProgram{"raytracer-mpi", kHelp, true};
+    "error, 3 a rank or MPI failed. A failed run leaves OUT untouched.\n",
+    true};
 
 }  // namespace
 
@@ -66,7 +50,7 @@ int load_scene(const std::string& path, std::string& text, rt::Scene& scene) {
 
 void install_signal_handlers() { rtcli::install_signal_handlers(kProgram); }
 
-int print_to_stdout(const std::string& text) { return rtcli::print_to_stdout(kProgram, text); }
+int print_scene(rt::Scene scene) { return rtcli::print_scene(kProgram, std::move(scene)); }
 
 bool stderr_watched() {
     if (isatty(STDERR_FILENO)) return true;

@@ -40,8 +40,8 @@ int load_scene(const std::string& path, std::string& text, rt::Scene& scene);
 // rtcli::install_signal_handlers, with this program's name in the messages.
 void install_signal_handlers();
 
-// --print-scene's output (rtcli::print_to_stdout).
-int print_to_stdout(const std::string& text);
+// --print-scene's output, the same as raytracer's (rtcli::print_scene).
+int print_scene(rt::Scene scene);
 
 // Whether somebody watches stderr on a terminal (for the progress bar). Under mpirun
 // a rank's stderr is a pipe to mpirun, so there it is mpirun's stderr that counts.

@@ -37,8 +37,8 @@
 #include "cli.h"
 #include "image_io.h"
 #include "scene_parser.h"
-#include "scene_writer.h"
 #include "schedule.h"
+#include "status.h"
 #include "tile_pool.h"
 #include "world.h"
 
@@ -195,9 +195,7 @@ int front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
     if (opt.width) scene.width = *opt.width;
     if (opt.height) scene.height = *opt.height;
     f.t_parse = seconds_since(f.t_start);
-    if (opt.print_scene) {
-        return print_to_stdout(rt::write_scene(scene));
-    }
+    if (opt.print_scene) return print_scene(std::move(scene));  // nothing needs it after
     return -1;
 }
 
@@ -209,16 +207,85 @@ std::shared_ptr<const rt::World> build_world(const std::string& text, const JobH
     rt::Scene& scene = parsed.scene;
     scene.width = job.width;
     scene.height = job.height;
-    std::shared_ptr<const rt::World> world = rt::compile_world(scene);
-    if (job.max_depth != world->options.max_depth) {
-        auto changed = std::make_shared<rt::World>(*world);  // shares the geometry
-        changed->options.max_depth = job.max_depth;
-        world = std::move(changed);
-    }
-    return world;
+    return rtcli::build_world(scene, job.max_depth);
 }
 
 // --- workers -----------------------------------------------------------------------
+
+// A worker's tiles in flight: rendering, then being sent back (std::map: the
+// buffers stay put while MPI and the pool use them).
+struct WorkerState {
+    struct Held {
+        AssignHeader a;
+        std::vector<float> buf;  // ResultHeader + sums
+        MPI_Request req = MPI_REQUEST_NULL;
+        bool sending = false;
+    };
+    std::map<int, Held> held;
+    int next_id = 0;
+    bool stop = false;
+    std::vector<float> in;  // the posted receive of the next assignment
+    MPI_Request rreq = MPI_REQUEST_NULL;
+
+    void post_receive() {
+        check(MPI_Irecv(in.data(), bytes_of(in.size()), MPI_BYTE, 0, kTagAssign, MPI_COMM_WORLD, &rreq),
+              "MPI_Irecv (assignment)");
+    }
+};
+
+// Takes an assignment if one has arrived: into the pool's queue, or the stop. True
+// if one did.
+bool take_assignment(const std::vector<Tile>& tiles, TilePool& pool, WorkerState& w) {
+    const std::size_t ah = head_floats<AssignHeader>(), rh = head_floats<ResultHeader>();
+    int arrived = 0;
+    MPI_Status st;
+    check(MPI_Test(&w.rreq, &arrived, &st), "waiting for a tile from rank 0");
+    if (!arrived) return false;
+    const int got = received_bytes(st);
+    if (got < int(sizeof(AssignHeader))) fail(kExitMpi, "short message from rank 0");
+    const auto a = get_header<AssignHeader>(w.in);
+    if (a.tile == -1) {
+        w.stop = true;  // rank 0 sends it only once this rank holds nothing
+        return true;
+    }
+    if (a.tile < 0 || std::size_t(a.tile) >= tiles.size() || a.s0 < 0 || a.s1 <= a.s0)
+        fail(kExitMpi, "rank 0 sent an invalid tile");
+    const Tile& t = tiles[std::size_t(a.tile)];
+    const std::size_t n = 3 * std::size_t(t.pixels());
+    if (got != bytes_of(ah + (a.has_prior ? n : 0))) fail(kExitMpi, "rank 0 sent a tile of the wrong size");
+    WorkerState::Held& h = w.held[w.next_id];
+    h.a = a;
+    h.buf.assign(rh + n, 0.f);
+    if (a.has_prior) std::copy_n(w.in.data() + ah, n, h.buf.data() + rh);
+    pool.submit(w.next_id++, t, a.s0, a.s1, h.buf.data() + rh);
+    w.post_receive();  // `in` is free again
+    return true;
+}
+
+// Sends every tile the pool has finished back to rank 0. True if any.
+bool send_finished(TilePool& pool, WorkerState& w, bool crash_me) {
+    bool any = false;
+    for (const TilePool::Finished& f : pool.take_finished()) {
+        any = true;
+        WorkerState::Held& h = w.held.at(f.id);
+        ResultHeader r;
+        r.tile = h.a.tile;
+        r.s0 = h.a.s0;
+        r.s1 = h.a.s1;
+        r.rays = f.rays;
+        put_header(h.buf, r);
+        check(MPI_Isend(h.buf.data(), bytes_of(h.buf.size()), MPI_BYTE, 0, kTagResult, MPI_COMM_WORLD, &h.req),
+              "sending a tile to rank 0");
+        h.sending = true;
+        if (crash_me) {
+            wait_polling(h.req, nullptr, "sending a tile to rank 0");
+            std::cerr << "raytracer-mpi: rank " << g_rank << ": aborting on purpose (RAYTRACER_MPI_TEST_CRASH_RANK)\n"
+                      << std::flush;
+            std::abort();
+        }
+    }
+    return any;
+}
 
 // Ranks 1..N-1: render what rank 0 assigns until told to stop. Every assignment goes
 // into the pool's queue the moment it arrives, so the render threads always find the
@@ -229,81 +296,21 @@ void run_worker(const std::vector<Tile>& tiles, int side, TilePool& pool) {
     const char* crash = std::getenv("RAYTRACER_MPI_TEST_CRASH_RANK");
     const bool crash_me = crash && std::atoi(crash) == g_rank;
 
-    const std::size_t ah = head_floats<AssignHeader>(), rh = head_floats<ResultHeader>();
-    std::vector<float> in(ah + 3 * std::size_t(side) * std::size_t(side));
-    MPI_Request rreq = MPI_REQUEST_NULL;
-    auto post_receive = [&] {
-        check(MPI_Irecv(in.data(), bytes_of(in.size()), MPI_BYTE, 0, kTagAssign, MPI_COMM_WORLD, &rreq),
-              "MPI_Irecv (assignment)");
-    };
-    // Tiles held: rendering, then being sent back (std::map: the buffers stay put).
-    struct Held {
-        AssignHeader a;
-        std::vector<float> buf;  // ResultHeader + sums
-        MPI_Request req = MPI_REQUEST_NULL;
-        bool sending = false;
-    };
-    std::map<int, Held> held;
-    int next_id = 0;
-    bool stop = false;
-    post_receive();
+    WorkerState w;
+    w.in.resize(head_floats<AssignHeader>() + 3 * std::size_t(side) * std::size_t(side));
+    w.post_receive();
     for (;;) {
         bool busy = false;
-        if (!stop) {
-            int arrived = 0;
-            MPI_Status st;
-            check(MPI_Test(&rreq, &arrived, &st), "waiting for a tile from rank 0");
-            if (arrived) {
-                busy = true;
-                const int got = received_bytes(st);
-                if (got < int(sizeof(AssignHeader))) fail(kExitMpi, "short message from rank 0");
-                const auto a = get_header<AssignHeader>(in);
-                if (a.tile == -1) {
-                    stop = true;  // rank 0 sends it only once this rank holds nothing
-                } else {
-                    if (a.tile < 0 || std::size_t(a.tile) >= tiles.size() || a.s0 < 0 || a.s1 <= a.s0)
-                        fail(kExitMpi, "rank 0 sent an invalid tile");
-                    const Tile& t = tiles[std::size_t(a.tile)];
-                    const std::size_t n = 3 * std::size_t(t.pixels());
-                    if (got != bytes_of(ah + (a.has_prior ? n : 0)))
-                        fail(kExitMpi, "rank 0 sent a tile of the wrong size");
-                    Held& h = held[next_id];
-                    h.a = a;
-                    h.buf.assign(rh + n, 0.f);
-                    if (a.has_prior) std::copy_n(in.data() + ah, n, h.buf.data() + rh);
-                    pool.submit(next_id++, t, a.s0, a.s1, h.buf.data() + rh);
-                    post_receive();  // `in` is free again
-                }
-            }
-        }
-        for (const TilePool::Finished& f : pool.take_finished()) {
-            busy = true;
-            Held& h = held.at(f.id);
-            ResultHeader r;
-            r.tile = h.a.tile;
-            r.s0 = h.a.s0;
-            r.s1 = h.a.s1;
-            r.rays = f.rays;
-            put_header(h.buf, r);
-            check(MPI_Isend(h.buf.data(), bytes_of(h.buf.size()), MPI_BYTE, 0, kTagResult, MPI_COMM_WORLD, &h.req),
-                  "sending a tile to rank 0");
-            h.sending = true;
-            if (crash_me) {
-                wait_polling(h.req, nullptr, "sending a tile to rank 0");
-                std::cerr << "raytracer-mpi: rank " << g_rank
-                          << ": aborting on purpose (RAYTRACER_MPI_TEST_CRASH_RANK)\n"
-                          << std::flush;
-                std::abort();
-            }
-        }
+        if (!w.stop) busy = take_assignment(tiles, pool, w);
+        busy |= send_finished(pool, w, crash_me);
         // Also keeps MPI moving: a result too big to send eagerly only completes while
         // this rank calls into MPI.
-        for (auto it = held.begin(); it != held.end();) {
+        for (auto it = w.held.begin(); it != w.held.end();) {
             int sent = 0;
             if (it->second.sending) check(MPI_Test(&it->second.req, &sent, MPI_STATUS_IGNORE), "sending a tile to rank 0");
-            it = sent ? held.erase(it) : std::next(it);
+            it = sent ? w.held.erase(it) : std::next(it);
         }
-        if (stop && held.empty()) return;
+        if (w.stop && w.held.empty()) return;
         if (!busy) pool.wait_finished(kPoll);
     }
 }
@@ -519,58 +526,53 @@ private:
 
 // --- main --------------------------------------------------------------------------
 
-int run(int argc, char** argv) {
-    // Step 1: rank 0 settles the command line and the scene; everyone learns the outcome.
-    Front f;
-    rt::Scene scene;
+// Step 1 on rank 0: the outcome of the command line and the scene, as the header
+// every rank receives.
+JobHeader settle_job(int argc, char** argv, Front& f, rt::Scene& scene) {
     JobHeader job;
-    if (g_rank == 0) {
-        job.status = front_end(argc, argv, f, scene);
-        if (job.status < 0) {
-            job.width = scene.width;
-            job.height = scene.height;
-            const Options& o = f.opt;
-            // As raytracer: a time limit with no sample count renders as many as fit;
-            // without a time limit, one pass (nothing is gained by stopping between).
-            job.max_samples = o.samples ? *o.samples : (o.time_limit > 0 ? 65536 : 1);
-            job.samples_per_pass = o.time_limit > 0 ? 0 : job.max_samples;
-            job.threads = o.threads;
-            job.max_depth = o.max_depth;
-            job.tile = o.tile;
-            job.mirror = o.mirror;
-            job.time_limit = o.time_limit;
-            job.text_size = f.text.size();
-        }
-    }
-    const auto t_bcast0 = Clock::now();
-    check(MPI_Bcast(&job, int(sizeof job), MPI_BYTE, 0, MPI_COMM_WORLD), "MPI_Bcast (settings)");
-    if (job.status >= 0) return job.status;
+    job.status = front_end(argc, argv, f, scene);
+    if (job.status >= 0) return job;
+    job.width = scene.width;
+    job.height = scene.height;
+    const Options& o = f.opt;
+    // As raytracer: a time limit with no sample count renders as many as fit;
+    // without a time limit, one pass (nothing is gained by stopping between).
+    job.max_samples = o.samples ? *o.samples : (o.time_limit > 0 ? 65536 : 1);
+    job.samples_per_pass = o.time_limit > 0 ? 0 : job.max_samples;
+    job.threads = o.threads;
+    job.max_depth = o.max_depth;
+    job.tile = o.tile;
+    job.mirror = o.mirror;
+    job.time_limit = o.time_limit;
+    job.text_size = f.text.size();
+    return job;
+}
 
-    // Step 2: the text, and every rank's own World.
-    std::string text = std::move(f.text);
-    text.resize(std::size_t(job.text_size));
-    check(MPI_Bcast(text.data(), int(job.text_size), MPI_BYTE, 0, MPI_COMM_WORLD), "MPI_Bcast (scene)");
-    const double t_bcast = seconds_since(t_bcast0);
-    const auto t_compile0 = Clock::now();
+// A rank's means to render: the World, the camera and the tile pool using both.
+struct Built {
     std::shared_ptr<const rt::World> world;
     rt::CameraBasis camera;
     std::unique_ptr<TilePool> pool;  // declared after world and camera: it uses both
-    std::string problem;
-    try {
-        world = build_world(text, job);
-        camera = rt::CameraBasis::make(world->camera, job.width, job.height, job.mirror != 0);
-        pool = std::make_unique<TilePool>(*world, camera, job.threads);
-    } catch (const std::bad_alloc&) {
-        problem = "out of memory building the scene";
-    } catch (const std::exception& e) {
-        problem = e.what();
-    }
-    const double t_compile = seconds_since(t_compile0);
+};
 
-    // Step 3: everyone ready? Rank 0 learns every rank's thread count on the way.
-    const int threads = problem.empty() ? pool->threads() : -1;
-    if (!problem.empty()) std::cerr << "raytracer-mpi: rank " << g_rank << ": " << problem << "\n" << std::flush;
-    std::vector<int> all_threads(std::size_t(g_rank == 0 ? g_size : 0));
+// Step 2's second half, on every rank: success, or why this rank could not build.
+rt::Status build_rank(const std::string& text, const JobHeader& job, Built& b) {
+    try {
+        b.world = build_world(text, job);
+        b.camera = rt::CameraBasis::make(b.world->camera, job.width, job.height, job.mirror != 0);
+        b.pool = std::make_unique<TilePool>(*b.world, b.camera, job.threads);
+    } catch (const std::bad_alloc&) {
+        return rt::Status::error("out of memory building the scene", kExitMpi);
+    } catch (const std::exception& e) {
+        return rt::Status::error(e.what(), kExitMpi);
+    }
+    return {};
+}
+
+// Step 3: whether every rank is ready (threads -1: this one is not). Rank 0 learns
+// every rank's thread count on the way, into all_threads.
+bool all_ready(int threads, std::vector<int>& all_threads) {
+    all_threads.assign(std::size_t(g_rank == 0 ? g_size : 0), 0);
     check(MPI_Gather(&threads, 1, MPI_INT, all_threads.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
     int go = 1;
     if (g_rank == 0)
@@ -581,13 +583,42 @@ int run(int argc, char** argv) {
                 break;
             }
     check(MPI_Bcast(&go, 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Bcast (go)");
-    if (!go) return kExitMpi;
+    return go != 0;
+}
 
-    // Step 4: render.
-    if (g_rank > 0) {
-        run_worker(make_tiles(job.width, job.height, job.tile), job.tile, *pool);
-        return kExitOk;
-    }
+// Seconds of the phases before the render, for --stats.
+struct Times {
+    double bcast = 0, compile = 0;
+};
+
+void print_stats(const Front& f, const JobHeader& job, const Coordinator& coord, const std::vector<int>& all_threads,
+                 const Times& t, double t_write) {
+    const Schedule& s = coord.schedule();
+    const double total = seconds_since(f.t_start), t_render = coord.render_time();
+    int total_threads = 0;
+    for (int n : all_threads) total_threads += n;
+    char line[320];
+    std::cerr << f.scene_path << ": " << job.width << "x" << job.height << ", " << s.samples_done()
+              << (s.samples_done() == 1 ? " sample" : " samples") << " per pixel, " << count(std::size_t(g_size), "rank")
+              << ", " << count(std::size_t(total_threads), "thread") << "\n";
+    std::snprintf(line, sizeof line,
+                  "time: parse %.3f s, broadcast %.3f s, compile %.3f s, render %.3f s, write %.3f s, total %.3f s\n",
+                  f.t_parse, t.bcast, t.compile, t_render, t_write, total);
+    std::cerr << line << "rays: " << with_commas(s.rays());
+    std::snprintf(line, sizeof line, " (%.2f M rays/s)\n", t_render > 0 ? double(s.rays()) / t_render / 1e6 : 0.0);
+    std::cerr << line << "tiles: " << s.tiles().size() << " of " << job.tile << "x" << job.tile << " per pass (";
+    for (int r = 0; r < g_size; ++r)
+        std::cerr << (r ? ", " : "") << "rank " << r << ": " << coord.tiles_by_rank()[std::size_t(r)];
+    std::snprintf(line, sizeof line, "); received %.2f MiB in %llu messages\n",
+                  double(coord.bytes_received()) / (1024.0 * 1024.0),
+                  static_cast<unsigned long long>(coord.messages_received()));
+    std::cerr << line;
+}
+
+// Step 4 on rank 0: coordinates the render, writes OUT and the statistics. Returns
+// the exit status.
+int render_and_write(const Front& f, const JobHeader& job, TilePool& pool, const std::vector<int>& all_threads,
+                     const Times& times) {
     ScheduleSettings ss;
     ss.width = job.width;
     ss.height = job.height;
@@ -595,7 +626,7 @@ int run(int argc, char** argv) {
     ss.max_samples = job.max_samples;
     ss.samples_per_pass = job.samples_per_pass;
     ss.time_limit = job.time_limit;
-    Coordinator coord(ss, *pool);
+    Coordinator coord(ss, pool);
     coord.run(!f.opt.quiet && stderr_watched());
     if (caught_signal()) interrupted();
 
@@ -606,30 +637,43 @@ int run(int argc, char** argv) {
         return kExitUsage;
     }
     const double t_write = seconds_since(t_write0);
-
-    if (f.opt.stats) {
-        const Schedule& s = coord.schedule();
-        const double total = seconds_since(f.t_start), t_render = coord.render_time();
-        int total_threads = 0;
-        for (int t : all_threads) total_threads += t;
-        char line[320];
-        std::cerr << f.scene_path << ": " << job.width << "x" << job.height << ", " << s.samples_done()
-                  << (s.samples_done() == 1 ? " sample" : " samples") << " per pixel, " << count(std::size_t(g_size), "rank")
-                  << ", " << count(std::size_t(total_threads), "thread") << "\n";
-        std::snprintf(line, sizeof line,
-                      "time: parse %.3f s, broadcast %.3f s, compile %.3f s, render %.3f s, write %.3f s, total %.3f s\n",
-                      f.t_parse, t_bcast, t_compile, t_render, t_write, total);
-        std::cerr << line << "rays: " << with_commas(s.rays());
-        std::snprintf(line, sizeof line, " (%.2f M rays/s)\n", t_render > 0 ? double(s.rays()) / t_render / 1e6 : 0.0);
-        std::cerr << line << "tiles: " << s.tiles().size() << " of " << job.tile << "x" << job.tile << " per pass (";
-        for (int r = 0; r < g_size; ++r)
-            std::cerr << (r ? ", " : "") << "rank " << r << ": " << coord.tiles_by_rank()[std::size_t(r)];
-        std::snprintf(line, sizeof line, "); received %.2f MiB in %llu messages\n",
-                      double(coord.bytes_received()) / (1024.0 * 1024.0),
-                      static_cast<unsigned long long>(coord.messages_received()));
-        std::cerr << line;
-    }
+    if (f.opt.stats) print_stats(f, job, coord, all_threads, times, t_write);
     return kExitOk;
+}
+
+int run(int argc, char** argv) {
+    // Step 1: rank 0 settles the command line and the scene; everyone learns the outcome.
+    Front f;
+    rt::Scene scene;
+    JobHeader job;
+    if (g_rank == 0) job = settle_job(argc, argv, f, scene);
+    Times times;
+    const auto t_bcast0 = Clock::now();
+    check(MPI_Bcast(&job, int(sizeof job), MPI_BYTE, 0, MPI_COMM_WORLD), "MPI_Bcast (settings)");
+    if (job.status >= 0) return job.status;
+
+    // Step 2: the text, and every rank's own World.
+    std::string text = std::move(f.text);
+    text.resize(std::size_t(job.text_size));
+    check(MPI_Bcast(text.data(), int(job.text_size), MPI_BYTE, 0, MPI_COMM_WORLD), "MPI_Bcast (scene)");
+    times.bcast = seconds_since(t_bcast0);
+    const auto t_compile0 = Clock::now();
+    Built built;
+    const rt::Status built_ok = build_rank(text, job, built);
+    times.compile = seconds_since(t_compile0);
+
+    // Step 3: everyone ready?
+    const int threads = built_ok ? built.pool->threads() : -1;
+    if (!built_ok) std::cerr << "raytracer-mpi: rank " << g_rank << ": " << built_ok.message() << "\n" << std::flush;
+    std::vector<int> all_threads;
+    if (!all_ready(threads, all_threads)) return kExitMpi;
+
+    // Step 4: render.
+    if (g_rank > 0) {
+        run_worker(make_tiles(job.width, job.height, job.tile), job.tile, *built.pool);
+        return kExitOk;
+    }
+    return render_and_write(f, job, *built.pool, all_threads, times);
 }
 
 }  // namespace

@@ -10,6 +10,8 @@
 #                                                no output
 #   mpi_test.sh crash                            a rank aborting mid-render fails the
 #                                                job and leaves OUT untouched
+#   mpi_test.sh print-scene                      --print-scene prints what raytracer
+#                                                prints, defaults of block-less shapes too
 #
 # Environment (defaults for a build in build/): RT_BIN (raytracer), RT_MPI_BIN
 # (raytracer-mpi), MPIEXEC (mpiexec), RT_SOURCE_DIR (the repository).
@@ -92,8 +94,33 @@ crash)
     [ "$(ls "$TMP" | grep -vc -e '^out.ppm$' -e '^log$')" -eq 0 ] || fail "temporary files left: $(ls "$TMP")"
     echo "ok: exit status $status, OUT untouched"
     ;;
+print-scene)
+    # A sphere and a plane without a material block: both get the block-less default
+    # (translusans 0, where a written block defaults to 1), written out in full.
+    cat > "$TMP/scene.txt" <<'EOF'
+thing {
+  sphere { material { colour 0.9 0.2 0.15 } position 6 0 1.2 radius 1.2 }
+  sphere { position 4.5 1.9 0.5 radius 0.5 }
+}
+special_thing { plane { point 1 0 0 0  point 2 1 0 0  point 3 0 1 0  point 4 0 0 2 } }
+light { lamp { colour 60 56 52 position 3 3 6 } }
+camera { position 0 0 2 centre 6 0 0.8 up 6 0 1.8 angle_x 60 angle_y 45 }
+picture_size { x_max 48 y_max 36 }
+end
+EOF
+    [ -x "$RT_BIN" ] || fail "no raytracer at $RT_BIN"
+    "$RT_BIN" --print-scene "$TMP/scene.txt" > "$TMP/single.txt" || fail "raytracer failed"
+    mpirun_np 2 "$RT_MPI_BIN" --print-scene "$TMP/scene.txt" > "$TMP/mpi.txt" || fail "raytracer-mpi failed"
+    cat "$TMP/mpi.txt"
+    n=$(grep -c '^ *material { ' "$TMP/mpi.txt" || true)
+    [ "$n" -eq 3 ] || fail "expected a material block for each of the 3 shapes, got $n"
+    n=$(grep -c '^ *material { .* translusans 0 ' "$TMP/mpi.txt" || true)
+    [ "$n" -eq 2 ] || fail "expected the block-less default (translusans 0) on 2 shapes, got $n"
+    cmp "$TMP/single.txt" "$TMP/mpi.txt" || fail "raytracer-mpi and raytracer print different scenes"
+    echo "ok: raytracer-mpi --print-scene prints what raytracer prints"
+    ;;
 *)
-    sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//' >&2
+    sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//' >&2
     exit 2
     ;;
 esac
