@@ -31,14 +31,20 @@ constexpr std::array<unsigned char, 256> kClass = make_classes();
 inline unsigned char char_class(char c) { return kClass[static_cast<unsigned char>(c)]; }
 
 #if defined(__SSE2__)
-// Bit i set if p[i] ends a word: a space (9..13 or ' ') or a brace.
-inline unsigned word_ends(const char* p) {
-    const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+// Bytes 9..13 and ' ' of a 16-byte load.
+inline __m128i spaces(__m128i c) {
     const __m128i x = _mm_sub_epi8(c, _mm_set1_epi8(9));
     const __m128i control = _mm_cmpeq_epi8(_mm_min_epu8(x, _mm_set1_epi8(4)), x);  // 9..13
-    const __m128i space = _mm_or_si128(control, _mm_cmpeq_epi8(c, _mm_set1_epi8(' ')));
-    const __m128i brace = _mm_or_si128(_mm_cmpeq_epi8(c, _mm_set1_epi8('{')), _mm_cmpeq_epi8(c, _mm_set1_epi8('}')));
-    return unsigned(_mm_movemask_epi8(_mm_or_si128(space, brace)));
+    return _mm_or_si128(control, _mm_cmpeq_epi8(c, _mm_set1_epi8(' ')));
+}
+inline __m128i braces(__m128i c) {
+    return _mm_or_si128(_mm_cmpeq_epi8(c, _mm_set1_epi8('{')), _mm_cmpeq_epi8(c, _mm_set1_epi8('}')));
+}
+inline __m128i load16(const char* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
+// Bit i set if p[i] ends a word: a space (9..13 or ' ') or a brace.
+inline unsigned word_ends(const char* p) {
+    const __m128i c = load16(p);
+    return unsigned(_mm_movemask_epi8(_mm_or_si128(spaces(c), braces(c))));
 }
 #endif
 
@@ -53,6 +59,32 @@ void SceneLexer::advance() {
     const char* const begin = text_.data();
     const char* const end = begin + text_.size();
     const char* p = begin + pos_;
+#if defined(__SSE2__)
+    // The usual token, its leading spaces and its end all lie within 16 bytes: one
+    // load finds where it starts and where it ends. Anything else (comments, long
+    // words or runs of spaces, the last bytes of the text) takes the general way.
+    if (end - p >= 16) {
+        const __m128i c = load16(p);
+        const unsigned space = unsigned(_mm_movemask_epi8(spaces(c)));
+        const unsigned brace = unsigned(_mm_movemask_epi8(braces(c)));
+        if (const unsigned word = ~space & 0xFFFFu) {
+            const int s = __builtin_ctz(word);
+            if (p[s] != '/') {
+                int len = 1;
+                if (!(brace >> s & 1)) {
+                    const unsigned after = (space | brace) >> (s + 1);
+                    len = after ? 1 + __builtin_ctz(after) : 0;
+                }
+                if (len) {
+                    pos_ = std::size_t(p - begin) + std::size_t(s + len);
+                    cur_.text = std::string_view(p + s, std::size_t(len));
+                    cur_.offset = std::size_t(p + s - begin);
+                    return;
+                }
+            }
+        }
+    }
+#endif
     for (;;) {
         while (p != end && char_class(*p) == kSpace) ++p;
         if (end - p >= 2 && p[0] == '/' && p[1] == '/') {
