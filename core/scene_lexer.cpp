@@ -144,17 +144,26 @@ void LineMap::scan_to(std::size_t offset) {
         // Stop at each checkpoint boundary so that backward look-ups restart nearby.
         const std::size_t stop = std::min(offset, (k / kCheckpoint + 1) * kCheckpoint);
 #if defined(__SSE2__)
-        // 16 bytes at a time; the look-ahead load at k + 1 needs k + 17 <= n.
+        // 16 bytes at a time; the look-ahead load at k + 1 needs k + 17 <= n. The last
+        // partial block before `stop` is masked rather than read byte by byte.
         const __m128i lf = _mm_set1_epi8('\n'), cr = _mm_set1_epi8('\r');
-        for (; k < stop && k + 17 <= n; k += std::min<std::size_t>(16, stop - k)) {
-            const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k));
-            const __m128i next = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k + 1));
-            const __m128i lone_cr = _mm_andnot_si128(_mm_cmpeq_epi8(next, lf), _mm_cmpeq_epi8(here, cr));
-            unsigned ends = unsigned(_mm_movemask_epi8(_mm_or_si128(_mm_cmpeq_epi8(here, lf), lone_cr)));
-            if (stop - k < 16) ends &= (1u << (stop - k)) - 1;
-            if (ends == 0) continue;
-            cur_.line_start = k + std::size_t(32 - __builtin_clz(ends));  // after the last one
-            for (; ends != 0; ends &= ends - 1) ++cur_.line;                // line ends are sparse
+        auto block = [&](std::size_t at, unsigned mask) {
+            const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + at));
+            unsigned ends = unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(here, lf)));
+            if (const unsigned crs = unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(here, cr)))) {
+                // CR LF ends at its LF: a CR counts only if no LF follows it.
+                const __m128i next = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + at + 1));
+                ends |= crs & ~unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(next, lf)));
+            }
+            ends &= mask;
+            if (ends == 0) return;
+            cur_.line_start = at + std::size_t(32 - __builtin_clz(ends));  // after the last one
+            for (; ends != 0; ends &= ends - 1) ++cur_.line;                 // line ends are sparse
+        };
+        for (; k + 16 <= stop && k + 17 <= n; k += 16) block(k, 0xFFFFu);
+        if (k < stop && k + 17 <= n) {
+            block(k, (1u << (stop - k)) - 1);
+            k = stop;
         }
 #endif
         for (; k < stop; ++k)
