@@ -212,8 +212,9 @@ NumberScan scan_number(std::string_view s, double& value) {
     }
     if (digits == 0) return NumberScan::NotNumber;
     if (p == e && digits <= 15) {
-        // The usual case, and the fast path below at its simplest: m < 10^15 < 2^53.
-        double v = double(m);
+        // The usual case, and the fast path below at its simplest: m < 10^15 < 2^53
+        // (signed, the conversion is one instruction).
+        double v = double(std::int64_t(m));
         if (frac_digits > 0) v /= kPow10[frac_digits];
         value = negative ? -v : v;
         return NumberScan::Exact;
