@@ -349,24 +349,27 @@ std::string read_file(const std::string& path, std::string& out, std::size_t max
     struct stat st;
     if (::fstat(fd, &st) != 0) return fail(errno_text(errno));
     if (S_ISDIR(st.st_mode)) return fail(errno_text(EISDIR));
-    if (S_ISREG(st.st_mode)) {
-        if (std::size_t(st.st_size) > max_bytes) return too_big();
-        out.reserve(std::size_t(st.st_size));
-    }
-    // Read to end of file rather than trusting st_size: pipes and /proc files have
-    // none, and a file may grow while it is read.
+    if (S_ISREG(st.st_mode) && std::size_t(st.st_size) > max_bytes) return too_big();
+    // Read straight into `out` (a scene can be 100+ MB: no second copy through a
+    // buffer), but to the end of the file rather than trusting st_size: pipes and /proc
+    // files have none, and a file may grow while it is read. One byte more than the
+    // size lets the read that finds the end need no bigger buffer.
+    const std::size_t limit = max_bytes == std::size_t(-1) ? max_bytes : max_bytes + 1;
+    std::size_t size = 0;
     out.clear();
-    char buf[65536];
+    out.resize(std::min(limit, S_ISREG(st.st_mode) && st.st_size > 0 ? std::size_t(st.st_size) + 1 : std::size_t(65536)));
     for (;;) {
-        const ssize_t n = ::read(fd, buf, sizeof buf);
+        if (size == out.size()) out.resize(std::min(limit, std::max(out.size() * 2, std::size_t(65536))));
+        const ssize_t n = ::read(fd, &out[size], out.size() - size);
         if (n < 0) {
             if (errno == EINTR) continue;
             return fail(errno_text(errno));
         }
         if (n == 0) break;
-        if (out.size() + std::size_t(n) > max_bytes) return too_big();
-        out.append(buf, std::size_t(n));
+        size += std::size_t(n);
+        if (size > max_bytes) return too_big();
     }
+    out.resize(size);
     ::close(fd);
     return {};
 }

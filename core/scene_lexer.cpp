@@ -31,14 +31,20 @@ constexpr std::array<unsigned char, 256> kClass = make_classes();
 inline unsigned char char_class(char c) { return kClass[static_cast<unsigned char>(c)]; }
 
 #if defined(__SSE2__)
-// Bit i set if p[i] ends a word: a space (9..13 or ' ') or a brace.
-inline unsigned word_ends(const char* p) {
-    const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+// Bytes 9..13 and ' ' of a 16-byte load.
+inline __m128i spaces(__m128i c) {
     const __m128i x = _mm_sub_epi8(c, _mm_set1_epi8(9));
     const __m128i control = _mm_cmpeq_epi8(_mm_min_epu8(x, _mm_set1_epi8(4)), x);  // 9..13
-    const __m128i space = _mm_or_si128(control, _mm_cmpeq_epi8(c, _mm_set1_epi8(' ')));
-    const __m128i brace = _mm_or_si128(_mm_cmpeq_epi8(c, _mm_set1_epi8('{')), _mm_cmpeq_epi8(c, _mm_set1_epi8('}')));
-    return unsigned(_mm_movemask_epi8(_mm_or_si128(space, brace)));
+    return _mm_or_si128(control, _mm_cmpeq_epi8(c, _mm_set1_epi8(' ')));
+}
+inline __m128i braces(__m128i c) {
+    return _mm_or_si128(_mm_cmpeq_epi8(c, _mm_set1_epi8('{')), _mm_cmpeq_epi8(c, _mm_set1_epi8('}')));
+}
+inline __m128i load16(const char* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
+// Bit i set if p[i] ends a word: a space (9..13 or ' ') or a brace.
+inline unsigned word_ends(const char* p) {
+    const __m128i c = load16(p);
+    return unsigned(_mm_movemask_epi8(_mm_or_si128(spaces(c), braces(c))));
 }
 #endif
 
@@ -53,6 +59,32 @@ void SceneLexer::advance() {
     const char* const begin = text_.data();
     const char* const end = begin + text_.size();
     const char* p = begin + pos_;
+#if defined(__SSE2__)
+    // The usual token, its leading spaces and its end all lie within 16 bytes: one
+    // load finds where it starts and where it ends. Anything else (comments, long
+    // words or runs of spaces, the last bytes of the text) takes the general way.
+    if (end - p >= 16) {
+        const __m128i c = load16(p);
+        const unsigned space = unsigned(_mm_movemask_epi8(spaces(c)));
+        const unsigned brace = unsigned(_mm_movemask_epi8(braces(c)));
+        if (const unsigned word = ~space & 0xFFFFu) {
+            const int s = __builtin_ctz(word);
+            if (p[s] != '/') {
+                int len = 1;
+                if (!(brace >> s & 1)) {
+                    const unsigned after = (space | brace) >> (s + 1);
+                    len = after ? 1 + __builtin_ctz(after) : 0;
+                }
+                if (len) {
+                    pos_ = std::size_t(p - begin) + std::size_t(s + len);
+                    cur_.text = std::string_view(p + s, std::size_t(len));
+                    cur_.offset = std::size_t(p + s - begin);
+                    return;
+                }
+            }
+        }
+    }
+#endif
     for (;;) {
         while (p != end && char_class(*p) == kSpace) ++p;
         if (end - p >= 2 && p[0] == '/' && p[1] == '/') {
@@ -112,17 +144,26 @@ void LineMap::scan_to(std::size_t offset) {
         // Stop at each checkpoint boundary so that backward look-ups restart nearby.
         const std::size_t stop = std::min(offset, (k / kCheckpoint + 1) * kCheckpoint);
 #if defined(__SSE2__)
-        // 16 bytes at a time; the look-ahead load at k + 1 needs k + 17 <= n.
+        // 16 bytes at a time; the look-ahead load at k + 1 needs k + 17 <= n. The last
+        // partial block before `stop` is masked rather than read byte by byte.
         const __m128i lf = _mm_set1_epi8('\n'), cr = _mm_set1_epi8('\r');
-        for (; k < stop && k + 17 <= n; k += std::min<std::size_t>(16, stop - k)) {
-            const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k));
-            const __m128i next = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + k + 1));
-            const __m128i lone_cr = _mm_andnot_si128(_mm_cmpeq_epi8(next, lf), _mm_cmpeq_epi8(here, cr));
-            unsigned ends = unsigned(_mm_movemask_epi8(_mm_or_si128(_mm_cmpeq_epi8(here, lf), lone_cr)));
-            if (stop - k < 16) ends &= (1u << (stop - k)) - 1;
-            if (ends == 0) continue;
-            cur_.line_start = k + std::size_t(32 - __builtin_clz(ends));  // after the last one
-            for (; ends != 0; ends &= ends - 1) ++cur_.line;                // line ends are sparse
+        auto block = [&](std::size_t at, unsigned mask) {
+            const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + at));
+            unsigned ends = unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(here, lf)));
+            if (const unsigned crs = unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(here, cr)))) {
+                // CR LF ends at its LF: a CR counts only if no LF follows it.
+                const __m128i next = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + at + 1));
+                ends |= crs & ~unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(next, lf)));
+            }
+            ends &= mask;
+            if (ends == 0) return;
+            cur_.line_start = at + std::size_t(32 - __builtin_clz(ends));  // after the last one
+            for (; ends != 0; ends &= ends - 1) ++cur_.line;                 // line ends are sparse
+        };
+        for (; k + 16 <= stop && k + 17 <= n; k += 16) block(k, 0xFFFFu);
+        if (k < stop && k + 17 <= n) {
+            block(k, (1u << (stop - k)) - 1);
+            k = stop;
         }
 #endif
         for (; k < stop; ++k)
@@ -171,8 +212,9 @@ NumberScan scan_number(std::string_view s, double& value) {
     }
     if (digits == 0) return NumberScan::NotNumber;
     if (p == e && digits <= 15) {
-        // The usual case, and the fast path below at its simplest: m < 10^15 < 2^53.
-        double v = double(m);
+        // The usual case, and the fast path below at its simplest: m < 10^15 < 2^53
+        // (signed, the conversion is one instruction).
+        double v = double(std::int64_t(m));
         if (frac_digits > 0) v /= kPow10[frac_digits];
         value = negative ? -v : v;
         return NumberScan::Exact;

@@ -30,6 +30,7 @@ public:
         advance();
         return t;
     }
+    void skip() { advance(); }  // next() without the copy
     std::string_view text() const { return text_; }
 
 private:

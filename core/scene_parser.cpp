@@ -234,11 +234,22 @@ private:
         if (t.eof()) fatal(t, "unexpected end of file: expected a number after " + quote(key.text));
         double fast = 0;
         const NumberScan scan = scan_number(t.text, fast);
+        if (usual_number(t, scan, fast)) {
+            v = fast;
+            lex_.skip();
+            return true;
+        }
         if (scan == NumberScan::NotNumber) {  // braces included
             error(t, "expected a number after " + quote(key.text) + ", got " + got(t));
             return false;
         }
         return take_number(lex_.next(), scan, fast, v);
+    }
+    // Whether take_number would accept the token as scan_number read it: the common
+    // case, checked inline (fast values are finite; NaN fails the comparison).
+    static bool usual_number(const Token& t, NumberScan scan, double fast) {
+        return scan == NumberScan::Exact && t.text.size() <= Limits::max_token_length &&
+               std::fabs(fast) <= kMaxMagnitude;
     }
     // A token of number syntax, with what scan_number found.
     bool take_number(const Token& t, NumberScan scan, double fast, double& v) {
@@ -263,6 +274,11 @@ private:
             if (t.eof()) return number(key, r[i]);  // reports the end of the file
             double fast = 0;
             const NumberScan scan = scan_number(t.text, fast);
+            if (usual_number(t, scan, fast)) {
+                r[i] = fast;
+                lex_.skip();
+                continue;
+            }
             if (scan == NumberScan::NotNumber) {
                 error(t, "expected 3 numbers after " + quote(key.text) + ", got " + got(t));
                 return false;
