@@ -33,7 +33,7 @@ constexpr int kMaxShownDiagnostics = 20;  // as raytracer
 // Signals as raytracer's (app/cli): a signal ends the program at once, unless a
 // temporary output file exists; then the write stops, removes it and fails, and main
 // exits with 128+N.
-const rtcli::Program kProgram{"raytracer-view-headless", ""};
+const rtcli::Program kProgram{"raytracer-view-headless", "", "", ""};  // messages only: no help
 
 class NullHost : public rtview::Host {
 public:

@@ -263,7 +263,7 @@ def many_warnings; case_many_warnings() { newdir "$FUNCNAME"
 
 # --- scene extremes ---------------------------------------------------------------
 
-def mirror_box_depth1000_sigterm; case_mirror_box_depth1000_sigterm() { newdir "$FUNCNAME"; mirror_box_scene > "$D/s.txt"
+def mirror_box_depth1000_sigterm; case_mirror_box_depth1000_sigterm() { newdir "$FUNCNAME"; endless_box_scene > "$D/s.txt"
     start "$RT" --quiet --max-depth 1000 s.txt old.ppm; signal_after 1 5 TERM; want_rc 143; want_fast 1; want_err interrupted; clean_checks; }
 def mirror_box_depth1000_sigint; case_mirror_box_depth1000_sigint() { newdir "$FUNCNAME"; endless_box_scene > "$D/s.txt"
     start "$RT" --quiet --max-depth 1000 --width 2 --height 2 s.txt old.ppm; signal_after 0.5 5 INT; want_rc 130; want_fast 1; clean_checks; }
@@ -299,7 +299,7 @@ def coincident_spheres; case_coincident_spheres() { newdir "$FUNCNAME"; spheres_
 def row_of_spheres; case_row_of_spheres() { newdir "$FUNCNAME"; spheres_scene 20000 0 > "$D/s.txt"
     run 30 "$RT" --quiet s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
 def build_200k_sigterm; case_build_200k_sigterm() { newdir "$FUNCNAME"; spheres_scene 200000 0 > "$D/s.txt"
-    start "$RT" --quiet s.txt old.ppm; signal_after 0.7 5 TERM; want_rc 143; want_fast 1; clean_checks; }
+    start "$RT" --quiet --width 4000 --height 3000 s.txt old.ppm; signal_after 0.7 5 TERM; want_rc 143; want_fast 1; clean_checks; }
 def zero_radius; case_zero_radius() { newdir "$FUNCNAME"; printf '%s\n' "${SCENE_OK/radius 1 /radius 0 }" > "$D/s.txt"
     run 10 "$RT" s.txt new.ppm; [ "$RC" = 0 ] && want_ppm new.ppm 16 12 || { want_rc 1; want_err 'error'; }; clean_checks; }
 def degenerate_tetrahedron; case_degenerate_tetrahedron() { newdir "$FUNCNAME"
@@ -424,8 +424,8 @@ def sigterm_during_write; case_sigterm_during_write() { write_signal_case "$FUNC
 def two_sigterms_during_write; case_two_sigterms_during_write() { write_signal_case "$FUNCNAME" TERM TERM; }
 def three_signals_during_write; case_three_signals_during_write() { write_signal_case "$FUNCNAME" TERM INT TERM; }
 def sigterm_during_parse; case_sigterm_during_parse() { newdir "$FUNCNAME"; spheres_scene 400000 0 > "$D/s.txt"
-    start "$RT" --quiet s.txt old.ppm; signal_after 0.2 5 TERM; want_rc 143; want_fast 1; clean_checks; }
-def sigint_twice; case_sigint_twice() { newdir "$FUNCNAME"; mirror_box_scene > "$D/s.txt"
+    start "$RT" --quiet --width 4000 --height 3000 s.txt old.ppm; signal_after 0.2 5 TERM; want_rc 143; want_fast 1; clean_checks; }
+def sigint_twice; case_sigint_twice() { newdir "$FUNCNAME"; endless_box_scene > "$D/s.txt"
     start "$RT" --quiet --max-depth 1000 s.txt old.ppm; signal_after 0.5 5 INT INT; want_rc 130; want_fast 1; clean_checks; }
 def sigterm_at_prompt; case_sigterm_at_prompt() { newdir "$FUNCNAME"
     (cd "$D" && exec "$RT" ok.txt < <(sleep 5) > "$WORK/.out" 2> "$WORK/.err") & PID=$!
@@ -497,7 +497,7 @@ def view_screenshot_missing_folder; case_view_screenshot_missing_folder() { need
     run 30 "$VIEW" ok.txt --screenshot no/shot.png --size 320x240 --samples 1; want_rc 2; want_err 'No such file'; want_fast 0.5; clean_checks; }
 def view_screenshot_bad_extension; case_view_screenshot_bad_extension() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"
     run 30 "$VIEW" ok.txt --screenshot shot.jpg --size 320x240; want_rc 2; want_err '.png or .ppm'; want_fast 0.5; clean_checks; }
-def view_sigterm; case_view_sigterm() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; mirror_box_scene > "$D/s.txt"
+def view_sigterm; case_view_sigterm() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; endless_box_scene > "$D/s.txt"
     start "$VIEW" s.txt --screenshot old.ppm --size 320x240 --samples 65536; signal_after 1.5 5 TERM; want_rc 143; want_fast 1; clean_checks; }
 def view_fifo_scene_sigint; case_view_fifo_scene_sigint() { need_viewer; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; mkfifo "$D/s.txt"
     start "$VIEW" s.txt --screenshot old.ppm --size 320x240; signal_after 0.5 5 INT; want_rc 130; want_fast 1; clean_checks; }
