@@ -8,9 +8,7 @@
 
 namespace rtview {
 
-namespace {
-
-const char* shape_word(const rt::Shape& s) {
+const char* shape_name(const rt::Shape& s) {
     switch (s.index()) {
         case 0: return "sphere";
         case 1: return "tetrahedron";
@@ -27,8 +25,6 @@ const char* shape_word(const rt::Shape& s) {
     }
 }
 
-}  // namespace
-
 rt::PickResult pick_pixel(const rt::World& world, const rt::Camera& view_camera, int pic_w, int pic_h, int x, int y) {
     rt::CameraBasis basis = rt::CameraBasis::make(view_camera, pic_w, pic_h, false);
     return rt::pick(world, basis.ray(x, y));
@@ -37,7 +33,7 @@ rt::PickResult pick_pixel(const rt::World& world, const rt::Camera& view_camera,
 std::string outline_name(const rt::Scene& s, const rt::PickResult& hit) {
     if (!hit.hit) return {};
     if (hit.object >= 0 && hit.object < int(s.objects.size()))
-        return "object " + std::to_string(hit.object + 1) + " (" + shape_word(s.objects[std::size_t(hit.object)].shape) +
+        return "object " + std::to_string(hit.object + 1) + " (" + shape_name(s.objects[std::size_t(hit.object)].shape) +
                ")";
     if (hit.plane >= 0 && hit.plane < int(s.planes.size()))
         return "plane " + std::to_string(hit.plane + 1) + (s.planes[std::size_t(hit.plane)].chess ? " (chess_plane)" : " (plane)");

@@ -27,6 +27,8 @@ rt::PickResult pick_pixel(const rt::World& world, const rt::Camera& view_camera,
 // "object 3 (sphere)", "plane 1 (chess_plane)", "light 2 (lamp glow)": the outline's
 // 1-based numbers; empty when nothing was hit.
 std::string outline_name(const rt::Scene& scene, const rt::PickResult& hit);
+// What the outline calls a shape: "sphere", ..., "CSG difference".
+const char* shape_name(const rt::Shape& shape);
 
 // One line for the status bar:
 // "x 120 y 45   RGB 0.512 0.250 1.730   64 spp   object 3 (sphere) at 4.21"

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "camera_control.h"
+#include "readout.h"
 #include "scene_text.h"
 #include "scene_writer.h"
 
@@ -20,23 +21,6 @@ namespace {
 const ImVec4 kErrorColour{1.0f, 0.42f, 0.42f, 1.0f};
 const ImVec4 kWarnColour{1.0f, 0.80f, 0.35f, 1.0f};
 const ImVec4 kOkColour{0.55f, 0.85f, 0.55f, 1.0f};
-
-const char* shape_name(const rt::Shape& s) {
-    switch (s.index()) {
-        case 0: return "sphere";
-        case 1: return "tetrahedron";
-        case 2: return "cylinder";
-        case 3: return "torus";
-        default: {
-            switch (std::get<rt::Csg>(s).type) {
-                case rt::CsgType::Union: return "CSG union";
-                case rt::CsgType::Intersection: return "CSG intersection";
-                case rt::CsgType::Difference: return "CSG difference";
-            }
-            return "CSG";
-        }
-    }
-}
 
 std::string fmt_vec(const rt::Vec3& v) {
     return rt::format_number(v.x) + " " + rt::format_number(v.y) + " " + rt::format_number(v.z);
