@@ -1,20 +1,21 @@
 #!/usr/bin/env bash
 # Sanitizer builds, as CI runs them:
 #   1. build-asan: every target with AddressSanitizer + UndefinedBehaviorSanitizer
-#      (RelWithDebInfo), then the whole ctest suite (leak checking on, any UB fatal).
-#   2. build-tsan: ThreadSanitizer; builds the test programs and runs the renderer
-#      tests (rt_tests, tests/test_renderer*.cpp) and the viewer-logic tests.
+#      (-Og -g: the sanitizers' checks are the same, the build takes less than half
+#      the time of -O2), then the whole ctest suite (leak checking on, any UB fatal).
+#   2. build-tsan: ThreadSanitizer (-O2 -g); builds and runs the renderer tests
+#      (rt_renderer_tests: tests/test_renderer*.cpp) and the viewer-logic tests.
 #   ./scripts/sanitize.sh [asan|tsan|all]      (default all)
 # Environment: JOBS (default 2), CC/CXX (default: the system compiler), CMAKE_ARGS
-# (extra CMake options for both builds), TSAN_TEST_FILES (doctest -sf filter for
-# rt_tests, default '*test_renderer*'), SANITIZE_XVFB=1 (also the Xvfb window test).
+# (extra CMake options for both builds), TSAN_TEST_FILES (a doctest -sf filter:
+# when set, TSan builds the whole rt_tests and runs the files it names), SANITIZE_XVFB=1 (also the Xvfb window test).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 WHAT=${1:-all}
 case "$WHAT" in asan|tsan|all) ;; *) echo "usage: $0 [asan|tsan|all]" >&2; exit 2;; esac
 JOBS=${JOBS:-2}
-TSAN_TEST_FILES=${TSAN_TEST_FILES:-*test_renderer*}
+TSAN_TEST_FILES=${TSAN_TEST_FILES:-}
 
 run() { echo "+ $*" >&2; "$@"; }
 stage() { echo; echo "=== $* ($(date +%T))"; }
@@ -45,7 +46,8 @@ status=0
 
 if [ "$WHAT" != tsan ]; then
     stage "AddressSanitizer + UndefinedBehaviorSanitizer: build-asan"
-    run cmake -S . -B build-asan -DRAYTRACER_SANITIZE=address,undefined "${COMMON[@]}"
+    run cmake -S . -B build-asan -DRAYTRACER_SANITIZE=address,undefined "${COMMON[@]}" \
+        "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-Og -g -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-Og -g -DNDEBUG"
     run cmake --build build-asan -j"$JOBS"
     stage "ctest under ASan+UBSan"
     # viewer_xvfb drives the real window through the system's libGL, Mesa and X
@@ -71,10 +73,16 @@ if [ "$WHAT" != asan ]; then
             cmake --build build-tsan --target help | sed -n 's/^\.\.\. \([^ ]*\).*/\1/p; s/^\([^ :]*\): phony$/\1/p' |
                 grep -iE 'view.*test|test.*view' | sort -u)
     fi
-    run cmake --build build-tsan -j"$JOBS" --target rt_tests "${viewer_tests[@]}"
+    tsan_core=rt_renderer_tests
+    [ -n "$TSAN_TEST_FILES" ] && tsan_core=rt_tests
+    run cmake --build build-tsan -j"$JOBS" --target "$tsan_core" "${viewer_tests[@]}"
 
     stage "renderer tests under TSan"
-    run "${NORAND[@]}" build-tsan/bin/rt_tests -sf="$TSAN_TEST_FILES" || status=1
+    if [ -n "$TSAN_TEST_FILES" ]; then
+        run "${NORAND[@]}" build-tsan/bin/rt_tests -sf="$TSAN_TEST_FILES" || status=1
+    else
+        run "${NORAND[@]}" build-tsan/bin/rt_renderer_tests || status=1
+    fi
     if [ ${#viewer_tests[@]} -eq 0 ]; then
         echo "note: no viewer-logic test program (tests/viewer) to run under TSan" >&2
     fi
