@@ -847,6 +847,15 @@ std::string ViewerApp::layout_text() const {
     s += "editor " + px(tab == Panels::Text ? l.editor : Rect{}) + "\n";
     s += "diagnostics " + px(tab == Panels::Text ? l.diagnostics : Rect{}) + "\n";
     s += "status " + px(bar) + "\n";
+    // Where the move handle of the selection sits (its anchor), for tests that drag it.
+    const Document& doc = editor_.doc();
+    std::optional<SceneItem> item = item_of_selection(panels_.selection());
+    std::optional<rt::Vec3> anchor;
+    if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item);
+    std::optional<ScreenPoint> at;
+    if (anchor) at = screen_view().project(*anchor);
+    if (at) s += "handle " + std::to_string(std::lround(at->x * fb)) + " " + std::to_string(std::lround(at->y * fb)) + "\n";
+    else s += "handle none\n";
     return s;
 }
 
