@@ -229,7 +229,9 @@ void ViewerApp::frame() {
     if (doc.has_scene() && nav_.has_view() && !region_holds)
         render_.update(nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
                        layout_.film_w, layout_.film_h, moving);
-    if (doc.has_scene() && nav_.has_view())
+    // The outline and handle are for a user at the window (the headless screenshots
+    // show the picture alone).
+    if (interactive_ && doc.has_scene() && nav_.has_view())
         move_.update_outline(doc, panels_.selection(), render_,
                              nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
                              layout_.film_w, layout_.film_h);
@@ -249,7 +251,7 @@ void ViewerApp::frame() {
         if (render_.showing_preview()) render_.draw(layout_.image, layout_.fb_scale);
         else tools_.draw();
         // Over the picture, not in the film: a saved image stays clean.
-        if (doc.has_scene() && nav_.has_view() && render_.world())
+        if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
             move_.draw(doc, panels_.selection(), screen_view(), layout_.image, layout_.area, layout_.film_w, layout_.film_h);
     }
     if (!doc.has_scene()) {
