@@ -849,14 +849,19 @@ std::string ViewerApp::layout_text() const {
     s += "editor " + px(tab == Panels::Text ? l.editor : Rect{}) + "\n";
     s += "diagnostics " + px(tab == Panels::Text ? l.diagnostics : Rect{}) + "\n";
     s += "status " + px(bar) + "\n";
-    // Where the move handle of the selection sits (its anchor), for tests that drag it.
+    // Where the move handle of the selection sits (its anchor) and what it moves
+    // ("object 3", 1-based as in the outline), for tests that drag it.
     const Document& doc = editor_.doc();
     std::optional<SceneItem> item = item_of_selection(panels_.selection());
     std::optional<rt::Vec3> anchor;
     if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item);
     std::optional<ScreenPoint> at;
     if (anchor) at = screen_view().project(*anchor);
-    if (at) s += "handle " + std::to_string(std::lround(at->x * fb)) + " " + std::to_string(std::lround(at->y * fb)) + "\n";
+    if (at) {
+        const char* kind = item->kind == SceneItem::Kind::Object ? "object" : item->kind == SceneItem::Kind::Plane ? "plane" : "light";
+        s += "handle " + std::to_string(std::lround(at->x * fb)) + " " + std::to_string(std::lround(at->y * fb)) + " " +
+             kind + " " + std::to_string(item->index + 1) + "\n";
+    }
     else s += "handle none\n";
     return s;
 }

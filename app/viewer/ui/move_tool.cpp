@@ -14,6 +14,9 @@ namespace {
 
 // What the outline may take of a resting frame: refined a level a frame within it.
 constexpr double kOutlineBudget = 0.012;
+// Outline segments drawn at most (two lines each: well within the 65,536 vertices of
+// an ImGui draw list with 16-bit indices, which the picture shares).
+constexpr std::size_t kMaxEdges = 5000;
 // Arrow length and pointer tolerance, in unscaled UI units.
 constexpr double kArrow = 90, kTolerance = 7;
 
@@ -142,7 +145,7 @@ void MoveTool::update_outline(const Document& doc, const Selection& sel, const R
         item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
     } else if (same_view) {
         // Resting: one level finer a frame, while a level fits a few frames' budget.
-        if (ids_.block <= 1) return;
+        if (ids_.block <= finest_) return;
         block = ids_.block / 2;
         item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
         if (per_ray_ > 0 && cost() > 4 * kOutlineBudget) return;
@@ -154,20 +157,37 @@ void MoveTool::update_outline(const Document& doc, const Selection& sel, const R
             if (per_ray_ <= 0 && block >= 8) break;
         }
     }
-    auto t0 = std::chrono::steady_clock::now();
-    last_rays_ = trace_ids(*world, camera, film_w, film_h, block, x0, y0, x1, y1, ids_);
-    double took = seconds_since(t0);
-    if (last_rays_ > 64) {
-        double sample = took / double(last_rays_);
-        per_ray_ = per_ray_ > 0 ? std::min(sample, 0.5 * per_ray_ + 0.5 * sample) : sample;
+    if (!same_view) finest_ = 1;
+    IdBuffer ids;
+    std::vector<Edge> edges;
+    for (;;) {
+        auto t0 = std::chrono::steady_clock::now();
+        last_rays_ += trace_ids(*world, camera, film_w, film_h, block, x0, y0, x1, y1, ids);
+        double took = seconds_since(t0);
+        if (last_rays_ > 64) {
+            double sample = took / double(last_rays_);
+            per_ray_ = per_ray_ > 0 ? std::min(sample, 0.5 * per_ray_ + 0.5 * sample) : sample;
+        }
+        edges = outline_edges(ids, code);
+        // An outline of more segments than one draw list holds (a plane seen between
+        // thousands of spheres) stays at the coarser level.
+        if (edges.size() <= kMaxEdges || block >= 64) break;
+        if (same_view && !preview) {
+            finest_ = ids_.block;
+            return;
+        }
+        block *= 2;
+        item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
     }
+    ids_ = std::move(ids);
+    edges_ = std::move(edges);
     has_ids_ = true;
     ids_world_ = world;
     ids_camera_ = camera;
     ids_w_ = film_w;
     ids_h_ = film_h;
     ids_code_ = code;
-    refining_ = !preview && ids_.block > 1;
+    refining_ = !preview && ids_.block > finest_;
 }
 
 void MoveTool::draw(const Document& doc, const Selection& sel, const ScreenView& view, const Rect& image,
@@ -181,12 +201,11 @@ void MoveTool::draw(const Document& doc, const Selection& sel, const ScreenView&
         // Texel borders to window units: texel k starts at film pixel k * block.
         auto wx = [&](int tx) { return float(image.x + std::min(tx * ids_.block, film_w) * image.w / film_w); };
         auto wy = [&](int ty) { return float(image.y + std::min(ty * ids_.block, film_h) * image.h / film_h); };
-        std::vector<Edge> edges = outline_edges(ids_, ids_code_);
         for (int pass = 0; pass < 2; ++pass) {
             // A dark border under a bright line: visible on light and dark pictures.
             ImU32 c = pass == 0 ? IM_COL32(0, 0, 0, 170) : IM_COL32(255, 170, 30, 255);
             float w = pass == 0 ? 3.5f * s : 1.6f * s;
-            for (const Edge& e : edges) dl->AddLine(ImVec2(wx(e.x0), wy(e.y0)), ImVec2(wx(e.x1), wy(e.y1)), c, w);
+            for (const Edge& e : edges_) dl->AddLine(ImVec2(wx(e.x0), wy(e.y0)), ImVec2(wx(e.x1), wy(e.y1)), c, w);
         }
     }
     std::optional<SceneItem> item = item_of_selection(sel);

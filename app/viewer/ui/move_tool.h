@@ -59,6 +59,8 @@ private:
     HandlePart hover_ = HandlePart::None;
 
     IdBuffer ids_;
+    std::vector<Edge> edges_;  // the outline of ids_
+    int finest_ = 1;           // the finest block whose outline fits a draw list
     bool has_ids_ = false;
     std::shared_ptr<const rt::World> ids_world_;
     rt::Camera ids_camera_;
