@@ -78,8 +78,24 @@ void refit_tree(std::vector<Node>& nodes, const std::vector<std::uint32_t>& item
 
 }  // namespace
 
+namespace {
+
+// A fingerprint of a tree's shape: its leaves' items and every child reference. A
+// refit keeps it; a build of other boxes (or in another order) almost surely not.
+std::uint64_t shape_hash(const Bvh& bvh) {
+    std::uint64_t h = 1469598103934665603ull;
+    auto add = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
+    for (std::uint32_t i : bvh.items) add(i);
+    for (const BvhNode& n : bvh.nodes)
+        for (std::uint32_t c : n.child) add(c);
+    add(bvh.nodes8.size());
+    return h;
+}
+
+}  // namespace
+
 BvhLinks::BvhLinks(const Bvh& bvh, std::size_t item_count)
-    : nodes4_(bvh.nodes.size()), nodes8_(bvh.nodes8.size()), items_(bvh.items.size()) {
+    : nodes4_(bvh.nodes.size()), nodes8_(bvh.nodes8.size()), items_(bvh.items.size()), shape_(shape_hash(bvh)) {
     std::vector<std::uint32_t> pn, ps, ln, ls;
     auto pack = [&](std::vector<Slot>& parent, std::vector<Slot>& leaf) {
         parent.resize(pn.size());
@@ -96,11 +112,14 @@ BvhLinks::BvhLinks(const Bvh& bvh, std::size_t item_count)
 }
 
 bool BvhLinks::fits(const Bvh& bvh) const {
-    return bvh.nodes.size() == nodes4_ && bvh.nodes8.size() == nodes8_ && bvh.items.size() == items_;
+    return bvh.nodes.size() == nodes4_ && bvh.nodes8.size() == nodes8_ && bvh.items.size() == items_ &&
+           shape_hash(bvh) == shape_;
 }
 
 bool BvhLinks::refit(Bvh& bvh, const std::vector<Aabb>& boxes, const std::vector<std::uint32_t>& changed) const {
-    if (!fits(bvh)) return false;
+    // (Sizes only: the caller has checked fits(), and the walk below stays inside the
+    // arrays whatever the tree.)
+    if (bvh.nodes.size() != nodes4_ || bvh.nodes8.size() != nodes8_ || bvh.items.size() != items_) return false;
     for (std::uint32_t item : changed) {
         if (item >= leaf4_.size() || leaf4_[item].node == kNone || item >= boxes.size() || boxes[item].empty())
             return false;

@@ -23,14 +23,15 @@ class BvhLinks {
 public:
     BvhLinks(const Bvh& bvh, std::size_t item_count);
 
-    // Whether `bvh` has the shape these links were made from (node and item counts).
+    // Whether `bvh` has the shape these links were made from: the same sizes and the
+    // same leaves and child references (a fingerprint of them, checked in one pass).
     bool fits(const Bvh& bvh) const;
 
     // After boxes[i] changed for each i in `changed`: every box on the way from those
     // items' leaves to the root is made again (a leaf's box from its items' boxes as
     // build() makes it, an inner node's from its children's). False, with `bvh` left
     // unusable, when an item is not in the tree or its box became empty (the caller
-    // builds again then).
+    // builds again then). `bvh` must fit().
     bool refit(Bvh& bvh, const std::vector<Aabb>& boxes, const std::vector<std::uint32_t>& changed) const;
 
 private:
@@ -40,6 +41,7 @@ private:
         std::uint32_t slot = 0;
     };
     std::size_t nodes4_ = 0, nodes8_ = 0, items_ = 0;
+    std::uint64_t shape_ = 0;
     std::vector<Slot> parent4_, parent8_;  // inner node -> the slot that refers to it
     std::vector<Slot> leaf4_, leaf8_;      // item -> the slot of the leaf holding it
 };

@@ -141,3 +141,30 @@ TEST_CASE("bvh_update: a move that changes an object's structure is refused") {
     CHECK(!update_moved_objects(scene, *world, {3}, links));
     CHECK(!update_moved_objects(scene, *world, {50}, links));  // no such object
 }
+
+TEST_CASE("bvh_update: links made for one tree are not used on another of the same size") {
+    Rng rng(8);
+    Scene a = random_scene(rng, 300, 6);
+    Scene b = random_scene(rng, 300, 6);
+    std::shared_ptr<const World> wa = compile_world(a), wb = compile_world(b);
+    REQUIRE(wa->geometry->bvh.items.size() == wb->geometry->bvh.items.size());
+    auto links = std::make_shared<const BvhLinks>(wa->geometry->bvh, 300);
+    CHECK(links->fits(wa->geometry->bvh));
+    CHECK(!links->fits(wb->geometry->bvh));
+    // Handed the other tree's links, the update makes its own and stays exact.
+    std::shared_ptr<const BvhLinks> shared = links;
+    move(b.objects[7], {3, -2, 1});
+    std::shared_ptr<const World> next = update_moved_objects(b, *wb, {7}, shared);
+    REQUIRE(bool(next));
+    CHECK(shared.get() != links.get());
+    Geometry fresh = build_geometry(b);
+    int mismatches = 0;
+    for (int k = 0; k < 300; ++k) {
+        Vec3 o = rng.in_ball(15);
+        Vec3 d = normalize(fresh.object_bounds[k % 2 ? 7 : rng.index(300)].centre() - o);
+        Hit want = brute_nearest(fresh, o, normalize(d));
+        PickResult got = pick(*next, Ray{o, d});
+        if (got.hit != want.hit || (want.hit && (std::uint32_t(got.object) != want.obj || got.t != want.t))) ++mismatches;
+    }
+    CHECK(mismatches == 0);
+}
