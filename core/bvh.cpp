@@ -35,9 +35,8 @@ constexpr std::size_t kSmallScene = 4096;
 // Subtrees of at least this many items may be built on another thread.
 constexpr std::uint32_t kParallelItems = 4096;
 
-// Round a double box outward to float and pad it by a few float ulps of its largest
-// coordinate, so that the float slab test (with the ray's origin and inverse
-// direction also rounded to float) never misses a box the ray really crosses.
+}  // namespace
+
 void to_float_box(const Aabb& b, float out[6]) {
     double m = 0;
     for (int k = 0; k < 3; ++k) m = std::max({m, std::fabs(b.lo[k]), std::fabs(b.hi[k])});
@@ -50,6 +49,8 @@ void to_float_box(const Aabb& b, float out[6]) {
         out[3 + k] = hi;
     }
 }
+
+namespace {
 
 // Per axis, the bins of one node's items: their boxes and counts. The children's
 // boxes are unions of bins, and their centroid bounds are taken while partitioning, so

@@ -120,6 +120,11 @@ struct BvhRay {
     }
 };
 
+// Round a double box outward to float and pad it by a few float ulps of its largest
+// coordinate, so that the float slab test (with the ray's origin and inverse
+// direction also rounded to float) never misses a box the ray really crosses.
+void to_float_box(const Aabb& b, float out[6]);
+
 class Bvh {
 public:
     std::vector<BvhNode> nodes;        // nodes[0] is the root (when there are items)

@@ -549,19 +549,26 @@ double radiance_bound(const World& w) {
 }  // namespace
 
 std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous) {
-    auto w = std::make_shared<World>();
+    std::shared_ptr<const Geometry> geometry;
     if (previous && previous->geometry && previous->geometry->object_node.size() == scene.objects.size()) {
         // The shapes compiled again are cheap to compare; only the BVH is worth keeping.
         Geometry g = build_geometry(scene, false);
         if (same_shapes(g, *previous->geometry)) {
-            w->geometry = previous->geometry;
+            geometry = previous->geometry;
         } else {
             g.bvh.build(g.object_bounds);
-            w->geometry = std::make_shared<const Geometry>(std::move(g));
+            geometry = std::make_shared<const Geometry>(std::move(g));
         }
     } else {
-        w->geometry = std::make_shared<const Geometry>(build_geometry(scene));
+        geometry = std::make_shared<const Geometry>(build_geometry(scene));
     }
+    return compile_world(scene, std::move(geometry), previous);
+}
+
+std::shared_ptr<const World> compile_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
+                                           const World* previous) {
+    auto w = std::make_shared<World>();
+    w->geometry = std::move(geometry);
     w->materials.reserve(scene.objects.size());
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         // Big scenes repeat a few materials, often alternating: one equal (bit for bit)

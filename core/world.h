@@ -129,6 +129,9 @@ private:
 
 // Compile a valid scene. If `previous` has the same geometry, its BVH is reused.
 std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous = nullptr);
+// The same with the scene's geometry already compiled (moved objects: bvh_update.h).
+std::shared_ptr<const World> compile_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
+                                           const World* previous);
 
 // What lies under a camera ray: the nearest object or plane.
 struct PickResult {

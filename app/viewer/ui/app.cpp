@@ -202,7 +202,12 @@ void ViewerApp::frame() {
         // Ctrl+wheel, Ctrl+drag and the A/B split line belong to the picture tools:
         // navigation then sees no image under the mouse.
         Layout nav_layout = layout_;
-        if (tools_.handle_mouse()) nav_layout.image = Rect{};
+        bool tool_mouse = tools_.handle_mouse() && !move_.dragging();
+        if (tool_mouse) nav_layout.image = Rect{};
+        else if (doc.has_scene() && nav_.has_view() &&
+                 move_.handle_mouse(doc, panels_.selection(), screen_view(), layout_.image, usable && !nav_.dragging(),
+                                    render_, status_))
+            nav_layout.image = Rect{};  // the move handle has the pointer
         NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, panels_.scene_size());
         if (r.clicked) select_at(r.x, r.y);
         handle_context_menu(usable);
@@ -215,7 +220,7 @@ void ViewerApp::frame() {
     render_.sync_world(doc);
     // A slider held in a panel is motion too: previews within the frame budget.
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
-    bool moving = nav_input_.moving(now) || widget_busy;
+    bool moving = nav_input_.moving(now) || widget_busy || move_.dragging();
     // While a render region refines, the rest of the picture stays as it was (the
     // region re-renders on edits and view changes); a new film size ends the region.
     bool region_holds = tools_.region_active() && tools_.region_fits(layout_.film_w, layout_.film_h);
@@ -224,6 +229,12 @@ void ViewerApp::frame() {
     if (doc.has_scene() && nav_.has_view() && !region_holds)
         render_.update(nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
                        layout_.film_w, layout_.film_h, moving);
+    // The outline and handle are for a user at the window (the headless screenshots
+    // show the picture alone).
+    if (interactive_ && doc.has_scene() && nav_.has_view())
+        move_.update_outline(doc, panels_.selection(), render_,
+                             nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
+                             layout_.film_w, layout_.film_h);
     tools_.begin(image_frame(now));  // the world and view as the render now has them
     render_.set_display(tools_.display(), tools_.region());
     render_.upload();
@@ -239,6 +250,9 @@ void ViewerApp::frame() {
         // picture tools show it (zoom, display mapping, A/B, region).
         if (render_.showing_preview()) render_.draw(layout_.image, layout_.fb_scale);
         else tools_.draw();
+        // Over the picture, not in the film: a saved image stays clean.
+        if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
+            move_.draw(doc, panels_.selection(), screen_view(), layout_.image, layout_.area, layout_.film_w, layout_.film_h);
     }
     if (!doc.has_scene()) {
         std::string opening = "Opening " + base_name(loader_.progress().path) + " ...";
@@ -398,6 +412,11 @@ void ViewerApp::select_at(double px, double py) {
     panels_.select(s);
 }
 
+ScreenView ViewerApp::screen_view() const {
+    return ScreenView(nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
+                      layout_.image, layout_.film_w, layout_.film_h);
+}
+
 // A panel edit (a slider drag) is one undo step: committed when no widget is held.
 void ViewerApp::end_edits() {
     Document& doc = editor_.doc();
@@ -405,7 +424,7 @@ void ViewerApp::end_edits() {
     // The text editor being active does not hold the edit open (it is not part of the
     // edit, and may stay focused for a long time).
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
-    if (!widget_busy) doc.commit();
+    if (!widget_busy && !move_.dragging()) doc.commit();
 }
 
 void ViewerApp::orbit_degrees(double degrees) {
@@ -742,6 +761,7 @@ bool ViewerApp::render_settled() const {
 bool ViewerApp::ui_busy() const {
     const Document& doc = editor_.doc();
     return nav_.dragging() || nav_input_.moving(ImGui::GetTime()) || doc.editing() || frames_ < 3 ||
+           move_.dragging() || move_.wants_frames() ||
            editor_.wants_frames() || panels_.wants_frames() || dialogs_.wants_frames() || !screenshot_request_.empty() ||
            render_.building() || tools_.busy();
 }
@@ -829,6 +849,20 @@ std::string ViewerApp::layout_text() const {
     s += "editor " + px(tab == Panels::Text ? l.editor : Rect{}) + "\n";
     s += "diagnostics " + px(tab == Panels::Text ? l.diagnostics : Rect{}) + "\n";
     s += "status " + px(bar) + "\n";
+    // Where the move handle of the selection sits (its anchor) and what it moves
+    // ("object 3", 1-based as in the outline), for tests that drag it.
+    const Document& doc = editor_.doc();
+    std::optional<SceneItem> item = item_of_selection(panels_.selection());
+    std::optional<rt::Vec3> anchor;
+    if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item);
+    std::optional<ScreenPoint> at;
+    if (anchor) at = screen_view().project(*anchor);
+    if (at) {
+        const char* kind = item->kind == SceneItem::Kind::Object ? "object" : item->kind == SceneItem::Kind::Plane ? "plane" : "light";
+        s += "handle " + std::to_string(std::lround(at->x * fb)) + " " + std::to_string(std::lround(at->y * fb)) + " " +
+             kind + " " + std::to_string(item->index + 1) + "\n";
+    }
+    else s += "handle none\n";
     return s;
 }
 

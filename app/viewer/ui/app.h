@@ -19,6 +19,7 @@
 #include "editor.h"
 #include "image_tools.h"
 #include "loader.h"
+#include "move_tool.h"
 #include "navigation.h"
 #include "navigator.h"
 #include "options.h"
@@ -91,6 +92,8 @@ private:
     void after_document_replaced();
     void start_load(const std::string& path);
     void select_at(double px, double py);
+    // The view the picture is rendered through, as the move tool projects with it.
+    ScreenView screen_view() const;
     // Structural edits and the image's context menu.
     bool scene_edit(const std::string& arg, Command c);
     void handle_context_menu(bool usable);
@@ -114,6 +117,7 @@ private:
     Dialogs dialogs_;
     ImageTools tools_;
     Panels panels_;
+    MoveTool move_;  // the selection's outline and translate handle
 
     // Right button in the image: a click (no drag) opens the context menu there.
     bool rclick_armed_ = false;

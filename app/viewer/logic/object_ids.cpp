@@ -1,0 +1,127 @@
+// Object-id buffer and selection outline (see object_ids.h).
+#include "object_ids.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shapes.h"
+
+namespace rtview {
+
+std::uint32_t id_code(const rt::PickResult& r) {
+    if (r.object >= 0) return std::uint32_t(r.object + 1) * 4 + 1;
+    if (r.plane >= 0) return std::uint32_t(r.plane + 1) * 4 + 2;
+    if (r.light >= 0) return std::uint32_t(r.light + 1) * 4 + 3;
+    return 0;
+}
+
+std::uint32_t id_code(const SceneItem& item) {
+    if (item.index < 0) return 0;
+    std::uint32_t k = item.kind == SceneItem::Kind::Object ? 1 : item.kind == SceneItem::Kind::Plane ? 2 : 3;
+    return std::uint32_t(item.index + 1) * 4 + k;
+}
+
+void item_window(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
+                 const SceneItem& item, int& x0, int& y0, int& x1, int& y1) {
+    int b = std::max(1, block);
+    int tw = (film_w + b - 1) / b, th = (film_h + b - 1) / b;
+    x0 = y0 = x1 = y1 = 0;
+    rt::Aabb box;
+    std::size_t i = std::size_t(item.index);
+    if (item.index < 0) return;
+    if (item.kind == SceneItem::Kind::Object) {
+        if (i >= world.geometry->object_bounds.size()) return;
+        box = world.geometry->object_bounds[i];
+    } else if (item.kind == SceneItem::Kind::Light) {
+        if (i >= world.lights.size()) return;
+        const rt::ShadeLight& l = world.lights[i];
+        if (!(l.glow > 0)) return;  // only a lamp's glow disc is seen
+        rt::Vec3 e{l.glow, l.glow, l.glow};
+        box = {l.position - e, l.position + e};
+    } else {
+        if (i >= world.planes.size()) return;
+        x1 = tw, y1 = th;  // a plane may be anywhere on screen
+        return;
+    }
+    if (box.empty()) return;
+    // Film coordinates of the box's corners. A corner at or behind the eye's plane
+    // gives no bound: the whole film then.
+    rt::CameraBasis cb = rt::CameraBasis::make(camera, film_w, film_h, false);
+    if (cb.projection != rt::Projection::Linear) {
+        x1 = tw, y1 = th;
+        return;
+    }
+    double lo_i = HUGE_VAL, hi_i = -HUGE_VAL, lo_j = HUGE_VAL, hi_j = -HUGE_VAL;
+    for (int c = 0; c < 8; ++c) {
+        rt::Vec3 p{c & 1 ? box.hi.x : box.lo.x, c & 2 ? box.hi.y : box.lo.y, c & 4 ? box.hi.z : box.lo.z};
+        rt::Vec3 d = p - cb.origin;
+        double z = rt::dot(d, cb.forward);
+        if (!(z > 1e-9 * rt::length(d))) {
+            x1 = tw, y1 = th;
+            return;
+        }
+        // Inverse of CameraBasis::direction (not mirrored): sx = -tan_x (hw - i) / hw.
+        double sx = rt::dot(d, cb.side) / z, sy = rt::dot(d, cb.up) / z;
+        double fi = film_w / 2.0 * (1 + sx / cb.tan_x), fj = film_h / 2.0 * (1 - sy / cb.tan_y);
+        lo_i = std::min(lo_i, fi), hi_i = std::max(hi_i, fi);
+        lo_j = std::min(lo_j, fj), hi_j = std::max(hi_j, fj);
+    }
+    // Texel k samples film coordinate k b; one texel of margin each side.
+    auto clampi = [](double v, int hi) { return int(std::clamp(v, 0.0, double(hi))); };
+    x0 = clampi(std::floor(lo_i / b) - 1, tw);
+    x1 = clampi(std::ceil(hi_i / b) + 2, tw);
+    y0 = clampi(std::floor(lo_j / b) - 1, th);
+    y1 = clampi(std::ceil(hi_j / b) + 2, th);
+    if (x0 >= x1 || y0 >= y1) x0 = x1 = y0 = y1 = 0;
+}
+
+std::size_t trace_ids(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block, int x0,
+                      int y0, int x1, int y1, IdBuffer& out) {
+    int b = std::max(1, block);
+    out.block = b;
+    out.width = (film_w + b - 1) / b;
+    out.height = (film_h + b - 1) / b;
+    out.x0 = std::clamp(x0, 0, out.width), out.x1 = std::clamp(x1, out.x0, out.width);
+    out.y0 = std::clamp(y0, 0, out.height), out.y1 = std::clamp(y1, out.y0, out.height);
+    out.ids.assign(std::size_t(out.width) * std::size_t(out.height), 0);
+    rt::CameraBasis cb = rt::CameraBasis::make(camera, film_w, film_h, false);
+    std::size_t rays = 0;
+    for (int y = out.y0; y < out.y1; ++y)
+        for (int x = out.x0; x < out.x1; ++x, ++rays)
+            out.ids[std::size_t(y) * std::size_t(out.width) + std::size_t(x)] =
+                id_code(rt::pick(world, cb.ray(double(x) * b, double(y) * b)));
+    return rays;
+}
+
+std::vector<Edge> outline_edges(const IdBuffer& ids, std::uint32_t code) {
+    std::vector<Edge> out;
+    if (code == 0) return out;
+    auto in = [&](int x, int y) { return ids.at(x, y) == code; };
+    // Horizontal borders: along the top of row y, between rows y - 1 and y.
+    for (int y = ids.y0; y <= ids.y1; ++y) {
+        int run = -1;
+        for (int x = ids.x0; x <= ids.x1; ++x) {
+            bool edge = x < ids.x1 && in(x, y) != in(x, y - 1);
+            if (edge && run < 0) run = x;
+            if (!edge && run >= 0) {
+                out.push_back({run, y, x, y});
+                run = -1;
+            }
+        }
+    }
+    // Vertical borders: along the left of column x.
+    for (int x = ids.x0; x <= ids.x1; ++x) {
+        int run = -1;
+        for (int y = ids.y0; y <= ids.y1; ++y) {
+            bool edge = y < ids.y1 && in(x, y) != in(x - 1, y);
+            if (edge && run < 0) run = y;
+            if (!edge && run >= 0) {
+                out.push_back({x, run, x, y});
+                run = -1;
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace rtview

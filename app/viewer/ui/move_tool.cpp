@@ -1,0 +1,245 @@
+// Selection outline and translate handle (see move_tool.h).
+#include "move_tool.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "scene_edits.h"
+
+namespace rtview {
+
+namespace {
+
+// What the outline may take of a resting frame: refined a level a frame within it.
+constexpr double kOutlineBudget = 0.012;
+// Outline segments drawn at most (two lines each: well within the 65,536 vertices of
+// an ImGui draw list with 16-bit indices, which the picture shares).
+constexpr std::size_t kMaxEdges = 5000;
+// Arrow length and pointer tolerance, in unscaled UI units.
+constexpr double kArrow = 90, kTolerance = 7;
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+ImU32 axis_colour(int k, bool hot) {
+    static const ImU32 normal[3] = {IM_COL32(235, 64, 52, 255), IM_COL32(70, 200, 60, 255), IM_COL32(60, 120, 245, 255)};
+    return hot ? IM_COL32(255, 230, 60, 255) : normal[k];
+}
+
+}  // namespace
+
+std::optional<SceneItem> item_of_selection(const Selection& s) {
+    switch (s.kind) {
+        case Selection::Kind::Object: return SceneItem{SceneItem::Kind::Object, s.index};
+        case Selection::Kind::Plane: return SceneItem{SceneItem::Kind::Plane, s.index};
+        case Selection::Kind::Light: return SceneItem{SceneItem::Kind::Light, s.index};
+        case Selection::Kind::None: break;
+    }
+    return std::nullopt;
+}
+
+void MoveTool::apply(Document& doc, RenderController& render, const rt::Vec3& d) {
+    Drag& g = *drag_;
+    std::size_t i = std::size_t(g.item.index);
+    std::uint64_t before = doc.content_version();
+    switch (g.item.kind) {
+        case SceneItem::Kind::Object: {
+            rt::Object& o = doc.edit_object(i);
+            o = g.object;
+            translate(o, d);
+            // Only this object changed: the renderer refits its BVH instead of building it.
+            render.note_moved(int(i), before);
+            break;
+        }
+        case SceneItem::Kind::Plane: {
+            rt::Plane& p = doc.edit_plane(i);
+            p = g.plane;
+            translate(p, d);
+            break;
+        }
+        case SceneItem::Kind::Light: {
+            rt::Light& l = doc.edit_light(i);
+            l = g.light;
+            translate(l, d);
+            break;
+        }
+    }
+    g.last = d;
+}
+
+bool MoveTool::handle_mouse(Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, bool usable,
+                            RenderController& render, StatusLine& status) {
+    ImGuiIO& io = ImGui::GetIO();
+    double mx = io.MousePos.x, my = io.MousePos.y;
+    double s = ImGui::GetFontSize() / 13.0;  // the UI scale
+    if (drag_) {
+        if (!usable || !doc.has_scene() || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+            doc.cancel_edit();
+            drag_.reset();
+            status.set("Move cancelled");
+            return true;
+        }
+        if (ImGui::IsMouseDown(0)) {
+            // Shift: the grid. Else a hundredth of its step, far below a pixel at
+            // the scene's scale, so the text gets short numbers (-0.2636, not
+            // -0.26361007019).
+            rt::Vec3 d = drag_->drag.delta(view, mx, my, io.KeyShift ? drag_->snap : drag_->snap / 100);
+            if (!(d == drag_->last) && rt::finite(d)) apply(doc, render, d);
+            return true;
+        }
+        // Released: one undo step, or nothing if it did not move.
+        rt::Vec3 d = drag_->last;
+        if (d == rt::Vec3{0, 0, 0}) doc.cancel_edit();
+        else doc.commit();
+        drag_.reset();
+        if (!(d == rt::Vec3{0, 0, 0})) {
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "Moved by %.6g %.6g %.6g (Ctrl+Z undoes)", d.x, d.y, d.z);
+            status.set(buf);
+        }
+        return true;
+    }
+    hover_ = HandlePart::None;
+    std::optional<SceneItem> item = item_of_selection(sel);
+    if (!usable || !item || !doc.has_scene() || doc.editing()) return false;
+    std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item);
+    if (!anchor) return false;
+    HandleShape h = handle_shape(view, *anchor, kArrow * s);
+    bool over = !io.WantCaptureMouse && image.contains(mx, my);
+    hover_ = over ? hit_handle(h, mx, my, kTolerance * s) : HandlePart::None;
+    if (hover_ == HandlePart::None || !ImGui::IsMouseClicked(0)) return hover_ != HandlePart::None && ImGui::IsMouseDown(0);
+    const rt::Scene& scene = doc.scene();
+    std::size_t i = std::size_t(item->index);
+    drag_.emplace(*item, MoveDrag(hover_, *anchor, view, mx, my));
+    drag_->snap = snap_step(scene_extent(scene));
+    if (item->kind == SceneItem::Kind::Object) drag_->object = scene.objects[i];
+    else if (item->kind == SceneItem::Kind::Plane) drag_->plane = scene.planes[i];
+    else drag_->light = scene.lights[i];
+    return true;
+}
+
+void MoveTool::update_outline(const Document& doc, const Selection& sel, const RenderController& render,
+                              const rt::Camera& camera, int film_w, int film_h) {
+    refining_ = false;
+    last_rays_ = 0;
+    std::optional<SceneItem> item = item_of_selection(sel);
+    const std::shared_ptr<const rt::World>& world = render.world_ptr();
+    if (!item || !world || !doc.has_scene()) {
+        has_ids_ = false;
+        return;
+    }
+    std::uint32_t code = id_code(*item);
+    bool same_view = has_ids_ && ids_world_ == world && ids_camera_ == camera && ids_w_ == film_w && ids_h_ == film_h &&
+                     ids_code_ == code;
+    const bool preview = render.showing_preview();
+    int block = 8;
+    int x0, y0, x1, y1;
+    auto cost = [&] { return double(x1 - x0) * double(y1 - y0) * per_ray_; };
+    if (preview) {
+        // The picture on screen is the UI thread's preview: the outline at its blocks.
+        block = std::max(1, render.last_preview_block());
+        if (same_view && ids_.block == block) return;
+        item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
+    } else if (same_view) {
+        // Resting: one level finer a frame, while a level fits a few frames' budget.
+        if (ids_.block <= finest_) return;
+        block = ids_.block / 2;
+        item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
+        if (per_ray_ > 0 && cost() > 4 * kOutlineBudget) return;
+    } else {
+        // A new view at rest: the finest level within the budget.
+        for (block = 1;; block *= 2) {
+            item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
+            if (block >= 64 || (per_ray_ > 0 && cost() <= kOutlineBudget)) break;
+            if (per_ray_ <= 0 && block >= 8) break;
+        }
+    }
+    if (!same_view) finest_ = 1;
+    IdBuffer ids;
+    std::vector<Edge> edges;
+    for (;;) {
+        auto t0 = std::chrono::steady_clock::now();
+        last_rays_ += trace_ids(*world, camera, film_w, film_h, block, x0, y0, x1, y1, ids);
+        double took = seconds_since(t0);
+        if (last_rays_ > 64) {
+            double sample = took / double(last_rays_);
+            per_ray_ = per_ray_ > 0 ? std::min(sample, 0.5 * per_ray_ + 0.5 * sample) : sample;
+        }
+        edges = outline_edges(ids, code);
+        // An outline of more segments than one draw list holds (a plane seen between
+        // thousands of spheres) stays at the coarser level.
+        if (edges.size() <= kMaxEdges || block >= 64) break;
+        if (same_view && !preview) {
+            finest_ = ids_.block;
+            return;
+        }
+        block *= 2;
+        item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
+    }
+    ids_ = std::move(ids);
+    edges_ = std::move(edges);
+    has_ids_ = true;
+    ids_world_ = world;
+    ids_camera_ = camera;
+    ids_w_ = film_w;
+    ids_h_ = film_h;
+    ids_code_ = code;
+    refining_ = !preview && ids_.block > finest_;
+}
+
+void MoveTool::draw(const Document& doc, const Selection& sel, const ScreenView& view, const Rect& image,
+                    const Rect& area, int film_w, int film_h) {
+    if (!doc.has_scene()) return;
+    ImDrawList* dl = ImGui::GetBackgroundDrawList();
+    dl->PushClipRect(ImVec2(float(area.x), float(area.y)), ImVec2(float(area.x + area.w), float(area.y + area.h)), true);
+    float s = ImGui::GetFontSize() / 13.f;
+    if (has_ids_ && ids_code_ == id_code(item_of_selection(sel).value_or(SceneItem{})) && ids_w_ == film_w &&
+        ids_h_ == film_h) {
+        // Texel borders to window units: texel k starts at film pixel k * block.
+        auto wx = [&](int tx) { return float(image.x + std::min(tx * ids_.block, film_w) * image.w / film_w); };
+        auto wy = [&](int ty) { return float(image.y + std::min(ty * ids_.block, film_h) * image.h / film_h); };
+        for (int pass = 0; pass < 2; ++pass) {
+            // A dark border under a bright line: visible on light and dark pictures.
+            ImU32 c = pass == 0 ? IM_COL32(0, 0, 0, 170) : IM_COL32(255, 170, 30, 255);
+            float w = pass == 0 ? 3.5f * s : 1.6f * s;
+            for (const Edge& e : edges_) dl->AddLine(ImVec2(wx(e.x0), wy(e.y0)), ImVec2(wx(e.x1), wy(e.y1)), c, w);
+        }
+    }
+    std::optional<SceneItem> item = item_of_selection(sel);
+    std::optional<rt::Vec3> anchor;
+    if (drag_) anchor = drag_->drag.anchor() + drag_->last;
+    else if (item) anchor = item_anchor(doc.scene(), *item);
+    if (anchor) {
+        HandleShape h = handle_shape(view, *anchor, kArrow * s);
+        if (h.visible) {
+            HandlePart active = drag_ ? drag_->drag.part() : hover_;
+            ImVec2 o(float(h.origin.x), float(h.origin.y));
+            for (int k = 0; k < 3; ++k) {
+                if (!h.axis_shown[k]) continue;
+                bool hot = active == HandlePart(int(HandlePart::X) + k);
+                ImVec2 t(float(h.tip[k].x), float(h.tip[k].y));
+                float dx = t.x - o.x, dy = t.y - o.y, l = std::sqrt(dx * dx + dy * dy);
+                if (l < 1) continue;
+                float ux = dx / l, uy = dy / l, head = 12 * s;
+                ImVec2 base(t.x - ux * head, t.y - uy * head);
+                dl->AddLine(o, base, IM_COL32(0, 0, 0, 150), 5 * s);
+                dl->AddLine(o, base, axis_colour(k, hot), 3 * s);
+                ImVec2 a(base.x - uy * head * 0.45f, base.y + ux * head * 0.45f);
+                ImVec2 b(base.x + uy * head * 0.45f, base.y - ux * head * 0.45f);
+                dl->AddTriangleFilled(t, a, b, axis_colour(k, hot));
+                dl->AddTriangle(t, a, b, IM_COL32(0, 0, 0, 150), 1.f);
+            }
+            float q = float(h.square);
+            bool hot = active == HandlePart::Plane;
+            dl->AddRectFilled(ImVec2(o.x - q, o.y - q), ImVec2(o.x + q, o.y + q),
+                              hot ? IM_COL32(255, 230, 60, 200) : IM_COL32(240, 240, 240, 120));
+            dl->AddRect(ImVec2(o.x - q, o.y - q), ImVec2(o.x + q, o.y + q), IM_COL32(0, 0, 0, 200), 0, 0, 1.5f * s);
+        }
+    }
+    dl->PopClipRect();
+}
+
+}  // namespace rtview

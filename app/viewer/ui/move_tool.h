@@ -1,0 +1,77 @@
+// What the picture shows of the selection and how it is moved there: the selected
+// item's outline (from an object-id buffer of the primary hits at the block size of
+// the picture on screen, refined while the view rests) and the translate handle
+// (three axis arrows and a view-plane square). Dragging the handle edits the item in
+// the document every frame, as a slider does (one undo step on release, written into
+// the item's block only); Shift snaps to a grid scaled to the scene, Escape cancels.
+// Both are drawn over the picture, never into the film.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+#include "document.h"
+#include "move_handle.h"
+#include "object_ids.h"
+#include "render_controller.h"
+#include "shared.h"
+
+namespace rtview {
+
+class MoveTool {
+public:
+    // One frame of pointer input, before navigation sees it. `view` is the view the
+    // picture is rendered through; `image` where it is drawn. True while the tool owns
+    // the pointer (a press on the handle, a drag): navigation must then ignore it.
+    bool handle_mouse(Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, bool usable,
+                      RenderController& render, StatusLine& status);
+    bool dragging() const { return drag_.has_value(); }
+
+    // The outline's id buffer for this frame's picture: at the preview's block while
+    // the view moves, refined toward single pixels (within a time budget per frame)
+    // while it rests. Call after RenderController::update().
+    void update_outline(const Document& doc, const Selection& sel, const RenderController& render,
+                        const rt::Camera& camera, int film_w, int film_h);
+    // Outline and handle over the picture in `image` (clipped to `area`).
+    void draw(const Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, const Rect& area,
+              int film_w, int film_h);
+    // Still refining the outline: frames are needed.
+    bool wants_frames() const { return refining_; }
+    // Rays the last outline update traced (for --verbose and tests).
+    std::size_t last_rays() const { return last_rays_; }
+
+private:
+    struct Drag {
+        Drag(SceneItem i, const MoveDrag& d) : item(i), drag(d) {}
+        SceneItem item;
+        MoveDrag drag;
+        rt::Object object;
+        rt::Plane plane;
+        rt::Light light;
+        double snap = 1;
+        rt::Vec3 last{0, 0, 0};
+    };
+    void apply(Document& doc, RenderController& render, const rt::Vec3& d);
+
+    std::optional<Drag> drag_;
+    HandlePart hover_ = HandlePart::None;
+
+    IdBuffer ids_;
+    std::vector<Edge> edges_;  // the outline of ids_
+    int finest_ = 1;           // the finest block whose outline fits a draw list
+    bool has_ids_ = false;
+    std::shared_ptr<const rt::World> ids_world_;
+    rt::Camera ids_camera_;
+    int ids_w_ = 0, ids_h_ = 0;
+    std::uint32_t ids_code_ = 0;
+    bool refining_ = false;
+    double per_ray_ = 0;  // measured seconds per id ray
+    std::size_t last_rays_ = 0;
+};
+
+// The document item a selection edits (a CSG operand: its top-level object).
+std::optional<SceneItem> item_of_selection(const Selection& s);
+
+}  // namespace rtview

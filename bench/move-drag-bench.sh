@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# Picture updates a second while an object is dragged with the move handle, against
+# an orbit drag of the same length, under Xvfb: a 2 s drag at 30 pointer events a
+# second (as bench/viewer-bench.sh takes the orbit figure), counted on screen by
+# rtview-xframes. On the default scene and on bench/scenes/spheres-10k.txt (10,000
+# objects: each frame's move refits the BVH); the object dragged is the one left of
+# the picture's middle.
+#   bench/move-drag-bench.sh [BIN_DIR] [DISPLAY_NUMBER]
+set -euo pipefail
+HERE=$(cd "$(dirname "$0")" && pwd)
+BIN=$(cd "${1:-$HERE/../build/bin}" && pwd)
+DNUM=${2:-93}
+RUNS=${RUNS:-3}
+OUT=$(mktemp -d /tmp/move-drag-bench.XXXXXX)
+for t in raytracer-view rtview-xframes; do
+    [ -x "$BIN/$t" ] || { echo "missing $BIN/$t (build it first)" >&2; exit 2; }
+done
+export DISPLAY=:$DNUM MESA_SHADER_CACHE_DISABLE=true
+export XDG_CONFIG_HOME=$OUT/config XDG_STATE_HOME=$OUT/state
+PIDS=()
+cleanup() { for p in "${PIDS[@]}"; do kill "$p" 2> /dev/null || true; done; }
+trap cleanup EXIT
+Xvfb ":$DNUM" -screen 0 1280x800x24 -nolisten tcp > /dev/null 2>&1 &
+PIDS+=($!)
+sleep 1
+load() { cut -d' ' -f1-3 /proc/loadavg; }
+field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$OUT/layout.txt"; }
+
+# run SCENE MODE: one 2 s drag (MODE orbit or move); prints the pictures counted.
+run() {
+    local scene=$1 mode=$2
+    cp "$scene" "$OUT/scene.txt"
+    "$BIN/raytracer-view" "$OUT/scene.txt" --size 1280x800 --print-layout -v > "$OUT/layout.txt" 2> "$OUT/viewer.err" &
+    local vp=$!
+    PIDS+=($vp)
+    for _ in $(seq 1 600); do grep -q "first picture" "$OUT/viewer.err" && break; sleep 0.1; done
+    sleep 1.5
+    read -r ix iy iw ih <<< "$(field image 1) $(field image 2) $(field image 3) $(field image 4)"
+    local x y
+    if [ "$mode" = move ]; then
+        # Select an object left of the middle, then grab the handle's view-plane square.
+        for k in $(seq 0 9); do
+            xdotool mousemove $((ix + iw * 37 / 100 + k * 3)) $((iy + ih * 55 / 100 + k * 2)) click 1
+            sleep 1
+            x=$(field handle 1) y=$(field handle 2)
+            [ "$(field handle 3)" = object ] && break
+        done
+        [ "$x" != none ] || { echo "no handle" >&2; exit 1; }
+    else
+        x=$((ix + iw / 2)) y=$((iy + ih / 2))
+    fi
+    "$BIN/rtview-xframes" $((ix + iw / 4)) $((iy + ih / 4)) $((iw / 2)) $((ih / 2)) 10 2.0 > "$OUT/frames.txt" &
+    local xf=$!
+    xdotool mousemove "$x" "$y" mousedown 1
+    local t0 i
+    t0=$(date +%s.%N)
+    for i in $(seq 1 60); do
+        xdotool mousemove $((x - 60 + i * 2)) $((y - 20 + i / 2))
+        sleep "$(awk -v t0="$t0" -v i="$i" -v now="$(date +%s.%N)" 'BEGIN { d = t0 + i / 30 - now; printf "%.4f\n", (d > 0 ? d : 0) }')"
+    done
+    xdotool mouseup 1
+    wait "$xf"
+    kill "$vp" 2> /dev/null || true
+    wait "$vp" 2> /dev/null || true
+    awk '/^changes/ { print $2 }' "$OUT/frames.txt"
+}
+
+echo "move-drag bench, $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores, load average before: $(load)"
+for scene in "$HERE/../scenes/default.txt" "$HERE/scenes/spheres-10k.txt"; do
+    for mode in orbit move; do
+        rates=()
+        for _ in $(seq 1 "$RUNS"); do rates+=("$(awk -v c="$(run "$scene" $mode)" 'BEGIN { printf "%.1f", c / 2.0 }')"); done
+        echo "$(basename "$scene"), $mode drag: picture updates/s ${rates[*]} (load $(load))"
+    done
+done
+rm -rf "$OUT"

@@ -1,0 +1,59 @@
+// Moving objects without building the BVH again: the moved objects' shapes are
+// compiled anew in place, and the boxes of their leaves and of those leaves'
+// ancestors are refitted. The tree keeps its shape, so a move costs a walk up a few
+// dozen nodes however many objects the scene holds (the viewer's move tool).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bvh.h"
+#include "scene.h"
+#include "world.h"
+
+namespace rt {
+
+struct Geometry;
+
+// Parent links of a BVH (both its 4-wide and 8-wide forms) and the leaf slot of each
+// item: what a refit walks. They depend only on the tree's shape, which a refit keeps,
+// so one set serves every refitted copy of the tree they were made from.
+class BvhLinks {
+public:
+    BvhLinks(const Bvh& bvh, std::size_t item_count);
+
+    // Whether `bvh` has the shape these links were made from: the same sizes and the
+    // same leaves and child references (a fingerprint of them, checked in one pass).
+    bool fits(const Bvh& bvh) const;
+
+    // After boxes[i] changed for each i in `changed`: every box on the way from those
+    // items' leaves to the root is made again (a leaf's box from its items' boxes as
+    // build() makes it, an inner node's from its children's). False, with `bvh` left
+    // unusable, when an item is not in the tree or its box became empty (the caller
+    // builds again then). `bvh` must fit().
+    bool refit(Bvh& bvh, const std::vector<Aabb>& boxes, const std::vector<std::uint32_t>& changed) const;
+
+private:
+    static constexpr std::uint32_t kNone = 0xffffffffu;
+    struct Slot {
+        std::uint32_t node = kNone;
+        std::uint32_t slot = 0;
+    };
+    std::size_t nodes4_ = 0, nodes8_ = 0, items_ = 0;
+    std::uint64_t shape_ = 0;
+    std::vector<Slot> parent4_, parent8_;  // inner node -> the slot that refers to it
+    std::vector<Slot> leaf4_, leaf8_;      // item -> the slot of the leaf holding it
+};
+
+// The world of `scene`, which equals previous's scene but for the objects in `moved`
+// (each with the same structure, moved or otherwise reshaped): previous's geometry is
+// copied, those objects compiled again and the BVH refitted. `links` is reused when it
+// fits (pass the same pointer for every step of a drag) and made otherwise. Null when
+// the objects cannot be updated in place (their structure changed, a box became
+// empty): compile the scene in full then.
+std::shared_ptr<const World> update_moved_objects(const Scene& scene, const World& previous,
+                                                  const std::vector<std::uint32_t>& moved,
+                                                  std::shared_ptr<const BvhLinks>& links);
+
+}  // namespace rt

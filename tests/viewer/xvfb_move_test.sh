@@ -1,0 +1,209 @@
+#!/bin/bash
+# Editing the scene in the picture of the real raytracer-view window under Xvfb, as a
+# user would with the mouse and keys:
+#  1. right click on the floor, "Add here" > "sphere": the saved text has one more
+#     sphere, and it is selected (outlined, with the move handle on it);
+#  2. dragging the handle's y arrow moves the sphere: only its block of the text
+#     changes (the y coordinate grows: +y is to the left in this view), and the
+#     handle follows; a screenshot is taken mid-drag;
+#  3. Ctrl+D duplicates it, Delete deletes one, Ctrl+Z brings it back: the sphere
+#     count of the saved text follows, and undo restores the text byte for byte.
+# After each step the picture (the selection cleared, the render settled) equals a
+# `raytracer` render of the saved text at the image's size: text and picture agree.
+# Screenshots are kept in OUT_DIR to look at.
+# Usage: xvfb_move_test.sh BIN_DIR OUT_DIR
+set -euo pipefail
+BIN=$(cd "$1" && pwd)
+OUT=$2
+mkdir -p "$OUT"
+OUT=$(cd "$OUT" && pwd)
+
+if [ "${RTVIEW_XVFB_INNER:-}" != 1 ]; then
+    export RTVIEW_XVFB_INNER=1
+    # RTVIEW_XVFB_DISPLAY=N picks the display number (machines shared by several runs).
+    if [ -n "${RTVIEW_XVFB_DISPLAY:-}" ]; then
+        exec xvfb-run -n "$RTVIEW_XVFB_DISPLAY" -s "-screen 0 1280x800x24" "$0" "$BIN" "$OUT"
+    fi
+    exec xvfb-run -a -s "-screen 0 1280x800x24" "$0" "$BIN" "$OUT"
+fi
+
+TOOL=$BIN/rtview-imgtool
+export MESA_SHADER_CACHE_DISABLE=true
+export XDG_CONFIG_HOME=$OUT/config
+export XDG_STATE_HOME=$OUT/state
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=0}"
+SCENE=$OUT/scene.txt
+rm -f "$OUT"/*.png "$OUT"/*.ppm "$OUT"/layout.txt
+cp "$(dirname "$0")/../../scenes/default.txt" "$SCENE"
+
+VIEWER_PID=
+cleanup() { [ -n "$VIEWER_PID" ] && kill "$VIEWER_PID" 2>/dev/null || true; }
+trap cleanup EXIT
+fail() {
+    echo "FAIL: $*" >&2
+    import -window root "$OUT/failure.png" 2>/dev/null || true
+    echo "--- viewer stderr:" >&2
+    cat "$OUT/viewer.err" >&2 || true
+    exit 1
+}
+step() { echo "== $*"; }
+
+field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$OUT/layout.txt"; }
+region() { echo "$(field "$1" 1) $(field "$1" 2) $(field "$1" 3) $(field "$1" 4)"; }
+shot() { import -window root "$OUT/$1.png"; }
+title() { xdotool getwindowname "$WID"; }
+spheres() { grep -c '^[[:space:]]*sphere[[:space:]]*{' "$SCENE" || true; }
+
+# Screenshots until the image region shows a picture and stops changing.
+wait_stable() {
+    local name=$1 prev="$OUT/.stable-prev.png" d
+    shot "$name"
+    for _ in $(seq 1 120); do
+        sleep 0.3
+        cp "$OUT/$name.png" "$prev"
+        shot "$name"
+        d=$("$TOOL" diff "$prev" "$OUT/$name.png" $IMAGE)
+        [ "$d" = "0.000000" ] && [ "$("$TOOL" colours "$OUT/$name.png" $IMAGE)" -gt 1000 ] && return 0
+    done
+    fail "the image never settled ($name)"
+}
+
+# Waits until the layout's handle line is $1 ("none") or not ("some").
+wait_handle() {
+    for _ in $(seq 1 50); do
+        local h
+        h=$(field handle 1)
+        if [ "$1" = none ] && [ "$h" = none ]; then return 0; fi
+        if [ "$1" = some ] && [ -n "$h" ] && [ "$h" != none ]; then return 0; fi
+        sleep 0.1
+    done
+    fail "expected the handle line to be $1, it is '$(field handle 1) $(field handle 2)'"
+}
+
+save() {
+    local before
+    before=$(stat -c %Y.%s "$SCENE" 2>/dev/null || true)
+    xdotool key ctrl+s
+    for _ in $(seq 1 50); do
+        [[ "$(title)" != *"*"* ]] && break
+        sleep 0.1
+    done
+    [[ "$(title)" != *"*"* ]] || fail "Ctrl+S did not save (title '$(title)')"
+    "$BIN/raytracer" --check "$SCENE" > /dev/null || fail "the saved scene does not parse"
+}
+
+# The picture equals raytracer's render of the saved text. The selection is cleared
+# first (a click on the empty sky), so no outline or handle is over it.
+agree() {
+    local name=$1
+    xdotool mousemove $((ix + iw / 2)) $((iy + 12)) click 1
+    wait_handle none
+    wait_stable "$name-clean"
+    "$BIN/raytracer" --quiet --width "$iw" --height "$ih" "$SCENE" "$OUT/$name-ref.ppm" ||
+        fail "$name: raytracer could not render the saved text"
+    "$TOOL" match "$OUT/$name-clean.png" $IMAGE "$OUT/$name-ref.ppm" ||
+        fail "$name: the picture differs from a render of the saved text"
+}
+
+# Selects what is under (x, y) and waits for the handle.
+select_at() {
+    xdotool mousemove "$1" "$2" click 1
+    wait_handle some
+}
+
+step "start the viewer"
+cd "$OUT"
+"$BIN/raytracer-view" "$SCENE" --size 1280x800 --samples 1 --print-layout > "$OUT/layout.txt" 2> "$OUT/viewer.err" &
+VIEWER_PID=$!
+WID=$(timeout 30 xdotool search --sync --name 'scene.txt' | head -1) || fail "no window appeared"
+for _ in $(seq 1 300); do case "$(title)" in "(loading)"*) sleep 0.1 ;; *) break ;; esac; done
+for _ in $(seq 1 50); do grep -q end-layout "$OUT/layout.txt" && break; sleep 0.1; done
+sleep 0.3
+IMAGE=$(region image)
+read -r ix iy iw ih <<< "$IMAGE"
+echo "image $IMAGE"
+wait_stable 0-start
+n0=$(spheres)
+
+step "add a sphere on the floor from the right-click menu"
+px=$((ix + iw * 48 / 100)) py=$((iy + ih * 80 / 100))
+xdotool mousemove $px $py click 3
+sleep 0.4
+# The menu opens at the pointer; "Add here" is its first row, its submenu opens to
+# the right with "sphere" first.
+xdotool mousemove $((px + 30)) $((py + 12))
+sleep 0.5
+shot 1-menu
+xdotool mousemove $((px + 120)) $((py + 12))
+sleep 0.2
+xdotool mousemove $((px + 190)) $((py + 12))
+sleep 0.3
+shot 1-submenu
+xdotool click 1
+wait_handle some
+sleep 0.3
+shot 1-added
+save
+n1=$(spheres)
+[ "$n1" = $((n0 + 1)) ] || fail "expected $((n0 + 1)) spheres in the text after adding, found $n1"
+cp "$SCENE" "$OUT/text-1.txt"
+hx=$(field handle 1) hy=$(field handle 2)
+echo "handle at $hx $hy"
+agree 1-added
+
+step "drag the sphere by the handle's y arrow"
+select_at "$hx" "$hy"
+# The y arrow points left in this view (the camera looks along +x, z up): grabbed
+# halfway along it and pulled 150 pixels further left, a frame at a time.
+gx=$((hx - 45)) gy=$hy
+xdotool mousemove $gx $gy mousedown 1
+for i in $(seq 1 30); do
+    xdotool mousemove $((gx - i * 5)) $gy
+    sleep 0.03
+    [ "$i" = 15 ] && shot 2-mid-drag
+done
+xdotool mouseup 1
+sleep 0.5
+shot 2-dragged
+save
+cp "$SCENE" "$OUT/text-2.txt"
+hx2=$(field handle 1) hy2=$(field handle 2)
+echo "handle now at $hx2 $hy2"
+[ "$hx2" -lt $((hx - 100)) ] || fail "the handle did not follow the drag ($hx -> $hx2)"
+# Only the sphere's block changed, and its y grew.
+changed=$(diff "$OUT/text-1.txt" "$OUT/text-2.txt" | grep -c '^[<>]' || true)
+[ "$changed" -ge 1 ] && [ "$changed" -le 12 ] || fail "the drag changed $changed lines of the text"
+diff "$OUT/text-1.txt" "$OUT/text-2.txt" > "$OUT/drag.diff" || true
+y1=$(grep '^>' "$OUT/drag.diff" | awk '$2 == "position" { print $4; exit }')
+y0=$(grep '^<' "$OUT/drag.diff" | awk '$2 == "position" { print $4; exit }')
+[ -n "$y1" ] && [ -n "$y0" ] || fail "no position line in the drag's change: $(cat "$OUT/drag.diff")"
+awk -v a="$y0" -v b="$y1" 'BEGIN { exit !(b > a) }' || fail "y went from $y0 to $y1, expected it to grow"
+[ "$(spheres)" = "$n1" ] || fail "the drag changed the number of spheres"
+agree 2-dragged
+
+step "Ctrl+D duplicates the sphere"
+select_at "$hx2" "$hy2"
+xdotool key ctrl+d
+sleep 0.5
+shot 3-duplicated
+save
+cp "$SCENE" "$OUT/text-3.txt"
+[ "$(spheres)" = $((n1 + 1)) ] || fail "expected $((n1 + 1)) spheres after Ctrl+D, found $(spheres)"
+agree 3-duplicated
+
+step "Delete deletes one"
+select_at "$hx2" "$hy2"
+xdotool key Delete
+sleep 0.5
+shot 4-deleted
+save
+[ "$(spheres)" = "$n1" ] || fail "expected $n1 spheres after Delete, found $(spheres)"
+agree 4-deleted
+
+step "Ctrl+Z brings it back, the text byte for byte"
+xdotool key ctrl+z
+sleep 0.5
+save
+cmp -s "$SCENE" "$OUT/text-3.txt" || fail "undo did not restore the text: $(diff "$OUT/text-3.txt" "$SCENE" | head)"
+agree 5-undone
+echo "PASS"
