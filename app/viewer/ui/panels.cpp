@@ -6,10 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <utility>
 
 #include "camera_control.h"
+#include "item_fields.h"
+#include "scene_schema.h"
 #include "readout.h"
 #include "scene_text.h"
 #include "scene_writer.h"
@@ -22,6 +25,16 @@ const ImVec4 kErrorColour{1.0f, 0.42f, 0.42f, 1.0f};
 const ImVec4 kWarnColour{1.0f, 0.80f, 0.35f, 1.0f};
 const ImVec4 kOkColour{0.55f, 0.85f, 0.55f, 1.0f};
 
+// Messages wrap at the panel's edge instead of running past it (at any UI scale).
+void wrapped_coloured(const ImVec4& colour, const std::string& text) {
+    ImGui::PushStyleColor(ImGuiCol_Text, colour);
+    ImGui::TextWrapped("%s", text.c_str());
+    ImGui::PopStyleColor();
+}
+void wrapped_hint(const std::string& text) {
+    wrapped_coloured(ImGui::GetStyle().Colors[ImGuiCol_TextDisabled], text);
+}
+
 std::string fmt_vec(const rt::Vec3& v) {
     return rt::format_number(v.x) + " " + rt::format_number(v.y) + " " + rt::format_number(v.z);
 }
@@ -33,27 +46,6 @@ std::string shape_summary(const rt::Shape& s) {
     if (auto* c = std::get_if<rt::Cylinder>(&s)) return fmt_vec(c->end1) + " .. " + fmt_vec(c->end2);
     if (auto* t = std::get_if<rt::Tetrahedron>(&s)) return "vect1 " + fmt_vec(t->v[0]);
     return {};
-}
-
-void shape_details(const rt::Shape& s) {
-    if (auto* sp = std::get_if<rt::Sphere>(&s)) {
-        ImGui::Text("position %s", fmt_vec(sp->position).c_str());
-        ImGui::Text("radius   %s", rt::format_number(sp->radius).c_str());
-    } else if (auto* t = std::get_if<rt::Tetrahedron>(&s)) {
-        for (int i = 0; i < 4; ++i) ImGui::Text("vect%d %s", i + 1, fmt_vec(t->v[i]).c_str());
-    } else if (auto* c = std::get_if<rt::Cylinder>(&s)) {
-        ImGui::Text("end_1  %s", fmt_vec(c->end1).c_str());
-        ImGui::Text("end_2  %s", fmt_vec(c->end2).c_str());
-        ImGui::Text("radius %s", rt::format_number(c->radius).c_str());
-    } else if (auto* t = std::get_if<rt::Torus>(&s)) {
-        ImGui::Text("position  %s", fmt_vec(t->position).c_str());
-        ImGui::Text("direction %s", fmt_vec(t->direction).c_str());
-        ImGui::Text("major %s  minor %s", rt::format_number(t->major).c_str(), rt::format_number(t->minor).c_str());
-    } else if (auto* g = std::get_if<rt::Csg>(&s)) {
-        ImGui::Text("type %c, operands: %s / %s", char(g->type),
-                    g->operands.size() > 0 ? shape_name(g->operands[0].shape) : "-",
-                    g->operands.size() > 1 ? shape_name(g->operands[1].shape) : "-");
-    }
 }
 
 const rt::Object* resolve(const rt::Scene& s, const Selection& sel) {
@@ -89,33 +81,39 @@ Rect item_block(const ImVec2& top_left, float width) {
     return {top_left.x, top_left.y, width, end.y - top_left.y};
 }
 
+// The keys of a material block, from the schema: weights as 0..1 sliders (values
+// above 1 are legal, the renderer normalises them: Ctrl+click to type one), clamped
+// keys within their clamp, colours with a picker. Labels are the format's key names.
 bool material_editor(const char* id, rt::Material& m) {
+    namespace sc = rt::schema;
     ImGui::PushID(id);
     bool changed = false;
-    const double zero = 0, one = 1, ior_max = 3;
-    ImGui::PushItemWidth(-ImGui::GetFontSize() * 9);
-    // Weights are normalised by their sum when rendering, so values above 1 are legal:
-    // Ctrl+click a slider to type one.
-    changed |= ImGui::SliderScalar("reflection", ImGuiDataType_Double, &m.reflection, &zero, &one, "%.3f");
-    changed |= ImGui::SliderScalar("refraction", ImGuiDataType_Double, &m.refraction, &zero, &one, "%.3f");
-    changed |= ImGui::SliderScalar("scattering", ImGuiDataType_Double, &m.scattering, &zero, &one, "%.3f");
-    changed |= ImGui::SliderScalar("translusans", ImGuiDataType_Double, &m.translusans, &zero, &one, "%.3f",
-                                   ImGuiSliderFlags_AlwaysClamp);
-    const double ior_min = 1;
-    changed |= ImGui::SliderScalar("refractive_index", ImGuiDataType_Double, &m.refractive_index, &ior_min, &ior_max,
-                                   "%.3f", ImGuiSliderFlags_AlwaysClamp);
-    float col[3] = {float(m.colour.x), float(m.colour.y), float(m.colour.z)};
-    if (ImGui::ColorEdit3("colour", col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR)) {
-        m.colour = {col[0], col[1], col[2]};
-        changed = true;
+    for (const sc::Key<rt::Material>& k : sc::material_block().keys) {
+        const std::string label(k.name);
+        if (k.kind == sc::Kind::Vec3) {
+            rt::Vec3& c = k.access.vec3(m, 0);
+            float col[3] = {float(c.x), float(c.y), float(c.z)};
+            if (ImGui::ColorEdit3(label.c_str(), col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR)) {
+                c = {col[0], col[1], col[2]};
+                changed = true;
+            }
+            continue;
+        }
+        if (k.kind != sc::Kind::Number) continue;
+        double& v = k.access.number(m, 0);
+        const bool clamped = k.range.rule == sc::Range::Rule::Clamp;
+        const double lo = clamped ? k.range.min : 0;
+        const double hi = clamped && k.range.max <= lo + 1 ? k.range.max : lo + (clamped ? 2 : 1);
+        ImGuiSliderFlags flags = clamped && k.range.max <= lo + 1 ? ImGuiSliderFlags_AlwaysClamp : 0;
+        changed |= ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &v, &lo, &hi, "%.3f", flags);
+        if (clamped && v < k.range.min) v = k.range.min;
     }
-    ImGui::PopItemWidth();
     double sum = m.reflection + m.refraction + m.scattering;
     if (sum != 0)
-        ImGui::TextDisabled("used as: reflection %.2f, refraction %.2f, scattering %.2f", m.reflection / sum,
-                            m.refraction / sum, m.scattering / sum);
+        ImGui::TextWrapped("used as: reflection %.2f, refraction %.2f, scattering %.2f", m.reflection / sum,
+                           m.refraction / sum, m.scattering / sum);
     else
-        ImGui::TextColored(kWarnColour, "all weights 0: the surface renders black");
+        wrapped_coloured(kWarnColour, "all weights 0: the surface renders black");
     ImGui::PopID();
     return changed;
 }
@@ -214,7 +212,13 @@ void Panels::select_from_option(const std::string& spec) {
     int n = 0;
     in >> kind >> n;
     const rt::Scene& s = editor_.doc().scene();
-    if (kind == "object" && n >= 1 && n <= int(s.objects.size())) selection_ = {Selection::Kind::Object, n - 1, {}};
+    if (kind == "object" && n >= 1 && n <= int(s.objects.size())) {
+        // "object 5 left right": a CSG operand below it.
+        Selection sel{Selection::Kind::Object, n - 1, {}};
+        std::string side;
+        while (in >> side && (side == "left" || side == "right")) sel.path.push_back(side == "left" ? 0 : 1);
+        if (resolve(s, sel)) selection_ = sel;
+    }
     if (kind == "plane" && n >= 1 && n <= int(s.planes.size())) selection_ = {Selection::Kind::Plane, n - 1, {}};
     if (kind == "light" && n >= 1 && n <= int(s.lights.size())) selection_ = {Selection::Kind::Light, n - 1, {}};
     scroll_to_selection_ = true;
@@ -432,98 +436,211 @@ void Panels::draw_outline() {
     scroll_to_selection_ = false;
 }
 
+ItemRef Panels::selected_item() const {
+    ItemRef r;
+    switch (selection_.kind) {
+        case Selection::Kind::None: r.item.index = -1; break;
+        case Selection::Kind::Object: r.item = {SceneItem::Kind::Object, selection_.index}; break;
+        case Selection::Kind::Plane: r.item = {SceneItem::Kind::Plane, selection_.index}; break;
+        case Selection::Kind::Light: r.item = {SceneItem::Kind::Light, selection_.index}; break;
+    }
+    r.path = selection_.path;
+    return r;
+}
+
 void Panels::draw_properties() {
     if (!editor_.doc().has_scene()) return;
     const rt::Scene& s = editor_.doc().scene();
+    if (!(field_message_.selection == selection_)) field_message_ = {};
+    if (selection_.kind == Selection::Kind::None) {
+        wrapped_hint("Click an object in the image or in the list above.");
+        return;
+    }
+    const ItemRef ref = selected_item();
+    const char* block = item_block_name(s, ref);
+    if (!block) return;
+    // "Object 5: constructive_solid_geometry", "Object 5, left, right: sphere".
+    std::string title;
     switch (selection_.kind) {
-        case Selection::Kind::None:
-            ImGui::TextDisabled("Click an object in the image or in the list above.");
-            break;
-        case Selection::Kind::Object: {
-            const rt::Object* o = resolve(s, selection_);
-            if (!o) break;
-            ImGui::Text("Object %d: %s", selection_.index + 1, shape_name(o->shape));
-            if (o->loc.line > 0) {
-                ImGui::SameLine();
-                if (ImGui::SmallButton("show in text")) {
-                    editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), o->loc.line, o->loc.col)));
-                }
-            }
-            shape_details(o->shape);
-            ImGui::Separator();
-            if (!selection_.path.empty()) {
-                ImGui::TextWrapped("A CSG operand: only the whole CSG's material is rendered.");
-                if (ImGui::Button("Select the whole CSG")) selection_.path.clear();
+        case Selection::Kind::Object: title = "Object " + std::to_string(selection_.index + 1); break;
+        case Selection::Kind::Plane: title = "Plane " + std::to_string(selection_.index + 1); break;
+        case Selection::Kind::Light: title = "Light " + std::to_string(selection_.index + 1); break;
+        case Selection::Kind::None: break;
+    }
+    for (int k : selection_.path) title += k == 0 ? ", left" : ", right";
+    title += std::string(": ") + block;
+    ImGui::TextWrapped("%s", title.c_str());
+    rt::SourceLoc loc;
+    if (selection_.kind == Selection::Kind::Object) {
+        if (const rt::Object* o = resolve(s, selection_)) loc = o->loc;
+    } else if (selection_.kind == Selection::Kind::Plane) {
+        loc = s.planes[std::size_t(selection_.index)].loc;
+    } else {
+        loc = s.lights[std::size_t(selection_.index)].loc;
+    }
+    if (loc.line > 0 && ImGui::SmallButton("show in text"))
+        editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), loc.line, loc.col)));
+    if (!selection_.path.empty()) {
+        ImGui::SameLine();
+        if (ImGui::SmallButton("select the parent")) {
+            selection_.path.pop_back();
+            return;
+        }
+        wrapped_hint("A CSG operand: its shape counts, but only the whole CSG's material is rendered.");
+    }
+    if (selection_.kind == Selection::Kind::Light) {
+        // The block's kind: switching keeps the lamp's size for switching back.
+        const bool lamp = s.lights[std::size_t(selection_.index)].lamp;
+        if (ImGui::SmallButton(lamp ? "make it a spotlight" : "make it a lamp")) commands_.run(Command::SwitchLight);
+        ImGui::SameLine();
+        ImGui::TextDisabled(lamp ? "(point light and glow)" : "(point light)");
+    }
+    ImGui::Separator();
+    draw_fields(ref);
+}
+
+// One widget per key of the selected item's block, from the schema (item_fields.h):
+// what the panel offers is what the format has. A change goes through set_field, so the
+// parser's ranges apply; a refused value leaves the item as it was and says why.
+void Panels::draw_fields(const ItemRef& ref) {
+    namespace sc = rt::schema;
+    Document& doc = editor_.doc();
+    const std::vector<Field> fields = item_fields(doc.scene(), ref);
+    // Room for the longest label, whatever the UI scale.
+    const float label_w = field_label_width();
+    const float size = float(scene_size());
+    int operand = 0;
+    for (const Field& f : fields) {
+        std::optional<FieldValue> cur = field_value(doc.scene(), ref, f);
+        if (!cur) continue;
+        FieldValue v = *cur;
+        bool changed = false;
+        ImGui::PushID(f.label.c_str());
+        ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
+        switch (f.kind) {
+            case sc::Kind::Number: {
+                const float speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
+                changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, speed, nullptr, nullptr, "%.4g");
+                if (ImGui::IsItemHovered()) ImGui::SetTooltip("Drag, or Ctrl+click to type a value");
                 break;
             }
-            ImGui::Text(o->has_material ? "Material" : "Material (none in the file: object default)");
-            rt::Material m = o->material;
-            if (material_editor("material", m)) {
-                rt::Object& e = editor_.doc().edit_object(std::size_t(selection_.index));
-                e.material = m;
-                e.has_material = true;
-            }
-            break;
-        }
-        case Selection::Kind::Plane: {
-            const rt::Plane& p = s.planes[std::size_t(selection_.index)];
-            ImGui::Text("Plane %d: %s", selection_.index + 1, p.chess ? "chess_plane" : "plane");
-            for (int i = 0; i < 4; ++i) ImGui::Text("point %d  %s", i + 1, fmt_vec(p.point[i]).c_str());
-            ImGui::Separator();
-            ImGui::Text(p.chess ? "Material 1" : "Material");
-            rt::Material m = p.material;
-            if (material_editor("m1", m)) {
-                rt::Plane& e = editor_.doc().edit_plane(std::size_t(selection_.index));
-                e.material = m;
-                e.has_material = true;
-            }
-            if (p.chess) {
-                ImGui::Text("Material 2");
-                rt::Material m2 = p.material2;
-                if (material_editor("m2", m2)) {
-                    rt::Plane& e = editor_.doc().edit_plane(std::size_t(selection_.index));
-                    e.material2 = m2;
-                    e.has_material2 = true;
+            case sc::Kind::Vec3: {
+                if (ref.item.kind == SceneItem::Kind::Light && f.key == "colour") {
+                    changed = light_colour_editor(v.vec);
+                    break;
                 }
+                changed = drag_vec3(f.label.c_str(), v.vec, size * 0.002f);
+                break;
             }
-            break;
+            case sc::Kind::Integer: {
+                changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, 1.0f, nullptr, nullptr, "%.0f");
+                break;
+            }
+            case sc::Kind::Choice: {
+                const std::string now(f.choice->word_for(v.choice));
+                if (ImGui::BeginCombo(f.label.c_str(), choice_label(f.key, now).c_str())) {
+                    std::vector<int> seen;
+                    for (const sc::Choice::Word& w : f.choice->words) {
+                        if (std::find(seen.begin(), seen.end(), w.value) != seen.end()) continue;
+                        seen.push_back(w.value);
+                        if (ImGui::Selectable(choice_label(f.key, w.word).c_str(), w.value == v.choice) && w.value != v.choice) {
+                            v.choice = w.value;
+                            changed = true;
+                        }
+                    }
+                    ImGui::EndCombo();
+                }
+                break;
+            }
+            case sc::Kind::Material: {
+                ImGui::Separator();
+                ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
+                changed = material_editor(f.label.c_str(), v.material);
+                break;
+            }
+            case sc::Kind::Operand: {
+                // A CSG's operands: select one to edit its keys (also in the outline).
+                const int side = operand++;
+                std::string b = f.label + ": " + (v.operand ? sc::object_block(*v.operand).name.data() : "-");
+                if (v.operand && ImGui::Button((b + " (edit)").c_str())) {
+                    selection_.path.push_back(side);
+                    scroll_to_selection_ = true;
+                }
+                break;
+            }
         }
-        case Selection::Kind::Light: {
-            rt::Light l = s.lights[std::size_t(selection_.index)];
-            ImGui::Text("Light %d: %s", selection_.index + 1, l.lamp ? "lamp (point light and glow)" : "spotlight (point light)");
-            bool changed = false;
-            ImGui::PushItemWidth(-ImGui::GetFontSize() * 9);
-            changed |= drag_vec3("position", l.position, float(scene_size() * 0.002));
-            // Light colours are intensities (often >> 1 because of the 1/r^2 fall-off):
-            // edit them as a tint and a strength.
-            double intensity = std::max({l.colour.x, l.colour.y, l.colour.z, 0.0});
-            rt::Vec3 tint = intensity > 0 ? l.colour / intensity : rt::Vec3{1, 1, 1};
-            float col[3] = {float(tint.x), float(tint.y), float(tint.z)};
-            if (ImGui::ColorEdit3("tint", col, ImGuiColorEditFlags_Float)) {
-                tint = {col[0], col[1], col[2]};
-                if (intensity == 0) intensity = 1;
-                changed = true;
-            }
-            const double zero = 0;
-            if (ImGui::DragScalar("intensity", ImGuiDataType_Double, &intensity, float(std::max(intensity * 0.005, 0.01)),
-                                  &zero, nullptr, "%.2f"))
-                changed = true;
-            if (l.lamp) {
-                if (ImGui::DragScalar("glow size", ImGuiDataType_Double, &l.size, 0.005f, nullptr, nullptr, "%.3f"))
-                    changed = true;
-            }
-            ImGui::PopItemWidth();
-            ImGui::TextDisabled("colour %s", fmt_vec(l.colour).c_str());
-            if (changed) {
-                l.colour = tint * intensity;
-                rt::Light& e = editor_.doc().edit_light(std::size_t(selection_.index));
-                e.position = l.position;
-                e.colour = l.colour;
-                e.size = l.size;
-            }
-            break;
+        ImGui::PopItemWidth();
+        if (changed) {
+            FieldResult r = set_field(doc, ref, f, v);
+            if (!r.error.empty()) field_message_ = {selection_, f.label, r.error, true};
+            else if (!r.warning.empty()) field_message_ = {selection_, f.label, r.warning, false};
+            else if (field_message_.field == f.label) field_message_ = {};
         }
+        if (field_message_.field == f.label && !field_message_.text.empty())
+            wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+        ImGui::PopID();
     }
+}
+
+// A light's colour is an intensity (often >> 1 because of the 1/r^2 fall-off): its three
+// numbers, and the same as a tint and a strength.
+bool Panels::light_colour_editor(rt::Vec3& colour) {
+    bool changed = drag_vec3("colour", colour, float(std::max({colour.x, colour.y, colour.z, 1.0}) * 0.005));
+    double intensity = std::max({colour.x, colour.y, colour.z, 0.0});
+    rt::Vec3 tint = intensity > 0 ? colour / intensity : rt::Vec3{1, 1, 1};
+    float col[3] = {float(tint.x), float(tint.y), float(tint.z)};
+    bool tinted = false;
+    if (ImGui::ColorEdit3("tint", col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_NoInputs)) {
+        tint = {col[0], col[1], col[2]};
+        if (intensity == 0) intensity = 1;
+        tinted = true;
+    }
+    ImGui::SameLine();
+    const double zero = 0;
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 6);
+    if (ImGui::DragScalar("intensity", ImGuiDataType_Double, &intensity, float(std::max(intensity * 0.005, 0.01)), &zero,
+                          nullptr, "%.2f"))
+        tinted = true;
+    if (tinted) {
+        colour = tint * intensity;
+        changed = true;
+    }
+    return changed;
+}
+
+// "U (union)" for the CSG types; other words as they are.
+std::string Panels::choice_label(std::string_view key, std::string_view word) {
+    if (key == "type") {
+        if (word == "U") return "U (union)";
+        if (word == "I") return "I (intersection)";
+        if (word == "C") return "C (difference: left minus right)";
+    }
+    return std::string(word);
+}
+
+// The widest label the property fields use, at the current font: every key of every
+// block (and of the material block), so the layout does not jump between selections.
+float Panels::field_label_width() {
+    namespace sc = rt::schema;
+    const float font = ImGui::GetFontSize();
+    if (label_w_font_ == font) return label_w_;
+    float w = 0;
+    auto measure = [&w](std::string_view name, int count) {
+        std::string l(name);
+        if (count > 0) l += " " + std::to_string(count);
+        w = std::max(w, ImGui::CalcTextSize(l.c_str()).x);
+    };
+    for (const auto& b : sc::object_blocks())
+        for (const auto& k : b.keys) measure(k.name, k.count);
+    for (const auto& b : sc::plane_blocks())
+        for (const auto& k : b.keys) measure(k.name, k.count);
+    for (const auto& b : sc::light_blocks())
+        for (const auto& k : b.keys) measure(k.name, k.count);
+    for (const auto& k : sc::material_block().keys) measure(k.name, k.count);
+    measure("intensity", 0);
+    label_w_ = w;
+    label_w_font_ = font;
+    return w;
 }
 
 void Panels::draw_render_tab() {

@@ -5,10 +5,12 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "editor.h"
 #include "image_tools.h"
+#include "item_fields.h"
 #include "navigator.h"
 #include "render_controller.h"
 #include "shared.h"
@@ -52,6 +54,11 @@ private:
     void draw_outline();
     void draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label);
     void draw_properties();
+    void draw_fields(const ItemRef& ref);
+    bool light_colour_editor(rt::Vec3& colour);
+    static std::string choice_label(std::string_view key, std::string_view word);
+    float field_label_width();
+    ItemRef selected_item() const;
     void draw_render_tab();
 
     Commands& commands_;
@@ -63,6 +70,14 @@ private:
     ImageTools& tools_;
 
     Selection selection_;
+    // The last refusal or warning of a property field, shown under it until that field
+    // is set again or another item is selected.
+    struct FieldMessage {
+        Selection selection;
+        std::string field, text;
+        bool error = false;
+    } field_message_;
+    float label_w_ = 0, label_w_font_ = 0;  // field_label_width() at that font size
     bool scroll_to_selection_ = false;
     int want_tab_ = -1;  // select this tab on the next frame
     int current_tab_ = 0;
