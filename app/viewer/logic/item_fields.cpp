@@ -65,10 +65,13 @@ bool visit_item(rt::Scene& scene, const ItemRef& ref, F&& f) {
 template <class T>
 std::vector<Field> fields_of(const sc::Block<T>& b) {
     std::vector<Field> out;
-    for (bool lead : {true, false})
+    // Lead keys, the rest, then materials: what an item is and where it is matters
+    // first in a panel (the writer leads with the material instead).
+    auto rank = [](const sc::Key<T>& k) { return k.kind == sc::Kind::Material ? 2 : k.lead ? 0 : 1; };
+    for (int r = 0; r < 3; ++r)
         for (std::size_t n = 0; n < b.keys.size(); ++n) {
             const sc::Key<T>& k = b.keys[n];
-            if (k.lead != lead) continue;
+            if (rank(k) != r) continue;
             for (int i = 0; i < std::max(k.count, 1); ++i) {
                 Field f;
                 f.label = std::string(k.name) + (k.count > 0 ? " " + std::to_string(i + 1) : "");

@@ -49,8 +49,8 @@ struct FieldValue {
 // The block the item is written as ("sphere", "chess_plane", "lamp"), or null if `ref`
 // names nothing in `scene`.
 const char* item_block_name(const rt::Scene& scene, const ItemRef& ref);
-// The item's keys in the order the writer puts them (lead keys such as `material` and a
-// CSG's `type` first). Empty if `ref` names nothing.
+// The item's keys: lead keys (a CSG's `type`), the others in schema order, materials
+// last. Empty if `ref` names nothing.
 std::vector<Field> item_fields(const rt::Scene& scene, const ItemRef& ref);
 std::optional<FieldValue> field_value(const rt::Scene& scene, const ItemRef& ref, const Field& f);
 

@@ -145,6 +145,11 @@ void ViewerApp::poll_loader() {
         orbited_ = true;
         orbit_degrees(opt_.orbit);
     }
+    // --select likewise: the scene it names has only just arrived.
+    if (interactive_ && path == opt_.scene && !opt_.select.empty() && !selected_) {
+        selected_ = true;
+        panels_.select_from_option(opt_.select);
+    }
     status_.set(ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)", !ok);
     if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.3f s\n", path.c_str(), since_start());
 }
@@ -279,7 +284,7 @@ void ViewerApp::update_layout() {
     l.fb_scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.f;
     float s = ImGui::GetFontSize() / 13.f;  // the UI scale the host chose
     l.menu_h = ImGui::GetFrameHeight();
-    l.status_h = std::floor(ImGui::GetFrameHeight() + 8 * s);
+    l.status_h = std::max(std::floor(ImGui::GetFrameHeight() + 8 * s), panels_.status_height());
     l.sidebar_w = std::floor(std::clamp(W * 0.34f, 320 * s, 470 * s));
     if (l.sidebar_w > W * 0.6f) l.sidebar_w = std::floor(W * 0.6f);
     l.area = {0, double(l.menu_h), std::max(1.0, double(W - l.sidebar_w)), std::max(1.0, double(H - l.menu_h - l.status_h))};

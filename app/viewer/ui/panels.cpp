@@ -274,7 +274,9 @@ void Panels::draw_camera_panel() {
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
     const Document& doc = editor_.doc();
-    ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+    // Open at first where it leaves the outline and the properties room (at a large UI
+    // scale in a small window it would fill the sidebar).
+    ImGui::SetNextItemOpen(ImGui::GetIO().DisplaySize.y >= 32 * ImGui::GetTextLineHeightWithSpacing(), ImGuiCond_Once);
     bool open = ImGui::CollapsingHeader("Camera");
     if (open && !doc.has_scene()) {
         ImGui::TextDisabled("No scene yet.");
@@ -346,7 +348,8 @@ void Panels::draw_objects_tab() {
     float h = std::max(ImGui::GetTextLineHeightWithSpacing() * 7, ImGui::GetContentRegionAvail().y * 0.45f);
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
-    if (ImGui::BeginChild("outline", ImVec2(0, h), true)) draw_outline();
+    // Long labels scroll sideways instead of being cut at the edge.
+    if (ImGui::BeginChild("outline", ImVec2(0, h), true, ImGuiWindowFlags_HorizontalScrollbar)) draw_outline();
     ImGui::EndChild();
     layout_.outline = item_block(top, width);
     if (ImGui::BeginChild("properties", ImVec2(0, 0), false)) draw_properties();
@@ -698,7 +701,7 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             ImGui::SameLine();
             ImGui::ProgressBar(float(load.fraction), ImVec2(ImGui::GetFontSize() * 8, 0));
             ImGui::SameLine();
-            ImGui::Text("%s (Esc cancels)", load.text.c_str());
+            status_text(load.text + " (Esc cancels)", true);
         } else {
             rt::RenderProgress p = render_.progress();
             if (ImGui::Button(render_.paused() ? "Resume" : "Pause", ImVec2(ImGui::GetFontSize() * 4.5f, 0)))
@@ -725,20 +728,72 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             const char* shown = render_.showing_preview() ? preview : state;
             // Over the picture: the readout of the pixel under the cursor instead of the
             // statistics and the last message.
+            char line[512];
             if (!tools_.readout_line().empty())
-                ImGui::Text("spp  %s  | %s", shown, tools_.readout_line().c_str());
+                std::snprintf(line, sizeof line, "spp  %s  | %s", shown, tools_.readout_line().c_str());
             else
-                ImGui::Text("spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
-                            layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
-        }
-        if (!status_.text().empty() && (load.active || tools_.readout_line().empty())) {
-            ImGui::SameLine();
-            ImGui::TextColored(status_.error() ? kErrorColour : ImVec4(0.75f, 0.75f, 0.75f, 1), "| %s",
-                               status_.text().c_str());
+                std::snprintf(line, sizeof line, "spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
+                              layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
+            status_text(line, tools_.readout_line().empty());
         }
     }
     ImGui::End();
     ImGui::PopStyleVar();
+}
+
+// The status bar's text right of the button and the progress bar, then the last message
+// (`with_message`). What does not fit on the row goes on rows of its own below, wrapped
+// at the bar's width, rather than being cut at its edge. The bar is as tall as its text
+// has needed since the width, font or message changed (status_height()), so the image
+// area does not jump while the readout changes.
+void Panels::status_text(const std::string& text, bool with_message) {
+    const float left = ImGui::GetWindowContentRegionMin().x;
+    const float right = ImGui::GetWindowContentRegionMax().x;
+    const float spacing = ImGui::GetStyle().ItemSpacing.x;
+    float x = ImGui::GetCursorPosX();  // beside the widgets, on the first row
+    float extra = 0;                   // the height of the rows below the first
+    bool first = true;
+    // `sep` only between two pieces on one row.
+    auto place = [&](const std::string& piece, const ImVec4* colour, const char* sep = "") {
+        const std::string joined = sep + piece;
+        const float w = ImGui::CalcTextSize(joined.c_str()).x;
+        if (colour) ImGui::PushStyleColor(ImGuiCol_Text, *colour);
+        if (x + w <= right) {
+            if (!first) ImGui::SameLine();
+            ImGui::TextUnformatted(joined.c_str());
+            x += w + spacing;
+        } else {
+            if (first) ImGui::NewLine();
+            ImGui::SetCursorPosX(left);
+            ImGui::PushTextWrapPos(right);
+            ImGui::TextUnformatted(piece.c_str());
+            ImGui::PopTextWrapPos();
+            extra += ImGui::CalcTextSize(piece.c_str(), nullptr, false, right - left).y + ImGui::GetStyle().ItemSpacing.y;
+            x = right;  // what follows starts a row of its own
+        }
+        if (colour) ImGui::PopStyleColor();
+        first = false;
+    };
+    // "spp" names the progress bar's numbers: it stays beside them.
+    if (text.rfind("spp  ", 0) == 0) {
+        place("spp", nullptr);
+        place(text.substr(5), nullptr, " ");
+    } else {
+        place(text, nullptr);
+    }
+    if (with_message && !status_.text().empty()) {
+        const ImVec4 grey(0.75f, 0.75f, 0.75f, 1);
+        place(status_.text(), status_.error() ? &kErrorColour : &grey, "| ");
+    }
+    const float font = ImGui::GetFontSize();
+    const float need = std::ceil(ImGui::GetFrameHeight() + 8 * font / 13.f + extra);
+    if (status_key_width_ != right - left || status_key_font_ != font || status_key_text_ != status_.text()) {
+        status_key_width_ = right - left;
+        status_key_font_ = font;
+        status_key_text_ = status_.text();
+        status_need_h_ = 0;
+    }
+    status_need_h_ = std::max(status_need_h_, need);
 }
 
 void Panels::draw_surround() {
