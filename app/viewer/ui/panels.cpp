@@ -35,6 +35,15 @@ void wrapped_hint(const std::string& text) {
     wrapped_coloured(ImGui::GetStyle().Colors[ImGuiCol_TextDisabled], text);
 }
 
+// SameLine() if a button labelled `next` still fits on the line, else the button goes
+// on the next line (a row of buttons wraps instead of running past the panel's edge).
+void same_line_if_fits(const char* next) {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    const float w = ImGui::CalcTextSize(next, nullptr, true).x + 2 * st.FramePadding.x;
+    const float right = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+    if (ImGui::GetItemRectMax().x + st.ItemSpacing.x + w <= right) ImGui::SameLine();
+}
+
 std::string fmt_vec(const rt::Vec3& v) {
     return rt::format_number(v.x) + " " + rt::format_number(v.y) + " " + rt::format_number(v.z);
 }
@@ -293,23 +302,26 @@ void Panels::draw_camera_panel() {
         rt::Camera view = nav_.camera();
         bool differs = doc.has_scene() && nav_.differs_from(doc.scene().camera);
         ImGui::TextDisabled("View%s", differs ? " (moved; not in the file)" : " (= scene camera)");
-        ImGui::Text("eye    %.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
-        ImGui::Text("centre %.3f %.3f %.3f", view.centre.x, view.centre.y, view.centre.z);
+        ImGui::TextWrapped("eye    %.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
+        ImGui::TextWrapped("centre %.3f %.3f %.3f", view.centre.x, view.centre.y, view.centre.z);
         ViewAngles va = view_angles(view, nav_.world_up());
         double v3[3] = {va.azimuth, va.elevation, va.distance};
         if (ImGui::DragScalarN("az, el, dist", ImGuiDataType_Double, v3, 3, 0.25f, nullptr, nullptr, "%.2f"))
             nav_.set(set_view_angles(view, nav_.world_up(), {v3[0], std::clamp(v3[1], -89.0, 89.0), std::max(v3[2], 1e-6)}));
         if (layout_.fit == FitMode::Window && doc.has_scene()) {
             rt::Camera vc = fit_camera_to_aspect(view, layout_.film_w, layout_.film_h);
-            ImGui::TextDisabled("window shows angle_x %.1f (fitted to %dx%d)", vc.angle_x, layout_.film_w, layout_.film_h);
+            char fitted[96];
+            std::snprintf(fitted, sizeof fitted, "window shows angle_x %.1f (fitted to %dx%d)", vc.angle_x, layout_.film_w,
+                          layout_.film_h);
+            wrapped_hint(fitted);
         }
         ImGui::BeginDisabled(!differs);
         if (ImGui::Button("Set scene camera from view")) commands_.run(Command::SetSceneCamera);
         ImGui::EndDisabled();
-        ImGui::SameLine();
+        same_line_if_fits("Copy camera block");
         if (ImGui::Button("Copy camera block")) commands_.run(Command::CopyCamera);
         if (ImGui::Button("Frame (F)")) commands_.run(Command::FrameScene);
-        ImGui::SameLine();
+        same_line_if_fits("Reset view (R)");
         ImGui::BeginDisabled(!differs);
         if (ImGui::Button("Reset view (R)")) commands_.run(Command::ResetView);
         ImGui::EndDisabled();
@@ -484,7 +496,7 @@ void Panels::draw_properties() {
     if (loc.line > 0 && ImGui::SmallButton("show in text"))
         editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), loc.line, loc.col)));
     if (!selection_.path.empty()) {
-        ImGui::SameLine();
+        if (loc.line > 0) same_line_if_fits("select the parent");
         if (ImGui::SmallButton("select the parent")) {
             selection_.path.pop_back();
             return;
@@ -495,8 +507,9 @@ void Panels::draw_properties() {
         // The block's kind: switching keeps the lamp's size for switching back.
         const bool lamp = s.lights[std::size_t(selection_.index)].lamp;
         if (ImGui::SmallButton(lamp ? "make it a spotlight" : "make it a lamp")) commands_.run(Command::SwitchLight);
-        ImGui::SameLine();
-        ImGui::TextDisabled(lamp ? "(point light and glow)" : "(point light)");
+        const char* what = lamp ? "(point light and glow)" : "(point light)";
+        same_line_if_fits(what);
+        ImGui::TextDisabled("%s", what);
     }
     ImGui::Separator();
     draw_fields(ref);
@@ -621,6 +634,16 @@ std::string Panels::choice_label(std::string_view key, std::string_view word) {
     return std::string(word);
 }
 
+// The narrowest sidebar in which the property fields keep their labels whole and
+// three numbers of a point stay readable.
+float Panels::min_sidebar_width() {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    const float number = ImGui::CalcTextSize("-0000.000").x + 2 * st.FramePadding.x;
+    const float fields = field_label_width() + st.ItemInnerSpacing.x + 2 + 3 * number + 2 * st.ItemInnerSpacing.x;
+    // The sidebar's and the properties' padding, and their scroll bars.
+    return std::ceil(fields + 4 * st.WindowPadding.x + 2 * st.ScrollbarSize);
+}
+
 // The widest label the property fields use, at the current font: every key of every
 // block (and of the material block), so the layout does not jump between selections.
 float Panels::field_label_width() {
@@ -674,15 +697,15 @@ void Panels::draw_render_tab() {
     if (ImGui::RadioButton(pic.c_str(), layout_.fit == FitMode::Picture)) commands_.run(Command::FitPicture);
     ImGui::Separator();
     rt::RenderProgress p = render_.progress();
-    ImGui::Text("film %dx%d, %d render threads", p.width, p.height, render_.threads());
+    ImGui::TextWrapped("film %dx%d, %d render threads", p.width, p.height, render_.threads());
     ImGui::Text("rays traced: %.3g", double(p.rays));
     if (p.first_coarse_time >= 0)
-        ImGui::Text("first coarse pass: %.1f ms (%dx%d blocks)", p.first_coarse_time * 1000, render_.last_coarse_block(),
+        ImGui::TextWrapped("first coarse pass: %.1f ms (%dx%d blocks)", p.first_coarse_time * 1000, render_.last_coarse_block(),
                     render_.last_coarse_block());
-    if (render_.last_latency_ms() >= 0) ImGui::Text("last view change to image: %.1f ms", render_.last_latency_ms());
+    if (render_.last_latency_ms() >= 0) ImGui::TextWrapped("last view change to image: %.1f ms", render_.last_latency_ms());
     ImGui::Separator();
     if (ImGui::Button("Save image... (Ctrl+P)")) commands_.run(Command::SaveImageDialog);
-    ImGui::SameLine();
+    same_line_if_fits("Screenshot (F12)");
     if (ImGui::Button("Screenshot (F12)")) commands_.run(Command::Screenshot, "raytracer-view-screenshot.png");
 }
 

@@ -50,6 +50,7 @@ public:
     // The height the status bar's text has needed (0 before the first frame): at a
     // large UI scale or in a narrow window its text takes more than one line.
     float status_height() const { return status_need_h_; }
+    float min_sidebar_width();
 
 private:
     void draw_camera_panel();
