@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include "camera_control.h"
 #include "item_fields.h"
@@ -764,59 +765,88 @@ void Panels::draw_status_bar(const LoadStatus& load) {
     ImGui::PopStyleVar();
 }
 
-// The status bar's text right of the button and the progress bar, then the last message
-// (`with_message`). What does not fit on the row goes on rows of its own below, wrapped
-// at the bar's width, rather than being cut at its edge. The bar is as tall as its text
-// has needed since the width, font or message changed (status_height()), so the image
-// area does not jump while the readout changes.
-void Panels::status_text(const std::string& text, bool with_message) {
+namespace {
+
+// Pieces of status-bar text flowed into rows: a piece stays on the current row if it
+// fits (with its separator), else it starts a row of its own at the left, wrapped at
+// the bar's right edge. Returns the height of the rows below the first; draws them
+// when `draw`.
+struct StatusPiece {
+    std::string text;
+    const char* sep = "";
+    const ImVec4* colour = nullptr;
+};
+
+float flow_status(const std::vector<StatusPiece>& pieces, float x, bool draw) {
     const float left = ImGui::GetWindowContentRegionMin().x;
     const float right = ImGui::GetWindowContentRegionMax().x;
-    const float spacing = ImGui::GetStyle().ItemSpacing.x;
-    float x = ImGui::GetCursorPosX();  // beside the widgets, on the first row
-    float extra = 0;                   // the height of the rows below the first
+    const ImGuiStyle& st = ImGui::GetStyle();
+    float extra = 0;
     bool first = true;
-    // `sep` only between two pieces on one row.
-    auto place = [&](const std::string& piece, const ImVec4* colour, const char* sep = "") {
-        const std::string joined = sep + piece;
+    for (const StatusPiece& p : pieces) {
+        const std::string joined = p.sep + p.text;
         const float w = ImGui::CalcTextSize(joined.c_str()).x;
-        if (colour) ImGui::PushStyleColor(ImGuiCol_Text, *colour);
-        if (x + w <= right) {
-            if (!first) ImGui::SameLine();
-            ImGui::TextUnformatted(joined.c_str());
-            x += w + spacing;
+        const bool fits = x + w <= right;
+        if (draw) {
+            if (p.colour) ImGui::PushStyleColor(ImGuiCol_Text, *p.colour);
+            if (fits) {
+                if (!first) ImGui::SameLine();
+                ImGui::TextUnformatted(joined.c_str());
+            } else {
+                if (first) ImGui::NewLine();
+                ImGui::SetCursorPosX(left);
+                ImGui::PushTextWrapPos(right);
+                ImGui::TextUnformatted(p.text.c_str());
+                ImGui::PopTextWrapPos();
+            }
+            if (p.colour) ImGui::PopStyleColor();
+        }
+        if (fits) {
+            x += w + st.ItemSpacing.x;
         } else {
-            if (first) ImGui::NewLine();
-            ImGui::SetCursorPosX(left);
-            ImGui::PushTextWrapPos(right);
-            ImGui::TextUnformatted(piece.c_str());
-            ImGui::PopTextWrapPos();
-            extra += ImGui::CalcTextSize(piece.c_str(), nullptr, false, right - left).y + ImGui::GetStyle().ItemSpacing.y;
+            extra += ImGui::CalcTextSize(p.text.c_str(), nullptr, false, right - left).y + st.ItemSpacing.y;
             x = right;  // what follows starts a row of its own
         }
-        if (colour) ImGui::PopStyleColor();
         first = false;
-    };
-    // "spp" names the progress bar's numbers: it stays beside them.
+    }
+    return extra;
+}
+
+// "spp" names the progress bar's numbers: it stays beside them.
+void add_status_line(std::vector<StatusPiece>& pieces, const std::string& text) {
     if (text.rfind("spp  ", 0) == 0) {
-        place("spp", nullptr);
-        place(text.substr(5), nullptr, " ");
+        pieces.push_back({"spp"});
+        pieces.push_back({text.substr(5), " "});
     } else {
-        place(text, nullptr);
+        pieces.push_back({text});
     }
-    if (with_message && !status_.text().empty()) {
-        const ImVec4 grey(0.75f, 0.75f, 0.75f, 1);
-        place(status_.text(), status_.error() ? &kErrorColour : &grey, "| ");
-    }
-    const float font = ImGui::GetFontSize();
-    const float need = std::ceil(ImGui::GetFrameHeight() + 8 * font / 13.f + extra);
-    if (status_key_width_ != right - left || status_key_font_ != font || status_key_text_ != status_.text()) {
-        status_key_width_ = right - left;
-        status_key_font_ = font;
-        status_key_text_ = status_.text();
-        status_need_h_ = 0;
-    }
-    status_need_h_ = std::max(status_need_h_, need);
+}
+
+}  // namespace
+
+// The status bar's text right of the button and the progress bar, then the last message
+// (`with_message`). What does not fit on the row goes on rows of its own below rather
+// than being cut at the bar's edge. The bar's height (status_height()) is what the
+// longest of its usual contents needs (the statistics with the message, or a pixel
+// readout) rather than what it shows now, so the image area does not change size when
+// the mouse moves onto the picture or a dialog opens.
+void Panels::status_text(const std::string& text, bool with_message) {
+    const float x = ImGui::GetCursorPosX();  // beside the widgets, on the first row
+    const ImVec4 grey(0.75f, 0.75f, 0.75f, 1);
+    auto with_msg = [&](std::vector<StatusPiece> pieces) {
+        if (!status_.text().empty()) pieces.push_back({status_.text(), "| ", status_.error() ? &kErrorColour : &grey});
+        return pieces;
+    };
+    std::vector<StatusPiece> shown;
+    add_status_line(shown, text);
+    if (with_message) shown = with_msg(std::move(shown));
+    const float now = flow_status(shown, x, true);
+    // The usual contents at their usual widest.
+    std::vector<StatusPiece> stats, readout;
+    add_status_line(stats, "spp  00.00 Mrays/s  000.0 s  rendering  |  picture frame");
+    add_status_line(readout, "spp  preview 16x16  | x 0000 y 0000   RGB 0.000 0.000 0.000   64 spp   object 1000 (sphere) at 00.00");
+    const float extra = std::max({now, flow_status(with_msg(stats), x, false), flow_status(readout, x, false)});
+    status_need_h_ = std::ceil(ImGui::GetFrameHeight() + 8 * ImGui::GetFontSize() / 13.f + extra);
 }
 
 void Panels::draw_surround() {

@@ -47,8 +47,8 @@ public:
     // --select "object N" etc.
     void select_from_option(const std::string& spec);
     double scene_size() const;
-    // The height the status bar's text has needed (0 before the first frame): at a
-    // large UI scale or in a narrow window its text takes more than one line.
+    // The height the status bar's text needs (0 before the first frame): at a large UI
+    // scale or in a narrow window it takes more than one row.
     float status_height() const { return status_need_h_; }
     float min_sidebar_width();
 
@@ -83,8 +83,7 @@ private:
         bool error = false;
     } field_message_;
     float label_w_ = 0, label_w_font_ = 0;  // field_label_width() at that font size
-    float status_need_h_ = 0, status_key_width_ = 0, status_key_font_ = 0;
-    std::string status_key_text_;  // status_need_h_ holds for this message at that width and font
+    float status_need_h_ = 0;
     bool scroll_to_selection_ = false;
     int want_tab_ = -1;  // select this tab on the next frame
     int current_tab_ = 0;
