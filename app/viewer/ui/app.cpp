@@ -248,11 +248,14 @@ void ViewerApp::frame() {
     if (!doc.has_scene()) {
         std::string opening = "Opening " + base_name(loader_.progress().path) + " ...";
         const char* msg = loader_.active() ? opening.c_str() : "No image: the scene text has errors (see the Text tab).";
-        ImVec2 sz = ImGui::CalcTextSize(msg);
+        // Wrapped within the image area (narrow at a large UI scale), centred.
+        const float wrap = std::max(float(layout_.area.w) - 2 * ImGui::GetFontSize(), ImGui::GetFontSize() * 4);
+        ImVec2 sz = ImGui::CalcTextSize(msg, nullptr, false, wrap);
         ImGui::GetBackgroundDrawList()->AddText(
+            ImGui::GetFont(), ImGui::GetFontSize(),
             ImVec2(float(layout_.area.x + (layout_.area.w - sz.x) / 2), float(layout_.area.y + (layout_.area.h - sz.y) / 2)),
             ImGui::GetColorU32(loader_.active() ? ImVec4(0.75f, 0.75f, 0.75f, 1.0f) : ImVec4(1.0f, 0.42f, 0.42f, 1.0f)),
-            msg);
+            msg, nullptr, wrap);
     }
 
     std::string title = doc.title();
