@@ -639,10 +639,10 @@ std::string Panels::choice_label(std::string_view key, std::string_view word) {
 // three numbers of a point stay readable.
 float Panels::min_sidebar_width() {
     const ImGuiStyle& st = ImGui::GetStyle();
-    const float number = ImGui::CalcTextSize("-0000.000").x + 2 * st.FramePadding.x;
+    const float number = ImGui::CalcTextSize("-00.000").x + 2 * st.FramePadding.x;
     const float fields = field_label_width() + st.ItemInnerSpacing.x + 2 + 3 * number + 2 * st.ItemInnerSpacing.x;
-    // The sidebar's and the properties' padding, and their scroll bars.
-    return std::ceil(fields + 4 * st.WindowPadding.x + 2 * st.ScrollbarSize);
+    // The sidebar's padding, and its and the properties' scroll bars.
+    return std::ceil(fields + 2 * st.WindowPadding.x + 2 * st.ScrollbarSize);
 }
 
 // The widest label the property fields use, at the current font: every key of every
