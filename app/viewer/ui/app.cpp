@@ -287,11 +287,12 @@ void ViewerApp::update_layout() {
     l.fb_scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.f;
     float s = ImGui::GetFontSize() / 13.f;  // the UI scale the host chose
     l.menu_h = ImGui::GetFrameHeight();
-    l.status_h = std::max(std::floor(ImGui::GetFrameHeight() + 8 * s), panels_.status_height());
+    l.status_h = std::floor(ImGui::GetFrameHeight() + 8 * s);
     // Wide enough for the property fields' labels and numbers at this UI scale.
     const float narrowest = std::max(320 * s, panels_.min_sidebar_width());
     l.sidebar_w = std::floor(std::clamp(W * 0.34f, narrowest, std::max(narrowest, 470 * s)));
     if (l.sidebar_w > W * 0.6f) l.sidebar_w = std::floor(W * 0.6f);
+    l.status_h = std::max(l.status_h, panels_.status_height(W - l.sidebar_w));
     l.area = {0, double(l.menu_h), std::max(1.0, double(W - l.sidebar_w)), std::max(1.0, double(H - l.menu_h - l.status_h))};
     const Document& doc = editor_.doc();
     if (l.fit == FitMode::Picture && doc.has_scene()) {

@@ -710,11 +710,97 @@ void Panels::draw_render_tab() {
     if (ImGui::Button("Screenshot (F12)")) commands_.run(Command::Screenshot, "raytracer-view-screenshot.png");
 }
 
+namespace {
+
+// Pieces of status-bar text flowed into rows: a piece stays on the current row if it
+// fits (with its separator), else it starts a row of its own at the left, wrapped at
+// the bar's right edge. Returns the height of the rows below the first; draws them
+// when `draw`.
+struct StatusPiece {
+    std::string text;
+    const char* sep = "";
+    const ImVec4* colour = nullptr;
+};
+
+float flow_status(const std::vector<StatusPiece>& pieces, float x, float left, float right, bool draw) {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    float extra = 0;
+    bool first = true;
+    for (const StatusPiece& p : pieces) {
+        const std::string joined = p.sep + p.text;
+        const float w = ImGui::CalcTextSize(joined.c_str()).x;
+        const bool fits = x + w <= right;
+        if (draw) {
+            if (p.colour) ImGui::PushStyleColor(ImGuiCol_Text, *p.colour);
+            if (fits) {
+                if (!first) ImGui::SameLine();
+                ImGui::TextUnformatted(joined.c_str());
+            } else {
+                if (first) ImGui::NewLine();
+                ImGui::SetCursorPosX(left);
+                ImGui::PushTextWrapPos(right);
+                ImGui::TextUnformatted(p.text.c_str());
+                ImGui::PopTextWrapPos();
+            }
+            if (p.colour) ImGui::PopStyleColor();
+        }
+        if (fits) {
+            x += w + st.ItemSpacing.x;
+        } else {
+            extra += ImGui::CalcTextSize(p.text.c_str(), nullptr, false, right - left).y + st.ItemSpacing.y;
+            x = right;  // what follows starts a row of its own
+        }
+        first = false;
+    }
+    return extra;
+}
+
+// "spp" names the progress bar's numbers: it stays beside them.
+void add_status_line(std::vector<StatusPiece>& pieces, const std::string& text) {
+    if (text.rfind("spp  ", 0) == 0) {
+        pieces.push_back({"spp"});
+        pieces.push_back({text.substr(5), " "});
+    } else {
+        pieces.push_back({text});
+    }
+}
+
+// The status bar's window padding (unscaled, as its one row always had).
+const ImVec2 kStatusPadding(6, 4);
+
+// The pieces of the status bar's usual contents at their usual widest: the statistics
+// with the message, and a pixel readout.
+std::vector<StatusPiece> usual_stats() {
+    std::vector<StatusPiece> p;
+    add_status_line(p, "spp  00.00 Mrays/s  000.0 s  rendering  |  picture frame");
+    return p;
+}
+std::vector<StatusPiece> usual_readout() {
+    std::vector<StatusPiece> p;
+    add_status_line(p, "spp  preview 16x16  | x 0000 y 0000   RGB 0.000 0.000 0.000   64 spp   object 1000 (sphere) at 00.00");
+    return p;
+}
+
+// Where the text starts on the first row: after the button and the progress bar.
+float status_text_x() {
+    const float spacing = ImGui::GetStyle().ItemSpacing.x;
+    return kStatusPadding.x + ImGui::GetFontSize() * (4.5f + 8) + 2 * spacing;
+}
+
+// The pieces followed by the last message, if there is one.
+std::vector<StatusPiece> with_message(const StatusLine& status, std::vector<StatusPiece> pieces) {
+    static const ImVec4 grey(0.75f, 0.75f, 0.75f, 1);
+    if (!status.text().empty()) pieces.push_back({status.text(), "| ", status.error() ? &kErrorColour : &grey});
+    return pieces;
+}
+
+}  // namespace
+
 void Panels::draw_status_bar(const LoadStatus& load) {
     ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - layout_.status_h));
     ImGui::SetNextWindowSize(ImVec2(float(layout_.area.w), layout_.status_h));
-    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(6, 4));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, kStatusPadding);
     ImGuiWindowFlags flags = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
                              ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings |
                              ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoBringToFrontOnFocus;
@@ -765,88 +851,37 @@ void Panels::draw_status_bar(const LoadStatus& load) {
     ImGui::PopStyleVar();
 }
 
-namespace {
 
-// Pieces of status-bar text flowed into rows: a piece stays on the current row if it
-// fits (with its separator), else it starts a row of its own at the left, wrapped at
-// the bar's right edge. Returns the height of the rows below the first; draws them
-// when `draw`.
-struct StatusPiece {
-    std::string text;
-    const char* sep = "";
-    const ImVec4* colour = nullptr;
-};
 
-float flow_status(const std::vector<StatusPiece>& pieces, float x, bool draw) {
-    const float left = ImGui::GetWindowContentRegionMin().x;
-    const float right = ImGui::GetWindowContentRegionMax().x;
-    const ImGuiStyle& st = ImGui::GetStyle();
-    float extra = 0;
-    bool first = true;
-    for (const StatusPiece& p : pieces) {
-        const std::string joined = p.sep + p.text;
-        const float w = ImGui::CalcTextSize(joined.c_str()).x;
-        const bool fits = x + w <= right;
-        if (draw) {
-            if (p.colour) ImGui::PushStyleColor(ImGuiCol_Text, *p.colour);
-            if (fits) {
-                if (!first) ImGui::SameLine();
-                ImGui::TextUnformatted(joined.c_str());
-            } else {
-                if (first) ImGui::NewLine();
-                ImGui::SetCursorPosX(left);
-                ImGui::PushTextWrapPos(right);
-                ImGui::TextUnformatted(p.text.c_str());
-                ImGui::PopTextWrapPos();
-            }
-            if (p.colour) ImGui::PopStyleColor();
-        }
-        if (fits) {
-            x += w + st.ItemSpacing.x;
-        } else {
-            extra += ImGui::CalcTextSize(p.text.c_str(), nullptr, false, right - left).y + st.ItemSpacing.y;
-            x = right;  // what follows starts a row of its own
-        }
-        first = false;
-    }
-    return extra;
+// The status bar's height in a window `width` wide: what the longest of its usual
+// contents needs (the statistics with the message, or a pixel readout) rather than what
+// it shows now, so the image area keeps its size when the mouse moves onto the picture
+// or a dialog opens. Known before the bar is drawn: the first frame has it right.
+float Panels::status_height(float width) {
+    const float left = kStatusPadding.x, right = width - kStatusPadding.x, x = status_text_x();
+    float extra = std::max(flow_status(with_message(status_, usual_stats()), x, left, right, false),
+                           flow_status(usual_readout(), x, left, right, false));
+    // Shown text that needed more (a long object name), while the message and width last.
+    if (status_more_.width == width && status_more_.font == ImGui::GetFontSize() && status_more_.text == status_.text())
+        extra = std::max(extra, status_more_.extra);
+    return std::ceil(ImGui::GetFrameHeight() + 8 * ImGui::GetFontSize() / 13.f + extra);
 }
-
-// "spp" names the progress bar's numbers: it stays beside them.
-void add_status_line(std::vector<StatusPiece>& pieces, const std::string& text) {
-    if (text.rfind("spp  ", 0) == 0) {
-        pieces.push_back({"spp"});
-        pieces.push_back({text.substr(5), " "});
-    } else {
-        pieces.push_back({text});
-    }
-}
-
-}  // namespace
 
 // The status bar's text right of the button and the progress bar, then the last message
 // (`with_message`). What does not fit on the row goes on rows of its own below rather
-// than being cut at the bar's edge. The bar's height (status_height()) is what the
-// longest of its usual contents needs (the statistics with the message, or a pixel
-// readout) rather than what it shows now, so the image area does not change size when
-// the mouse moves onto the picture or a dialog opens.
-void Panels::status_text(const std::string& text, bool with_message) {
-    const float x = ImGui::GetCursorPosX();  // beside the widgets, on the first row
-    const ImVec4 grey(0.75f, 0.75f, 0.75f, 1);
-    auto with_msg = [&](std::vector<StatusPiece> pieces) {
-        if (!status_.text().empty()) pieces.push_back({status_.text(), "| ", status_.error() ? &kErrorColour : &grey});
-        return pieces;
-    };
+// than being cut at the bar's edge (status_height() leaves room for them).
+void Panels::status_text(const std::string& text, bool show_message) {
     std::vector<StatusPiece> shown;
     add_status_line(shown, text);
-    if (with_message) shown = with_msg(std::move(shown));
-    const float now = flow_status(shown, x, true);
-    // The usual contents at their usual widest.
-    std::vector<StatusPiece> stats, readout;
-    add_status_line(stats, "spp  00.00 Mrays/s  000.0 s  rendering  |  picture frame");
-    add_status_line(readout, "spp  preview 16x16  | x 0000 y 0000   RGB 0.000 0.000 0.000   64 spp   object 1000 (sphere) at 00.00");
-    const float extra = std::max({now, flow_status(with_msg(stats), x, false), flow_status(readout, x, false)});
-    status_need_h_ = std::ceil(ImGui::GetFrameHeight() + 8 * ImGui::GetFontSize() / 13.f + extra);
+    if (show_message) shown = with_message(status_, std::move(shown));
+    const float extra = flow_status(shown, ImGui::GetCursorPosX(), ImGui::GetWindowContentRegionMin().x,
+                                    ImGui::GetWindowContentRegionMax().x, true);
+    const float width = ImGui::GetWindowWidth();
+    const float usual = std::max(flow_status(with_message(status_, usual_stats()), status_text_x(), kStatusPadding.x,
+                                             width - kStatusPadding.x, false),
+                                 flow_status(usual_readout(), status_text_x(), kStatusPadding.x, width - kStatusPadding.x,
+                                             false));
+    if (extra > usual) status_more_ = {width, ImGui::GetFontSize(), status_.text(), extra};
 }
 
 void Panels::draw_surround() {

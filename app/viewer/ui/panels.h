@@ -47,9 +47,9 @@ public:
     // --select "object N" etc.
     void select_from_option(const std::string& spec);
     double scene_size() const;
-    // The height the status bar's text needs (0 before the first frame): at a large UI
-    // scale or in a narrow window it takes more than one row.
-    float status_height() const { return status_need_h_; }
+    // The status bar's height in a window `width` wide: at a large UI scale or in a
+    // narrow window its text takes more than one row.
+    float status_height(float width);
     float min_sidebar_width();
 
 private:
@@ -64,7 +64,7 @@ private:
     float field_label_width();
     ItemRef selected_item() const;
     void draw_render_tab();
-    void status_text(const std::string& text, bool with_message);
+    void status_text(const std::string& text, bool show_message);
 
     Commands& commands_;
     DocumentEditor& editor_;
@@ -83,7 +83,12 @@ private:
         bool error = false;
     } field_message_;
     float label_w_ = 0, label_w_font_ = 0;  // field_label_width() at that font size
-    float status_need_h_ = 0;
+    // Shown status text that needed more room than the usual contents: for how long.
+    struct StatusMore {
+        float width = 0, font = 0;
+        std::string text;
+        float extra = 0;
+    } status_more_;
     bool scroll_to_selection_ = false;
     int want_tab_ = -1;  // select this tab on the next frame
     int current_tab_ = 0;
