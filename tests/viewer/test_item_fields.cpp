@@ -461,3 +461,21 @@ TEST_CASE("block patch: only what it can do in place") {
     // Text that is not the item: refused.
     CHECK_FALSE(patch_block("torus { position 1 2 3 }", torus, turned));
 }
+
+TEST_CASE("item fields: with an unapplied draft, the edit reaches both texts with the block's comments") {
+    Document doc;
+    doc.load_text(kScene, "", "t.txt");
+    doc.editor_text() += "// a draft line\n";
+    doc.note_typed();
+    REQUIRE(doc.editor_dirty());
+    const ItemRef ref = obj(0);
+    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "radius"), number(2)).applied);
+    doc.commit();
+    for (const std::string* t : {&std::as_const(doc).editor_text(), &doc.applied_text()}) {
+        INFO(*t);
+        CHECK(t->find("radius 2  // big enough") != std::string::npos);
+        CHECK(std::get<rt::Sphere>(parse_ok(*t).objects[0].shape).radius == 2);
+    }
+    CHECK(std::as_const(doc).editor_text().find("// a draft line") != std::string::npos);
+    CHECK_FALSE(doc.text_behind());
+}
