@@ -79,9 +79,9 @@ bool selection_valid(const rt::Scene& s, const Selection& sel) {
     return false;
 }
 
-bool drag_vec3(const char* label, rt::Vec3& v, float speed) {
+bool drag_vec3(const char* label, rt::Vec3& v, float speed, const char* format = "%.3f") {
     double a[3] = {v.x, v.y, v.z};
-    if (!ImGui::DragScalarN(label, ImGuiDataType_Double, a, 3, speed, nullptr, nullptr, "%.3f")) return false;
+    if (!ImGui::DragScalarN(label, ImGuiDataType_Double, a, 3, speed, nullptr, nullptr, format)) return false;
     v = {a[0], a[1], a[2]};
     return true;
 }
@@ -526,6 +526,9 @@ void Panels::draw_fields(const ItemRef& ref) {
     // Room for the longest label, whatever the UI scale.
     const float label_w = field_label_width();
     const float size = float(scene_size());
+    // Dragging rounds to the digits shown: enough of them for a small scene.
+    char vec_format[16];
+    std::snprintf(vec_format, sizeof vec_format, "%%.%df", std::clamp(4 - int(std::floor(std::log10(size))), 3, 9));
     int operand = 0;
     for (const Field& f : fields) {
         std::optional<FieldValue> cur = field_value(doc.scene(), ref, f);
@@ -537,7 +540,7 @@ void Panels::draw_fields(const ItemRef& ref) {
         switch (f.kind) {
             case sc::Kind::Number: {
                 const float speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
-                changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, speed, nullptr, nullptr, "%.4g");
+                changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, speed, nullptr, nullptr, "%.6g");
                 if (ImGui::IsItemHovered()) ImGui::SetTooltip("Drag, or Ctrl+click to type a value");
                 break;
             }
@@ -546,7 +549,7 @@ void Panels::draw_fields(const ItemRef& ref) {
                     changed = light_colour_editor(v.vec);
                     break;
                 }
-                changed = drag_vec3(f.label.c_str(), v.vec, size * 0.002f);
+                changed = drag_vec3(f.label.c_str(), v.vec, size * 0.002f, vec_format);
                 break;
             }
             case sc::Kind::Integer: {
