@@ -593,7 +593,8 @@ void Panels::draw_fields(const ItemRef& ref) {
         if (changed) {
             FieldResult r = set_field(doc, ref, f, v);
             if (!r.error.empty()) field_message_ = {selection_, f.label, r.error, true};
-            else if (!r.warning.empty()) field_message_ = {selection_, f.label, r.warning, false};
+            // (A material's own warning is shown by its editor already.)
+            else if (!r.warning.empty() && f.kind != sc::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
             else if (field_message_.field == f.label) field_message_ = {};
         }
         if (field_message_.field == f.label && !field_message_.text.empty())
