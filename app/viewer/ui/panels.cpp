@@ -772,8 +772,9 @@ void add_status_line(std::vector<StatusPiece>& pieces, const std::string& text) 
 // The status bar's window padding (unscaled, as its one row always had).
 const ImVec2 kStatusPadding(6, 4);
 
-// The pieces of the status bar's usual contents at their usual widest: the statistics
-// with the message, and a pixel readout.
+// The pieces of the status bar's usual contents at their usual width: the statistics
+// with the message, and a pixel readout (a longer one makes the bar grow while the
+// message stays: status_more_).
 std::vector<StatusPiece> usual_stats() {
     std::vector<StatusPiece> p;
     add_status_line(p, "spp  00.00 Mrays/s  000.0 s  rendering  |  picture frame");
@@ -781,7 +782,7 @@ std::vector<StatusPiece> usual_stats() {
 }
 std::vector<StatusPiece> usual_readout() {
     std::vector<StatusPiece> p;
-    add_status_line(p, "spp  preview 16x16  | x 0000 y 0000   RGB 0.000 0.000 0.000   64 spp   object 1000 (sphere) at 00.00");
+    add_status_line(p, "spp  rendering  | x 000 y 000   RGB 0.000 0.000 0.000   64 spp   object 10 (sphere) at 0.00");
     return p;
 }
 
