@@ -856,16 +856,24 @@ void Panels::draw_status_bar(const LoadStatus& load) {
     ImGui::PopStyleVar();
 }
 
-
-
-// The status bar's height in a window `width` wide: what the longest of its usual
-// contents needs (the statistics with the message, or a pixel readout) rather than what
-// it shows now, so the image area keeps its size when the mouse moves onto the picture
-// or a dialog opens. Known before the bar is drawn: the first frame has it right.
-float Panels::status_height(float width) {
+// The rows below the first that the status bar's usual contents need in a window
+// `width` wide: the statistics with the message (the current one, and one of the usual
+// length, so that the next message rarely changes the bar's height), or a readout.
+float Panels::usual_status_extra(float width) const {
     const float left = kStatusPadding.x, right = width - kStatusPadding.x, x = status_text_x();
-    float extra = std::max(flow_status(with_message(status_, usual_stats()), x, left, right, false),
-                           flow_status(usual_readout(), x, left, right, false));
+    StatusLine typical;
+    typical.set("The scene camera is now the view (Ctrl+Z undoes)");
+    return std::max({flow_status(with_message(status_, usual_stats()), x, left, right, false),
+                     flow_status(with_message(typical, usual_stats()), x, left, right, false),
+                     flow_status(usual_readout(), x, left, right, false)});
+}
+
+// The status bar's height in a window `width` wide: what its usual contents need
+// rather than what it shows now, so the image area keeps its size when the mouse moves
+// onto the picture, a dialog opens or a message comes. Known before the bar is drawn:
+// the first frame has it right.
+float Panels::status_height(float width) {
+    float extra = usual_status_extra(width);
     // Shown text that needed more (a long object name), while the message and width last.
     if (status_more_.width == width && status_more_.font == ImGui::GetFontSize() && status_more_.text == status_.text())
         extra = std::max(extra, status_more_.extra);
@@ -873,7 +881,7 @@ float Panels::status_height(float width) {
 }
 
 // The status bar's text right of the button and the progress bar, then the last message
-// (`with_message`). What does not fit on the row goes on rows of its own below rather
+// (`show_message`). What does not fit on the row goes on rows of its own below rather
 // than being cut at the bar's edge (status_height() leaves room for them).
 void Panels::status_text(const std::string& text, bool show_message) {
     std::vector<StatusPiece> shown;
@@ -882,11 +890,7 @@ void Panels::status_text(const std::string& text, bool show_message) {
     const float extra = flow_status(shown, ImGui::GetCursorPosX(), ImGui::GetWindowContentRegionMin().x,
                                     ImGui::GetWindowContentRegionMax().x, true);
     const float width = ImGui::GetWindowWidth();
-    const float usual = std::max(flow_status(with_message(status_, usual_stats()), status_text_x(), kStatusPadding.x,
-                                             width - kStatusPadding.x, false),
-                                 flow_status(usual_readout(), status_text_x(), kStatusPadding.x, width - kStatusPadding.x,
-                                             false));
-    if (extra > usual) status_more_ = {width, ImGui::GetFontSize(), status_.text(), extra};
+    if (extra > usual_status_extra(width)) status_more_ = {width, ImGui::GetFontSize(), status_.text(), extra};
 }
 
 void Panels::draw_surround() {

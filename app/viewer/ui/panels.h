@@ -65,6 +65,7 @@ private:
     ItemRef selected_item() const;
     void draw_render_tab();
     void status_text(const std::string& text, bool show_message);
+    float usual_status_extra(float width) const;
 
     Commands& commands_;
     DocumentEditor& editor_;
