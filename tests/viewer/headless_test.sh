@@ -54,7 +54,8 @@ check_case() {
 
 check_case default
 check_case orbit --orbit 35 --select "object 2"
-check_case window --fit window
+# (With a CSG operand selected: its fields are drawn from the schema.)
+check_case window --fit window --select "object 4 right"
 # The picture frame keeps the scene's aspect; fill-window mode takes the whole area.
 aspect_ok=$(awk -v w="$(field image 3 "$OUT/default-layout.txt")" -v h="$(field image 4 "$OUT/default-layout.txt")" \
     'BEGIN { r = w / h; exit !(r > 640 / 480 - 0.01 && r < 640 / 480 + 0.01) }' && echo yes || echo no)

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <utility>
 
+#include "block_patch.h"
 #include "image_io.h"
 #include "scene_text.h"
 #include "scene_writer.h"
@@ -402,25 +403,34 @@ bool Document::commit_in_place(DocStep& step) {
     std::vector<Rep> reps;
     rt::Scene one;  // carries a valid camera so the writer prints a normal scene
     one.camera = scene_.camera;
-    auto add = [&](TextSpan span, int kind) {
-        std::string t = written_item(one, kind, line_indent(editor_, span.begin));
+    // An item's block keeps its comments and layout when only its changed values can
+    // be replaced (block_patch.h); else the writer's block replaces it.
+    auto add = [&](TextSpan span, int kind, std::optional<std::string> patched = std::nullopt) {
+        std::string t = patched ? std::move(*patched) : written_item(one, kind, line_indent(editor_, span.begin));
         if (t.empty()) return false;
         reps.push_back({span, std::move(t)});
         return true;
     };
-    for (const auto& p : step.objects_after) {
+    auto block = [&](TextSpan span) { return std::string_view(editor_).substr(span.begin, span.end - span.begin); };
+    for (std::size_t k = 0; k < step.objects_after.size(); ++k) {
+        const auto& p = step.objects_after[k];
         one.objects = {p.second};
-        if (!add(l.objects[p.first], 0)) return false;
+        if (!add(l.objects[p.first], 0, patch_block(block(l.objects[p.first]), step.objects_before[k].second, p.second)))
+            return false;
     }
     one.objects.clear();
-    for (const auto& p : step.planes_after) {
+    for (std::size_t k = 0; k < step.planes_after.size(); ++k) {
+        const auto& p = step.planes_after[k];
         one.planes = {p.second};
-        if (!add(l.planes[p.first], 1)) return false;
+        if (!add(l.planes[p.first], 1, patch_block(block(l.planes[p.first]), step.planes_before[k].second, p.second)))
+            return false;
     }
     one.planes.clear();
-    for (const auto& p : step.lights_after) {
+    for (std::size_t k = 0; k < step.lights_after.size(); ++k) {
+        const auto& p = step.lights_after[k];
         one.lights = {p.second};
-        if (!add(l.lights[p.first], 2)) return false;
+        if (!add(l.lights[p.first], 2, patch_block(block(l.lights[p.first]), step.lights_before[k].second, p.second)))
+            return false;
     }
     one.lights.clear();
     if (step.camera_after) {

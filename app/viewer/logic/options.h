@@ -23,7 +23,7 @@ struct Options {
     int threads = 0;          // 0: all hardware threads
     FitMode fit = FitMode::Picture;
     std::string tab;          // sidebar tab to open with: objects, text or render
-    std::string select;       // "object N", "plane N" or "light N" (1-based), for screenshots
+    std::string select;       // "object N [left|right ...]", "plane N" or "light N" (1-based), for screenshots
     bool print_layout = false;
     std::string view_scene;   // write the scene exactly as the image region shows it
     bool verbose = false;

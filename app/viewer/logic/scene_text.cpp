@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "block_patch.h"
 #include "scene_lexer.h"
 #include "scene_parser.h"
 #include "scene_schema.h"
@@ -145,22 +146,28 @@ std::optional<std::string> patch_scene_text(const std::string& text, const rt::S
         reps.push_back({span, reindent(item, windent, line_indent(text, span.begin))});
         return true;
     };
+    // Only the changed values of a block, where that can be done (block_patch.h).
+    auto patched = [&](TextSpan span, const auto& was, const auto& now) {
+        std::optional<std::string> t = patch_block(std::string_view(text).substr(span.begin, span.end - span.begin), was, now);
+        if (t) reps.push_back({span, std::move(*t)});
+        return t.has_value();
+    };
     rt::Scene one;  // carries a valid camera so the writer prints a normal scene
     one.camera = to.camera;
     for (std::size_t k = 0; k < to.objects.size(); ++k) {
-        if (from.objects[k] == to.objects[k]) continue;
+        if (from.objects[k] == to.objects[k] || patched(l.objects[k], from.objects[k], to.objects[k])) continue;
         one.objects = {to.objects[k]};
         if (!add(l.objects[k], one, Kind::Object)) return std::nullopt;
     }
     one.objects.clear();
     for (std::size_t k = 0; k < to.planes.size(); ++k) {
-        if (from.planes[k] == to.planes[k]) continue;
+        if (from.planes[k] == to.planes[k] || patched(l.planes[k], from.planes[k], to.planes[k])) continue;
         one.planes = {to.planes[k]};
         if (!add(l.planes[k], one, Kind::Plane)) return std::nullopt;
     }
     one.planes.clear();
     for (std::size_t k = 0; k < to.lights.size(); ++k) {
-        if (from.lights[k] == to.lights[k]) continue;
+        if (from.lights[k] == to.lights[k] || patched(l.lights[k], from.lights[k], to.lights[k])) continue;
         one.lights = {to.lights[k]};
         if (!add(l.lights[k], one, Kind::Light)) return std::nullopt;
     }

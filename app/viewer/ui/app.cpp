@@ -145,6 +145,11 @@ void ViewerApp::poll_loader() {
         orbited_ = true;
         orbit_degrees(opt_.orbit);
     }
+    // --select likewise: the scene it names has only just arrived.
+    if (interactive_ && path == opt_.scene && !opt_.select.empty() && !selected_) {
+        selected_ = true;
+        panels_.select_from_option(opt_.select);
+    }
     status_.set(ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)", !ok);
     if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.3f s\n", path.c_str(), since_start());
 }
@@ -257,11 +262,14 @@ void ViewerApp::frame() {
     if (!doc.has_scene()) {
         std::string opening = "Opening " + base_name(loader_.progress().path) + " ...";
         const char* msg = loader_.active() ? opening.c_str() : "No image: the scene text has errors (see the Text tab).";
-        ImVec2 sz = ImGui::CalcTextSize(msg);
+        // Wrapped within the image area (narrow at a large UI scale), centred.
+        const float wrap = std::max(float(layout_.area.w) - 2 * ImGui::GetFontSize(), ImGui::GetFontSize() * 4);
+        ImVec2 sz = ImGui::CalcTextSize(msg, nullptr, false, wrap);
         ImGui::GetBackgroundDrawList()->AddText(
+            ImGui::GetFont(), ImGui::GetFontSize(),
             ImVec2(float(layout_.area.x + (layout_.area.w - sz.x) / 2), float(layout_.area.y + (layout_.area.h - sz.y) / 2)),
             ImGui::GetColorU32(loader_.active() ? ImVec4(0.75f, 0.75f, 0.75f, 1.0f) : ImVec4(1.0f, 0.42f, 0.42f, 1.0f)),
-            msg);
+            msg, nullptr, wrap);
     }
 
     std::string title = doc.title();
@@ -294,8 +302,11 @@ void ViewerApp::update_layout() {
     float s = ImGui::GetFontSize() / 13.f;  // the UI scale the host chose
     l.menu_h = ImGui::GetFrameHeight();
     l.status_h = std::floor(ImGui::GetFrameHeight() + 8 * s);
-    l.sidebar_w = std::floor(std::clamp(W * 0.34f, 320 * s, 470 * s));
+    // Wide enough for the property fields' labels and numbers at this UI scale.
+    const float narrowest = std::max(320 * s, panels_.min_sidebar_width());
+    l.sidebar_w = std::floor(std::clamp(W * 0.34f, narrowest, std::max(narrowest, 470 * s)));
     if (l.sidebar_w > W * 0.6f) l.sidebar_w = std::floor(W * 0.6f);
+    l.status_h = std::max(l.status_h, panels_.status_height(W - l.sidebar_w));
     l.area = {0, double(l.menu_h), std::max(1.0, double(W - l.sidebar_w)), std::max(1.0, double(H - l.menu_h - l.status_h))};
     const Document& doc = editor_.doc();
     if (l.fit == FitMode::Picture && doc.has_scene()) {

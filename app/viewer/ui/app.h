@@ -107,6 +107,7 @@ private:
     Host& host_;
     bool interactive_;
     bool orbited_ = false;  // --orbit applied to the start-up scene
+    bool selected_ = false;  // --select applied to the start-up scene
     StatusLine status_;
     Layout layout_;
     DocumentEditor editor_;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <utility>
+#include <vector>
 
 #include "scene_text.h"
 
@@ -174,18 +175,25 @@ void DocumentEditor::sync_widget() {
 }
 
 void DocumentEditor::draw_text_tab(Layout& layout) {
+    // The row wraps when the next item would run past the panel's edge (large UI scale).
+    auto same_line_if_fits = [](const char* next, float extra = 0) {
+        const ImGuiStyle& st = ImGui::GetStyle();
+        const float w = ImGui::CalcTextSize(next).x + 2 * st.FramePadding.x + extra;
+        if (ImGui::GetItemRectMax().x + st.ItemSpacing.x + w <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x)
+            ImGui::SameLine();
+    };
     bool can_apply = doc_.editor_dirty() || doc_.has_errors();
     ImGui::BeginDisabled(!can_apply);
     if (ImGui::Button("Apply (Ctrl+Enter)")) apply();
     ImGui::EndDisabled();
-    ImGui::SameLine();
+    same_line_if_fits("Revert");
     ImGui::BeginDisabled(!doc_.editor_dirty() && !doc_.text_behind());
     if (ImGui::Button("Revert")) doc_.revert_text();
     ImGui::EndDisabled();
-    ImGui::SameLine();
-    if (doc_.editor_dirty()) ImGui::TextColored(kWarnColour, "unapplied changes");
-    else ImGui::TextColored(kOkColour, "text = scene");
-    ImGui::SameLine();
+    const char* state = doc_.editor_dirty() ? "unapplied changes" : "text = scene";
+    same_line_if_fits(state);
+    ImGui::TextColored(doc_.editor_dirty() ? kWarnColour : kOkColour, "%s", state);
+    same_line_if_fits("wrap", ImGui::GetFrameHeight() + ImGui::GetStyle().ItemInnerSpacing.x);
     bool wrap = widget_.wrap();
     if (ImGui::Checkbox("wrap", &wrap)) widget_.set_wrap(wrap);
     if (doc_.text_behind()) {
@@ -197,7 +205,20 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
 
     const auto& diags = doc_.diagnostics();
     float line = ImGui::GetTextLineHeightWithSpacing();
-    float diag_h = line * float(std::clamp(int(diags.size()), 1, 6)) + ImGui::GetStyle().WindowPadding.y * 2;
+    // Messages wrap at the list's edge (long ones would be cut off at a large UI scale):
+    // the list is as tall as its first six lines of wrapped text.
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float wrap_w = std::max(ImGui::GetContentRegionAvail().x - 2 * style.WindowPadding.x - style.ScrollbarSize,
+                                  ImGui::GetFontSize() * 4);
+    std::vector<std::string> diag_text;
+    float diag_lines_h = 0;
+    for (const rt::Diagnostic& d : diags) {
+        diag_text.push_back(std::to_string(d.line) + ":" + std::to_string(d.col) + ": " +
+                            (d.is_error() ? "error: " : "warning: ") + d.message);
+        if (diag_lines_h < line * 6)
+            diag_lines_h += ImGui::CalcTextSize(diag_text.back().c_str(), nullptr, false, wrap_w).y + style.ItemSpacing.y;
+    }
+    float diag_h = std::clamp(diag_lines_h, line, line * 6) + style.WindowPadding.y * 2;
     float editor_h = std::max(line * 4, ImGui::GetContentRegionAvail().y - diag_h - ImGui::GetStyle().ItemSpacing.y);
 
     ImVec2 top = ImGui::GetCursorScreenPos();
@@ -230,12 +251,16 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
         if (diags.empty()) ImGui::TextDisabled(doc_.editor_dirty() ? "No errors (Ctrl+Enter applies)." : "No errors.");
         for (std::size_t k = 0; k < diags.size(); ++k) {
             const rt::Diagnostic& d = diags[k];
-            std::string text = std::to_string(d.line) + ":" + std::to_string(d.col) + ": " +
-                               (d.is_error() ? "error: " : "warning: ") + d.message;
+            const std::string& text = diag_text[k];
+            // A selectable as tall as the wrapped message, the message drawn over it.
+            const float w = std::max(ImGui::GetContentRegionAvail().x, ImGui::GetFontSize() * 4);
+            const ImVec2 size(w, ImGui::CalcTextSize(text.c_str(), nullptr, false, w).y);
+            const ImVec2 at = ImGui::GetCursorScreenPos();
             ImGui::PushID(int(k));
-            ImGui::PushStyleColor(ImGuiCol_Text, d.is_error() ? kErrorColour : kWarnColour);
-            if (ImGui::Selectable(text.c_str())) widget_.show({d.line - 1, d.col - 1});
-            ImGui::PopStyleColor();
+            if (ImGui::Selectable("##diagnostic", false, 0, size)) widget_.show({d.line - 1, d.col - 1});
+            ImGui::GetWindowDrawList()->AddText(ImGui::GetFont(), ImGui::GetFontSize(), at,
+                                                ImGui::GetColorU32(d.is_error() ? kErrorColour : kWarnColour),
+                                                text.c_str(), nullptr, w);
             ImGui::PopID();
         }
     }

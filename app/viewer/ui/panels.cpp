@@ -6,10 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include "camera_control.h"
+#include "item_fields.h"
+#include "scene_schema.h"
 #include "readout.h"
 #include "scene_text.h"
 #include "scene_writer.h"
@@ -22,6 +26,25 @@ const ImVec4 kErrorColour{1.0f, 0.42f, 0.42f, 1.0f};
 const ImVec4 kWarnColour{1.0f, 0.80f, 0.35f, 1.0f};
 const ImVec4 kOkColour{0.55f, 0.85f, 0.55f, 1.0f};
 
+// Messages wrap at the panel's edge instead of running past it (at any UI scale).
+void wrapped_coloured(const ImVec4& colour, const std::string& text) {
+    ImGui::PushStyleColor(ImGuiCol_Text, colour);
+    ImGui::TextWrapped("%s", text.c_str());
+    ImGui::PopStyleColor();
+}
+void wrapped_hint(const std::string& text) {
+    wrapped_coloured(ImGui::GetStyle().Colors[ImGuiCol_TextDisabled], text);
+}
+
+// SameLine() if a button labelled `next` still fits on the line, else the button goes
+// on the next line (a row of buttons wraps instead of running past the panel's edge).
+void same_line_if_fits(const char* next) {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    const float w = ImGui::CalcTextSize(next, nullptr, true).x + 2 * st.FramePadding.x;
+    const float right = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+    if (ImGui::GetItemRectMax().x + st.ItemSpacing.x + w <= right) ImGui::SameLine();
+}
+
 std::string fmt_vec(const rt::Vec3& v) {
     return rt::format_number(v.x) + " " + rt::format_number(v.y) + " " + rt::format_number(v.z);
 }
@@ -33,27 +56,6 @@ std::string shape_summary(const rt::Shape& s) {
     if (auto* c = std::get_if<rt::Cylinder>(&s)) return fmt_vec(c->end1) + " .. " + fmt_vec(c->end2);
     if (auto* t = std::get_if<rt::Tetrahedron>(&s)) return "vect1 " + fmt_vec(t->v[0]);
     return {};
-}
-
-void shape_details(const rt::Shape& s) {
-    if (auto* sp = std::get_if<rt::Sphere>(&s)) {
-        ImGui::Text("position %s", fmt_vec(sp->position).c_str());
-        ImGui::Text("radius   %s", rt::format_number(sp->radius).c_str());
-    } else if (auto* t = std::get_if<rt::Tetrahedron>(&s)) {
-        for (int i = 0; i < 4; ++i) ImGui::Text("vect%d %s", i + 1, fmt_vec(t->v[i]).c_str());
-    } else if (auto* c = std::get_if<rt::Cylinder>(&s)) {
-        ImGui::Text("end_1  %s", fmt_vec(c->end1).c_str());
-        ImGui::Text("end_2  %s", fmt_vec(c->end2).c_str());
-        ImGui::Text("radius %s", rt::format_number(c->radius).c_str());
-    } else if (auto* t = std::get_if<rt::Torus>(&s)) {
-        ImGui::Text("position  %s", fmt_vec(t->position).c_str());
-        ImGui::Text("direction %s", fmt_vec(t->direction).c_str());
-        ImGui::Text("major %s  minor %s", rt::format_number(t->major).c_str(), rt::format_number(t->minor).c_str());
-    } else if (auto* g = std::get_if<rt::Csg>(&s)) {
-        ImGui::Text("type %c, operands: %s / %s", char(g->type),
-                    g->operands.size() > 0 ? shape_name(g->operands[0].shape) : "-",
-                    g->operands.size() > 1 ? shape_name(g->operands[1].shape) : "-");
-    }
 }
 
 const rt::Object* resolve(const rt::Scene& s, const Selection& sel) {
@@ -77,9 +79,9 @@ bool selection_valid(const rt::Scene& s, const Selection& sel) {
     return false;
 }
 
-bool drag_vec3(const char* label, rt::Vec3& v, float speed) {
+bool drag_vec3(const char* label, rt::Vec3& v, float speed, const char* format = "%.3f") {
     double a[3] = {v.x, v.y, v.z};
-    if (!ImGui::DragScalarN(label, ImGuiDataType_Double, a, 3, speed, nullptr, nullptr, "%.3f")) return false;
+    if (!ImGui::DragScalarN(label, ImGuiDataType_Double, a, 3, speed, nullptr, nullptr, format)) return false;
     v = {a[0], a[1], a[2]};
     return true;
 }
@@ -89,33 +91,39 @@ Rect item_block(const ImVec2& top_left, float width) {
     return {top_left.x, top_left.y, width, end.y - top_left.y};
 }
 
+// The keys of a material block, from the schema: weights as 0..1 sliders (values
+// above 1 are legal, the renderer normalises them: Ctrl+click to type one), clamped
+// keys within their clamp, colours with a picker. Labels are the format's key names.
 bool material_editor(const char* id, rt::Material& m) {
+    namespace sc = rt::schema;
     ImGui::PushID(id);
     bool changed = false;
-    const double zero = 0, one = 1, ior_max = 3;
-    ImGui::PushItemWidth(-ImGui::GetFontSize() * 9);
-    // Weights are normalised by their sum when rendering, so values above 1 are legal:
-    // Ctrl+click a slider to type one.
-    changed |= ImGui::SliderScalar("reflection", ImGuiDataType_Double, &m.reflection, &zero, &one, "%.3f");
-    changed |= ImGui::SliderScalar("refraction", ImGuiDataType_Double, &m.refraction, &zero, &one, "%.3f");
-    changed |= ImGui::SliderScalar("scattering", ImGuiDataType_Double, &m.scattering, &zero, &one, "%.3f");
-    changed |= ImGui::SliderScalar("translusans", ImGuiDataType_Double, &m.translusans, &zero, &one, "%.3f",
-                                   ImGuiSliderFlags_AlwaysClamp);
-    const double ior_min = 1;
-    changed |= ImGui::SliderScalar("refractive_index", ImGuiDataType_Double, &m.refractive_index, &ior_min, &ior_max,
-                                   "%.3f", ImGuiSliderFlags_AlwaysClamp);
-    float col[3] = {float(m.colour.x), float(m.colour.y), float(m.colour.z)};
-    if (ImGui::ColorEdit3("colour", col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR)) {
-        m.colour = {col[0], col[1], col[2]};
-        changed = true;
+    for (const sc::Key<rt::Material>& k : sc::material_block().keys) {
+        const std::string label(k.name);
+        if (k.kind == sc::Kind::Vec3) {
+            rt::Vec3& c = k.access.vec3(m, 0);
+            float col[3] = {float(c.x), float(c.y), float(c.z)};
+            if (ImGui::ColorEdit3(label.c_str(), col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR)) {
+                c = {col[0], col[1], col[2]};
+                changed = true;
+            }
+            continue;
+        }
+        if (k.kind != sc::Kind::Number) continue;
+        double& v = k.access.number(m, 0);
+        const bool clamped = k.range.rule == sc::Range::Rule::Clamp;
+        const double lo = clamped ? k.range.min : 0;
+        const double hi = clamped && k.range.max <= lo + 1 ? k.range.max : lo + (clamped ? 2 : 1);
+        ImGuiSliderFlags flags = clamped && k.range.max <= lo + 1 ? ImGuiSliderFlags_AlwaysClamp : 0;
+        changed |= ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &v, &lo, &hi, "%.3f", flags);
+        if (clamped && v < k.range.min) v = k.range.min;
     }
-    ImGui::PopItemWidth();
     double sum = m.reflection + m.refraction + m.scattering;
     if (sum != 0)
-        ImGui::TextDisabled("used as: reflection %.2f, refraction %.2f, scattering %.2f", m.reflection / sum,
-                            m.refraction / sum, m.scattering / sum);
+        ImGui::TextWrapped("used as: reflection %.2f, refraction %.2f, scattering %.2f", m.reflection / sum,
+                           m.refraction / sum, m.scattering / sum);
     else
-        ImGui::TextColored(kWarnColour, "all weights 0: the surface renders black");
+        wrapped_coloured(kWarnColour, "all weights 0: the surface renders black");
     ImGui::PopID();
     return changed;
 }
@@ -214,7 +222,13 @@ void Panels::select_from_option(const std::string& spec) {
     int n = 0;
     in >> kind >> n;
     const rt::Scene& s = editor_.doc().scene();
-    if (kind == "object" && n >= 1 && n <= int(s.objects.size())) selection_ = {Selection::Kind::Object, n - 1, {}};
+    if (kind == "object" && n >= 1 && n <= int(s.objects.size())) {
+        // "object 5 left right": a CSG operand below it.
+        Selection sel{Selection::Kind::Object, n - 1, {}};
+        std::string side;
+        while (in >> side && (side == "left" || side == "right")) sel.path.push_back(side == "left" ? 0 : 1);
+        if (resolve(s, sel)) selection_ = sel;
+    }
     if (kind == "plane" && n >= 1 && n <= int(s.planes.size())) selection_ = {Selection::Kind::Plane, n - 1, {}};
     if (kind == "light" && n >= 1 && n <= int(s.lights.size())) selection_ = {Selection::Kind::Light, n - 1, {}};
     scroll_to_selection_ = true;
@@ -270,7 +284,9 @@ void Panels::draw_camera_panel() {
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
     const Document& doc = editor_.doc();
-    ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+    // Open at first where it leaves the outline and the properties room (at a large UI
+    // scale in a small window it would fill the sidebar).
+    ImGui::SetNextItemOpen(ImGui::GetIO().DisplaySize.y >= 32 * ImGui::GetTextLineHeightWithSpacing(), ImGuiCond_Once);
     bool open = ImGui::CollapsingHeader("Camera");
     if (open && !doc.has_scene()) {
         ImGui::TextDisabled("No scene yet.");
@@ -287,23 +303,26 @@ void Panels::draw_camera_panel() {
         rt::Camera view = nav_.camera();
         bool differs = doc.has_scene() && nav_.differs_from(doc.scene().camera);
         ImGui::TextDisabled("View%s", differs ? " (moved; not in the file)" : " (= scene camera)");
-        ImGui::Text("eye    %.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
-        ImGui::Text("centre %.3f %.3f %.3f", view.centre.x, view.centre.y, view.centre.z);
+        ImGui::TextWrapped("eye    %.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
+        ImGui::TextWrapped("centre %.3f %.3f %.3f", view.centre.x, view.centre.y, view.centre.z);
         ViewAngles va = view_angles(view, nav_.world_up());
         double v3[3] = {va.azimuth, va.elevation, va.distance};
         if (ImGui::DragScalarN("az, el, dist", ImGuiDataType_Double, v3, 3, 0.25f, nullptr, nullptr, "%.2f"))
             nav_.set(set_view_angles(view, nav_.world_up(), {v3[0], std::clamp(v3[1], -89.0, 89.0), std::max(v3[2], 1e-6)}));
         if (layout_.fit == FitMode::Window && doc.has_scene()) {
             rt::Camera vc = fit_camera_to_aspect(view, layout_.film_w, layout_.film_h);
-            ImGui::TextDisabled("window shows angle_x %.1f (fitted to %dx%d)", vc.angle_x, layout_.film_w, layout_.film_h);
+            char fitted[96];
+            std::snprintf(fitted, sizeof fitted, "window shows angle_x %.1f (fitted to %dx%d)", vc.angle_x, layout_.film_w,
+                          layout_.film_h);
+            wrapped_hint(fitted);
         }
         ImGui::BeginDisabled(!differs);
         if (ImGui::Button("Set scene camera from view")) commands_.run(Command::SetSceneCamera);
         ImGui::EndDisabled();
-        ImGui::SameLine();
+        same_line_if_fits("Copy camera block");
         if (ImGui::Button("Copy camera block")) commands_.run(Command::CopyCamera);
         if (ImGui::Button("Frame (F)")) commands_.run(Command::FrameScene);
-        ImGui::SameLine();
+        same_line_if_fits("Reset view (R)");
         ImGui::BeginDisabled(!differs);
         if (ImGui::Button("Reset view (R)")) commands_.run(Command::ResetView);
         ImGui::EndDisabled();
@@ -342,7 +361,8 @@ void Panels::draw_objects_tab() {
     float h = std::max(ImGui::GetTextLineHeightWithSpacing() * 7, ImGui::GetContentRegionAvail().y * 0.45f);
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
-    if (ImGui::BeginChild("outline", ImVec2(0, h), true)) draw_outline();
+    // Long labels scroll sideways instead of being cut at the edge.
+    if (ImGui::BeginChild("outline", ImVec2(0, h), true, ImGuiWindowFlags_HorizontalScrollbar)) draw_outline();
     ImGui::EndChild();
     layout_.outline = item_block(top, width);
     if (ImGui::BeginChild("properties", ImVec2(0, 0), false)) draw_properties();
@@ -432,98 +452,226 @@ void Panels::draw_outline() {
     scroll_to_selection_ = false;
 }
 
+ItemRef Panels::selected_item() const {
+    ItemRef r;
+    switch (selection_.kind) {
+        case Selection::Kind::None: r.item.index = -1; break;
+        case Selection::Kind::Object: r.item = {SceneItem::Kind::Object, selection_.index}; break;
+        case Selection::Kind::Plane: r.item = {SceneItem::Kind::Plane, selection_.index}; break;
+        case Selection::Kind::Light: r.item = {SceneItem::Kind::Light, selection_.index}; break;
+    }
+    r.path = selection_.path;
+    return r;
+}
+
 void Panels::draw_properties() {
     if (!editor_.doc().has_scene()) return;
     const rt::Scene& s = editor_.doc().scene();
+    if (!(field_message_.selection == selection_)) field_message_ = {};
+    if (selection_.kind == Selection::Kind::None) {
+        wrapped_hint("Click an object in the image or in the list above.");
+        return;
+    }
+    const ItemRef ref = selected_item();
+    const char* block = item_block_name(s, ref);
+    if (!block) return;
+    // "Object 5: constructive_solid_geometry", "Object 5, left, right: sphere".
+    std::string title;
     switch (selection_.kind) {
-        case Selection::Kind::None:
-            ImGui::TextDisabled("Click an object in the image or in the list above.");
-            break;
-        case Selection::Kind::Object: {
-            const rt::Object* o = resolve(s, selection_);
-            if (!o) break;
-            ImGui::Text("Object %d: %s", selection_.index + 1, shape_name(o->shape));
-            if (o->loc.line > 0) {
-                ImGui::SameLine();
-                if (ImGui::SmallButton("show in text")) {
-                    editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), o->loc.line, o->loc.col)));
-                }
-            }
-            shape_details(o->shape);
-            ImGui::Separator();
-            if (!selection_.path.empty()) {
-                ImGui::TextWrapped("A CSG operand: only the whole CSG's material is rendered.");
-                if (ImGui::Button("Select the whole CSG")) selection_.path.clear();
+        case Selection::Kind::Object: title = "Object " + std::to_string(selection_.index + 1); break;
+        case Selection::Kind::Plane: title = "Plane " + std::to_string(selection_.index + 1); break;
+        case Selection::Kind::Light: title = "Light " + std::to_string(selection_.index + 1); break;
+        case Selection::Kind::None: break;
+    }
+    for (int k : selection_.path) title += k == 0 ? ", left" : ", right";
+    title += std::string(": ") + block;
+    ImGui::TextWrapped("%s", title.c_str());
+    rt::SourceLoc loc;
+    if (selection_.kind == Selection::Kind::Object) {
+        if (const rt::Object* o = resolve(s, selection_)) loc = o->loc;
+    } else if (selection_.kind == Selection::Kind::Plane) {
+        loc = s.planes[std::size_t(selection_.index)].loc;
+    } else {
+        loc = s.lights[std::size_t(selection_.index)].loc;
+    }
+    if (loc.line > 0 && ImGui::SmallButton("show in text"))
+        editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), loc.line, loc.col)));
+    if (!selection_.path.empty()) {
+        if (loc.line > 0) same_line_if_fits("select the parent");
+        if (ImGui::SmallButton("select the parent")) {
+            selection_.path.pop_back();
+            return;
+        }
+        wrapped_hint("A CSG operand: its shape counts, but only the whole CSG's material is rendered.");
+    }
+    if (selection_.kind == Selection::Kind::Light) {
+        // The block's kind: switching keeps the lamp's size for switching back.
+        const bool lamp = s.lights[std::size_t(selection_.index)].lamp;
+        if (ImGui::SmallButton(lamp ? "make it a spotlight" : "make it a lamp")) commands_.run(Command::SwitchLight);
+        const char* what = lamp ? "(point light and glow)" : "(point light)";
+        same_line_if_fits(what);
+        ImGui::TextDisabled("%s", what);
+    }
+    ImGui::Separator();
+    draw_fields(ref);
+}
+
+// One widget per key of the selected item's block, from the schema (item_fields.h):
+// what the panel offers is what the format has. A change goes through set_field, so the
+// parser's ranges apply; a refused value leaves the item as it was and says why.
+void Panels::draw_fields(const ItemRef& ref) {
+    namespace sc = rt::schema;
+    Document& doc = editor_.doc();
+    const std::vector<Field> fields = item_fields(doc.scene(), ref);
+    // Room for the longest label, whatever the UI scale.
+    const float label_w = field_label_width();
+    const float size = float(scene_size());
+    // Dragging rounds to the digits shown: enough of them for a small scene.
+    char vec_format[16];
+    std::snprintf(vec_format, sizeof vec_format, "%%.%df", std::clamp(4 - int(std::floor(std::log10(size))), 3, 9));
+    int operand = 0;
+    for (const Field& f : fields) {
+        std::optional<FieldValue> cur = field_value(doc.scene(), ref, f);
+        if (!cur) continue;
+        FieldValue v = *cur;
+        bool changed = false;
+        ImGui::PushID(f.label.c_str());
+        ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
+        switch (f.kind) {
+            case sc::Kind::Number: {
+                const float speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
+                changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, speed, nullptr, nullptr, "%.6g");
+                if (ImGui::IsItemHovered()) ImGui::SetTooltip("Drag, or Ctrl+click to type a value");
                 break;
             }
-            ImGui::Text(o->has_material ? "Material" : "Material (none in the file: object default)");
-            rt::Material m = o->material;
-            if (material_editor("material", m)) {
-                rt::Object& e = editor_.doc().edit_object(std::size_t(selection_.index));
-                e.material = m;
-                e.has_material = true;
-            }
-            break;
-        }
-        case Selection::Kind::Plane: {
-            const rt::Plane& p = s.planes[std::size_t(selection_.index)];
-            ImGui::Text("Plane %d: %s", selection_.index + 1, p.chess ? "chess_plane" : "plane");
-            for (int i = 0; i < 4; ++i) ImGui::Text("point %d  %s", i + 1, fmt_vec(p.point[i]).c_str());
-            ImGui::Separator();
-            ImGui::Text(p.chess ? "Material 1" : "Material");
-            rt::Material m = p.material;
-            if (material_editor("m1", m)) {
-                rt::Plane& e = editor_.doc().edit_plane(std::size_t(selection_.index));
-                e.material = m;
-                e.has_material = true;
-            }
-            if (p.chess) {
-                ImGui::Text("Material 2");
-                rt::Material m2 = p.material2;
-                if (material_editor("m2", m2)) {
-                    rt::Plane& e = editor_.doc().edit_plane(std::size_t(selection_.index));
-                    e.material2 = m2;
-                    e.has_material2 = true;
+            case sc::Kind::Vec3: {
+                if (ref.item.kind == SceneItem::Kind::Light && f.key == "colour") {
+                    changed = light_colour_editor(v.vec);
+                    break;
                 }
+                changed = drag_vec3(f.label.c_str(), v.vec, size * 0.002f, vec_format);
+                break;
             }
-            break;
+            case sc::Kind::Integer: {
+                changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, 1.0f, nullptr, nullptr, "%.0f");
+                break;
+            }
+            case sc::Kind::Choice: {
+                const std::string now(f.choice->word_for(v.choice));
+                if (ImGui::BeginCombo(f.label.c_str(), choice_label(f.key, now).c_str())) {
+                    std::vector<int> seen;
+                    for (const sc::Choice::Word& w : f.choice->words) {
+                        if (std::find(seen.begin(), seen.end(), w.value) != seen.end()) continue;
+                        seen.push_back(w.value);
+                        if (ImGui::Selectable(choice_label(f.key, w.word).c_str(), w.value == v.choice) && w.value != v.choice) {
+                            v.choice = w.value;
+                            changed = true;
+                        }
+                    }
+                    ImGui::EndCombo();
+                }
+                break;
+            }
+            case sc::Kind::Material: {
+                ImGui::Separator();
+                ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
+                changed = material_editor(f.label.c_str(), v.material);
+                break;
+            }
+            case sc::Kind::Operand: {
+                // A CSG's operands: select one to edit its keys (also in the outline).
+                const int side = operand++;
+                std::string b = f.label + ": " + (v.operand ? sc::object_block(*v.operand).name.data() : "-");
+                if (v.operand && ImGui::Button((b + " (edit)").c_str())) {
+                    selection_.path.push_back(side);
+                    scroll_to_selection_ = true;
+                }
+                break;
+            }
         }
-        case Selection::Kind::Light: {
-            rt::Light l = s.lights[std::size_t(selection_.index)];
-            ImGui::Text("Light %d: %s", selection_.index + 1, l.lamp ? "lamp (point light and glow)" : "spotlight (point light)");
-            bool changed = false;
-            ImGui::PushItemWidth(-ImGui::GetFontSize() * 9);
-            changed |= drag_vec3("position", l.position, float(scene_size() * 0.002));
-            // Light colours are intensities (often >> 1 because of the 1/r^2 fall-off):
-            // edit them as a tint and a strength.
-            double intensity = std::max({l.colour.x, l.colour.y, l.colour.z, 0.0});
-            rt::Vec3 tint = intensity > 0 ? l.colour / intensity : rt::Vec3{1, 1, 1};
-            float col[3] = {float(tint.x), float(tint.y), float(tint.z)};
-            if (ImGui::ColorEdit3("tint", col, ImGuiColorEditFlags_Float)) {
-                tint = {col[0], col[1], col[2]};
-                if (intensity == 0) intensity = 1;
-                changed = true;
-            }
-            const double zero = 0;
-            if (ImGui::DragScalar("intensity", ImGuiDataType_Double, &intensity, float(std::max(intensity * 0.005, 0.01)),
-                                  &zero, nullptr, "%.2f"))
-                changed = true;
-            if (l.lamp) {
-                if (ImGui::DragScalar("glow size", ImGuiDataType_Double, &l.size, 0.005f, nullptr, nullptr, "%.3f"))
-                    changed = true;
-            }
-            ImGui::PopItemWidth();
-            ImGui::TextDisabled("colour %s", fmt_vec(l.colour).c_str());
-            if (changed) {
-                l.colour = tint * intensity;
-                rt::Light& e = editor_.doc().edit_light(std::size_t(selection_.index));
-                e.position = l.position;
-                e.colour = l.colour;
-                e.size = l.size;
-            }
-            break;
+        ImGui::PopItemWidth();
+        if (changed) {
+            FieldResult r = set_field(doc, ref, f, v);
+            if (!r.error.empty()) field_message_ = {selection_, f.label, r.error, true};
+            // (A material's own warning is shown by its editor already.)
+            else if (!r.warning.empty() && f.kind != sc::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
+            else if (field_message_.field == f.label) field_message_ = {};
         }
+        if (field_message_.field == f.label && !field_message_.text.empty())
+            wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+        ImGui::PopID();
     }
+}
+
+// A light's colour is an intensity (often >> 1 because of the 1/r^2 fall-off): its three
+// numbers, and the same as a tint and a strength.
+bool Panels::light_colour_editor(rt::Vec3& colour) {
+    bool changed = drag_vec3("colour", colour, float(std::max({colour.x, colour.y, colour.z, 1.0}) * 0.005));
+    double intensity = std::max({colour.x, colour.y, colour.z, 0.0});
+    rt::Vec3 tint = intensity > 0 ? colour / intensity : rt::Vec3{1, 1, 1};
+    float col[3] = {float(tint.x), float(tint.y), float(tint.z)};
+    bool tinted = false;
+    if (ImGui::ColorEdit3("tint", col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_NoInputs)) {
+        tint = {col[0], col[1], col[2]};
+        if (intensity == 0) intensity = 1;
+        tinted = true;
+    }
+    ImGui::SameLine();
+    const double zero = 0;
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 6);
+    if (ImGui::DragScalar("intensity", ImGuiDataType_Double, &intensity, float(std::max(intensity * 0.005, 0.01)), &zero,
+                          nullptr, "%.2f"))
+        tinted = true;
+    if (tinted) {
+        colour = tint * intensity;
+        changed = true;
+    }
+    return changed;
+}
+
+// "U (union)" for the CSG types; other words as they are.
+std::string Panels::choice_label(std::string_view key, std::string_view word) {
+    if (key == "type") {
+        if (word == "U") return "U (union)";
+        if (word == "I") return "I (intersection)";
+        if (word == "C") return "C (difference: left minus right)";
+    }
+    return std::string(word);
+}
+
+// The narrowest sidebar in which the property fields keep their labels whole and
+// three numbers of a point stay readable.
+float Panels::min_sidebar_width() {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    const float number = ImGui::CalcTextSize("-00.000").x + 2 * st.FramePadding.x;
+    const float fields = field_label_width() + st.ItemInnerSpacing.x + 2 + 3 * number + 2 * st.ItemInnerSpacing.x;
+    // The sidebar's padding, and its and the properties' scroll bars.
+    return std::ceil(fields + 2 * st.WindowPadding.x + 2 * st.ScrollbarSize);
+}
+
+// The widest label the property fields use, at the current font: every key of every
+// block (and of the material block), so the layout does not jump between selections.
+float Panels::field_label_width() {
+    namespace sc = rt::schema;
+    const float font = ImGui::GetFontSize();
+    if (label_w_font_ == font) return label_w_;
+    float w = 0;
+    auto measure = [&w](std::string_view name, int count) {
+        std::string l(name);
+        if (count > 0) l += " " + std::to_string(count);
+        w = std::max(w, ImGui::CalcTextSize(l.c_str()).x);
+    };
+    for (const auto& b : sc::object_blocks())
+        for (const auto& k : b.keys) measure(k.name, k.count);
+    for (const auto& b : sc::plane_blocks())
+        for (const auto& k : b.keys) measure(k.name, k.count);
+    for (const auto& b : sc::light_blocks())
+        for (const auto& k : b.keys) measure(k.name, k.count);
+    for (const auto& k : sc::material_block().keys) measure(k.name, k.count);
+    measure("intensity", 0);
+    label_w_ = w;
+    label_w_font_ = font;
+    return w;
 }
 
 void Panels::draw_render_tab() {
@@ -554,23 +702,110 @@ void Panels::draw_render_tab() {
     if (ImGui::RadioButton(pic.c_str(), layout_.fit == FitMode::Picture)) commands_.run(Command::FitPicture);
     ImGui::Separator();
     rt::RenderProgress p = render_.progress();
-    ImGui::Text("film %dx%d, %d render threads", p.width, p.height, render_.threads());
+    ImGui::TextWrapped("film %dx%d, %d render threads", p.width, p.height, render_.threads());
     ImGui::Text("rays traced: %.3g", double(p.rays));
     if (p.first_coarse_time >= 0)
-        ImGui::Text("first coarse pass: %.1f ms (%dx%d blocks)", p.first_coarse_time * 1000, render_.last_coarse_block(),
+        ImGui::TextWrapped("first coarse pass: %.1f ms (%dx%d blocks)", p.first_coarse_time * 1000, render_.last_coarse_block(),
                     render_.last_coarse_block());
-    if (render_.last_latency_ms() >= 0) ImGui::Text("last view change to image: %.1f ms", render_.last_latency_ms());
+    if (render_.last_latency_ms() >= 0) ImGui::TextWrapped("last view change to image: %.1f ms", render_.last_latency_ms());
     ImGui::Separator();
     if (ImGui::Button("Save image... (Ctrl+P)")) commands_.run(Command::SaveImageDialog);
-    ImGui::SameLine();
+    same_line_if_fits("Screenshot (F12)");
     if (ImGui::Button("Screenshot (F12)")) commands_.run(Command::Screenshot, "raytracer-view-screenshot.png");
 }
+
+namespace {
+
+// Pieces of status-bar text flowed into rows: a piece stays on the current row if it
+// fits (with its separator), else it starts a row of its own at the left, wrapped at
+// the bar's right edge. Returns the height of the rows below the first; draws them
+// when `draw`.
+struct StatusPiece {
+    std::string text;
+    const char* sep = "";
+    const ImVec4* colour = nullptr;
+};
+
+float flow_status(const std::vector<StatusPiece>& pieces, float x, float left, float right, bool draw) {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    float extra = 0;
+    bool first = true;
+    for (const StatusPiece& p : pieces) {
+        const std::string joined = p.sep + p.text;
+        const float w = ImGui::CalcTextSize(joined.c_str()).x;
+        const bool fits = x + w <= right;
+        if (draw) {
+            if (p.colour) ImGui::PushStyleColor(ImGuiCol_Text, *p.colour);
+            if (fits) {
+                if (!first) ImGui::SameLine();
+                ImGui::TextUnformatted(joined.c_str());
+            } else {
+                if (first) ImGui::NewLine();
+                ImGui::SetCursorPosX(left);
+                ImGui::PushTextWrapPos(right);
+                ImGui::TextUnformatted(p.text.c_str());
+                ImGui::PopTextWrapPos();
+            }
+            if (p.colour) ImGui::PopStyleColor();
+        }
+        if (fits) {
+            x += w + st.ItemSpacing.x;
+        } else {
+            extra += ImGui::CalcTextSize(p.text.c_str(), nullptr, false, right - left).y + st.ItemSpacing.y;
+            x = right;  // what follows starts a row of its own
+        }
+        first = false;
+    }
+    return extra;
+}
+
+// "spp" names the progress bar's numbers: it stays beside them.
+void add_status_line(std::vector<StatusPiece>& pieces, const std::string& text) {
+    if (text.rfind("spp  ", 0) == 0) {
+        pieces.push_back({"spp"});
+        pieces.push_back({text.substr(5), " "});
+    } else {
+        pieces.push_back({text});
+    }
+}
+
+// The status bar's window padding (unscaled, as its one row always had).
+const ImVec2 kStatusPadding(6, 4);
+
+// The pieces of the status bar's usual contents at their usual width: the statistics
+// with the message, and a pixel readout (a longer one makes the bar grow while the
+// message stays: status_more_).
+std::vector<StatusPiece> usual_stats() {
+    std::vector<StatusPiece> p;
+    add_status_line(p, "spp  00.00 Mrays/s  000.0 s  rendering  |  picture frame");
+    return p;
+}
+std::vector<StatusPiece> usual_readout() {
+    std::vector<StatusPiece> p;
+    add_status_line(p, "spp  rendering  | x 000 y 000   RGB 0.000 0.000 0.000   64 spp   object 10 (sphere) at 0.00");
+    return p;
+}
+
+// Where the text starts on the first row: after the button and the progress bar.
+float status_text_x() {
+    const float spacing = ImGui::GetStyle().ItemSpacing.x;
+    return kStatusPadding.x + ImGui::GetFontSize() * (4.5f + 8) + 2 * spacing;
+}
+
+// The pieces followed by the last message, if there is one.
+std::vector<StatusPiece> with_message(const StatusLine& status, std::vector<StatusPiece> pieces) {
+    static const ImVec4 grey(0.75f, 0.75f, 0.75f, 1);
+    if (!status.text().empty()) pieces.push_back({status.text(), "| ", status.error() ? &kErrorColour : &grey});
+    return pieces;
+}
+
+}  // namespace
 
 void Panels::draw_status_bar(const LoadStatus& load) {
     ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - layout_.status_h));
     ImGui::SetNextWindowSize(ImVec2(float(layout_.area.w), layout_.status_h));
-    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(6, 4));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, kStatusPadding);
     ImGuiWindowFlags flags = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
                              ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings |
                              ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoBringToFrontOnFocus;
@@ -581,7 +816,7 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             ImGui::SameLine();
             ImGui::ProgressBar(float(load.fraction), ImVec2(ImGui::GetFontSize() * 8, 0));
             ImGui::SameLine();
-            ImGui::Text("%s (Esc cancels)", load.text.c_str());
+            status_text(load.text + " (Esc cancels)", true);
         } else {
             rt::RenderProgress p = render_.progress();
             if (ImGui::Button(render_.paused() ? "Resume" : "Pause", ImVec2(ImGui::GetFontSize() * 4.5f, 0)))
@@ -608,20 +843,54 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             const char* shown = render_.showing_preview() ? preview : state;
             // Over the picture: the readout of the pixel under the cursor instead of the
             // statistics and the last message.
+            char line[512];
             if (!tools_.readout_line().empty())
-                ImGui::Text("spp  %s  | %s", shown, tools_.readout_line().c_str());
+                std::snprintf(line, sizeof line, "spp  %s  | %s", shown, tools_.readout_line().c_str());
             else
-                ImGui::Text("spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
-                            layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
-        }
-        if (!status_.text().empty() && (load.active || tools_.readout_line().empty())) {
-            ImGui::SameLine();
-            ImGui::TextColored(status_.error() ? kErrorColour : ImVec4(0.75f, 0.75f, 0.75f, 1), "| %s",
-                               status_.text().c_str());
+                std::snprintf(line, sizeof line, "spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
+                              layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
+            status_text(line, tools_.readout_line().empty());
         }
     }
     ImGui::End();
     ImGui::PopStyleVar();
+}
+
+// The rows below the first that the status bar's usual contents need in a window
+// `width` wide: the statistics with the message (the current one, and one of the usual
+// length, so that the next message rarely changes the bar's height), or a readout.
+float Panels::usual_status_extra(float width) const {
+    const float left = kStatusPadding.x, right = width - kStatusPadding.x, x = status_text_x();
+    StatusLine typical;
+    typical.set("The scene camera is now the view (Ctrl+Z undoes)");
+    return std::max({flow_status(with_message(status_, usual_stats()), x, left, right, false),
+                     flow_status(with_message(typical, usual_stats()), x, left, right, false),
+                     flow_status(usual_readout(), x, left, right, false)});
+}
+
+// The status bar's height in a window `width` wide: what its usual contents need
+// rather than what it shows now, so the image area keeps its size when the mouse moves
+// onto the picture, a dialog opens or a message comes. Known before the bar is drawn:
+// the first frame has it right.
+float Panels::status_height(float width) {
+    float extra = usual_status_extra(width);
+    // Shown text that needed more (a long object name), while the message and width last.
+    if (status_more_.width == width && status_more_.font == ImGui::GetFontSize() && status_more_.text == status_.text())
+        extra = std::max(extra, status_more_.extra);
+    return std::ceil(ImGui::GetFrameHeight() + 8 * ImGui::GetFontSize() / 13.f + extra);
+}
+
+// The status bar's text right of the button and the progress bar, then the last message
+// (`show_message`). What does not fit on the row goes on rows of its own below rather
+// than being cut at the bar's edge (status_height() leaves room for them).
+void Panels::status_text(const std::string& text, bool show_message) {
+    std::vector<StatusPiece> shown;
+    add_status_line(shown, text);
+    if (show_message) shown = with_message(status_, std::move(shown));
+    const float extra = flow_status(shown, ImGui::GetCursorPosX(), ImGui::GetWindowContentRegionMin().x,
+                                    ImGui::GetWindowContentRegionMax().x, true);
+    const float width = ImGui::GetWindowWidth();
+    if (extra > usual_status_extra(width)) status_more_ = {width, ImGui::GetFontSize(), status_.text(), extra};
 }
 
 void Panels::draw_surround() {

@@ -5,10 +5,12 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "editor.h"
 #include "image_tools.h"
+#include "item_fields.h"
 #include "navigator.h"
 #include "render_controller.h"
 #include "shared.h"
@@ -45,6 +47,10 @@ public:
     // --select "object N" etc.
     void select_from_option(const std::string& spec);
     double scene_size() const;
+    // The status bar's height in a window `width` wide: at a large UI scale or in a
+    // narrow window its text takes more than one row.
+    float status_height(float width);
+    float min_sidebar_width();
 
 private:
     void draw_camera_panel();
@@ -52,7 +58,14 @@ private:
     void draw_outline();
     void draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label);
     void draw_properties();
+    void draw_fields(const ItemRef& ref);
+    bool light_colour_editor(rt::Vec3& colour);
+    static std::string choice_label(std::string_view key, std::string_view word);
+    float field_label_width();
+    ItemRef selected_item() const;
     void draw_render_tab();
+    void status_text(const std::string& text, bool show_message);
+    float usual_status_extra(float width) const;
 
     Commands& commands_;
     DocumentEditor& editor_;
@@ -63,6 +76,20 @@ private:
     ImageTools& tools_;
 
     Selection selection_;
+    // The last refusal or warning of a property field, shown under it until that field
+    // is set again or another item is selected.
+    struct FieldMessage {
+        Selection selection;
+        std::string field, text;
+        bool error = false;
+    } field_message_;
+    float label_w_ = 0, label_w_font_ = 0;  // field_label_width() at that font size
+    // Shown status text that needed more room than the usual contents: for how long.
+    struct StatusMore {
+        float width = 0, font = 0;
+        std::string text;
+        float extra = 0;
+    } status_more_;
     bool scroll_to_selection_ = false;
     int want_tab_ = -1;  // select this tab on the next frame
     int current_tab_ = 0;

@@ -1,0 +1,273 @@
+// Fields of scene items from the schema (see item_fields.h). Every check here is one
+// the parser makes, with its message: what the panel refuses the text would refuse.
+#include "item_fields.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "document.h"
+#include "scene_writer.h"
+
+namespace rtview {
+
+namespace {
+
+namespace sc = rt::schema;
+
+// The object `ref` names inside `top` (top itself for an empty path), or null.
+rt::Object* operand_at(rt::Object& top, const std::vector<int>& path) {
+    rt::Object* o = &top;
+    for (int k : path) {
+        auto* g = std::get_if<rt::Csg>(&o->shape);
+        if (!g || k < 0 || k >= int(g->operands.size())) return nullptr;
+        o = &g->operands[std::size_t(k)];
+    }
+    return o;
+}
+
+bool in_range(const rt::Scene& s, const SceneItem& it) {
+    if (it.index < 0) return false;
+    const std::size_t i = std::size_t(it.index);
+    switch (it.kind) {
+        case SceneItem::Kind::Object: return i < s.objects.size();
+        case SceneItem::Kind::Plane: return i < s.planes.size();
+        case SceneItem::Kind::Light: return i < s.lights.size();
+    }
+    return false;
+}
+
+// Calls f(block, item) with the item `ref` names in `scene` (non-const: the set_field
+// paths write through it). False if there is none.
+template <class F>
+bool visit_item(rt::Scene& scene, const ItemRef& ref, F&& f) {
+    if (!in_range(scene, ref.item)) return false;
+    const std::size_t i = std::size_t(ref.item.index);
+    switch (ref.item.kind) {
+        case SceneItem::Kind::Object: {
+            rt::Object* o = operand_at(scene.objects[i], ref.path);
+            if (!o) return false;
+            f(sc::object_block(*o), *o);
+            return true;
+        }
+        case SceneItem::Kind::Plane:
+            if (!ref.path.empty()) return false;
+            f(sc::plane_block(scene.planes[i]), scene.planes[i]);
+            return true;
+        case SceneItem::Kind::Light:
+            if (!ref.path.empty()) return false;
+            f(sc::light_block(scene.lights[i]), scene.lights[i]);
+            return true;
+    }
+    return false;
+}
+
+template <class T>
+std::vector<Field> fields_of(const sc::Block<T>& b) {
+    std::vector<Field> out;
+    // Lead keys, the rest, then materials: what an item is and where it is matters
+    // first in a panel (the writer leads with the material instead).
+    auto rank = [](const sc::Key<T>& k) { return k.kind == sc::Kind::Material ? 2 : k.lead ? 0 : 1; };
+    for (int r = 0; r < 3; ++r)
+        for (std::size_t n = 0; n < b.keys.size(); ++n) {
+            const sc::Key<T>& k = b.keys[n];
+            if (rank(k) != r) continue;
+            for (int i = 0; i < std::max(k.count, 1); ++i) {
+                Field f;
+                f.label = std::string(k.name) + (k.count > 0 ? " " + std::to_string(i + 1) : "");
+                f.key = k.name;
+                f.kind = k.kind;
+                f.index = i;
+                f.key_number = int(n);
+                f.range = &k.range;
+                f.choice = k.choice;
+                out.push_back(std::move(f));
+            }
+        }
+    return out;
+}
+
+template <class T>
+FieldValue value_of(const sc::Block<T>& b, const T& item, const Field& f) {
+    const sc::Key<T>& k = b.keys[std::size_t(f.key_number)];
+    FieldValue v;
+    switch (k.kind) {
+        case sc::Kind::Number: v.number = k.number(item, f.index); break;
+        case sc::Kind::Vec3: v.vec = k.vec3(item, f.index); break;
+        case sc::Kind::Integer: v.number = k.integer(item, f.index); break;
+        case sc::Kind::Choice: v.choice = k.access.get_choice(item); break;
+        case sc::Kind::Material:
+            v.material = k.material(item, f.index);
+            v.has_material = k.has_material(item, f.index);
+            break;
+        case sc::Kind::Operand: v.operand = k.operand(item, f.index); break;
+    }
+    return v;
+}
+
+std::string vec_problem(const rt::Vec3& v) {
+    for (int c = 0; c < 3; ++c)
+        if (std::string m = number_problem(v[c]); !m.empty()) return m;
+    return {};
+}
+
+// A material as the parser leaves it: numbers checked, clamps applied.
+std::string checked_material(rt::Material& m) {
+    for (const sc::Key<rt::Material>& k : sc::material_block().keys) {
+        if (k.kind == sc::Kind::Vec3) {
+            if (std::string e = vec_problem(k.vec3(m)); !e.empty()) return e;
+            continue;
+        }
+        double& x = k.access.number(m, 0);
+        if (std::string e = number_problem(x); !e.empty()) return e;
+        if (k.range.rule == sc::Range::Rule::Clamp && !k.range.contains(x)) x = std::clamp(x, k.range.min, k.range.max);
+        if (k.range.rule == sc::Range::Rule::Error && !k.range.contains(x)) return k.range.message;
+    }
+    return {};
+}
+
+// Sets the field on a copy of `item`; the copy replaces it only if every check passes.
+template <class T>
+FieldResult assign(const sc::Block<T>& b, T& item, const Field& f, const FieldValue& v) {
+    FieldResult r;
+    if (f.key_number < 0 || std::size_t(f.key_number) >= b.keys.size() || b.keys[std::size_t(f.key_number)].name != f.key ||
+        f.index < 0 || f.index >= std::max(b.keys[std::size_t(f.key_number)].count, 1)) {
+        r.error = "the item has no key '" + std::string(f.key) + "'";
+        return r;
+    }
+    const sc::Key<T>& k = b.keys[std::size_t(f.key_number)];
+    T copy = item;
+    switch (k.kind) {
+        case sc::Kind::Number: {
+            double x = v.number;
+            if (r.error = number_problem(x); !r.error.empty()) return r;
+            if (!k.range.contains(x)) {
+                if (k.range.rule == sc::Range::Rule::Error) {
+                    r.error = k.range.message;
+                    return r;
+                }
+                if (k.range.rule == sc::Range::Rule::Clamp) x = std::clamp(x, k.range.min, k.range.max);
+            }
+            k.access.number(copy, f.index) = x;
+            break;
+        }
+        case sc::Kind::Vec3:
+            if (r.error = vec_problem(v.vec); !r.error.empty()) return r;
+            k.access.vec3(copy, f.index) = v.vec;
+            break;
+        case sc::Kind::Integer: {
+            const double x = std::round(v.number);
+            if (!(x >= k.range.min && x <= k.range.max)) {
+                r.error = k.range.message ? k.range.message : "number out of range";
+                return r;
+            }
+            k.access.integer(copy, f.index) = int(x);
+            break;
+        }
+        case sc::Kind::Choice:
+            if (k.choice->word_for(v.choice).empty()) {
+                r.error = std::string(k.choice->wrong) + "'" + std::to_string(v.choice) + "'";
+                return r;
+            }
+            k.access.set_choice(copy, v.choice);
+            break;
+        case sc::Kind::Material: {
+            rt::Material m = v.material;
+            if (r.error = checked_material(m); !r.error.empty()) return r;
+            k.access.material(copy, f.index) = m;
+            k.access.has_material(copy, f.index) = true;
+            if (sc::Problem p = sc::material_block().check(m)) r.warning = p.message;
+            break;
+        }
+        case sc::Kind::Operand:
+            r.error = "select the " + std::string(k.name) + " operand to edit it";
+            return r;
+    }
+    if (b.check) {
+        if (sc::Problem p = b.check(copy)) {
+            if (p.severity == sc::Problem::Severity::Error) {
+                r.error = p.message;
+                r.warning.clear();
+                return r;
+            }
+            if (r.warning.empty()) r.warning = p.message;
+        }
+    }
+    item = std::move(copy);
+    r.applied = true;
+    return r;
+}
+
+}  // namespace
+
+std::string number_problem(double v) {
+    // As the parser words it for a token it cannot take as a number.
+    constexpr double kMaxMagnitude = 1e15;
+    if (std::isnan(v)) return "number 'nan' is out of range (magnitude at most 1e15)";
+    if (std::isinf(v)) return std::string("number '") + (v < 0 ? "-inf" : "inf") + "' is out of range (magnitude at most 1e15)";
+    if (std::fabs(v) > kMaxMagnitude)
+        return "number '" + rt::format_number(v) + "' is out of range (magnitude at most 1e15)";
+    return {};
+}
+
+const char* item_block_name(const rt::Scene& scene, const ItemRef& ref) {
+    const char* name = nullptr;
+    visit_item(const_cast<rt::Scene&>(scene), ref, [&](const auto& b, const auto&) { name = b.name.data(); });
+    return name;
+}
+
+std::vector<Field> item_fields(const rt::Scene& scene, const ItemRef& ref) {
+    std::vector<Field> out;
+    visit_item(const_cast<rt::Scene&>(scene), ref, [&](const auto& b, const auto&) { out = fields_of(b); });
+    return out;
+}
+
+std::optional<FieldValue> field_value(const rt::Scene& scene, const ItemRef& ref, const Field& f) {
+    std::optional<FieldValue> v;
+    visit_item(const_cast<rt::Scene&>(scene), ref, [&](const auto& b, const auto& item) {
+        if (f.key_number >= 0 && std::size_t(f.key_number) < b.keys.size() && b.keys[std::size_t(f.key_number)].name == f.key)
+            v = value_of(b, item, f);
+    });
+    return v;
+}
+
+FieldResult set_field(rt::Scene& scene, const ItemRef& ref, const Field& f, const FieldValue& v) {
+    FieldResult r;
+    if (!visit_item(scene, ref, [&](const auto& b, auto& item) { r = assign(b, item, f, v); }))
+        r.error = "the selected item no longer exists";
+    return r;
+}
+
+FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const FieldValue& v) {
+    FieldResult r;
+    if (!doc.has_scene() || !in_range(doc.scene(), ref.item)) {
+        r.error = "the selected item no longer exists";
+        return r;
+    }
+    // Checked on a copy of the one top-level item; the document sees only a real change.
+    const std::size_t i = std::size_t(ref.item.index);
+    rt::Scene one;
+    switch (ref.item.kind) {
+        case SceneItem::Kind::Object: one.objects.push_back(doc.scene().objects[i]); break;
+        case SceneItem::Kind::Plane: one.planes.push_back(doc.scene().planes[i]); break;
+        case SceneItem::Kind::Light: one.lights.push_back(doc.scene().lights[i]); break;
+    }
+    ItemRef local = ref;
+    local.item.index = 0;
+    r = set_field(one, local, f, v);
+    if (!r.applied) return r;
+    switch (ref.item.kind) {
+        case SceneItem::Kind::Object:
+            if (!(one.objects[0] == doc.scene().objects[i])) doc.edit_object(i) = std::move(one.objects[0]);
+            break;
+        case SceneItem::Kind::Plane:
+            if (!(one.planes[0] == doc.scene().planes[i])) doc.edit_plane(i) = std::move(one.planes[0]);
+            break;
+        case SceneItem::Kind::Light:
+            if (!(one.lights[0] == doc.scene().lights[i])) doc.edit_light(i) = std::move(one.lights[0]);
+            break;
+    }
+    return r;
+}
+
+}  // namespace rtview

@@ -1,0 +1,76 @@
+// The keys of a scene item as editable fields, generated from the schema
+// (scene_schema.h): which keys the selected object, CSG operand, plane or light has,
+// their current values, and setting one with the parser's ranges, clamps and
+// messages. The panels draw a widget per field; no GL, unit-tested in tests/viewer.
+//   for (const Field& f : item_fields(scene, ref))
+//       if (f.kind == rt::schema::Kind::Number) edit(f.label, field_value(scene, ref, f)->number);
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "scene.h"
+#include "scene_edits.h"
+#include "scene_schema.h"
+
+namespace rtview {
+
+class Document;
+
+// A top-level item, or a CSG operand below an object (path: 0 = left, 1 = right).
+struct ItemRef {
+    SceneItem item;
+    std::vector<int> path;
+};
+
+// One key of the item's block (one per index for keys with an index: "point 2").
+struct Field {
+    std::string label;       // "radius", "point 2", "material 1"
+    std::string_view key;    // the key's name in the format
+    rt::schema::Kind kind = rt::schema::Kind::Number;
+    int index = 0;           // the key's index - 1 (0 for keys without one)
+    int key_number = 0;      // the key's place in its block's key list
+    const rt::schema::Range* range = nullptr;   // Number keys
+    const rt::schema::Choice* choice = nullptr;  // Choice keys
+};
+
+// A field's value; the member of the field's kind is the one that counts.
+struct FieldValue {
+    double number = 0;
+    rt::Vec3 vec;
+    int choice = 0;
+    rt::Material material;
+    bool has_material = false;  // Material: the block gives one (else the default is shown)
+    const rt::Object* operand = nullptr;  // Operand: the object inside it
+};
+
+// The block the item is written as ("sphere", "chess_plane", "lamp"), or null if `ref`
+// names nothing in `scene`.
+const char* item_block_name(const rt::Scene& scene, const ItemRef& ref);
+// The item's keys: lead keys (a CSG's `type`), the others in schema order, materials
+// last. Empty if `ref` names nothing.
+std::vector<Field> item_fields(const rt::Scene& scene, const ItemRef& ref);
+std::optional<FieldValue> field_value(const rt::Scene& scene, const ItemRef& ref, const Field& f);
+
+struct FieldResult {
+    bool applied = false;
+    std::string error;    // refused, with the message the parser gives for such a value
+    std::string warning;  // applied; the parser warns about the item as it is now
+};
+
+// Sets one field of a scene item after the parser's checks: numbers finite and of
+// magnitude at most 1e15, the key's range (an error refuses the value, a clamp clamps
+// it), then the block's rule across its keys (a flat tetrahedron, a cylinder with equal
+// ends, plane points on one line ... refuse it; a warning lets it through).
+FieldResult set_field(rt::Scene& scene, const ItemRef& ref, const Field& f, const FieldValue& v);
+// The same, as a pending edit of the document (Document::commit ends it: a whole slider
+// drag is one undo step and one rewrite of the item's block). Nothing is touched when
+// the value is refused or unchanged.
+FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const FieldValue& v);
+
+// The parser's message for a number outside the format's range, or empty.
+std::string number_problem(double v);
+
+}  // namespace rtview
