@@ -48,6 +48,28 @@ struct ShadeLight {
     double glow = 0;  // glow-sphere radius; 0 = none
 };
 
+// The objects a point light sees in each direction, for its shadow rays (a "light
+// buffer"): the six faces of a cube around the light, each cut into n x n cells, and
+// per cell the objects whose boxes may lie in its directions, with the boxes' least
+// distance from the light. A shadow ray tests only its cell's objects nearer than
+// its own end: most cells are empty or hold a few, and no tree is walked. Every
+// bound is padded outward, so an object a ray can hit is always among them.
+struct LightBuffer {
+    struct Entry {
+        std::uint32_t obj;
+        float dmin;  // no point of the object's box is nearer the light than this
+    };
+    Vec3 position;
+    int n = 0;                          // cells per face side; 0: no buffer (use the BVH)
+    double reach = 0;                   // use it only while |p|_1 + |light|_1 + r <= reach
+    std::vector<std::uint32_t> start;   // per cell, its first entry; 6 n n + 1 of them
+    std::vector<Entry> entries;
+    std::vector<Entry> always;          // objects around or next to the light: every ray's
+    static LightBuffer build(const std::vector<Aabb>& boxes, const Vec3& light, int n);
+    // The entries of the cell holding direction d (from the light, not zero).
+    void cell(const Vec3& d, const Entry*& first, const Entry*& last) const;
+};
+
 struct TraceOptions {
     int max_depth = 20;  // the original's recursion limit
 };
@@ -97,6 +119,8 @@ public:
     // Glow discs of many lamps in a BVH of their own (null when a loop over them is
     // cheaper): a ray then tests the few discs near it, not every lamp.
     std::shared_ptr<const Bvh> glow_bvh;
+    // Per light (same index), its light buffer; null or n == 0: shadow rays walk the BVH.
+    std::shared_ptr<const std::vector<LightBuffer>> light_buffers;
 
     // Colour seen along the original's camera ray through pixel (i, j).
     Colour trace_camera(const CameraBasis& cam, double i, double j, RayStats& stats) const;
