@@ -84,7 +84,6 @@ constexpr double kCellPad = 0.01;
 constexpr std::size_t kLightBufferMaxWork = 1 << 17;
 constexpr std::size_t kLightBufferMaxEntries = 64;
 
-inline double norm1(const Vec3& v) { return std::fabs(v.x) + std::fabs(v.y) + std::fabs(v.z); }
 inline double norm_inf(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
 
 }  // namespace
@@ -444,7 +443,7 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
         };
         bool blocked = false;
         const LightBuffer* lb = buffers ? &buffers[li] : nullptr;
-        if (lb && lb->n > 0 && norm1(p) + norm1(light.position) + r <= lb->reach) {
+        if (lb && lb->usable(p, r)) {
             // Only the objects the light sees in this direction, nearer than p.
             const LightBuffer::Entry *e, *end;
             lb->cell(-v, e, end);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -66,6 +67,12 @@ struct LightBuffer {
     std::vector<Entry> entries;
     std::vector<Entry> always;          // objects around or next to the light: every ray's
     static LightBuffer build(const std::vector<Aabb>& boxes, const Vec3& light, int n);
+    // Whether a shadow ray from p (r from the light) may use the buffer: the rounding
+    // of its points stays within the cells' padding.
+    bool usable(const Vec3& p, double r) const {
+        auto norm1 = [](const Vec3& a) { return std::fabs(a.x) + std::fabs(a.y) + std::fabs(a.z); };
+        return n > 0 && norm1(p) + norm1(position) + r <= reach;
+    }
     // The entries of the cell holding direction d (from the light, not zero).
     void cell(const Vec3& d, const Entry*& first, const Entry*& last) const;
 };
