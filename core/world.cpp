@@ -189,6 +189,12 @@ LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light
     for (const Range& r : ranges)
         for (int j = r.j0; j <= r.j1; ++j)
             for (int i = r.i0; i <= r.i1; ++i) lb.entries[count[(std::size_t(r.face) * n + j) * n + i]++] = {r.obj, r.dmin};
+    // Nearest boxes first within each cell: a ray stops reading its cell at the first
+    // box beyond its reach.
+    for (std::size_t c = 0; c < cells; ++c)
+        if (lb.start[c + 1] - lb.start[c] > 1)
+            std::sort(lb.entries.begin() + lb.start[c], lb.entries.begin() + lb.start[c + 1],
+                      [](const Entry& a, const Entry& b) { return a.dmin < b.dmin || (a.dmin == b.dmin && a.obj < b.obj); });
     lb.always = std::move(always);
     // How far a ray's points may be off its line, against the nearest listed box:
     // about 8 rounding errors of |p| + |light| + r, which must stay within the padding
@@ -355,7 +361,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
         }
     }
     if (!glows.empty()) nearest_glow(o, d, h);
-    g.bvh.traverse_nearest(o, d, h.t, [&](std::uint32_t obj, double tmax) -> double {
+    auto test = [&](std::uint32_t obj, double tmax) -> double {
         SpanEnd e;
         // On an exact tie the earlier object in the file wins, as in the original.
         if (g.hit(obj, o, d, kDelta, e, ctx.scratch) &&
@@ -367,7 +373,19 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
             return e.t;
         }
         return tmax;
-    });
+    };
+    const LightBuffer* cb = camera_buffer.get();
+    if (cb && o == cb->position && cb->usable(o, 0)) {
+        // A ray from the camera: only the objects seen in its direction, nearest box
+        // first, until the boxes lie beyond the nearest hit. (The rule above takes the
+        // nearest hit, ties to the earlier object, in whatever order they come.)
+        const LightBuffer::Entry *e, *end;
+        cb->cell(d, e, end);
+        for (; e != end && !(double(e->dmin) > h.t); ++e) test(e->obj, h.t);
+        for (const LightBuffer::Entry& a : cb->always) test(a.obj, h.t);
+    } else {
+        g.bvh.traverse_nearest(o, d, h.t, test);
+    }
     return h.kind != HitRec::None;
 }
 
@@ -447,8 +465,7 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
             // Only the objects the light sees in this direction, nearer than p.
             const LightBuffer::Entry *e, *end;
             lb->cell(-v, e, end);
-            for (; e != end && !blocked; ++e)
-                if (!(double(e->dmin) > r)) blocked = test(e->obj);
+            for (; e != end && !blocked && !(double(e->dmin) > r); ++e) blocked = test(e->obj);
             for (const LightBuffer::Entry& a : lb->always)
                 if (!blocked && !(double(a.dmin) > r)) blocked = test(a.obj);
         } else {
@@ -781,7 +798,17 @@ std::shared_ptr<const World> compile_world(const Scene& scene, const World* prev
         }
     }
     const std::vector<Aabb>& boxes = w->geometry->object_bounds;
-    if (!w->lights.empty() && !boxes.empty() && boxes.size() * w->lights.size() <= kLightBufferMaxWork) {
+    // Cells enough that a cell holds a few of the objects it may see.
+    const int cells_n = std::clamp(2 * int(std::ceil(std::sqrt(double(boxes.size())))), 64, 256);
+    if (!boxes.empty() && boxes.size() * (w->lights.size() + 1) <= kLightBufferMaxWork) {
+        // Camera rays all leave from one point too: the same buffer around it serves them.
+        bool same = previous && previous->camera_buffer && previous->geometry == w->geometry &&
+                    previous->camera_buffer->position == scene.camera.position;
+        w->camera_buffer = same ? previous->camera_buffer
+                                : std::make_shared<const LightBuffer>(
+                                      LightBuffer::build(boxes, scene.camera.position, cells_n));
+    }
+    if (!w->lights.empty() && !boxes.empty() && boxes.size() * (w->lights.size() + 1) <= kLightBufferMaxWork) {
         bool same = previous && previous->light_buffers && previous->geometry == w->geometry &&
                     previous->lights.size() == w->lights.size();
         for (std::size_t k = 0; same && k < w->lights.size(); ++k)
@@ -789,11 +816,9 @@ std::shared_ptr<const World> compile_world(const Scene& scene, const World* prev
         if (same) {
             w->light_buffers = previous->light_buffers;
         } else {
-            // Cells enough that a cell holds a few of the objects it may see.
-            int n = std::clamp(2 * int(std::ceil(std::sqrt(double(boxes.size())))), 64, 256);
             auto buffers = std::make_shared<std::vector<LightBuffer>>();
             buffers->reserve(w->lights.size());
-            for (const ShadeLight& l : w->lights) buffers->push_back(LightBuffer::build(boxes, l.position, n));
+            for (const ShadeLight& l : w->lights) buffers->push_back(LightBuffer::build(boxes, l.position, cells_n));
             w->light_buffers = std::move(buffers);
         }
     }

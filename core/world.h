@@ -128,6 +128,8 @@ public:
     std::shared_ptr<const Bvh> glow_bvh;
     // Per light (same index), its light buffer; null or n == 0: shadow rays walk the BVH.
     std::shared_ptr<const std::vector<LightBuffer>> light_buffers;
+    // The same around the camera's position, for the rays that leave from it; null if none.
+    std::shared_ptr<const LightBuffer> camera_buffer;
 
     // Colour seen along the original's camera ray through pixel (i, j).
     Colour trace_camera(const CameraBasis& cam, double i, double j, RayStats& stats) const;
