@@ -80,7 +80,7 @@ namespace {
 constexpr double kCellPad = 0.01;
 // Light buffers are made for scenes of up to this many objects times lights (their
 // build is serial and must stay well under the BVH's), and hold at most this many
-// entries per object on average.
+// entries per object on average (and eight per cell).
 constexpr std::size_t kLightBufferMaxWork = 1 << 17;
 constexpr std::size_t kLightBufferMaxEntries = 64;
 
@@ -170,7 +170,7 @@ LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light
             continue;
         }
         total += covered;
-        if (total > kLightBufferMaxEntries * boxes.size() + cells) return none();
+        if (total > kLightBufferMaxEntries * boxes.size() + 8 * cells) return none();
     }
     if (objects == 0) return none();
     for (const Range& r : ranges)

@@ -1,16 +1,24 @@
 // Light buffers (world.h): per light, the objects each cell of directions may meet.
 // The shadow rays trust them to hold every object that can block a segment toward the
-// light, so the property tested here is exactly that, against brute force: every
+// light, so the property tested first is exactly that, against brute force: every
 // object that the exact hit test finds on a random segment ending at the light is
 // listed in that segment's cell (or among the ones every ray tests) with a least
-// distance no larger than the segment's length.
+// distance no larger than the segment's length. Then whole pictures: with the
+// buffers, and with every shadow and camera ray walking the BVH instead (the any-hit
+// and ordered searches), on each instruction-set path, the bytes are the same.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <string>
 #include <vector>
 
+#include "image_io.h"
+#include "renderer.h"
+#include "scene_parser.h"
 #include "shapes.h"
+#include "simd.h"
 #include "test_random.h"
 #include "world.h"
 
@@ -129,4 +137,87 @@ TEST_CASE("light buffer: none for scenes or lights beyond float range, nor witho
     REQUIRE(around.n == 16);
     CHECK(around.always.size() == 1);
     CHECK(around.entries.empty());
+}
+
+namespace {
+
+struct IsaGuard {
+    Isa saved = active_isa();
+    ~IsaGuard() { set_isa(saved); }
+};
+
+std::vector<std::uint8_t> render(std::shared_ptr<const World> world, int w, int h) {
+    Renderer renderer(2);
+    RenderSettings settings;
+    settings.width = w;
+    settings.height = h;
+    settings.coarse = false;
+    renderer.start(std::move(world), settings);
+    renderer.wait();
+    return to_rgb8(renderer.snapshot());
+}
+
+// Glass and opaque objects mixed and overlapping, so that shadow rays meet several
+// refractive objects (their tints multiply in order) as well as opaque ones.
+Scene glass_scene() {
+    Rng rng(77);
+    Scene s;
+    for (int i = 0; i < 60; ++i) {
+        Vec3 c{rng.uni(-6, 6), rng.uni(-6, 6), rng.uni(0, 4)};
+        Object o = make(i % 3 ? Shape(Sphere{c, rng.uni(0.3, 1.5)}) : Shape(Cylinder{c, c + rng.unit() * 2, 0.4}));
+        if (i % 2) {
+            o.material.refraction = 0.8;
+            o.material.reflection = 0.1;
+            o.material.scattering = 0.1;
+            o.material.refractive_index = 1.4;
+            o.material.colour = {rng.uni(0.5, 1), rng.uni(0.5, 1), rng.uni(0.5, 1)};
+        } else {
+            o.material.reflection = 0.3;
+            o.material.scattering = 0.7;
+            o.material.colour = {rng.uni(0, 1), rng.uni(0, 1), rng.uni(0, 1)};
+        }
+        s.objects.push_back(std::move(o));
+    }
+    for (Vec3 p : {Vec3{-8, -9, 12}, Vec3{7, -3, 9}, Vec3{0, 0, 2}}) {
+        Light l;
+        l.position = p;
+        l.colour = {60, 60, 60};
+        s.lights.push_back(l);
+    }
+    s.camera.position = {-14, -10, 8};
+    s.camera.centre = {0, 0, 1};
+    s.camera.up = {0, 0, 1};
+    s.width = 160;
+    s.height = 90;
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("light buffer: pictures are the same bytes as with the BVH alone, on every path") {
+    IsaGuard guard;
+    std::vector<std::pair<std::string, Scene>> scenes{{"glass", glass_scene()}};
+    for (const char* name : {"things-like", "spheres-10k", "csg-400", "glass-stack"}) {
+        std::string path = std::string(RT_SOURCE_DIR) + "/bench/scenes/" + name + ".txt", text;
+        REQUIRE(read_file(path, text, Limits::max_file_size).empty());
+        ParseResult parsed = parse_scene(text);
+        REQUIRE(parsed.ok());
+        scenes.push_back({name, parsed.scene});
+    }
+    for (Isa isa : {Isa::Sse2, Isa::Avx2}) {
+        if (!set_isa(isa)) continue;
+        for (const auto& [name, scene] : scenes) {
+            CAPTURE(name);
+            CAPTURE(isa_name(isa));
+            auto world = compile_world(scene);
+            REQUIRE(bool(world->light_buffers));
+            REQUIRE(bool(world->camera_buffer));
+            for (const LightBuffer& lb : *world->light_buffers) CHECK(lb.n > 0);
+            auto plain = std::make_shared<World>(*world);
+            plain->light_buffers.reset();
+            plain->camera_buffer.reset();
+            int w = std::max(16, scene.width / 8), h = std::max(9, scene.height / 8);
+            CHECK(render(world, w, h) == render(plain, w, h));
+        }
+    }
 }
