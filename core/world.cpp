@@ -83,6 +83,9 @@ constexpr double kCellPad = 0.01;
 // entries per object on average (and eight per cell).
 constexpr std::size_t kLightBufferMaxWork = 1 << 17;
 constexpr std::size_t kLightBufferMaxEntries = 64;
+// And at most this many cells in all (4 bytes each): many lights over a few objects
+// would otherwise take memory out of proportion to the scene.
+constexpr std::size_t kLightBufferMaxCells = std::size_t(1) << 24;
 
 inline double norm_inf(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
 
@@ -808,7 +811,8 @@ std::shared_ptr<const World> compile_world(const Scene& scene, const World* prev
                                 : std::make_shared<const LightBuffer>(
                                       LightBuffer::build(boxes, scene.camera.position, cells_n));
     }
-    if (!w->lights.empty() && !boxes.empty() && boxes.size() * (w->lights.size() + 1) <= kLightBufferMaxWork) {
+    if (!w->lights.empty() && !boxes.empty() && boxes.size() * (w->lights.size() + 1) <= kLightBufferMaxWork &&
+        (w->lights.size() + 1) * 6 * std::size_t(cells_n) * std::size_t(cells_n) <= kLightBufferMaxCells) {
         bool same = previous && previous->light_buffers && previous->geometry == w->geometry &&
                     previous->lights.size() == w->lights.size();
         for (std::size_t k = 0; same && k < w->lights.size(); ++k)

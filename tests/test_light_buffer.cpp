@@ -137,6 +137,20 @@ TEST_CASE("light buffer: none for scenes or lights beyond float range, nor witho
     REQUIRE(around.n == 16);
     CHECK(around.always.size() == 1);
     CHECK(around.entries.empty());
+    // Many lights over a few objects: no buffers (their cells alone would take over
+    // 100 MB), the BVH serves the shadow rays; the camera still has one.
+    Scene many;
+    many.objects.push_back(make(Sphere{{0, 0, 0}, 1}));
+    for (int i = 0; i < 1000; ++i) {
+        Light l;
+        l.position = {double(i % 10) * 3, double(i / 10) * 3, 10};
+        many.lights.push_back(l);
+    }
+    auto world = compile_world(many);
+    CHECK(!world->light_buffers);
+    CHECK(bool(world->camera_buffer));
+    many.lights.resize(8);
+    CHECK(bool(compile_world(many)->light_buffers));
 }
 
 namespace {
