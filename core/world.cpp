@@ -9,7 +9,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <exception>
+#include <iterator>
 #include <limits>
+#include <mutex>
+#include <thread>
 
 #include "shapes.h"
 
@@ -803,29 +807,68 @@ std::shared_ptr<const World> compile_world(const Scene& scene, const World* prev
     const std::vector<Aabb>& boxes = w->geometry->object_bounds;
     // Cells enough that a cell holds a few of the objects it may see.
     const int cells_n = std::clamp(2 * int(std::ceil(std::sqrt(double(boxes.size())))), 64, 256);
-    if (!boxes.empty() && boxes.size() * (w->lights.size() + 1) <= kLightBufferMaxWork) {
+    const bool small = !boxes.empty() && boxes.size() * (w->lights.size() + 1) <= kLightBufferMaxWork;
+    // The buffers to make: the camera's (index 0) and the lights' (1 + light), unless
+    // the previous world's serve.
+    std::vector<Vec3> todo;
+    std::shared_ptr<const LightBuffer> camera_buffer;
+    if (small) {
         // Camera rays all leave from one point too: the same buffer around it serves them.
-        bool same = previous && previous->camera_buffer && previous->geometry == w->geometry &&
-                    previous->camera_buffer->position == scene.camera.position;
-        w->camera_buffer = same ? previous->camera_buffer
-                                : std::make_shared<const LightBuffer>(
-                                      LightBuffer::build(boxes, scene.camera.position, cells_n));
+        if (previous && previous->camera_buffer && previous->geometry == w->geometry &&
+            previous->camera_buffer->position == scene.camera.position)
+            camera_buffer = previous->camera_buffer;
+        else
+            todo.push_back(scene.camera.position);
     }
-    if (!w->lights.empty() && !boxes.empty() && boxes.size() * (w->lights.size() + 1) <= kLightBufferMaxWork &&
-        (w->lights.size() + 1) * 6 * std::size_t(cells_n) * std::size_t(cells_n) <= kLightBufferMaxCells) {
+    bool lights_too = small && !w->lights.empty() &&
+                      (w->lights.size() + 1) * 6 * std::size_t(cells_n) * std::size_t(cells_n) <= kLightBufferMaxCells;
+    if (lights_too) {
         bool same = previous && previous->light_buffers && previous->geometry == w->geometry &&
                     previous->lights.size() == w->lights.size();
         for (std::size_t k = 0; same && k < w->lights.size(); ++k)
             same = w->lights[k].position == previous->lights[k].position;
         if (same) {
             w->light_buffers = previous->light_buffers;
+            lights_too = false;
         } else {
-            auto buffers = std::make_shared<std::vector<LightBuffer>>();
-            buffers->reserve(w->lights.size());
-            for (const ShadeLight& l : w->lights) buffers->push_back(LightBuffer::build(boxes, l.position, cells_n));
-            w->light_buffers = std::move(buffers);
+            for (const ShadeLight& l : w->lights) todo.push_back(l.position);
         }
     }
+    if (!todo.empty()) {
+        // Each buffer on its own, on as many threads as there are (a big scene's take
+        // tens of milliseconds each; a small one's, microseconds on this thread).
+        std::vector<LightBuffer> made(todo.size());
+        std::atomic<std::size_t> next{0};
+        auto work = [&] {
+            for (std::size_t i; (i = next++) < todo.size();) made[i] = LightBuffer::build(boxes, todo[i], cells_n);
+        };
+        std::size_t threads = boxes.size() < 4096 ? 1 : std::min<std::size_t>(todo.size(), std::max(1u, std::thread::hardware_concurrency()));
+        std::vector<std::thread> pool;
+        std::exception_ptr failed;
+        std::mutex failed_mutex;
+        for (std::size_t t = 1; t < threads; ++t)
+            pool.emplace_back([&] {
+                try {
+                    work();
+                } catch (...) {
+                    std::lock_guard<std::mutex> lock(failed_mutex);
+                    failed = std::current_exception();
+                }
+            });
+        try {
+            work();
+        } catch (...) {
+            for (std::thread& t : pool) t.join();
+            throw;
+        }
+        for (std::thread& t : pool) t.join();
+        if (failed) std::rethrow_exception(failed);
+        std::size_t k = 0;
+        if (small && !camera_buffer) camera_buffer = std::make_shared<const LightBuffer>(std::move(made[k++]));
+        if (lights_too) w->light_buffers = std::make_shared<const std::vector<LightBuffer>>(
+                            std::make_move_iterator(made.begin() + std::ptrdiff_t(k)), std::make_move_iterator(made.end()));
+    }
+    w->camera_buffer = std::move(camera_buffer);
     w->radiance_bound = radiance_bound(*w);
     // Half a display step (1/255 of the unit colour) over the brightest possible return.
     // A world that cannot return any colour (nothing lit, no glow) stops at once.
