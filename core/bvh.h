@@ -255,6 +255,45 @@ public:
         traverse(origin, dir, 1.0, tmax, fn);
     }
 
+    // Any-hit queries (shadow rays): visits the items whose boxes the ray may enter
+    // before tmax along dir / len, in no particular order, until `fn(item)` returns
+    // true; returns whether it did. Nothing is sorted and tmax never shrinks, so the
+    // answer cannot depend on the order. Runs on the 8-wide tree where it is active.
+    template <class Fn>
+    bool occluded(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn&& fn) const {
+        if (nodes.empty()) return false;
+#if RT_HAVE_AVX2_KERNELS
+        if (!nodes8.empty() && avx2_active()) return occluded8(origin, dir, len, tmax, fn);
+#endif
+        BvhRay r = BvhRay::make(origin, dir, len);
+        const float ftmax = widen(tmax);
+        constexpr int kStack = 256;
+        std::uint32_t stack[kStack];
+        int sp = 0;
+        std::uint32_t cur = 0;
+        for (;;) {
+            const BvhNode& n = nodes[cur];
+            float t[4];
+            unsigned mask = enter(n, r, ftmax, t);
+            while (mask != 0) {
+                int i = __builtin_ctz(mask);
+                mask &= mask - 1;
+                std::uint32_t c = n.child[i];
+                if (BvhNode::is_leaf(c)) {
+                    std::uint32_t first = BvhNode::leaf_first(c), count = BvhNode::leaf_count(c);
+                    for (std::uint32_t k = 0; k < count; ++k)
+                        if (fn(items[first + k])) return true;
+                } else if (sp < kStack) {
+                    stack[sp++] = c;
+                } else if (occluded_from(c, r, ftmax, fn)) {
+                    return true;
+                }
+            }
+            if (sp == 0) return false;
+            cur = stack[--sp];
+        }
+    }
+
     std::size_t memory_bytes() const {
         return nodes.capacity() * sizeof(BvhNode) + nodes8.capacity() * sizeof(BvhNode8) + items.capacity() * 4;
     }
@@ -348,6 +387,64 @@ private:
     }
 
     template <class Fn>
+    RT_TARGET_AVX2 bool occluded8(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn& fn) const {
+        BvhRay br = BvhRay::make(origin, dir, len);
+        Ray8 r;
+        for (int i = 0; i < 3; ++i) {
+            r.o[i] = _mm256_set_m128(br.o4[i], br.o4[i]);
+            r.inv[i] = _mm256_set_m128(br.inv4[i], br.inv4[i]);
+            r.near[i] = br.near[i];
+            r.far[i] = br.far[i];
+        }
+        r.pad = _mm256_set_m128(br.pad4, br.pad4);
+        const float ftmax = widen(tmax);
+        constexpr int kStack = 512;
+        std::uint32_t stack[kStack];
+        int sp = 0;
+        std::uint32_t cur = 0;
+        for (;;) {
+            const BvhNode8& n = nodes8[cur];
+            float t[8];
+            unsigned mask = enter8(n, r, ftmax, t);
+            while (mask != 0) {
+                int i = __builtin_ctz(mask);
+                mask &= mask - 1;
+                std::uint32_t c = n.child[i];
+                if (BvhNode::is_leaf(c)) {
+                    std::uint32_t first = BvhNode::leaf_first(c), count = BvhNode::leaf_count(c);
+                    for (std::uint32_t k = 0; k < count; ++k)
+                        if (fn(items[first + k])) return true;
+                } else if (sp < kStack) {
+                    stack[sp++] = c;
+                } else if (occluded8_from(c, r, ftmax, fn)) {
+                    return true;
+                }
+            }
+            if (sp == 0) return false;
+            cur = stack[--sp];
+        }
+    }
+
+    template <class Fn>
+    RT_TARGET_AVX2 bool occluded8_from(std::uint32_t ref, const Ray8& r, float ftmax, Fn& fn) const {
+        const BvhNode8& n = nodes8[ref];
+        float t[8];
+        unsigned mask = enter8(n, r, ftmax, t);
+        for (int i = 0; i < 8; ++i) {
+            if (!(mask >> i & 1)) continue;
+            std::uint32_t c = n.child[i];
+            if (BvhNode::is_leaf(c)) {
+                std::uint32_t first = BvhNode::leaf_first(c), count = BvhNode::leaf_count(c);
+                for (std::uint32_t k = 0; k < count; ++k)
+                    if (fn(items[first + k])) return true;
+            } else if (occluded8_from(c, r, ftmax, fn)) {
+                return true;
+            }
+        }
+        return false;
+    }
+
+    template <class Fn>
     RT_TARGET_AVX2 bool traverse8_from(std::uint32_t ref, const Ray8& r, double& tmax, Fn& fn) const {
         if (BvhNode::is_leaf(ref)) {
             std::uint32_t first = BvhNode::leaf_first(ref), count = BvhNode::leaf_count(ref);
@@ -368,6 +465,26 @@ private:
 #endif
 
     static float widen(double t) { return t == HUGE_VAL ? INFINITY : float(t * (1 + 1e-6) + 1e-6); }
+
+    // Any-hit search below an inner node, by recursion (for trees too deep for the stack).
+    template <class Fn>
+    bool occluded_from(std::uint32_t ref, const BvhRay& r, float ftmax, Fn& fn) const {
+        const BvhNode& n = nodes[ref];
+        float t[4];
+        unsigned mask = enter(n, r, ftmax, t);
+        for (int i = 0; i < 4; ++i) {
+            if (!(mask >> i & 1)) continue;
+            std::uint32_t c = n.child[i];
+            if (BvhNode::is_leaf(c)) {
+                std::uint32_t first = BvhNode::leaf_first(c), count = BvhNode::leaf_count(c);
+                for (std::uint32_t k = 0; k < count; ++k)
+                    if (fn(items[first + k])) return true;
+            } else if (occluded_from(c, r, ftmax, fn)) {
+                return true;
+            }
+        }
+        return false;
+    }
 
     // Fallback for pathologically deep trees: plain recursion from one child reference.
     template <class Fn>

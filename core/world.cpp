@@ -9,7 +9,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <exception>
+#include <iterator>
 #include <limits>
+#include <mutex>
+#include <thread>
 
 #include "shapes.h"
 
@@ -73,6 +77,159 @@ inline bool glow_hit(const ShadeLight& l, const Vec3& o, const Vec3& d, double& 
 }
 
 }  // namespace
+
+namespace {
+// Cells of padding on each side of an object's range in a light buffer: directions
+// are computed with rounding, and a ray's points sit off its exact line by a little.
+constexpr double kCellPad = 0.01;
+// Light buffers are made for scenes of up to this many objects times lights (their
+// build is serial and must stay well under the BVH's), and hold at most this many
+// entries per object on average (and eight per cell).
+constexpr std::size_t kLightBufferMaxWork = 1 << 17;
+constexpr std::size_t kLightBufferMaxEntries = 64;
+// And at most this many cells in all (4 bytes each): many lights over a few objects
+// would otherwise take memory out of proportion to the scene.
+constexpr std::size_t kLightBufferMaxCells = std::size_t(1) << 24;
+
+inline double norm_inf(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
+
+}  // namespace
+
+LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light, int n) {
+    LightBuffer lb;
+    lb.position = light;
+    auto none = [&] {
+        LightBuffer off;
+        off.position = light;
+        return off;
+    };
+    // Far beyond float range or not finite: the BVH copes; keep to it.
+    if (!(norm_inf(light) < 1e30) || n < 1) return lb;
+    const double tol = 2 * kCellPad / n;  // the padding in face coordinates
+    struct Range {
+        std::uint32_t obj;
+        float dmin;
+        int face, i0, i1, j0, j1;
+    };
+    std::vector<Range> ranges;
+    std::vector<Entry> always;
+    const std::size_t cells = 6 * std::size_t(n) * std::size_t(n);
+    std::vector<std::uint32_t> count(cells + 1, 0);
+    std::size_t total = 0, objects = 0;
+    double near = HUGE_VAL;
+    for (std::uint32_t obj = 0; obj < boxes.size(); ++obj) {
+        const Aabb& b = boxes[obj];
+        if (b.empty()) continue;  // never in the BVH: never hit
+        ++objects;
+        if (!(norm_inf(b.lo) < 1e30 && norm_inf(b.hi) < 1e30)) return none();
+        Vec3 lo = b.lo - light, hi = b.hi - light;
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k) {
+            double e = std::max({lo[k], 0.0, -hi[k]});
+            d2 += e * e;
+        }
+        double dmin = std::sqrt(d2);
+        double scale = std::max({norm_inf(b.lo), norm_inf(b.hi), norm_inf(light)});
+        // Nearer than rounding can tell directions apart (or around the light): every
+        // ray tests it.
+        if (!(dmin > 1e-6 * (scale + 1))) {
+            always.push_back({obj, 0.0f});
+            continue;
+        }
+        near = std::min(near, dmin);
+        // Rounded down, with room for the ray's points being off by rounding.
+        double dm = dmin * (1 - 1e-3);
+        float df = float(dm);
+        if (double(df) > dm) df = std::nextafter(df, 0.0f);
+        std::size_t covered = 0;
+        std::size_t first_range = ranges.size();
+        for (int face = 0; face < 6; ++face) {
+            const int a = face / 2, bx = (a + 1) % 3, cx = (a + 2) % 3;
+            // The box along the face's axis, turned so that the face looks along +a.
+            double a0 = face & 1 ? -hi[a] : lo[a], a1 = face & 1 ? -lo[a] : hi[a];
+            if (!(a1 > 0)) continue;
+            double a0p = std::max(a0, 0.0);
+            // The range of d_k / d_a over the box's part in front of the face: its
+            // extremes are at corners (or unbounded where the box reaches the plane
+            // of the light).
+            auto range = [&](int k, double& u0, double& u1) {
+                double k0 = lo[k], k1 = hi[k];
+                u0 = k0 >= 0 ? k0 / a1 : (a0p > 0 ? k0 / a0p : -HUGE_VAL);
+                u1 = k1 <= 0 ? k1 / a1 : (a0p > 0 ? k1 / a0p : HUGE_VAL);
+            };
+            double u0, u1, w0, w1;
+            range(bx, u0, u1);
+            range(cx, w0, w1);
+            if (u0 > 1 + tol || u1 < -1 - tol || w0 > 1 + tol || w1 < -1 - tol) continue;
+            auto index = [&](double u, double pad) {
+                double x = (std::min(std::max(u, -2.0), 2.0) + 1) * 0.5 * n + pad;
+                return std::min(std::max(int(std::floor(x)), 0), n - 1);
+            };
+            Range r{obj, df, face, index(u0, -kCellPad), index(u1, kCellPad), index(w0, -kCellPad),
+                    index(w1, kCellPad)};
+            covered += std::size_t(r.i1 - r.i0 + 1) * std::size_t(r.j1 - r.j0 + 1);
+            ranges.push_back(r);
+        }
+        // One seen in most directions is cheaper tested by every ray than listed.
+        if (covered > cells / 4) {
+            ranges.resize(first_range);
+            always.push_back({obj, df});
+            continue;
+        }
+        total += covered;
+        if (total > kLightBufferMaxEntries * boxes.size() + 8 * cells) return none();
+    }
+    if (objects == 0) return none();
+    for (const Range& r : ranges)
+        for (int j = r.j0; j <= r.j1; ++j)
+            for (int i = r.i0; i <= r.i1; ++i) ++count[(std::size_t(r.face) * n + j) * n + i];
+    lb.start.resize(cells + 1);
+    std::uint32_t sum = 0;
+    for (std::size_t c = 0; c < cells; ++c) {
+        lb.start[c] = sum;
+        sum += count[c];
+        count[c] = lb.start[c];
+    }
+    lb.start[cells] = sum;
+    lb.entries.resize(sum);
+    // In object order within each cell (ranges are made in object order).
+    for (const Range& r : ranges)
+        for (int j = r.j0; j <= r.j1; ++j)
+            for (int i = r.i0; i <= r.i1; ++i) lb.entries[count[(std::size_t(r.face) * n + j) * n + i]++] = {r.obj, r.dmin};
+    // Nearest boxes first within each cell: a ray stops reading its cell at the first
+    // box beyond its reach.
+    for (std::size_t c = 0; c < cells; ++c)
+        if (lb.start[c + 1] - lb.start[c] > 1)
+            std::sort(lb.entries.begin() + lb.start[c], lb.entries.begin() + lb.start[c + 1],
+                      [](const Entry& a, const Entry& b) { return a.dmin < b.dmin || (a.dmin == b.dmin && a.obj < b.obj); });
+    lb.always = std::move(always);
+    // How far a ray's points may be off its line, against the nearest listed box:
+    // about 8 rounding errors of |p| + |light| + r, which must stay within the padding
+    // (tol) times that box's distance, with a factor 2 to spare.
+    lb.reach = near == HUGE_VAL ? HUGE_VAL : tol * near / (16 * 2.3e-16);
+    lb.n = n;
+    return lb;
+}
+
+void LightBuffer::cell(const Vec3& d, const Entry*& first, const Entry*& last) const {
+    const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
+    // The major axis and the two others in cyclic order, as build() takes them.
+    double da, db, dc;
+    int face;
+    if (ax >= ay && ax >= az) {
+        da = ax, db = d.y, dc = d.z, face = d.x < 0;
+    } else if (ay >= az) {
+        da = ay, db = d.z, dc = d.x, face = 2 + (d.y < 0);
+    } else {
+        da = az, db = d.x, dc = d.y, face = 4 + (d.z < 0);
+    }
+    const double hn = 0.5 * n, k = hn / da;
+    int i = std::min(std::max(int(db * k + hn), 0), n - 1);
+    int j = std::min(std::max(int(dc * k + hn), 0), n - 1);
+    std::size_t c = (std::size_t(face) * n + j) * n + i;
+    first = entries.data() + start[c];
+    last = entries.data() + start[c + 1];
+}
 
 struct World::Ctx {
     SpanScratch scratch;
@@ -211,7 +368,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
         }
     }
     if (!glows.empty()) nearest_glow(o, d, h);
-    g.bvh.traverse_nearest(o, d, h.t, [&](std::uint32_t obj, double tmax) -> double {
+    auto test = [&](std::uint32_t obj, double tmax) -> double {
         SpanEnd e;
         // On an exact tie the earlier object in the file wins, as in the original.
         if (g.hit(obj, o, d, kDelta, e, ctx.scratch) &&
@@ -223,7 +380,19 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
             return e.t;
         }
         return tmax;
-    });
+    };
+    const LightBuffer* cb = camera_buffer.get();
+    if (cb && o == cb->position && cb->usable(o, 0)) {
+        // A ray from the camera: only the objects seen in its direction, nearest box
+        // first, until the boxes lie beyond the nearest hit. (The rule above takes the
+        // nearest hit, ties to the earlier object, in whatever order they come.)
+        const LightBuffer::Entry *e, *end;
+        cb->cell(d, e, end);
+        for (; e != end && !(double(e->dmin) > h.t); ++e) test(e->obj, h.t);
+        for (const LightBuffer::Entry& a : cb->always) test(a.obj, h.t);
+    } else {
+        g.bvh.traverse_nearest(o, d, h.t, test);
+    }
     return h.kind != HitRec::None;
 }
 
@@ -258,6 +427,7 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
     const Geometry& g = *geometry;
     Colour sum;
     if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
+    const LightBuffer* buffers = light_buffers ? light_buffers->data() : nullptr;
     for (const ShadeLight& light : lights) {
         Vec3 v = light.position - p;
         double r2 = dot(v, v);
@@ -279,25 +449,56 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
                 continue;
         }
         Colour sh{1, 1, 1};
-        bool blocked = false;
-        // (The box test takes v and r: its inverse direction r / v is then one division
-        // after the square root instead of two.)
-        g.bvh.traverse(o, v, r, limit, [&](std::uint32_t obj, double tmax) -> double {
+        // An opaque object on the way blocks the light whatever else lies there, so
+        // the objects may be tested in any order, stopping at the first such one.
+        // Refractive ones tint the light instead: one alone gives its tint; two or
+        // more need the ordered search below, which multiplies their tints in a fixed
+        // order (so that the product rounds the same on every path).
+        std::uint32_t glass = 0, glass_obj = 0;
+        double glass_t = 0;
+        auto test = [&](std::uint32_t obj) -> bool {
             SpanEnd e;
-            if (!g.hit(obj, o, vh, 0.0, e, ctx.scratch) || !(e.t < limit)) return tmax;
-            const ShadeMaterial& m = materials[obj];
-            if (m.refraction == 0) {
-                blocked = true;
+            if (!g.hit(obj, o, vh, 0.0, e, ctx.scratch) || !(e.t < limit)) return false;
+            if (materials[obj].refraction == 0) {
                 ctx.blocker[li] = obj + 1;
-                return -1;
+                return true;
             }
-            Vec3 q = o + vh * e.t;
-            SpanEnd x;
-            double s = g.exit(obj, q, vh, x, ctx.scratch) ? x.t : 0.0;
-            sh = mul(sh, tint(m, s * m.refraction));
-            return tmax;
-        });
+            if (glass++ == 0) glass_obj = obj, glass_t = e.t;
+            return false;
+        };
+        bool blocked = false;
+        const LightBuffer* lb = buffers ? &buffers[li] : nullptr;
+        if (lb && lb->usable(p, r)) {
+            // Only the objects the light sees in this direction, nearer than p.
+            const LightBuffer::Entry *e, *end;
+            lb->cell(-v, e, end);
+            for (; e != end && !blocked && !(double(e->dmin) > r); ++e) blocked = test(e->obj);
+            for (const LightBuffer::Entry& a : lb->always)
+                if (!blocked && !(double(a.dmin) > r)) blocked = test(a.obj);
+        } else {
+            // (The box test takes v and r: its inverse direction r / v is then one
+            // division after the square root instead of two.)
+            blocked = g.bvh.occluded(o, v, r, limit, test);
+        }
         if (blocked) continue;
+        if (glass == 1) {
+            const ShadeMaterial& m = materials[glass_obj];
+            Vec3 q = o + vh * glass_t;
+            SpanEnd x;
+            double s = g.exit(glass_obj, q, vh, x, ctx.scratch) ? x.t : 0.0;
+            sh = mul(sh, tint(m, s * m.refraction));
+        } else if (glass > 1) {
+            g.bvh.traverse(o, v, r, limit, [&](std::uint32_t obj, double tmax) -> double {
+                SpanEnd e;
+                if (!g.hit(obj, o, vh, 0.0, e, ctx.scratch) || !(e.t < limit)) return tmax;
+                const ShadeMaterial& m = materials[obj];
+                Vec3 q = o + vh * e.t;
+                SpanEnd x;
+                double s = g.exit(obj, q, vh, x, ctx.scratch) ? x.t : 0.0;
+                sh = mul(sh, tint(m, s * m.refraction));
+                return tmax;
+            });
+        }
         // No object blocks this light here: neighbouring points will not try one first.
         ctx.blocker[li] = 0;
         for (std::uint32_t i = 0; i < planes.size() && !blocked; ++i) {
@@ -610,6 +811,71 @@ std::shared_ptr<const World> compile_world(const Scene& scene, std::shared_ptr<c
             w->glow_bvh = std::move(bvh);
         }
     }
+    const std::vector<Aabb>& boxes = w->geometry->object_bounds;
+    // Cells enough that a cell holds a few of the objects it may see.
+    const int cells_n = std::clamp(2 * int(std::ceil(std::sqrt(double(boxes.size())))), 64, 256);
+    const bool small = !boxes.empty() && boxes.size() * (w->lights.size() + 1) <= kLightBufferMaxWork;
+    // The buffers to make: the camera's (index 0) and the lights' (1 + light), unless
+    // the previous world's serve.
+    std::vector<Vec3> todo;
+    std::shared_ptr<const LightBuffer> camera_buffer;
+    if (small) {
+        // Camera rays all leave from one point too: the same buffer around it serves them.
+        if (previous && previous->camera_buffer && previous->geometry == w->geometry &&
+            previous->camera_buffer->position == scene.camera.position)
+            camera_buffer = previous->camera_buffer;
+        else
+            todo.push_back(scene.camera.position);
+    }
+    bool lights_too = small && !w->lights.empty() &&
+                      (w->lights.size() + 1) * 6 * std::size_t(cells_n) * std::size_t(cells_n) <= kLightBufferMaxCells;
+    if (lights_too) {
+        bool same = previous && previous->light_buffers && previous->geometry == w->geometry &&
+                    previous->lights.size() == w->lights.size();
+        for (std::size_t k = 0; same && k < w->lights.size(); ++k)
+            same = w->lights[k].position == previous->lights[k].position;
+        if (same) {
+            w->light_buffers = previous->light_buffers;
+            lights_too = false;
+        } else {
+            for (const ShadeLight& l : w->lights) todo.push_back(l.position);
+        }
+    }
+    if (!todo.empty()) {
+        // Each buffer on its own, on as many threads as there are (a big scene's take
+        // tens of milliseconds each; a small one's, microseconds on this thread).
+        std::vector<LightBuffer> made(todo.size());
+        std::atomic<std::size_t> next{0};
+        auto work = [&] {
+            for (std::size_t i; (i = next++) < todo.size();) made[i] = LightBuffer::build(boxes, todo[i], cells_n);
+        };
+        std::size_t threads = boxes.size() < 4096 ? 1 : std::min<std::size_t>(todo.size(), std::max(1u, std::thread::hardware_concurrency()));
+        std::vector<std::thread> pool;
+        std::exception_ptr failed;
+        std::mutex failed_mutex;
+        for (std::size_t t = 1; t < threads; ++t)
+            pool.emplace_back([&] {
+                try {
+                    work();
+                } catch (...) {
+                    std::lock_guard<std::mutex> lock(failed_mutex);
+                    failed = std::current_exception();
+                }
+            });
+        try {
+            work();
+        } catch (...) {
+            for (std::thread& t : pool) t.join();
+            throw;
+        }
+        for (std::thread& t : pool) t.join();
+        if (failed) std::rethrow_exception(failed);
+        std::size_t k = 0;
+        if (small && !camera_buffer) camera_buffer = std::make_shared<const LightBuffer>(std::move(made[k++]));
+        if (lights_too) w->light_buffers = std::make_shared<const std::vector<LightBuffer>>(
+                            std::make_move_iterator(made.begin() + std::ptrdiff_t(k)), std::make_move_iterator(made.end()));
+    }
+    w->camera_buffer = std::move(camera_buffer);
     w->radiance_bound = radiance_bound(*w);
     // Half a display step (1/255 of the unit colour) over the brightest possible return.
     // A world that cannot return any colour (nothing lit, no glow) stops at once.

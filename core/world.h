@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -46,6 +47,34 @@ struct ShadeLight {
     Vec3 position;
     Colour colour;
     double glow = 0;  // glow-sphere radius; 0 = none
+};
+
+// The objects a point light sees in each direction, for its shadow rays (a "light
+// buffer"): the six faces of a cube around the light, each cut into n x n cells, and
+// per cell the objects whose boxes may lie in its directions, with the boxes' least
+// distance from the light. A shadow ray tests only its cell's objects nearer than
+// its own end: most cells are empty or hold a few, and no tree is walked. Every
+// bound is padded outward, so an object a ray can hit is always among them.
+struct LightBuffer {
+    struct Entry {
+        std::uint32_t obj;
+        float dmin;  // no point of the object's box is nearer the light than this
+    };
+    Vec3 position;
+    int n = 0;                          // cells per face side; 0: no buffer (use the BVH)
+    double reach = 0;                   // use it only while |p|_1 + |light|_1 + r <= reach
+    std::vector<std::uint32_t> start;   // per cell, its first entry; 6 n n + 1 of them
+    std::vector<Entry> entries;
+    std::vector<Entry> always;          // objects around or next to the light: every ray's
+    static LightBuffer build(const std::vector<Aabb>& boxes, const Vec3& light, int n);
+    // Whether a shadow ray from p (r from the light) may use the buffer: the rounding
+    // of its points stays within the cells' padding.
+    bool usable(const Vec3& p, double r) const {
+        auto norm1 = [](const Vec3& a) { return std::fabs(a.x) + std::fabs(a.y) + std::fabs(a.z); };
+        return n > 0 && norm1(p) + norm1(position) + r <= reach;
+    }
+    // The entries of the cell holding direction d (from the light, not zero).
+    void cell(const Vec3& d, const Entry*& first, const Entry*& last) const;
 };
 
 struct TraceOptions {
@@ -97,6 +126,10 @@ public:
     // Glow discs of many lamps in a BVH of their own (null when a loop over them is
     // cheaper): a ray then tests the few discs near it, not every lamp.
     std::shared_ptr<const Bvh> glow_bvh;
+    // Per light (same index), its light buffer; null or n == 0: shadow rays walk the BVH.
+    std::shared_ptr<const std::vector<LightBuffer>> light_buffers;
+    // The same around the camera's position, for the rays that leave from it; null if none.
+    std::shared_ptr<const LightBuffer> camera_buffer;
 
     // Colour seen along the original's camera ray through pixel (i, j).
     Colour trace_camera(const CameraBasis& cam, double i, double j, RayStats& stats) const;

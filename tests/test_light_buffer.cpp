@@ -1,0 +1,237 @@
+// Light buffers (world.h): per light, the objects each cell of directions may meet.
+// The shadow rays trust them to hold every object that can block a segment toward the
+// light, so the property tested first is exactly that, against brute force: every
+// object that the exact hit test finds on a random segment ending at the light is
+// listed in that segment's cell (or among the ones every ray tests) with a least
+// distance no larger than the segment's length. Then whole pictures: with the
+// buffers, and with every shadow and camera ray walking the BVH instead (the any-hit
+// and ordered searches), on each instruction-set path, the bytes are the same.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "image_io.h"
+#include "renderer.h"
+#include "scene_parser.h"
+#include "shapes.h"
+#include "simd.h"
+#include "test_random.h"
+#include "world.h"
+
+using namespace rt;
+using rt_test::Rng;
+
+namespace {
+
+Object make(Shape s) {
+    Object o;
+    o.shape = std::move(s);
+    o.has_material = true;
+    return o;
+}
+
+// Spheres, tetrahedra, cylinders and tori of many sizes, some huge (seen in most
+// directions from the light) and some around the light itself.
+Scene random_scene(Rng& rng, const Vec3& light, int count) {
+    Scene s;
+    for (int i = 0; i < count; ++i) {
+        Vec3 c = rng.in_ball(20);
+        if (i % 17 == 3) c = light + rng.in_ball(0.5);  // next to (or around) the light
+        double size = i % 23 == 5 ? rng.uni(10, 40) : rng.uni(0.05, 2);
+        switch (i % 4) {
+            case 0:
+                s.objects.push_back(make(Sphere{c, size}));
+                break;
+            case 1: {
+                Tetrahedron t;
+                for (Vec3& v : t.v) v = c + rng.in_ball(size);
+                s.objects.push_back(make(t));
+                break;
+            }
+            case 2:
+                s.objects.push_back(make(Cylinder{c, c + rng.unit() * size * 2, size / 3}));
+                break;
+            default: {
+                Torus t;
+                t.position = c;
+                t.direction = rng.unit();
+                t.major = size;
+                t.minor = size / 4;
+                s.objects.push_back(make(t));
+            }
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("light buffer: every object on a segment to the light is listed in its cell") {
+    Rng rng(2026);
+    int checked = 0, hits = 0, listed_total = 0;
+    for (int round = 0; round < 6; ++round) {
+        Vec3 light = rng.in_ball(15);
+        Scene scene = random_scene(rng, light, 40 + 30 * round);
+        Geometry g = build_geometry(scene);
+        int n = round % 2 ? 64 : 16;
+        LightBuffer lb = LightBuffer::build(g.object_bounds, light, n);
+        REQUIRE(lb.n == n);
+        REQUIRE(lb.start.size() == 6 * std::size_t(n) * n + 1);
+        SpanScratch scratch;
+        for (int k = 0; k < 3000; ++k) {
+            // Points on and near objects (where shadow rays start) and anywhere.
+            Vec3 p = k % 2 ? rng.in_ball(30) : g.object_bounds[rng.index(g.object_bounds.size())].centre() +
+                                                    rng.in_ball(3);
+            Vec3 v = light - p;
+            double r = length(v);
+            if (!(r > 1e-3)) continue;
+            if (!lb.usable(p, r)) continue;
+            Vec3 vh = v / r;
+            Vec3 o = p + vh * kDelta;
+            double limit = r - 10 * kDelta;
+            const LightBuffer::Entry *first, *last;
+            lb.cell(p - light, first, last);
+            listed_total += int(last - first);
+            ++checked;
+            for (std::uint32_t obj = 0; obj < g.object_bounds.size(); ++obj) {
+                SpanEnd e;
+                if (!g.hit(obj, o, vh, 0.0, e, scratch) || !(e.t < limit)) continue;
+                ++hits;
+                auto has = [&](const LightBuffer::Entry* a, const LightBuffer::Entry* b) {
+                    for (; a != b; ++a)
+                        if (a->obj == obj) return !(double(a->dmin) > r);
+                    return false;
+                };
+                bool found = has(first, last) || has(lb.always.data(), lb.always.data() + lb.always.size());
+                if (!found) {
+                    CAPTURE(rt_test::fmt(p));
+                    CAPTURE(rt_test::fmt(light));
+                    CAPTURE(obj);
+                    CAPTURE(e.t);
+                    FAIL("an object on the segment is missing from its cell");
+                }
+            }
+        }
+    }
+    // The property was exercised: many segments were blocked, and the cells hold far
+    // fewer objects than the scenes (or the buffer would be pointless).
+    CHECK(checked > 15000);
+    CHECK(hits > 3000);
+    CHECK(double(listed_total) / checked < 40);
+}
+
+TEST_CASE("light buffer: none for scenes or lights beyond float range, nor without objects") {
+    std::vector<Aabb> boxes{{{0, 0, 0}, {1, 1, 1}}};
+    CHECK(LightBuffer::build(boxes, {1e31, 0, 0}, 16).n == 0);
+    CHECK(LightBuffer::build(boxes, {NAN, 0, 0}, 16).n == 0);
+    CHECK(LightBuffer::build({{{0, 0, 0}, {HUGE_VAL, 1, 1}}}, {5, 5, 5}, 16).n == 0);
+    CHECK(LightBuffer::build({Aabb{}}, {5, 5, 5}, 16).n == 0);
+    LightBuffer lb = LightBuffer::build(boxes, {5, 5, 5}, 16);
+    CHECK(lb.n == 16);
+    // A box around the light is tested by every ray.
+    LightBuffer around = LightBuffer::build(boxes, {0.5, 0.5, 0.5}, 16);
+    REQUIRE(around.n == 16);
+    CHECK(around.always.size() == 1);
+    CHECK(around.entries.empty());
+    // Many lights over a few objects: no buffers (their cells alone would take over
+    // 100 MB), the BVH serves the shadow rays; the camera still has one.
+    Scene many;
+    many.objects.push_back(make(Sphere{{0, 0, 0}, 1}));
+    for (int i = 0; i < 1000; ++i) {
+        Light l;
+        l.position = {double(i % 10) * 3, double(i / 10) * 3, 10};
+        many.lights.push_back(l);
+    }
+    auto world = compile_world(many);
+    CHECK(!world->light_buffers);
+    CHECK(bool(world->camera_buffer));
+    many.lights.resize(8);
+    CHECK(bool(compile_world(many)->light_buffers));
+}
+
+namespace {
+
+struct IsaGuard {
+    Isa saved = active_isa();
+    ~IsaGuard() { set_isa(saved); }
+};
+
+std::vector<std::uint8_t> render(std::shared_ptr<const World> world, int w, int h) {
+    Renderer renderer(2);
+    RenderSettings settings;
+    settings.width = w;
+    settings.height = h;
+    settings.coarse = false;
+    renderer.start(std::move(world), settings);
+    renderer.wait();
+    return to_rgb8(renderer.snapshot());
+}
+
+// Glass and opaque objects mixed and overlapping, so that shadow rays meet several
+// refractive objects (their tints multiply in order) as well as opaque ones.
+Scene glass_scene() {
+    Rng rng(77);
+    Scene s;
+    for (int i = 0; i < 60; ++i) {
+        Vec3 c{rng.uni(-6, 6), rng.uni(-6, 6), rng.uni(0, 4)};
+        Object o = make(i % 3 ? Shape(Sphere{c, rng.uni(0.3, 1.5)}) : Shape(Cylinder{c, c + rng.unit() * 2, 0.4}));
+        if (i % 2) {
+            o.material.refraction = 0.8;
+            o.material.reflection = 0.1;
+            o.material.scattering = 0.1;
+            o.material.refractive_index = 1.4;
+            o.material.colour = {rng.uni(0.5, 1), rng.uni(0.5, 1), rng.uni(0.5, 1)};
+        } else {
+            o.material.reflection = 0.3;
+            o.material.scattering = 0.7;
+            o.material.colour = {rng.uni(0, 1), rng.uni(0, 1), rng.uni(0, 1)};
+        }
+        s.objects.push_back(std::move(o));
+    }
+    for (Vec3 p : {Vec3{-8, -9, 12}, Vec3{7, -3, 9}, Vec3{0, 0, 2}}) {
+        Light l;
+        l.position = p;
+        l.colour = {60, 60, 60};
+        s.lights.push_back(l);
+    }
+    s.camera.position = {-14, -10, 8};
+    s.camera.centre = {0, 0, 1};
+    s.camera.up = {0, 0, 1};
+    s.width = 160;
+    s.height = 90;
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("light buffer: pictures are the same bytes as with the BVH alone, on every path") {
+    IsaGuard guard;
+    std::vector<std::pair<std::string, Scene>> scenes{{"glass", glass_scene()}};
+    for (const char* name : {"things-like", "spheres-10k", "csg-400", "glass-stack"}) {
+        std::string path = std::string(RT_SOURCE_DIR) + "/bench/scenes/" + name + ".txt", text;
+        REQUIRE(read_file(path, text, Limits::max_file_size).empty());
+        ParseResult parsed = parse_scene(text);
+        REQUIRE(parsed.ok());
+        scenes.push_back({name, parsed.scene});
+    }
+    for (Isa isa : {Isa::Sse2, Isa::Avx2}) {
+        if (!set_isa(isa)) continue;
+        for (const auto& [name, scene] : scenes) {
+            CAPTURE(name);
+            CAPTURE(isa_name(isa));
+            auto world = compile_world(scene);
+            REQUIRE(bool(world->light_buffers));
+            REQUIRE(bool(world->camera_buffer));
+            for (const LightBuffer& lb : *world->light_buffers) CHECK(lb.n > 0);
+            auto plain = std::make_shared<World>(*world);
+            plain->light_buffers.reset();
+            plain->camera_buffer.reset();
+            int w = std::max(16, scene.width / 8), h = std::max(9, scene.height / 8);
+            CHECK(render(world, w, h) == render(plain, w, h));
+        }
+    }
+}
