@@ -9,7 +9,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <limits>
+#include <system_error>
+#include <thread>
 
 #include "shapes.h"
 
@@ -550,6 +553,43 @@ double radiance_bound(const World& w) {
 
 std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous) {
     auto w = std::make_shared<World>();
+    // The objects' materials do not depend on the geometry: for a big scene they are
+    // made on a thread of their own while the shapes and the BVH are built.
+    auto make_materials = [&] {
+        w->materials.reserve(scene.objects.size());
+        for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+            // Big scenes repeat a few materials, often alternating: one equal (bit for
+            // bit) to either of the last two objects' is copied, saving its three
+            // logarithms.
+            static_assert(sizeof(Material) == 8 * sizeof(double), "materials compare as bytes");
+            const Material& m = scene.objects[i].material;
+            std::size_t k = 1;
+            for (; k <= 2 && k <= i; ++k)
+                if (std::memcmp(&m, &scene.objects[i - k].material, sizeof m) == 0) break;
+            w->materials.push_back(k <= 2 && k <= i ? w->materials[i - k] : ShadeMaterial::from(m));
+        }
+    };
+    std::thread materials;
+    std::exception_ptr materials_failed;
+    if (scene.objects.size() >= 65536 && std::thread::hardware_concurrency() > 1) {
+        try {
+            materials = std::thread([&] {
+                try {
+                    make_materials();
+                } catch (...) {
+                    materials_failed = std::current_exception();
+                }
+            });
+        } catch (const std::system_error&) {
+            // No thread to be had: made below.
+        }
+    }
+    struct Join {
+        std::thread& t;
+        ~Join() {
+            if (t.joinable()) t.join();
+        }
+    } join{materials};
     if (previous && previous->geometry && previous->geometry->object_node.size() == scene.objects.size()) {
         // The shapes compiled again are cheap to compare; only the BVH is worth keeping.
         Geometry g = build_geometry(scene, false);
@@ -562,16 +602,11 @@ std::shared_ptr<const World> compile_world(const Scene& scene, const World* prev
     } else {
         w->geometry = std::make_shared<const Geometry>(build_geometry(scene));
     }
-    w->materials.reserve(scene.objects.size());
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        // Big scenes repeat a few materials, often alternating: one equal (bit for bit)
-        // to either of the last two objects' is copied, saving its three logarithms.
-        static_assert(sizeof(Material) == 8 * sizeof(double), "materials compare as bytes");
-        const Material& m = scene.objects[i].material;
-        std::size_t k = 1;
-        for (; k <= 2 && k <= i; ++k)
-            if (std::memcmp(&m, &scene.objects[i - k].material, sizeof m) == 0) break;
-        w->materials.push_back(k <= 2 && k <= i ? w->materials[i - k] : ShadeMaterial::from(m));
+    if (materials.joinable()) {
+        materials.join();
+        if (materials_failed) std::rethrow_exception(materials_failed);
+    } else {
+        make_materials();
     }
     for (const Plane& p : scene.planes) {
         w->planes.push_back(PlaneShape::from(p));
