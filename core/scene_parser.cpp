@@ -94,6 +94,8 @@ struct Piece {
     std::vector<Object> objects;
     std::size_t counted = 0;
     std::size_t end = 0;
+    // The helper's line map, which has scanned past the main reading's: handed on.
+    LineMap lines{std::string_view()};
 };
 
 class Parser {
@@ -152,6 +154,7 @@ public:
         objects.erase(objects.begin() + std::ptrdiff_t(kept), objects.end());
         if (p.quit.load(std::memory_order_relaxed)) std::vector<Object>().swap(objects);
         std::lock_guard<std::mutex> lock(p.mutex);
+        p.lines = std::move(lines_);
         p.objects = std::move(objects);
         p.counted = counted;
         p.end = end;
@@ -188,6 +191,7 @@ private:
             std::vector<Object>().swap(p.objects);
             objects_ += p.counted;
             lex_.seek(p.end);
+            lines_ = std::move(p.lines);
         }
         next_start_ = kNone;
     }
