@@ -5,7 +5,6 @@
 
 #include <fcntl.h>
 #include <stb/stb_image_write.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -22,6 +21,8 @@
 #include <string_view>
 #include <system_error>
 #include <thread>
+
+#include "pages.h"
 
 namespace rt {
 namespace {
@@ -358,19 +359,6 @@ ssize_t pread_full(int fd, char* p, std::size_t n, off_t at) {
     return ssize_t(got);
 }
 
-// Takes the first-touch page faults of [p, p + n) now (a hint: nothing happens where
-// the system cannot). The contents stay as they are.
-void populate(char* p, std::size_t n) {
-#if defined(MADV_POPULATE_WRITE)
-    const std::uintptr_t page = std::uintptr_t(::sysconf(_SC_PAGESIZE));
-    const std::uintptr_t b = (std::uintptr_t(p) + page - 1) & ~(page - 1), e = (std::uintptr_t(p) + n) & ~(page - 1);
-    if (e > b) ::madvise(reinterpret_cast<void*>(b), e - b, MADV_POPULATE_WRITE);
-#else
-    (void)p;
-    (void)n;
-#endif
-}
-
 }  // namespace
 
 std::string read_file(const std::string& path, std::string& out, std::size_t max_bytes) {
@@ -401,14 +389,7 @@ std::string read_file(const std::string& path, std::string& out, std::size_t max
         // The zero fill of resize() would take every page's first-touch fault (most of
         // its time) on this thread: another one takes half of them meanwhile.
         out.reserve(first);
-        const std::size_t half = first / 2;
-        std::thread t;
-        try {
-            t = std::thread([&] { populate(&out[0] + half, first - half); });
-        } catch (const std::system_error&) {
-        }
-        populate(&out[0], t.joinable() ? half : first);
-        if (t.joinable()) t.join();
+        populate_pages_on_two_threads(out.data(), first);
     }
     out.resize(first);
     // A big regular file: its second half is read on another thread meanwhile (copying

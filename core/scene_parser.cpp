@@ -18,6 +18,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <iterator>
@@ -27,6 +28,7 @@
 #include <thread>
 #include <type_traits>
 
+#include "pages.h"
 #include "scene_lexer.h"
 #include "scene_schema.h"
 
@@ -185,6 +187,11 @@ private:
             // them went over the limit, it reports that itself.
             if (p.end == p.start || objects_ + p.counted > Limits::max_objects) continue;
             std::vector<Object>& objects = out_.scene.objects;
+            if (objects.capacity() - objects.size() >= p.objects.size())
+                // Fresh pages for the moved objects: their faults are taken on two threads.
+                populate_pages_on_two_threads(
+                    reinterpret_cast<const void*>(std::uintptr_t(objects.data()) + objects.size() * sizeof(Object)),
+                    p.objects.size() * sizeof(Object));
             objects.insert(objects.end(), std::make_move_iterator(p.objects.begin()),
                            std::make_move_iterator(p.objects.end()));
             out_.objects_read_ahead += p.objects.size();
