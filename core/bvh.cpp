@@ -231,31 +231,32 @@ struct Builder {
             rb = range_bounds(mid, end), rcb = range_centres(mid, end);
         }
         if (end - begin >= kParallelItems && take_thread()) {
-            // The left subtree on a thread of its own, the right one here, each into its
-            // own array; then both are copied in after this node, in serial order.
-            std::vector<BinNode> left(1), right(1);
-            left.reserve(2 * std::size_t(mid - begin));
+            // The right subtree on a thread of its own, into its own array; the left one
+            // here, in place after this node as in the serial order; then the right one
+            // is copied in after it.
+            std::vector<BinNode> right(1);
             right.reserve(2 * std::size_t(end - mid));
             std::exception_ptr failed;
             std::thread t([&] {
                 try {
-                    build(left, 0, begin, mid, lb, lcb, depth + 1);
+                    build(right, 0, mid, end, rb, rcb, depth + 1);
                 } catch (...) {
                     failed = std::current_exception();
                 }
                 spare.fetch_add(1, std::memory_order_relaxed);
             });
             try {
-                build(right, 0, mid, end, rb, rcb, depth + 1);
+                std::uint32_t left = std::uint32_t(out.size());
+                out.emplace_back();
+                build(out, left, begin, mid, lb, lcb, depth + 1);
             } catch (...) {
                 t.join();
                 throw;
             }
             t.join();
             if (failed) std::rethrow_exception(failed);
-            out[node].first = node + 1 + std::uint32_t(left.size());
+            out[node].first = std::uint32_t(out.size());
             out[node].count = 0;
-            splice(out, left);
             splice(out, right);
             return;
         }

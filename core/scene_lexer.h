@@ -24,6 +24,8 @@ class SceneLexer {
 public:
     // A UTF-8 byte-order mark at the start is not part of the scene.
     explicit SceneLexer(std::string_view text);
+    // Lexing from `offset` on, as if the text began there (no byte-order mark).
+    SceneLexer(std::string_view text, std::size_t offset) : text_(text), pos_(offset) { advance(); }
     const Token& peek() const { return cur_; }
     Token next() {
         Token t = cur_;
@@ -31,6 +33,13 @@ public:
         return t;
     }
     void skip() { advance(); }  // next() without the copy
+    // Continues at `offset`. At a token's offset this gives the very tokens that lexing
+    // on from before it would (a token is a maximal run, and a comment cannot start
+    // inside one).
+    void seek(std::size_t offset) {
+        pos_ = offset;
+        advance();
+    }
     std::string_view text() const { return text_; }
 
 private:

@@ -4,13 +4,31 @@
 // next key it knows in the same block (or the block's closing brace), so one typo gives
 // one message. Positions are byte offsets until a diagnostic or an item's location
 // needs a line and column.
+//
+// Big files are read in pieces side by side (ParseOptions::threads): helpers read the
+// items of a thing section from guessed item starts onwards, and the main reading,
+// which goes through the whole file as it always does, takes a helper's items instead
+// of reading them itself when it arrives exactly at that start, in a thing section.
+// A helper gives up at its first diagnostic of any kind, so what it hands over is
+// what the main reading would have made itself, with no diagnostic, and the result
+// cannot depend on the guesses or on timing; only the speed does.
 #include "scene_parser.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <iterator>
+#include <memory>
+#include <mutex>
 #include <new>
+#include <thread>
 #include <type_traits>
 
+#include "pages.h"
 #include "scene_lexer.h"
 #include "scene_schema.h"
 
@@ -21,6 +39,10 @@ namespace sc = schema;
 
 // Raised to abandon parsing (too many errors, or the end of the file inside a block).
 struct Stop {};
+// Raised when the progress callback asks to stop.
+struct Cancelled {};
+// Raised in a helper at its first diagnostic: the main reading takes over there.
+struct Bail {};
 
 std::string quote(std::string_view s) {
     std::string out = "'";
@@ -58,30 +80,176 @@ int key_index(const sc::Block<T>& b, const sc::Key<T>& k) {
     return int(&k - b.keys.data());
 }
 
+// The items of a thing section from `start` on, read by a helper thread.
+struct Piece {
+    std::size_t start = 0;    // a guessed item start (the offset of an object name)
+    std::size_t stop_at = 0;  // the helper ends at the first item starting at or after it
+    std::size_t max_counted = 0;  // the helper gives up past this many objects
+    std::atomic<bool> quit{false};  // the main reading passed `start`: the work is not needed
+    std::atomic<std::size_t> at{0}, made{0};  // how far the helper got, for progress
+    std::thread thread;
+    std::mutex mutex;
+    std::condition_variable finished;
+    bool done = false;  // under mutex; then the fields below are the helper's result
+    // The items read without a diagnostic: `objects`, which the limit counts as
+    // `counted` (CSG operands too), end where the token at `end` starts.
+    std::vector<Object> objects;
+    std::size_t counted = 0;
+    std::size_t end = 0;
+    // The helper's line map, which has scanned past the main reading's: handed on.
+    LineMap lines{std::string_view()};
+};
+
 class Parser {
 public:
     Parser(std::string_view text, const ParseOptions& opt, ParseResult& out)
-        : lex_(text), lines_(text), opt_(opt), out_(out) {}
+        : lex_(text), lines_(text), opt_(opt), out_(out) {
+        if (opt_.progress) next_tick_ = 0;
+    }
+    // A helper reading `piece`.
+    Parser(std::string_view text, const ParseOptions& opt, ParseResult& out, Piece& piece)
+        : lex_(text, piece.start), lines_(text), opt_(opt), out_(out), piece_(&piece) {}
 
-    void run() {
+    void run(std::vector<std::unique_ptr<Piece>> pieces = {}) {
+        pieces_ = std::move(pieces);
+        next_start_ = pieces_.empty() ? kNone : pieces_.front()->start;
         try {
             parse_top();
             if (errors_ == 0) validate();
         } catch (const Stop&) {
             // Too many errors: what was collected is the result.
+        } catch (const Cancelled&) {
+            out_.cancelled = true;
+        } catch (...) {
+            end_pieces();
+            throw;
         }
+        end_pieces();
         std::stable_sort(out_.diagnostics.begin(), out_.diagnostics.end(), [](const Diagnostic& a, const Diagnostic& b) {
             return a.line != b.line ? a.line < b.line : a.col < b.col;
         });
     }
 
+    // The helper's work: thing items from piece_->start up to the first diagnostic,
+    // the end of the section, or the first item at or after stop_at.
+    void run_piece() {
+        Piece& p = *piece_;
+        std::vector<Object>& objects = out_.scene.objects;
+        std::size_t kept = 0, counted = 0, end = p.start;
+        try {
+            for (;;) {
+                const Token& t = lex_.peek();
+                if (t.offset >= p.stop_at || t.eof() || t.is('}') || sc::find_section(t.text) ||
+                    p.quit.load(std::memory_order_relaxed))
+                    break;
+                thing_item();
+                if (objects_ > p.max_counted) break;
+                kept = objects.size();
+                counted = objects_;
+                end = lex_.peek().offset;
+                p.at.store(end, std::memory_order_relaxed);
+                p.made.store(kept, std::memory_order_relaxed);
+            }
+        } catch (...) {
+            // Bail, Stop, or no memory: the main reading does the rest itself.
+        }
+        objects.erase(objects.begin() + std::ptrdiff_t(kept), objects.end());
+        if (p.quit.load(std::memory_order_relaxed)) std::vector<Object>().swap(objects);
+        std::lock_guard<std::mutex> lock(p.mutex);
+        p.lines = std::move(lines_);
+        p.objects = std::move(objects);
+        p.counted = counted;
+        p.end = end;
+        p.done = true;
+        p.finished.notify_all();
+    }
+
 private:
+    // ---- pieces and progress -----------------------------------------------------
+    // At an item boundary of a thing section: takes the pieces that start right here
+    // (one may end where the next starts), and lets go of those already passed.
+    void take_pieces() {
+        while (next_piece_ < pieces_.size()) {
+            Piece& p = *pieces_[next_piece_];
+            const std::size_t here = lex_.peek().offset;
+            if (p.start > here) {
+                next_start_ = p.start;
+                return;
+            }
+            if (p.start < here) {
+                p.quit = true;
+                ++next_piece_;
+                continue;
+            }
+            wait_for(p);
+            ++next_piece_;
+            // The sequential reading would count the same objects one by one; if one of
+            // them went over the limit, it reports that itself.
+            if (p.end == p.start || objects_ + p.counted > Limits::max_objects) continue;
+            std::vector<Object>& objects = out_.scene.objects;
+            if (objects.capacity() - objects.size() >= p.objects.size())
+                // Fresh pages for the moved objects: their faults are taken on two threads.
+                populate_pages_on_two_threads(
+                    reinterpret_cast<const void*>(std::uintptr_t(objects.data()) + objects.size() * sizeof(Object)),
+                    p.objects.size() * sizeof(Object));
+            objects.insert(objects.end(), std::make_move_iterator(p.objects.begin()),
+                           std::make_move_iterator(p.objects.end()));
+            out_.objects_read_ahead += p.objects.size();
+            std::vector<Object>().swap(p.objects);
+            objects_ += p.counted;
+            lex_.seek(p.end);
+            lines_ = std::move(p.lines);
+        }
+        next_start_ = kNone;
+    }
+
+    void wait_for(Piece& p) {
+        std::unique_lock<std::mutex> lock(p.mutex);
+        while (!p.done) {
+            if (opt_.progress) {
+                lock.unlock();
+                on_tick(lex_.peek().offset);
+                lock.lock();
+                if (p.done) break;
+            }
+            p.finished.wait_for(lock, std::chrono::milliseconds(20));
+        }
+    }
+
+    // Stops the helpers still reading and waits for them.
+    void end_pieces() {
+        for (auto& p : pieces_) p->quit = true;
+        for (auto& p : pieces_)
+            if (p->thread.joinable()) p->thread.join();
+        pieces_.clear();
+    }
+
+    // Called with the offset reached at the top of each loop over tokens; cheap unless
+    // there is a progress callback and a MB has gone by.
+    void tick(std::size_t offset) {
+        if (offset >= next_tick_) on_tick(offset);
+    }
+    void on_tick(std::size_t offset) {
+        next_tick_ = offset + (std::size_t(1) << 20);
+        std::size_t bytes = offset, objects = out_.scene.objects.size();
+        for (std::size_t k = next_piece_; k < pieces_.size(); ++k) {
+            const Piece& p = *pieces_[k];
+            if (p.quit.load(std::memory_order_relaxed)) continue;
+            bytes += p.at.load(std::memory_order_relaxed) - std::min(p.start, p.at.load(std::memory_order_relaxed));
+            objects += p.made.load(std::memory_order_relaxed);
+        }
+        bytes = std::max(std::min(bytes, lex_.text().size()), bytes_shown_);
+        bytes_shown_ = bytes;
+        if (!opt_.progress(bytes, objects)) throw Cancelled{};
+    }
+
     // ---- diagnostics -------------------------------------------------------------
     SourceLoc loc_of(std::size_t offset) {
         LineCol lc = lines_.at(offset);
         return {lc.line, lc.col};
     }
     void report(Diagnostic::Severity severity, SourceLoc at, std::string msg) {
+        if (piece_) throw Bail{};
         out_.diagnostics.push_back({severity, at.line, at.col, std::move(msg)});
         if (severity == Diagnostic::Severity::Error && ++errors_ >= opt_.max_errors) throw Stop{};
     }
@@ -125,6 +293,7 @@ private:
     // the file: `eof_outer` if only the outermost block is open, else "unbalanced".
     void skip_to_close(std::size_t depth, const char* eof_outer = nullptr) {
         while (depth > 0) {
+            tick(lex_.peek().offset);
             Token t = lex_.next();
             if (t.eof())
                 fatal(t, depth == 1 && eof_outer ? eof_outer : "unexpected end of file: unbalanced '{'");
@@ -146,6 +315,7 @@ private:
     void recover(const sc::Block<T>& b) {
         for (;;) {
             const Token& t = lex_.peek();
+            tick(t.offset);
             if (t.eof() || t.is('}') || b.find(t.text)) return;
             if (t.is('{'))
                 skip_block();
@@ -168,6 +338,7 @@ private:
     void read_block(const sc::Block<T>& b, T& item, ItemState& st) {
         for (;;) {
             Token t = lex_.peek();
+            tick(t.offset);
             if (t.eof()) fatal(t, "unexpected end of file inside " + quote(b.name) + ": expected '}'");
             if (t.is('}')) {
                 lex_.next();
@@ -368,6 +539,7 @@ private:
     // ---- sections ----------------------------------------------------------------
     void parse_top() {
         for (;;) {
+            tick(lex_.peek().offset);
             Token t = lex_.next();
             if (t.eof()) {
                 error(t, "missing 'end' at the end of the scene");
@@ -382,7 +554,7 @@ private:
             case sc::SectionKind::End:
                 return;
             case sc::SectionKind::Things:
-                if (open(t)) section_items(*s, [&] { thing_item(); });
+                if (open(t)) section_items(*s, [&] { thing_item(); }, true);
                 break;
             case sc::SectionKind::Specials:
                 if (open(t)) section_items(*s, [&] { item(*s, sc::plane_blocks(), out_.scene.planes); });
@@ -411,6 +583,7 @@ private:
         // Resynchronise on the next section name.
         for (;;) {
             const Token& u = lex_.peek();
+            tick(u.offset);
             if (u.eof() || sc::find_section(u.text)) return;
             if (u.is('{'))
                 skip_block();
@@ -421,9 +594,11 @@ private:
 
     // The items of a section up to its '}'; `read_item` reads one.
     template <class ReadItem>
-    void section_items(const sc::Section& s, ReadItem read_item) {
+    void section_items(const sc::Section& s, ReadItem read_item, bool things = false) {
         for (;;) {
+            if (things && lex_.peek().offset >= next_start_) take_pieces();
             const Token& t = lex_.peek();
+            tick(t.offset);
             if (t.eof()) fatal(t, "unexpected end of file inside " + quote(s.name) + ": expected '}'");
             if (t.is('}')) {
                 lex_.next();
@@ -573,6 +748,12 @@ private:
     LineMap lines_;
     const ParseOptions& opt_;
     ParseResult& out_;
+    Piece* piece_ = nullptr;  // set in a helper
+    std::vector<std::unique_ptr<Piece>> pieces_;  // the helpers' pieces, in file order
+    std::size_t next_piece_ = 0;  // pieces_ before it are taken or passed
+    std::size_t next_start_ = kNone;  // its start
+    std::size_t next_tick_ = kNone;
+    std::size_t bytes_shown_ = 0;
     int errors_ = 0;
     int depth_ = 0;  // CSG nesting of the object being read
     std::size_t objects_ = 0;
@@ -580,6 +761,38 @@ private:
     ItemState camera_keys_, size_keys_;  // keys accumulate over repeated sections
     SourceLoc camera_loc_, size_loc_;
 };
+
+// Where helpers may start: after each of the first n - 1 n-ths of the text, the first
+// object name that follows a '}' (the end of an item) or the '{' of `thing`, with a
+// '{' after it. A guess that turns out not to be an item start costs only time.
+std::vector<std::size_t> piece_starts(std::string_view text, std::size_t n) {
+    auto space = [](char c) { return c == ' ' || (c >= '\t' && c <= '\r'); };
+    auto word_end = [&](std::size_t i) {
+        while (i < text.size() && !space(text[i]) && text[i] != '{' && text[i] != '}') ++i;
+        return i;
+    };
+    std::vector<std::size_t> starts;
+    for (std::size_t k = 1; k < n; ++k) {
+        std::size_t i = text.size() / n * k;
+        const std::size_t limit = text.size() / n * (k + 1);
+        for (; i < limit; ++i) {
+            const char* brace = static_cast<const char*>(std::memchr(text.data() + i, '}', limit - i));
+            if (!brace) break;
+            i = std::size_t(brace - text.data());
+            std::size_t j = i + 1;
+            while (j < text.size() && space(text[j])) ++j;
+            const std::size_t e = word_end(j);
+            if (e == j || !sc::object_block(text.substr(j, e - j))) continue;
+            std::size_t b = e;
+            while (b < text.size() && space(text[b])) ++b;
+            if (b < text.size() && text[b] == '{' && (starts.empty() || starts.back() < j)) {
+                starts.push_back(j);
+                break;
+            }
+        }
+    }
+    return starts;
+}
 
 }  // namespace
 
@@ -600,8 +813,42 @@ ParseResult parse_scene(std::string_view text, const ParseOptions& options) {
     } catch (const std::bad_alloc&) {
         // Then the list grows as it goes.
     }
+    std::size_t threads = options.threads > 0 ? std::size_t(options.threads)
+                                              : std::max(1u, std::thread::hardware_concurrency());
+    threads = std::min({threads, text.size() / std::max<std::size_t>(options.min_piece_bytes, 1), std::size_t(64)});
+    std::vector<std::unique_ptr<Piece>> pieces;
+    if (threads > 1) {
+        const std::vector<std::size_t> starts = piece_starts(text, threads);
+        for (std::size_t k = 0; k < starts.size(); ++k) {
+            auto p = std::make_unique<Piece>();
+            p->start = p->end = starts[k];
+            p->at = starts[k];
+            p->stop_at = k + 1 < starts.size() ? starts[k + 1] : text.size() + 1;
+            p->max_counted = Limits::max_objects / starts.size();
+            pieces.push_back(std::move(p));
+        }
+        try {
+            for (auto& p : pieces)
+                p->thread = std::thread([text, &options, piece = p.get()] {
+                    ParseResult own;
+                    try {
+                        own.scene.objects.reserve((std::min(piece->stop_at, text.size()) - piece->start) / 64);
+                    } catch (const std::bad_alloc&) {
+                    }
+                    Parser helper(text, options, own, *piece);
+                    helper.run_piece();
+                });
+        } catch (...) {
+            // No more threads: the pieces without one are never reached by a helper.
+            for (auto& p : pieces)
+                if (!p->thread.joinable()) {
+                    std::lock_guard<std::mutex> lock(p->mutex);
+                    p->done = true;
+                }
+        }
+    }
     Parser p(text, options, result);
-    p.run();
+    p.run(std::move(pieces));
     return result;
 }
 

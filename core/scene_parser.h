@@ -4,6 +4,8 @@
 // camera keys, clear errors).
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,7 +25,10 @@ struct Diagnostic {
 struct ParseResult {
     Scene scene;
     std::vector<Diagnostic> diagnostics;  // errors and warnings, in file order
+    bool cancelled = false;               // the progress callback stopped the parse
+    std::size_t objects_read_ahead = 0;   // of scene.objects, those read by helper threads
     bool ok() const {
+        if (cancelled) return false;
         for (const auto& d : diagnostics)
             if (d.is_error()) return false;
         return true;
@@ -32,6 +37,17 @@ struct ParseResult {
 
 struct ParseOptions {
     int max_errors = 20;  // stop collecting after this many errors
+    // A big file's thing sections are read in pieces on up to this many threads (0: all
+    // the processor's), each piece starting at an item. The result, diagnostics
+    // included, is exactly that of reading the file in one go: a piece is used only if
+    // the one-go reading reaches its start at an item of a thing section, and only the
+    // items it read without any diagnostic.
+    int threads = 0;
+    std::size_t min_piece_bytes = std::size_t(1) << 22;  // smaller files: one thread
+    // Called on the calling thread about every MB of text with the bytes read so far
+    // and the objects made so far; returning false cancels the parse (the result is
+    // then `cancelled`, and not ok).
+    std::function<bool(std::size_t bytes, std::size_t objects)> progress;
 };
 
 ParseResult parse_scene(std::string_view text, const ParseOptions& options = {});

@@ -13,6 +13,7 @@
 #include <iterator>
 #include <limits>
 #include <mutex>
+#include <system_error>
 #include <thread>
 
 #include "shapes.h"
@@ -749,7 +750,55 @@ double radiance_bound(const World& w) {
 
 }  // namespace
 
+namespace {
+
+// The objects' shading materials; they do not depend on the geometry.
+std::vector<ShadeMaterial> make_materials(const Scene& scene) {
+    std::vector<ShadeMaterial> out;
+    out.reserve(scene.objects.size());
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        // Big scenes repeat a few materials, often alternating: one equal (bit for bit)
+        // to either of the last two objects' is copied, saving its three logarithms.
+        static_assert(sizeof(Material) == 8 * sizeof(double), "materials compare as bytes");
+        const Material& m = scene.objects[i].material;
+        std::size_t k = 1;
+        for (; k <= 2 && k <= i; ++k)
+            if (std::memcmp(&m, &scene.objects[i - k].material, sizeof m) == 0) break;
+        out.push_back(k <= 2 && k <= i ? out[i - k] : ShadeMaterial::from(m));
+    }
+    return out;
+}
+
+std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
+                                          std::vector<ShadeMaterial> materials, const World* previous);
+
+}  // namespace
+
 std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous) {
+    // For a big scene the materials are made on a thread of their own while the shapes
+    // and the BVH are built.
+    std::vector<ShadeMaterial> materials;
+    std::thread materials_thread;
+    std::exception_ptr materials_failed;
+    if (scene.objects.size() >= 65536 && std::thread::hardware_concurrency() > 1) {
+        try {
+            materials_thread = std::thread([&] {
+                try {
+                    materials = make_materials(scene);
+                } catch (...) {
+                    materials_failed = std::current_exception();
+                }
+            });
+        } catch (const std::system_error&) {
+            // No thread to be had: made below.
+        }
+    }
+    struct Join {
+        std::thread& t;
+        ~Join() {
+            if (t.joinable()) t.join();
+        }
+    } join{materials_thread};
     std::shared_ptr<const Geometry> geometry;
     if (previous && previous->geometry && previous->geometry->object_node.size() == scene.objects.size()) {
         // The shapes compiled again are cheap to compare; only the BVH is worth keeping.
@@ -763,24 +812,27 @@ std::shared_ptr<const World> compile_world(const Scene& scene, const World* prev
     } else {
         geometry = std::make_shared<const Geometry>(build_geometry(scene));
     }
-    return compile_world(scene, std::move(geometry), previous);
+    if (materials_thread.joinable()) {
+        materials_thread.join();
+        if (materials_failed) std::rethrow_exception(materials_failed);
+    } else {
+        materials = make_materials(scene);
+    }
+    return finish_world(scene, std::move(geometry), std::move(materials), previous);
 }
 
 std::shared_ptr<const World> compile_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
                                            const World* previous) {
+    return finish_world(scene, std::move(geometry), make_materials(scene), previous);
+}
+
+namespace {
+
+std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
+                                          std::vector<ShadeMaterial> materials, const World* previous) {
     auto w = std::make_shared<World>();
     w->geometry = std::move(geometry);
-    w->materials.reserve(scene.objects.size());
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        // Big scenes repeat a few materials, often alternating: one equal (bit for bit)
-        // to either of the last two objects' is copied, saving its three logarithms.
-        static_assert(sizeof(Material) == 8 * sizeof(double), "materials compare as bytes");
-        const Material& m = scene.objects[i].material;
-        std::size_t k = 1;
-        for (; k <= 2 && k <= i; ++k)
-            if (std::memcmp(&m, &scene.objects[i - k].material, sizeof m) == 0) break;
-        w->materials.push_back(k <= 2 && k <= i ? w->materials[i - k] : ShadeMaterial::from(m));
-    }
+    w->materials = std::move(materials);
     for (const Plane& p : scene.planes) {
         w->planes.push_back(PlaneShape::from(p));
         w->plane_mats.push_back(ShadeMaterial::from(p.material));
@@ -889,5 +941,7 @@ std::shared_ptr<const World> compile_world(const Scene& scene, std::shared_ptr<c
     if (previous) w->options = previous->options;
     return w;
 }
+
+}  // namespace
 
 }  // namespace rt

@@ -306,6 +306,23 @@ TEST_CASE("read_file returns the exact bytes and enforces the size limit") {
     }
 }
 
+TEST_CASE("read_file: a big file, read in two halves at once, comes back byte for byte") {
+    TempDir dir("rt-imageio");
+    std::string data((std::size_t(9) << 20) + 12345, '\0');
+    std::uint32_t x = 12345;
+    for (char& c : data) {
+        x = x * 1664525u + 1013904223u;
+        c = char(x >> 24);
+    }
+    spit(dir / "big", data);
+    std::string out;
+    REQUIRE(read_file(dir / "big", out, data.size()) == "");
+    CHECK(out.size() == data.size());
+    CHECK(out == data);
+    CHECK(contains(read_file(dir / "big", out, data.size() - 1), std::to_string(data.size() - 1)));
+    CHECK(out.empty());
+}
+
 // --- the rules of check_writable (image_io.h), shared by write_file_atomic ---------
 
 TEST_CASE("a read-only folder refuses the write (as an unprivileged user)" * doctest::skip(kRoot)) {

@@ -151,15 +151,54 @@ inline void check_diagnostics(std::string_view text, const rt::ParseResult& r) {
 
 // The parser's promises for any input: positioned diagnostics; a scene without
 // errors within the limits; the same verdict with a lower error cap.
+inline bool same_loc(const rt::SourceLoc& a, const rt::SourceLoc& b) { return a.line == b.line && a.col == b.col; }
+inline bool same_locs(const rt::Object& a, const rt::Object& b) {
+    if (!same_loc(a.loc, b.loc)) return false;
+    if (const auto* ca = std::get_if<rt::Csg>(&a.shape)) {
+        const auto* cb = std::get_if<rt::Csg>(&b.shape);
+        if (!cb || ca->operands.size() != cb->operands.size()) return false;
+        for (std::size_t i = 0; i < ca->operands.size(); ++i)
+            if (!same_locs(ca->operands[i], cb->operands[i])) return false;
+    }
+    return true;
+}
+
+// Reading in pieces on threads (forced even on a small text) gives what reading in
+// one go gave: the same scene, item locations and diagnostics.
+inline void check_pieces(std::string_view text, const rt::ParseResult& one, rt::ParseOptions o, int threads) {
+    o.threads = threads;
+    o.min_piece_bytes = 1;
+    const rt::ParseResult many = rt::parse_scene(text, o);
+    if (many.diagnostics.size() != one.diagnostics.size()) fail("pieces: another number of diagnostics");
+    for (std::size_t i = 0; i < one.diagnostics.size(); ++i) {
+        const rt::Diagnostic &a = one.diagnostics[i], &b = many.diagnostics[i];
+        if (a.message != b.message || a.line != b.line || a.col != b.col || a.severity != b.severity)
+            fail("pieces: another diagnostic", rt::format_diagnostic("one go", a) + " / " +
+                                                  rt::format_diagnostic("pieces", b));
+    }
+    if (!(many.scene == one.scene) || many.ok() != one.ok()) fail("pieces: another scene");
+    for (std::size_t i = 0; i < one.scene.objects.size(); ++i)
+        if (!same_locs(one.scene.objects[i], many.scene.objects[i])) fail("pieces: another object location");
+    for (std::size_t i = 0; i < one.scene.planes.size(); ++i)
+        if (!same_loc(one.scene.planes[i].loc, many.scene.planes[i].loc)) fail("pieces: another plane location");
+    for (std::size_t i = 0; i < one.scene.lights.size(); ++i)
+        if (!same_loc(one.scene.lights[i].loc, many.scene.lights[i].loc)) fail("pieces: another light location");
+    if (!same_loc(one.scene.camera_loc, many.scene.camera_loc)) fail("pieces: another camera location");
+}
+
 inline void check_parse(std::string_view text, int low_max_errors) {
-    const rt::ParseResult r = rt::parse_scene(text);
+    rt::ParseOptions one_go;
+    one_go.threads = 1;
+    const rt::ParseResult r = rt::parse_scene(text, one_go);
     check_diagnostics(text, r);
     if (r.ok()) check_scene(r.scene);
-    rt::ParseOptions low;
+    check_pieces(text, r, one_go, 3);
+    rt::ParseOptions low = one_go;
     low.max_errors = low_max_errors;
     const rt::ParseResult r1 = rt::parse_scene(text, low);
     check_diagnostics(text, r1);
     if (r1.ok() != r.ok()) fail("max_errors changed whether the scene is ok");
+    check_pieces(text, r1, low, 2);
 }
 
 // parse -> write -> parse gives an equal scene, and writing it again the same text.

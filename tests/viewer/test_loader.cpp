@@ -140,6 +140,31 @@ TEST_CASE("a load can be cancelled: nothing arrives, and the next load does") {
     CHECK_FALSE(loader.poll());
 }
 
+TEST_CASE("the parse stage reports the bytes parsed and the objects made so far") {
+    const std::string text = many_spheres(200000);
+    TempFile big(text);
+    SceneLoader loader;
+    loader.start(big.path, false);
+    SceneLoader::Progress seen;
+    auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (std::chrono::steady_clock::now() < until && loader.active()) {
+        SceneLoader::Progress p = loader.progress();
+        if (p.stage == SceneLoader::Stage::Parsing && p.bytes > 0) {
+            seen = p;
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+    REQUIRE(seen.stage == SceneLoader::Stage::Parsing);
+    CHECK(seen.total == text.size());
+    CHECK(seen.bytes <= seen.total);
+    CHECK(seen.objects > 0);
+    CHECK(seen.objects < 200000);
+    std::optional<LoadResult> r = loader.wait();
+    REQUIRE(r);
+    CHECK(r->parsed.scene.objects.size() == 200000);
+}
+
 TEST_CASE("a file with errors loads as text with its diagnostics and no world") {
     TempFile f("thing { sphere { radius x } }\nend\n");
     SceneLoader loader;

@@ -113,8 +113,21 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
         r.status = LoadResult::Status::Failed;
         r.error = err;
     } else {
-        stage(Stage::Parsing);
-        r.parsed = rt::parse_scene(r.text);
+        {
+            std::lock_guard<std::mutex> lock(job->mutex);
+            job->progress.stage = Stage::Parsing;
+            job->progress.bytes = 0;
+            job->progress.total = r.text.size();
+        }
+        // Bytes parsed so far for the status bar; Esc stops the parse within a MB.
+        rt::ParseOptions popts;
+        popts.progress = [&](std::size_t bytes, std::size_t objects) {
+            std::lock_guard<std::mutex> lock(job->mutex);
+            job->progress.bytes = bytes;
+            job->progress.objects = objects;
+            return !job->cancel;
+        };
+        r.parsed = rt::parse_scene(r.text, popts);
         if (job->cancel) {
             r.status = LoadResult::Status::Cancelled;
         } else {

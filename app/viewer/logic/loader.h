@@ -38,8 +38,8 @@ public:
     enum class Stage { Idle, Reading, Parsing, Building, Done };
     struct Progress {
         Stage stage = Stage::Idle;
-        std::uint64_t bytes = 0, total = 0;  // read so far, file size
-        std::size_t objects = 0;             // once parsed
+        std::uint64_t bytes = 0, total = 0;  // read (parsed) so far, of the file's size
+        std::size_t objects = 0;             // made so far
         std::string path;
     };
 

@@ -170,8 +170,9 @@ LoadStatus ViewerApp::load_status() const {
             load.fraction = p.total ? 0.3 * double(p.bytes) / double(p.total) : 0;
             break;
         case SceneLoader::Stage::Parsing:
-            load.text = "Parsing " + name + " (" + megabytes(p.total) + " MB)";
-            load.fraction = 0.3;
+            load.text = "Parsing " + name + ": " + megabytes(p.bytes) + " of " + megabytes(p.total) + " MB, " +
+                        std::to_string(p.objects) + " objects";
+            load.fraction = p.total ? 0.3 + 0.45 * double(p.bytes) / double(p.total) : 0.3;
             break;
         case SceneLoader::Stage::Building:
             load.text = "Building the BVH of " + name + ": " + std::to_string(p.objects) + " objects";
