@@ -34,7 +34,7 @@ const Program kProgram{
     "  OUT ends in .ppm (binary PPM, P6) or .png.\n"
     "\n"
     "Options:\n",
-    "  --threads N        worker threads (1..256, default: all cores)\n",
+    "worker threads (1..256, default: all cores)",
     "Exit status: 0 success, 1 the scene has errors, 2 usage or I/O error,\n"
     "128+N interrupted by signal N (130 for Ctrl+C). An interrupted or failed run\n"
     "leaves OUT untouched.\n"};

@@ -20,12 +20,13 @@ constexpr int kExitOk = 0;
 constexpr int kExitScene = 1;  // the scene file has errors
 constexpr int kExitUsage = 2;  // bad arguments, unreadable input, unwritable output
 
-// The help text is assembled by help_text(): the program's own head, its --threads
-// line and exit-status paragraph around the option lines both programs share.
+// The help text is assembled by help_text(): the program's own head and exit-status
+// paragraph around the option lines made from the option table both programs share
+// (with the program's --threads description, and --tile where it has tiles).
 struct Program {
     const char* name;          // in messages: "NAME: ..."
     const char* help_head;     // usage and description, up to and including "Options:\n"
-    const char* threads_help;  // the --threads entry (per process or per rank)
+    const char* threads_help;  // the --threads description (per process or per rank)
     const char* help_tail;     // after the option list: the exit statuses
     bool tile_option = false;  // accepts --tile N (8..256)
 };
@@ -41,6 +42,7 @@ struct Options {
     int tile = 32;
     double time_limit = 0;
     bool mirror = false, quiet = false, stats = false, print_scene = false;
+    bool help = false, version = false;  // printed by parse_args
     std::optional<std::string> check;
     std::vector<std::string> positional;
 };
