@@ -137,10 +137,9 @@ int render(const std::shared_ptr<const rt::World>& world, const rt::Scene& scene
 
 // Phase 5: writes OUT. Returns -1 to go on, else the exit status.
 int write_picture(const std::string& out_path, const Rendered& r) {
-    if (std::string err = rt::write_rgb8(out_path, r.width, r.height, r.pixels.data(), r.pixels.size());
-        !err.empty()) {
+    if (const rt::Status st = rt::write_rgb8(out_path, r.width, r.height, r.pixels.data(), r.pixels.size()); !st) {
         if (caught_signal()) return interrupted_exit();  // the temporary file is gone
-        std::cerr << "raytracer: cannot write '" << rt::escape_text(out_path) << "': " << err << "\n";
+        std::cerr << "raytracer: cannot write '" << rt::escape_text(out_path) << "': " << st.message() << "\n";
         return kExitUsage;
     }
     if (const int sig = caught_signal()) {

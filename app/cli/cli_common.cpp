@@ -194,9 +194,8 @@ int parse_args(const Program& program, int argc, char** argv, Options& o) {
 
 int load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene) {
     const std::string shown = rt::escape_text(path);
-    std::string err = rt::read_file(path, text, rt::Limits::max_file_size);
-    if (!err.empty()) {
-        std::cerr << program.name << ": cannot read '" << shown << "': " << err << "\n";
+    if (const rt::Status st = rt::read_file(path, text, rt::Limits::max_file_size); !st) {
+        std::cerr << program.name << ": cannot read '" << shown << "': " << st.message() << "\n";
         return kExitUsage;
     }
     if (std::string problem = rt::encoding_problem(text); !problem.empty()) {
@@ -237,7 +236,7 @@ std::string output_problem(const std::string& out, const std::string& scene_path
     if (stat(out.c_str(), &st) == 0 && stat(scene_path.c_str(), &ss) == 0 && ss.st_dev == st.st_dev &&
         ss.st_ino == st.st_ino)
         return "it is the scene file itself";
-    const std::string err = rt::check_writable(out);
+    const std::string err = rt::check_writable(out).message();
     if (err.empty()) return err;
     const auto slash = out.find_last_of('/');
     const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : out.substr(0, slash));

@@ -631,9 +631,9 @@ int render_and_write(const Front& f, const JobHeader& job, TilePool& pool, const
     if (caught_signal()) interrupted();
 
     const auto t_write0 = Clock::now();
-    if (std::string err = rt::write_image(f.out_path, coord.image()); !err.empty()) {
+    if (const rt::Status st = rt::write_image(f.out_path, coord.image()); !st) {
         if (caught_signal()) interrupted();  // the temporary file is gone
-        std::cerr << "raytracer-mpi: cannot write '" << f.out_path << "': " << err << "\n";
+        std::cerr << "raytracer-mpi: cannot write '" << f.out_path << "': " << st.message() << "\n";
         return kExitUsage;
     }
     const double t_write = seconds_since(t_write0);

@@ -127,16 +127,16 @@ rtargs::Table option_table(Options& o) {
 
 }  // namespace
 
-std::string parse_options(int argc, const char* const* argv, Options& o) {
-    if (rt::Status st = rtargs::parse(option_table(o), argc, argv); !st) return st.message();
+rt::Status parse_options(int argc, const char* const* argv, Options& o) {
+    if (rt::Status st = rtargs::parse(option_table(o), argc, argv); !st) return st;
     // As raytracer refuses to render over its scene: an output naming the scene file
     // would destroy it.
     for (const auto& [opt, path] : {std::pair<const char*, const std::string*>{"--screenshot", &o.screenshot},
                                     {"--view-scene", &o.view_scene}})
         if (!path->empty() && !o.scene.empty() && same_file(*path, o.scene))
-            return std::string(opt) + " '" + *path + "' is the scene file itself";
+            return usage(std::string(opt) + " '" + *path + "' is the scene file itself");
     if (!o.screenshot.empty() && !o.view_scene.empty() && same_file(o.screenshot, o.view_scene))
-        return "--screenshot and --view-scene name the same file ('" + o.screenshot + "')";
+        return usage("--screenshot and --view-scene name the same file ('" + o.screenshot + "')");
     return {};
 }
 
@@ -196,7 +196,7 @@ std::string help_text(bool headless_binary) {
 
 namespace rtview {
 
-std::string memory_problem(int width, int height, bool headless) {
+rt::Status memory_problem(int width, int height, bool headless) {
     // Measured peak use of raytracer-view-headless is about 43 bytes per pixel of the
     // window (OSMesa's buffer, the film's sums and bytes, the texture, the screenshot),
     // plus the libraries' and threads' address space (Mesa's LLVM alone maps hundreds
@@ -225,7 +225,7 @@ std::string memory_problem(int width, int height, bool headless) {
                   "out of memory: a %dx%d %s needs about %.1f GiB, and this process may use %.1f GiB; "
                   "use a smaller --size",
                   width, height, headless ? "image" : "window", need / (1 << 30), limit / (1 << 30));
-    return text;
+    return usage(text);
 }
 
 }  // namespace rtview

@@ -82,7 +82,7 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
 
 ViewerApp::~ViewerApp() = default;
 
-std::string ViewerApp::open_initial() {
+rt::Status ViewerApp::open_initial() {
     Document& doc = editor_.doc();
     if (opt_.scene.empty()) {
         doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
@@ -90,14 +90,16 @@ std::string ViewerApp::open_initial() {
     } else if (interactive_) {
         // The window paints and its menus work while the file loads. A file that
         // cannot be read at all is still a message for the terminal.
-        if (::access(opt_.scene.c_str(), R_OK) != 0) return "cannot open '" + opt_.scene + "': " + std::strerror(errno);
+        if (::access(opt_.scene.c_str(), R_OK) != 0)
+            return rt::Status::error("cannot open '" + opt_.scene + "': " + std::strerror(errno), rt::kExitUsage);
         doc.load_pending(base_name(opt_.scene));
         start_load(opt_.scene);
     } else {
         loader_.start(opt_.scene);
         std::optional<LoadResult> r = loader_.wait();
         std::shared_ptr<const rt::World> world;
-        if (!r || !apply_load(*r, doc, world)) return "cannot open '" + opt_.scene + "': " + (r ? r->error : "");
+        if (!r || !apply_load(*r, doc, world))
+            return rt::Status::error("cannot open '" + opt_.scene + "': " + (r ? r->error : ""), rt::kExitUsage);
         if (world) render_.adopt_world(std::move(world), doc.content_version());
         after_document_replaced();
     }
@@ -136,7 +138,7 @@ void ViewerApp::poll_loader() {
     std::shared_ptr<const rt::World> world;
     if (!apply_load(*r, doc, world)) return;  // cancelled: the old scene stays
     if (world) render_.adopt_world(std::move(world), doc.content_version());
-    if (interactive_) editor_.recent().add(path);
+    const std::string recent = remember_recent(path);
     if (path == opt_.scene)  // at most 20, as raytracer prints them
         std::fputs(rt::diagnostics_report(path, doc.diagnostics(), 20).c_str(), stderr);
     after_document_replaced();
@@ -145,7 +147,8 @@ void ViewerApp::poll_loader() {
         orbited_ = true;
         orbit_degrees(opt_.orbit);
     }
-    status_.set(ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)", !ok);
+    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + recent,
+                !ok || !recent.empty());
     if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.3f s\n", path.c_str(), since_start());
 }
 
@@ -266,8 +269,7 @@ void ViewerApp::frame() {
         }
     }
     if (interactive_ && !opt_.view_scene.empty() && !view_scene_written_ && render_.started()) {
-        std::string err = write_view_scene(opt_.view_scene);
-        if (!err.empty()) status_.set("view scene: " + err, true);
+        if (rt::Status st = write_view_scene(opt_.view_scene); !st) status_.set("view scene: " + st.message(), true);
         view_scene_written_ = true;
     }
 }
@@ -699,22 +701,27 @@ bool ViewerApp::do_save() {
         dialogs_.show(Dialogs::Kind::SaveAs, doc.name());
         return false;
     }
-    std::string err = doc.save();
-    if (err.empty()) status_.set("Saved " + doc.path());
-    else status_.set("Save failed: " + err, true);
-    return err.empty();
+    const rt::Status st = doc.save();
+    if (st) status_.set("Saved " + doc.path());
+    else status_.set("Save failed: " + st.message(), true);
+    return st.ok();
 }
 
 bool ViewerApp::do_save_as(const std::string& path) {
     Document& doc = editor_.doc();
-    std::string err = doc.save_as(path);
-    if (!err.empty()) {
-        status_.set("Save failed: " + err, true);
+    if (rt::Status st = doc.save_as(path); !st) {
+        status_.set("Save failed: " + st.message(), true);
         return false;
     }
-    if (interactive_) editor_.recent().add(path);
-    status_.set("Saved " + doc.path());
+    const std::string recent = remember_recent(path);
+    status_.set("Saved " + doc.path() + recent, !recent.empty());
     return true;
+}
+
+std::string ViewerApp::remember_recent(const std::string& path) {
+    if (!interactive_) return {};
+    const rt::Status st = editor_.recent().add(path);
+    return st ? std::string() : "; recent files not saved: " + st.message();
 }
 
 void ViewerApp::do_save_image(const std::string& path) {
@@ -727,9 +734,9 @@ void ViewerApp::do_save_image(const std::string& path) {
         status_.set("Image names must end in .png or .ppm", true);
         return;
     }
-    std::string err = rt::write_image(path, img);
-    if (err.empty()) status_.set("Wrote " + path + " (" + std::to_string(img.width) + "x" + std::to_string(img.height) + ")");
-    else status_.set("Cannot write " + path + ": " + err, true);
+    const rt::Status st = rt::write_image(path, img);
+    if (st) status_.set("Wrote " + path + " (" + std::to_string(img.width) + "x" + std::to_string(img.height) + ")");
+    else status_.set("Cannot write " + path + ": " + st.message(), true);
 }
 
 // ---------------------------------------------------------------------------------
@@ -789,14 +796,14 @@ void ViewerApp::after_render(int fb_width, int fb_height) {
     if (screenshot_request_.empty()) return;
     std::string path = screenshot_request_;
     screenshot_request_.clear();
-    std::string err = save_framebuffer(path, fb_width, fb_height);
-    if (err.empty()) status_.set("Wrote screenshot " + path);
-    else status_.set("Screenshot failed: " + err, true);
+    const rt::Status st = save_framebuffer(path, fb_width, fb_height);
+    if (st) status_.set("Wrote screenshot " + path);
+    else status_.set("Screenshot failed: " + st.message(), true);
 }
 
-std::string ViewerApp::write_view_scene(const std::string& path) const {
+rt::Status ViewerApp::write_view_scene(const std::string& path) const {
     const Document& doc = editor_.doc();
-    if (!doc.has_scene()) return "the scene has errors";
+    if (!doc.has_scene()) return rt::Status::error("the scene has errors");
     rt::Scene s = doc.scene();
     s.camera = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     s.width = layout_.film_w;

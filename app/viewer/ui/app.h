@@ -24,6 +24,7 @@
 #include "options.h"
 #include "panels.h"
 #include "render_controller.h"
+#include "status.h"
 #include "shared.h"
 
 namespace rtview {
@@ -45,7 +46,7 @@ public:
     // background and this returns at once (the window paints meanwhile); headless: it
     // loads now. Returns a message for the terminal when the file cannot be read (the
     // caller exits); parse errors open anyway.
-    std::string open_initial();
+    rt::Status open_initial();
 
     // One UI frame, between ImGui::NewFrame() and ImGui::Render().
     void frame();
@@ -68,7 +69,7 @@ public:
     // All requested samples are in and the texture shows the final film.
     bool render_settled() const;
     rt::RenderProgress progress() const { return render_.progress(); }
-    std::string write_view_scene(const std::string& path) const;
+    rt::Status write_view_scene(const std::string& path) const;
     std::string layout_text() const;
     const Document& document() const { return editor_.doc(); }
     const Navigator& navigator() const { return nav_; }
@@ -97,6 +98,9 @@ private:
     void draw_context_menu();
     bool do_save();
     bool do_save_as(const std::string& path);
+    // Puts `path` first in the recent-files list (in the window only). "" or, when
+    // the list could not be saved, "; recent files not saved: WHY" for the status bar.
+    std::string remember_recent(const std::string& path);
     void do_save_image(const std::string& path);
     std::string default_image_name() const;
 
