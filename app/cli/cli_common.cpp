@@ -172,58 +172,61 @@ std::string help_text(const Program& program) {
     return program.help_head + rtargs::help_lines(option_table(program, unused)) + "\n" + program.help_tail;
 }
 
-int usage_error(const Program& program, const std::string& message) {
-    std::cerr << program.name << ": " << message << "\n";
-    std::cerr << "Try '" << program.name << " --help' for more information.\n";
-    return kExitUsage;
+rt::Status failure(const Program& program, const std::string& message, int exit_code) {
+    return rt::Status::error(std::string(program.name) + ": " + message + "\n", exit_code);
 }
 
-int parse_args(const Program& program, int argc, char** argv, Options& o) {
+rt::Status usage_error(const Program& program, const std::string& message) {
+    return failure(program,
+                   message + "\nTry '" + program.name + " --help' for more information.", kExitUsage);
+}
+
+int report(const rt::Status& st) {
+    std::cerr << st.message() << std::flush;
+    return st.exit_code();
+}
+
+rt::Status parse_args(const Program& program, int argc, char** argv, Options& o) {
     if (rt::Status st = rtargs::parse(option_table(program, o), argc, argv); !st)
         return usage_error(program, st.message());
-    if (o.help) {
-        std::cout << help_text(program);
-        return kExitOk;
-    }
-    if (o.version) {
-        std::cout << program.name << " " RT_VERSION "\n";
-        return kExitOk;
-    }
-    return -1;
+    return {};
 }
 
-int load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene) {
+bool print_help_or_version(const Program& program, const Options& o) {
+    if (o.help) std::cout << help_text(program);
+    else if (o.version) std::cout << program.name << " " RT_VERSION "\n";
+    return o.help || o.version;
+}
+
+rt::Status load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene) {
     const std::string shown = rt::escape_text(path);
-    if (const rt::Status st = rt::read_file(path, text, rt::Limits::max_file_size); !st) {
-        std::cerr << program.name << ": cannot read '" << shown << "': " << st.message() << "\n";
-        return kExitUsage;
-    }
-    if (std::string problem = rt::encoding_problem(text); !problem.empty()) {
-        std::cerr << shown << ":1:1: error: " << problem << "\n";
-        return kExitScene;
-    }
+    if (const rt::Status st = rt::read_file(path, text, rt::Limits::max_file_size); !st)
+        return failure(program, "cannot read '" + shown + "': " + st.message(), kExitUsage);
+    if (std::string problem = rt::encoding_problem(text); !problem.empty())
+        return rt::Status::error(shown + ":1:1: error: " + problem + "\n", kExitScene);
     rt::ParseOptions popts;
     popts.max_errors = kMaxShownDiagnostics;
     rt::ParseResult result = rt::parse_scene(text, popts);
     int errors = 0;
     for (const auto& d : result.diagnostics) errors += d.is_error();
-    std::cerr << rt::diagnostics_report(path, result.diagnostics, kMaxShownDiagnostics,
-                                        errors >= kMaxShownDiagnostics);
-    if (!result.ok()) return kExitScene;
+    const std::string report =
+        rt::diagnostics_report(path, result.diagnostics, kMaxShownDiagnostics, errors >= kMaxShownDiagnostics);
+    if (!result.ok()) return rt::Status::error(report, kExitScene);
+    std::cerr << report;  // the warnings
     scene = std::move(result.scene);
-    return -1;
+    return {};
 }
 
-int check_scene(const Program& program, const Options& o) {
+rt::Status check_scene(const Program& program, const Options& o) {
     if (!o.positional.empty()) return usage_error(program, "--check takes only the scene file");
     rt::Scene scene;
     std::string text;
-    if (int r = load_scene(program, *o.check, text, scene); r >= 0) return r;
+    if (rt::Status st = load_scene(program, *o.check, text, scene); !st) return st;
     if (!o.quiet)
         std::cerr << rt::escape_text(*o.check) << ": ok: " << count(scene.objects.size(), "object") << ", "
                   << count(scene.planes.size(), "plane") << ", " << count(scene.lights.size(), "light") << ", "
                   << scene.width << "x" << scene.height << "\n";
-    return kExitOk;
+    return {};
 }
 
 namespace {
@@ -255,14 +258,12 @@ std::string output_problem(const std::string& out, const std::string& scene_path
 
 }  // namespace
 
-int check_output(const Program& program, const std::string& out, const std::string& scene_path) {
+rt::Status check_output(const Program& program, const std::string& out, const std::string& scene_path) {
     if (rt::format_from_path(out) == rt::ImageFormat::Unknown)
         return usage_error(program, "cannot write '" + rt::escape_text(out) + "': the output must end in .ppm or .png");
-    if (std::string e = output_problem(out, scene_path); !e.empty()) {
-        std::cerr << program.name << ": cannot write '" << rt::escape_text(out) << "': " << e << "\n";
-        return kExitUsage;
-    }
-    return -1;
+    if (std::string e = output_problem(out, scene_path); !e.empty())
+        return failure(program, "cannot write '" + rt::escape_text(out) + "': " + e, kExitUsage);
+    return {};
 }
 
 std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_depth) {
@@ -275,21 +276,20 @@ std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_dep
     return world;
 }
 
-int print_scene(const Program& program, rt::Scene scene) {
+rt::Status print_scene(const Program& program, rt::Scene scene) {
     for (rt::Object& o : scene.objects) o.has_material = true;
     for (rt::Plane& p : scene.planes) p.has_material = p.has_material2 = true;
     return print_to_stdout(program, rt::write_scene(scene));
 }
 
-int print_to_stdout(const Program& program, const std::string& text) {
+rt::Status print_to_stdout(const Program& program, const std::string& text) {
     // stdio rather than std::cout: errno then says why (a full disk, a closed stdout).
     errno = 0;
     const bool ok = std::fwrite(text.data(), 1, text.size(), stdout) == text.size() && std::fflush(stdout) == 0;
-    if (ok) return kExitOk;
+    if (ok) return {};
     const int err = errno;
-    std::cerr << program.name << ": cannot write to standard output: "
-              << (err ? std::strerror(err) : "write error") << "\n";
-    return kExitUsage;
+    return failure(program, std::string("cannot write to standard output: ") + (err ? std::strerror(err) : "write error"),
+                   kExitUsage);
 }
 
 std::string count(std::size_t n, const char* noun) {

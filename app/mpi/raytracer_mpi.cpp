@@ -164,17 +164,20 @@ void wait_polling(MPI_Request& req, MPI_Status* status, const char* what) {
 
 // What rank 0 knows after the command line and the scene; rank 0 only.
 struct Front {
+    bool render = false;  // the command line asks for a render, and the scene is good
     Options opt;
     std::string scene_path, out_path, text;
     double t_parse = 0;
     Clock::time_point t_start;
 };
 
-// Rank 0: the command line and the scene, as raytracer does it. Returns -1 to render,
-// else the exit status every rank ends with (everything is printed here, once).
-int front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
+// Rank 0: the command line and the scene, as raytracer does it. Sets f.render if the
+// render is to follow; else the outcome is what every rank ends with (printed by rank
+// 0 only, once).
+rt::Status front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
     Options& opt = f.opt;
-    if (int r = parse_args(argc, argv, opt); r >= 0) return r;
+    if (rt::Status st = parse_args(argc, argv, opt); !st) return st;
+    if (print_help_or_version(opt)) return {};
     if (opt.check) return check_scene(opt);
     if (opt.positional.size() > 2) return usage_error("too many arguments");
     if (opt.print_scene && opt.positional.size() != 1)
@@ -186,17 +189,18 @@ int front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
         f.out_path = opt.positional[1];
         // Handlers first: the output check creates (and removes) a temporary file.
         install_signal_handlers();
-        if (int r = check_output(f.out_path, f.scene_path); r >= 0) return r;
+        if (rt::Status st = check_output(f.out_path, f.scene_path); !st) return st;
         if (caught_signal()) interrupted();  // came during the check
     }
     install_signal_handlers();
     f.t_start = Clock::now();
-    if (int r = load_scene(f.scene_path, f.text, scene); r >= 0) return r;
+    if (rt::Status st = load_scene(f.scene_path, f.text, scene); !st) return st;
     if (opt.width) scene.width = *opt.width;
     if (opt.height) scene.height = *opt.height;
     f.t_parse = seconds_since(f.t_start);
     if (opt.print_scene) return print_scene(std::move(scene));  // nothing needs it after
-    return -1;
+    f.render = true;
+    return {};
 }
 
 // Every rank: the World from the broadcast text and settings. Rank 0 parsed the same
@@ -530,8 +534,11 @@ private:
 // every rank receives.
 JobHeader settle_job(int argc, char** argv, Front& f, rt::Scene& scene) {
     JobHeader job;
-    job.status = front_end(argc, argv, f, scene);
-    if (job.status >= 0) return job;
+    const rt::Status outcome = front_end(argc, argv, f, scene);
+    if (!f.render) {
+        job.status = report(outcome);
+        return job;
+    }
     job.width = scene.width;
     job.height = scene.height;
     const Options& o = f.opt;

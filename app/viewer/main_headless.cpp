@@ -46,7 +46,7 @@ public:
 int render_to_file(const rtview::Options& opt) {
     const rtcli::Program& program = kProgram;
     const std::string scene_path = opt.scene;
-    if (int r = rtcli::check_output(program, opt.render, scene_path); r >= 0) return r;
+    if (rt::Status st = rtcli::check_output(program, opt.render, scene_path); !st) return rtcli::report(st);
     rtcli::install_signal_handlers(program);
     rt::Scene scene;
     if (scene_path.empty()) {
@@ -55,7 +55,7 @@ int render_to_file(const rtview::Options& opt) {
         scene = std::move(parsed.scene);
     } else {
         std::string text;
-        if (int r = rtcli::load_scene(program, scene_path, text, scene); r >= 0) return r;
+        if (rt::Status st = rtcli::load_scene(program, scene_path, text, scene); !st) return rtcli::report(st);
     }
     auto interrupted = [] {
         std::fprintf(stderr, "raytracer-view-headless: interrupted; nothing written\n");
