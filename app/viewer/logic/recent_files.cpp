@@ -45,16 +45,19 @@ void RecentFiles::load() {
     }
 }
 
-rt::Status RecentFiles::save() const {
-    if (file_.empty()) return {};
+rt::Status save_config_file(const std::string& file, const std::string& text) {
+    if (file.empty()) return {};
     std::error_code ec;
-    std::filesystem::create_directories(std::filesystem::path(file_).parent_path(), ec);
-    if (ec)
-        return rt::Status::error("cannot create " + std::filesystem::path(file_).parent_path().string() + ": " + ec.message(),
-                                 rt::kExitUsage);
+    const std::filesystem::path dir = std::filesystem::path(file).parent_path();
+    std::filesystem::create_directories(dir, ec);
+    if (ec) return rt::Status::error("cannot create " + dir.string() + ": " + ec.message(), rt::kExitUsage);
+    return rt::write_file_atomic(file, text);
+}
+
+rt::Status RecentFiles::save() const {
     std::string text;
     for (const auto& p : paths_) text += p + "\n";
-    return rt::write_file_atomic(file_, text);
+    return save_config_file(file_, text);
 }
 
 rt::Status RecentFiles::add(const std::string& path) {

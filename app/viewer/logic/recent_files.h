@@ -31,6 +31,10 @@ private:
     std::vector<std::string> paths_;
 };
 
+// Writes a file of the viewer's configuration folder atomically, creating the folder
+// first. An empty `file` (no configuration folder known) writes nothing.
+rt::Status save_config_file(const std::string& file, const std::string& text);
+
 // `path` made absolute against the current directory (not resolving links).
 std::string absolute_path(const std::string& path);
 

@@ -58,16 +58,10 @@ void UiSettings::load() {
 }
 
 rt::Status UiSettings::save() const {
-    if (file_.empty()) return {};
-    std::error_code ec;
-    std::filesystem::create_directories(std::filesystem::path(file_).parent_path(), ec);
-    if (ec)
-        return rt::Status::error("cannot create " + std::filesystem::path(file_).parent_path().string() + ": " + ec.message(),
-                                 rt::kExitUsage);
     std::ostringstream out;
     out << "ui_scale " << ui_scale_ << "\n";
     for (const std::string& l : other_lines_) out << l << "\n";
-    return rt::write_file_atomic(file_, out.str());
+    return save_config_file(file_, out.str());
 }
 
 rt::Status UiSettings::set_ui_scale(double scale) {

@@ -214,7 +214,20 @@ void ViewerApp::frame() {
     end_edits();
     editor_.tick(now);
     if (interactive_ && now - last_disk_check_ >= 1.0) idle_tick();
+    update_render(now);
+    panels_.draw_surround();
+    if (doc.has_scene() || render_.started()) {
+        // While the view moves, the UI thread's own preview; else the film as the
+        // picture tools show it (zoom, display mapping, A/B, region).
+        if (render_.showing_preview()) render_.draw(layout_.image, layout_.fb_scale);
+        else tools_.draw();
+    }
+    if (!doc.has_scene()) draw_no_image();
+    publish_outputs();
+}
 
+void ViewerApp::update_render(double now) {
+    Document& doc = editor_.doc();
     render_.sync_world(doc);
     // A slider held in a panel is motion too: previews within the frame budget.
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
@@ -236,24 +249,20 @@ void ViewerApp::frame() {
         bool error = false;
         if (tools_.take_message(text, error)) status_.set(text, error);
     }
-    panels_.draw_surround();
-    if (doc.has_scene() || render_.started()) {
-        // While the view moves, the UI thread's own preview; else the film as the
-        // picture tools show it (zoom, display mapping, A/B, region).
-        if (render_.showing_preview()) render_.draw(layout_.image, layout_.fb_scale);
-        else tools_.draw();
-    }
-    if (!doc.has_scene()) {
-        std::string opening = "Opening " + base_name(loader_.progress().path) + " ...";
-        const char* msg = loader_.active() ? opening.c_str() : "No image: the scene text has errors (see the Text tab).";
-        ImVec2 sz = ImGui::CalcTextSize(msg);
-        ImGui::GetBackgroundDrawList()->AddText(
-            ImVec2(float(layout_.area.x + (layout_.area.w - sz.x) / 2), float(layout_.area.y + (layout_.area.h - sz.y) / 2)),
-            ImGui::GetColorU32(loader_.active() ? ImVec4(0.75f, 0.75f, 0.75f, 1.0f) : ImVec4(1.0f, 0.42f, 0.42f, 1.0f)),
-            msg);
-    }
+}
 
-    std::string title = doc.title();
+void ViewerApp::draw_no_image() {
+    std::string opening = "Opening " + base_name(loader_.progress().path) + " ...";
+    const char* msg = loader_.active() ? opening.c_str() : "No image: the scene text has errors (see the Text tab).";
+    ImVec2 sz = ImGui::CalcTextSize(msg);
+    ImGui::GetBackgroundDrawList()->AddText(
+        ImVec2(float(layout_.area.x + (layout_.area.w - sz.x) / 2), float(layout_.area.y + (layout_.area.h - sz.y) / 2)),
+        ImGui::GetColorU32(loader_.active() ? ImVec4(0.75f, 0.75f, 0.75f, 1.0f) : ImVec4(1.0f, 0.42f, 0.42f, 1.0f)),
+        msg);
+}
+
+void ViewerApp::publish_outputs() {
+    std::string title = editor_.doc().title();
     if (loader_.active()) title = "(loading) " + title;
     if (title != last_title_) {
         host_.set_title(title);
@@ -438,16 +447,7 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             after_document_replaced();
             status_.set("Opened the built-in default scene");
             return true;
-        case Command::CancelLoad:
-            if (!loader_.active()) return false;
-            loader_.cancel();
-            if (!document().has_scene() && document().editor_text().empty() && document().path().empty()) {
-                // The start-up file was cancelled: there is no old scene to keep showing.
-                doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
-                after_document_replaced();
-            }
-            status_.set("Cancelled opening; showing " + doc.name());
-            return true;
+        case Command::CancelLoad: return cancel_load();
         case Command::Save: return do_save();
         case Command::SaveAsDialog: dialogs_.show(Dialogs::Kind::SaveAs, doc.path().empty() ? doc.name() : doc.path()); return true;
         case Command::SaveAs: return do_save_as(arg);
@@ -472,6 +472,39 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             return true;
         case Command::ApplyText: editor_.apply(); return true;
         case Command::RevertText: doc.revert_text(); return true;
+        case Command::FrameScene:
+        case Command::ResetView:
+        case Command::SetSceneCamera:
+        case Command::CopyCamera:
+        case Command::TogglePause:
+        case Command::FitWindow:
+        case Command::FitPicture: return view_command(c);
+        case Command::Help: dialogs_.show(Dialogs::Kind::Help); return true;
+        case Command::AddItem:
+        case Command::Duplicate:
+        case Command::Delete:
+        case Command::SwitchLight:
+        case Command::MakeCsg: return scene_edit(arg, c);
+    }
+    return false;
+}
+
+bool ViewerApp::cancel_load() {
+    if (!loader_.active()) return false;
+    loader_.cancel();
+    Document& doc = editor_.doc();
+    if (!doc.has_scene() && doc.editor_text().empty() && doc.path().empty()) {
+        // The start-up file was cancelled: there is no old scene to keep showing.
+        doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
+        after_document_replaced();
+    }
+    status_.set("Cancelled opening; showing " + doc.name());
+    return true;
+}
+
+bool ViewerApp::view_command(Command c) {
+    Document& doc = editor_.doc();
+    switch (c) {
         case Command::FrameScene:
             if (render_.world())
                 nav_.frame(render_.world()->bounds(),
@@ -500,14 +533,8 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             layout_.fit = FitMode::Picture;
             status_.set("Picture frame: exactly the scene's picture");
             return true;
-        case Command::Help: dialogs_.show(Dialogs::Kind::Help); return true;
-        case Command::AddItem:
-        case Command::Duplicate:
-        case Command::Delete:
-        case Command::SwitchLight:
-        case Command::MakeCsg: return scene_edit(arg, c);
+        default: return false;
     }
-    return false;
 }
 
 // ---------------------------------------------------------------------------------
@@ -537,6 +564,46 @@ std::optional<SceneItem> item_of(const Selection& s) {
 
 }  // namespace
 
+Placement ViewerApp::new_item_placement() {
+    // On the surface under the point (its normal from two neighbouring picks), or in
+    // front of the camera at the distance it looks at.
+    const Rect& im = layout_.image;
+    double px = place_x_ >= 0 ? place_x_ : im.x + im.w / 2, py = place_x_ >= 0 ? place_y_ : im.y + im.h / 2;
+    place_x_ = place_y_ = -1;
+    rt::Camera vc = nav_.display_camera({im, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
+    Placement at;
+    const rt::World* w = render_.world();
+    rt::PickResult r0 = w ? pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py) : rt::PickResult{};
+    if (r0.hit && std::isfinite(r0.t)) {
+        at.point = r0.point;
+        rt::PickResult rx = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px + 2, py);
+        rt::PickResult ry = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py + 2);
+        bool same = rx.hit && ry.hit && rx.object == r0.object && ry.object == r0.object && rx.plane == r0.plane &&
+                    ry.plane == r0.plane;
+        if (same) {
+            rt::Vec3 n = rt::normalize(rt::cross(rx.point - r0.point, ry.point - r0.point));
+            if (rt::dot(n, vc.position - r0.point) < 0) n = -n;
+            at.normal = n;
+        }
+    } else {
+        rt::Ray ray = ray_at(vc, im, layout_.film_w, layout_.film_h, px, py);
+        at.point = ray.origin + ray.dir * rt::length(vc.centre - vc.position);
+    }
+    return at;
+}
+
+rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
+    // One object-width to the right in the view, so that the copy is seen (a round
+    // step: the copy's numbers stay as short as the original's).
+    rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
+    rt::Vec3 right = rt::normalize(rt::cross(vc.centre - vc.position, nav_.world_up()));
+    double step = 2.5 * typical_size(scene);
+    double q = std::pow(10.0, std::floor(std::log10(step > 0 ? step : 1.0)) - 1);
+    rt::Vec3 off = right * step;
+    off = {std::round(off.x / q) * q, std::round(off.y / q) * q, std::round(off.z / q) * q};
+    return rt::finite(off) ? off : rt::Vec3{};
+}
+
 bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     Document& doc = editor_.doc();
     if (!doc.has_scene() || loader_.active()) return false;
@@ -559,45 +626,13 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             for (const auto& k : kinds)
                 if (arg == k.first) kind = &k.second;
             if (!kind) return false;
-            // On the surface under the point (its normal from two neighbouring picks),
-            // or in front of the camera at the distance it looks at.
-            const Rect& im = layout_.image;
-            double px = place_x_ >= 0 ? place_x_ : im.x + im.w / 2, py = place_x_ >= 0 ? place_y_ : im.y + im.h / 2;
-            place_x_ = place_y_ = -1;
-            rt::Camera vc = nav_.display_camera({im, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
-            Placement at;
-            const rt::World* w = render_.world();
-            rt::PickResult r0 = w ? pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py) : rt::PickResult{};
-            if (r0.hit && std::isfinite(r0.t)) {
-                at.point = r0.point;
-                rt::PickResult rx = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px + 2, py);
-                rt::PickResult ry = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py + 2);
-                bool same = rx.hit && ry.hit && rx.object == r0.object && ry.object == r0.object &&
-                            rx.plane == r0.plane && ry.plane == r0.plane;
-                if (same) {
-                    rt::Vec3 n = rt::normalize(rt::cross(rx.point - r0.point, ry.point - r0.point));
-                    if (rt::dot(n, vc.position - r0.point) < 0) n = -n;
-                    at.normal = n;
-                }
-            } else {
-                rt::Ray ray = ray_at(vc, im, layout_.film_w, layout_.film_h, px, py);
-                at.point = ray.origin + ray.dir * rt::length(vc.centre - vc.position);
-            }
-            e = add_item(text, scene, *kind, at);
+            e = add_item(text, scene, *kind, new_item_placement());
             done = std::string("Added a ") + arg;
             break;
         }
         case Command::Duplicate: {
             if (!sel) return false;
-            // The copy goes one object-width to the right in the view, so it is seen
-            // (a round step: the copy's numbers stay as short as the original's).
-            rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
-            rt::Vec3 right = rt::normalize(rt::cross(vc.centre - vc.position, nav_.world_up()));
-            double step = 2.5 * typical_size(scene);
-            double q = std::pow(10.0, std::floor(std::log10(step > 0 ? step : 1.0)) - 1);
-            rt::Vec3 off = right * step;
-            off = {std::round(off.x / q) * q, std::round(off.y / q) * q, std::round(off.z / q) * q};
-            e = duplicate_item(text, scene, *sel, rt::finite(off) ? off : rt::Vec3{});
+            e = duplicate_item(text, scene, *sel, duplicate_offset(scene));
             done = "Duplicated";
             break;
         }

@@ -24,6 +24,7 @@
 #include "options.h"
 #include "panels.h"
 #include "render_controller.h"
+#include "scene_edits.h"
 #include "status.h"
 #include "shared.h"
 
@@ -88,12 +89,25 @@ private:
     void handle_shortcuts();
     void end_edits();
     void poll_loader();
+    // Parts of frame(): the render follows the scene, the view and the picture tools;
+    // the message where there is no picture; the title, --print-layout and
+    // --view-scene once they change.
+    void update_render(double now);
+    void draw_no_image();
+    void publish_outputs();
     LoadStatus load_status() const;
     void after_document_replaced();
     void start_load(const std::string& path);
     void select_at(double px, double py);
     // Structural edits and the image's context menu.
     bool scene_edit(const std::string& arg, Command c);
+    // Where AddItem puts a new item: under the context menu's point, else the centre.
+    Placement new_item_placement();
+    // How far Duplicate moves the copy.
+    rt::Vec3 duplicate_offset(const rt::Scene& scene) const;
+    bool cancel_load();
+    // The commands that change the view, the pause or the fit.
+    bool view_command(Command c);
     void handle_context_menu(bool usable);
     void draw_context_menu();
     bool do_save();
