@@ -408,9 +408,8 @@ private:
         const std::vector<TilePool::Finished> done = pool_.take_finished();
         for (const TilePool::Finished& f : done) {
             auto it = local_.find(f.id);
-            if (std::string e = sched_.commit(it->second.a, it->second.sums.data(), f.rays, seconds_since(t0_));
-                !e.empty())
-                fail(kExitMpi, "internal error: " + e);
+            if (const rt::Status st = sched_.commit(it->second.a, it->second.sums.data(), f.rays, seconds_since(t0_)); !st)
+                fail(kExitMpi, "internal error: " + st.message());
             ++tiles_by_rank_[0];
             local_.erase(it);
         }
@@ -456,9 +455,10 @@ private:
                                    " with the wrong size");
             bytes_received_ += std::uint64_t(got);
             ++messages_received_;
-            if (std::string e = sched_.commit(a, p.buf.data() + head_floats<ResultHeader>(), r.rays, seconds_since(t0_));
-                !e.empty())
-                fail(kExitMpi, "rank " + std::to_string(w) + ": " + e);
+            if (const rt::Status st =
+                    sched_.commit(a, p.buf.data() + head_floats<ResultHeader>(), r.rays, seconds_since(t0_));
+                !st)
+                fail(kExitMpi, "rank " + std::to_string(w) + ": " + st.message());
             ++tiles_by_rank_[std::size_t(w)];
             if (!p.out.empty()) post_receive(w);
         }
