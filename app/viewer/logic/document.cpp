@@ -11,6 +11,7 @@
 #include "image_io.h"
 #include "scene_text.h"
 #include "scene_writer.h"
+#include "snapshots.h"
 
 namespace rtview {
 
@@ -129,13 +130,6 @@ void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::siz
 
 // Beyond this many changed items an undo step parses the text again instead.
 constexpr std::size_t kMaxStepItems = 4096;
-
-std::size_t object_bytes(const rt::Object& o) {
-    std::size_t b = sizeof(rt::Object);
-    if (auto* g = std::get_if<rt::Csg>(&o.shape))
-        for (const rt::Object& k : g->operands) b += object_bytes(k);
-    return b;
-}
 
 }  // namespace
 

@@ -462,20 +462,24 @@ void TextBuffer::record(TextEdit e, bool mergeable_insert, bool mergeable_erase)
 }
 
 void TextBuffer::replace(TextRange r, std::string_view s) {
-    TextEdit e;
-    e.cursor_before = cursor_;
-    e.anchor_before = anchor_;
     r.begin = clamp(r.begin);
     r.end = clamp(r.end);
     if (r.end < r.begin) std::swap(r.begin, r.end);
+    replace_range(r, s, false, false);
+}
+
+void TextBuffer::replace_range(TextRange r, std::string_view s, bool typing, bool may_merge) {
+    TextEdit e;
+    e.cursor_before = cursor_;
+    e.anchor_before = anchor_;
     e.at = r.begin;
     e.inserted = std::string(s);
     TextPos after = apply(r.begin, r.end, s, &e.removed);
     cursor_ = anchor_ = after;
     want_dcol_ = -1;
     e.cursor_after = after;
-    merge_ok_ = false;
-    record(std::move(e), false, false);
+    if (!may_merge) merge_ok_ = false;
+    record(std::move(e), typing, false);
 }
 
 void TextBuffer::replace_bytes(std::size_t offset, std::size_t length, std::string_view s) {
@@ -487,17 +491,7 @@ void TextBuffer::replace_bytes(std::size_t offset, std::size_t length, std::stri
 void TextBuffer::insert(std::string_view s) {
     if (s.empty() && !has_selection()) return;
     bool typing = !has_selection() && s.size() <= 4 && s.find('\n') == std::string_view::npos;
-    TextEdit e;
-    e.cursor_before = cursor_;
-    e.anchor_before = anchor_;
-    TextRange r = selection();
-    e.at = r.begin;
-    e.inserted = std::string(s);
-    TextPos after = apply(r.begin, r.end, s, &e.removed);
-    cursor_ = anchor_ = after;
-    want_dcol_ = -1;
-    e.cursor_after = after;
-    record(std::move(e), typing, false);
+    replace_range(selection(), s, typing, true);
 }
 
 void TextBuffer::newline() {
