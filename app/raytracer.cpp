@@ -39,21 +39,22 @@ const Program kProgram{
     "  OUT ends in .ppm (binary PPM, P6) or .png.\n"
     "\n"
     "Options:\n",
-    "  --threads N        worker threads (1..256, default: all cores)\n",
+    "worker threads (1..256, default: all cores)",
     "Exit status: 0 success, 1 the scene has errors, 2 usage or I/O error,\n"
     "128+N interrupted by signal N (130 for Ctrl+C). An interrupted or failed run\n"
     "leaves OUT untouched.\n"};
 
-int usage_error(const std::string& message) { return rtcli::usage_error(kProgram, message); }
+rt::Status usage_error(const std::string& message) { return rtcli::usage_error(kProgram, message); }
 
 // A signal that came while the output was being written (the signal handler ends
 // the process itself in every other phase).
-int interrupted_exit() {
+rt::Status interrupted() {
     const int sig = caught_signal();
-    std::cerr << "raytracer: interrupted ("
-              << (sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "signal")
-              << "); nothing written\n";
-    return 128 + sig;
+    return failure(kProgram,
+                   std::string("interrupted (") +
+                       (sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "signal") +
+                       "); nothing written",
+                   128 + sig);
 }
 
 // One line from stdin after a prompt on stderr; false at end of input.
@@ -69,9 +70,8 @@ bool prompt(const char* question, std::string& answer) {
 
 using Clock = std::chrono::steady_clock;
 
-// Phase 1: the scene and output paths, from the command line or asked for. Returns -1
-// to go on, else the exit status.
-int settle_paths(const Options& opt, std::string& scene_path, std::string& out_path) {
+// Phase 1: the scene and output paths, from the command line or asked for.
+rt::Status settle_paths(const Options& opt, std::string& scene_path, std::string& out_path) {
     if (opt.positional.size() > 2) return usage_error("too many arguments");
     if (opt.print_scene && opt.positional.size() != 1)
         return usage_error("--print-scene takes exactly one scene file and no output");
@@ -92,7 +92,7 @@ int settle_paths(const Options& opt, std::string& scene_path, std::string& out_p
         }
         if (out_path.empty()) return usage_error("no output file given");
     }
-    return -1;
+    return {};
 }
 
 // What the render phase hands on to the write and the statistics.
@@ -103,8 +103,8 @@ struct Rendered {
     int threads = 0;
 };
 
-// Phase 4: renders with the progress bar. Returns -1 to go on, else the exit status.
-int render(const std::shared_ptr<const rt::World>& world, const rt::Scene& scene, const Options& opt,
+// Phase 4: renders with the progress bar.
+rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene& scene, const Options& opt,
            Rendered& out) {
     rt::RenderSettings settings;
     settings.width = scene.width;
@@ -132,29 +132,29 @@ int render(const std::shared_ptr<const rt::World>& world, const rt::Scene& scene
     out.progress = renderer.progress();
     out.threads = renderer.threads();
     renderer.snapshot_rgb8(out.pixels, out.width, out.height);
-    if (out.width != scene.width || out.height != scene.height || out.progress.samples < 1) {
-        std::cerr << "raytracer: internal error: the renderer returned a " << out.width << "x" << out.height
-                  << " picture with " << out.progress.samples << " samples per pixel\n";
-        return kExitUsage;
-    }
-    return -1;
+    if (out.width != scene.width || out.height != scene.height || out.progress.samples < 1)
+        return failure(kProgram,
+                       "internal error: the renderer returned a " + std::to_string(out.width) + "x" +
+                           std::to_string(out.height) + " picture with " + std::to_string(out.progress.samples) +
+                           " samples per pixel",
+                       kExitUsage);
+    return {};
 }
 
-// Phase 5: writes OUT. Returns -1 to go on, else the exit status.
-int write_picture(const std::string& out_path, const Rendered& r) {
-    if (std::string err = rt::write_rgb8(out_path, r.width, r.height, r.pixels.data(), r.pixels.size());
-        !err.empty()) {
-        if (caught_signal()) return interrupted_exit();  // the temporary file is gone
-        std::cerr << "raytracer: cannot write '" << rt::escape_text(out_path) << "': " << err << "\n";
-        return kExitUsage;
+// Phase 5: writes OUT.
+rt::Status write_picture(const std::string& out_path, const Rendered& r) {
+    if (const rt::Status st = rt::write_rgb8(out_path, r.width, r.height, r.pixels.data(), r.pixels.size()); !st) {
+        if (caught_signal()) return interrupted();  // the temporary file is gone
+        return failure(kProgram, "cannot write '" + rt::escape_text(out_path) + "': " + st.message(), kExitUsage);
     }
     if (const int sig = caught_signal()) {
         // Too late to stop: the complete new picture is already in place.
-        std::cerr << "raytracer: interrupted (" << (sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP")
-                  << ") just after the picture was written\n";
-        return 128 + sig;
+        return failure(kProgram,
+                       std::string("interrupted (") + (sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP") +
+                           ") just after the picture was written",
+                       128 + sig);
     }
-    return -1;
+    return {};
 }
 
 // Seconds each phase took, for --stats.
@@ -174,19 +174,20 @@ void print_stats(const std::string& scene_path, const rt::Scene& scene, const Re
     std::cerr << line;
 }
 
-int run(int argc, char** argv) {
+rt::Status run(int argc, char** argv) {
     Options opt;
-    if (int r = parse_args(kProgram, argc, argv, opt); r >= 0) return r;
+    if (rt::Status st = parse_args(kProgram, argc, argv, opt); !st) return st;
+    if (print_help_or_version(kProgram, opt)) return {};
     if (opt.check) return check_scene(kProgram, opt);
     std::string scene_path, out_path;
-    if (int r = settle_paths(opt, scene_path, out_path); r >= 0) return r;
+    if (rt::Status st = settle_paths(opt, scene_path, out_path); !st) return st;
 
     // Installed only now: at a prompt, Ctrl+C should just end the program. Before the
     // output check, which creates (and removes) a temporary file.
     install_signal_handlers(kProgram);
     if (!opt.print_scene) {
-        if (int r = check_output(kProgram, out_path, scene_path); r >= 0) return r;
-        if (caught_signal()) return interrupted_exit();  // came during the check
+        if (rt::Status st = check_output(kProgram, out_path, scene_path); !st) return st;
+        if (caught_signal()) return interrupted();  // came during the check
     }
 
     // Phase 2: read and parse.
@@ -194,7 +195,7 @@ int run(int argc, char** argv) {
     const auto t_start = Clock::now();
     rt::Scene scene;
     std::string text;
-    if (int r = load_scene(kProgram, scene_path, text, scene); r >= 0) return r;
+    if (rt::Status st = load_scene(kProgram, scene_path, text, scene); !st) return st;
     std::string().swap(text);  // the parsed scene is all that is needed from here
     if (opt.width) scene.width = *opt.width;
     if (opt.height) scene.height = *opt.height;
@@ -207,11 +208,11 @@ int run(int argc, char** argv) {
 
     const auto t_render0 = Clock::now();
     Rendered rendered;
-    if (int r = render(world, scene, opt, rendered); r >= 0) return r;
+    if (rt::Status st = render(world, scene, opt, rendered); !st) return st;
     times.render = seconds_since(t_render0);
 
     const auto t_write0 = Clock::now();
-    if (int r = write_picture(out_path, rendered); r >= 0) return r;
+    if (rt::Status st = write_picture(out_path, rendered); !st) return st;
     times.write = seconds_since(t_write0);
 
     if (opt.stats) {
@@ -222,7 +223,7 @@ int run(int argc, char** argv) {
     // its world need not be taken apart object by object first.
     g_kept_scene = new rt::Scene(std::move(scene));
     g_kept_world = new std::shared_ptr<const rt::World>(world);
-    return kExitOk;
+    return {};
 }
 
 }  // namespace
@@ -230,7 +231,7 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
     // Cancelling and reporting is all we do on an exception; the output stays untouched.
     try {
-        return run(argc, argv);
+        return report(run(argc, argv));
     } catch (const std::bad_alloc&) {
         std::cerr << "raytracer: out of memory\n";
     } catch (const std::exception& e) {

@@ -323,7 +323,7 @@ int main(int argc, char** argv) {
     }
     if (path.empty()) return usage();
     std::string text;
-    if (std::string err = rt::read_file(path, text, rt::Limits::max_file_size); !err.empty()) {
+    if (std::string err = rt::read_file(path, text, rt::Limits::max_file_size).message(); !err.empty()) {
         std::fprintf(stderr, "embree_ref: cannot read %s: %s\n", path.c_str(), err.c_str());
         return 2;
     }

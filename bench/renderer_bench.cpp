@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
     }
 
     std::string text;
-    if (std::string err = rt::read_file(scene_path, text, rt::Limits::max_file_size); !err.empty()) {
+    if (std::string err = rt::read_file(scene_path, text, rt::Limits::max_file_size).message(); !err.empty()) {
         std::fprintf(stderr, "renderer_bench: cannot read %s: %s\n", scene_path.c_str(), err.c_str());
         return 2;
     }

@@ -35,6 +35,10 @@ constexpr int kInterrupted = -1;  // an "errno" for an interrupted write
 
 std::string errno_text(int err) { return std::strerror(err); }
 
+// I/O failures are usage errors for the programs (exit status 2).
+Status io_error(std::string message) { return Status::error(std::move(message), kExitUsage); }
+Status io_status(std::string message) { return message.empty() ? Status() : io_error(std::move(message)); }
+
 std::string lower_extension(const std::string& path) {
     const std::size_t slash = path.find_last_of('/');
     const std::size_t dot = path.find_last_of('.');
@@ -252,49 +256,49 @@ std::vector<std::uint8_t> to_rgb8(const Image& img) {
     return out;
 }
 
-std::string write_image(const std::string& path, const Image& img) {
+Status write_image(const std::string& path, const Image& img) {
     return write_rgb8(path, img.width, img.height, to_rgb8(img));
 }
 
-std::string write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
+Status write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
     return write_rgb8(path, width, height, rgb.data(), rgb.size());
 }
 
-std::string write_rgb8(const std::string& path, int width, int height, const std::uint8_t* rgb, std::size_t size) {
+Status write_rgb8(const std::string& path, int width, int height, const std::uint8_t* rgb, std::size_t size) {
     if (width < 1 || height < 1 || size != std::size_t(width) * std::size_t(height) * 3)
-        return "internal error: the image data does not match its size";
+        return io_error("internal error: the image data does not match its size");
     switch (format_from_path(path)) {
         case ImageFormat::Ppm:
             return write_file_atomic(path, {ppm_header(width, height),
                                             {reinterpret_cast<const char*>(rgb), size}});
         case ImageFormat::Png: {
             if (std::size_t(width) * 3 > std::size_t(INT_MAX) / std::size_t(height))
-                return "the picture is too large for a PNG file";
+                return io_error("the picture is too large for a PNG file");
             std::string png;
             if (!stbi_write_png_to_func(append_bytes, &png, width, height, 3, rgb, width * 3))
-                return "PNG encoding failed";
+                return io_error("PNG encoding failed");
             return write_file_atomic(path, png);
         }
         case ImageFormat::Unknown:
             break;
     }
-    return "unknown image format: the file name must end in .ppm or .png";
+    return io_error("unknown image format: the file name must end in .ppm or .png");
 }
 
-std::string write_file_atomic(const std::string& path, const std::string& data) {
+Status write_file_atomic(const std::string& path, const std::string& data) {
     return write_file_atomic(path, {std::string_view(data)});
 }
 
-std::string write_file_atomic(const std::string& path_in, std::initializer_list<std::string_view> parts) {
-    if (path_in.empty()) return "no file name given";
+Status write_file_atomic(const std::string& path_in, std::initializer_list<std::string_view> parts) {
+    if (path_in.empty()) return io_error("no file name given");
     Target t;
-    if (int err = resolve_target(path_in, t)) return errno_text(err);
-    if (t.exists && S_ISDIR(t.st.st_mode)) return errno_text(EISDIR);
-    if (t.exists && !S_ISREG(t.st.st_mode)) return write_in_place(t.path, parts);
-    if (int err = replace_problem(t)) return errno_text(err);
+    if (int err = resolve_target(path_in, t)) return io_error(errno_text(err));
+    if (t.exists && S_ISDIR(t.st.st_mode)) return io_error(errno_text(EISDIR));
+    if (t.exists && !S_ISREG(t.st.st_mode)) return io_status(write_in_place(t.path, parts));
+    if (int err = replace_problem(t)) return io_error(errno_text(err));
 
     TempFile tmp(t);
-    if (tmp.fd < 0) return tmp.error();
+    if (tmp.fd < 0) return io_error(tmp.error());
     // mkstemp makes the file 0600; give it the mode the file has now, or the mode
     // a newly created file would get.
     const mode_t mode = t.exists ? (t.st.st_mode & 07777) : (0666 & ~current_umask());
@@ -308,7 +312,7 @@ std::string write_file_atomic(const std::string& path_in, std::initializer_list<
     if (!err) err = tmp.close();
     if (!err && g_interrupted.load()) err = kInterrupted;
     if (!err && ::rename(tmp.name.c_str(), t.path.c_str()) != 0) err = errno;
-    if (err) return err == kInterrupted ? std::string("interrupted") : errno_text(err);
+    if (err) return io_error(err == kInterrupted ? std::string("interrupted") : errno_text(err));
     tmp.renamed();
     // Make the rename itself durable; the new file is already in place, so a
     // failure here is not worth reporting.
@@ -320,18 +324,19 @@ std::string write_file_atomic(const std::string& path_in, std::initializer_list<
     return {};
 }
 
-std::string check_writable(const std::string& path) {
-    if (path.empty()) return "no file name given";
+Status check_writable(const std::string& path) {
+    if (path.empty()) return io_error("no file name given");
     Target t;
-    if (int err = resolve_target(path, t)) return errno_text(err);
-    if (t.exists && S_ISDIR(t.st.st_mode)) return errno_text(EISDIR);
+    if (int err = resolve_target(path, t)) return io_error(errno_text(err));
+    if (t.exists && S_ISDIR(t.st.st_mode)) return io_error(errno_text(EISDIR));
     if (t.exists && !S_ISREG(t.st.st_mode)) {
         // Not opened: a FIFO would block until somebody reads it.
-        return ::faccessat(AT_FDCWD, t.path.c_str(), W_OK, AT_EACCESS) == 0 ? std::string() : errno_text(errno);
+        if (::faccessat(AT_FDCWD, t.path.c_str(), W_OK, AT_EACCESS) != 0) return io_error(errno_text(errno));
+        return {};
     }
-    if (int err = replace_problem(t)) return errno_text(err);
+    if (int err = replace_problem(t)) return io_error(errno_text(err));
     TempFile probe(t);
-    if (probe.fd < 0) return probe.error();
+    if (probe.fd < 0) return io_error(probe.error());
     return {};  // the probe's destructor removes it
 }
 
@@ -361,13 +366,13 @@ ssize_t pread_full(int fd, char* p, std::size_t n, off_t at) {
 
 }  // namespace
 
-std::string read_file(const std::string& path, std::string& out, std::size_t max_bytes) {
+Status read_file(const std::string& path, std::string& out, std::size_t max_bytes) {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return errno_text(errno);
+    if (fd < 0) return io_error(errno_text(errno));
     auto fail = [&](std::string msg) {
         ::close(fd);
         out.clear();
-        return msg;
+        return io_error(std::move(msg));
     };
     auto too_big = [&] { return fail("the file is larger than " + std::to_string(max_bytes) + " bytes"); };
     struct stat st;
@@ -437,43 +442,43 @@ std::string read_file(const std::string& path, std::string& out, std::size_t max
     return {};
 }
 
-std::string read_ppm(const std::string& path, int& width, int& height, std::vector<std::uint8_t>& rgb) {
+Status read_ppm(const std::string& path, int& width, int& height, std::vector<std::uint8_t>& rgb) {
     std::string data;
     // A P3 file of the largest picture the format allows is about 3 GiB; tests and
     // tools compare far smaller ones.
-    if (std::string err = read_file(path, data, std::size_t(1) << 30); !err.empty()) return err;
+    if (Status st = read_file(path, data, std::size_t(1) << 30); !st) return st;
     if (data.size() < 2 || data[0] != 'P' || (data[1] != '3' && data[1] != '6'))
-        return "not a PPM file (expected P3 or P6)";
+        return io_error("not a PPM file (expected P3 or P6)");
     const bool binary = data[1] == '6';
     std::size_t i = 2;
     long w = 0, h = 0, maxval = 0;
     if (!ppm_number(data, i, w) || !ppm_number(data, i, h) || !ppm_number(data, i, maxval))
-        return "malformed PPM header";
+        return io_error("malformed PPM header");
     if (w < 1 || h < 1 || w > 65536 || h > 65536 || maxval < 1 || maxval > 65535)
-        return "unsupported PPM size or maximum value";
+        return io_error("unsupported PPM size or maximum value");
     const std::size_t samples = std::size_t(w) * std::size_t(h) * 3;
     // Every sample takes at least a byte of the file: check before allocating.
-    if (samples > data.size() - i) return "PPM pixel data is truncated";
+    if (samples > data.size() - i) return io_error("PPM pixel data is truncated");
     std::vector<std::uint8_t> px(samples);
     // Samples are rescaled to 0..255, so only maxval 255 is lossless.
     auto scale = [&](long v) { return std::uint8_t((v * 255 + maxval / 2) / maxval); };
     if (binary) {
         // Exactly one whitespace byte separates the header from the raster.
-        if (i >= data.size() || !std::isspace(static_cast<unsigned char>(data[i]))) return "malformed PPM header";
+        if (i >= data.size() || !std::isspace(static_cast<unsigned char>(data[i]))) return io_error("malformed PPM header");
         ++i;
         const std::size_t bytes_per_sample = maxval > 255 ? 2 : 1;
-        if (data.size() - i < samples * bytes_per_sample) return "PPM pixel data is truncated";
+        if (data.size() - i < samples * bytes_per_sample) return io_error("PPM pixel data is truncated");
         for (std::size_t k = 0; k < samples; ++k) {
             long v = static_cast<unsigned char>(data[i + k * bytes_per_sample]);
             if (bytes_per_sample == 2) v = v * 256 + static_cast<unsigned char>(data[i + 2 * k + 1]);
-            if (v > maxval) return "PPM sample larger than the maximum value";
+            if (v > maxval) return io_error("PPM sample larger than the maximum value");
             px[k] = scale(v);
         }
     } else {
         for (std::size_t k = 0; k < samples; ++k) {
             long v = 0;
-            if (!ppm_number(data, i, v)) return "PPM pixel data is truncated or malformed";
-            if (v > maxval) return "PPM sample larger than the maximum value";
+            if (!ppm_number(data, i, v)) return io_error("PPM pixel data is truncated or malformed");
+            if (v > maxval) return io_error("PPM sample larger than the maximum value");
             px[k] = scale(v);
         }
     }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "film.h"
+#include "status.h"
 
 namespace rt {
 
@@ -20,15 +21,15 @@ ImageFormat format_from_path(const std::string& path);
 // 8-bit RGB bytes of an image, with the original's rounding.
 std::vector<std::uint8_t> to_rgb8(const Image& img);
 
-// Returns an empty string on success, else a message saying why.
-std::string write_image(const std::string& path, const Image& img);
-std::string write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
-std::string write_rgb8(const std::string& path, int width, int height, const std::uint8_t* rgb, std::size_t size);
-std::string write_file_atomic(const std::string& path, const std::string& data);
+// Success, or why not (exit code kExitUsage: an I/O error).
+Status write_image(const std::string& path, const Image& img);
+Status write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
+Status write_rgb8(const std::string& path, int width, int height, const std::uint8_t* rgb, std::size_t size);
+Status write_file_atomic(const std::string& path, const std::string& data);
 // The same for data in several pieces, written one after the other.
-std::string write_file_atomic(const std::string& path, std::initializer_list<std::string_view> parts);
-// "" if write_file_atomic(path, ...) can be expected to succeed, else the system's
-// reason (checked before a long render, so that it fails at once). The rules, the
+Status write_file_atomic(const std::string& path, std::initializer_list<std::string_view> parts);
+// Success if write_file_atomic(path, ...) can be expected to succeed, else the
+// system's reason (checked before a long render, so that it fails at once). The rules, the
 // same for both: a symbolic link is followed to its end (a dangling link creates its
 // target; a loop fails with ELOOP); a folder is refused (EISDIR); a file we may not
 // write to (a read-only OUT) is refused with EACCES, as the shell's `>` does, except
@@ -37,7 +38,7 @@ std::string write_file_atomic(const std::string& path, std::initializer_list<std
 // file in a sticky folder (/tmp) that belongs to someone else is refused (EPERM);
 // devices and FIFOs are written in place. The folder must accept a new file: this
 // creates and removes a temporary file there.
-std::string check_writable(const std::string& path);
+Status check_writable(const std::string& path);
 
 // For signal handlers (both async-signal-safe). interrupt_writes() makes every write
 // in progress, and every later one, stop, remove its temporary file and fail with
@@ -47,10 +48,10 @@ bool interrupt_writes();
 // Undoes interrupt_writes() (for tests).
 void reset_write_interrupt();
 
-// Reads a whole file; empty message on success. Refuses files over max_bytes.
-std::string read_file(const std::string& path, std::string& out, std::size_t max_bytes);
+// Reads a whole file. Refuses files over max_bytes.
+Status read_file(const std::string& path, std::string& out, std::size_t max_bytes);
 
-// Reads a binary (P6) or ASCII (P3) PPM; empty message on success.
-std::string read_ppm(const std::string& path, int& width, int& height, std::vector<std::uint8_t>& rgb);
+// Reads a binary (P6) or ASCII (P3) PPM.
+Status read_ppm(const std::string& path, int& width, int& height, std::vector<std::uint8_t>& rgb);
 
 }  // namespace rt

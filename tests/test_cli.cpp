@@ -92,7 +92,7 @@ struct Picture {
 
 Picture load_ppm(const fs::path& p) {
     Picture pic;
-    std::string err = rt::read_ppm(p.string(), pic.width, pic.height, pic.rgb);
+    std::string err = rt::read_ppm(p.string(), pic.width, pic.height, pic.rgb).message();
     REQUIRE_MESSAGE(err.empty(), err);
     return pic;
 }

@@ -58,7 +58,7 @@ TEST_CASE("isa: every available path renders the example and benchmark scenes to
     for (const fs::path& file : files) {
         CAPTURE(file.string());
         std::string text;
-        REQUIRE(read_file(file.string(), text, Limits::max_file_size).empty());
+        REQUIRE(read_file(file.string(), text, Limits::max_file_size).ok());
         ParseResult parsed = parse_scene(text);
         REQUIRE(parsed.ok());
         // An eighth of the size in each direction: enough rays for every kind of hit.

@@ -24,13 +24,13 @@ TEST_CASE("every example scene renders like its stored reference") {
         std::string name = entry.path().stem().string();
         CAPTURE(name);
         std::string text;
-        REQUIRE(read_file(entry.path().string(), text, Limits::max_file_size).empty());
+        REQUIRE(read_file(entry.path().string(), text, Limits::max_file_size).ok());
         ParseResult parsed = parse_scene(text);
         REQUIRE(parsed.ok());
 
         int w = 0, h = 0;
         std::vector<std::uint8_t> ref;
-        std::string err = read_ppm((refs / (name + ".ppm")).string(), w, h, ref);
+        std::string err = read_ppm((refs / (name + ".ppm")).string(), w, h, ref).message();
         REQUIRE_MESSAGE(err.empty(), "no reference for " << name << ": run tests/refs/make-refs.sh");
         CHECK(w == parsed.scene.width / 4);
         CHECK(h == parsed.scene.height / 4);

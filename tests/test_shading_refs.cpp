@@ -103,7 +103,7 @@ TEST_CASE("shading reference: a lit sphere's centre pixel is the direct-light fo
     REQUIRE(std::system(cmd.c_str()) == 0);
     int w = 0, h = 0;
     std::vector<std::uint8_t> rgb;
-    REQUIRE(read_ppm((dir / "sphere.ppm").string(), w, h, rgb).empty());
+    REQUIRE(read_ppm((dir / "sphere.ppm").string(), w, h, rgb).ok());
     REQUIRE(w == 40);
     const std::uint8_t* p = &rgb[3 * (15 * 40 + 20)];
     CHECK(int(p[0]) == byte(want.x));  // 154
@@ -160,7 +160,7 @@ end
         REQUIRE(std::system(cmd.c_str()) == 0);
         int w = 0, h = 0;
         std::vector<std::uint8_t> rgb;
-        REQUIRE(read_ppm((dir / "m.ppm").string(), w, h, rgb).empty());
+        REQUIRE(read_ppm((dir / "m.ppm").string(), w, h, rgb).ok());
         REQUIRE(w == 8);
         int surfaces = (depth + 1) / 2;
         CHECK(int(rgb[3 * (3 * 8 + 4)]) == byte(0.5 * (1 - std::pow(0.5, surfaces))));

@@ -11,8 +11,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <iostream>
+#include <optional>
 
+#include "arg_table.h"
 #include "diagnostic_text.h"
 #include "image_io.h"
 #include "scene_parser.h"
@@ -29,66 +32,28 @@ namespace {
 
 constexpr int kMaxShownDiagnostics = 20;
 
-// Numbers on the command line are whole decimal tokens, as in scene files: no
-// leading or trailing spaces, no hex, no "inf" or "nan" (strtol and strtod would
-// accept " 12", "0x10" and "0x1p3").
-bool is_integer_token(const std::string& s) {
-    std::size_t i = s.size() > 1 && (s[0] == '+' || s[0] == '-') ? 1 : 0;
-    if (i == s.size()) return false;
-    for (; i < s.size(); ++i)
-        if (s[i] < '0' || s[i] > '9') return false;
-    return true;
-}
+// Usage errors name the option: "--width expects a whole decimal number, got 'x'".
+rt::Status bad_value(const std::string& message) { return rt::Status::error(message, kExitUsage); }
 
-bool is_decimal_token(const std::string& s) {
-    std::size_t i = 0, n = s.size();
-    auto digits = [&] {
-        std::size_t k = 0;
-        while (i < n && s[i] >= '0' && s[i] <= '9') ++i, ++k;
-        return k;
-    };
-    if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
-    std::size_t mantissa = digits();
-    if (i < n && s[i] == '.') ++i, mantissa += digits();
-    if (mantissa == 0) return false;
-    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
-        ++i;
-        if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
-        if (digits() == 0) return false;
-    }
-    return i == n;
-}
-
-// Whole-token integer in [lo, hi]; anything else is a usage error naming the option.
-bool parse_int(const std::string& opt, const std::string& text, long lo, long hi, int& out, std::string& err) {
+// A whole-token integer in [lo, hi] into `out`.
+rt::Status set_int(const std::string& opt, const std::string& text, long lo, long hi, int& out) {
     const std::string shown = rt::escape_text(text);
-    if (!is_integer_token(text)) {
-        err = opt + " expects a whole decimal number, got '" + shown + "'";
-        return false;
-    }
-    errno = 0;
-    long v = std::strtol(text.c_str(), nullptr, 10);
-    if (errno == ERANGE || v < lo || v > hi) {
-        err = opt + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + shown;
-        return false;
-    }
-    out = int(v);
-    return true;
+    if (!rtargs::is_integer_token(text))
+        return bad_value(opt + " expects a whole decimal number, got '" + shown + "'");
+    const std::optional<long> v = rtargs::integer_in(text, lo, hi);
+    if (!v) return bad_value(opt + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + shown);
+    out = int(*v);
+    return {};
 }
 
-bool parse_seconds(const std::string& opt, const std::string& text, double& out, std::string& err) {
+rt::Status set_seconds(const std::string& opt, const std::string& text, double& out) {
     const std::string shown = rt::escape_text(text);
-    if (!is_decimal_token(text)) {
-        err = opt + " expects a decimal number of seconds such as 2 or 0.5, got '" + shown + "'";
-        return false;
-    }
-    double v = std::strtod(text.c_str(), nullptr);
-    if (!std::isfinite(v) || v <= 0 || v > 1e7) {
-        err = opt + " must be more than 0 and at most 10000000 seconds, got " + shown;
-        return false;
-    }
-    out = v;
-    return true;
+    if (!rtargs::is_decimal_token(text))
+        return bad_value(opt + " expects a decimal number of seconds such as 2 or 0.5, got '" + shown + "'");
+    const std::optional<double> v = rtargs::decimal(text);
+    if (!v || *v <= 0 || *v > 1e7) return bad_value(opt + " must be more than 0 and at most 10000000 seconds, got " + shown);
+    out = *v;
+    return {};
 }
 
 volatile sig_atomic_t g_signal = 0;
@@ -132,171 +97,136 @@ extern "C" void on_signal(int sig) {
 
 }  // namespace
 
-std::string help_text(const Program& program) {
-    std::string s = program.help_head;
-    s += "  --width N          picture width in pixels, overriding the scene (1..16384)\n"
-         "  --height N         picture height in pixels, overriding the scene (1..16384)\n"
-         "  --samples N        samples per pixel (1..65536, default 1: the original's\n"
-         "                     single ray through each pixel corner)\n";
-    s += program.threads_help;
-    s += "  --max-depth N      recursion limit (1..1000, default 20 as in the original;\n"
-         "                     a reflection costs 2 levels, a refraction 3)\n"
-         "  --time-limit SEC   stop adding samples after SEC seconds (every pixel still gets\n"
-         "                     at least one); without --samples, render as many as fit\n";
-    if (program.tile_option) s += "  --tile N           side of the square tiles handed out (8..256, default 32)\n";
-    s += "  --mirror           mirror the picture left-right, as the 2013 program did\n"
-         "  --quiet            no progress bar\n"
-         "  --stats            print times, ray count and rays per second to stderr\n"
-         "  --check SCENE      parse SCENE and report errors and warnings; render nothing\n"
-         "  --print-scene      print SCENE in normalised form to stdout; render nothing\n"
-         "  --version          print the version and exit\n"
-         "  -h, --help         print this help and exit\n"
-         "\n";
-    return s + program.help_tail;
-}
-
 namespace {
 
-// What the option with a value expects, as "needs ..." says it, or null if `name`
-// takes no value.
-const char* value_kind(const Program& program, const std::string& name) {
-    if (name == "--width" || name == "--height" || name == "--samples" || name == "--threads" ||
-        name == "--max-depth" || (program.tile_option && name == "--tile"))
-        return "a number";
-    if (name == "--time-limit") return "a number of seconds";
-    if (name == "--check") return "a scene file";
-    return nullptr;
+// An option with a whole-number value in [lo, hi].
+rtargs::Option number(const char* name, const char* help, long lo, long hi, int& out) {
+    return rtargs::value_option(name, "N", "a number", help, [lo, hi, &out](const std::string& n, const std::string& v) {
+        return set_int(n, v, lo, hi, out);
+    });
 }
 
-// Sets the option `name` (one value_kind knows) from `v`, or says why not.
-rt::Status set_value(const Program& program, const std::string& name, const std::string& v, Options& o) {
-    std::string err;
-    if (name == "--time-limit") {
-        if (!parse_seconds(name, v, o.time_limit, err)) return rt::Status::error(err, kExitUsage);
-        return {};
-    }
-    if (name == "--check") {
-        o.check = v;
-        return {};
-    }
-    const bool tile = program.tile_option && name == "--tile";
-    long lo = 1, hi = rt::Limits::max_picture_side;
-    if (name == "--samples") hi = 65536;
-    if (name == "--threads") hi = 256;
-    if (name == "--max-depth") hi = 1000;
-    if (tile) lo = 8, hi = 256;
-    int n = 0;
-    if (!parse_int(name, v, lo, hi, n, err)) return rt::Status::error(err, kExitUsage);
-    if (name == "--width") o.width = n;
-    else if (name == "--height") o.height = n;
-    else if (name == "--samples") o.samples = n;
-    else if (name == "--threads") o.threads = n;
-    else if (tile) o.tile = n;
-    else o.max_depth = n;
-    return {};
+rtargs::Option optional_number(const char* name, const char* help, long lo, long hi, std::optional<int>& out) {
+    return rtargs::value_option(name, "N", "a number", help, [lo, hi, &out](const std::string& n, const std::string& v) {
+        int x = 0;
+        rt::Status st = set_int(n, v, lo, hi, x);
+        if (st) out = x;
+        return st;
+    });
+}
+
+rtargs::Option flag(const char* name, const char* help, bool& out, bool stops = false) {
+    return rtargs::flag_option(name, help, [&out] { out = true; }, stops);
+}
+
+// The options of both renderers, in --help's order; --tile only where the program has
+// tiles. `o` receives the values.
+rtargs::Table option_table(const Program& program, Options& o) {
+    const long side = rt::Limits::max_picture_side;
+    rtargs::Table t;
+    t.options = {
+        optional_number("--width", "picture width in pixels, overriding the scene (1..16384)", 1, side, o.width),
+        optional_number("--height", "picture height in pixels, overriding the scene (1..16384)", 1, side, o.height),
+        optional_number("--samples",
+                        "samples per pixel (1..65536, default 1: the original's\n"
+                        "single ray through each pixel corner)",
+                        1, 65536, o.samples),
+        number("--threads", program.threads_help, 1, 256, o.threads),
+        number("--max-depth",
+               "recursion limit (1..1000, default 20 as in the original;\n"
+               "a reflection costs 2 levels, a refraction 3)",
+               1, 1000, o.max_depth),
+        rtargs::value_option("--time-limit", "SEC", "a number of seconds",
+                             "stop adding samples after SEC seconds (every pixel still gets\n"
+                             "at least one); without --samples, render as many as fit",
+                             [&o](const std::string& n, const std::string& v) { return set_seconds(n, v, o.time_limit); }),
+    };
+    if (program.tile_option)
+        t.options.push_back(number("--tile", "side of the square tiles handed out (8..256, default 32)", 8, 256, o.tile));
+    for (rtargs::Option opt : std::initializer_list<rtargs::Option>{
+             flag("--mirror", "mirror the picture left-right, as the 2013 program did", o.mirror),
+             flag("--quiet", "no progress bar", o.quiet),
+             flag("--stats", "print times, ray count and rays per second to stderr", o.stats),
+             rtargs::value_option("--check", "SCENE", "a scene file",
+                                  "parse SCENE and report errors and warnings; render nothing",
+                                  [&o](const std::string&, const std::string& v) {
+                                      o.check = v;
+                                      return rt::Status();
+                                  }),
+             flag("--print-scene", "print SCENE in normalised form to stdout; render nothing", o.print_scene),
+             flag("--version", "print the version and exit", o.version, true),
+             flag("-h, --help", "print this help and exit", o.help, true),
+         })
+        t.options.push_back(std::move(opt));
+    t.positional = [&o](const std::string& a) {
+        o.positional.push_back(a);
+        return rt::Status();
+    };
+    return t;
 }
 
 }  // namespace
 
-int usage_error(const Program& program, const std::string& message) {
-    std::cerr << program.name << ": " << message << "\n";
-    std::cerr << "Try '" << program.name << " --help' for more information.\n";
-    return kExitUsage;
+std::string help_text(const Program& program) {
+    Options unused;
+    return program.help_head + rtargs::help_lines(option_table(program, unused)) + "\n" + program.help_tail;
 }
 
-int parse_args(const Program& program, int argc, char** argv, Options& o) {
-    auto fail = [&](const std::string& message) { return usage_error(program, message); };
-    bool only_positional = false;
-    for (int i = 1; i < argc; ++i) {
-        std::string a = argv[i];
-        if (only_positional || a.size() < 2 || a[0] != '-') {
-            o.positional.push_back(a);
-            continue;
-        }
-        if (a == "--") {
-            only_positional = true;
-            continue;
-        }
-        // Accept both `--opt VALUE` and `--opt=VALUE`.
-        std::string name = a, value;
-        bool has_inline_value = false;
-        if (auto eq = a.find('='); a.rfind("--", 0) == 0 && eq != std::string::npos) {
-            name = a.substr(0, eq);
-            value = a.substr(eq + 1);
-            has_inline_value = true;
-        }
-        auto take_value = [&](std::string& v) -> bool {
-            if (has_inline_value) {
-                v = value;
-                return true;
-            }
-            if (i + 1 >= argc) return false;
-            v = argv[++i];
-            return true;
-        };
-        auto flag = [&](bool& f) -> int {
-            if (has_inline_value) return fail("option '" + name + "' takes no value");
-            f = true;
-            return -1;
-        };
-        std::string v;
-        if (name == "-h" || name == "--help") {
-            std::cout << help_text(program);
-            return kExitOk;
-        } else if (name == "--version") {
-            std::cout << program.name << " " RT_VERSION "\n";
-            return kExitOk;
-        } else if (name == "--mirror") {
-            if (int r = flag(o.mirror); r >= 0) return r;
-        } else if (name == "--quiet") {
-            if (int r = flag(o.quiet); r >= 0) return r;
-        } else if (name == "--stats") {
-            if (int r = flag(o.stats); r >= 0) return r;
-        } else if (name == "--print-scene") {
-            if (int r = flag(o.print_scene); r >= 0) return r;
-        } else if (const char* wants = value_kind(program, name)) {
-            if (!take_value(v)) return fail("option '" + name + "' needs " + wants);
-            if (rt::Status st = set_value(program, name, v, o); !st) return fail(st.message());
-        } else {
-            return fail("unknown option '" + a + "'");
-        }
-    }
-    return -1;
+rt::Status failure(const Program& program, const std::string& message, int exit_code) {
+    return rt::Status::error(std::string(program.name) + ": " + message + "\n", exit_code);
 }
 
-int load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene) {
+rt::Status usage_error(const Program& program, const std::string& message) {
+    return failure(program,
+                   message + "\nTry '" + program.name + " --help' for more information.", kExitUsage);
+}
+
+int report(const rt::Status& st) {
+    std::cerr << st.message() << std::flush;
+    return st.exit_code();
+}
+
+rt::Status parse_args(const Program& program, int argc, char** argv, Options& o) {
+    if (rt::Status st = rtargs::parse(option_table(program, o), argc, argv); !st)
+        return usage_error(program, st.message());
+    return {};
+}
+
+bool print_help_or_version(const Program& program, const Options& o) {
+    if (o.help) std::cout << help_text(program);
+    else if (o.version) std::cout << program.name << " " RT_VERSION "\n";
+    return o.help || o.version;
+}
+
+rt::Status load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene) {
     const std::string shown = rt::escape_text(path);
-    std::string err = rt::read_file(path, text, rt::Limits::max_file_size);
-    if (!err.empty()) {
-        std::cerr << program.name << ": cannot read '" << shown << "': " << err << "\n";
-        return kExitUsage;
-    }
-    if (std::string problem = rt::encoding_problem(text); !problem.empty()) {
-        std::cerr << shown << ":1:1: error: " << problem << "\n";
-        return kExitScene;
-    }
+    if (const rt::Status st = rt::read_file(path, text, rt::Limits::max_file_size); !st)
+        return failure(program, "cannot read '" + shown + "': " + st.message(), kExitUsage);
+    if (std::string problem = rt::encoding_problem(text); !problem.empty())
+        return rt::Status::error(shown + ":1:1: error: " + problem + "\n", kExitScene);
     rt::ParseOptions popts;
     popts.max_errors = kMaxShownDiagnostics;
     rt::ParseResult result = rt::parse_scene(text, popts);
     int errors = 0;
     for (const auto& d : result.diagnostics) errors += d.is_error();
-    std::cerr << rt::diagnostics_report(path, result.diagnostics, kMaxShownDiagnostics,
-                                        errors >= kMaxShownDiagnostics);
-    if (!result.ok()) return kExitScene;
+    const std::string report =
+        rt::diagnostics_report(path, result.diagnostics, kMaxShownDiagnostics, errors >= kMaxShownDiagnostics);
+    if (!result.ok()) return rt::Status::error(report, kExitScene);
+    std::cerr << report;  // the warnings
     scene = std::move(result.scene);
-    return -1;
+    return {};
 }
 
-int check_scene(const Program& program, const Options& o) {
+rt::Status check_scene(const Program& program, const Options& o) {
     if (!o.positional.empty()) return usage_error(program, "--check takes only the scene file");
     rt::Scene scene;
     std::string text;
-    if (int r = load_scene(program, *o.check, text, scene); r >= 0) return r;
+    if (rt::Status st = load_scene(program, *o.check, text, scene); !st) return st;
     if (!o.quiet)
         std::cerr << rt::escape_text(*o.check) << ": ok: " << count(scene.objects.size(), "object") << ", "
                   << count(scene.planes.size(), "plane") << ", " << count(scene.lights.size(), "light") << ", "
                   << scene.width << "x" << scene.height << "\n";
-    return kExitOk;
+    return {};
 }
 
 namespace {
@@ -309,7 +239,7 @@ std::string output_problem(const std::string& out, const std::string& scene_path
     if (stat(out.c_str(), &st) == 0 && stat(scene_path.c_str(), &ss) == 0 && ss.st_dev == st.st_dev &&
         ss.st_ino == st.st_ino)
         return "it is the scene file itself";
-    const std::string err = rt::check_writable(out);
+    const std::string err = rt::check_writable(out).message();
     if (err.empty()) return err;
     const auto slash = out.find_last_of('/');
     const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : out.substr(0, slash));
@@ -328,14 +258,12 @@ std::string output_problem(const std::string& out, const std::string& scene_path
 
 }  // namespace
 
-int check_output(const Program& program, const std::string& out, const std::string& scene_path) {
+rt::Status check_output(const Program& program, const std::string& out, const std::string& scene_path) {
     if (rt::format_from_path(out) == rt::ImageFormat::Unknown)
         return usage_error(program, "cannot write '" + rt::escape_text(out) + "': the output must end in .ppm or .png");
-    if (std::string e = output_problem(out, scene_path); !e.empty()) {
-        std::cerr << program.name << ": cannot write '" << rt::escape_text(out) << "': " << e << "\n";
-        return kExitUsage;
-    }
-    return -1;
+    if (std::string e = output_problem(out, scene_path); !e.empty())
+        return failure(program, "cannot write '" + rt::escape_text(out) + "': " + e, kExitUsage);
+    return {};
 }
 
 std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_depth) {
@@ -348,21 +276,20 @@ std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_dep
     return world;
 }
 
-int print_scene(const Program& program, rt::Scene scene) {
+rt::Status print_scene(const Program& program, rt::Scene scene) {
     for (rt::Object& o : scene.objects) o.has_material = true;
     for (rt::Plane& p : scene.planes) p.has_material = p.has_material2 = true;
     return print_to_stdout(program, rt::write_scene(scene));
 }
 
-int print_to_stdout(const Program& program, const std::string& text) {
+rt::Status print_to_stdout(const Program& program, const std::string& text) {
     // stdio rather than std::cout: errno then says why (a full disk, a closed stdout).
     errno = 0;
     const bool ok = std::fwrite(text.data(), 1, text.size(), stdout) == text.size() && std::fflush(stdout) == 0;
-    if (ok) return kExitOk;
+    if (ok) return {};
     const int err = errno;
-    std::cerr << program.name << ": cannot write to standard output: "
-              << (err ? std::strerror(err) : "write error") << "\n";
-    return kExitUsage;
+    return failure(program, std::string("cannot write to standard output: ") + (err ? std::strerror(err) : "write error"),
+                   kExitUsage);
 }
 
 std::string count(std::size_t n, const char* noun) {

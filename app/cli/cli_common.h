@@ -12,20 +12,23 @@
 #include <vector>
 
 #include "scene.h"
+#include "status.h"
 #include "world.h"
 
 namespace rtcli {
 
-constexpr int kExitOk = 0;
-constexpr int kExitScene = 1;  // the scene file has errors
-constexpr int kExitUsage = 2;  // bad arguments, unreadable input, unwritable output
+// 0; 1: the scene file has errors; 2: bad arguments, unreadable input, unwritable output.
+using rt::kExitOk;
+using rt::kExitScene;
+using rt::kExitUsage;
 
-// The help text is assembled by help_text(): the program's own head, its --threads
-// line and exit-status paragraph around the option lines both programs share.
+// The help text is assembled by help_text(): the program's own head and exit-status
+// paragraph around the option lines made from the option table both programs share
+// (with the program's --threads description, and --tile where it has tiles).
 struct Program {
     const char* name;          // in messages: "NAME: ..."
     const char* help_head;     // usage and description, up to and including "Options:\n"
-    const char* threads_help;  // the --threads entry (per process or per rank)
+    const char* threads_help;  // the --threads description (per process or per rank)
     const char* help_tail;     // after the option list: the exit statuses
     bool tile_option = false;  // accepts --tile N (8..256)
 };
@@ -41,28 +44,38 @@ struct Options {
     int tile = 32;
     double time_limit = 0;
     bool mirror = false, quiet = false, stats = false, print_scene = false;
+    bool help = false, version = false;  // printed by parse_args
     std::optional<std::string> check;
     std::vector<std::string> positional;
 };
 
-// "NAME: MESSAGE" and the --help hint on stderr; returns kExitUsage.
-int usage_error(const Program& program, const std::string& message);
+// The failures of these functions carry the complete text for stderr (whole lines)
+// and the exit status; the programs' run() returns them to main, which report()s.
 
-// Returns -1 to continue, else the exit status (for --help, --version and errors).
-int parse_args(const Program& program, int argc, char** argv, Options& o);
+// "NAME: MESSAGE\n" with `exit_code`.
+rt::Status failure(const Program& program, const std::string& message, int exit_code);
+// "NAME: MESSAGE" and the --help hint; kExitUsage.
+rt::Status usage_error(const Program& program, const std::string& message);
+// Prints the failure's text on stderr (nothing for success); returns the exit status.
+int report(const rt::Status& st);
 
-// Reads and parses; prints the diagnostics. On success returns -1 and fills the text
-// and the scene; else the exit status.
-int load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene);
+// Fills `o`, or says what is wrong with the command line.
+rt::Status parse_args(const Program& program, int argc, char** argv, Options& o);
+// Prints the help or the version if `o` asks for one, and then returns true.
+bool print_help_or_version(const Program& program, const Options& o);
+
+// Reads and parses; prints the warnings. Fills the text and the scene; a scene with
+// errors fails with the diagnostics (kExitScene), an unreadable file with kExitUsage.
+rt::Status load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene);
 
 // --check: parses o.check and reports errors and warnings, or a one-line summary
-// (unless --quiet). Returns the exit status.
-int check_scene(const Program& program, const Options& o);
+// (unless --quiet).
+rt::Status check_scene(const Program& program, const Options& o);
 
-// Before a long render: -1 if OUT can be written as a picture (a .ppm or .png name
-// that rt::check_writable accepts, not the scene file itself); else says why, with
-// the system's error, and returns kExitUsage.
-int check_output(const Program& program, const std::string& out, const std::string& scene_path);
+// Before a long render: success if OUT can be written as a picture (a .ppm or .png
+// name that rt::check_writable accepts, not the scene file itself); else why, with
+// the system's error (kExitUsage).
+rt::Status check_output(const Program& program, const std::string& out, const std::string& scene_path);
 
 // The scene compiled for rendering, with --max-depth in place of the scene's own
 // recursion limit.
@@ -70,12 +83,12 @@ std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_dep
 
 // --print-scene: writes the scene in normalised form, every default written out,
 // including the material an object or plane gets without a material block. Both
-// programs print through here, so their outputs agree. Returns the exit status.
-int print_scene(const Program& program, rt::Scene scene);
+// programs print through here, so their outputs agree.
+rt::Status print_scene(const Program& program, rt::Scene scene);
 
-// Writes `text` to stdout and flushes it; on failure says why (a full disk, a closed
-// stdout) and returns kExitUsage, else kExitOk.
-int print_to_stdout(const Program& program, const std::string& text);
+// Writes `text` to stdout and flushes it; a failure says why (a full disk, a closed
+// stdout), kExitUsage.
+rt::Status print_to_stdout(const Program& program, const std::string& text);
 
 std::string count(std::size_t n, const char* noun);
 std::string with_commas(std::uint64_t v);

@@ -25,32 +25,34 @@ const rtcli::Program kProgram{
     "  OUT ends in .ppm (binary PPM, P6) or .png.\n"
     "\n"
     "Options:\n",
-    "  --threads N        worker threads per rank (1..256, default: the CPUs the\n"
-    "                     rank may use; mpirun may bind a rank to one core: run one\n"
-    "                     rank per machine with `mpirun --bind-to none`)\n",
+    "worker threads per rank (1..256, default: the CPUs the\n"
+    "rank may use; mpirun may bind a rank to one core: run one\n"
+    "rank per machine with `mpirun --bind-to none`)",
     "Exit status (of every rank): 0 success, 1 the scene has errors, 2 usage or I/O\n"
     "error, 3 a rank or MPI failed. A failed run leaves OUT untouched.\n",
     true};
 
 }  // namespace
 
-int usage_error(const std::string& message) { return rtcli::usage_error(kProgram, message); }
+rt::Status usage_error(const std::string& message) { return rtcli::usage_error(kProgram, message); }
 
-int parse_args(int argc, char** argv, Options& o) { return rtcli::parse_args(kProgram, argc, argv, o); }
+rt::Status parse_args(int argc, char** argv, Options& o) { return rtcli::parse_args(kProgram, argc, argv, o); }
 
-int check_scene(const Options& o) { return rtcli::check_scene(kProgram, o); }
+bool print_help_or_version(const Options& o) { return rtcli::print_help_or_version(kProgram, o); }
 
-int check_output(const std::string& out, const std::string& scene_path) {
+rt::Status check_scene(const Options& o) { return rtcli::check_scene(kProgram, o); }
+
+rt::Status check_output(const std::string& out, const std::string& scene_path) {
     return rtcli::check_output(kProgram, out, scene_path);
 }
 
-int load_scene(const std::string& path, std::string& text, rt::Scene& scene) {
+rt::Status load_scene(const std::string& path, std::string& text, rt::Scene& scene) {
     return rtcli::load_scene(kProgram, path, text, scene);
 }
 
 void install_signal_handlers() { rtcli::install_signal_handlers(kProgram); }
 
-int print_scene(rt::Scene scene) { return rtcli::print_scene(kProgram, std::move(scene)); }
+rt::Status print_scene(rt::Scene scene) { return rtcli::print_scene(kProgram, std::move(scene)); }
 
 bool stderr_watched() {
     if (isatty(STDERR_FILENO)) return true;

@@ -22,26 +22,32 @@ using rtcli::ProgressBar;
 using rtcli::seconds_since;
 using rtcli::with_commas;
 
-// "raytracer-mpi: MESSAGE" and the --help hint on stderr; returns kExitUsage.
-int usage_error(const std::string& message);
+// The functions of rtcli with this program's name; failures carry the text for
+// stderr (see cli_common.h), which rtcli::report prints.
+using rtcli::report;
 
-// Returns -1 to continue, else the exit status (for --help, --version and errors).
-int parse_args(int argc, char** argv, Options& o);
+// "raytracer-mpi: MESSAGE" and the --help hint.
+rt::Status usage_error(const std::string& message);
+
+// Fills `o`, or says what is wrong with the command line.
+rt::Status parse_args(int argc, char** argv, Options& o);
+// --help or --version, if asked for: printed, and true.
+bool print_help_or_version(const Options& o);
 
 // --check (see rtcli::check_scene).
-int check_scene(const Options& o);
-// -1 if OUT can be written, else why on stderr and kExitUsage (rtcli::check_output).
-int check_output(const std::string& out, const std::string& scene_path);
+rt::Status check_scene(const Options& o);
+// Whether OUT can be written (rtcli::check_output).
+rt::Status check_output(const std::string& out, const std::string& scene_path);
 
-// Reads and parses; prints the diagnostics (once: only rank 0 calls this). On success
-// returns -1 and fills both the text (which is what gets broadcast) and the scene.
-int load_scene(const std::string& path, std::string& text, rt::Scene& scene);
+// Reads and parses; prints the warnings (once: only rank 0 calls this). Fills both
+// the text (which is what gets broadcast) and the scene.
+rt::Status load_scene(const std::string& path, std::string& text, rt::Scene& scene);
 
 // rtcli::install_signal_handlers, with this program's name in the messages.
 void install_signal_handlers();
 
 // --print-scene's output, the same as raytracer's (rtcli::print_scene).
-int print_scene(rt::Scene scene);
+rt::Status print_scene(rt::Scene scene);
 
 // Whether somebody watches stderr on a terminal (for the progress bar). Under mpirun
 // a rank's stderr is a pipe to mpirun, so there it is mpirun's stderr that counts.

@@ -164,17 +164,20 @@ void wait_polling(MPI_Request& req, MPI_Status* status, const char* what) {
 
 // What rank 0 knows after the command line and the scene; rank 0 only.
 struct Front {
+    bool render = false;  // the command line asks for a render, and the scene is good
     Options opt;
     std::string scene_path, out_path, text;
     double t_parse = 0;
     Clock::time_point t_start;
 };
 
-// Rank 0: the command line and the scene, as raytracer does it. Returns -1 to render,
-// else the exit status every rank ends with (everything is printed here, once).
-int front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
+// Rank 0: the command line and the scene, as raytracer does it. Sets f.render if the
+// render is to follow; else the outcome is what every rank ends with (printed by rank
+// 0 only, once).
+rt::Status front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
     Options& opt = f.opt;
-    if (int r = parse_args(argc, argv, opt); r >= 0) return r;
+    if (rt::Status st = parse_args(argc, argv, opt); !st) return st;
+    if (print_help_or_version(opt)) return {};
     if (opt.check) return check_scene(opt);
     if (opt.positional.size() > 2) return usage_error("too many arguments");
     if (opt.print_scene && opt.positional.size() != 1)
@@ -186,17 +189,18 @@ int front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
         f.out_path = opt.positional[1];
         // Handlers first: the output check creates (and removes) a temporary file.
         install_signal_handlers();
-        if (int r = check_output(f.out_path, f.scene_path); r >= 0) return r;
+        if (rt::Status st = check_output(f.out_path, f.scene_path); !st) return st;
         if (caught_signal()) interrupted();  // came during the check
     }
     install_signal_handlers();
     f.t_start = Clock::now();
-    if (int r = load_scene(f.scene_path, f.text, scene); r >= 0) return r;
+    if (rt::Status st = load_scene(f.scene_path, f.text, scene); !st) return st;
     if (opt.width) scene.width = *opt.width;
     if (opt.height) scene.height = *opt.height;
     f.t_parse = seconds_since(f.t_start);
     if (opt.print_scene) return print_scene(std::move(scene));  // nothing needs it after
-    return -1;
+    f.render = true;
+    return {};
 }
 
 // Every rank: the World from the broadcast text and settings. Rank 0 parsed the same
@@ -404,9 +408,8 @@ private:
         const std::vector<TilePool::Finished> done = pool_.take_finished();
         for (const TilePool::Finished& f : done) {
             auto it = local_.find(f.id);
-            if (std::string e = sched_.commit(it->second.a, it->second.sums.data(), f.rays, seconds_since(t0_));
-                !e.empty())
-                fail(kExitMpi, "internal error: " + e);
+            if (const rt::Status st = sched_.commit(it->second.a, it->second.sums.data(), f.rays, seconds_since(t0_)); !st)
+                fail(kExitMpi, "internal error: " + st.message());
             ++tiles_by_rank_[0];
             local_.erase(it);
         }
@@ -452,9 +455,10 @@ private:
                                    " with the wrong size");
             bytes_received_ += std::uint64_t(got);
             ++messages_received_;
-            if (std::string e = sched_.commit(a, p.buf.data() + head_floats<ResultHeader>(), r.rays, seconds_since(t0_));
-                !e.empty())
-                fail(kExitMpi, "rank " + std::to_string(w) + ": " + e);
+            if (const rt::Status st =
+                    sched_.commit(a, p.buf.data() + head_floats<ResultHeader>(), r.rays, seconds_since(t0_));
+                !st)
+                fail(kExitMpi, "rank " + std::to_string(w) + ": " + st.message());
             ++tiles_by_rank_[std::size_t(w)];
             if (!p.out.empty()) post_receive(w);
         }
@@ -530,8 +534,11 @@ private:
 // every rank receives.
 JobHeader settle_job(int argc, char** argv, Front& f, rt::Scene& scene) {
     JobHeader job;
-    job.status = front_end(argc, argv, f, scene);
-    if (job.status >= 0) return job;
+    const rt::Status outcome = front_end(argc, argv, f, scene);
+    if (!f.render) {
+        job.status = report(outcome);
+        return job;
+    }
     job.width = scene.width;
     job.height = scene.height;
     const Options& o = f.opt;
@@ -631,9 +638,9 @@ int render_and_write(const Front& f, const JobHeader& job, TilePool& pool, const
     if (caught_signal()) interrupted();
 
     const auto t_write0 = Clock::now();
-    if (std::string err = rt::write_image(f.out_path, coord.image()); !err.empty()) {
+    if (const rt::Status st = rt::write_image(f.out_path, coord.image()); !st) {
         if (caught_signal()) interrupted();  // the temporary file is gone
-        std::cerr << "raytracer-mpi: cannot write '" << f.out_path << "': " << err << "\n";
+        std::cerr << "raytracer-mpi: cannot write '" << f.out_path << "': " << st.message() << "\n";
         return kExitUsage;
     }
     const double t_write = seconds_since(t_write0);

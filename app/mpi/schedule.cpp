@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "cli.h"
+
 namespace rtmpi {
 
 Schedule::Schedule(const ScheduleSettings& settings) : settings_(settings) {
@@ -43,15 +45,17 @@ void Schedule::prior_sums(const Assignment& a, float* out) const {
     }
 }
 
-std::string Schedule::commit(const Assignment& a, const float* sums, std::uint64_t rays, double elapsed) {
-    if (done_) return "a tile arrived after the render was complete";
-    if (a.tile < 0 || std::size_t(a.tile) >= tiles_.size()) return "tile " + std::to_string(a.tile) + " does not exist";
+rt::Status Schedule::commit(const Assignment& a, const float* sums, std::uint64_t rays, double elapsed) {
+    auto refused = [](const std::string& why) { return rt::Status::error(why, kExitMpi); };
+    if (done_) return refused("a tile arrived after the render was complete");
+    if (a.tile < 0 || std::size_t(a.tile) >= tiles_.size())
+        return refused("tile " + std::to_string(a.tile) + " does not exist");
     if (a.s0 != passes_[pass_].s0 || a.s1 != passes_[pass_].s1)
-        return "tile " + std::to_string(a.tile) + " has samples " + std::to_string(a.s0) + ".." +
-               std::to_string(a.s1) + ", not those of the current pass";
+        return refused("tile " + std::to_string(a.tile) + " has samples " + std::to_string(a.s0) + ".." +
+                       std::to_string(a.s1) + ", not those of the current pass");
     State& st = state_[std::size_t(a.tile)];
     if (st != State::Out)
-        return "tile " + std::to_string(a.tile) + (st == State::Done ? " arrived twice" : " was never handed out");
+        return refused("tile " + std::to_string(a.tile) + (st == State::Done ? " arrived twice" : " was never handed out"));
     st = State::Done;
     const Tile& t = tiles_[std::size_t(a.tile)];
     for (int y = t.y0; y < t.y1; ++y) {
@@ -62,17 +66,17 @@ std::string Schedule::commit(const Assignment& a, const float* sums, std::uint64
         std::fill_n(&film_.count[idx], n, std::uint32_t(a.s1));
     }
     rays_ += rays;
-    if (std::size_t(++tiles_done_) < tiles_.size()) return "";
+    if (std::size_t(++tiles_done_) < tiles_.size()) return {};
 
     // The pass is complete: the next one, or the end (as rt::Renderer::commit decides).
     samples_done_ = passes_[pass_].s1;
     const bool out_of_time = settings_.time_limit > 0 && elapsed >= settings_.time_limit;
     if (++pass_ >= passes_.size() || out_of_time) {
         done_ = true;
-        return "";
+        return {};
     }
     begin_pass();
-    return "";
+    return {};
 }
 
 bool Schedule::complete() const {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "film.h"
+#include "status.h"
 #include "tile_pool.h"
 
 namespace rtmpi {
@@ -42,9 +43,9 @@ public:
     // The sums of samples [0, a.s0) of the tile's pixels, which the renderer of `a`
     // continues (3 floats per pixel, row by row).
     void prior_sums(const Assignment& a, float* out) const;
-    // Stores a finished tile. Returns "" or, for a tile that is not out in the current
-    // pass (never handed out, or returned twice), why it was refused.
-    std::string commit(const Assignment& a, const float* sums, std::uint64_t rays, double elapsed);
+    // Stores a finished tile; a tile that is not out in the current pass (never
+    // handed out, or returned twice) is refused, saying why (kExitMpi).
+    rt::Status commit(const Assignment& a, const float* sums, std::uint64_t rays, double elapsed);
 
     bool done() const { return done_; }
     // True when every pixel holds the same number (>= 1) of samples: checked before the

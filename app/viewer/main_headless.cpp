@@ -11,8 +11,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <exception>
-#include <new>
 #include <string>
 #include <thread>
 #include <vector>
@@ -23,6 +21,7 @@
 #include "diagnostic_text.h"
 #include "final_render.h"
 #include "fonts.h"
+#include "host_common.h"
 #include "image_io.h"
 #include "scene_parser.h"
 
@@ -47,7 +46,7 @@ public:
 int render_to_file(const rtview::Options& opt) {
     const rtcli::Program& program = kProgram;
     const std::string scene_path = opt.scene;
-    if (int r = rtcli::check_output(program, opt.render, scene_path); r >= 0) return r;
+    if (rt::Status st = rtcli::check_output(program, opt.render, scene_path); !st) return rtcli::report(st);
     rtcli::install_signal_handlers(program);
     rt::Scene scene;
     if (scene_path.empty()) {
@@ -56,7 +55,7 @@ int render_to_file(const rtview::Options& opt) {
         scene = std::move(parsed.scene);
     } else {
         std::string text;
-        if (int r = rtcli::load_scene(program, scene_path, text, scene); r >= 0) return r;
+        if (rt::Status st = rtcli::load_scene(program, scene_path, text, scene); !st) return rtcli::report(st);
     }
     auto interrupted = [] {
         std::fprintf(stderr, "raytracer-view-headless: interrupted; nothing written\n");
@@ -65,9 +64,8 @@ int render_to_file(const rtview::Options& opt) {
     if (rtcli::caught_signal()) return interrupted();
 
     rtview::FinalRender render(opt.threads);
-    std::string err = render.start(scene, opt.render, opt.samples, opt.time_limit);
-    if (!err.empty()) {
-        std::fprintf(stderr, "raytracer-view-headless: cannot render: %s\n", err.c_str());
+    if (const rt::Status st = render.start(scene, opt.render, opt.samples, opt.time_limit); !st) {
+        std::fprintf(stderr, "raytracer-view-headless: cannot render: %s\n", st.message().c_str());
         return rtcli::kExitUsage;
     }
     rtcli::ProgressBar bar(isatty(STDERR_FILENO));
@@ -82,9 +80,8 @@ int render_to_file(const rtview::Options& opt) {
     bar.clear();
     if (rtcli::caught_signal()) return interrupted();
     rt::RenderProgress p = render.progress();
-    err = render.write();
-    if (!err.empty()) {
-        std::fprintf(stderr, "raytracer-view-headless: cannot write '%s': %s\n", opt.render.c_str(), err.c_str());
+    if (const rt::Status st = render.write(); !st) {
+        std::fprintf(stderr, "raytracer-view-headless: cannot write '%s': %s\n", opt.render.c_str(), st.message().c_str());
         return rtcli::kExitUsage;
     }
     if (opt.verbose)
@@ -93,41 +90,9 @@ int render_to_file(const rtview::Options& opt) {
     return rtcli::kExitOk;
 }
 
-}  // namespace
-
-static int run(int argc, char** argv) {
-    rtview::Options opt;
-    std::string err = rtview::parse_options(argc, argv, opt);
-    if (!err.empty()) {
-        std::fprintf(stderr, "raytracer-view-headless: %s\nTry 'raytracer-view-headless --help' for more information.\n",
-                     err.c_str());
-        return 2;
-    }
-    if (opt.help) {
-        std::fputs(rtview::help_text(true).c_str(), stdout);
-        return 0;
-    }
-    if (opt.version) {
-        std::puts("raytracer-view-headless 1.0.0");
-        return 0;
-    }
-    if (!opt.render.empty()) {
-        if (!opt.screenshot.empty()) {
-            std::fprintf(stderr, "raytracer-view-headless: --render and --screenshot are separate runs; give one\n");
-            return 2;
-        }
-        return render_to_file(opt);
-    }
-    if (opt.screenshot.empty()) {
-        std::fprintf(stderr, "raytracer-view-headless: --screenshot OUT or --render OUT is required\n");
-        return 2;
-    }
-    if (std::string why = rtview::memory_problem(opt.width, opt.height, true); !why.empty()) {
-        std::fprintf(stderr, "raytracer-view-headless: %s\n", why.c_str());
-        return 2;
-    }
-    rtcli::install_signal_handlers(kProgram);
-    // Before rendering, as raytracer does: a render must not end in "cannot write".
+// Before rendering, as raytracer does: a render must not end in "cannot write".
+// Returns 0 if the outputs can be written, else says why and returns 2.
+int check_outputs(const rtview::Options& opt) {
     if (rt::format_from_path(opt.screenshot) == rt::ImageFormat::Unknown) {
         std::fprintf(stderr, "raytracer-view-headless: cannot write %s: the name must end in .png or .ppm\n",
                      opt.screenshot.c_str());
@@ -135,14 +100,64 @@ static int run(int argc, char** argv) {
     }
     for (const std::string* out : {&opt.screenshot, &opt.view_scene}) {
         if (out->empty()) continue;
-        if (std::string why = rt::check_writable(*out); !why.empty()) {
-            std::fprintf(stderr, "raytracer-view-headless: cannot write %s: %s\n", out->c_str(), why.c_str());
+        if (const rt::Status st = rt::check_writable(*out); !st) {
+            std::fprintf(stderr, "raytracer-view-headless: cannot write %s: %s\n", out->c_str(), st.message().c_str());
             return 2;
         }
     }
+    return 0;
+}
+
+// The scene loaded: its diagnostics on stderr, the render followed to the end, the
+// screenshot (and --view-scene) written. Returns the exit status.
+int take_screenshot(rtview::ViewerApp& app, const rtview::Options& opt, int W, int H) {
+    const std::string name = opt.scene.empty() ? "default.txt" : opt.scene;
+    std::fputs(rt::diagnostics_report(name, app.document().diagnostics(), kMaxShownDiagnostics).c_str(), stderr);
+    if (!app.document().has_scene()) return 1;
+    if (opt.orbit != 0) app.orbit_degrees(opt.orbit);
+    // paint = false: the UI's logic runs (it starts and follows the render), but
+    // nothing is rasterised: OSMesa draws on the CPU the workers are using.
+    auto frame = [&](bool paint) {
+        ImGui::GetIO().DeltaTime = 1.f / 60;
+        ImGui_ImplOpenGL2_NewFrame();
+        rtview::app_frame(app, W, H, paint);
+    };
+    auto t0 = std::chrono::steady_clock::now();
+    // A few frames first: ImGui sizes auto-fitting items on its first frames.
+    for (int n = 0;; ++n) {
+        frame(n < 3);
+        if (n >= 3 && app.render_settled()) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(n < 3 ? 0 : 15));
+    }
+    frame(true);  // the final film, with the status bar saying "done"
+    int status = 0;
+    if (const rt::Status st = rtview::save_framebuffer(opt.screenshot, W, H); !st) {
+        std::fprintf(stderr, "raytracer-view-headless: cannot write %s: %s\n", opt.screenshot.c_str(), st.message().c_str());
+        status = 2;
+    }
+    if (!opt.view_scene.empty()) {
+        if (const rt::Status st = app.write_view_scene(opt.view_scene); !st) {
+            std::fprintf(stderr, "raytracer-view-headless: cannot write %s: %s\n", opt.view_scene.c_str(),
+                         st.message().c_str());
+            status = 2;
+        }
+    }
+    if (opt.verbose) {
+        rt::RenderProgress p = app.progress();
+        double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::fprintf(stderr,
+                     "raytracer-view-headless: %dx%d film, %d samples, first coarse pass %.1f ms, render %.2f s, "
+                     "total %.2f s\n",
+                     p.width, p.height, p.samples, p.first_coarse_time * 1000, p.elapsed, total);
+    }
+    return status;
+}
+
+// --screenshot: the whole UI drawn into an OSMesa buffer of the --size. Returns the
+// exit status.
+int screenshot_run(const rtview::Options& opt) {
     // Mesa would otherwise keep a shader cache under $HOME.
     setenv("MESA_SHADER_CACHE_DISABLE", "true", 0);
-
     const int W = opt.width, H = opt.height;
     OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
     if (!ctx) {
@@ -155,83 +170,43 @@ static int run(int argc, char** argv) {
         OSMesaDestroyContext(ctx);
         return 1;
     }
-
-    IMGUI_CHECKVERSION();
-    ImGui::CreateContext();
+    // The UI at scale 1 whatever the user's setting: screenshots are reproducible.
+    rtview::begin_imgui(1);
     ImGuiIO& io = ImGui::GetIO();
-    io.IniFilename = nullptr;
     io.DisplaySize = ImVec2(float(W), float(H));
     io.DisplayFramebufferScale = ImVec2(1, 1);
     io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);  // no mouse: nothing is hovered
-    // The UI at scale 1 whatever the user's setting: screenshots are reproducible.
-    rtview::build_ui_font_and_style(1);
-    ImGui_ImplOpenGL2_Init();
-
     int status = 0;
     {
         NullHost host;
         rtview::ViewerApp app(opt, host, false);
-        err = app.open_initial();
-        const std::string name = opt.scene.empty() ? "default.txt" : opt.scene;
-        if (!err.empty()) {
-            std::fprintf(stderr, "raytracer-view-headless: %s\n", err.c_str());
-            status = 2;
-        } else if (!app.document().has_scene()) {
-            std::fputs(rt::diagnostics_report(name, app.document().diagnostics(), kMaxShownDiagnostics).c_str(), stderr);
-            status = 1;
-        } else {
-            std::fputs(rt::diagnostics_report(name, app.document().diagnostics(), kMaxShownDiagnostics).c_str(), stderr);
-            if (opt.orbit != 0) app.orbit_degrees(opt.orbit);
-            // draw = false: the UI's logic runs (it starts and follows the render), but
-            // nothing is rasterised: OSMesa draws on the CPU the workers are using.
-            auto frame = [&](bool draw) {
-                io.DeltaTime = 1.f / 60;
-                ImGui_ImplOpenGL2_NewFrame();
-                ImGui::NewFrame();
-                app.frame();
-                ImGui::Render();
-                if (!draw) return;
-                glViewport(0, 0, W, H);
-                glClearColor(0.10f, 0.10f, 0.11f, 1.f);
-                glClear(GL_COLOR_BUFFER_BIT);
-                ImGui_ImplOpenGL2_RenderDrawData(ImGui::GetDrawData());
-            };
-            auto t0 = std::chrono::steady_clock::now();
-            // A few frames first: ImGui sizes auto-fitting items on its first frames.
-            for (int n = 0;; ++n) {
-                frame(n < 3);
-                if (n >= 3 && app.render_settled()) break;
-                std::this_thread::sleep_for(std::chrono::milliseconds(n < 3 ? 0 : 15));
-            }
-            frame(true);  // the final film, with the status bar saying "done"
-            err = rtview::save_framebuffer(opt.screenshot, W, H);
-            if (!err.empty()) {
-                std::fprintf(stderr, "raytracer-view-headless: cannot write %s: %s\n", opt.screenshot.c_str(), err.c_str());
-                status = 2;
-            }
-            if (!opt.view_scene.empty()) {
-                err = app.write_view_scene(opt.view_scene);
-                if (!err.empty()) {
-                    std::fprintf(stderr, "raytracer-view-headless: cannot write %s: %s\n", opt.view_scene.c_str(),
-                                 err.c_str());
-                    status = 2;
-                }
-            }
-            if (opt.verbose) {
-                rt::RenderProgress p = app.progress();
-                double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-                std::fprintf(stderr,
-                             "raytracer-view-headless: %dx%d film, %d samples, first coarse pass %.1f ms, render %.2f s, "
-                             "total %.2f s\n",
-                             p.width, p.height, p.samples, p.first_coarse_time * 1000, p.elapsed, total);
-            }
-        }
+        status = rtview::open_initial_scene("raytracer-view-headless", app);
+        if (status == 0) status = take_screenshot(app, opt, W, H);
     }
-
-    ImGui_ImplOpenGL2_Shutdown();
-    ImGui::DestroyContext();
+    rtview::end_imgui();
     OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);  // release the buffer before the context
     OSMesaDestroyContext(ctx);
+    return status;
+}
+
+int run(int argc, char** argv) {
+    rtview::Options opt;
+    if (auto status = rtview::settle_command_line("raytracer-view-headless", true, argc, argv, opt)) return *status;
+    if (!opt.render.empty()) {
+        if (!opt.screenshot.empty()) {
+            std::fprintf(stderr, "raytracer-view-headless: --render and --screenshot are separate runs; give one\n");
+            return 2;
+        }
+        return render_to_file(opt);
+    }
+    if (opt.screenshot.empty()) {
+        std::fprintf(stderr, "raytracer-view-headless: --screenshot OUT or --render OUT is required\n");
+        return 2;
+    }
+    if (!rtview::fits_in_memory("raytracer-view-headless", opt, true)) return 2;
+    rtcli::install_signal_handlers(kProgram);
+    if (int r = check_outputs(opt); r != 0) return r;
+    const int status = screenshot_run(opt);
     if (rtcli::caught_signal()) {  // came while a file was written: that write stopped and cleaned up
         std::fprintf(stderr, "raytracer-view-headless: interrupted; nothing more written\n");
         return 128 + rtcli::caught_signal();
@@ -239,15 +214,8 @@ static int run(int argc, char** argv) {
     return status;
 }
 
-int main(int argc, char** argv) {
-    // Allocation failure anywhere on this thread ends the program with a message, not
-    // an abort (the picture size itself is checked up front by memory_problem).
-    try {
-        return run(argc, argv);
-    } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "raytracer-view-headless: out of memory\n");
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "raytracer-view-headless: %s\n", e.what());
-    }
-    return 2;
-}
+}  // namespace
+
+// Allocation failure anywhere on this thread ends the program with a message, not an
+// abort (the picture size itself is checked up front by memory_problem).
+int main(int argc, char** argv) { return rtview::guarded_main("raytracer-view-headless", run, argc, argv); }

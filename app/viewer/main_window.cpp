@@ -13,15 +13,12 @@
 #include <atomic>
 #include <cstdio>
 #include <cstring>
-#include <exception>
-#include <new>
 #include <string>
 #include <vector>
 
 #include "app.h"
-#include "diagnostic_text.h"
 #include "fonts.h"
-#include "scene_parser.h"
+#include "host_common.h"
 #include "ui_settings.h"
 
 namespace {
@@ -132,34 +129,14 @@ int exec_headless(char** argv) {
     return 2;
 }
 
-}  // namespace
-
-static int run(int argc, char** argv) {
-    rtview::Options opt;
-    std::string err = rtview::parse_options(argc, argv, opt);
-    if (!err.empty()) {
-        std::fprintf(stderr, "raytracer-view: %s\nTry 'raytracer-view --help' for more information.\n", err.c_str());
-        return 2;
-    }
-    if (opt.help) {
-        std::fputs(rtview::help_text(false).c_str(), stdout);
-        return 0;
-    }
-    if (opt.version) {
-        std::puts("raytracer-view 1.0.0");
-        return 0;
-    }
-    if (opt.headless) return exec_headless(argv);
-    if (std::string why = rtview::memory_problem(opt.width, opt.height, false); !why.empty()) {
-        std::fprintf(stderr, "raytracer-view: %s\n", why.c_str());
-        return 2;
-    }
-
+// The window with an OpenGL 2.1 context, current, with the input callbacks; null
+// (said why) if there is no display.
+GLFWwindow* open_window(const rtview::Options& opt) {
     glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "raytracer-view: GLFW error %d: %s\n", code, text); });
     if (!glfwInit()) {
         std::fprintf(stderr, "raytracer-view: cannot open a window (is DISPLAY set?); "
                              "use --headless --screenshot OUT for offscreen output\n");
-        return 1;
+        return nullptr;
     }
     // OpenGL 2.1: the film is one textured quad and ImGui's OpenGL2 backend needs no loader.
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 2);
@@ -167,37 +144,95 @@ static int run(int argc, char** argv) {
     GLFWwindow* window = glfwCreateWindow(opt.width, opt.height, "raytracer-view", nullptr, nullptr);
     if (!window) {
         glfwTerminate();
-        return 1;
+        return nullptr;
     }
     glfwMakeContextCurrent(window);
     glfwSwapInterval(1);
     install_callbacks(window);
+    return window;
+}
 
-    IMGUI_CHECKVERSION();
-    ImGui::CreateContext();
-    ImGuiIO& io = ImGui::GetIO();
-    io.IniFilename = nullptr;  // the layout is fixed; nothing worth remembering in a file
-    io.ConfigInputTextCursorBlink = false;  // a blinking cursor would need frames while idle
-    // hi-DPI: content scale over framebuffer scale is how much larger the UI must be
-    // drawn (X11 reports 1:1 framebuffers and a content scale from Xft.dpi); the UI
-    // scale setting (Ctrl+ / Ctrl-, kept beside the recent files) multiplies it.
-    float content_scale = 1;
-    {
-        float xs = 1, ys = 1;
-        glfwGetWindowContentScale(window, &xs, &ys);
-        int ww, wh, fw, fh;
-        glfwGetWindowSize(window, &ww, &wh);
+// hi-DPI: content scale over framebuffer scale is how much larger the UI must be
+// drawn (X11 reports 1:1 framebuffers and a content scale from Xft.dpi); the UI
+// scale setting (Ctrl+ / Ctrl-, kept beside the recent files) multiplies it.
+float content_scale(GLFWwindow* window) {
+    float xs = 1, ys = 1;
+    glfwGetWindowContentScale(window, &xs, &ys);
+    int ww, wh, fw, fh;
+    glfwGetWindowSize(window, &ww, &wh);
+    glfwGetFramebufferSize(window, &fw, &fh);
+    float fb = ww > 0 ? float(fw) / ww : 1.f;
+    float scale = xs / (fb > 0 ? fb : 1.f);
+    return scale > 0.5f ? scale : 1;
+}
+
+double thread_cpu() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
+}
+
+// Frames until the window closes: only when input came or the app has something
+// animating, so an idle viewer sleeps in glfwWaitEvents*.
+void event_loop(GLFWwindow* window, rtview::ViewerApp& app, const rtview::Options& opt, float scale) {
+    unsigned seen = g_events.load() - 1;  // draw the first frame at once
+    int settle = 0;
+    long frames = 0;
+    double frame_cpu = 0;  // UI thread CPU seconds spent drawing frames (--verbose)
+    while (!glfwWindowShouldClose(window)) {
+        // While settling after input, ImGui needs its next frames promptly (a
+        // click is seen released, a focus request lands one frame later).
+        double timeout = settle > 0 ? 1.0 / 60 : app.wait_timeout();
+        if (timeout <= 0) glfwPollEvents();
+        else glfwWaitEventsTimeout(timeout);
+        unsigned ev = g_events.load();
+        if (ev != seen) {
+            seen = ev;
+            settle = 3;  // ImGui settles hover and popup state over a few frames
+        }
+        bool draw = settle > 0 || app.needs_frame();
+        if (!draw && !app.idle_tick()) continue;  // idle: no frame, no CPU
+        if (settle > 0) --settle;
+
+        double cpu0 = thread_cpu();
+        ImGui_ImplOpenGL2_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        int fw, fh;
         glfwGetFramebufferSize(window, &fw, &fh);
-        float fb = ww > 0 ? float(fw) / ww : 1.f;
-        content_scale = xs / (fb > 0 ? fb : 1.f);
-        if (!(content_scale > 0.5f)) content_scale = 1;
+        rtview::app_frame(app, fw, fh);
+        app.after_render(fw, fh);
+        glfwSwapBuffers(window);
+        next_frame_input(window);
+        if (app.take_ui_scale_change()) {
+            // Between frames: a new font atlas at the new size, and its texture.
+            ImGui_ImplOpenGL2_DestroyFontsTexture();
+            rtview::build_ui_font_and_style(float(app.ui_scale()) * scale);
+            ImGui_ImplOpenGL2_CreateFontsTexture();
+            settle = 3;
+        }
+        frame_cpu += thread_cpu() - cpu0;
+        ++frames;
     }
-    rtview::UiFont font = rtview::build_ui_font_and_style(float(rtview::UiSettings().ui_scale()) * content_scale);
+    if (opt.verbose)
+        std::fprintf(stderr, "raytracer-view: %ld frames, %.2f ms of UI-thread CPU each\n", frames,
+                     frames ? frame_cpu / double(frames) * 1000 : 0.0);
+}
+
+int run(int argc, char** argv) {
+    rtview::Options opt;
+    if (auto status = rtview::settle_command_line("raytracer-view", false, argc, argv, opt)) return *status;
+    if (opt.headless) return exec_headless(argv);
+    if (!rtview::fits_in_memory("raytracer-view", opt, false)) return 2;
+    GLFWwindow* window = open_window(opt);
+    if (!window) return 1;
+
+    const float scale = content_scale(window);
+    rtview::UiFont font = rtview::begin_imgui(float(rtview::UiSettings().ui_scale()) * scale);
+    ImGui::GetIO().ConfigInputTextCursorBlink = false;  // a blinking cursor would need frames while idle
     if (opt.verbose)
         std::fprintf(stderr, "raytracer-view: UI font %s, %.0f px\n", font.path.empty() ? "(ImGui's own)" : font.path.c_str(),
                      font.pixels);
     ImGui_ImplGlfw_InitForOpenGL(window, true);
-    ImGui_ImplOpenGL2_Init();
     // In front of ImGui's own key and character callbacks, which route() calls.
     glfwSetKeyCallback(window, key_callback);
     glfwSetCharCallback(window, char_callback);
@@ -206,85 +241,22 @@ static int run(int argc, char** argv) {
     {
         GlfwHost host(window);
         rtview::ViewerApp app(opt, host, true);
-        err = app.open_initial();
-        if (!err.empty()) {
-            std::fprintf(stderr, "raytracer-view: %s\n", err.c_str());
-            status = 2;
-        } else {
+        status = rtview::open_initial_scene("raytracer-view", app);
+        if (status == 0) {
             // The scene loads in the background; its diagnostics are printed when it arrives.
             glfwSetWindowUserPointer(window, &app);
-            unsigned seen = g_events.load() - 1;  // draw the first frame at once
-            int settle = 0;
-            long frames = 0;
-            double frame_cpu = 0;  // UI thread CPU seconds spent drawing frames (--verbose)
-            auto thread_cpu = [] {
-                timespec t{};
-                clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-                return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
-            };
-            while (!glfwWindowShouldClose(window)) {
-                // While settling after input, ImGui needs its next frames promptly (a
-                // click is seen released, a focus request lands one frame later).
-                double timeout = settle > 0 ? 1.0 / 60 : app.wait_timeout();
-                if (timeout <= 0) glfwPollEvents();
-                else glfwWaitEventsTimeout(timeout);
-                unsigned ev = g_events.load();
-                if (ev != seen) {
-                    seen = ev;
-                    settle = 3;  // ImGui settles hover and popup state over a few frames
-                }
-                bool draw = settle > 0 || app.needs_frame();
-                if (!draw && !app.idle_tick()) continue;  // idle: no frame, no CPU
-                if (settle > 0) --settle;
-
-                double cpu0 = thread_cpu();
-                ImGui_ImplOpenGL2_NewFrame();
-                ImGui_ImplGlfw_NewFrame();
-                ImGui::NewFrame();
-                app.frame();
-                ImGui::Render();
-                int fw, fh;
-                glfwGetFramebufferSize(window, &fw, &fh);
-                glViewport(0, 0, fw, fh);
-                glClearColor(0.10f, 0.10f, 0.11f, 1.f);
-                glClear(GL_COLOR_BUFFER_BIT);
-                ImGui_ImplOpenGL2_RenderDrawData(ImGui::GetDrawData());
-                app.after_render(fw, fh);
-                glfwSwapBuffers(window);
-                next_frame_input(window);
-                if (app.take_ui_scale_change()) {
-                    // Between frames: a new font atlas at the new size, and its texture.
-                    ImGui_ImplOpenGL2_DestroyFontsTexture();
-                    rtview::build_ui_font_and_style(float(app.ui_scale()) * content_scale);
-                    ImGui_ImplOpenGL2_CreateFontsTexture();
-                    settle = 3;
-                }
-                frame_cpu += thread_cpu() - cpu0;
-                ++frames;
-            }
-            if (opt.verbose)
-                std::fprintf(stderr, "raytracer-view: %ld frames, %.2f ms of UI-thread CPU each\n", frames,
-                             frames ? frame_cpu / double(frames) * 1000 : 0.0);
+            event_loop(window, app, opt, scale);
             glfwSetWindowUserPointer(window, nullptr);
         }
     }  // the app (and its GL texture) goes while the context is still current
 
-    ImGui_ImplOpenGL2_Shutdown();
     ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext();
+    rtview::end_imgui();
     glfwDestroyWindow(window);
     glfwTerminate();
     return status;
 }
 
-int main(int argc, char** argv) {
-    // Allocation failure on this thread ends the program with a message, not an abort.
-    try {
-        return run(argc, argv);
-    } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "raytracer-view: out of memory\n");
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "raytracer-view: %s\n", e.what());
-    }
-    return 2;
-}
+}  // namespace
+
+int main(int argc, char** argv) { return rtview::guarded_main("raytracer-view", run, argc, argv); }

@@ -22,7 +22,7 @@ struct Img {
 
 bool load(const std::string& path, Img& img) {
     if (rt::format_from_path(path) == rt::ImageFormat::Ppm) {
-        std::string err = rt::read_ppm(path, img.w, img.h, img.rgb);
+        std::string err = rt::read_ppm(path, img.w, img.h, img.rgb).message();
         if (!err.empty()) std::fprintf(stderr, "%s: %s\n", path.c_str(), err.c_str());
         return err.empty();
     }

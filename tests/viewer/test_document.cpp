@@ -176,19 +176,19 @@ TEST_CASE("save writes the editor text atomically and clears the modified mark")
     std::string p = dir.path + "/scene.txt";
     spit(p, rt::kDefaultScene);
     Document d;
-    REQUIRE(d.load_file(p).empty());
+    REQUIRE(d.load_file(p).ok());
     CHECK(d.name() == "scene.txt");
     d.edit().camera.position = {-2, 0, 3};
     d.commit();
     REQUIRE(d.modified());
-    REQUIRE(d.save().empty());
+    REQUIRE(d.save().ok());
     CHECK_FALSE(d.modified());
     CHECK(slurp(p) == d.editor_text());
     CHECK(dir.entries() == std::vector<std::string>{"scene.txt"});  // no temporary left
     CHECK(d.file_camera().position == rt::Vec3{-2, 0, 3});          // R now resets to this
     // A draft with errors is saved as typed: the user's text is what gets saved.
     d.editor_text() += "\nnot valid {";
-    REQUIRE(d.save().empty());
+    REQUIRE(d.save().ok());
     CHECK(slurp(p) == d.editor_text());
 }
 
@@ -196,13 +196,13 @@ TEST_CASE("a failed save reports why and leaves the document modified") {
     TempDir dir;
     Document d;
     d.load_text(rt::kDefaultScene, "", "default.txt");
-    CHECK_FALSE(d.save().empty());  // no file name yet
+    CHECK_FALSE(d.save().ok());  // no file name yet
     d.edit().camera.angle_y = 40;
     d.commit();
-    CHECK_FALSE(d.save_as(dir.path + "/missing/dir/x.txt").empty());
+    CHECK_FALSE(d.save_as(dir.path + "/missing/dir/x.txt").ok());
     CHECK(d.modified());
     CHECK(d.path().empty());
-    REQUIRE(d.save_as(dir.path + "/x.txt").empty());
+    REQUIRE(d.save_as(dir.path + "/x.txt").ok());
     CHECK(d.name() == "x.txt");
     CHECK_FALSE(d.modified());
 }
@@ -212,7 +212,7 @@ TEST_CASE("an outside change reloads by itself when there are no unsaved edits")
     std::string p = dir.path + "/s.txt";
     spit(p, rt::kDefaultScene);
     Document d;
-    REQUIRE(d.load_file(p).empty());
+    REQUIRE(d.load_file(p).ok());
     CHECK(d.check_disk() == Document::DiskEvent::None);
     std::string other = rt::kDefaultScene;
     other.replace(other.find("radius 1.3"), 10, "radius 0.7");
@@ -230,7 +230,7 @@ TEST_CASE("a camera edit is a real edit: an outside change is then a conflict") 
     std::string p = dir.path + "/s.txt";
     spit(p, rt::kDefaultScene);
     Document d;
-    REQUIRE(d.load_file(p).empty());
+    REQUIRE(d.load_file(p).ok());
     rt::Camera moved = d.scene().camera;
     moved.position = {-4, 1, 3};
     REQUIRE(d.set_camera(moved));
@@ -247,7 +247,7 @@ TEST_CASE("an outside change with unsaved edits is a conflict; reloading is undo
     std::string p = dir.path + "/s.txt";
     spit(p, rt::kDefaultScene);
     Document d;
-    REQUIRE(d.load_file(p).empty());
+    REQUIRE(d.load_file(p).ok());
     d.edit().objects[0].material.colour = {1, 0, 0};
     d.commit();
     std::string mine = d.editor_text();
@@ -270,10 +270,10 @@ TEST_CASE("our own saves are not taken for outside changes") {
     std::string p = dir.path + "/s.txt";
     spit(p, rt::kDefaultScene);
     Document d;
-    REQUIRE(d.load_file(p).empty());
+    REQUIRE(d.load_file(p).ok());
     d.edit().camera.angle_y = 33;
     d.commit();
-    REQUIRE(d.save().empty());
+    REQUIRE(d.save().ok());
     CHECK(d.check_disk() == Document::DiskEvent::None);
     CHECK_FALSE(d.disk_conflict());
 }
@@ -283,7 +283,7 @@ TEST_CASE("a scene that becomes broken on disk shows its errors but keeps render
     std::string p = dir.path + "/s.txt";
     spit(p, rt::kDefaultScene);
     Document d;
-    REQUIRE(d.load_file(p).empty());
+    REQUIRE(d.load_file(p).ok());
     rt::Scene good = d.scene();
     spit(p, "thing { sphere { radius } }\n");
     bump_mtime(p, 5);

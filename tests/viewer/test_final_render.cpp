@@ -18,7 +18,7 @@ namespace {
 
 std::string parse(std::vector<const char*> args, Options& o) {
     args.insert(args.begin(), "raytracer-view");
-    return parse_options(int(args.size()), args.data(), o);
+    return parse_options(int(args.size()), args.data(), o).message();
 }
 
 }  // namespace
@@ -67,18 +67,18 @@ end)";
     rt::ParseResult r = rt::parse_scene(text);
     REQUIRE(r.ok());
     FinalRender fr(2);
-    CHECK_FALSE(fr.start(r.scene, "out.jpg", 2, 0).empty());
+    CHECK_FALSE(fr.start(r.scene, "out.jpg", 2, 0).ok());
     CHECK_FALSE(fr.active());
     const std::string out = "test_final_render_out.ppm";
     std::remove(out.c_str());
-    REQUIRE(fr.start(r.scene, out, 2, 0).empty());
+    REQUIRE(fr.start(r.scene, out, 2, 0).ok());
     while (!fr.wait_for(1)) {
     }
     CHECK(fr.fraction() == 1);
-    CHECK(fr.write().empty());
+    CHECK(fr.write().ok());
     int w = 0, h = 0;
     std::vector<std::uint8_t> rgb;
-    REQUIRE(rt::read_ppm(out, w, h, rgb).empty());
+    REQUIRE(rt::read_ppm(out, w, h, rgb).ok());
     CHECK(w == 37);
     CHECK(h == 21);
     std::remove(out.c_str());

@@ -13,7 +13,7 @@ using namespace rtview;
 namespace {
 std::string parse(std::vector<const char*> args, Options& o) {
     args.insert(args.begin(), "raytracer-view");
-    return parse_options(int(args.size()), args.data(), o);
+    return parse_options(int(args.size()), args.data(), o).message();
 }
 }  // namespace
 
@@ -64,8 +64,8 @@ TEST_CASE("recent files: newest first, no duplicates, at most ten, kept on disk"
     std::string file = dir + "/cfg/raytracer-view/recent.txt";
     {
         RecentFiles r(file);
-        for (int k = 0; k < 12; ++k) CHECK(r.add("/scenes/s" + std::to_string(k) + ".txt").empty());
-        CHECK(r.add("/scenes/s5.txt").empty());
+        for (int k = 0; k < 12; ++k) CHECK(r.add("/scenes/s" + std::to_string(k) + ".txt").ok());
+        CHECK(r.add("/scenes/s5.txt").ok());
         REQUIRE(r.paths().size() == RecentFiles::kMax);
         CHECK(r.paths().front() == "/scenes/s5.txt");
         CHECK(r.paths()[1] == "/scenes/s11.txt");

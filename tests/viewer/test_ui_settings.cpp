@@ -45,12 +45,12 @@ TEST_CASE("the UI scale is saved beside the recent files and read back") {
     {
         UiSettings s(file);
         CHECK(s.ui_scale() == 1);
-        CHECK(s.set_ui_scale(2).empty());
+        CHECK(s.set_ui_scale(2).ok());
     }
     {
         UiSettings s(file);
         CHECK(s.ui_scale() == 2);
-        CHECK(s.set_ui_scale(99).empty());
+        CHECK(s.set_ui_scale(99).ok());
         CHECK(s.ui_scale() == UiSettings::kMaxScale);
     }
     // Unknown settings survive a save; nonsense values are ignored.
@@ -60,7 +60,7 @@ TEST_CASE("the UI scale is saved beside the recent files and read back") {
     }
     UiSettings s(file);
     CHECK(s.ui_scale() == 1);
-    CHECK(s.set_ui_scale(1.5).empty());
+    CHECK(s.set_ui_scale(1.5).ok());
     std::ifstream in(file);
     std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     CHECK(all.find("ui_scale 1.5") != std::string::npos);

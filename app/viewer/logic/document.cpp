@@ -12,6 +12,7 @@
 #include "image_io.h"
 #include "scene_text.h"
 #include "scene_writer.h"
+#include "snapshots.h"
 
 namespace rtview {
 
@@ -131,13 +132,6 @@ void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::siz
 // Beyond this many changed items an undo step parses the text again instead.
 constexpr std::size_t kMaxStepItems = 4096;
 
-std::size_t object_bytes(const rt::Object& o) {
-    std::size_t b = sizeof(rt::Object);
-    if (auto* g = std::get_if<rt::Csg>(&o.shape))
-        for (const rt::Object& k : g->operands) b += object_bytes(k);
-    return b;
-}
-
 }  // namespace
 
 std::size_t DocStep::bytes() const {
@@ -196,10 +190,9 @@ void Document::load_pending(const std::string& name) {
     applied_ = std::string();
 }
 
-std::string Document::load_file(const std::string& path) {
+rt::Status Document::load_file(const std::string& path) {
     std::string text;
-    std::string err = rt::read_file(path, text, rt::Limits::max_file_size);
-    if (!err.empty()) return err;
+    if (rt::Status st = rt::read_file(path, text, rt::Limits::max_file_size); !st) return st;
     load_text(text, path, base_name(path));
     return {};
 }
@@ -683,20 +676,18 @@ void Document::mark_saved() {
     conflict_ = false;
 }
 
-std::string Document::save() {
+rt::Status Document::save() {
     commit();
-    if (path_.empty()) return "the scene has no file name yet: use Save As";
-    std::string err = rt::write_file_atomic(path_, editor_);
-    if (!err.empty()) return err;
+    if (path_.empty()) return rt::Status::error("the scene has no file name yet: use Save As", rt::kExitUsage);
+    if (rt::Status st = rt::write_file_atomic(path_, editor_); !st) return st;
     mark_saved();
     return {};
 }
 
-std::string Document::save_as(const std::string& path) {
+rt::Status Document::save_as(const std::string& path) {
     commit();
-    if (path.empty()) return "no file name given";
-    std::string err = rt::write_file_atomic(path, editor_);
-    if (!err.empty()) return err;
+    if (path.empty()) return rt::Status::error("no file name given", rt::kExitUsage);
+    if (rt::Status st = rt::write_file_atomic(path, editor_); !st) return st;
     path_ = path;
     name_ = base_name(path);
     mark_saved();
@@ -724,7 +715,7 @@ Document::DiskEvent Document::check_disk() {
     stamp_ = st;
     if (!st.exists) return DiskEvent::Removed;
     std::string text;
-    if (!rt::read_file(path_, text, rt::Limits::max_file_size).empty()) return DiskEvent::None;
+    if (!rt::read_file(path_, text, rt::Limits::max_file_size).ok()) return DiskEvent::None;
     if (text.size() == saved_size_ && text_hash(text) == saved_hash_) return DiskEvent::None;  // touched, or our own save
     if (!modified()) {
         reload_text(text);

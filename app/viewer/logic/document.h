@@ -15,6 +15,7 @@
 #include "scene.h"
 #include "scene_parser.h"
 #include "scene_text.h"
+#include "status.h"
 #include "undo.h"
 
 namespace rtview {
@@ -69,8 +70,8 @@ public:
     // An empty document with no scene and no errors: the window's state while its
     // first file loads in the background.
     void load_pending(const std::string& name);
-    // Reads and loads a file; on failure returns why and leaves the document as it was.
-    std::string load_file(const std::string& path);
+    // Reads and loads a file; on failure says why and leaves the document as it was.
+    rt::Status load_file(const std::string& path);
 
     const std::string& path() const { return path_; }
     const std::string& name() const { return name_; }
@@ -152,9 +153,9 @@ public:
     bool redo();
 
     // --- saving ----------------------------------------------------------------
-    // Writes the editor text atomically. Empty string on success, else why not.
-    std::string save();
-    std::string save_as(const std::string& path);
+    // Writes the editor text atomically; success, or why not.
+    rt::Status save();
+    rt::Status save_as(const std::string& path);
 
     // --- the file on disk ------------------------------------------------------
     enum class DiskEvent { None, Reloaded, Conflict, Removed };

@@ -8,6 +8,10 @@
 
 namespace rtview {
 
+namespace {
+rt::Status usage(std::string message) { return rt::Status::error(std::move(message), rt::kExitUsage); }
+}  // namespace
+
 rt::RenderSettings final_render_settings(int width, int height, int samples, double time_limit) {
     rt::RenderSettings s;
     s.width = width;
@@ -27,12 +31,12 @@ FinalRender::FinalRender(int threads) : renderer_(threads) {}
 
 FinalRender::~FinalRender() { renderer_.cancel(); }
 
-std::string FinalRender::start(const rt::Scene& scene, const std::string& out_path, int samples, double time_limit,
-                               const rt::World* previous) {
+rt::Status FinalRender::start(const rt::Scene& scene, const std::string& out_path, int samples, double time_limit,
+                              const rt::World* previous) {
     cancel();
     if (rt::format_from_path(out_path) == rt::ImageFormat::Unknown)
-        return "'" + out_path + "': the name must end in .png or .ppm";
-    if (scene.width < 1 || scene.height < 1) return "the scene has no picture size";
+        return usage("'" + out_path + "': the name must end in .png or .ppm");
+    if (scene.width < 1 || scene.height < 1) return usage("the scene has no picture size");
     std::shared_ptr<const rt::World> world = rt::compile_world(scene, previous);
     settings_ = final_render_settings(scene.width, scene.height, samples, time_limit);
     width_ = scene.width;
@@ -61,15 +65,15 @@ double FinalRender::fraction() const {
     return std::clamp(f, 0.0, 1.0);
 }
 
-std::string FinalRender::write() {
-    if (!active_) return "no render to write";
+rt::Status FinalRender::write() {
+    if (!active_) return usage("no render to write");
     rt::RenderProgress p = renderer_.progress();
-    if (!p.done) return "the render is not finished";
+    if (!p.done) return usage("the render is not finished");
     rt::ZeroedArray<std::uint8_t> pixels;
     int w = 0, h = 0;
     renderer_.snapshot_rgb8(pixels, w, h);
     active_ = false;
-    if (w != width_ || h != height_ || p.samples < 1) return "the renderer returned an incomplete picture";
+    if (w != width_ || h != height_ || p.samples < 1) return usage("the renderer returned an incomplete picture");
     return rt::write_rgb8(out_, w, h, pixels.data(), pixels.size());
 }
 

@@ -9,6 +9,7 @@
 
 #include "renderer.h"
 #include "scene.h"
+#include "status.h"
 #include "world.h"
 
 namespace rtview {
@@ -25,10 +26,10 @@ public:
     FinalRender& operator=(const FinalRender&) = delete;
 
     // Starts rendering `scene` (its own camera and picture size) for `out_path`.
-    // `previous`, if it has the same geometry, lends its BVH. Returns an error
-    // message (bad output name) and starts nothing then.
-    std::string start(const rt::Scene& scene, const std::string& out_path, int samples, double time_limit,
-                      const rt::World* previous = nullptr);
+    // `previous`, if it has the same geometry, lends its BVH. On an error (a bad
+    // output name) starts nothing.
+    rt::Status start(const rt::Scene& scene, const std::string& out_path, int samples, double time_limit,
+                     const rt::World* previous = nullptr);
     void cancel();
     bool active() const { return active_; }
     bool done() const;
@@ -37,8 +38,8 @@ public:
     rt::RenderProgress progress() const { return renderer_.progress(); }
     const std::string& out_path() const { return out_; }
     // Once done(): writes the picture atomically (PNG or PPM by the name) and ends
-    // the render. Empty on success, else why not; the target is untouched on failure.
-    std::string write();
+    // the render. On failure the target is untouched.
+    rt::Status write();
     // Blocks until done (for the headless binary). False if cancelled meanwhile.
     bool wait_for(double seconds) { return renderer_.wait_for(seconds); }
 

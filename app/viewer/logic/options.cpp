@@ -4,55 +4,20 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
-#include <string_view>
 #include <utility>
+
+#include "arg_table.h"
 
 namespace rtview {
 
 namespace {
 
-bool parse_int(std::string_view s, int lo, int hi, int& out) {
-    int v = 0;
-    auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (r.ec != std::errc() || r.ptr != s.data() + s.size() || v < lo || v > hi) return false;
-    out = v;
-    return true;
-}
-
-// A whole decimal token, as numbers in scene files: no spaces, hex, inf or nan.
-bool is_decimal_token(const std::string& s) {
-    std::size_t i = 0, n = s.size(), mantissa = 0;
-    auto digits = [&] {
-        std::size_t k = 0;
-        while (i < n && s[i] >= '0' && s[i] <= '9') ++i, ++k;
-        return k;
-    };
-    if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
-    mantissa = digits();
-    if (i < n && s[i] == '.') ++i, mantissa += digits();
-    if (mantissa == 0) return false;
-    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
-        ++i;
-        if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
-        if (digits() == 0) return false;
-    }
-    return i == n;
-}
-
-bool parse_real(const std::string& s, double& out) {
-    if (!is_decimal_token(s)) return false;
-    char* end = nullptr;
-    double v = std::strtod(s.c_str(), &end);
-    if (end != s.c_str() + s.size() || !std::isfinite(v)) return false;
-    out = v;
-    return true;
-}
+rt::Status usage(const std::string& message) { return rt::Status::error(message, rt::kExitUsage); }
 
 // Whether two names are one file: the same inode, or (not created yet) the same name.
 bool same_file(const std::string& a, const std::string& b) {
@@ -62,100 +27,119 @@ bool same_file(const std::string& a, const std::string& b) {
     return a == b;
 }
 
+rtargs::Option flag(const char* names, const char* help, bool& out) {
+    return rtargs::flag_option(names, help, [&out] { out = true; });
+}
+
+// An option whose value is a file name or word; an empty one is missing.
+rtargs::Option text(const char* name, const char* value, const char* help, std::string& out,
+                    std::function<rt::Status(const std::string&)> check = nullptr) {
+    return rtargs::value_option(name, value, "a value", help, [&out, check](const std::string& n, const std::string& v) {
+        if (v.empty()) return usage("option '" + n + "' needs a value");
+        if (check)
+            if (rt::Status st = check(v); !st) return st;
+        out = v;
+        return rt::Status();
+    });
+}
+
+rtargs::Option whole(const char* name, const char* help, int lo, int hi, int& out) {
+    return rtargs::value_option(name, "N", "a number", help, [lo, hi, &out](const std::string& n, const std::string& v) {
+        const std::optional<long> x = rtargs::integer_in(v, lo, hi);
+        if (!x) return usage("option '" + n + "' must be a whole number in range (got '" + v + "')");
+        out = int(*x);
+        return rt::Status();
+    });
+}
+
+rtargs::Option real(const char* name, const char* value, const char* help, double& out, bool non_negative) {
+    return rtargs::value_option(name, value, "a number", help, [&out, non_negative](const std::string& n, const std::string& v) {
+        const std::optional<double> x = rtargs::decimal(v);
+        if (!x) return usage("option '" + n + "' needs a number (got '" + v + "')");
+        if (non_negative && *x < 0) return usage(n + " must not be negative");
+        out = *x;
+        return rt::Status();
+    });
+}
+
+rt::Status set_size(const std::string& v, Options& o) {
+    const auto x = v.find('x');
+    const auto w = x == std::string::npos ? std::nullopt : rtargs::integer_in(v.substr(0, x), 64, 16384);
+    const auto h = x == std::string::npos ? std::nullopt : rtargs::integer_in(v.substr(x + 1), 64, 16384);
+    if (!w || !h) return usage("--size must be WIDTHxHEIGHT, each 64..16384 (got '" + v + "')");
+    o.width = int(*w);
+    o.height = int(*h);
+    o.size_given = true;
+    return {};
+}
+
+// Both binaries' options, in --help's order.
+rtargs::Table option_table(Options& o) {
+    rtargs::Table t;
+    t.help_column = 23;
+    t.unknown_shows_value = false;
+    t.options = {
+        flag("--headless", "no window: render the UI offscreen and write --screenshot", o.headless),
+        text("--screenshot", "FILE", "headless: write the whole window as PNG (or PPM by extension)", o.screenshot),
+        text("--render", "FILE",
+             "headless: render the scene at its picture_size to FILE (.png or\n"
+             ".ppm), the same bytes as `raytracer --samples N SCENE FILE`\n"
+             "(default 1 sample, or as many as --time-limit allows)",
+             o.render),
+        rtargs::value_option("--size", "WxH", "WIDTHxHEIGHT", "window (or headless image) size in pixels (default 1280x800)",
+                             [&o](const std::string&, const std::string& v) { return set_size(v, o); }),
+        whole("--samples", "samples per pixel to stop at (default 64 in a window, 16 headless)", 1, 65536, o.samples),
+        real("--time-limit", "SEC", "stop refining after SEC seconds (default: no limit)", o.time_limit, true),
+        real("--orbit", "DEG", "orbit the camera DEG degrees around its centre first", o.orbit, false),
+        rtargs::value_option("--fit", "picture|window", "window or picture",
+                             "show exactly the scene's picture, letterboxed at its\n"
+                             "picture_size aspect (default), or fill the window",
+                             [&o](const std::string&, const std::string& v) {
+                                 if (v != "window" && v != "picture")
+                                     return usage("--fit must be window or picture (got '" + v + "')");
+                                 o.fit = v == "window" ? FitMode::Window : FitMode::Picture;
+                                 return rt::Status();
+                             }),
+        whole("--threads", "render threads (default: all hardware threads)", 0, 256, o.threads),
+        text("--tab", "NAME", "sidebar tab to show: objects (default), text or render", o.tab,
+             [](const std::string& v) {
+                 return v == "objects" || v == "text" || v == "render" ? rt::Status()
+                                                                      : usage("--tab must be objects, text or render");
+             }),
+        text("--select", "WHAT",
+             "select 'object N', 'plane N' or 'light N' (1-based); 'object N\n"
+             "left right' selects a CSG operand below object N",
+             o.select),
+        text("--view-scene", "FILE",
+             "write the scene exactly as the image area shows it\n"
+             "(view camera, picture size = image area): `raytracer FILE`\n"
+             "renders the same pixels",
+             o.view_scene),
+        flag("--print-layout", "print the image and panel rectangles on stdout (for scripts)", o.print_layout),
+        flag("-v, --verbose", "print render timings on stderr", o.verbose),
+        flag("-h, --help", "show this help", o.help),
+        flag("--version", "show the version", o.version),
+    };
+    t.positional = [&o](const std::string& a) {
+        if (!o.scene.empty()) return usage("more than one scene file given ('" + o.scene + "' and '" + a + "')");
+        o.scene = a;
+        return rt::Status();
+    };
+    return t;
+}
+
 }  // namespace
 
-std::string parse_options(int argc, const char* const* argv, Options& o) {
-    bool only_positional = false;
-    for (int k = 1; k < argc; ++k) {
-        std::string a = argv[k];
-        std::string value;
-        bool has_value = false;
-        if (!only_positional && a.rfind("--", 0) == 0 && a.size() > 2) {
-            if (auto eq = a.find('='); eq != std::string::npos) {
-                value = a.substr(eq + 1);
-                a = a.substr(0, eq);
-                has_value = true;
-            }
-        }
-        auto take = [&](std::string& v) {
-            if (has_value) {
-                v = value;
-                return true;
-            }
-            if (k + 1 >= argc) return false;
-            v = argv[++k];
-            return true;
-        };
-        std::string v;
-        if (only_positional || a.empty() || a[0] != '-' || a == "-") {
-            if (!o.scene.empty()) return "more than one scene file given ('" + o.scene + "' and '" + a + "')";
-            o.scene = a;
-        } else if (a == "--") {
-            only_positional = true;
-        } else if (a == "-h" || a == "--help") {
-            o.help = true;
-        } else if (a == "--version") {
-            o.version = true;
-        } else if (a == "--headless") {
-            o.headless = true;
-        } else if (a == "--print-layout") {
-            o.print_layout = true;
-        } else if (a == "--verbose" || a == "-v") {
-            o.verbose = true;
-        } else if (a == "--screenshot" || a == "--view-scene" || a == "--tab" || a == "--select" ||
-                   a == "--render") {
-            if (!take(v) || v.empty()) return "option '" + a + "' needs a value";
-            if (a == "--screenshot") o.screenshot = v;
-            else if (a == "--render") o.render = v;
-            else if (a == "--view-scene") o.view_scene = v;
-            else if (a == "--select") o.select = v;
-            else {
-                if (v != "objects" && v != "text" && v != "render") return "--tab must be objects, text or render";
-                o.tab = v;
-            }
-        } else if (a == "--size") {
-            if (!take(v)) return "option '--size' needs WIDTHxHEIGHT";
-            auto x = v.find('x');
-            if (x == std::string::npos || !parse_int(std::string_view(v).substr(0, x), 64, 16384, o.width) ||
-                !parse_int(std::string_view(v).substr(x + 1), 64, 16384, o.height))
-                return "--size must be WIDTHxHEIGHT, each 64..16384 (got '" + v + "')";
-            o.size_given = true;
-        } else if (a == "--samples" || a == "--threads") {
-            if (!take(v)) return "option '" + a + "' needs a number";
-            int n = 0;
-            if (!parse_int(v, a == "--samples" ? 1 : 0, a == "--samples" ? 65536 : 256, n))
-                return "option '" + a + "' must be a whole number in range (got '" + v + "')";
-            (a == "--samples" ? o.samples : o.threads) = n;
-        } else if (a == "--time-limit" || a == "--orbit") {
-            if (!take(v)) return "option '" + a + "' needs a number";
-            double d = 0;
-            if (!parse_real(v, d)) return "option '" + a + "' needs a number (got '" + v + "')";
-            if (a == "--time-limit") {
-                if (d < 0) return "--time-limit must not be negative";
-                o.time_limit = d;
-            } else {
-                o.orbit = d;
-            }
-        } else if (a == "--fit") {
-            if (!take(v)) return "option '--fit' needs window or picture";
-            if (v == "window") o.fit = FitMode::Window;
-            else if (v == "picture") o.fit = FitMode::Picture;
-            else return "--fit must be window or picture (got '" + v + "')";
-        } else {
-            return "unknown option '" + a + "'";
-        }
-        if (has_value && (a == "--headless" || a == "--help" || a == "--version" || a == "--print-layout" ||
-                          a == "--verbose"))
-            return "option '" + a + "' takes no value";
-    }
+rt::Status parse_options(int argc, const char* const* argv, Options& o) {
+    if (rt::Status st = rtargs::parse(option_table(o), argc, argv); !st) return st;
     // As raytracer refuses to render over its scene: an output naming the scene file
     // would destroy it.
     for (const auto& [opt, path] : {std::pair<const char*, const std::string*>{"--screenshot", &o.screenshot},
                                     {"--view-scene", &o.view_scene}})
         if (!path->empty() && !o.scene.empty() && same_file(*path, o.scene))
-            return std::string(opt) + " '" + *path + "' is the scene file itself";
+            return usage(std::string(opt) + " '" + *path + "' is the scene file itself");
     if (!o.screenshot.empty() && !o.view_scene.empty() && same_file(o.screenshot, o.view_scene))
-        return "--screenshot and --view-scene name the same file ('" + o.screenshot + "')";
+        return usage("--screenshot and --view-scene name the same file ('" + o.screenshot + "')");
     return {};
 }
 
@@ -174,29 +158,8 @@ std::string help_text(bool headless_binary) {
              "Interactive previewer for raytracer scene files. Without SCENE it opens the\n"
              "built-in default scene.\n\n";
     }
-    s += "Options:\n"
-         "  --headless           no window: render the UI offscreen and write --screenshot\n"
-         "  --screenshot FILE    headless: write the whole window as PNG (or PPM by extension)\n"
-         "  --render FILE        headless: render the scene at its picture_size to FILE (.png or\n"
-         "                       .ppm), the same bytes as `raytracer --samples N SCENE FILE`\n"
-         "                       (default 1 sample, or as many as --time-limit allows)\n"
-         "  --size WxH           window (or headless image) size in pixels (default 1280x800)\n"
-         "  --samples N          samples per pixel to stop at (default 64 in a window, 16 headless)\n"
-         "  --time-limit SEC     stop refining after SEC seconds (default: no limit)\n"
-         "  --orbit DEG          orbit the camera DEG degrees around its centre first\n"
-         "  --fit picture|window show exactly the scene's picture, letterboxed at its\n"
-         "                       picture_size aspect (default), or fill the window\n"
-         "  --threads N          render threads (default: all hardware threads)\n"
-         "  --tab NAME           sidebar tab to show: objects (default), text or render\n"
-         "  --select WHAT        select 'object N', 'plane N' or 'light N' (1-based); 'object N\n"
-         "                       left right' selects a CSG operand below object N\n"
-         "  --view-scene FILE    write the scene exactly as the image area shows it\n"
-         "                       (view camera, picture size = image area): `raytracer FILE`\n"
-         "                       renders the same pixels\n"
-         "  --print-layout       print the image and panel rectangles on stdout (for scripts)\n"
-         "  -v, --verbose        print render timings on stderr\n"
-         "  -h, --help           show this help\n"
-         "  --version            show the version\n";
+    Options unused;
+    s += "Options:\n" + rtargs::help_lines(option_table(unused));
     if (!headless_binary) {
         s += "\nMouse and keys (in the image area):\n"
              "  left drag            orbit around the point under the cursor\n"
@@ -239,7 +202,7 @@ std::string help_text(bool headless_binary) {
 
 namespace rtview {
 
-std::string memory_problem(int width, int height, bool headless) {
+rt::Status memory_problem(int width, int height, bool headless) {
     // Measured peak use of raytracer-view-headless is about 43 bytes per pixel of the
     // window (OSMesa's buffer, the film's sums and bytes, the texture, the screenshot),
     // plus the libraries' and threads' address space (Mesa's LLVM alone maps hundreds
@@ -268,7 +231,7 @@ std::string memory_problem(int width, int height, bool headless) {
                   "out of memory: a %dx%d %s needs about %.1f GiB, and this process may use %.1f GiB; "
                   "use a smaller --size",
                   width, height, headless ? "image" : "window", need / (1 << 30), limit / (1 << 30));
-    return text;
+    return usage(text);
 }
 
 }  // namespace rtview

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "status.h"
+
 namespace rtview {
 
 // Picture: the scene's picture letterboxed at its aspect (what `raytracer` makes);
@@ -33,13 +35,13 @@ struct Options {
 constexpr int kDefaultSamplesWindow = 64;
 constexpr int kDefaultSamplesHeadless = 16;
 
-// Fills `o`; returns an error message, empty on success.
-std::string parse_options(int argc, const char* const* argv, Options& o);
+// Fills `o`; a usage error (exit code 2) says what is wrong.
+rt::Status parse_options(int argc, const char* const* argv, Options& o);
 std::string help_text(bool headless_binary);
 
-// "" if a window (or headless image) of width x height pixels fits in the memory the
-// process may use (its address-space and data limits, the machine's RAM and swap);
+// Success if a window (or headless image) of width x height pixels fits in the memory
+// the process may use (its address-space and data limits, the machine's RAM and swap);
 // else "out of memory: ..." with the estimate. Checked before allocating anything.
-std::string memory_problem(int width, int height, bool headless);
+rt::Status memory_problem(int width, int height, bool headless);
 
 }  // namespace rtview

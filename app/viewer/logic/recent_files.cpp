@@ -37,7 +37,7 @@ void RecentFiles::load() {
     paths_.clear();
     if (file_.empty()) return;
     std::string text;
-    if (!rt::read_file(file_, text, 1 << 20).empty()) return;
+    if (!rt::read_file(file_, text, 1 << 20).ok()) return;
     std::istringstream in(text);
     std::string line;
     while (std::getline(in, line) && paths_.size() < kMax) {
@@ -45,17 +45,22 @@ void RecentFiles::load() {
     }
 }
 
-std::string RecentFiles::save() const {
-    if (file_.empty()) return {};
+rt::Status save_config_file(const std::string& file, const std::string& text) {
+    if (file.empty()) return {};
     std::error_code ec;
-    std::filesystem::create_directories(std::filesystem::path(file_).parent_path(), ec);
-    if (ec) return "cannot create " + std::filesystem::path(file_).parent_path().string() + ": " + ec.message();
-    std::string text;
-    for (const auto& p : paths_) text += p + "\n";
-    return rt::write_file_atomic(file_, text);
+    const std::filesystem::path dir = std::filesystem::path(file).parent_path();
+    std::filesystem::create_directories(dir, ec);
+    if (ec) return rt::Status::error("cannot create " + dir.string() + ": " + ec.message(), rt::kExitUsage);
+    return rt::write_file_atomic(file, text);
 }
 
-std::string RecentFiles::add(const std::string& path) {
+rt::Status RecentFiles::save() const {
+    std::string text;
+    for (const auto& p : paths_) text += p + "\n";
+    return save_config_file(file_, text);
+}
+
+rt::Status RecentFiles::add(const std::string& path) {
     if (path.empty()) return {};
     // Another viewer may have added files since we loaded; merge rather than clobber.
     load();
@@ -66,7 +71,7 @@ std::string RecentFiles::add(const std::string& path) {
     return save();
 }
 
-std::string RecentFiles::remove(const std::string& path) {
+rt::Status RecentFiles::remove(const std::string& path) {
     load();
     paths_.erase(std::remove(paths_.begin(), paths_.end(), path), paths_.end());
     return save();

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "status.h"
+
 namespace rtview {
 
 class RecentFiles {
@@ -17,16 +19,21 @@ public:
     static std::string default_path();
 
     const std::vector<std::string>& paths() const { return paths_; }
-    // Moves `path` (made absolute) to the front and saves. Returns why saving failed.
-    std::string add(const std::string& path);
-    std::string remove(const std::string& path);
+    // Moves `path` (made absolute) to the front and saves; success, or why saving
+    // failed (the list in memory is changed either way).
+    rt::Status add(const std::string& path);
+    rt::Status remove(const std::string& path);
     void load();
 
 private:
-    std::string save() const;
+    rt::Status save() const;
     std::string file_;
     std::vector<std::string> paths_;
 };
+
+// Writes a file of the viewer's configuration folder atomically, creating the folder
+// first. An empty `file` (no configuration folder known) writes nothing.
+rt::Status save_config_file(const std::string& file, const std::string& text);
 
 // `path` made absolute against the current directory (not resolving links).
 std::string absolute_path(const std::string& path);

@@ -58,9 +58,9 @@ std::string Recovery::update(const std::string& doc_path, const std::string& tex
     if (now - last_write_ < interval) return {};
     std::error_code ec;
     fs::create_directories(dir_, ec);
-    std::string err = rt::write_file_atomic(file_for(doc_path), absolute(doc_path) + "\n" + text);
+    const rt::Status written = rt::write_file_atomic(file_for(doc_path), absolute(doc_path) + "\n" + text);
     last_write_ = now;
-    if (!err.empty()) return err;
+    if (!written) return written.message();
     last_hash_ = h;
     written_ = true;
     return {};
@@ -68,7 +68,7 @@ std::string Recovery::update(const std::string& doc_path, const std::string& tex
 
 std::optional<std::string> Recovery::find(const std::string& doc_path) const {
     std::string data;
-    if (!rt::read_file(file_for(doc_path), data, std::size_t(256) << 20).empty()) return std::nullopt;
+    if (!rt::read_file(file_for(doc_path), data, std::size_t(256) << 20).ok()) return std::nullopt;
     std::size_t nl = data.find('\n');
     if (nl == std::string::npos || data.compare(0, nl, absolute(doc_path)) != 0) return std::nullopt;
     return data.substr(nl + 1);

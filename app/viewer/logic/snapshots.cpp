@@ -6,16 +6,12 @@
 
 namespace rtview {
 
-namespace {
-
 std::size_t object_bytes(const rt::Object& o) {
     std::size_t n = sizeof(rt::Object);
     if (auto* g = std::get_if<rt::Csg>(&o.shape))
         for (const rt::Object& k : g->operands) n += object_bytes(k);
     return n;
 }
-
-}  // namespace
 
 std::size_t Snapshot::bytes() const {
     std::size_t n = sizeof(Snapshot) + image.rgb.size() * sizeof(float) + change.size();

@@ -13,6 +13,10 @@
 
 namespace rtview {
 
+// Memory an object takes, with its CSG operands (for the stores' limits: snapshots
+// here, the undo history in document.cpp).
+std::size_t object_bytes(const rt::Object& o);
+
 struct Snapshot {
     int id = 0;             // 1, 2, ... in the order taken; never reused
     rt::Image image;        // the linear film, so exposure and differences apply to it as to the live one

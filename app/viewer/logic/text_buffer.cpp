@@ -274,6 +274,27 @@ int TextBuffer::max_display_width() const {
     return max_width_;
 }
 
+TextPos TextBuffer::word_left(TextPos p) const {
+    if (p.col == 0) return p.line > 0 ? TextPos{p.line - 1, line_end_col(lines_[std::size_t(p.line - 1)])} : p;
+    const std::string& l = lines_[std::size_t(p.line)];
+    while (p.col > 0 && char_class(l[std::size_t(p.col - 1)]) == 0) --p.col;
+    if (p.col > 0) {
+        int cls = char_class(l[std::size_t(p.col - 1)]);
+        while (p.col > 0 && char_class(l[std::size_t(p.col - 1)]) == cls) --p.col;
+    }
+    return p;
+}
+
+TextPos TextBuffer::word_right(TextPos p) const {
+    const std::string& l = lines_[std::size_t(p.line)];
+    int end = line_end_col(l);
+    if (p.col >= end) return p.line + 1 < line_count() ? TextPos{p.line + 1, 0} : p;
+    int cls = char_class(l[std::size_t(p.col)]);
+    while (p.col < end && char_class(l[std::size_t(p.col)]) == cls) ++p.col;
+    while (p.col < end && char_class(l[std::size_t(p.col)]) == 0) ++p.col;
+    return p;
+}
+
 void TextBuffer::move(Move m, bool extend, int page) {
     // With a selection and no Shift, Left/Right collapse to its edge.
     if (!extend && has_selection() && (m == Move::Left || m == Move::Right)) {
@@ -302,28 +323,8 @@ void TextBuffer::move(Move m, bool extend, int page) {
             p.col = 0;
         }
         break;
-    case Move::WordLeft:
-        if (p.col == 0) {
-            if (p.line > 0) p = {p.line - 1, line_end_col(lines_[std::size_t(p.line - 1)])};
-            break;
-        }
-        while (p.col > 0 && char_class((*l)[std::size_t(p.col - 1)]) == 0) --p.col;
-        if (p.col > 0) {
-            int cls = char_class((*l)[std::size_t(p.col - 1)]);
-            while (p.col > 0 && char_class((*l)[std::size_t(p.col - 1)]) == cls) --p.col;
-        }
-        break;
-    case Move::WordRight: {
-        int end = line_end_col(*l);
-        if (p.col >= end) {
-            if (p.line + 1 < line_count()) p = {p.line + 1, 0};
-            break;
-        }
-        int cls = char_class((*l)[std::size_t(p.col)]);
-        while (p.col < end && char_class((*l)[std::size_t(p.col)]) == cls) ++p.col;
-        while (p.col < end && char_class((*l)[std::size_t(p.col)]) == 0) ++p.col;
-        break;
-    }
+    case Move::WordLeft: p = word_left(p); break;
+    case Move::WordRight: p = word_right(p); break;
     case Move::Up:
     case Move::Down:
     case Move::PageUp:
@@ -461,20 +462,24 @@ void TextBuffer::record(TextEdit e, bool mergeable_insert, bool mergeable_erase)
 }
 
 void TextBuffer::replace(TextRange r, std::string_view s) {
-    TextEdit e;
-    e.cursor_before = cursor_;
-    e.anchor_before = anchor_;
     r.begin = clamp(r.begin);
     r.end = clamp(r.end);
     if (r.end < r.begin) std::swap(r.begin, r.end);
+    replace_range(r, s, false, false);
+}
+
+void TextBuffer::replace_range(TextRange r, std::string_view s, bool typing, bool may_merge) {
+    TextEdit e;
+    e.cursor_before = cursor_;
+    e.anchor_before = anchor_;
     e.at = r.begin;
     e.inserted = std::string(s);
     TextPos after = apply(r.begin, r.end, s, &e.removed);
     cursor_ = anchor_ = after;
     want_dcol_ = -1;
     e.cursor_after = after;
-    merge_ok_ = false;
-    record(std::move(e), false, false);
+    if (!may_merge) merge_ok_ = false;
+    record(std::move(e), typing, false);
 }
 
 void TextBuffer::replace_bytes(std::size_t offset, std::size_t length, std::string_view s) {
@@ -486,17 +491,7 @@ void TextBuffer::replace_bytes(std::size_t offset, std::size_t length, std::stri
 void TextBuffer::insert(std::string_view s) {
     if (s.empty() && !has_selection()) return;
     bool typing = !has_selection() && s.size() <= 4 && s.find('\n') == std::string_view::npos;
-    TextEdit e;
-    e.cursor_before = cursor_;
-    e.anchor_before = anchor_;
-    TextRange r = selection();
-    e.at = r.begin;
-    e.inserted = std::string(s);
-    TextPos after = apply(r.begin, r.end, s, &e.removed);
-    cursor_ = anchor_ = after;
-    want_dcol_ = -1;
-    e.cursor_after = after;
-    record(std::move(e), typing, false);
+    replace_range(selection(), s, typing, true);
 }
 
 void TextBuffer::newline() {
@@ -512,32 +507,11 @@ void TextBuffer::newline() {
     merge_ok_ = false;
 }
 
-void TextBuffer::backspace() {
-    if (has_selection()) {
-        merge_ok_ = false;
-        insert({});
-        merge_ok_ = false;
-        return;
-    }
-    const bool merge = merge_ok_;
-    TextPos from = cursor_;
-    move(Move::Left, false);
-    TextPos to = cursor_;
-    cursor_ = anchor_ = from;
-    if (to == from) return;
-    TextEdit e;
-    e.cursor_before = from;
-    e.anchor_before = from;
-    e.at = to;
-    apply(to, from, {}, &e.removed);
-    cursor_ = anchor_ = to;
-    e.cursor_after = to;
-    merge_ok_ = merge;
-    const bool one_line = e.removed.find('\n') == std::string::npos;
-    record(std::move(e), false, one_line);
-}
+void TextBuffer::backspace() { erase_toward(Move::Left); }
 
-void TextBuffer::erase_forward() {
+void TextBuffer::erase_forward() { erase_toward(Move::Right); }
+
+void TextBuffer::erase_toward(Move step) {
     if (has_selection()) {
         merge_ok_ = false;
         insert({});
@@ -545,17 +519,19 @@ void TextBuffer::erase_forward() {
         return;
     }
     const bool merge = merge_ok_;
-    TextPos from = cursor_;
-    move(Move::Right, false);
-    TextPos to = cursor_;
-    cursor_ = anchor_ = from;
-    if (to == from) return;
+    const TextPos at = cursor_;
+    move(step, false);
+    const TextPos other = cursor_;
+    cursor_ = anchor_ = at;
+    if (other == at) return;
+    const TextPos begin = std::min(at, other), end = std::max(at, other);
     TextEdit e;
-    e.cursor_before = from;
-    e.anchor_before = from;
-    e.at = from;
-    apply(from, to, {}, &e.removed);
-    e.cursor_after = from;
+    e.cursor_before = at;
+    e.anchor_before = at;
+    e.at = begin;
+    apply(begin, end, {}, &e.removed);
+    cursor_ = anchor_ = begin;
+    e.cursor_after = begin;
     merge_ok_ = merge;
     const bool one_line = e.removed.find('\n') == std::string::npos;
     record(std::move(e), false, one_line);

@@ -149,6 +149,17 @@ public:
     int display_width(int line) const { return widths_[std::size_t(line)]; }
 
 private:
+    // Deletes the selection, or one character in the direction of `step` (Left or
+    // Right), as one undoable edit that merges with typing.
+    void erase_toward(Move step);
+    // Replaces the ordered range `r` with `s` as one undo step, the cursor after it;
+    // `typing` lets the next keystrokes join the step, `may_merge` lets it join the
+    // previous one.
+    void replace_range(TextRange r, std::string_view s, bool typing, bool may_merge);
+    // Where Ctrl+Left and Ctrl+Right go from `p`: over blanks, then one run of word
+    // or punctuation characters; across a line end from a line's start or end.
+    TextPos word_left(TextPos p) const;
+    TextPos word_right(TextPos p) const;
     TextPos apply(TextPos at, TextPos end, std::string_view s, std::string* removed);
     void record(TextEdit e, bool mergeable_insert, bool mergeable_erase);
     void touch_lines(int from);

@@ -42,7 +42,7 @@ void UiSettings::load() {
     other_lines_.clear();
     if (file_.empty()) return;
     std::string text;
-    if (!rt::read_file(file_, text, 1 << 20).empty()) return;
+    if (!rt::read_file(file_, text, 1 << 20).ok()) return;
     std::istringstream in(text);
     std::string line;
     while (std::getline(in, line)) {
@@ -57,18 +57,14 @@ void UiSettings::load() {
     }
 }
 
-std::string UiSettings::save() const {
-    if (file_.empty()) return {};
-    std::error_code ec;
-    std::filesystem::create_directories(std::filesystem::path(file_).parent_path(), ec);
-    if (ec) return "cannot create " + std::filesystem::path(file_).parent_path().string() + ": " + ec.message();
+rt::Status UiSettings::save() const {
     std::ostringstream out;
     out << "ui_scale " << ui_scale_ << "\n";
     for (const std::string& l : other_lines_) out << l << "\n";
-    return rt::write_file_atomic(file_, out.str());
+    return save_config_file(file_, out.str());
 }
 
-std::string UiSettings::set_ui_scale(double scale) {
+rt::Status UiSettings::set_ui_scale(double scale) {
     if (!std::isfinite(scale)) return {};
     ui_scale_ = std::clamp(scale, kMinScale, kMaxScale);
     return save();

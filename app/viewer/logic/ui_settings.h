@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "status.h"
+
 namespace rtview {
 
 class UiSettings {
@@ -18,12 +20,12 @@ public:
     static std::string default_path();
 
     double ui_scale() const { return ui_scale_; }
-    // Sets (clamped) and saves; returns why saving failed.
-    std::string set_ui_scale(double scale);
+    // Sets (clamped) and saves; success, or why saving failed.
+    rt::Status set_ui_scale(double scale);
     void load();
 
 private:
-    std::string save() const;
+    rt::Status save() const;
     std::string file_;
     double ui_scale_ = 1;
     std::vector<std::string> other_lines_;  // settings this version does not know: kept

@@ -82,7 +82,7 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
 
 ViewerApp::~ViewerApp() = default;
 
-std::string ViewerApp::open_initial() {
+rt::Status ViewerApp::open_initial() {
     Document& doc = editor_.doc();
     if (opt_.scene.empty()) {
         doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
@@ -90,14 +90,16 @@ std::string ViewerApp::open_initial() {
     } else if (interactive_) {
         // The window paints and its menus work while the file loads. A file that
         // cannot be read at all is still a message for the terminal.
-        if (::access(opt_.scene.c_str(), R_OK) != 0) return "cannot open '" + opt_.scene + "': " + std::strerror(errno);
+        if (::access(opt_.scene.c_str(), R_OK) != 0)
+            return rt::Status::error("cannot open '" + opt_.scene + "': " + std::strerror(errno), rt::kExitUsage);
         doc.load_pending(base_name(opt_.scene));
         start_load(opt_.scene);
     } else {
         loader_.start(opt_.scene);
         std::optional<LoadResult> r = loader_.wait();
         std::shared_ptr<const rt::World> world;
-        if (!r || !apply_load(*r, doc, world)) return "cannot open '" + opt_.scene + "': " + (r ? r->error : "");
+        if (!r || !apply_load(*r, doc, world))
+            return rt::Status::error("cannot open '" + opt_.scene + "': " + (r ? r->error : ""), rt::kExitUsage);
         if (world) render_.adopt_world(std::move(world), doc.content_version());
         after_document_replaced();
     }
@@ -136,7 +138,7 @@ void ViewerApp::poll_loader() {
     std::shared_ptr<const rt::World> world;
     if (!apply_load(*r, doc, world)) return;  // cancelled: the old scene stays
     if (world) render_.adopt_world(std::move(world), doc.content_version());
-    if (interactive_) editor_.recent().add(path);
+    const std::string recent = remember_recent(path);
     if (path == opt_.scene)  // at most 20, as raytracer prints them
         std::fputs(rt::diagnostics_report(path, doc.diagnostics(), 20).c_str(), stderr);
     after_document_replaced();
@@ -150,7 +152,8 @@ void ViewerApp::poll_loader() {
         selected_ = true;
         panels_.select_from_option(opt_.select);
     }
-    status_.set(ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)", !ok);
+    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + recent,
+                !ok || !recent.empty());
     if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.3f s\n", path.c_str(), since_start());
 }
 
@@ -222,7 +225,23 @@ void ViewerApp::frame() {
     end_edits();
     editor_.tick(now);
     if (interactive_ && now - last_disk_check_ >= 1.0) idle_tick();
+    update_render(now);
+    panels_.draw_surround();
+    if (doc.has_scene() || render_.started()) {
+        // While the view moves, the UI thread's own preview; else the film as the
+        // picture tools show it (zoom, display mapping, A/B, region).
+        if (render_.showing_preview()) render_.draw(layout_.image, layout_.fb_scale);
+        else tools_.draw();
+        // Over the picture, not in the film: a saved image stays clean.
+        if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
+            move_.draw(doc, panels_.selection(), screen_view(), layout_.image, layout_.area, layout_.film_w, layout_.film_h);
+    }
+    if (!doc.has_scene()) draw_no_image();
+    publish_outputs();
+}
 
+void ViewerApp::update_render(double now) {
+    Document& doc = editor_.doc();
     render_.sync_world(doc);
     // A slider held in a panel is motion too: previews within the frame budget.
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
@@ -250,30 +269,23 @@ void ViewerApp::frame() {
         bool error = false;
         if (tools_.take_message(text, error)) status_.set(text, error);
     }
-    panels_.draw_surround();
-    if (doc.has_scene() || render_.started()) {
-        // While the view moves, the UI thread's own preview; else the film as the
-        // picture tools show it (zoom, display mapping, A/B, region).
-        if (render_.showing_preview()) render_.draw(layout_.image, layout_.fb_scale);
-        else tools_.draw();
-        // Over the picture, not in the film: a saved image stays clean.
-        if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
-            move_.draw(doc, panels_.selection(), screen_view(), layout_.image, layout_.area, layout_.film_w, layout_.film_h);
-    }
-    if (!doc.has_scene()) {
-        std::string opening = "Opening " + base_name(loader_.progress().path) + " ...";
-        const char* msg = loader_.active() ? opening.c_str() : "No image: the scene text has errors (see the Text tab).";
-        // Wrapped within the image area (narrow at a large UI scale), centred.
-        const float wrap = std::max(float(layout_.area.w) - 2 * ImGui::GetFontSize(), ImGui::GetFontSize() * 4);
-        ImVec2 sz = ImGui::CalcTextSize(msg, nullptr, false, wrap);
-        ImGui::GetBackgroundDrawList()->AddText(
-            ImGui::GetFont(), ImGui::GetFontSize(),
-            ImVec2(float(layout_.area.x + (layout_.area.w - sz.x) / 2), float(layout_.area.y + (layout_.area.h - sz.y) / 2)),
-            ImGui::GetColorU32(loader_.active() ? ImVec4(0.75f, 0.75f, 0.75f, 1.0f) : ImVec4(1.0f, 0.42f, 0.42f, 1.0f)),
-            msg, nullptr, wrap);
-    }
+}
 
-    std::string title = doc.title();
+void ViewerApp::draw_no_image() {
+    std::string opening = "Opening " + base_name(loader_.progress().path) + " ...";
+    const char* msg = loader_.active() ? opening.c_str() : "No image: the scene text has errors (see the Text tab).";
+    // Wrapped within the image area (narrow at a large UI scale), centred.
+    const float wrap = std::max(float(layout_.area.w) - 2 * ImGui::GetFontSize(), ImGui::GetFontSize() * 4);
+    ImVec2 sz = ImGui::CalcTextSize(msg, nullptr, false, wrap);
+    ImGui::GetBackgroundDrawList()->AddText(
+        ImGui::GetFont(), ImGui::GetFontSize(),
+        ImVec2(float(layout_.area.x + (layout_.area.w - sz.x) / 2), float(layout_.area.y + (layout_.area.h - sz.y) / 2)),
+        ImGui::GetColorU32(loader_.active() ? ImVec4(0.75f, 0.75f, 0.75f, 1.0f) : ImVec4(1.0f, 0.42f, 0.42f, 1.0f)),
+        msg, nullptr, wrap);
+}
+
+void ViewerApp::publish_outputs() {
+    std::string title = editor_.doc().title();
     if (loader_.active()) title = "(loading) " + title;
     if (title != last_title_) {
         host_.set_title(title);
@@ -289,8 +301,7 @@ void ViewerApp::frame() {
         }
     }
     if (interactive_ && !opt_.view_scene.empty() && !view_scene_written_ && render_.started()) {
-        std::string err = write_view_scene(opt_.view_scene);
-        if (!err.empty()) status_.set("view scene: " + err, true);
+        if (rt::Status st = write_view_scene(opt_.view_scene); !st) status_.set("view scene: " + st.message(), true);
         view_scene_written_ = true;
     }
 }
@@ -467,16 +478,7 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             after_document_replaced();
             status_.set("Opened the built-in default scene");
             return true;
-        case Command::CancelLoad:
-            if (!loader_.active()) return false;
-            loader_.cancel();
-            if (!document().has_scene() && document().editor_text().empty() && document().path().empty()) {
-                // The start-up file was cancelled: there is no old scene to keep showing.
-                doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
-                after_document_replaced();
-            }
-            status_.set("Cancelled opening; showing " + doc.name());
-            return true;
+        case Command::CancelLoad: return cancel_load();
         case Command::Save: return do_save();
         case Command::SaveAsDialog: dialogs_.show(Dialogs::Kind::SaveAs, doc.path().empty() ? doc.name() : doc.path()); return true;
         case Command::SaveAs: return do_save_as(arg);
@@ -501,6 +503,39 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             return true;
         case Command::ApplyText: editor_.apply(); return true;
         case Command::RevertText: doc.revert_text(); return true;
+        case Command::FrameScene:
+        case Command::ResetView:
+        case Command::SetSceneCamera:
+        case Command::CopyCamera:
+        case Command::TogglePause:
+        case Command::FitWindow:
+        case Command::FitPicture: return view_command(c);
+        case Command::Help: dialogs_.show(Dialogs::Kind::Help); return true;
+        case Command::AddItem:
+        case Command::Duplicate:
+        case Command::Delete:
+        case Command::SwitchLight:
+        case Command::MakeCsg: return scene_edit(arg, c);
+    }
+    return false;
+}
+
+bool ViewerApp::cancel_load() {
+    if (!loader_.active()) return false;
+    loader_.cancel();
+    Document& doc = editor_.doc();
+    if (!doc.has_scene() && doc.editor_text().empty() && doc.path().empty()) {
+        // The start-up file was cancelled: there is no old scene to keep showing.
+        doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
+        after_document_replaced();
+    }
+    status_.set("Cancelled opening; showing " + doc.name());
+    return true;
+}
+
+bool ViewerApp::view_command(Command c) {
+    Document& doc = editor_.doc();
+    switch (c) {
         case Command::FrameScene:
             if (render_.world())
                 nav_.frame(render_.world()->bounds(),
@@ -529,14 +564,8 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             layout_.fit = FitMode::Picture;
             status_.set("Picture frame: exactly the scene's picture");
             return true;
-        case Command::Help: dialogs_.show(Dialogs::Kind::Help); return true;
-        case Command::AddItem:
-        case Command::Duplicate:
-        case Command::Delete:
-        case Command::SwitchLight:
-        case Command::MakeCsg: return scene_edit(arg, c);
+        default: return false;
     }
-    return false;
 }
 
 // ---------------------------------------------------------------------------------
@@ -566,6 +595,46 @@ std::optional<SceneItem> item_of(const Selection& s) {
 
 }  // namespace
 
+Placement ViewerApp::new_item_placement() {
+    // On the surface under the point (its normal from two neighbouring picks), or in
+    // front of the camera at the distance it looks at.
+    const Rect& im = layout_.image;
+    double px = place_x_ >= 0 ? place_x_ : im.x + im.w / 2, py = place_x_ >= 0 ? place_y_ : im.y + im.h / 2;
+    place_x_ = place_y_ = -1;
+    rt::Camera vc = nav_.display_camera({im, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
+    Placement at;
+    const rt::World* w = render_.world();
+    rt::PickResult r0 = w ? pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py) : rt::PickResult{};
+    if (r0.hit && std::isfinite(r0.t)) {
+        at.point = r0.point;
+        rt::PickResult rx = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px + 2, py);
+        rt::PickResult ry = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py + 2);
+        bool same = rx.hit && ry.hit && rx.object == r0.object && ry.object == r0.object && rx.plane == r0.plane &&
+                    ry.plane == r0.plane;
+        if (same) {
+            rt::Vec3 n = rt::normalize(rt::cross(rx.point - r0.point, ry.point - r0.point));
+            if (rt::dot(n, vc.position - r0.point) < 0) n = -n;
+            at.normal = n;
+        }
+    } else {
+        rt::Ray ray = ray_at(vc, im, layout_.film_w, layout_.film_h, px, py);
+        at.point = ray.origin + ray.dir * rt::length(vc.centre - vc.position);
+    }
+    return at;
+}
+
+rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
+    // One object-width to the right in the view, so that the copy is seen (a round
+    // step: the copy's numbers stay as short as the original's).
+    rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
+    rt::Vec3 right = rt::normalize(rt::cross(vc.centre - vc.position, nav_.world_up()));
+    double step = 2.5 * typical_size(scene);
+    double q = std::pow(10.0, std::floor(std::log10(step > 0 ? step : 1.0)) - 1);
+    rt::Vec3 off = right * step;
+    off = {std::round(off.x / q) * q, std::round(off.y / q) * q, std::round(off.z / q) * q};
+    return rt::finite(off) ? off : rt::Vec3{};
+}
+
 bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     Document& doc = editor_.doc();
     if (!doc.has_scene() || loader_.active()) return false;
@@ -588,45 +657,13 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             for (const auto& k : kinds)
                 if (arg == k.first) kind = &k.second;
             if (!kind) return false;
-            // On the surface under the point (its normal from two neighbouring picks),
-            // or in front of the camera at the distance it looks at.
-            const Rect& im = layout_.image;
-            double px = place_x_ >= 0 ? place_x_ : im.x + im.w / 2, py = place_x_ >= 0 ? place_y_ : im.y + im.h / 2;
-            place_x_ = place_y_ = -1;
-            rt::Camera vc = nav_.display_camera({im, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
-            Placement at;
-            const rt::World* w = render_.world();
-            rt::PickResult r0 = w ? pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py) : rt::PickResult{};
-            if (r0.hit && std::isfinite(r0.t)) {
-                at.point = r0.point;
-                rt::PickResult rx = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px + 2, py);
-                rt::PickResult ry = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py + 2);
-                bool same = rx.hit && ry.hit && rx.object == r0.object && ry.object == r0.object &&
-                            rx.plane == r0.plane && ry.plane == r0.plane;
-                if (same) {
-                    rt::Vec3 n = rt::normalize(rt::cross(rx.point - r0.point, ry.point - r0.point));
-                    if (rt::dot(n, vc.position - r0.point) < 0) n = -n;
-                    at.normal = n;
-                }
-            } else {
-                rt::Ray ray = ray_at(vc, im, layout_.film_w, layout_.film_h, px, py);
-                at.point = ray.origin + ray.dir * rt::length(vc.centre - vc.position);
-            }
-            e = add_item(text, scene, *kind, at);
+            e = add_item(text, scene, *kind, new_item_placement());
             done = std::string("Added a ") + arg;
             break;
         }
         case Command::Duplicate: {
             if (!sel) return false;
-            // The copy goes one object-width to the right in the view, so it is seen
-            // (a round step: the copy's numbers stay as short as the original's).
-            rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
-            rt::Vec3 right = rt::normalize(rt::cross(vc.centre - vc.position, nav_.world_up()));
-            double step = 2.5 * typical_size(scene);
-            double q = std::pow(10.0, std::floor(std::log10(step > 0 ? step : 1.0)) - 1);
-            rt::Vec3 off = right * step;
-            off = {std::round(off.x / q) * q, std::round(off.y / q) * q, std::round(off.z / q) * q};
-            e = duplicate_item(text, scene, *sel, rt::finite(off) ? off : rt::Vec3{});
+            e = duplicate_item(text, scene, *sel, duplicate_offset(scene));
             done = "Duplicated";
             break;
         }
@@ -730,22 +767,27 @@ bool ViewerApp::do_save() {
         dialogs_.show(Dialogs::Kind::SaveAs, doc.name());
         return false;
     }
-    std::string err = doc.save();
-    if (err.empty()) status_.set("Saved " + doc.path());
-    else status_.set("Save failed: " + err, true);
-    return err.empty();
+    const rt::Status st = doc.save();
+    if (st) status_.set("Saved " + doc.path());
+    else status_.set("Save failed: " + st.message(), true);
+    return st.ok();
 }
 
 bool ViewerApp::do_save_as(const std::string& path) {
     Document& doc = editor_.doc();
-    std::string err = doc.save_as(path);
-    if (!err.empty()) {
-        status_.set("Save failed: " + err, true);
+    if (rt::Status st = doc.save_as(path); !st) {
+        status_.set("Save failed: " + st.message(), true);
         return false;
     }
-    if (interactive_) editor_.recent().add(path);
-    status_.set("Saved " + doc.path());
+    const std::string recent = remember_recent(path);
+    status_.set("Saved " + doc.path() + recent, !recent.empty());
     return true;
+}
+
+std::string ViewerApp::remember_recent(const std::string& path) {
+    if (!interactive_) return {};
+    const rt::Status st = editor_.recent().add(path);
+    return st ? std::string() : "; recent files not saved: " + st.message();
 }
 
 void ViewerApp::do_save_image(const std::string& path) {
@@ -758,9 +800,9 @@ void ViewerApp::do_save_image(const std::string& path) {
         status_.set("Image names must end in .png or .ppm", true);
         return;
     }
-    std::string err = rt::write_image(path, img);
-    if (err.empty()) status_.set("Wrote " + path + " (" + std::to_string(img.width) + "x" + std::to_string(img.height) + ")");
-    else status_.set("Cannot write " + path + ": " + err, true);
+    const rt::Status st = rt::write_image(path, img);
+    if (st) status_.set("Wrote " + path + " (" + std::to_string(img.width) + "x" + std::to_string(img.height) + ")");
+    else status_.set("Cannot write " + path + ": " + st.message(), true);
 }
 
 // ---------------------------------------------------------------------------------
@@ -821,14 +863,14 @@ void ViewerApp::after_render(int fb_width, int fb_height) {
     if (screenshot_request_.empty()) return;
     std::string path = screenshot_request_;
     screenshot_request_.clear();
-    std::string err = save_framebuffer(path, fb_width, fb_height);
-    if (err.empty()) status_.set("Wrote screenshot " + path);
-    else status_.set("Screenshot failed: " + err, true);
+    const rt::Status st = save_framebuffer(path, fb_width, fb_height);
+    if (st) status_.set("Wrote screenshot " + path);
+    else status_.set("Screenshot failed: " + st.message(), true);
 }
 
-std::string ViewerApp::write_view_scene(const std::string& path) const {
+rt::Status ViewerApp::write_view_scene(const std::string& path) const {
     const Document& doc = editor_.doc();
-    if (!doc.has_scene()) return "the scene has errors";
+    if (!doc.has_scene()) return rt::Status::error("the scene has errors");
     rt::Scene s = doc.scene();
     s.camera = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     s.width = layout_.film_w;

@@ -25,6 +25,8 @@
 #include "options.h"
 #include "panels.h"
 #include "render_controller.h"
+#include "scene_edits.h"
+#include "status.h"
 #include "shared.h"
 
 namespace rtview {
@@ -46,7 +48,7 @@ public:
     // background and this returns at once (the window paints meanwhile); headless: it
     // loads now. Returns a message for the terminal when the file cannot be read (the
     // caller exits); parse errors open anyway.
-    std::string open_initial();
+    rt::Status open_initial();
 
     // One UI frame, between ImGui::NewFrame() and ImGui::Render().
     void frame();
@@ -69,7 +71,7 @@ public:
     // All requested samples are in and the texture shows the final film.
     bool render_settled() const;
     rt::RenderProgress progress() const { return render_.progress(); }
-    std::string write_view_scene(const std::string& path) const;
+    rt::Status write_view_scene(const std::string& path) const;
     std::string layout_text() const;
     const Document& document() const { return editor_.doc(); }
     const Navigator& navigator() const { return nav_; }
@@ -88,6 +90,12 @@ private:
     void handle_shortcuts();
     void end_edits();
     void poll_loader();
+    // Parts of frame(): the render follows the scene, the view and the picture tools;
+    // the message where there is no picture; the title, --print-layout and
+    // --view-scene once they change.
+    void update_render(double now);
+    void draw_no_image();
+    void publish_outputs();
     LoadStatus load_status() const;
     void after_document_replaced();
     void start_load(const std::string& path);
@@ -96,10 +104,20 @@ private:
     ScreenView screen_view() const;
     // Structural edits and the image's context menu.
     bool scene_edit(const std::string& arg, Command c);
+    // Where AddItem puts a new item: under the context menu's point, else the centre.
+    Placement new_item_placement();
+    // How far Duplicate moves the copy.
+    rt::Vec3 duplicate_offset(const rt::Scene& scene) const;
+    bool cancel_load();
+    // The commands that change the view, the pause or the fit.
+    bool view_command(Command c);
     void handle_context_menu(bool usable);
     void draw_context_menu();
     bool do_save();
     bool do_save_as(const std::string& path);
+    // Puts `path` first in the recent-files list (in the window only). "" or, when
+    // the list could not be saved, "; recent files not saved: WHY" for the status bar.
+    std::string remember_recent(const std::string& path);
     void do_save_image(const std::string& path);
     std::string default_image_name() const;
 

@@ -35,100 +35,90 @@ void Dialogs::run_pending() {
     commands_.run(pending_, pending_arg_, true);
 }
 
+bool Dialogs::path_field(const char* hint) {
+    if (focus_path_) ImGui::SetKeyboardFocusHere();
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 30);
+    return ImGui::InputTextWithHint("##path", hint, &path_, ImGuiInputTextFlags_EnterReturnsTrue);
+}
+
+Dialogs::Answer Dialogs::path_buttons(bool go, const char* button) {
+    go |= ImGui::Button(button);
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel") || escape_pressed()) {
+        ImGui::CloseCurrentPopup();
+        return Answer::Cancel;
+    }
+    if (!go || path_.empty()) return Answer::None;
+    ImGui::CloseCurrentPopup();
+    return Answer::Go;
+}
+
+bool Dialogs::begin(Kind k) {
+    ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    return ImGui::BeginPopupModal(title_of(k), nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+}
+
 void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image_mode) {
-    bool focus_path = request_ == Kind::Open || request_ == Kind::SaveAs || request_ == Kind::SaveImage;
+    focus_path_ = request_ == Kind::Open || request_ == Kind::SaveAs || request_ == Kind::SaveImage;
     if (request_ != Kind::None) ImGui::OpenPopup(title_of(request_));
     request_ = Kind::None;
 
-    ImVec2 centre = ImGui::GetMainViewport()->GetCenter();
-    auto path_field = [&](const char* hint) {
-        if (focus_path) ImGui::SetKeyboardFocusHere();
-        ImGui::SetNextItemWidth(ImGui::GetFontSize() * 30);
-        return ImGui::InputTextWithHint("##path", hint, &path_, ImGuiInputTextFlags_EnterReturnsTrue);
-    };
-
-    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    if (ImGui::BeginPopupModal(title_of(Kind::Unsaved), nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        ImGui::Text("%s has unsaved changes.", doc_name.c_str());
-        if (ImGui::Button("Save")) {
-            ImGui::CloseCurrentPopup();
-            if (!has_path) {
-                show(Kind::SaveAs, doc_name);  // the pending action runs after Save As
-            } else if (commands_.run(Command::Save)) {
-                run_pending();
-            } else {
-                has_pending_ = false;
-            }
-        }
-        ImGui::SameLine();
-        if (ImGui::Button("Discard changes")) {
-            ImGui::CloseCurrentPopup();
-            run_pending();
-        }
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel") || escape_pressed()) {
-            ImGui::CloseCurrentPopup();
-            has_pending_ = false;
-        }
+    if (begin(Kind::Unsaved)) {
+        draw_unsaved(doc_name, has_path);
         ImGui::EndPopup();
     }
-
-    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    if (ImGui::BeginPopupModal(title_of(Kind::Open), nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    if (begin(Kind::Open)) {
         bool go = path_field("scene file path");
         if (!recent_.paths().empty()) {
             ImGui::TextDisabled("Recent:");
             for (const std::string& p : recent_.paths())
                 if (ImGui::Selectable(p.c_str())) path_ = p;
         }
-        go |= ImGui::Button("Open");
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel") || escape_pressed()) {
-            ImGui::CloseCurrentPopup();
-        } else if (go && !path_.empty()) {
-            ImGui::CloseCurrentPopup();
-            commands_.run(Command::Open, path_);
-        }
+        if (path_buttons(go, "Open") == Answer::Go) commands_.run(Command::Open, path_);
         ImGui::EndPopup();
     }
-
-    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    if (ImGui::BeginPopupModal(title_of(Kind::SaveAs), nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        bool go = path_field("new scene file path");
-        go |= ImGui::Button("Save");
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel") || escape_pressed()) {
-            ImGui::CloseCurrentPopup();
-            has_pending_ = false;
-        } else if (go && !path_.empty()) {
-            ImGui::CloseCurrentPopup();
-            if (commands_.run(Command::SaveAs, path_)) run_pending();
-        }
+    if (begin(Kind::SaveAs)) {
+        const Answer a = path_buttons(path_field("new scene file path"), "Save");
+        if (a == Answer::Cancel) has_pending_ = false;
+        else if (a == Answer::Go && commands_.run(Command::SaveAs, path_)) run_pending();
         ImGui::EndPopup();
     }
-
-    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    if (ImGui::BeginPopupModal(title_of(Kind::SaveImage), nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    if (begin(Kind::SaveImage)) {
         ImGui::TextDisabled("The film as rendered so far (%s); .png or .ppm.", image_mode);
-        bool go = path_field("image path (.png or .ppm)");
-        go |= ImGui::Button("Save");
-        ImGui::SameLine();
-        if (ImGui::Button("Cancel") || escape_pressed()) {
-            ImGui::CloseCurrentPopup();
-        } else if (go && !path_.empty()) {
-            ImGui::CloseCurrentPopup();
+        if (path_buttons(path_field("image path (.png or .ppm)"), "Save") == Answer::Go)
             commands_.run(Command::SaveImage, path_);
-        }
         ImGui::EndPopup();
     }
-
-    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    if (ImGui::BeginPopupModal(title_of(Kind::Help), nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    if (begin(Kind::Help)) {
         std::string help = help_text(false);
         std::size_t at = help.find("Mouse and keys");
         ImGui::TextUnformatted(at == std::string::npos ? help.c_str() : help.c_str() + at);
         if (ImGui::Button("Close") || escape_pressed()) ImGui::CloseCurrentPopup();
         ImGui::EndPopup();
+    }
+}
+
+void Dialogs::draw_unsaved(const std::string& doc_name, bool has_path) {
+    ImGui::Text("%s has unsaved changes.", doc_name.c_str());
+    if (ImGui::Button("Save")) {
+        ImGui::CloseCurrentPopup();
+        if (!has_path) {
+            show(Kind::SaveAs, doc_name);  // the pending action runs after Save As
+        } else if (commands_.run(Command::Save)) {
+            run_pending();
+        } else {
+            has_pending_ = false;
+        }
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Discard changes")) {
+        ImGui::CloseCurrentPopup();
+        run_pending();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel") || escape_pressed()) {
+        ImGui::CloseCurrentPopup();
+        has_pending_ = false;
     }
 }
 

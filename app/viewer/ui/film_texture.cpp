@@ -78,8 +78,9 @@ std::vector<std::uint8_t> read_framebuffer(int width, int height) {
     return rgb;
 }
 
-std::string save_framebuffer(const std::string& path, int width, int height) {
-    if (rt::format_from_path(path) == rt::ImageFormat::Unknown) return "'" + path + "': use a .png or .ppm name";
+rt::Status save_framebuffer(const std::string& path, int width, int height) {
+    if (rt::format_from_path(path) == rt::ImageFormat::Unknown)
+        return rt::Status::error("'" + path + "': use a .png or .ppm name", rt::kExitUsage);
     return rt::write_rgb8(path, width, height, read_framebuffer(width, height));
 }
 

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "status.h"
+
 namespace rtview {
 
 class FilmTexture {
@@ -36,7 +38,7 @@ private:
 
 // RGB8 of the current read framebuffer, top row first.
 std::vector<std::uint8_t> read_framebuffer(int width, int height);
-// Reads the framebuffer and writes PNG or PPM (by extension). Empty string on success.
-std::string save_framebuffer(const std::string& path, int width, int height);
+// Reads the framebuffer and writes PNG or PPM (by extension).
+rt::Status save_framebuffer(const std::string& path, int width, int height);
 
 }  // namespace rtview

@@ -118,7 +118,7 @@ void ImageTools::set_exposure(double stops) {
 
 void ImageTools::set_ui_scale(double s) {
     if (s == settings_.ui_scale()) return;
-    std::string err = settings_.set_ui_scale(s);
+    const std::string err = settings_.set_ui_scale(s).message();
     ui_scale_changed_ = true;
     if (!err.empty()) message("UI scale not saved: " + err, true);
     else message("UI scale " + std::to_string(int(std::lround(settings_.ui_scale() * 100))) + "%");
@@ -338,7 +338,7 @@ void ImageTools::update() {
 
     if (final_.active() && final_.done()) {
         rt::RenderProgress p = final_.progress();
-        std::string err = final_.write();
+        const std::string err = final_.write().message();
         render_finished_ = true;
         if (err.empty()) {
             char buf[160];
@@ -680,7 +680,8 @@ void ImageTools::draw_popups() {
         else if (go && f_.scene) {
             rt::Scene scene = *f_.scene;
             if (!render_scene_camera_) scene.camera = f_.render_camera;
-            render_error_ = final_.start(scene, render_path_, render_samples_, render_time_limit_, f_.world.get());
+            render_error_ =
+                final_.start(scene, render_path_, render_samples_, render_time_limit_, f_.world.get()).message();
         }
     }
     // Finished (written or not): the popup closes, the status bar says how it went.

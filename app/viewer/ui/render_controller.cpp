@@ -226,15 +226,15 @@ void RenderController::trace_preview(const rt::Camera& camera, int film_w, int f
     preview_world_ = world_;
     preview_camera_ = camera;
     ++pictures_;
-    if (timing_change_) {
-        last_latency_ms_ = seconds_since(change_time_) * 1000;
-        timing_change_ = false;
-        if (verbose)
-            std::fprintf(stderr,
-                         "raytracer-view: view change -> first image on screen %.1f ms (preview traced on the UI "
-                         "thread: %.1f ms, %dx%d, block %d)\n",
-                         last_latency_ms_, took * 1000, film_w, film_h, b);
-    }
+    if (timing_change_) first_image_after_change("preview traced on the UI thread", took, film_w, film_h, b);
+}
+
+void RenderController::first_image_after_change(const char* source, double took, int w, int h, int block) {
+    last_latency_ms_ = seconds_since(change_time_) * 1000;
+    timing_change_ = false;
+    if (verbose)
+        std::fprintf(stderr, "raytracer-view: view change -> first image on screen %.1f ms (%s: %.1f ms, %dx%d, block %d)\n",
+                     last_latency_ms_, source, took * 1000, w, h, block);
 }
 
 void RenderController::start(const rt::Camera& camera, int film_w, int film_h, bool moving) {
@@ -296,15 +296,8 @@ void RenderController::upload() {
             preview_shown_ = true;
         }
         if (timing_change_ && has_picture && before.generation == started_generation_ && w == started_w_ &&
-            h == started_h_) {
-            last_latency_ms_ = seconds_since(change_time_) * 1000;
-            timing_change_ = false;
-            if (verbose)
-                std::fprintf(stderr,
-                             "raytracer-view: view change -> first image on screen %.1f ms (renderer: %.1f ms, %dx%d, "
-                             "block %d)\n",
-                             last_latency_ms_, before.first_coarse_time * 1000, w, h, started_block_);
-        }
+            h == started_h_)
+            first_image_after_change("renderer", before.first_coarse_time, w, h, started_block_);
     }
     // RenderProgress::elapsed keeps counting after the render is done; the status bar
     // wants the time the render took, so keep the value seen when it finished.

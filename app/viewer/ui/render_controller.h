@@ -110,6 +110,9 @@ public:
 private:
     void start(const rt::Camera& camera, int film_w, int film_h, bool moving);
     void trace_preview(const rt::Camera& camera, int film_w, int film_h);
+    // The first image after a view change is on screen: the latency, said with
+    // --verbose along with what made the image (`source`, taking `took` seconds).
+    void first_image_after_change(const char* source, double took, int w, int h, int block);
 
     bool interactive_;
     rt::Renderer renderer_;

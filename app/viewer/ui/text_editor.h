@@ -83,6 +83,14 @@ private:
     void field_chars(const std::string& typed);
     void find_next(bool forward);
     void draw_bar();
+    // Parts of draw(): the queued keys and characters (when focused), the text area's
+    // geometry and scrolling, the visible rows, a line's gutter, one row.
+    struct Frame;
+    void take_input();
+    void lay_out_text(Frame& f);
+    void draw_rows(const Frame& f);
+    void draw_gutter(const Frame& f, int line, float line_y0, const LineMark* mark, const std::string& tip);
+    void draw_row(const Frame& f, int line, int r, float y, const std::vector<TextRange>& matches);
     bool draw_field(const char* id, TextBuffer& f, float width, bool active);
     void scroll_to_cursor(bool centre);
     void shift_marks();
