@@ -3,7 +3,7 @@
 #   1. build-asan: every target with AddressSanitizer + UndefinedBehaviorSanitizer
 #      (-Og -g: the sanitizers' checks are the same, the build takes less than half
 #      the time of -O2), then the whole ctest suite (leak checking on, any UB fatal).
-#   2. build-tsan: ThreadSanitizer (-O2 -g); builds and runs the renderer tests
+#   2. build-tsan: ThreadSanitizer (-O1 -g1: line tables for its reports); builds and runs the renderer tests
 #      (rt_renderer_tests: tests/test_renderer*.cpp) and the viewer-logic tests.
 #   ./scripts/sanitize.sh [asan|tsan|all]      (default all)
 # Environment: JOBS (default 2), CC/CXX (default: the system compiler), CMAKE_ARGS
@@ -64,7 +64,8 @@ fi
 
 if [ "$WHAT" != asan ]; then
     stage "ThreadSanitizer: build-tsan"
-    run cmake -S . -B build-tsan -DRAYTRACER_SANITIZE=thread "${COMMON[@]}"
+    run cmake -S . -B build-tsan -DRAYTRACER_SANITIZE=thread "${COMMON[@]}" \
+        "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
     # Only the test programs (and what they link); the viewer-logic test programs are
     # whatever tests/viewer defines.
     viewer_tests=()
