@@ -15,13 +15,16 @@
 
 #include "bvh.h"
 #include "shapes.h"
+#include "test_brute.h"
 #include "test_random.h"
 #include "test_util.h"
 #include "world.h"
 
 using namespace rt;
 using rt_test::Failures;
+using rt_test::Hit;
 using rt_test::Rng;
+using rt_test::brute_nearest;
 using rt_test::fmt;
 
 namespace {
@@ -47,23 +50,6 @@ Scene random_spheres(Rng& rng, std::size_t n) {
         s.objects.push_back(sphere(c, r));
     }
     return s;
-}
-
-struct Hit {
-    bool hit = false;
-    std::uint32_t obj = 0;
-    double t = HUGE_VAL;
-};
-
-// Nearest hit with t > kDelta, ties to the lower index (the file order).
-Hit brute_nearest(const Geometry& g, const Vec3& o, const Vec3& d) {
-    Hit h;
-    SpanScratch scratch;
-    for (std::uint32_t i = 0; i < g.object_node.size(); ++i) {
-        SpanEnd e;
-        if (g.hit(i, o, d, kDelta, e, scratch) && e.t < h.t) h = {true, i, e.t};
-    }
-    return h;
 }
 
 Hit bvh_nearest(const Geometry& g, const Vec3& o, const Vec3& d, std::size_t* calls = nullptr) {

@@ -10,11 +10,14 @@
 
 #include "bvh_update.h"
 #include "shapes.h"
+#include "test_brute.h"
 #include "test_random.h"
 #include "world.h"
 
 using namespace rt;
+using rt_test::Hit;
 using rt_test::Rng;
+using rt_test::brute_nearest;
 
 namespace {
 
@@ -68,23 +71,6 @@ void move(Object& o, const Vec3& d) {
                 for (Object& op : x.operands) move(op, d);
         },
         o.shape);
-}
-
-struct Hit {
-    bool hit = false;
-    std::uint32_t obj = 0;
-    double t = HUGE_VAL;
-};
-
-// Nearest hit with t > kDelta, ties to the lower index (as World::nearest).
-Hit brute_nearest(const Geometry& g, const Vec3& o, const Vec3& d) {
-    Hit h;
-    SpanScratch scratch;
-    for (std::uint32_t i = 0; i < g.object_node.size(); ++i) {
-        SpanEnd e;
-        if (g.hit(i, o, d, kDelta, e, scratch) && e.t < h.t) h = {true, i, e.t};
-    }
-    return h;
 }
 
 void check_moves(std::size_t n, unsigned seed) {
