@@ -15,19 +15,8 @@
 # Screenshots (import -window root) are kept in OUT_DIR to look at.
 # Usage: xvfb_test.sh BIN_DIR OUT_DIR
 set -euo pipefail
-BIN=$(cd "$1" && pwd)
-OUT=$2
-mkdir -p "$OUT"
-OUT=$(cd "$OUT" && pwd)
-
-if [ "${RTVIEW_XVFB_INNER:-}" != 1 ]; then
-    export RTVIEW_XVFB_INNER=1
-    # RTVIEW_XVFB_DISPLAY=N picks the display number (machines shared by several runs).
-    if [ -n "${RTVIEW_XVFB_DISPLAY:-}" ]; then
-        exec xvfb-run -n "$RTVIEW_XVFB_DISPLAY" -s "-screen 0 1280x800x24" "$0" "$BIN" "$OUT"
-    fi
-    exec xvfb-run -a -s "-screen 0 1280x800x24" "$0" "$BIN" "$OUT"
-fi
+# shellcheck source=xvfb_start.sh
+. "$(dirname "$0")/xvfb_start.sh" "$@"
 
 TOOL=$BIN/rtview-imgtool
 SRC=$(cd "$(dirname "$0")/../.." && pwd)
