@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Sanitizer builds, as CI runs them:
 #   1. build-asan: every target with AddressSanitizer + UndefinedBehaviorSanitizer
-#      (-Og -g: the sanitizers' checks are the same, the build takes less than half
-#      the time of -O2), then the whole ctest suite (leak checking on, any UB fatal).
+#      (-Og -g1: the sanitizers' checks are the same as at -O2 and the build takes less
+#      than half the time; line tables are all their reports need), then the whole
+#      ctest suite, JOBS at a time (leak checking on, any UB fatal).
 #   2. build-tsan: ThreadSanitizer (-O1 -g1: line tables for its reports); builds and runs the renderer tests
 #      (rt_renderer_tests: tests/test_renderer*.cpp) and the viewer-logic tests.
 #   ./scripts/sanitize.sh [asan|tsan|all]      (default all)
@@ -47,7 +48,7 @@ status=0
 if [ "$WHAT" != tsan ]; then
     stage "AddressSanitizer + UndefinedBehaviorSanitizer: build-asan"
     run cmake -S . -B build-asan -DRAYTRACER_SANITIZE=address,undefined "${COMMON[@]}" \
-        "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-Og -g -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-Og -g -DNDEBUG"
+        "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-Og -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-Og -g1 -DNDEBUG"
     run cmake --build build-asan -j"$JOBS"
     stage "ctest under ASan+UBSan"
     # viewer_xvfb and viewer_xvfb_move drive the real window through the system's libGL, Mesa and X
