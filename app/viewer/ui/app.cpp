@@ -582,17 +582,6 @@ Selection selection_of(const SceneItem& item) {
     return {k, item.index, {}};
 }
 
-std::optional<SceneItem> item_of(const Selection& s) {
-    // A CSG operand is edited as its top-level object.
-    switch (s.kind) {
-        case Selection::Kind::Object: return SceneItem{SceneItem::Kind::Object, s.index};
-        case Selection::Kind::Plane: return SceneItem{SceneItem::Kind::Plane, s.index};
-        case Selection::Kind::Light: return SceneItem{SceneItem::Kind::Light, s.index};
-        case Selection::Kind::None: break;
-    }
-    return std::nullopt;
-}
-
 }  // namespace
 
 Placement ViewerApp::new_item_placement() {
@@ -646,7 +635,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     const rt::Scene& scene = doc.scene();
     std::optional<SceneEdit> e;
     std::string done;
-    std::optional<SceneItem> sel = item_of(panels_.selection());
+    std::optional<SceneItem> sel = item_of_selection(panels_.selection());
     switch (c) {
         case Command::AddItem: {
             static const std::pair<const char*, NewItem> kinds[] = {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <future>
 #include <string>
+#include <vector>
 
 #include "document.h"
 #include "recent_files.h"
@@ -50,6 +51,11 @@ public:
 
 private:
     void sync_widget();
+    // draw_text_tab() in steps, top to bottom.
+    void draw_text_toolbar();
+    std::vector<std::string> diagnostic_lines(float& list_h) const;
+    bool draw_text_widget(float height);
+    void draw_diagnostics(const std::vector<std::string>& diag_text, float height);
 
     bool interactive_;
     StatusLine& status_;
