@@ -108,9 +108,9 @@ std::string check_edit(const ItemRef& ref, const std::string& label, const Field
     doc.load_text(text, "", "t.txt");
     REQUIRE(doc.has_scene());
     FieldResult r = set_field(doc, ref, field(doc.scene(), ref, label), v);
-    INFO(label << ": " << r.error);
-    REQUIRE(r.applied);
-    CHECK(r.error.empty());
+    INFO(label << ": " << r.status.message());
+    REQUIRE(r.applied());
+    CHECK(r.status.ok());
     CHECK(doc.editing());
     CHECK(doc.scene() == want);  // live, before the commit
     doc.commit();
@@ -347,9 +347,9 @@ TEST_CASE("item fields: a spotlight edited in the panel still becomes the lamp i
     REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
     REQUIRE_FALSE(doc.scene().lights[0].lamp);
     const ItemRef ref = light(0);
-    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "position"), vec({-1, -2, 7})).applied);
+    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "position"), vec({-1, -2, 7})).applied());
     doc.commit();
-    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "colour"), vec({5, 5, 5})).applied);
+    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "colour"), vec({5, 5, 5})).applied());
     doc.commit();
     e = switch_light_kind(doc.editor_text(), doc.scene(), 0);
     REQUIRE(e);
@@ -368,7 +368,7 @@ TEST_CASE("item fields: a drag is one undo step") {
     const ItemRef ref = obj(0);
     const Field f = field(doc.scene(), ref, "radius");
     for (int k = 1; k <= 30; ++k) {
-        REQUIRE(set_field(doc, ref, f, number(0.8 + 0.01 * k)).applied);
+        REQUIRE(set_field(doc, ref, f, number(0.8 + 0.01 * k)).applied());
         CHECK(std::get<rt::Sphere>(doc.scene().objects[0].shape).radius == 0.8 + 0.01 * k);
     }
     CHECK(doc.editor_text() == kScene);  // written once, at the end
@@ -378,7 +378,7 @@ TEST_CASE("item fields: a drag is one undo step") {
     REQUIRE(doc.undo());
     CHECK(doc.editor_text() == kScene);
     // Setting a value the item already has is no edit at all.
-    REQUIRE(set_field(doc, ref, f, number(0.8)).applied);
+    REQUIRE(set_field(doc, ref, f, number(0.8)).applied());
     CHECK_FALSE(doc.editing());
 }
 
@@ -410,8 +410,8 @@ TEST_CASE("item fields: what the parser refuses is refused, with its message") {
         const std::string want = parser_error(replaced(text, c.from, c.to));
         REQUIRE_FALSE(want.empty());
         FieldResult r = set_field(doc, c.ref, field(doc.scene(), c.ref, c.label), c.value);
-        CHECK_FALSE(r.applied);
-        CHECK(r.error == want);
+        CHECK_FALSE(r.applied());
+        CHECK(r.status.message() == want);
         CHECK_FALSE(doc.editing());
         doc.commit();
         CHECK(doc.editor_text() == text);
@@ -424,7 +424,7 @@ TEST_CASE("item fields: what the parser refuses is refused, with its message") {
     FieldValue v;
     v.material = m;
     FieldResult r = set_field(doc, obj(0), field(doc.scene(), obj(0), "material"), v);
-    REQUIRE(r.applied);
+    REQUIRE(r.applied());
     doc.commit();
     const rt::Scene back = parse_ok(doc.editor_text());
     CHECK(back.objects[0].material.translusans == 1);
@@ -433,7 +433,7 @@ TEST_CASE("item fields: what the parser refuses is refused, with its message") {
     // A warning of the parser lets the value through and says so.
     rt::Scene s = parse_ok(text);
     r = set_field(s, plane(1), field(s, plane(1), "point 4"), vec({20, 5, 5}));
-    CHECK(r.applied);
+    CHECK(r.applied());
     CHECK(r.warning == "plane: point 4 lies in the plane, so the lit side is arbitrary");
     CHECK(s.planes[1].point[3] == rt::Vec3{20, 5, 5});
 }
@@ -469,7 +469,7 @@ TEST_CASE("item fields: with an unapplied draft, the edit reaches both texts wit
     doc.note_typed();
     REQUIRE(doc.editor_dirty());
     const ItemRef ref = obj(0);
-    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "radius"), number(2)).applied);
+    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "radius"), number(2)).applied());
     doc.commit();
     for (const std::string* t : {&std::as_const(doc).editor_text(), &doc.applied_text()}) {
         INFO(*t);

@@ -25,7 +25,7 @@ TEST_CASE("recovery: unsaved text survives into the next session for the same fi
     fs::path dir = temp_dir("a");
     {
         Recovery r(dir.string());
-        CHECK(r.update("scene.txt", "thing { }", true, 10.0).empty());
+        CHECK(r.update("scene.txt", "thing { }", true, 10.0).ok());
         // A "crash": the object goes away without discarding anything.
     }
     Recovery next(dir.string());
@@ -39,10 +39,10 @@ TEST_CASE("recovery: unsaved text survives into the next session for the same fi
 TEST_CASE("recovery: writes at most every interval, and only changed text") {
     fs::path dir = temp_dir("b");
     Recovery r(dir.string());
-    r.update("s.txt", "one", true, 0.0, 3.0);
-    r.update("s.txt", "two", true, 1.0, 3.0);  // too soon
+    CHECK(r.update("s.txt", "one", true, 0.0, 3.0).ok());
+    CHECK(r.update("s.txt", "two", true, 1.0, 3.0).ok());  // too soon
     CHECK(*Recovery(dir.string()).find("s.txt") == "one");
-    r.update("s.txt", "two", true, 4.0, 3.0);
+    CHECK(r.update("s.txt", "two", true, 4.0, 3.0).ok());
     CHECK(*Recovery(dir.string()).find("s.txt") == "two");
     fs::remove_all(dir);
 }
@@ -50,11 +50,11 @@ TEST_CASE("recovery: writes at most every interval, and only changed text") {
 TEST_CASE("recovery: saving (no longer modified) or discarding removes the copy") {
     fs::path dir = temp_dir("c");
     Recovery r(dir.string());
-    r.update("s.txt", "draft", true, 0.0);
+    CHECK(r.update("s.txt", "draft", true, 0.0).ok());
     REQUIRE(r.find("s.txt"));
-    r.update("s.txt", "draft", false, 10.0);
+    CHECK(r.update("s.txt", "draft", false, 10.0).ok());
     CHECK_FALSE(r.find("s.txt"));
-    r.update("s.txt", "again", true, 20.0);
+    CHECK(r.update("s.txt", "again", true, 20.0).ok());
     REQUIRE(r.find("s.txt"));
     r.discard("s.txt");
     CHECK_FALSE(r.find("s.txt"));
@@ -64,6 +64,6 @@ TEST_CASE("recovery: saving (no longer modified) or discarding removes the copy"
 
 TEST_CASE("recovery: a failed write says why and keeps nothing half-written") {
     Recovery r("/proc/no-such-place/recovery");
-    CHECK_FALSE(r.update("s.txt", "draft", true, 0.0).empty());
+    CHECK_FALSE(r.update("s.txt", "draft", true, 0.0).ok());
     CHECK_FALSE(r.find("s.txt"));
 }

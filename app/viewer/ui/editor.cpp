@@ -33,8 +33,8 @@ DocumentEditor::~DocumentEditor() {
 bool DocumentEditor::recovery_busy() {
     if (!recovery_write_.valid()) return false;
     if (recovery_write_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return true;
-    std::string err = recovery_write_.get();
-    if (!err.empty()) status_.set("cannot keep a recovery copy: " + err, true);
+    if (const rt::Status st = recovery_write_.get(); !st)
+        status_.set("cannot keep a recovery copy: " + st.message(), true);
     return false;
 }
 
@@ -69,8 +69,9 @@ bool DocumentEditor::idle_tick(double now) {
         std::uint64_t key = doc.text_version() * 0x9E3779B97F4A7C15ull + doc.typed();
         bool modified = doc.modified();
         if (!modified) {
-            std::string err = recovery_.update(doc.path(), {}, false, now);  // removes a copy, if any
-            if (!err.empty()) status_.set("cannot keep a recovery copy: " + err, true);
+            // Removes a copy, if any.
+            if (const rt::Status st = recovery_.update(doc.path(), {}, false, now); !st)
+                status_.set("cannot keep a recovery copy: " + st.message(), true);
             recovery_key_ = ~std::uint64_t(0);
         } else if (key != recovery_key_ && now - recovery_last_ >= kRecoveryInterval) {
             recovery_key_ = key;

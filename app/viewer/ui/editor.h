@@ -62,7 +62,7 @@ private:
     Document doc_;
     RecentFiles recent_;
     Recovery recovery_;            // touched by one thread at a time: see recovery_busy()
-    std::future<std::string> recovery_write_;  // a copy being written off the UI thread
+    std::future<rt::Status> recovery_write_;  // a copy being written off the UI thread
     std::uint64_t recovery_key_ = ~std::uint64_t(0);  // text state last handed to it
     double recovery_last_ = -1e300;
     bool recovery_busy();          // a write is under way (collects a finished one)

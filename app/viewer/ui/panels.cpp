@@ -539,7 +539,7 @@ void Panels::draw_fields(const ItemRef& ref) {
         ImGui::PopItemWidth();
         if (changed) {
             const FieldResult r = set_field(doc, ref, f, v);
-            if (!r.error.empty()) field_message_ = {selection_, f.label, r.error, true};
+            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true};
             // (A material's own warning is shown by its editor already.)
             else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
             else if (field_message_.field == f.label) field_message_ = {};
