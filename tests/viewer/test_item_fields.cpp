@@ -14,59 +14,15 @@
 #include "scene_parser.h"
 #include "scene_schema.h"
 #include "scene_text.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
 namespace sc = rt::schema;
 
 namespace {
 
-// Every block kind, keys left out (torus direction, torus material), comments inside
-// blocks, blocks sharing lines.
-const char* const kScene = R"(// demo scene
-thing {
-  sphere {                         // glass ball
-    material { reflection 0.1 refraction 0.8 scattering 0.1
-               translusans 0.9 refractive_index 1.5 colour 0.9 0.95 1 }
-    position 6 1.5 0.8
-    radius 0.8  // big enough
-  }
-  tetrahedron {
-    material { reflection 0.3 scattering 0.7 colour 1 0.3 0.2 }
-    vect1 5 -2 0  vect2 6 -1 0  vect3 6.5 -2.5 0  vect4 5.8 -1.8 1.6
-  }
-  cylinder { material { colour 0.3 0.4 1 } end_1 8 0 0 end_2 8 0 2 radius 0.5 } torus { position 4.5 0 0.25 major 0.6 minor 0.2 }
-  constructive_solid_geometry {    // a lens
-    type C
-    left { sphere { position 7 -0.3 2.2 radius 0.8 } }
-    right { sphere { position 7 0.5 2.2 radius 0.8 } }
-    material { reflection 0.2 scattering 0.8 colour 0.3 1 0.4 }
-  }
-}
-special_thing {
-  chess_plane {
-    material 1 { reflection 0.3 scattering 0.7 colour 1 1 1 }
-    material 2 { colour 0.1 0.1 0.1 }
-    point 1 0.5 0.5 0  point 2 1.5 0.5 0  point 3 0.5 1.5 0  point 4 0 0 1
-  }
-  plane { point 1 20 0 0  point 2 20 1 0  point 3 20 0 1  point 4 0 0 0 }
-}
-light {
-  lamp { colour 60 60 50 position 2 3 5 size 0.3 } // warm
-  spotlight { colour 40 40 60 position 0 -4 3 }
-}
-camera { position 0 0 2 centre 6 0 1 up 6 0 2 projection x angle_x 60 angle_y 45 }
-picture_size { x_max 320 y_max 240 }
-end
-)";
-
-rt::Scene parse_ok(const std::string& text) {
-    rt::ParseResult r = rt::parse_scene(text);
-    std::string why;
-    for (const auto& d : r.diagnostics) why += rt::format_diagnostic("scene", d) + "\n";
-    INFO(why << text);
-    REQUIRE(r.ok());
-    return r.scene;
-}
+const char* const kScene = rtview_test::kDemoScene;
+using rtview_test::parse_ok;
 
 // The first error the parser reports for `text`.
 std::string parser_error(const std::string& text) {
