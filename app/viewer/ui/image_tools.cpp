@@ -118,9 +118,9 @@ void ImageTools::set_exposure(double stops) {
 
 void ImageTools::set_ui_scale(double s) {
     if (s == settings_.ui_scale()) return;
-    const std::string err = settings_.set_ui_scale(s).message();
+    const rt::Status saved = settings_.set_ui_scale(s);
     ui_scale_changed_ = true;
-    if (!err.empty()) message("UI scale not saved: " + err, true);
+    if (!saved) message("UI scale not saved: " + saved.message(), true);
     else message("UI scale " + std::to_string(int(std::lround(settings_.ui_scale() * 100))) + "%");
 }
 
@@ -338,15 +338,15 @@ void ImageTools::update() {
 
     if (final_.active() && final_.done()) {
         rt::RenderProgress p = final_.progress();
-        const std::string err = final_.write().message();
+        const rt::Status written = final_.write();
         render_finished_ = true;
-        if (err.empty()) {
+        if (written) {
             char buf[160];
             std::snprintf(buf, sizeof buf, " (%dx%d, %d samples per pixel, %.1f s)", p.width, p.height, p.samples,
                           p.elapsed);
             message("Rendered " + render_path_ + buf);
         } else {
-            message("Cannot write " + render_path_ + ": " + err, true);
+            message("Cannot write " + render_path_ + ": " + written.message(), true);
         }
     }
 }
