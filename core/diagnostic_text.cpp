@@ -48,13 +48,14 @@ std::string escape_text(std::string_view s) {
     return out;
 }
 
-std::string encoding_problem(std::string_view text) {
+Status check_encoding(std::string_view text) {
     auto starts = [&](std::string_view bom) { return text.substr(0, bom.size()) == bom; };
+    auto refuse = [](const char* why) { return Status::error(why, kExitScene); };
     using namespace std::string_view_literals;
     if (starts("\xFF\xFE\0\0"sv) || starts("\0\0\xFE\xFF"sv))
-        return "the file looks like UTF-32 (it starts with a UTF-32 byte-order mark); save it as UTF-8 or ASCII";
+        return refuse("the file looks like UTF-32 (it starts with a UTF-32 byte-order mark); save it as UTF-8 or ASCII");
     if (starts("\xFF\xFE"sv) || starts("\xFE\xFF"sv))
-        return "the file looks like UTF-16 (it starts with a UTF-16 byte-order mark); save it as UTF-8 or ASCII";
+        return refuse("the file looks like UTF-16 (it starts with a UTF-16 byte-order mark); save it as UTF-8 or ASCII");
     // Without a mark: ASCII text in UTF-16 has a NUL byte in every other position.
     const std::size_t n = std::min<std::size_t>(text.size(), 1024) & ~std::size_t(1);
     if (n >= 4) {
@@ -65,7 +66,7 @@ std::string encoding_problem(std::string_view text) {
         }
         const std::size_t half = n / 2;
         if ((even * 10 >= half * 7 && odd * 10 < half) || (odd * 10 >= half * 7 && even * 10 < half))
-            return "the file looks like UTF-16 (a NUL byte in every other position); save it as UTF-8 or ASCII";
+            return refuse("the file looks like UTF-16 (a NUL byte in every other position); save it as UTF-8 or ASCII");
     }
     return {};
 }

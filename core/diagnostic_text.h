@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "scene_parser.h"
+#include "status.h"
 
 namespace rt {
 
@@ -16,9 +17,10 @@ namespace rt {
 // C1 controls, invalid or overlong sequences) written as \xNN. Tabs are kept.
 std::string escape_text(std::string_view s);
 
-// "" if `text` may be a scene file; else why it cannot be: it looks like UTF-16 or
-// UTF-32 (a byte-order mark, or NUL bytes in every other position).
-std::string encoding_problem(std::string_view text);
+// Whether `text` may be a scene file; it fails, saying why, with the exit code of a bad
+// scene when it looks like UTF-16 or UTF-32 (a byte-order mark, or NUL bytes in
+// every other position).
+Status check_encoding(std::string_view text);
 
 // The lines a program prints for a file's diagnostics ("FILE:LINE:COL: error: ...",
 // escaped, each ending in '\n'): at most `max_shown` errors and `max_shown` warnings,

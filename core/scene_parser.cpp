@@ -28,6 +28,7 @@
 #include <thread>
 #include <type_traits>
 
+#include "diagnostic_text.h"
 #include "pages.h"
 #include "scene_lexer.h"
 #include "scene_schema.h"
@@ -798,6 +799,7 @@ std::vector<std::size_t> piece_starts(std::string_view text, std::size_t n) {
 
 ParseResult parse_scene(std::string_view text, const ParseOptions& options) {
     ParseResult result;
+    result.max_errors = options.max_errors;
     if (text.size() > Limits::max_file_size) {
         result.diagnostics.push_back({Diagnostic::Severity::Error, 1, 1,
                                       "scene file too large (" + std::to_string(text.size()) +
@@ -850,6 +852,14 @@ ParseResult parse_scene(std::string_view text, const ParseOptions& options) {
     Parser p(text, options, result);
     p.run(std::move(pieces));
     return result;
+}
+
+Status ParseResult::status(const std::string& file, int max_shown) const {
+    if (ok()) return {};
+    if (cancelled) return Status::error(escape_text(file) + ": reading was cancelled\n", kExitUsage);
+    int errors = 0;
+    for (const Diagnostic& d : diagnostics) errors += d.is_error();
+    return Status::error(diagnostics_report(file, diagnostics, max_shown, errors >= max_errors), kExitScene);
 }
 
 std::string format_diagnostic(const std::string& file, const Diagnostic& d) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "scene.h"
+#include "status.h"
 
 namespace rt {
 
@@ -22,21 +23,29 @@ struct Diagnostic {
     bool is_error() const { return severity == Severity::Error; }
 };
 
+constexpr int kDefaultMaxErrors = 20;
+
 struct ParseResult {
     Scene scene;
     std::vector<Diagnostic> diagnostics;  // errors and warnings, in file order
     bool cancelled = false;               // the progress callback stopped the parse
     std::size_t objects_read_ahead = 0;   // of scene.objects, those read by helper threads
+    int max_errors = kDefaultMaxErrors;   // the ParseOptions::max_errors it was read with
     bool ok() const {
         if (cancelled) return false;
         for (const auto& d : diagnostics)
             if (d.is_error()) return false;
         return true;
     }
+    // ok(), as the Status a program returns: on failure the diagnostics as printed
+    // for `file` (diagnostics_report: at most `max_shown` of each kind, then a note
+    // if the parser stopped at max_errors) and the exit code of a bad scene; a
+    // cancelled parse says so. The diagnostics themselves stay above, for a list.
+    Status status(const std::string& file, int max_shown = kDefaultMaxErrors) const;
 };
 
 struct ParseOptions {
-    int max_errors = 20;  // stop collecting after this many errors
+    int max_errors = kDefaultMaxErrors;  // stop collecting after this many errors
     // A big file's thing sections are read in pieces on up to this many threads (0: all
     // the processor's), each piece starting at an item. The result, diagnostics
     // included, is exactly that of reading the file in one go: a piece is used only if

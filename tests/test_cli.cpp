@@ -109,6 +109,47 @@ bool catches_signal(pid_t pid, int sig) {
     return false;
 }
 
+// Runs the binary in `dir` with `args`, stderr into dir/.stderr; returns its pid.
+pid_t start_binary(const fs::path& dir, const std::vector<const char*>& args) {
+    std::vector<char*> argv{const_cast<char*>("raytracer")};
+    for (const char* a : args) argv.push_back(const_cast<char*>(a));
+    argv.push_back(nullptr);
+    pid_t pid = fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        if (chdir(dir.c_str()) != 0) _exit(99);
+        if (!freopen(".stderr", "w", stderr)) _exit(99);
+        execv(kBinary.c_str(), argv.data());
+        _exit(98);
+    }
+    return pid;
+}
+
+// Sends `sig` to `pid` once it has a handler for it (a loaded machine may take a while
+// to get there) and `settle` has passed, then waits up to `limit` for it to end (or
+// kills it). Whether it ended by itself; its wait status in `status`.
+bool interrupt(pid_t pid, int sig, std::chrono::milliseconds settle, std::chrono::milliseconds limit, int& status) {
+    bool caught = false;
+    for (int i = 0; i < 400 && !caught; ++i) {
+        caught = catches_signal(pid, sig);
+        if (!caught) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    }
+    CHECK(caught);
+    std::this_thread::sleep_for(settle);
+    kill(pid, sig);
+    const auto step = std::chrono::milliseconds(10);
+    bool ended = false;
+    for (std::chrono::milliseconds waited{0}; waited < limit && !ended; waited += step) {
+        ended = waitpid(pid, &status, WNOHANG) == pid;
+        if (!ended) std::this_thread::sleep_for(step);
+    }
+    if (!ended) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+    }
+    return ended;
+}
+
 }  // namespace
 
 TEST_CASE("cli: SCENE OUT.ppm renders a binary PPM of the scene's size, silently on stdout") {
@@ -410,36 +451,11 @@ TEST_CASE("cli: SIGINT or SIGTERM during a render cancels it and writes nothing"
         write_all(dir / "scene.txt", kScene);
         const std::string sentinel = "old picture\n";
         write_all(dir / "out.ppm", sentinel);
-        pid_t pid = fork();
-        REQUIRE(pid >= 0);
-        if (pid == 0) {
-            if (chdir(dir.path.c_str()) != 0) _exit(99);
-            if (!freopen(".stderr", "w", stderr)) _exit(99);
-            // Far more work than the test waits for.
-            execl(kBinary.c_str(), "raytracer", "--threads", "2", "--samples", "65536", "--width", "2000",
-                  "--height", "2000", "scene.txt", "out.ppm", (char*)nullptr);
-            _exit(98);
-        }
-        // Signal only once the handler is in place (a loaded machine may take a while to
-        // get there), then give the render a moment to be under way.
-        bool caught = false;
-        for (int i = 0; i < 400 && !caught; ++i) {
-            caught = catches_signal(pid, sig);
-            if (!caught) std::this_thread::sleep_for(std::chrono::milliseconds(25));
-        }
-        CHECK(caught);
-        std::this_thread::sleep_for(std::chrono::milliseconds(300));
-        kill(pid, sig);
+        // Far more work than the test waits for; the signal comes once it is under way.
+        const pid_t pid = start_binary(dir.path, {"--threads", "2", "--samples", "65536", "--width", "2000",
+                                                  "--height", "2000", "scene.txt", "out.ppm"});
         int status = 0;
-        bool ended = false;
-        for (int i = 0; i < 200 && !ended; ++i) {  // up to 10 s
-            ended = waitpid(pid, &status, WNOHANG) == pid;
-            if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        }
-        if (!ended) {
-            kill(pid, SIGKILL);
-            waitpid(pid, &status, 0);
-        }
+        const bool ended = interrupt(pid, sig, std::chrono::milliseconds(300), std::chrono::seconds(10), status);
         REQUIRE_MESSAGE(ended, "the render did not stop within 10 s of the signal");
         REQUIRE(WIFEXITED(status));
         CHECK(WEXITSTATUS(status) == 128 + sig);
@@ -518,34 +534,11 @@ TEST_CASE("cli: a FIFO as SCENE or OUT does not swallow SIGTERM or SIGINT") {
             write_all(dir / "scene.txt", kScene);
             const bool scene_fifo = which == std::string("scene");
             REQUIRE(mkfifo((dir / "fifo.ppm").c_str(), 0644) == 0);
-            pid_t pid = fork();
-            REQUIRE(pid >= 0);
-            if (pid == 0) {
-                if (chdir(dir.path.c_str()) != 0) _exit(99);
-                if (!freopen(".stderr", "w", stderr)) _exit(99);
-                execl(kBinary.c_str(), "raytracer", "--quiet", scene_fifo ? "fifo.ppm" : "scene.txt",
-                      scene_fifo ? "out.ppm" : "fifo.ppm", (char*)nullptr);
-                _exit(98);
-            }
             // Blocked in open() until somebody opens the other end, which nobody does.
-            bool caught = false;
-            for (int i = 0; i < 400 && !caught; ++i) {
-                caught = catches_signal(pid, sig);
-                if (!caught) std::this_thread::sleep_for(std::chrono::milliseconds(25));
-            }
-            CHECK(caught);
-            std::this_thread::sleep_for(std::chrono::milliseconds(200));
-            kill(pid, sig);
+            const pid_t pid = start_binary(dir.path, {"--quiet", scene_fifo ? "fifo.ppm" : "scene.txt",
+                                                      scene_fifo ? "out.ppm" : "fifo.ppm"});
             int status = 0;
-            bool ended = false;
-            for (int i = 0; i < 100 && !ended; ++i) {  // up to 1 s
-                ended = waitpid(pid, &status, WNOHANG) == pid;
-                if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-            }
-            if (!ended) {
-                kill(pid, SIGKILL);
-                waitpid(pid, &status, 0);
-            }
+            const bool ended = interrupt(pid, sig, std::chrono::milliseconds(200), std::chrono::seconds(1), status);
             REQUIRE_MESSAGE(ended, "not ended within 1 s of the signal");
             REQUIRE(WIFEXITED(status));
             CHECK(WEXITSTATUS(status) == 128 + sig);

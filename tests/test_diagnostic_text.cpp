@@ -26,17 +26,18 @@ TEST_CASE("escape_text keeps printable UTF-8 and tabs, escapes everything else a
     CHECK(escape_text("big\xF4\x90\x80\x80") == "big\\xf4\\x90\\x80\\x80");  // above U+10FFFF
 }
 
-TEST_CASE("encoding_problem recognises UTF-16 and UTF-32, with or without a mark") {
-    CHECK(encoding_problem("thing { }\nend\n") == "");
-    CHECK(encoding_problem("") == "");
-    CHECK(encoding_problem("a\0b"s) == "");  // a stray NUL is the parser's business
-    CHECK(encoding_problem("\xEF\xBB\xBFthing") == "");  // UTF-8 mark
+TEST_CASE("check_encoding recognises UTF-16 and UTF-32, with or without a mark") {
+    CHECK(check_encoding("thing { }\nend\n").ok());
+    CHECK(check_encoding("").ok());
+    CHECK(check_encoding("a\0b"s).ok());  // a stray NUL is the parser's business
+    CHECK(check_encoding("\xEF\xBB\xBFthing").ok());  // UTF-8 mark
     const std::string le = "t\0h\0i\0n\0g\0 \0{\0 \0}\0\n\0"s, be = "\0t\0h\0i\0n\0g\0 \0{\0 \0}\0\n"s;
-    CHECK(encoding_problem("\xFF\xFE"s + le).find("UTF-16") != std::string::npos);
-    CHECK(encoding_problem("\xFE\xFF"s + be).find("byte-order mark") != std::string::npos);
-    CHECK(encoding_problem(le).find("every other position") != std::string::npos);
-    CHECK(encoding_problem(be).find("UTF-16") != std::string::npos);
-    CHECK(encoding_problem("\xFF\xFE\0\0t\0\0\0"s).find("UTF-32") != std::string::npos);
+    CHECK(check_encoding("\xFF\xFE"s + le).message().find("UTF-16") != std::string::npos);
+    CHECK(check_encoding("\xFE\xFF"s + be).message().find("byte-order mark") != std::string::npos);
+    CHECK(check_encoding(le).message().find("every other position") != std::string::npos);
+    CHECK(check_encoding(be).message().find("UTF-16") != std::string::npos);
+    CHECK(check_encoding("\xFF\xFE\0\0t\0\0\0"s).message().find("UTF-32") != std::string::npos);
+    CHECK(check_encoding(le).exit_code() == kExitScene);
 }
 
 TEST_CASE("diagnostics_report shows at most N of each kind, then how many more") {
@@ -52,4 +53,40 @@ TEST_CASE("diagnostics_report shows at most N of each kind, then how many more")
     CHECK(r.find("f.txt:3:2: error: e\n") != std::string::npos);
     CHECK(r.find("f.txt: 5 more warnings not shown\n") != std::string::npos);
     CHECK(diagnostics_report("f.txt", d, 20, true).find("too many errors; stopped reading") != std::string::npos);
+}
+
+TEST_CASE("a parse result's status: ok with warnings, else the report a program prints and exit code 1") {
+    const std::string camera = "camera { position 0 0 0 centre 1 0 0 up 1 0 1 angle_x 60 angle_y 45 }\n"
+                               "picture_size { x_max 8 y_max 6 }\nend\n";
+    const ParseResult good = parse_scene(camera);
+    REQUIRE(good.ok());
+    CHECK(good.status("s.txt").ok());
+
+    const ParseResult bad = parse_scene("thing { sphere { radius x } }\n" + camera);
+    const Status st = bad.status("s.txt");
+    CHECK_FALSE(st.ok());
+    CHECK(st.exit_code() == kExitScene);
+    CHECK(st.message() == "s.txt:1:25: error: expected a number after 'radius', got 'x'\n");
+
+    // One bad item a line: 25 errors. Read with the cap at 20 the parser stops and the
+    // report says so; with a higher cap it reads on, and 5 are left out of the report.
+    std::string many;
+    for (int i = 0; i < 25; ++i) many += "thing { sphere { radius x } }\n";
+    ParseOptions capped;
+    capped.max_errors = 20;
+    const std::string stopped = parse_scene(many + camera, capped).status("s.txt").message();
+    CHECK(stopped.find("s.txt:20:25: error:") != std::string::npos);
+    CHECK(stopped.find("s.txt:21:") == std::string::npos);
+    CHECK(stopped.find("s.txt: too many errors; stopped reading\n") != std::string::npos);
+    ParseOptions roomy;
+    roomy.max_errors = 30;
+    const std::string all = parse_scene(many + camera, roomy).status("s.txt").message();
+    CHECK(all.find("s.txt: 5 more errors not shown\n") != std::string::npos);
+    CHECK(all.find("stopped reading") == std::string::npos);
+
+    ParseOptions cancel;
+    cancel.progress = [](std::size_t, std::size_t) { return false; };
+    const Status cancelled = parse_scene(std::string(3 << 20, ' ') + camera, cancel).status("s.txt");
+    CHECK(cancelled.exit_code() == kExitUsage);
+    CHECK(cancelled.message() == "s.txt: reading was cancelled\n");
 }

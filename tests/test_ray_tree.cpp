@@ -14,23 +14,17 @@
 
 #include "renderer.h"
 #include "scene_parser.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rt;
+using rt_test::parse_ok;
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-Scene parse(const std::string& text) {
-    ParseResult r = parse_scene(text);
-    std::string errors;
-    for (const Diagnostic& d : r.diagnostics) errors += std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message + "\n";
-    REQUIRE_MESSAGE(r.ok(), errors);
-    return r.scene;
-}
 
 // A glass ball inside a closed box of six mirror planes, lit from inside. Every ray
 // stays in the box; at the ball it splits into a reflected and a refracted ray.
@@ -64,7 +58,7 @@ std::string mirror_box(double mirror_reflection, double mirror_scattering, const
 // Perfect mirrors, the bound switched off and depth 1000: a pixel's tree doubles at
 // every pass through the ball and would take longer than anyone waits.
 std::shared_ptr<const World> endless_world() {
-    auto w = std::make_shared<World>(*compile_world(parse(mirror_box(1, 0, "reflection 0.45 refraction 0.45 scattering 0.1"))));
+    auto w = std::make_shared<World>(*compile_world(parse_ok(mirror_box(1, 0, "reflection 0.45 refraction 0.45 scattering 0.1"))));
     w->options.max_depth = 1000;
     w->omit_weight = 0;
     return w;
@@ -149,7 +143,7 @@ camera { position 0 0 1.5 centre 5 0 1 up 5 0 2 angle_x 60 angle_y 45 }
 picture_size { x_max 128 y_max 96 }
 end
 )";
-    auto world = compile_world(parse(text));
+    auto world = compile_world(parse_ok(text));
     for (double limit : {0.3, 1.0}) {
         CAPTURE(limit);
         Renderer r(2);
@@ -194,7 +188,7 @@ end
 TEST_CASE("renderer: a time limit over the coarse previews goes on to the first sample and stops there") {
     // A pixel costs about a thousand rays, so the first preview (4 x 4 blocks) takes
     // longer than the limit.
-    auto world = std::make_shared<World>(*compile_world(parse(mirror_box(0.9, 0.1, kGlass))));
+    auto world = std::make_shared<World>(*compile_world(parse_ok(mirror_box(0.9, 0.1, kGlass))));
     world->options.max_depth = 1000;
     Renderer r(2);
     RenderSettings s;
@@ -231,7 +225,7 @@ TEST_CASE("ray tree: the bound changes no pixel by half a display step and cuts 
     // The tree doubles at every glass surface and shrinks by 0.8 at every mirror. At
     // depth 160 it is still small enough to trace in full, which is the reference.
     const int w = 4, h = 3;
-    auto bounded = std::make_shared<World>(*compile_world(parse(mirror_box(0.8, 0.2, kGlass, w, h))));
+    auto bounded = std::make_shared<World>(*compile_world(parse_ok(mirror_box(0.8, 0.2, kGlass, w, h))));
     bounded->options.max_depth = 160;
     REQUIRE(bounded->omit_weight > 0);
     REQUIRE(std::isfinite(bounded->radiance_bound));
@@ -260,7 +254,7 @@ TEST_CASE("ray tree: the bound changes no pixel by half a display step and cuts 
 }
 
 TEST_CASE("ray tree: a glass ball among mirrors at depth 1000 finishes quickly") {
-    auto world = std::make_shared<World>(*compile_world(parse(mirror_box(0.8, 0.2, kGlass))));
+    auto world = std::make_shared<World>(*compile_world(parse_ok(mirror_box(0.8, 0.2, kGlass))));
     world->options.max_depth = 1000;
     Renderer r(2);
     RenderSettings s;
@@ -293,7 +287,7 @@ camera { position 0 0 0 centre 1 0 0 up 1 0 1 angle_x 60 angle_y 45 }
 picture_size { x_max 8 y_max 6 }
 end
 )";
-    Scene scene = parse(lit);
+    Scene scene = parse_ok(lit);
     auto w = compile_world(scene);
     // One light at (0, 0, 3): 10 / r^2 with r at least its distance to the sphere's
     // box [4, 6] x [-1, 1] x [-1, 1], sqrt(4^2 + 2^2).
@@ -357,7 +351,7 @@ end
 }  // namespace
 
 TEST_CASE("ray tree: glow discs through their BVH give the same picture as one by one") {
-    auto world = compile_world(parse(lamp_room(100)));
+    auto world = compile_world(parse_ok(lamp_room(100)));
     REQUIRE(world->glow_bvh.get() != nullptr);
     auto looped = std::make_shared<World>(*world);
     looped->glow_bvh.reset();
@@ -377,7 +371,7 @@ TEST_CASE("ray tree: glow discs through their BVH give the same picture as one b
     CHECK(a.rgb == b.rgb);
     // Glows are in view (the row of lamps ahead), and shadows of discs too: the picture
     // differs from the one with the discs removed.
-    Scene no_glow = parse(lamp_room(100));
+    Scene no_glow = parse_ok(lamp_room(100));
     for (Light& l : no_glow.lights) l.size = 0;
     r.start(compile_world(no_glow), s);
     r.wait();
@@ -393,7 +387,7 @@ TEST_CASE("ray tree: the cost of lamps grows with lamps + lights, not their prod
     // Every point is lit by every lamp (that part is lights x points), but each light's
     // shadow ray meets only the discs near it. Testing every disc, 5,000 lamps at 8x6
     // took half a minute; now well under a second.
-    auto world = compile_world(parse(lamp_room(5000)));
+    auto world = compile_world(parse_ok(lamp_room(5000)));
     RenderSettings s;
     s.coarse = false;
     s.width = 8;

@@ -18,9 +18,11 @@
 #include "renderer.h"
 #include "scene_parser.h"
 #include "shapes.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rt;
+using rt_test::parse_ok;
 
 namespace {
 
@@ -90,14 +92,6 @@ picture_size { x_max 48 y_max 40 }
 end
 )";
 
-Scene parse(const char* text) {
-    ParseResult r = parse_scene(text);
-    std::string errors;
-    for (const Diagnostic& d : r.diagnostics) errors += std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message + "\n";
-    REQUIRE_MESSAGE(r.ok(), errors);
-    return r.scene;
-}
-
 Image render(const std::shared_ptr<const World>& world, const RenderSettings& settings, int threads) {
     Renderer r(threads);
     r.start(world, settings);
@@ -124,7 +118,7 @@ int distinct_pixels(const Image& img) {
 }  // namespace
 
 TEST_CASE("renderer: the film is bit-identical for 1, 2 and 4 threads and either tile order") {
-    auto world = compile_world(parse(kSceneA));
+    auto world = compile_world(parse_ok(kSceneA));
     RenderSettings s;
     s.max_samples = 4;
     s.tile_size = 16;
@@ -143,7 +137,7 @@ TEST_CASE("renderer: the film is bit-identical for 1, 2 and 4 threads and either
 }
 
 TEST_CASE("renderer: a progressive render stopped at N samples equals a straight N-sample render") {
-    auto world = compile_world(parse(kSceneA));
+    auto world = compile_world(parse_ok(kSceneA));
     for (int n : {1, 3, 4}) {
         CAPTURE(n);
         RenderSettings progressive;
@@ -166,7 +160,7 @@ TEST_CASE("renderer: a progressive render stopped at N samples equals a straight
 }
 
 TEST_CASE("renderer: coarse passes complete at block sizes 8, then 4, then 2, before the first sample") {
-    auto world = compile_world(parse(kSceneA));
+    auto world = compile_world(parse_ok(kSceneA));
     Renderer r(1);
     RenderSettings s;
     s.width = 128;
@@ -218,8 +212,8 @@ TEST_CASE("renderer: coarse passes complete at block sizes 8, then 4, then 2, be
 }
 
 TEST_CASE("renderer: start and cancel hammered from one thread while another reads the film; the last render is clean") {
-    auto world_a = compile_world(parse(kSceneA));
-    auto world_b = compile_world(parse(kSceneB));
+    auto world_a = compile_world(parse_ok(kSceneA));
+    auto world_b = compile_world(parse_ok(kSceneB));
     RenderSettings s;
     s.max_samples = 2;
     s.tile_size = 16;
@@ -245,7 +239,7 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
     double worst_cancel = 0;
     // Edits arrive as they do from the viewer's panels: a material change compiled
     // against the running world (sharing its BVH), alternating with another scene.
-    Scene edited = parse(kSceneA);
+    Scene edited = parse_ok(kSceneA);
     std::shared_ptr<const World> current = world_a;
     const int rounds = 2000;
     for (int i = 0; i < rounds; ++i) {
@@ -284,7 +278,7 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
 }
 
 TEST_CASE("renderer: cancel() of a long render returns quickly and leaves the renderer reusable") {
-    auto world = compile_world(parse(kSceneA));
+    auto world = compile_world(parse_ok(kSceneA));
     Renderer r(2);
     RenderSettings s;
     s.max_samples = 100000;  // would take minutes
@@ -328,7 +322,7 @@ TEST_CASE("film: a pixel with no sample shows its block's corner colour at the l
 }
 
 TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversion at every step") {
-    auto world = compile_world(parse(kSceneA));
+    auto world = compile_world(parse_ok(kSceneA));
     Renderer r(2);
     RenderSettings s;
     s.width = 96;
@@ -385,7 +379,7 @@ TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversio
 }
 
 TEST_CASE("renderer: wait() in one thread returns when another cancels, even with every worker idle") {
-    auto world = compile_world(parse(kSceneA));
+    auto world = compile_world(parse_ok(kSceneA));
     Renderer r(2);
     RenderSettings s;
     s.max_samples = 100000;
@@ -427,7 +421,7 @@ camera { position 0 0 0 centre 1 0 0 up 1 0 1 angle_x 60 angle_y 45 }
 picture_size { x_max 40 y_max 30 }
 end
 )";
-    auto world = compile_world(parse(text));
+    auto world = compile_world(parse_ok(text));
     // Mean column of the pixels where one channel is lit and the other two are black.
     auto mean_column = [](const Image& img, int channel) {
         double sum = 0;
@@ -472,7 +466,7 @@ end
 }
 
 TEST_CASE("renderer: a world compiled from an edited scene shares the geometry unless a shape changed") {
-    Scene a = parse(kSceneA);
+    Scene a = parse_ok(kSceneA);
     auto wa = compile_world(a);
     REQUIRE(wa->geometry.get() != nullptr);
 

@@ -15,19 +15,13 @@
 #include "image_io.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rt;
+using rt_test::parse_ok;
 
 namespace {
-
-Scene parse(const std::string& text) {
-    ParseResult r = parse_scene(text);
-    std::string errors;
-    for (const Diagnostic& d : r.diagnostics) errors += std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message + "\n";
-    REQUIRE_MESSAGE(r.ok(), errors);
-    return r.scene;
-}
 
 std::shared_ptr<const World> with_depth(const std::shared_ptr<const World>& w, int depth) {
     auto c = std::make_shared<World>(*w);
@@ -72,7 +66,7 @@ Colour sphere_centre_expected() {
 }  // namespace
 
 TEST_CASE("shading reference: a lit sphere's centre pixel is the direct-light formula") {
-    auto world = compile_world(parse(kSphere));
+    auto world = compile_world(parse_ok(kSphere));
     const Colour want = sphere_centre_expected();
     // The ray itself.
     Colour got = trace(*world, {0, 0, 0}, {1, 0, 0});
@@ -130,7 +124,7 @@ camera { position 0 0 0 centre 1 0 0 up 1 0 1 angle_x 40 angle_y 30 }
 picture_size { x_max 8 y_max 6 }
 end
 )";
-    auto world = compile_world(parse(text));
+    auto world = compile_world(parse_ok(text));
     for (int depth = 1; depth <= 12; ++depth) {
         CAPTURE(depth);
         int surfaces = (depth + 1) / 2;
@@ -190,7 +184,7 @@ camera { position 0 0 0 centre 1 0 0 up 1 0 1 angle_x 40 angle_y 30 }
 picture_size { x_max 8 y_max 6 }
 end
 )";
-    auto world = compile_world(parse(text));
+    auto world = compile_world(parse_ok(text));
     const double pi = std::acos(-1.0);
     for (double degrees : {0.0, 10.0, 30.0, 50.0}) {
         CAPTURE(degrees);

@@ -1,5 +1,6 @@
 // Helpers the test files share: a temporary folder per test, reading and writing
-// whole files, shell quoting, collecting failures of a property test. Header-only, included by tests in both test programs.
+// whole files, shell quoting, collecting failures of a property test, parsing a scene
+// that must parse. Header-only, for every test program (they all link the core).
 #pragma once
 
 #include <doctest/doctest.h>
@@ -12,7 +13,10 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "scene_parser.h"
 
 namespace rt_test {
 
@@ -31,6 +35,16 @@ inline void put(const fs::path& p, const std::string& data) {
     std::ofstream out(p, std::ios::binary);
     out << data;
     REQUIRE(out.good());
+}
+
+// The scene `text` describes; the test stops here, with the parser's messages and the
+// text, if it does not parse.
+inline rt::Scene parse_ok(const std::string& text) {
+    rt::ParseResult r = rt::parse_scene(text);
+    const rt::Status st = r.status("scene");
+    INFO("text:\n" << text);
+    REQUIRE_MESSAGE(st.ok(), st.message());
+    return std::move(r.scene);
 }
 
 inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }

@@ -18,6 +18,7 @@
 #include "test_util.h"
 
 using namespace rt;
+using rt_test::parse_ok;
 
 namespace {
 
@@ -57,14 +58,6 @@ std::string errors_of(const ParseResult& r) {
     for (const Diagnostic& d : r.diagnostics)
         if (d.is_error()) errors += format_diagnostic("written", d) + "\n";
     return errors;
-}
-
-Scene parse_ok(const std::string& text) {
-    ParseResult r = parse_scene(text);
-    INFO("text:\n" << text);
-    INFO("errors:\n" << errors_of(r));
-    REQUIRE(r.ok());
-    return r.scene;
 }
 
 void check_round_trip(const Scene& s) {

@@ -202,17 +202,13 @@ rt::Status load_scene(const Program& program, const std::string& path, std::stri
     const std::string shown = rt::escape_text(path);
     if (const rt::Status st = rt::read_file(path, text, rt::Limits::max_file_size); !st)
         return failure(program, "cannot read '" + shown + "': " + st.message(), kExitUsage);
-    if (std::string problem = rt::encoding_problem(text); !problem.empty())
-        return rt::Status::error(shown + ":1:1: error: " + problem + "\n", kExitScene);
+    if (const rt::Status st = rt::check_encoding(text); !st)
+        return rt::Status::error(shown + ":1:1: error: " + st.message() + "\n", st.exit_code());
     rt::ParseOptions popts;
     popts.max_errors = kMaxShownDiagnostics;
     rt::ParseResult result = rt::parse_scene(text, popts);
-    int errors = 0;
-    for (const auto& d : result.diagnostics) errors += d.is_error();
-    const std::string report =
-        rt::diagnostics_report(path, result.diagnostics, kMaxShownDiagnostics, errors >= kMaxShownDiagnostics);
-    if (!result.ok()) return rt::Status::error(report, kExitScene);
-    std::cerr << report;  // the warnings
+    if (rt::Status st = result.status(path, kMaxShownDiagnostics); !st) return st;
+    std::cerr << rt::diagnostics_report(path, result.diagnostics, kMaxShownDiagnostics);  // the warnings
     scene = std::move(result.scene);
     return {};
 }
@@ -231,29 +227,31 @@ rt::Status check_scene(const Program& program, const Options& o) {
 
 namespace {
 
-// "" or why OUT cannot be written: the rules of rt::check_writable, in the words of
-// the system's error, with the folder named when it is the folder that is missing or
-// closed to us.
-std::string output_problem(const std::string& out, const std::string& scene_path) {
+// Whether OUT can be written, by the rules of rt::check_writable; if not, why, in the
+// words of the system's error, with the folder named when it is the folder that is
+// missing or closed to us.
+rt::Status writable_output(const std::string& out, const std::string& scene_path) {
+    auto refuse = [](std::string why) { return rt::Status::error(std::move(why), kExitUsage); };
     struct stat st, ss;
     if (stat(out.c_str(), &st) == 0 && stat(scene_path.c_str(), &ss) == 0 && ss.st_dev == st.st_dev &&
         ss.st_ino == st.st_ino)
-        return "it is the scene file itself";
-    const std::string err = rt::check_writable(out).message();
-    if (err.empty()) return err;
+        return refuse("it is the scene file itself");
+    const rt::Status writable = rt::check_writable(out);
+    if (writable) return writable;
+    const std::string& err = writable.message();
     const auto slash = out.find_last_of('/');
     const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : out.substr(0, slash));
     const int dir_errno = stat(dir.c_str(), &st) != 0 ? errno : !S_ISDIR(st.st_mode) ? ENOTDIR : 0;
     const std::string shown = rt::escape_text(dir);
-    if (dir_errno == ENOENT) return "folder '" + shown + "' does not exist (" + err + ")";
-    if (dir_errno == ENOTDIR) return "'" + shown + "' is not a folder (" + err + ")";
+    if (dir_errno == ENOENT) return refuse("folder '" + shown + "' does not exist (" + err + ")");
+    if (dir_errno == ENOTDIR) return refuse("'" + shown + "' is not a folder (" + err + ")");
     if (dir_errno == 0 && err == std::strerror(EACCES) && access(dir.c_str(), W_OK | X_OK) != 0)
-        return "folder '" + shown + "' is not writable (" + err + ")";
+        return refuse("folder '" + shown + "' is not writable (" + err + ")");
     if (err == std::strerror(EACCES) && lstat(out.c_str(), &st) == 0)
-        return "the file is read-only (" + err + "); it is not replaced";
+        return refuse("the file is read-only (" + err + "); it is not replaced");
     if (err == std::strerror(EPERM))
-        return "another user's file in a sticky folder cannot be replaced (" + err + ")";
-    return err;
+        return refuse("another user's file in a sticky folder cannot be replaced (" + err + ")");
+    return refuse(err);
 }
 
 }  // namespace
@@ -261,8 +259,8 @@ std::string output_problem(const std::string& out, const std::string& scene_path
 rt::Status check_output(const Program& program, const std::string& out, const std::string& scene_path) {
     if (rt::format_from_path(out) == rt::ImageFormat::Unknown)
         return usage_error(program, "cannot write '" + rt::escape_text(out) + "': the output must end in .ppm or .png");
-    if (std::string e = output_problem(out, scene_path); !e.empty())
-        return failure(program, "cannot write '" + rt::escape_text(out) + "': " + e, kExitUsage);
+    if (const rt::Status st = writable_output(out, scene_path); !st)
+        return failure(program, "cannot write '" + rt::escape_text(out) + "': " + st.message(), st.exit_code());
     return {};
 }
 

@@ -205,9 +205,9 @@ rt::Status front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
 
 // Every rank: the World from the broadcast text and settings. Rank 0 parsed the same
 // text already, so an error here means a broken broadcast, not a bad scene.
-std::shared_ptr<const rt::World> build_world(const std::string& text, const JobHeader& job) {
+rt::Expected<std::shared_ptr<const rt::World>> build_world(const std::string& text, const JobHeader& job) {
     rt::ParseResult parsed = rt::parse_scene(text);
-    if (!parsed.ok()) throw std::runtime_error("the broadcast scene text does not parse");
+    if (!parsed.ok()) return rt::Status::error("the broadcast scene text does not parse", kExitMpi);
     rt::Scene& scene = parsed.scene;
     scene.width = job.width;
     scene.height = job.height;
@@ -565,7 +565,9 @@ struct Built {
 // Step 2's second half, on every rank: success, or why this rank could not build.
 rt::Status build_rank(const std::string& text, const JobHeader& job, Built& b) {
     try {
-        b.world = build_world(text, job);
+        rt::Expected<std::shared_ptr<const rt::World>> world = build_world(text, job);
+        if (!world) return world.status();
+        b.world = std::move(*world);
         b.camera = rt::CameraBasis::make(b.world->camera, job.width, job.height, job.mirror != 0);
         b.pool = std::make_unique<TilePool>(*b.world, b.camera, job.threads);
     } catch (const std::bad_alloc&) {

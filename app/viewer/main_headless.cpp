@@ -51,7 +51,7 @@ int render_to_file(const rtview::Options& opt) {
     rt::Scene scene;
     if (scene_path.empty()) {
         rt::ParseResult parsed = rt::parse_scene(rt::kDefaultScene);
-        if (!parsed.ok()) return rtcli::kExitScene;
+        if (const rt::Status st = parsed.status(rt::kDefaultSceneName); !st) return rtcli::report(st);
         scene = std::move(parsed.scene);
     } else {
         std::string text;

@@ -1,7 +1,6 @@
 // The document model: undoable panel edits written back into the text, applying
 // drafts with errors, atomic saves, and reacting to changes made on disk.
 #include <doctest/doctest.h>
-#include <dirent.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -17,45 +16,16 @@
 #include "image_io.h"
 #include "scene_parser.h"
 #include "scene_writer.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
+using rtview_test::parse_ok;
 
 namespace {
 
-struct TempDir {
-    std::string path;
-    TempDir() {
-        char t[] = "/tmp/rtview-test-XXXXXX";
-        path = mkdtemp(t);
-    }
-    ~TempDir() { std::system(("rm -rf '" + path + "'").c_str()); }
-    std::vector<std::string> entries() const {
-        std::vector<std::string> v;
-        if (DIR* d = opendir(path.c_str())) {
-            while (dirent* e = readdir(d))
-                if (e->d_name[0] != '.') v.push_back(e->d_name);
-            closedir(d);
-        }
-        return v;
-    }
-};
-
-std::string slurp(const std::string& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-void spit(const std::string& p, const std::string& s) {
-    std::ofstream(p, std::ios::binary) << s;
-}
-
-rt::Scene parsed(const std::string& text) {
-    rt::ParseResult r = rt::parse_scene(text);
-    REQUIRE(r.ok());
-    return r.scene;
-}
+using rt_test::slurp;
+using rt_test::TempDir;
+const auto spit = rt_test::put;
 
 // Rewriting a file within one mtime tick and at the same size would hide the change
 // from a stat-based watcher; tests make each version distinguishable.
@@ -78,7 +48,7 @@ TEST_CASE("a slider drag is one undo step, written into the text when it ends") 
     CHECK(d.scene_version() > v0);      // every step restarts the render
     CHECK(d.editor_text() == text);     // the text is written once, at the end
     d.commit();
-    CHECK(parsed(d.editor_text()) == d.scene());
+    CHECK(parse_ok(d.editor_text()) == d.scene());
     CHECK(d.scene().objects[1].material.reflection == doctest::Approx(0.7));
     CHECK(d.modified());
     CHECK(d.title() == "default.txt* - raytracer-view");
@@ -134,7 +104,7 @@ TEST_CASE("a panel edit is carried into a draft that parses") {
     d.edit().camera.angle_y = 50;
     d.commit();
     CHECK(d.editor_text().rfind("// my note\n", 0) == 0);
-    CHECK(parsed(d.editor_text()).camera.angle_y == 50);
+    CHECK(parse_ok(d.editor_text()).camera.angle_y == 50);
     CHECK_FALSE(d.text_behind());
 }
 
@@ -151,15 +121,15 @@ TEST_CASE("a panel edit leaves a broken draft alone and says the text is behind"
     d.revert_text();  // drop the draft: the text shows the scene again
     CHECK_FALSE(d.text_behind());
     CHECK_FALSE(d.editor_dirty());
-    CHECK(parsed(d.editor_text()) == d.scene());
+    CHECK(parse_ok(d.editor_text()) == d.scene());
     REQUIRE(d.undo());  // and the draft can come back, still unapplied
     CHECK(std::as_const(d).editor_text() == draft);
     CHECK(d.editor_dirty());
     CHECK(d.text_behind());
-    CHECK(parsed(d.applied_text()) == d.scene());
+    CHECK(parse_ok(d.applied_text()) == d.scene());
     REQUIRE(d.redo());
     CHECK_FALSE(d.editor_dirty());
-    CHECK(parsed(std::as_const(d).editor_text()) == d.scene());
+    CHECK(parse_ok(std::as_const(d).editor_text()) == d.scene());
 }
 
 TEST_CASE("a file that does not parse opens with its text and errors, and no scene") {
@@ -173,7 +143,7 @@ TEST_CASE("a file that does not parse opens with its text and errors, and no sce
 
 TEST_CASE("save writes the editor text atomically and clears the modified mark") {
     TempDir dir;
-    std::string p = dir.path + "/scene.txt";
+    std::string p = (dir / "scene.txt").string();
     spit(p, rt::kDefaultScene);
     Document d;
     REQUIRE(d.load_file(p).ok());
@@ -184,7 +154,7 @@ TEST_CASE("save writes the editor text atomically and clears the modified mark")
     REQUIRE(d.save().ok());
     CHECK_FALSE(d.modified());
     CHECK(slurp(p) == d.editor_text());
-    CHECK(dir.entries() == std::vector<std::string>{"scene.txt"});  // no temporary left
+    CHECK(dir.files() == std::vector<std::string>{"scene.txt"});  // no temporary left
     CHECK(d.file_camera().position == rt::Vec3{-2, 0, 3});          // R now resets to this
     // A draft with errors is saved as typed: the user's text is what gets saved.
     d.editor_text() += "\nnot valid {";
@@ -199,17 +169,17 @@ TEST_CASE("a failed save reports why and leaves the document modified") {
     CHECK_FALSE(d.save().ok());  // no file name yet
     d.edit().camera.angle_y = 40;
     d.commit();
-    CHECK_FALSE(d.save_as(dir.path + "/missing/dir/x.txt").ok());
+    CHECK_FALSE(d.save_as((dir / "missing/dir/x.txt").string()).ok());
     CHECK(d.modified());
     CHECK(d.path().empty());
-    REQUIRE(d.save_as(dir.path + "/x.txt").ok());
+    REQUIRE(d.save_as((dir / "x.txt").string()).ok());
     CHECK(d.name() == "x.txt");
     CHECK_FALSE(d.modified());
 }
 
 TEST_CASE("an outside change reloads by itself when there are no unsaved edits") {
     TempDir dir;
-    std::string p = dir.path + "/s.txt";
+    std::string p = (dir / "s.txt").string();
     spit(p, rt::kDefaultScene);
     Document d;
     REQUIRE(d.load_file(p).ok());
@@ -227,7 +197,7 @@ TEST_CASE("an outside change reloads by itself when there are no unsaved edits")
 
 TEST_CASE("a camera edit is a real edit: an outside change is then a conflict") {
     TempDir dir;
-    std::string p = dir.path + "/s.txt";
+    std::string p = (dir / "s.txt").string();
     spit(p, rt::kDefaultScene);
     Document d;
     REQUIRE(d.load_file(p).ok());
@@ -244,7 +214,7 @@ TEST_CASE("a camera edit is a real edit: an outside change is then a conflict") 
 
 TEST_CASE("an outside change with unsaved edits is a conflict; reloading is undoable") {
     TempDir dir;
-    std::string p = dir.path + "/s.txt";
+    std::string p = (dir / "s.txt").string();
     spit(p, rt::kDefaultScene);
     Document d;
     REQUIRE(d.load_file(p).ok());
@@ -267,7 +237,7 @@ TEST_CASE("an outside change with unsaved edits is a conflict; reloading is undo
 
 TEST_CASE("our own saves are not taken for outside changes") {
     TempDir dir;
-    std::string p = dir.path + "/s.txt";
+    std::string p = (dir / "s.txt").string();
     spit(p, rt::kDefaultScene);
     Document d;
     REQUIRE(d.load_file(p).ok());
@@ -280,7 +250,7 @@ TEST_CASE("our own saves are not taken for outside changes") {
 
 TEST_CASE("a scene that becomes broken on disk shows its errors but keeps rendering the last good one") {
     TempDir dir;
-    std::string p = dir.path + "/s.txt";
+    std::string p = (dir / "s.txt").string();
     spit(p, rt::kDefaultScene);
     Document d;
     REQUIRE(d.load_file(p).ok());
@@ -298,7 +268,7 @@ namespace {
 
 // A scene text of about `bytes` bytes: a grid of spheres, a plane and two lights.
 std::string big_scene_text(std::size_t bytes) {
-    rt::Scene s = parsed(rt::kDefaultScene);
+    rt::Scene s = parse_ok(rt::kDefaultScene);
     rt::Object proto = s.objects[0];
     s.objects.clear();
     for (int k = 0; rt::write_scene(s).size() < bytes; k += 64) {
@@ -322,7 +292,7 @@ TEST_CASE("a panel edit rewrites only its own block, and its undo step is small"
     d.edit_object(n / 2).material.reflection = 0.25;
     d.commit();
     const std::string& after = d.editor_text();
-    CHECK(parsed(after) == d.scene());
+    CHECK(parse_ok(after) == d.scene());
     // Everything before and after the object's block is as it was.
     std::size_t p = 0;
     while (p < text.size() && text[p] == after[p]) ++p;
@@ -355,7 +325,7 @@ TEST_CASE("the undo byte budget holds over 1,000 edits of a 1 MB document") {
         reflection_after.push_back(d.scene().objects[7].material.reflection);
         CHECK(d.undo_bytes() <= budget);
     }
-    CHECK(parsed(d.editor_text()) == d.scene());
+    CHECK(parse_ok(d.editor_text()) == d.scene());
     std::size_t depth = d.undo_depth();
     CHECK(depth > 50);     // the budget holds many steps of this size...
     CHECK(depth < 1000);   // ...but not all of them: the oldest went
@@ -365,7 +335,7 @@ TEST_CASE("the undo byte budget holds over 1,000 edits of a 1 MB document") {
         CHECK(d.scene().objects[7].material.reflection == reflection_after[1000 - 2 - k]);
     }
     CHECK_FALSE(d.undo());
-    CHECK(parsed(d.editor_text()) == d.scene());
+    CHECK(parse_ok(d.editor_text()) == d.scene());
     // With the default budget (64 MB) all steps of such edits fit.
     Document e;
     e.load_text(text, "", "big.txt");
@@ -375,7 +345,7 @@ TEST_CASE("the undo byte budget holds over 1,000 edits of a 1 MB document") {
     }
     CHECK(e.undo_depth() == 300);
     CHECK(e.undo_bytes() < 300 * 4096);  // a step is its block, not a copy of the text
-    CHECK(parsed(e.editor_text()) == e.scene());
+    CHECK(parse_ok(e.editor_text()) == e.scene());
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include "film_view.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
 
@@ -22,21 +23,12 @@ camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }
 picture_size { x_max 64 y_max 48 }
 end)";
 
-rt::Scene scene() {
-    rt::ParseResult r = rt::parse_scene(kScene);
-    REQUIRE(r.ok());
-    return r.scene;
-}
-
 }  // namespace
 
 TEST_CASE("the texture shows the renderer's bytes, or the exposed film, and a region over it") {
-    rt::Scene s = scene();
+    rt::Scene s = rtview_test::parse_ok(kScene);
     rt::Renderer renderer(2);
-    rt::RenderSettings st;
-    st.max_samples = 3;
-    renderer.start(rt::compile_world(s), st);
-    renderer.wait();
+    rtview_test::render_to_end(renderer, s, 3);
     rt::ZeroedArray<std::uint8_t> file;
     int fw = 0, fh = 0;
     renderer.snapshot_rgb8(file, fw, fh);
@@ -88,8 +80,7 @@ TEST_CASE("the texture shows the renderer's bytes, or the exposed film, and a re
     d.exposure = 0;
     REQUIRE(view.update(renderer, d, &region, 10, changed));
     rt::Renderer green_full(2);
-    green_full.start(rt::compile_world(green), st);
-    green_full.wait();
+    rtview_test::render_to_end(green_full, green, 3);
     rt::ZeroedArray<std::uint8_t> green_file;
     green_full.snapshot_rgb8(green_file, fw, fh);
     int inside_wrong = 0, outside_wrong = 0, inside_differs = 0;

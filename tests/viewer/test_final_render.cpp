@@ -11,15 +11,13 @@
 #include "image_io.h"
 #include "options.h"
 #include "scene_parser.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
 
 namespace {
 
-std::string parse(std::vector<const char*> args, Options& o) {
-    args.insert(args.begin(), "raytracer-view");
-    return parse_options(int(args.size()), args.data(), o).message();
-}
+const auto parse = rtview_test::parse_args;
 
 }  // namespace
 

@@ -14,59 +14,15 @@
 #include "scene_parser.h"
 #include "scene_schema.h"
 #include "scene_text.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
 namespace sc = rt::schema;
 
 namespace {
 
-// Every block kind, keys left out (torus direction, torus material), comments inside
-// blocks, blocks sharing lines.
-const char* const kScene = R"(// demo scene
-thing {
-  sphere {                         // glass ball
-    material { reflection 0.1 refraction 0.8 scattering 0.1
-               translusans 0.9 refractive_index 1.5 colour 0.9 0.95 1 }
-    position 6 1.5 0.8
-    radius 0.8  // big enough
-  }
-  tetrahedron {
-    material { reflection 0.3 scattering 0.7 colour 1 0.3 0.2 }
-    vect1 5 -2 0  vect2 6 -1 0  vect3 6.5 -2.5 0  vect4 5.8 -1.8 1.6
-  }
-  cylinder { material { colour 0.3 0.4 1 } end_1 8 0 0 end_2 8 0 2 radius 0.5 } torus { position 4.5 0 0.25 major 0.6 minor 0.2 }
-  constructive_solid_geometry {    // a lens
-    type C
-    left { sphere { position 7 -0.3 2.2 radius 0.8 } }
-    right { sphere { position 7 0.5 2.2 radius 0.8 } }
-    material { reflection 0.2 scattering 0.8 colour 0.3 1 0.4 }
-  }
-}
-special_thing {
-  chess_plane {
-    material 1 { reflection 0.3 scattering 0.7 colour 1 1 1 }
-    material 2 { colour 0.1 0.1 0.1 }
-    point 1 0.5 0.5 0  point 2 1.5 0.5 0  point 3 0.5 1.5 0  point 4 0 0 1
-  }
-  plane { point 1 20 0 0  point 2 20 1 0  point 3 20 0 1  point 4 0 0 0 }
-}
-light {
-  lamp { colour 60 60 50 position 2 3 5 size 0.3 } // warm
-  spotlight { colour 40 40 60 position 0 -4 3 }
-}
-camera { position 0 0 2 centre 6 0 1 up 6 0 2 projection x angle_x 60 angle_y 45 }
-picture_size { x_max 320 y_max 240 }
-end
-)";
-
-rt::Scene parse_ok(const std::string& text) {
-    rt::ParseResult r = rt::parse_scene(text);
-    std::string why;
-    for (const auto& d : r.diagnostics) why += rt::format_diagnostic("scene", d) + "\n";
-    INFO(why << text);
-    REQUIRE(r.ok());
-    return r.scene;
-}
+const char* const kScene = rtview_test::kDemoScene;
+using rtview_test::parse_ok;
 
 // The first error the parser reports for `text`.
 std::string parser_error(const std::string& text) {
@@ -108,9 +64,9 @@ std::string check_edit(const ItemRef& ref, const std::string& label, const Field
     doc.load_text(text, "", "t.txt");
     REQUIRE(doc.has_scene());
     FieldResult r = set_field(doc, ref, field(doc.scene(), ref, label), v);
-    INFO(label << ": " << r.error);
-    REQUIRE(r.applied);
-    CHECK(r.error.empty());
+    INFO(label << ": " << r.status.message());
+    REQUIRE(r.applied());
+    CHECK(r.status.ok());
     CHECK(doc.editing());
     CHECK(doc.scene() == want);  // live, before the commit
     doc.commit();
@@ -347,9 +303,9 @@ TEST_CASE("item fields: a spotlight edited in the panel still becomes the lamp i
     REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
     REQUIRE_FALSE(doc.scene().lights[0].lamp);
     const ItemRef ref = light(0);
-    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "position"), vec({-1, -2, 7})).applied);
+    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "position"), vec({-1, -2, 7})).applied());
     doc.commit();
-    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "colour"), vec({5, 5, 5})).applied);
+    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "colour"), vec({5, 5, 5})).applied());
     doc.commit();
     e = switch_light_kind(doc.editor_text(), doc.scene(), 0);
     REQUIRE(e);
@@ -368,7 +324,7 @@ TEST_CASE("item fields: a drag is one undo step") {
     const ItemRef ref = obj(0);
     const Field f = field(doc.scene(), ref, "radius");
     for (int k = 1; k <= 30; ++k) {
-        REQUIRE(set_field(doc, ref, f, number(0.8 + 0.01 * k)).applied);
+        REQUIRE(set_field(doc, ref, f, number(0.8 + 0.01 * k)).applied());
         CHECK(std::get<rt::Sphere>(doc.scene().objects[0].shape).radius == 0.8 + 0.01 * k);
     }
     CHECK(doc.editor_text() == kScene);  // written once, at the end
@@ -378,7 +334,7 @@ TEST_CASE("item fields: a drag is one undo step") {
     REQUIRE(doc.undo());
     CHECK(doc.editor_text() == kScene);
     // Setting a value the item already has is no edit at all.
-    REQUIRE(set_field(doc, ref, f, number(0.8)).applied);
+    REQUIRE(set_field(doc, ref, f, number(0.8)).applied());
     CHECK_FALSE(doc.editing());
 }
 
@@ -410,8 +366,8 @@ TEST_CASE("item fields: what the parser refuses is refused, with its message") {
         const std::string want = parser_error(replaced(text, c.from, c.to));
         REQUIRE_FALSE(want.empty());
         FieldResult r = set_field(doc, c.ref, field(doc.scene(), c.ref, c.label), c.value);
-        CHECK_FALSE(r.applied);
-        CHECK(r.error == want);
+        CHECK_FALSE(r.applied());
+        CHECK(r.status.message() == want);
         CHECK_FALSE(doc.editing());
         doc.commit();
         CHECK(doc.editor_text() == text);
@@ -424,7 +380,7 @@ TEST_CASE("item fields: what the parser refuses is refused, with its message") {
     FieldValue v;
     v.material = m;
     FieldResult r = set_field(doc, obj(0), field(doc.scene(), obj(0), "material"), v);
-    REQUIRE(r.applied);
+    REQUIRE(r.applied());
     doc.commit();
     const rt::Scene back = parse_ok(doc.editor_text());
     CHECK(back.objects[0].material.translusans == 1);
@@ -433,7 +389,7 @@ TEST_CASE("item fields: what the parser refuses is refused, with its message") {
     // A warning of the parser lets the value through and says so.
     rt::Scene s = parse_ok(text);
     r = set_field(s, plane(1), field(s, plane(1), "point 4"), vec({20, 5, 5}));
-    CHECK(r.applied);
+    CHECK(r.applied());
     CHECK(r.warning == "plane: point 4 lies in the plane, so the lit side is arbitrary");
     CHECK(s.planes[1].point[3] == rt::Vec3{20, 5, 5});
 }
@@ -469,7 +425,7 @@ TEST_CASE("item fields: with an unapplied draft, the edit reaches both texts wit
     doc.note_typed();
     REQUIRE(doc.editor_dirty());
     const ItemRef ref = obj(0);
-    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "radius"), number(2)).applied);
+    REQUIRE(set_field(doc, ref, field(doc.scene(), ref, "radius"), number(2)).applied());
     doc.commit();
     for (const std::string* t : {&std::as_const(doc).editor_text(), &doc.applied_text()}) {
         INFO(*t);

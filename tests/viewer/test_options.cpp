@@ -7,14 +7,13 @@
 
 #include "options.h"
 #include "recent_files.h"
+#include "test_util.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
 
 namespace {
-std::string parse(std::vector<const char*> args, Options& o) {
-    args.insert(args.begin(), "raytracer-view");
-    return parse_options(int(args.size()), args.data(), o).message();
-}
+const auto parse = rtview_test::parse_args;
 }  // namespace
 
 TEST_CASE("the headless command line of the issue parses") {
@@ -59,8 +58,8 @@ TEST_CASE("help describes every option of both binaries") {
 }
 
 TEST_CASE("recent files: newest first, no duplicates, at most ten, kept on disk") {
-    char t[] = "/tmp/rtview-recent-XXXXXX";
-    std::string dir = mkdtemp(t);
+    rt_test::TempDir temp;
+    const std::string dir = temp.path.string();
     std::string file = dir + "/cfg/raytracer-view/recent.txt";
     {
         RecentFiles r(file);
@@ -76,5 +75,4 @@ TEST_CASE("recent files: newest first, no duplicates, at most ten, kept on disk"
     setenv("XDG_CONFIG_HOME", (dir + "/xdg").c_str(), 1);
     CHECK(RecentFiles::default_path() == dir + "/xdg/raytracer-view/recent.txt");
     unsetenv("XDG_CONFIG_HOME");
-    std::system(("rm -rf '" + dir + "'").c_str());
 }

@@ -9,61 +9,52 @@
 #include <unistd.h>
 
 #include "recovery.h"
+#include "test_util.h"
 
 using namespace rtview;
 namespace fs = std::filesystem;
 
-namespace {
-fs::path temp_dir(const char* tag) {
-    fs::path d = fs::temp_directory_path() / (std::string("rtview-recovery-") + tag + "-" + std::to_string(::getpid()));
-    fs::remove_all(d);
-    return d;
-}
-}  // namespace
 
 TEST_CASE("recovery: unsaved text survives into the next session for the same file only") {
-    fs::path dir = temp_dir("a");
+    rt_test::TempDir dir;
     {
-        Recovery r(dir.string());
-        CHECK(r.update("scene.txt", "thing { }", true, 10.0).empty());
+        Recovery r(dir.path.string());
+        CHECK(r.update("scene.txt", "thing { }", true, 10.0).ok());
         // A "crash": the object goes away without discarding anything.
     }
-    Recovery next(dir.string());
+    Recovery next(dir.path.string());
     auto text = next.find("scene.txt");
     REQUIRE(text);
     CHECK(*text == "thing { }");
     CHECK_FALSE(next.find("other.txt"));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("recovery: writes at most every interval, and only changed text") {
-    fs::path dir = temp_dir("b");
-    Recovery r(dir.string());
-    r.update("s.txt", "one", true, 0.0, 3.0);
-    r.update("s.txt", "two", true, 1.0, 3.0);  // too soon
-    CHECK(*Recovery(dir.string()).find("s.txt") == "one");
-    r.update("s.txt", "two", true, 4.0, 3.0);
-    CHECK(*Recovery(dir.string()).find("s.txt") == "two");
-    fs::remove_all(dir);
+    rt_test::TempDir dir;
+    Recovery r(dir.path.string());
+    CHECK(r.update("s.txt", "one", true, 0.0, 3.0).ok());
+    CHECK(r.update("s.txt", "two", true, 1.0, 3.0).ok());  // too soon
+    CHECK(*Recovery(dir.path.string()).find("s.txt") == "one");
+    CHECK(r.update("s.txt", "two", true, 4.0, 3.0).ok());
+    CHECK(*Recovery(dir.path.string()).find("s.txt") == "two");
 }
 
 TEST_CASE("recovery: saving (no longer modified) or discarding removes the copy") {
-    fs::path dir = temp_dir("c");
-    Recovery r(dir.string());
-    r.update("s.txt", "draft", true, 0.0);
+    rt_test::TempDir dir;
+    Recovery r(dir.path.string());
+    CHECK(r.update("s.txt", "draft", true, 0.0).ok());
     REQUIRE(r.find("s.txt"));
-    r.update("s.txt", "draft", false, 10.0);
+    CHECK(r.update("s.txt", "draft", false, 10.0).ok());
     CHECK_FALSE(r.find("s.txt"));
-    r.update("s.txt", "again", true, 20.0);
+    CHECK(r.update("s.txt", "again", true, 20.0).ok());
     REQUIRE(r.find("s.txt"));
     r.discard("s.txt");
     CHECK_FALSE(r.find("s.txt"));
     CHECK_FALSE(fs::exists(r.file_for("s.txt")));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("recovery: a failed write says why and keeps nothing half-written") {
     Recovery r("/proc/no-such-place/recovery");
-    CHECK_FALSE(r.update("s.txt", "draft", true, 0.0).empty());
+    CHECK_FALSE(r.update("s.txt", "draft", true, 0.0).ok());
     CHECK_FALSE(r.find("s.txt"));
 }

@@ -9,6 +9,7 @@
 #include "region.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
 
@@ -22,12 +23,6 @@ light { lamp { position 4 -3 4 colour 30 30 30 size 0.3 } }
 camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }
 picture_size { x_max 64 y_max 48 }
 end)";
-
-rt::Scene scene() {
-    rt::ParseResult r = rt::parse_scene(kScene);
-    REQUIRE(r.ok());
-    return r.scene;
-}
 
 bool wait_done(const RegionRenderer& rr) {
     for (int k = 0; k < 3000 && !rr.done(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -56,7 +51,7 @@ TEST_CASE("a drag selects the pixels under both ends and everything between") {
 }
 
 TEST_CASE("region pixels are the full render's pixels at the same sample count") {
-    rt::Scene s = scene();
+    rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
     rt::Renderer full(2);
     rt::RenderSettings st;
@@ -100,7 +95,7 @@ TEST_CASE("region pixels are the full render's pixels at the same sample count")
 }
 
 TEST_CASE("a region render can be cancelled and started again") {
-    rt::Scene s = scene();
+    rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
     RegionRenderer rr(2);
     rr.start(world, s.camera, 64, 48, {0, 0, 64, 48}, 4096);
@@ -117,7 +112,7 @@ TEST_CASE("a region render can be cancelled and started again") {
 }
 
 TEST_CASE("the readout names what a pixel's ray hit as the outline does") {
-    rt::Scene s = scene();
+    rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
     // The picture's centre looks straight at sphere 1 (at x 9 from a camera at x 0).
     rt::PickResult hit = pick_pixel(*world, s.camera, 64, 48, 32, 24);

@@ -9,61 +9,20 @@
 #include "document.h"
 #include "scene_edits.h"
 #include "scene_parser.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
 
 namespace {
 
 // Every kind of item, comments in awkward places, items sharing lines, no final newline.
-const char* const kScene = R"(// demo scene
-thing {
-  sphere {                         // glass ball
-    material { reflection 0.1 refraction 0.8 scattering 0.1
-               translusans 0.9 refractive_index 1.5 colour 0.9 0.95 1 }
-    position 6 1.5 0.8
-    radius 0.8
-  }
-  tetrahedron {
-    material { reflection 0.3 scattering 0.7 colour 1 0.3 0.2 }
-    vect1 5 -2 0  vect2 6 -1 0  vect3 6.5 -2.5 0  vect4 5.8 -1.8 1.6
-  }
-  cylinder { material { colour 0.3 0.4 1 } end_1 8 0 0 end_2 8 0 2 radius 0.5 } torus { position 4.5 0 0.25 major 0.6 minor 0.2 }
-  constructive_solid_geometry {    // a lens
-    type C
-    left { sphere { position 7 -0.3 2.2 radius 0.8 } }
-    right { sphere { position 7 0.5 2.2 radius 0.8 } }
-    material { reflection 0.2 scattering 0.8 colour 0.3 1 0.4 }
-  }
-}
-special_thing {
-  chess_plane {
-    material 1 { reflection 0.3 scattering 0.7 colour 1 1 1 }
-    material 2 { colour 0.1 0.1 0.1 }
-    point 1 0.5 0.5 0  point 2 1.5 0.5 0  point 3 0.5 1.5 0  point 4 0 0 1
-  }
-  plane { point 1 20 0 0  point 2 20 1 0  point 3 20 0 1  point 4 0 0 0 }
-}
-light {
-  lamp { colour 60 60 50 position 2 3 5 size 0.3 } // warm
-  spotlight { colour 40 40 60 position 0 -4 3 }
-}
-camera { position 0 0 2 centre 6 0 1 up 6 0 2 projection x angle_x 60 angle_y 45 }
-picture_size { x_max 320 y_max 240 }
-end
-after end { unbalanced)";
+const std::string kScene = std::string(rtview_test::kDemoScene) + "after end { unbalanced";
 
 // Only the camera: every section has to be created.
 const char* const kEmpty = "camera { position 0 0 0 centre 10 0 0 up 10 0 1 angle_x 60 angle_y 45 }\n"
                            "picture_size { x_max 32 y_max 24 }\nend\n";
 
-rt::Scene parse_ok(const std::string& text) {
-    rt::ParseResult r = rt::parse_scene(text);
-    std::string why;
-    for (const auto& d : r.diagnostics) why += rt::format_diagnostic("scene", d) + "\n";
-    INFO(why);
-    REQUIRE(r.ok());
-    return r.scene;
-}
+using rtview_test::parse_ok;
 
 // Applies the edit, checks the parse against `expected`, and that the inverse
 // restores the original text exactly.
@@ -170,7 +129,7 @@ TEST_CASE("scene edits: duplicate copies the block verbatim, or moved by an offs
 }
 
 TEST_CASE("scene edits: add every kind at a point, sized from the scene, also into a scene without sections") {
-    for (const char* src : {kScene, kEmpty}) {
+    for (const std::string& src : {kScene, std::string(kEmpty)}) {
         const std::string text = src;
         const rt::Scene s = parse_ok(text);
         const double extent = scene_extent(s);
@@ -235,7 +194,7 @@ TEST_CASE("scene edits: add every kind at a point, sized from the scene, also in
             }
             CHECK(got == want);
             check_edit(text, *e, want);
-            if (std::string(src) == kScene) CHECK(t.find("after end { unbalanced") != std::string::npos);
+            if (src == kScene) CHECK(t.find("after end { unbalanced") != std::string::npos);
         }
     }
     // Sizes follow the scene: the same scene ten times larger gets items ten times larger.

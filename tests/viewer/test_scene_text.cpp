@@ -8,8 +8,10 @@
 #include "scene_parser.h"
 #include "scene_text.h"
 #include "scene_writer.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
+using rtview_test::parse_ok;
 
 namespace {
 
@@ -62,17 +64,11 @@ end
 text after end is ignored { even unbalanced
 )";
 
-rt::Scene parsed(const std::string& text) {
-    rt::ParseResult r = rt::parse_scene(text);
-    REQUIRE(r.ok());
-    return r.scene;
-}
-
 }  // namespace
 
 TEST_CASE("the layout scan finds the same items the parser does") {
     for (const char* text : {kExample, rt::kDefaultScene}) {
-        rt::Scene s = parsed(text);
+        rt::Scene s = parse_ok(text);
         SceneLayout l = scan_layout(text);
         REQUIRE(l.ok);
         CHECK(l.objects.size() == s.objects.size());
@@ -101,12 +97,12 @@ TEST_CASE("the layout scan uses the parser's token rules") {
 
 TEST_CASE("a material edit rewrites only that object and keeps the comments") {
     std::string text = kExample;
-    rt::Scene from = parsed(text);
+    rt::Scene from = parse_ok(text);
     rt::Scene to = from;
     to.objects[1].material.reflection = 0.75;
     auto out = patch_scene_text(text, from, to);
     REQUIRE(out.has_value());
-    CHECK(parsed(*out) == to);
+    CHECK(parse_ok(*out) == to);
     CHECK(out->find("// glass ball") != std::string::npos);
     CHECK(out->find("// a lens with two bites taken out }") != std::string::npos);
     CHECK(out->find("text after end is ignored { even unbalanced") != std::string::npos);
@@ -116,13 +112,13 @@ TEST_CASE("a material edit rewrites only that object and keeps the comments") {
 
 TEST_CASE("a camera edit becomes one complete block in place of the last camera section") {
     std::string text = kExample;
-    rt::Scene from = parsed(text);
+    rt::Scene from = parse_ok(text);
     rt::Scene to = from;
     to.camera.position = {-3, 1, 4};
     to.camera.angle_x = 70;
     auto out = patch_scene_text(text, from, to);
     REQUIRE(out.has_value());
-    rt::Scene back = parsed(*out);
+    rt::Scene back = parse_ok(*out);
     CHECK(back == to);
     CHECK(back.width == 320);  // picture size survives (the first camera set x_max too)
     CHECK(out->find("camera { position 0 0 2 centre 6 0 1 }") != std::string::npos);
@@ -133,7 +129,7 @@ TEST_CASE("writing panel edits back round-trips for random edits") {
     auto u = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
     for (const char* base : {kExample, rt::kDefaultScene}) {
         std::string text = base;
-        rt::Scene cur = parsed(text);
+        rt::Scene cur = parse_ok(text);
         for (int step = 0; step < 60; ++step) {
             rt::Scene next = cur;
             switch (step % 4) {
@@ -164,7 +160,7 @@ TEST_CASE("writing panel edits back round-trips for random edits") {
                 }
             }
             std::string out = sync_scene_text(text, cur, next);
-            CHECK(parsed(out) == next);
+            CHECK(parse_ok(out) == next);
             CHECK(patch_scene_text(text, cur, next).has_value());  // never needed the fallback
             text = out;
             cur = next;
@@ -174,15 +170,15 @@ TEST_CASE("writing panel edits back round-trips for random edits") {
 
 TEST_CASE("sync falls back to the writer when the items changed in number") {
     std::string text = rt::kDefaultScene;
-    rt::Scene from = parsed(text);
+    rt::Scene from = parse_ok(text);
     rt::Scene to = from;
     to.objects.pop_back();
     CHECK_FALSE(patch_scene_text(text, from, to).has_value());
-    CHECK(parsed(sync_scene_text(text, from, to)) == to);
+    CHECK(parse_ok(sync_scene_text(text, from, to)) == to);
 }
 
 TEST_CASE("an edit is carried into a draft only for the items it changed") {
-    rt::Scene base = parsed(rt::kDefaultScene);
+    rt::Scene base = parse_ok(rt::kDefaultScene);
     rt::Scene draft = base;
     draft.objects[0].material.colour = {1, 0, 0};  // the user's own draft change
     rt::Scene edited = base;

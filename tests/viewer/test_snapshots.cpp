@@ -7,6 +7,7 @@
 #include "renderer.h"
 #include "scene_parser.h"
 #include "snapshots.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
 
@@ -29,21 +30,12 @@ camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }
 picture_size { x_max 48 y_max 36 }
 end)";
 
-rt::Scene scene() {
-    rt::ParseResult r = rt::parse_scene(kScene);
-    REQUIRE(r.ok());
-    return r.scene;
-}
-
 }  // namespace
 
 TEST_CASE("the difference of a rendered picture with itself is zero") {
-    rt::Scene s = scene();
+    rt::Scene s = rtview_test::parse_ok(kScene);
     rt::Renderer renderer(2);
-    rt::RenderSettings st;
-    st.max_samples = 3;
-    renderer.start(rt::compile_world(s), st);
-    renderer.wait();
+    rtview_test::render_to_end(renderer, s, 3);
     rt::Image img = renderer.snapshot();
     REQUIRE(img.width == 48);
     double brightest = 0;
@@ -81,7 +73,7 @@ TEST_CASE("a difference image shows |a - b| times the scale") {
 }
 
 TEST_CASE("the store keeps a few snapshots under its memory cap, oldest dropped first") {
-    rt::Scene s = scene();
+    rt::Scene s = rtview_test::parse_ok(kScene);
     const std::size_t one = [&] {
         Snapshot probe;
         probe.image = flat(100, 100, 0.5f);
@@ -112,7 +104,7 @@ TEST_CASE("the store keeps a few snapshots under its memory cap, oldest dropped 
 }
 
 TEST_CASE("snapshots say what changed since the one before, in the outline's numbers") {
-    rt::Scene a = scene();
+    rt::Scene a = rtview_test::parse_ok(kScene);
     rt::Scene b = a;
     CHECK(describe_change(a, b) == "no change");
     b.camera.position.x += 1;

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "test_util.h"
 #include "ui_settings.h"
 
 using namespace rtview;
@@ -13,18 +14,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("rtview-ui-test-" + std::to_string(getpid()));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
+using rt_test::TempDir;
 
 }  // namespace
 

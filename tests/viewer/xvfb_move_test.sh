@@ -16,46 +16,14 @@ set -euo pipefail
 # shellcheck source=xvfb_start.sh
 . "$(dirname "$0")/xvfb_start.sh" "$@"
 
-TOOL=$BIN/rtview-imgtool
-export MESA_SHADER_CACHE_DISABLE=true
-export XDG_CONFIG_HOME=$OUT/config
-export XDG_STATE_HOME=$OUT/state
-export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=0}"
 SCENE=$OUT/scene.txt
 rm -f "$OUT"/*.png "$OUT"/*.ppm "$OUT"/layout.txt
 cp "$(dirname "$0")/../../scenes/default.txt" "$SCENE"
 
-VIEWER_PID=
-cleanup() { [ -n "$VIEWER_PID" ] && kill "$VIEWER_PID" 2>/dev/null || true; }
-trap cleanup EXIT
-fail() {
-    echo "FAIL: $*" >&2
-    import -window root "$OUT/failure.png" 2>/dev/null || true
-    echo "--- viewer stderr:" >&2
-    cat "$OUT/viewer.err" >&2 || true
-    exit 1
-}
-step() { echo "== $*"; }
-
-field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$OUT/layout.txt"; }
-region() { echo "$(field "$1" 1) $(field "$1" 2) $(field "$1" 3) $(field "$1" 4)"; }
-shot() { import -window root "$OUT/$1.png"; }
-title() { xdotool getwindowname "$WID"; }
 spheres() { grep -c '^[[:space:]]*sphere[[:space:]]*{' "$SCENE" || true; }
 
-# Screenshots until the image region shows a picture and stops changing.
-wait_stable() {
-    local name=$1 prev="$OUT/.stable-prev.png" d
-    shot "$name"
-    for _ in $(seq 1 120); do
-        sleep 0.3
-        cp "$OUT/$name.png" "$prev"
-        shot "$name"
-        d=$("$TOOL" diff "$prev" "$OUT/$name.png" $IMAGE)
-        [ "$d" = "0.000000" ] && [ "$("$TOOL" colours "$OUT/$name.png" $IMAGE)" -gt 1000 ] && return 0
-    done
-    fail "the image never settled ($name)"
-}
+STABLE_PAUSE=0.3
+STABLE_TRIES=120
 
 # Waits until the layout's handle line is $1 ("none") or not ("some").
 wait_handle() {

@@ -16,10 +16,6 @@ set -euo pipefail
 # shellcheck source=xvfb_start.sh
 . "$(dirname "$0")/xvfb_start.sh" "$@"
 
-export MESA_SHADER_CACHE_DISABLE=true
-export XDG_CONFIG_HOME=$OUT/config
-export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=0}"
-export TSAN_OPTIONS="${TSAN_OPTIONS:-suppressions=$(cd "$(dirname "$0")" && pwd)/tsan.supp}"
 rm -rf "$OUT"/*.png "$OUT/config"
 
 # A red sphere of radius 1 straight ahead, 10 units from the camera: the picture's
@@ -37,22 +33,7 @@ EOF
 }
 write_scene "0.9 0.1 0.1"
 
-VIEWER_PID=
-cleanup() { [ -n "$VIEWER_PID" ] && kill "$VIEWER_PID" 2>/dev/null || true; }
-trap cleanup EXIT
-fail() {
-    echo "FAIL: $*" >&2
-    import -window root "$OUT/failure.png" 2>/dev/null || true
-    echo "--- viewer stdout (last lines):" >&2
-    tail -n 20 "$OUT/viewer.out" >&2 || true
-    echo "--- viewer stderr:" >&2
-    cat "$OUT/viewer.err" >&2 || true
-    exit 1
-}
-step() { echo "== $*"; }
-shot() { import -window root "$OUT/$1.png"; }
-# Last value of a layout line.
-field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$OUT/viewer.out"; }
+LAYOUT=$OUT/viewer.out   # --verbose --print-layout: the layout and readout lines
 # The last readout line.
 readout() { grep '^readout: ' "$OUT/viewer.out" | tail -n 1; }
 # Waits until the last readout line matches a pattern (grep -E).

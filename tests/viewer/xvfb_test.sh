@@ -18,56 +18,15 @@ set -euo pipefail
 # shellcheck source=xvfb_start.sh
 . "$(dirname "$0")/xvfb_start.sh" "$@"
 
-TOOL=$BIN/rtview-imgtool
 SRC=$(cd "$(dirname "$0")/../.." && pwd)
 XFRAMES=$BIN/rtview-xframes
-export MESA_SHADER_CACHE_DISABLE=true
-export XDG_CONFIG_HOME=$OUT/config
-export XDG_STATE_HOME=$OUT/state   # recovery copies of this run only
-# In sanitizer builds: X11, GLFW and Mesa are not instrumented, so LeakSanitizer can
-# neither unwind nor attribute their allocations; leaks in our code are checked by the
-# unit tests and the headless test. Address and UB checks stay on.
-export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=0}"
-export TSAN_OPTIONS="${TSAN_OPTIONS:-suppressions=$(cd "$(dirname "$0")" && pwd)/tsan.supp}"
 SCENE=$OUT/scene.txt
 rm -f "$OUT"/*.png "$OUT"/layout.txt
 cp "$(dirname "$0")/../../scenes/default.txt" "$SCENE"
 ORIGINAL=$OUT/original.txt
 cp "$SCENE" "$ORIGINAL"
 
-VIEWER_PID=
-cleanup() { [ -n "$VIEWER_PID" ] && kill "$VIEWER_PID" 2>/dev/null || true; }
-trap cleanup EXIT
-fail() {
-    echo "FAIL: $*" >&2
-    import -window root "$OUT/failure.png" 2>/dev/null || true
-    echo "--- viewer stderr:" >&2
-    cat "$OUT/viewer.err" >&2 || true
-    exit 1
-}
-step() { echo "== $*"; }
-
-# Last value of a layout line (the viewer prints the layout again when it changes).
-field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$OUT/layout.txt"; }
-region() { echo "$(field "$1" 1) $(field "$1" 2) $(field "$1" 3) $(field "$1" 4)"; }
-shot() { import -window root "$OUT/$1.png"; }
-title() { xdotool getwindowname "$WID"; }
 still_loading() { case "$(title)" in "(loading)"*) return 0 ;; esac; return 1; }
-
-# Screenshots until the image region shows a picture and stops changing (the render
-# has converged); a black region that "stays the same" is not a picture.
-wait_stable() {
-    local name=$1 prev="$OUT/.stable-prev.png" d
-    shot "$name"
-    for _ in $(seq 1 240); do
-        sleep 0.5
-        cp "$OUT/$name.png" "$prev"
-        shot "$name"
-        d=$("$TOOL" diff "$prev" "$OUT/$name.png" $IMAGE)
-        [ "$d" = "0.000000" ] && [ "$("$TOOL" colours "$OUT/$name.png" $IMAGE)" -gt 1000 ] && return 0
-    done
-    fail "the image never settled"
-}
 
 step "start the viewer"
 cd "$OUT"
@@ -199,8 +158,13 @@ shot cancelled
 
 step "F12 writes a screenshot of the window"
 xdotool key F12
-sleep 1
-F12=$(ls "$OUT"/raytracer-view-2*.png 2>/dev/null | head -1)
+# Written within a frame or two; a loaded machine may take seconds.
+F12=
+for _ in $(seq 1 100); do
+    F12=$(ls "$OUT"/raytracer-view-2*.png 2>/dev/null | head -1 || true)
+    [ -n "$F12" ] && break
+    sleep 0.1
+done
 [ -n "$F12" ] || fail "no F12 screenshot"
 [ "$("$TOOL" colours "$F12" 0 0 1280 800)" -gt 1000 ] || fail "the F12 screenshot looks empty"
 

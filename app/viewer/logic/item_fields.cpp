@@ -105,23 +105,26 @@ FieldValue value_of(const sc::Block<T>& b, const T& item, const Field& f) {
     return v;
 }
 
-std::string vec_problem(const rt::Vec3& v) {
+// A value the parser would refuse, with its message.
+rt::Status refused(std::string message) { return rt::Status::error(std::move(message), rt::kExitScene); }
+
+rt::Status check_vec(const rt::Vec3& v) {
     for (int c = 0; c < 3; ++c)
-        if (std::string m = number_problem(v[c]); !m.empty()) return m;
+        if (rt::Status st = check_number(v[c]); !st) return st;
     return {};
 }
 
 // A material as the parser leaves it: numbers checked, clamps applied.
-std::string checked_material(rt::Material& m) {
+rt::Status check_material(rt::Material& m) {
     for (const sc::Key<rt::Material>& k : sc::material_block().keys) {
         if (k.kind == sc::Kind::Vec3) {
-            if (std::string e = vec_problem(k.vec3(m)); !e.empty()) return e;
+            if (rt::Status st = check_vec(k.vec3(m)); !st) return st;
             continue;
         }
         double& x = k.access.number(m, 0);
-        if (std::string e = number_problem(x); !e.empty()) return e;
+        if (rt::Status st = check_number(x); !st) return st;
         if (k.range.rule == sc::Range::Rule::Clamp && !k.range.contains(x)) x = std::clamp(x, k.range.min, k.range.max);
-        if (k.range.rule == sc::Range::Rule::Error && !k.range.contains(x)) return k.range.message;
+        if (k.range.rule == sc::Range::Rule::Error && !k.range.contains(x)) return refused(k.range.message);
     }
     return {};
 }
@@ -132,7 +135,7 @@ FieldResult assign(const sc::Block<T>& b, T& item, const Field& f, const FieldVa
     FieldResult r;
     if (f.key_number < 0 || std::size_t(f.key_number) >= b.keys.size() || b.keys[std::size_t(f.key_number)].name != f.key ||
         f.index < 0 || f.index >= std::max(b.keys[std::size_t(f.key_number)].count, 1)) {
-        r.error = "the item has no key '" + std::string(f.key) + "'";
+        r.status = refused("the item has no key '" + std::string(f.key) + "'");
         return r;
     }
     const sc::Key<T>& k = b.keys[std::size_t(f.key_number)];
@@ -140,10 +143,10 @@ FieldResult assign(const sc::Block<T>& b, T& item, const Field& f, const FieldVa
     switch (k.kind) {
         case sc::Kind::Number: {
             double x = v.number;
-            if (r.error = number_problem(x); !r.error.empty()) return r;
+            if (r.status = check_number(x); !r.status) return r;
             if (!k.range.contains(x)) {
                 if (k.range.rule == sc::Range::Rule::Error) {
-                    r.error = k.range.message;
+                    r.status = refused(k.range.message);
                     return r;
                 }
                 if (k.range.rule == sc::Range::Rule::Clamp) x = std::clamp(x, k.range.min, k.range.max);
@@ -152,13 +155,13 @@ FieldResult assign(const sc::Block<T>& b, T& item, const Field& f, const FieldVa
             break;
         }
         case sc::Kind::Vec3:
-            if (r.error = vec_problem(v.vec); !r.error.empty()) return r;
+            if (r.status = check_vec(v.vec); !r.status) return r;
             k.access.vec3(copy, f.index) = v.vec;
             break;
         case sc::Kind::Integer: {
             const double x = std::round(v.number);
             if (!(x >= k.range.min && x <= k.range.max)) {
-                r.error = k.range.message ? k.range.message : "number out of range";
+                r.status = refused(k.range.message ? k.range.message : "number out of range");
                 return r;
             }
             k.access.integer(copy, f.index) = int(x);
@@ -166,27 +169,27 @@ FieldResult assign(const sc::Block<T>& b, T& item, const Field& f, const FieldVa
         }
         case sc::Kind::Choice:
             if (k.choice->word_for(v.choice).empty()) {
-                r.error = std::string(k.choice->wrong) + "'" + std::to_string(v.choice) + "'";
+                r.status = refused(std::string(k.choice->wrong) + "'" + std::to_string(v.choice) + "'");
                 return r;
             }
             k.access.set_choice(copy, v.choice);
             break;
         case sc::Kind::Material: {
             rt::Material m = v.material;
-            if (r.error = checked_material(m); !r.error.empty()) return r;
+            if (r.status = check_material(m); !r.status) return r;
             k.access.material(copy, f.index) = m;
             k.access.has_material(copy, f.index) = true;
             if (sc::Problem p = sc::material_block().check(m)) r.warning = p.message;
             break;
         }
         case sc::Kind::Operand:
-            r.error = "select the " + std::string(k.name) + " operand to edit it";
+            r.status = refused("select the " + std::string(k.name) + " operand to edit it");
             return r;
     }
     if (b.check) {
         if (sc::Problem p = b.check(copy)) {
             if (p.severity == sc::Problem::Severity::Error) {
-                r.error = p.message;
+                r.status = refused(p.message);
                 r.warning.clear();
                 return r;
             }
@@ -194,19 +197,19 @@ FieldResult assign(const sc::Block<T>& b, T& item, const Field& f, const FieldVa
         }
     }
     item = std::move(copy);
-    r.applied = true;
     return r;
 }
 
 }  // namespace
 
-std::string number_problem(double v) {
+rt::Status check_number(double v) {
     // As the parser words it for a token it cannot take as a number.
     constexpr double kMaxMagnitude = 1e15;
-    if (std::isnan(v)) return "number 'nan' is out of range (magnitude at most 1e15)";
-    if (std::isinf(v)) return std::string("number '") + (v < 0 ? "-inf" : "inf") + "' is out of range (magnitude at most 1e15)";
+    if (std::isnan(v)) return refused("number 'nan' is out of range (magnitude at most 1e15)");
+    if (std::isinf(v))
+        return refused(std::string("number '") + (v < 0 ? "-inf" : "inf") + "' is out of range (magnitude at most 1e15)");
     if (std::fabs(v) > kMaxMagnitude)
-        return "number '" + rt::format_number(v) + "' is out of range (magnitude at most 1e15)";
+        return refused("number '" + rt::format_number(v) + "' is out of range (magnitude at most 1e15)");
     return {};
 }
 
@@ -234,14 +237,14 @@ std::optional<FieldValue> field_value(const rt::Scene& scene, const ItemRef& ref
 FieldResult set_field(rt::Scene& scene, const ItemRef& ref, const Field& f, const FieldValue& v) {
     FieldResult r;
     if (!visit_item(scene, ref, [&](const auto& b, auto& item) { r = assign(b, item, f, v); }))
-        r.error = "the selected item no longer exists";
+        r.status = refused("the selected item no longer exists");
     return r;
 }
 
 FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const FieldValue& v) {
     FieldResult r;
     if (!doc.has_scene() || !in_range(doc.scene(), ref.item)) {
-        r.error = "the selected item no longer exists";
+        r.status = refused("the selected item no longer exists");
         return r;
     }
     // Checked on a copy of the one top-level item; the document sees only a real change.
@@ -255,7 +258,7 @@ FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const F
     ItemRef local = ref;
     local.item.index = 0;
     r = set_field(one, local, f, v);
-    if (!r.applied) return r;
+    if (!r.applied()) return r;
     switch (ref.item.kind) {
         case SceneItem::Kind::Object:
             if (!(one.objects[0] == doc.scene().objects[i])) doc.edit_object(i) = std::move(one.objects[0]);

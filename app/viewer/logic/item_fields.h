@@ -14,6 +14,7 @@
 #include "scene.h"
 #include "scene_edits.h"
 #include "scene_schema.h"
+#include "status.h"
 
 namespace rtview {
 
@@ -55,9 +56,9 @@ std::vector<Field> item_fields(const rt::Scene& scene, const ItemRef& ref);
 std::optional<FieldValue> field_value(const rt::Scene& scene, const ItemRef& ref, const Field& f);
 
 struct FieldResult {
-    bool applied = false;
-    std::string error;    // refused, with the message the parser gives for such a value
+    rt::Status status;    // refused: the message the parser gives for such a value
     std::string warning;  // applied; the parser warns about the item as it is now
+    bool applied() const { return status.ok(); }
 };
 
 // Sets one field of a scene item after the parser's checks: numbers finite and of
@@ -70,7 +71,7 @@ FieldResult set_field(rt::Scene& scene, const ItemRef& ref, const Field& f, cons
 // the value is refused or unchanged.
 FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const FieldValue& v);
 
-// The parser's message for a number outside the format's range, or empty.
-std::string number_problem(double v);
+// A number outside the format's range fails, with the parser's message for it.
+rt::Status check_number(double v);
 
 }  // namespace rtview

@@ -8,8 +8,10 @@
 #include <cerrno>
 #include <cstring>
 #include <functional>
+#include <utility>
 
 #include "scene.h"
+#include "status.h"
 
 namespace rtview {
 
@@ -25,22 +27,24 @@ struct SceneLoader::Job {
 
 namespace {
 
-// Reads the whole file in pieces, reporting bytes and stopping on cancel.
-std::string read_with_progress(const std::string& path, std::string& out, std::atomic<bool>& cancel,
-                               const std::function<void(std::uint64_t, std::uint64_t)>& report) {
+// Reads the whole file in pieces, reporting bytes and stopping on cancel; fails with
+// the system's words for what went wrong.
+rt::Status read_with_progress(const std::string& path, std::string& out, std::atomic<bool>& cancel,
+                              const std::function<void(std::uint64_t, std::uint64_t)>& report) {
+    auto fail = [](std::string why) { return rt::Status::error(std::move(why), rt::kExitUsage); };
     int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return std::strerror(errno);
+    if (fd < 0) return fail(std::strerror(errno));
     struct stat st {};
     if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
         int e = S_ISDIR(st.st_mode) ? EISDIR : errno;
         ::close(fd);
-        return std::strerror(e);
+        return fail(std::strerror(e));
     }
     const std::size_t max_bytes = rt::Limits::max_file_size;
     std::uint64_t total = S_ISREG(st.st_mode) ? std::uint64_t(st.st_size) : 0;
     if (total > max_bytes) {
         ::close(fd);
-        return "the file is larger than " + std::to_string(max_bytes) + " bytes";
+        return fail("the file is larger than " + std::to_string(max_bytes) + " bytes");
     }
     out.clear();
     out.reserve(std::size_t(total));
@@ -49,7 +53,7 @@ std::string read_with_progress(const std::string& path, std::string& out, std::a
         if (cancel) {
             ::close(fd);
             out.clear();
-            return "cancelled";
+            return fail("cancelled");
         }
         // Within the size the file said it has, the buffer never grows: a 100 MB
         // scene must not pass through a 200 MB reallocation.
@@ -63,14 +67,14 @@ std::string read_with_progress(const std::string& path, std::string& out, std::a
             int e = errno;
             ::close(fd);
             out.clear();
-            return std::strerror(e);
+            return fail(std::strerror(e));
         }
         out.resize(at + std::size_t(n));
         if (n == 0) break;
         if (out.size() > max_bytes) {
             ::close(fd);
             out.clear();
-            return "the file is larger than " + std::to_string(max_bytes) + " bytes";
+            return fail("the file is larger than " + std::to_string(max_bytes) + " bytes");
         }
         report(out.size(), std::max<std::uint64_t>(total, out.size()));
     }
@@ -102,16 +106,16 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
     LoadResult r;
     r.path = job->path;
     stage(Stage::Reading);
-    std::string err = read_with_progress(job->path, r.text, job->cancel, [&](std::uint64_t b, std::uint64_t t) {
+    const rt::Status read = read_with_progress(job->path, r.text, job->cancel, [&](std::uint64_t b, std::uint64_t t) {
         std::lock_guard<std::mutex> lock(job->mutex);
         job->progress.bytes = b;
         job->progress.total = t;
     });
     if (job->cancel) {
         r.status = LoadResult::Status::Cancelled;
-    } else if (!err.empty()) {
+    } else if (!read) {
         r.status = LoadResult::Status::Failed;
-        r.error = err;
+        r.error = read.message();
     } else {
         {
             std::lock_guard<std::mutex> lock(job->mutex);

@@ -42,8 +42,8 @@ std::string Recovery::file_for(const std::string& doc_path) const {
     return dir_ + "/" + name;
 }
 
-std::string Recovery::update(const std::string& doc_path, const std::string& text, bool modified, double now,
-                             double interval) {
+rt::Status Recovery::update(const std::string& doc_path, const std::string& text, bool modified, double now,
+                            double interval) {
     if (doc_path != last_path_) {
         last_path_ = doc_path;
         last_hash_ = 0;
@@ -60,7 +60,7 @@ std::string Recovery::update(const std::string& doc_path, const std::string& tex
     fs::create_directories(dir_, ec);
     const rt::Status written = rt::write_file_atomic(file_for(doc_path), absolute(doc_path) + "\n" + text);
     last_write_ = now;
-    if (!written) return written.message();
+    if (!written) return written;
     last_hash_ = h;
     written_ = true;
     return {};

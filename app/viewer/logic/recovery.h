@@ -8,6 +8,8 @@
 #include <optional>
 #include <string>
 
+#include "status.h"
+
 namespace rtview {
 
 class Recovery {
@@ -20,9 +22,9 @@ public:
 
     // Call often (each idle tick). Writes when the text changed since the last write
     // and at least `interval` seconds have passed; removes the file when the document
-    // is no longer modified. Returns an error message if a write failed, else "".
-    std::string update(const std::string& doc_path, const std::string& text, bool modified, double now,
-                       double interval = 3.0);
+    // is no longer modified. Fails, saying why, if a write failed.
+    rt::Status update(const std::string& doc_path, const std::string& text, bool modified, double now,
+                      double interval = 3.0);
     // Text left by an earlier session for this document, if any.
     std::optional<std::string> find(const std::string& doc_path) const;
     void discard(const std::string& doc_path);

@@ -58,6 +58,11 @@ std::string megabytes(std::uint64_t b) {
     return buf;
 }
 
+// What the status bar adds when the recent-files list could not be saved.
+std::string recent_note(const rt::Status& recent) {
+    return recent ? std::string() : "; recent files not saved: " + recent.message();
+}
+
 }  // namespace
 
 ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
@@ -138,7 +143,7 @@ void ViewerApp::poll_loader() {
     std::shared_ptr<const rt::World> world;
     if (!apply_load(*r, doc, world)) return;  // cancelled: the old scene stays
     if (world) render_.adopt_world(std::move(world), doc.content_version());
-    const std::string recent = remember_recent(path);
+    const rt::Status recent = remember_recent(path);
     if (path == opt_.scene)  // at most 20, as raytracer prints them
         std::fputs(rt::diagnostics_report(path, doc.diagnostics(), 20).c_str(), stderr);
     after_document_replaced();
@@ -152,8 +157,8 @@ void ViewerApp::poll_loader() {
         selected_ = true;
         panels_.select_from_option(opt_.select);
     }
-    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + recent,
-                !ok || !recent.empty());
+    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + recent_note(recent),
+                !ok || !recent);
     if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.3f s\n", path.c_str(), since_start());
 }
 
@@ -582,17 +587,6 @@ Selection selection_of(const SceneItem& item) {
     return {k, item.index, {}};
 }
 
-std::optional<SceneItem> item_of(const Selection& s) {
-    // A CSG operand is edited as its top-level object.
-    switch (s.kind) {
-        case Selection::Kind::Object: return SceneItem{SceneItem::Kind::Object, s.index};
-        case Selection::Kind::Plane: return SceneItem{SceneItem::Kind::Plane, s.index};
-        case Selection::Kind::Light: return SceneItem{SceneItem::Kind::Light, s.index};
-        case Selection::Kind::None: break;
-    }
-    return std::nullopt;
-}
-
 }  // namespace
 
 Placement ViewerApp::new_item_placement() {
@@ -646,7 +640,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     const rt::Scene& scene = doc.scene();
     std::optional<SceneEdit> e;
     std::string done;
-    std::optional<SceneItem> sel = item_of(panels_.selection());
+    std::optional<SceneItem> sel = item_of_selection(panels_.selection());
     switch (c) {
         case Command::AddItem: {
             static const std::pair<const char*, NewItem> kinds[] = {
@@ -779,15 +773,14 @@ bool ViewerApp::do_save_as(const std::string& path) {
         status_.set("Save failed: " + st.message(), true);
         return false;
     }
-    const std::string recent = remember_recent(path);
-    status_.set("Saved " + doc.path() + recent, !recent.empty());
+    const rt::Status recent = remember_recent(path);
+    status_.set("Saved " + doc.path() + recent_note(recent), !recent);
     return true;
 }
 
-std::string ViewerApp::remember_recent(const std::string& path) {
+rt::Status ViewerApp::remember_recent(const std::string& path) {
     if (!interactive_) return {};
-    const rt::Status st = editor_.recent().add(path);
-    return st ? std::string() : "; recent files not saved: " + st.message();
+    return editor_.recent().add(path);
 }
 
 void ViewerApp::do_save_image(const std::string& path) {

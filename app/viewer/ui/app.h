@@ -115,9 +115,9 @@ private:
     void draw_context_menu();
     bool do_save();
     bool do_save_as(const std::string& path);
-    // Puts `path` first in the recent-files list (in the window only). "" or, when
-    // the list could not be saved, "; recent files not saved: WHY" for the status bar.
-    std::string remember_recent(const std::string& path);
+    // Puts `path` first in the recent-files list (in the window only); fails when the
+    // list could not be saved.
+    rt::Status remember_recent(const std::string& path);
     void do_save_image(const std::string& path);
     std::string default_image_name() const;
 

@@ -33,8 +33,8 @@ DocumentEditor::~DocumentEditor() {
 bool DocumentEditor::recovery_busy() {
     if (!recovery_write_.valid()) return false;
     if (recovery_write_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return true;
-    std::string err = recovery_write_.get();
-    if (!err.empty()) status_.set("cannot keep a recovery copy: " + err, true);
+    if (const rt::Status st = recovery_write_.get(); !st)
+        status_.set("cannot keep a recovery copy: " + st.message(), true);
     return false;
 }
 
@@ -69,8 +69,9 @@ bool DocumentEditor::idle_tick(double now) {
         std::uint64_t key = doc.text_version() * 0x9E3779B97F4A7C15ull + doc.typed();
         bool modified = doc.modified();
         if (!modified) {
-            std::string err = recovery_.update(doc.path(), {}, false, now);  // removes a copy, if any
-            if (!err.empty()) status_.set("cannot keep a recovery copy: " + err, true);
+            // Removes a copy, if any.
+            if (const rt::Status st = recovery_.update(doc.path(), {}, false, now); !st)
+                status_.set("cannot keep a recovery copy: " + st.message(), true);
             recovery_key_ = ~std::uint64_t(0);
         } else if (key != recovery_key_ && now - recovery_last_ >= kRecoveryInterval) {
             recovery_key_ = key;
@@ -175,6 +176,26 @@ void DocumentEditor::sync_widget() {
 }
 
 void DocumentEditor::draw_text_tab(Layout& layout) {
+    draw_text_toolbar();
+    float diag_h = 0;
+    const std::vector<std::string> diag_text = diagnostic_lines(diag_h);
+    float line = ImGui::GetTextLineHeightWithSpacing();
+    float editor_h = std::max(line * 4, ImGui::GetContentRegionAvail().y - diag_h - ImGui::GetStyle().ItemSpacing.y);
+
+    ImVec2 top = ImGui::GetCursorScreenPos();
+    float width = ImGui::GetContentRegionAvail().x;
+    const bool changed = draw_text_widget(editor_h);
+    id_ = 0;  // the widget holds no ImGui active id while typing
+    layout.editor = {top.x, top.y, width, editor_h};
+    if (changed) check_due_ = ImGui::GetTime() + 0.3;  // live check once typing pauses
+
+    layout.diagnostics = {ImGui::GetCursorScreenPos().x, ImGui::GetCursorScreenPos().y, width, diag_h};
+    draw_diagnostics(diag_text, diag_h);
+}
+
+// Apply, Revert, whether the text is the scene, wrap; and a warning while panel edits
+// cannot reach the text.
+void DocumentEditor::draw_text_toolbar() {
     // The row wraps when the next item would run past the panel's edge (large UI scale).
     auto same_line_if_fits = [](const char* next, float extra = 0) {
         const ImGuiStyle& st = ImGui::GetStyle();
@@ -202,11 +223,14 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
                            "Apply uses the text; Revert drops the text changes.");
         ImGui::PopStyleColor();
     }
+}
 
+// The diagnostics as the list shows them ("LINE:COL: error: ..."), and in `list_h` the
+// list's height. Messages wrap at the list's edge (long ones would be cut off at a
+// large UI scale): the list is as tall as its first six lines of wrapped text.
+std::vector<std::string> DocumentEditor::diagnostic_lines(float& list_h) const {
     const auto& diags = doc_.diagnostics();
     float line = ImGui::GetTextLineHeightWithSpacing();
-    // Messages wrap at the list's edge (long ones would be cut off at a large UI scale):
-    // the list is as tall as its first six lines of wrapped text.
     const ImGuiStyle& style = ImGui::GetStyle();
     const float wrap_w = std::max(ImGui::GetContentRegionAvail().x - 2 * style.WindowPadding.x - style.ScrollbarSize,
                                   ImGui::GetFontSize() * 4);
@@ -218,14 +242,16 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
         if (diag_lines_h < line * 6)
             diag_lines_h += ImGui::CalcTextSize(diag_text.back().c_str(), nullptr, false, wrap_w).y + style.ItemSpacing.y;
     }
-    float diag_h = std::clamp(diag_lines_h, line, line * 6) + style.WindowPadding.y * 2;
-    float editor_h = std::max(line * 4, ImGui::GetContentRegionAvail().y - diag_h - ImGui::GetStyle().ItemSpacing.y);
+    list_h = std::clamp(diag_lines_h, line, line * 6) + style.WindowPadding.y * 2;
+    return diag_text;
+}
 
-    ImVec2 top = ImGui::GetCursorScreenPos();
-    float width = ImGui::GetContentRegionAvail().x;
+// The text widget, `height` tall (or a note, for a text too large to edit here); true
+// if typing changed the text, which then goes into the document's draft.
+bool DocumentEditor::draw_text_widget(float height) {
     bool changed = false;
     if (std::as_const(doc_).editor_text().size() > kMaxEditableBytes) {
-        ImGui::BeginChild("##too_big", ImVec2(-1, editor_h), true);
+        ImGui::BeginChild("##too_big", ImVec2(-1, height), true);
         ImGui::TextWrapped("This scene text is %.0f MB: too large to edit here. The panels still edit it "
                            "(each change rewrites only its own block), and changes made to the file in "
                            "another editor are reloaded by themselves.",
@@ -234,7 +260,7 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
         active_ = false;
     } else {
         sync_widget();
-        changed = widget_.draw("scene_text", ImVec2(-1, editor_h));
+        changed = widget_.draw("scene_text", ImVec2(-1, height));
         active_ = widget_.focused();
         if (changed) {
             std::string& text = doc_.editor_text();
@@ -242,12 +268,13 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
             doc_.note_typed();
         }
     }
-    id_ = 0;  // the widget holds no ImGui active id while typing
-    layout.editor = {top.x, top.y, width, editor_h};
-    if (changed) check_due_ = ImGui::GetTime() + 0.3;  // live check once typing pauses
+    return changed;
+}
 
-    layout.diagnostics = {ImGui::GetCursorScreenPos().x, ImGui::GetCursorScreenPos().y, width, diag_h};
-    if (ImGui::BeginChild("diagnostics", ImVec2(0, diag_h), true)) {
+// The list of diagnostics: clicking one puts the cursor where it is.
+void DocumentEditor::draw_diagnostics(const std::vector<std::string>& diag_text, float height) {
+    const auto& diags = doc_.diagnostics();
+    if (ImGui::BeginChild("diagnostics", ImVec2(0, height), true)) {
         if (diags.empty()) ImGui::TextDisabled(doc_.editor_dirty() ? "No errors (Ctrl+Enter applies)." : "No errors.");
         for (std::size_t k = 0; k < diags.size(); ++k) {
             const rt::Diagnostic& d = diags[k];

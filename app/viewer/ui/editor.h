@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <future>
 #include <string>
+#include <vector>
 
 #include "document.h"
 #include "recent_files.h"
@@ -50,13 +51,18 @@ public:
 
 private:
     void sync_widget();
+    // draw_text_tab() in steps, top to bottom.
+    void draw_text_toolbar();
+    std::vector<std::string> diagnostic_lines(float& list_h) const;
+    bool draw_text_widget(float height);
+    void draw_diagnostics(const std::vector<std::string>& diag_text, float height);
 
     bool interactive_;
     StatusLine& status_;
     Document doc_;
     RecentFiles recent_;
     Recovery recovery_;            // touched by one thread at a time: see recovery_busy()
-    std::future<std::string> recovery_write_;  // a copy being written off the UI thread
+    std::future<rt::Status> recovery_write_;  // a copy being written off the UI thread
     std::uint64_t recovery_key_ = ~std::uint64_t(0);  // text state last handed to it
     double recovery_last_ = -1e300;
     bool recovery_busy();          // a write is under way (collects a finished one)

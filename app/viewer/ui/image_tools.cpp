@@ -118,9 +118,9 @@ void ImageTools::set_exposure(double stops) {
 
 void ImageTools::set_ui_scale(double s) {
     if (s == settings_.ui_scale()) return;
-    const std::string err = settings_.set_ui_scale(s).message();
+    const rt::Status saved = settings_.set_ui_scale(s);
     ui_scale_changed_ = true;
-    if (!err.empty()) message("UI scale not saved: " + err, true);
+    if (!saved) message("UI scale not saved: " + saved.message(), true);
     else message("UI scale " + std::to_string(int(std::lround(settings_.ui_scale() * 100))) + "%");
 }
 
@@ -338,15 +338,15 @@ void ImageTools::update() {
 
     if (final_.active() && final_.done()) {
         rt::RenderProgress p = final_.progress();
-        const std::string err = final_.write().message();
+        const rt::Status written = final_.write();
         render_finished_ = true;
-        if (err.empty()) {
+        if (written) {
             char buf[160];
             std::snprintf(buf, sizeof buf, " (%dx%d, %d samples per pixel, %.1f s)", p.width, p.height, p.samples,
                           p.elapsed);
             message("Rendered " + render_path_ + buf);
         } else {
-            message("Cannot write " + render_path_ + ": " + err, true);
+            message("Cannot write " + render_path_ + ": " + written.message(), true);
         }
     }
 }
@@ -392,55 +392,86 @@ void ImageTools::update_readout() {
 // ---------------------------------------------------------------------------------
 // Drawing
 
+// Where the picture stands this frame: what every overlay below is placed by.
+struct ImageTools::PictureGeometry {
+    ViewTransform t;
+    Rect img;              // the picture, in window units
+    double ratio = 1;      // screen pixels per picture pixel
+    ImVec2 a0, a1;         // the area for the picture (everything is clipped to it)
+    ImVec2 p0, p1;         // the picture's corners
+    bool nearest = false;  // nearest filtering from 1:1 up: every film pixel a crisp square
+    bool comparing = false;  // a compare image of this very film is ready
+};
+
 void ImageTools::draw() {
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
     if (!f_.texture || !f_.texture->valid() || !f_.film || f_.film->empty()) return;
-    FilmTexture& texture = *f_.texture;
-    const ViewTransform t = transform();
-    const Rect img = t.image(pic_w(), pic_h());
-    const double ratio = zoom_ratio();
-    const ImVec2 a0(float(f_.area.x), float(f_.area.y)), a1(float(f_.area.x + f_.area.w), float(f_.area.y + f_.area.h));
-    const ImVec2 p0(float(img.x), float(img.y)), p1(float(img.x + img.w), float(img.y + img.h));
-    // Nearest filtering from 1:1 up: every film pixel is a crisp square.
-    const bool nearest = ratio >= 1 - 1e-6;
-    texture.set_nearest(nearest);
-    dl->PushClipRect(a0, a1, true);
+    PictureGeometry g;
+    g.t = transform();
+    g.img = g.t.image(pic_w(), pic_h());
+    g.ratio = zoom_ratio();
+    g.a0 = ImVec2(float(f_.area.x), float(f_.area.y));
+    g.a1 = ImVec2(float(f_.area.x + f_.area.w), float(f_.area.y + f_.area.h));
+    g.p0 = ImVec2(float(g.img.x), float(g.img.y));
+    g.p1 = ImVec2(float(g.img.x + g.img.w), float(g.img.y + g.img.h));
+    g.nearest = g.ratio >= 1 - 1e-6;
+    g.comparing = compare_ != Compare::Off && compare_texture_.valid() && compare_made_w_ == f_.film->width() &&
+                  compare_made_h_ == f_.film->height();
+    f_.texture->set_nearest(g.nearest);
+    dl->PushClipRect(g.a0, g.a1, true);
+    draw_picture(dl, g);
+    if (g.ratio >= kGridRatio) draw_pixel_grid(dl, g);
+    draw_region_outline(dl, g);
+    if (const Snapshot* snap = compared(); g.comparing && snap) {
+        const std::string a = "A  snapshot " + std::to_string(snap->id) + "  " + clock_time(snap->time);
+        if (compare_ == Compare::Split) draw_split_labels(dl, g, a);
+        else draw_difference_legend(dl, g, a);
+    }
+    if (!view_.fitted()) draw_zoom_label(dl, g);
+    dl->PopClipRect();
+}
 
-    const bool comparing = compare_ != Compare::Off && compare_texture_.valid() && compare_made_w_ == f_.film->width() &&
-                           compare_made_h_ == f_.film->height();
-    const Snapshot* snap = compared();
-    if (comparing && compare_ == Compare::Difference) {
-        compare_texture_.set_nearest(nearest);
-        dl->AddImage(compare_texture_.id(), p0, p1);
-    } else if (comparing && compare_ == Compare::Split) {
-        compare_texture_.set_nearest(nearest);
-        float sx = float(img.x + split_ * img.w);
-        dl->PushClipRect(a0, ImVec2(std::max(a0.x, std::min(sx, a1.x)), a1.y), true);
-        dl->AddImage(compare_texture_.id(), p0, p1);
+// The live picture; or, comparing, the difference image, or snapshot | live either
+// side of the split line.
+void ImageTools::draw_picture(ImDrawList* dl, const PictureGeometry& g) {
+    FilmTexture& texture = *f_.texture;
+    if (g.comparing && compare_ == Compare::Difference) {
+        compare_texture_.set_nearest(g.nearest);
+        dl->AddImage(compare_texture_.id(), g.p0, g.p1);
+    } else if (g.comparing && compare_ == Compare::Split) {
+        compare_texture_.set_nearest(g.nearest);
+        float sx = float(g.img.x + split_ * g.img.w);
+        dl->PushClipRect(g.a0, ImVec2(std::max(g.a0.x, std::min(sx, g.a1.x)), g.a1.y), true);
+        dl->AddImage(compare_texture_.id(), g.p0, g.p1);
         dl->PopClipRect();
-        dl->PushClipRect(ImVec2(std::min(a1.x, std::max(sx, a0.x)), a0.y), a1, true);
-        dl->AddImage(texture.id(), p0, p1);
+        dl->PushClipRect(ImVec2(std::min(g.a1.x, std::max(sx, g.a0.x)), g.a0.y), g.a1, true);
+        dl->AddImage(texture.id(), g.p0, g.p1);
         dl->PopClipRect();
     } else {
-        dl->AddImage(texture.id(), p0, p1);
+        dl->AddImage(texture.id(), g.p0, g.p1);
     }
+}
 
-    // Pixel grid at high zoom.
-    if (ratio >= kGridRatio) {
-        std::array<int, 4> v = visible_pixels(t, f_.area, pic_w(), pic_h());
-        ImU32 c = rgba(128, 128, 128, 110);
-        for (int x = v[0]; x <= v[2]; ++x) {
-            float wx = float(t.to_window_x(x));
-            dl->AddLine(ImVec2(wx, float(std::max(img.y, f_.area.y))), ImVec2(wx, float(std::min(img.y + img.h, f_.area.y + f_.area.h))), c);
-        }
-        for (int y = v[1]; y <= v[3]; ++y) {
-            float wy = float(t.to_window_y(y));
-            dl->AddLine(ImVec2(float(std::max(img.x, f_.area.x)), wy), ImVec2(float(std::min(img.x + img.w, f_.area.x + f_.area.w)), wy), c);
-        }
+// Lines between the picture's pixels, at high zoom.
+void ImageTools::draw_pixel_grid(ImDrawList* dl, const PictureGeometry& g) {
+    const ViewTransform& t = g.t;
+    const Rect& img = g.img;
+    std::array<int, 4> v = visible_pixels(t, f_.area, pic_w(), pic_h());
+    ImU32 c = rgba(128, 128, 128, 110);
+    for (int x = v[0]; x <= v[2]; ++x) {
+        float wx = float(t.to_window_x(x));
+        dl->AddLine(ImVec2(wx, float(std::max(img.y, f_.area.y))), ImVec2(wx, float(std::min(img.y + img.h, f_.area.y + f_.area.h))), c);
     }
+    for (int y = v[1]; y <= v[3]; ++y) {
+        float wy = float(t.to_window_y(y));
+        dl->AddLine(ImVec2(float(std::max(img.x, f_.area.x)), wy), ImVec2(float(std::min(img.x + img.w, f_.area.x + f_.area.w)), wy), c);
+    }
+}
 
+// The region with its label, and the rectangle being dragged.
+void ImageTools::draw_region_outline(ImDrawList* dl, const PictureGeometry& g) {
+    const ViewTransform& t = g.t;
     const float fs = ImGui::GetFontSize();
-    // The region, and the rectangle being dragged.
     auto outline = [&](const PixelRect& r, ImU32 colour) {
         ImVec2 q0(float(t.to_window_x(r.x0)), float(t.to_window_y(r.y0))), q1(float(t.to_window_x(r.x1)), float(t.to_window_y(r.y1)));
         dl->AddRect(ImVec2(q0.x - 1, q0.y - 1), ImVec2(q1.x + 1, q1.y + 1), rgba(0, 0, 0, 200), 0, 0, 3);
@@ -457,46 +488,48 @@ void ImageTools::draw() {
         PixelRect r = region_from_drag(t, pic_w(), pic_h(), drag_x_, drag_y_, io.MousePos.x, io.MousePos.y);
         if (!r.empty()) outline(r, rgba(255, 255, 255));
     }
+}
 
-    // A/B labels and the split line.
-    if (comparing && snap) {
-        const std::string a = "A  snapshot " + std::to_string(snap->id) + "  " + clock_time(snap->time);
-        if (compare_ == Compare::Split) {
-            float sx = float(img.x + split_ * img.w);
-            dl->AddLine(ImVec2(sx, std::max(p0.y, a0.y)), ImVec2(sx, std::min(p1.y, a1.y)), rgba(0, 0, 0, 220), 4);
-            dl->AddLine(ImVec2(sx, std::max(p0.y, a0.y)), ImVec2(sx, std::min(p1.y, a1.y)), rgba(255, 255, 255), 2);
-            float top = std::max(p0.y, a0.y) + fs * 0.5f;
-            ImVec2 asz = ImGui::CalcTextSize(a.c_str());
-            label(dl, ImVec2(sx - asz.x - fs * 0.6f, top), a);
-            label(dl, ImVec2(sx + fs * 0.6f, top), "B  live");
-        } else {
-            char buf[160];
-            std::snprintf(buf, sizeof buf, "|A - B| x %d   max %.4g   mean %.3g   %zu pixels differ", 1 << diff_scale_log2_,
-                          diff_stats_.max_abs, diff_stats_.mean_abs, diff_stats_.differing);
-            float top = std::max(p0.y, a0.y) + fs * 0.5f;
-            label(dl, ImVec2(std::max(p0.x, a0.x) + fs * 0.5f, top), a + "  vs  live");
-            // The scale: black (no difference) to white (1 / scale or more).
-            float by = top + fs * 1.8f, bx = std::max(p0.x, a0.x) + fs * 0.5f;
-            label(dl, ImVec2(bx, by), buf);
-            float gy = by + fs * 1.6f, gw = fs * 10;
-            dl->AddRectFilledMultiColor(ImVec2(bx, gy), ImVec2(bx + gw, gy + fs * 0.7f), rgba(0, 0, 0), rgba(255, 255, 255),
-                                        rgba(255, 255, 255), rgba(0, 0, 0));
-            dl->AddRect(ImVec2(bx - 1, gy - 1), ImVec2(bx + gw + 1, gy + fs * 0.7f + 1), rgba(128, 128, 128));
-            char end[32];
-            std::snprintf(end, sizeof end, "%.3g", 1.0 / (1 << diff_scale_log2_));
-            label(dl, ImVec2(bx + gw + fs * 0.6f, gy - fs * 0.15f), std::string("0 .. ") + end);
-        }
-    }
+// The split line, "A  snapshot ..." left of it and "B  live" right of it.
+void ImageTools::draw_split_labels(ImDrawList* dl, const PictureGeometry& g, const std::string& a) {
+    const float fs = ImGui::GetFontSize();
+    float sx = float(g.img.x + split_ * g.img.w);
+    dl->AddLine(ImVec2(sx, std::max(g.p0.y, g.a0.y)), ImVec2(sx, std::min(g.p1.y, g.a1.y)), rgba(0, 0, 0, 220), 4);
+    dl->AddLine(ImVec2(sx, std::max(g.p0.y, g.a0.y)), ImVec2(sx, std::min(g.p1.y, g.a1.y)), rgba(255, 255, 255), 2);
+    float top = std::max(g.p0.y, g.a0.y) + fs * 0.5f;
+    ImVec2 asz = ImGui::CalcTextSize(a.c_str());
+    label(dl, ImVec2(sx - asz.x - fs * 0.6f, top), a);
+    label(dl, ImVec2(sx + fs * 0.6f, top), "B  live");
+}
 
-    // Zoom, when not fitted.
-    if (!view_.fitted()) {
-        char buf[48];
-        if (std::fabs(ratio - 1) < 1e-6) std::snprintf(buf, sizeof buf, "1:1");
-        else std::snprintf(buf, sizeof buf, "%.0f%%", ratio * 100);
-        ImVec2 sz = ImGui::CalcTextSize(buf);
-        label(dl, ImVec2(a1.x - sz.x - fs * 0.6f, a1.y - sz.y - fs * 0.6f), buf);
-    }
-    dl->PopClipRect();
+// What the difference image compares, its statistics and its scale: black (no
+// difference) to white (1 / scale or more).
+void ImageTools::draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a) {
+    const float fs = ImGui::GetFontSize();
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "|A - B| x %d   max %.4g   mean %.3g   %zu pixels differ", 1 << diff_scale_log2_,
+                  diff_stats_.max_abs, diff_stats_.mean_abs, diff_stats_.differing);
+    float top = std::max(g.p0.y, g.a0.y) + fs * 0.5f;
+    label(dl, ImVec2(std::max(g.p0.x, g.a0.x) + fs * 0.5f, top), a + "  vs  live");
+    float by = top + fs * 1.8f, bx = std::max(g.p0.x, g.a0.x) + fs * 0.5f;
+    label(dl, ImVec2(bx, by), buf);
+    float gy = by + fs * 1.6f, gw = fs * 10;
+    dl->AddRectFilledMultiColor(ImVec2(bx, gy), ImVec2(bx + gw, gy + fs * 0.7f), rgba(0, 0, 0), rgba(255, 255, 255),
+                                rgba(255, 255, 255), rgba(0, 0, 0));
+    dl->AddRect(ImVec2(bx - 1, gy - 1), ImVec2(bx + gw + 1, gy + fs * 0.7f + 1), rgba(128, 128, 128));
+    char end[32];
+    std::snprintf(end, sizeof end, "%.3g", 1.0 / (1 << diff_scale_log2_));
+    label(dl, ImVec2(bx + gw + fs * 0.6f, gy - fs * 0.15f), std::string("0 .. ") + end);
+}
+
+// The zoom in the area's corner, when not fitted.
+void ImageTools::draw_zoom_label(ImDrawList* dl, const PictureGeometry& g) {
+    const float fs = ImGui::GetFontSize();
+    char buf[48];
+    if (std::fabs(g.ratio - 1) < 1e-6) std::snprintf(buf, sizeof buf, "1:1");
+    else std::snprintf(buf, sizeof buf, "%.0f%%", g.ratio * 100);
+    ImVec2 sz = ImGui::CalcTextSize(buf);
+    label(dl, ImVec2(g.a1.x - sz.x - fs * 0.6f, g.a1.y - sz.y - fs * 0.6f), buf);
 }
 
 // ---------------------------------------------------------------------------------
@@ -504,6 +537,21 @@ void ImageTools::draw() {
 
 void ImageTools::draw_panel() {
     ImGui::PushID("picture-tools");
+    draw_display_controls();
+    ImGui::Separator();
+    draw_zoom_controls();
+    ImGui::Separator();
+    draw_compare_controls();
+    draw_snapshot_list();
+    ImGui::Separator();
+    draw_region_controls();
+    ImGui::Separator();
+    if (ImGui::Button("Render to file... (Ctrl+R)") && f_.scene) open_render_dialog();
+    ImGui::PopID();
+}
+
+// Exposure, tone curve and the clipped-pixel overlay.
+void ImageTools::draw_display_controls() {
     float ex = float(display_.exposure);
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 10);
     if (ImGui::SliderFloat("exposure (stops)", &ex, -10, 10, "%+.1f")) display_.exposure = std::round(ex * 10) / 10;
@@ -517,8 +565,9 @@ void ImageTools::draw_panel() {
     if (ImGui::RadioButton("soft (T)", curve == 1)) display_.curve = ToneCurve::Soft;
     ImGui::Checkbox("mark clipped pixels (O)", &display_.show_clipped);
     hint("+ / - one stop, 0 resets. Display only: saved images are unchanged.");
+}
 
-    ImGui::Separator();
+void ImageTools::draw_zoom_controls() {
     double ratio = zoom_ratio();
     if (view_.fitted()) ImGui::Text("zoom: fit (%.0f%%)", ratio * 100);
     else ImGui::Text("zoom: %.0f%%%s", ratio * 100, std::fabs(ratio - 1) < 1e-6 ? " (1:1)" : "");
@@ -528,8 +577,10 @@ void ImageTools::draw_panel() {
     if (ImGui::SmallButton("1:1 (1)"))
         view_.one_to_one(f_.area, pic_w(), pic_h(), f_.fb_scale, f_.area.x + f_.area.w / 2, f_.area.y + f_.area.h / 2);
     hint("Ctrl+wheel zooms about the cursor, Ctrl+right drag pans the picture.");
+}
 
-    ImGui::Separator();
+// "Keep snapshot", the compare mode and the difference image's scale.
+void ImageTools::draw_compare_controls() {
     if (ImGui::Button("Keep snapshot (K)")) keep_snapshot();
     int mode = int(compare_);
     ImGui::TextUnformatted("compare (B):");
@@ -551,6 +602,10 @@ void ImageTools::draw_panel() {
         ImGui::SameLine();
         ImGui::Text("(x %d)", 1 << diff_scale_log2_);
     }
+}
+
+// The kept snapshots, newest first: click one to compare with it, x removes it.
+void ImageTools::draw_snapshot_list() {
     const Snapshot* current = compared();
     int remove = 0;
     for (auto it = snapshots_.list().rbegin(); it != snapshots_.list().rend(); ++it) {
@@ -575,8 +630,9 @@ void ImageTools::draw_panel() {
     if (snapshots_.list().empty()) hint("No snapshots: K keeps the picture to compare with later.");
     else ImGui::TextDisabled("%zu kept, %.0f MB of %.0f MB", snapshots_.list().size(), snapshots_.bytes() / 1048576.0,
                              snapshots_.max_bytes() / 1048576.0);
+}
 
-    ImGui::Separator();
+void ImageTools::draw_region_controls() {
     if (region_active()) {
         ImGui::Text("region %d,%d - %d,%d (%dx%d), %d spp", region_rect_.x0, region_rect_.y0, region_rect_.x1,
                     region_rect_.y1, region_rect_.width(), region_rect_.height(), region_.samples());
@@ -585,9 +641,6 @@ void ImageTools::draw_panel() {
     } else {
         hint("Ctrl+drag in the picture: refine only that region.");
     }
-    ImGui::Separator();
-    if (ImGui::Button("Render to file... (Ctrl+R)") && f_.scene) open_render_dialog();
-    ImGui::PopID();
 }
 
 void ImageTools::file_menu_items() {

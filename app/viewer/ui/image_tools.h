@@ -22,6 +22,8 @@
 #include "ui_settings.h"
 #include "viewport.h"
 
+struct ImDrawList;
+
 namespace rtview {
 
 // What the picture tools need from the app each frame.
@@ -114,6 +116,20 @@ private:
     void set_exposure(double stops);
     void set_ui_scale(double scale);
     void set_compare(int mode);
+    // draw() in steps, along the overlays it draws.
+    struct PictureGeometry;
+    void draw_picture(ImDrawList* dl, const PictureGeometry& g);
+    void draw_pixel_grid(ImDrawList* dl, const PictureGeometry& g);
+    void draw_region_outline(ImDrawList* dl, const PictureGeometry& g);
+    void draw_split_labels(ImDrawList* dl, const PictureGeometry& g, const std::string& a);
+    void draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a);
+    void draw_zoom_label(ImDrawList* dl, const PictureGeometry& g);
+    // draw_panel() in steps, along its sections.
+    void draw_display_controls();
+    void draw_zoom_controls();
+    void draw_compare_controls();
+    void draw_snapshot_list();
+    void draw_region_controls();
     void update_readout();
     void update_compare();
     void start_region(const PixelRect& r);

@@ -520,7 +520,6 @@ void Panels::draw_properties() {
 // what the panel offers is what the format has. A change goes through set_field, so the
 // parser's ranges apply; a refused value leaves the item as it was and says why.
 void Panels::draw_fields(const ItemRef& ref) {
-    namespace sc = rt::schema;
     Document& doc = editor_.doc();
     const std::vector<Field> fields = item_fields(doc.scene(), ref);
     // Room for the longest label, whatever the UI scale.
@@ -534,73 +533,82 @@ void Panels::draw_fields(const ItemRef& ref) {
         std::optional<FieldValue> cur = field_value(doc.scene(), ref, f);
         if (!cur) continue;
         FieldValue v = *cur;
-        bool changed = false;
         ImGui::PushID(f.label.c_str());
         ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
-        switch (f.kind) {
-            case sc::Kind::Number: {
-                const float speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
-                changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, speed, nullptr, nullptr, "%.6g");
-                if (ImGui::IsItemHovered()) ImGui::SetTooltip("Drag, or Ctrl+click to type a value");
-                break;
-            }
-            case sc::Kind::Vec3: {
-                if (ref.item.kind == SceneItem::Kind::Light && f.key == "colour") {
-                    changed = light_colour_editor(v.vec);
-                    break;
-                }
-                changed = drag_vec3(f.label.c_str(), v.vec, size * 0.002f, vec_format);
-                break;
-            }
-            case sc::Kind::Integer: {
-                changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, 1.0f, nullptr, nullptr, "%.0f");
-                break;
-            }
-            case sc::Kind::Choice: {
-                const std::string now(f.choice->word_for(v.choice));
-                if (ImGui::BeginCombo(f.label.c_str(), choice_label(f.key, now).c_str())) {
-                    std::vector<int> seen;
-                    for (const sc::Choice::Word& w : f.choice->words) {
-                        if (std::find(seen.begin(), seen.end(), w.value) != seen.end()) continue;
-                        seen.push_back(w.value);
-                        if (ImGui::Selectable(choice_label(f.key, w.word).c_str(), w.value == v.choice) && w.value != v.choice) {
-                            v.choice = w.value;
-                            changed = true;
-                        }
-                    }
-                    ImGui::EndCombo();
-                }
-                break;
-            }
-            case sc::Kind::Material: {
-                ImGui::Separator();
-                ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
-                changed = material_editor(f.label.c_str(), v.material);
-                break;
-            }
-            case sc::Kind::Operand: {
-                // A CSG's operands: select one to edit its keys (also in the outline).
-                const int side = operand++;
-                std::string b = f.label + ": " + (v.operand ? sc::object_block(*v.operand).name.data() : "-");
-                if (v.operand && ImGui::Button((b + " (edit)").c_str())) {
-                    selection_.path.push_back(side);
-                    scroll_to_selection_ = true;
-                }
-                break;
-            }
-        }
+        const bool changed = draw_field(ref, f, v, size, vec_format, operand);
         ImGui::PopItemWidth();
         if (changed) {
-            FieldResult r = set_field(doc, ref, f, v);
-            if (!r.error.empty()) field_message_ = {selection_, f.label, r.error, true};
+            const FieldResult r = set_field(doc, ref, f, v);
+            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true};
             // (A material's own warning is shown by its editor already.)
-            else if (!r.warning.empty() && f.kind != sc::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
+            else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
             else if (field_message_.field == f.label) field_message_ = {};
         }
         if (field_message_.field == f.label && !field_message_.text.empty())
             wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
         ImGui::PopID();
     }
+}
+
+// The widget of one field of the kind the schema gives it, editing `v`; true if it
+// changed. `size`: the scene's extent (drag speeds); `operand` counts a CSG's operands.
+bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float size, const char* vec_format,
+                        int& operand) {
+    namespace sc = rt::schema;
+    bool changed = false;
+    switch (f.kind) {
+        case sc::Kind::Number: {
+            const float speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
+            changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, speed, nullptr, nullptr, "%.6g");
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("Drag, or Ctrl+click to type a value");
+            break;
+        }
+        case sc::Kind::Vec3: {
+            if (ref.item.kind == SceneItem::Kind::Light && f.key == "colour") {
+                changed = light_colour_editor(v.vec);
+                break;
+            }
+            changed = drag_vec3(f.label.c_str(), v.vec, size * 0.002f, vec_format);
+            break;
+        }
+        case sc::Kind::Integer: {
+            changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, 1.0f, nullptr, nullptr, "%.0f");
+            break;
+        }
+        case sc::Kind::Choice: {
+            const std::string now(f.choice->word_for(v.choice));
+            if (ImGui::BeginCombo(f.label.c_str(), choice_label(f.key, now).c_str())) {
+                std::vector<int> seen;
+                for (const sc::Choice::Word& w : f.choice->words) {
+                    if (std::find(seen.begin(), seen.end(), w.value) != seen.end()) continue;
+                    seen.push_back(w.value);
+                    if (ImGui::Selectable(choice_label(f.key, w.word).c_str(), w.value == v.choice) && w.value != v.choice) {
+                        v.choice = w.value;
+                        changed = true;
+                    }
+                }
+                ImGui::EndCombo();
+            }
+            break;
+        }
+        case sc::Kind::Material: {
+            ImGui::Separator();
+            ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
+            changed = material_editor(f.label.c_str(), v.material);
+            break;
+        }
+        case sc::Kind::Operand: {
+            // A CSG's operands: select one to edit its keys (also in the outline).
+            const int side = operand++;
+            std::string b = f.label + ": " + (v.operand ? sc::object_block(*v.operand).name.data() : "-");
+            if (v.operand && ImGui::Button((b + " (edit)").c_str())) {
+                selection_.path.push_back(side);
+                scroll_to_selection_ = true;
+            }
+            break;
+        }
+    }
+    return changed;
 }
 
 // A light's colour is an intensity (often >> 1 because of the 1/r^2 fall-off): its three

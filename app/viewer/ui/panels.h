@@ -59,6 +59,7 @@ private:
     void draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label);
     void draw_properties();
     void draw_fields(const ItemRef& ref);
+    bool draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float size, const char* vec_format, int& operand);
     bool light_colour_editor(rt::Vec3& colour);
     static std::string choice_label(std::string_view key, std::string_view word);
     float field_label_width();
