@@ -552,8 +552,8 @@ void Bvh::build(const std::vector<Aabb>& boxes, int threads) {
     Builder b{recs, n, spare};
     bin.emplace_back();
     b.build(bin, 0, 0, std::uint32_t(n), bounds[0], centres[0], 0);
-    items.resize(n);
-    for (std::size_t i = 0; i < n; ++i) items[i] = recs[i].id;
+    items.reserve(n);  // (not resized: its zero fill would be a second pass)
+    for (std::size_t i = 0; i < n; ++i) items.push_back(recs[i].id);
     rec_mem.reset();
     collapse(bin, nodes, nodes8, threads > 1);
 }
