@@ -639,7 +639,20 @@ private:
     // Read in place: an Object is ~200 bytes, and big scenes hold millions.
     void thing_item() {
         std::vector<Object>& objects = out_.scene.objects;
+        if (objects.size() >= populated_) populate_ahead(objects);
         if (!object(objects.emplace_back())) objects.pop_back();
+    }
+    // The first-touch faults of the next objects' pages, taken in one call for a few
+    // MB of them: cheaper than one fault at a time as the objects are written.
+    void populate_ahead(const std::vector<Object>& objects) {
+        constexpr std::size_t kAhead = 16384;  // objects (about 3 MB)
+        const std::size_t n = std::min(kAhead, objects.capacity() - objects.size());
+        if (objects.size() < kAhead || n == 0) {  // small files: not worth a call
+            populated_ = objects.size() + kAhead;
+            return;
+        }
+        populate_pages(objects.data() + objects.size(), n * sizeof(Object));
+        populated_ = objects.size() + n;
     }
 
     // Reads one object (its name is the next token). False if it was unusable.
@@ -757,6 +770,7 @@ private:
     int errors_ = 0;
     int depth_ = 0;  // CSG nesting of the object being read
     std::size_t objects_ = 0;
+    std::size_t populated_ = 0;  // objects.size() at which populate_ahead is next called
     bool camera_seen_ = false, size_seen_ = false;
     ItemState camera_keys_, size_keys_;  // keys accumulate over repeated sections
     SourceLoc camera_loc_, size_loc_;
