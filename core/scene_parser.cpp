@@ -97,6 +97,8 @@ struct Piece {
     std::size_t counted = 0;
     std::size_t end = 0;
     // The helper's line map, which has scanned past the main reading's: handed on.
+    // It counts lines from the one holding `start` (the objects' lines too, until the
+    // main reading, which knows that line's number, takes them).
     LineMap lines{std::string_view()};
 };
 
@@ -108,7 +110,7 @@ public:
     }
     // A helper reading `piece`.
     Parser(std::string_view text, const ParseOptions& opt, ParseResult& out, Piece& piece)
-        : lex_(text, piece.start), lines_(text), opt_(opt), out_(out), piece_(&piece) {}
+        : lex_(text, piece.start), lines_(text, piece.start), opt_(opt), out_(out), piece_(&piece) {}
 
     void run(std::vector<std::unique_ptr<Piece>> pieces = {}) {
         pieces_ = std::move(pieces);
@@ -187,20 +189,32 @@ private:
             // them went over the limit, it reports that itself.
             if (p.end == p.start || objects_ + p.counted > Limits::max_objects) continue;
             std::vector<Object>& objects = out_.scene.objects;
-            if (objects.capacity() - objects.size() >= p.objects.size())
-                // Fresh pages for the moved objects: their faults are taken on two threads.
-                populate_pages_on_two_threads(
+            if (objects.capacity() - objects.size() < p.objects.size())
+                objects.reserve(objects.size() + std::max(objects.size(), p.objects.size()));
+            // Fresh pages for the moved objects: their faults are taken on two threads.
+            populate_pages_on_two_threads(
                     reinterpret_cast<const void*>(std::uintptr_t(objects.data()) + objects.size() * sizeof(Object)),
                     p.objects.size() * sizeof(Object));
-            objects.insert(objects.end(), std::make_move_iterator(p.objects.begin()),
-                           std::make_move_iterator(p.objects.end()));
+            const int first_line = loc_of(p.start).line;
+            for (Object& o : p.objects) {
+                to_true_lines(o, first_line);
+                objects.push_back(std::move(o));
+            }
             out_.objects_read_ahead += p.objects.size();
             std::vector<Object>().swap(p.objects);
             objects_ += p.counted;
             lex_.seek(p.end);
-            lines_ = std::move(p.lines);
+            lines_.rebase(std::move(p.lines), first_line);
         }
         next_start_ = kNone;
+    }
+
+    // An object a helper read, with lines counted from its piece's first line, which
+    // is the text's line first_line.
+    static void to_true_lines(Object& o, int first_line) {
+        o.loc.line += first_line - 1;
+        if (Csg* c = std::get_if<Csg>(&o.shape))
+            for (Object& operand : c->operands) to_true_lines(operand, first_line);
     }
 
     void wait_for(Piece& p) {
