@@ -12,6 +12,7 @@
 #include <memory>
 #include <new>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 
 namespace rt {
@@ -34,6 +35,40 @@ constexpr double kObjectCost = 2.0;
 constexpr std::size_t kSmallScene = 4096;
 // Subtrees of at least this many items may be built on another thread.
 constexpr std::uint32_t kParallelItems = 4096;
+
+// Nodes of at least this many items are binned in two halves side by side when a
+// thread is spare (the root and the first levels, before the subtrees fill the threads).
+constexpr std::uint32_t kParallelBinItems = 1u << 16;
+
+// f(0) here and f(1) on another thread when `two` and a thread can be had; else f(0)
+// then f(1). An exception from either is rethrown here once both have ended.
+template <class F>
+void two_ways(bool two, F&& f) {
+    std::thread t;
+    std::exception_ptr failed;
+    if (two) {
+        try {
+            t = std::thread([&] {
+                try {
+                    f(1);
+                } catch (...) {
+                    failed = std::current_exception();
+                }
+            });
+        } catch (const std::system_error&) {
+            // No thread: both parts here.
+        }
+    }
+    try {
+        f(0);
+        if (!t.joinable()) f(1);
+    } catch (...) {
+        if (t.joinable()) t.join();
+        throw;
+    }
+    if (t.joinable()) t.join();
+    if (failed) std::rethrow_exception(failed);
+}
 
 }  // namespace
 
@@ -77,6 +112,25 @@ struct Bins {
     Aabb box[3][kBins];
 #endif
     std::uint32_t count[3][kBins] = {};
+    // Adds the items of `o`. Only the sign of a zero bound may differ from binning all
+    // items in one pass (NaN never enters a bin), and no use of the bins tells the two
+    // zeros apart.
+    void merge(const Bins& o) {
+        for (int axis = 0; axis < 3; ++axis)
+            for (int k = 0; k < kBins; ++k) {
+#if defined(__SSE2__)
+                Box& b = box[axis][k];
+                const Box& c = o.box[axis][k];
+                b.lo01 = _mm_min_pd(c.lo01, b.lo01);
+                b.lo2 = _mm_min_sd(c.lo2, b.lo2);
+                b.hi01 = _mm_max_pd(c.hi01, b.hi01);
+                b.hi2 = _mm_max_sd(c.hi2, b.hi2);
+#else
+                box[axis][k].grow(o.box[axis][k]);
+#endif
+                count[axis][k] += o.count[axis][k];
+            }
+    }
     Aabb at(int axis, int k) const {
 #if defined(__SSE2__)
         return box[axis][k].aabb();
@@ -86,21 +140,132 @@ struct Bins {
     }
 };
 
+// One item as the build moves it: its box, its centre and its index. The items of a
+// node lie side by side and are partitioned in place, so every pass over a node reads
+// memory in order (not through an index into a million boxes).
+struct Rec {
+    Aabb box;
+    Vec3 c;
+    std::uint32_t id;
+    // (&c.x)[axis]: Vec3's operator[] is a chain of branches.
+    double centre(int axis) const { return (&c.x)[axis]; }
+};
+
+// The bin of centre coordinate c (NaN goes to bin 0).
+inline int bin_of(double c, double lo, double scale) {
+    const int k = int((c - lo) * scale);
+    return k < 0 ? 0 : k > kBins - 1 ? kBins - 1 : k;
+}
+
+// The split a node's bins chose: axis -1 if none (binning could not separate them).
+struct Split {
+    int axis = -1;
+    int bin = -1;      // the last bin on the left
+    double cost = DBL_MAX;  // the children's area times count, summed
+};
+
+// The bins of items [begin, end) on each axis where their centroid bounds have extent.
+void fill_bins(const Rec* recs, std::uint32_t begin, std::uint32_t end, const Aabb& cb, Bins& bins) {
+    Vec3 ext = cb.hi - cb.lo;
+    double lo[3], scale[3];
+    bool use[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        use[axis] = ext[axis] > 0;
+        lo[axis] = cb.lo[axis];
+        scale[axis] = use[axis] ? kBins / ext[axis] : 0.0;
+    }
+#if defined(__SSE2__)
+    // The three bin numbers at once: the same double arithmetic as bin_of, then the
+    // clamp to 0..kBins-1 in 16 bits (the packing saturates; the conversion's
+    // out-of-range value is negative, as in bin_of).
+    const __m128d lo01 = _mm_set_pd(lo[1], lo[0]), lo22 = _mm_set1_pd(lo[2]);
+    const __m128d scale01 = _mm_set_pd(scale[1], scale[0]), scale22 = _mm_set1_pd(scale[2]);
+    const __m128i zero = _mm_setzero_si128(), top = _mm_set1_epi16(kBins - 1);
+    for (const Rec *r = recs + begin, *e = recs + end; r != e; ++r) {
+        const Aabb& box = r->box;
+        const __m128i k01 = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_loadu_pd(&r->c.x), lo01), scale01));
+        const __m128i k22 = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_load1_pd(&r->c.z), lo22), scale22));
+        const __m128i k = _mm_min_epi16(_mm_max_epi16(_mm_packs_epi32(_mm_unpacklo_epi64(k01, k22), zero), zero), top);
+        alignas(16) std::uint16_t ks[8];
+        _mm_store_si128(reinterpret_cast<__m128i*>(ks), k);
+        const __m128d blo01 = _mm_loadu_pd(&box.lo.x), blo2 = _mm_load_sd(&box.lo.z);
+        const __m128d bhi01 = _mm_loadu_pd(&box.hi.x), bhi2 = _mm_load_sd(&box.hi.z);
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!use[axis]) continue;
+            const int kb = ks[axis];
+            Bins::Box& bb = bins.box[axis][kb];
+            // dmin(acc, v) is v < acc ? v : acc, which is minpd(v, acc).
+            bb.lo01 = _mm_min_pd(blo01, bb.lo01);
+            bb.lo2 = _mm_min_sd(blo2, bb.lo2);
+            bb.hi01 = _mm_max_pd(bhi01, bb.hi01);
+            bb.hi2 = _mm_max_sd(bhi2, bb.hi2);
+            ++bins.count[axis][kb];
+        }
+    }
+#else
+    for (const Rec *r = recs + begin, *e = recs + end; r != e; ++r)
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!use[axis]) continue;
+            const int k = bin_of(r->centre(axis), lo[axis], scale[axis]);
+            bins.box[axis][k].grow(r->box);
+            ++bins.count[axis][k];
+        }
+#endif
+}
+
+// The cheapest split between bins on one axis, if cheaper than `best`.
+void sweep(const Bins& bins, int axis, Split& best) {
+    // Empty bins leave the running box and its area as they are: skipping them saves
+    // most of the sweep in small nodes.
+    double left_area[kBins];
+    std::uint32_t left_n[kBins];
+    Aabb acc;
+    double area = 0;
+    std::uint32_t n = 0;
+    for (int k = 0; k < kBins; ++k) {
+        if (bins.count[axis][k] != 0) {
+            acc.grow(bins.at(axis, k));
+            n += bins.count[axis][k];
+            area = acc.area();
+        }
+        left_area[k] = area;
+        left_n[k] = n;
+    }
+    acc = Aabb();
+    area = 0;
+    n = 0;
+    for (int k = kBins - 1; k > 0; --k) {
+        if (bins.count[axis][k] != 0) {
+            acc.grow(bins.at(axis, k));
+            n += bins.count[axis][k];
+            area = acc.area();
+        }
+        if (left_n[k - 1] == 0 || n == 0) continue;
+        double cost = left_area[k - 1] * left_n[k - 1] + area * n;
+        if (cost < best.cost) best = {axis, k - 1, cost};
+    }
+}
+
+// A node's items split in two, with each side's bounds and centroid bounds.
+struct Halves {
+    std::uint32_t mid;
+    Aabb lb, lcb, rb, rcb;
+};
+
 struct Builder {
-    const std::vector<Aabb>& boxes;
-    const Vec3* centres;
-    std::vector<std::uint32_t>& items;
+    Rec* recs;
+    std::size_t total;  // items in the whole tree
     // Threads that may still be started for subtrees (all but the caller's).
     std::atomic<int>& spare;
 
     Aabb range_bounds(std::uint32_t begin, std::uint32_t end) const {
         Aabb b;
-        for (std::uint32_t i = begin; i < end; ++i) b.grow(boxes[items[i]]);
+        for (std::uint32_t i = begin; i < end; ++i) b.grow(recs[i].box);
         return b;
     }
     Aabb range_centres(std::uint32_t begin, std::uint32_t end) const {
         Aabb b;
-        for (std::uint32_t i = begin; i < end; ++i) b.grow(centres[items[i]]);
+        for (std::uint32_t i = begin; i < end; ++i) b.grow(recs[i].c);
         return b;
     }
 
@@ -111,6 +276,70 @@ struct Builder {
         return false;
     }
 
+    // The bins of items [begin, end), big ones in two halves side by side.
+    void bin_items(std::uint32_t begin, std::uint32_t end, const Aabb& cb, Bins& bins) {
+        if (end - begin < kParallelBinItems || !take_thread()) return fill_bins(recs, begin, end, cb, bins);
+        const std::uint32_t mid = begin + (end - begin) / 2;
+        Bins upper;
+        try {
+            two_ways(true, [&](int part) {
+                if (part == 0) fill_bins(recs, begin, mid, cb, bins);
+                else fill_bins(recs, mid, end, cb, upper);
+            });
+        } catch (...) {
+            spare.fetch_add(1, std::memory_order_relaxed);
+            throw;
+        }
+        spare.fetch_add(1, std::memory_order_relaxed);
+        bins.merge(upper);
+    }
+
+    // Moves the items of bins <= s.bin on s.axis before the others; the children's
+    // bounds are unions of bins, their centroid bounds taken on the way (min and max
+    // are exact: the unions equal the bounds taken item by item).
+    Halves partition_bins(std::uint32_t begin, std::uint32_t end, const Aabb& cb, const Bins& bins,
+                          const Split& s) {
+        Halves h;
+        const int axis = s.axis;
+        const double lo = cb.lo[axis], scale = kBins / (cb.hi[axis] - cb.lo[axis]);
+        // (std::partition applies the predicate exactly once per item.)
+#if defined(__SSE2__)
+        Bins::Box cbox[2];  // right, left: grown as Aabb::grow would (see Bins::Box)
+        Rec* it = std::partition(recs + begin, recs + end, [&](const Rec& r) {
+            const bool left = bin_of(r.centre(axis), lo, scale) <= s.bin;
+            Bins::Box& a = cbox[left];
+            const __m128d c01 = _mm_loadu_pd(&r.c.x), c2 = _mm_load_sd(&r.c.z);
+            a.lo01 = _mm_min_pd(c01, a.lo01);
+            a.lo2 = _mm_min_sd(c2, a.lo2);
+            a.hi01 = _mm_max_pd(c01, a.hi01);
+            a.hi2 = _mm_max_sd(c2, a.hi2);
+            return left;
+        });
+        h.lcb = cbox[1].aabb();
+        h.rcb = cbox[0].aabb();
+#else
+        Rec* it = std::partition(recs + begin, recs + end, [&](const Rec& r) {
+            const bool left = bin_of(r.centre(axis), lo, scale) <= s.bin;
+            (left ? h.lcb : h.rcb).grow(r.c);
+            return left;
+        });
+#endif
+        h.mid = std::uint32_t(it - recs);
+        for (int k = 0; k < kBins; ++k) (k <= s.bin ? h.lb : h.rb).grow(bins.at(axis, k));
+        return h;
+    }
+
+    // The median split on `axis`, for items binning could not separate.
+    Halves partition_median(std::uint32_t begin, std::uint32_t end, int axis) {
+        Halves h;
+        h.mid = begin + (end - begin) / 2;
+        std::nth_element(recs + begin, recs + h.mid, recs + end,
+                         [&](const Rec& a, const Rec& c) { return a.centre(axis) < c.centre(axis); });
+        h.lb = range_bounds(begin, h.mid), h.lcb = range_centres(begin, h.mid);
+        h.rb = range_bounds(h.mid, end), h.rcb = range_centres(h.mid, end);
+        return h;
+    }
+
     // The subtree over items [begin, end), whose bounds are b and centroid bounds cb, in
     // preorder: out[node] (already allocated, the last element) is its root, its left
     // child follows at node + 1, its right child after the left subtree. The tree does
@@ -119,155 +348,84 @@ struct Builder {
     void build(std::vector<BinNode>& out, std::uint32_t node, std::uint32_t begin, std::uint32_t end, const Aabb& b,
                const Aabb& cb, int depth) {
         to_float_box(b, out[node].b);
-        std::uint32_t count = end - begin;
+        const std::uint32_t count = end - begin;
         auto make_leaf = [&] {
             out[node].first = begin;
             out[node].count = count;
         };
-        if (count == 1 || (count <= kMaxLeaf && items.size() > kSmallScene)) return make_leaf();
-        Vec3 ext = cb.hi - cb.lo;
-        int longest = ext.x > ext.y ? (ext.x > ext.z ? 0 : 2) : (ext.y > ext.z ? 1 : 2);
-        std::uint32_t mid = begin;
+        if (count == 1 || (count <= kMaxLeaf && total > kSmallScene)) return make_leaf();
         // Best split over the bins of all three axes, binned in one pass over the items.
-        double best = DBL_MAX;
-        int best_axis = -1, split = -1;
+        Split s;
         Bins bins;
         if (depth < kMaxSahDepth) {
-            double lo[3], scale[3];
-            bool use[3];
-            for (int axis = 0; axis < 3; ++axis) {
-                use[axis] = ext[axis] > 0;
-                lo[axis] = cb.lo[axis];
-                scale[axis] = use[axis] ? kBins / ext[axis] : 0.0;
-            }
-            for (std::uint32_t i = begin; i < end; ++i) {
-                std::uint32_t item = items[i];
-                const Vec3& c = centres[item];
-                const Aabb& box = boxes[item];
-#if defined(__SSE2__)
-                __m128d lo01 = _mm_loadu_pd(&box.lo.x), lo2 = _mm_load_sd(&box.lo.z);
-                __m128d hi01 = _mm_loadu_pd(&box.hi.x), hi2 = _mm_load_sd(&box.hi.z);
-#endif
-                for (int axis = 0; axis < 3; ++axis) {
-                    if (!use[axis]) continue;
-                    int k = std::min(std::max(int((c[axis] - lo[axis]) * scale[axis]), 0), kBins - 1);
-#if defined(__SSE2__)
-                    Bins::Box& bb = bins.box[axis][k];
-                    // dmin(acc, v) is v < acc ? v : acc, which is minpd(v, acc).
-                    bb.lo01 = _mm_min_pd(lo01, bb.lo01);
-                    bb.lo2 = _mm_min_sd(lo2, bb.lo2);
-                    bb.hi01 = _mm_max_pd(hi01, bb.hi01);
-                    bb.hi2 = _mm_max_sd(hi2, bb.hi2);
-#else
-                    bins.box[axis][k].grow(box);
-#endif
-                    ++bins.count[axis][k];
-                }
-            }
-            for (int axis = 0; axis < 3; ++axis) {
-                if (!use[axis]) continue;
-                // Empty bins leave the running box and its area as they are: skipping
-                // them saves most of the sweep in small nodes.
-                double left_area[kBins];
-                std::uint32_t left_n[kBins];
-                Aabb acc;
-                double area = 0;
-                std::uint32_t n = 0;
-                for (int k = 0; k < kBins; ++k) {
-                    if (bins.count[axis][k] != 0) {
-                        acc.grow(bins.at(axis, k));
-                        n += bins.count[axis][k];
-                        area = acc.area();
-                    }
-                    left_area[k] = area;
-                    left_n[k] = n;
-                }
-                acc = Aabb();
-                area = 0;
-                n = 0;
-                for (int k = kBins - 1; k > 0; --k) {
-                    if (bins.count[axis][k] != 0) {
-                        acc.grow(bins.at(axis, k));
-                        n += bins.count[axis][k];
-                        area = acc.area();
-                    }
-                    if (left_n[k - 1] == 0 || n == 0) continue;
-                    double cost = left_area[k - 1] * left_n[k - 1] + area * n;
-                    if (cost < best) best = cost, best_axis = axis, split = k - 1;
-                }
-            }
+            bin_items(begin, end, cb, bins);
+            Vec3 ext = cb.hi - cb.lo;
+            for (int axis = 0; axis < 3; ++axis)
+                if (ext[axis] > 0) sweep(bins, axis, s);
         }
-        int axis = best_axis >= 0 ? best_axis : longest;
-        Aabb lb, lcb, rb, rcb;
-        bool known = false;  // the children's bounds came from the bins
-        if (best_axis >= 0) {
+        Halves h{begin, {}, {}, {}, {}};
+        if (s.axis >= 0) {
             // Small leaves are allowed only when splitting would cost more: a box test
             // costs about half an object test.
             double leaf_cost = kObjectCost * b.area() * count;
-            double split_cost = b.area() + kObjectCost * best;
+            double split_cost = b.area() + kObjectCost * s.cost;
             if (count <= kMaxLeaf && !(split_cost < leaf_cost)) return make_leaf();
-            double lo = cb.lo[axis], scale = kBins / ext[axis];
-            // (std::partition applies the predicate exactly once per item.)
-            auto it = std::partition(items.begin() + begin, items.begin() + end, [&](std::uint32_t item) {
-                const Vec3& c = centres[item];
-                bool left = std::min(std::max(int((c[axis] - lo) * scale), 0), kBins - 1) <= split;
-                (left ? lcb : rcb).grow(c);
-                return left;
-            });
-            mid = std::uint32_t(it - items.begin());
-            for (int k = 0; k < kBins; ++k) (k <= split ? lb : rb).grow(bins.at(axis, k));
-            known = true;
+            h = partition_bins(begin, end, cb, bins, s);
         } else if (count <= kMaxLeaf) {
             return make_leaf();
         }
-        if (mid == begin || mid == end) {
-            mid = begin + count / 2;
-            std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                             [&](std::uint32_t a, std::uint32_t c) { return centres[a][axis] < centres[c][axis]; });
-            known = false;
+        if (h.mid == begin || h.mid == end) {
+            Vec3 ext = cb.hi - cb.lo;
+            int longest = ext.x > ext.y ? (ext.x > ext.z ? 0 : 2) : (ext.y > ext.z ? 1 : 2);
+            h = partition_median(begin, end, s.axis >= 0 ? s.axis : longest);
         }
-        if (!known) {
-            lb = range_bounds(begin, mid), lcb = range_centres(begin, mid);
-            rb = range_bounds(mid, end), rcb = range_centres(mid, end);
-        }
-        if (end - begin >= kParallelItems && take_thread()) {
-            // The right subtree on a thread of its own, into its own array; the left one
-            // here, in place after this node as in the serial order; then the right one
-            // is copied in after it.
-            std::vector<BinNode> right(1);
-            right.reserve(2 * std::size_t(end - mid));
-            std::exception_ptr failed;
-            std::thread t([&] {
-                try {
-                    build(right, 0, mid, end, rb, rcb, depth + 1);
-                } catch (...) {
-                    failed = std::current_exception();
-                }
-                spare.fetch_add(1, std::memory_order_relaxed);
-            });
-            try {
-                std::uint32_t left = std::uint32_t(out.size());
-                out.emplace_back();
-                build(out, left, begin, mid, lb, lcb, depth + 1);
-            } catch (...) {
-                t.join();
-                throw;
-            }
-            t.join();
-            if (failed) std::rethrow_exception(failed);
-            out[node].first = std::uint32_t(out.size());
-            out[node].count = 0;
-            splice(out, right);
-            return;
-        }
+        out[node].count = 0;
+        if (count >= kParallelItems && take_thread())
+            build_apart(out, node, begin, end, h, depth + 1);
+        else
+            build_here(out, node, begin, end, h, depth + 1);
+    }
+
+    // Both children after node, one after the other.
+    void build_here(std::vector<BinNode>& out, std::uint32_t node, std::uint32_t begin, std::uint32_t end,
+                    const Halves& h, int depth) {
         std::uint32_t left = std::uint32_t(out.size());
         out.emplace_back();
-        build(out, left, begin, mid, lb, lcb, depth + 1);
+        build(out, left, begin, h.mid, h.lb, h.lcb, depth);
         std::uint32_t right = std::uint32_t(out.size());
         out.emplace_back();
-        build(out, right, mid, end, rb, rcb, depth + 1);
+        build(out, right, h.mid, end, h.rb, h.rcb, depth);
         out[node].first = right;
-        out[node].count = 0;
+    }
+
+    // The right subtree on a thread of its own, into its own array; the left one here,
+    // in place after node as in the serial order; then the right one is copied in
+    // after it.
+    void build_apart(std::vector<BinNode>& out, std::uint32_t node, std::uint32_t begin, std::uint32_t end,
+                     const Halves& h, int depth) {
+        std::vector<BinNode> right(1);
+        right.reserve(2 * std::size_t(end - h.mid));
+        std::exception_ptr failed;
+        std::thread t([&] {
+            try {
+                build(right, 0, h.mid, end, h.rb, h.rcb, depth);
+            } catch (...) {
+                failed = std::current_exception();
+            }
+            spare.fetch_add(1, std::memory_order_relaxed);
+        });
+        try {
+            std::uint32_t left = std::uint32_t(out.size());
+            out.emplace_back();
+            build(out, left, begin, h.mid, h.lb, h.lcb, depth);
+        } catch (...) {
+            t.join();
+            throw;
+        }
+        t.join();
+        if (failed) std::rethrow_exception(failed);
+        out[node].first = std::uint32_t(out.size());
+        splice(out, right);
     }
 
     // Appends a subtree built with its root at index 0, moving its inner nodes' child
@@ -335,47 +493,69 @@ struct Collapser {
     }
 };
 
+// The 4-wide tree and, for the AVX2 path, the 8-wide one, from the binary tree; the
+// two side by side when `two_threads`.
+void collapse(const std::vector<BinNode>& bin, std::vector<BvhNode>& nodes, std::vector<BvhNode8>& nodes8,
+              bool two_threads) {
+    const bool wide = active_isa() == Isa::Avx2;
+    two_ways(two_threads && wide, [&](int part) {
+        if (part == 0) {
+            nodes.reserve(bin.size() / 3 + 1);
+            Collapser<BvhNode, 4>{bin, nodes}.make(0);
+            nodes.shrink_to_fit();
+        } else if (wide) {
+            nodes8.reserve(bin.size() / 7 + 1);
+            Collapser<BvhNode8, 8>{bin, nodes8}.make(0);
+            nodes8.shrink_to_fit();
+        }
+    });
+}
+
 }  // namespace
 
 void Bvh::build(const std::vector<Aabb>& boxes, int threads) {
     nodes.clear();
     nodes8.clear();
     items.clear();
-    std::size_t n = 0;
-    for (const Aabb& b : boxes) n += !b.empty();
+    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    // The boxes in two halves side by side: first the non-empty ones counted, then
+    // their records made.
+    const bool two = threads > 1 && boxes.size() >= kParallelBinItems;
+    const std::size_t parts[3] = {0, boxes.size() / 2, boxes.size()};
+    std::size_t kept[2] = {0, 0};
+    two_ways(two, [&](int p) {
+        for (std::size_t i = parts[p]; i < parts[p + 1]; ++i) kept[p] += !boxes[i].empty();
+    });
+    const std::size_t n = kept[0] + kept[1];
     if (n == 0) return;
     if (n >= BvhNode::kMaxItems) throw std::length_error("too many objects for the BVH");
-    items.reserve(n);
-    // Centres are read only for the items kept; the others stay unwritten (malloc,
-    // not a vector: its zero fill would touch every page before the real values do).
-    std::unique_ptr<Vec3, void (*)(void*)> centre_mem(static_cast<Vec3*>(std::malloc(boxes.size() * sizeof(Vec3))),
-                                                   std::free);
-    if (!centre_mem) throw std::bad_alloc();
-    Vec3* centres = centre_mem.get();
-    Aabb root, root_c;
-    for (std::uint32_t i = 0; i < boxes.size(); ++i) {
-        if (boxes[i].empty()) continue;
-        items.push_back(i);
-        centres[i] = boxes[i].centre();
-        root.grow(boxes[i]);
-        root_c.grow(centres[i]);
-    }
+    // malloc, not a vector: its zero fill would touch every page before the real
+    // values do.
+    std::unique_ptr<Rec, void (*)(void*)> rec_mem(static_cast<Rec*>(std::malloc(n * sizeof(Rec))), std::free);
+    if (!rec_mem) throw std::bad_alloc();
+    Rec* recs = rec_mem.get();
+    Aabb bounds[2], centres[2];  // per half (unions as exact as one pass: see Bins::merge)
+    two_ways(two, [&](int p) {
+        Rec* r = recs + (p == 0 ? 0 : kept[0]);
+        for (std::size_t i = parts[p]; i < parts[p + 1]; ++i) {
+            if (boxes[i].empty()) continue;
+            *r = {boxes[i], boxes[i].centre(), std::uint32_t(i)};
+            bounds[p].grow(boxes[i]);
+            centres[p].grow(r++->c);
+        }
+    });
+    bounds[0].grow(bounds[1]);
+    centres[0].grow(centres[1]);
     std::vector<BinNode> bin;
-    bin.reserve(2 * items.size() + 1);
-    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    bin.reserve(2 * n + 1);
     std::atomic<int> spare{threads - 1};
-    Builder b{boxes, centres, items, spare};
+    Builder b{recs, n, spare};
     bin.emplace_back();
-    b.build(bin, 0, 0, std::uint32_t(items.size()), root, root_c, 0);
-    nodes.reserve(bin.size() / 3 + 1);
-    Collapser<BvhNode, 4>{bin, nodes}.make(0);
-    nodes.shrink_to_fit();
-    nodes8.clear();
-    if (active_isa() == Isa::Avx2) {
-        nodes8.reserve(bin.size() / 7 + 1);
-        Collapser<BvhNode8, 8>{bin, nodes8}.make(0);
-        nodes8.shrink_to_fit();
-    }
+    b.build(bin, 0, 0, std::uint32_t(n), bounds[0], centres[0], 0);
+    items.reserve(n);  // (not resized: its zero fill would be a second pass)
+    for (std::size_t i = 0; i < n; ++i) items.push_back(recs[i].id);
+    rec_mem.reset();
+    collapse(bin, nodes, nodes8, threads > 1);
 }
 
 }  // namespace rt

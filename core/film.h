@@ -2,6 +2,9 @@
 // layer that coarse passes fill until the first full-resolution sample arrives.
 #pragma once
 
+#include <sys/mman.h>
+
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
@@ -30,28 +33,38 @@ inline std::uint8_t to_byte(double c) {
     return static_cast<std::uint8_t>(static_cast<int>(v));
 }
 
-// A zero-filled array of numbers. Its memory comes from calloc, so a big one is
-// mapped lazily: its pages are touched first by the threads that fill them, not all
-// up front by the one that allocates it.
+// A zero-filled array of numbers. A big one is mapped straight from the system, so
+// its pages are zero without anyone writing them, and touched first by the threads
+// that fill them: not all up front by the one that allocates it. (calloc would do so
+// only while the allocator hands big blocks back to the system; a program that keeps
+// freed memory for reuse gets them memset.) Small ones come from calloc.
 template <class T>
 class ZeroedArray {
     static_assert(std::is_arithmetic_v<T>, "all-zero bytes must mean the value 0");
+    static constexpr std::size_t kMapBytes = std::size_t(1) << 20;
 
 public:
     ZeroedArray() = default;
     explicit ZeroedArray(std::size_t n) { reset(n); }
     ZeroedArray(const ZeroedArray&) = delete;
     ZeroedArray& operator=(const ZeroedArray&) = delete;
-    ~ZeroedArray() { std::free(p_); }
+    ~ZeroedArray() { release(); }
 
     // n zeros; the old contents are dropped.
     void reset(std::size_t n) {
-        std::free(p_);
-        p_ = nullptr;
-        n_ = 0;
+        release();
         if (n == 0) return;
-        p_ = static_cast<T*>(std::calloc(n, sizeof(T)));
-        if (!p_) throw std::bad_alloc();
+        if (n > std::size_t(-1) / sizeof(T)) throw std::bad_alloc();
+        const std::size_t bytes = n * sizeof(T);
+        if (bytes >= kMapBytes) {
+            void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+            if (p == MAP_FAILED) throw std::bad_alloc();
+            p_ = static_cast<T*>(p);
+            mapped_ = true;
+        } else {
+            p_ = static_cast<T*>(std::calloc(n, sizeof(T)));
+            if (!p_) throw std::bad_alloc();
+        }
         n_ = n;
     }
     std::size_t size() const { return n_; }
@@ -66,8 +79,16 @@ public:
     const T* end() const { return p_ + n_; }
 
 private:
+    void release() {
+        if (mapped_) ::munmap(p_, n_ * sizeof(T));
+        else std::free(p_);
+        p_ = nullptr;
+        n_ = 0;
+        mapped_ = false;
+    }
     T* p_ = nullptr;
     std::size_t n_ = 0;
+    bool mapped_ = false;
 };
 
 struct Film {

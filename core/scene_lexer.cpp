@@ -177,6 +177,23 @@ void LineMap::scan_to(std::size_t offset) {
     }
 }
 
+LineMap::LineMap(std::string_view text, std::size_t start) : text_(text) {
+    start = std::min(start, text.size());
+    std::size_t line_start = start;
+    while (line_start > 0 && !is_line_end(text, line_start - 1)) --line_start;
+    cur_ = {start, line_start, 1};
+}
+
+void LineMap::rebase(LineMap&& later, int first_line) {
+    const int shift = first_line - 1;
+    for (Mark m : later.checkpoints_) {
+        m.line += shift;
+        if (checkpoints_.empty() || checkpoints_.back().offset < m.offset) checkpoints_.push_back(m);
+    }
+    cur_ = later.cur_;
+    cur_.line += shift;
+}
+
 LineCol LineMap::at(std::size_t offset) {
     offset = std::min(offset, text_.size());
     if (offset < cur_.offset) {

@@ -69,7 +69,13 @@ std::size_t offset_at(std::string_view text, int line, int col);
 class LineMap {
 public:
     explicit LineMap(std::string_view text) : text_(text) {}
+    // Counting lines from the one holding `start` as line 1 (columns stay true): for
+    // a reader that starts in the middle and learns the true line later (rebase).
+    LineMap(std::string_view text, std::size_t start);
     LineCol at(std::size_t offset);
+    // Continues with `later`, a map started further on (at or after everything this
+    // one has scanned) whose line 1 is this text's line first_line.
+    void rebase(LineMap&& later, int first_line);
 
 private:
     struct Mark {

@@ -98,6 +98,8 @@ struct Piece {
     std::size_t counted = 0;
     std::size_t end = 0;
     // The helper's line map, which has scanned past the main reading's: handed on.
+    // It counts lines from the one holding `start` (the objects' lines too, until the
+    // main reading, which knows that line's number, takes them).
     LineMap lines{std::string_view()};
 };
 
@@ -109,7 +111,7 @@ public:
     }
     // A helper reading `piece`.
     Parser(std::string_view text, const ParseOptions& opt, ParseResult& out, Piece& piece)
-        : lex_(text, piece.start), lines_(text), opt_(opt), out_(out), piece_(&piece) {}
+        : lex_(text, piece.start), lines_(text, piece.start), opt_(opt), out_(out), piece_(&piece) {}
 
     void run(std::vector<std::unique_ptr<Piece>> pieces = {}) {
         pieces_ = std::move(pieces);
@@ -188,20 +190,32 @@ private:
             // them went over the limit, it reports that itself.
             if (p.end == p.start || objects_ + p.counted > Limits::max_objects) continue;
             std::vector<Object>& objects = out_.scene.objects;
-            if (objects.capacity() - objects.size() >= p.objects.size())
-                // Fresh pages for the moved objects: their faults are taken on two threads.
-                populate_pages_on_two_threads(
+            if (objects.capacity() - objects.size() < p.objects.size())
+                objects.reserve(objects.size() + std::max(objects.size(), p.objects.size()));
+            // Fresh pages for the moved objects: their faults are taken on two threads.
+            populate_pages_on_two_threads(
                     reinterpret_cast<const void*>(std::uintptr_t(objects.data()) + objects.size() * sizeof(Object)),
                     p.objects.size() * sizeof(Object));
-            objects.insert(objects.end(), std::make_move_iterator(p.objects.begin()),
-                           std::make_move_iterator(p.objects.end()));
+            const int first_line = loc_of(p.start).line;
+            for (Object& o : p.objects) {
+                to_true_lines(o, first_line);
+                objects.push_back(std::move(o));
+            }
             out_.objects_read_ahead += p.objects.size();
             std::vector<Object>().swap(p.objects);
             objects_ += p.counted;
             lex_.seek(p.end);
-            lines_ = std::move(p.lines);
+            lines_.rebase(std::move(p.lines), first_line);
         }
         next_start_ = kNone;
+    }
+
+    // An object a helper read, with lines counted from its piece's first line, which
+    // is the text's line first_line.
+    static void to_true_lines(Object& o, int first_line) {
+        o.loc.line += first_line - 1;
+        if (Csg* c = std::get_if<Csg>(&o.shape))
+            for (Object& operand : c->operands) to_true_lines(operand, first_line);
     }
 
     void wait_for(Piece& p) {
@@ -640,7 +654,20 @@ private:
     // Read in place: an Object is ~200 bytes, and big scenes hold millions.
     void thing_item() {
         std::vector<Object>& objects = out_.scene.objects;
+        if (objects.size() >= populated_) populate_ahead(objects);
         if (!object(objects.emplace_back())) objects.pop_back();
+    }
+    // The first-touch faults of the next objects' pages, taken in one call for a few
+    // MB of them: cheaper than one fault at a time as the objects are written.
+    void populate_ahead(const std::vector<Object>& objects) {
+        constexpr std::size_t kAhead = 16384;  // objects (about 3 MB)
+        const std::size_t n = std::min(kAhead, objects.capacity() - objects.size());
+        if (objects.size() < kAhead || n == 0) {  // small files: not worth a call
+            populated_ = objects.size() + kAhead;
+            return;
+        }
+        populate_pages(objects.data() + objects.size(), n * sizeof(Object));
+        populated_ = objects.size() + n;
     }
 
     // Reads one object (its name is the next token). False if it was unusable.
@@ -758,6 +785,7 @@ private:
     int errors_ = 0;
     int depth_ = 0;  // CSG nesting of the object being read
     std::size_t objects_ = 0;
+    std::size_t populated_ = 0;  // objects.size() at which populate_ahead is next called
     bool camera_seen_ = false, size_seen_ = false;
     ItemState camera_keys_, size_keys_;  // keys accumulate over repeated sections
     SourceLoc camera_loc_, size_loc_;

@@ -828,106 +828,127 @@ std::shared_ptr<const World> compile_world(const Scene& scene, std::shared_ptr<c
 
 namespace {
 
-std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
-                                          std::vector<ShadeMaterial> materials, const World* previous) {
-    auto w = std::make_shared<World>();
-    w->geometry = std::move(geometry);
-    w->materials = std::move(materials);
+// The planes' and lights' shading data, and which lights have glow discs.
+void add_planes_and_lights(World& w, const Scene& scene) {
     for (const Plane& p : scene.planes) {
-        w->planes.push_back(PlaneShape::from(p));
-        w->plane_mats.push_back(ShadeMaterial::from(p.material));
-        w->plane_mats.push_back(ShadeMaterial::from(p.chess ? p.material2 : p.material));
+        w.planes.push_back(PlaneShape::from(p));
+        w.plane_mats.push_back(ShadeMaterial::from(p.material));
+        w.plane_mats.push_back(ShadeMaterial::from(p.chess ? p.material2 : p.material));
     }
     for (const Light& l : scene.lights) {
-        if (l.lamp && l.size > 0) w->glows.push_back(std::uint32_t(w->lights.size()));
-        w->lights.push_back({l.position, l.colour, l.lamp && l.size > 0 ? l.size : 0.0});
+        if (l.lamp && l.size > 0) w.glows.push_back(std::uint32_t(w.lights.size()));
+        w.lights.push_back({l.position, l.colour, l.lamp && l.size > 0 ? l.size : 0.0});
     }
-    if (w->glows.size() >= kGlowBvhMin) {
-        bool same = previous && previous->glow_bvh && previous->glows == w->glows;
-        for (std::size_t k = 0; same && k < w->glows.size(); ++k) {
-            const ShadeLight &a = w->lights[w->glows[k]], &b = previous->lights[previous->glows[k]];
-            same = a.position == b.position && a.glow == b.glow;
-        }
-        if (same) {
-            w->glow_bvh = previous->glow_bvh;
-        } else {
-            std::vector<Aabb> boxes;
-            boxes.reserve(w->glows.size());
-            for (std::uint32_t i : w->glows) {
-                const ShadeLight& l = w->lights[i];
-                Vec3 e{l.glow, l.glow, l.glow};
-                boxes.push_back({l.position - e, l.position + e});
+}
+
+// The BVH of many glow discs: the previous world's if its discs are the same.
+void add_glow_bvh(World& w, const World* previous) {
+    if (w.glows.size() < kGlowBvhMin) return;
+    bool same = previous && previous->glow_bvh && previous->glows == w.glows;
+    for (std::size_t k = 0; same && k < w.glows.size(); ++k) {
+        const ShadeLight &a = w.lights[w.glows[k]], &b = previous->lights[previous->glows[k]];
+        same = a.position == b.position && a.glow == b.glow;
+    }
+    if (same) {
+        w.glow_bvh = previous->glow_bvh;
+        return;
+    }
+    std::vector<Aabb> boxes;
+    boxes.reserve(w.glows.size());
+    for (std::uint32_t i : w.glows) {
+        const ShadeLight& l = w.lights[i];
+        Vec3 e{l.glow, l.glow, l.glow};
+        boxes.push_back({l.position - e, l.position + e});
+    }
+    auto bvh = std::make_shared<Bvh>();
+    bvh->build(boxes);
+    w.glow_bvh = std::move(bvh);
+}
+
+// A light buffer around each point of `todo`, each on its own, on as many threads as
+// there are (a big scene's take tens of milliseconds each; a small one's,
+// microseconds on this thread).
+std::vector<LightBuffer> build_light_buffers(const std::vector<Aabb>& boxes, const std::vector<Vec3>& todo,
+                                             int cells_n) {
+    std::vector<LightBuffer> made(todo.size());
+    std::atomic<std::size_t> next{0};
+    auto work = [&] {
+        for (std::size_t i; (i = next++) < todo.size();) made[i] = LightBuffer::build(boxes, todo[i], cells_n);
+    };
+    std::size_t threads = boxes.size() < 4096 ? 1 : std::min<std::size_t>(todo.size(), std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<std::thread> pool;
+    std::exception_ptr failed;
+    std::mutex failed_mutex;
+    for (std::size_t t = 1; t < threads; ++t)
+        pool.emplace_back([&] {
+            try {
+                work();
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(failed_mutex);
+                failed = std::current_exception();
             }
-            auto bvh = std::make_shared<Bvh>();
-            bvh->build(boxes);
-            w->glow_bvh = std::move(bvh);
-        }
+        });
+    try {
+        work();
+    } catch (...) {
+        for (std::thread& t : pool) t.join();
+        throw;
     }
-    const std::vector<Aabb>& boxes = w->geometry->object_bounds;
+    for (std::thread& t : pool) t.join();
+    if (failed) std::rethrow_exception(failed);
+    return made;
+}
+
+// The camera's light buffer and the lights', or the previous world's where they serve.
+void add_light_buffers(World& w, const Scene& scene, const World* previous) {
+    const std::vector<Aabb>& boxes = w.geometry->object_bounds;
     // Cells enough that a cell holds a few of the objects it may see.
     const int cells_n = std::clamp(2 * int(std::ceil(std::sqrt(double(boxes.size())))), 64, 256);
-    const bool small = !boxes.empty() && boxes.size() * (w->lights.size() + 1) <= kLightBufferMaxWork;
+    const bool small = !boxes.empty() && boxes.size() * (w.lights.size() + 1) <= kLightBufferMaxWork;
     // The buffers to make: the camera's (index 0) and the lights' (1 + light), unless
     // the previous world's serve.
     std::vector<Vec3> todo;
     std::shared_ptr<const LightBuffer> camera_buffer;
     if (small) {
         // Camera rays all leave from one point too: the same buffer around it serves them.
-        if (previous && previous->camera_buffer && previous->geometry == w->geometry &&
+        if (previous && previous->camera_buffer && previous->geometry == w.geometry &&
             previous->camera_buffer->position == scene.camera.position)
             camera_buffer = previous->camera_buffer;
         else
             todo.push_back(scene.camera.position);
     }
-    bool lights_too = small && !w->lights.empty() &&
-                      (w->lights.size() + 1) * 6 * std::size_t(cells_n) * std::size_t(cells_n) <= kLightBufferMaxCells;
+    bool lights_too = small && !w.lights.empty() &&
+                      (w.lights.size() + 1) * 6 * std::size_t(cells_n) * std::size_t(cells_n) <= kLightBufferMaxCells;
     if (lights_too) {
-        bool same = previous && previous->light_buffers && previous->geometry == w->geometry &&
-                    previous->lights.size() == w->lights.size();
-        for (std::size_t k = 0; same && k < w->lights.size(); ++k)
-            same = w->lights[k].position == previous->lights[k].position;
+        bool same = previous && previous->light_buffers && previous->geometry == w.geometry &&
+                    previous->lights.size() == w.lights.size();
+        for (std::size_t k = 0; same && k < w.lights.size(); ++k)
+            same = w.lights[k].position == previous->lights[k].position;
         if (same) {
-            w->light_buffers = previous->light_buffers;
+            w.light_buffers = previous->light_buffers;
             lights_too = false;
         } else {
-            for (const ShadeLight& l : w->lights) todo.push_back(l.position);
+            for (const ShadeLight& l : w.lights) todo.push_back(l.position);
         }
     }
     if (!todo.empty()) {
-        // Each buffer on its own, on as many threads as there are (a big scene's take
-        // tens of milliseconds each; a small one's, microseconds on this thread).
-        std::vector<LightBuffer> made(todo.size());
-        std::atomic<std::size_t> next{0};
-        auto work = [&] {
-            for (std::size_t i; (i = next++) < todo.size();) made[i] = LightBuffer::build(boxes, todo[i], cells_n);
-        };
-        std::size_t threads = boxes.size() < 4096 ? 1 : std::min<std::size_t>(todo.size(), std::max(1u, std::thread::hardware_concurrency()));
-        std::vector<std::thread> pool;
-        std::exception_ptr failed;
-        std::mutex failed_mutex;
-        for (std::size_t t = 1; t < threads; ++t)
-            pool.emplace_back([&] {
-                try {
-                    work();
-                } catch (...) {
-                    std::lock_guard<std::mutex> lock(failed_mutex);
-                    failed = std::current_exception();
-                }
-            });
-        try {
-            work();
-        } catch (...) {
-            for (std::thread& t : pool) t.join();
-            throw;
-        }
-        for (std::thread& t : pool) t.join();
-        if (failed) std::rethrow_exception(failed);
+        std::vector<LightBuffer> made = build_light_buffers(boxes, todo, cells_n);
         std::size_t k = 0;
         if (small && !camera_buffer) camera_buffer = std::make_shared<const LightBuffer>(std::move(made[k++]));
-        if (lights_too) w->light_buffers = std::make_shared<const std::vector<LightBuffer>>(
+        if (lights_too) w.light_buffers = std::make_shared<const std::vector<LightBuffer>>(
                             std::make_move_iterator(made.begin() + std::ptrdiff_t(k)), std::make_move_iterator(made.end()));
     }
-    w->camera_buffer = std::move(camera_buffer);
+    w.camera_buffer = std::move(camera_buffer);
+}
+
+std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
+                                          std::vector<ShadeMaterial> materials, const World* previous) {
+    auto w = std::make_shared<World>();
+    w->geometry = std::move(geometry);
+    w->materials = std::move(materials);
+    add_planes_and_lights(*w, scene);
+    add_glow_bvh(*w, previous);
+    add_light_buffers(*w, scene, previous);
     w->radiance_bound = radiance_bound(*w);
     // Half a display step (1/255 of the unit colour) over the brightest possible return.
     // A world that cannot return any colour (nothing lit, no glow) stops at once.

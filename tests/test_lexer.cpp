@@ -103,6 +103,38 @@ TEST_CASE("lexer: the line map answers look-ups in any order, across its checkpo
     }
 }
 
+TEST_CASE("lexer: a line map started mid-text counts from its first line; rebased, it gives true lines") {
+    rt_test::Rng rng(13);
+    const char* pieces[] = {"a", "bc", " ", "\n", "\r\n", "\r", "\r\r\n", "\n\r", "{", "}"};
+    for (int round = 0; round < 300; ++round) {
+        std::string text;
+        const std::size_t n = rng.index(80);
+        for (std::size_t i = 0; i < n; ++i) text += pieces[rng.index(std::size(pieces))];
+        const std::size_t start = rng.index(text.size() + 1);
+        CAPTURE(text);
+        CAPTURE(start);
+        const LineCol first = walk(text, start);
+        LineMap later(text, start), later_copy(text, start);
+        for (std::size_t off = start; off <= text.size(); ++off) {
+            const LineCol want = walk(text, off), got = later.at(off);
+            CHECK(got.line == want.line - first.line + 1);
+            CHECK(got.col == want.col);
+        }
+        // A reader that went as far as `start`, then takes over the other's map (which
+        // scanned part of the rest): true lines everywhere, in any order.
+        LineMap map(text);
+        map.at(start);
+        later_copy.at(start + rng.index(text.size() - start + 1));
+        map.rebase(std::move(later_copy), first.line);
+        for (int i = 0; i < 40; ++i) {
+            const std::size_t off = rng.index(text.size() + 1);
+            const LineCol want = walk(text, off), got = map.at(off);
+            CHECK(got.line == want.line);
+            CHECK(got.col == want.col);
+        }
+    }
+}
+
 TEST_CASE("numbers: the fast path gives the library's double, bit for bit") {
     rt_test::Rng rng(3);
     const char* fixed[] = {"0",      "-0",     "+0",     "0.0",     "-0.0",    ".5",      "5.",        "1e22",
