@@ -454,6 +454,32 @@ inline bool World::shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSear
     return false;
 }
 
+// Whether an opaque plane or a glow disc lies on the shadow ray.
+template <bool kGlowBvh>
+inline bool World::others_block(const ShadowRay& s) const {
+    for (std::uint32_t i = 0; i < planes.size(); ++i) {
+        const PlaneShape& pl = planes[i];
+        double dn = dot(pl.n, s.vh), side = dot(pl.n, s.o) + pl.D;
+        // t = -side / dn is positive only where the signs differ: most rays (a point
+        // and its light on the same side, the ray leaving the plane) end here, before
+        // the division.
+        if (!((side > 0 && dn < 0) || (side < 0 && dn > 0))) continue;
+        double t = -side / dn;
+        if (!(t > 0 && t < s.limit)) continue;
+        // A plane is a window of zero thickness: refractive ones pass light unchanged.
+        if (plane_mats[2 * i + pl.cell(s.o + s.vh * t)].refraction == 0) return true;
+    }
+    if constexpr (kGlowBvh) {
+        return glow_blocks(s.o, s.vh, s.limit);
+    } else {
+        for (std::uint32_t i : glows) {
+            double t;
+            if (glow_hit(lights[i], s.o, s.vh, t) && t > 0 && t < s.limit) return true;
+        }
+        return false;
+    }
+}
+
 // Glow discs are tested one by one, or through their BVH if kGlowBvh.
 template <bool kGlowBvh>
 Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const {
@@ -546,29 +572,6 @@ Colour World::glass_tint(const ShadowRay& s, Colour sh, Ctx& ctx) const {
         return tmax;
     });
     return sh;
-}
-
-// Whether an opaque plane or a glow disc lies on the shadow ray.
-template <bool kGlowBvh>
-bool World::others_block(const ShadowRay& s) const {
-    for (std::uint32_t i = 0; i < planes.size(); ++i) {
-        const PlaneShape& pl = planes[i];
-        double dn = dot(pl.n, s.vh);
-        if (dn == 0) continue;
-        double t = -(dot(pl.n, s.o) + pl.D) / dn;
-        if (!(t > 0 && t < s.limit)) continue;
-        // A plane is a window of zero thickness: refractive ones pass light unchanged.
-        if (plane_mats[2 * i + pl.cell(s.o + s.vh * t)].refraction == 0) return true;
-    }
-    if constexpr (kGlowBvh) {
-        return glow_blocks(s.o, s.vh, s.limit);
-    } else {
-        for (std::uint32_t i : glows) {
-            double t;
-            if (glow_hit(lights[i], s.o, s.vh, t) && t > 0 && t < s.limit) return true;
-        }
-        return false;
-    }
 }
 
 Colour World::walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, double weight,

@@ -179,7 +179,7 @@ private:
     [[gnu::noinline]] bool objects_block_bvh(const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
     [[gnu::noinline]] Colour glass_tint(const ShadowRay& s, Colour sh, Ctx& ctx) const;
     template <bool kGlowBvh>
-    bool others_block(const ShadowRay& s) const;
+    [[gnu::always_inline]] bool others_block(const ShadowRay& s) const;
     Colour walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, double weight,
                 Ctx& ctx) const;
     [[gnu::noinline]] void nearest_glow(const Vec3& o, const Vec3& d, HitRec& h) const;
