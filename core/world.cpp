@@ -480,35 +480,9 @@ inline bool World::others_block(const ShadowRay& s) const {
     }
 }
 
-// Glow discs are tested one by one, or through their BVH if kGlowBvh.
-template <bool kGlowBvh>
-Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const {
-    Colour sum;
-    if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
-    const double p1 = LightBuffer::norm1(p);  // for the light buffers' usable()
-    for (std::size_t li = 0; li < lights.size(); ++li) {
-        const ShadeLight& light = lights[li];
-        Vec3 v = light.position - p;
-        double r2 = dot(v, v);
-        // (Multiplying by reciprocals: a division each would sit on the critical path.)
-        Colour e = r2 > 0 ? light.colour * (1 / r2) : Colour{1, 1, 1};
-        sum += mul(e, cp) * 0.1;
-        double vn = dot(v, n);
-        if (!(vn > 0)) continue;
-        double r = std::sqrt(r2), inv_r = 1 / r;
-        Vec3 vh = v * inv_r;
-        const ShadowRay s{p + vh * kDelta, v, vh, r, r - 10 * kDelta, li};
-        ++ctx.stats->rays;
-        Colour sh{1, 1, 1};
-        if (objects_block(s, p1, sh, ctx) || others_block<kGlowBvh>(s)) continue;
-        sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
-    }
-    return sum;
-}
-
 // Whether an opaque object lies on the shadow ray; if none, `sh` takes the tint of the
 // refractive ones on it. p1: |p|_1 of the ray's start.
-bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const {
+inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const {
     const Geometry& g = *geometry;
     std::uint32_t& blocker = ctx.blocker[s.light];
     if (blocker > 0 && blocker <= materials.size()) {
@@ -548,6 +522,32 @@ bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) c
     // No object blocks this light here: neighbouring points will not try one first.
     blocker = 0;
     return false;
+}
+
+// Glow discs are tested one by one, or through their BVH if kGlowBvh.
+template <bool kGlowBvh>
+Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const {
+    Colour sum;
+    if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
+    const double p1 = LightBuffer::norm1(p);  // for the light buffers' usable()
+    for (std::size_t li = 0; li < lights.size(); ++li) {
+        const ShadeLight& light = lights[li];
+        Vec3 v = light.position - p;
+        double r2 = dot(v, v);
+        // (Multiplying by reciprocals: a division each would sit on the critical path.)
+        Colour e = r2 > 0 ? light.colour * (1 / r2) : Colour{1, 1, 1};
+        sum += mul(e, cp) * 0.1;
+        double vn = dot(v, n);
+        if (!(vn > 0)) continue;
+        double r = std::sqrt(r2), inv_r = 1 / r;
+        Vec3 vh = v * inv_r;
+        const ShadowRay s{p + vh * kDelta, v, vh, r, r - 10 * kDelta, li};
+        ++ctx.stats->rays;
+        Colour sh{1, 1, 1};
+        if (objects_block(s, p1, sh, ctx) || others_block<kGlowBvh>(s)) continue;
+        sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
+    }
+    return sum;
 }
 
 // objects_block() where the light buffer cannot serve: through the BVH.

@@ -175,7 +175,7 @@ private:
     struct ShadowRay;
     struct ShadowSearch;
     bool shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
-    bool objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const;
+    [[gnu::always_inline]] bool objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const;
     [[gnu::noinline]] bool objects_block_bvh(const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
     [[gnu::noinline]] Colour glass_tint(const ShadowRay& s, Colour sh, Ctx& ctx) const;
     template <bool kGlowBvh>
