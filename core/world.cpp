@@ -457,8 +457,8 @@ inline bool World::shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSear
 // Whether an opaque plane or a glow disc lies on the shadow ray.
 template <bool kGlowBvh>
 inline bool World::others_block(const ShadowRay& s) const {
-    for (std::uint32_t i = 0; i < planes.size(); ++i) {
-        const PlaneShape& pl = planes[i];
+    for (auto it = planes.begin(); it != planes.end(); ++it) {
+        const PlaneShape& pl = *it;
         double dn = dot(pl.n, s.vh), side = dot(pl.n, s.o) + pl.D;
         // t = -side / dn is positive only where the signs differ: most rays (a point
         // and its light on the same side, the ray leaving the plane) end here, before
@@ -467,7 +467,7 @@ inline bool World::others_block(const ShadowRay& s) const {
         double t = -side / dn;
         if (!(t > 0 && t < s.limit)) continue;
         // A plane is a window of zero thickness: refractive ones pass light unchanged.
-        if (plane_mats[2 * i + pl.cell(s.o + s.vh * t)].refraction == 0) return true;
+        if (plane_mats[2 * std::size_t(it - planes.begin()) + pl.cell(s.o + s.vh * t)].refraction == 0) return true;
     }
     if constexpr (kGlowBvh) {
         return glow_blocks(s.o, s.vh, s.limit);
@@ -530,8 +530,12 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
     Colour sum;
     if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
     const double p1 = LightBuffer::norm1(p);  // for the light buffers' usable()
-    for (std::size_t li = 0; li < lights.size(); ++li) {
-        const ShadeLight& light = lights[li];
+    // (The count and the array once: the loop's stores might otherwise be taken to
+    // change them.)
+    const ShadeLight* const all = lights.data();
+    const std::size_t count = lights.size();
+    for (std::size_t li = 0; li < count; ++li) {
+        const ShadeLight& light = all[li];
         Vec3 v = light.position - p;
         double r2 = dot(v, v);
         // (Multiplying by reciprocals: a division each would sit on the critical path.)
