@@ -361,8 +361,10 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
     h.kind = HitRec::None;
     h.t = kInf;
     // Planes and glows first: their distance prunes the BVH search.
-    for (std::uint32_t i = 0; i < planes.size(); ++i) {
-        const PlaneShape& p = planes[i];
+    const PlaneShape* const first_plane = planes.data();
+    const std::uint32_t plane_count = std::uint32_t(planes.size());
+    for (std::uint32_t i = 0; i < plane_count; ++i) {
+        const PlaneShape& p = first_plane[i];
         double dn = dot(p.n, d);
         if (dn == 0) continue;
         double t = -(dot(p.n, o) + p.D) / dn;
