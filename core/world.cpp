@@ -529,7 +529,7 @@ inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx&
 // Glow discs are tested one by one, or through their BVH if kGlowBvh.
 template <bool kGlowBvh>
 Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const {
-    Colour sum;
+    Colour sum;  // (returned as a copy: the caller's object would be written every turn)
     if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
     const double p1 = LightBuffer::norm1(p);  // for the light buffers' usable()
     // (The count and the array once: the loop's stores might otherwise be taken to
@@ -553,7 +553,7 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
         if (objects_block(s, p1, sh, ctx) || others_block<kGlowBvh>(s)) continue;
         sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
     }
-    return sum;
+    return Colour{sum.x, sum.y, sum.z};
 }
 
 // objects_block() where the light buffer cannot serve: through the BVH.
