@@ -94,96 +94,72 @@ constexpr std::size_t kLightBufferMaxCells = std::size_t(1) << 24;
 
 inline double norm_inf(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
 
-}  // namespace
+// The cells of one cube face, [i0, i1] x [j0, j1], in which a light may see object `obj`.
+struct CellRange {
+    std::uint32_t obj;
+    float dmin;
+    int face, i0, i1, j0, j1;
+};
 
-LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light, int n) {
-    LightBuffer lb;
-    lb.position = light;
-    auto none = [&] {
-        LightBuffer off;
-        off.position = light;
-        return off;
-    };
-    // Far beyond float range or not finite: the BVH copes; keep to it.
-    if (!(norm_inf(light) < 1e30) || n < 1) return lb;
-    const double tol = 2 * kCellPad / n;  // the padding in face coordinates
-    struct Range {
-        std::uint32_t obj;
-        float dmin;
-        int face, i0, i1, j0, j1;
-    };
-    std::vector<Range> ranges;
-    std::vector<Entry> always;
-    const std::size_t cells = 6 * std::size_t(n) * std::size_t(n);
-    std::vector<std::uint32_t> count(cells + 1, 0);
-    std::size_t total = 0, objects = 0;
-    double near = HUGE_VAL;
-    for (std::uint32_t obj = 0; obj < boxes.size(); ++obj) {
-        const Aabb& b = boxes[obj];
-        if (b.empty()) continue;  // never in the BVH: never hit
-        ++objects;
-        if (!(norm_inf(b.lo) < 1e30 && norm_inf(b.hi) < 1e30)) return none();
-        Vec3 lo = b.lo - light, hi = b.hi - light;
-        double d2 = 0;
-        for (int k = 0; k < 3; ++k) {
-            double e = std::max({lo[k], 0.0, -hi[k]});
-            d2 += e * e;
-        }
-        double dmin = std::sqrt(d2);
-        double scale = std::max({norm_inf(b.lo), norm_inf(b.hi), norm_inf(light)});
-        // Nearer than rounding can tell directions apart (or around the light): every
-        // ray tests it.
-        if (!(dmin > 1e-6 * (scale + 1))) {
-            always.push_back({obj, 0.0f});
-            continue;
-        }
-        near = std::min(near, dmin);
-        // Rounded down, with room for the ray's points being off by rounding.
-        double dm = dmin * (1 - 1e-3);
-        float df = float(dm);
-        if (double(df) > dm) df = std::nextafter(df, 0.0f);
-        std::size_t covered = 0;
-        std::size_t first_range = ranges.size();
-        for (int face = 0; face < 6; ++face) {
-            const int a = face / 2, bx = (a + 1) % 3, cx = (a + 2) % 3;
-            // The box along the face's axis, turned so that the face looks along +a.
-            double a0 = face & 1 ? -hi[a] : lo[a], a1 = face & 1 ? -lo[a] : hi[a];
-            if (!(a1 > 0)) continue;
-            double a0p = std::max(a0, 0.0);
-            // The range of d_k / d_a over the box's part in front of the face: its
-            // extremes are at corners (or unbounded where the box reaches the plane
-            // of the light).
-            auto range = [&](int k, double& u0, double& u1) {
-                double k0 = lo[k], k1 = hi[k];
-                u0 = k0 >= 0 ? k0 / a1 : (a0p > 0 ? k0 / a0p : -HUGE_VAL);
-                u1 = k1 <= 0 ? k1 / a1 : (a0p > 0 ? k1 / a0p : HUGE_VAL);
-            };
-            double u0, u1, w0, w1;
-            range(bx, u0, u1);
-            range(cx, w0, w1);
-            if (u0 > 1 + tol || u1 < -1 - tol || w0 > 1 + tol || w1 < -1 - tol) continue;
-            auto index = [&](double u, double pad) {
-                double x = (std::min(std::max(u, -2.0), 2.0) + 1) * 0.5 * n + pad;
-                return std::min(std::max(int(std::floor(x)), 0), n - 1);
-            };
-            Range r{obj, df, face, index(u0, -kCellPad), index(u1, kCellPad), index(w0, -kCellPad),
+// Appends the cell ranges of the box [lo, hi] (relative to the light) on the faces of
+// an n x n cube map, padded by kCellPad cells on each side (tol = 2 kCellPad / n in
+// face coordinates); returns the cells they cover.
+std::size_t face_ranges(const Vec3& lo, const Vec3& hi, std::uint32_t obj, float dmin, int n, double tol,
+                        std::vector<CellRange>& out) {
+    std::size_t covered = 0;
+    for (int face = 0; face < 6; ++face) {
+        const int a = face / 2, bx = (a + 1) % 3, cx = (a + 2) % 3;
+        // The box along the face's axis, turned so that the face looks along +a.
+        double a0 = face & 1 ? -hi[a] : lo[a], a1 = face & 1 ? -lo[a] : hi[a];
+        if (!(a1 > 0)) continue;
+        double a0p = std::max(a0, 0.0);
+        // The range of d_k / d_a over the box's part in front of the face: its
+        // extremes are at corners (or unbounded where the box reaches the plane
+        // of the light).
+        auto range = [&](int k, double& u0, double& u1) {
+            double k0 = lo[k], k1 = hi[k];
+            u0 = k0 >= 0 ? k0 / a1 : (a0p > 0 ? k0 / a0p : -HUGE_VAL);
+            u1 = k1 <= 0 ? k1 / a1 : (a0p > 0 ? k1 / a0p : HUGE_VAL);
+        };
+        double u0, u1, w0, w1;
+        range(bx, u0, u1);
+        range(cx, w0, w1);
+        if (u0 > 1 + tol || u1 < -1 - tol || w0 > 1 + tol || w1 < -1 - tol) continue;
+        auto index = [&](double u, double pad) {
+            double x = (std::min(std::max(u, -2.0), 2.0) + 1) * 0.5 * n + pad;
+            return std::min(std::max(int(std::floor(x)), 0), n - 1);
+        };
+        CellRange r{obj, dmin, face, index(u0, -kCellPad), index(u1, kCellPad), index(w0, -kCellPad),
                     index(w1, kCellPad)};
-            covered += std::size_t(r.i1 - r.i0 + 1) * std::size_t(r.j1 - r.j0 + 1);
-            ranges.push_back(r);
-        }
-        // One seen in most directions is cheaper tested by every ray than listed.
-        if (covered > cells / 4) {
-            ranges.resize(first_range);
-            always.push_back({obj, df});
-            continue;
-        }
-        total += covered;
-        if (total > kLightBufferMaxEntries * boxes.size() + 8 * cells) return none();
+        covered += std::size_t(r.i1 - r.i0 + 1) * std::size_t(r.j1 - r.j0 + 1);
+        out.push_back(r);
     }
-    if (objects == 0) return none();
-    for (const Range& r : ranges)
+    return covered;
+}
+
+// The least distance from the light (the origin) to the box [lo, hi]; and that, rounded
+// down with room for the ray's points being off by rounding, as a float.
+double origin_distance(const Vec3& lo, const Vec3& hi, float& rounded_down) {
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        double e = std::max({lo[k], 0.0, -hi[k]});
+        d2 += e * e;
+    }
+    double dmin = std::sqrt(d2);
+    double dm = dmin * (1 - 1e-3);
+    rounded_down = float(dm);
+    if (double(rounded_down) > dm) rounded_down = std::nextafter(rounded_down, 0.0f);
+    return dmin;
+}
+
+// The buffer's cells from the ranges (a counting sort), each cell's entries nearest first.
+void fill_cells(LightBuffer& lb, const std::vector<CellRange>& ranges, int n) {
+    const std::size_t cells = 6 * std::size_t(n) * std::size_t(n);
+    auto cell = [n](const CellRange& r, int i, int j) { return (std::size_t(r.face) * n + j) * n + i; };
+    std::vector<std::uint32_t> count(cells + 1, 0);
+    for (const CellRange& r : ranges)
         for (int j = r.j0; j <= r.j1; ++j)
-            for (int i = r.i0; i <= r.i1; ++i) ++count[(std::size_t(r.face) * n + j) * n + i];
+            for (int i = r.i0; i <= r.i1; ++i) ++count[cell(r, i, j)];
     lb.start.resize(cells + 1);
     std::uint32_t sum = 0;
     for (std::size_t c = 0; c < cells; ++c) {
@@ -194,15 +170,63 @@ LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light
     lb.start[cells] = sum;
     lb.entries.resize(sum);
     // In object order within each cell (ranges are made in object order).
-    for (const Range& r : ranges)
+    for (const CellRange& r : ranges)
         for (int j = r.j0; j <= r.j1; ++j)
-            for (int i = r.i0; i <= r.i1; ++i) lb.entries[count[(std::size_t(r.face) * n + j) * n + i]++] = {r.obj, r.dmin};
+            for (int i = r.i0; i <= r.i1; ++i) lb.entries[count[cell(r, i, j)]++] = {r.obj, r.dmin};
     // Nearest boxes first within each cell: a ray stops reading its cell at the first
     // box beyond its reach.
+    using Entry = LightBuffer::Entry;
+    const std::uint32_t* start = lb.start.data();
+    Entry* entries = lb.entries.data();
     for (std::size_t c = 0; c < cells; ++c)
-        if (lb.start[c + 1] - lb.start[c] > 1)
-            std::sort(lb.entries.begin() + lb.start[c], lb.entries.begin() + lb.start[c + 1],
+        if (start[c + 1] - start[c] > 1)
+            std::sort(entries + start[c], entries + start[c + 1],
                       [](const Entry& a, const Entry& b) { return a.dmin < b.dmin || (a.dmin == b.dmin && a.obj < b.obj); });
+}
+
+}  // namespace
+
+LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light, int n) {
+    LightBuffer lb;
+    lb.position = light;
+    lb.position1 = norm1(light);
+    // Far beyond float range or not finite: the BVH copes; keep to it.
+    if (!(norm_inf(light) < 1e30) || n < 1) return lb;
+    const std::size_t cells = 6 * std::size_t(n) * std::size_t(n);
+    const double tol = 2 * kCellPad / n;  // the padding in face coordinates
+    std::vector<CellRange> ranges;
+    std::vector<Entry> always;
+    std::size_t total = 0, objects = 0;
+    double near = HUGE_VAL;
+    for (std::uint32_t obj = 0; obj < boxes.size(); ++obj) {
+        const Aabb& b = boxes[obj];
+        if (b.empty()) continue;  // never in the BVH: never hit
+        ++objects;
+        if (!(norm_inf(b.lo) < 1e30 && norm_inf(b.hi) < 1e30)) return lb;
+        Vec3 lo = b.lo - light, hi = b.hi - light;
+        float df;
+        double dmin = origin_distance(lo, hi, df);
+        double scale = std::max({norm_inf(b.lo), norm_inf(b.hi), norm_inf(light)});
+        // Nearer than rounding can tell directions apart (or around the light): every
+        // ray tests it.
+        if (!(dmin > 1e-6 * (scale + 1))) {
+            always.push_back({obj, 0.0f});
+            continue;
+        }
+        near = std::min(near, dmin);
+        std::size_t first_range = ranges.size();
+        std::size_t covered = face_ranges(lo, hi, obj, df, n, tol, ranges);
+        // One seen in most directions is cheaper tested by every ray than listed.
+        if (covered > cells / 4) {
+            ranges.resize(first_range);
+            always.push_back({obj, df});
+            continue;
+        }
+        total += covered;
+        if (total > kLightBufferMaxEntries * boxes.size() + 8 * cells) return lb;
+    }
+    if (objects == 0) return lb;
+    fill_cells(lb, ranges, n);
     lb.always = std::move(always);
     // How far a ray's points may be off its line, against the nearest listed box:
     // about 8 rounding errors of |p| + |light| + r, which must stay within the padding
@@ -210,26 +234,6 @@ LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light
     lb.reach = near == HUGE_VAL ? HUGE_VAL : tol * near / (16 * 2.3e-16);
     lb.n = n;
     return lb;
-}
-
-void LightBuffer::cell(const Vec3& d, const Entry*& first, const Entry*& last) const {
-    const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
-    // The major axis and the two others in cyclic order, as build() takes them.
-    double da, db, dc;
-    int face;
-    if (ax >= ay && ax >= az) {
-        da = ax, db = d.y, dc = d.z, face = d.x < 0;
-    } else if (ay >= az) {
-        da = ay, db = d.z, dc = d.x, face = 2 + (d.y < 0);
-    } else {
-        da = az, db = d.x, dc = d.y, face = 4 + (d.z < 0);
-    }
-    const double hn = 0.5 * n, k = hn / da;
-    int i = std::min(std::max(int(db * k + hn), 0), n - 1);
-    int j = std::min(std::max(int(dc * k + hn), 0), n - 1);
-    std::size_t c = (std::size_t(face) * n + j) * n + i;
-    first = entries.data() + start[c];
-    last = entries.data() + start[c + 1];
 }
 
 struct World::Ctx {
@@ -357,8 +361,10 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
     h.kind = HitRec::None;
     h.t = kInf;
     // Planes and glows first: their distance prunes the BVH search.
-    for (std::uint32_t i = 0; i < planes.size(); ++i) {
-        const PlaneShape& p = planes[i];
+    const PlaneShape* const first_plane = planes.data();
+    const std::uint32_t plane_count = std::uint32_t(planes.size());
+    for (std::uint32_t i = 0; i < plane_count; ++i) {
+        const PlaneShape& p = first_plane[i];
         double dn = dot(p.n, d);
         if (dn == 0) continue;
         double t = -(dot(p.n, o) + p.D) / dn;
@@ -422,14 +428,116 @@ Colour World::direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) c
     return glow_bvh ? direct_lights<true>(p, n, cp, ctx) : direct_lights<false>(p, n, cp, ctx);
 }
 
+// A shadow ray toward one light: it leaves p a little toward the light, along the unit
+// vh, and must reach `limit` (a little short of the light) unblocked. v = light - p,
+// r = |v|; `light` is the light's index.
+struct World::ShadowRay {
+    Vec3 o, v, vh;
+    double r, limit;
+    std::size_t light;
+};
+
+// The refractive objects met so far by a shadow ray: how many, and the first one.
+struct World::ShadowSearch {
+    std::uint32_t glass = 0, obj = 0;
+    double t = 0;
+};
+
+// Whether object `obj` blocks the shadow ray (and then the light's blocker is it);
+// a refractive one is counted in `found` instead.
+inline bool World::shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const {
+    SpanEnd e;
+    if (!geometry->hit(obj, s.o, s.vh, 0.0, e, ctx.scratch) || !(e.t < s.limit)) return false;
+    if (materials[obj].refraction == 0) {
+        ctx.blocker[s.light] = obj + 1;
+        return true;
+    }
+    if (found.glass++ == 0) found.obj = obj, found.t = e.t;
+    return false;
+}
+
+// Whether an opaque plane or a glow disc lies on the shadow ray.
+template <bool kGlowBvh>
+inline bool World::others_block(const ShadowRay& s) const {
+    for (auto it = planes.begin(); it != planes.end(); ++it) {
+        const PlaneShape& pl = *it;
+        double dn = dot(pl.n, s.vh), side = dot(pl.n, s.o) + pl.D;
+        // t = -side / dn is positive only where the signs differ: most rays (a point
+        // and its light on the same side, the ray leaving the plane) end here, before
+        // the division.
+        if (!((side > 0 && dn < 0) || (side < 0 && dn > 0))) continue;
+        double t = -side / dn;
+        if (!(t > 0 && t < s.limit)) continue;
+        // A plane is a window of zero thickness: refractive ones pass light unchanged.
+        if (plane_mats[2 * std::size_t(it - planes.begin()) + pl.cell(s.o + s.vh * t)].refraction == 0) return true;
+    }
+    if constexpr (kGlowBvh) {
+        return glow_blocks(s.o, s.vh, s.limit);
+    } else {
+        for (std::uint32_t i : glows) {
+            double t;
+            if (glow_hit(lights[i], s.o, s.vh, t) && t > 0 && t < s.limit) return true;
+        }
+        return false;
+    }
+}
+
+// Whether an opaque object lies on the shadow ray; if none, `sh` takes the tint of the
+// refractive ones on it. p1: |p|_1 of the ray's start.
+inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const {
+    const Geometry& g = *geometry;
+    std::uint32_t& blocker = ctx.blocker[s.light];
+    if (blocker > 0 && blocker <= materials.size()) {
+        SpanEnd e;
+        if (materials[blocker - 1].refraction == 0 && g.hit(blocker - 1, s.o, s.vh, 0.0, e, ctx.scratch) &&
+            e.t < s.limit)
+            return true;
+    }
+    // An opaque object on the way blocks the light whatever else lies there, so the
+    // objects may be tested in any order, stopping at the first such one. Refractive
+    // ones tint the light instead: one alone gives its tint; two or more need the
+    // ordered search of glass_tint(), which multiplies their tints in a fixed order (so
+    // that the product rounds the same on every path).
+    ShadowSearch found;
+    const LightBuffer* lb = light_buffers ? &(*light_buffers)[s.light] : nullptr;
+    bool blocked;
+    if (lb && lb->usable(p1, s.r)) {
+        // Only the objects the light sees in this direction, nearer than p.
+        const LightBuffer::Entry *e, *end;
+        lb->cell(-s.v, e, end);
+        blocked = false;
+        for (; e != end && !(double(e->dmin) > s.r) && !blocked; ++e) blocked = shadow_test(e->obj, s, found, ctx);
+        for (auto a = lb->always.begin(); a != lb->always.end() && !blocked; ++a)
+            if (!(double(a->dmin) > s.r)) blocked = shadow_test(a->obj, s, found, ctx);
+    } else {
+        blocked = objects_block_bvh(s, found, ctx);
+    }
+    if (blocked) return true;
+    if (found.glass == 1) {
+        const ShadeMaterial& m = materials[found.obj];
+        SpanEnd x;
+        double len = g.exit(found.obj, s.o + s.vh * found.t, s.vh, x, ctx.scratch) ? x.t : 0.0;
+        sh = mul(sh, tint(m, len * m.refraction));
+    } else if (found.glass > 1) {
+        sh = glass_tint(s, sh, ctx);
+    }
+    // No object blocks this light here: neighbouring points will not try one first.
+    blocker = 0;
+    return false;
+}
+
 // Glow discs are tested one by one, or through their BVH if kGlowBvh.
 template <bool kGlowBvh>
 Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const {
-    const Geometry& g = *geometry;
-    Colour sum;
+    Colour sum;  // (returned as a copy: the caller's object would be written every turn)
     if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
-    const LightBuffer* buffers = light_buffers ? light_buffers->data() : nullptr;
-    for (const ShadeLight& light : lights) {
+    const double p1 = LightBuffer::norm1(p);  // for the light buffers' usable()
+    // (The count and the array once: the loop's stores might otherwise be taken to
+    // change them.)
+    const ShadeLight* const all = lights.data();
+    const std::size_t count = lights.size();
+    for (std::size_t li = 0; li < count; ++li) {
+        const ShadeLight& light = all[li];
         Vec3 v = light.position - p;
         double r2 = dot(v, v);
         // (Multiplying by reciprocals: a division each would sit on the critical path.)
@@ -439,90 +547,37 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
         if (!(vn > 0)) continue;
         double r = std::sqrt(r2), inv_r = 1 / r;
         Vec3 vh = v * inv_r;
-        Vec3 o = p + vh * kDelta;
-        double limit = r - 10 * kDelta;
+        const ShadowRay s{p + vh * kDelta, v, vh, r, r - 10 * kDelta, li};
         ++ctx.stats->rays;
-        std::size_t li = std::size_t(&light - lights.data());
-        std::uint32_t cached = ctx.blocker[li];
-        if (cached > 0 && cached <= materials.size()) {
-            SpanEnd e;
-            if (materials[cached - 1].refraction == 0 && g.hit(cached - 1, o, vh, 0.0, e, ctx.scratch) && e.t < limit)
-                continue;
-        }
         Colour sh{1, 1, 1};
-        // An opaque object on the way blocks the light whatever else lies there, so
-        // the objects may be tested in any order, stopping at the first such one.
-        // Refractive ones tint the light instead: one alone gives its tint; two or
-        // more need the ordered search below, which multiplies their tints in a fixed
-        // order (so that the product rounds the same on every path).
-        std::uint32_t glass = 0, glass_obj = 0;
-        double glass_t = 0;
-        auto test = [&](std::uint32_t obj) -> bool {
-            SpanEnd e;
-            if (!g.hit(obj, o, vh, 0.0, e, ctx.scratch) || !(e.t < limit)) return false;
-            if (materials[obj].refraction == 0) {
-                ctx.blocker[li] = obj + 1;
-                return true;
-            }
-            if (glass++ == 0) glass_obj = obj, glass_t = e.t;
-            return false;
-        };
-        bool blocked = false;
-        const LightBuffer* lb = buffers ? &buffers[li] : nullptr;
-        if (lb && lb->usable(p, r)) {
-            // Only the objects the light sees in this direction, nearer than p.
-            const LightBuffer::Entry *e, *end;
-            lb->cell(-v, e, end);
-            for (; e != end && !blocked && !(double(e->dmin) > r); ++e) blocked = test(e->obj);
-            for (const LightBuffer::Entry& a : lb->always)
-                if (!blocked && !(double(a.dmin) > r)) blocked = test(a.obj);
-        } else {
-            // (The box test takes v and r: its inverse direction r / v is then one
-            // division after the square root instead of two.)
-            blocked = g.bvh.occluded(o, v, r, limit, test);
-        }
-        if (blocked) continue;
-        if (glass == 1) {
-            const ShadeMaterial& m = materials[glass_obj];
-            Vec3 q = o + vh * glass_t;
-            SpanEnd x;
-            double s = g.exit(glass_obj, q, vh, x, ctx.scratch) ? x.t : 0.0;
-            sh = mul(sh, tint(m, s * m.refraction));
-        } else if (glass > 1) {
-            g.bvh.traverse(o, v, r, limit, [&](std::uint32_t obj, double tmax) -> double {
-                SpanEnd e;
-                if (!g.hit(obj, o, vh, 0.0, e, ctx.scratch) || !(e.t < limit)) return tmax;
-                const ShadeMaterial& m = materials[obj];
-                Vec3 q = o + vh * e.t;
-                SpanEnd x;
-                double s = g.exit(obj, q, vh, x, ctx.scratch) ? x.t : 0.0;
-                sh = mul(sh, tint(m, s * m.refraction));
-                return tmax;
-            });
-        }
-        // No object blocks this light here: neighbouring points will not try one first.
-        ctx.blocker[li] = 0;
-        for (std::uint32_t i = 0; i < planes.size() && !blocked; ++i) {
-            const PlaneShape& pl = planes[i];
-            double dn = dot(pl.n, vh);
-            if (dn == 0) continue;
-            double t = -(dot(pl.n, o) + pl.D) / dn;
-            if (!(t > 0 && t < limit)) continue;
-            const ShadeMaterial& m = plane_mats[2 * i + pl.cell(o + vh * t)];
-            // A plane is a window of zero thickness: refractive ones pass light unchanged.
-            if (m.refraction == 0) blocked = true;
-        }
-        if constexpr (kGlowBvh) {
-            if (!blocked) blocked = glow_blocks(o, vh, limit);
-        } else {
-            for (std::uint32_t i : glows) {
-                double t;
-                if (!blocked && glow_hit(lights[i], o, vh, t) && t > 0 && t < limit) blocked = true;
-            }
-        }
-        if (!blocked) sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
+        if (objects_block(s, p1, sh, ctx) || others_block<kGlowBvh>(s)) continue;
+        sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
     }
-    return sum;
+    return Colour{sum.x, sum.y, sum.z};
+}
+
+// objects_block() where the light buffer cannot serve: through the BVH.
+bool World::objects_block_bvh(const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const {
+    // (The box test takes v and r: its inverse direction r / v is then one division
+    // after the square root instead of two.)
+    return geometry->bvh.occluded(s.o, s.v, s.r, s.limit,
+                                  [&](std::uint32_t obj) { return shadow_test(obj, s, found, ctx); });
+}
+
+// `sh` times the tints of all the refractive objects on the shadow ray (none opaque),
+// in the BVH's order.
+Colour World::glass_tint(const ShadowRay& s, Colour sh, Ctx& ctx) const {
+    const Geometry& g = *geometry;
+    g.bvh.traverse(s.o, s.v, s.r, s.limit, [&](std::uint32_t obj, double tmax) -> double {
+        SpanEnd e;
+        if (!g.hit(obj, s.o, s.vh, 0.0, e, ctx.scratch) || !(e.t < s.limit)) return tmax;
+        const ShadeMaterial& m = materials[obj];
+        SpanEnd x;
+        double len = g.exit(obj, s.o + s.vh * e.t, s.vh, x, ctx.scratch) ? x.t : 0.0;
+        sh = mul(sh, tint(m, len * m.refraction));
+        return tmax;
+    });
+    return sh;
 }
 
 Colour World::walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, double weight,

@@ -3,6 +3,7 @@
 // new World that reuses the previous one's BVH.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <chrono>
@@ -61,6 +62,7 @@ struct LightBuffer {
         float dmin;  // no point of the object's box is nearer the light than this
     };
     Vec3 position;
+    double position1 = 0;               // norm1(position)
     int n = 0;                          // cells per face side; 0: no buffer (use the BVH)
     double reach = 0;                   // use it only while |p|_1 + |light|_1 + r <= reach
     std::vector<std::uint32_t> start;   // per cell, its first entry; 6 n n + 1 of them
@@ -69,12 +71,30 @@ struct LightBuffer {
     static LightBuffer build(const std::vector<Aabb>& boxes, const Vec3& light, int n);
     // Whether a shadow ray from p (r from the light) may use the buffer: the rounding
     // of its points stays within the cells' padding.
-    bool usable(const Vec3& p, double r) const {
-        auto norm1 = [](const Vec3& a) { return std::fabs(a.x) + std::fabs(a.y) + std::fabs(a.z); };
-        return n > 0 && norm1(p) + norm1(position) + r <= reach;
-    }
+    bool usable(const Vec3& p, double r) const { return usable(norm1(p), r); }
+    // The same with p1 = norm1(p), for callers that ask for many lights at one point.
+    bool usable(double p1, double r) const { return n > 0 && p1 + position1 + r <= reach; }
+    static double norm1(const Vec3& a) { return std::fabs(a.x) + std::fabs(a.y) + std::fabs(a.z); }
     // The entries of the cell holding direction d (from the light, not zero).
-    void cell(const Vec3& d, const Entry*& first, const Entry*& last) const;
+    void cell(const Vec3& d, const Entry*& first, const Entry*& last) const {
+        const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
+        // The major axis and the two others in cyclic order, as build() takes them.
+        double da, db, dc;
+        int face;
+        if (ax >= ay && ax >= az) {
+            da = ax, db = d.y, dc = d.z, face = d.x < 0;
+        } else if (ay >= az) {
+            da = ay, db = d.z, dc = d.x, face = 2 + (d.y < 0);
+        } else {
+            da = az, db = d.x, dc = d.y, face = 4 + (d.z < 0);
+        }
+        const double hn = 0.5 * n, k = hn / da;
+        int i = std::min(std::max(int(db * k + hn), 0), n - 1);
+        int j = std::min(std::max(int(dc * k + hn), 0), n - 1);
+        std::size_t c = (std::size_t(face) * n + j) * n + i;
+        first = entries.data() + start[c];
+        last = entries.data() + start[c + 1];
+    }
 };
 
 struct TraceOptions {
@@ -152,6 +172,14 @@ private:
     Colour direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
     template <bool kGlowBvh>
     Colour direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
+    struct ShadowRay;
+    struct ShadowSearch;
+    bool shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
+    [[gnu::always_inline]] bool objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const;
+    [[gnu::noinline]] bool objects_block_bvh(const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
+    [[gnu::noinline]] Colour glass_tint(const ShadowRay& s, Colour sh, Ctx& ctx) const;
+    template <bool kGlowBvh>
+    [[gnu::always_inline]] bool others_block(const ShadowRay& s) const;
     Colour walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, double weight,
                 Ctx& ctx) const;
     [[gnu::noinline]] void nearest_glow(const Vec3& o, const Vec3& d, HitRec& h) const;
