@@ -117,11 +117,15 @@ private:
     template <class Out>
     void leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& out) const;
     template <class Out>
+    void one_span(const Node& node, std::uint32_t n, const Vec3& o, const Vec3& d, Out& out) const;
+    template <class Out>
+    void single_csg_spans(const CsgG& c, const Node& l, const Node& r, const Vec3& o, const Vec3& d, Out& out) const;
+    template <class Out>
     void simple_csg_spans(const CsgG& c, const Vec3& o, const Vec3& d, Out& out) const;
-    // pick(list) on the spans of object `obj` along the line: on the stack for a
-    // primitive or a CSG of two primitives, else in `scratch`.
-    template <class F>
-    bool with_spans(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, F&& pick) const;
+    // Feeds the spans of object `obj` along the line, ascending, to sink.push_back()
+    // (through `scratch` only for nested CSG); returns sink.found.
+    template <class Sink>
+    bool first_end(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, Sink&& sink) const;
 };
 
 // The BVH is left empty when with_bvh is false (to compare with same_shapes first).
