@@ -440,6 +440,11 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
     g.nodes.reserve(scene.objects.size() + 2 * count[4]);
     g.object_node.reserve(scene.objects.size());
     for (const Object& obj : scene.objects) g.object_node.push_back(add_node(g, obj));
+    std::uint32_t k = 0;
+    while (k < g.object_node.size() && g.object_node[k] == k && g.nodes[k].kind == NodeKind::Sphere &&
+           g.nodes[k].index == k)
+        ++k;
+    g.sphere_prefix = k;
     g.object_bounds.reserve(scene.objects.size());
     for (std::uint32_t n : g.object_node) g.object_bounds.push_back(g.bounds(n));
     if (with_bvh) g.bvh.build(g.object_bounds);
@@ -461,7 +466,8 @@ bool same_shapes(const Geometry& a, const Geometry& b) {
                   "shape records are plain doubles");
     if (!same_bits(a.spheres, b.spheres) || !same_bits(a.tetras, b.tetras) || !same_bits(a.cylinders, b.cylinders) ||
         !same_bits(a.tori, b.tori) || !same_bits(a.object_node, b.object_node) ||
-        !same_bits(a.object_bounds, b.object_bounds) || a.csgs.size() != b.csgs.size() ||
+        !same_bits(a.object_bounds, b.object_bounds) || a.sphere_prefix != b.sphere_prefix ||
+        a.csgs.size() != b.csgs.size() ||
         a.nodes.size() != b.nodes.size())
         return false;
     for (std::size_t i = 0; i < a.csgs.size(); ++i) {

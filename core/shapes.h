@@ -79,6 +79,9 @@ struct Geometry {
     std::vector<CsgG> csgs;
     std::vector<Node> nodes;
     std::vector<std::uint32_t> object_node;  // top-level object -> node
+    // Objects [0, sphere_prefix) are spheres with node i = object i = sphere i, so that
+    // hit() finds them without the two lookups (a scene of spheres is one prefix).
+    std::uint32_t sphere_prefix = 0;
     std::vector<Aabb> object_bounds;
     Bvh bvh;                                 // over top-level objects
 
@@ -91,11 +94,19 @@ struct Geometry {
 
     // Nearest entry into object `obj` with t > tmin; false if none.
     [[nodiscard]] bool hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out, SpanScratch& s) const {
-        std::uint32_t n = object_node[obj];
-        const Node& node = nodes[n];
-        if (node.kind != NodeKind::Sphere) return hit_general(obj, o, d, tmin, out, s);
         // The common case, inline and without building a span.
-        const SphereG& sp = spheres[node.index];
+        const SphereG* ps;
+        std::uint32_t n;
+        if (obj < sphere_prefix) {
+            ps = &spheres[obj];
+            n = obj;
+        } else {
+            n = object_node[obj];
+            const Node& node = nodes[n];
+            if (node.kind != NodeKind::Sphere) return hit_general(obj, o, d, tmin, out, s);
+            ps = &spheres[node.index];
+        }
+        const SphereG& sp = *ps;
         Vec3 oc = o - sp.c;
         double b = dot(oc, d);
         double disc = b * b - (dot(oc, oc) - sp.r2);
