@@ -356,8 +356,16 @@ bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, doub
         const CsgG& c = csgs[node.index];
         const Node &l = nodes[c.left], &r = nodes[c.right];
         if (c.simple && l.kind != NodeKind::Torus && r.kind != NodeKind::Torus) {
+            OneSpan a, b;
+            one_span(l, c.left, o, d, a);
+            if (c.type != CsgType::Union) {
+                // What I and C keep lies within a's span (entries at or before a's exit):
+                // with a behind tmin, or missed, there is nothing to enter.
+                if (!a.got || a.s.out.t <= tmin) return false;
+            }
+            one_span(r, c.right, o, d, b);
             FirstEnd sink{true, tmin, out};
-            single_csg_spans(c, l, r, o, d, sink);
+            combine_single_spans(c.type, a.get(), b.get(), sink);
             return sink.found;
         }
     }

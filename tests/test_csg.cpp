@@ -215,6 +215,67 @@ TEST_CASE("csg: spans of random nested trees (depth 2 and 3) agree with point me
     SUBCASE("depth 3") { check_random_trees(2026, 3, 200, 6); }
 }
 
+namespace {
+bool same_end(const SpanEnd& x, const SpanEnd& y) {
+    bool same_t = x.t == y.t || (std::isnan(x.t) && std::isnan(y.t));
+    return same_t && x.node == y.node && x.face == y.face && x.flip == y.flip;
+}
+}  // namespace
+
+// hit() and exit() take a short cut for a CSG of two primitives (no lists, and no right
+// operand when the left one lies behind tmin); they must answer as the first entry
+// beyond tmin (first exit beyond kDelta) of the spans from the list walk, bit for bit,
+// tmin at span ends (ties) included.
+TEST_CASE("csg: hit and exit of operand pairs agree with the spans' first entry and exit") {
+    Rng rng(77);
+    int checked = 0, hits = 0;
+    for (int k = 0; k < 600; ++k) {
+        Tree tree = node(CsgType(std::array<char, 3>{'U', 'I', 'C'}[k % 3]), leaf(random_prim(rng)),
+                         leaf(random_prim(rng)));
+        Compiled cg(tree);
+        Vec3 bc;
+        double br = 0;
+        tree.bound(bc, br);
+        for (int j = 0; j < 8; ++j) {
+            Vec3 o = bc + rng.unit() * (br * rng.uni(0.2, 3));
+            Vec3 d = normalize(bc + rng.in_ball(br * 0.7) - o);
+            std::vector<Span> spans;
+            SpanScratch scratch;
+            cg.g.spans(cg.node, o, d, spans, scratch);
+            std::vector<double> tmins = {0, kDelta, -br * 4, br * 4};
+            for (const Span& sp : spans) tmins.insert(tmins.end(), {sp.in.t, sp.out.t, (sp.in.t + sp.out.t) / 2});
+            // The operands' own ends, and just before them (where the short cut turns).
+            const CsgG& c = cg.g.csgs[cg.g.nodes[cg.node].index];
+            for (std::uint32_t operand : {c.left, c.right}) {
+                std::vector<Span> own;
+                cg.g.spans(operand, o, d, own, scratch);
+                for (const Span& sp : own)
+                    for (double t : {sp.in.t, sp.out.t}) tmins.insert(tmins.end(), {t, std::nextafter(t, -HUGE_VAL)});
+            }
+            for (double tmin : tmins) {
+                const SpanEnd* want = nullptr;
+                for (const Span& sp : spans)
+                    if (!want && sp.in.t > tmin) want = &sp.in;
+                SpanEnd got;
+                bool hit = cg.g.hit(0, o, d, tmin, got, scratch);
+                REQUIRE(hit == (want != nullptr));
+                if (hit) CHECK(same_end(got, *want));
+                ++checked;
+                hits += hit;
+            }
+            const SpanEnd* want = nullptr;
+            for (const Span& sp : spans)
+                if (!want && sp.out.t > kDelta) want = &sp.out;
+            SpanEnd got;
+            bool left = cg.g.exit(0, o, d, got, scratch);
+            REQUIRE(left == (want != nullptr));
+            if (left) CHECK(same_end(got, *want));
+        }
+    }
+    CHECK(checked > 20000);
+    CHECK(hits > checked / 5);
+}
+
 TEST_CASE("csg: combine_spans of a list with itself: U and I give it back, C gives nothing") {
     Rng rng(7);
     for (int k = 0; k < 200; ++k) {
@@ -241,13 +302,6 @@ TEST_CASE("csg: combine_spans of a list with itself: U and I give it back, C giv
         CHECK(out.empty());
     }
 }
-
-namespace {
-bool same_end(const SpanEnd& x, const SpanEnd& y) {
-    bool same_t = x.t == y.t || (std::isnan(x.t) && std::isnan(y.t));
-    return same_t && x.node == y.node && x.face == y.face && x.flip == y.flip;
-}
-}  // namespace
 
 // The one-span-a-side combination (shapes.cpp's common CSG case) is a decision tree
 // written apart from the list walk; it must give the walk's spans bit for bit: the same
