@@ -2,7 +2,8 @@
 // stored as one flat array of 4-wide nodes: each node holds its (up to) four children's
 // boxes in float, laid out so that one SSE instruction works on all four, and padded
 // outward so that the float box test never misses what the double-precision shapes
-// would hit.
+// would hit. An 8-wide copy serves the AVX2 kernels; the walks are written once over
+// the node width.
 #pragma once
 
 #include <algorithm>
@@ -181,64 +182,7 @@ public:
     template <class Fn>
     void traverse(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn&& fn) const {
         if (nodes.empty()) return;
-        BvhRay r = BvhRay::make(origin, dir, len);
-        float ftmax = widen(tmax);
-        struct Entry {
-            std::uint32_t ref;
-            float t;
-        };
-        constexpr int kStack = 256;
-        Entry stack[kStack];
-        int sp = 0;
-        std::uint32_t cur = 0;  // the root is an inner node
-        for (;;) {
-            if (BvhNode::is_leaf(cur)) {
-                std::uint32_t first = BvhNode::leaf_first(cur), count = BvhNode::leaf_count(cur);
-                for (std::uint32_t i = 0; i < count; ++i) {
-                    double nt = fn(items[first + i], tmax);
-                    if (nt < 0) return;
-                    if (nt < tmax) {
-                        tmax = nt;
-                        ftmax = widen(tmax);
-                    }
-                }
-            } else {
-                const BvhNode& n = nodes[cur];
-                float t[4];
-                unsigned mask = enter(n, r, ftmax, t);
-                if (mask != 0) {
-                    // The children entered, nearest first; the others wait on the stack.
-                    Entry hit[4];
-                    int k = 0;
-                    for (int i = 0; i < 4; ++i) {
-                        if (!(mask >> i & 1)) continue;
-                        Entry e{n.child[i], t[i]};
-                        int j = k++;
-                        for (; j > 0 && hit[j - 1].t > e.t; --j) hit[j] = hit[j - 1];
-                        hit[j] = e;
-                    }
-                    for (int j = k - 1; j > 0; --j) {
-                        if (sp < kStack) {
-                            stack[sp++] = hit[j];
-                        } else if (!traverse_from(hit[j].ref, r, tmax, fn)) {
-                            // Too deep for the stack: that subtree was searched now.
-                            return;
-                        } else {
-                            ftmax = widen(tmax);
-                        }
-                    }
-                    cur = hit[0].ref;
-                    continue;
-                }
-            }
-            // Pop the next subtree still in reach.
-            for (;;) {
-                if (sp == 0) return;
-                --sp;
-                if (stack[sp].t <= ftmax) break;
-            }
-            cur = stack[sp].ref;
-        }
+        nearest_walk<Wide4>(BvhRay::make(origin, dir, len), tmax, fn);
     }
 
     // Nearest-hit queries: like traverse(), but the items may come in any order (the
@@ -265,33 +209,7 @@ public:
 #if RT_HAVE_AVX2_KERNELS
         if (!nodes8.empty() && avx2_active()) return occluded8(origin, dir, len, tmax, fn);
 #endif
-        BvhRay r = BvhRay::make(origin, dir, len);
-        const float ftmax = widen(tmax);
-        constexpr int kStack = 256;
-        std::uint32_t stack[kStack];
-        int sp = 0;
-        std::uint32_t cur = 0;
-        for (;;) {
-            const BvhNode& n = nodes[cur];
-            float t[4];
-            unsigned mask = enter(n, r, ftmax, t);
-            while (mask != 0) {
-                int i = __builtin_ctz(mask);
-                mask &= mask - 1;
-                std::uint32_t c = n.child[i];
-                if (BvhNode::is_leaf(c)) {
-                    std::uint32_t first = BvhNode::leaf_first(c), count = BvhNode::leaf_count(c);
-                    for (std::uint32_t k = 0; k < count; ++k)
-                        if (fn(items[first + k])) return true;
-                } else if (sp < kStack) {
-                    stack[sp++] = c;
-                } else if (occluded_from(c, r, ftmax, fn)) {
-                    return true;
-                }
-            }
-            if (sp == 0) return false;
-            cur = stack[--sp];
-        }
+        return occluded4(origin, dir, len, tmax, fn);
     }
 
     std::size_t memory_bytes() const {
@@ -299,75 +217,147 @@ public:
     }
 
 private:
+    // What the walks below need of a node width: its nodes, the ray in the form its box
+    // test takes, and the test. The walks are written once over these.
+    struct Wide4 {
+        static constexpr int kWidth = 4, kStack = 256;
+        using Node = BvhNode;
+        using Ray = BvhRay;
+        static const std::vector<Node>& tree(const Bvh& b) { return b.nodes; }
+        static unsigned enter(const Node& n, const Ray& r, float tmax, float t[4]) { return Bvh::enter(n, r, tmax, t); }
+    };
 #if RT_HAVE_AVX2_KERNELS
     // Which of an 8-wide node's children the ray enters within [0, tmax], with their
     // entry distances: BvhNode's test, lane for lane the same float operations.
-    struct Ray8 {
-        __m256 o[3], inv[3], pad;
-        int near[3], far[3];
+    struct Wide8 {
+        static constexpr int kWidth = 8, kStack = 512;
+        using Node = BvhNode8;
+        struct Ray {
+            __m256 o[3], inv[3], pad;
+            int near[3], far[3];
+        };
+        static const std::vector<Node>& tree(const Bvh& b) { return b.nodes8; }
+        RT_TARGET_AVX2 static inline Ray ray(const BvhRay& br) {
+            Ray r;
+            for (int i = 0; i < 3; ++i) {
+                r.o[i] = _mm256_set_m128(br.o4[i], br.o4[i]);
+                r.inv[i] = _mm256_set_m128(br.inv4[i], br.inv4[i]);
+                r.near[i] = br.near[i];
+                r.far[i] = br.far[i];
+            }
+            r.pad = _mm256_set_m128(br.pad4, br.pad4);
+            return r;
+        }
+        RT_TARGET_AVX2 static inline unsigned enter(const Node& n, const Ray& r, float tmax, float t[8]) {
+            __m256 x0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[0]]), r.o[0]), r.inv[0]);
+            __m256 y0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[1]]), r.o[1]), r.inv[1]);
+            __m256 z0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[2]]), r.o[2]), r.inv[2]);
+            __m256 x1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[0]]), r.o[0]), r.inv[0]);
+            __m256 y1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[1]]), r.o[1]), r.inv[1]);
+            __m256 z1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[2]]), r.o[2]), r.inv[2]);
+            __m256 t0 = _mm256_max_ps(_mm256_sub_ps(_mm256_max_ps(_mm256_max_ps(x0, y0), z0), r.pad), _mm256_setzero_ps());
+            __m256 t1 = _mm256_min_ps(_mm256_add_ps(_mm256_min_ps(_mm256_min_ps(x1, y1), z1), r.pad), _mm256_set1_ps(tmax));
+            _mm256_storeu_ps(t, t0);
+            return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(1.000001f)), _CMP_LE_OS)));
+        }
     };
-    RT_TARGET_AVX2 static inline unsigned enter8(const BvhNode8& n, const Ray8& r, float tmax, float t[8]) {
-        __m256 x0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[0]]), r.o[0]), r.inv[0]);
-        __m256 y0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[1]]), r.o[1]), r.inv[1]);
-        __m256 z0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[2]]), r.o[2]), r.inv[2]);
-        __m256 x1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[0]]), r.o[0]), r.inv[0]);
-        __m256 y1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[1]]), r.o[1]), r.inv[1]);
-        __m256 z1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[2]]), r.o[2]), r.inv[2]);
-        __m256 t0 = _mm256_max_ps(_mm256_sub_ps(_mm256_max_ps(_mm256_max_ps(x0, y0), z0), r.pad), _mm256_setzero_ps());
-        __m256 t1 = _mm256_min_ps(_mm256_add_ps(_mm256_min_ps(_mm256_min_ps(x1, y1), z1), r.pad), _mm256_set1_ps(tmax));
-        _mm256_storeu_ps(t, t0);
-        return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(1.000001f)), _CMP_LE_OS)));
-    }
 
+    // The AVX2 entry points: the walks inlined here, where 8-wide instructions may be
+    // used, so that Wide8's test is inlined into them.
     template <class Fn>
     RT_TARGET_AVX2 void traverse8(const Vec3& origin, const Vec3& dir, double tmax, Fn& fn) const {
-        BvhRay br = BvhRay::make(origin, dir, 1.0);
-        Ray8 r;
-        for (int i = 0; i < 3; ++i) {
-            r.o[i] = _mm256_set_m128(br.o4[i], br.o4[i]);
-            r.inv[i] = _mm256_set_m128(br.inv4[i], br.inv4[i]);
-            r.near[i] = br.near[i];
-            r.far[i] = br.far[i];
+        nearest_walk<Wide8>(Wide8::ray(BvhRay::make(origin, dir, 1.0)), tmax, fn);
+    }
+    template <class Fn>
+    RT_TARGET_AVX2 bool occluded8(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn& fn) const {
+        return occluded_walk<Wide8>(Wide8::ray(BvhRay::make(origin, dir, len)), widen(tmax), fn);
+    }
+#endif
+
+    // (Out of line like the AVX2 one: inlined, its frame would weigh on the caller's
+    // loop, which mostly takes the light buffers instead.)
+    template <class Fn>
+    [[gnu::noinline]] bool occluded4(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn& fn) const {
+        return occluded_walk<Wide4>(BvhRay::make(origin, dir, len), widen(tmax), fn);
+    }
+
+    static float widen(double t) { return t == HUGE_VAL ? INFINITY : float(t * (1 + 1e-6) + 1e-6); }
+
+    // The items of a leaf to fn(item, tmax) in order, tmax shrinking as fn says; false
+    // if fn said stop.
+    template <class Fn>
+    bool visit_leaf(std::uint32_t ref, double& tmax, Fn& fn) const {
+        std::uint32_t first = BvhNode::leaf_first(ref), count = BvhNode::leaf_count(ref);
+        for (std::uint32_t i = 0; i < count; ++i) {
+            double nt = fn(items[first + i], tmax);
+            if (nt < 0) return false;
+            if (nt < tmax) tmax = nt;
         }
-        r.pad = _mm256_set_m128(br.pad4, br.pad4);
+        return true;
+    }
+
+    // The lowest set bit's index, cleared from mask (not 0).
+    static int pop_bit(unsigned& mask) {
+        int i = __builtin_ctz(mask);
+        mask &= mask - 1;
+        return i;
+    }
+
+    // Whether fn(item) holds for an item of a leaf (tried in order, stopping there).
+    template <class Fn>
+    bool any_in_leaf(std::uint32_t ref, Fn& fn) const {
+        std::uint32_t first = BvhNode::leaf_first(ref), count = BvhNode::leaf_count(ref);
+        for (std::uint32_t k = 0; k < count; ++k)
+            if (fn(items[first + k])) return true;
+        return false;
+    }
+
+    // Nearest-first walk: of the children a node's test lets through, the nearest box
+    // is entered next and the others wait on a stack with their entry distance, to be
+    // dropped when they come up beyond the nearest hit found so far. Children of equal
+    // distance go in slot order (traverse() promises that order).
+    template <class W, class Fn>
+    [[gnu::always_inline]] inline void nearest_walk(const typename W::Ray& r, double tmax, Fn& fn) const {
+        const typename W::Node* tree = W::tree(*this).data();
         float ftmax = widen(tmax);
         struct Entry {
             std::uint32_t ref;
             float t;
         };
-        constexpr int kStack = 512;
-        Entry stack[kStack];
+        Entry stack[W::kStack];
         int sp = 0;
-        std::uint32_t cur = 0;
+        std::uint32_t cur = 0;  // the root is an inner node
         for (;;) {
             if (BvhNode::is_leaf(cur)) {
-                std::uint32_t first = BvhNode::leaf_first(cur), count = BvhNode::leaf_count(cur);
-                for (std::uint32_t i = 0; i < count; ++i) {
-                    double nt = fn(items[first + i], tmax);
-                    if (nt < 0) return;
-                    if (nt < tmax) {
-                        tmax = nt;
-                        ftmax = widen(tmax);
-                    }
-                }
+                double before = tmax;
+                if (!visit_leaf(cur, tmax, fn)) return;
+                if (tmax != before) ftmax = widen(tmax);
             } else {
-                const BvhNode8& n = nodes8[cur];
-                float t[8];
-                unsigned mask = enter8(n, r, ftmax, t);
+                const typename W::Node& n = tree[cur];
+                float t[W::kWidth];
+                unsigned mask = W::enter(n, r, ftmax, t);
                 if (mask != 0) {
-                    Entry hit[8];
-                    int k = 0;
-                    for (int i = 0; i < 8; ++i) {
-                        if (!(mask >> i & 1)) continue;
+                    int i = pop_bit(mask);
+                    if (mask == 0) {  // one child: nothing to sort or keep
+                        cur = n.child[i];
+                        continue;
+                    }
+                    // The children entered, nearest first (insertion by entry distance).
+                    Entry hit[W::kWidth];
+                    hit[0] = {n.child[i], t[i]};
+                    int k = 1;
+                    do {
+                        i = pop_bit(mask);
                         Entry e{n.child[i], t[i]};
                         int j = k++;
                         for (; j > 0 && hit[j - 1].t > e.t; --j) hit[j] = hit[j - 1];
                         hit[j] = e;
-                    }
+                    } while (mask != 0);
                     for (int j = k - 1; j > 0; --j) {
-                        if (sp < kStack) {
+                        if (sp < W::kStack) {
                             stack[sp++] = hit[j];
-                        } else if (!traverse8_from(hit[j].ref, r, tmax, fn)) {
+                        } else if (!nearest_from<W>(hit[j].ref, r, tmax, fn)) {
+                            // Too deep for the stack: that subtree was searched now.
                             return;
                         } else {
                             ftmax = widen(tmax);
@@ -377,6 +367,7 @@ private:
                     continue;
                 }
             }
+            // Pop the next subtree still in reach.
             for (;;) {
                 if (sp == 0) return;
                 --sp;
@@ -386,37 +377,25 @@ private:
         }
     }
 
-    template <class Fn>
-    RT_TARGET_AVX2 bool occluded8(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn& fn) const {
-        BvhRay br = BvhRay::make(origin, dir, len);
-        Ray8 r;
-        for (int i = 0; i < 3; ++i) {
-            r.o[i] = _mm256_set_m128(br.o4[i], br.o4[i]);
-            r.inv[i] = _mm256_set_m128(br.inv4[i], br.inv4[i]);
-            r.near[i] = br.near[i];
-            r.far[i] = br.far[i];
-        }
-        r.pad = _mm256_set_m128(br.pad4, br.pad4);
-        const float ftmax = widen(tmax);
-        constexpr int kStack = 512;
-        std::uint32_t stack[kStack];
+    // Any-hit walk: children in slot order, no distances kept.
+    template <class W, class Fn>
+    [[gnu::always_inline]] inline bool occluded_walk(const typename W::Ray& r, float ftmax, Fn& fn) const {
+        const typename W::Node* tree = W::tree(*this).data();
+        std::uint32_t stack[W::kStack];
         int sp = 0;
         std::uint32_t cur = 0;
         for (;;) {
-            const BvhNode8& n = nodes8[cur];
-            float t[8];
-            unsigned mask = enter8(n, r, ftmax, t);
+            const typename W::Node& n = tree[cur];
+            float t[W::kWidth];
+            unsigned mask = W::enter(n, r, ftmax, t);
             while (mask != 0) {
-                int i = __builtin_ctz(mask);
-                mask &= mask - 1;
+                int i = pop_bit(mask);
                 std::uint32_t c = n.child[i];
                 if (BvhNode::is_leaf(c)) {
-                    std::uint32_t first = BvhNode::leaf_first(c), count = BvhNode::leaf_count(c);
-                    for (std::uint32_t k = 0; k < count; ++k)
-                        if (fn(items[first + k])) return true;
-                } else if (sp < kStack) {
+                    if (any_in_leaf(c, fn)) return true;
+                } else if (sp < W::kStack) {
                     stack[sp++] = c;
-                } else if (occluded8_from(c, r, ftmax, fn)) {
+                } else if (occluded_from<W>(c, r, ftmax, fn)) {
                     return true;
                 }
             }
@@ -425,84 +404,28 @@ private:
         }
     }
 
-    template <class Fn>
-    RT_TARGET_AVX2 bool occluded8_from(std::uint32_t ref, const Ray8& r, float ftmax, Fn& fn) const {
-        const BvhNode8& n = nodes8[ref];
-        float t[8];
-        unsigned mask = enter8(n, r, ftmax, t);
-        for (int i = 0; i < 8; ++i) {
+    // The fallbacks for pathologically deep trees: plain recursion from one child
+    // reference, any-hit below an inner node, nearest from any reference.
+    template <class W, class Fn>
+    bool occluded_from(std::uint32_t ref, const typename W::Ray& r, float ftmax, Fn& fn) const {
+        const typename W::Node& n = W::tree(*this)[ref];
+        float t[W::kWidth];
+        unsigned mask = W::enter(n, r, ftmax, t);
+        for (int i = 0; i < W::kWidth; ++i) {
             if (!(mask >> i & 1)) continue;
             std::uint32_t c = n.child[i];
-            if (BvhNode::is_leaf(c)) {
-                std::uint32_t first = BvhNode::leaf_first(c), count = BvhNode::leaf_count(c);
-                for (std::uint32_t k = 0; k < count; ++k)
-                    if (fn(items[first + k])) return true;
-            } else if (occluded8_from(c, r, ftmax, fn)) {
-                return true;
-            }
+            if (BvhNode::is_leaf(c) ? any_in_leaf(c, fn) : occluded_from<W>(c, r, ftmax, fn)) return true;
         }
         return false;
     }
-
-    template <class Fn>
-    RT_TARGET_AVX2 bool traverse8_from(std::uint32_t ref, const Ray8& r, double& tmax, Fn& fn) const {
-        if (BvhNode::is_leaf(ref)) {
-            std::uint32_t first = BvhNode::leaf_first(ref), count = BvhNode::leaf_count(ref);
-            for (std::uint32_t i = 0; i < count; ++i) {
-                double nt = fn(items[first + i], tmax);
-                if (nt < 0) return false;
-                if (nt < tmax) tmax = nt;
-            }
-            return true;
-        }
-        const BvhNode8& n = nodes8[ref];
-        float t[8];
-        unsigned mask = enter8(n, r, widen(tmax), t);
-        for (int i = 0; i < 8; ++i)
-            if ((mask >> i & 1) && !traverse8_from(n.child[i], r, tmax, fn)) return false;
-        return true;
-    }
-#endif
-
-    static float widen(double t) { return t == HUGE_VAL ? INFINITY : float(t * (1 + 1e-6) + 1e-6); }
-
-    // Any-hit search below an inner node, by recursion (for trees too deep for the stack).
-    template <class Fn>
-    bool occluded_from(std::uint32_t ref, const BvhRay& r, float ftmax, Fn& fn) const {
-        const BvhNode& n = nodes[ref];
-        float t[4];
-        unsigned mask = enter(n, r, ftmax, t);
-        for (int i = 0; i < 4; ++i) {
-            if (!(mask >> i & 1)) continue;
-            std::uint32_t c = n.child[i];
-            if (BvhNode::is_leaf(c)) {
-                std::uint32_t first = BvhNode::leaf_first(c), count = BvhNode::leaf_count(c);
-                for (std::uint32_t k = 0; k < count; ++k)
-                    if (fn(items[first + k])) return true;
-            } else if (occluded_from(c, r, ftmax, fn)) {
-                return true;
-            }
-        }
-        return false;
-    }
-
-    // Fallback for pathologically deep trees: plain recursion from one child reference.
-    template <class Fn>
-    bool traverse_from(std::uint32_t ref, const BvhRay& r, double& tmax, Fn& fn) const {
-        if (BvhNode::is_leaf(ref)) {
-            std::uint32_t first = BvhNode::leaf_first(ref), count = BvhNode::leaf_count(ref);
-            for (std::uint32_t i = 0; i < count; ++i) {
-                double nt = fn(items[first + i], tmax);
-                if (nt < 0) return false;
-                if (nt < tmax) tmax = nt;
-            }
-            return true;
-        }
-        const BvhNode& n = nodes[ref];
-        float t[4];
-        unsigned mask = enter(n, r, widen(tmax), t);
-        for (int i = 0; i < 4; ++i)
-            if ((mask >> i & 1) && !traverse_from(n.child[i], r, tmax, fn)) return false;
+    template <class W, class Fn>
+    bool nearest_from(std::uint32_t ref, const typename W::Ray& r, double& tmax, Fn& fn) const {
+        if (BvhNode::is_leaf(ref)) return visit_leaf(ref, tmax, fn);
+        const typename W::Node& n = W::tree(*this)[ref];
+        float t[W::kWidth];
+        unsigned mask = W::enter(n, r, widen(tmax), t);
+        for (int i = 0; i < W::kWidth; ++i)
+            if ((mask >> i & 1) && !nearest_from<W>(n.child[i], r, tmax, fn)) return false;
         return true;
     }
 };

@@ -16,7 +16,7 @@ namespace {
 constexpr double kInf = HUGE_VAL;
 
 template <class Out>
-void sphere_spans(const SphereG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
+[[gnu::always_inline]] inline void sphere_spans(const SphereG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
     Vec3 oc = o - s.c;
     double b = dot(oc, d);
     double e = dot(oc, oc) - s.r2;
@@ -27,7 +27,7 @@ void sphere_spans(const SphereG& s, std::uint32_t node, const Vec3& o, const Vec
 }
 
 template <class Out>
-void tetra_spans(const TetraG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
+[[gnu::always_inline]] inline void tetra_spans(const TetraG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
     double t0 = -kInf, t1 = kInf;
     std::uint8_t f0 = 0, f1 = 0;
     for (std::uint8_t i = 0; i < 4; ++i) {
@@ -50,7 +50,7 @@ void tetra_spans(const TetraG& s, std::uint32_t node, const Vec3& o, const Vec3&
 
 // Faces: 0 = cap at e1, 1 = cap at e2, 2 = side.
 template <class Out>
-void cylinder_spans(const CylinderG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
+[[gnu::always_inline]] inline void cylinder_spans(const CylinderG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
     Vec3 w = o - s.e1;
     double wa = dot(w, s.a), da = dot(d, s.a);
     Vec3 wp = w - s.a * wa, dp = d - s.a * da;
@@ -92,8 +92,9 @@ double torus_inside(const TorusG& s, const Vec3& p) {
     return a * a + p.z * p.z - s.r * s.r;
 }
 
+// (Out of line: large, and rare; the callers stay small.)
 template <class Out>
-void torus_spans(const TorusG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
+[[gnu::noinline]] void torus_spans(const TorusG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
     // Local frame, origin moved to the point of the line nearest the centre so that the
     // quartic is well conditioned.
     Vec3 lo = s.frame.to_local(o - s.c), ld = s.frame.to_local(d);
@@ -134,8 +135,7 @@ void torus_spans(const TorusG& s, std::uint32_t node, const Vec3& o, const Vec3&
     if (open) out.push_back({{start + tc, node, 0, false}, {h + tc, node, 0, false}});
 }
 
-// At most N spans, without touching the heap: a primitive gives two at most (a torus),
-// and a CSG of two primitives four at most (a union of two tori).
+// At most N spans, without touching the heap: a primitive gives two at most (a torus).
 template <int N>
 struct SmallSpans {
     Span v[N];
@@ -145,6 +145,14 @@ struct SmallSpans {
     const Span& operator[](std::size_t i) const { return v[i]; }
     const Span* begin() const { return v; }
     const Span* end() const { return v + n; }
+};
+
+// The one span of a sphere, tetrahedron or cylinder, if the line meets it.
+struct OneSpan {
+    Span s;
+    bool got = false;
+    void push_back(const Span& x) { s = x, got = true; }
+    const Span* get() const { return got ? &s : nullptr; }
 };
 
 Aabb sphere_bounds(const SphereG& s) {
@@ -168,8 +176,34 @@ void Geometry::leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& ou
     }
 }
 
+// leaf_spans for a node known not to be a torus (nor a CSG), inline.
+template <class Out>
+inline void Geometry::one_span(const Node& node, std::uint32_t n, const Vec3& o, const Vec3& d, Out& out) const {
+    switch (node.kind) {
+        case NodeKind::Sphere: sphere_spans(spheres[node.index], n, o, d, out); return;
+        case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, out); return;
+        case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, out); return;
+        case NodeKind::Torus:
+        case NodeKind::Csg: return;
+    }
+}
+
+// A CSG of two primitives (l, r: its operands' nodes) neither of them a torus: one span
+// a side, and no lists to walk.
+template <class Out>
+inline void Geometry::single_csg_spans(const CsgG& c, const Node& l, const Node& r, const Vec3& o, const Vec3& d,
+                                       Out& out) const {
+    OneSpan a, b;
+    one_span(l, c.left, o, d, a);
+    if (!a.got && c.type != CsgType::Union) return;
+    one_span(r, c.right, o, d, b);
+    combine_single_spans(c.type, a.get(), b.get(), out);
+}
+
 template <class Out>
 void Geometry::simple_csg_spans(const CsgG& c, const Vec3& o, const Vec3& d, Out& out) const {
+    const Node &l = nodes[c.left], &r = nodes[c.right];
+    if (l.kind != NodeKind::Torus && r.kind != NodeKind::Torus) return single_csg_spans(c, l, r, o, d, out);
     SmallSpans<2> a, b;
     leaf_spans(c.left, o, d, a);
     if (a.n == 0 && c.type != CsgType::Union) return;
@@ -282,47 +316,64 @@ Aabb Geometry::bounds(std::uint32_t n) const {
     return {};
 }
 
-template <class F>
-bool Geometry::with_spans(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, F&& pick) const {
+namespace {
+// Takes an object's spans as they come (ascending) and keeps the first entry (or exit)
+// beyond tmin, so that no list of them need be kept.
+struct FirstEnd {
+    bool entry;
+    double tmin;
+    SpanEnd& out;
+    bool found = false;
+    void push_back(const Span& s) {
+        const SpanEnd& e = entry ? s.in : s.out;
+        if (!found && e.t > tmin) out = e, found = true;
+    }
+};
+}  // namespace
+
+template <class Sink>
+[[gnu::noinline]] bool Geometry::first_end(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, Sink&& sink) const {
     std::uint32_t n = object_node[obj];
     const Node& node = nodes[n];
     if (node.kind != NodeKind::Csg) {
-        SmallSpans<2> sp;
-        leaf_spans(n, o, d, sp);
-        return pick(sp);
+        leaf_spans(n, o, d, sink);
+    } else if (csgs[node.index].simple) {
+        // Both operands primitives: no lists on the heap.
+        simple_csg_spans(csgs[node.index], o, d, sink);
+    } else {
+        std::vector<Span>& sp = scratch.at(0);
+        spans(n, o, d, sp, scratch, 1);
+        for (const Span& s : sp) sink.push_back(s);
     }
-    if (csgs[node.index].simple) {
-        SmallSpans<4> sp;
-        simple_csg_spans(csgs[node.index], o, d, sp);
-        return pick(sp);
-    }
-    std::vector<Span>& sp = scratch.at(0);
-    spans(n, o, d, sp, scratch, 1);
-    return pick(sp);
+    return sink.found;
 }
-
-namespace {
-// The first entry (or exit) of an ascending span list beyond tmin.
-template <class List>
-bool first_end(const List& list, bool entry, double tmin, SpanEnd& out) {
-    for (const Span& s : list) {
-        const SpanEnd& e = entry ? s.in : s.out;
-        if (e.t > tmin) {
-            out = e;
-            return true;
-        }
-    }
-    return false;
-}
-}  // namespace
 
 bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
                            SpanScratch& scratch) const {
-    return with_spans(obj, o, d, scratch, [&](const auto& list) { return first_end(list, true, tmin, out); });
+    const Node& node = nodes[object_node[obj]];
+    if (node.kind == NodeKind::Csg) {
+        // The common CSG (two operands of one span each) here, with a small frame.
+        const CsgG& c = csgs[node.index];
+        const Node &l = nodes[c.left], &r = nodes[c.right];
+        if (c.simple && l.kind != NodeKind::Torus && r.kind != NodeKind::Torus) {
+            OneSpan a, b;
+            one_span(l, c.left, o, d, a);
+            if (c.type != CsgType::Union) {
+                // What I and C keep lies within a's span (entries at or before a's exit):
+                // with a behind tmin, or missed, there is nothing to enter.
+                if (!a.got || a.s.out.t <= tmin) return false;
+            }
+            one_span(r, c.right, o, d, b);
+            FirstEnd sink{true, tmin, out};
+            combine_single_spans(c.type, a.get(), b.get(), sink);
+            return sink.found;
+        }
+    }
+    return first_end(obj, o, d, scratch, FirstEnd{true, tmin, out});
 }
 
 bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& scratch) const {
-    return with_spans(obj, o, d, scratch, [&](const auto& list) { return first_end(list, false, kDelta, out); });
+    return first_end(obj, o, d, scratch, FirstEnd{false, kDelta, out});
 }
 
 std::size_t Geometry::memory_bytes() const {
@@ -397,6 +448,11 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
     g.nodes.reserve(scene.objects.size() + 2 * count[4]);
     g.object_node.reserve(scene.objects.size());
     for (const Object& obj : scene.objects) g.object_node.push_back(add_node(g, obj));
+    std::uint32_t k = 0;
+    while (k < g.object_node.size() && g.object_node[k] == k && g.nodes[k].kind == NodeKind::Sphere &&
+           g.nodes[k].index == k)
+        ++k;
+    g.sphere_prefix = k;
     g.object_bounds.reserve(scene.objects.size());
     for (std::uint32_t n : g.object_node) g.object_bounds.push_back(g.bounds(n));
     if (with_bvh) g.bvh.build(g.object_bounds);
@@ -418,7 +474,8 @@ bool same_shapes(const Geometry& a, const Geometry& b) {
                   "shape records are plain doubles");
     if (!same_bits(a.spheres, b.spheres) || !same_bits(a.tetras, b.tetras) || !same_bits(a.cylinders, b.cylinders) ||
         !same_bits(a.tori, b.tori) || !same_bits(a.object_node, b.object_node) ||
-        !same_bits(a.object_bounds, b.object_bounds) || a.csgs.size() != b.csgs.size() ||
+        !same_bits(a.object_bounds, b.object_bounds) || a.sphere_prefix != b.sphere_prefix ||
+        a.csgs.size() != b.csgs.size() ||
         a.nodes.size() != b.nodes.size())
         return false;
     for (std::size_t i = 0; i < a.csgs.size(); ++i) {

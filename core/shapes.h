@@ -79,6 +79,9 @@ struct Geometry {
     std::vector<CsgG> csgs;
     std::vector<Node> nodes;
     std::vector<std::uint32_t> object_node;  // top-level object -> node
+    // Objects [0, sphere_prefix) are spheres with node i = object i = sphere i, so that
+    // hit() finds them without the two lookups (a scene of spheres is one prefix).
+    std::uint32_t sphere_prefix = 0;
     std::vector<Aabb> object_bounds;
     Bvh bvh;                                 // over top-level objects
 
@@ -91,11 +94,19 @@ struct Geometry {
 
     // Nearest entry into object `obj` with t > tmin; false if none.
     [[nodiscard]] bool hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out, SpanScratch& s) const {
-        std::uint32_t n = object_node[obj];
-        const Node& node = nodes[n];
-        if (node.kind != NodeKind::Sphere) return hit_general(obj, o, d, tmin, out, s);
         // The common case, inline and without building a span.
-        const SphereG& sp = spheres[node.index];
+        const SphereG* ps;
+        std::uint32_t n;
+        if (obj < sphere_prefix) {
+            ps = &spheres[obj];
+            n = obj;
+        } else {
+            n = object_node[obj];
+            const Node& node = nodes[n];
+            if (node.kind != NodeKind::Sphere) return hit_general(obj, o, d, tmin, out, s);
+            ps = &spheres[node.index];
+        }
+        const SphereG& sp = *ps;
         Vec3 oc = o - sp.c;
         double b = dot(oc, d);
         double disc = b * b - (dot(oc, oc) - sp.r2);
@@ -117,11 +128,15 @@ private:
     template <class Out>
     void leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& out) const;
     template <class Out>
+    void one_span(const Node& node, std::uint32_t n, const Vec3& o, const Vec3& d, Out& out) const;
+    template <class Out>
+    void single_csg_spans(const CsgG& c, const Node& l, const Node& r, const Vec3& o, const Vec3& d, Out& out) const;
+    template <class Out>
     void simple_csg_spans(const CsgG& c, const Vec3& o, const Vec3& d, Out& out) const;
-    // pick(list) on the spans of object `obj` along the line: on the stack for a
-    // primitive or a CSG of two primitives, else in `scratch`.
-    template <class F>
-    bool with_spans(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, F&& pick) const;
+    // Feeds the spans of object `obj` along the line, ascending, to sink.push_back()
+    // (through `scratch` only for nested CSG); returns sink.found.
+    template <class Sink>
+    bool first_end(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, Sink&& sink) const;
 };
 
 // The BVH is left empty when with_bvh is false (to compare with same_shapes first).

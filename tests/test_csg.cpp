@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "csg.h"
 #include "shapes.h"
 #include "test_models.h"
 #include "test_random.h"
@@ -214,6 +215,67 @@ TEST_CASE("csg: spans of random nested trees (depth 2 and 3) agree with point me
     SUBCASE("depth 3") { check_random_trees(2026, 3, 200, 6); }
 }
 
+namespace {
+bool same_end(const SpanEnd& x, const SpanEnd& y) {
+    bool same_t = x.t == y.t || (std::isnan(x.t) && std::isnan(y.t));
+    return same_t && x.node == y.node && x.face == y.face && x.flip == y.flip;
+}
+}  // namespace
+
+// hit() and exit() take a short cut for a CSG of two primitives (no lists, and no right
+// operand when the left one lies behind tmin); they must answer as the first entry
+// beyond tmin (first exit beyond kDelta) of the spans from the list walk, bit for bit,
+// tmin at span ends (ties) included.
+TEST_CASE("csg: hit and exit of operand pairs agree with the spans' first entry and exit") {
+    Rng rng(77);
+    int checked = 0, hits = 0;
+    for (int k = 0; k < 600; ++k) {
+        Tree tree = node(CsgType(std::array<char, 3>{'U', 'I', 'C'}[k % 3]), leaf(random_prim(rng)),
+                         leaf(random_prim(rng)));
+        Compiled cg(tree);
+        Vec3 bc;
+        double br = 0;
+        tree.bound(bc, br);
+        for (int j = 0; j < 8; ++j) {
+            Vec3 o = bc + rng.unit() * (br * rng.uni(0.2, 3));
+            Vec3 d = normalize(bc + rng.in_ball(br * 0.7) - o);
+            std::vector<Span> spans;
+            SpanScratch scratch;
+            cg.g.spans(cg.node, o, d, spans, scratch);
+            std::vector<double> tmins = {0, kDelta, -br * 4, br * 4};
+            for (const Span& sp : spans) tmins.insert(tmins.end(), {sp.in.t, sp.out.t, (sp.in.t + sp.out.t) / 2});
+            // The operands' own ends, and just before them (where the short cut turns).
+            const CsgG& c = cg.g.csgs[cg.g.nodes[cg.node].index];
+            for (std::uint32_t operand : {c.left, c.right}) {
+                std::vector<Span> own;
+                cg.g.spans(operand, o, d, own, scratch);
+                for (const Span& sp : own)
+                    for (double t : {sp.in.t, sp.out.t}) tmins.insert(tmins.end(), {t, std::nextafter(t, -HUGE_VAL)});
+            }
+            for (double tmin : tmins) {
+                const SpanEnd* want = nullptr;
+                for (const Span& sp : spans)
+                    if (!want && sp.in.t > tmin) want = &sp.in;
+                SpanEnd got;
+                bool hit = cg.g.hit(0, o, d, tmin, got, scratch);
+                REQUIRE(hit == (want != nullptr));
+                if (hit) CHECK(same_end(got, *want));
+                ++checked;
+                hits += hit;
+            }
+            const SpanEnd* want = nullptr;
+            for (const Span& sp : spans)
+                if (!want && sp.out.t > kDelta) want = &sp.out;
+            SpanEnd got;
+            bool left = cg.g.exit(0, o, d, got, scratch);
+            REQUIRE(left == (want != nullptr));
+            if (left) CHECK(same_end(got, *want));
+        }
+    }
+    CHECK(checked > 20000);
+    CHECK(hits > checked / 5);
+}
+
 TEST_CASE("csg: combine_spans of a list with itself: U and I give it back, C gives nothing") {
     Rng rng(7);
     for (int k = 0; k < 200; ++k) {
@@ -239,6 +301,43 @@ TEST_CASE("csg: combine_spans of a list with itself: U and I give it back, C giv
         combine_spans(CsgType::Difference, a, a, out);
         CHECK(out.empty());
     }
+}
+
+// The one-span-a-side combination (shapes.cpp's common CSG case) is a decision tree
+// written apart from the list walk; it must give the walk's spans bit for bit: the same
+// surfaces on equal t (the left operand's first), empty spans dropped, and defined
+// answers for infinite and NaN ends. Ends drawn from a few values, so ties are common.
+TEST_CASE("csg: combine_single_spans gives combine_spans' spans, ties and non-finite ends included") {
+    const double values[] = {-HUGE_VAL, -1, 0, 0.5, 1, 2, HUGE_VAL, NAN};
+    Rng rng(31);
+    int compared = 0, nonempty = 0;
+    for (int k = 0; k < 20000; ++k) {
+        auto pick = [&] { return values[int(rng.uni() * 8) % (k < 10000 ? 7 : 8)]; };
+        auto span = [&](std::uint32_t node) {
+            double t0 = pick(), t1 = pick();
+            // Mostly ordered ends, as primitives give; sometimes any order.
+            if (rng.uni() < 0.8 && t1 < t0) std::swap(t0, t1);
+            return Span{{t0, node, 0, false}, {t1, node, 1, false}};
+        };
+        Span sa = span(1), sb = span(2);
+        bool has_a = rng.uni() < 0.9, has_b = rng.uni() < 0.9;
+        for (CsgType type : {CsgType::Union, CsgType::Intersection, CsgType::Difference}) {
+            std::vector<Span> a, b, want, got;
+            if (has_a) a.push_back(sa);
+            if (has_b) b.push_back(sb);
+            combine_spans(type, a, b, want);
+            combine_single_spans(type, has_a ? &sa : nullptr, has_b ? &sb : nullptr, got);
+            REQUIRE(got.size() == want.size());
+            for (std::size_t i = 0; i < got.size(); ++i) {
+                CHECK(same_end(got[i].in, want[i].in));
+                CHECK(same_end(got[i].out, want[i].out));
+            }
+            ++compared;
+            nonempty += !want.empty();
+        }
+    }
+    CHECK(compared == 60000);
+    CHECK(nonempty > 20000);
 }
 
 // Torus around the z axis (R 2, r 0.5) minus a sphere that bites one side of the ring.

@@ -227,6 +227,46 @@ TEST_CASE("shape: ray through a sphere's centre from outside hits at distance |o
     CHECK_MESSAGE(f.count == 0, f.first);
 }
 
+// hit() finds the leading run of spheres by object number (Geometry::sphere_prefix) and
+// the others through their nodes: spheres on both sides of a CSG and a cylinder must
+// each be hit at the distance of their own surface, with their own node.
+TEST_CASE("shape: spheres before and after other shapes are hit at their own surfaces") {
+    Scene scene;
+    auto sphere_at = [](double x) {
+        Object o;
+        o.shape = Sphere{{x, 0, 0}, 0.5};
+        return o;
+    };
+    Model cyl;
+    cyl.kind = Model::Cyl;
+    cyl.e1 = {2, -0.5, 0};
+    cyl.e2 = {2, 0.5, 0};
+    cyl.r = 0.4;
+    Csg csg;
+    csg.type = CsgType::Difference;
+    csg.operands = {sphere_at(3), sphere_at(3.2)};
+    Object csg_obj;
+    csg_obj.shape = std::move(csg);
+    scene.objects = {sphere_at(0), sphere_at(1), cyl.object(), sphere_at(4), csg_obj, sphere_at(5)};
+    Geometry g = build_geometry(scene);
+    CHECK(g.sphere_prefix == 2);
+    SpanScratch scratch;
+    for (std::uint32_t obj : {0u, 1u, 3u, 5u}) {
+        double x = obj == 0 ? 0 : obj == 1 ? 1 : obj == 3 ? 4 : 5;
+        // From above, straight down onto the sphere's top.
+        SpanEnd e;
+        REQUIRE(g.hit(obj, {x, 0, 3}, {0, 0, -1}, 0, e, scratch));
+        CHECK(e.t == 2.5);
+        CHECK(e.node == g.object_node[obj]);
+        CHECK(g.nodes[e.node].kind == NodeKind::Sphere);
+        CHECK(g.spheres[g.nodes[e.node].index].c.x == x);
+        CHECK_FALSE(g.hit(obj, {x + 2, 0, 3}, {0, 0, -1}, 0, e, scratch));
+    }
+    Scene none_first;
+    none_first.objects = {cyl.object(), sphere_at(0)};
+    CHECK(build_geometry(none_first).sphere_prefix == 0);
+}
+
 TEST_CASE("shape: rays along a cylinder's axis hit the near cap and leave through the far one") {
     Rng rng(43);
     Failures f;
