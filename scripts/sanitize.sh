@@ -79,19 +79,32 @@ if [ "$WHAT" != asan ]; then
     [ -n "$TSAN_TEST_FILES" ] && tsan_core=rt_tests
     run cmake --build build-tsan -j"$JOBS" --target "$tsan_core" "${viewer_tests[@]}"
 
-    stage "renderer tests under TSan"
+    # The renderer tests keep about one core busy, so the viewer-logic tests run beside
+    # them (their output is shown when they end).
+    if [ ${#viewer_tests[@]} -eq 0 ]; then
+        echo "note: no viewer-logic test program (tests/viewer) to run under TSan" >&2
+    fi
+    (
+        vstatus=0
+        for t in "${viewer_tests[@]}"; do
+            echo "+ ${NORAND[*]} build-tsan/bin/$t"
+            "${NORAND[@]}" "build-tsan/bin/$t" || vstatus=1
+        done
+        exit $vstatus
+    ) > build-tsan/viewer-tests.log 2>&1 &
+    viewer_pid=$!
+
+    stage "renderer tests under TSan (the viewer-logic tests beside them)"
     if [ -n "$TSAN_TEST_FILES" ]; then
         run "${NORAND[@]}" build-tsan/bin/rt_tests -sf="$TSAN_TEST_FILES" || status=1
     else
         run "${NORAND[@]}" build-tsan/bin/rt_renderer_tests || status=1
     fi
-    if [ ${#viewer_tests[@]} -eq 0 ]; then
-        echo "note: no viewer-logic test program (tests/viewer) to run under TSan" >&2
-    fi
-    for t in "${viewer_tests[@]}"; do
-        stage "viewer-logic tests under TSan: $t"
-        run "${NORAND[@]}" "build-tsan/bin/$t" || status=1
-    done
+    vstatus=0
+    wait "$viewer_pid" || vstatus=1
+    stage "viewer-logic tests under TSan: ${viewer_tests[*]}"
+    cat build-tsan/viewer-tests.log
+    [ $vstatus -eq 0 ] || status=1
 fi
 
 echo
