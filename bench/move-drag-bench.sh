@@ -12,18 +12,9 @@ BIN=$(cd "${1:-$HERE/../build/bin}" && pwd)
 DNUM=${2:-93}
 RUNS=${RUNS:-3}
 OUT=$(mktemp -d /tmp/move-drag-bench.XXXXXX)
-for t in raytracer-view rtview-xframes; do
-    [ -x "$BIN/$t" ] || { echo "missing $BIN/$t (build it first)" >&2; exit 2; }
-done
-export DISPLAY=:$DNUM MESA_SHADER_CACHE_DISABLE=true
-export XDG_CONFIG_HOME=$OUT/config XDG_STATE_HOME=$OUT/state
-PIDS=()
-cleanup() { for p in "${PIDS[@]}"; do kill "$p" 2> /dev/null || true; done; }
-trap cleanup EXIT
-Xvfb ":$DNUM" -screen 0 1280x800x24 -nolisten tcp > /dev/null 2>&1 &
-PIDS+=($!)
-sleep 1
-load() { cut -d' ' -f1-3 /proc/loadavg; }
+NEED=(raytracer-view rtview-xframes)
+# shellcheck source=bench/xvfb-session.sh
+. "$HERE/xvfb-session.sh"
 field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$OUT/layout.txt"; }
 
 # run SCENE MODE: one 2 s drag (MODE orbit or move); prints the pictures counted.

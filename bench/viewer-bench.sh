@@ -18,21 +18,10 @@ DNUM=${2:-92}
 GRID=${3:-/tmp/grid1m.txt}
 RUNS=${RUNS:-3}
 OUT=$(mktemp -d /tmp/viewer-bench.XXXXXX)
-for t in raytracer raytracer-view rtview-xframes; do
-    [ -x "$BIN/$t" ] || { echo "missing $BIN/$t (build it first)" >&2; exit 2; }
-done
-for t in Xvfb xdotool; do command -v $t > /dev/null || { echo "missing $t" >&2; exit 2; }; done
+NEED=(raytracer raytracer-view rtview-xframes)
+# shellcheck source=bench/xvfb-session.sh
+. "$HERE/xvfb-session.sh"
 [ -s "$GRID" ] || "$HERE/make-grid.sh" 1000 "$GRID"
-
-export DISPLAY=:$DNUM MESA_SHADER_CACHE_DISABLE=true
-export XDG_CONFIG_HOME=$OUT/config XDG_STATE_HOME=$OUT/state
-PIDS=()
-cleanup() { for p in "${PIDS[@]}"; do kill "$p" 2> /dev/null || true; done; }
-trap cleanup EXIT
-Xvfb ":$DNUM" -screen 0 1280x800x24 -nolisten tcp > /dev/null 2>&1 &
-PIDS+=($!)
-sleep 1
-load() { cut -d' ' -f1-3 /proc/loadavg; }
 
 # start_viewer SCENE LOG: starts the viewer with --verbose, waits for its first picture.
 start_viewer() {
