@@ -456,6 +456,15 @@ inline bool World::shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSear
     return false;
 }
 
+// `sh` tinted by the refractive object `obj`, which the shadow ray enters at t: by its
+// colour over the length the ray runs inside it.
+inline Colour World::through_glass(std::uint32_t obj, double t, const ShadowRay& s, const Colour& sh, Ctx& ctx) const {
+    const ShadeMaterial& m = materials[obj];
+    SpanEnd x;
+    double len = geometry->exit(obj, s.o + s.vh * t, s.vh, x, ctx.scratch) ? x.t : 0.0;
+    return mul(sh, tint(m, len * m.refraction));
+}
+
 // Whether an opaque plane or a glow disc lies on the shadow ray.
 template <bool kGlowBvh>
 inline bool World::others_block(const ShadowRay& s) const {
@@ -514,10 +523,7 @@ inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx&
     }
     if (blocked) return true;
     if (found.glass == 1) {
-        const ShadeMaterial& m = materials[found.obj];
-        SpanEnd x;
-        double len = g.exit(found.obj, s.o + s.vh * found.t, s.vh, x, ctx.scratch) ? x.t : 0.0;
-        sh = mul(sh, tint(m, len * m.refraction));
+        sh = through_glass(found.obj, found.t, s, sh, ctx);
     } else if (found.glass > 1) {
         sh = glass_tint(s, sh, ctx);
     }
@@ -571,10 +577,7 @@ Colour World::glass_tint(const ShadowRay& s, Colour sh, Ctx& ctx) const {
     g.bvh.traverse(s.o, s.v, s.r, s.limit, [&](std::uint32_t obj, double tmax) -> double {
         SpanEnd e;
         if (!g.hit(obj, s.o, s.vh, 0.0, e, ctx.scratch) || !(e.t < s.limit)) return tmax;
-        const ShadeMaterial& m = materials[obj];
-        SpanEnd x;
-        double len = g.exit(obj, s.o + s.vh * e.t, s.vh, x, ctx.scratch) ? x.t : 0.0;
-        sh = mul(sh, tint(m, len * m.refraction));
+        sh = through_glass(obj, e.t, s, sh, ctx);
         return tmax;
     });
     return sh;

@@ -178,6 +178,7 @@ private:
     [[gnu::always_inline]] bool objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const;
     [[gnu::noinline]] bool objects_block_bvh(const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
     [[gnu::noinline]] Colour glass_tint(const ShadowRay& s, Colour sh, Ctx& ctx) const;
+    Colour through_glass(std::uint32_t obj, double t, const ShadowRay& s, const Colour& sh, Ctx& ctx) const;
     template <bool kGlowBvh>
     [[gnu::always_inline]] bool others_block(const ShadowRay& s) const;
     Colour walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, int level, double weight,
