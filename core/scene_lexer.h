@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string_view>
 #include <vector>
 
@@ -38,15 +39,23 @@ public:
     // inside one).
     void seek(std::size_t offset) {
         pos_ = offset;
+        space_ = ~std::uint64_t(0);
         advance();
     }
     std::string_view text() const { return text_; }
 
 private:
     void advance();
+    bool advance_in_window();
+    void fill_window();
     std::string_view text_;
     std::size_t pos_ = 0;
     Token cur_;
+    // The classes of the 64 bytes from win_ on, one bit a byte: spaces, braces, and
+    // either (where a word ends). Most tokens, with the spaces before them, are found
+    // within one window; all spaces means none has been filled.
+    std::size_t win_ = 0;
+    std::uint64_t space_ = ~std::uint64_t(0), brace_ = 0, ends_ = 0;
 };
 
 // Whether a byte ends a line: LF, CR LF (one end, at the LF) and a CR alone all do.

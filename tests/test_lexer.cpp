@@ -11,6 +11,7 @@
 
 #include "scene_lexer.h"
 #include "scene_parser.h"
+#include "scene_schema.h"
 #include "test_random.h"
 
 using namespace rt;
@@ -100,6 +101,40 @@ TEST_CASE("lexer: the line map answers look-ups in any order, across its checkpo
         const LineCol want = walk(text, off), got = map.at(off);
         CHECK(got.line == want.line);
         CHECK(got.col == want.col);
+    }
+}
+
+TEST_CASE("lexer: the line map's counting of long LF-only spans, with a rare CR among them") {
+    // Spans of whole 16-byte blocks without a CR are counted apart from the exact way;
+    // the CRs (alone, or before an LF, at any place in a block) send a span to it.
+    rt_test::Rng rng(17);
+    for (int round = 0; round < 40; ++round) {
+        std::string text;
+        const std::size_t size = 200 + rng.index(3000);
+        while (text.size() < size) {
+            text.append(rng.index(round % 4 == 0 ? 400 : 40), 'x');
+            const std::size_t r = rng.index(100);
+            text += r == 0 ? "\r" : r == 1 ? "\r\n" : r == 2 ? "\n\n\n" : "\n";
+        }
+        CAPTURE(round);
+        LineMap forward(text), backward(text);
+        for (std::size_t off = 0; off <= text.size(); off += rng.index(300)) {
+            const LineCol want = walk(text, off), got = forward.at(off);
+            REQUIRE(got.line == want.line);
+            REQUIRE(got.col == want.col);
+        }
+        for (std::size_t k = 0; k < 200; ++k) {
+            const std::size_t off = rng.index(text.size() + 1);
+            const LineCol want = walk(text, off), got = backward.at(off);
+            REQUIRE(got.line == want.line);
+            REQUIRE(got.col == want.col);
+        }
+        // Jumps over long spans at once, from the start each time.
+        for (std::size_t off = text.size(); off > 0; off = off * 3 / 4) {
+            const LineCol want = walk(text, off), got = line_col_at(text, off);
+            REQUIRE(got.line == want.line);
+            REQUIRE(got.col == want.col);
+        }
     }
 }
 
@@ -205,4 +240,22 @@ TEST_CASE("CR-only line ends: comments stop at CR and errors get their own lines
     REQUIRE(!noend.diagnostics.empty());
     CHECK(noend.diagnostics.back().line == 6);
     CHECK(noend.diagnostics.back().col == 1);
+}
+
+TEST_CASE("schema: same_word agrees with string comparison for words of every length") {
+    // Words from a two-letter alphabet, so that equal sizes and first bytes are common
+    // and a difference may sit at any place, both ends included.
+    rt_test::Rng rng(23);
+    for (int round = 0; round < 20000; ++round) {
+        const std::size_t n = rng.index(21);
+        std::string a, b;
+        for (std::size_t i = 0; i < n; ++i) a += "ab"[rng.index(2)];
+        b = a;
+        if (rng.index(2) == 0 && n > 0) b[rng.index(n)] = "ab"[rng.index(2)];
+        if (rng.index(8) == 0) b += 'a';
+        CAPTURE(a);
+        CAPTURE(b);
+        REQUIRE(schema::same_word(a, b) == (a == b));
+        REQUIRE(schema::same_word(b, a) == (a == b));
+    }
 }
