@@ -417,6 +417,10 @@ private:
     // ---- values ------------------------------------------------------------------
     bool number(const Token& key, double& v) {
         const Token& t = lex_.peek();
+        if (short_decimal(t.text, v)) {
+            lex_.skip();
+            return true;
+        }
         if (t.eof()) fatal(t, "unexpected end of file: expected a number after " + quote(key.text));
         double fast = 0;
         const NumberScan scan = scan_number(t.text, fast);
@@ -457,6 +461,10 @@ private:
         Vec3 r;
         for (int i = 0; i < 3; ++i) {
             const Token& t = lex_.peek();
+            if (short_decimal(t.text, r[i])) {
+                lex_.skip();
+                continue;
+            }
             if (t.eof()) return number(key, r[i]);  // reports the end of the file
             double fast = 0;
             const NumberScan scan = scan_number(t.text, fast);

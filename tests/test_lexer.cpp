@@ -3,6 +3,7 @@
 // conversion.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <cstring>
@@ -203,6 +204,47 @@ TEST_CASE("numbers: the fast path gives the library's double, bit for bit") {
         CHECK(same_bits(number_value(s), libc_value(s)));
     }
     CHECK(fast > int(cases.size()) / 2);  // the fast path is the common one
+}
+
+TEST_CASE("numbers: short_decimal takes exactly the short decimals, with the library's double") {
+    // Tokens from the characters of numbers, so that most are near misses: signs and
+    // points in odd places, exponents, 15 and 16 digits, empty digit runs.
+    rt_test::Rng rng(29);
+    const char alphabet[] = "0123456789000000000.-+eE";
+    int taken = 0;
+    for (int i = 0; i < 300000; ++i) {
+        std::string s;
+        const std::size_t n = rng.index(20);
+        if (i % 2 == 0) {
+            for (std::size_t k = 0; k < n; ++k) s += alphabet[rng.index(sizeof alphabet - 1)];
+        } else {  // well-formed decimals of 0 to 19 digits
+            if (rng.uni() < 0.4) s += "-+"[rng.index(2)];
+            const std::size_t point = rng.index(n + 1);
+            for (std::size_t k = 0; k < n; ++k) {
+                if (k == point) s += '.';
+                s += "0123456789"[rng.index(10)];
+            }
+        }
+        CAPTURE(s);
+        double fast = 0, scanned = 0;
+        const bool short_one = short_decimal(s, fast);
+        const NumberScan scan = scan_number(s, scanned);
+        std::size_t digits = 0;
+        bool plain = !s.empty();
+        for (std::size_t k = 0; k < s.size(); ++k) {
+            digits += s[k] >= '0' && s[k] <= '9';
+            plain = plain && (std::strchr("0123456789.", s[k]) || (k == 0 && (s[k] == '-' || s[k] == '+')));
+        }
+        // Its own definition, from the text: a sign, digits with at most one point.
+        const bool want = plain && std::count(s.begin(), s.end(), '.') <= 1 && digits >= 1 && digits <= 15;
+        REQUIRE(short_one == want);
+        if (!short_one) continue;
+        ++taken;
+        REQUIRE(scan == NumberScan::Exact);
+        REQUIRE(same_bits(fast, scanned));
+        REQUIRE(same_bits(fast, libc_value(s)));
+    }
+    CHECK(taken > 50000);
 }
 
 TEST_CASE("numbers: the syntax, whole tokens only") {
