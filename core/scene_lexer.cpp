@@ -188,10 +188,14 @@ void LineMap::scan_to(std::size_t offset) {
             }
             if (_mm_movemask_epi8(crs) == 0) {
                 if (lines > 0) {
-                    std::size_t last = to - 1;
-                    while (p[last] != '\n') --last;
+                    // The last LF: in the last block that has one, found a block at a time.
+                    std::size_t at = to - 16;
+                    unsigned lfs;
+                    while ((lfs = unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(
+                                    _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + at)), lf)))) == 0)
+                        at -= 16;
                     cur_.line += int(lines);
-                    cur_.line_start = last + 1;
+                    cur_.line_start = at + std::size_t(32 - __builtin_clz(lfs));
                 }
                 k = to;
             }
