@@ -301,3 +301,11 @@ TEST_CASE("schema: same_word agrees with string comparison for words of every le
         REQUIRE(schema::same_word(b, a) == (a == b));
     }
 }
+
+TEST_CASE("schema: no object name is a section name (the parser takes an object name as an item at once)") {
+    for (const schema::Block<Object>& b : schema::object_blocks()) {
+        CAPTURE(b.name);
+        CHECK(schema::find_section(b.name) == nullptr);
+        CHECK(schema::object_block(b.name) == &b);
+    }
+}
