@@ -198,9 +198,7 @@ rt::Status run(int argc, char** argv) {
     Times times;
     const auto t_start = Clock::now();
     rt::Scene scene;
-    std::string text;
-    if (rt::Status st = load_scene(kProgram, scene_path, text, scene); !st) return st;
-    std::string().swap(text);  // the parsed scene is all that is needed from here
+    if (rt::Status st = load_scene(kProgram, scene_path, scene); !st) return st;
     if (opt.width) scene.width = *opt.width;
     if (opt.height) scene.height = *opt.height;
     times.parse = seconds_since(t_start);

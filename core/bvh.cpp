@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cfloat>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <memory>
 #include <new>
@@ -72,14 +74,32 @@ void two_ways(bool two, F&& f) {
 
 }  // namespace
 
+namespace {
+
+// std::nextafter(x, -INFINITY) and (x, INFINITY) for x that is not NaN nor the infinity
+// it steps towards, inline: the library call was a tenth of the BVH build's leaves.
+// Floats of one sign are ordered as their bit patterns; zeros step to the smallest
+// subnormal of the side they step to.
+inline float float_step(float x, bool up) {
+    if (x == 0) return up ? FLT_TRUE_MIN : -FLT_TRUE_MIN;
+    std::uint32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    bits = (x > 0) == up ? bits + 1 : bits - 1;
+    std::memcpy(&x, &bits, sizeof x);
+    return x;
+}
+
+}  // namespace
+
 void to_float_box(const Aabb& b, float out[6]) {
     double m = 0;
     for (int k = 0; k < 3; ++k) m = std::max({m, std::fabs(b.lo[k]), std::fabs(b.hi[k])});
     double pad = m * 1e-6 + 1e-30;
     for (int k = 0; k < 3; ++k) {
         float lo = float(b.lo[k] - pad), hi = float(b.hi[k] + pad);
-        if (double(lo) > b.lo[k] - pad) lo = std::nextafter(lo, -INFINITY);
-        if (double(hi) < b.hi[k] + pad) hi = std::nextafter(hi, INFINITY);
+        // (A NaN, or the infinity a bound would step towards, fails these comparisons.)
+        if (double(lo) > b.lo[k] - pad) lo = float_step(lo, false);
+        if (double(hi) < b.hi[k] + pad) hi = float_step(hi, true);
         out[k] = lo;
         out[3 + k] = hi;
     }
@@ -142,11 +162,14 @@ struct Bins {
 
 // One item as the build moves it: its box, its centre and its index. The items of a
 // node lie side by side and are partitioned in place, so every pass over a node reads
-// memory in order (not through an index into a million boxes).
+// memory in order (not through an index into a million boxes). (Recomputing the
+// centre where it is needed, for a 56-byte record, cost more instructions than the
+// memory traffic it saved here.)
 struct Rec {
     Aabb box;
     Vec3 c;
     std::uint32_t id;
+    Vec3 centre() const { return c; }
     // (&c.x)[axis]: Vec3's operator[] is a chain of branches.
     double centre(int axis) const { return (&c.x)[axis]; }
 };
@@ -164,6 +187,42 @@ struct Split {
     double cost = DBL_MAX;  // the children's area times count, summed
 };
 
+#if defined(__SSE2__)
+// fill_bins for the axes that are used (X, Y, Z), known at compile time: the usual
+// node bins all three, or two for flat scenes, and the checks per item and axis go.
+template <bool X, bool Y, bool Z>
+void fill_bins_sse2(const Rec* recs, std::uint32_t begin, std::uint32_t end, const double lo[3],
+                    const double scale[3], Bins& bins) {
+    // The three bin numbers at once: the same double arithmetic as bin_of, then the
+    // clamp to 0..kBins-1 in 16 bits (the packing saturates; the conversion's
+    // out-of-range value is negative, as in bin_of).
+    const __m128d lo01 = _mm_set_pd(lo[1], lo[0]), lo22 = _mm_set1_pd(lo[2]);
+    const __m128d scale01 = _mm_set_pd(scale[1], scale[0]), scale22 = _mm_set1_pd(scale[2]);
+    const __m128i zero = _mm_setzero_si128(), top = _mm_set1_epi16(kBins - 1);
+    for (const Rec *r = recs + begin, *e = recs + end; r != e; ++r) {
+        const Aabb& box = r->box;
+        const __m128d blo01 = _mm_loadu_pd(&box.lo.x), blo2 = _mm_load_sd(&box.lo.z);
+        const __m128d bhi01 = _mm_loadu_pd(&box.hi.x), bhi2 = _mm_load_sd(&box.hi.z);
+        const __m128i k01 = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_loadu_pd(&r->c.x), lo01), scale01));
+        __m128i k22 = zero;
+        if (Z) k22 = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_load1_pd(&r->c.z), lo22), scale22));
+        const __m128i k = _mm_min_epi16(_mm_max_epi16(_mm_packs_epi32(_mm_unpacklo_epi64(k01, k22), zero), zero), top);
+        auto add = [&](int axis, int kb) {
+            Bins::Box& bb = bins.box[axis][kb];
+            // dmin(acc, v) is v < acc ? v : acc, which is minpd(v, acc).
+            bb.lo01 = _mm_min_pd(blo01, bb.lo01);
+            bb.lo2 = _mm_min_sd(blo2, bb.lo2);
+            bb.hi01 = _mm_max_pd(bhi01, bb.hi01);
+            bb.hi2 = _mm_max_sd(bhi2, bb.hi2);
+            ++bins.count[axis][kb];
+        };
+        if (X) add(0, _mm_extract_epi16(k, 0));
+        if (Y) add(1, _mm_extract_epi16(k, 1));
+        if (Z) add(2, _mm_extract_epi16(k, 2));
+    }
+}
+#endif
+
 // The bins of items [begin, end) on each axis where their centroid bounds have extent.
 void fill_bins(const Rec* recs, std::uint32_t begin, std::uint32_t end, const Aabb& cb, Bins& bins) {
     Vec3 ext = cb.hi - cb.lo;
@@ -175,33 +234,12 @@ void fill_bins(const Rec* recs, std::uint32_t begin, std::uint32_t end, const Aa
         scale[axis] = use[axis] ? kBins / ext[axis] : 0.0;
     }
 #if defined(__SSE2__)
-    // The three bin numbers at once: the same double arithmetic as bin_of, then the
-    // clamp to 0..kBins-1 in 16 bits (the packing saturates; the conversion's
-    // out-of-range value is negative, as in bin_of).
-    const __m128d lo01 = _mm_set_pd(lo[1], lo[0]), lo22 = _mm_set1_pd(lo[2]);
-    const __m128d scale01 = _mm_set_pd(scale[1], scale[0]), scale22 = _mm_set1_pd(scale[2]);
-    const __m128i zero = _mm_setzero_si128(), top = _mm_set1_epi16(kBins - 1);
-    for (const Rec *r = recs + begin, *e = recs + end; r != e; ++r) {
-        const Aabb& box = r->box;
-        const __m128i k01 = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_loadu_pd(&r->c.x), lo01), scale01));
-        const __m128i k22 = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_load1_pd(&r->c.z), lo22), scale22));
-        const __m128i k = _mm_min_epi16(_mm_max_epi16(_mm_packs_epi32(_mm_unpacklo_epi64(k01, k22), zero), zero), top);
-        alignas(16) std::uint16_t ks[8];
-        _mm_store_si128(reinterpret_cast<__m128i*>(ks), k);
-        const __m128d blo01 = _mm_loadu_pd(&box.lo.x), blo2 = _mm_load_sd(&box.lo.z);
-        const __m128d bhi01 = _mm_loadu_pd(&box.hi.x), bhi2 = _mm_load_sd(&box.hi.z);
-        for (int axis = 0; axis < 3; ++axis) {
-            if (!use[axis]) continue;
-            const int kb = ks[axis];
-            Bins::Box& bb = bins.box[axis][kb];
-            // dmin(acc, v) is v < acc ? v : acc, which is minpd(v, acc).
-            bb.lo01 = _mm_min_pd(blo01, bb.lo01);
-            bb.lo2 = _mm_min_sd(blo2, bb.lo2);
-            bb.hi01 = _mm_max_pd(bhi01, bb.hi01);
-            bb.hi2 = _mm_max_sd(bhi2, bb.hi2);
-            ++bins.count[axis][kb];
-        }
-    }
+    using Fill = void (*)(const Rec*, std::uint32_t, std::uint32_t, const double*, const double*, Bins&);
+    static constexpr Fill fills[8] = {fill_bins_sse2<false, false, false>, fill_bins_sse2<true, false, false>,
+                                      fill_bins_sse2<false, true, false>,  fill_bins_sse2<true, true, false>,
+                                      fill_bins_sse2<false, false, true>,  fill_bins_sse2<true, false, true>,
+                                      fill_bins_sse2<false, true, true>,   fill_bins_sse2<true, true, true>};
+    fills[int(use[0]) | int(use[1]) << 1 | int(use[2]) << 2](recs, begin, end, lo, scale, bins);
 #else
     for (const Rec *r = recs + begin, *e = recs + end; r != e; ++r)
         for (int axis = 0; axis < 3; ++axis) {
@@ -219,26 +257,51 @@ void sweep(const Bins& bins, int axis, Split& best) {
     // most of the sweep in small nodes.
     double left_area[kBins];
     std::uint32_t left_n[kBins];
+#if defined(__SSE2__)
+    // The running box grown as Aabb::grow does (see Bins::Box), its area as Aabb::area
+    // computes it, without going through an Aabb for each bin.
+    Bins::Box acc;
+    auto grow = [&](const Bins::Box& b) {
+        acc.lo01 = _mm_min_pd(b.lo01, acc.lo01);
+        acc.lo2 = _mm_min_sd(b.lo2, acc.lo2);
+        acc.hi01 = _mm_max_pd(b.hi01, acc.hi01);
+        acc.hi2 = _mm_max_sd(b.hi2, acc.hi2);
+    };
+    auto area_of = [&] {
+        if ((_mm_movemask_pd(_mm_cmpgt_pd(acc.lo01, acc.hi01)) | (_mm_movemask_pd(_mm_cmpgt_sd(acc.lo2, acc.hi2)) & 1)) != 0)
+            return 0.0;  // empty
+        const __m128d e01 = _mm_sub_pd(acc.hi01, acc.lo01);
+        const double ex = _mm_cvtsd_f64(e01), ey = _mm_cvtsd_f64(_mm_unpackhi_pd(e01, e01));
+        const double ez = _mm_cvtsd_f64(_mm_sub_sd(acc.hi2, acc.lo2));
+        return 2 * (ex * ey + ey * ez + ez * ex);
+    };
+    auto restart = [&] { acc = Bins::Box(); };
+    auto add_bin = [&](int k) { grow(bins.box[axis][k]); };
+#else
     Aabb acc;
+    auto area_of = [&] { return acc.area(); };
+    auto restart = [&] { acc = Aabb(); };
+    auto add_bin = [&](int k) { acc.grow(bins.at(axis, k)); };
+#endif
     double area = 0;
     std::uint32_t n = 0;
     for (int k = 0; k < kBins; ++k) {
         if (bins.count[axis][k] != 0) {
-            acc.grow(bins.at(axis, k));
+            add_bin(k);
             n += bins.count[axis][k];
-            area = acc.area();
+            area = area_of();
         }
         left_area[k] = area;
         left_n[k] = n;
     }
-    acc = Aabb();
+    restart();
     area = 0;
     n = 0;
     for (int k = kBins - 1; k > 0; --k) {
         if (bins.count[axis][k] != 0) {
-            acc.grow(bins.at(axis, k));
+            add_bin(k);
             n += bins.count[axis][k];
-            area = acc.area();
+            area = area_of();
         }
         if (left_n[k - 1] == 0 || n == 0) continue;
         double cost = left_area[k - 1] * left_n[k - 1] + area * n;
@@ -265,7 +328,7 @@ struct Builder {
     }
     Aabb range_centres(std::uint32_t begin, std::uint32_t end) const {
         Aabb b;
-        for (std::uint32_t i = begin; i < end; ++i) b.grow(recs[i].c);
+        for (std::uint32_t i = begin; i < end; ++i) b.grow(recs[i].centre());
         return b;
     }
 
@@ -320,7 +383,7 @@ struct Builder {
 #else
         Rec* it = std::partition(recs + begin, recs + end, [&](const Rec& r) {
             const bool left = bin_of(r.centre(axis), lo, scale) <= s.bin;
-            (left ? h.lcb : h.rcb).grow(r.c);
+            (left ? h.lcb : h.rcb).grow(r.centre());
             return left;
         });
 #endif
@@ -541,7 +604,7 @@ void Bvh::build(const std::vector<Aabb>& boxes, int threads) {
             if (boxes[i].empty()) continue;
             *r = {boxes[i], boxes[i].centre(), std::uint32_t(i)};
             bounds[p].grow(boxes[i]);
-            centres[p].grow(r++->c);
+            centres[p].grow(r++->centre());
         }
     });
     bounds[0].grow(bounds[1]);

@@ -366,7 +366,11 @@ ssize_t pread_full(int fd, char* p, std::size_t n, off_t at) {
 
 }  // namespace
 
-Status read_file(const std::string& path, std::string& out, std::size_t max_bytes) {
+namespace {
+
+// read_file into a std::string or a FileText.
+template <class Buffer>
+Status read_into(const std::string& path, Buffer& out, std::size_t max_bytes) {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) return io_error(errno_text(errno));
     auto fail = [&](std::string msg) {
@@ -391,8 +395,9 @@ Status read_file(const std::string& path, std::string& out, std::size_t max_byte
     const bool big = S_ISREG(st.st_mode) && std::size_t(st.st_size) >= (std::size_t(8) << 20) &&
                      first > std::size_t(st.st_size);
     if (big) {
-        // The zero fill of resize() would take every page's first-touch fault (most of
-        // its time) on this thread: another one takes half of them meanwhile.
+        // The first-touch faults (most of the cost of filling fresh pages) taken on two
+        // threads; else a std::string's zero fill in resize() would take them all on
+        // this one, and a FileText's read would take them as it goes.
         out.reserve(first);
         populate_pages_on_two_threads(out.data(), first);
     }
@@ -440,6 +445,16 @@ Status read_file(const std::string& path, std::string& out, std::size_t max_byte
     out.resize(size);
     ::close(fd);
     return {};
+}
+
+}  // namespace
+
+Status read_file(const std::string& path, std::string& out, std::size_t max_bytes) {
+    return read_into(path, out, max_bytes);
+}
+
+Status read_file(const std::string& path, FileText& out, std::size_t max_bytes) {
+    return read_into(path, out, max_bytes);
 }
 
 Status read_ppm(const std::string& path, int& width, int& height, std::vector<std::uint8_t>& rgb) {

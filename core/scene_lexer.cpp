@@ -55,34 +55,57 @@ SceneLexer::SceneLexer(std::string_view text) : text_(text) {
     advance();
 }
 
+void SceneLexer::fill_window() {
+#if defined(__SSE2__)
+    const char* p = text_.data() + pos_;
+    std::uint64_t space = 0, brace = 0;
+    for (int k = 0; k < 4; ++k) {
+        const __m128i c = load16(p + 16 * k);
+        space |= std::uint64_t(unsigned(_mm_movemask_epi8(spaces(c)))) << (16 * k);
+        brace |= std::uint64_t(unsigned(_mm_movemask_epi8(braces(c)))) << (16 * k);
+    }
+    win_ = pos_;
+    space_ = space;
+    brace_ = brace;
+    ends_ = space | brace;
+#endif
+}
+
+// The next token if it lies (with the spaces before it) in the window, and does not
+// start with '/' (a comment, maybe); else false, and nothing has changed.
+inline bool SceneLexer::advance_in_window() {
+    const std::size_t rel = pos_ - win_;  // pos_ >= win_ while a window is in use
+    if (rel >= 64) return false;
+    const std::uint64_t word = ~space_ >> rel;
+    if (word == 0) return false;
+    const unsigned s = unsigned(rel) + unsigned(__builtin_ctzll(word));
+    const char* const start = text_.data() + win_ + s;
+    if (*start == '/') return false;
+    unsigned len = 1;
+    if (!(brace_ >> s & 1)) {
+        if (s == 63) return false;
+        const std::uint64_t after = ends_ >> (s + 1);
+        if (after == 0) return false;  // it may go on past the window
+        len = 1 + unsigned(__builtin_ctzll(after));
+    }
+    pos_ = win_ + s + len;
+    cur_.text = std::string_view(start, len);
+    cur_.offset = win_ + s;
+    return true;
+}
+
 void SceneLexer::advance() {
     const char* const begin = text_.data();
     const char* const end = begin + text_.size();
     const char* p = begin + pos_;
 #if defined(__SSE2__)
-    // The usual token, its leading spaces and its end all lie within 16 bytes: one
-    // load finds where it starts and where it ends. Anything else (comments, long
-    // words or runs of spaces, the last bytes of the text) takes the general way.
-    if (end - p >= 16) {
-        const __m128i c = load16(p);
-        const unsigned space = unsigned(_mm_movemask_epi8(spaces(c)));
-        const unsigned brace = unsigned(_mm_movemask_epi8(braces(c)));
-        if (const unsigned word = ~space & 0xFFFFu) {
-            const int s = __builtin_ctz(word);
-            if (p[s] != '/') {
-                int len = 1;
-                if (!(brace >> s & 1)) {
-                    const unsigned after = (space | brace) >> (s + 1);
-                    len = after ? 1 + __builtin_ctz(after) : 0;
-                }
-                if (len) {
-                    pos_ = std::size_t(p - begin) + std::size_t(s + len);
-                    cur_.text = std::string_view(p + s, std::size_t(len));
-                    cur_.offset = std::size_t(p + s - begin);
-                    return;
-                }
-            }
-        }
+    // The usual token is found in the window of 64 bytes classified at once; a token
+    // past it starts a new window where the last one ended. Anything else (comments,
+    // long words or runs of spaces, the last bytes of the text) takes the general way.
+    if (advance_in_window()) return;
+    if (end - p >= 64) {
+        fill_window();
+        if (advance_in_window()) return;
     }
 #endif
     for (;;) {
@@ -144,9 +167,41 @@ void LineMap::scan_to(std::size_t offset) {
         // Stop at each checkpoint boundary so that backward look-ups restart nearby.
         const std::size_t stop = std::min(offset, (k / kCheckpoint + 1) * kCheckpoint);
 #if defined(__SSE2__)
+        const __m128i lf = _mm_set1_epi8('\n'), cr = _mm_set1_epi8('\r');
+        // Whole 16-byte blocks without a CR (the usual text): their LFs only counted,
+        // in byte counters summed every 255 blocks, and the last line's start found by
+        // looking back from the end. A CR anywhere sends the span to the exact way below.
+        if (const std::size_t blocks = (stop - k) / 16; blocks >= 4) {
+            const std::size_t to = k + blocks * 16;
+            std::size_t lines = 0;
+            __m128i crs = _mm_setzero_si128();
+            for (std::size_t at = k; at < to;) {
+                const std::size_t run_end = std::min(to, at + 255 * 16);
+                __m128i counts = _mm_setzero_si128();
+                for (; at < run_end; at += 16) {
+                    const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + at));
+                    counts = _mm_sub_epi8(counts, _mm_cmpeq_epi8(here, lf));
+                    crs = _mm_or_si128(crs, _mm_cmpeq_epi8(here, cr));
+                }
+                const __m128i sums = _mm_sad_epu8(counts, _mm_setzero_si128());
+                lines += std::size_t(_mm_cvtsi128_si32(sums)) + std::size_t(_mm_cvtsi128_si32(_mm_srli_si128(sums, 8)));
+            }
+            if (_mm_movemask_epi8(crs) == 0) {
+                if (lines > 0) {
+                    // The last LF: in the last block that has one, found a block at a time.
+                    std::size_t at = to - 16;
+                    unsigned lfs;
+                    while ((lfs = unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(
+                                    _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + at)), lf)))) == 0)
+                        at -= 16;
+                    cur_.line += int(lines);
+                    cur_.line_start = at + std::size_t(32 - __builtin_clz(lfs));
+                }
+                k = to;
+            }
+        }
         // 16 bytes at a time; the look-ahead load at k + 1 needs k + 17 <= n. The last
         // partial block before `stop` is masked rather than read byte by byte.
-        const __m128i lf = _mm_set1_epi8('\n'), cr = _mm_set1_epi8('\r');
         auto block = [&](std::size_t at, unsigned mask) {
             const __m128i here = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + at));
             unsigned ends = unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(here, lf)));

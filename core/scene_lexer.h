@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string_view>
 #include <vector>
 
@@ -38,15 +39,23 @@ public:
     // inside one).
     void seek(std::size_t offset) {
         pos_ = offset;
+        space_ = ~std::uint64_t(0);
         advance();
     }
     std::string_view text() const { return text_; }
 
 private:
     void advance();
+    bool advance_in_window();
+    void fill_window();
     std::string_view text_;
     std::size_t pos_ = 0;
     Token cur_;
+    // The classes of the 64 bytes from win_ on, one bit a byte: spaces, braces, and
+    // either (where a word ends). Most tokens, with the spaces before them, are found
+    // within one window; all spaces means none has been filled.
+    std::size_t win_ = 0;
+    std::uint64_t space_ = ~std::uint64_t(0), brace_ = 0, ends_ = 0;
 };
 
 // Whether a byte ends a line: LF, CR LF (one end, at the LF) and a CR alone all do.
@@ -103,5 +112,35 @@ NumberScan scan_number(std::string_view s, double& value);
 // infinite or 0 when out of double range. Precondition: is_number_syntax(s).
 double library_number_value(std::string_view s);
 double number_value(std::string_view s);  // either of the two ways
+
+// The usual numbers of big files, inline in the parser's loop: [+-] digits [. digits]
+// with at most 15 digits, no exponent. True with the value scan_number gives, computed
+// the same way (exact digits, one correctly rounded division); false for anything
+// else, which scan_number then reads.
+inline bool short_decimal(std::string_view s, double& value) {
+    static constexpr double kPow10[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                        1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+    const char* const p = s.data();
+    const std::size_t n = s.size();
+    if (n == 0 || n > 17) return false;
+    const std::size_t first = p[0] == '-' || p[0] == '+' ? 1 : 0;
+    std::uint64_t m = 0;
+    std::size_t after_point = 0;  // the index after the '.', if there is one
+    for (std::size_t i = first; i < n; ++i) {
+        const unsigned d = unsigned(p[i] - '0');
+        if (d < 10)
+            m = m * 10 + d;
+        else if (p[i] == '.' && after_point == 0)
+            after_point = i + 1;
+        else
+            return false;
+    }
+    const std::size_t digits = n - first - (after_point != 0);
+    if (digits == 0 || digits > 15) return false;
+    double v = double(std::int64_t(m));  // m < 10^15 < 2^53: exact
+    if (after_point != 0 && n > after_point) v /= kPow10[n - after_point];
+    value = p[0] == '-' ? -v : v;
+    return true;
+}
 
 }  // namespace rt

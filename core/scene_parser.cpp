@@ -142,10 +142,11 @@ public:
         try {
             for (;;) {
                 const Token& t = lex_.peek();
-                if (t.offset >= p.stop_at || t.eof() || t.is('}') || sc::find_section(t.text) ||
+                const sc::Block<Object>* b = sc::object_block(t.text);  // (then not a section)
+                if (t.offset >= p.stop_at || t.eof() || t.is('}') || (!b && sc::find_section(t.text)) ||
                     p.quit.load(std::memory_order_relaxed))
                     break;
-                thing_item();
+                thing_item(b);
                 if (objects_ > p.max_counted) break;
                 kept = objects.size();
                 counted = objects_;
@@ -417,6 +418,10 @@ private:
     // ---- values ------------------------------------------------------------------
     bool number(const Token& key, double& v) {
         const Token& t = lex_.peek();
+        if (short_decimal(t.text, v)) {
+            lex_.skip();
+            return true;
+        }
         if (t.eof()) fatal(t, "unexpected end of file: expected a number after " + quote(key.text));
         double fast = 0;
         const NumberScan scan = scan_number(t.text, fast);
@@ -457,6 +462,10 @@ private:
         Vec3 r;
         for (int i = 0; i < 3; ++i) {
             const Token& t = lex_.peek();
+            if (short_decimal(t.text, r[i])) {
+                lex_.skip();
+                continue;
+            }
             if (t.eof()) return number(key, r[i]);  // reports the end of the file
             double fast = 0;
             const NumberScan scan = scan_number(t.text, fast);
@@ -619,6 +628,12 @@ private:
                 lex_.next();
                 return;
             }
+            // An object name (never a section's) goes straight to its block.
+            if (things)
+                if (const sc::Block<Object>* b = sc::object_block(t.text)) {
+                    thing_item(b);
+                    continue;
+                }
             if (section_inside(t, s.name)) return;
             read_item();
         }
@@ -652,10 +667,11 @@ private:
     }
 
     // Read in place: an Object is ~200 bytes, and big scenes hold millions.
-    void thing_item() {
+    // `known`: the block of the object's name, if the caller looked it up.
+    void thing_item(const sc::Block<Object>* known = nullptr) {
         std::vector<Object>& objects = out_.scene.objects;
         if (objects.size() >= populated_) populate_ahead(objects);
-        if (!object(objects.emplace_back())) objects.pop_back();
+        if (!object(objects.emplace_back(), known)) objects.pop_back();
     }
     // The first-touch faults of the next objects' pages, taken in one call for a few
     // MB of them: cheaper than one fault at a time as the objects are written.
@@ -671,10 +687,10 @@ private:
     }
 
     // Reads one object (its name is the next token). False if it was unusable.
-    bool object(Object& obj) {
+    bool object(Object& obj, const sc::Block<Object>* known = nullptr) {
         const Token t = lex_.next();
         obj.loc = loc_of(t.offset);
-        if (const sc::Block<Object>* b = sc::object_block(t.text)) return object_body(*b, t, obj);
+        if (const sc::Block<Object>* b = known ? known : sc::object_block(t.text)) return object_body(*b, t, obj);
         if (t.is('{') || t.is('}')) {
             error(t, "expected an object name (" + sc::names_of(sc::object_blocks()) + "), got " + got(t));
             if (t.is('{')) skip_to_close(1);  // we already consumed its '{'

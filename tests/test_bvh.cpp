@@ -414,3 +414,55 @@ TEST_CASE("bvh: the tree is the same, byte for byte, whatever the number of buil
         CHECK(many.items == one.items);
     }
 }
+
+TEST_CASE("bvh: float boxes are those of the library's nextafter, for ordinary and extreme coordinates") {
+    // The reference: the rounding step written with std::nextafter.
+    auto reference = [](const Aabb& b, float out[6]) {
+        double m = 0;
+        for (int k = 0; k < 3; ++k) m = std::max({m, std::fabs(b.lo[k]), std::fabs(b.hi[k])});
+        const double pad = m * 1e-6 + 1e-30;
+        for (int k = 0; k < 3; ++k) {
+            float lo = float(b.lo[k] - pad), hi = float(b.hi[k] + pad);
+            if (double(lo) > b.lo[k] - pad) lo = std::nextafter(lo, -INFINITY);
+            if (double(hi) < b.hi[k] + pad) hi = std::nextafter(hi, INFINITY);
+            out[k] = lo;
+            out[3 + k] = hi;
+        }
+    };
+    const double special[] = {0.0, -0.0, 1e-45, -1e-45, 1e-40, 1e-30, -1e-30, 1.0, -1.0, 0.1, 3.4028234e38,
+                              -3.4028234e38, 3.5e38, -3.5e38, 1e300, -1e300, 1e15, -1e15, 16777217.0, -16777217.0,
+                              // x - pad (or x + pad) is within half a subnormal of 0: the rounded
+                              // bound is a zero, which steps to the smallest subnormal
+                              1.000001000001e-30, -1.000001000001e-30, 1.0000010000010001e-30};
+    for (double x : special) {
+        const Aabb b{{x, x, x}, {x, x, x}};
+        float want[6], got[6];
+        reference(b, want);
+        to_float_box(b, got);
+        CAPTURE(x);
+        REQUIRE(std::memcmp(want, got, sizeof want) == 0);
+    }
+    Rng rng(41);
+    for (int round = 0; round < 200000; ++round) {
+        Aabb b;
+        for (int k = 0; k < 3; ++k) {
+            double a, c;
+            if (round % 3 == 0) {
+                a = special[rng.index(std::size(special))];
+                c = special[rng.index(std::size(special))];
+            } else {
+                const double scale = std::pow(10.0, rng.uni(-40, 40));
+                a = rng.uni(-1, 1) * scale;
+                c = a + rng.uni(0, 1) * scale;
+            }
+            if (a > c) std::swap(a, c);
+            (&b.lo.x)[k] = a;
+            (&b.hi.x)[k] = c;
+        }
+        float want[6], got[6];
+        reference(b, want);
+        to_float_box(b, got);
+        CAPTURE(round);
+        REQUIRE(std::memcmp(want, got, sizeof want) == 0);
+    }
+}

@@ -18,6 +18,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "image_io.h"
@@ -304,6 +305,27 @@ TEST_CASE("read_file returns the exact bytes and enforces the size limit") {
         CHECK(contains(out, "Umask"));
         CHECK(!read_file("/proc/self/status", out, 10).ok());
     }
+    // The same into a FileText (no zero fill as it grows).
+    FileText text;
+    text.resize(3);
+    REQUIRE(read_file(dir / "f", text, data.size()).ok());
+    CHECK(text.view() == data);
+    CHECK(contains(read_file(dir / "f", text, data.size() - 1).message(), std::to_string(data.size() - 1)));
+    CHECK(text.size() == 0);
+    CHECK(!read_file(dir / "missing", text, 100).ok());
+    if (fs::exists("/proc/self/status")) {
+        CHECK(read_file("/proc/self/status", text, 1 << 20).ok());
+        CHECK(contains(std::string(text.view()), "Umask"));
+        CHECK(!read_file("/proc/self/status", text, 10).ok());
+    }
+    // A pipe's bytes arrive as written, past the first buffer's size.
+    const fs::path fifo = dir / "fifo";
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    std::thread writer([&] { spit(fifo, data); });
+    const Status piped = read_file(fifo, text, data.size());
+    writer.join();
+    CHECK(piped.ok());
+    CHECK(text.view() == data);
 }
 
 TEST_CASE("read_file: a big file, read in two halves at once, comes back byte for byte") {
@@ -321,6 +343,9 @@ TEST_CASE("read_file: a big file, read in two halves at once, comes back byte fo
     CHECK(out == data);
     CHECK(contains(read_file(dir / "big", out, data.size() - 1).message(), std::to_string(data.size() - 1)));
     CHECK(out.empty());
+    FileText text;
+    REQUIRE(read_file(dir / "big", text, data.size()).ok());
+    CHECK(text.view() == data);
 }
 
 // --- the rules of check_writable (image_io.h), shared by write_file_atomic ---------

@@ -3,6 +3,7 @@
 // conversion.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <cstring>
@@ -11,6 +12,7 @@
 
 #include "scene_lexer.h"
 #include "scene_parser.h"
+#include "scene_schema.h"
 #include "test_random.h"
 
 using namespace rt;
@@ -103,6 +105,40 @@ TEST_CASE("lexer: the line map answers look-ups in any order, across its checkpo
     }
 }
 
+TEST_CASE("lexer: the line map's counting of long LF-only spans, with a rare CR among them") {
+    // Spans of whole 16-byte blocks without a CR are counted apart from the exact way;
+    // the CRs (alone, or before an LF, at any place in a block) send a span to it.
+    rt_test::Rng rng(17);
+    for (int round = 0; round < 40; ++round) {
+        std::string text;
+        const std::size_t size = 200 + rng.index(3000);
+        while (text.size() < size) {
+            text.append(rng.index(round % 4 == 0 ? 400 : 40), 'x');
+            const std::size_t r = rng.index(100);
+            text += r == 0 ? "\r" : r == 1 ? "\r\n" : r == 2 ? "\n\n\n" : "\n";
+        }
+        CAPTURE(round);
+        LineMap forward(text), backward(text);
+        for (std::size_t off = 0; off <= text.size(); off += rng.index(300)) {
+            const LineCol want = walk(text, off), got = forward.at(off);
+            REQUIRE(got.line == want.line);
+            REQUIRE(got.col == want.col);
+        }
+        for (std::size_t k = 0; k < 200; ++k) {
+            const std::size_t off = rng.index(text.size() + 1);
+            const LineCol want = walk(text, off), got = backward.at(off);
+            REQUIRE(got.line == want.line);
+            REQUIRE(got.col == want.col);
+        }
+        // Jumps over long spans at once, from the start each time.
+        for (std::size_t off = text.size(); off > 0; off = off * 3 / 4) {
+            const LineCol want = walk(text, off), got = line_col_at(text, off);
+            REQUIRE(got.line == want.line);
+            REQUIRE(got.col == want.col);
+        }
+    }
+}
+
 TEST_CASE("lexer: a line map started mid-text counts from its first line; rebased, it gives true lines") {
     rt_test::Rng rng(13);
     const char* pieces[] = {"a", "bc", " ", "\n", "\r\n", "\r", "\r\r\n", "\n\r", "{", "}"};
@@ -170,6 +206,47 @@ TEST_CASE("numbers: the fast path gives the library's double, bit for bit") {
     CHECK(fast > int(cases.size()) / 2);  // the fast path is the common one
 }
 
+TEST_CASE("numbers: short_decimal takes exactly the short decimals, with the library's double") {
+    // Tokens from the characters of numbers, so that most are near misses: signs and
+    // points in odd places, exponents, 15 and 16 digits, empty digit runs.
+    rt_test::Rng rng(29);
+    const char alphabet[] = "0123456789000000000.-+eE";
+    int taken = 0;
+    for (int i = 0; i < 300000; ++i) {
+        std::string s;
+        const std::size_t n = rng.index(20);
+        if (i % 2 == 0) {
+            for (std::size_t k = 0; k < n; ++k) s += alphabet[rng.index(sizeof alphabet - 1)];
+        } else {  // well-formed decimals of 0 to 19 digits
+            if (rng.uni() < 0.4) s += "-+"[rng.index(2)];
+            const std::size_t point = rng.index(n + 1);
+            for (std::size_t k = 0; k < n; ++k) {
+                if (k == point) s += '.';
+                s += "0123456789"[rng.index(10)];
+            }
+        }
+        CAPTURE(s);
+        double fast = 0, scanned = 0;
+        const bool short_one = short_decimal(s, fast);
+        const NumberScan scan = scan_number(s, scanned);
+        std::size_t digits = 0;
+        bool plain = !s.empty();
+        for (std::size_t k = 0; k < s.size(); ++k) {
+            digits += s[k] >= '0' && s[k] <= '9';
+            plain = plain && (std::strchr("0123456789.", s[k]) || (k == 0 && (s[k] == '-' || s[k] == '+')));
+        }
+        // Its own definition, from the text: a sign, digits with at most one point.
+        const bool want = plain && std::count(s.begin(), s.end(), '.') <= 1 && digits >= 1 && digits <= 15;
+        REQUIRE(short_one == want);
+        if (!short_one) continue;
+        ++taken;
+        REQUIRE(scan == NumberScan::Exact);
+        REQUIRE(same_bits(fast, scanned));
+        REQUIRE(same_bits(fast, libc_value(s)));
+    }
+    CHECK(taken > 50000);
+}
+
 TEST_CASE("numbers: the syntax, whole tokens only") {
     for (const char* s : {"1", "-1", "+1", "1.", ".1", "1e5", "1E-5", "+.5e+3"}) CHECK(is_number_syntax(s));
     for (const char* s : {"", "+", "-", ".", "e5", "1e", "1e+", "1.2.3", "0x10", "inf", "nan", "1,5", "1e5x", "--1", " 1"})
@@ -205,4 +282,30 @@ TEST_CASE("CR-only line ends: comments stop at CR and errors get their own lines
     REQUIRE(!noend.diagnostics.empty());
     CHECK(noend.diagnostics.back().line == 6);
     CHECK(noend.diagnostics.back().col == 1);
+}
+
+TEST_CASE("schema: same_word agrees with string comparison for words of every length") {
+    // Words from a two-letter alphabet, so that equal sizes and first bytes are common
+    // and a difference may sit at any place, both ends included.
+    rt_test::Rng rng(23);
+    for (int round = 0; round < 20000; ++round) {
+        const std::size_t n = rng.index(21);
+        std::string a, b;
+        for (std::size_t i = 0; i < n; ++i) a += "ab"[rng.index(2)];
+        b = a;
+        if (rng.index(2) == 0 && n > 0) b[rng.index(n)] = "ab"[rng.index(2)];
+        if (rng.index(8) == 0) b += 'a';
+        CAPTURE(a);
+        CAPTURE(b);
+        REQUIRE(schema::same_word(a, b) == (a == b));
+        REQUIRE(schema::same_word(b, a) == (a == b));
+    }
+}
+
+TEST_CASE("schema: no object name is a section name (the parser takes an object name as an item at once)") {
+    for (const schema::Block<Object>& b : schema::object_blocks()) {
+        CAPTURE(b.name);
+        CHECK(schema::find_section(b.name) == nullptr);
+        CHECK(schema::object_block(b.name) == &b);
+    }
 }

@@ -198,26 +198,40 @@ bool print_help_or_version(const Program& program, const Options& o) {
     return o.help || o.version;
 }
 
-rt::Status load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene) {
+namespace {
+
+template <class Text>
+rt::Status read_and_parse(const Program& program, const std::string& path, Text& text, rt::Scene& scene) {
     const std::string shown = rt::escape_text(path);
     if (const rt::Status st = rt::read_file(path, text, rt::Limits::max_file_size); !st)
         return failure(program, "cannot read '" + shown + "': " + st.message(), kExitUsage);
-    if (const rt::Status st = rt::check_encoding(text); !st)
+    const std::string_view view(text.data(), text.size());
+    if (const rt::Status st = rt::check_encoding(view); !st)
         return rt::Status::error(shown + ":1:1: error: " + st.message() + "\n", st.exit_code());
     rt::ParseOptions popts;
     popts.max_errors = kMaxShownDiagnostics;
-    rt::ParseResult result = rt::parse_scene(text, popts);
+    rt::ParseResult result = rt::parse_scene(view, popts);
     if (rt::Status st = result.status(path, kMaxShownDiagnostics); !st) return st;
     std::cerr << rt::diagnostics_report(path, result.diagnostics, kMaxShownDiagnostics);  // the warnings
     scene = std::move(result.scene);
     return {};
 }
 
+}  // namespace
+
+rt::Status load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene) {
+    return read_and_parse(program, path, text, scene);
+}
+
+rt::Status load_scene(const Program& program, const std::string& path, rt::Scene& scene) {
+    rt::FileText text;
+    return read_and_parse(program, path, text, scene);
+}
+
 rt::Status check_scene(const Program& program, const Options& o) {
     if (!o.positional.empty()) return usage_error(program, "--check takes only the scene file");
     rt::Scene scene;
-    std::string text;
-    if (rt::Status st = load_scene(program, *o.check, text, scene); !st) return st;
+    if (rt::Status st = load_scene(program, *o.check, scene); !st) return st;
     if (!o.quiet)
         std::cerr << rt::escape_text(*o.check) << ": ok: " << count(scene.objects.size(), "object") << ", "
                   << count(scene.planes.size(), "plane") << ", " << count(scene.lights.size(), "light") << ", "

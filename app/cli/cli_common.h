@@ -67,6 +67,9 @@ bool print_help_or_version(const Program& program, const Options& o);
 // Reads and parses; prints the warnings. Fills the text and the scene; a scene with
 // errors fails with the diagnostics (kExitScene), an unreadable file with kExitUsage.
 rt::Status load_scene(const Program& program, const std::string& path, std::string& text, rt::Scene& scene);
+// The same for a caller that needs only the scene: the text is read without a zero
+// fill first and let go before returning.
+rt::Status load_scene(const Program& program, const std::string& path, rt::Scene& scene);
 
 // --check: parses o.check and reports errors and warnings, or a one-line summary
 // (unless --quiet).
