@@ -33,28 +33,24 @@ status stb
 [ "$status" -ne 0 ] || fail "configure without stb succeeded"
 grep -q "apt-get install libstb-dev" "$work/stb.log" || { cat "$work/stb.log"; fail "no libstb-dev in the message"; }
 
-# Optional: the viewer is left out with a warning, the rest configures.
-status imgui
-[ "$status" -eq 0 ] || { cat "$work/imgui.log"; fail "configure without ImGui failed"; }
-grep -q "apt-get install libimgui-dev" "$work/imgui.log" || { cat "$work/imgui.log"; fail "no libimgui-dev in the message"; }
-grep -q "raytracer-view" "$work/imgui.log" || fail "the message does not say what is left out"
-if grep -q "^raytracer-view:" "$work/imgui/Makefile" 2>/dev/null; then fail "raytracer-view is still a target"; fi
-grep -q "^raytracer:" "$work/imgui/Makefile" || fail "raytracer is no longer a target"
+# optional NAME PACKAGES LEFT_OUT GONE KEPT: without library NAME the configure succeeds,
+# the message names the Debian PACKAGES and says LEFT_OUT, target GONE is not made
+# and target KEPT still is.
+optional() {
+    status "$1"
+    local log="$work/$1.log" make="$work/$1/Makefile"
+    [ "$status" -eq 0 ] || { cat "$log"; fail "configure without $1 failed"; }
+    grep -q "apt-get install $2" "$log" || { cat "$log"; fail "no '$2' in the $1 message"; }
+    grep -q "$3" "$log" || { cat "$log"; fail "the $1 message does not say '$3'"; }
+    if grep -q "^$4:" "$make"; then fail "$4 is still a target without $1"; fi
+    grep -q "^$5:" "$make" || fail "$5 is no longer a target without $1"
+}
 
-# Optional for the tests: without Xlib the window tests are not registered, the rest is.
-status x11
-[ "$status" -eq 0 ] || { cat "$work/x11.log"; fail "configure without X11 failed"; }
-grep -q "apt-get install libx11-dev libxext-dev" "$work/x11.log" || { cat "$work/x11.log"; fail "no libx11-dev in the message"; }
-grep -q "Xvfb window tests are not registered" "$work/x11.log" || fail "the X11 message does not say what is left out"
-if grep -q "^rtview-xframes:" "$work/x11/Makefile"; then fail "rtview-xframes is still a target"; fi
-if grep -q "viewer_xvfb" "$work/x11/tests/viewer/CTestTestfile.cmake" 2>/dev/null; then fail "an Xvfb test is still registered"; fi
-grep -q "^raytracer:" "$work/x11/Makefile" || fail "raytracer is no longer a target (X11 hidden)"
-
-# Optional for bench/: without Embree its reference is left out, the benchmarks stay.
-status embree
-[ "$status" -eq 0 ] || { cat "$work/embree.log"; fail "configure without Embree failed"; }
-grep -q "apt-get install libembree-dev" "$work/embree.log" || { cat "$work/embree.log"; fail "no libembree-dev in the message"; }
-grep -q "embree_ref is not built" "$work/embree.log" || fail "the Embree message does not say what is left out"
-if grep -q "^embree_ref:" "$work/embree/Makefile"; then fail "embree_ref is still a target"; fi
-grep -q "^renderer_bench:" "$work/embree/Makefile" || fail "renderer_bench is no longer a target (Embree hidden)"
+# The viewer is left out with a warning, the rest configures.
+optional imgui libimgui-dev "raytracer-view is not built" raytracer-view raytracer
+# Without Xlib the window tests are not registered; the rest is.
+optional x11 "libx11-dev libxext-dev" "Xvfb window tests are not registered" rtview-xframes raytracer
+if grep -q "viewer_xvfb" "$work/x11/tests/viewer/CTestTestfile.cmake"; then fail "an Xvfb test is still registered"; fi
+# Without Embree bench/ leaves its reference out; the other benchmarks stay.
+optional embree libembree-dev "embree_ref is not built" embree_ref renderer_bench
 echo "third_party messages: ok"
