@@ -286,8 +286,8 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
     // divisions overlap, where one at a time each would wait for the last.
     thread_local std::vector<Vec3> dirs;
     auto row_directions = [&](int y, int step) {
-        dirs.clear();
-        for (int x = task.x0; x < task.x1; x += step) dirs.push_back(normalize(task.camera.direction(x, y)));
+        dirs.resize(std::size_t((task.x1 - task.x0 + step - 1) / step));
+        task.camera.unit_directions(task.x0, step, int(dirs.size()), y, dirs.data());
     };
     if (task.block > 0) {
         // One colour per block, for its corner pixel, blocks in rows.
