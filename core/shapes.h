@@ -94,6 +94,11 @@ struct Geometry {
 
     // Nearest entry into object `obj` with t > tmin; false if none.
     [[nodiscard]] bool hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out, SpanScratch& s) const {
+        return hit_inline(obj, o, d, tmin, out, s);
+    }
+    // The same, inlined whatever the compiler would choose: for the hottest loops only.
+    [[nodiscard, gnu::always_inline]] bool hit_inline(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin,
+                                                      SpanEnd& out, SpanScratch& s) const {
         // The common case, inline and without building a span.
         const SphereG* ps;
         std::uint32_t n;

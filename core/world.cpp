@@ -378,7 +378,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
     auto test = [&](std::uint32_t obj, double tmax) -> double {
         SpanEnd e;
         // On an exact tie the earlier object in the file wins, as in the original.
-        if (g.hit(obj, o, d, kDelta, e, ctx.scratch) &&
+        if (g.hit_inline(obj, o, d, kDelta, e, ctx.scratch) &&
             (e.t < tmax || (e.t == tmax && h.kind == HitRec::Object && obj < h.index))) {
             h.kind = HitRec::Object;
             h.t = e.t;
