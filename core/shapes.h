@@ -9,6 +9,7 @@
 #include "bvh.h"
 #include "math.h"
 #include "scene.h"
+#include "simd.h"
 
 namespace rt {
 
@@ -121,6 +122,13 @@ struct Geometry {
         out = {t, n, 0, false};
         return true;
     }
+#if RT_HAVE_AVX2_KERNELS
+    // hit() for four spheres of the prefix at once (AVX2; call only where it is active):
+    // bit k set when the line enters sphere ids[k] at t[k] > tmin. The same double
+    // operations lane for lane as hit(), so the same t, bit for bit.
+    [[nodiscard]] unsigned sphere_entries4(const std::uint32_t ids[4], const Vec3& o, const Vec3& d, double tmin,
+                                           double t[4]) const;
+#endif
     [[nodiscard]] bool hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
                                    SpanScratch& s) const;
     // Where a ray inside object `obj` (or on its surface, going in) leaves it:

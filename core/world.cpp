@@ -356,6 +356,37 @@ void World::nearest_glow(const Vec3& o, const Vec3& d, HitRec& h) const {
     }
 }
 
+#if RT_HAVE_AVX2_KERNELS
+namespace {
+// nearest()'s camera-buffer loop for a scene of spheres only, on the AVX2 path: the
+// cell's spheres four at a time (up to three of them past the nearest hit's reach,
+// which nearest()'s rule makes harmless). Returns where the scalar loop goes on.
+// (Out of line: nearest() stays as small for the other scenes.)
+[[gnu::noinline]] const LightBuffer::Entry* camera_spheres(const Geometry& g, const LightBuffer::Entry* e,
+                                                           const LightBuffer::Entry* end, const Vec3& o, const Vec3& d,
+                                                           World::HitRec& h) {
+    for (std::ptrdiff_t left; (left = end - e) >= 2 && !(double(e->dmin) > h.t);) {
+        // (The lanes past the cell's end repeat its first entry, masked off.)
+        const int n = left < 4 ? int(left) : 4;
+        const std::uint32_t ids[4] = {e[0].obj, e[1].obj, e[n > 2 ? 2 : 0].obj, e[n > 3 ? 3 : 0].obj};
+        double t[4];
+        for (unsigned m = g.sphere_entries4(ids, o, d, kDelta, t) & ((1u << n) - 1); m != 0; m &= m - 1) {
+            const int k = __builtin_ctz(m);
+            // nearest()'s rule: the nearest, on an exact tie the earlier object.
+            if (t[k] < h.t || (t[k] == h.t && h.kind == World::HitRec::Object && ids[k] < h.index)) {
+                h.kind = World::HitRec::Object;
+                h.t = t[k];
+                h.index = ids[k];
+                h.end = {t[k], ids[k], 0, false};
+            }
+        }
+        e += n;
+    }
+    return e;
+}
+}  // namespace
+#endif
+
 bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
     const Geometry& g = *geometry;
     h.kind = HitRec::None;
@@ -395,6 +426,10 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
         // nearest hit, ties to the earlier object, in whatever order they come.)
         const LightBuffer::Entry *e, *end;
         cb->cell(d, e, end);
+#if RT_HAVE_AVX2_KERNELS
+        if (end - e >= 2 && g.sphere_prefix == g.object_node.size() && avx2_active())
+            e = camera_spheres(g, e, end, o, d, h);
+#endif
         for (; e != end && !(double(e->dmin) > h.t); ++e) test(e->obj, h.t);
         for (const LightBuffer::Entry& a : cb->always) test(a.obj, h.t);
     } else {
