@@ -351,7 +351,16 @@ template <class Sink>
 
 bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
                            SpanScratch& scratch) const {
-    const Node& node = nodes[object_node[obj]];
+    const std::uint32_t n = object_node[obj];
+    const Node& node = nodes[n];
+    if (node.kind == NodeKind::Tetra || node.kind == NodeKind::Cylinder) {
+        // One span at most: first_end()'s answer without its call and second lookup.
+        OneSpan a;
+        one_span(node, n, o, d, a);
+        if (!a.got || !(a.s.in.t > tmin)) return false;
+        out = a.s.in;
+        return true;
+    }
     if (node.kind == NodeKind::Csg) {
         // The common CSG (two operands of one span each) here, with a small frame.
         const CsgG& c = csgs[node.index];
@@ -404,6 +413,16 @@ RT_TARGET_AVX2 unsigned Geometry::sphere_entries4(const std::uint32_t ids[4], co
 #endif
 
 bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& scratch) const {
+    const std::uint32_t n = object_node[obj];
+    const Node& node = nodes[n];
+    if (node.kind != NodeKind::Torus && node.kind != NodeKind::Csg) {
+        // One span at most, as in hit_general().
+        OneSpan a;
+        one_span(node, n, o, d, a);
+        if (!a.got || !(a.s.out.t > kDelta)) return false;
+        out = a.s.out;
+        return true;
+    }
     return first_end(obj, o, d, scratch, FirstEnd{false, kDelta, out});
 }
 
