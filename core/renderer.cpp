@@ -7,12 +7,38 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace rt {
 
 namespace {
 // Tiles remembered for snapshot_rgba8's partial updates: a full pass at 4K in 32x32 tiles.
 constexpr std::size_t kMaxChanges = 8192;
+
+// to_byte(float(c)) of each of n sums of one sample (the colour is the sum itself),
+// four at a time: the same double product, clamps and truncation as to_byte.
+void sums_to_bytes(const float* sum, std::size_t n, std::uint8_t* out) {
+    std::size_t i = 0;
+#if defined(__SSE2__)
+    const __m128d k255 = _mm_set1_pd(255.0), zero = _mm_setzero_pd();
+    // max(v, 0) gives 0 for NaN as to_byte's v > 0 ? v : 0 does (the second operand).
+    auto clamp = [&](__m128d v) { return _mm_min_pd(_mm_max_pd(_mm_mul_pd(v, k255), zero), k255); };
+    for (; i + 4 <= n; i += 4) {
+        const __m128 f = _mm_loadu_ps(sum + i);
+        const __m128i lo = _mm_cvttpd_epi32(clamp(_mm_cvtps_pd(f)));
+        const __m128i hi = _mm_cvttpd_epi32(clamp(_mm_cvtps_pd(_mm_movehl_ps(f, f))));
+        __m128i v = _mm_unpacklo_epi64(lo, hi);
+        v = _mm_packus_epi16(_mm_packs_epi32(v, v), v);
+        const std::uint32_t bytes = std::uint32_t(_mm_cvtsi128_si32(v));
+        std::memcpy(out + i, &bytes, 4);
+    }
+#endif
+    for (; i < n; ++i) out[i] = to_byte(sum[i]);
+}
 }  // namespace
 
 using Clock = std::chrono::steady_clock;
@@ -443,6 +469,15 @@ void Renderer::snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& he
     std::size_t n = std::size_t(width) * height;
     out.reset(n * 3);
     auto convert = [&](int y0, int y1) {
+        // Rows of one sample a pixel (every pixel of a finished one-sample render) in
+        // bulk; the others pixel by pixel.
+        const std::size_t w = std::size_t(width);
+        for (; y0 < y1; ++y0) {
+            const std::size_t first = std::size_t(y0) * w;
+            const std::uint32_t* count = film_.count.data() + first;
+            if (!std::all_of(count, count + w, [](std::uint32_t c) { return c == 1; })) break;
+            sums_to_bytes(film_.sum.data() + 3 * first, 3 * w, &out[3 * first]);
+        }
         film_.for_each_pixel(y0, y1, [&](std::size_t i, const Colour& c) {
             // Through float, exactly as a snapshot() pixel would be.
             out[3 * i] = to_byte(float(c.x));
