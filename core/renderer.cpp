@@ -341,8 +341,18 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
     buf.resize(std::size_t(w) * h * 3);
     // Sample pass: continue each pixel's running sum. The sums of this tile are only
     // touched by this task until it commits, so reading them unlocked is safe.
+    thread_local std::vector<Colour> row_colours;
     for (int y = task.y0; y < task.y1; ++y) {
-        if (task.s0 == 0) row_directions(y, 1);
+        // Sample 0 of the row's pixels in one go where no coarse pass traced any of them.
+        const Colour* traced = nullptr;
+        if (task.s0 == 0) {
+            row_directions(y, 1);
+            if (task.reuse == 0) {
+                row_colours.resize(dirs.size());
+                world.trace_units(task.camera.origin, dirs.data(), dirs.size(), stats, row_colours.data());
+                traced = row_colours.data();
+            }
+        }
         for (int x = task.x0; x < task.x1; ++x) {
             if (cancelled()) return false;
             std::size_t idx = std::size_t(y) * film_.width + x;
@@ -353,7 +363,9 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
             int s = task.s0;
             if (s == 0) {
                 Colour c;
-                if (task.reuse > 0 && ((x | y) & (task.reuse - 1)) == 0) {
+                if (traced) {
+                    c = traced[x - task.x0];
+                } else if (task.reuse > 0 && ((x | y) & (task.reuse - 1)) == 0) {
                     // Sample 0 of a coarse block corner is the ray the coarse pass traced.
                     const float* p = &film_.preview[3 * idx];
                     c = {p[0], p[1], p[2]};

@@ -715,18 +715,45 @@ Colour World::trace_unit(const Vec3& origin, const Vec3& unit_dir, RayStats& sta
     return trace_from(origin, unit_dir, 0, stats);
 }
 
-Colour World::trace_from(const Vec3& origin, const Vec3& d, int depth, RayStats& stats) const {
-    thread_local Ctx ctx;
-    ctx.stats = &stats;
-    if (stats.stopped) return {};
-    ctx.budget = omit_weight;
-    ctx.cutoff = omit_weight * Ctx::kShare;
-    Colour c = shade(origin, d, depth, 1.0, ctx);
-    // No NaN ever reaches a pixel.
+namespace {
+// The tracing state of this thread's camera rays, one for all its traces (so that its
+// shadow caches carry over from ray to ray).
+World::Ctx& thread_ctx() {
+    thread_local World::Ctx ctx;
+    return ctx;
+}
+
+// No NaN ever reaches a pixel.
+inline Colour finite_colour(Colour c) {
     if (!std::isfinite(c.x)) c.x = c.x > 0 ? 1e30 : 0;
     if (!std::isfinite(c.y)) c.y = c.y > 0 ? 1e30 : 0;
     if (!std::isfinite(c.z)) c.z = c.z > 0 ? 1e30 : 0;
     return c;
+}
+}  // namespace
+
+Colour World::trace_from(const Vec3& origin, const Vec3& d, int depth, RayStats& stats) const {
+    Ctx& ctx = thread_ctx();
+    ctx.stats = &stats;
+    if (stats.stopped) return {};
+    ctx.budget = omit_weight;
+    ctx.cutoff = omit_weight * Ctx::kShare;
+    return finite_colour(shade(origin, d, depth, 1.0, ctx));
+}
+
+void World::trace_units(const Vec3& origin, const Vec3* unit_dirs, std::size_t n, RayStats& stats, Colour* out) const {
+    Ctx& ctx = thread_ctx();
+    ctx.stats = &stats;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (stats.stopped) {
+            std::fill(out + i, out + n, Colour{});
+            return;
+        }
+        // Each ray's tree starts with the whole budget, as in trace_from().
+        ctx.budget = omit_weight;
+        ctx.cutoff = omit_weight * Ctx::kShare;
+        out[i] = finite_colour(shade(origin, unit_dirs[i], 0, 1.0, ctx));
+    }
 }
 
 Colour World::trace_camera(const CameraBasis& cam, double i, double j, RayStats& stats) const {
