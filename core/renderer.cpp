@@ -353,6 +353,18 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
                 traced = row_colours.data();
             }
         }
+        if (traced && task.s1 == 1) {
+            // One sample a pixel, all traced: the row's sums as the loop below makes
+            // them (a sum that starts at 0, so -0 becomes 0 as there).
+            if (cancelled()) return false;
+            float* p = &buf[3 * std::size_t(y - task.y0) * w];
+            for (int k = 0; k < w; ++k, p += 3) {
+                p[0] = 0.0f + float(traced[k].x);
+                p[1] = 0.0f + float(traced[k].y);
+                p[2] = 0.0f + float(traced[k].z);
+            }
+            continue;
+        }
         for (int x = task.x0; x < task.x1; ++x) {
             if (cancelled()) return false;
             std::size_t idx = std::size_t(y) * film_.width + x;
