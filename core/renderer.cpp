@@ -342,18 +342,38 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
     // Sample pass: continue each pixel's running sum. The sums of this tile are only
     // touched by this task until it commits, so reading them unlocked is safe.
     thread_local std::vector<Colour> row_colours;
+    thread_local std::vector<Vec3> picked;
     for (int y = task.y0; y < task.y1; ++y) {
-        // Sample 0 of the row's pixels in one go where no coarse pass traced any of them.
+        // Sample 0 of the row's pixels in one go: traced, or where the last coarse pass
+        // traced a block's corner, its colour (the same ray, so the same colour).
         const Colour* traced = nullptr;
         if (task.s0 == 0) {
             row_directions(y, 1);
-            if (task.reuse == 0) {
-                row_colours.resize(dirs.size());
+            row_colours.resize(dirs.size());
+            const int mask = task.reuse - 1;
+            if (task.reuse == 0 || (y & mask) != 0) {
                 world.trace_units(task.camera.origin, dirs.data(), dirs.size(), stats, row_colours.data());
-                traced = row_colours.data();
+            } else {
+                picked.clear();
+                for (int x = task.x0; x < task.x1; ++x)
+                    if ((x & mask) != 0) picked.push_back(dirs[std::size_t(x - task.x0)]);
+                Colour* c = row_colours.data();
+                world.trace_units(task.camera.origin, picked.data(), picked.size(), stats, c);
+                // Spread the traced colours out to their pixels (from the right, in place)
+                // and put the corners' in between.
+                std::size_t j = picked.size();
+                for (int x = task.x1 - 1; x >= task.x0; --x) {
+                    if ((x & mask) != 0) {
+                        c[x - task.x0] = c[--j];
+                    } else {
+                        const float* p = &film_.preview[3 * (std::size_t(y) * film_.width + x)];
+                        c[x - task.x0] = {p[0], p[1], p[2]};
+                    }
+                }
             }
+            traced = row_colours.data();
         }
-        if (traced && task.s1 == 1) {
+        if (task.s0 == 0 && task.s1 == 1) {
             // One sample a pixel, all traced: the row's sums as the loop below makes
             // them (a sum that starts at 0, so -0 becomes 0 as there).
             if (cancelled()) return false;
@@ -374,18 +394,8 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
             }
             int s = task.s0;
             if (s == 0) {
-                Colour c;
-                if (traced) {
-                    c = traced[x - task.x0];
-                } else if (task.reuse > 0 && ((x | y) & (task.reuse - 1)) == 0) {
-                    // Sample 0 of a coarse block corner is the ray the coarse pass traced.
-                    const float* p = &film_.preview[3 * idx];
-                    c = {p[0], p[1], p[2]};
-                } else {
-                    // Sample 0 is the pixel's corner (sample_offset gives 0, 0): the
-                    // direction made for the row.
-                    c = world.trace_unit(task.camera.origin, dirs[std::size_t(x - task.x0)], stats);
-                }
+                // (Sample 0 is the pixel's corner: sample_offset gives 0, 0.)
+                const Colour& c = traced[x - task.x0];
                 acc[0] += float(c.x), acc[1] += float(c.y), acc[2] += float(c.z);
                 ++s;
             }
