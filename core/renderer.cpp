@@ -301,6 +301,48 @@ void Renderer::worker_main() {
     }
 }
 
+namespace {
+// Sample 0 of the pixels (x0 + k step, y) of the task's row, k < n: traced in one call,
+// except where the last coarse pass traced the same ray (its blocks' corners), whose
+// colour the preview holds (the same ray, so the same colour). The colours stay valid
+// until the thread's next call.
+const Colour* first_samples(const RenderTask& task, const Film& film, int y, int step, RayStats& stats,
+                            std::size_t& n) {
+    thread_local std::vector<Vec3> dirs, picked;
+    thread_local std::vector<Colour> colours;
+    // The row's camera rays, made before any is traced: independent square roots and
+    // divisions overlap, where one at a time each would wait for the last.
+    n = std::size_t((task.x1 - task.x0 + step - 1) / step);
+    dirs.resize(n);
+    task.camera.unit_directions(task.x0, step, int(n), y, dirs.data());
+    colours.resize(n);
+    Colour* c = colours.data();
+    const World& world = *task.world;
+    const int mask = task.reuse - 1;
+    if (task.reuse == 0 || (y & mask) != 0) {
+        world.trace_units(task.camera.origin, dirs.data(), n, stats, c);
+        return c;
+    }
+    picked.clear();
+    for (std::size_t k = 0; k < n; ++k)
+        if (((task.x0 + int(k) * step) & mask) != 0) picked.push_back(dirs[k]);
+    world.trace_units(task.camera.origin, picked.data(), picked.size(), stats, c);
+    // The traced colours spread out to their places (from the right, in place), the
+    // corners' in between.
+    std::size_t j = picked.size();
+    for (std::size_t k = n; k-- > 0;) {
+        const int x = task.x0 + int(k) * step;
+        if ((x & mask) != 0) {
+            c[k] = c[--j];
+        } else {
+            const float* p = &film.preview[3 * (std::size_t(y) * film.width + x)];
+            c[k] = {p[0], p[1], p[2]};
+        }
+    }
+    return c;
+}
+}  // namespace
+
 bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStats& stats) {
     const World& world = *task.world;
     int w = task.x1 - task.x0, h = task.y1 - task.y0;
@@ -308,71 +350,26 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
     auto cancelled = [&] {
         return stats.stopped || cancel_gen_.load(std::memory_order_relaxed) != task.generation;
     };
-    // The camera rays of a row, made before any is traced: independent square roots and
-    // divisions overlap, where one at a time each would wait for the last.
-    thread_local std::vector<Vec3> dirs;
-    auto row_directions = [&](int y, int step) {
-        dirs.resize(std::size_t((task.x1 - task.x0 + step - 1) / step));
-        task.camera.unit_directions(task.x0, step, int(dirs.size()), y, dirs.data());
-    };
     if (task.block > 0) {
         // One colour per block, for its corner pixel, blocks in rows.
         int b = task.block;
         buf.resize(std::size_t((w + b - 1) / b) * ((h + b - 1) / b) * 3);
         float* out = buf.data();
         for (int by = task.y0; by < task.y1; by += b) {
-            row_directions(by, b);
-            const Vec3* dir = dirs.data();
-            for (int bx = task.x0; bx < task.x1; bx += b, ++dir) {
-                if (cancelled()) return false;
-                Colour c;
-                if (task.reuse > 0 && ((bx | by) & (task.reuse - 1)) == 0) {
-                    // Traced by the previous coarse pass: the same ray, so the same colour.
-                    const float* p = &film_.preview[3 * (std::size_t(by) * film_.width + bx)];
-                    c = {p[0], p[1], p[2]};
-                } else {
-                    c = world.trace_unit(task.camera.origin, *dir, stats);
-                }
-                *out++ = float(c.x), *out++ = float(c.y), *out++ = float(c.z);
-            }
+            std::size_t n = 0;
+            const Colour* c = first_samples(task, film_, by, b, stats, n);
+            if (cancelled()) return false;
+            for (std::size_t k = 0; k < n; ++k)
+                *out++ = float(c[k].x), *out++ = float(c[k].y), *out++ = float(c[k].z);
         }
         return !cancelled();
     }
     buf.resize(std::size_t(w) * h * 3);
     // Sample pass: continue each pixel's running sum. The sums of this tile are only
     // touched by this task until it commits, so reading them unlocked is safe.
-    thread_local std::vector<Colour> row_colours;
-    thread_local std::vector<Vec3> picked;
     for (int y = task.y0; y < task.y1; ++y) {
-        // Sample 0 of the row's pixels in one go: traced, or where the last coarse pass
-        // traced a block's corner, its colour (the same ray, so the same colour).
-        const Colour* traced = nullptr;
-        if (task.s0 == 0) {
-            row_directions(y, 1);
-            row_colours.resize(dirs.size());
-            const int mask = task.reuse - 1;
-            if (task.reuse == 0 || (y & mask) != 0) {
-                world.trace_units(task.camera.origin, dirs.data(), dirs.size(), stats, row_colours.data());
-            } else {
-                picked.clear();
-                for (int x = task.x0; x < task.x1; ++x)
-                    if ((x & mask) != 0) picked.push_back(dirs[std::size_t(x - task.x0)]);
-                Colour* c = row_colours.data();
-                world.trace_units(task.camera.origin, picked.data(), picked.size(), stats, c);
-                // Spread the traced colours out to their pixels (from the right, in place)
-                // and put the corners' in between.
-                std::size_t j = picked.size();
-                for (int x = task.x1 - 1; x >= task.x0; --x) {
-                    if ((x & mask) != 0) {
-                        c[x - task.x0] = c[--j];
-                    } else {
-                        const float* p = &film_.preview[3 * (std::size_t(y) * film_.width + x)];
-                        c[x - task.x0] = {p[0], p[1], p[2]};
-                    }
-                }
-            }
-            traced = row_colours.data();
-        }
+        std::size_t n = 0;
+        const Colour* traced = task.s0 == 0 ? first_samples(task, film_, y, 1, stats, n) : nullptr;
         if (task.s0 == 0 && task.s1 == 1) {
             // One sample a pixel, all traced: the row's sums as the loop below makes
             // them (a sum that starts at 0, so -0 becomes 0 as there).
