@@ -55,13 +55,33 @@ struct alignas(32) BvhNode8 {
 };
 static_assert(sizeof(BvhNode8) == 224, "8-wide nodes are 224 bytes: eight boxes and eight child references");
 
+namespace detail {
+// For the box tests: per sign pattern of a ray's direction (bit i: axis i negative),
+// the byte offsets in a node of its near x, y, z and far x, y, z rows (rows of W floats).
+template <int W>
+constexpr std::int32_t bvh_row(int neg, int k) {
+    const int axis = k % 3;
+    const bool far = k >= 3, negative = (neg >> axis & 1) != 0;
+    return std::int32_t((axis + (negative != far ? 3 : 0)) * W * sizeof(float));
+}
+#define RT_BVH_ROWS(W, n) {bvh_row<W>(n, 0), bvh_row<W>(n, 1), bvh_row<W>(n, 2), bvh_row<W>(n, 3), bvh_row<W>(n, 4), bvh_row<W>(n, 5), 0, 0}
+#define RT_BVH_TABLE(W) {RT_BVH_ROWS(W, 0), RT_BVH_ROWS(W, 1), RT_BVH_ROWS(W, 2), RT_BVH_ROWS(W, 3), \
+                         RT_BVH_ROWS(W, 4), RT_BVH_ROWS(W, 5), RT_BVH_ROWS(W, 6), RT_BVH_ROWS(W, 7)}
+alignas(32) inline constexpr std::int32_t kBvhRows4[8][8] = RT_BVH_TABLE(4);
+alignas(32) inline constexpr std::int32_t kBvhRows8[8][8] = RT_BVH_TABLE(8);
+#undef RT_BVH_TABLE
+#undef RT_BVH_ROWS
+}  // namespace detail
+
 struct BvhRay {
-    int near[3], far[3];  // per axis, the row of b holding the near and the far slab
 #if defined(__SSE2__)
+    // Byte offsets in a node of the near x, y, z and the far x, y, z rows.
+    const std::int32_t* rows;
     // Origin, inverse direction and the slack in t for rounding the origin to float
     // (largest axis), each broadcast to four lanes.
     __m128 o4[3], inv4[3], pad4;
 #else
+    int near[3], far[3];  // per axis, the row of b holding the near and the far slab
     float o[3];
     float inv[3];
     float pad;
@@ -88,8 +108,7 @@ struct BvhRay {
         __m128d pm = _mm_max_sd(_mm_max_sd(p01, _mm_unpackhi_pd(p01, p01)), p2);
         __m128 of = _mm_movelh_ps(_mm_cvtpd_ps(o01), _mm_cvtpd_ps(o2));
         __m128 inf = _mm_movelh_ps(_mm_cvtpd_ps(i01), _mm_cvtpd_ps(i2));
-        // Broadcasts by shuffles, rows from the sign bits: the scalar fields are only
-        // for the plain C++ path below and stay unset here.
+        // Broadcasts by shuffles, rows from the sign bits (a table row).
         __m128 pf = _mm_cvtpd_ps(pm);
         r.pad4 = _mm_shuffle_ps(pf, pf, 0x00);
         r.o4[0] = _mm_shuffle_ps(of, of, 0x00);
@@ -98,12 +117,7 @@ struct BvhRay {
         r.inv4[0] = _mm_shuffle_ps(inf, inf, 0x00);
         r.inv4[1] = _mm_shuffle_ps(inf, inf, 0x55);
         r.inv4[2] = _mm_shuffle_ps(inf, inf, 0xaa);
-        int neg = _mm_movemask_pd(d01) | (_mm_movemask_pd(d2) & 1) << 2;
-        for (int i = 0; i < 3; ++i) {
-            int s3 = 3 * (neg >> i & 1);
-            r.near[i] = i + s3;
-            r.far[i] = i + 3 - s3;
-        }
+        r.rows = detail::kBvhRows4[_mm_movemask_pd(d01) | (_mm_movemask_pd(d2) & 1) << 2];
 #else
         double pad = 0;
         for (int i = 0; i < 3; ++i) {
@@ -120,20 +134,6 @@ struct BvhRay {
         return r;
     }
 };
-
-namespace detail {
-// For the 8-wide box test: per sign pattern of a ray's direction (bit i: axis i
-// negative), the byte offsets in a BvhNode8 of its near x, y, z and far x, y, z rows.
-constexpr std::int32_t bvh_row8(int neg, int k) {
-    const int axis = k % 3;
-    const bool far = k >= 3, negative = (neg >> axis & 1) != 0;
-    return std::int32_t((axis + (negative != far ? 3 : 0)) * 8 * sizeof(float));
-}
-#define RT_BVH_ROWS8(n) {bvh_row8(n, 0), bvh_row8(n, 1), bvh_row8(n, 2), bvh_row8(n, 3), bvh_row8(n, 4), bvh_row8(n, 5), 0, 0}
-alignas(32) inline constexpr std::int32_t kBvhRows8[8][8] = {RT_BVH_ROWS8(0), RT_BVH_ROWS8(1), RT_BVH_ROWS8(2), RT_BVH_ROWS8(3),
-                                                          RT_BVH_ROWS8(4), RT_BVH_ROWS8(5), RT_BVH_ROWS8(6), RT_BVH_ROWS8(7)};
-#undef RT_BVH_ROWS8
-}  // namespace detail
 
 // Round a double box outward to float and pad it by a few float ulps of its largest
 // coordinate, so that the float slab test (with the ray's origin and inverse
@@ -158,12 +158,15 @@ public:
 #if defined(__SSE2__)
         const __m128 ox = r.o4[0], oy = r.o4[1], oz = r.o4[2];
         const __m128 ix = r.inv4[0], iy = r.inv4[1], iz = r.inv4[2];
-        __m128 x0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[0]]), ox), ix);
-        __m128 y0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[1]]), oy), iy);
-        __m128 z0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[2]]), oz), iz);
-        __m128 x1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[0]]), ox), ix);
-        __m128 y1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[1]]), oy), iy);
-        __m128 z1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[2]]), oz), iz);
+        auto row = [&n](std::int32_t bytes) {
+            return _mm_load_ps(reinterpret_cast<const float*>(reinterpret_cast<const char*>(n.b) + bytes));
+        };
+        __m128 x0 = _mm_mul_ps(_mm_sub_ps(row(r.rows[0]), ox), ix);
+        __m128 y0 = _mm_mul_ps(_mm_sub_ps(row(r.rows[1]), oy), iy);
+        __m128 z0 = _mm_mul_ps(_mm_sub_ps(row(r.rows[2]), oz), iz);
+        __m128 x1 = _mm_mul_ps(_mm_sub_ps(row(r.rows[3]), ox), ix);
+        __m128 y1 = _mm_mul_ps(_mm_sub_ps(row(r.rows[4]), oy), iy);
+        __m128 z1 = _mm_mul_ps(_mm_sub_ps(row(r.rows[5]), oz), iz);
         const __m128 pad = r.pad4;
         __m128 t0 = _mm_max_ps(_mm_sub_ps(_mm_max_ps(_mm_max_ps(x0, y0), z0), pad), _mm_setzero_ps());
         __m128 t1 = _mm_min_ps(_mm_add_ps(_mm_min_ps(_mm_min_ps(x1, y1), z1), pad), _mm_set1_ps(tmax));
