@@ -55,13 +55,33 @@ struct alignas(32) BvhNode8 {
 };
 static_assert(sizeof(BvhNode8) == 224, "8-wide nodes are 224 bytes: eight boxes and eight child references");
 
+namespace detail {
+// For the box tests: per sign pattern of a ray's direction (bit i: axis i negative),
+// the byte offsets in a node of its near x, y, z and far x, y, z rows (rows of W floats).
+template <int W>
+constexpr std::int32_t bvh_row(int neg, int k) {
+    const int axis = k % 3;
+    const bool far = k >= 3, negative = (neg >> axis & 1) != 0;
+    return std::int32_t((axis + (negative != far ? 3 : 0)) * W * sizeof(float));
+}
+#define RT_BVH_ROWS(W, n) {bvh_row<W>(n, 0), bvh_row<W>(n, 1), bvh_row<W>(n, 2), bvh_row<W>(n, 3), bvh_row<W>(n, 4), bvh_row<W>(n, 5), 0, 0}
+#define RT_BVH_TABLE(W) {RT_BVH_ROWS(W, 0), RT_BVH_ROWS(W, 1), RT_BVH_ROWS(W, 2), RT_BVH_ROWS(W, 3), \
+                         RT_BVH_ROWS(W, 4), RT_BVH_ROWS(W, 5), RT_BVH_ROWS(W, 6), RT_BVH_ROWS(W, 7)}
+alignas(32) inline constexpr std::int32_t kBvhRows4[8][8] = RT_BVH_TABLE(4);
+alignas(32) inline constexpr std::int32_t kBvhRows8[8][8] = RT_BVH_TABLE(8);
+#undef RT_BVH_TABLE
+#undef RT_BVH_ROWS
+}  // namespace detail
+
 struct BvhRay {
-    int near[3], far[3];  // per axis, the row of b holding the near and the far slab
 #if defined(__SSE2__)
+    // Byte offsets in a node of the near x, y, z and the far x, y, z rows.
+    const std::int32_t* rows;
     // Origin, inverse direction and the slack in t for rounding the origin to float
     // (largest axis), each broadcast to four lanes.
     __m128 o4[3], inv4[3], pad4;
 #else
+    int near[3], far[3];  // per axis, the row of b holding the near and the far slab
     float o[3];
     float inv[3];
     float pad;
@@ -88,8 +108,7 @@ struct BvhRay {
         __m128d pm = _mm_max_sd(_mm_max_sd(p01, _mm_unpackhi_pd(p01, p01)), p2);
         __m128 of = _mm_movelh_ps(_mm_cvtpd_ps(o01), _mm_cvtpd_ps(o2));
         __m128 inf = _mm_movelh_ps(_mm_cvtpd_ps(i01), _mm_cvtpd_ps(i2));
-        // Broadcasts by shuffles, rows from the sign bits: the scalar fields are only
-        // for the plain C++ path below and stay unset here.
+        // Broadcasts by shuffles, rows from the sign bits (a table row).
         __m128 pf = _mm_cvtpd_ps(pm);
         r.pad4 = _mm_shuffle_ps(pf, pf, 0x00);
         r.o4[0] = _mm_shuffle_ps(of, of, 0x00);
@@ -98,12 +117,7 @@ struct BvhRay {
         r.inv4[0] = _mm_shuffle_ps(inf, inf, 0x00);
         r.inv4[1] = _mm_shuffle_ps(inf, inf, 0x55);
         r.inv4[2] = _mm_shuffle_ps(inf, inf, 0xaa);
-        int neg = _mm_movemask_pd(d01) | (_mm_movemask_pd(d2) & 1) << 2;
-        for (int i = 0; i < 3; ++i) {
-            int s3 = 3 * (neg >> i & 1);
-            r.near[i] = i + s3;
-            r.far[i] = i + 3 - s3;
-        }
+        r.rows = detail::kBvhRows4[_mm_movemask_pd(d01) | (_mm_movemask_pd(d2) & 1) << 2];
 #else
         double pad = 0;
         for (int i = 0; i < 3; ++i) {
@@ -144,12 +158,15 @@ public:
 #if defined(__SSE2__)
         const __m128 ox = r.o4[0], oy = r.o4[1], oz = r.o4[2];
         const __m128 ix = r.inv4[0], iy = r.inv4[1], iz = r.inv4[2];
-        __m128 x0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[0]]), ox), ix);
-        __m128 y0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[1]]), oy), iy);
-        __m128 z0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.near[2]]), oz), iz);
-        __m128 x1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[0]]), ox), ix);
-        __m128 y1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[1]]), oy), iy);
-        __m128 z1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.far[2]]), oz), iz);
+        auto row = [&n](std::int32_t bytes) {
+            return _mm_load_ps(reinterpret_cast<const float*>(reinterpret_cast<const char*>(n.b) + bytes));
+        };
+        __m128 x0 = _mm_mul_ps(_mm_sub_ps(row(r.rows[0]), ox), ix);
+        __m128 y0 = _mm_mul_ps(_mm_sub_ps(row(r.rows[1]), oy), iy);
+        __m128 z0 = _mm_mul_ps(_mm_sub_ps(row(r.rows[2]), oz), iz);
+        __m128 x1 = _mm_mul_ps(_mm_sub_ps(row(r.rows[3]), ox), ix);
+        __m128 y1 = _mm_mul_ps(_mm_sub_ps(row(r.rows[4]), oy), iy);
+        __m128 z1 = _mm_mul_ps(_mm_sub_ps(row(r.rows[5]), oz), iz);
         const __m128 pad = r.pad4;
         __m128 t0 = _mm_max_ps(_mm_sub_ps(_mm_max_ps(_mm_max_ps(x0, y0), z0), pad), _mm_setzero_ps());
         __m128 t1 = _mm_min_ps(_mm_add_ps(_mm_min_ps(_mm_min_ps(x1, y1), z1), pad), _mm_set1_ps(tmax));
@@ -234,27 +251,47 @@ private:
         using Node = BvhNode8;
         struct Ray {
             __m256 o[3], inv[3], pad;
-            int near[3], far[3];
+            // Byte offsets in a node of the near x, y, z and the far x, y, z rows.
+            const std::int32_t* rows;
         };
         static const std::vector<Node>& tree(const Bvh& b) { return b.nodes8; }
-        RT_TARGET_AVX2 static inline Ray ray(const BvhRay& br) {
+        // BvhRay::make's ray in 8-wide form, made in one pass: the same double operations
+        // lane for lane (so the same floats), without the 4-wide copy in between.
+        RT_TARGET_AVX2 static inline Ray ray(const Vec3& origin, const Vec3& dir, double len) {
+            const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+            const __m256d o = _mm256_set_pd(0.0, origin.z, origin.y, origin.x);
+            // Lane 3 divides by infinity: an inverse and a pad of 0, which leave the max alone.
+            const __m256d d = _mm256_set_pd(INFINITY, dir.z, dir.y, dir.x);
+            const __m256d inv = _mm256_min_pd(_mm256_max_pd(_mm256_div_pd(_mm256_set1_pd(len), d), _mm256_set1_pd(-1e30)),
+                                              _mm256_set1_pd(1e30));
+            const __m256d p = _mm256_mul_pd(
+                _mm256_add_pd(_mm256_mul_pd(_mm256_and_pd(o, abs_mask), _mm256_set1_pd(1.2e-7)), _mm256_set1_pd(1e-30)),
+                _mm256_and_pd(inv, abs_mask));
+            // The largest axis's pad, taken in BvhRay::make's order.
+            const __m128d p01 = _mm256_castpd256_pd128(p), p2 = _mm256_extractf128_pd(p, 1);
+            const __m128d pm = _mm_max_sd(_mm_max_sd(p01, _mm_unpackhi_pd(p01, p01)), p2);
+            const __m128 of = _mm256_cvtpd_ps(o), inf = _mm256_cvtpd_ps(inv);
             Ray r;
-            for (int i = 0; i < 3; ++i) {
-                r.o[i] = _mm256_set_m128(br.o4[i], br.o4[i]);
-                r.inv[i] = _mm256_set_m128(br.inv4[i], br.inv4[i]);
-                r.near[i] = br.near[i];
-                r.far[i] = br.far[i];
-            }
-            r.pad = _mm256_set_m128(br.pad4, br.pad4);
+            r.o[0] = _mm256_broadcastss_ps(of);
+            r.o[1] = _mm256_broadcastss_ps(_mm_movehdup_ps(of));
+            r.o[2] = _mm256_broadcastss_ps(_mm_movehl_ps(of, of));
+            r.inv[0] = _mm256_broadcastss_ps(inf);
+            r.inv[1] = _mm256_broadcastss_ps(_mm_movehdup_ps(inf));
+            r.inv[2] = _mm256_broadcastss_ps(_mm_movehl_ps(inf, inf));
+            r.pad = _mm256_broadcastss_ps(_mm_cvtpd_ps(pm));
+            r.rows = detail::kBvhRows8[_mm256_movemask_pd(d) & 7];
             return r;
         }
+        RT_TARGET_AVX2 static inline __m256 row(const Node& n, std::int32_t bytes) {
+            return _mm256_load_ps(reinterpret_cast<const float*>(reinterpret_cast<const char*>(n.b) + bytes));
+        }
         RT_TARGET_AVX2 static inline unsigned enter(const Node& n, const Ray& r, float tmax, float t[8]) {
-            __m256 x0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[0]]), r.o[0]), r.inv[0]);
-            __m256 y0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[1]]), r.o[1]), r.inv[1]);
-            __m256 z0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.near[2]]), r.o[2]), r.inv[2]);
-            __m256 x1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[0]]), r.o[0]), r.inv[0]);
-            __m256 y1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[1]]), r.o[1]), r.inv[1]);
-            __m256 z1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.b[r.far[2]]), r.o[2]), r.inv[2]);
+            __m256 x0 = _mm256_mul_ps(_mm256_sub_ps(row(n, r.rows[0]), r.o[0]), r.inv[0]);
+            __m256 y0 = _mm256_mul_ps(_mm256_sub_ps(row(n, r.rows[1]), r.o[1]), r.inv[1]);
+            __m256 z0 = _mm256_mul_ps(_mm256_sub_ps(row(n, r.rows[2]), r.o[2]), r.inv[2]);
+            __m256 x1 = _mm256_mul_ps(_mm256_sub_ps(row(n, r.rows[3]), r.o[0]), r.inv[0]);
+            __m256 y1 = _mm256_mul_ps(_mm256_sub_ps(row(n, r.rows[4]), r.o[1]), r.inv[1]);
+            __m256 z1 = _mm256_mul_ps(_mm256_sub_ps(row(n, r.rows[5]), r.o[2]), r.inv[2]);
             __m256 t0 = _mm256_max_ps(_mm256_sub_ps(_mm256_max_ps(_mm256_max_ps(x0, y0), z0), r.pad), _mm256_setzero_ps());
             __m256 t1 = _mm256_min_ps(_mm256_add_ps(_mm256_min_ps(_mm256_min_ps(x1, y1), z1), r.pad), _mm256_set1_ps(tmax));
             _mm256_storeu_ps(t, t0);
@@ -266,11 +303,11 @@ private:
     // used, so that Wide8's test is inlined into them.
     template <class Fn>
     RT_TARGET_AVX2 void traverse8(const Vec3& origin, const Vec3& dir, double tmax, Fn& fn) const {
-        nearest_walk<Wide8>(Wide8::ray(BvhRay::make(origin, dir, 1.0)), tmax, fn);
+        nearest_walk<Wide8>(Wide8::ray(origin, dir, 1.0), tmax, fn);
     }
     template <class Fn>
     RT_TARGET_AVX2 bool occluded8(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn& fn) const {
-        return occluded_walk<Wide8>(Wide8::ray(BvhRay::make(origin, dir, len)), widen(tmax), fn);
+        return occluded_walk<Wide8>(Wide8::ray(origin, dir, len), widen(tmax), fn);
     }
 #endif
 

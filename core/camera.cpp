@@ -37,20 +37,38 @@ CameraBasis CameraBasis::make(const Camera& cam, int width, int height, bool mir
     return b;
 }
 
-Vec3 CameraBasis::direction(double i, double j) const {
-    double sx, sy;
-    if (projection == Projection::Linear) {
-        double hw = width / 2.0, hh = height / 2.0;
-        sx = tan_x * (hw - i) / hw;
-        sy = tan_y * (hh - j) / hh;
+namespace {
+// The factors of the up and side vectors for the row j and the column i.
+inline double row_factor(const CameraBasis& b, double j) {
+    if (b.projection == Projection::Linear) {
+        double hh = b.height / 2.0;
+        return b.tan_y * (hh - j) / hh;
+    }
+    double ay = 2 * b.half_y;
+    return b.height > 1 ? std::tan((b.half_y - ay * j / (b.height - 1)) * kDegree) : 0.0;
+}
+inline double column_factor(const CameraBasis& b, double i) {
+    double sx;
+    if (b.projection == Projection::Linear) {
+        double hw = b.width / 2.0;
+        sx = b.tan_x * (hw - i) / hw;
     } else {
-        double ax = 2 * half_x, ay = 2 * half_y;
-        sx = width > 1 ? std::tan((half_x - ax * i / (width - 1)) * kDegree) : 0.0;
-        sy = height > 1 ? std::tan((half_y - ay * j / (height - 1)) * kDegree) : 0.0;
+        double ax = 2 * b.half_x;
+        sx = b.width > 1 ? std::tan((b.half_x - ax * i / (b.width - 1)) * kDegree) : 0.0;
     }
     // The original puts column 0 on the +side (F x U) half: a mirrored picture.
-    if (!mirror) sx = -sx;
-    return forward + up * sy + side * sx;
+    return b.mirror ? sx : -sx;
+}
+}  // namespace
+
+Vec3 CameraBasis::direction(double i, double j) const {
+    return forward + up * row_factor(*this, j) + side * column_factor(*this, i);
+}
+
+void CameraBasis::unit_directions(int i0, int step, int count, double j, Vec3* out) const {
+    // (forward + up sy) + side sx, as direction() adds them.
+    const Vec3 row = forward + up * row_factor(*this, j);
+    for (int k = 0; k < count; ++k) out[k] = normalize(row + side * column_factor(*this, i0 + k * step));
 }
 
 }  // namespace rt

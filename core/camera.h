@@ -20,6 +20,9 @@ struct CameraBasis {
     // Direction (not normalised) through pixel coordinates (i, j); integers are the
     // original's sample points, fractions lie between them.
     [[nodiscard]] Vec3 direction(double i, double j) const;
+    // normalize(direction(i0 + k * step, j)) for k < count, into out: the same vectors,
+    // with what the row's pixels share (its vertical term) worked out once.
+    void unit_directions(int i0, int step, int count, double j, Vec3* out) const;
     [[nodiscard]] Ray ray(double i, double j) const { return {origin, normalize(direction(i, j))}; }
 };
 

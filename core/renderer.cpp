@@ -7,12 +7,38 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace rt {
 
 namespace {
 // Tiles remembered for snapshot_rgba8's partial updates: a full pass at 4K in 32x32 tiles.
 constexpr std::size_t kMaxChanges = 8192;
+
+// to_byte(float(c)) of each of n sums of one sample (the colour is the sum itself),
+// four at a time: the same double product, clamps and truncation as to_byte.
+void sums_to_bytes(const float* sum, std::size_t n, std::uint8_t* out) {
+    std::size_t i = 0;
+#if defined(__SSE2__)
+    const __m128d k255 = _mm_set1_pd(255.0), zero = _mm_setzero_pd();
+    // max(v, 0) gives 0 for NaN as to_byte's v > 0 ? v : 0 does (the second operand).
+    auto clamp = [&](__m128d v) { return _mm_min_pd(_mm_max_pd(_mm_mul_pd(v, k255), zero), k255); };
+    for (; i + 4 <= n; i += 4) {
+        const __m128 f = _mm_loadu_ps(sum + i);
+        const __m128i lo = _mm_cvttpd_epi32(clamp(_mm_cvtps_pd(f)));
+        const __m128i hi = _mm_cvttpd_epi32(clamp(_mm_cvtps_pd(_mm_movehl_ps(f, f))));
+        __m128i v = _mm_unpacklo_epi64(lo, hi);
+        v = _mm_packus_epi16(_mm_packs_epi32(v, v), v);
+        const std::uint32_t bytes = std::uint32_t(_mm_cvtsi128_si32(v));
+        std::memcpy(out + i, &bytes, 4);
+    }
+#endif
+    for (; i < n; ++i) out[i] = to_byte(sum[i]);
+}
 }  // namespace
 
 using Clock = std::chrono::steady_clock;
@@ -275,6 +301,48 @@ void Renderer::worker_main() {
     }
 }
 
+namespace {
+// Sample 0 of the pixels (x0 + k step, y) of the task's row, k < n: traced in one call,
+// except where the last coarse pass traced the same ray (its blocks' corners), whose
+// colour the preview holds (the same ray, so the same colour). The colours stay valid
+// until the thread's next call.
+const Colour* first_samples(const RenderTask& task, const Film& film, int y, int step, RayStats& stats,
+                            std::size_t& n) {
+    thread_local std::vector<Vec3> dirs, picked;
+    thread_local std::vector<Colour> colours;
+    // The row's camera rays, made before any is traced: independent square roots and
+    // divisions overlap, where one at a time each would wait for the last.
+    n = std::size_t((task.x1 - task.x0 + step - 1) / step);
+    dirs.resize(n);
+    task.camera.unit_directions(task.x0, step, int(n), y, dirs.data());
+    colours.resize(n);
+    Colour* c = colours.data();
+    const World& world = *task.world;
+    const int mask = task.reuse - 1;
+    if (task.reuse == 0 || (y & mask) != 0) {
+        world.trace_units(task.camera.origin, dirs.data(), n, stats, c);
+        return c;
+    }
+    picked.clear();
+    for (std::size_t k = 0; k < n; ++k)
+        if (((task.x0 + int(k) * step) & mask) != 0) picked.push_back(dirs[k]);
+    world.trace_units(task.camera.origin, picked.data(), picked.size(), stats, c);
+    // The traced colours spread out to their places (from the right, in place), the
+    // corners' in between.
+    std::size_t j = picked.size();
+    for (std::size_t k = n; k-- > 0;) {
+        const int x = task.x0 + int(k) * step;
+        if ((x & mask) != 0) {
+            c[k] = c[--j];
+        } else {
+            const float* p = &film.preview[3 * (std::size_t(y) * film.width + x)];
+            c[k] = {p[0], p[1], p[2]};
+        }
+    }
+    return c;
+}
+}  // namespace
+
 bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStats& stats) {
     const World& world = *task.world;
     int w = task.x1 - task.x0, h = task.y1 - task.y0;
@@ -282,33 +350,17 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
     auto cancelled = [&] {
         return stats.stopped || cancel_gen_.load(std::memory_order_relaxed) != task.generation;
     };
-    // The camera rays of a row, made before any is traced: independent square roots and
-    // divisions overlap, where one at a time each would wait for the last.
-    thread_local std::vector<Vec3> dirs;
-    auto row_directions = [&](int y, int step) {
-        dirs.clear();
-        for (int x = task.x0; x < task.x1; x += step) dirs.push_back(normalize(task.camera.direction(x, y)));
-    };
     if (task.block > 0) {
         // One colour per block, for its corner pixel, blocks in rows.
         int b = task.block;
         buf.resize(std::size_t((w + b - 1) / b) * ((h + b - 1) / b) * 3);
         float* out = buf.data();
         for (int by = task.y0; by < task.y1; by += b) {
-            row_directions(by, b);
-            const Vec3* dir = dirs.data();
-            for (int bx = task.x0; bx < task.x1; bx += b, ++dir) {
-                if (cancelled()) return false;
-                Colour c;
-                if (task.reuse > 0 && ((bx | by) & (task.reuse - 1)) == 0) {
-                    // Traced by the previous coarse pass: the same ray, so the same colour.
-                    const float* p = &film_.preview[3 * (std::size_t(by) * film_.width + bx)];
-                    c = {p[0], p[1], p[2]};
-                } else {
-                    c = world.trace_unit(task.camera.origin, *dir, stats);
-                }
-                *out++ = float(c.x), *out++ = float(c.y), *out++ = float(c.z);
-            }
+            std::size_t n = 0;
+            const Colour* c = first_samples(task, film_, by, b, stats, n);
+            if (cancelled()) return false;
+            for (std::size_t k = 0; k < n; ++k)
+                *out++ = float(c[k].x), *out++ = float(c[k].y), *out++ = float(c[k].z);
         }
         return !cancelled();
     }
@@ -316,7 +368,20 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
     // Sample pass: continue each pixel's running sum. The sums of this tile are only
     // touched by this task until it commits, so reading them unlocked is safe.
     for (int y = task.y0; y < task.y1; ++y) {
-        if (task.s0 == 0) row_directions(y, 1);
+        std::size_t n = 0;
+        const Colour* traced = task.s0 == 0 ? first_samples(task, film_, y, 1, stats, n) : nullptr;
+        if (task.s0 == 0 && task.s1 == 1) {
+            // One sample a pixel, all traced: the row's sums as the loop below makes
+            // them (a sum that starts at 0, so -0 becomes 0 as there).
+            if (cancelled()) return false;
+            float* p = &buf[3 * std::size_t(y - task.y0) * w];
+            for (int k = 0; k < w; ++k, p += 3) {
+                p[0] = 0.0f + float(traced[k].x);
+                p[1] = 0.0f + float(traced[k].y);
+                p[2] = 0.0f + float(traced[k].z);
+            }
+            continue;
+        }
         for (int x = task.x0; x < task.x1; ++x) {
             if (cancelled()) return false;
             std::size_t idx = std::size_t(y) * film_.width + x;
@@ -326,16 +391,8 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
             }
             int s = task.s0;
             if (s == 0) {
-                Colour c;
-                if (task.reuse > 0 && ((x | y) & (task.reuse - 1)) == 0) {
-                    // Sample 0 of a coarse block corner is the ray the coarse pass traced.
-                    const float* p = &film_.preview[3 * idx];
-                    c = {p[0], p[1], p[2]};
-                } else {
-                    // Sample 0 is the pixel's corner (sample_offset gives 0, 0): the
-                    // direction made for the row.
-                    c = world.trace_unit(task.camera.origin, dirs[std::size_t(x - task.x0)], stats);
-                }
+                // (Sample 0 is the pixel's corner: sample_offset gives 0, 0.)
+                const Colour& c = traced[x - task.x0];
                 acc[0] += float(c.x), acc[1] += float(c.y), acc[2] += float(c.z);
                 ++s;
             }
@@ -443,6 +500,15 @@ void Renderer::snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& he
     std::size_t n = std::size_t(width) * height;
     out.reset(n * 3);
     auto convert = [&](int y0, int y1) {
+        // Rows of one sample a pixel (every pixel of a finished one-sample render) in
+        // bulk; the others pixel by pixel.
+        const std::size_t w = std::size_t(width);
+        for (; y0 < y1; ++y0) {
+            const std::size_t first = std::size_t(y0) * w;
+            const std::uint32_t* count = film_.count.data() + first;
+            if (!std::all_of(count, count + w, [](std::uint32_t c) { return c == 1; })) break;
+            sums_to_bytes(film_.sum.data() + 3 * first, 3 * w, &out[3 * first]);
+        }
         film_.for_each_pixel(y0, y1, [&](std::size_t i, const Colour& c) {
             // Through float, exactly as a snapshot() pixel would be.
             out[3 * i] = to_byte(float(c.x));

@@ -10,6 +10,7 @@
 #include "csg.h"
 #include "roots.h"
 
+
 namespace rt {
 namespace {
 
@@ -350,7 +351,16 @@ template <class Sink>
 
 bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
                            SpanScratch& scratch) const {
-    const Node& node = nodes[object_node[obj]];
+    const std::uint32_t n = object_node[obj];
+    const Node& node = nodes[n];
+    if (node.kind == NodeKind::Tetra || node.kind == NodeKind::Cylinder) {
+        // One span at most: first_end()'s answer without its call and second lookup.
+        OneSpan a;
+        one_span(node, n, o, d, a);
+        if (!a.got || !(a.s.in.t > tmin)) return false;
+        out = a.s.in;
+        return true;
+    }
     if (node.kind == NodeKind::Csg) {
         // The common CSG (two operands of one span each) here, with a small frame.
         const CsgG& c = csgs[node.index];
@@ -372,7 +382,47 @@ bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, doub
     return first_end(obj, o, d, scratch, FirstEnd{true, tmin, out});
 }
 
+#if RT_HAVE_AVX2_KERNELS
+RT_TARGET_AVX2 unsigned Geometry::sphere_entries4(const std::uint32_t ids[4], const Vec3& o, const Vec3& d, double tmin,
+                                                  double t[4]) const {
+    static_assert(sizeof(SphereG) == 5 * sizeof(double), "a sphere is five doubles: c, r, r2");
+    // Each sphere's y, z, r, r2 in one load, turned into a vector per field; x apart.
+    const SphereG* sp = spheres.data();
+    const SphereG &s0 = sp[ids[0]], &s1 = sp[ids[1]], &s2 = sp[ids[2]], &s3 = sp[ids[3]];
+    const __m256d q0 = _mm256_loadu_pd(&s0.c.y), q1 = _mm256_loadu_pd(&s1.c.y), q2 = _mm256_loadu_pd(&s2.c.y),
+                  q3 = _mm256_loadu_pd(&s3.c.y);
+    const __m256d u01 = _mm256_unpacklo_pd(q0, q1), v01 = _mm256_unpackhi_pd(q0, q1);  // y0 y1 r0 r1, z0 z1 r20 r21
+    const __m256d u23 = _mm256_unpacklo_pd(q2, q3), v23 = _mm256_unpackhi_pd(q2, q3);
+    const __m256d cy = _mm256_permute2f128_pd(u01, u23, 0x20), cz = _mm256_permute2f128_pd(v01, v23, 0x20);
+    const __m256d r2 = _mm256_permute2f128_pd(v01, v23, 0x31);
+    const __m256d cx = _mm256_set_pd(s3.c.x, s2.c.x, s1.c.x, s0.c.x);
+    const __m256d ox = _mm256_sub_pd(_mm256_set1_pd(o.x), cx), oy = _mm256_sub_pd(_mm256_set1_pd(o.y), cy),
+                  oz = _mm256_sub_pd(_mm256_set1_pd(o.z), cz);
+    // hit(): b = dot(oc, d), disc = b b - (dot(oc, oc) - r2), t = -b - sqrt(disc), summed
+    // in dot()'s order. A negative disc gives a NaN t, which fails t > tmin as hit() does.
+    const __m256d b = _mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(ox, _mm256_set1_pd(d.x)), _mm256_mul_pd(oy, _mm256_set1_pd(d.y))),
+        _mm256_mul_pd(oz, _mm256_set1_pd(d.z)));
+    const __m256d e =
+        _mm256_sub_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ox, ox), _mm256_mul_pd(oy, oy)), _mm256_mul_pd(oz, oz)), r2);
+    const __m256d disc = _mm256_sub_pd(_mm256_mul_pd(b, b), e);
+    const __m256d tt = _mm256_sub_pd(_mm256_xor_pd(b, _mm256_set1_pd(-0.0)), _mm256_sqrt_pd(disc));
+    _mm256_storeu_pd(t, tt);
+    return unsigned(_mm256_movemask_pd(_mm256_cmp_pd(tt, _mm256_set1_pd(tmin), _CMP_GT_OQ)));
+}
+#endif
+
 bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& scratch) const {
+    const std::uint32_t n = object_node[obj];
+    const Node& node = nodes[n];
+    if (node.kind != NodeKind::Torus && node.kind != NodeKind::Csg) {
+        // One span at most, as in hit_general().
+        OneSpan a;
+        one_span(node, n, o, d, a);
+        if (!a.got || !(a.s.out.t > kDelta)) return false;
+        out = a.s.out;
+        return true;
+    }
     return first_end(obj, o, d, scratch, FirstEnd{false, kDelta, out});
 }
 

@@ -9,6 +9,7 @@
 #include "bvh.h"
 #include "math.h"
 #include "scene.h"
+#include "simd.h"
 
 namespace rt {
 
@@ -94,6 +95,11 @@ struct Geometry {
 
     // Nearest entry into object `obj` with t > tmin; false if none.
     [[nodiscard]] bool hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out, SpanScratch& s) const {
+        return hit_inline(obj, o, d, tmin, out, s);
+    }
+    // The same, inlined whatever the compiler would choose: for the hottest loops only.
+    [[nodiscard, gnu::always_inline]] bool hit_inline(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin,
+                                                      SpanEnd& out, SpanScratch& s) const {
         // The common case, inline and without building a span.
         const SphereG* ps;
         std::uint32_t n;
@@ -116,6 +122,13 @@ struct Geometry {
         out = {t, n, 0, false};
         return true;
     }
+#if RT_HAVE_AVX2_KERNELS
+    // hit() for four spheres of the prefix at once (AVX2; call only where it is active):
+    // bit k set when the line enters sphere ids[k] at t[k] > tmin. The same double
+    // operations lane for lane as hit(), so the same t, bit for bit.
+    [[nodiscard]] unsigned sphere_entries4(const std::uint32_t ids[4], const Vec3& o, const Vec3& d, double tmin,
+                                           double t[4]) const;
+#endif
     [[nodiscard]] bool hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
                                    SpanScratch& s) const;
     // Where a ray inside object `obj` (or on its surface, going in) leaves it:

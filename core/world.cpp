@@ -356,6 +356,37 @@ void World::nearest_glow(const Vec3& o, const Vec3& d, HitRec& h) const {
     }
 }
 
+#if RT_HAVE_AVX2_KERNELS
+namespace {
+// nearest()'s camera-buffer loop for a scene of spheres only, on the AVX2 path: the
+// cell's spheres four at a time (up to three of them past the nearest hit's reach,
+// which nearest()'s rule makes harmless). Returns where the scalar loop goes on.
+// (Out of line: nearest() stays as small for the other scenes.)
+[[gnu::noinline]] const LightBuffer::Entry* camera_spheres(const Geometry& g, const LightBuffer::Entry* e,
+                                                           const LightBuffer::Entry* end, const Vec3& o, const Vec3& d,
+                                                           World::HitRec& h) {
+    for (std::ptrdiff_t left; (left = end - e) >= 2 && !(double(e->dmin) > h.t);) {
+        // (The lanes past the cell's end repeat its first entry, masked off.)
+        const int n = left < 4 ? int(left) : 4;
+        const std::uint32_t ids[4] = {e[0].obj, e[1].obj, e[n > 2 ? 2 : 0].obj, e[n > 3 ? 3 : 0].obj};
+        double t[4];
+        for (unsigned m = g.sphere_entries4(ids, o, d, kDelta, t) & ((1u << n) - 1); m != 0; m &= m - 1) {
+            const int k = __builtin_ctz(m);
+            // nearest()'s rule: the nearest, on an exact tie the earlier object.
+            if (t[k] < h.t || (t[k] == h.t && h.kind == World::HitRec::Object && ids[k] < h.index)) {
+                h.kind = World::HitRec::Object;
+                h.t = t[k];
+                h.index = ids[k];
+                h.end = {t[k], ids[k], 0, false};
+            }
+        }
+        e += n;
+    }
+    return e;
+}
+}  // namespace
+#endif
+
 bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
     const Geometry& g = *geometry;
     h.kind = HitRec::None;
@@ -378,7 +409,7 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
     auto test = [&](std::uint32_t obj, double tmax) -> double {
         SpanEnd e;
         // On an exact tie the earlier object in the file wins, as in the original.
-        if (g.hit(obj, o, d, kDelta, e, ctx.scratch) &&
+        if (g.hit_inline(obj, o, d, kDelta, e, ctx.scratch) &&
             (e.t < tmax || (e.t == tmax && h.kind == HitRec::Object && obj < h.index))) {
             h.kind = HitRec::Object;
             h.t = e.t;
@@ -395,6 +426,10 @@ bool World::nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const {
         // nearest hit, ties to the earlier object, in whatever order they come.)
         const LightBuffer::Entry *e, *end;
         cb->cell(d, e, end);
+#if RT_HAVE_AVX2_KERNELS
+        if (end - e >= 2 && g.sphere_prefix == g.object_node.size() && avx2_active())
+            e = camera_spheres(g, e, end, o, d, h);
+#endif
         for (; e != end && !(double(e->dmin) > h.t); ++e) test(e->obj, h.t);
         for (const LightBuffer::Entry& a : cb->always) test(a.obj, h.t);
     } else {
@@ -680,18 +715,45 @@ Colour World::trace_unit(const Vec3& origin, const Vec3& unit_dir, RayStats& sta
     return trace_from(origin, unit_dir, 0, stats);
 }
 
-Colour World::trace_from(const Vec3& origin, const Vec3& d, int depth, RayStats& stats) const {
-    thread_local Ctx ctx;
-    ctx.stats = &stats;
-    if (stats.stopped) return {};
-    ctx.budget = omit_weight;
-    ctx.cutoff = omit_weight * Ctx::kShare;
-    Colour c = shade(origin, d, depth, 1.0, ctx);
-    // No NaN ever reaches a pixel.
+namespace {
+// The tracing state of this thread's camera rays, one for all its traces (so that its
+// shadow caches carry over from ray to ray).
+World::Ctx& thread_ctx() {
+    thread_local World::Ctx ctx;
+    return ctx;
+}
+
+// No NaN ever reaches a pixel.
+inline Colour finite_colour(Colour c) {
     if (!std::isfinite(c.x)) c.x = c.x > 0 ? 1e30 : 0;
     if (!std::isfinite(c.y)) c.y = c.y > 0 ? 1e30 : 0;
     if (!std::isfinite(c.z)) c.z = c.z > 0 ? 1e30 : 0;
     return c;
+}
+}  // namespace
+
+Colour World::trace_from(const Vec3& origin, const Vec3& d, int depth, RayStats& stats) const {
+    Ctx& ctx = thread_ctx();
+    ctx.stats = &stats;
+    if (stats.stopped) return {};
+    ctx.budget = omit_weight;
+    ctx.cutoff = omit_weight * Ctx::kShare;
+    return finite_colour(shade(origin, d, depth, 1.0, ctx));
+}
+
+void World::trace_units(const Vec3& origin, const Vec3* unit_dirs, std::size_t n, RayStats& stats, Colour* out) const {
+    Ctx& ctx = thread_ctx();
+    ctx.stats = &stats;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (stats.stopped) {
+            std::fill(out + i, out + n, Colour{});
+            return;
+        }
+        // Each ray's tree starts with the whole budget, as in trace_from().
+        ctx.budget = omit_weight;
+        ctx.cutoff = omit_weight * Ctx::kShare;
+        out[i] = finite_colour(shade(origin, unit_dirs[i], 0, 1.0, ctx));
+    }
 }
 
 Colour World::trace_camera(const CameraBasis& cam, double i, double j, RayStats& stats) const {

@@ -158,6 +158,10 @@ public:
     // same colour as trace_camera(cam, i, j), for callers that make many directions
     // in one go (their square roots and divisions then overlap).
     Colour trace_unit(const Vec3& origin, const Vec3& unit_dir, RayStats& stats) const;
+    // trace_unit() for each of n unit directions from one origin, into out[0, n): the
+    // same colours, for callers that trace a row in one go (the per-ray set-up is done
+    // once). Once `stats` has stopped, the remaining colours are black.
+    void trace_units(const Vec3& origin, const Vec3* unit_dirs, std::size_t n, RayStats& stats, Colour* out) const;
     // Bounds of all bounded objects (and lamps); empty if there are none.
     Aabb bounds() const;
     std::size_t geometry_bytes() const;

@@ -5,6 +5,7 @@
 // compare a path with itself.
 #include <doctest/doctest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -15,6 +16,7 @@
 #include "scene_parser.h"
 #include "shapes.h"
 #include "simd.h"
+#include "test_random.h"
 
 using namespace rt;
 namespace fs = std::filesystem;
@@ -95,3 +97,47 @@ TEST_CASE("isa: a path the processor lacks cannot be forced, and SSE2 always can
         CHECK(active_isa() == Isa::Sse2);
     }
 }
+
+#if RT_HAVE_AVX2_KERNELS
+TEST_CASE("isa: four spheres at once give hit()'s answer bit for bit") {
+    if (!isa_supported(Isa::Avx2)) {
+        MESSAGE("no AVX2 here: the four-sphere kernel is never used");
+        return;
+    }
+    rt_test::Rng rng(17);
+    Scene scene;
+    for (int i = 0; i < 64; ++i) {
+        Object o;
+        // Radii from 1e-3 to 5 in a 10-unit box: misses, grazes, hits, origins inside.
+        o.shape = Sphere{{rng.uni(-5, 5), rng.uni(-5, 5), rng.uni(-5, 5)}, std::exp(rng.uni(std::log(1e-3), std::log(5.0)))};
+        scene.objects.push_back(o);
+    }
+    Geometry g = build_geometry(scene, false);
+    REQUIRE(g.sphere_prefix == 64);
+    SpanScratch scratch;
+    int hits = 0, misses = 0, mismatches = 0;
+    for (int ray = 0; ray < 4000; ++ray) {
+        Vec3 o{rng.uni(-8, 8), rng.uni(-8, 8), rng.uni(-8, 8)};
+        std::uint32_t ids[4];
+        for (std::uint32_t& id : ids) id = std::uint32_t(rng.index(64));
+        // Aimed at a sphere's edge now and then, so that the discriminant is near 0.
+        const SphereG& aim = g.spheres[ids[0]];
+        Vec3 target = ray % 3 == 0 ? aim.c + rng.unit() * aim.r : aim.c;
+        Vec3 d = normalize(target - o);
+        double tmin = ray % 2 ? kDelta : 0.0;
+        double t[4];
+        unsigned mask = g.sphere_entries4(ids, o, d, tmin, t);
+        for (int k = 0; k < 4; ++k) {
+            SpanEnd e{};
+            bool hit = g.hit(ids[k], o, d, tmin, e, scratch);
+            bool same = hit == bool(mask >> k & 1) && (!hit || (std::memcmp(&e.t, &t[k], sizeof(double)) == 0 && e.node == ids[k]));
+            mismatches += !same;
+            (hit ? hits : misses) += 1;
+        }
+    }
+    CHECK(mismatches == 0);
+    // Both outcomes were tried often enough to mean something.
+    CHECK(hits > 1000);
+    CHECK(misses > 1000);
+}
+#endif
