@@ -233,6 +233,7 @@ LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light
     // (tol) times that box's distance, with a factor 2 to spare.
     lb.reach = near == HUGE_VAL ? HUGE_VAL : tol * near / (16 * 2.3e-16);
     lb.n = n;
+    lb.half_n = 0.5 * n;
     return lb;
 }
 

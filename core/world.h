@@ -65,6 +65,7 @@ struct LightBuffer {
     double position1 = 0;               // norm1(position)
     int n = 0;                          // cells per face side; 0: no buffer (use the BVH)
     double reach = 0;                   // use it only while |p|_1 + |light|_1 + r <= reach
+    double half_n = 0;                  // n / 2
     std::vector<std::uint32_t> start;   // per cell, its first entry; 6 n n + 1 of them
     std::vector<Entry> entries;
     std::vector<Entry> always;          // objects around or next to the light: every ray's
@@ -88,12 +89,15 @@ struct LightBuffer {
         } else {
             da = az, db = d.x, dc = d.y, face = 4 + (d.z < 0);
         }
-        const double hn = 0.5 * n, k = hn / da;
-        int i = std::min(std::max(int(db * k + hn), 0), n - 1);
-        int j = std::min(std::max(int(dc * k + hn), 0), n - 1);
-        std::size_t c = (std::size_t(face) * n + j) * n + i;
-        first = entries.data() + start[c];
-        last = entries.data() + start[c + 1];
+        // |db|, |dc| <= da, so db k + hn rounds to no less than -3e-16 hn: its
+        // truncation is never negative, and only the top needs a clamp (db = da).
+        const double k = half_n / da;
+        const unsigned top = unsigned(n - 1);
+        unsigned i = std::min(unsigned(int(db * k + half_n)), top);
+        unsigned j = std::min(unsigned(int(dc * k + half_n)), top);
+        const std::uint32_t* c = start.data() + (std::size_t(face) * n + j) * n + i;
+        first = entries.data() + c[0];
+        last = entries.data() + c[1];
     }
 };
 
