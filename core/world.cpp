@@ -516,7 +516,29 @@ inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx&
         const LightBuffer::Entry *e, *end;
         lb->cell(-s.v, e, end);
         blocked = false;
-        for (; e != end && !(double(e->dmin) > s.r) && !blocked; ++e) blocked = shadow_test(e->obj, s, found, ctx);
+        // Spheres of the prefix are tested here, as Geometry::hit() would (the same
+        // operations, so the same bits), without its lookups; the rest through it.
+        const std::uint32_t prefix = g.sphere_prefix;
+        const SphereG* const spheres = g.spheres.data();
+        for (; e != end && !(double(e->dmin) > s.r); ++e) {
+            const std::uint32_t obj = e->obj;
+            if (obj < prefix) {
+                const SphereG& sp = spheres[obj];
+                Vec3 oc = s.o - sp.c;
+                double b = dot(oc, s.vh);
+                double disc = b * b - (dot(oc, oc) - sp.r2);
+                if (disc < 0) continue;
+                double t = -b - std::sqrt(disc);
+                if (!(t > 0.0) || !(t < s.limit)) continue;
+                if (materials[obj].refraction == 0) {
+                    blocker = obj + 1;
+                    return true;
+                }
+                if (found.glass++ == 0) found.obj = obj, found.t = t;
+            } else if (shadow_test(obj, s, found, ctx)) {
+                return true;
+            }
+        }
         for (auto a = lb->always.begin(); a != lb->always.end() && !blocked; ++a)
             if (!(double(a->dmin) > s.r)) blocked = shadow_test(a->obj, s, found, ctx);
     } else {
