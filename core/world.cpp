@@ -152,36 +152,32 @@ double origin_distance(const Vec3& lo, const Vec3& hi, float& rounded_down) {
     return dmin;
 }
 
-// The buffer's cells from the ranges (a counting sort), each cell's entries nearest first.
-void fill_cells(LightBuffer& lb, const std::vector<CellRange>& ranges, int n) {
+// The buffer's cells from the ranges (a counting sort), each cell's entries nearest first
+// (ties: the earlier object first).
+void fill_cells(LightBuffer& lb, std::vector<CellRange>& ranges, int n) {
     const std::size_t cells = 6 * std::size_t(n) * std::size_t(n);
     auto cell = [n](const CellRange& r, int i, int j) { return (std::size_t(r.face) * n + j) * n + i; };
-    std::vector<std::uint32_t> count(cells + 1, 0);
+    // The ranges nearest first: filled in that order, every cell comes out sorted
+    // (an object has one range per face, so at most one entry in a cell), with no
+    // sort per cell.
+    std::sort(ranges.begin(), ranges.end(), [](const CellRange& a, const CellRange& b) {
+        return a.dmin < b.dmin || (a.dmin == b.dmin && a.obj < b.obj);
+    });
+    // start[c]: first the count of cell c, then the end of its entries (a running sum),
+    // then, filled from the back, their start.
+    std::vector<std::uint32_t>& start = lb.start;
+    start.assign(cells + 1, 0);
     for (const CellRange& r : ranges)
         for (int j = r.j0; j <= r.j1; ++j)
-            for (int i = r.i0; i <= r.i1; ++i) ++count[cell(r, i, j)];
-    lb.start.resize(cells + 1);
+            for (int i = r.i0; i <= r.i1; ++i) ++start[cell(r, i, j)];
     std::uint32_t sum = 0;
-    for (std::size_t c = 0; c < cells; ++c) {
-        lb.start[c] = sum;
-        sum += count[c];
-        count[c] = lb.start[c];
-    }
-    lb.start[cells] = sum;
+    for (std::size_t c = 0; c < cells; ++c) start[c] = sum += start[c];
+    start[cells] = sum;
     lb.entries.resize(sum);
-    // In object order within each cell (ranges are made in object order).
-    for (const CellRange& r : ranges)
-        for (int j = r.j0; j <= r.j1; ++j)
-            for (int i = r.i0; i <= r.i1; ++i) lb.entries[count[cell(r, i, j)]++] = {r.obj, r.dmin};
-    // Nearest boxes first within each cell: a ray stops reading its cell at the first
-    // box beyond its reach.
-    using Entry = LightBuffer::Entry;
-    const std::uint32_t* start = lb.start.data();
-    Entry* entries = lb.entries.data();
-    for (std::size_t c = 0; c < cells; ++c)
-        if (start[c + 1] - start[c] > 1)
-            std::sort(entries + start[c], entries + start[c + 1],
-                      [](const Entry& a, const Entry& b) { return a.dmin < b.dmin || (a.dmin == b.dmin && a.obj < b.obj); });
+    LightBuffer::Entry* const entries = lb.entries.data();
+    for (auto r = ranges.rbegin(); r != ranges.rend(); ++r)
+        for (int j = r->j0; j <= r->j1; ++j)
+            for (int i = r->i0; i <= r->i1; ++i) entries[--start[cell(*r, i, j)]] = {r->obj, r->dmin};
 }
 
 }  // namespace
