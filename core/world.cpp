@@ -152,6 +152,39 @@ double origin_distance(const Vec3& lo, const Vec3& hi, float& rounded_down) {
     return dmin;
 }
 
+// Sorts the ranges by dmin, ties in their order (which is the objects' order): a
+// stable radix sort on dmin's bits, which order like the values since dmin >= 0.
+void sort_nearest_first(std::vector<CellRange>& ranges) {
+    const std::size_t m = ranges.size();
+    // Key (dmin's bits) above the range's index, so that the digits come from the top
+    // half; the index says where each range goes in the end.
+    std::vector<std::uint64_t> a(m), b(m);
+    for (std::size_t k = 0; k < m; ++k) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &ranges[k].dmin, sizeof bits);
+        a[k] = std::uint64_t(bits) << 32 | k;
+    }
+    constexpr int kDigit = 11;
+    for (int shift = 32; shift < 64; shift += kDigit) {
+        std::uint32_t count[1u << kDigit] = {};
+        const std::uint64_t mask = (std::uint64_t(1) << kDigit) - 1;
+        for (std::uint64_t x : a) ++count[x >> shift & mask];
+        // A digit that all keys share leaves the order as it is.
+        if (m == 0 || count[a[0] >> shift & mask] == m) continue;
+        std::uint32_t sum = 0;
+        for (std::uint32_t& c : count) {
+            std::uint32_t here = c;
+            c = sum;
+            sum += here;
+        }
+        for (std::uint64_t x : a) b[count[x >> shift & mask]++] = x;
+        a.swap(b);
+    }
+    std::vector<CellRange> sorted(m);
+    for (std::size_t k = 0; k < m; ++k) sorted[k] = ranges[std::uint32_t(a[k])];
+    ranges.swap(sorted);
+}
+
 // The buffer's cells from the ranges (a counting sort), each cell's entries nearest first
 // (ties: the earlier object first).
 void fill_cells(LightBuffer& lb, std::vector<CellRange>& ranges, int n) {
@@ -160,9 +193,7 @@ void fill_cells(LightBuffer& lb, std::vector<CellRange>& ranges, int n) {
     // The ranges nearest first: filled in that order, every cell comes out sorted
     // (an object has one range per face, so at most one entry in a cell), with no
     // sort per cell.
-    std::sort(ranges.begin(), ranges.end(), [](const CellRange& a, const CellRange& b) {
-        return a.dmin < b.dmin || (a.dmin == b.dmin && a.obj < b.obj);
-    });
+    sort_nearest_first(ranges);
     // start[c]: first the count of cell c, then the end of its entries (a running sum),
     // then, filled from the back, their start.
     std::vector<std::uint32_t>& start = lb.start;
