@@ -488,8 +488,25 @@ inline bool World::shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSear
 // colour over the length the ray runs inside it.
 inline Colour World::through_glass(std::uint32_t obj, double t, const ShadowRay& s, const Colour& sh, Ctx& ctx) const {
     const ShadeMaterial& m = materials[obj];
-    SpanEnd x;
-    double len = geometry->exit(obj, s.o + s.vh * t, s.vh, x, ctx.scratch) ? x.t : 0.0;
+    const Geometry& g = *geometry;
+    const Vec3 q = s.o + s.vh * t;
+    double len = 0;
+    if (obj < g.sphere_prefix) {
+        // Geometry::exit() for a sphere, the common glass: its span's far end from q,
+        // with sphere_spans()'s operations (so the same bits), if beyond kDelta.
+        const SphereG& sp = g.spheres[obj];
+        Vec3 oc = q - sp.c;
+        double b = dot(oc, s.vh);
+        double e = dot(oc, oc) - sp.r2;
+        double disc = b * b - e;
+        if (!(disc < 0)) {
+            double out = -b + std::sqrt(disc);
+            if (out > kDelta) len = out;
+        }
+    } else {
+        SpanEnd x;
+        if (g.exit(obj, q, s.vh, x, ctx.scratch)) len = x.t;
+    }
     return mul(sh, tint(m, len * m.refraction));
 }
 
