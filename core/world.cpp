@@ -558,7 +558,7 @@ inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx&
     if (lb && lb->usable(p1, s.r)) {
         // Only the objects the light sees in this direction, nearer than p.
         const LightBuffer::Entry *e, *end;
-        lb->cell(-s.v, e, end);
+        lb->cell_toward(s.v, e, end);
         blocked = false;
         // Spheres of the prefix are tested here, as Geometry::hit() would (the same
         // operations, so the same bits), without its lookups; the rest through it.

@@ -99,6 +99,27 @@ struct LightBuffer {
         first = entries.data() + c[0];
         last = entries.data() + c[1];
     }
+    // cell(-v) for v toward the light, without negating v: the same cell, bit for bit
+    // (-v.x < 0 exactly where v.x > 0, and (-b) k + h rounds as h - b k).
+    void cell_toward(const Vec3& v, const Entry*& first, const Entry*& last) const {
+        const double ax = std::fabs(v.x), ay = std::fabs(v.y), az = std::fabs(v.z);
+        double da, vb, vc;
+        int face;
+        if (ax >= ay && ax >= az) {
+            da = ax, vb = v.y, vc = v.z, face = v.x > 0;
+        } else if (ay >= az) {
+            da = ay, vb = v.z, vc = v.x, face = 2 + (v.y > 0);
+        } else {
+            da = az, vb = v.x, vc = v.y, face = 4 + (v.z > 0);
+        }
+        const double k = half_n / da;
+        const unsigned top = unsigned(n - 1);
+        unsigned i = std::min(unsigned(int(half_n - vb * k)), top);
+        unsigned j = std::min(unsigned(int(half_n - vc * k)), top);
+        const std::uint32_t* c = start.data() + (std::size_t(face) * n + j) * n + i;
+        first = entries.data() + c[0];
+        last = entries.data() + c[1];
+    }
 };
 
 struct TraceOptions {
