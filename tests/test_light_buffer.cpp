@@ -124,6 +124,38 @@ TEST_CASE("light buffer: every object on a segment to the light is listed in its
     CHECK(double(listed_total) / checked < 40);
 }
 
+TEST_CASE("light buffer: each cell lists its objects once, nearest box first (ties: earlier object first)") {
+    // Shadow rays stop reading a cell at the first box beyond their reach: that is only
+    // right if no nearer box follows it.
+    Rng rng(404);
+    std::size_t listed = 0, ties = 0;
+    for (int round = 0; round < 4; ++round) {
+        Vec3 light = rng.in_ball(10);
+        Scene scene = random_scene(rng, light, 60 + 40 * round);
+        Geometry g = build_geometry(scene);
+        // Some objects twice over, so that equal distances occur.
+        std::vector<Aabb> boxes = g.object_bounds;
+        for (std::size_t k = 0; k < g.object_bounds.size(); k += 3) boxes.push_back(g.object_bounds[k]);
+        int n = round % 2 ? 32 : 8;
+        LightBuffer lb = LightBuffer::build(boxes, light, n);
+        REQUIRE(lb.n == n);
+        REQUIRE(lb.start.size() == 6 * std::size_t(n) * n + 1);
+        CHECK(lb.start.front() == 0);
+        CHECK(lb.start.back() == lb.entries.size());
+        for (std::size_t c = 0; c + 1 < lb.start.size(); ++c) {
+            REQUIRE(lb.start[c] <= lb.start[c + 1]);
+            for (std::uint32_t k = lb.start[c]; k + 1 < lb.start[c + 1]; ++k) {
+                const LightBuffer::Entry &a = lb.entries[k], &b = lb.entries[k + 1];
+                CHECK((a.dmin < b.dmin || (a.dmin == b.dmin && a.obj < b.obj)));
+                if (a.dmin == b.dmin) ++ties;
+            }
+            listed += lb.start[c + 1] - lb.start[c];
+        }
+    }
+    CHECK(listed > 1000);
+    CHECK(ties > 100);
+}
+
 TEST_CASE("light buffer: cell_toward(v) finds cell(-v), on cell and face borders too") {
     // A buffer whose cell c holds the one entry c, so that the entry names the cell.
     for (int n : {1, 16, 64, 200}) {
