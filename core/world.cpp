@@ -473,9 +473,12 @@ struct World::ShadowSearch {
 
 // Whether object `obj` blocks the shadow ray (and then the light's blocker is it);
 // a refractive one is counted in `found` instead.
+// (kOther: not a sphere of the prefix, through Geometry::shadow_hit().)
+template <bool kOther>
 inline bool World::shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const {
     SpanEnd e;
-    if (!geometry->hit(obj, s.o, s.vh, 0.0, e, ctx.scratch) || !(e.t < s.limit)) return false;
+    bool hit = kOther ? geometry->shadow_hit(obj, s.o, s.vh, e, ctx.scratch) : geometry->hit(obj, s.o, s.vh, 0.0, e, ctx.scratch);
+    if (!hit || !(e.t < s.limit)) return false;
     if (materials[obj].refraction == 0) {
         ctx.blocker[s.light] = obj + 1;
         return true;
@@ -579,7 +582,7 @@ inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx&
                     return true;
                 }
                 if (found.glass++ == 0) found.obj = obj, found.t = t;
-            } else if (shadow_test(obj, s, found, ctx)) {
+            } else if (shadow_test<true>(obj, s, found, ctx)) {
                 return true;
             }
         }
