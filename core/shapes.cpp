@@ -497,6 +497,7 @@ bool Geometry::shadow_hit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanE
     switch (node.kind) {
         case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, sink); return sink.found;
         case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, sink); return sink.found;
+        case NodeKind::Csg: return hit_general(obj, o, d, 0.0, out, s);
         default: return hit(obj, o, d, 0.0, out, s);
     }
 }

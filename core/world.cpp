@@ -546,7 +546,7 @@ inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx&
     std::uint32_t& blocker = ctx.blocker[s.light];
     if (blocker > 0 && blocker <= materials.size()) {
         SpanEnd e;
-        if (materials[blocker - 1].refraction == 0 && g.hit(blocker - 1, s.o, s.vh, 0.0, e, ctx.scratch) &&
+        if (materials[blocker - 1].refraction == 0 && g.shadow_hit(blocker - 1, s.o, s.vh, e, ctx.scratch) &&
             e.t < s.limit)
             return true;
     }
