@@ -152,36 +152,63 @@ double origin_distance(const Vec3& lo, const Vec3& hi, float& rounded_down) {
     return dmin;
 }
 
-// The buffer's cells from the ranges (a counting sort), each cell's entries nearest first.
-void fill_cells(LightBuffer& lb, const std::vector<CellRange>& ranges, int n) {
+// Sorts the ranges by dmin, ties in their order (which is the objects' order): a
+// stable radix sort on dmin's bits, which order like the values since dmin >= 0.
+void sort_nearest_first(std::vector<CellRange>& ranges) {
+    const std::size_t m = ranges.size();
+    // Key (dmin's bits) above the range's index, so that the digits come from the top
+    // half; the index says where each range goes in the end.
+    std::vector<std::uint64_t> a(m), b(m);
+    for (std::size_t k = 0; k < m; ++k) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &ranges[k].dmin, sizeof bits);
+        a[k] = std::uint64_t(bits) << 32 | k;
+    }
+    constexpr int kDigit = 11;
+    for (int shift = 32; shift < 64; shift += kDigit) {
+        std::uint32_t count[1u << kDigit] = {};
+        const std::uint64_t mask = (std::uint64_t(1) << kDigit) - 1;
+        for (std::uint64_t x : a) ++count[x >> shift & mask];
+        // A digit that all keys share leaves the order as it is.
+        if (m == 0 || count[a[0] >> shift & mask] == m) continue;
+        std::uint32_t sum = 0;
+        for (std::uint32_t& c : count) {
+            std::uint32_t here = c;
+            c = sum;
+            sum += here;
+        }
+        for (std::uint64_t x : a) b[count[x >> shift & mask]++] = x;
+        a.swap(b);
+    }
+    std::vector<CellRange> sorted(m);
+    for (std::size_t k = 0; k < m; ++k) sorted[k] = ranges[std::uint32_t(a[k])];
+    ranges.swap(sorted);
+}
+
+// The buffer's cells from the ranges (a counting sort), each cell's entries nearest first
+// (ties: the earlier object first).
+void fill_cells(LightBuffer& lb, std::vector<CellRange>& ranges, int n) {
     const std::size_t cells = 6 * std::size_t(n) * std::size_t(n);
     auto cell = [n](const CellRange& r, int i, int j) { return (std::size_t(r.face) * n + j) * n + i; };
-    std::vector<std::uint32_t> count(cells + 1, 0);
+    // The ranges nearest first: filled in that order, every cell comes out sorted
+    // (an object has one range per face, so at most one entry in a cell), with no
+    // sort per cell.
+    sort_nearest_first(ranges);
+    // start[c]: first the count of cell c, then the end of its entries (a running sum),
+    // then, filled from the back, their start.
+    std::vector<std::uint32_t>& start = lb.start;
+    start.assign(cells + 1, 0);
     for (const CellRange& r : ranges)
         for (int j = r.j0; j <= r.j1; ++j)
-            for (int i = r.i0; i <= r.i1; ++i) ++count[cell(r, i, j)];
-    lb.start.resize(cells + 1);
+            for (int i = r.i0; i <= r.i1; ++i) ++start[cell(r, i, j)];
     std::uint32_t sum = 0;
-    for (std::size_t c = 0; c < cells; ++c) {
-        lb.start[c] = sum;
-        sum += count[c];
-        count[c] = lb.start[c];
-    }
-    lb.start[cells] = sum;
+    for (std::size_t c = 0; c < cells; ++c) start[c] = sum += start[c];
+    start[cells] = sum;
     lb.entries.resize(sum);
-    // In object order within each cell (ranges are made in object order).
-    for (const CellRange& r : ranges)
-        for (int j = r.j0; j <= r.j1; ++j)
-            for (int i = r.i0; i <= r.i1; ++i) lb.entries[count[cell(r, i, j)]++] = {r.obj, r.dmin};
-    // Nearest boxes first within each cell: a ray stops reading its cell at the first
-    // box beyond its reach.
-    using Entry = LightBuffer::Entry;
-    const std::uint32_t* start = lb.start.data();
-    Entry* entries = lb.entries.data();
-    for (std::size_t c = 0; c < cells; ++c)
-        if (start[c + 1] - start[c] > 1)
-            std::sort(entries + start[c], entries + start[c + 1],
-                      [](const Entry& a, const Entry& b) { return a.dmin < b.dmin || (a.dmin == b.dmin && a.obj < b.obj); });
+    LightBuffer::Entry* const entries = lb.entries.data();
+    for (auto r = ranges.rbegin(); r != ranges.rend(); ++r)
+        for (int j = r->j0; j <= r->j1; ++j)
+            for (int i = r->i0; i <= r->i1; ++i) entries[--start[cell(*r, i, j)]] = {r->obj, r->dmin};
 }
 
 }  // namespace
@@ -233,6 +260,7 @@ LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light
     // (tol) times that box's distance, with a factor 2 to spare.
     lb.reach = near == HUGE_VAL ? HUGE_VAL : tol * near / (16 * 2.3e-16);
     lb.n = n;
+    lb.half_n = 0.5 * n;
     return lb;
 }
 
@@ -480,9 +508,12 @@ struct World::ShadowSearch {
 
 // Whether object `obj` blocks the shadow ray (and then the light's blocker is it);
 // a refractive one is counted in `found` instead.
+// (kOther: not a sphere of the prefix, through Geometry::shadow_hit().)
+template <bool kOther>
 inline bool World::shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const {
     SpanEnd e;
-    if (!geometry->hit(obj, s.o, s.vh, 0.0, e, ctx.scratch) || !(e.t < s.limit)) return false;
+    bool hit = kOther ? geometry->shadow_hit(obj, s.o, s.vh, e, ctx.scratch) : geometry->hit(obj, s.o, s.vh, 0.0, e, ctx.scratch);
+    if (!hit || !(e.t < s.limit)) return false;
     if (materials[obj].refraction == 0) {
         ctx.blocker[s.light] = obj + 1;
         return true;
@@ -495,8 +526,25 @@ inline bool World::shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSear
 // colour over the length the ray runs inside it.
 inline Colour World::through_glass(std::uint32_t obj, double t, const ShadowRay& s, const Colour& sh, Ctx& ctx) const {
     const ShadeMaterial& m = materials[obj];
-    SpanEnd x;
-    double len = geometry->exit(obj, s.o + s.vh * t, s.vh, x, ctx.scratch) ? x.t : 0.0;
+    const Geometry& g = *geometry;
+    const Vec3 q = s.o + s.vh * t;
+    double len = 0;
+    if (obj < g.sphere_prefix) {
+        // Geometry::exit() for a sphere, the common glass: its span's far end from q,
+        // with sphere_spans()'s operations (so the same bits), if beyond kDelta.
+        const SphereG& sp = g.spheres[obj];
+        Vec3 oc = q - sp.c;
+        double b = dot(oc, s.vh);
+        double e = dot(oc, oc) - sp.r2;
+        double disc = b * b - e;
+        if (!(disc < 0)) {
+            double out = -b + std::sqrt(disc);
+            if (out > kDelta) len = out;
+        }
+    } else {
+        SpanEnd x;
+        if (g.exit(obj, q, s.vh, x, ctx.scratch)) len = x.t;
+    }
     return mul(sh, tint(m, len * m.refraction));
 }
 
@@ -533,7 +581,7 @@ inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx&
     std::uint32_t& blocker = ctx.blocker[s.light];
     if (blocker > 0 && blocker <= materials.size()) {
         SpanEnd e;
-        if (materials[blocker - 1].refraction == 0 && g.hit(blocker - 1, s.o, s.vh, 0.0, e, ctx.scratch) &&
+        if (materials[blocker - 1].refraction == 0 && g.shadow_hit(blocker - 1, s.o, s.vh, e, ctx.scratch) &&
             e.t < s.limit)
             return true;
     }
@@ -548,9 +596,31 @@ inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx&
     if (lb && lb->usable(p1, s.r)) {
         // Only the objects the light sees in this direction, nearer than p.
         const LightBuffer::Entry *e, *end;
-        lb->cell(-s.v, e, end);
+        lb->cell_toward(s.v, e, end);
         blocked = false;
-        for (; e != end && !(double(e->dmin) > s.r) && !blocked; ++e) blocked = shadow_test(e->obj, s, found, ctx);
+        // Spheres of the prefix are tested here, as Geometry::hit() would (the same
+        // operations, so the same bits), without its lookups; the rest through it.
+        const std::uint32_t prefix = g.sphere_prefix;
+        const SphereG* const spheres = g.spheres.data();
+        for (; e != end && !(double(e->dmin) > s.r); ++e) {
+            const std::uint32_t obj = e->obj;
+            if (obj < prefix) {
+                const SphereG& sp = spheres[obj];
+                Vec3 oc = s.o - sp.c;
+                double b = dot(oc, s.vh);
+                double disc = b * b - (dot(oc, oc) - sp.r2);
+                if (disc < 0) continue;
+                double t = -b - std::sqrt(disc);
+                if (!(t > 0.0) || !(t < s.limit)) continue;
+                if (materials[obj].refraction == 0) {
+                    blocker = obj + 1;
+                    return true;
+                }
+                if (found.glass++ == 0) found.obj = obj, found.t = t;
+            } else if (shadow_test<true>(obj, s, found, ctx)) {
+                return true;
+            }
+        }
         for (auto a = lb->always.begin(); a != lb->always.end() && !blocked; ++a)
             if (!(double(a->dmin) > s.r)) blocked = shadow_test(a->obj, s, found, ctx);
     } else {

@@ -65,6 +65,7 @@ struct LightBuffer {
     double position1 = 0;               // norm1(position)
     int n = 0;                          // cells per face side; 0: no buffer (use the BVH)
     double reach = 0;                   // use it only while |p|_1 + |light|_1 + r <= reach
+    double half_n = 0;                  // n / 2
     std::vector<std::uint32_t> start;   // per cell, its first entry; 6 n n + 1 of them
     std::vector<Entry> entries;
     std::vector<Entry> always;          // objects around or next to the light: every ray's
@@ -88,12 +89,36 @@ struct LightBuffer {
         } else {
             da = az, db = d.x, dc = d.y, face = 4 + (d.z < 0);
         }
-        const double hn = 0.5 * n, k = hn / da;
-        int i = std::min(std::max(int(db * k + hn), 0), n - 1);
-        int j = std::min(std::max(int(dc * k + hn), 0), n - 1);
-        std::size_t c = (std::size_t(face) * n + j) * n + i;
-        first = entries.data() + start[c];
-        last = entries.data() + start[c + 1];
+        // |db|, |dc| <= da, so db k + hn rounds to no less than -3e-16 hn: its
+        // truncation is never negative, and only the top needs a clamp (db = da).
+        const double k = half_n / da;
+        const unsigned top = unsigned(n - 1);
+        unsigned i = std::min(unsigned(int(db * k + half_n)), top);
+        unsigned j = std::min(unsigned(int(dc * k + half_n)), top);
+        const std::uint32_t* c = start.data() + (std::size_t(face) * n + j) * n + i;
+        first = entries.data() + c[0];
+        last = entries.data() + c[1];
+    }
+    // cell(-v) for v toward the light, without negating v: the same cell, bit for bit
+    // (-v.x < 0 exactly where v.x > 0, and (-b) k + h rounds as h - b k).
+    void cell_toward(const Vec3& v, const Entry*& first, const Entry*& last) const {
+        const double ax = std::fabs(v.x), ay = std::fabs(v.y), az = std::fabs(v.z);
+        double da, vb, vc;
+        int face;
+        if (ax >= ay && ax >= az) {
+            da = ax, vb = v.y, vc = v.z, face = v.x > 0;
+        } else if (ay >= az) {
+            da = ay, vb = v.z, vc = v.x, face = 2 + (v.y > 0);
+        } else {
+            da = az, vb = v.x, vc = v.y, face = 4 + (v.z > 0);
+        }
+        const double k = half_n / da;
+        const unsigned top = unsigned(n - 1);
+        unsigned i = std::min(unsigned(int(half_n - vb * k)), top);
+        unsigned j = std::min(unsigned(int(half_n - vc * k)), top);
+        const std::uint32_t* c = start.data() + (std::size_t(face) * n + j) * n + i;
+        first = entries.data() + c[0];
+        last = entries.data() + c[1];
     }
 };
 
@@ -178,6 +203,7 @@ private:
     Colour direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
     struct ShadowRay;
     struct ShadowSearch;
+    template <bool kOther = false>
     bool shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
     [[gnu::always_inline]] bool objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const;
     [[gnu::noinline]] bool objects_block_bvh(const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;

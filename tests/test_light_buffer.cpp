@@ -124,6 +124,77 @@ TEST_CASE("light buffer: every object on a segment to the light is listed in its
     CHECK(double(listed_total) / checked < 40);
 }
 
+TEST_CASE("light buffer: each cell lists its objects once, nearest box first (ties: earlier object first)") {
+    // Shadow rays stop reading a cell at the first box beyond their reach: that is only
+    // right if no nearer box follows it.
+    Rng rng(404);
+    std::size_t listed = 0, ties = 0;
+    for (int round = 0; round < 4; ++round) {
+        Vec3 light = rng.in_ball(10);
+        Scene scene = random_scene(rng, light, 60 + 40 * round);
+        Geometry g = build_geometry(scene);
+        // Some objects twice over, so that equal distances occur.
+        std::vector<Aabb> boxes = g.object_bounds;
+        for (std::size_t k = 0; k < g.object_bounds.size(); k += 3) boxes.push_back(g.object_bounds[k]);
+        int n = round % 2 ? 32 : 8;
+        LightBuffer lb = LightBuffer::build(boxes, light, n);
+        REQUIRE(lb.n == n);
+        REQUIRE(lb.start.size() == 6 * std::size_t(n) * n + 1);
+        CHECK(lb.start.front() == 0);
+        CHECK(lb.start.back() == lb.entries.size());
+        for (std::size_t c = 0; c + 1 < lb.start.size(); ++c) {
+            REQUIRE(lb.start[c] <= lb.start[c + 1]);
+            for (std::uint32_t k = lb.start[c]; k + 1 < lb.start[c + 1]; ++k) {
+                const LightBuffer::Entry &a = lb.entries[k], &b = lb.entries[k + 1];
+                CHECK((a.dmin < b.dmin || (a.dmin == b.dmin && a.obj < b.obj)));
+                if (a.dmin == b.dmin) ++ties;
+            }
+            listed += lb.start[c + 1] - lb.start[c];
+        }
+    }
+    CHECK(listed > 1000);
+    CHECK(ties > 100);
+}
+
+TEST_CASE("light buffer: cell_toward(v) finds cell(-v), on cell and face borders too") {
+    // A buffer whose cell c holds the one entry c, so that the entry names the cell.
+    for (int n : {1, 16, 64, 200}) {
+        LightBuffer lb;
+        lb.n = n;
+        lb.half_n = 0.5 * n;
+        const std::uint32_t cells = 6u * std::uint32_t(n) * std::uint32_t(n);
+        for (std::uint32_t c = 0; c <= cells; ++c) lb.start.push_back(c);
+        for (std::uint32_t c = 0; c < cells; ++c) lb.entries.push_back({c, 0.0f});
+        auto same = [&](const Vec3& v) {
+            const LightBuffer::Entry *a0, *a1, *b0, *b1;
+            lb.cell(-v, a0, a1);
+            lb.cell_toward(v, b0, b1);
+            REQUIRE(a1 - a0 == 1);
+            CAPTURE(rt_test::fmt(v));
+            CHECK(b0 == a0);
+            CHECK(b1 == a1);
+        };
+        Rng rng(std::uint64_t(n) + 5);
+        for (int k = 0; k < 20000; ++k) same(rng.unit() * std::exp(rng.uni(-20, 20)));
+        // Directions through cell borders (b / a = 2 i / n - 1 exactly), the edges and
+        // corners of the cube (ties of the major axis), and signed zeros.
+        for (int i = 0; i <= n; ++i)
+            for (double a : {1.0, -1.0, 3.0})
+                for (double sb : {1.0, -1.0}) {
+                    double u = sb * (2.0 * i / n - 1) * a;
+                    same({a, u, 0.25 * a});
+                    same({u, a, -0.0});
+                    same({0.0, u, a});
+                    same({a, a, u});
+                    same({u, -a, -a});
+                }
+        for (double x : {0.0, -0.0, 1.0, -1.0})
+            for (double y : {0.0, -0.0, 1.0, -1.0})
+                for (double z : {0.0, -0.0, 1.0, -1.0})
+                    if (x != 0 || y != 0 || z != 0) same({x, y, z});
+    }
+}
+
 TEST_CASE("light buffer: none for scenes or lights beyond float range, nor without objects") {
     std::vector<Aabb> boxes{{{0, 0, 0}, {1, 1, 1}}};
     CHECK(LightBuffer::build(boxes, {1e31, 0, 0}, 16).n == 0);
