@@ -615,8 +615,13 @@ void Bvh::build(const std::vector<Aabb>& boxes, int threads) {
     Builder b{recs, n, spare};
     bin.emplace_back();
     b.build(bin, 0, 0, std::uint32_t(n), bounds[0], centres[0], 0);
-    items.reserve(n);  // (not resized: its zero fill would be a second pass)
-    for (std::size_t i = 0; i < n; ++i) items.push_back(recs[i].id);
+    // In two halves side by side: reading the ids strides over all the records (80 MB
+    // for a million objects), far more than the 4 MB zero fill of the resize.
+    items.resize(n);
+    const std::size_t item_parts[3] = {0, n / 2, n};
+    two_ways(two, [&](int p) {
+        for (std::size_t i = item_parts[p]; i < item_parts[p + 1]; ++i) items[i] = recs[i].id;
+    });
     rec_mem.reset();
     collapse(bin, nodes, nodes8, threads > 1);
 }
