@@ -447,14 +447,19 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
     g.csgs.reserve(count[4]);
     g.nodes.reserve(scene.objects.size() + 2 * count[4]);
     g.object_node.reserve(scene.objects.size());
-    for (const Object& obj : scene.objects) g.object_node.push_back(add_node(g, obj));
+    g.object_bounds.reserve(scene.objects.size());
+    // Each object's box made while its shape record is still in the cache (a pass of
+    // its own would read a million spheres' records and nodes again).
+    for (const Object& obj : scene.objects) {
+        const std::uint32_t n = add_node(g, obj);
+        g.object_node.push_back(n);
+        g.object_bounds.push_back(g.bounds(n));
+    }
     std::uint32_t k = 0;
     while (k < g.object_node.size() && g.object_node[k] == k && g.nodes[k].kind == NodeKind::Sphere &&
            g.nodes[k].index == k)
         ++k;
     g.sphere_prefix = k;
-    g.object_bounds.reserve(scene.objects.size());
-    for (std::uint32_t n : g.object_node) g.object_bounds.push_back(g.bounds(n));
     if (with_bvh) g.bvh.build(g.object_bounds);
     return g;
 }
