@@ -483,28 +483,45 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
 
 Geometry build_geometry(const Scene& scene, bool with_bvh) {
     Geometry g;
+    const std::vector<Object>& objects = scene.objects;
+    const std::size_t n = objects.size();
     // Reserved up front (top-level shapes; CSG operands may grow them): grown by
-    // doubling, a million spheres' arrays would be written about twice.
+    // doubling, a million spheres' arrays would be written about twice. A leading run
+    // of spheres (all of many a big scene) is not counted first, a pass over every
+    // object: the spheres are reserved for all objects (address space only, where the
+    // run ends early), the other shapes counted from the first that is not a sphere.
     static_assert(std::is_same_v<std::variant_alternative_t<0, Shape>, Sphere> &&
                       std::is_same_v<std::variant_alternative_t<4, Shape>, Csg>,
                   "counted by the variant's index");
-    std::size_t count[5] = {};
-    for (const Object& obj : scene.objects) ++count[obj.shape.index()];
-    g.spheres.reserve(count[0]);
-    g.tetras.reserve(count[1]);
-    g.cylinders.reserve(count[2]);
-    g.tori.reserve(count[3]);
-    g.csgs.reserve(count[4]);
-    g.nodes.reserve(scene.objects.size() + 2 * count[4]);
-    g.object_node.reserve(scene.objects.size());
-    for (const Object& obj : scene.objects) g.object_node.push_back(add_node(g, obj));
-    std::uint32_t k = 0;
-    while (k < g.object_node.size() && g.object_node[k] == k && g.nodes[k].kind == NodeKind::Sphere &&
-           g.nodes[k].index == k)
-        ++k;
-    g.sphere_prefix = k;
-    g.object_bounds.reserve(scene.objects.size());
-    for (std::uint32_t n : g.object_node) g.object_bounds.push_back(g.bounds(n));
+    const bool sphere_first = n > 0 && objects[0].shape.index() == 0;
+    std::size_t i = 0;
+    if (sphere_first) {
+        g.spheres.reserve(n);
+        g.nodes.reserve(n);
+    }
+    g.object_node.reserve(n);
+    g.object_bounds.reserve(n);
+    // Each object's box is made while its shape record is still in the cache (a pass
+    // of its own would read a million spheres' records and nodes again).
+    auto add = [&g](const Object& obj) {
+        const std::uint32_t node = add_node(g, obj);
+        g.object_node.push_back(node);
+        g.object_bounds.push_back(g.bounds(node));
+    };
+    // The leading spheres: node i = object i = sphere i (Geometry::sphere_prefix).
+    for (; i < n && objects[i].shape.index() == 0; ++i) add(objects[i]);
+    g.sphere_prefix = std::uint32_t(i);
+    if (i < n) {
+        std::size_t count[5] = {};
+        for (std::size_t j = i; j < n; ++j) ++count[objects[j].shape.index()];
+        if (!sphere_first) g.spheres.reserve(count[0]);
+        g.tetras.reserve(count[1]);
+        g.cylinders.reserve(count[2]);
+        g.tori.reserve(count[3]);
+        g.csgs.reserve(count[4]);
+        g.nodes.reserve(n + 2 * count[4]);
+        for (; i < n; ++i) add(objects[i]);
+    }
     if (with_bvh) g.bvh.build(g.object_bounds);
     return g;
 }

@@ -899,6 +899,25 @@ double distance_to_objects(const Geometry& g, const Vec3& p) {
     return std::sqrt(best2);
 }
 
+// Whether material m keeps radiance_bound's premises (no negative weight, no tint above
+// 1, a finite colour); cp grows to its colour's largest channel if it scatters.
+bool bounded_material(const ShadeMaterial& m, double& cp) {
+    if (!(m.reflection >= 0 && m.refraction >= 0 && m.scattering >= 0)) return false;
+    if (m.refraction > 0 && max3(m.log_tint) > 0) return false;  // a tint above 1
+    double c = max3(cabs(m.colour));
+    if (!std::isfinite(c)) return false;
+    if (m.scattering > 0) cp = std::max(cp, c);
+    return true;
+}
+
+// The objects' shading materials, with bounded_material over all of them (made on the
+// materials' own thread for a big scene, and only once for each run of repeats).
+struct ObjectMaterials {
+    std::vector<ShadeMaterial> list;
+    bool bounded = true;
+    double cp = 0;
+};
+
 // An upper bound of the colour any ray can bring back, for the ray tree's bound
 // (World::omit_weight); +inf where there is none. Every value a ray returns is a mix,
 // with weights summing to 1, of direct light, glow colours, and the values of further
@@ -906,21 +925,12 @@ double distance_to_objects(const Geometry& g, const Vec3& p) {
 // can get, or the brightest glow, provided no weight is negative and no tint brightens.
 // Direct light at p is at most sum over lights of |colour| |Cp| / r^2 (rendering.md
 // §3), with r at least the light's distance to the nearest surface.
-double radiance_bound(const World& w) {
+double radiance_bound(const World& w, const ObjectMaterials& objects) {
     const double inf = HUGE_VAL;
-    double cp = 0;
-    auto usable = [&](const ShadeMaterial& m) {
-        if (!(m.reflection >= 0 && m.refraction >= 0 && m.scattering >= 0)) return false;
-        if (m.refraction > 0 && max3(m.log_tint) > 0) return false;  // a tint above 1
-        double c = max3(cabs(m.colour));
-        if (!std::isfinite(c)) return false;
-        if (m.scattering > 0) cp = std::max(cp, c);
-        return true;
-    };
-    for (const ShadeMaterial& m : w.materials)
-        if (!usable(m)) return inf;
+    if (!objects.bounded) return inf;
+    double cp = objects.cp;
     for (const ShadeMaterial& m : w.plane_mats)
-        if (!usable(m)) return inf;
+        if (!bounded_material(m, cp)) return inf;
     double glow = 0, direct = 0;
     for (const ShadeLight& l : w.lights) {
         double c = max3(cabs(l.colour));
@@ -943,31 +953,38 @@ double radiance_bound(const World& w) {
 namespace {
 
 // The objects' shading materials; they do not depend on the geometry.
-std::vector<ShadeMaterial> make_materials(const Scene& scene) {
-    std::vector<ShadeMaterial> out;
+ObjectMaterials make_materials(const Scene& scene) {
+    ObjectMaterials made;
+    std::vector<ShadeMaterial>& out = made.list;
     out.reserve(scene.objects.size());
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         // Big scenes repeat a few materials, often alternating: one equal (bit for bit)
-        // to either of the last two objects' is copied, saving its three logarithms.
+        // to either of the last two objects' is copied, saving its three logarithms
+        // and its check, which gives the same answer.
         static_assert(sizeof(Material) == 8 * sizeof(double), "materials compare as bytes");
         const Material& m = scene.objects[i].material;
         std::size_t k = 1;
         for (; k <= 2 && k <= i; ++k)
             if (std::memcmp(&m, &scene.objects[i - k].material, sizeof m) == 0) break;
-        out.push_back(k <= 2 && k <= i ? out[i - k] : ShadeMaterial::from(m));
+        if (k <= 2 && k <= i) {
+            out.push_back(out[i - k]);
+        } else {
+            out.push_back(ShadeMaterial::from(m));
+            if (made.bounded) made.bounded = bounded_material(out.back(), made.cp);
+        }
     }
-    return out;
+    return made;
 }
 
 std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
-                                          std::vector<ShadeMaterial> materials, const World* previous);
+                                          ObjectMaterials materials, const World* previous);
 
 }  // namespace
 
 std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous) {
     // For a big scene the materials are made on a thread of their own while the shapes
     // and the BVH are built.
-    std::vector<ShadeMaterial> materials;
+    ObjectMaterials materials;
     std::thread materials_thread;
     std::exception_ptr materials_failed;
     if (scene.objects.size() >= 65536 && std::thread::hardware_concurrency() > 1) {
@@ -1132,14 +1149,14 @@ void add_light_buffers(World& w, const Scene& scene, const World* previous) {
 }
 
 std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
-                                          std::vector<ShadeMaterial> materials, const World* previous) {
+                                          ObjectMaterials materials, const World* previous) {
     auto w = std::make_shared<World>();
     w->geometry = std::move(geometry);
-    w->materials = std::move(materials);
+    w->materials = std::move(materials.list);
     add_planes_and_lights(*w, scene);
     add_glow_bvh(*w, previous);
     add_light_buffers(*w, scene, previous);
-    w->radiance_bound = radiance_bound(*w);
+    w->radiance_bound = radiance_bound(*w, materials);
     // Half a display step (1/255 of the unit colour) over the brightest possible return.
     // A world that cannot return any colour (nothing lit, no glow) stops at once.
     if (w->radiance_bound == 0)

@@ -389,7 +389,7 @@ TEST_CASE("bvh: objects tried per ray grow roughly with log(objects): 100k grid 
 TEST_CASE("bvh: the tree is the same, byte for byte, whatever the number of build threads") {
     Rng rng(800);
     std::vector<Aabb> boxes;
-    const std::size_t n = 60000;
+    const std::size_t n = 70000;  // over kParallelBinItems: the records are made in two halves at once
     for (std::size_t i = 0; i < n; ++i) {
         Aabb b;
         if (i % 101 != 7) {  // some empty boxes, left out of the tree
@@ -404,6 +404,12 @@ TEST_CASE("bvh: the tree is the same, byte for byte, whatever the number of buil
     Bvh one;
     one.build(boxes, 1);
     REQUIRE(!one.nodes.empty());
+    // Every non-empty box is an item exactly once, the empty ones none.
+    std::vector<std::uint32_t> expected, got = one.items;
+    for (std::size_t i = 0; i < n; ++i)
+        if (!boxes[i].empty()) expected.push_back(std::uint32_t(i));
+    std::sort(got.begin(), got.end());
+    CHECK(got == expected);
     for (int threads : {2, 3, 8}) {
         CAPTURE(threads);
         Bvh many;

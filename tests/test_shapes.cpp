@@ -265,6 +265,13 @@ TEST_CASE("shape: spheres before and after other shapes are hit at their own sur
     Scene none_first;
     none_first.objects = {cyl.object(), sphere_at(0)};
     CHECK(build_geometry(none_first).sphere_prefix == 0);
+    Scene all_spheres;
+    all_spheres.objects = {sphere_at(0), sphere_at(1), sphere_at(2)};
+    Geometry a = build_geometry(all_spheres);
+    CHECK(a.sphere_prefix == 3);
+    REQUIRE(a.object_bounds.size() == 3);
+    CHECK(a.object_bounds[2].lo.x == 1.5);
+    CHECK(a.object_bounds[2].hi.x == 2.5);
 }
 
 TEST_CASE("shape: rays along a cylinder's axis hit the near cap and leave through the far one") {
