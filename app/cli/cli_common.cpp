@@ -14,6 +14,7 @@
 #include <initializer_list>
 #include <iostream>
 #include <optional>
+#include <thread>
 
 #include "arg_table.h"
 #include "diagnostic_text.h"
@@ -328,6 +329,23 @@ void install_signal_handlers(const Program& program) {
     for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&sa.sa_mask, sig);  // one handler at a time
     sa.sa_flags = 0;
     for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+    // The handler runs on a thread that only waits for them; every other thread blocks
+    // them (threads started later inherit the mask). A signal then runs the handler as
+    // soon as it comes, even while the main thread sits in a long write() or fsync():
+    // were it pending there, a second signal coming meanwhile could be taken first (the
+    // kernel hands out pending signals lowest number first), and the exit status
+    // would not tell the first signal. A thread blocked in open() on a FIFO needs no
+    // EINTR either: with no temporary file the handler ends the process itself.
+    static bool waiter_started = false;
+    if (waiter_started) return;
+    waiter_started = true;
+    sigset_t set;
+    sigemptyset(&set);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&set, sig);
+    std::thread([] {
+        for (;;) ::pause();
+    }).detach();
+    pthread_sigmask(SIG_BLOCK, &set, nullptr);
 }
 
 int caught_signal() { return g_signal; }
