@@ -10,7 +10,6 @@
 #include "csg.h"
 #include "roots.h"
 
-
 namespace rt {
 namespace {
 
@@ -554,19 +553,11 @@ bool same_shapes(const Geometry& a, const Geometry& b) {
     return true;
 }
 
-// hit(obj, o, d, 0, out) for a shadow ray's test of an object other than a sphere: a
-// tetrahedron's or a cylinder's span straight from its test, without the two calls and
-// the dispatch of hit_general() and first_end() (the same operations, so the same bits).
+// hit(obj, o, d, 0, out) for a shadow ray's test, out of line: every shape but a
+// sphere straight to hit_general() (whose one-span shapes already skip first_end()).
 bool Geometry::shadow_hit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const {
-    const std::uint32_t n = object_node[obj];
-    const Node& node = nodes[n];
-    FirstEnd sink{true, 0.0, out};
-    switch (node.kind) {
-        case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, sink); return sink.found;
-        case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, sink); return sink.found;
-        case NodeKind::Csg: return hit_general(obj, o, d, 0.0, out, s);
-        default: return hit(obj, o, d, 0.0, out, s);
-    }
+    if (nodes[object_node[obj]].kind == NodeKind::Sphere) return hit(obj, o, d, 0.0, out, s);
+    return hit_general(obj, o, d, 0.0, out, s);
 }
 
 }  // namespace rt

@@ -131,8 +131,8 @@ struct Geometry {
 #endif
     [[nodiscard]] bool hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out,
                                    SpanScratch& s) const;
-    // hit(obj, o, d, 0.0, out, s), with fewer steps for tetrahedra and cylinders: for
-    // shadow rays, which test them often and mostly miss.
+    // hit(obj, o, d, 0.0, out, s) out of line, for shadow rays' tests of objects outside
+    // the sphere prefix (mostly tetrahedra, cylinders and CSG, which they mostly miss).
     [[nodiscard]] bool shadow_hit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const;
     // Where a ray inside object `obj` (or on its surface, going in) leaves it:
     // the first span end beyond kDelta; false if none.
