@@ -198,6 +198,22 @@ private:
     Colour trace_from(const Vec3& origin, const Vec3& unit_dir, int depth, RayStats& stats) const;
     bool nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const;
     Colour shade(const Vec3& o, const Vec3& d, int depth, double weight, Ctx& ctx) const;
+    // shade() in two halves around the direct light, so that packets can share them.
+    struct Surface;
+    bool shade_surface(const Vec3& o, const Vec3& d, int depth, double weight, Ctx& ctx, Surface& s,
+                       Colour& out) const;
+    static Colour combine(const Surface& s, const Colour& lit, const Colour& mirror);
+    // The AVX2 path traces camera rays four at a time: shade4() shades them as shade()
+    // does one, with the four points' direct light found together (direct4), lane by
+    // lane the same operations, so the same bits.
+    struct Budgets;
+    struct ShadowRays4;
+    void trace_units4(const Vec3& origin, const Vec3* dirs, std::size_t n, Ctx& ctx, Colour* out) const;
+    void shade4(const Vec3 o[4], const Vec3 d[4], unsigned live, int depth, const double weight[4], Budgets& b,
+                Colour out[4], Ctx& ctx) const;
+    void direct4(const Surface s[4], unsigned live, Colour out[4], Ctx& ctx) const;
+    unsigned shadow_lanes(const ShadowRays4& q, const LightBuffer* lb, unsigned in_cell, const std::int32_t* cell,
+                          unsigned lit, double (&sh)[3][4], Ctx& ctx) const;
     Colour direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
     template <bool kGlowBvh>
     Colour direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
@@ -206,6 +222,12 @@ private:
     template <bool kOther = false>
     bool shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
     [[gnu::always_inline]] bool objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const;
+    bool blocker_blocks(const ShadowRay& s, Ctx& ctx) const;
+    [[gnu::always_inline]] bool cell_blocks(const ShadowRay& s, const LightBuffer& lb, const LightBuffer::Entry* e,
+                                            const LightBuffer::Entry* end, Colour& sh, Ctx& ctx) const;
+    [[gnu::always_inline]] void unblocked(const ShadowRay& s, const ShadowSearch& found, Colour& sh, Ctx& ctx) const;
+    [[gnu::noinline]] Colour found_tint(const ShadowRay& s, const ShadowSearch& found, const Colour& sh,
+                                        Ctx& ctx) const;
     [[gnu::noinline]] bool objects_block_bvh(const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
     [[gnu::noinline]] Colour glass_tint(const ShadowRay& s, Colour sh, Ctx& ctx) const;
     Colour through_glass(std::uint32_t obj, double t, const ShadowRay& s, const Colour& sh, Ctx& ctx) const;

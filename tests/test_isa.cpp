@@ -141,3 +141,123 @@ TEST_CASE("isa: four spheres at once give hit()'s answer bit for bit") {
     CHECK(misses > 1000);
 }
 #endif
+
+namespace {
+
+Material random_material(rt_test::Rng& rng) {
+    Material m;
+    m.colour = {rng.uni(0.1, 1), rng.uni(0.1, 1), rng.uni(0.1, 1)};
+    switch (rng.index(4)) {
+    case 0:  // glass
+        m.reflection = 0.1, m.refraction = 0.9, m.scattering = 0, m.refractive_index = 1.5;
+        break;
+    case 1:  // mirror
+        m.reflection = 0.6, m.refraction = 0, m.scattering = 0.4;
+        break;
+    case 2:  // tinted glass that also scatters
+        m.reflection = 0, m.refraction = 0.5, m.scattering = 0.5, m.refractive_index = 1.2;
+        break;
+    default:
+        m.reflection = 0, m.refraction = 0, m.scattering = 1;
+    }
+    return m;
+}
+
+// Every kind of object, material and light placement that the shading paths tell apart:
+// glass in front of glass, mirrors facing each other, chess planes of glass and mirror,
+// lights among the objects, far away and out of the light buffers' range.
+Scene random_scene(rt_test::Rng& rng, bool lamp) {
+    Scene s;
+    auto at = [&] { return Vec3{rng.uni(-4, 4), rng.uni(-4, 4), rng.uni(0, 3)}; };
+    const int count = 6 + int(rng.index(10));
+    for (int i = 0; i < count; ++i) {
+        Object o;
+        const Vec3 c = at();
+        switch (i % 5) {
+        case 0: case 1: o.shape = Sphere{c, rng.uni(0.2, 1.2)}; break;
+        case 2: o.shape = Tetrahedron{{c, c + rng.unit(), c + rng.unit(), c + rng.unit() * 1.5}}; break;
+        case 3: o.shape = Cylinder{c, c + rng.unit() * 2, rng.uni(0.1, 0.6)}; break;
+        default: {
+            Csg csg;
+            csg.type = CsgType::Difference;
+            Object a, b;
+            a.shape = Sphere{c, 1};
+            b.shape = Cylinder{c - Vec3{1.5, 0, 0}, c + Vec3{1.5, 0.2, 0.1}, 0.4};
+            csg.operands = {a, b};
+            o.shape = csg;
+        }
+        }
+        o.material = random_material(rng);
+        o.has_material = true;
+        s.objects.push_back(o);
+    }
+    Plane floor;
+    floor.chess = rng.index(2) == 0;
+    floor.point[3] = {0, 0, 5};
+    floor.material = random_material(rng);
+    floor.material2 = random_material(rng);
+    floor.has_material = floor.has_material2 = true;
+    s.planes.push_back(floor);
+    Plane wall;  // glass or mirror behind the objects
+    wall.point[0] = {0, 6, 0}, wall.point[1] = {1, 6, 0}, wall.point[2] = {0, 6, 1}, wall.point[3] = {0, 0, 0};
+    wall.material = random_material(rng);
+    wall.has_material = true;
+    s.planes.push_back(wall);
+    const int lights = 1 + int(rng.index(4));
+    for (int i = 0; i < lights; ++i) {
+        Light l;
+        l.lamp = lamp && i == 0;
+        l.size = 0.5;
+        l.colour = {rng.uni(10, 60), rng.uni(10, 60), rng.uni(10, 60)};
+        // Above the scene, among the objects, far off, or too far for a light buffer
+        // (its shadow rays then walk the BVH); the far ones bright enough to count.
+        switch (i) {
+        case 1: l.position = at(); break;
+        case 2: l.position = {3e6, -2e6, 4e6}, l.colour = l.colour * 1e13; break;
+        case 3: l.position = {2e31, -1e31, 3e31}, l.colour = l.colour * 1e63; break;
+        default: l.position = {rng.uni(-8, 8), rng.uni(-8, 8), rng.uni(5, 10)};
+        }
+        s.lights.push_back(l);
+    }
+    s.camera.position = {-9, -3, 5};
+    s.camera.centre = {0, 0, 1};
+    s.camera.up = {0, 0, 2};
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("isa: packets of four camera rays shade as single rays do, bit for bit") {
+    if (!isa_supported(Isa::Avx2)) {
+        MESSAGE("no AVX2 here: camera rays are never traced in packets");
+        return;
+    }
+    IsaGuard guard;
+    REQUIRE(set_isa(Isa::Avx2));
+    rt_test::Rng rng(29);
+    int rays = 0, mismatches = 0, coloured = 0;
+    for (int trial = 0; trial < 24; ++trial) {
+        CAPTURE(trial);
+        const Scene scene = random_scene(rng, trial % 6 == 5);
+        World world = *compile_world(scene);
+        // The original's depth, a small one and one past the packets' own depth.
+        world.options.max_depth = trial % 3 == 0 ? 3 : trial % 3 == 1 ? 20 : 40;
+        const Vec3 origin = scene.camera.position;
+        std::vector<Vec3> dirs;
+        for (int i = 0; i < 203; ++i)  // not a multiple of four: a part packet at the end
+            dirs.push_back(normalize(Vec3{rng.uni(-4, 4), rng.uni(-4, 4), rng.uni(-1, 3)} - origin));
+        std::vector<Colour> packed(dirs.size());
+        RayStats stats;
+        world.trace_units(origin, dirs.data(), dirs.size(), stats, packed.data());
+        for (std::size_t i = 0; i < dirs.size(); ++i) {
+            RayStats one;
+            const Colour c = world.trace_unit(origin, dirs[i], one);
+            mismatches += std::memcmp(&c, &packed[i], sizeof c) != 0;
+            coloured += c.x + c.y + c.z > 0.05;
+            ++rays;
+        }
+    }
+    CHECK(mismatches == 0);
+    // Most rays met something lit, so the comparison covered the shading.
+    CHECK(coloured > rays / 2);
+}
