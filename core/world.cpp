@@ -1098,7 +1098,12 @@ void World::shade4(const Vec3 o[4], const Vec3 d[4], unsigned live, int depth, c
     Uninit4<Colour> lits, mirrors_;
     Colour *const lit = lits.v, *const mirror = mirrors_.v;
     if (scatters && !ctx.stats->stopped) {
-        direct4(s, scatters, lit, ctx);
+        if (scatters & (scatters - 1)) {
+            direct4(s, scatters, lit, ctx);
+        } else {  // one lane: the scalar loop costs less
+            const int k = __builtin_ctz(scatters);
+            lit[k] = direct(s[k].p, s[k].n, s[k].m->colour, ctx);
+        }
     } else if (scatters) {
         std::fill(lit, lit + 4, Colour{});  // (thrown away: the trace has stopped)
     }

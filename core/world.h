@@ -200,8 +200,8 @@ private:
     Colour shade(const Vec3& o, const Vec3& d, int depth, double weight, Ctx& ctx) const;
     // shade() in two halves around the direct light, so that packets can share them.
     struct Surface;
-    bool shade_surface(const Vec3& o, const Vec3& d, int depth, double weight, Ctx& ctx, Surface& s,
-                       Colour& out) const;
+    [[gnu::always_inline]] bool shade_surface(const Vec3& o, const Vec3& d, int depth, double weight, Ctx& ctx,
+                                              Surface& s, Colour& out) const;
     static Colour combine(const Surface& s, const Colour& lit, const Colour& mirror);
     // The AVX2 path traces camera rays four at a time: shade4() shades them as shade()
     // does one, with the four points' direct light found together (direct4), lane by
