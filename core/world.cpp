@@ -515,6 +515,17 @@ struct World::ShadowSearch {
     double t = 0;
 };
 
+// The shadow ray meets object `obj` at t, before its end: true if the object is opaque
+// (and then the light's blocker), else it is counted in `found`.
+inline bool World::met(std::uint32_t obj, double t, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const {
+    if (materials[obj].refraction == 0) {
+        ctx.blocker[s.light] = obj + 1;
+        return true;
+    }
+    if (found.glass++ == 0) found.obj = obj, found.t = t;
+    return false;
+}
+
 // Whether object `obj` blocks the shadow ray (and then the light's blocker is it);
 // a refractive one is counted in `found` instead.
 // (kOther: not a sphere of the prefix, through Geometry::shadow_hit().)
@@ -522,13 +533,7 @@ template <bool kOther>
 inline bool World::shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const {
     SpanEnd e;
     bool hit = kOther ? geometry->shadow_hit(obj, s.o, s.vh, e, ctx.scratch) : geometry->hit(obj, s.o, s.vh, 0.0, e, ctx.scratch);
-    if (!hit || !(e.t < s.limit)) return false;
-    if (materials[obj].refraction == 0) {
-        ctx.blocker[s.light] = obj + 1;
-        return true;
-    }
-    if (found.glass++ == 0) found.obj = obj, found.t = e.t;
-    return false;
+    return hit && e.t < s.limit && met(obj, e.t, s, found, ctx);
 }
 
 // `sh` tinted by the refractive object `obj`, which the shadow ray enters at t: by its
@@ -627,11 +632,7 @@ inline bool World::cell_blocks(const ShadowRay& s, const LightBuffer& lb, const 
             if (disc < 0) continue;
             double t = -b - std::sqrt(disc);
             if (!(t > 0.0) || !(t < s.limit)) continue;
-            if (materials[obj].refraction == 0) {
-                ctx.blocker[s.light] = obj + 1;
-                return true;
-            }
-            if (found.glass++ == 0) found.obj = obj, found.t = t;
+            if (met(obj, t, s, found, ctx)) return true;
         } else if (shadow_test<true>(obj, s, found, ctx)) {
             return true;
         }

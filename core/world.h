@@ -221,6 +221,7 @@ private:
     struct ShadowSearch;
     template <bool kOther = false>
     bool shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
+    bool met(std::uint32_t obj, double t, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
     [[gnu::always_inline]] bool objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const;
     bool blocker_blocks(const ShadowRay& s, Ctx& ctx) const;
     [[gnu::always_inline]] bool cell_blocks(const ShadowRay& s, const LightBuffer& lb, const LightBuffer::Entry* e,
