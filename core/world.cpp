@@ -1046,7 +1046,6 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], unsigned live, Colour out
         lit = shadow_lanes(rays, lb, in_cell, cell, lit, shade, ctx);
         if (!lit) continue;
         const V3 sh{_mm256_load_pd(shade[0]), _mm256_load_pd(shade[1]), _mm256_load_pd(shade[2])};
-        if (!lit) continue;
         const V3 term = scaled({mul(ec.x, sh.x), mul(ec.y, sh.y), mul(ec.z, sh.z)}, mul(mul(splat(0.9), vn), inv_r));
         const __m256i bits = _mm256_and_si256(_mm256_set1_epi64x(lit), _mm256_set_epi64x(8, 4, 2, 1));
         const __m256d use = _mm256_castsi256_pd(_mm256_cmpgt_epi64(bits, _mm256_setzero_si256()));
@@ -1145,9 +1144,10 @@ void World::trace_units4(const Vec3& origin, const Vec3* dirs, std::size_t n, Ct
         std::fill(b.budget, b.budget + 4, omit_weight);
         std::fill(b.cutoff, b.cutoff + 4, omit_weight * Ctx::kShare);
         shade4(o, dirs + i0, (1u << count) - 1, 0, weight, b, out + i0, ctx);
+        // Stopped inside these four: they and the rest are black, as in trace_units().
+        if (ctx.stats->stopped) return std::fill(out + i0, out + n, Colour{});
         for (unsigned k = 0; k < count; ++k) out[i0 + k] = finite_colour(out[i0 + k]);
     }
-    if (ctx.stats->stopped) std::fill(out, out + n, Colour{});
 }
 #endif
 
