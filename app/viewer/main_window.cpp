@@ -10,6 +10,7 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstring>
@@ -177,6 +178,7 @@ double thread_cpu() {
 void event_loop(GLFWwindow* window, rtview::ViewerApp& app, const rtview::Options& opt, float scale) {
     unsigned seen = g_events.load() - 1;  // draw the first frame at once
     int settle = 0;
+    bool was_working = false;
     long frames = 0;
     double frame_cpu = 0;  // UI thread CPU seconds spent drawing frames (--verbose)
     while (!glfwWindowShouldClose(window)) {
@@ -190,8 +192,18 @@ void event_loop(GLFWwindow* window, rtview::ViewerApp& app, const rtview::Option
             seen = ev;
             settle = 3;  // ImGui settles hover and popup state over a few frames
         }
+        // What ended the app's work (a render done, a file written, a check
+        // finished) happened during the last frame it worked in, after parts of that
+        // frame were drawn: the frames after it show the state it ended in, with no
+        // input event needed.
+        const bool working = app.working();
+        if (was_working && !working) settle = std::max(settle, 3);
+        was_working = working;
         bool draw = settle > 0 || app.needs_frame();
-        if (!draw && !app.idle_tick()) continue;  // idle: no frame, no CPU
+        if (!draw) {
+            if (!app.idle_tick()) continue;  // idle: no frame, no CPU
+            settle = 3;                      // a reload or a message: let ImGui settle it
+        }
         if (settle > 0) --settle;
 
         double cpu0 = thread_cpu();
@@ -230,8 +242,9 @@ int run(int argc, char** argv) {
     rtview::UiFont font = rtview::begin_imgui(float(rtview::UiSettings().ui_scale()) * scale);
     ImGui::GetIO().ConfigInputTextCursorBlink = false;  // a blinking cursor would need frames while idle
     if (opt.verbose)
-        std::fprintf(stderr, "raytracer-view: UI font %s, %.0f px\n", font.path.empty() ? "(ImGui's own)" : font.path.c_str(),
-                     font.pixels);
+        std::fprintf(stderr, "raytracer-view: UI font %s, fixed-width font %s, %.0f px\n",
+                     font.path.empty() ? "(ImGui's own)" : font.path.c_str(),
+                     font.mono_path.empty() ? "(ImGui's own)" : font.mono_path.c_str(), font.pixels);
     ImGui_ImplGlfw_InitForOpenGL(window, true);
     // In front of ImGui's own key and character callbacks, which route() calls.
     glfwSetKeyCallback(window, key_callback);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iterator>
 #include <sstream>
 
 #include "image_io.h"
@@ -84,24 +85,34 @@ double next_ui_scale(double scale, int direction) {
     return scale;
 }
 
-std::string find_ui_font_in(const std::vector<std::string>& data_dirs) {
-    static const char* const kNames[] = {
+std::string find_font_in(const std::vector<std::string>& data_dirs, FontFace face) {
+    static const char* const kUi[] = {
         "fonts/truetype/dejavu/DejaVuSans.ttf",  // Debian's fonts-dejavu-core
         "fonts/dejavu/DejaVuSans.ttf",            // Fedora, Arch
         "fonts/TTF/DejaVuSans.ttf",
     };
+    static const char* const kMono[] = {
+        "fonts/truetype/dejavu/DejaVuSansMono.ttf",  // fonts-dejavu-core, beside DejaVu Sans
+        "fonts/dejavu/DejaVuSansMono.ttf",
+        "fonts/TTF/DejaVuSansMono.ttf",
+        "fonts/truetype/liberation/LiberationMono-Regular.ttf",
+        "fonts/truetype/noto/NotoSansMono-Regular.ttf",
+    };
+    const bool mono = face == FontFace::Mono;
     for (const std::string& dir : data_dirs) {
         if (dir.empty()) continue;
-        for (const char* name : kNames) {
-            std::string p = dir + (dir.back() == '/' ? "" : "/") + name;
+        for (std::size_t k = 0; k < (mono ? std::size(kMono) : std::size(kUi)); ++k) {
+            std::string p = dir + (dir.back() == '/' ? "" : "/") + (mono ? kMono[k] : kUi[k]);
             if (is_file(p)) return p;
         }
     }
     return {};
 }
 
-std::string find_ui_font() {
-    if (const char* f = std::getenv("RAYTRACER_VIEW_FONT"); f && is_file(f)) return f;
+namespace {
+
+std::string find_font(const char* env, FontFace face) {
+    if (const char* f = std::getenv(env); f && is_file(f)) return f;
     std::vector<std::string> dirs;
     if (const char* home = std::getenv("HOME"); home && *home) dirs.push_back(std::string(home) + "/.local/share");
     const char* xdg = std::getenv("XDG_DATA_DIRS");
@@ -111,8 +122,13 @@ std::string find_ui_font() {
     while (std::getline(in, d, ':')) dirs.push_back(d);
     // Always look in the system folder too: XDG_DATA_DIRS may list only a Flatpak's.
     dirs.push_back("/usr/share");
-    return find_ui_font_in(dirs);
+    return find_font_in(dirs, face);
 }
+
+}  // namespace
+
+std::string find_ui_font() { return find_font("RAYTRACER_VIEW_FONT", FontFace::Ui); }
+std::string find_mono_font() { return find_font("RAYTRACER_VIEW_MONO_FONT", FontFace::Mono); }
 
 double contrast_ratio(const Rgb& a, const Rgb& b) {
     double la = luminance(a), lb = luminance(b);

@@ -38,8 +38,17 @@ double next_ui_scale(double scale, int direction);
 // fonts-dejavu-core) under the fonts folder of $XDG_DATA_DIRS or the usual places.
 // Empty if none is found: the caller falls back to ImGui's built-in font.
 std::string find_ui_font();
-// The same search over given data folders (each containing fonts/), for tests.
-std::string find_ui_font_in(const std::vector<std::string>& data_dirs);
+// The fixed-width face of the scene text editor and of text laid out in columns:
+// $RAYTRACER_VIEW_MONO_FONT if it names a file, else DejaVu Sans Mono (the same
+// package), Liberation Mono or Noto Sans Mono. Empty if none is found: the caller
+// falls back to ImGui's built-in font, which is fixed-width too.
+std::string find_mono_font();
+enum class FontFace { Ui, Mono };
+// The same searches over given data folders (each containing fonts/), for tests.
+std::string find_font_in(const std::vector<std::string>& data_dirs, FontFace face);
+inline std::string find_ui_font_in(const std::vector<std::string>& data_dirs) {
+    return find_font_in(data_dirs, FontFace::Ui);
+}
 
 // Font sizes at scale 1, in pixels: DejaVu Sans is drawn larger than ImGui's
 // bitmap font, whose 13 px is its native size.

@@ -23,6 +23,7 @@
 #include "scene_edits.h"
 #include "scene_writer.h"
 #include "diagnostic_text.h"
+#include "probe.h"
 
 namespace rtview {
 
@@ -195,6 +196,8 @@ void ViewerApp::frame() {
     ++frames_;
     double now = ImGui::GetTime();
     Document& doc = editor_.doc();
+    const std::uint64_t key_before = visible_key();
+    begin_probe_frame();
 
     poll_loader();
     update_layout();
@@ -242,7 +245,56 @@ void ViewerApp::frame() {
             move_.draw(doc, panels_.selection(), screen_view(), layout_.image, layout_.area, layout_.film_w, layout_.film_h);
     }
     if (!doc.has_scene()) draw_no_image();
+    probe_frame();
     publish_outputs();
+    again_ = visible_key() != key_before;
+}
+
+void ViewerApp::probe_frame() {
+    if (!opt_.print_layout) return;
+    const Document& doc = editor_.doc();
+    probe("title", doc.title());
+    probe("message", (status_.error() ? "error: " : "") + status_.text());
+    std::string popups;
+    for (const ImGuiPopupData& p : GImGui->OpenPopupStack)
+        if (p.Window) popups += (popups.empty() ? "" : "|") + std::string(p.Window->Name);
+    probe("popups", popups.empty() ? "none" : popups);
+    probe("readout", tools_.readout_line().empty() ? "none" : tools_.readout_line());
+    const rt::RenderProgress p = render_.progress();
+    probe("render", std::to_string(p.samples) + " " + (p.done ? "done" : p.running ? "running" : "idle"));
+    probe("diagnostics", std::to_string(doc.diagnostics().size()) +
+                             (doc.diagnostics().empty() ? "" : " " + doc.diagnostics().front().message));
+    probe("text", std::string(doc.editor_dirty() ? "unapplied" : "applied") + (doc.text_behind() ? " behind" : ""));
+}
+
+std::uint64_t ViewerApp::visible_key() const {
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
+    auto mix_text = [&mix](const std::string& s) { mix(text_hash(s)); };
+    const Document& doc = editor_.doc();
+    mix_text(status_.text());
+    mix(status_.error());
+    mix(doc.text_version());
+    mix(doc.typed());
+    mix(doc.scene_version());
+    mix(doc.has_scene());
+    const auto& diags = doc.diagnostics();
+    mix(diags.size());
+    for (std::size_t k = 0; k < diags.size() && k < 32; ++k) {
+        mix(std::uint64_t(diags[k].line) << 32 | std::uint32_t(diags[k].col));
+        mix_text(diags[k].message);
+    }
+    mix(loader_.active());
+    if (loader_.active()) mix(std::uint64_t(loader_.progress().stage));
+    mix(tools_.busy());
+    mix(tools_.final_render_running());
+    mix_text(tools_.readout_line());
+    const rt::RenderProgress p = render_.progress();
+    mix(p.generation);
+    mix(std::uint64_t(p.samples));
+    mix(p.done);
+    mix(render_.paused());
+    return h;
 }
 
 void ViewerApp::update_render(double now) {
@@ -818,6 +870,7 @@ double ViewerApp::wait_timeout() const {
     // Right after a view change the coarse pass lands within a few milliseconds: look
     // for it more often than the display rate so it shows without a frame's delay
     // (looking is cheap: a frame is drawn only when there is something new).
+    if (again_) return 0;
     if (render_.awaiting_preview()) return 0.004;
     // Anything animating or arriving needs display-rate frames.
     if (ui_busy() || render_.busy()) return 1.0 / 60;
@@ -831,7 +884,12 @@ bool ViewerApp::needs_frame() {
     if (!interactive_) return true;
     // A frame costs the UI thread and the GL rasteriser CPU time the render threads
     // could use: draw one only for new pixels or for UI that is changing.
+    if (again_) return true;
     return ui_busy() || loader_.active() || render_.has_new_picture() || (render_.busy() && !render_.awaiting_preview());
+}
+
+bool ViewerApp::working() const {
+    return ui_busy() || loader_.active() || render_.busy() || again_;
 }
 
 bool ViewerApp::idle_tick() {
@@ -910,6 +968,7 @@ std::string ViewerApp::layout_text() const {
              kind + " " + std::to_string(item->index + 1) + "\n";
     }
     else s += "handle none\n";
+    for (const auto& [key, value] : probes()) s += "state " + key + " " + value + "\n";
     return s;
 }
 

@@ -63,6 +63,10 @@ public:
     double wait_timeout() const;
     // Something other than input needs a new frame (render progress, a due check).
     bool needs_frame();
+    // Something is in progress (a render, a load, a gesture, a dialog's work). When
+    // it stops, the host draws a few more frames: ImGui shows some changes (a popup
+    // closed, a hover) only in the frames after the one that made them.
+    bool working() const;
     // Cheap work while idle (checks the file on disk); true if a frame is then needed.
     bool idle_tick();
 
@@ -85,6 +89,10 @@ private:
     bool run(Command c, const std::string& arg = {}, bool confirmed = false) override;
 
     bool ui_busy() const;
+    // A digest of what the frame shows that other threads or late parts of a frame
+    // change (status text, dialogs, progress, diagnostics, the readout): a frame that
+    // changed it drew some of its parts with the old state, so another frame follows.
+    std::uint64_t visible_key() const;
     void update_layout();
     ImageFrame image_frame(double now);
     void handle_shortcuts();
@@ -96,6 +104,8 @@ private:
     void update_render(double now);
     void draw_no_image();
     void publish_outputs();
+    // --print-layout: what the frame showed, in words (probe.h).
+    void probe_frame();
     LoadStatus load_status() const;
     void after_document_replaced();
     void start_load(const std::string& path);
@@ -148,6 +158,7 @@ private:
     double last_disk_check_ = 0;
     bool view_scene_written_ = false;
     int frames_ = 0;
+    bool again_ = false;  // the last frame changed visible_key(): draw one more
 };
 
 }  // namespace rtview

@@ -4,6 +4,7 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "fonts.h"
 #include "options.h"
 
 namespace rtview {
@@ -92,7 +93,10 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
     if (begin(Kind::Help)) {
         std::string help = help_text(false);
         std::size_t at = help.find("Mouse and keys");
+        // Its columns are laid out with spaces: they line up only in a fixed-width face.
+        ImGui::PushFont(mono_font());
         ImGui::TextUnformatted(at == std::string::npos ? help.c_str() : help.c_str() + at);
+        ImGui::PopFont();
         if (ImGui::Button("Close") || escape_pressed()) ImGui::CloseCurrentPopup();
         ImGui::EndPopup();
     }

@@ -12,10 +12,21 @@
 #include <ctime>
 
 #include "image_io.h"
+#include "probe.h"
 
 namespace rtview {
 
 namespace {
+
+// "3 s", "1 min 20 s", "2 h 5 min": a time left as a person would say it.
+std::string format_duration(double seconds) {
+    char buf[48];
+    const long t = std::lround(std::max(0.0, std::min(seconds, 1e7)));
+    if (t < 60) std::snprintf(buf, sizeof buf, "%ld s", std::max(1L, t));
+    else if (t < 3600) std::snprintf(buf, sizeof buf, "%ld min %ld s", t / 60, t % 60);
+    else std::snprintf(buf, sizeof buf, "%ld h %ld min", t / 3600, (t % 3600) / 60);
+    return buf;
+}
 
 constexpr int kKeyMinus = 45, kKeyEqual = 61, kKey0 = 48, kKey1 = 49, kKeyKp0 = 320, kKeyKp1 = 321,
               kKeyKpSubtract = 333, kKeyKpAdd = 334;
@@ -339,13 +350,16 @@ void ImageTools::update() {
     if (final_.active() && final_.done()) {
         rt::RenderProgress p = final_.progress();
         const rt::Status written = final_.write();
-        render_finished_ = true;
         if (written) {
             char buf[160];
-            std::snprintf(buf, sizeof buf, " (%dx%d, %d samples per pixel, %.1f s)", p.width, p.height, p.samples,
+            std::snprintf(buf, sizeof buf, "%dx%d, %d samples per pixel, %.1f s", p.width, p.height, p.samples,
                           p.elapsed);
-            message("Rendered " + render_path_ + buf);
+            render_result_ = RenderResult::Saved;
+            render_result_text_ = buf;
+            message("Saved to " + render_path_ + " (" + buf + ")");
         } else {
+            render_result_ = RenderResult::Failed;
+            render_result_text_ = written.message();
             message("Cannot write " + render_path_ + ": " + written.message(), true);
         }
     }
@@ -364,16 +378,19 @@ void ImageTools::update_readout() {
     // While a button is held (orbiting, panning, dragging a region) the picture moves
     // under the cursor: no readout, and no float copies of the film.
     if (ImGui::IsAnyMouseDown()) return;
-    // A new pixel at once; the same pixel a few times a second while samples arrive.
-    if (x == readout_x_ && y == readout_y_ && f_.now - readout_time_ < kReadoutRefresh) return;
+    // A new pixel at once; the same pixel a few times a second while samples arrive,
+    // and at once when the render ends or restarts (its last samples must show).
+    const rt::RenderProgress progress = f_.renderer->progress();
+    const bool render_turned = progress.done != readout_done_ || progress.generation != readout_generation_;
+    if (x == readout_x_ && y == readout_y_ && !render_turned && f_.now - readout_time_ < kReadoutRefresh) return;
     PixelReadout r;
     r.x = x;
     r.y = y;
     // The film may be a preview of the picture at the size it is shown.
     int fx = x, fy = y;
     picture_to_film_pixel(x, y, pic_w(), pic_h(), f_.film_w, f_.film_h, fx, fy);
-    r.has_colour = f_.film->linear_at(*f_.renderer, f_.now, kReadoutRefresh, fx, fy, r.linear);
-    r.samples = f_.film->samples_at(fx, fy, f_.renderer->progress().samples);
+    r.has_colour = f_.film->linear_at(*f_.renderer, f_.now, render_turned ? 0 : kReadoutRefresh, fx, fy, r.linear);
+    r.samples = f_.film->samples_at(fx, fy, progress.samples);
     if (f_.world && f_.scene) {
         r.hit = pick_pixel(*f_.world, f_.view_camera, f_.film_w, f_.film_h, fx, fy);
         r.hit_name = outline_name(*f_.scene, r.hit);
@@ -387,6 +404,8 @@ void ImageTools::update_readout() {
     readout_x_ = x;
     readout_y_ = y;
     readout_time_ = f_.now;
+    readout_done_ = progress.done;
+    readout_generation_ = progress.generation;
 }
 
 // ---------------------------------------------------------------------------------
@@ -687,6 +706,7 @@ void ImageTools::open_render_dialog() {
     focus_render_path_ = true;
     render_samples_ = std::max(1, f_.max_samples);
     render_error_.clear();
+    render_result_ = RenderResult::None;
     open_render_popup_ = true;
 }
 
@@ -695,52 +715,86 @@ void ImageTools::draw_popups() {
     open_render_popup_ = false;
     ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
     if (!ImGui::BeginPopupModal("Render to file", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
-    const float fs = ImGui::GetFontSize();
-    if (final_.active()) {
-        rt::RenderProgress p = final_.progress();
-        ImGui::Text("Rendering %s (%dx%d)", render_path_.c_str(), p.width, p.height);
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%d%%  %.1f s", int(final_.fraction() * 100), p.elapsed);
-        ImGui::ProgressBar(float(final_.fraction()), ImVec2(fs * 24, 0), buf);
-        if (ImGui::Button("Cancel") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
-            final_.cancel();
-            message("Render to file cancelled; " + render_path_ + " not written");
-            ImGui::CloseCurrentPopup();
-        }
-    } else {
-        if (!f_.scene) {
-            ImGui::TextUnformatted("The scene has errors: nothing to render.");
-        } else {
-            ImGui::Text("The scene at its picture_size, %dx%d, on the renderer of `raytracer`.", f_.scene->width,
-                        f_.scene->height);
-            ImGui::Checkbox("through the scene's camera (as `raytracer SCENE` renders it), not the view",
-                            &render_scene_camera_);
-        }
-        ImGui::SetNextItemWidth(fs * 24);
-        if (focus_render_path_) ImGui::SetKeyboardFocusHere();
-        focus_render_path_ = false;
-        bool go = ImGui::InputTextWithHint("file", "picture.png or .ppm", &render_path_, ImGuiInputTextFlags_EnterReturnsTrue);
-        ImGui::SetNextItemWidth(fs * 8);
-        ImGui::InputInt("samples per pixel", &render_samples_);
-        render_samples_ = std::clamp(render_samples_, 1, 65536);
-        ImGui::SetNextItemWidth(fs * 8);
-        ImGui::InputDouble("time limit (s, 0: none)", &render_time_limit_, 1, 10, "%.1f");
-        render_time_limit_ = std::clamp(render_time_limit_, 0.0, 1e6);
-        if (!render_error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.42f, 0.42f, 1.0f), "%s", render_error_.c_str());
-        go |= ImGui::Button("Render");
-        ImGui::SameLine();
-        if (ImGui::Button("Close") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) ImGui::CloseCurrentPopup();
-        else if (go && f_.scene) {
-            rt::Scene scene = *f_.scene;
-            if (!render_scene_camera_) scene.camera = f_.render_camera;
-            render_error_ =
-                final_.start(scene, render_path_, render_samples_, render_time_limit_, f_.world.get()).message();
-        }
-    }
-    // Finished (written or not): the popup closes, the status bar says how it went.
-    if (render_finished_) ImGui::CloseCurrentPopup();
-    render_finished_ = false;
+    if (final_.active()) draw_render_progress();
+    else if (render_result_ != RenderResult::None) draw_render_result();
+    else draw_render_setup();
     ImGui::EndPopup();
+}
+
+// While the final render runs: its progress, the time it will still take, Cancel.
+void ImageTools::draw_render_progress() {
+    const float fs = ImGui::GetFontSize();
+    rt::RenderProgress p = final_.progress();
+    const double f = final_.fraction();
+    ImGui::Text("Rendering %s (%dx%d)", render_path_.c_str(), p.width, p.height);
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%d%%  %.1f s", int(f * 100), p.elapsed);
+    ImGui::ProgressBar(float(f), ImVec2(fs * 24, 0), buf);
+    // From the rate so far, once there is one to go by.
+    if (f > 0.02 && p.elapsed > 0.5)
+        ImGui::Text("about %s left", format_duration(p.elapsed * (1 - f) / f).c_str());
+    else
+        ImGui::TextDisabled("estimating the time left...");
+    probe("render_dialog", "rendering " + std::to_string(int(f * 100)) + "%");
+    if (ImGui::Button("Cancel") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+        final_.cancel();
+        message("Render to file cancelled; " + render_path_ + " not written");
+        ImGui::CloseCurrentPopup();
+    }
+}
+
+// After the final render: where the picture went (or why it did not), until closed.
+void ImageTools::draw_render_result() {
+    const bool saved = render_result_ == RenderResult::Saved;
+    if (saved) {
+        ImGui::TextColored(ImVec4(0.55f, 0.85f, 0.55f, 1), "Saved to %s", render_path_.c_str());
+        ImGui::TextDisabled("%s", render_result_text_.c_str());
+    } else {
+        ImGui::TextColored(ImVec4(1.0f, 0.42f, 0.42f, 1.0f), "Cannot write %s", render_path_.c_str());
+        ImGui::TextWrapped("%s", render_result_text_.c_str());
+    }
+    probe("render_dialog", (saved ? "saved " : "failed ") + render_path_);
+    if (ImGui::Button("Close") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)) ||
+        ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Enter))) {
+        render_result_ = RenderResult::None;
+        ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Render again...")) render_result_ = RenderResult::None;
+}
+
+// Before the final render: the file, the samples, the time limit.
+void ImageTools::draw_render_setup() {
+    const float fs = ImGui::GetFontSize();
+    if (!f_.scene) {
+        ImGui::TextUnformatted("The scene has errors: nothing to render.");
+    } else {
+        ImGui::Text("The scene at its picture_size, %dx%d, on the renderer of `raytracer`.", f_.scene->width,
+                    f_.scene->height);
+        ImGui::Checkbox("through the scene's camera (as `raytracer SCENE` renders it), not the view",
+                        &render_scene_camera_);
+    }
+    ImGui::SetNextItemWidth(fs * 24);
+    if (focus_render_path_) ImGui::SetKeyboardFocusHere();
+    focus_render_path_ = false;
+    bool go = ImGui::InputTextWithHint("file", "picture.png or .ppm", &render_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::SetNextItemWidth(fs * 8);
+    ImGui::InputInt("samples per pixel", &render_samples_);
+    render_samples_ = std::clamp(render_samples_, 1, 65536);
+    ImGui::SetNextItemWidth(fs * 8);
+    ImGui::InputDouble("time limit (s, 0: none)", &render_time_limit_, 1, 10, "%.1f");
+    render_time_limit_ = std::clamp(render_time_limit_, 0.0, 1e6);
+    if (!render_error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.42f, 0.42f, 1.0f), "%s", render_error_.c_str());
+    probe("render_dialog", "setup");
+    go |= ImGui::Button("Render");
+    ImGui::SameLine();
+    if (ImGui::Button("Close") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+        ImGui::CloseCurrentPopup();
+    } else if (go && f_.scene) {
+        rt::Scene scene = *f_.scene;
+        if (!render_scene_camera_) scene.camera = f_.render_camera;
+        render_error_ = final_.start(scene, render_path_, render_samples_, render_time_limit_, f_.world.get()).message();
+    }
 }
 
 }  // namespace rtview

@@ -131,6 +131,10 @@ private:
     void draw_snapshot_list();
     void draw_region_controls();
     void update_readout();
+    // draw_popups(): the Render to file dialog's three states.
+    void draw_render_setup();
+    void draw_render_progress();
+    void draw_render_result();
     void update_compare();
     void start_region(const PixelRect& r);
     void restart_region_if_needed();
@@ -148,6 +152,8 @@ private:
     std::string readout_text_;
     int readout_x_ = -1, readout_y_ = -1;
     double readout_time_ = -1;
+    bool readout_done_ = false;            // the render's state the readout was made in
+    std::uint64_t readout_generation_ = 0;
 
     // Snapshots and A/B
     SnapshotStore snapshots_;
@@ -183,7 +189,9 @@ private:
     int render_samples_ = 64;
     double render_time_limit_ = 0;
     std::string render_error_;
-    bool render_finished_ = false;
+    // How the last final render ended, shown in the dialog until it is closed.
+    enum class RenderResult { None, Saved, Failed } render_result_ = RenderResult::None;
+    std::string render_result_text_;
     bool focus_render_path_ = false;
     bool render_scene_camera_ = false;  // the scene's camera instead of the view
 

@@ -13,6 +13,7 @@
 
 #include "camera_control.h"
 #include "item_fields.h"
+#include "probe.h"
 #include "scene_schema.h"
 #include "readout.h"
 #include "scene_text.h"
@@ -303,8 +304,13 @@ void Panels::draw_camera_panel() {
         rt::Camera view = nav_.camera();
         bool differs = doc.has_scene() && nav_.differs_from(doc.scene().camera);
         ImGui::TextDisabled("View%s", differs ? " (moved; not in the file)" : " (= scene camera)");
-        ImGui::TextWrapped("eye    %.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
-        ImGui::TextWrapped("centre %.3f %.3f %.3f", view.centre.x, view.centre.y, view.centre.z);
+        // The numbers in a column after the labels, whatever the face's widths.
+        const float value_x = ImGui::CalcTextSize("centre ").x + ImGui::GetStyle().ItemSpacing.x;
+        for (const auto& [label, p] : {std::pair<const char*, rt::Vec3>{"eye", view.position}, {"centre", view.centre}}) {
+            ImGui::TextUnformatted(label);
+            ImGui::SameLine(value_x);
+            ImGui::TextWrapped("%.3f %.3f %.3f", p.x, p.y, p.z);
+        }
         ViewAngles va = view_angles(view, nav_.world_up());
         double v3[3] = {va.azimuth, va.elevation, va.distance};
         if (ImGui::DragScalarN("az, el, dist", ImGuiDataType_Double, v3, 3, 0.25f, nullptr, nullptr, "%.2f"))
@@ -897,6 +903,9 @@ void Panels::status_text(const std::string& text, bool show_message) {
     if (show_message) shown = with_message(status_, std::move(shown));
     const float extra = flow_status(shown, ImGui::GetCursorPosX(), ImGui::GetWindowContentRegionMin().x,
                                     ImGui::GetWindowContentRegionMax().x, true);
+    std::string all;
+    for (const StatusPiece& p : shown) all += p.sep + p.text;
+    probe("status_bar", all);
     const float width = ImGui::GetWindowWidth();
     if (extra > usual_status_extra(width)) status_more_ = {width, ImGui::GetFontSize(), status_.text(), extra};
 }
