@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -54,7 +55,9 @@ int usage() {
     std::fputs("usage: rtview-imgtool match SHOT X Y W H REF     region of SHOT equals REF (same size) within tolerance\n"
                "       rtview-imgtool diff A B X Y W H           fraction of pixels differing by more than 8\n"
                "       rtview-imgtool colours IMG X Y W H        number of distinct colours\n"
-               "       rtview-imgtool near IMG X Y W H R G B T   pixels within T of colour R G B\n",
+               "       rtview-imgtool near IMG X Y W H R G B T   pixels within T of colour R G B\n"
+               "       rtview-imgtool ink IMG X Y W H            x extent (first last) of the pixels that differ\n"
+               "                                                 from the region's commonest colour by more than 48\n",
                stderr);
     return 2;
 }
@@ -129,6 +132,32 @@ int main(int argc, char** argv) {
                 if (std::abs(p[0] - R) <= T && std::abs(p[1] - G) <= T && std::abs(p[2] - B) <= T) ++n;
             }
         std::printf("%ld\n", n);
+        return 0;
+    }
+    if (cmd == "ink" && argc == 7) {
+        Img a;
+        Region r;
+        if (!load(argv[2], a) || !region(argv + 3, a, r)) return 2;
+        std::map<unsigned, long> count;
+        for (int y = r.y; y < r.y + r.h; ++y)
+            for (int x = r.x; x < r.x + r.w; ++x) {
+                const unsigned char* p = a.at(x, y);
+                ++count[unsigned(p[0]) << 16 | unsigned(p[1]) << 8 | p[2]];
+            }
+        unsigned bg = 0;
+        long most = -1;
+        for (const auto& [c, n] : count)
+            if (n > most) most = n, bg = c;
+        const int R = int(bg >> 16), G = int(bg >> 8 & 255), B = int(bg & 255);
+        int first = -1, last = -1;
+        for (int y = r.y; y < r.y + r.h; ++y)
+            for (int x = r.x; x < r.x + r.w; ++x) {
+                const unsigned char* p = a.at(x, y);
+                if (std::abs(p[0] - R) + std::abs(p[1] - G) + std::abs(p[2] - B) <= 48) continue;
+                if (first < 0 || x < first) first = x;
+                last = std::max(last, x);
+            }
+        std::printf("%d %d\n", first, last);
         return 0;
     }
     return usage();
