@@ -825,6 +825,7 @@ bool ViewerApp::do_save_as(const std::string& path) {
         status_.set("Save failed: " + st.message(), true);
         return false;
     }
+    editor_.saved_as();
     const rt::Status recent = remember_recent(path);
     status_.set("Saved " + doc.path() + recent_note(recent), !recent);
     return true;

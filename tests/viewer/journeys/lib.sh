@@ -97,19 +97,29 @@ wait_state() {
     fail "after ${secs} s, '$k' is '$(state "$k")', expected /$re/"
 }
 
-# start_viewer SCENE [ARGS...]: the window on a copy of SCENE ($SCENE), its layout in
-# $LAYOUT; returns once the scene is loaded and a frame shows it.
+# start_viewer SCENE [ARGS...]: the window on a copy of SCENE in $OUT ($SCENE; SCENE
+# itself if it is there already), its layout in $LAYOUT; returns once the scene is
+# loaded and a frame shows it.
+# quit_viewer: Ctrl+Q, and waits for the process to end.
 start_viewer() {
     local src=$1
     shift
     SCENE=$OUT/$(basename "$src")
-    cp "$src" "$SCENE"
+    [ "$src" -ef "$SCENE" ] || cp "$src" "$SCENE"
     (cd "$OUT" && exec "$BIN/raytracer-view" "$SCENE" --size "$SCREEN" --print-layout "$@" > "$LAYOUT" 2> "$OUT/viewer.err") &
     VIEWER_PID=$!
     WID=$(timeout 30 xdotool search --sync --name "$(basename "$SCENE")" | head -1) || fail "no window appeared"
     wait_state title "^$(basename "$SCENE")" 30
     IMAGE=$(region image)
     read -r ix iy iw ih <<< "$IMAGE"
+}
+
+quit_viewer() {
+    key ctrl+q
+    for _ in $(seq 1 100); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
+    kill -0 "$VIEWER_PID" 2>/dev/null && fail "Ctrl+Q did not quit"
+    wait "$VIEWER_PID" 2>/dev/null || true
+    VIEWER_PID=
 }
 
 # editor_xy LINE COL [FRACTION]: the screen point FRACTION (default 0.25) across the
