@@ -863,7 +863,8 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             else
                 std::snprintf(line, sizeof line, "spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
                               layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
-            status_text(line, tools_.readout_line().empty());
+            // An error stays beside the readout: it must be read, not hidden by a hover.
+            status_text(line, tools_.readout_line().empty() || status_.error());
         }
     }
     ImGui::End();
@@ -906,6 +907,12 @@ void Panels::status_text(const std::string& text, bool show_message) {
     std::string all;
     for (const StatusPiece& p : shown) all += p.sep + p.text;
     probe("status_bar", all);
+    if (show_message && status_.error()) {
+        // Errors stay until the next message or until dismissed here.
+        ImGui::SameLine();
+        if (ImGui::SmallButton("x##dismiss")) status_.set("");
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Dismiss this message");
+    }
     const float width = ImGui::GetWindowWidth();
     if (extra > usual_status_extra(width)) status_more_ = {width, ImGui::GetFontSize(), status_.text(), extra};
 }
