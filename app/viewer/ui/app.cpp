@@ -23,6 +23,7 @@
 #include "scene_edits.h"
 #include "scene_writer.h"
 #include "diagnostic_text.h"
+#include "number_field.h"
 #include "probe.h"
 
 namespace rtview {
@@ -300,8 +301,10 @@ std::uint64_t ViewerApp::visible_key() const {
 void ViewerApp::update_render(double now) {
     Document& doc = editor_.doc();
     render_.sync_world(doc);
-    // A slider held in a panel is motion too: previews within the frame budget.
-    bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
+    // A slider held in a panel is motion too: previews within the frame budget (but
+    // not a number being typed: nothing changes until it is entered).
+    bool widget_busy = ImGui::IsAnyItemActive() && !number_typing() &&
+                       (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
     bool moving = nav_input_.moving(now) || widget_busy || move_.dragging();
     // While a render region refines, the rest of the picture stays as it was (the
     // region re-renders on edits and view changes); a new film size ends the region.

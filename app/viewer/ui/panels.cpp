@@ -13,6 +13,7 @@
 
 #include "camera_control.h"
 #include "item_fields.h"
+#include "number_field.h"
 #include "probe.h"
 #include "scene_schema.h"
 #include "readout.h"
@@ -82,7 +83,10 @@ bool selection_valid(const rt::Scene& s, const Selection& sel) {
 
 bool drag_vec3(const char* label, rt::Vec3& v, float speed, const char* format = "%.3f") {
     double a[3] = {v.x, v.y, v.z};
-    if (!ImGui::DragScalarN(label, ImGuiDataType_Double, a, 3, speed, nullptr, nullptr, format)) return false;
+    NumberFieldSpec spec;
+    spec.speed = speed;
+    spec.format = format;
+    if (!number_fields(label, a, 3, spec)) return false;
     v = {a[0], a[1], a[2]};
     return true;
 }
@@ -102,12 +106,17 @@ bool material_editor(const char* id, rt::Material& m) {
     for (const sc::Key<rt::Material>& k : sc::material_block().keys) {
         const std::string label(k.name);
         if (k.kind == sc::Kind::Vec3) {
+            // The three numbers (typed whole, or dragged), and a swatch with a picker.
             rt::Vec3& c = k.access.vec3(m, 0);
             float col[3] = {float(c.x), float(c.y), float(c.z)};
-            if (ImGui::ColorEdit3(label.c_str(), col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR)) {
+            if (ImGui::ColorEdit3(("##pick" + label).c_str(), col,
+                                  ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_NoInputs)) {
                 c = {col[0], col[1], col[2]};
                 changed = true;
             }
+            ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);
+            ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - ImGui::GetStyle().ItemInnerSpacing.x);
+            changed |= drag_vec3(label.c_str(), c, 0.005f);
             continue;
         }
         if (k.kind != sc::Kind::Number) continue;
@@ -115,8 +124,12 @@ bool material_editor(const char* id, rt::Material& m) {
         const bool clamped = k.range.rule == sc::Range::Rule::Clamp;
         const double lo = clamped ? k.range.min : 0;
         const double hi = clamped && k.range.max <= lo + 1 ? k.range.max : lo + (clamped ? 2 : 1);
-        ImGuiSliderFlags flags = clamped && k.range.max <= lo + 1 ? ImGuiSliderFlags_AlwaysClamp : 0;
-        changed |= ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &v, &lo, &hi, "%.3f", flags);
+        NumberFieldSpec spec;
+        spec.slider = true;
+        spec.min = &lo;
+        spec.max = &hi;
+        spec.clamp_typed = clamped && k.range.max <= lo + 1;
+        changed |= number_field(label.c_str(), &v, spec);
         if (clamped && v < k.range.min) v = k.range.min;
     }
     double sum = m.reflection + m.refraction + m.scattering;
@@ -313,7 +326,10 @@ void Panels::draw_camera_panel() {
         }
         ViewAngles va = view_angles(view, nav_.world_up());
         double v3[3] = {va.azimuth, va.elevation, va.distance};
-        if (ImGui::DragScalarN("az, el, dist", ImGuiDataType_Double, v3, 3, 0.25f, nullptr, nullptr, "%.2f"))
+        NumberFieldSpec angles;
+        angles.speed = 0.25f;
+        angles.format = "%.2f";
+        if (number_fields("az, el, dist", v3, 3, angles))
             nav_.set(set_view_angles(view, nav_.world_up(), {v3[0], std::clamp(v3[1], -89.0, 89.0), std::max(v3[2], 1e-6)}));
         if (layout_.fit == FitMode::Window && doc.has_scene()) {
             rt::Camera vc = fit_camera_to_aspect(view, layout_.film_w, layout_.film_h);
@@ -333,32 +349,45 @@ void Panels::draw_camera_panel() {
         if (ImGui::Button("Reset view (R)")) commands_.run(Command::ResetView);
         ImGui::EndDisabled();
 
-        // The scene camera: part of the document (edits here are undoable edits of
-        // the file, and the view follows them).
-        ImGui::Separator();
-        ImGui::TextDisabled("Scene camera (in the file)");
-        rt::Camera cam = doc.scene().camera;
-        bool changed = false;
-        changed |= drag_vec3("position", cam.position, speed);
-        changed |= drag_vec3("centre", cam.centre, speed);
-        changed |= drag_vec3("up point", cam.up, speed);
-        double ang[2] = {cam.angle_x, cam.angle_y};
-        const double amin = 0.5, amax = 179.5;
-        if (ImGui::DragScalarN("angle x, y", ImGuiDataType_Double, ang, 2, 0.1f, &amin, &amax, "%.2f deg")) {
-            cam.angle_x = ang[0];
-            cam.angle_y = ang[1];
-            changed = true;
-        }
-        int proj = cam.projection == rt::Projection::Polar ? 1 : 0;
-        if (ImGui::Combo("projection", &proj, "linear\0polar (equal angle)\0")) {
-            cam.projection = proj ? rt::Projection::Polar : rt::Projection::Linear;
-            changed = true;
-        }
+        draw_scene_camera_fields(speed);
         ImGui::PopItemWidth();
-        if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;
         ImGui::EndDisabled();
     }
     layout_.camera_panel = item_block(top, width);
+}
+
+// The scene camera: part of the document (edits here are undoable edits of the
+// file, and the view follows them).
+void Panels::draw_scene_camera_fields(float speed) {
+    const Document& doc = editor_.doc();
+    ImGui::Separator();
+    ImGui::TextDisabled("Scene camera (in the file)");
+    rt::Camera cam = doc.scene().camera;
+    bool changed = false;
+    changed |= drag_vec3("position", cam.position, speed);
+    changed |= drag_vec3("centre", cam.centre, speed);
+    changed |= drag_vec3("up point", cam.up, speed);
+    double ang[2] = {cam.angle_x, cam.angle_y};
+    const double amin = 0.5, amax = 179.5;
+    NumberFieldSpec fov;
+    fov.speed = 0.1f;
+    fov.min = &amin;
+    fov.max = &amax;
+    fov.format = "%.2f deg";
+    fov.clamp_typed = true;
+    if (number_fields("angle x, y", ang, 2, fov)) {
+        cam.angle_x = ang[0];
+        cam.angle_y = ang[1];
+        changed = true;
+    }
+    int proj = cam.projection == rt::Projection::Polar ? 1 : 0;
+    if (ImGui::Combo("projection", &proj, "linear\0polar (equal angle)\0")) {
+        cam.projection = proj ? rt::Projection::Polar : rt::Projection::Linear;
+        changed = true;
+    }
+    if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;
+    else if (changed) status_.set(std::string("Camera not changed: ") + rt::camera_problem(cam), true);
+    if (std::string refused; take_number_refusal(refused)) status_.set(refused, true);
 }
 
 void Panels::draw_objects_tab() {
@@ -543,6 +572,16 @@ void Panels::draw_fields(const ItemRef& ref) {
         ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
         const bool changed = draw_field(ref, f, v, size, vec_format, operand);
         ImGui::PopItemWidth();
+        {
+            // Where the field is, for scripts that click on it.
+            const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+            char rect[96];
+            std::snprintf(rect, sizeof rect, "%.0f %.0f %.0f %.0f", a.x, a.y, b.x - a.x, b.y - a.y);
+            std::string key = "field_" + f.label;
+            std::replace(key.begin(), key.end(), ' ', '_');
+            probe(key, rect);
+        }
+        if (std::string refused; take_number_refusal(refused)) field_message_ = {selection_, f.label, refused, true};
         if (changed) {
             const FieldResult r = set_field(doc, ref, f, v);
             if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true};
@@ -550,8 +589,10 @@ void Panels::draw_fields(const ItemRef& ref) {
             else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
             else if (field_message_.field == f.label) field_message_ = {};
         }
-        if (field_message_.field == f.label && !field_message_.text.empty())
+        if (field_message_.field == f.label && !field_message_.text.empty()) {
             wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+            probe("field_message", f.label + ": " + field_message_.text);
+        }
         ImGui::PopID();
     }
 }
@@ -564,9 +605,10 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
     bool changed = false;
     switch (f.kind) {
         case sc::Kind::Number: {
-            const float speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
-            changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, speed, nullptr, nullptr, "%.6g");
-            if (ImGui::IsItemHovered()) ImGui::SetTooltip("Drag, or Ctrl+click to type a value");
+            NumberFieldSpec spec;
+            spec.speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
+            spec.format = "%.6g";
+            changed = number_field(f.label.c_str(), &v.number, spec);
             break;
         }
         case sc::Kind::Vec3: {
@@ -578,7 +620,9 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
             break;
         }
         case sc::Kind::Integer: {
-            changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, 1.0f, nullptr, nullptr, "%.0f");
+            NumberFieldSpec spec;
+            spec.format = "%.0f";
+            changed = number_field(f.label.c_str(), &v.number, spec);
             break;
         }
         case sc::Kind::Choice: {
@@ -633,9 +677,11 @@ bool Panels::light_colour_editor(rt::Vec3& colour) {
     ImGui::SameLine();
     const double zero = 0;
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 6);
-    if (ImGui::DragScalar("intensity", ImGuiDataType_Double, &intensity, float(std::max(intensity * 0.005, 0.01)), &zero,
-                          nullptr, "%.2f"))
-        tinted = true;
+    NumberFieldSpec spec;
+    spec.speed = float(std::max(intensity * 0.005, 0.01));
+    spec.min = &zero;
+    spec.format = "%.2f";
+    if (number_field("intensity", &intensity, spec)) tinted = true;
     if (tinted) {
         colour = tint * intensity;
         changed = true;

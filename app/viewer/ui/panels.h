@@ -54,6 +54,7 @@ public:
 
 private:
     void draw_camera_panel();
+    void draw_scene_camera_fields(float speed);
     void draw_objects_tab();
     void draw_outline();
     void draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label);
