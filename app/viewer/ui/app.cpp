@@ -508,6 +508,7 @@ void ViewerApp::end_edits() {
     // edit, and may stay focused for a long time).
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
     if (!widget_busy && !move_.dragging()) doc.commit();
+    if (const std::string refused = doc.take_refusal(); !refused.empty()) status_.set(refused, true);
 }
 
 void ViewerApp::orbit_degrees(double degrees) {
@@ -539,9 +540,9 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             status_.set("Opened the built-in default scene");
             return true;
         case Command::CancelLoad: return cancel_load();
-        case Command::Save: return do_save();
+        case Command::Save: return do_save(confirmed);
         case Command::SaveAsDialog: dialogs_.show(Dialogs::Kind::SaveAs, doc.path().empty() ? doc.name() : doc.path()); return true;
-        case Command::SaveAs: return do_save_as(arg);
+        case Command::SaveAs: return do_save_as(arg, confirmed);
         case Command::SaveImageDialog: dialogs_.show(Dialogs::Kind::SaveImage, default_image_name()); return true;
         case Command::SaveImage: do_save_image(arg); return true;
         case Command::Screenshot: screenshot_request_ = arg; return true;
@@ -606,6 +607,10 @@ bool ViewerApp::view_command(Command c) {
             return true;
         case Command::SetSceneCamera:
             if (!doc.has_scene() || !nav_.has_view()) return false;
+            if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
+                status_.set(blocked, true);
+                return false;
+            }
             if (doc.set_camera(nav_.camera())) status_.set("The scene camera is now the view (Ctrl+Z undoes)");
             return true;
         case Command::CopyCamera:
@@ -810,20 +815,36 @@ std::string ViewerApp::default_image_name() const {
     return stem_of(doc.path().empty() ? doc.name() : doc.path()) + ".png";
 }
 
-bool ViewerApp::do_save() {
+// Before a save: a draft that parses is applied (the file will be the scene shown);
+// text that does not parse is saved only once the user has said so (false: asked).
+bool ViewerApp::ready_to_save(Command c, const std::string& arg, bool confirmed) {
+    Document& doc = editor_.doc();
+    doc.commit();
+    if (doc.apply_parsing_draft()) status_.set("Applied the scene text");
+    if (confirmed) return true;
+    if (std::optional<std::string> problem = doc.save_problem()) {
+        dialogs_.ask_save_with_errors(*problem, c, arg);
+        return false;
+    }
+    return true;
+}
+
+bool ViewerApp::do_save(bool confirmed) {
     Document& doc = editor_.doc();
     if (doc.path().empty()) {
         dialogs_.show(Dialogs::Kind::SaveAs, doc.name());
         return false;
     }
+    if (!ready_to_save(Command::Save, {}, confirmed)) return false;
     const rt::Status st = doc.save();
     if (st) status_.set("Saved " + doc.path());
     else status_.set("Save failed: " + st.message(), true);
     return st.ok();
 }
 
-bool ViewerApp::do_save_as(const std::string& path) {
+bool ViewerApp::do_save_as(const std::string& path, bool confirmed) {
     Document& doc = editor_.doc();
+    if (!ready_to_save(Command::SaveAs, path, confirmed)) return false;
     if (rt::Status st = doc.save_as(path); !st) {
         status_.set("Save failed: " + st.message(), true);
         return false;

@@ -257,7 +257,17 @@ double Panels::scene_size() const {
     return std::max(rt::length(c.centre - c.position), 1e-3);
 }
 
+// "object_3", "object_4_left", "plane_1", "light_2", "none": a selection in one word.
+std::string Panels::selection_name(const Selection& s) {
+    if (s.kind == Selection::Kind::None) return "none";
+    std::string n = s.kind == Selection::Kind::Object ? "object_" : s.kind == Selection::Kind::Plane ? "plane_" : "light_";
+    n += std::to_string(s.index + 1);
+    for (int k : s.path) n += k == 0 ? "_left" : "_right";
+    return n;
+}
+
 void Panels::draw_sidebar() {
+    probe("selection", selection_name(selection_));
     ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - layout_.sidebar_w, layout_.menu_h));
     ImGui::SetNextWindowSize(ImVec2(layout_.sidebar_w, io.DisplaySize.y - layout_.menu_h));
@@ -280,7 +290,9 @@ void Panels::draw_sidebar() {
             if (t == Text && (doc.editor_dirty() || doc.has_errors()))
                 label += doc.has_errors() ? " (errors)" : " (unapplied)";
             label += "###tab" + std::to_string(t);  // stable ID while the label changes
-            if (ImGui::BeginTabItem(label.c_str(), nullptr, tf)) {
+            const bool shown = ImGui::BeginTabItem(label.c_str(), nullptr, tf);
+            probe_item(std::string("tab_") + names[t]);
+            if (shown) {
                 current_tab_ = t;
                 if (want_tab_ == t) want_tab_ = -1;
                 if (t == Objects) draw_objects_tab();
@@ -362,6 +374,9 @@ void Panels::draw_scene_camera_fields(float speed) {
     const Document& doc = editor_.doc();
     ImGui::Separator();
     ImGui::TextDisabled("Scene camera (in the file)");
+    // Disabled, not hidden, while the text blocks edits: the panels below keep their place.
+    const bool blocked = !doc.edit_blocker().empty();
+    ImGui::BeginDisabled(blocked);
     rt::Camera cam = doc.scene().camera;
     bool changed = false;
     changed |= drag_vec3("position", cam.position, speed);
@@ -385,6 +400,8 @@ void Panels::draw_scene_camera_fields(float speed) {
         cam.projection = proj ? rt::Projection::Polar : rt::Projection::Linear;
         changed = true;
     }
+    ImGui::EndDisabled();
+    if (blocked) changed = false;
     if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;
     else if (changed) status_.set(std::string("Camera not changed: ") + rt::camera_problem(cam), true);
     if (std::string refused; take_number_refusal(refused)) status_.set(refused, true);
@@ -412,6 +429,7 @@ void Panels::draw_object_node(const rt::Object& obj, int top, std::vector<int>& 
     if (csg) f |= ImGuiTreeNodeFlags_DefaultOpen;
     else f |= ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen;
     bool open = ImGui::TreeNodeEx("node", f, "%s", label.c_str());
+    if (ImGui::IsItemVisible()) probe_item("outline_" + selection_name(me));
     if (ImGui::IsItemClicked() && !ImGui::IsItemToggledOpen()) selection_ = me;
     if (selection_ == me && scroll_to_selection_) {
         ImGui::SetScrollHereY();
@@ -442,6 +460,7 @@ void Panels::draw_outline() {
                                ImGuiTreeNodeFlags_SpanAvailWidth;
         if (selection_ == me) f |= ImGuiTreeNodeFlags_Selected;
         ImGui::TreeNodeEx("node", f, "%s", label.c_str());
+        if (ImGui::IsItemVisible()) probe_item("outline_" + selection_name(me));
         if (ImGui::IsItemClicked()) selection_ = me;
         if (selection_ == me && scroll_to_selection_) {
             ImGui::SetScrollHereY();
@@ -548,7 +567,16 @@ void Panels::draw_properties() {
         ImGui::TextDisabled("%s", what);
     }
     ImGui::Separator();
+    // Nothing here may change the scene while the text holds changes it could not be
+    // written into: Save writes that text.
+    const std::string blocked = editor_.doc().edit_blocker();
+    if (!blocked.empty()) {
+        wrapped_coloured(kWarnColour, blocked);
+        probe("edits", "blocked");
+    }
+    ImGui::BeginDisabled(!blocked.empty());
     draw_fields(ref);
+    ImGui::EndDisabled();
 }
 
 // One widget per key of the selected item's block, from the schema (item_fields.h):
@@ -574,12 +602,9 @@ void Panels::draw_fields(const ItemRef& ref) {
         ImGui::PopItemWidth();
         {
             // Where the field is, for scripts that click on it.
-            const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
-            char rect[96];
-            std::snprintf(rect, sizeof rect, "%.0f %.0f %.0f %.0f", a.x, a.y, b.x - a.x, b.y - a.y);
             std::string key = "field_" + f.label;
             std::replace(key.begin(), key.end(), ' ', '_');
-            probe(key, rect);
+            probe_item(key);
         }
         if (std::string refused; take_number_refusal(refused)) field_message_ = {selection_, f.label, refused, true};
         if (changed) {

@@ -51,6 +51,7 @@ public:
     // narrow window its text takes more than one row.
     float status_height(float width);
     float min_sidebar_width();
+    static std::string selection_name(const Selection& s);
 
 private:
     void draw_camera_panel();

@@ -15,6 +15,9 @@ namespace rtview {
 void probe(const std::string& key, const std::string& value);
 // The frame's records, in the order made; cleared by begin_probe_frame().
 const std::vector<std::pair<std::string, std::string>>& probes();
+// Records the rectangle of the ImGui item drawn last ("x y w h") under `key`, for
+// scripts that click on it.
+void probe_item(const std::string& key);
 void begin_probe_frame();
 
 }  // namespace rtview
