@@ -255,12 +255,20 @@ void ViewerApp::probe_frame() {
     if (!opt_.print_layout) return;
     const Document& doc = editor_.doc();
     probe("title", doc.title());
+    probe("load", loader_.active() ? "loading" : doc.has_scene() ? "ready" : "no scene");
     probe("message", (status_.error() ? "error: " : "") + status_.text());
     std::string popups;
     for (const ImGuiPopupData& p : GImGui->OpenPopupStack)
         if (p.Window) popups += (popups.empty() ? "" : "|") + std::string(p.Window->Name);
     probe("popups", popups.empty() ? "none" : popups);
     probe("readout", tools_.readout_line().empty() ? "none" : tools_.readout_line());
+    {
+        const ImGuiIO& io = ImGui::GetIO();
+        char pointer[96];
+        std::snprintf(pointer, sizeof pointer, "%.0f %.0f%s%s", io.MousePos.x, io.MousePos.y,
+                      io.WantCaptureMouse ? " ui" : "", ImGui::IsAnyMouseDown() ? " down" : "");
+        probe("pointer", pointer);
+    }
     const rt::RenderProgress p = render_.progress();
     probe("render", std::to_string(p.samples) + " " + (p.done ? "done" : p.running ? "running" : "idle"));
     probe("diagnostics", std::to_string(doc.diagnostics().size()) +

@@ -9,6 +9,7 @@
 #include <algorithm>
 
 #include "item_fields.h"
+#include "probe.h"
 #include "scene_writer.h"
 
 namespace rtview {
@@ -32,6 +33,7 @@ bool starts_typing() {
 // drops it. True when *v took a new value.
 bool typed_field(const char* label, double* v, const NumberFieldSpec& spec) {
     Typing& t = g_typing;
+    probe("typing", label);
     if (t.frames++ == 0) ImGui::SetKeyboardFocusHere();
     const bool enter = ImGui::InputText(label, &t.text, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
     const bool active = ImGui::IsItemActive();

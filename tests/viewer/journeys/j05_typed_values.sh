@@ -17,7 +17,8 @@ radius_of_sphere_1() { awk '/^  sphere \{/ { n++ } n == 1 && $1 == "radius" { pr
 type_radius() {  # $1: how the field is opened (ctrl or double), $2: text
     if [ "$1" = ctrl ]; then xdotool mousemove $rx $ry keydown ctrl click 1 keyup ctrl
     else xdotool mousemove $rx $ry click --repeat 2 --delay 80 1; fi
-    idle 0.3
+    # (the text field takes the keyboard within a frame or two)
+    wait_state typing "^radius$"
     type_text "$2"
 }
 
@@ -51,6 +52,6 @@ click $((fx + fw / 2)) $((fy - 60))
 wait_state title '^default.txt\* - raytracer-view$'
 save
 [ "$(radius_of_sphere_1)" = 1.25 ] || fail "radius in the file is $(radius_of_sphere_1), expected 1.25"
-xdotool mousemove $((ix + 5)) $((iy + 5)) click 1  # select nothing (the sky)
+select_nothing
 picture_agrees typed
 echo PASS

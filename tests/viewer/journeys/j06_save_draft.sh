@@ -28,7 +28,7 @@ type_major() {
     wait_state field_major "^[0-9]"
     read -r fx fy fw fh <<< "$(state field_major)"
     xdotool mousemove $((fx + fw / 4)) $((fy + fh / 2)) keydown ctrl click 1 keyup ctrl
-    idle 0.3
+    idle 0.5
     type_text "$1"
     key Return
 }
@@ -38,8 +38,10 @@ key ctrl+e
 wait_state editor_grid "nowrap"
 read -r x y <<< "$(editor_xy 6 13 0.9)"
 click "$x" "$y"
+wait_state editor_cursor "^6 [0-9]+ focused$"
 key End BackSpace
 type_text "0.5abc"
+wait_state editor_cursor "^6 18 focused$"
 wait_state diagnostics "^1 " 5
 
 step "the torus's major cannot be changed meanwhile"
@@ -68,9 +70,12 @@ grep -q '^    radius 0.5abc$' "$SCENE" || fail "the typed text was not saved"
 
 step "fix the line (not applied), type 0.8 into major, save"
 key ctrl+e
+wait_state editor_cursor "focused$"
 read -r x y <<< "$(editor_xy 6 17 0.9)"
 click "$x" "$y"
+wait_state editor_cursor "^6 [0-9]+ focused$"
 key End BackSpace BackSpace BackSpace
+wait_state editor_cursor "^6 15 focused$"
 wait_state diagnostics "^0"
 open_item object_3
 type_major 0.8
@@ -80,6 +85,6 @@ save
 grep -q '^    radius 0.5$' "$SCENE" || fail "the fixed line was not saved: $(sed -n 6p "$SCENE")"
 [ "$(major)" = 0.8 ] || fail "major in the file is $(major), expected 0.8"
 wait_state text "^applied$"
-xdotool mousemove $((ix + 5)) $((iy + 5)) click 1
+select_nothing
 picture_agrees saved
 echo PASS

@@ -18,6 +18,7 @@
 #   field NAME K / region NAME     the layout's rectangles (as the older Xvfb tests)
 #   click X Y [BUTTON], key KEYS..., type TEXT, shot NAME
 #   editor_xy LINE COL [FRACTION]  screen point of a character of the scene text
+#   select_nothing                 click the picture's empty corner, wait for no selection
 #   picture_agrees NAME            the picture equals `raytracer`'s render of $SCENE
 set -euo pipefail
 
@@ -110,6 +111,12 @@ start_viewer() {
     VIEWER_PID=$!
     WID=$(timeout 30 xdotool search --sync --name "$(basename "$SCENE")" | head -1) || fail "no window appeared"
     wait_state title "^$(basename "$SCENE")" 30
+    wait_state load "^(ready|no scene)$" 60
+    image_region
+}
+
+# $IMAGE ("x y w h") and ix iy iw ih: where the last frame drew the picture.
+image_region() {
     IMAGE=$(region image)
     read -r ix iy iw ih <<< "$IMAGE"
 }
@@ -146,10 +153,20 @@ wait_stable() {
     fail "the image never settled ($name)"
 }
 
+# Clicks on the picture's top left corner (the sky, in the scenes journeys use) and
+# waits until nothing is selected.
+select_nothing() {
+    image_region
+    click $((ix + 5)) $((iy + 5))
+    wait_state selection "^none$"
+}
+
 # The picture on the screen equals `raytracer`'s render of the saved $SCENE at the
 # image's size (nothing selected, the render settled).
 picture_agrees() {
     local name=$1
+    image_region
+    wait_state selection "^none$" 10
     wait_state render "done" 60
     wait_stable "$name-shown"
     "$BIN/raytracer" --quiet --samples "$(state render | awk '{ print $1 }')" --width "$iw" --height "$ih" \
