@@ -777,7 +777,24 @@ void ImageTools::draw_render_setup() {
     ImGui::SetNextItemWidth(fs * 24);
     if (focus_render_path_) ImGui::SetKeyboardFocusHere();
     focus_render_path_ = false;
-    bool go = ImGui::InputTextWithHint("file", "picture.png or .ppm", &render_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+    bool go = ImGui::InputTextWithHint("##file", "picture.png or .ppm", &render_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+    probe("render_field", ImGui::IsItemActive() ? "active" : "idle");
+    ImGui::SameLine();
+    if (ImGui::Button("Browse...")) {
+        render_browser_.start(FileDialog::Mode::Save, {".png", ".ppm"}, "Images (*.png, *.ppm)", render_path_);
+        ImGui::OpenPopup("Choose the picture file");
+    }
+    ImGui::SameLine();
+    ImGui::TextUnformatted("file");
+    // (Escape there closes the browser only.)
+    const bool browsing = ImGui::IsPopupOpen("Choose the picture file");
+    ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    if (ImGui::BeginPopupModal("Choose the picture file", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        const FileDialog::Result r = render_browser_.draw("Choose");
+        if (r == FileDialog::Result::Go) render_path_ = render_browser_.path();
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
     ImGui::SetNextItemWidth(fs * 8);
     ImGui::InputInt("samples per pixel", &render_samples_);
     render_samples_ = std::clamp(render_samples_, 1, 65536);
@@ -788,7 +805,7 @@ void ImageTools::draw_render_setup() {
     probe("render_dialog", "setup");
     go |= ImGui::Button("Render");
     ImGui::SameLine();
-    if (ImGui::Button("Close") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+    if (ImGui::Button("Close") || (!browsing && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)))) {
         ImGui::CloseCurrentPopup();
     } else if (go && f_.scene) {
         rt::Scene scene = *f_.scene;

@@ -12,6 +12,7 @@
 
 #include "display.h"
 #include "film_texture.h"
+#include "file_dialog.h"
 #include "film_view.h"
 #include "final_render.h"
 #include "image_view.h"
@@ -194,6 +195,7 @@ private:
     std::string render_result_text_;
     bool focus_render_path_ = false;
     bool render_scene_camera_ = false;  // the scene's camera instead of the view
+    FileDialog render_browser_;          // "Browse..." for the file
 
     std::string message_;
     bool message_error_ = false;
