@@ -203,7 +203,9 @@ void ViewerApp::frame() {
     poll_loader();
     update_layout();
     tools_.begin(image_frame(now));
-    if (interactive_) {
+    // A number being typed has the keys, also in the frame or two before its field
+    // takes the keyboard ("1" of "1.25" is not the 1:1 zoom).
+    if (interactive_ && !number_typing()) {
         handle_shortcuts();
         tools_.handle_keys();
     }
