@@ -1,0 +1,50 @@
+// Adaptive anti-aliasing: after every pixel's first sample, passes add samples only to
+// the pixels whose estimate has not settled. Between two passes, decide_rows() reads
+// the film (counts, sums, sums of squares) and marks the pixels to refine; a pass then
+// takes each marked pixel from n to refine_count(n) samples with refine_row(). Both are
+// pure functions of the film, so the picture is the same whoever renders which pixel.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "camera.h"
+#include "film.h"
+#include "world.h"
+
+namespace rt {
+
+// The limits of --aa-threshold: the sum of the red, green and blue differences of two
+// colours in 0-1 units, as POV-Ray's Antialias_Threshold measures them.
+constexpr double kMaxAaThreshold = 3.0;
+// The most samples a pixel gets when only a threshold is given.
+constexpr int kDefaultAaMaxSamples = 16;
+
+// The sample count a pixel being refined goes to from n: 8, then twice as many, at most
+// max. (A pixel that stands out lies on an edge more often than not; with fewer than 8
+// samples, all of them too often fall on one side of it, and their spread says "settled".)
+inline std::uint32_t refine_count(std::uint32_t n, std::uint32_t max) {
+    const std::uint32_t next = n < 8 ? 8 : 2 * n;
+    return next < max ? next : max;
+}
+
+// Pixels of rows [y0, y1) to refine in the next pass: active[idx] = 1 (else 0) where
+//   - the pixel has 1 sample and its colour differs from a neighbour's (of 8) by
+//     `threshold` or more, or
+//   - it has more, and the standard error of their mean is `threshold` / 4 or more,
+// and it has fewer than max_samples. Every pixel has at least one sample. `changed`
+// marks the pixels refined by the last pass (null: decide every pixel, as the first
+// time): only those and their neighbours can decide differently, all others stay 0.
+// Returns the number of pixels marked.
+std::size_t decide_rows(const Film& film, double threshold, int max_samples, const std::uint8_t* changed, int y0,
+                        int y1, std::uint8_t* active);
+
+// Continues the pixels (x0 + k, y), k < n, whose n1[k] > n0[k] with samples
+// [n0[k], n1[k]), in sample order, into sums[3k..3k+2] (as accumulate_pixel adds them)
+// and squares[k] (the sum of the squared colours, clamped to 0..1, that decide_rows
+// reads; for n0[k] == 1 it starts from the first sample, the sum itself). The traces
+// go in batches through World::trace_units, which gives trace_camera's colours.
+void refine_row(const World& world, const CameraBasis& camera, int x0, int y, int n, const std::uint32_t* n0,
+                const std::uint32_t* n1, float* sums, float* squares, RayStats& stats);
+
+}  // namespace rt
