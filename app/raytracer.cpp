@@ -134,7 +134,7 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
     // SIGINT and SIGTERM end the process from the signal handler, in this phase too.
     while (!renderer.wait_for(0.1)) {
         rt::RenderProgress p = renderer.progress();
-        double fraction = rt::progress_fraction(p, settings);
+        double fraction = rt::progress_fraction(p, settings.max_samples);
         if (opt.time_limit > 0) fraction = std::max(fraction, p.elapsed / opt.time_limit);
         bar.update(fraction, p.elapsed);
     }

@@ -660,14 +660,20 @@ RenderProgress Renderer::progress() const {
     return r;
 }
 
-double progress_fraction(const RenderProgress& p, const RenderSettings& settings) {
+double progress_fraction(const RenderProgress& p, int max_samples) {
     if (p.done) return 1;
-    if (settings.aa_threshold >= 0) {
+    if (p.refining >= 0) {
         if (p.samples == 0) return 0.5 * p.pass_fraction;
         return 1 - 0.5 * std::pow(0.5, p.refinements) * (1 - 0.5 * p.pass_fraction);
     }
-    const double n = std::max(1, settings.max_samples);
+    const double n = std::max(1, max_samples);
     return std::clamp((p.samples + p.pass_fraction * (n - p.samples)) / n, 0.0, 1.0);
+}
+
+int Renderer::sample_count(int x, int y) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (x < 0 || y < 0 || x >= film_.width || y >= film_.height) return 0;
+    return int(film_.count[std::size_t(y) * film_.width + x]);
 }
 
 void Renderer::sample_counts(std::vector<std::uint32_t>& out, int& width, int& height) const {

@@ -75,10 +75,10 @@ struct RenderProgress {
     std::uint64_t film_samples = 0;  // samples in the film, all pixels together
 };
 
-// How far a render started with `settings` has got, 0..1, for progress bars: samples
-// per pixel against max_samples; adaptive, the first sample as the first half, then
-// each refinement as half of what is left (their number is not known in advance).
-double progress_fraction(const RenderProgress& p, const RenderSettings& settings);
+// How far a render with this max_samples has got, 0..1, for progress bars: samples per
+// pixel against max_samples; adaptive (p.refining >= 0), the first sample as the first
+// half, then each refinement as half of what is left (their number is not known).
+double progress_fraction(const RenderProgress& p, int max_samples);
 
 // Sample position for sample s of pixel (x, y): s = 0 is the original's exact pixel
 // corner; later samples are a per-pixel rotated low-discrepancy set around it.
@@ -123,8 +123,9 @@ public:
     // rectangle {x0, y0, x1, y1} that may differ from before.
     bool snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version,
                         std::array<int, 4>* changed = nullptr) const;
-    // The film's per-pixel sample counts, top row first.
+    // The film's per-pixel sample counts, top row first; one pixel's (0 outside the film).
     void sample_counts(std::vector<std::uint32_t>& out, int& width, int& height) const;
+    int sample_count(int x, int y) const;
     int threads() const { return int(workers_.size()); }
 
 private:
