@@ -3,6 +3,7 @@
 #include "adaptive.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -14,7 +15,7 @@ namespace {
 
 // The share of the threshold the standard error of a refined pixel's mean must stay
 // under: a pixel whose samples spread keeps refining until its mean is known to within
-// a quarter of the difference that made it stand out.
+// a quarter of the threshold.
 constexpr double kErrorShare = 0.25;
 
 inline float clamp01(float v) { return v > 0 ? (v < 1 ? v : 1) : 0; }  // NaN: 0
@@ -45,11 +46,15 @@ bool spread(const Film& film, std::size_t idx, std::uint32_t n, const float* mea
 }
 
 // The decision for one pixel whose largest distance to a neighbour is `contrast`.
+// Samples that all agree still leave about 1/n of the pixel unseen, where an edge
+// could hide and move the mean by up to contrast / n: so a pixel that stands out keeps
+// refining until n * threshold passes its contrast, even if its samples agree.
 inline bool decide(const Film& film, std::size_t idx, const float* mean, float contrast, float threshold,
                    int max_samples, double limit) {
     const std::uint32_t n = film.count[idx];
     if (n >= std::uint32_t(max_samples)) return false;
-    return n <= 1 ? contrast >= threshold : spread(film, idx, n, mean, limit);
+    if (contrast >= threshold * float(n)) return true;
+    return n > 1 && spread(film, idx, n, mean, limit);
 }
 
 // The first decision: every pixel of rows [y0, y1), a row at a time, over planes of
@@ -156,8 +161,7 @@ std::size_t decide_near(const Film& film, float threshold, int max_samples, doub
             const std::size_t idx = std::size_t(y) * w + x;
             float me[3];
             clamped_mean(film, idx, me);
-            const bool one = film.count[idx] <= 1;
-            act[x] = decide(film, idx, me, one ? contrast_at(film, x, y, me) : 0.0f, threshold, max_samples, limit);
+            act[x] = decide(film, idx, me, contrast_at(film, x, y, me), threshold, max_samples, limit);
             marked += act[x];
         }
     }

@@ -29,13 +29,14 @@ inline std::uint32_t refine_count(std::uint32_t n, std::uint32_t max) {
 }
 
 // Pixels of rows [y0, y1) to refine in the next pass: active[idx] = 1 (else 0) where
-//   - the pixel has 1 sample and its colour differs from a neighbour's (of 8) by
-//     `threshold` or more, or
-//   - it has more, and the standard error of their mean is `threshold` / 4 or more,
-// and it has fewer than max_samples. Every pixel has at least one sample. `changed`
-// marks the pixels refined by the last pass (null: decide every pixel, as the first
-// time): only those and their neighbours can decide differently, all others stay 0.
-// Returns the number of pixels marked.
+// the pixel has n < max_samples samples and
+//   - its colour (clamped mean) differs from a neighbour's (of 8) by n * threshold or
+//     more: with one sample, it stands out; with n, an edge could still hide in the
+//     1/n of it that its samples missed, or
+//   - n > 1 and the standard error of the mean of its samples is threshold / 4 or more.
+// Every pixel has at least one sample. `changed` marks the pixels refined by the last
+// pass (null: decide every pixel, as the first time): only those and their neighbours
+// can decide differently, all others stay 0. Returns the number of pixels marked.
 std::size_t decide_rows(const Film& film, double threshold, int max_samples, const std::uint8_t* changed, int y0,
                         int y1, std::uint8_t* active);
 

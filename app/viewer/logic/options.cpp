@@ -92,7 +92,7 @@ rtargs::Table option_table(Options& o) {
         whole("--samples", "samples per pixel to stop at (default 64 in a window, 16 headless)", 1, 65536, o.samples),
         real("--time-limit", "SEC", "stop refining after SEC seconds (default: no limit)", o.time_limit, true),
         rtargs::value_option("--aa-threshold", "T", "a number",
-                             "adaptive anti-aliasing threshold, 0..3 (default 0.05; 0:\n"
+                             "adaptive anti-aliasing threshold, 0..3 (default 0.02; 0:\n"
                              "every pixel gets every sample); with --render, as\n"
                              "raytracer's (default: every pixel the same samples)",
                              [&o](const std::string& n, const std::string& v) {

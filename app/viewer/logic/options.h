@@ -39,7 +39,7 @@ constexpr int kDefaultSamplesWindow = 64;
 constexpr int kDefaultSamplesHeadless = 16;
 // The viewer refines adaptively: a pixel settles once it differs from no neighbour by
 // this much (the sum of the channel differences, 0..1 units) and its samples agree.
-constexpr double kDefaultAaThreshold = 0.05;
+constexpr double kDefaultAaThreshold = 0.02;
 
 // Fills `o`; a usage error (exit code 2) says what is wrong.
 rt::Status parse_options(int argc, const char* const* argv, Options& o);
