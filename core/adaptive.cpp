@@ -27,9 +27,11 @@ inline float squared(const float* c) {
 
 // The one definition of what the decision compares: a pixel's clamped mean (rgb), and
 // the distance of two colours, (|dr| + |dg|) + |db| in float.
+// (Every pixel has a sample by the time anything is decided; 1/1 is exactly 1.)
+// (Counts are at most 65536: through int, which converts to float in one instruction.)
+inline float inverse(std::uint32_t n) { return 1.0f / float(std::max(int(n), 1)); }
 inline void clamped_mean(const Film& film, std::size_t idx, float* rgb) {
-    const std::uint32_t n = film.count[idx];
-    const float inv = n > 1 ? 1.0f / float(n) : 1.0f;
+    const float inv = inverse(film.count[idx]);
     const float* s = &film.sum[3 * idx];
     rgb[0] = clamp01(s[0] * inv), rgb[1] = clamp01(s[1] * inv), rgb[2] = clamp01(s[2] * inv);
 }
@@ -53,7 +55,7 @@ inline bool decide(const Film& film, std::size_t idx, const float* mean, float c
                    int max_samples, double limit) {
     const std::uint32_t n = film.count[idx];
     if (n >= std::uint32_t(max_samples)) return false;
-    if (contrast >= threshold * float(n)) return true;
+    if (contrast >= threshold * float(int(n))) return true;
     return n > 1 && spread(film, idx, n, mean, limit);
 }
 
@@ -71,10 +73,14 @@ std::size_t decide_all(const Film& film, float threshold, int max_samples, doubl
         if (y < 0 || y >= h) return nullptr;
         float* p = planes.data() + 3 * std::size_t(w) * std::size_t(y % 3);
         if (held[y % 3] != y) {
+            // clamped_mean(), pixel by pixel, in a loop without branches.
+            const std::uint32_t* count = &film.count[std::size_t(y) * w];
+            const float* sum = &film.sum[3 * std::size_t(y) * w];
             for (int x = 0; x < w; ++x) {
-                float rgb[3];
-                clamped_mean(film, std::size_t(y) * w + x, rgb);
-                p[x] = rgb[0], p[w + x] = rgb[1], p[2 * w + x] = rgb[2];
+                const float inv = inverse(count[x]);
+                p[x] = clamp01(sum[3 * x] * inv);
+                p[w + x] = clamp01(sum[3 * x + 1] * inv);
+                p[2 * w + x] = clamp01(sum[3 * x + 2] * inv);
             }
             held[y % 3] = y;
         }
@@ -98,12 +104,22 @@ std::size_t decide_all(const Film& film, float threshold, int max_samples, doubl
                 }
             }
         }
+        // decide(), pixel by pixel: the contrast test in a loop without branches, then
+        // the spread of the few pixels with more than one sample.
         std::uint8_t* act = active + std::size_t(y) * w;
+        const std::uint32_t* count = &film.count[std::size_t(y) * w];
+        const std::uint32_t max = std::uint32_t(max_samples);
+        int several = 0;
         for (int x = 0; x < w; ++x) {
-            const float mean[3] = {me[x], me[w + x], me[2 * w + x]};
-            act[x] = decide(film, std::size_t(y) * w + x, mean, b[x], threshold, max_samples, limit);
-            marked += act[x];
+            act[x] = std::uint8_t((count[x] < max) & (b[x] >= threshold * float(int(count[x]))));
+            several |= int(count[x] > 1);
         }
+        for (int x = 0; x < w && several; ++x) {
+            if (act[x] || count[x] <= 1 || count[x] >= max) continue;
+            const float mean[3] = {me[x], me[w + x], me[2 * w + x]};
+            act[x] = spread(film, std::size_t(y) * w + x, count[x], mean, limit);
+        }
+        for (int x = 0; x < w; ++x) marked += act[x];
     }
     return marked;
 }
@@ -144,19 +160,20 @@ std::size_t decide_near(const Film& film, float threshold, int max_samples, doub
     for (int y = y0; y < y1; ++y) {
         std::uint8_t* act = active + std::size_t(y) * w;
         std::fill(act, act + w, std::uint8_t(0));
+        int lo = w, hi = -1;  // the columns marked to decide
         for (int r = std::max(0, y - 1); r <= std::min(h - 1, y + 1); ++r) {
             const std::uint8_t* c = changed + std::size_t(r) * w;
-            if (!any_set(c, w)) continue;
             for (int x0 = 0; x0 < w; x0 += 8) {
                 if (x0 + 8 <= w && !any_set(c + x0, 8)) continue;
                 for (int cx = x0; cx < std::min(w, x0 + 8); ++cx) {
                     if (!c[cx]) continue;
                     // Pixels cx-1..cx+1 of row y: mark them as seen with 2, decide below.
                     for (int x = std::max(0, cx - 1); x <= std::min(w - 1, cx + 1); ++x) act[x] |= 2;
+                    lo = std::min(lo, cx - 1), hi = std::max(hi, cx + 1);
                 }
             }
         }
-        for (int x = 0; x < w; ++x) {
+        for (int x = std::max(0, lo); x <= std::min(w - 1, hi); ++x) {
             if (!act[x]) continue;
             const std::size_t idx = std::size_t(y) * w + x;
             float me[3];

@@ -110,6 +110,29 @@ struct Renderer::Job {
     std::shared_ptr<AdaptiveJob> aa;  // null: a uniform render
 };
 
+namespace {
+double radical(unsigned i, unsigned base) {
+    double f = 1, r = 0;
+    while (i > 0) {
+        f /= base;
+        r += f * (i % base);
+        i /= base;
+    }
+    return r;
+}
+
+// radical(s, 2) and radical(s, 3) of the first samples, worked out once by the same
+// operations (so the same values): their divisions would cost more than the rest of
+// sample_offset together.
+struct Radicals {
+    static constexpr unsigned kCount = 256;
+    double base2[kCount], base3[kCount];
+    Radicals() {
+        for (unsigned s = 0; s < kCount; ++s) base2[s] = radical(s, 2), base3[s] = radical(s, 3);
+    }
+};
+}  // namespace
+
 void sample_offset(int x, int y, int s, double& dx, double& dy) {
     if (s == 0) {
         dx = dy = 0;
@@ -117,21 +140,16 @@ void sample_offset(int x, int y, int s, double& dx, double& dy) {
     }
     // Halton (2, 3) points, rotated per pixel by a hash so that neighbouring pixels do
     // not share a pattern; centred on the original's sample point.
-    auto radical = [](unsigned i, unsigned base) {
-        double f = 1, r = 0;
-        while (i > 0) {
-            f /= base;
-            r += f * (i % base);
-            i /= base;
-        }
-        return r;
-    };
+    static const Radicals table;
+    const bool held = unsigned(s) < Radicals::kCount;
+    const double r2 = held ? table.base2[s] : radical(unsigned(s), 2);
+    const double r3 = held ? table.base3[s] : radical(unsigned(s), 3);
     std::uint32_t h = std::uint32_t(x) * 0x8da6b343u ^ std::uint32_t(y) * 0xd8163841u;
     h ^= h >> 15;
     h *= 0x2c1b3c6du;
     h ^= h >> 12;
     double rx = (h & 0xffff) / 65536.0, ry = (h >> 16) / 65536.0;
-    double u = radical(unsigned(s), 2) + rx, v = radical(unsigned(s), 3) + ry;
+    double u = r2 + rx, v = r3 + ry;
     dx = u - std::floor(u) - 0.5;
     dy = v - std::floor(v) - 0.5;
 }
