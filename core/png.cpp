@@ -1,26 +1,30 @@
 // PNG encoding (png.h). Every row is Sub-filtered (each byte minus the one a pixel to
-// its left: runs of small numbers where a rendered picture is smooth) and compressed
-// with zlib's Z_RLE strategy at its fastest level (matches only against the previous
-// bytes, which is what such rows repeat): about a tenth of the raw size for a typical
-// render, several times faster than a general-purpose deflate. Strips are raw deflate
-// streams that all but the last end in a sync flush (byte-aligned, not final), so
-// their data strung together is one stream, behind one zlib header and before one
-// Adler-32 combined from the strips' own.
+// its left: zeros and runs of small numbers where a rendering is flat or evenly
+// shaded) and compressed by the project's own DEFLATE encoder (deflate.h), which looks
+// for exactly those repeats: about a tenth of the raw size for a typical render, at
+// several times the speed of zlib's fastest setting. Strips of rows are compressed
+// on several threads; all but the last end in a sync flush (an empty stored block:
+// byte-aligned, not final), so their data strung together is one stream, behind one
+// zlib header and before one Adler-32 (zlib's) combined from the strips' own.
 #include "png.h"
 
 #include <zlib.h>
 
 #include <algorithm>
 #include <cstring>
+#include <new>
 #include <thread>
 #include <vector>
+
+#include "deflate.h"
 
 namespace rt {
 
 namespace {
 
-// Rows filtered and handed to zlib at a time (they stay in the cache in between).
-constexpr int kStepRows = 16;
+// Raw bytes of filtered rows per DEFLATE block (at least one row): small enough to stay
+// in the cache between filtering and compressing, big enough to pay for a block's codes.
+constexpr std::size_t kBlockBytes = std::size_t(1) << 17;
 // Raw bytes from which a strip is worth a thread of its own.
 constexpr std::size_t kStripBytes = std::size_t(1) << 20;
 
@@ -45,43 +49,35 @@ struct Strip {
     bool ok = false;
 };
 
-// Feeds `len` bytes to the stream and appends what comes out to `out`. False on an
-// error of zlib's.
-bool deflate_into(z_stream& z, const std::uint8_t* in, std::size_t len, int flush, std::string& out) {
-    Bytef buf[1 << 15];
-    z.next_in = const_cast<Bytef*>(in);
-    z.avail_in = uInt(len);
-    do {
-        z.next_out = buf;
-        z.avail_out = sizeof buf;
-        const int rc = deflate(&z, flush);
-        if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR) return false;
-        out.append(reinterpret_cast<const char*>(buf), sizeof buf - z.avail_out);
-    } while (z.avail_out == 0);
-    return z.avail_in == 0;
-}
-
-void compress_strip(const std::uint8_t* rgb, int width, bool first, bool last, Strip& s) {
+void compress_rows(const std::uint8_t* rgb, int width, bool first, bool last, Strip& s) {
     const std::size_t stride = std::size_t(width) * 3, line = stride + 1;
-    z_stream z{};
-    if (deflateInit2(&z, 1, Z_DEFLATED, -15, 9, Z_RLE) != Z_OK) return;
-    std::vector<std::uint8_t> rows(line * kStepRows);
+    const int step = int(std::max<std::size_t>(1, kBlockBytes / line));
+    std::vector<std::uint8_t> rows(line * std::size_t(std::min(step, s.y1 - s.y0)));
     s.chunk.assign("\0\0\0\0IDAT", 8);
     if (first) s.chunk += "\x78\x01";  // zlib header: deflate, 32 KiB window, fastest
     s.adler = adler32(0, nullptr, 0);
-    bool ok = true;
-    for (int y = s.y0; y < s.y1 && ok; y += kStepRows) {
-        const int n = std::min(kStepRows, s.y1 - y);
+    DeflateWriter writer(s.chunk);
+    for (int y = s.y0; y < s.y1; y += step) {
+        const int n = std::min(step, s.y1 - y);
         for (int k = 0; k < n; ++k) filter_row(rgb + std::size_t(y + k) * stride, stride, &rows[std::size_t(k) * line]);
         const std::size_t len = line * std::size_t(n);
         s.adler = adler32(s.adler, rows.data(), uInt(len));
         s.raw += len;
-        const int flush = y + n < s.y1 ? Z_NO_FLUSH : last ? Z_FINISH : Z_SYNC_FLUSH;
-        ok = deflate_into(z, rows.data(), len, flush, s.chunk);
+        writer.block(rows.data(), len, last && y + n >= s.y1);
     }
-    deflateEnd(&z);
+    writer.finish(last);
     s.crc = crc32(0, reinterpret_cast<const Bytef*>(s.chunk.data() + 4), uInt(s.chunk.size() - 4));
-    s.ok = ok;
+    s.ok = true;
+}
+
+// On its own thread: out of memory fails the strip, not the process.
+void compress_strip(const std::uint8_t* rgb, int width, bool first, bool last, Strip& s) {
+    try {
+        compress_rows(rgb, width, first, last, s);
+    } catch (const std::bad_alloc&) {
+        s.chunk = std::string();
+        s.ok = false;
+    }
 }
 
 // A whole chunk of `type` with `data`.
@@ -98,8 +94,9 @@ void put_chunk(std::string& out, const char* type, const std::string& data) {
 bool encode_png(const std::uint8_t* rgb, int width, int height, std::string& out, int threads) {
     const std::size_t raw = (std::size_t(width) * 3 + 1) * std::size_t(height);
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
-    // Strips of at least kStripBytes each, and each chunk well within 2^31 bytes.
-    const std::size_t most = std::max<std::size_t>(1, raw / kStripBytes), least = raw / (std::size_t(1) << 30) + 1;
+    // Strips of at least kStripBytes each, and each chunk well within 2^31 bytes (even
+    // at two bytes out for every byte in).
+    const std::size_t most = std::max<std::size_t>(1, raw / kStripBytes), least = raw / (std::size_t(1) << 29) + 1;
     const int n = int(std::min<std::size_t>(std::size_t(height), std::max(least, std::min<std::size_t>(most, threads))));
     std::vector<Strip> strips{static_cast<std::size_t>(n)};
     std::vector<std::thread> helpers;

@@ -11,7 +11,7 @@ namespace rt {
 
 // Appends the PNG file of the width x height picture `rgb` (3 bytes a pixel, top row
 // first) to `out`, compressing on up to `threads` threads (0: as many as the machine
-// has). False if zlib fails (out of memory).
+// has). False if out of memory.
 bool encode_png(const std::uint8_t* rgb, int width, int height, std::string& out, int threads = 0);
 
 }  // namespace rt
