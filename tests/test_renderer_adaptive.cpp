@@ -2,14 +2,17 @@
 // refine passes): the film and every pixel's sample count are the same whatever the
 // thread count, tile order or instruction set; a threshold of 0 is the uniform render;
 // one sharp edge is refined exactly along it while flat regions keep one sample; the
-// decisions that look only near the last changes decide as a full look would; and
-// without a threshold, --samples N renders the stored reference bytes.
+// decisions that look only near the last changes decide as a full look would; renders
+// started and cancelled in any of their passes leave the last one clean; and without
+// a threshold, --samples N renders the stored reference bytes.
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "adaptive.h"
@@ -286,4 +289,48 @@ TEST_CASE("adaptive: without a threshold, --samples N renders the stored referen
         CHECK(r.progress.refining == -1);
         CHECK(to_rgb8(r.film) == expected);
     }
+}
+
+TEST_CASE("adaptive: renders started and cancelled in every kind of pass, while another thread reads; the last is clean") {
+    const auto big = compile_world(parse_ok(kScene)), small = compile_world(parse_ok(kBall));
+    Renderer r(3);
+    std::atomic<bool> stop{false}, torn{false};
+    std::atomic<long> reads{0};
+    std::thread reader([&] {
+        std::vector<std::uint8_t> rgba;
+        std::vector<std::uint32_t> counts;
+        std::uint64_t version = 0;
+        while (!stop.load()) {
+            int w = 0, h = 0;
+            r.snapshot_rgba8(rgba, w, h, version);
+            r.sample_counts(counts, w, h);
+            const RenderProgress p = r.progress();
+            if (counts.size() != std::size_t(w) * h || p.refining > std::int64_t(p.width) * p.height) torn = true;
+            ++reads;
+        }
+    });
+    RenderSettings s = adaptive(0.05, 16);
+    s.tile_size = 16;
+    for (int i = 0; i < 300; ++i) {
+        // Two sizes, adaptive and uniform, with and without previews, stopped early or late.
+        s.aa_threshold = i % 3 == 2 ? -1 : 0.05;
+        s.coarse = i % 2 == 0;
+        r.start(i % 4 < 2 ? big : small, s);
+        if (i % 5 == 0) r.wait_for(0.0005 * (i % 11));
+        if (i % 37 == 1) r.wait();
+        if (i % 3 == 1) r.cancel();
+    }
+    r.start(big, s = adaptive(0.05, 16));
+    r.wait();
+    stop = true;
+    reader.join();
+    CHECK(reads.load() > 0);
+    CHECK_FALSE(torn.load());
+    std::vector<std::uint32_t> counts;
+    int w = 0, h = 0;
+    r.sample_counts(counts, w, h);
+    const Result fresh = render(big, s, 1);
+    CHECK(r.progress().refining == 0);
+    CHECK(counts == fresh.counts);
+    CHECK(same_film(r.snapshot(), fresh.film));
 }
