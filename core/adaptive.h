@@ -30,9 +30,9 @@ inline std::uint32_t refine_count(std::uint32_t n, std::uint32_t max) {
 
 // Pixels of rows [y0, y1) to refine in the next pass: active[idx] = 1 (else 0) where
 // the pixel has n < max_samples samples and
-//   - its colour (clamped mean) differs from a neighbour's (of 8) by n * threshold or
-//     more: with one sample, it stands out; with n, an edge could still hide in the
-//     1/n of it that its samples missed, or
+//   - its colour (clamped mean) differs from a neighbour's (left, right, above or
+//     below) by n * threshold or more: with one sample, it stands out; with n, an
+//     edge could still hide in the 1/n of it that its samples missed, or
 //   - n > 1 and the standard error of the mean of its samples is threshold / 4 or more.
 // Every pixel has at least one sample. `changed` marks the pixels refined by the last
 // pass (null: decide every pixel, as the first time): only those and their neighbours

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -181,11 +182,12 @@ TEST_CASE("adaptive: one sharp edge gets more samples exactly along it, and flat
         const double along = dot(c, d);
         return along > 0 && dot(c, c) - along * along < 9;
     };
-    // Whether the first samples of the pixels within k of (x, y) fall on both sides.
+    // Whether the first samples of the pixels within k steps of (x, y) (left, right,
+    // up, down) fall on both sides.
     auto mixed = [&](int x, int y, int k) {
         for (int ny = std::max(0, y - k); ny <= std::min(h - 1, y + k); ++ny)
             for (int nx = std::max(0, x - k); nx <= std::min(w - 1, x + k); ++nx)
-                if (on_ball(nx, ny) != on_ball(x, y)) return true;
+                if (std::abs(nx - x) + std::abs(ny - y) <= k && on_ball(nx, ny) != on_ball(x, y)) return true;
         return false;
     };
     int edge = 0, refined = 0, straddling = 0;
