@@ -37,8 +37,10 @@ inline float squared(const float* c) {
 // (Every pixel has a sample by the time anything is decided; 1/1 is exactly 1.)
 // (Counts are at most 65536: through int, which converts to float in one instruction.)
 inline float inverse(std::uint32_t n) { return 1.0f / float(std::max(int(n), 1)); }
+// The same for one pixel at a time, where most have one sample: no division for them.
+inline float inverse_one(std::uint32_t n) { return n <= 1 ? 1.0f : 1.0f / float(int(n)); }
 inline void clamped_mean(const Film& film, std::size_t idx, float* rgb) {
-    const float inv = inverse(film.count[idx]);
+    const float inv = inverse_one(film.count[idx]);
     const float* s = &film.sum[3 * idx];
     rgb[0] = clamp01(s[0] * inv), rgb[1] = clamp01(s[1] * inv), rgb[2] = clamp01(s[2] * inv);
 }
@@ -54,16 +56,19 @@ bool spread(const Film& film, std::size_t idx, std::uint32_t n, const float* mea
     return variance / (n - 1) >= limit * limit;
 }
 
-// The decision for one pixel whose largest distance to a neighbour is `contrast`.
-// Samples that all agree still leave about 1/n of the pixel unseen, where an edge
-// could hide and move the mean by up to contrast / n: so a pixel that stands out keeps
-// refining until n * threshold passes its contrast, even if its samples agree.
-inline bool decide(const Film& film, std::size_t idx, const float* mean, float contrast, float threshold,
+// The decision for one pixel; contrast() gives its largest distance to a neighbour,
+// asked for only when it can matter. Samples that all agree still leave about 1/n of
+// the pixel unseen, where an edge could hide and move the mean by up to contrast / n:
+// so a pixel that stands out keeps refining until n * threshold passes its contrast,
+// even if its samples agree. (Clamped colours are at most 3 apart.)
+template <class Contrast>
+inline bool decide(const Film& film, std::size_t idx, const float* mean, Contrast contrast, float threshold,
                    int max_samples, double limit) {
     const std::uint32_t n = film.count[idx];
     if (n >= std::uint32_t(max_samples)) return false;
-    if (contrast >= threshold * float(int(n))) return true;
-    return n > 1 && spread(film, idx, n, mean, limit);
+    if (n > 1 && spread(film, idx, n, mean, limit)) return true;
+    const float needed = threshold * float(int(n));
+    return needed <= 3 && contrast() >= needed;
 }
 
 // The first decision: every pixel of rows [y0, y1), a row at a time, over planes of
@@ -80,14 +85,22 @@ std::size_t decide_all(const Film& film, float threshold, int max_samples, doubl
         if (y < 0 || y >= h) return nullptr;
         float* p = planes.data() + 3 * std::size_t(w) * std::size_t(y % 3);
         if (held[y % 3] != y) {
-            // clamped_mean(), pixel by pixel, in a loop without branches.
+            // clamped_mean(), pixel by pixel, in loops without branches; a row of one
+            // sample a pixel (every row, the first time) without the divisions.
             const std::uint32_t* count = &film.count[std::size_t(y) * w];
             const float* sum = &film.sum[3 * std::size_t(y) * w];
-            for (int x = 0; x < w; ++x) {
-                const float inv = inverse(count[x]);
-                p[x] = clamp01(sum[3 * x] * inv);
-                p[w + x] = clamp01(sum[3 * x + 1] * inv);
-                p[2 * w + x] = clamp01(sum[3 * x + 2] * inv);
+            std::uint32_t several = 0;
+            for (int x = 0; x < w; ++x) several |= count[x] - 1;
+            if (several == 0) {
+                for (int x = 0; x < w; ++x)
+                    p[x] = clamp01(sum[3 * x]), p[w + x] = clamp01(sum[3 * x + 1]), p[2 * w + x] = clamp01(sum[3 * x + 2]);
+            } else {
+                for (int x = 0; x < w; ++x) {
+                    const float inv = inverse(count[x]);
+                    p[x] = clamp01(sum[3 * x] * inv);
+                    p[w + x] = clamp01(sum[3 * x + 1] * inv);
+                    p[2 * w + x] = clamp01(sum[3 * x + 2] * inv);
+                }
             }
             held[y % 3] = y;
         }
@@ -108,8 +121,8 @@ std::size_t decide_all(const Film& film, float threshold, int max_samples, doubl
                 b[x] = b[x] > d ? b[x] : d;
             }
         }
-        // decide(), pixel by pixel: the contrast test in a loop without branches, then
-        // the spread of the few pixels with more than one sample.
+        // decide(), pixel by pixel (with every contrast at hand): the contrast test in a
+        // loop without branches, then the spread of the few with more than one sample.
         std::uint8_t* act = active + std::size_t(y) * w;
         const std::uint32_t* count = &film.count[std::size_t(y) * w];
         const std::uint32_t max = std::uint32_t(max_samples);
@@ -155,7 +168,7 @@ float contrast_at(const Film& film, int x, int y, const float* me) {
     return best;
 }
 
-// A later decision: only the pixels next to (or at) a changed one can decide anything
+// A later decision: only a changed pixel and its four neighbours can decide anything
 // but 0 (see decide_rows); each is decided alone, reading its neighbours' means.
 std::size_t decide_near(const Film& film, float threshold, int max_samples, double limit,
                         const std::uint8_t* changed, int y0, int y1, std::uint8_t* active) {
@@ -171,9 +184,12 @@ std::size_t decide_near(const Film& film, float threshold, int max_samples, doub
                 if (x0 + 8 <= w && !any_set(c + x0, 8)) continue;
                 for (int cx = x0; cx < std::min(w, x0 + 8); ++cx) {
                     if (!c[cx]) continue;
-                    // Pixels cx-1..cx+1 of row y: mark them as seen with 2, decide below.
-                    for (int x = std::max(0, cx - 1); x <= std::min(w - 1, cx + 1); ++x) act[x] |= 2;
-                    lo = std::min(lo, cx - 1), hi = std::max(hi, cx + 1);
+                    // The pixels of row y whose decision reads this one: below or above
+                    // it, or (in its own row) it and its left and right neighbours.
+                    // Mark them as seen with 2; they are decided below.
+                    const int reach = r == y ? 1 : 0;
+                    for (int x = std::max(0, cx - reach); x <= std::min(w - 1, cx + reach); ++x) act[x] |= 2;
+                    lo = std::min(lo, cx - reach), hi = std::max(hi, cx + reach);
                 }
             }
         }
@@ -182,7 +198,8 @@ std::size_t decide_near(const Film& film, float threshold, int max_samples, doub
             const std::size_t idx = std::size_t(y) * w + x;
             float me[3];
             clamped_mean(film, idx, me);
-            act[x] = decide(film, idx, me, contrast_at(film, x, y, me), threshold, max_samples, limit);
+            act[x] = decide(
+                film, idx, me, [&] { return contrast_at(film, x, y, me); }, threshold, max_samples, limit);
             marked += act[x];
         }
     }

@@ -150,8 +150,10 @@ void sample_offset(int x, int y, int s, double& dx, double& dy) {
     h ^= h >> 12;
     double rx = (h & 0xffff) / 65536.0, ry = (h >> 16) / 65536.0;
     double u = r2 + rx, v = r3 + ry;
-    dx = u - std::floor(u) - 0.5;
-    dy = v - std::floor(v) - 0.5;
+    // u and v lie in [0, 2): their floor is 0 or 1, and subtracting it is exact, so this
+    // is u - floor(u) without floor's library call (SSE2 has no rounding instruction).
+    dx = (u >= 1 ? u - 1 : u) - 0.5;
+    dy = (v >= 1 ? v - 1 : v) - 0.5;
 }
 
 void accumulate_pixel(const World& world, const CameraBasis& camera, int x, int y, int s0, int s1, float acc[3],
