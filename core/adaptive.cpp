@@ -215,22 +215,25 @@ std::size_t decide_rows(const Film& film, double threshold, int max_samples, con
     return decide_near(film, float(threshold), max_samples, limit, changed, y0, y1, active);
 }
 
-void refine_row(const World& world, const CameraBasis& camera, int x0, int y, int n, const std::uint32_t* n0,
-                const std::uint32_t* n1, float* sums, float* squares, RayStats& stats) {
+void refine_rect(const World& world, const CameraBasis& camera, int x0, int y0, int w, int h,
+                 const std::uint32_t* n0, const std::uint32_t* n1, float* sums, float* squares, RayStats& stats) {
     thread_local std::vector<Vec3> dirs;
     thread_local std::vector<Colour> colours;
     dirs.clear();
-    for (int k = 0; k < n; ++k)
+    const std::size_t n = std::size_t(w) * std::size_t(h);
+    for (std::size_t k = 0; k < n; ++k) {
+        const int x = x0 + int(k % std::size_t(w)), y = y0 + int(k / std::size_t(w));
         for (std::uint32_t s = n0[k]; s < n1[k]; ++s) {
             double dx, dy;
-            sample_offset(x0 + k, y, int(s), dx, dy);
-            dirs.push_back(normalize(camera.direction(x0 + k + dx, y + dy)));
+            sample_offset(x, y, int(s), dx, dy);
+            dirs.push_back(normalize(camera.direction(x + dx, y + dy)));
         }
+    }
     if (dirs.empty()) return;
     colours.resize(dirs.size());
     world.trace_units(camera.origin, dirs.data(), dirs.size(), stats, colours.data());
     const Colour* c = colours.data();
-    for (int k = 0; k < n; ++k) {
+    for (std::size_t k = 0; k < n; ++k) {
         if (n1[k] <= n0[k]) continue;
         float* sum = sums + 3 * k;
         float sq = n0[k] <= 1 ? squared(sum) : squares[k];
@@ -241,6 +244,11 @@ void refine_row(const World& world, const CameraBasis& camera, int x0, int y, in
         }
         squares[k] = sq;
     }
+}
+
+void refine_row(const World& world, const CameraBasis& camera, int x0, int y, int n, const std::uint32_t* n0,
+                const std::uint32_t* n1, float* sums, float* squares, RayStats& stats) {
+    refine_rect(world, camera, x0, y, n, 1, n0, n1, sums, squares, stats);
 }
 
 }  // namespace rt

@@ -48,5 +48,9 @@ std::size_t decide_rows(const Film& film, double threshold, int max_samples, con
 // go in batches through World::trace_units, which gives trace_camera's colours.
 void refine_row(const World& world, const CameraBasis& camera, int x0, int y, int n, const std::uint32_t* n0,
                 const std::uint32_t* n1, float* sums, float* squares, RayStats& stats);
+// The same for the w x h pixels from (x0, y0), the arrays row by row, all their samples
+// traced in one batch.
+void refine_rect(const World& world, const CameraBasis& camera, int x0, int y0, int w, int h,
+                 const std::uint32_t* n0, const std::uint32_t* n1, float* sums, float* squares, RayStats& stats);
 
 }  // namespace rt

@@ -521,31 +521,28 @@ bool Renderer::run_samples(const RenderTask& task, std::vector<float>& buf, RayS
     return !cancelled();
 }
 
-// A refine task: the marked pixels of its tile, row by row, into buf (the tile's sums,
-// 3 floats a pixel, then its squares); the others' places are left as they are.
+// A refine task: the marked pixels of its tile into buf (the tile's sums, 3 floats a
+// pixel, then its squares); what the others hold there is not used.
 bool Renderer::run_refine(const RenderTask& task, std::vector<float>& buf, RayStats& stats) {
     const AdaptiveJob& aa = *task.aa;
     const int w = task.x1 - task.x0, h = task.y1 - task.y0;
-    buf.resize(std::size_t(w) * h * 4);
+    const std::size_t n = std::size_t(w) * std::size_t(h);
+    buf.resize(4 * n);
     thread_local std::vector<std::uint32_t> n0, n1;
-    n0.resize(std::size_t(w));
-    n1.resize(std::size_t(w));
+    n0.resize(n);
+    n1.resize(n);
     for (int y = task.y0; y < task.y1; ++y) {
-        const std::size_t idx = std::size_t(y) * film_.width + task.x0;
-        const std::uint8_t* act = &aa.active[idx];
-        if (std::none_of(act, act + w, [](std::uint8_t a) { return a != 0; })) continue;
+        const std::size_t idx = std::size_t(y) * film_.width + task.x0, k0 = std::size_t(y - task.y0) * w;
         for (int k = 0; k < w; ++k) {
-            n0[k] = film_.count[idx + k];
-            n1[k] = act[k] ? refine_count(n0[k], std::uint32_t(aa.max_samples)) : n0[k];
+            n0[k0 + k] = film_.count[idx + k];
+            n1[k0 + k] = aa.active[idx + k] ? refine_count(n0[k0 + k], std::uint32_t(aa.max_samples)) : n0[k0 + k];
         }
-        float* sums = &buf[3 * std::size_t(y - task.y0) * w];
-        float* squares = &buf[3 * std::size_t(w) * h + std::size_t(y - task.y0) * w];
-        std::copy_n(&film_.sum[3 * idx], 3 * w, sums);
-        std::copy_n(&film_.squares[idx], w, squares);
-        refine_row(*task.world, task.camera, task.x0, y, w, n0.data(), n1.data(), sums, squares, stats);
-        if (stats.stopped || cancel_gen_.load(std::memory_order_relaxed) != task.generation) return false;
+        std::copy_n(&film_.sum[3 * idx], 3 * w, &buf[3 * k0]);
+        std::copy_n(&film_.squares[idx], w, &buf[3 * n + k0]);
     }
-    return true;
+    refine_rect(*task.world, task.camera, task.x0, task.y0, w, h, n0.data(), n1.data(), buf.data(), &buf[3 * n],
+                stats);
+    return !stats.stopped && cancel_gen_.load(std::memory_order_relaxed) == task.generation;
 }
 
 // Called with mutex_ held: a finished sample or refine task's pixels into the film.
