@@ -21,8 +21,8 @@ constexpr double kErrorShare = 0.25;
 
 // The neighbours a pixel is compared with: left, right, above, below (as POV-Ray's
 // anti-aliasing compares each pixel with the one to its left and the one above). The
-// diagonals were tried: they mark more pixels for little gain (5-8 % more rays for the
-// same error on the benchmark scenes).
+// diagonals were tried: they mark more pixels for little gain (2.5-7.5 % more rays for
+// the same error on the benchmark scenes).
 constexpr std::pair<int, int> kNeighbours[4] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
 
 inline float clamp01(float v) { return v > 0 ? (v < 1 ? v : 1) : 0; }  // NaN: 0
@@ -32,12 +32,12 @@ inline float squared(const float* c) {
     return r * r + g * g + b * b;
 }
 
-// The one definition of what the decision compares: a pixel's clamped mean (rgb), and
-// the distance of two colours, (|dr| + |dg|) + |db| in float.
-// (Every pixel has a sample by the time anything is decided; 1/1 is exactly 1.)
-// (Counts are at most 65536: through int, which converts to float in one instruction.)
+// What the decision compares: a pixel's clamped mean (its sum times 1/n, each channel
+// clamped), and the distance of two colours, (|dr| + |dg|) + |db| in float. Every pixel
+// has a sample by the time anything is decided; 1/1 is exactly 1. Counts are at most
+// 65536, so they go to float through int (one instruction, in a loop made wide).
 inline float inverse(std::uint32_t n) { return 1.0f / float(std::max(int(n), 1)); }
-// The same for one pixel at a time, where most have one sample: no division for them.
+// The same value, for one pixel at a time, where most have one sample: no division.
 inline float inverse_one(std::uint32_t n) { return n <= 1 ? 1.0f : 1.0f / float(int(n)); }
 inline void clamped_mean(const Film& film, std::size_t idx, float* rgb) {
     const float inv = inverse_one(film.count[idx]);
