@@ -9,6 +9,10 @@
 #include <cstring>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace rt {
 
 namespace {
@@ -261,6 +265,39 @@ void DeflateWriter::finish(bool after_last) {
     for (; count_ > 0; count_ = count_ > 8 ? count_ - 8 : 0, bits_ >>= 8) *at_++ = char(bits_ & 0xff);
     bits_ = 0;
     out_.append(start, std::size_t(at_ - start));
+}
+
+std::uint32_t adler32_update(std::uint32_t adler, const std::uint8_t* p, std::size_t n) {
+    constexpr std::uint32_t kBase = 65521;
+    std::uint64_t s1 = adler & 0xffff, s2 = adler >> 16;
+#if defined(__SSE2__)
+    // A block of k 16-byte chunks b: s2 += 16 k s1 + 16 (the sums of the chunks before
+    // each) + sum (16 - i) b_i; s1 += sum b_i. Blocks of at most 5552 bytes keep the
+    // 32-bit lanes from overflowing, as zlib's NMAX does.
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i high = _mm_setr_epi16(16, 15, 14, 13, 12, 11, 10, 9), low = _mm_setr_epi16(8, 7, 6, 5, 4, 3, 2, 1);
+    while (n >= 16) {
+        const std::size_t k = std::min<std::size_t>(n, 5552) / 16;
+        __m128i sums = zero, before = zero, weighted = zero;
+        for (std::size_t j = 0; j < k; ++j, p += 16) {
+            const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+            before = _mm_add_epi32(before, sums);
+            sums = _mm_add_epi32(sums, _mm_sad_epu8(b, zero));
+            weighted = _mm_add_epi32(weighted, _mm_madd_epi16(_mm_unpacklo_epi8(b, zero), high));
+            weighted = _mm_add_epi32(weighted, _mm_madd_epi16(_mm_unpackhi_epi8(b, zero), low));
+        }
+        alignas(16) std::uint32_t a[4], c[4], w[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(a), sums);
+        _mm_store_si128(reinterpret_cast<__m128i*>(c), before);
+        _mm_store_si128(reinterpret_cast<__m128i*>(w), weighted);
+        s2 += 16 * (k * s1 + std::uint64_t(c[0]) + c[2]) + std::uint64_t(w[0]) + w[1] + w[2] + w[3];
+        s1 += std::uint64_t(a[0]) + a[2];
+        s1 %= kBase, s2 %= kBase;
+        n -= 16 * k;
+    }
+#endif
+    for (; n > 0; --n) s1 += *p++, s2 += s1, s1 %= kBase, s2 %= kBase;
+    return std::uint32_t(s2 << 16 | s1);
 }
 
 }  // namespace rt

@@ -18,6 +18,10 @@ namespace rt {
 // gets 0. At least two symbols get a length, so the code is always complete.
 void huffman_code_lengths(const std::uint32_t* freq, int n, int limit, std::uint8_t* lengths);
 
+// The Adler-32 checksum a zlib stream ends with: `adler` (1 to start) continued over
+// p[0, n). The same as zlib's adler32(), 16 bytes at a time with SSE2 where there is.
+std::uint32_t adler32_update(std::uint32_t adler, const std::uint8_t* p, std::size_t n);
+
 class DeflateWriter {
 public:
     // Appends to `out`.

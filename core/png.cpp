@@ -5,7 +5,7 @@
 // several times the speed of zlib's fastest setting. Strips of rows are compressed
 // on several threads; all but the last end in a sync flush (an empty stored block:
 // byte-aligned, not final), so their data strung together is one stream, behind one
-// zlib header and before one Adler-32 (zlib's) combined from the strips' own.
+// zlib header and before one Adler-32, combined (by zlib) from the strips' own.
 #include "png.h"
 
 #include <zlib.h>
@@ -43,7 +43,7 @@ void filter_row(const std::uint8_t* row, std::size_t stride, std::uint8_t* out) 
 struct Strip {
     int y0 = 0, y1 = 0;
     std::string chunk;      // length (filled in at the end), "IDAT", the data
-    uLong adler = 0;        // of the strip's filtered bytes
+    std::uint32_t adler = 1;  // of the strip's filtered bytes
     std::size_t raw = 0;    // how many there are
     uLong crc = 0;          // of "IDAT" and the data
     bool ok = false;
@@ -55,13 +55,13 @@ void compress_rows(const std::uint8_t* rgb, int width, bool first, bool last, St
     std::vector<std::uint8_t> rows(line * std::size_t(std::min(step, s.y1 - s.y0)));
     s.chunk.assign("\0\0\0\0IDAT", 8);
     if (first) s.chunk += "\x78\x01";  // zlib header: deflate, 32 KiB window, fastest
-    s.adler = adler32(0, nullptr, 0);
+    s.adler = 1;
     DeflateWriter writer(s.chunk);
     for (int y = s.y0; y < s.y1; y += step) {
         const int n = std::min(step, s.y1 - y);
         for (int k = 0; k < n; ++k) filter_row(rgb + std::size_t(y + k) * stride, stride, &rows[std::size_t(k) * line]);
         const std::size_t len = line * std::size_t(n);
-        s.adler = adler32(s.adler, rows.data(), uInt(len));
+        s.adler = adler32_update(s.adler, rows.data(), len);
         s.raw += len;
         writer.block(rows.data(), len, last && y + n >= s.y1);
     }

@@ -133,3 +133,17 @@ TEST_CASE("deflate: Huffman code lengths are complete prefix codes within the li
         CHECK(kraft == 1.0);  // complete: no code left over, none overlapping
     }
 }
+
+TEST_CASE("deflate: adler32_update gives zlib's Adler-32 for any length, start and bytes") {
+    std::mt19937 rng(17);
+    std::vector<std::uint8_t> data(40000);
+    for (int trial = 0; trial < 300; ++trial) {
+        const std::size_t n = trial < 40 ? std::size_t(trial) : rng() % data.size();
+        const bool extreme = trial % 5 == 0;  // all 255: the sums' largest values
+        for (std::size_t i = 0; i < n; ++i) data[i] = extreme ? 255 : std::uint8_t(rng());
+        const std::uint32_t start = trial % 3 == 0 ? 1u : std::uint32_t(rng() % 65521) | std::uint32_t(rng() % 65521) << 16;
+        CAPTURE(n);
+        CAPTURE(start);
+        CHECK(adler32_update(start, data.data(), n) == std::uint32_t(adler32(start, data.data(), uInt(n))));
+    }
+}
