@@ -75,7 +75,7 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
       nav_input_(nav_),
       render_(options.threads, interactive,
               options.samples > 0 ? options.samples : (interactive ? kDefaultSamplesWindow : kDefaultSamplesHeadless),
-              options.time_limit),
+              options.time_limit, options.aa_threshold.value_or(kDefaultAaThreshold)),
       dialogs_(*this, editor_.recent()),
       tools_(options.verbose, options.threads),
       panels_(*this, editor_, nav_, render_, layout_, status_, tools_) {

@@ -16,6 +16,7 @@
 #include "film_view.h"
 #include "final_render.h"
 #include "image_view.h"
+#include "options.h"
 #include "readout.h"
 #include "region.h"
 #include "renderer.h"
@@ -189,6 +190,8 @@ private:
     std::string render_path_;
     int render_samples_ = 64;
     double render_time_limit_ = 0;
+    bool render_adaptive_ = true;  // adaptive anti-aliasing, as the viewer refines
+    double render_aa_threshold_ = kDefaultAaThreshold;
     std::string render_error_;
     // How the last final render ended, shown in the dialog until it is closed.
     enum class RenderResult { None, Saved, Failed } render_result_ = RenderResult::None;
