@@ -35,9 +35,9 @@ struct ImageFrame {
     const rt::Scene* scene = nullptr;        // the document's scene; null when it has errors
     rt::Camera view_camera;                  // the film's camera (fitted to the film in window mode)
     rt::Camera render_camera;                // the view as `raytracer` would see it at picture_size
-    int film_w = 1, film_h = 1;              // the film the app asks for
-    int pic_w = 1, pic_h = 1;                // the picture zoom and readout count in: the scene's
-                                             // picture_size in the picture frame, else the film
+    int film_w = 1, film_h = 1;              // the film the app asks for: the picture zoom, readout
+                                             // and Save Image count in (the scene's picture_size
+                                             // in the picture frame, else the window's)
     Rect area;                               // all the space for the picture (window units)
     Rect image;                              // where the app fits the film (letterboxed)
     float fb_scale = 1;                      // framebuffer pixels per window unit
@@ -104,8 +104,8 @@ public:
 private:
     enum class Compare { Off, Split, Difference };
     enum class Drag { None, Region, Pan, Split };
-    int pic_w() const { return std::max(1, f_.pic_w); }
-    int pic_h() const { return std::max(1, f_.pic_h); }
+    int pic_w() const { return std::max(1, f_.film_w); }
+    int pic_h() const { return std::max(1, f_.film_h); }
     // The film on screen matches the one asked for (it lags a frame after a resize).
     bool film_ready() const {
         return f_.film && f_.renderer && f_.film->width() == f_.film_w && f_.film->height() == f_.film_h;
@@ -122,7 +122,7 @@ private:
     void draw_pixel_grid(ImDrawList* dl, const PictureGeometry& g);
     void draw_region_outline(ImDrawList* dl, const PictureGeometry& g);
     void draw_split_labels(ImDrawList* dl, const PictureGeometry& g, const std::string& a);
-    void draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a);
+    void draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a, const Snapshot& snap);
     void draw_zoom_label(ImDrawList* dl, const PictureGeometry& g);
     // draw_panel() in steps, along its sections.
     void draw_display_controls();
