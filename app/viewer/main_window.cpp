@@ -41,11 +41,13 @@ private:
 // ImGui 1.86 samples key state once per frame and has no input queue, so fast input
 // (a quick tap, or xdotool) goes wrong in three ways: a key pressed and released
 // between two frames is never seen; Ctrl released in the same batch as the S it
-// modifies turns Ctrl+S into S; and a character typed in the same frame as a Ctrl
-// press is dropped (text fields ignore characters while Ctrl is down). So key and
-// character events pass through a small queue: a release waits for the frame after
-// its press, and a key press waits for the frame after pending characters. Events
-// keep their order; the queue is drained after every frame.
+// modifies turns Ctrl+S into S; a character typed in the same frame as a Ctrl press
+// is dropped (text fields ignore characters while Ctrl is down); and a key pressed
+// again in the frame its release reaches looks held, not pressed anew (the second of
+// two quick Backspaces is lost). So key and character events pass through a small
+// queue: a release waits for the frame after its press, a key press waits for the
+// frame after pending characters or after that key's release. Events keep their
+// order; the queue is drained after every frame.
 struct InputEvent {
     bool is_char;
     int key, scancode, action, mods;
@@ -53,12 +55,15 @@ struct InputEvent {
 };
 std::vector<InputEvent> g_waiting;  // for the next frame
 bool g_frame_has_press = false, g_frame_has_chars = false;
+std::vector<int> g_frame_released;  // keys released for this frame
 
 void route(GLFWwindow* w, const InputEvent& e) {
     ++g_events;
     bool wait = !g_waiting.empty();  // never overtake an earlier event
     if (!wait && !e.is_char) {
-        if (e.action == GLFW_PRESS) wait = g_frame_has_chars;
+        if (e.action == GLFW_PRESS)
+            wait = g_frame_has_chars ||
+                   std::find(g_frame_released.begin(), g_frame_released.end(), e.key) != g_frame_released.end();
         else if (e.action == GLFW_RELEASE) wait = g_frame_has_press;
     }
     if (wait) {
@@ -70,6 +75,7 @@ void route(GLFWwindow* w, const InputEvent& e) {
         ImGui_ImplGlfw_CharCallback(w, e.codepoint);
     } else {
         if (e.action == GLFW_PRESS) g_frame_has_press = true;
+        if (e.action == GLFW_RELEASE) g_frame_released.push_back(e.key);
         ImGui_ImplGlfw_KeyCallback(w, e.key, e.scancode, e.action, e.mods);
     }
 }
@@ -82,6 +88,7 @@ void char_callback(GLFWwindow* w, unsigned c) { route(w, {true, 0, 0, 0, 0, c});
 // After a frame: the waiting events get their turn (and may wait again).
 void next_frame_input(GLFWwindow* w) {
     g_frame_has_press = g_frame_has_chars = false;
+    g_frame_released.clear();
     std::vector<InputEvent> events;
     events.swap(g_waiting);
     for (const InputEvent& e : events) route(w, e);
