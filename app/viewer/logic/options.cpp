@@ -183,6 +183,7 @@ std::string help_text(bool headless_binary) {
              "  in the text: Ctrl+F find (Enter next, Shift+Enter previous), Ctrl+G go to line\n"
              "  Ctrl+Q               quit (asks about unsaved changes)\n"
              "  F12                  screenshot of the whole window\n"
+             "  Tab                  hide / show the sidebar (drag its edge to resize it)\n"
              "The picture (display only; saved images are unchanged):\n"
              "  + / - / 0            exposure one stop up / down / back to 0\n"
              "  T                    soft tone curve / clip     O  stripe clipped pixels\n"
@@ -195,7 +196,7 @@ std::string help_text(bool headless_binary) {
              "  Ctrl+R               render to file at the scene's picture_size\n"
              "  Ctrl+= / Ctrl+- / Ctrl+0   UI size larger / smaller / 100%\n"
              "Recent files: $XDG_CONFIG_HOME/raytracer-view/recent.txt (or ~/.config/...),\n"
-             "the UI size: settings.txt beside it.\n";
+             "the UI size and the sidebar's width: settings.txt beside it.\n";
     }
     return s;
 }

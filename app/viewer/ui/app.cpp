@@ -388,10 +388,10 @@ void ViewerApp::update_layout() {
     float s = ImGui::GetFontSize() / 13.f;  // the UI scale the host chose
     l.menu_h = ImGui::GetFrameHeight();
     l.status_h = std::floor(ImGui::GetFrameHeight() + 8 * s);
-    // Wide enough for the property fields' labels and numbers at this UI scale.
-    const float narrowest = std::max(320 * s, panels_.min_sidebar_width());
-    l.sidebar_w = std::floor(std::clamp(W * 0.34f, narrowest, std::max(narrowest, 470 * s)));
-    if (l.sidebar_w > W * 0.6f) l.sidebar_w = std::floor(W * 0.6f);
+    // Wide enough for the property fields' labels and numbers at this UI scale, unless
+    // the user chose a width (dragging its edge) or hid it (Tab).
+    const float content = std::max(320 * s, panels_.min_sidebar_width());
+    l.sidebar_w = l.sidebar_hidden ? 0.f : sidebar_width(W, float(tools_.ui_scale()), content, tools_.settings().sidebar_width());
     l.status_h = std::max(l.status_h, panels_.status_height(W - l.sidebar_w));
     l.area = {0, double(l.menu_h), std::max(1.0, double(W - l.sidebar_w)), std::max(1.0, double(H - l.menu_h - l.status_h))};
     const Document& doc = editor_.doc();
@@ -479,6 +479,11 @@ void ViewerApp::handle_shortcuts() {
         if (imgui_key_pressed(ImGuiKey_Space)) run(Command::TogglePause);
         if (key_pressed(kKeyF)) run(Command::FrameScene);
         if (key_pressed(kKeyR)) run(Command::ResetView);
+        // The picture alone, as Tab hides the panels of image editors.
+        if (imgui_key_pressed(ImGuiKey_Tab) && !io.KeyShift && !ImGui::IsAnyItemActive()) {
+            layout_.sidebar_hidden = !layout_.sidebar_hidden;
+            status_.set(layout_.sidebar_hidden ? "Sidebar hidden (Tab shows it)" : "Sidebar shown (drag its edge to resize)");
+        }
     }
 }
 

@@ -91,6 +91,9 @@ public:
     bool busy() const;
     // The UI scale the user asked for (saved); true once after each change.
     double ui_scale() const { return settings_.ui_scale(); }
+    // All the saved settings (the sidebar keeps its width there too).
+    UiSettings& settings() { return settings_; }
+    const UiSettings& settings() const { return settings_; }
     bool take_ui_scale_change();
     // Zoomed or panned: the app's picking must use this image rectangle.
     Rect image_rect() const;

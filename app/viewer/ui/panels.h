@@ -53,6 +53,7 @@ public:
     float min_sidebar_width();
 
 private:
+    void draw_sidebar_edge();
     void draw_camera_panel();
     void draw_objects_tab();
     void draw_outline();
@@ -91,6 +92,7 @@ private:
         std::string text;
         float extra = 0;
     } status_more_;
+    float edge_grab_ = 0;  // where on the sidebar's edge the drag began
     bool scroll_to_selection_ = false;
     int want_tab_ = -1;  // select this tab on the next frame
     int current_tab_ = 0;

@@ -14,6 +14,7 @@ namespace rtview {
 // Where everything is this frame (ImGui logical coordinates) and the film it implies.
 struct Layout {
     float menu_h = 0, status_h = 0, sidebar_w = 0;
+    bool sidebar_hidden = false;  // Tab: the picture alone
     float fb_scale = 1;
     Rect area;   // all space for the image
     Rect image;  // where the film is drawn (letterboxed in picture mode; zoomed by the picture tools)
