@@ -188,6 +188,7 @@ std::string help_text(bool headless_binary) {
              "  + / - / 0            exposure one stop up / down / back to 0\n"
              "  T                    soft tone curve / clip     O  stripe clipped pixels\n"
              "  hover                pixel, linear RGB, samples, object hit and distance\n"
+             "  Ctrl+C               copy that readout to the clipboard (or: right click, Copy pixel)\n"
              "  Ctrl+wheel           zoom about the cursor      1  1:1    Home  fit\n"
              "                       (the same render: zoom and pan only place it on the screen)\n"
              "  Ctrl+right drag      pan the picture (not the camera)\n"

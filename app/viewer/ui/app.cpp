@@ -272,6 +272,11 @@ void ViewerApp::probe_frame() {
     probe("popups", popups.empty() ? "none" : popups);
     probe("readout", tools_.readout_line().empty() ? "none" : tools_.readout_line());
     const rt::RenderProgress p = render_.progress();
+    // What another program would paste, once something was copied.
+    if (!tools_.copied().empty()) {
+        const char* clip = ImGui::GetClipboardText();
+        probe("clipboard", clip ? clip : "");
+    }
     // The picture rendered (not its place on the screen), and how far it has come.
     probe("film", std::to_string(p.width) + "x" + std::to_string(p.height) + " " + std::to_string(p.samples) +
                       " spp generation " + std::to_string(p.generation));
@@ -763,6 +768,7 @@ void ViewerApp::handle_context_menu(bool usable) {
         // A right drag pans; only a click (the pointer stayed put) opens the menu.
         if (std::hypot(mx - rclick_x_, my - rclick_y_) < 4 && usable) {
             menu_prev_selection_ = panels_.selection();
+            menu_readout_ = tools_.readout_line();  // the menu takes the hover away
             select_at(rclick_x_, rclick_y_);
             ImGui::OpenPopup("image_menu");
         }
@@ -806,6 +812,9 @@ void ViewerApp::draw_context_menu() {
             ImGui::EndMenu();
         }
     }
+    ImGui::Separator();
+    // The pixel's readout, as the status line showed it.
+    if (ImGui::MenuItem("Copy pixel", "Ctrl+C", false, !menu_readout_.empty())) tools_.copy_pixel(menu_readout_);
     ImGui::EndPopup();
 }
 

@@ -82,6 +82,13 @@ void ImageTools::message(const std::string& text, bool error) {
     }
 }
 
+void ImageTools::copy_pixel(const std::string& readout) {
+    if (readout.empty()) return;
+    ImGui::SetClipboardText(readout.c_str());
+    copied_ = readout;
+    message("Copied to the clipboard: " + readout);
+}
+
 bool ImageTools::take_message(std::string& text, bool& error) {
     if (!has_message_) return false;
     text = message_;
@@ -162,6 +169,7 @@ void ImageTools::handle_keys() {
         if (zero) s = 1;
         set_ui_scale(s);
         if (f_.keys_free && key_pressed(kKeyR) && !io.KeyShift && f_.scene) open_render_dialog();
+        if (f_.keys_free && key_pressed(kKeyC) && !io.KeyShift && !readout_text_.empty()) copy_pixel(readout_text_);
         return;
     }
     if (!f_.keys_free || io.KeyAlt || io.KeySuper) return;
@@ -456,6 +464,7 @@ void ImageTools::draw() {
         else if (compare_ == Compare::Difference) draw_difference_legend(dl, g, a, *snap);
     }
     if (!view_.fitted()) draw_zoom_label(dl, g);
+    draw_display_badge(dl, g);
     dl->PopClipRect();
     probe("zoom", view_.fitted() ? "fit" : std::to_string(g.ratio));
 }
@@ -559,6 +568,18 @@ void ImageTools::draw_difference_legend(ImDrawList* dl, const PictureGeometry& g
     char end[32];
     std::snprintf(end, sizeof end, "%.3g", 1.0 / (1 << diff_scale_log2_));
     label(dl, ImVec2(bx + gw + fs * 0.6f, gy - fs * 0.15f), std::string("0 .. ") + end);
+}
+
+// While the picture is shown otherwise than saved (exposure, tone curve, clipped
+// marks): a badge saying so in its bottom-left corner.
+void ImageTools::draw_display_badge(ImDrawList* dl, const PictureGeometry& g) {
+    const std::string text = display_badge(display_);
+    probe("display_badge", text.empty() ? "none" : text);
+    if (text.empty()) return;
+    const float fs = ImGui::GetFontSize();
+    const ImVec2 sz = ImGui::CalcTextSize(text.c_str());
+    const float x = std::max(g.p0.x, g.a0.x) + fs * 0.6f, y = std::min(g.p1.y, g.a1.y) - sz.y - fs * 0.6f;
+    label(dl, ImVec2(x, y), text, rgba(255, 215, 120));
 }
 
 // The zoom in the area's corner, when not fitted.

@@ -78,6 +78,10 @@ public:
 
     // The readout of the pixel under the cursor; empty when it is not over the picture.
     const std::string& readout_line() const { return readout_text_; }
+    // Puts a pixel's readout on the clipboard (Ctrl+C over the picture, the picture's
+    // context menu); copied() is the last text put there.
+    void copy_pixel(const std::string& readout);
+    const std::string& copied() const { return copied_; }
     // A message for the status bar (taken once).
     bool take_message(std::string& text, bool& error);
     // The app keeps its render as it is while a region refines (the rest keeps its
@@ -126,6 +130,7 @@ private:
     void draw_region_outline(ImDrawList* dl, const PictureGeometry& g);
     void draw_split_labels(ImDrawList* dl, const PictureGeometry& g, const std::string& a);
     void draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a, const Snapshot& snap);
+    void draw_display_badge(ImDrawList* dl, const PictureGeometry& g);
     void draw_zoom_label(ImDrawList* dl, const PictureGeometry& g);
     // draw_panel() in steps, along its sections.
     void draw_display_controls();
@@ -197,6 +202,8 @@ private:
     std::string render_result_text_;
     bool focus_render_path_ = false;
     bool render_scene_camera_ = false;  // the scene's camera instead of the view
+
+    std::string copied_;
 
     std::string message_;
     bool message_error_ = false;
