@@ -50,6 +50,9 @@ TEST_CASE("bad arguments are reported, not guessed") {
     CHECK_FALSE(o.aa_threshold);
     CHECK(parse({"--aa-threshold", "0.25"}, o).empty());
     CHECK(o.aa_threshold == 0.25);
+    CHECK(parse({"--aa-threshold", "off"}, o).empty());  // every pixel the same samples
+    CHECK(o.aa_threshold == -1);
+    CHECK_FALSE(parse({"--aa-threshold", "Off"}, o).empty());
 }
 
 TEST_CASE("help describes every option of both binaries") {

@@ -19,6 +19,7 @@
 #include <utility>
 
 #include "default_scene.h"
+#include "layout.h"
 #include "image_io.h"
 #include "scene_edits.h"
 #include "scene_writer.h"
@@ -212,7 +213,9 @@ void ViewerApp::frame() {
     panels_.draw_menu_bar();
     panels_.draw_sidebar();
     panels_.draw_status_bar(load_status());
-    dialogs_.draw(doc.name(), !doc.path().empty(), layout_.fit == FitMode::Window ? "window size" : "picture frame");
+    const std::string image_kind = std::string(layout_.fit == FitMode::Window ? "the window's picture, " : "the scene's picture, ") +
+                                   std::to_string(layout_.film_w) + "x" + std::to_string(layout_.film_h);
+    dialogs_.draw(doc.name(), !doc.path().empty(), image_kind.c_str());
     tools_.draw_popups();
 
     // The view follows real edits of the scene camera (panel fields, undo, reload).
@@ -241,8 +244,16 @@ void ViewerApp::frame() {
     if (doc.has_scene() || render_.started()) {
         // While the view moves, the UI thread's own preview; else the film as the
         // picture tools show it (zoom, display mapping, A/B, region).
-        if (render_.showing_preview()) render_.draw(layout_.image, layout_.fb_scale);
-        else tools_.draw();
+        if (render_.showing_preview()) {
+            // Zoomed, the picture reaches past the area: the preview stays within it.
+            ImDrawList* dl = ImGui::GetBackgroundDrawList();
+            const Rect& a = layout_.area;
+            dl->PushClipRect(ImVec2(float(a.x), float(a.y)), ImVec2(float(a.x + a.w), float(a.y + a.h)), true);
+            render_.draw(layout_.image, layout_.fb_scale);
+            dl->PopClipRect();
+        } else {
+            tools_.draw();
+        }
         // Over the picture, not in the film: a saved image stays clean.
         if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
             move_.draw(doc, panels_.selection(), screen_view(), layout_.image, layout_.area, layout_.film_w, layout_.film_h);
@@ -272,7 +283,19 @@ void ViewerApp::probe_frame() {
         probe("pointer", pointer);
     }
     const rt::RenderProgress p = render_.progress();
+    // What another program would paste, once something was copied.
+    if (!tools_.copied().empty()) {
+        const char* clip = ImGui::GetClipboardText();
+        probe("clipboard", clip ? clip : "");
+    }
+    // The picture rendered (not its place on the screen), and how far it has come.
+    probe("film", std::to_string(p.width) + "x" + std::to_string(p.height) + " " + std::to_string(p.samples) +
+                      " spp generation " + std::to_string(p.generation));
     probe("render", std::to_string(p.samples) + " " + (p.done ? "done" : p.running ? "running" : "idle"));
+    // As raytracer's options would ask for this render (scripts render its twin).
+    probe("render_settings", "--samples " + std::to_string(render_.max_samples()) +
+                                 (render_.aa_threshold() >= 0 ? " --aa-threshold " + rt::format_number(render_.aa_threshold())
+                                                               : std::string()));
     probe("diagnostics", std::to_string(doc.diagnostics().size()) +
                              (doc.diagnostics().empty() ? "" : " " + doc.diagnostics().front().message));
     probe("text", std::string(doc.editor_dirty() ? "unapplied" : "applied") + (doc.text_behind() ? " behind" : ""));
@@ -300,6 +323,9 @@ std::uint64_t ViewerApp::visible_key() const {
     mix(tools_.busy());
     mix(tools_.final_render_running());
     mix_text(tools_.readout_line());
+    // A zoom key changes where the picture is after this frame's layout was made.
+    const Rect zoomed = tools_.image_rect();
+    for (double v : {zoomed.x, zoomed.y, zoomed.w, zoomed.h}) mix(std::uint64_t(std::llround(v * 16)));
     const rt::RenderProgress p = render_.progress();
     mix(p.generation);
     mix(std::uint64_t(p.samples));
@@ -384,36 +410,28 @@ void ViewerApp::update_layout() {
     float s = ImGui::GetFontSize() / 13.f;  // the UI scale the host chose
     l.menu_h = ImGui::GetFrameHeight();
     l.status_h = std::floor(ImGui::GetFrameHeight() + 8 * s);
-    // Wide enough for the property fields' labels and numbers at this UI scale.
-    const float narrowest = std::max(320 * s, panels_.min_sidebar_width());
-    l.sidebar_w = std::floor(std::clamp(W * 0.34f, narrowest, std::max(narrowest, 470 * s)));
-    if (l.sidebar_w > W * 0.6f) l.sidebar_w = std::floor(W * 0.6f);
+    // Wide enough for the property fields' labels and numbers at this UI scale, unless
+    // the user chose a width (dragging its edge) or hid it (Tab).
+    const float content = std::max(320 * s, panels_.min_sidebar_width());
+    l.sidebar_w = l.sidebar_hidden ? 0.f : sidebar_width(W, float(tools_.ui_scale()), content, tools_.settings().sidebar_width());
     l.status_h = std::max(l.status_h, panels_.status_height(W - l.sidebar_w));
     l.area = {0, double(l.menu_h), std::max(1.0, double(W - l.sidebar_w)), std::max(1.0, double(H - l.menu_h - l.status_h))};
     const Document& doc = editor_.doc();
     if (l.fit == FitMode::Picture && doc.has_scene()) {
-        // The scene's picture, letterboxed at its aspect and rendered at the size it
-        // is shown: what `raytracer` makes of the same camera at that size.
-        l.image = letterbox(l.area, doc.scene().width, doc.scene().height);
+        // The scene's picture, at its picture_size (what `raytracer` makes of the same
+        // camera, and what Save Image writes), shown letterboxed at its aspect.
+        l.fit_image = letterbox(l.area, doc.scene().width, doc.scene().height);
+        picture_film_size(doc.scene().width, doc.scene().height, l.film_w, l.film_h);
     } else {
-        l.image = l.area;
+        // The window's own picture, one pixel per framebuffer pixel.
+        l.fit_image = l.area;
+        l.film_w = std::max(1, int(std::lround(l.area.w * l.fb_scale)));
+        l.film_h = std::max(1, int(std::lround(l.area.h * l.fb_scale)));
     }
-    l.film_w = std::max(1, int(std::lround(l.image.w * l.fb_scale)));
-    l.film_h = std::max(1, int(std::lround(l.image.h * l.fb_scale)));
-    l.fit_image = l.image;
+    l.image = l.fit_image;
+    // Zoom and pan place that film; they never change it (the render goes on).
     if (!tools_.fitted()) {
-        // Zoomed or panned: in the picture frame the film is the scene's own picture,
-        // so that 1:1 shows the pixels `raytracer` writes; in window mode it stays
-        // the window's. The picture tools place it.
-        // (Up to 4096x4096 pixels: a larger picture_size would take gigabytes of film;
-        // it is magnified from the shown size instead.)
-        if (l.fit == FitMode::Picture && doc.has_scene() &&
-            std::int64_t(doc.scene().width) * doc.scene().height <= std::int64_t(4096) * 4096) {
-            l.film_w = doc.scene().width;
-            l.film_h = doc.scene().height;
-        }
-        ImageFrame f = image_frame(ImGui::GetTime());
-        tools_.begin(f);
+        tools_.begin(image_frame(ImGui::GetTime()));
         l.image = tools_.image_rect();
     }
 }
@@ -435,13 +453,6 @@ ImageFrame ViewerApp::image_frame(double now) {
     }
     f.film_w = layout_.film_w;
     f.film_h = layout_.film_h;
-    if (layout_.fit == FitMode::Picture && doc.has_scene()) {
-        f.pic_w = doc.scene().width;
-        f.pic_h = doc.scene().height;
-    } else {
-        f.pic_w = layout_.film_w;
-        f.pic_h = layout_.film_h;
-    }
     f.area = layout_.area;
     f.image = layout_.fit_image;
     f.fb_scale = layout_.fb_scale;
@@ -490,6 +501,11 @@ void ViewerApp::handle_shortcuts() {
         if (imgui_key_pressed(ImGuiKey_Space)) run(Command::TogglePause);
         if (key_pressed(kKeyF)) run(Command::FrameScene);
         if (key_pressed(kKeyR)) run(Command::ResetView);
+        // The picture alone, as Tab hides the panels of image editors.
+        if (imgui_key_pressed(ImGuiKey_Tab) && !io.KeyShift && !ImGui::IsAnyItemActive()) {
+            layout_.sidebar_hidden = !layout_.sidebar_hidden;
+            status_.set(layout_.sidebar_hidden ? "Sidebar hidden (Tab shows it)" : "Sidebar shown (drag its edge to resize)");
+        }
     }
 }
 
@@ -774,6 +790,7 @@ void ViewerApp::handle_context_menu(bool usable) {
         // A right drag pans; only a click (the pointer stayed put) opens the menu.
         if (std::hypot(mx - rclick_x_, my - rclick_y_) < 4 && usable) {
             menu_prev_selection_ = panels_.selection();
+            menu_readout_ = tools_.readout_line();  // the menu takes the hover away
             select_at(rclick_x_, rclick_y_);
             ImGui::OpenPopup("image_menu");
         }
@@ -817,6 +834,9 @@ void ViewerApp::draw_context_menu() {
             ImGui::EndMenu();
         }
     }
+    ImGui::Separator();
+    // The pixel's readout, as the status line showed it.
+    if (ImGui::MenuItem("Copy pixel", "Ctrl+C", false, !menu_readout_.empty())) tools_.copy_pixel(menu_readout_);
     ImGui::EndPopup();
 }
 
@@ -870,7 +890,10 @@ rt::Status ViewerApp::remember_recent(const std::string& path) {
     return editor_.recent().add(path);
 }
 
+// The film as rendered so far: in the picture frame the scene's picture at its
+// picture_size (zoom and pan only place it on the screen), else the window's.
 void ViewerApp::do_save_image(const std::string& path) {
+    const rt::RenderProgress p = render_.progress();
     rt::Image img = render_.snapshot();
     if (img.width < 1) {
         status_.set("There is no image to save yet", true);
@@ -881,8 +904,18 @@ void ViewerApp::do_save_image(const std::string& path) {
         return;
     }
     const rt::Status st = rt::write_image(path, img);
-    if (st) status_.set("Wrote " + path + " (" + std::to_string(img.width) + "x" + std::to_string(img.height) + ")");
-    else status_.set("Cannot write " + path + ": " + st.message(), true);
+    if (!st) {
+        status_.set("Cannot write " + path + ": " + st.message(), true);
+        return;
+    }
+    std::string what = std::to_string(img.width) + "x" + std::to_string(img.height) + ", " + std::to_string(p.samples) +
+                       (p.done ? "" : " of " + std::to_string(render_.max_samples())) + " samples per pixel";
+    const Document& doc = editor_.doc();
+    if (layout_.fit == FitMode::Window) what += ", the window's picture (View > Picture frame saves picture_size)";
+    else if (doc.has_scene() && (img.width != doc.scene().width || img.height != doc.scene().height))
+        what += ", smaller than picture_size " + std::to_string(doc.scene().width) + "x" +
+                std::to_string(doc.scene().height) + " (Render to file makes it)";
+    status_.set("Wrote " + path + " (" + what + ")");
 }
 
 // ---------------------------------------------------------------------------------

@@ -155,6 +155,7 @@ private:
     double rclick_x_ = 0, rclick_y_ = 0;
     double place_x_ = -1, place_y_ = -1;  // where AddItem puts things (screen); < 0: image centre
     Selection menu_prev_selection_;       // the selection before the right click (for CSG)
+    std::string menu_readout_;            // the pixel readout where it was opened
     std::string screenshot_request_;
     std::string last_title_, last_layout_;
     double last_disk_check_ = 0;

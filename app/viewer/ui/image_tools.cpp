@@ -83,6 +83,13 @@ void ImageTools::message(const std::string& text, bool error) {
     }
 }
 
+void ImageTools::copy_pixel(const std::string& readout) {
+    if (readout.empty()) return;
+    ImGui::SetClipboardText(readout.c_str());
+    copied_ = readout;
+    message("Copied to the clipboard: " + readout);
+}
+
 bool ImageTools::take_message(std::string& text, bool& error) {
     if (!has_message_) return false;
     text = message_;
@@ -111,7 +118,7 @@ ViewTransform ImageTools::transform() const {
         t.sy = f_.image.h / pic_h();
         return t;
     }
-    return view_.transform(f_.area, pic_w(), pic_h());
+    return view_.transform(f_.area, pic_w(), pic_h(), f_.fb_scale);
 }
 
 Rect ImageTools::image_rect() const { return transform().image(pic_w(), pic_h()); }
@@ -163,6 +170,7 @@ void ImageTools::handle_keys() {
         if (zero) s = 1;
         set_ui_scale(s);
         if (f_.keys_free && key_pressed(kKeyR) && !io.KeyShift && f_.scene) open_render_dialog();
+        if (f_.keys_free && key_pressed(kKeyC) && !io.KeyShift && !readout_text_.empty()) copy_pixel(readout_text_);
         return;
     }
     if (!f_.keys_free || io.KeyAlt || io.KeySuper) return;
@@ -327,9 +335,15 @@ void ImageTools::update_compare() {
         if (same && compare_made_time_ >= 0 && f_.now - compare_made_time_ < kDiffRefresh &&
             !f_.renderer->progress().done)
             return;
+        // Pixel by pixel only: a snapshot of another size (the window's picture before a
+        // resize) shows another view, and resampling it would count every edge.
+        if (snap->image.width != w || snap->image.height != h) {
+            compare_made_id_ = -1;  // nor is the side-by-side texture a difference image
+            compare_made_w_ = compare_made_h_ = 0;
+            return;
+        }
         rt::Image live = f_.film->linear_picture(*f_.renderer, f_.now);
-        rt::Image a = snap->image.width == w && snap->image.height == h ? snap->image : resample_nearest(snap->image, w, h);
-        if (!difference_rgba8(a, live, std::exp2(double(diff_scale_log2_)), bytes, &diff_stats_)) return;
+        if (!difference_rgba8(snap->image, live, std::exp2(double(diff_scale_log2_)), bytes, &diff_stats_)) return;
         compare_made_film_ = f_.film->updates();
     }
     compare_texture_.upload(bytes, w, h, {0, 0, w, h});
@@ -434,7 +448,9 @@ void ImageTools::draw() {
     g.a1 = ImVec2(float(f_.area.x + f_.area.w), float(f_.area.y + f_.area.h));
     g.p0 = ImVec2(float(g.img.x), float(g.img.y));
     g.p1 = ImVec2(float(g.img.x + g.img.w), float(g.img.y + g.img.h));
-    g.nearest = g.ratio >= 1 - 1e-6;
+    // Sharp pixels from 1:1 up once zoomed; fitted, a picture_size film is shown
+    // smoothly at the letterbox's size.
+    g.nearest = view_.fitted() ? std::fabs(g.ratio - 1) < 1e-6 : g.ratio >= 1 - 1e-6;
     g.comparing = compare_ != Compare::Off && compare_texture_.valid() && compare_made_w_ == f_.film->width() &&
                   compare_made_h_ == f_.film->height();
     f_.texture->set_nearest(g.nearest);
@@ -442,13 +458,16 @@ void ImageTools::draw() {
     draw_picture(dl, g);
     if (g.ratio >= kGridRatio) draw_pixel_grid(dl, g);
     draw_region_outline(dl, g);
-    if (const Snapshot* snap = compared(); g.comparing && snap) {
+    const Snapshot* snap = compared();
+    if (snap && compare_ != Compare::Off) {
         const std::string a = "A  snapshot " + std::to_string(snap->id) + "  " + clock_time(snap->time);
-        if (compare_ == Compare::Split) draw_split_labels(dl, g, a);
-        else draw_difference_legend(dl, g, a);
+        if (compare_ == Compare::Split && g.comparing) draw_split_labels(dl, g, a);
+        else if (compare_ == Compare::Difference) draw_difference_legend(dl, g, a, *snap);
     }
     if (!view_.fitted()) draw_zoom_label(dl, g);
+    draw_display_badge(dl, g);
     dl->PopClipRect();
+    probe("zoom", view_.fitted() ? "fit" : std::to_string(g.ratio));
 }
 
 // The live picture; or, comparing, the difference image, or snapshot | live either
@@ -523,12 +542,22 @@ void ImageTools::draw_split_labels(ImDrawList* dl, const PictureGeometry& g, con
 }
 
 // What the difference image compares, its statistics and its scale: black (no
-// difference) to white (1 / scale or more).
-void ImageTools::draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a) {
+// difference) to white (1 / scale or more); or why there is none.
+void ImageTools::draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a,
+                                        const Snapshot& snap) {
     const float fs = ImGui::GetFontSize();
     char buf[160];
+    if (!g.comparing) {
+        if (snap.image.width == f_.film->width() && snap.image.height == f_.film->height()) return;  // on its way
+        std::snprintf(buf, sizeof buf, "The snapshot is %dx%d, the picture %dx%d: no difference image (K keeps a new one)",
+                      snap.image.width, snap.image.height, f_.film->width(), f_.film->height());
+        label(dl, ImVec2(std::max(g.p0.x, g.a0.x) + fs * 0.5f, std::max(g.p0.y, g.a0.y) + fs * 0.5f), buf);
+        probe("difference", std::string("sizes differ: ") + buf);
+        return;
+    }
     std::snprintf(buf, sizeof buf, "|A - B| x %d   max %.4g   mean %.3g   %zu pixels differ", 1 << diff_scale_log2_,
                   diff_stats_.max_abs, diff_stats_.mean_abs, diff_stats_.differing);
+    probe("difference", buf);
     float top = std::max(g.p0.y, g.a0.y) + fs * 0.5f;
     label(dl, ImVec2(std::max(g.p0.x, g.a0.x) + fs * 0.5f, top), a + "  vs  live");
     float by = top + fs * 1.8f, bx = std::max(g.p0.x, g.a0.x) + fs * 0.5f;
@@ -540,6 +569,18 @@ void ImageTools::draw_difference_legend(ImDrawList* dl, const PictureGeometry& g
     char end[32];
     std::snprintf(end, sizeof end, "%.3g", 1.0 / (1 << diff_scale_log2_));
     label(dl, ImVec2(bx + gw + fs * 0.6f, gy - fs * 0.15f), std::string("0 .. ") + end);
+}
+
+// While the picture is shown otherwise than saved (exposure, tone curve, clipped
+// marks): a badge saying so in its bottom-left corner.
+void ImageTools::draw_display_badge(ImDrawList* dl, const PictureGeometry& g) {
+    const std::string text = display_badge(display_);
+    probe("display_badge", text.empty() ? "none" : text);
+    if (text.empty()) return;
+    const float fs = ImGui::GetFontSize();
+    const ImVec2 sz = ImGui::CalcTextSize(text.c_str());
+    const float x = std::max(g.p0.x, g.a0.x) + fs * 0.6f, y = std::min(g.p1.y, g.a1.y) - sz.y - fs * 0.6f;
+    label(dl, ImVec2(x, y), text, rgba(255, 215, 120));
 }
 
 // The zoom in the area's corner, when not fitted.
@@ -614,13 +655,16 @@ void ImageTools::draw_compare_controls() {
     if (compare_ == Compare::Difference) {
         ImGui::SetNextItemWidth(ImGui::GetFontSize() * 10);
         int s = diff_scale_log2_;
-        if (ImGui::SliderInt("difference scale", &s, 0, 10, "x %d", ImGuiSliderFlags_NoInput)) {
+        // The slider moves through powers of two and shows the factor itself: its
+        // format is the factor's text (ImGui prints a format without '%' as it is).
+        const std::string factor = "x " + std::to_string(1 << s);
+        char shown[32];
+        std::snprintf(shown, sizeof shown, factor.c_str(), s);
+        probe("difference_scale", shown);
+        if (ImGui::SliderInt("difference scale", &s, 0, 10, factor.c_str(), ImGuiSliderFlags_NoInput)) {
             diff_scale_log2_ = s;
             compare_made_id_ = -1;
         }
-        // The slider shows the exponent's power of two.
-        ImGui::SameLine();
-        ImGui::Text("(x %d)", 1 << diff_scale_log2_);
     }
 }
 

@@ -14,6 +14,7 @@
 #include "camera_control.h"
 #include "item_fields.h"
 #include "number_field.h"
+#include "layout.h"
 #include "probe.h"
 #include "scene_schema.h"
 #include "readout.h"
@@ -210,6 +211,8 @@ void Panels::draw_menu_bar() {
         if (ImGui::MenuItem("Fill the window", nullptr, layout_.fit == FitMode::Window)) commands_.run(Command::FitWindow);
         ImGui::Separator();
         if (ImGui::MenuItem("Pause rendering", "Space", render_.paused())) commands_.run(Command::TogglePause);
+        if (ImGui::MenuItem("Sidebar (drag its edge to resize)", "Tab", !layout_.sidebar_hidden))
+            layout_.sidebar_hidden = !layout_.sidebar_hidden;
         ImGui::Separator();
         tools_.view_menu_items();
         ImGui::EndMenu();
@@ -268,6 +271,7 @@ std::string Panels::selection_name(const Selection& s) {
 
 void Panels::draw_sidebar() {
     probe("selection", selection_name(selection_));
+    if (layout_.sidebar_hidden) return;
     ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - layout_.sidebar_w, layout_.menu_h));
     ImGui::SetNextWindowSize(ImVec2(layout_.sidebar_w, io.DisplaySize.y - layout_.menu_h));
@@ -304,6 +308,42 @@ void Panels::draw_sidebar() {
         ImGui::EndTabBar();
     }
     ImGui::End();
+    draw_sidebar_edge();
+}
+
+// The sidebar's left edge, a few pixels either side: dragging it sets the sidebar's
+// width, kept in the settings once the button is released.
+void Panels::draw_sidebar_edge() {
+    ImGuiIO& io = ImGui::GetIO();
+    const float W = io.DisplaySize.x, ui = float(tools_.ui_scale());
+    const float grip = std::max(6.f, std::round(ImGui::GetFontSize() * 0.4f));
+    const float edge = W - layout_.sidebar_w;
+    ImGui::SetNextWindowPos(ImVec2(edge - grip / 2, layout_.menu_h));
+    ImGui::SetNextWindowSize(ImVec2(grip, io.DisplaySize.y - layout_.menu_h));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowMinSize, ImVec2(1, 1));
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoBackground |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
+                                   ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoFocusOnAppearing;
+    if (ImGui::Begin("##sidebar_edge", nullptr, flags)) {
+        ImGui::InvisibleButton("edge", ImVec2(grip, io.DisplaySize.y - layout_.menu_h));
+        const bool active = ImGui::IsItemActive();
+        if (ImGui::IsItemActivated()) edge_grab_ = (W - io.MousePos.x) - layout_.sidebar_w;
+        if (ImGui::IsItemHovered() || active) {
+            ImGui::SetMouseCursor(ImGuiMouseCursor_ResizeEW);
+            ImGui::GetWindowDrawList()->AddLine(ImVec2(edge, layout_.menu_h), ImVec2(edge, io.DisplaySize.y),
+                                                ImGui::GetColorU32(ImGuiCol_SeparatorActive), 2);
+        }
+        if (active) {
+            const float w = std::clamp(W - io.MousePos.x - edge_grab_, sidebar_min_width(W, ui), sidebar_max_width(W, ui));
+            (void)tools_.settings().set_sidebar_width(w / ui, false);  // saved on release
+        }
+        if (ImGui::IsItemDeactivated())
+            if (rt::Status st = tools_.settings().set_sidebar_width(layout_.sidebar_w / ui); !st)
+                status_.set("The sidebar's width was not saved: " + st.message(), true);
+    }
+    ImGui::End();
+    ImGui::PopStyleVar(2);
 }
 
 void Panels::draw_camera_panel() {
@@ -802,56 +842,69 @@ void Panels::draw_render_tab() {
 namespace {
 
 // Pieces of status-bar text flowed into rows: a piece stays on the current row if it
-// fits (with its separator), else it starts a row of its own at the left, wrapped at
-// the bar's right edge. Returns the height of the rows below the first; draws them
-// when `draw`.
+// fits (with its separator), else it starts a row of its own at the left, broken at
+// spaces where it is wider than the bar (never inside a number), and what follows goes
+// on after it. Returns the height of the rows below the first; draws them when `draw`,
+// and gives their text in `shown` (for --print-layout).
 struct StatusPiece {
     std::string text;
     const char* sep = "";
     const ImVec4* colour = nullptr;
 };
 
-float flow_status(const std::vector<StatusPiece>& pieces, float x, float left, float right, bool draw) {
+float flow_status(const std::vector<StatusPiece>& pieces, float x, float left, float right, bool draw,
+                  std::vector<std::string>* shown = nullptr) {
     const ImGuiStyle& st = ImGui::GetStyle();
+    const auto measure = [](std::string_view t) { return ImGui::CalcTextSize(t.data(), t.data() + t.size()).x; };
     float extra = 0;
     bool first = true;
     for (const StatusPiece& p : pieces) {
         const std::string joined = p.sep + p.text;
-        const float w = ImGui::CalcTextSize(joined.c_str()).x;
+        const float w = measure(joined);
         const bool fits = x + w <= right;
+        const std::vector<std::string> rows = fits ? std::vector<std::string>{joined} : wrap_words(p.text, right - left, measure);
+        if (shown) {
+            if (fits && !shown->empty()) shown->back() += (first ? "" : " ") + joined;
+            else shown->insert(shown->end(), rows.begin(), rows.end());
+        }
         if (draw) {
             if (p.colour) ImGui::PushStyleColor(ImGuiCol_Text, *p.colour);
-            if (fits) {
-                if (!first) ImGui::SameLine();
-                ImGui::TextUnformatted(joined.c_str());
-            } else {
-                if (first) ImGui::NewLine();
-                ImGui::SetCursorPosX(left);
-                ImGui::PushTextWrapPos(right);
-                ImGui::TextUnformatted(p.text.c_str());
-                ImGui::PopTextWrapPos();
+            for (std::size_t k = 0; k < rows.size(); ++k) {
+                if (fits && !first) ImGui::SameLine();
+                if (!fits && first && k == 0) ImGui::NewLine();
+                if (!fits) ImGui::SetCursorPosX(left);
+                ImGui::TextUnformatted(rows[k].c_str());
             }
             if (p.colour) ImGui::PopStyleColor();
         }
         if (fits) {
             x += w + st.ItemSpacing.x;
         } else {
-            extra += ImGui::CalcTextSize(p.text.c_str(), nullptr, false, right - left).y + st.ItemSpacing.y;
-            x = right;  // what follows starts a row of its own
+            extra += float(rows.size()) * (ImGui::GetTextLineHeight() + st.ItemSpacing.y);
+            x = left + measure(rows.back()) + st.ItemSpacing.x;
         }
         first = false;
     }
     return extra;
 }
 
-// "spp" names the progress bar's numbers: it stays beside them.
+// "spp" names the progress bar's numbers: it stays beside them. The groups of a
+// pixel readout ("RGB 0.107 0.107 0.125", three spaces apart) each move to the next
+// row whole.
 void add_status_line(std::vector<StatusPiece>& pieces, const std::string& text) {
+    std::string rest = text;
+    const char* sep = "";
     if (text.rfind("spp  ", 0) == 0) {
         pieces.push_back({"spp"});
-        pieces.push_back({text.substr(5), " "});
-    } else {
-        pieces.push_back({text});
+        rest = text.substr(5);
+        sep = " ";
     }
+    for (std::size_t at = rest.find("   "); at != std::string::npos; at = rest.find("   ")) {
+        pieces.push_back({rest.substr(0, at), sep});
+        rest.erase(0, at + 3);
+        sep = "   ";
+    }
+    pieces.push_back({rest, sep});
 }
 
 // The status bar's window padding (unscaled, as its one row always had).
@@ -978,10 +1031,12 @@ void Panels::status_text(const std::string& text, bool show_message) {
     std::vector<StatusPiece> shown;
     add_status_line(shown, text);
     if (show_message) shown = with_message(status_, std::move(shown));
+    std::vector<std::string> rows;
     const float extra = flow_status(shown, ImGui::GetCursorPosX(), ImGui::GetWindowContentRegionMin().x,
-                                    ImGui::GetWindowContentRegionMax().x, true);
-    std::string all;
+                                    ImGui::GetWindowContentRegionMax().x, true, &rows);
+    std::string all, drawn;
     for (const StatusPiece& p : shown) all += p.sep + p.text;
+    for (const std::string& r : rows) drawn += (drawn.empty() ? "" : " || ") + r;
     probe("status_bar", all);
     if (show_message && status_.error()) {
         // Errors stay until the next message or until dismissed here.
@@ -989,6 +1044,7 @@ void Panels::status_text(const std::string& text, bool show_message) {
         if (ImGui::SmallButton("x##dismiss")) status_.set("");
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("Dismiss this message");
     }
+    probe("status_rows", drawn);
     const float width = ImGui::GetWindowWidth();
     if (extra > usual_status_extra(width)) status_more_ = {width, ImGui::GetFontSize(), status_.text(), extra};
 }

@@ -54,6 +54,7 @@ public:
     static std::string selection_name(const Selection& s);
 
 private:
+    void draw_sidebar_edge();
     void draw_camera_panel();
     void draw_scene_camera_fields(float speed);
     void draw_objects_tab();
@@ -93,6 +94,7 @@ private:
         std::string text;
         float extra = 0;
     } status_more_;
+    float edge_grab_ = 0;  // where on the sidebar's edge the drag began
     bool scroll_to_selection_ = false;
     int want_tab_ = -1;  // select this tab on the next frame
     int current_tab_ = 0;

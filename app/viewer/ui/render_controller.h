@@ -92,6 +92,7 @@ public:
     int threads() const { return renderer_.threads(); }
 
     int max_samples() const { return max_samples_; }
+    double aa_threshold() const { return aa_threshold_; }
     void set_max_samples(int n);
     double time_limit() const { return time_limit_; }
     void set_time_limit(double s);

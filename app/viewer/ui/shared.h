@@ -14,11 +14,12 @@ namespace rtview {
 // Where everything is this frame (ImGui logical coordinates) and the film it implies.
 struct Layout {
     float menu_h = 0, status_h = 0, sidebar_w = 0;
+    bool sidebar_hidden = false;  // Tab: the picture alone
     float fb_scale = 1;
     Rect area;   // all space for the image
     Rect image;  // where the film is drawn (letterboxed in picture mode; zoomed by the picture tools)
     Rect fit_image;  // where it is drawn unzoomed
-    int film_w = 1, film_h = 1;
+    int film_w = 1, film_h = 1;  // the picture rendered: picture_size in the picture frame, else the area's
     FitMode fit = FitMode::Picture;
     // Rectangles of some panels, for --print-layout.
     Rect camera_panel, editor, diagnostics, outline;

@@ -29,7 +29,7 @@ type_major() {
     read -r fx fy fw fh <<< "$(state field_major)"
     xdotool mousemove $((fx + fw / 4)) $((fy + fh / 2)) keydown ctrl click 1 keyup ctrl
     idle 0.5
-    [ "$2" = blocked ] || wait_state typing "^major active$"
+    [ "${2:-}" = blocked ] || wait_state typing "^major active$"
     type_text "$1"
     key Return
 }

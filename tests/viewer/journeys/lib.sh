@@ -166,16 +166,20 @@ select_nothing() {
 }
 
 # The picture on the screen equals `raytracer`'s render of the saved $SCENE at the
-# image's size (nothing selected, the render settled).
+# film's size (in the picture frame, picture_size), drawn at the image's size as the
+# viewer's texture is (nothing selected, the render settled, not zoomed).
 picture_agrees() {
     local name=$1
     image_region
     wait_state selection "^none$" 10
     wait_state render "done" 60
+    IMAGE=$(region image)
     wait_stable "$name-shown"
-    "$BIN/raytracer" --quiet --samples "$(state render | awk '{ print $1 }')" --width "$iw" --height "$ih" \
-        "$SCENE" "$OUT/$name-ref.ppm" || fail "$name: raytracer could not render the saved text"
-    "$TOOL" match "$OUT/$name-shown.png" $IMAGE "$OUT/$name-ref.ppm" ||
+    # The render's own settings (its samples, adaptive or not: raytracer's options).
+    # shellcheck disable=SC2046
+    "$BIN/raytracer" --quiet $(state render_settings) --width "$(field film 1)" \
+        --height "$(field film 2)" "$SCENE" "$OUT/$name-ref.ppm" || fail "$name: raytracer could not render the saved text"
+    "$TOOL" match-scaled "$OUT/$name-shown.png" $IMAGE "$OUT/$name-ref.ppm" ||
         fail "$name: the picture differs from raytracer's render of the saved text"
 }
 
