@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "document.h"
+#include "move_handle.h"
 #include "scene_edits.h"
 #include "scene_parser.h"
 #include "viewer_test_util.h"
@@ -44,6 +45,30 @@ std::string check_edit(const std::string& text, const SceneEdit& e, const rt::Sc
 double dist(rt::Vec3 a, rt::Vec3 b) { return rt::length(a - b); }
 
 }  // namespace
+
+TEST_CASE("scene edits: a CSG operand moves alone, and the move handle sits on it") {
+    const rt::Scene s = parse_ok(kScene);
+    const SceneItem lens{SceneItem::Kind::Object, 4};
+    const auto& before = std::get<rt::Csg>(s.objects[4].shape);
+    rt::Object o = s.objects[4];
+    REQUIRE(translate_operand(o, {0}, {0, 1, 0}));
+    const auto& after = std::get<rt::Csg>(o.shape);
+    CHECK(std::get<rt::Sphere>(after.operands[0].shape).position == rt::Vec3{7, 0.7, 2.2});
+    CHECK(after.operands[1] == before.operands[1]);
+    CHECK(o.material == s.objects[4].material);
+    // An empty path is the whole object; a path to nothing moves nothing.
+    rt::Object whole = s.objects[4];
+    REQUIRE(translate_operand(whole, {}, {0, 1, 0}));
+    CHECK(std::get<rt::Sphere>(std::get<rt::Csg>(whole.shape).operands[1].shape).position == rt::Vec3{7, 1.5, 2.2});
+    CHECK_FALSE(translate_operand(o, {2}, {1, 0, 0}));
+    CHECK_FALSE(translate_operand(o, {0, 0}, {1, 0, 0}));
+    CHECK(std::get<rt::Sphere>(after.operands[0].shape).position == rt::Vec3{7, 0.7, 2.2});
+
+    CHECK(item_anchor(s, lens, {0}) == rt::Vec3{7, -0.3, 2.2});
+    CHECK(item_anchor(s, lens, {1}) == rt::Vec3{7, 0.5, 2.2});
+    CHECK_FALSE(item_anchor(s, lens, {0, 1}));
+    CHECK_FALSE(item_anchor(s, {SceneItem::Kind::Light, 0}, {0}));
+}
 
 TEST_CASE("scene edits: delete each object, plane and light") {
     const std::string text = kScene;

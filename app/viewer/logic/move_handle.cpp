@@ -177,8 +177,8 @@ rt::Vec3 MoveDrag::delta(const ScreenView& view, double x, double y, double snap
     return d;
 }
 
-std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& item) {
-    if (item.index < 0) return std::nullopt;
+std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& item, const std::vector<int>& path) {
+    if (item.index < 0 || (!path.empty() && item.kind != SceneItem::Kind::Object)) return std::nullopt;
     std::size_t i = std::size_t(item.index);
     switch (item.kind) {
         case SceneItem::Kind::Light:
@@ -189,11 +189,13 @@ std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& ite
             return scene.planes[i].point[0];
         case SceneItem::Kind::Object: {
             if (i >= scene.objects.size()) return std::nullopt;
-            const rt::Shape& s = scene.objects[i].shape;
+            const rt::Object* o = operand_of(scene.objects[i], path);
+            if (!o) return std::nullopt;
+            const rt::Shape& s = o->shape;
             if (const auto* sp = std::get_if<rt::Sphere>(&s)) return sp->position;
             if (const auto* t = std::get_if<rt::Torus>(&s)) return t->position;
             rt::Scene one;
-            one.objects.assign(1, scene.objects[i]);
+            one.objects.assign(1, *o);
             rt::Aabb b = rt::build_geometry(one, false).object_bounds[0];
             if (b.empty()) return std::nullopt;
             return b.centre();

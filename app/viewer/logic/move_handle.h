@@ -6,6 +6,7 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "scene.h"
 #include "scene_edits.h"
@@ -80,8 +81,9 @@ private:
     bool ok_ = false;
 };
 
-// The point a handle sits on for an item: a sphere's or torus's centre, a light's
-// position, a plane's first point, else the centre of the item's bounds.
-std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& item);
+// The point a handle sits on for an item (or the CSG operand `path` names below an
+// object): a sphere's or torus's centre, a light's position, a plane's first point,
+// else the centre of the item's bounds.
+std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& item, const std::vector<int>& path = {});
 
 }  // namespace rtview

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "scene_text.h"
@@ -297,6 +298,27 @@ void translate(rt::Plane& p, Vec3 d) {
 }
 
 void translate(rt::Light& l, Vec3 d) { move_point(l.position, d); }
+
+const rt::Object* operand_of(const rt::Object& top, const std::vector<int>& path) {
+    const rt::Object* o = &top;
+    for (int k : path) {
+        const auto* g = std::get_if<rt::Csg>(&o->shape);
+        if (!g || k < 0 || std::size_t(k) >= g->operands.size()) return nullptr;
+        o = &g->operands[std::size_t(k)];
+    }
+    return o;
+}
+
+rt::Object* operand_of(rt::Object& top, const std::vector<int>& path) {
+    return const_cast<rt::Object*>(operand_of(std::as_const(top), path));
+}
+
+bool translate_operand(rt::Object& top, const std::vector<int>& path, Vec3 d) {
+    rt::Object* o = operand_of(top, path);
+    if (!o) return false;
+    translate(*o, d);
+    return true;
+}
 
 double typical_size(const rt::Scene& scene) {
     // Half the box diagonal over sqrt(3): a sphere's radius for a sphere.

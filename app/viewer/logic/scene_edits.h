@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "scene.h"
 
@@ -82,5 +83,12 @@ std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Sc
 void translate(rt::Object& o, rt::Vec3 d);
 void translate(rt::Plane& p, rt::Vec3 d);
 void translate(rt::Light& l, rt::Vec3 d);
+
+// The CSG operand `path` names below `top` (0 = left, 1 = right at each level; top
+// itself for an empty path), or null when there is none.
+const rt::Object* operand_of(const rt::Object& top, const std::vector<int>& path);
+rt::Object* operand_of(rt::Object& top, const std::vector<int>& path);
+// Moves only that operand (the rest of the CSG stays); false if there is none.
+bool translate_operand(rt::Object& top, const std::vector<int>& path, rt::Vec3 d);
 
 }  // namespace rtview

@@ -265,6 +265,14 @@ void ViewerApp::probe_frame() {
     probe("diagnostics", std::to_string(doc.diagnostics().size()) +
                              (doc.diagnostics().empty() ? "" : " " + doc.diagnostics().front().message));
     probe("text", std::string(doc.editor_dirty() ? "unapplied" : "applied") + (doc.text_behind() ? " behind" : ""));
+    const Selection& sel = panels_.selection();
+    std::string selected = sel.kind == Selection::Kind::Object  ? "object"
+                           : sel.kind == Selection::Kind::Plane ? "plane"
+                           : sel.kind == Selection::Kind::Light ? "light"
+                                                                : "none";
+    if (sel.kind != Selection::Kind::None) selected += " " + std::to_string(sel.index + 1);
+    for (int k : sel.path) selected += k == 0 ? " left" : " right";
+    probe("selection", selected);
 }
 
 std::uint64_t ViewerApp::visible_key() const {
@@ -766,16 +774,21 @@ void ViewerApp::draw_context_menu() {
     if (!ImGui::BeginPopup("image_menu")) return;
     const Selection& sel = panels_.selection();
     const rt::Scene& scene = editor_.doc().scene();
+    // (probe_item: where the rows are, for scripts that click them)
     if (ImGui::BeginMenu("Add here")) {
         static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
-        for (const char* k : kinds)
-            if (ImGui::MenuItem(k)) {
+        for (const char* k : kinds) {
+            const bool chosen = ImGui::MenuItem(k);
+            probe_item(std::string("menu:") + k);
+            if (chosen) {
                 place_x_ = rclick_x_;
                 place_y_ = rclick_y_;
                 run(Command::AddItem, k);
             }
+        }
         ImGui::EndMenu();
     }
+    probe_item("menu:Add here");
     bool has = sel.kind != Selection::Kind::None;
     if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) run(Command::Duplicate);
     if (ImGui::MenuItem("Delete", "Del", false, has)) run(Command::Delete);
@@ -959,13 +972,16 @@ std::string ViewerApp::layout_text() const {
     const Document& doc = editor_.doc();
     std::optional<SceneItem> item = item_of_selection(panels_.selection());
     std::optional<rt::Vec3> anchor;
-    if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item);
+    const std::vector<int>& path = panels_.selection().path;
+    if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item, path);
     std::optional<ScreenPoint> at;
     if (anchor) at = screen_view().project(*anchor);
     if (at) {
         const char* kind = item->kind == SceneItem::Kind::Object ? "object" : item->kind == SceneItem::Kind::Plane ? "plane" : "light";
         s += "handle " + std::to_string(std::lround(at->x * fb)) + " " + std::to_string(std::lround(at->y * fb)) + " " +
-             kind + " " + std::to_string(item->index + 1) + "\n";
+             kind + " " + std::to_string(item->index + 1);
+        for (int k : path) s += k == 0 ? " left" : " right";  // an operand: "object 4 left"
+        s += "\n";
     }
     else s += "handle none\n";
     for (const auto& [key, value] : probes()) s += "state " + key + " " + value + "\n";

@@ -49,7 +49,7 @@ void MoveTool::apply(Document& doc, RenderController& render, const rt::Vec3& d)
         case SceneItem::Kind::Object: {
             rt::Object& o = doc.edit_object(i);
             o = g.object;
-            translate(o, d);
+            translate_operand(o, g.path, d);
             // Only this object changed: the renderer refits its BVH instead of building it.
             render.note_moved(int(i), before);
             break;
@@ -105,7 +105,7 @@ bool MoveTool::handle_mouse(Document& doc, const Selection& sel, const ScreenVie
     hover_ = HandlePart::None;
     std::optional<SceneItem> item = item_of_selection(sel);
     if (!usable || !item || !doc.has_scene() || doc.editing()) return false;
-    std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item);
+    std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item, sel.path);
     if (!anchor) return false;
     HandleShape h = handle_shape(view, *anchor, kArrow * s);
     bool over = !io.WantCaptureMouse && image.contains(mx, my);
@@ -113,7 +113,7 @@ bool MoveTool::handle_mouse(Document& doc, const Selection& sel, const ScreenVie
     if (hover_ == HandlePart::None || !ImGui::IsMouseClicked(0)) return hover_ != HandlePart::None && ImGui::IsMouseDown(0);
     const rt::Scene& scene = doc.scene();
     std::size_t i = std::size_t(item->index);
-    drag_.emplace(*item, MoveDrag(hover_, *anchor, view, mx, my));
+    drag_.emplace(*item, sel.path, MoveDrag(hover_, *anchor, view, mx, my));
     drag_->snap = snap_step(scene_extent(scene));
     if (item->kind == SceneItem::Kind::Object) drag_->object = scene.objects[i];
     else if (item->kind == SceneItem::Kind::Plane) drag_->plane = scene.planes[i];
@@ -211,7 +211,7 @@ void MoveTool::draw(const Document& doc, const Selection& sel, const ScreenView&
     std::optional<SceneItem> item = item_of_selection(sel);
     std::optional<rt::Vec3> anchor;
     if (drag_) anchor = drag_->drag.anchor() + drag_->last;
-    else if (item) anchor = item_anchor(doc.scene(), *item);
+    else if (item) anchor = item_anchor(doc.scene(), *item, sel.path);
     if (anchor) {
         HandleShape h = handle_shape(view, *anchor, kArrow * s);
         if (h.visible) {

@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "document.h"
 #include "move_handle.h"
@@ -44,8 +46,9 @@ public:
 
 private:
     struct Drag {
-        Drag(SceneItem i, const MoveDrag& d) : item(i), drag(d) {}
+        Drag(SceneItem i, std::vector<int> p, const MoveDrag& d) : item(i), path(std::move(p)), drag(d) {}
         SceneItem item;
+        std::vector<int> path;  // a CSG operand of the object: only it moves
         MoveDrag drag;
         rt::Object object;
         rt::Plane plane;

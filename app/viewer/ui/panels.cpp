@@ -129,6 +129,18 @@ bool material_editor(const char* id, rt::Material& m) {
     return changed;
 }
 
+// Where the menu bar's next header is drawn ("menu:Edit"), for scripts that open it
+// (probe.h): its rectangle is known before BeginMenu() draws it.
+void probe_menu_header(const char* label) {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    const float fb = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.f;
+    const ImVec2 p = ImGui::GetCursorScreenPos();
+    const float w = ImGui::CalcTextSize(label).x + st.ItemSpacing.x, h = ImGui::GetFrameHeight();
+    probe(std::string("menu:") + label, std::to_string(std::lround(p.x * fb)) + " " + std::to_string(std::lround(p.y * fb)) +
+                                            " " + std::to_string(std::lround(w * fb)) + " " +
+                                            std::to_string(std::lround(h * fb)));
+}
+
 }  // namespace
 
 
@@ -138,6 +150,7 @@ bool material_editor(const char* id, rt::Material& m) {
 void Panels::draw_menu_bar() {
     if (!ImGui::BeginMainMenuBar()) return;
     const Document& doc = editor_.doc();
+    probe_menu_header("File");
     if (ImGui::BeginMenu("File")) {
         if (ImGui::MenuItem("Open...", "Ctrl+O")) commands_.run(Command::OpenDialog);
         if (ImGui::BeginMenu("Open Recent")) {
@@ -158,6 +171,7 @@ void Panels::draw_menu_bar() {
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) commands_.run(Command::Quit);
         ImGui::EndMenu();
     }
+    probe_menu_header("Edit");
     if (ImGui::BeginMenu("Edit")) {
         if (ImGui::MenuItem("Undo", "Ctrl+Z", false, doc.can_undo() || doc.editing())) commands_.run(Command::Undo);
         if (ImGui::MenuItem("Redo", "Ctrl+Y", false, doc.can_redo())) commands_.run(Command::Redo);
@@ -185,6 +199,7 @@ void Panels::draw_menu_bar() {
             commands_.run(Command::SwitchLight);
         ImGui::EndMenu();
     }
+    probe_menu_header("View");
     if (ImGui::BeginMenu("View")) {
         if (ImGui::MenuItem("Frame the scene", "F")) commands_.run(Command::FrameScene);
         if (ImGui::MenuItem("Reset the view to the scene camera", "R")) commands_.run(Command::ResetView);
@@ -201,6 +216,7 @@ void Panels::draw_menu_bar() {
         tools_.view_menu_items();
         ImGui::EndMenu();
     }
+    probe_menu_header("Help");
     if (ImGui::BeginMenu("Help")) {
         if (ImGui::MenuItem("Mouse and keys...")) commands_.run(Command::Help);
         ImGui::EndMenu();
@@ -315,6 +331,13 @@ void Panels::draw_camera_panel() {
         double v3[3] = {va.azimuth, va.elevation, va.distance};
         if (ImGui::DragScalarN("az, el, dist", ImGuiDataType_Double, v3, 3, 0.25f, nullptr, nullptr, "%.2f"))
             nav_.set(set_view_angles(view, nav_.world_up(), {v3[0], std::clamp(v3[1], -89.0, 89.0), std::max(v3[2], 1e-6)}));
+        {
+            char shown[160];  // what the panel shows of the view, for scripts (probe.h)
+            std::snprintf(shown, sizeof shown, "%.2f %.2f %.2f", v3[0], v3[1], v3[2]);
+            probe("view_angles", shown);
+            std::snprintf(shown, sizeof shown, "%.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
+            probe("view_eye", shown);
+        }
         if (layout_.fit == FitMode::Window && doc.has_scene()) {
             rt::Camera vc = fit_camera_to_aspect(view, layout_.film_w, layout_.film_h);
             char fitted[96];
@@ -383,6 +406,11 @@ void Panels::draw_object_node(const rt::Object& obj, int top, std::vector<int>& 
     if (csg) f |= ImGuiTreeNodeFlags_DefaultOpen;
     else f |= ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen;
     bool open = ImGui::TreeNodeEx("node", f, "%s", label.c_str());
+    if (!path.empty()) {  // an operand's row, for scripts (probe.h): "row:object:4:left"
+        std::string key = "row:object:" + std::to_string(top + 1);
+        for (int k : path) key += k == 0 ? ":left" : ":right";
+        probe_item(key);
+    }
     if (ImGui::IsItemClicked() && !ImGui::IsItemToggledOpen()) selection_ = me;
     if (selection_ == me && scroll_to_selection_) {
         ImGui::SetScrollHereY();
@@ -451,6 +479,7 @@ void Panels::draw_outline() {
             const rt::Light& l = s.lights[std::size_t(k)];
             ImGui::PushID(k);
             leaf({Selection::Kind::Light, k, {}}, std::to_string(k + 1) + "  " + (l.lamp ? "lamp" : "spotlight") + "  at " + fmt_vec(l.position));
+            if (k < 64) probe_item("row:light:" + std::to_string(k + 1));
             ImGui::PopID();
         }
         ImGui::TreePop();
@@ -535,9 +564,11 @@ void Panels::draw_fields(const ItemRef& ref) {
     char vec_format[16];
     std::snprintf(vec_format, sizeof vec_format, "%%.%df", std::clamp(4 - int(std::floor(std::log10(size))), 3, 9));
     int operand = 0;
+    std::string shown;  // the fields drawn, for scripts (probe.h)
     for (const Field& f : fields) {
         std::optional<FieldValue> cur = field_value(doc.scene(), ref, f);
         if (!cur) continue;
+        shown += (shown.empty() ? "" : ",") + f.label;
         FieldValue v = *cur;
         ImGui::PushID(f.label.c_str());
         ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
@@ -554,6 +585,7 @@ void Panels::draw_fields(const ItemRef& ref) {
             wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
         ImGui::PopID();
     }
+    probe("fields", shown);
 }
 
 // The widget of one field of the kind the schema gives it, editing `v`; true if it
@@ -620,6 +652,9 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
 // A light's colour is an intensity (often >> 1 because of the 1/r^2 fall-off): its three
 // numbers, and the same as a tint and a strength.
 bool Panels::light_colour_editor(rt::Vec3& colour) {
+    char shown[128];  // what the field shows, for scripts (probe.h)
+    std::snprintf(shown, sizeof shown, "%.3f %.3f %.3f", colour.x, colour.y, colour.z);
+    probe("field:colour", shown);
     bool changed = drag_vec3("colour", colour, float(std::max({colour.x, colour.y, colour.z, 1.0}) * 0.005));
     double intensity = std::max({colour.x, colour.y, colour.z, 0.0});
     rt::Vec3 tint = intensity > 0 ? colour / intensity : rt::Vec3{1, 1, 1};
@@ -636,6 +671,7 @@ bool Panels::light_colour_editor(rt::Vec3& colour) {
     if (ImGui::DragScalar("intensity", ImGuiDataType_Double, &intensity, float(std::max(intensity * 0.005, 0.01)), &zero,
                           nullptr, "%.2f"))
         tinted = true;
+    probe_item("field:intensity");
     if (tinted) {
         colour = tint * intensity;
         changed = true;

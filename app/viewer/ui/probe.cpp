@@ -1,7 +1,10 @@
 // The frame's probe records (see probe.h).
 #include "probe.h"
 
+#include <imgui.h>
+
 #include <algorithm>
+#include <cmath>
 
 namespace rtview {
 
@@ -18,6 +21,13 @@ void probe(const std::string& key, const std::string& value) {
             return;
         }
     g_probes.emplace_back(key, std::move(v));
+}
+
+void probe_item(const std::string& key) {
+    const float fb = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.f;
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    probe(key, std::to_string(std::lround(a.x * fb)) + " " + std::to_string(std::lround(a.y * fb)) + " " +
+                   std::to_string(std::lround((b.x - a.x) * fb)) + " " + std::to_string(std::lround((b.y - a.y) * fb)));
 }
 
 const std::vector<std::pair<std::string, std::string>>& probes() { return g_probes; }

@@ -153,3 +153,39 @@ save() {
     key ctrl+s
     wait_state title '^[^*]* - raytracer-view$' 10
 }
+
+# item_xy KEY: the centre of a rectangle the last frame drew under state KEY (probe_item:
+# menu rows "menu:NAME", outline rows "row:object:4:left", fields "field:NAME").
+item_xy() {
+    local r
+    r=$(state "$1")
+    [ -n "$r" ] || fail "'$1' is not on the screen"
+    echo "$r" | awk '{ printf "%d %d\n", $1 + $3 / 2, $2 + $4 / 2 }'
+}
+# click_item KEY: waits until KEY is on the screen, then clicks its centre.
+click_item() {
+    local x y
+    wait_state "$1" '^-?[0-9]+ -?[0-9]+ [0-9]+ [0-9]+$' 5
+    read -r x y <<< "$(item_xy "$1")"
+    click "$x" "$y"
+}
+# drag X0 Y0 X1 Y1 [BUTTON]: presses at (X0, Y0), moves to (X1, Y1) in 20 steps a frame
+# or so apart, releases.
+drag() {
+    local x0=$1 y0=$2 x1=$3 y1=$4 b=${5:-1} i
+    xdotool mousemove "$x0" "$y0"
+    sleep 0.1
+    xdotool mousedown "$b"
+    for i in $(seq 1 20); do
+        xdotool mousemove $((x0 + (x1 - x0) * i / 20)) $((y0 + (y1 - y0) * i / 20))
+        sleep 0.03
+    done
+    sleep 0.1
+    xdotool mouseup "$b"
+}
+# deselect: a click on the picture's top edge (the sky in the example scenes) selects
+# nothing, so no outline or handle is drawn over the picture.
+deselect() {
+    click $((ix + iw / 2)) $((iy + 6))
+    wait_state selection '^none$' 5
+}
