@@ -18,6 +18,7 @@
 #include "readout.h"
 #include "scene_text.h"
 #include "scene_writer.h"
+#include "shown_numbers.h"
 
 namespace rtview {
 
@@ -104,8 +105,12 @@ bool material_editor(const char* id, rt::Material& m) {
         if (k.kind == sc::Kind::Vec3) {
             rt::Vec3& c = k.access.vec3(m, 0);
             float col[3] = {float(c.x), float(c.y), float(c.z)};
-            if (ImGui::ColorEdit3(label.c_str(), col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR)) {
-                c = {col[0], col[1], col[2]};
+            const bool edited = ImGui::ColorEdit3(label.c_str(), col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR);
+            probe_item(std::string("field:") + id + ":" + label);
+            if (edited) {
+                // The channels as the widget shows them (three decimals); the others
+                // as they were, not as a float holds them.
+                c = {from_widget(c.x, col[0], 3), from_widget(c.y, col[1], 3), from_widget(c.z, col[2], 3)};
                 changed = true;
             }
             continue;
@@ -673,7 +678,9 @@ bool Panels::light_colour_editor(rt::Vec3& colour) {
         tinted = true;
     probe_item("field:intensity");
     if (tinted) {
-        colour = tint * intensity;
+        // As the colour field shows it: tint * intensity has noise in its last digits.
+        const rt::Vec3 c = tint * intensity;
+        colour = {as_shown(c.x, 3), as_shown(c.y, 3), as_shown(c.z, 3)};
         changed = true;
     }
     return changed;

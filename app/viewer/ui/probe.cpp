@@ -24,6 +24,7 @@ void probe(const std::string& key, const std::string& value) {
 }
 
 void probe_item(const std::string& key) {
+    if (!ImGui::IsItemVisible()) return;  // (scrolled out of its window: not on the screen)
     const float fb = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.f;
     const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
     probe(key, std::to_string(std::lround(a.x * fb)) + " " + std::to_string(std::lround(a.y * fb)) + " " +

@@ -14,7 +14,8 @@ namespace rtview {
 // are kept to one line).
 void probe(const std::string& key, const std::string& value);
 // Records where the last ImGui item was drawn, "x y w h" in framebuffer pixels (what
-// xdotool and screenshots use), under `key`: for scripts that click on it.
+// xdotool and screenshots use), under `key`: for scripts that click on it. Nothing
+// when the item is scrolled out of sight.
 void probe_item(const std::string& key);
 // The frame's records, in the order made; cleared by begin_probe_frame().
 const std::vector<std::pair<std::string, std::string>>& probes();

@@ -189,3 +189,17 @@ deselect() {
     click $((ix + iw / 2)) $((iy + 6))
     wait_state selection '^none$' 5
 }
+# scroll_to KEY X Y: scrolls the wheel at (X, Y) (over the outline, the properties...)
+# until the item KEY is on the screen.
+scroll_to() {
+    local key=$1 i
+    xdotool mousemove "$2" "$3"
+    for i in $(seq 1 20); do
+        [ -n "$(state "$key")" ] && return 0
+        xdotool click 5
+        sleep 0.15
+    done
+    fail "scrolling at $2 $3 never showed '$key'"
+}
+# The middle of the layout's REGION: "x y".
+region_mid() { region "$1" | awk '{ printf "%d %d\n", $1 + $3 / 2, $2 + $4 / 2 }'; }
