@@ -254,6 +254,7 @@ void ViewerApp::probe_frame() {
     if (!opt_.print_layout) return;
     const Document& doc = editor_.doc();
     probe("title", doc.title());
+    probe("scene", loader_.active() ? "loading" : doc.has_scene() ? "ready" : "none");
     probe("message", (status_.error() ? "error: " : "") + status_.text());
     std::string popups;
     for (const ImGuiPopupData& p : GImGui->OpenPopupStack)
@@ -674,6 +675,7 @@ Placement ViewerApp::new_item_placement() {
         rt::Ray ray = ray_at(vc, im, layout_.film_w, layout_.film_h, px, py);
         at.point = ray.origin + ray.dir * rt::length(vc.centre - vc.position);
     }
+    at.toward = vc.position - at.point;
     return at;
 }
 

@@ -12,9 +12,11 @@ namespace {
 std::vector<std::pair<std::string, std::string>> g_probes;
 }  // namespace
 
-void probe(const std::string& key, const std::string& value) {
+void probe(const std::string& name, const std::string& value) {
     std::string v = value.substr(0, 512);
     std::replace(v.begin(), v.end(), '\n', ' ');
+    std::string key = name;
+    std::replace(key.begin(), key.end(), ' ', '_');
     for (auto& p : g_probes)
         if (p.first == key) {
             p.second = std::move(v);

@@ -11,7 +11,7 @@
 namespace rtview {
 
 // Records `value` under `key` for the frame being drawn (the UI thread only; values
-// are kept to one line).
+// are kept to one line, and keys to one word: "menu:Add here" is "menu:Add_here").
 void probe(const std::string& key, const std::string& value);
 // Records where the last ImGui item was drawn, "x y w h" in framebuffer pixels (what
 // xdotool and screenshots use), under `key`: for scripts that click on it. Nothing

@@ -12,6 +12,7 @@
 # Journeys rest the mouse and wait with no input at all (`idle`): nothing may wait
 # for an input event. Helpers:
 #   start_viewer SCENE [ARGS...]   start the window on a scene file (a copy in $OUT)
+#   stop_viewer                    close it
 #   state KEY                      the last drawn frame's value of KEY
 #   wait_state KEY REGEX [SECS]    wait (no input) until it matches; fail if it never does
 #   idle SECS                      no input at all for SECS
@@ -103,13 +104,21 @@ start_viewer() {
     local src=$1
     shift
     SCENE=$OUT/$(basename "$src")
-    cp "$src" "$SCENE"
+    [ "$src" -ef "$SCENE" ] || cp "$src" "$SCENE"
     (cd "$OUT" && exec "$BIN/raytracer-view" "$SCENE" --size "$SCREEN" --print-layout "$@" > "$LAYOUT" 2> "$OUT/viewer.err") &
     VIEWER_PID=$!
     WID=$(timeout 30 xdotool search --sync --name "$(basename "$SCENE")" | head -1) || fail "no window appeared"
     wait_state title "^$(basename "$SCENE")" 30
+    wait_state scene "^(ready|none)$" 30  # loaded: the layout is the scene's
     IMAGE=$(region image)
     read -r ix iy iw ih <<< "$IMAGE"
+}
+
+# stop_viewer: closes the window (its process ends), e.g. to open the saved file afresh.
+stop_viewer() {
+    kill "$VIEWER_PID" 2>/dev/null || true
+    wait "$VIEWER_PID" 2>/dev/null || true
+    VIEWER_PID=
 }
 
 # editor_xy LINE COL [FRACTION]: the screen point FRACTION (default 0.25) across the
@@ -155,7 +164,7 @@ save() {
 }
 
 # item_xy KEY: the centre of a rectangle the last frame drew under state KEY (probe_item:
-# menu rows "menu:NAME", outline rows "row:object:4:left", fields "field:NAME").
+# menu rows "menu:NAME" (spaces in NAME are _), outline rows "row:object:4:left", fields "field:NAME").
 item_xy() {
     local r
     r=$(state "$1")
@@ -203,3 +212,11 @@ scroll_to() {
 }
 # The middle of the layout's REGION: "x y".
 region_mid() { region "$1" | awk '{ printf "%d %d\n", $1 + $3 / 2, $2 + $4 / 2 }'; }
+# hover_item KEY: waits until KEY is on the screen and rests the pointer on it (a
+# submenu opens on hover; a click would close it again).
+hover_item() {
+    local x y
+    wait_state "$1" '^-?[0-9]+ -?[0-9]+ [0-9]+ [0-9]+$' 5
+    read -r x y <<< "$(item_xy "$1")"
+    xdotool mousemove "$x" "$y"
+}
