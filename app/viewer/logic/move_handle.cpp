@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -110,6 +111,42 @@ HandlePart hit_handle(const HandleShape& h, double x, double y, double tolerance
         if (d <= best_d) {
             best_d = d;
             best = HandlePart(int(HandlePart::X) + k);
+        }
+    }
+    return best;
+}
+
+std::vector<LightMarker> light_markers(const rt::Scene& scene, const rt::World* world, const ScreenView& view,
+                                       const Rect& image, std::size_t max) {
+    std::vector<std::pair<double, LightMarker>> found;  // (distance, marker)
+    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+        const rt::Light& l = scene.lights[i];
+        if (l.lamp && l.size > 0) continue;  // its glow shows it, and picking finds it
+        std::optional<ScreenPoint> p = view.project(l.position);
+        if (!p || !image.contains(p->x, p->y)) continue;
+        const rt::Vec3 to = l.position - view.eye();
+        const double d = rt::length(to);
+        if (world && d > 0) {
+            // Hidden when the view's ray toward it meets a surface first.
+            rt::PickResult r = rt::pick(*world, rt::Ray{view.eye(), to / d});
+            if (r.hit && r.light != int(i) && r.t < d * (1 - 1e-9)) continue;
+        }
+        found.push_back({d, LightMarker{int(i), *p}});
+    }
+    std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<LightMarker> out;
+    for (std::size_t k = 0; k < found.size() && k < max; ++k) out.push_back(found[k].second);
+    return out;
+}
+
+int light_at(const std::vector<LightMarker>& markers, double x, double y, double radius) {
+    int best = -1;
+    double best_d = radius;
+    for (const LightMarker& m : markers) {
+        const double d = std::hypot(x - m.at.x, y - m.at.y);
+        if (d <= best_d) {
+            best_d = d;
+            best = m.light;
         }
     }
     return best;

@@ -11,6 +11,7 @@
 #include "scene.h"
 #include "scene_edits.h"
 #include "viewport.h"
+#include "world.h"
 
 namespace rtview {
 
@@ -55,6 +56,21 @@ HandleShape handle_shape(const ScreenView& view, const rt::Vec3& anchor, double 
 // The part under (x, y) within `tolerance` window units: the square first, then the
 // nearest arrow.
 HandlePart hit_handle(const HandleShape& h, double x, double y, double tolerance);
+
+// A light as the picture marks it: a light that has no glow to be seen by (a
+// spotlight, a lamp of size 0) gets a marker where it is, so that it can be found and
+// clicked in the picture.
+struct LightMarker {
+    int light = -1;  // index into Scene::lights
+    ScreenPoint at;
+};
+// The markers of the scene's glowless lights that are in front of the view, inside
+// `image` and not hidden behind a surface (`world` may be null: nothing hides them);
+// at most `max` of them, the nearest first.
+std::vector<LightMarker> light_markers(const rt::Scene& scene, const rt::World* world, const ScreenView& view,
+                                       const Rect& image, std::size_t max);
+// The light whose marker lies within `radius` of (x, y) (the nearest), or -1.
+int light_at(const std::vector<LightMarker>& markers, double x, double y, double radius);
 
 // A grid step for snapping: a round number (1, 2 or 5 times a power of ten) near a
 // fiftieth of the scene's size.

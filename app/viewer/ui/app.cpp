@@ -242,7 +242,8 @@ void ViewerApp::frame() {
         else tools_.draw();
         // Over the picture, not in the film: a saved image stays clean.
         if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
-            move_.draw(doc, panels_.selection(), screen_view(), layout_.image, layout_.area, layout_.film_w, layout_.film_h);
+            move_.draw(doc, panels_.selection(), screen_view(), render_.world(), layout_.image, layout_.area,
+                       layout_.film_w, layout_.film_h);
     }
     if (!doc.has_scene()) draw_no_image();
     probe_frame();
@@ -492,6 +493,13 @@ void ViewerApp::handle_shortcuts() {
 void ViewerApp::select_at(double px, double py) {
     const rt::World* w = render_.world();
     if (!w) return;
+    // What is drawn over the picture comes first: the selection's handle (it stays
+    // selected), a light's marker.
+    if (move_.over_handle(editor_.doc(), panels_.selection(), screen_view(), px, py)) return;
+    if (int light = move_.light_under(px, py); light >= 0) {
+        panels_.select({Selection::Kind::Light, light, {}});
+        return;
+    }
     rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     rt::PickResult r = pick_at(*w, vc, layout_.image, layout_.film_w, layout_.film_h, px, py);
     Selection s;
@@ -796,7 +804,10 @@ void ViewerApp::draw_context_menu() {
     if (ImGui::MenuItem("Delete", "Del", false, has)) run(Command::Delete);
     if (sel.kind == Selection::Kind::Light && sel.index >= 0 && std::size_t(sel.index) < scene.lights.size()) {
         bool lamp = scene.lights[std::size_t(sel.index)].lamp;
-        if (ImGui::MenuItem(lamp ? "Make it a spotlight" : "Make it a lamp")) run(Command::SwitchLight);
+        const char* label = lamp ? "Make it a spotlight" : "Make it a lamp";
+        const bool chosen = ImGui::MenuItem(label);
+        probe_item(std::string("menu:") + label);
+        if (chosen) run(Command::SwitchLight);
     }
     const Selection& prev = menu_prev_selection_;
     if (sel.kind == Selection::Kind::Object && prev.kind == Selection::Kind::Object && prev.index != sel.index &&

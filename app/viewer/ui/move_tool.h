@@ -20,6 +20,8 @@
 #include "render_controller.h"
 #include "shared.h"
 
+struct ImDrawList;
+
 namespace rtview {
 
 class MoveTool {
@@ -36,9 +38,14 @@ public:
     // while it rests. Call after RenderController::update().
     void update_outline(const Document& doc, const Selection& sel, const RenderController& render,
                         const rt::Camera& camera, int film_w, int film_h);
-    // Outline and handle over the picture in `image` (clipped to `area`).
-    void draw(const Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, const Rect& area,
-              int film_w, int film_h);
+    // Outline and handle over the picture in `image` (clipped to `area`), and the
+    // markers of the lights that have no glow (`world`: what hides them).
+    void draw(const Document& doc, const Selection& sel, const ScreenView& view, const rt::World* world,
+              const Rect& image, const Rect& area, int film_w, int film_h);
+    // What a click at (x, y) finds of what draw() drew over the picture: the selection's
+    // handle (the selection stays), or a light's marker (its index; else -1).
+    bool over_handle(const Document& doc, const Selection& sel, const ScreenView& view, double x, double y) const;
+    int light_under(double x, double y) const;
     // Still refining the outline: frames are needed.
     bool wants_frames() const { return refining_; }
     // Rays the last outline update traced (for --verbose and tests).
@@ -58,8 +65,11 @@ private:
     };
     void apply(Document& doc, RenderController& render, const rt::Vec3& d);
 
+    void draw_light_markers(ImDrawList* dl, float scale) const;
+
     std::optional<Drag> drag_;
     HandlePart hover_ = HandlePart::None;
+    std::vector<LightMarker> markers_;  // as last drawn
 
     IdBuffer ids_;
     std::vector<Edge> edges_;  // the outline of ids_
