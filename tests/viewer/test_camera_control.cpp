@@ -127,6 +127,28 @@ TEST_CASE("dolly never reaches or passes its target") {
     }
 }
 
+TEST_CASE("an orbit pivot beyond the scene's reach comes to that reach along its ray") {
+    rt::Camera c = random_camera();
+    rt::Aabb box;
+    box.grow({1, 2, 3});
+    box.grow({4, -5, 6});
+    const double reach = scene_reach(c, box);
+    CHECK(reach >= rt::length(c.centre - c.position));
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 corner{k & 1 ? 4.0 : 1.0, k & 2 ? -5.0 : 2.0, k & 4 ? 6.0 : 3.0};
+        CHECK(rt::length(corner - c.position) <= reach + 1e-12);
+    }
+    // Empty bounds: the distance to the centre.
+    CHECK(scene_reach(c, rt::Aabb{}) == rt::length(c.centre - c.position));
+    for (int n = 0; n < 100; ++n) {
+        const Vec3 dir = rt::normalize(rvec(1));
+        const double t = uni(0.1, 3) * reach;
+        const Vec3 p = clamp_pivot(c.position, c.position + dir * t, reach);
+        CHECK(rt::length(p - c.position) == doctest::Approx(std::min(t, reach)));
+        CHECK(angle_deg(p - c.position, dir) < 1e-4);
+    }
+}
+
 TEST_CASE("fly steps along the view, the horizontal right and world up") {
     rt::Camera c;
     c.position = {0, 0, 0};

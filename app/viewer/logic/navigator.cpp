@@ -73,11 +73,12 @@ bool Navigator::drag(double x, double y, const rt::World* world, const ViewGeome
     double dx = x - press_x_, dy = y - press_y_;
     if (gesture_ == Gesture::Click && (std::fabs(dx) > kClickSlop || std::fabs(dy) > kClickSlop)) {
         gesture_ = Gesture::Orbit;
-        // Pivot: the point under the cursor when the drag began, or the look-at point
-        // if the ray missed everything.
+        // Pivot: the point under the cursor when the drag began (no farther than the
+        // scene reaches), or the look-at point if the ray missed everything.
         bool hit = false;
         rt::Vec3 p = pick_point_or(press_x_, press_y_, 1, world, g, &hit);
-        anchor_ = hit ? p : press_camera_.centre;
+        const double reach = scene_reach(press_camera_, world ? world->bounds() : rt::Aabb{});
+        anchor_ = hit ? clamp_pivot(press_camera_.position, p, reach) : press_camera_.centre;
     }
     if (gesture_ == Gesture::Orbit) {
         // Rotation is relative to the camera at the press, so it never drifts.
