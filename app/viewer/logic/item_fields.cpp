@@ -222,6 +222,9 @@ const char* item_block_name(const rt::Scene& scene, const ItemRef& ref) {
 std::vector<Field> item_fields(const rt::Scene& scene, const ItemRef& ref) {
     std::vector<Field> out;
     visit_item(const_cast<rt::Scene&>(scene), ref, [&](const auto& b, const auto&) { out = fields_of(b); });
+    if (!ref.path.empty())
+        out.erase(std::remove_if(out.begin(), out.end(), [](const Field& f) { return f.kind == sc::Kind::Material; }),
+                  out.end());
     return out;
 }
 

@@ -51,7 +51,9 @@ struct FieldValue {
 // names nothing in `scene`.
 const char* item_block_name(const rt::Scene& scene, const ItemRef& ref);
 // The item's keys: lead keys (a CSG's `type`), the others in schema order, materials
-// last. Empty if `ref` names nothing.
+// last. A CSG operand has no material field: only the whole CSG's material is
+// rendered, so one there would change the text and nothing in the picture. Empty if
+// `ref` names nothing.
 std::vector<Field> item_fields(const rt::Scene& scene, const ItemRef& ref);
 std::optional<FieldValue> field_value(const rt::Scene& scene, const ItemRef& ref, const Field& f);
 

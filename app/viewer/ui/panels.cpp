@@ -538,11 +538,14 @@ void Panels::draw_properties() {
         editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), loc.line, loc.col)));
     if (!selection_.path.empty()) {
         if (loc.line > 0) same_line_if_fits("select the parent");
-        if (ImGui::SmallButton("select the parent")) {
+        const bool parent = ImGui::SmallButton("select the parent");
+        probe_item("button:select the parent");
+        if (parent) {
             selection_.path.pop_back();
             return;
         }
-        wrapped_hint("A CSG operand: its shape counts, but only the whole CSG's material is rendered.");
+        wrapped_hint("A CSG operand: its shape counts; its colour and finish are the whole CSG's material (select "
+                     "the parent to edit it).");
     }
     if (selection_.kind == Selection::Kind::Light) {
         // The block's kind: switching keeps the lamp's size for switching back.
