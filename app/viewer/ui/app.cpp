@@ -59,6 +59,12 @@ std::string megabytes(std::uint64_t b) {
     return buf;
 }
 
+// What the status bar adds about a scene without lights: everything in it is black.
+std::string light_note(const Document& doc) {
+    if (!doc.has_scene() || !doc.scene().lights.empty()) return {};
+    return "; the scene has no lights, so it renders black: add a lamp (right-click the picture > Add here > lamp)";
+}
+
 // What the status bar adds when the recent-files list could not be saved.
 std::string recent_note(const rt::Status& recent) {
     return recent ? std::string() : "; recent files not saved: " + recent.message();
@@ -158,7 +164,8 @@ void ViewerApp::poll_loader() {
         selected_ = true;
         panels_.select_from_option(opt_.select);
     }
-    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + recent_note(recent),
+    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + light_note(doc) +
+                    recent_note(recent),
                 !ok || !recent);
     if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.3f s\n", path.c_str(), since_start());
 }
@@ -757,7 +764,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         return false;
     }
     panels_.select(selection_of(e->select));
-    status_.set(done + " (Ctrl+Z undoes)");
+    status_.set(done + " (Ctrl+Z undoes)" + light_note(doc));
     return true;
 }
 

@@ -489,6 +489,12 @@ void Panels::draw_outline() {
         }
         ImGui::TreePop();
     }
+    if (s.lights.empty()) {
+        // Whatever is added stays black until a light is: say so where lights are listed.
+        const char* hint = "No lights: everything renders black. Right-click the picture > Add here > lamp.";
+        wrapped_coloured(kWarnColour, hint);
+        probe("outline_hint", hint);
+    }
     scroll_to_selection_ = false;
 }
 
