@@ -210,6 +210,11 @@ void ViewerApp::frame() {
     update_layout();
     tools_.begin(image_frame(now));
     if (interactive_) {
+        // Menus are not modal: Escape closes them, and a Ctrl shortcut closes them and
+        // works (the picture tools then see the keys free again).
+        const bool was_open = ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId);
+        esc_closed_menu_ = close_menus_for_keys();
+        if (was_open && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId)) tools_.begin(image_frame(now));
         handle_shortcuts();
         tools_.handle_keys();
     }
@@ -463,6 +468,25 @@ ImageFrame ViewerApp::image_frame(double now) {
 // ---------------------------------------------------------------------------------
 // Keyboard
 
+bool ViewerApp::close_menus_for_keys() {
+    ImGuiContext& g = *GImGui;
+    if (g.OpenPopupStack.empty()) return false;
+    // A modal dialog (or a popup not drawn yet) handles its own keys.
+    for (const ImGuiPopupData& p : g.OpenPopupStack)
+        if (!p.Window || (p.Window->Flags & ImGuiWindowFlags_Modal)) return false;
+    if (imgui_key_pressed(ImGuiKey_Escape)) {
+        ImGui::ClosePopupsExceptModals();
+        return true;
+    }
+    if (ImGui::GetIO().KeyCtrl)
+        for (int k = 'A'; k <= 'Z'; ++k)
+            if (key_pressed(k)) {
+                ImGui::ClosePopupsExceptModals();
+                break;
+            }
+    return false;
+}
+
 void ViewerApp::handle_shortcuts() {
     ImGuiIO& io = ImGui::GetIO();
     bool ctrl = io.KeyCtrl, shift = io.KeyShift;
@@ -486,7 +510,8 @@ void ViewerApp::handle_shortcuts() {
         std::strftime(name, sizeof name, "raytracer-view-%Y%m%d-%H%M%S.png", std::localtime(&t));
         run(Command::Screenshot, name);
     }
-    if (loader_.active() && imgui_key_pressed(ImGuiKey_Escape) && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId))
+    if (loader_.active() && imgui_key_pressed(ImGuiKey_Escape) && !esc_closed_menu_ &&
+        !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId))
         run(Command::CancelLoad);
     if (!io.WantCaptureKeyboard && ctrl && !io.KeyAlt && key_pressed(kKeyD)) run(Command::Duplicate);
     if (!io.WantCaptureKeyboard && !ctrl && !io.KeyAlt) {

@@ -96,6 +96,9 @@ private:
     void update_layout();
     ImageFrame image_frame(double now);
     void handle_shortcuts();
+    // Escape with a menu open closes it (true: the key is used up); a Ctrl shortcut
+    // closes it too, and then does what it does.
+    bool close_menus_for_keys();
     void end_edits();
     void poll_loader();
     // Parts of frame(): the render follows the scene, the view and the picture tools;
@@ -159,6 +162,7 @@ private:
     bool view_scene_written_ = false;
     int frames_ = 0;
     bool again_ = false;  // the last frame changed visible_key(): draw one more
+    bool esc_closed_menu_ = false;  // this frame's Escape closed a menu
 };
 
 }  // namespace rtview
