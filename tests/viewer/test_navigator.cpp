@@ -11,6 +11,7 @@
 #include "camera_control.h"
 #include "navigator.h"
 #include "scene_parser.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rtview;
@@ -120,6 +121,23 @@ TEST_CASE("an orbit begun on a far point of the floor turns about a point within
     const double moved = rt::length(nav.camera().position - start.position);
     CHECK(moved > 0);
     CHECK(moved <= 2 * reach * std::sin(9 * M_PI / 180) + 1e-9);
+}
+
+TEST_CASE("F frames the objects, not the lamps far from them; the lamps only when there are no objects") {
+    const std::string objects = "thing { sphere { position 10 0 0 radius 1 } }\n";
+    const std::string rest = "light { lamp { colour 99 99 99 position -20 30 20 size 0.1 }\n"
+                             "        spotlight { colour 9 9 9 position 0 -5 8 } }\n"
+                             "camera { position 0 0 0 centre 10 0 0 up 10 0 1 angle_x 60 angle_y 45 }\n"
+                             "picture_size { x_max 64 y_max 48 }\nend\n";
+    rt::Aabb b = frame_target(*rt::compile_world(rt_test::parse_ok(objects + rest)));
+    CHECK(b.lo == rt::Vec3{9, -1, -1});
+    CHECK(b.hi == rt::Vec3{11, 1, 1});
+    b = frame_target(*rt::compile_world(rt_test::parse_ok(rest)));
+    CHECK(b.lo == rt::Vec3{-20, -5, 8});
+    CHECK(b.hi == rt::Vec3{0, 30, 20});
+    const std::string nothing = "camera { position 0 0 0 centre 10 0 0 up 10 0 1 angle_x 60 angle_y 45 }\n"
+                                "picture_size { x_max 64 y_max 48 }\nend\n";
+    CHECK(frame_target(*rt::compile_world(rt_test::parse_ok(nothing))).empty());
 }
 
 TEST_CASE("a degenerate view is refused and the last good one kept") {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "camera_control.h"
+#include "shapes.h"  // rt::Geometry: the objects' bounds
 
 namespace rtview {
 
@@ -19,6 +20,15 @@ bool usable_camera(const rt::Camera& c) {
 }
 
 }  // namespace
+
+rt::Aabb frame_target(const rt::World& world) {
+    rt::Aabb b;
+    for (const rt::Aabb& ob : world.geometry->object_bounds)
+        if (!ob.empty()) b.grow(ob);
+    if (b.empty())
+        for (const rt::ShadeLight& l : world.lights) b.grow(l.position);
+    return b;
+}
 
 void Navigator::follow(const rt::Camera& scene_camera) {
     if (has_view_ && scene_camera == seen_scene_camera_) return;

@@ -644,7 +644,7 @@ bool ViewerApp::view_command(Command c) {
     switch (c) {
         case Command::FrameScene:
             if (render_.world())
-                nav_.frame(render_.world()->bounds(),
+                nav_.frame(frame_target(*render_.world()),
                            {layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
             return true;
         case Command::ResetView:
