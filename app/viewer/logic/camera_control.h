@@ -46,6 +46,12 @@ rt::Vec3 pan_offset(const rt::CameraBasis& view, const rt::Vec3& anchor, double 
 // cursor keeps the point under the cursor in place.
 rt::Vec3 dolly_offset(const rt::Vec3& eye, const rt::Vec3& target, double notches);
 
+// The wheel's dolly: the eye moves by dolly_offset() and the rig is scaled about
+// `target` by the same factor, so the look-at point comes along and the distance the
+// camera panel shows ("dist") shrinks or grows with the step; the view direction and
+// the point under the cursor stay.
+rt::Camera dolly(const rt::Camera& cam, const rt::Vec3& target, double notches);
+
 // Fly step: `local` is (right, up, forward) in units of `step`; up is world_up.
 rt::Vec3 fly_offset(const rt::Camera& cam, const rt::Vec3& world_up, const rt::Vec3& local, double step);
 

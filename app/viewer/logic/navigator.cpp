@@ -114,7 +114,7 @@ bool Navigator::release() {
 void Navigator::wheel(double notches, double x, double y, const rt::World* world, const ViewGeometry& g) {
     if (!has_view_ || notches == 0) return;
     rt::Vec3 target = pick_point_or(x, y, rt::length(view_.centre - view_.position), world, g);
-    set_view(translate(view_, dolly_offset(view_.position, target, notches)));
+    set_view(dolly(view_, target, notches));
 }
 
 void Navigator::fly(const rt::Vec3& local, double dt, bool fast, double scene_size) {
