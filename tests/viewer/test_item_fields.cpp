@@ -428,3 +428,24 @@ TEST_CASE("item fields: with an unapplied draft, the edit reaches both texts wit
     CHECK(std::as_const(doc).editor_text().find("// a draft line") != std::string::npos);
     CHECK_FALSE(doc.text_behind());
 }
+
+TEST_CASE("item fields: an edit through a field is named for the undo history by the field and the item") {
+    const rt::Scene s = parse_ok(kScene);
+    CHECK(item_label(s, obj(0)) == "sphere 1");
+    CHECK(item_label(s, obj(4)) == "constructive_solid_geometry 5");
+    CHECK(item_label(s, obj(4, {1})) == "right sphere of object 5");
+    CHECK(item_label(s, plane(0)) == "chess_plane 1");
+    CHECK(item_label(s, light(1)) == "spotlight 2");
+    CHECK(item_label(s, light(2)).empty());
+    Document doc;
+    doc.load_text(kScene, "", "t.txt");
+    REQUIRE(set_field(doc, obj(0), field(doc.scene(), obj(0), "radius"), number(0.5)).applied());
+    doc.commit();
+    REQUIRE(set_field(doc, obj(4, {1}), field(doc.scene(), obj(4, {1}), "position"), vec({7, 1, 2})).applied());
+    doc.commit();
+    REQUIRE(set_field(doc, plane(0), field(doc.scene(), plane(0), "point 2"), vec({2, 0.5, 0})).applied());
+    doc.commit();
+    CHECK(doc.undo_names(5) == std::vector<std::string>{"Edit point 2 of chess_plane 1",
+                                                        "Edit position of right sphere of object 5",
+                                                        "Edit radius of sphere 1"});
+}

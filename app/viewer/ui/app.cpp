@@ -598,11 +598,7 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             host_.quit();
             return true;
         case Command::Undo:
-            if (doc.undo()) status_.set("Undo");
-            return true;
-        case Command::Redo:
-            if (doc.redo()) status_.set("Redo");
-            return true;
+        case Command::Redo: return undo_redo(c == Command::Undo, arg.empty() ? 1 : std::atoi(arg.c_str()));
         case Command::EditText:
             panels_.show_tab(Panels::Text);
             editor_.focus();
@@ -624,6 +620,19 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
         case Command::MakeCsg: return scene_edit(arg, c);
     }
     return false;
+}
+
+bool ViewerApp::undo_redo(bool undo, int steps) {
+    Document& doc = editor_.doc();
+    int done = 0;
+    while (done < std::max(steps, 1) && (undo ? doc.undo() : doc.redo())) ++done;
+    if (done == 0) return false;
+    // Say what was taken back or done again: "Undid: Move sphere 3".
+    const std::string& last = doc.last_step_name();
+    const std::string what =
+        done == 1 ? ": " + last : " " + std::to_string(done) + " steps, " + (undo ? "back to before " : "up to ") + last;
+    status_.set(std::string(undo ? "Undid" : "Redid") + what + (undo ? " (Ctrl+Y redoes)" : " (Ctrl+Z undoes)"));
+    return true;
 }
 
 bool ViewerApp::cancel_load() {
@@ -741,8 +750,9 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     const std::string& text = std::as_const(doc).editor_text();
     const rt::Scene& scene = doc.scene();
     std::optional<SceneEdit> e;
-    std::string done;
+    std::string done, name;  // the status bar's message; the undo step's name
     std::optional<SceneItem> sel = item_of_selection(panels_.selection());
+    const std::string label = sel ? item_label(scene, ItemRef{*sel, {}}) : std::string();
     switch (c) {
         case Command::AddItem: {
             static const std::pair<const char*, NewItem> kinds[] = {
@@ -755,24 +765,28 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             if (!kind) return false;
             e = add_item(text, scene, *kind, new_item_placement());
             done = std::string("Added a ") + arg;
+            name = std::string("Add a ") + arg;
             break;
         }
         case Command::Duplicate: {
             if (!sel) return false;
             e = duplicate_item(text, scene, *sel, duplicate_offset(scene));
             done = "Duplicated";
+            name = "Duplicate " + label;
             break;
         }
         case Command::Delete:
             if (!sel) return false;
             e = delete_item(text, scene, *sel);
             done = "Deleted";
+            name = "Delete " + label;
             break;
         case Command::SwitchLight:
             if (!sel || sel->kind != SceneItem::Kind::Light) return false;
             e = switch_light_kind(text, scene, sel->index);
             done = scene.lights[std::size_t(sel->index)].lamp ? "The lamp is a spotlight now (its size is kept)"
                                                               : "The spotlight is a lamp now";
+            name = "Make " + label + (scene.lights[std::size_t(sel->index)].lamp ? " a spotlight" : " a lamp");
             break;
         case Command::MakeCsg: {
             char type = arg.empty() ? 'U' : arg[0];
@@ -780,11 +794,12 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             if (!sel || sel->kind != SceneItem::Kind::Object || (type != 'U' && type != 'I' && type != 'C')) return false;
             e = make_csg(text, scene, sel->index, other, rt::CsgType(type));
             done = "Made a CSG of the two objects";
+            name = "Make a CSG of objects " + std::to_string(sel->index + 1) + " and " + std::to_string(other + 1);
             break;
         }
         default: return false;
     }
-    if (!e || !doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text)) {
+    if (!e || !doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, name)) {
         status_.set("Cannot do that to this scene text", true);
         return false;
     }

@@ -122,6 +122,9 @@ private:
     // How far Duplicate moves the copy.
     rt::Vec3 duplicate_offset(const rt::Scene& scene) const;
     bool cancel_load();
+    // Ctrl+Z / Ctrl+Y, or a step of the Edit menu's history: `steps` steps back or
+    // forward, saying which in the status bar.
+    bool undo_redo(bool undo, int steps);
     // The commands that change the view, the pause or the fit.
     bool view_command(Command c);
     void handle_context_menu(bool usable);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "item_fields.h"
 #include "scene_edits.h"
 
 namespace rtview {
@@ -69,6 +70,8 @@ void MoveTool::apply(Document& doc, RenderController& render, const rt::Vec3& d)
             break;
         }
     }
+    if (g.name.empty()) g.name = "Move " + item_label(doc.scene(), ItemRef{g.item, g.path});
+    doc.name_edit(g.name);
     g.last = d;
 }
 

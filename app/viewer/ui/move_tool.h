@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -62,6 +63,7 @@ private:
         rt::Light light;
         double snap = 1;
         rt::Vec3 last{0, 0, 0};
+        std::string name;  // the undo step's: "Move sphere 3"
     };
     void apply(Document& doc, RenderController& render, const rt::Vec3& d);
 

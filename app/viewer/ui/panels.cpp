@@ -146,6 +146,16 @@ void probe_menu_header(const char* label) {
                                             std::to_string(std::lround(h * fb)));
 }
 
+// What the camera panel shows of the view (its eye, and its angles and distance), for
+// scripts (probe.h).
+void probe_view(const rt::Camera& view, const double angles[3]) {
+    char shown[160];
+    std::snprintf(shown, sizeof shown, "%.2f %.2f %.2f", angles[0], angles[1], angles[2]);
+    probe("view_angles", shown);
+    std::snprintf(shown, sizeof shown, "%.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
+    probe("view_eye", shown);
+}
+
 }  // namespace
 
 
@@ -178,8 +188,7 @@ void Panels::draw_menu_bar() {
     }
     probe_menu_header("Edit");
     if (ImGui::BeginMenu("Edit")) {
-        if (ImGui::MenuItem("Undo", "Ctrl+Z", false, doc.can_undo() || doc.editing())) commands_.run(Command::Undo);
-        if (ImGui::MenuItem("Redo", "Ctrl+Y", false, doc.can_redo())) commands_.run(Command::Redo);
+        draw_undo_items();
         ImGui::Separator();
         if (ImGui::MenuItem("Edit scene text", "Ctrl+E")) commands_.run(Command::EditText);
         if (ImGui::MenuItem("Apply text", "Ctrl+Enter")) commands_.run(Command::ApplyText);
@@ -227,6 +236,40 @@ void Panels::draw_menu_bar() {
         ImGui::EndMenu();
     }
     ImGui::EndMainMenuBar();
+}
+
+// Undo and Redo, named by the step each takes ("Undo: Move sphere 3"), and the history:
+// the steps undone (greyed, newest at the top) above the steps done, the latest first.
+// A click on a step goes back to before it, or forward up to it.
+void Panels::draw_undo_items() {
+    constexpr std::size_t kShown = 20;
+    const Document& doc = editor_.doc();
+    const std::vector<std::string> undo = doc.undo_names(kShown), redo = doc.redo_names(kShown);
+    const std::string u = undo.empty() ? "Undo" : "Undo: " + undo.front();
+    const std::string r = redo.empty() ? "Redo" : "Redo: " + redo.front();
+    probe("edit_menu", u + " | " + r);
+    if (ImGui::MenuItem(u.c_str(), "Ctrl+Z", false, !undo.empty())) commands_.run(Command::Undo);
+    if (ImGui::MenuItem(r.c_str(), "Ctrl+Y", false, !redo.empty())) commands_.run(Command::Redo);
+    probe_menu_header("Undo history");
+    if (!ImGui::BeginMenu("Undo history", !undo.empty() || !redo.empty())) return;
+    std::string shown;
+    for (std::size_t k = redo.size(); k-- > 0;) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        const bool chosen = ImGui::MenuItem((redo[k] + "##redo" + std::to_string(k)).c_str(), "undone");
+        ImGui::PopStyleColor();
+        probe_item("menu:redo:" + std::to_string(k + 1));
+        shown += "redo:" + redo[k] + "|";
+        if (chosen) commands_.run(Command::Redo, std::to_string(k + 1));
+    }
+    if (!redo.empty() && !undo.empty()) ImGui::Separator();
+    for (std::size_t k = 0; k < undo.size(); ++k) {
+        const bool chosen = ImGui::MenuItem((undo[k] + "##undo" + std::to_string(k)).c_str());
+        probe_item("menu:undo:" + std::to_string(k + 1));
+        shown += "undo:" + undo[k] + "|";
+        if (chosen) commands_.run(Command::Undo, std::to_string(k + 1));
+    }
+    probe("undo_history", shown);
+    ImGui::EndMenu();
 }
 
 // ---------------------------------------------------------------------------------
@@ -336,13 +379,7 @@ void Panels::draw_camera_panel() {
         double v3[3] = {va.azimuth, va.elevation, va.distance};
         if (ImGui::DragScalarN("az, el, dist", ImGuiDataType_Double, v3, 3, 0.25f, nullptr, nullptr, "%.2f"))
             nav_.set(set_view_angles(view, nav_.world_up(), {v3[0], std::clamp(v3[1], -89.0, 89.0), std::max(v3[2], 1e-6)}));
-        {
-            char shown[160];  // what the panel shows of the view, for scripts (probe.h)
-            std::snprintf(shown, sizeof shown, "%.2f %.2f %.2f", v3[0], v3[1], v3[2]);
-            probe("view_angles", shown);
-            std::snprintf(shown, sizeof shown, "%.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
-            probe("view_eye", shown);
-        }
+        probe_view(view, v3);
         if (layout_.fit == FitMode::Window && doc.has_scene()) {
             rt::Camera vc = fit_camera_to_aspect(view, layout_.film_w, layout_.film_h);
             char fitted[96];
@@ -587,6 +624,7 @@ void Panels::draw_fields(const ItemRef& ref) {
         ImGui::PushID(f.label.c_str());
         ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
         const bool changed = draw_field(ref, f, v, size, vec_format, operand);
+        probe_item("field:" + f.label);
         ImGui::PopItemWidth();
         if (changed) {
             const FieldResult r = set_field(doc, ref, f, v);

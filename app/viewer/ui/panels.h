@@ -53,6 +53,7 @@ public:
     float min_sidebar_width();
 
 private:
+    void draw_undo_items();
     void draw_camera_panel();
     void draw_objects_tab();
     void draw_outline();
