@@ -706,7 +706,7 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
 bool Panels::light_colour_editor(rt::Vec3& colour) {
     char shown[128];  // what the field shows, for scripts (probe.h)
     std::snprintf(shown, sizeof shown, "%.3f %.3f %.3f", colour.x, colour.y, colour.z);
-    probe("field:colour", shown);
+    probe("light_colour", shown);
     bool changed = drag_vec3("colour", colour, float(std::max({colour.x, colour.y, colour.z, 1.0}) * 0.005));
     double intensity = std::max({colour.x, colour.y, colour.z, 0.0});
     rt::Vec3 tint = intensity > 0 ? colour / intensity : rt::Vec3{1, 1, 1};

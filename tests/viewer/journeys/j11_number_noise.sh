@@ -23,7 +23,7 @@ read -r x y <<< "$(item_xy field:intensity)"
 drag "$x" "$y" $((x - 90)) "$y"
 idle 0.5
 shot 1-intensity
-shown=$(state field:colour)
+shown=$(state light_colour)
 echo "the colour field shows: $shown"
 
 step "select sphere 2 (in the picture) and drag the red channel of its colour"
