@@ -108,28 +108,44 @@ TEST_CASE("a panel edit is carried into a draft that parses") {
     CHECK_FALSE(d.text_behind());
 }
 
-TEST_CASE("a panel edit leaves a broken draft alone and says the text is behind") {
+TEST_CASE("a panel edit that cannot be written into a broken draft is not made: text and scene never disagree") {
     Document d;
     d.load_text(rt::kDefaultScene, "", "default.txt");
+    const rt::Scene scene = d.scene();
     d.editor_text().insert(0, "{ broken\n");  // (after `end` it would be ignored)
-    std::string draft = d.editor_text();
+    const std::string draft = d.editor_text();
+    CHECK_FALSE(d.edit_blocker().empty());  // the panels say so before an edit
     d.edit().lights[0].colour = {1, 2, 3};
     d.commit();
-    CHECK(d.editor_text() == draft);
-    CHECK(d.text_behind());
-    CHECK(d.scene().lights[0].colour == rt::Vec3{1, 2, 3});
-    d.revert_text();  // drop the draft: the text shows the scene again
+    CHECK(d.editor_text() == draft);  // the user's text untouched
+    CHECK(d.scene() == scene);        // and the scene as it was
     CHECK_FALSE(d.text_behind());
+    CHECK_FALSE(d.take_refusal().empty());
+    CHECK(d.take_refusal().empty());  // said once
+    // Saving that text asks first; the answer names the error.
+    const std::optional<std::string> problem = d.save_problem();
+    REQUIRE(problem);
+    CHECK(problem->rfind("line 1:", 0) == 0);
+    CHECK_FALSE(d.apply_parsing_draft());
+    d.revert_text();  // drop the draft: edits are possible again
+    CHECK(d.edit_blocker().empty());
+    CHECK_FALSE(d.save_problem());
+    d.edit().lights[0].colour = {1, 2, 3};
+    d.commit();
+    CHECK(parse_ok(d.editor_text()) == d.scene());
+    CHECK(d.scene().lights[0].colour == rt::Vec3{1, 2, 3});
+}
+
+TEST_CASE("saving applies a draft that parses first, so the file is the scene shown") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    std::string& t = d.editor_text();
+    t.replace(t.find("radius 1\n"), 9, "radius 0.75\n");
+    CHECK_FALSE(d.save_problem());
+    CHECK(d.apply_parsing_draft());
     CHECK_FALSE(d.editor_dirty());
     CHECK(parse_ok(d.editor_text()) == d.scene());
-    REQUIRE(d.undo());  // and the draft can come back, still unapplied
-    CHECK(std::as_const(d).editor_text() == draft);
-    CHECK(d.editor_dirty());
-    CHECK(d.text_behind());
-    CHECK(parse_ok(d.applied_text()) == d.scene());
-    REQUIRE(d.redo());
-    CHECK_FALSE(d.editor_dirty());
-    CHECK(parse_ok(std::as_const(d).editor_text()) == d.scene());
+    CHECK_FALSE(d.apply_parsing_draft());  // nothing left to apply
 }
 
 TEST_CASE("a file that does not parse opens with its text and errors, and no scene") {

@@ -449,3 +449,25 @@ TEST_CASE("item fields: an edit through a field is named for the undo history by
                                                         "Edit position of right sphere of object 5",
                                                         "Edit radius of sphere 1"});
 }
+
+TEST_CASE("typed numbers: the whole text as the parser reads a number, or nothing with its message") {
+    double v = 7;
+    CHECK(parse_typed_number("1.5", v).ok());
+    CHECK(v == 1.5);
+    CHECK(parse_typed_number("  -2e3 ", v).ok());
+    CHECK(v == -2000);
+    v = 7;
+    for (const char* bad : {"", "  ", "abc", "1e1x", "1,5", "0x10", "inf", "nan", "1e", "--1", "1 2"}) {
+        const rt::Status st = parse_typed_number(bad, v);
+        CHECK_FALSE(st.ok());
+        CHECK(st.message().find("expected a number") != std::string::npos);
+        CHECK(v == 7);  // untouched
+    }
+    const rt::Status big = parse_typed_number("1e16", v);
+    CHECK(big.message() == "number '1e16' is out of range (magnitude at most 1e15)");
+    CHECK(v == 7);
+    CHECK(parse_typed_number("1e15", v).ok());
+    const rt::Status ctrl = parse_typed_number(std::string("a\x01\xff", 3), v);
+    CHECK(ctrl.message() == "expected a number, got 'a?" "?'");
+    CHECK(parse_typed_number(std::string(10 << 20, '1'), v).message().find("...'") != std::string::npos);
+}

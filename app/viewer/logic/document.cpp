@@ -410,7 +410,12 @@ void Document::commit() {
                                  step.camera_before.has_value(), wide, first);
     }
     normalize_applied();
-    if (applied_ || wide || !commit_in_place(step)) commit_generic(step);
+    if ((applied_ || wide || !commit_in_place(step)) && !commit_generic(step)) {
+        saved_ = {};
+        refusal_ = "The edit was undone: it cannot be written into the scene text's unapplied changes "
+                   "(apply or revert them first)";
+        return;
+    }
     saved_ = {};
     step.behind_after = behind_;
     if (!step.editor.empty()) ++text_version_;
@@ -493,8 +498,9 @@ bool Document::commit_in_place(DocStep& step) {
 }
 
 // Drafts and wide edits: the text is synchronised the careful way (this copies the
-// scene once; panels do not come here for documents without a draft).
-void Document::commit_generic(DocStep& step) {
+// scene once; panels do not come here for documents without a draft). False, with
+// the edit undone, when there is a draft the edit cannot be written into in full.
+bool Document::commit_generic(DocStep& step) {
     rt::Scene before = scene_before_edit_from(step);
     const std::string old_applied = applied_text();
     std::string new_applied = has_scene_ ? sync_scene_text(old_applied, before, scene_) : rt::write_scene(scene_);
@@ -503,27 +509,70 @@ void Document::commit_generic(DocStep& step) {
         TextSplice s = diff_texts(editor_, new_applied);
         editor_ = std::move(new_applied);
         if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
-        return;
+        return true;
     }
     // The user has an unapplied draft: carry the edit into it only where that is
-    // unambiguous (the draft parses and has the same items); never overwrite it.
+    // unambiguous (the draft parses and has the same items); never overwrite it. An
+    // edit that cannot be carried is not made: the text the user saves and the scene
+    // the panels show would disagree.
     rt::ParseResult draft = rt::parse_scene(editor_);
-    bool carried = false;
+    std::optional<std::string> patched;
     if (draft.ok()) {
         bool complete = false;
         rt::Scene target = carry_edit(draft.scene, before, scene_, &complete);
-        if (auto patched = patch_scene_text(editor_, draft.scene, target)) {
-            TextSplice s = diff_texts(editor_, *patched);
-            editor_ = std::move(*patched);
-            if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
-            carried = complete;
-        }
+        if (complete) patched = patch_scene_text(editor_, draft.scene, target);
     }
-    behind_ = behind_ || !carried;
+    if (!patched) {
+        scene_ = std::move(before);
+        ++scene_version_;
+        ++content_version_;
+        return false;
+    }
+    TextSplice s = diff_texts(editor_, *patched);
+    editor_ = std::move(*patched);
+    if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
     step.applied_before = *applied_;
     applied_ = std::move(new_applied);
     normalize_applied();
     step.applied_after = applied_;
+    return true;
+}
+
+std::string Document::edit_blocker() const {
+    if (!applied_ || !has_scene_) return {};
+    const std::uint64_t key = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    if (key != blocker_key_) {
+        blocker_key_ = key;
+        blocker_.clear();
+        if (*applied_ != editor_) {
+            const rt::ParseResult draft = rt::parse_scene(editor_);
+            if (!draft.ok())
+                blocker_ = "The scene text has unapplied changes with errors: fix them (Ctrl+Enter applies) "
+                           "or revert them before editing here";
+        }
+    }
+    return blocker_;
+}
+
+std::optional<std::string> Document::save_problem() const {
+    if (has_scene_ && !applied_ && !behind_) return std::nullopt;  // the text is the scene's own
+    if (has_scene_ && applied_ && *applied_ == editor_ && !behind_) return std::nullopt;
+    const rt::ParseResult r = rt::parse_scene(editor_);
+    for (const rt::Diagnostic& d : r.diagnostics)
+        if (d.is_error())
+            return "line " + std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message;
+    return std::nullopt;
+}
+
+bool Document::apply_parsing_draft() {
+    if (!applied_ || *applied_ == editor_ || !rt::parse_scene(editor_).ok()) return false;
+    return apply_text();
+}
+
+std::string Document::take_refusal() {
+    std::string r = std::move(refusal_);
+    refusal_.clear();
+    return r;
 }
 
 rt::Scene Document::scene_before_edit_from(const DocStep& step) const {

@@ -105,6 +105,13 @@ public:
     void commit();
     // Drops a pending edit, restoring the scene as it was before it.
     void cancel_edit();
+    // Why panel and handle edits cannot be made now (empty: they can): the editor
+    // holds unapplied changes that do not parse, so an edit could not be written into
+    // the text that Save writes. (Parses the draft once per change of the text.)
+    std::string edit_blocker() const;
+    // Why a commit() just now was not made (an edit that could not be carried into
+    // the draft: the scene went back), once; empty if none.
+    std::string take_refusal();
     // Makes `camera` the scene camera ("Set scene camera from view"): one undo step
     // that rewrites only the camera block of the text. False if nothing changed.
     bool set_camera(const rt::Camera& camera);
@@ -165,6 +172,11 @@ public:
     const std::string& last_step_name() const { return last_step_name_; }
 
     // --- saving ----------------------------------------------------------------
+    // Save writes the editor text. A draft that parses is applied first, so that the
+    // file and the picture agree (true if it was); one that does not parse makes
+    // save_problem() say why to ask the user before saving it.
+    bool apply_parsing_draft();
+    std::optional<std::string> save_problem() const;
     // Writes the editor text atomically; success, or why not.
     rt::Status save();
     rt::Status save_as(const std::string& path);
@@ -191,7 +203,7 @@ private:
     rt::Scene scene_before_edit() const;  // (a copy: only for the slow paths)
     rt::Scene scene_before_edit_from(const DocStep& step) const;
     bool commit_in_place(DocStep& step);
-    void commit_generic(DocStep& step);
+    bool commit_generic(DocStep& step);
     void record(DocStep step);
     // Text typed into the editor since the last step becomes a step of its own
     // (every step's splices hold for the text exactly as the previous step left it).
@@ -235,6 +247,9 @@ private:
     std::uint64_t layout_key_ = 0;
     bool conflict_ = false;
     std::string conflict_text_;
+    std::string refusal_;
+    mutable std::string blocker_;  // edit_blocker() for blocker_key_
+    mutable std::uint64_t blocker_key_ = ~std::uint64_t(0);
 };
 
 // FNV-1a of a text (the saved file's identity for modified()).

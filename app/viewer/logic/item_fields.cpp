@@ -6,6 +6,7 @@
 #include <cmath>
 #include <utility>
 
+#include "scene_lexer.h"
 #include "document.h"
 #include "scene_writer.h"
 
@@ -201,6 +202,25 @@ FieldResult assign(const sc::Block<T>& b, T& item, const Field& f, const FieldVa
 }
 
 }  // namespace
+
+rt::Status parse_typed_number(std::string_view text, double& v) {
+    const std::size_t b = text.find_first_not_of(" \t"), e = text.find_last_not_of(" \t");
+    const std::string_view t = b == std::string_view::npos ? std::string_view() : text.substr(b, e - b + 1);
+    if (t.empty()) return refused("expected a number, got nothing");
+    auto quoted = [](std::string_view s) {
+        // A typed text may be anything: shown short, and printable.
+        std::string q;
+        for (char c : s.substr(0, 40)) q += (c >= 32 && c < 127) ? c : '?';
+        return "'" + q + (s.size() > 40 ? "...'" : "'");
+    };
+    if (t.size() > rt::Limits::max_token_length || !rt::is_number_syntax(t))
+        return refused("expected a number, got " + quoted(t));
+    const double d = rt::number_value(t);
+    if (!std::isfinite(d) || std::fabs(d) > 1e15)
+        return refused("number " + quoted(t) + " is out of range (magnitude at most 1e15)");
+    v = d;
+    return {};
+}
 
 rt::Status check_number(double v) {
     // As the parser words it for a token it cannot take as a number.

@@ -78,5 +78,8 @@ FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const F
 
 // A number outside the format's range fails, with the parser's message for it.
 rt::Status check_number(double v);
+// A number typed into a field, read as the parser reads a number token (spaces
+// around it allowed): the whole text or nothing, with the parser's message.
+rt::Status parse_typed_number(std::string_view text, double& v);
 
 }  // namespace rtview

@@ -23,6 +23,7 @@
 #include "scene_edits.h"
 #include "scene_writer.h"
 #include "diagnostic_text.h"
+#include "number_field.h"
 #include "probe.h"
 
 namespace rtview {
@@ -267,26 +268,25 @@ void ViewerApp::probe_frame() {
     if (!opt_.print_layout) return;
     const Document& doc = editor_.doc();
     probe("title", doc.title());
-    probe("scene", loader_.active() ? "loading" : doc.has_scene() ? "ready" : "none");
+    probe("load", loader_.active() ? "loading" : doc.has_scene() ? "ready" : "no scene");
     probe("message", (status_.error() ? "error: " : "") + status_.text());
     std::string popups;
     for (const ImGuiPopupData& p : GImGui->OpenPopupStack)
         if (p.Window) popups += (popups.empty() ? "" : "|") + std::string(p.Window->Name);
     probe("popups", popups.empty() ? "none" : popups);
     probe("readout", tools_.readout_line().empty() ? "none" : tools_.readout_line());
+    {
+        const ImGuiIO& io = ImGui::GetIO();
+        char pointer[96];
+        std::snprintf(pointer, sizeof pointer, "%.0f %.0f%s%s", io.MousePos.x, io.MousePos.y,
+                      io.WantCaptureMouse ? " ui" : "", ImGui::IsAnyMouseDown() ? " down" : "");
+        probe("pointer", pointer);
+    }
     const rt::RenderProgress p = render_.progress();
     probe("render", std::to_string(p.samples) + " " + (p.done ? "done" : p.running ? "running" : "idle"));
     probe("diagnostics", std::to_string(doc.diagnostics().size()) +
                              (doc.diagnostics().empty() ? "" : " " + doc.diagnostics().front().message));
     probe("text", std::string(doc.editor_dirty() ? "unapplied" : "applied") + (doc.text_behind() ? " behind" : ""));
-    const Selection& sel = panels_.selection();
-    std::string selected = sel.kind == Selection::Kind::Object  ? "object"
-                           : sel.kind == Selection::Kind::Plane ? "plane"
-                           : sel.kind == Selection::Kind::Light ? "light"
-                                                                : "none";
-    if (sel.kind != Selection::Kind::None) selected += " " + std::to_string(sel.index + 1);
-    for (int k : sel.path) selected += k == 0 ? " left" : " right";
-    probe("selection", selected);
 }
 
 std::uint64_t ViewerApp::visible_key() const {
@@ -322,8 +322,10 @@ std::uint64_t ViewerApp::visible_key() const {
 void ViewerApp::update_render(double now) {
     Document& doc = editor_.doc();
     render_.sync_world(doc);
-    // A slider held in a panel is motion too: previews within the frame budget.
-    bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
+    // A slider held in a panel is motion too: previews within the frame budget (but
+    // not a number being typed: nothing changes until it is entered).
+    bool widget_busy = ImGui::IsAnyItemActive() && !number_typing() &&
+                       (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
     bool moving = nav_input_.moving(now) || widget_busy || move_.dragging();
     // While a render region refines, the rest of the picture stays as it was (the
     // region re-renders on edits and view changes); a new film size ends the region.
@@ -554,6 +556,7 @@ void ViewerApp::end_edits() {
     // edit, and may stay focused for a long time).
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
     if (!widget_busy && !move_.dragging()) doc.commit();
+    if (const std::string refused = doc.take_refusal(); !refused.empty()) status_.set(refused, true);
 }
 
 void ViewerApp::orbit_degrees(double degrees) {
@@ -585,9 +588,9 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             status_.set("Opened the built-in default scene");
             return true;
         case Command::CancelLoad: return cancel_load();
-        case Command::Save: return do_save();
+        case Command::Save: return do_save(confirmed);
         case Command::SaveAsDialog: dialogs_.show(Dialogs::Kind::SaveAs, doc.path().empty() ? doc.name() : doc.path()); return true;
-        case Command::SaveAs: return do_save_as(arg);
+        case Command::SaveAs: return do_save_as(arg, confirmed);
         case Command::SaveImageDialog: dialogs_.show(Dialogs::Kind::SaveImage, default_image_name()); return true;
         case Command::SaveImage: do_save_image(arg); return true;
         case Command::Screenshot: screenshot_request_ = arg; return true;
@@ -661,6 +664,10 @@ bool ViewerApp::view_command(Command c) {
             return true;
         case Command::SetSceneCamera:
             if (!doc.has_scene() || !nav_.has_view()) return false;
+            if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
+                status_.set(blocked, true);
+                return false;
+            }
             if (doc.set_camera(nav_.camera())) status_.set("The scene camera is now the view (Ctrl+Z undoes)");
             return true;
         case Command::CopyCamera:
@@ -880,24 +887,41 @@ std::string ViewerApp::default_image_name() const {
     return stem_of(doc.path().empty() ? doc.name() : doc.path()) + ".png";
 }
 
-bool ViewerApp::do_save() {
+// Before a save: a draft that parses is applied (the file will be the scene shown);
+// text that does not parse is saved only once the user has said so (false: asked).
+bool ViewerApp::ready_to_save(Command c, const std::string& arg, bool confirmed) {
+    Document& doc = editor_.doc();
+    doc.commit();
+    if (doc.apply_parsing_draft()) status_.set("Applied the scene text");
+    if (confirmed) return true;
+    if (std::optional<std::string> problem = doc.save_problem()) {
+        dialogs_.ask_save_with_errors(*problem, c, arg);
+        return false;
+    }
+    return true;
+}
+
+bool ViewerApp::do_save(bool confirmed) {
     Document& doc = editor_.doc();
     if (doc.path().empty()) {
         dialogs_.show(Dialogs::Kind::SaveAs, doc.name());
         return false;
     }
+    if (!ready_to_save(Command::Save, {}, confirmed)) return false;
     const rt::Status st = doc.save();
     if (st) status_.set("Saved " + doc.path());
     else status_.set("Save failed: " + st.message(), true);
     return st.ok();
 }
 
-bool ViewerApp::do_save_as(const std::string& path) {
+bool ViewerApp::do_save_as(const std::string& path, bool confirmed) {
     Document& doc = editor_.doc();
+    if (!ready_to_save(Command::SaveAs, path, confirmed)) return false;
     if (rt::Status st = doc.save_as(path); !st) {
         status_.set("Save failed: " + st.message(), true);
         return false;
     }
+    editor_.saved_as();
     const rt::Status recent = remember_recent(path);
     status_.set("Saved " + doc.path() + recent_note(recent), !recent);
     return true;

@@ -129,8 +129,10 @@ private:
     bool view_command(Command c);
     void handle_context_menu(bool usable);
     void draw_context_menu();
-    bool do_save();
-    bool do_save_as(const std::string& path);
+    bool ready_to_save(Command c, const std::string& arg, bool confirmed);
+    // `confirmed`: the user said to save text that does not parse.
+    bool do_save(bool confirmed = false);
+    bool do_save_as(const std::string& path, bool confirmed = false);
     // Puts `path` first in the recent-files list (in the window only); fails when the
     // list could not be saved.
     rt::Status remember_recent(const std::string& path);

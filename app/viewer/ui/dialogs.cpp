@@ -5,6 +5,7 @@
 #include <imgui_stdlib.h>
 
 #include "fonts.h"
+#include "probe.h"
 #include "options.h"
 
 namespace rtview {
@@ -19,6 +20,7 @@ bool escape_pressed() {
 const char* title_of(Dialogs::Kind k) {
     switch (k) {
         case Dialogs::Kind::Unsaved: return "Unsaved changes";
+        case Dialogs::Kind::SaveErrors: return "The scene text has errors";
         case Dialogs::Kind::Open: return "Open scene";
         case Dialogs::Kind::SaveAs: return "Save scene as";
         case Dialogs::Kind::SaveImage: return "Save image";
@@ -68,6 +70,10 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         draw_unsaved(doc_name, has_path);
         ImGui::EndPopup();
     }
+    if (begin(Kind::SaveErrors)) {
+        draw_save_errors();
+        ImGui::EndPopup();
+    }
     if (begin(Kind::Open)) {
         bool go = path_field("scene file path");
         if (!recent_.paths().empty()) {
@@ -99,6 +105,29 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         ImGui::PopFont();
         if (ImGui::Button("Close") || escape_pressed()) ImGui::CloseCurrentPopup();
         ImGui::EndPopup();
+    }
+}
+
+void Dialogs::draw_save_errors() {
+    ImGui::TextUnformatted("The scene text does not parse:");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.42f, 0.42f, 1.0f));
+    ImGui::PushTextWrapPos(ImGui::GetFontSize() * 32);
+    ImGui::TextWrapped("%s", save_problem_.c_str());
+    ImGui::PopStyleColor();
+    ImGui::TextWrapped("Saved as it is, the file will not open in raytracer (nor show a picture here) until the "
+                       "errors are fixed.");
+    ImGui::PopTextWrapPos();
+    const bool save = ImGui::Button("Save it anyway");
+    probe_item("button_save_anyway");
+    if (save) {
+        ImGui::CloseCurrentPopup();
+        if (commands_.run(save_command_, save_arg_, true)) run_pending();
+        else has_pending_ = false;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel") || escape_pressed()) {
+        ImGui::CloseCurrentPopup();
+        has_pending_ = false;
     }
 }
 

@@ -12,7 +12,7 @@ namespace rtview {
 
 class Dialogs {
 public:
-    enum class Kind { None, Unsaved, Open, SaveAs, SaveImage, Help };
+    enum class Kind { None, Unsaved, SaveErrors, Open, SaveAs, SaveImage, Help };
 
     Dialogs(Commands& commands, const RecentFiles& recent) : commands_(commands), recent_(recent) {}
 
@@ -28,6 +28,14 @@ public:
         has_pending_ = true;
         show(Kind::Unsaved);
     }
+    // The text to save does not parse (`problem` says where): ask before running
+    // `save` (Save or SaveAs, with `arg`) confirmed.
+    void ask_save_with_errors(const std::string& problem, Command save, const std::string& arg) {
+        save_problem_ = problem;
+        save_command_ = save;
+        save_arg_ = arg;
+        show(Kind::SaveErrors, path_);
+    }
     // `doc_name`: for the unsaved-changes question; `image_mode`: the Save Image hint.
     void draw(const std::string& doc_name, bool has_path, const char* image_mode);
     bool wants_frames() const { return request_ != Kind::None; }
@@ -38,6 +46,7 @@ private:
     // Inside a dialog: centred modal `k` is open (then EndPopup after drawing it).
     bool begin(Kind k);
     void draw_unsaved(const std::string& doc_name, bool has_path);
+    void draw_save_errors();
     // The path field (focused when the dialog opens); true on Enter.
     bool path_field(const char* hint);
     // `button` and Cancel; Go (dialog closed) when `go` or the button asks for a
@@ -52,6 +61,8 @@ private:
     bool has_pending_ = false;
     Command pending_ = Command::Quit;
     std::string pending_arg_;
+    std::string save_problem_, save_arg_;
+    Command save_command_ = Command::Save;
 };
 
 }  // namespace rtview

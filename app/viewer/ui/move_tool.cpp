@@ -116,6 +116,10 @@ bool MoveTool::handle_mouse(Document& doc, const Selection& sel, const ScreenVie
     bool over = !io.WantCaptureMouse && image.contains(mx, my);
     hover_ = over ? hit_handle(h, mx, my, kTolerance * s) : HandlePart::None;
     if (hover_ == HandlePart::None || !ImGui::IsMouseClicked(0)) return hover_ != HandlePart::None && ImGui::IsMouseDown(0);
+    if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
+        status.set(blocked, true);
+        return true;
+    }
     const rt::Scene& scene = doc.scene();
     std::size_t i = std::size_t(item->index);
     drag_.emplace(*item, sel.path, MoveDrag(hover_, *anchor, view, mx, my));

@@ -13,6 +13,7 @@
 
 #include "camera_control.h"
 #include "item_fields.h"
+#include "number_field.h"
 #include "probe.h"
 #include "scene_schema.h"
 #include "readout.h"
@@ -83,7 +84,10 @@ bool selection_valid(const rt::Scene& s, const Selection& sel) {
 
 bool drag_vec3(const char* label, rt::Vec3& v, float speed, const char* format = "%.3f") {
     double a[3] = {v.x, v.y, v.z};
-    if (!ImGui::DragScalarN(label, ImGuiDataType_Double, a, 3, speed, nullptr, nullptr, format)) return false;
+    NumberFieldSpec spec;
+    spec.speed = speed;
+    spec.format = format;
+    if (!number_fields(label, a, 3, spec)) return false;
     v = {a[0], a[1], a[2]};
     return true;
 }
@@ -103,16 +107,20 @@ bool material_editor(const char* id, rt::Material& m) {
     for (const sc::Key<rt::Material>& k : sc::material_block().keys) {
         const std::string label(k.name);
         if (k.kind == sc::Kind::Vec3) {
+            // The three numbers (typed whole, or dragged), and a swatch with a picker.
             rt::Vec3& c = k.access.vec3(m, 0);
             float col[3] = {float(c.x), float(c.y), float(c.z)};
-            const bool edited = ImGui::ColorEdit3(label.c_str(), col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR);
-            probe_item(std::string("field:") + id + ":" + label);
-            if (edited) {
-                // The channels as the widget shows them (three decimals); the others
+            if (ImGui::ColorEdit3(("##pick" + label).c_str(), col,
+                                  ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_NoInputs)) {
+                // The channels as the picker shows them (three decimals); the others
                 // as they were, not as a float holds them.
                 c = {from_widget(c.x, col[0], 3), from_widget(c.y, col[1], 3), from_widget(c.z, col[2], 3)};
                 changed = true;
             }
+            ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);
+            ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - ImGui::GetStyle().ItemInnerSpacing.x);
+            changed |= drag_vec3(label.c_str(), c, 0.005f);
+            probe_item(std::string("field_") + id + "_" + label);  // for scripts: "field_material_colour"
             continue;
         }
         if (k.kind != sc::Kind::Number) continue;
@@ -120,8 +128,12 @@ bool material_editor(const char* id, rt::Material& m) {
         const bool clamped = k.range.rule == sc::Range::Rule::Clamp;
         const double lo = clamped ? k.range.min : 0;
         const double hi = clamped && k.range.max <= lo + 1 ? k.range.max : lo + (clamped ? 2 : 1);
-        ImGuiSliderFlags flags = clamped && k.range.max <= lo + 1 ? ImGuiSliderFlags_AlwaysClamp : 0;
-        changed |= ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &v, &lo, &hi, "%.3f", flags);
+        NumberFieldSpec spec;
+        spec.slider = true;
+        spec.min = &lo;
+        spec.max = &hi;
+        spec.clamp_typed = clamped && k.range.max <= lo + 1;
+        changed |= number_field(label.c_str(), &v, spec);
         if (clamped && v < k.range.min) v = k.range.min;
     }
     double sum = m.reflection + m.refraction + m.scattering;
@@ -308,7 +320,17 @@ double Panels::scene_size() const {
     return std::max(rt::length(c.centre - c.position), 1e-3);
 }
 
+// "object_3", "object_4_left", "plane_1", "light_2", "none": a selection in one word.
+std::string Panels::selection_name(const Selection& s) {
+    if (s.kind == Selection::Kind::None) return "none";
+    std::string n = s.kind == Selection::Kind::Object ? "object_" : s.kind == Selection::Kind::Plane ? "plane_" : "light_";
+    n += std::to_string(s.index + 1);
+    for (int k : s.path) n += k == 0 ? "_left" : "_right";
+    return n;
+}
+
 void Panels::draw_sidebar() {
+    probe("selection", selection_name(selection_));
     ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - layout_.sidebar_w, layout_.menu_h));
     ImGui::SetNextWindowSize(ImVec2(layout_.sidebar_w, io.DisplaySize.y - layout_.menu_h));
@@ -331,7 +353,9 @@ void Panels::draw_sidebar() {
             if (t == Text && (doc.editor_dirty() || doc.has_errors()))
                 label += doc.has_errors() ? " (errors)" : " (unapplied)";
             label += "###tab" + std::to_string(t);  // stable ID while the label changes
-            if (ImGui::BeginTabItem(label.c_str(), nullptr, tf)) {
+            const bool shown = ImGui::BeginTabItem(label.c_str(), nullptr, tf);
+            probe_item(std::string("tab_") + names[t]);
+            if (shown) {
                 current_tab_ = t;
                 if (want_tab_ == t) want_tab_ = -1;
                 if (t == Objects) draw_objects_tab();
@@ -377,7 +401,10 @@ void Panels::draw_camera_panel() {
         }
         ViewAngles va = view_angles(view, nav_.world_up());
         double v3[3] = {va.azimuth, va.elevation, va.distance};
-        if (ImGui::DragScalarN("az, el, dist", ImGuiDataType_Double, v3, 3, 0.25f, nullptr, nullptr, "%.2f"))
+        NumberFieldSpec angles;
+        angles.speed = 0.25f;
+        angles.format = "%.2f";
+        if (number_fields("az, el, dist", v3, 3, angles))
             nav_.set(set_view_angles(view, nav_.world_up(), {v3[0], std::clamp(v3[1], -89.0, 89.0), std::max(v3[2], 1e-6)}));
         probe_view(view, v3);
         if (layout_.fit == FitMode::Window && doc.has_scene()) {
@@ -398,32 +425,50 @@ void Panels::draw_camera_panel() {
         if (ImGui::Button("Reset view (R)")) commands_.run(Command::ResetView);
         ImGui::EndDisabled();
 
-        // The scene camera: part of the document (edits here are undoable edits of
-        // the file, and the view follows them).
-        ImGui::Separator();
-        ImGui::TextDisabled("Scene camera (in the file)");
-        rt::Camera cam = doc.scene().camera;
-        bool changed = false;
-        changed |= drag_vec3("position", cam.position, speed);
-        changed |= drag_vec3("centre", cam.centre, speed);
-        changed |= drag_vec3("up point", cam.up, speed);
-        double ang[2] = {cam.angle_x, cam.angle_y};
-        const double amin = 0.5, amax = 179.5;
-        if (ImGui::DragScalarN("angle x, y", ImGuiDataType_Double, ang, 2, 0.1f, &amin, &amax, "%.2f deg")) {
-            cam.angle_x = ang[0];
-            cam.angle_y = ang[1];
-            changed = true;
-        }
-        int proj = cam.projection == rt::Projection::Polar ? 1 : 0;
-        if (ImGui::Combo("projection", &proj, "linear\0polar (equal angle)\0")) {
-            cam.projection = proj ? rt::Projection::Polar : rt::Projection::Linear;
-            changed = true;
-        }
+        draw_scene_camera_fields(speed);
         ImGui::PopItemWidth();
-        if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;
         ImGui::EndDisabled();
     }
     layout_.camera_panel = item_block(top, width);
+}
+
+// The scene camera: part of the document (edits here are undoable edits of the
+// file, and the view follows them).
+void Panels::draw_scene_camera_fields(float speed) {
+    const Document& doc = editor_.doc();
+    ImGui::Separator();
+    ImGui::TextDisabled("Scene camera (in the file)");
+    // Disabled, not hidden, while the text blocks edits: the panels below keep their place.
+    const bool blocked = !doc.edit_blocker().empty();
+    ImGui::BeginDisabled(blocked);
+    rt::Camera cam = doc.scene().camera;
+    bool changed = false;
+    changed |= drag_vec3("position", cam.position, speed);
+    changed |= drag_vec3("centre", cam.centre, speed);
+    changed |= drag_vec3("up point", cam.up, speed);
+    double ang[2] = {cam.angle_x, cam.angle_y};
+    const double amin = 0.5, amax = 179.5;
+    NumberFieldSpec fov;
+    fov.speed = 0.1f;
+    fov.min = &amin;
+    fov.max = &amax;
+    fov.format = "%.2f deg";
+    fov.clamp_typed = true;
+    if (number_fields("angle x, y", ang, 2, fov)) {
+        cam.angle_x = ang[0];
+        cam.angle_y = ang[1];
+        changed = true;
+    }
+    int proj = cam.projection == rt::Projection::Polar ? 1 : 0;
+    if (ImGui::Combo("projection", &proj, "linear\0polar (equal angle)\0")) {
+        cam.projection = proj ? rt::Projection::Polar : rt::Projection::Linear;
+        changed = true;
+    }
+    ImGui::EndDisabled();
+    if (blocked) changed = false;
+    if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;
+    else if (changed) status_.set(std::string("Camera not changed: ") + rt::camera_problem(cam), true);
+    if (std::string refused; take_number_refusal(refused)) status_.set(refused, true);
 }
 
 void Panels::draw_objects_tab() {
@@ -448,11 +493,7 @@ void Panels::draw_object_node(const rt::Object& obj, int top, std::vector<int>& 
     if (csg) f |= ImGuiTreeNodeFlags_DefaultOpen;
     else f |= ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen;
     bool open = ImGui::TreeNodeEx("node", f, "%s", label.c_str());
-    if (!path.empty()) {  // an operand's row, for scripts (probe.h): "row:object:4:left"
-        std::string key = "row:object:" + std::to_string(top + 1);
-        for (int k : path) key += k == 0 ? ":left" : ":right";
-        probe_item(key);
-    }
+    if (ImGui::IsItemVisible()) probe_item("outline_" + selection_name(me));
     if (ImGui::IsItemClicked() && !ImGui::IsItemToggledOpen()) selection_ = me;
     if (selection_ == me && scroll_to_selection_) {
         ImGui::SetScrollHereY();
@@ -483,6 +524,7 @@ void Panels::draw_outline() {
                                ImGuiTreeNodeFlags_SpanAvailWidth;
         if (selection_ == me) f |= ImGuiTreeNodeFlags_Selected;
         ImGui::TreeNodeEx("node", f, "%s", label.c_str());
+        if (ImGui::IsItemVisible()) probe_item("outline_" + selection_name(me));
         if (ImGui::IsItemClicked()) selection_ = me;
         if (selection_ == me && scroll_to_selection_) {
             ImGui::SetScrollHereY();
@@ -521,7 +563,6 @@ void Panels::draw_outline() {
             const rt::Light& l = s.lights[std::size_t(k)];
             ImGui::PushID(k);
             leaf({Selection::Kind::Light, k, {}}, std::to_string(k + 1) + "  " + (l.lamp ? "lamp" : "spotlight") + "  at " + fmt_vec(l.position));
-            if (k < 64) probe_item("row:light:" + std::to_string(k + 1));
             ImGui::PopID();
         }
         ImGui::TreePop();
@@ -582,7 +623,7 @@ void Panels::draw_properties() {
     if (!selection_.path.empty()) {
         if (loc.line > 0) same_line_if_fits("select the parent");
         const bool parent = ImGui::SmallButton("select the parent");
-        probe_item("button:select the parent");
+        probe_item("button_select_the_parent");
         if (parent) {
             selection_.path.pop_back();
             return;
@@ -599,7 +640,16 @@ void Panels::draw_properties() {
         ImGui::TextDisabled("%s", what);
     }
     ImGui::Separator();
+    // Nothing here may change the scene while the text holds changes it could not be
+    // written into: Save writes that text.
+    const std::string blocked = editor_.doc().edit_blocker();
+    if (!blocked.empty()) {
+        wrapped_coloured(kWarnColour, blocked);
+        probe("edits", "blocked");
+    }
+    ImGui::BeginDisabled(!blocked.empty());
     draw_fields(ref);
+    ImGui::EndDisabled();
 }
 
 // One widget per key of the selected item's block, from the schema (item_fields.h):
@@ -624,8 +674,14 @@ void Panels::draw_fields(const ItemRef& ref) {
         ImGui::PushID(f.label.c_str());
         ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
         const bool changed = draw_field(ref, f, v, size, vec_format, operand);
-        probe_item("field:" + f.label);
         ImGui::PopItemWidth();
+        {
+            // Where the field is, for scripts that click on it.
+            std::string key = "field_" + f.label;
+            std::replace(key.begin(), key.end(), ' ', '_');
+            probe_item(key);
+        }
+        if (std::string refused; take_number_refusal(refused)) field_message_ = {selection_, f.label, refused, true};
         if (changed) {
             const FieldResult r = set_field(doc, ref, f, v);
             if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true};
@@ -633,8 +689,10 @@ void Panels::draw_fields(const ItemRef& ref) {
             else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
             else if (field_message_.field == f.label) field_message_ = {};
         }
-        if (field_message_.field == f.label && !field_message_.text.empty())
+        if (field_message_.field == f.label && !field_message_.text.empty()) {
             wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+            probe("field_message", f.label + ": " + field_message_.text);
+        }
         ImGui::PopID();
     }
     probe("fields", shown);
@@ -648,9 +706,10 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
     bool changed = false;
     switch (f.kind) {
         case sc::Kind::Number: {
-            const float speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
-            changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, speed, nullptr, nullptr, "%.6g");
-            if (ImGui::IsItemHovered()) ImGui::SetTooltip("Drag, or Ctrl+click to type a value");
+            NumberFieldSpec spec;
+            spec.speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
+            spec.format = "%.6g";
+            changed = number_field(f.label.c_str(), &v.number, spec);
             break;
         }
         case sc::Kind::Vec3: {
@@ -662,7 +721,9 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
             break;
         }
         case sc::Kind::Integer: {
-            changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, 1.0f, nullptr, nullptr, "%.0f");
+            NumberFieldSpec spec;
+            spec.format = "%.0f";
+            changed = number_field(f.label.c_str(), &v.number, spec);
             break;
         }
         case sc::Kind::Choice: {
@@ -720,10 +781,12 @@ bool Panels::light_colour_editor(rt::Vec3& colour) {
     ImGui::SameLine();
     const double zero = 0;
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 6);
-    if (ImGui::DragScalar("intensity", ImGuiDataType_Double, &intensity, float(std::max(intensity * 0.005, 0.01)), &zero,
-                          nullptr, "%.2f"))
-        tinted = true;
-    probe_item("field:intensity");
+    NumberFieldSpec spec;
+    spec.speed = float(std::max(intensity * 0.005, 0.01));
+    spec.min = &zero;
+    spec.format = "%.2f";
+    if (number_field("intensity", &intensity, spec)) tinted = true;
+    probe_item("field_intensity");
     if (tinted) {
         // As the colour field shows it: tint * intensity has noise in its last digits.
         const rt::Vec3 c = tint * intensity;
@@ -953,7 +1016,8 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             else
                 std::snprintf(line, sizeof line, "spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
                               layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
-            status_text(line, tools_.readout_line().empty());
+            // An error stays beside the readout: it must be read, not hidden by a hover.
+            status_text(line, tools_.readout_line().empty() || status_.error());
         }
     }
     ImGui::End();
@@ -996,6 +1060,12 @@ void Panels::status_text(const std::string& text, bool show_message) {
     std::string all;
     for (const StatusPiece& p : shown) all += p.sep + p.text;
     probe("status_bar", all);
+    if (show_message && status_.error()) {
+        // Errors stay until the next message or until dismissed here.
+        ImGui::SameLine();
+        if (ImGui::SmallButton("x##dismiss")) status_.set("");
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Dismiss this message");
+    }
     const float width = ImGui::GetWindowWidth();
     if (extra > usual_status_extra(width)) status_more_ = {width, ImGui::GetFontSize(), status_.text(), extra};
 }

@@ -51,10 +51,12 @@ public:
     // narrow window its text takes more than one row.
     float status_height(float width);
     float min_sidebar_width();
+    static std::string selection_name(const Selection& s);
 
 private:
     void draw_undo_items();
     void draw_camera_panel();
+    void draw_scene_camera_fields(float speed);
     void draw_objects_tab();
     void draw_outline();
     void draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label);

@@ -82,7 +82,8 @@ class Commands {
 public:
     virtual ~Commands() = default;
     // Returns false if the command failed (the status line says why). `confirmed`:
-    // the user already chose to drop unsaved edits (Quit, Open, OpenDefault).
+    // the user already chose to drop unsaved edits (Quit, Open, OpenDefault), or to
+    // save text that does not parse (Save, SaveAs).
     virtual bool run(Command c, const std::string& arg = {}, bool confirmed = false) = 0;
 };
 

@@ -613,6 +613,8 @@ bool TextEditor::draw(const char* id, const ImVec2& size_arg) {
         std::snprintf(grid, sizeof grid, "%.2f %.2f %.3f %.3f %d %s", f.text_origin.x, f.text_origin.y, char_w_, line_h_,
                       f.fixed_width ? 1 : 0, wrap_ ? "wrap" : "nowrap");
         probe("editor_grid", grid);
+        probe("editor_cursor", std::to_string(f.cur.line + 1) + " " + std::to_string(f.cur.col + 1) +
+                                   (focused_ ? " focused" : ""));
     }
     ImGui::EndChild();
     ImGui::PopStyleColor();

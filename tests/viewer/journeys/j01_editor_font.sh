@@ -25,8 +25,9 @@ type_text "iiiiiiiiii"
 key Return
 type_text "MMMMMMMMMM"
 key Return
-idle 0.5
+wait_state editor_cursor "^3 1 focused$"
 wait_state diagnostics '^[1-9]'  # the live check flags the two stray lines
+idle 0.5
 shot 1-typed
 read -r lh <<< "$(echo "$grid" | awk '{ print int($4) }')"
 read -r x1 y1 <<< "$(editor_xy 1 1 0)"
@@ -47,9 +48,11 @@ awk -v a="$n1" -v b="$w1" -v cw="$cw" 'BEGIN { d = a - b; if (d < 0) d = -d; exi
 step "delete the two lines, click the g of geometry on line 17 and type Z"
 key ctrl+Home shift+Down shift+Down Delete
 wait_state diagnostics '^0'
+wait_state editor_cursor "^1 1 focused$"
 col=$(sed -n 17p "$SCENE" | awk '{ print index($0, "geometry") }')
 read -r gx gy <<< "$(editor_xy 17 "$col" 0.2)"
 click "$gx" "$gy"
+wait_state editor_cursor "^17 $col focused$"
 type_text "Z"
 idle 0.5
 # The live check names the word as it now is: the Z went where the user clicked.

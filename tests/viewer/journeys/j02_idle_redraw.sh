@@ -42,8 +42,10 @@ key ctrl+e
 wait_state editor_grid "nowrap"
 read -r x y <<< "$(editor_xy 6 14 0.9)"  # after "radius 1" of the first sphere
 click "$x" "$y"
+wait_state editor_cursor "^6 [0-9]+ focused$"
 key End
 type_text "abc"
+wait_state editor_cursor "^6 15 focused$"
 idle 1.5
 wait_state diagnostics "^1 .*radius" 2
 shot 3-error

@@ -10,8 +10,8 @@
 
 step "open default.txt and select the CSG's left operand in the outline"
 start_viewer "$SCENES/default.txt" --samples 4
-click_item "row:object:4:left"
-wait_state selection "^object 4 left$"
+click_item "outline_object_4_left"
+wait_state selection "^object_4_left$"
 idle 0.5
 hx=$(field handle 1) hy=$(field handle 2)
 echo "handle at $hx $hy"
@@ -37,6 +37,6 @@ y=$(awk '/left \{ sphere/ { print $6 }' "$SCENE")
 awk -v y="$y" 'BEGIN { exit !(y > 2.5) }' || fail "the operand's y is $y, expected it to grow from 2.4"
 
 step "the picture is raytracer's render of the saved text"
-deselect
+select_nothing
 picture_agrees 3-saved
 echo PASS

@@ -15,11 +15,11 @@ decimals() { awk -v n="$1" 'BEGIN { i = index(n, "."); print i ? length(n) - i :
 
 step "open default.txt, select the lamp and drag its intensity to the left"
 start_viewer "$SCENES/default.txt" --samples 4
-scroll_to "row:light:1" $(region_mid outline)
-click_item "row:light:1"
-wait_state selection "^light 1$"
-wait_state "field:intensity" '^[0-9]'
-read -r x y <<< "$(item_xy field:intensity)"
+scroll_to "outline_light_1" $(region_mid outline)
+click_item "outline_light_1"
+wait_state selection "^light_1$"
+wait_state "field_intensity" '^[0-9]'
+read -r x y <<< "$(item_xy field_intensity)"
 drag "$x" "$y" $((x - 90)) "$y"
 idle 0.5
 shot 1-intensity
@@ -28,12 +28,12 @@ echo "the colour field shows: $shown"
 
 step "select sphere 2 (in the picture) and drag the red channel of its colour"
 click $((ix + iw * 66 / 100)) $((iy + ih * 35 / 100))
-wait_state selection "^object 2$"
+wait_state selection "^object_2$"
 idle 0.3
 # The colour is below the sliders: scroll the properties (under the outline) to it.
 read -r ox oy ow oh <<< "$(region outline)"
-scroll_to "field:material:colour" $((ox + ow / 2)) $((oy + oh + 150))
-read -r cx cy cw _ <<< "$(state field:material:colour)"
+scroll_to "field_material_colour" $((ox + ow / 2)) $((oy + oh + 150))
+read -r cx cy cw _ <<< "$(state field_material_colour)"
 # The widget is three number fields, a swatch and the label: red is the first field.
 rx=$((cx + cw / 8))
 drag "$rx" $((cy + 8)) $((rx - 40)) $((cy + 8))
@@ -61,6 +61,6 @@ read -r r g b <<< "$(echo "$line" | awk '{ for (i = 1; i <= NF; ++i) if ($i == "
 [ "$(decimals "$r")" -le 3 ] || fail "red is written as $r: more digits than the field shows"
 
 step "the picture is raytracer's render of the saved text"
-deselect
+select_nothing
 picture_agrees 3-saved
 echo PASS

@@ -17,7 +17,7 @@ step "right-click the floor behind the objects: Add here > plane"
 click $((ix + iw * 90 / 100)) $((iy + ih * 34 / 100)) 3
 hover_item "menu:Add_here"
 click_item "menu:plane"
-wait_state selection "^plane 2$" 5
+wait_state selection "^plane_2$" 5
 wait_state message "^Added a plane"
 save
 [ "$(planes)" = 2 ] || fail "expected two planes in the saved text, found $(planes)"
@@ -31,7 +31,7 @@ echo "fraction of the picture changed: $changed"
 awk -v f="$changed" 'BEGIN { exit !(f > 0.1) }' || fail "only $changed of the picture changed: the new plane is not seen"
 
 step "opened again, the saved file's picture is raytracer's"
-stop_viewer
+quit_viewer
 start_viewer "$SCENE" --samples 4
 picture_agrees 2-reopened
 echo PASS

@@ -23,8 +23,8 @@ SCENE
 
 step "open the scene, select the spotlight in the outline"
 start_viewer "$OUT/spot.txt" --samples 4
-click_item "row:light:2"
-wait_state selection "^light 2$"
+click_item "outline_light_2"
+wait_state selection "^light_2$"
 idle 0.3
 [ "$(field handle 3)" = light ] || fail "no handle on the spotlight: $(field handle 1) $(field handle 2) $(field handle 3)"
 hx=$(field handle 1) hy=$(field handle 2)
@@ -35,18 +35,18 @@ step "right-click its handle"
 click "$hx" "$hy" 3
 idle 0.5
 shot 2-handle-menu
-wait_state selection "^light 2$" 2
+wait_state selection "^light_2$" 2
 wait_state "menu:Make_it_a_lamp" '^[0-9]' 2
 
 step "close the menu, click the sky, right-click where the light is drawn"
 click 1000 790  # outside the menu: it closes
 wait_state popups "^none$" 3
-deselect
+select_nothing
 wait_state render "done" 30
 shot 3-nothing-selected
 click "$hx" "$hy" 3
 idle 0.5
 shot 4-light-menu
-wait_state selection "^light 2$" 2
+wait_state selection "^light_2$" 2
 wait_state "menu:Make_it_a_lamp" '^[0-9]' 2
 echo PASS

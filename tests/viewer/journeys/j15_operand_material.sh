@@ -9,8 +9,8 @@
 
 step "open default.txt, select the CSG's left operand"
 start_viewer "$SCENES/default.txt" --samples 4
-click_item "row:object:4:left"
-wait_state selection "^object 4 left$"
+click_item "outline_object_4_left"
+wait_state selection "^object_4_left$"
 idle 0.3
 shot 1-operand
 fields=$(state fields)
@@ -19,8 +19,8 @@ echo "the operand's fields: $fields"
 [[ ",$fields," != *",material"* ]] || fail "the operand's panel offers a material that is not rendered: $fields"
 
 step "select the whole CSG: its material is offered"
-click_item "button:select_the_parent"
-wait_state selection "^object 4$"
+click_item "button_select_the_parent"
+wait_state selection "^object_4$"
 idle 0.3
 shot 2-csg
 fields=$(state fields)

@@ -27,7 +27,7 @@ step "right-click the floor: Add here > sphere"
 click $((ix + iw / 2)) $((iy + ih * 80 / 100)) 3
 hover_item "menu:Add_here"
 click_item "menu:sphere"
-wait_state selection "^object 1$" 5
+wait_state selection "^object_1$" 5
 wait_state render "done" 30
 shot 2-added
 msg=$(state message)

@@ -12,7 +12,7 @@
 step "open default.txt, move sphere 2 with the handle"
 start_viewer "$SCENES/default.txt" --samples 4
 click $((ix + iw * 66 / 100)) $((iy + ih * 35 / 100))
-wait_state selection "^object 2$"
+wait_state selection "^object_2$"
 idle 0.3
 hx=$(field handle 1) hy=$(field handle 2)
 drag $((hx - 45)) "$hy" $((hx - 105)) "$hy"
@@ -20,9 +20,9 @@ wait_state message "^Moved by"
 
 step "select sphere 1 (the glass ball) and drag its radius field"
 click $((ix + iw * 37 / 100)) $((iy + ih * 55 / 100))
-wait_state selection "^object 1$"
-wait_state "field:radius" '^[0-9]'
-read -r x y <<< "$(item_xy field:radius)"
+wait_state selection "^object_1$"
+wait_state "field_radius" '^[0-9]'
+read -r x y <<< "$(item_xy field_radius)"
 drag "$x" "$y" $((x + 40)) "$y"
 idle 0.5
 shot 1-edited

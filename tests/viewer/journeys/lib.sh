@@ -12,13 +12,16 @@
 # Journeys rest the mouse and wait with no input at all (`idle`): nothing may wait
 # for an input event. Helpers:
 #   start_viewer SCENE [ARGS...]   start the window on a scene file (a copy in $OUT)
-#   stop_viewer                    close it
 #   state KEY                      the last drawn frame's value of KEY
 #   wait_state KEY REGEX [SECS]    wait (no input) until it matches; fail if it never does
 #   idle SECS                      no input at all for SECS
 #   field NAME K / region NAME     the layout's rectangles (as the older Xvfb tests)
 #   click X Y [BUTTON], key KEYS..., type TEXT, shot NAME
 #   editor_xy LINE COL [FRACTION]  screen point of a character of the scene text
+#   select_nothing                 click the picture's empty corner, wait for no selection
+#   item_xy / click_item / hover_item KEY   a probed item's (probe_item) centre; click it;
+#                                  rest the pointer on it (a submenu opens on hover)
+#   drag X0 Y0 X1 Y1 [BUTTON], scroll_to KEY X Y, region_mid NAME
 #   picture_agrees NAME            the picture equals `raytracer`'s render of $SCENE
 set -euo pipefail
 
@@ -98,8 +101,10 @@ wait_state() {
     fail "after ${secs} s, '$k' is '$(state "$k")', expected /$re/"
 }
 
-# start_viewer SCENE [ARGS...]: the window on a copy of SCENE ($SCENE), its layout in
-# $LAYOUT; returns once the scene is loaded and a frame shows it.
+# start_viewer SCENE [ARGS...]: the window on a copy of SCENE in $OUT ($SCENE; SCENE
+# itself if it is there already), its layout in $LAYOUT; returns once the scene is
+# loaded and a frame shows it.
+# quit_viewer: Ctrl+Q, and waits for the process to end.
 start_viewer() {
     local src=$1
     shift
@@ -109,14 +114,20 @@ start_viewer() {
     VIEWER_PID=$!
     WID=$(timeout 30 xdotool search --sync --name "$(basename "$SCENE")" | head -1) || fail "no window appeared"
     wait_state title "^$(basename "$SCENE")" 30
-    wait_state scene "^(ready|none)$" 30  # loaded: the layout is the scene's
+    wait_state load "^(ready|no scene)$" 60
+    image_region
+}
+
+# $IMAGE ("x y w h") and ix iy iw ih: where the last frame drew the picture.
+image_region() {
     IMAGE=$(region image)
     read -r ix iy iw ih <<< "$IMAGE"
 }
 
-# stop_viewer: closes the window (its process ends), e.g. to open the saved file afresh.
-stop_viewer() {
-    kill "$VIEWER_PID" 2>/dev/null || true
+quit_viewer() {
+    key ctrl+q
+    for _ in $(seq 1 100); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
+    kill -0 "$VIEWER_PID" 2>/dev/null && fail "Ctrl+Q did not quit"
     wait "$VIEWER_PID" 2>/dev/null || true
     VIEWER_PID=
 }
@@ -145,10 +156,20 @@ wait_stable() {
     fail "the image never settled ($name)"
 }
 
+# Clicks on the picture's top left corner (the sky, in the scenes journeys use) and
+# waits until nothing is selected.
+select_nothing() {
+    image_region
+    click $((ix + 5)) $((iy + 5))
+    wait_state selection "^none$"
+}
+
 # The picture on the screen equals `raytracer`'s render of the saved $SCENE at the
 # image's size (nothing selected, the render settled).
 picture_agrees() {
     local name=$1
+    image_region
+    wait_state selection "^none$" 10
     wait_state render "done" 60
     wait_stable "$name-shown"
     "$BIN/raytracer" --quiet --samples "$(state render | awk '{ print $1 }')" --width "$iw" --height "$ih" \
@@ -164,7 +185,8 @@ save() {
 }
 
 # item_xy KEY: the centre of a rectangle the last frame drew under state KEY (probe_item:
-# menu rows "menu:NAME" (spaces in NAME are _), outline rows "row:object:4:left", fields "field:NAME").
+# menu rows "menu:NAME" (spaces in NAME are _), outline rows "outline_object_4_left",
+# fields "field_NAME").
 item_xy() {
     local r
     r=$(state "$1")
@@ -191,12 +213,6 @@ drag() {
     done
     sleep 0.1
     xdotool mouseup "$b"
-}
-# deselect: a click on the picture's top edge (the sky in the example scenes) selects
-# nothing, so no outline or handle is drawn over the picture.
-deselect() {
-    click $((ix + iw / 2)) $((iy + 6))
-    wait_state selection '^none$' 5
 }
 # scroll_to KEY X Y: scrolls the wheel at (X, Y) (over the outline, the properties...)
 # until the item KEY is on the screen.
