@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "adaptive.h"
 #include "cli_common.h"
 #include "diagnostic_text.h"
 #include "image_io.h"
@@ -116,8 +117,13 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
     settings.coarse = false;  // nobody watches a preview here
     settings.mirror = opt.mirror;
     settings.time_limit = opt.time_limit;
-    // A time limit with no sample count means "as good as fits in the time".
-    settings.max_samples = opt.samples ? *opt.samples : (opt.time_limit > 0 ? 65536 : 1);
+    // A time limit with no sample count means "as good as fits in the time"; a
+    // threshold alone, at most kDefaultAaMaxSamples.
+    settings.max_samples = opt.samples          ? *opt.samples
+                           : opt.time_limit > 0 ? 65536
+                           : opt.aa_threshold   ? rt::kDefaultAaMaxSamples
+                                                : 1;
+    settings.aa_threshold = opt.aa_threshold.value_or(-1);
     // Without a time limit nothing is gained by stopping between passes, and one
     // pass makes pass_fraction the whole render's progress.
     if (opt.time_limit <= 0) settings.samples_per_pass = settings.max_samples;
@@ -128,7 +134,7 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
     // SIGINT and SIGTERM end the process from the signal handler, in this phase too.
     while (!renderer.wait_for(0.1)) {
         rt::RenderProgress p = renderer.progress();
-        double fraction = (p.samples + p.pass_fraction * (settings.max_samples - p.samples)) / settings.max_samples;
+        double fraction = rt::progress_fraction(p, settings.max_samples);
         if (opt.time_limit > 0) fraction = std::max(fraction, p.elapsed / opt.time_limit);
         bar.update(fraction, p.elapsed);
     }
@@ -168,11 +174,19 @@ struct Times {
 
 void print_stats(const std::string& scene_path, const rt::Scene& scene, const Rendered& r, const Times& t) {
     char line[256];
+    std::cerr << scene_path << ": " << scene.width << "x" << scene.height << ", ";
+    if (r.progress.refining >= 0) {
+        // Adaptive: how the samples went.
+        const double pixels = double(scene.width) * scene.height;
+        std::snprintf(line, sizeof line, "%.3f samples per pixel on average (adaptive, %lld not settled)",
+                      double(r.progress.film_samples) / pixels, static_cast<long long>(r.progress.refining));
+        std::cerr << line;
+    } else {
+        std::cerr << r.progress.samples << (r.progress.samples == 1 ? " sample" : " samples") << " per pixel";
+    }
     std::snprintf(line, sizeof line, "time: parse %.3f s, compile %.3f s, render %.3f s, write %.3f s, total %.3f s\n",
                   t.parse, t.compile, t.render, t.write, t.total);
-    std::cerr << scene_path << ": " << scene.width << "x" << scene.height << ", " << r.progress.samples
-              << (r.progress.samples == 1 ? " sample" : " samples") << " per pixel, " << r.threads
-              << (r.threads == 1 ? " thread" : " threads") << "\n"
+    std::cerr << ", " << r.threads << (r.threads == 1 ? " thread" : " threads") << "\n"
               << line << "rays: " << with_commas(r.progress.rays);
     std::snprintf(line, sizeof line, " (%.2f M rays/s)\n", t.render > 0 ? r.progress.rays / t.render / 1e6 : 0.0);
     std::cerr << line;

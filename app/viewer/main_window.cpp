@@ -48,7 +48,8 @@ private:
 // Ctrl+S into S; a character typed in the same frame as a Ctrl press is dropped; and
 // a click is taken where the pointer is at the next frame, not where it was clicked.
 // So input passes through a small queue: a release waits for the frame after its
-// press, a press for the frame after a release or after pending characters, and the
+// press, a press for the frame after a release or after pending characters, a
+// character for the frame after a key press (which may move the focus), and the
 // pointer's position and buttons are what the events taken so far say (not the live
 // state). Events keep their order; the queue is drained after every frame.
 struct InputEvent {
@@ -74,7 +75,9 @@ bool g_double_click = false;  // the press this frame takes is the second of a d
 bool must_wait(const InputEvent& e) {
     if (!g_waiting.empty()) return true;  // never overtake an earlier event
     switch (e.kind) {
-        case InputEvent::Kind::Char:
+        // Characters after a key press (Enter, Tab, Ctrl+E) go to where that key put
+        // the focus, which takes effect in the next frame.
+        case InputEvent::Kind::Char: return g_frame_has_press;
         case InputEvent::Kind::Motion: return false;
         case InputEvent::Kind::Key:
             if (e.action == GLFW_PRESS) return g_frame_has_chars || g_frame_has_release;

@@ -53,6 +53,13 @@ TEST_CASE("the final render's settings are the command line's") {
     CHECK(s.max_samples == 65536);
     CHECK(s.samples_per_pass == 0);
     CHECK(s.time_limit == 2.5);
+    CHECK(s.aa_threshold < 0);
+    // A threshold: adaptive, up to raytracer's default of 16 samples unless given more.
+    s = final_render_settings(640, 480, 0, 0, 0.3);
+    CHECK(s.aa_threshold == 0.3);
+    CHECK(s.max_samples == 16);
+    s = final_render_settings(640, 480, 64, 0, 0.1);
+    CHECK(s.max_samples == 64);
 }
 
 TEST_CASE("a final render writes the scene's picture size and refuses bad names") {
@@ -65,11 +72,11 @@ end)";
     rt::ParseResult r = rt::parse_scene(text);
     REQUIRE(r.ok());
     FinalRender fr(2);
-    CHECK_FALSE(fr.start(r.scene, "out.jpg", 2, 0).ok());
+    CHECK_FALSE(fr.start(r.scene, "out.jpg", 2, 0, -1).ok());
     CHECK_FALSE(fr.active());
     const std::string out = "test_final_render_out.ppm";
     std::remove(out.c_str());
-    REQUIRE(fr.start(r.scene, out, 2, 0).ok());
+    REQUIRE(fr.start(r.scene, out, 2, 0, -1).ok());
     while (!fr.wait_for(1)) {
     }
     CHECK(fr.fraction() == 1);

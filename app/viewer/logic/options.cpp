@@ -11,6 +11,7 @@
 #include <fstream>
 #include <utility>
 
+#include "adaptive.h"
 #include "arg_table.h"
 
 namespace rtview {
@@ -90,6 +91,17 @@ rtargs::Table option_table(Options& o) {
                              [&o](const std::string&, const std::string& v) { return set_size(v, o); }),
         whole("--samples", "samples per pixel to stop at (default 64 in a window, 16 headless)", 1, 65536, o.samples),
         real("--time-limit", "SEC", "stop refining after SEC seconds (default: no limit)", o.time_limit, true),
+        rtargs::value_option("--aa-threshold", "T", "a number",
+                             "adaptive anti-aliasing threshold, 0..3 (default 0.02; 0:\n"
+                             "every pixel gets every sample); with --render, as\n"
+                             "raytracer's (default: every pixel the same samples)",
+                             [&o](const std::string& n, const std::string& v) {
+                                 const std::optional<double> x = rtargs::decimal(v);
+                                 if (!x || *x < 0 || *x > rt::kMaxAaThreshold)
+                                     return usage(n + " must be a number from 0 to 3 (got '" + v + "')");
+                                 o.aa_threshold = *x;
+                                 return rt::Status();
+                             }),
         real("--orbit", "DEG", "orbit the camera DEG degrees around its centre first", o.orbit, false),
         rtargs::value_option("--fit", "picture|window", "window or picture",
                              "show exactly the scene's picture, letterboxed at its\n"

@@ -81,7 +81,7 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
       nav_input_(nav_),
       render_(options.threads, interactive,
               options.samples > 0 ? options.samples : (interactive ? kDefaultSamplesWindow : kDefaultSamplesHeadless),
-              options.time_limit),
+              options.time_limit, options.aa_threshold.value_or(kDefaultAaThreshold)),
       dialogs_(*this, editor_.recent()),
       tools_(options.verbose, options.threads),
       panels_(*this, editor_, nav_, render_, layout_, status_, tools_) {
@@ -210,7 +210,10 @@ void ViewerApp::frame() {
     poll_loader();
     update_layout();
     tools_.begin(image_frame(now));
-    if (interactive_) {
+    // A number being typed has the keys, also in the frame or two before its field
+    // takes the keyboard ("1" of "1.25" is not the 1:1 zoom).
+    esc_closed_menu_ = false;
+    if (interactive_ && !number_typing()) {
         // Menus are not modal: Escape closes them, and a Ctrl shortcut closes them and
         // works (the picture tools then see the keys free again).
         const bool was_open = ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId);

@@ -38,31 +38,22 @@ void Dialogs::run_pending() {
     commands_.run(pending_, pending_arg_, true);
 }
 
-bool Dialogs::path_field(const char* hint) {
-    if (focus_path_) ImGui::SetKeyboardFocusHere();
-    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 30);
-    return ImGui::InputTextWithHint("##path", hint, &path_, ImGuiInputTextFlags_EnterReturnsTrue);
-}
-
-Dialogs::Answer Dialogs::path_buttons(bool go, const char* button) {
-    go |= ImGui::Button(button);
-    ImGui::SameLine();
-    if (ImGui::Button("Cancel") || escape_pressed()) {
-        ImGui::CloseCurrentPopup();
-        return Answer::Cancel;
-    }
-    if (!go || path_.empty()) return Answer::None;
-    ImGui::CloseCurrentPopup();
-    return Answer::Go;
-}
-
 bool Dialogs::begin(Kind k) {
     ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
     return ImGui::BeginPopupModal(title_of(k), nullptr, ImGuiWindowFlags_AlwaysAutoResize);
 }
 
+void Dialogs::start_browser() {
+    switch (request_) {
+        case Kind::Open: file_.start(FileDialog::Mode::Open, {".txt"}, "Scenes (*.txt)", path_); break;
+        case Kind::SaveAs: file_.start(FileDialog::Mode::Save, {".txt"}, "Scenes (*.txt)", path_); break;
+        case Kind::SaveImage: file_.start(FileDialog::Mode::Save, {".png", ".ppm"}, "Images (*.png, *.ppm)", path_); break;
+        default: break;
+    }
+}
+
 void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image_mode) {
-    focus_path_ = request_ == Kind::Open || request_ == Kind::SaveAs || request_ == Kind::SaveImage;
+    start_browser();
     if (request_ != Kind::None) ImGui::OpenPopup(title_of(request_));
     request_ = Kind::None;
 
@@ -75,25 +66,31 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         ImGui::EndPopup();
     }
     if (begin(Kind::Open)) {
-        bool go = path_field("scene file path");
+        const FileDialog::Result r = file_.draw("Open");
         if (!recent_.paths().empty()) {
             ImGui::TextDisabled("Recent:");
             for (const std::string& p : recent_.paths())
-                if (ImGui::Selectable(p.c_str())) path_ = p;
+                if (ImGui::Selectable(p.c_str())) {
+                    ImGui::CloseCurrentPopup();
+                    commands_.run(Command::Open, p);
+                }
         }
-        if (path_buttons(go, "Open") == Answer::Go) commands_.run(Command::Open, path_);
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        if (r == FileDialog::Result::Go) commands_.run(Command::Open, file_.path());
         ImGui::EndPopup();
     }
     if (begin(Kind::SaveAs)) {
-        const Answer a = path_buttons(path_field("new scene file path"), "Save");
-        if (a == Answer::Cancel) has_pending_ = false;
-        else if (a == Answer::Go && commands_.run(Command::SaveAs, path_)) run_pending();
+        const FileDialog::Result r = file_.draw("Save");
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        if (r == FileDialog::Result::Cancel) has_pending_ = false;
+        else if (r == FileDialog::Result::Go && commands_.run(Command::SaveAs, file_.path())) run_pending();
         ImGui::EndPopup();
     }
     if (begin(Kind::SaveImage)) {
-        ImGui::TextDisabled("The film as rendered so far (%s); .png or .ppm.", image_mode);
-        if (path_buttons(path_field("image path (.png or .ppm)"), "Save") == Answer::Go)
-            commands_.run(Command::SaveImage, path_);
+        ImGui::TextDisabled("The picture as rendered so far (%s); .png or .ppm.", image_mode);
+        const FileDialog::Result r = file_.draw("Save");
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        if (r == FileDialog::Result::Go) commands_.run(Command::SaveImage, file_.path());
         ImGui::EndPopup();
     }
     if (begin(Kind::Help)) {

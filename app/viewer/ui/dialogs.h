@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "file_dialog.h"
 #include "recent_files.h"
 #include "shared.h"
 
@@ -41,23 +42,20 @@ public:
     bool wants_frames() const { return request_ != Kind::None; }
 
 private:
-    enum class Answer { None, Go, Cancel };
     void run_pending();
     // Inside a dialog: centred modal `k` is open (then EndPopup after drawing it).
     bool begin(Kind k);
     void draw_unsaved(const std::string& doc_name, bool has_path);
     void draw_save_errors();
-    // The path field (focused when the dialog opens); true on Enter.
-    bool path_field(const char* hint);
-    // `button` and Cancel; Go (dialog closed) when `go` or the button asks for a
-    // non-empty path, Cancel (closed) on Cancel or Escape.
-    Answer path_buttons(bool go, const char* button);
+    // Open, Save As and Save Image browse for their file: the browser starts when
+    // one of them is asked for.
+    void start_browser();
 
     Commands& commands_;
     const RecentFiles& recent_;
     Kind request_ = Kind::None;
     std::string path_;
-    bool focus_path_ = false;  // a path dialog opens this frame
+    FileDialog file_;
     bool has_pending_ = false;
     Command pending_ = Command::Quit;
     std::string pending_arg_;

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <ctime>
 
+#include "adaptive.h"
 #include "image_io.h"
 #include "probe.h"
 
@@ -390,7 +391,7 @@ void ImageTools::update_readout() {
     int fx = x, fy = y;
     picture_to_film_pixel(x, y, pic_w(), pic_h(), f_.film_w, f_.film_h, fx, fy);
     r.has_colour = f_.film->linear_at(*f_.renderer, f_.now, render_turned ? 0 : kReadoutRefresh, fx, fy, r.linear);
-    r.samples = f_.film->samples_at(fx, fy, progress.samples);
+    r.samples = f_.film->samples_at(fx, fy, f_.renderer->sample_count(fx, fy));  // adaptive: each its own
     if (f_.world && f_.scene) {
         r.hit = pick_pixel(*f_.world, f_.view_camera, f_.film_w, f_.film_h, fx, fy);
         r.hit_name = outline_name(*f_.scene, r.hit);
@@ -777,23 +778,48 @@ void ImageTools::draw_render_setup() {
     ImGui::SetNextItemWidth(fs * 24);
     if (focus_render_path_) ImGui::SetKeyboardFocusHere();
     focus_render_path_ = false;
-    bool go = ImGui::InputTextWithHint("file", "picture.png or .ppm", &render_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+    bool go = ImGui::InputTextWithHint("##file", "picture.png or .ppm", &render_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+    probe("render_field", ImGui::IsItemActive() ? "active" : "idle");
+    ImGui::SameLine();
+    if (ImGui::Button("Browse...")) {
+        render_browser_.start(FileDialog::Mode::Save, {".png", ".ppm"}, "Images (*.png, *.ppm)", render_path_);
+        ImGui::OpenPopup("Choose the picture file");
+    }
+    ImGui::SameLine();
+    ImGui::TextUnformatted("file");
+    // (Escape there closes the browser only.)
+    const bool browsing = ImGui::IsPopupOpen("Choose the picture file");
+    ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    if (ImGui::BeginPopupModal("Choose the picture file", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        const FileDialog::Result r = render_browser_.draw("Choose");
+        if (r == FileDialog::Result::Go) render_path_ = render_browser_.path();
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
     ImGui::SetNextItemWidth(fs * 8);
     ImGui::InputInt("samples per pixel", &render_samples_);
     render_samples_ = std::clamp(render_samples_, 1, 65536);
     ImGui::SetNextItemWidth(fs * 8);
     ImGui::InputDouble("time limit (s, 0: none)", &render_time_limit_, 1, 10, "%.1f");
     render_time_limit_ = std::clamp(render_time_limit_, 0.0, 1e6);
+    // Samples only where a pixel stands out or its samples disagree (raytracer --aa-threshold).
+    ImGui::Checkbox("adaptive, threshold", &render_adaptive_);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(fs * 6);
+    ImGui::InputDouble("##aa", &render_aa_threshold_, 0.01, 0.1, "%.3f");
+    render_aa_threshold_ = std::clamp(render_aa_threshold_, 0.0, rt::kMaxAaThreshold);
     if (!render_error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.42f, 0.42f, 1.0f), "%s", render_error_.c_str());
     probe("render_dialog", "setup");
     go |= ImGui::Button("Render");
     ImGui::SameLine();
-    if (ImGui::Button("Close") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+    if (ImGui::Button("Close") || (!browsing && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)))) {
         ImGui::CloseCurrentPopup();
     } else if (go && f_.scene) {
         rt::Scene scene = *f_.scene;
         if (!render_scene_camera_) scene.camera = f_.render_camera;
-        render_error_ = final_.start(scene, render_path_, render_samples_, render_time_limit_, f_.world.get()).message();
+        render_error_ = final_.start(scene, render_path_, render_samples_, render_time_limit_,
+                                     render_adaptive_ ? render_aa_threshold_ : -1, f_.world.get())
+                            .message();
     }
 }
 

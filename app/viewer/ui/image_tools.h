@@ -12,9 +12,11 @@
 
 #include "display.h"
 #include "film_texture.h"
+#include "file_dialog.h"
 #include "film_view.h"
 #include "final_render.h"
 #include "image_view.h"
+#include "options.h"
 #include "readout.h"
 #include "region.h"
 #include "renderer.h"
@@ -188,12 +190,15 @@ private:
     std::string render_path_;
     int render_samples_ = 64;
     double render_time_limit_ = 0;
+    bool render_adaptive_ = true;  // adaptive anti-aliasing, as the viewer refines
+    double render_aa_threshold_ = kDefaultAaThreshold;
     std::string render_error_;
     // How the last final render ended, shown in the dialog until it is closed.
     enum class RenderResult { None, Saved, Failed } render_result_ = RenderResult::None;
     std::string render_result_text_;
     bool focus_render_path_ = false;
     bool render_scene_camera_ = false;  // the scene's camera instead of the view
+    FileDialog render_browser_;          // "Browse..." for the file
 
     std::string message_;
     bool message_error_ = false;

@@ -33,10 +33,10 @@ bool starts_typing() {
 // drops it. True when *v took a new value.
 bool typed_field(const char* label, double* v, const NumberFieldSpec& spec) {
     Typing& t = g_typing;
-    probe("typing", label);
     if (t.frames++ == 0) ImGui::SetKeyboardFocusHere();
     const bool enter = ImGui::InputText(label, &t.text, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
     const bool active = ImGui::IsItemActive();
+    probe("typing", std::string(label) + (active ? " active" : ""));
     t.had_focus |= active;
     const bool escape = active && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape));
     // Focus never came (another widget took it) or went: the text is let go or taken.

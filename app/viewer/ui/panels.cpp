@@ -990,11 +990,15 @@ void Panels::draw_status_bar(const LoadStatus& load) {
                 commands_.run(Command::TogglePause);
             ImGui::SameLine();
             double elapsed = p.done && render_.done_generation() == p.generation ? render_.done_elapsed() : p.elapsed;
-            double frac = std::clamp((p.samples + p.pass_fraction) / std::max(1, render_.max_samples()), 0.0, 1.0);
+            double frac = p.refining >= 0 ? rt::progress_fraction(p, render_.max_samples())
+                                          : std::clamp((p.samples + p.pass_fraction) / std::max(1, render_.max_samples()), 0.0, 1.0);
             if (render_.time_limit() > 0) frac = std::max(frac, std::min(1.0, elapsed / render_.time_limit()));
             if (p.done) frac = 1;
             char buf[64];
-            std::snprintf(buf, sizeof buf, "%d / %d", p.samples, render_.max_samples());
+            // Adaptive: how many pixels have not settled yet, until every one has.
+            if (p.refining > 0) std::snprintf(buf, sizeof buf, "%lld px refining", static_cast<long long>(p.refining));
+            else if (p.refining == 0) std::snprintf(buf, sizeof buf, "settled");
+            else std::snprintf(buf, sizeof buf, "%d / %d", p.samples, render_.max_samples());
             ImGui::ProgressBar(float(frac), ImVec2(ImGui::GetFontSize() * 8, 0), buf);
             ImGui::SameLine();
             double rate = elapsed > 0 ? double(p.rays) / elapsed : 0;
@@ -1011,10 +1015,11 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             // Over the picture: the readout of the pixel under the cursor instead of the
             // statistics and the last message.
             char line[512];
+            const char* unit = p.refining >= 0 ? "" : "spp  ";  // (an adaptive bar counts pixels)
             if (!tools_.readout_line().empty())
-                std::snprintf(line, sizeof line, "spp  %s  | %s", shown, tools_.readout_line().c_str());
+                std::snprintf(line, sizeof line, "%s%s  | %s", unit, shown, tools_.readout_line().c_str());
             else
-                std::snprintf(line, sizeof line, "spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
+                std::snprintf(line, sizeof line, "%s%.2f Mrays/s  %.1f s  %s  |  %s", unit, rate / 1e6, elapsed, shown,
                               layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
             // An error stays beside the readout: it must be read, not hidden by a hover.
             status_text(line, tools_.readout_line().empty() || status_.error());

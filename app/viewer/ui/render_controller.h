@@ -29,7 +29,8 @@ namespace rtview {
 
 class RenderController {
 public:
-    RenderController(int threads, bool interactive, int max_samples, double time_limit);
+    // aa_threshold: adaptive anti-aliasing's (rt::RenderSettings), < 0 for none.
+    RenderController(int threads, bool interactive, int max_samples, double time_limit, double aa_threshold);
     ~RenderController();
 
     // The document's scene changed (or not): compile it, reusing the BVH when only
@@ -142,6 +143,7 @@ private:
 
     int max_samples_;
     double time_limit_;
+    double aa_threshold_;
     bool settings_changed_ = false;
     bool paused_ = false;
 

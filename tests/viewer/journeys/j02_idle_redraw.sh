@@ -23,6 +23,7 @@ shot 1-done
 step "render to a file (the viewer's 16 samples), then wait without input"
 key ctrl+r
 wait_state render_dialog "^setup"
+wait_state render_field "^active$"
 key ctrl+a
 type_text "$OUT/render.png"
 key Return
@@ -45,11 +46,12 @@ click "$x" "$y"
 wait_state editor_cursor "^6 [0-9]+ focused$"
 key End
 type_text "abc"
-wait_state editor_cursor "^6 15 focused$"
+wait_state editor_cursor "^6 16 focused$"
 idle 1.5
 wait_state diagnostics "^1 .*radius" 2
 shot 3-error
 key BackSpace BackSpace BackSpace
+wait_state editor_cursor "^6 13 focused$"
 idle 1.5
 wait_state diagnostics "^0" 2
 wait_state text "^unapplied$|^applied$"

@@ -24,6 +24,7 @@ for _ in $(seq 1 100); do [ "$(copies)" -ge 1 ] && break; sleep 0.1; done
 step "save as b.txt and quit normally"
 key Escape ctrl+shift+s
 wait_state popups "Save scene as"
+wait_state browser_field "^active$"
 key ctrl+a
 type_text "$OUT/b.txt"
 key Return

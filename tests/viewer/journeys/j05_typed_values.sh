@@ -18,7 +18,7 @@ type_radius() {  # $1: how the field is opened (ctrl or double), $2: text
     if [ "$1" = ctrl ]; then xdotool mousemove $rx $ry keydown ctrl click 1 keyup ctrl
     else xdotool mousemove $rx $ry click --repeat 2 --delay 80 1; fi
     # (the text field takes the keyboard within a frame or two)
-    wait_state typing "^radius$"
+    wait_state typing "^radius active$"
     type_text "$2"
 }
 

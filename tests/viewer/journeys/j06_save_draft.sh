@@ -29,6 +29,7 @@ type_major() {
     read -r fx fy fw fh <<< "$(state field_major)"
     xdotool mousemove $((fx + fw / 4)) $((fy + fh / 2)) keydown ctrl click 1 keyup ctrl
     idle 0.5
+    [ "$2" = blocked ] || wait_state typing "^major active$"
     type_text "$1"
     key Return
 }
@@ -47,7 +48,7 @@ wait_state diagnostics "^1 " 5
 step "the torus's major cannot be changed meanwhile"
 open_item object_3
 wait_state edits "^blocked$"
-type_major 0.8
+type_major 0.8 blocked
 idle 0.5
 shot 1-blocked
 

@@ -30,13 +30,15 @@ OUT=$2
 SCREEN=${3:-1280x800}
 mkdir -p "$OUT"
 OUT=$(cd "$OUT" && pwd)
-rm -f "$OUT"/*.png "$OUT"/*.ppm "$OUT"/layout.txt "$OUT"/viewer.err
+# A journey starts from an empty folder (files of an earlier run would change what
+# it meets: a Save As would be asked to replace).
+case "$OUT" in /|"$HOME"|/tmp|/root) echo "refusing to empty $OUT" >&2; exit 2 ;; esac
+find "$OUT" -mindepth 1 -delete
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 SCENES=$(cd "$HERE/../../../scenes" && pwd)
 TOOL=$BIN/rtview-imgtool
 export MESA_SHADER_CACHE_DISABLE=true
 export XDG_CONFIG_HOME=$OUT/config XDG_STATE_HOME=$OUT/state
-rm -rf "$XDG_CONFIG_HOME" "$XDG_STATE_HOME"
 # Sanitizer builds: X11, GLFW and Mesa are not instrumented (see xvfb_start.sh).
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=0}"
 export TSAN_OPTIONS="${TSAN_OPTIONS:-suppressions=$HERE/../tsan.supp}"
@@ -61,9 +63,11 @@ fail() {
 }
 step() { echo "== $*"; }
 
-# The X server, on the first free display number.
+# The X server, on the first free display number. Its key autorepeat waits a minute:
+# on a busy machine xdotool may hold a key for longer than the usual 660 ms between
+# its press and release, and the server would type the character twice.
 exec 5> "$OUT/.display"
-Xvfb -displayfd 5 -screen 0 "${SCREEN}x24" -nolisten tcp > "$OUT/xvfb.log" 2>&1 &
+Xvfb -displayfd 5 -screen 0 "${SCREEN}x24" -nolisten tcp -ardelay 60000 > "$OUT/xvfb.log" 2>&1 &
 XVFB_PID=$!
 exec 5>&-
 for _ in $(seq 1 100); do [ -s "$OUT/.display" ] && break; sleep 0.05; done
