@@ -287,6 +287,9 @@ void ViewerApp::probe_frame() {
     }
     const rt::RenderProgress p = render_.progress();
     probe("render", std::to_string(p.samples) + " " + (p.done ? "done" : p.running ? "running" : "idle"));
+    // What the film converges to: `raytracer --samples N --aa-threshold T` makes it.
+    probe("render_settings", std::to_string(render_.max_samples()) + " " +
+                                 rt::format_number(opt_.aa_threshold.value_or(kDefaultAaThreshold)));
     probe("diagnostics", std::to_string(doc.diagnostics().size()) +
                              (doc.diagnostics().empty() ? "" : " " + doc.diagnostics().front().message));
     probe("text", std::string(doc.editor_dirty() ? "unapplied" : "applied") + (doc.text_behind() ? " behind" : ""));

@@ -176,7 +176,10 @@ picture_agrees() {
     wait_state selection "^none$" 10
     wait_state render "done" 60
     wait_stable "$name-shown"
-    "$BIN/raytracer" --quiet --samples "$(state render | awk '{ print $1 }')" --width "$iw" --height "$ih" \
+    # The viewer's film, done, is raytracer's picture at its sample count and threshold.
+    local spp aa
+    read -r spp aa <<< "$(state render_settings)"
+    "$BIN/raytracer" --quiet --samples "$spp" --aa-threshold "$aa" --width "$iw" --height "$ih" \
         "$SCENE" "$OUT/$name-ref.ppm" || fail "$name: raytracer could not render the saved text"
     "$TOOL" match "$OUT/$name-shown.png" $IMAGE "$OUT/$name-ref.ppm" ||
         fail "$name: the picture differs from raytracer's render of the saved text"
