@@ -469,3 +469,60 @@ TEST_CASE("undo and redo of edit steps give back exactly the states a full-copy 
         check_against_full_copies(seed);
     }
 }
+
+TEST_CASE("every undo step has a name: the edit's own, or what it changed; undo and redo say which they took") {
+    using Names = std::vector<std::string>;
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const Document& cd = d;
+    CHECK(cd.undo_names(5).empty());
+    d.name_edit("not an edit");  // nothing pending: no name is kept for later
+    // A named panel edit: its first name stays; while it is pending it is the next undo.
+    std::get<rt::Sphere>(d.edit_object(1).shape).position.y += 0.5;
+    d.name_edit("Move sphere 2");
+    d.name_edit("Move it again");
+    CHECK(cd.undo_names(5) == Names{"Move sphere 2"});
+    d.commit();
+    // Unnamed edits are named by what they changed.
+    d.edit_light(0).colour = {1, 2, 3};
+    d.commit();
+    rt::Camera cam = cd.scene().camera;
+    cam.position.x -= 1;
+    d.edit_camera() = cam;
+    d.commit();
+    std::get<rt::Sphere>(d.edit().objects[0].shape).radius = 0.5;
+    std::get<rt::Sphere>(d.edit().objects[1].shape).radius = 0.5;
+    d.commit();
+    CHECK(cd.undo_names(9) == Names{"Edit the scene", "Edit the scene camera", "Edit light 1", "Move sphere 2"});
+    CHECK(cd.undo_names(2) == Names{"Edit the scene", "Edit the scene camera"});
+    // Typing is a step of its own once something else happens; so is applying it.
+    d.editor_text() += "// a comment\n";
+    d.note_typed();
+    CHECK(cd.undo_names(1) == Names{"Typing in the scene text"});
+    REQUIRE(d.apply_text());
+    CHECK(cd.undo_names(3) == Names{"Apply the scene text", "Typing in the scene text", "Edit the scene"});
+    // A structural edit carries the caller's name.
+    const std::string& text = cd.editor_text();
+    REQUIRE(d.replace_text(text.find("end\n"), 0, "light { lamp { position 1 1 9 } }\n", "Add a lamp"));
+    CHECK(cd.undo_names(1) == Names{"Add a lamp"});
+    // Undo and redo say which step they took, and the lists follow.
+    REQUIRE(d.undo());
+    CHECK(d.last_step_name() == "Add a lamp");
+    REQUIRE(d.undo());
+    CHECK(d.last_step_name() == "Apply the scene text");
+    CHECK(cd.redo_names(5) == Names{"Apply the scene text", "Add a lamp"});
+    CHECK(cd.undo_names(1) == Names{"Typing in the scene text"});
+    REQUIRE(d.redo());
+    CHECK(d.last_step_name() == "Apply the scene text");
+    CHECK(cd.redo_names(5) == Names{"Add a lamp"});
+    // A new edit ends the redo branch; a pending one already hides it.
+    d.edit_light(0).colour = {4, 5, 6};
+    CHECK(cd.redo_names(5).empty());
+    CHECK(cd.undo_names(1) == Names{"Edit light 1"});
+    d.cancel_edit();
+    CHECK(cd.redo_names(5) == Names{"Add a lamp"});
+    // A new document has no history.
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    CHECK(cd.undo_names(5).empty());
+    CHECK(cd.redo_names(5).empty());
+}

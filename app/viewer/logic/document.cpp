@@ -132,10 +132,22 @@ void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::siz
 // Beyond this many changed items an undo step parses the text again instead.
 constexpr std::size_t kMaxStepItems = 4096;
 
+constexpr const char* kTypingName = "Typing in the scene text";
+
+// "Edit object 3", "Edit the scene camera": a step named by what it changed.
+std::string changed_name(std::size_t objects, std::size_t planes, std::size_t lights, bool camera, bool wide,
+                         std::size_t first) {
+    const std::size_t items = objects + planes + lights;
+    if (wide || items > 1) return "Edit the scene";
+    if (items == 0) return camera ? "Edit the scene camera" : "Edit the scene";
+    const char* kind = objects ? "object " : planes ? "plane " : "light ";
+    return std::string("Edit ") + kind + std::to_string(first + 1);
+}
+
 }  // namespace
 
 std::size_t DocStep::bytes() const {
-    std::size_t b = sizeof(DocStep);
+    std::size_t b = sizeof(DocStep) + name.size();
     for (const TextSplice& s : editor) b += sizeof(TextSplice) + s.before.size() + s.after.size();
     if (applied_before) b += applied_before->size();
     if (applied_after) b += applied_after->size();
@@ -157,6 +169,8 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
     history_.clear();
     pending_ = false;
     saved_ = {};
+    pending_name_.clear();
+    last_step_name_.clear();
     typing_base_.reset();
     layout_.reset();
     conflict_ = false;
@@ -224,6 +238,7 @@ void Document::flush_typing() {
     typing_base_.reset();
     if (base == editor_) return;
     DocStep step;
+    step.name = kTypingName;
     step.editor.push_back(diff_texts(base, editor_));
     step.keep_applied = true;
     step.has_scene_before = step.has_scene_after = has_scene_;
@@ -241,9 +256,24 @@ void Document::normalize_applied() {
 void Document::open_edit() {
     if (!pending_) {
         saved_ = {};
+        pending_name_.clear();
         pending_ = true;
     }
     ++scene_version_;
+}
+
+void Document::name_edit(const std::string& name) {
+    if (pending_ && pending_name_.empty()) pending_name_ = name;
+}
+
+std::string Document::pending_name() const {
+    if (!pending_name_.empty()) return pending_name_;
+    const std::size_t first = !saved_.objects.empty() ? saved_.objects[0].first
+                              : !saved_.planes.empty() ? saved_.planes[0].first
+                              : !saved_.lights.empty() ? saved_.lights[0].first
+                                                       : 0;
+    return changed_name(saved_.objects.size(), saved_.planes.size(), saved_.lights.size(), saved_.camera.has_value(),
+                        saved_.whole.has_value(), first);
 }
 
 rt::Object& Document::edit_object(std::size_t i) {
@@ -301,6 +331,7 @@ void Document::cancel_edit() {
     pending_ = false;
     scene_ = scene_before_edit();
     saved_ = {};
+    pending_name_.clear();
     ++scene_version_;
     ++content_version_;
 }
@@ -309,6 +340,7 @@ bool Document::set_camera(const rt::Camera& camera) {
     if (!has_scene_ || camera == scene_.camera) return false;
     commit();
     edit_camera() = camera;
+    name_edit("Set the scene camera from the view");
     commit();
     return true;
 }
@@ -318,6 +350,8 @@ void Document::commit() {
     flush_typing();
     pending_ = false;
     DocStep step;
+    step.name = std::move(pending_name_);
+    pending_name_.clear();
     step.has_scene_before = step.has_scene_after = has_scene_;
     step.behind_before = behind_;
     bool wide = false;
@@ -366,6 +400,14 @@ void Document::commit() {
     if (!changed) {
         saved_ = {};
         return;
+    }
+    if (step.name.empty()) {
+        const std::size_t first = !step.objects_after.empty() ? step.objects_after[0].first
+                                  : !step.planes_after.empty() ? step.planes_after[0].first
+                                  : !step.lights_after.empty() ? step.lights_after[0].first
+                                                               : 0;
+        step.name = changed_name(step.objects_after.size(), step.planes_after.size(), step.lights_after.size(),
+                                 step.camera_before.has_value(), wide, first);
     }
     normalize_applied();
     if ((applied_ || wide || !commit_in_place(step)) && !commit_generic(step)) {
@@ -553,8 +595,9 @@ void Document::record(DocStep step) {
 // Whole-text changes
 
 void Document::replace_state(const std::string* editor, std::optional<std::string> applied,
-                             std::optional<rt::Scene> scene, bool behind) {
+                             std::optional<rt::Scene> scene, bool behind, std::string name) {
     DocStep step;
+    step.name = std::move(name);
     // The state before, as it was: the applied text is "the editor text" only if it
     // was equal to the editor text before that changes.
     normalize_applied();
@@ -650,11 +693,11 @@ bool Document::apply_text() {
     if (!r.ok()) return false;
     normalize_applied();
     if (has_scene_ && !applied_ && !behind_ && r.scene == scene_) return true;
-    replace_state(nullptr, std::nullopt, std::move(r.scene), false);
+    replace_state(nullptr, std::nullopt, std::move(r.scene), false, "Apply the scene text");
     return true;
 }
 
-bool Document::replace_text(std::size_t pos, std::size_t length, const std::string& text) {
+bool Document::replace_text(std::size_t pos, std::size_t length, const std::string& text, const std::string& name) {
     commit();
     flush_typing();  // text typed since the last step is a step of its own, first
     normalize_applied();
@@ -664,7 +707,7 @@ bool Document::replace_text(std::size_t pos, std::size_t length, const std::stri
     rt::ParseResult r = rt::parse_scene(edited);
     if (!r.ok()) return false;
     diagnostics_ = r.diagnostics;
-    replace_state(&edited, std::nullopt, std::move(r.scene), false);
+    replace_state(&edited, std::nullopt, std::move(r.scene), false, name);
     return true;
 }
 
@@ -675,7 +718,8 @@ void Document::revert_text() {
     flush_typing();
     std::string target = has_scene_ ? applied_text() : saved_broken_text_;
     if (editor_ == target && !behind_) return;
-    replace_state(&target, has_scene_ ? std::nullopt : std::optional<std::string>(std::string()), std::nullopt, false);
+    replace_state(&target, has_scene_ ? std::nullopt : std::optional<std::string>(std::string()), std::nullopt, false,
+                  "Revert the scene text");
     diagnostics_.clear();
 }
 
@@ -684,7 +728,7 @@ void Document::restore_draft(const std::string& text) {
     flush_typing();
     if (editor_ == text) return;
     std::string applied = applied_text();
-    replace_state(&text, std::move(applied), std::nullopt, behind_);
+    replace_state(&text, std::move(applied), std::nullopt, behind_, "Restore the recovered text");
     check_text();
 }
 
@@ -694,6 +738,7 @@ bool Document::undo() {
     const DocStep* s = history_.undo();
     if (!s) return false;
     apply_step(*s, false);
+    last_step_name_ = s->name;
     return true;
 }
 
@@ -703,7 +748,33 @@ bool Document::redo() {
     const DocStep* s = history_.redo();
     if (!s) return false;
     apply_step(*s, true);
+    last_step_name_ = s->name;
     return true;
+}
+
+std::vector<std::string> Document::undo_names(std::size_t max) const {
+    std::vector<std::string> out;
+    // As undo() goes: a pending edit is committed first (after the typing before it).
+    if (pending_ && out.size() < max) out.push_back(pending_name());
+    if (typing_base_ && *typing_base_ != editor_ && out.size() < max) out.push_back(kTypingName);
+    for (std::size_t k = 0; out.size() < max; ++k) {
+        const DocStep* s = history_.peek_undo(k);
+        if (!s) break;
+        out.push_back(s->name);
+    }
+    return out;
+}
+
+std::vector<std::string> Document::redo_names(std::size_t max) const {
+    // A pending edit or typing becomes a step of its own, which ends the redo branch.
+    if (pending_ || (typing_base_ && *typing_base_ != editor_)) return {};
+    std::vector<std::string> out;
+    for (std::size_t k = 0; k < max; ++k) {
+        const DocStep* s = history_.peek_redo(k);
+        if (!s) break;
+        out.push_back(s->name);
+    }
+    return out;
 }
 
 // ---------------------------------------------------------------------------------
@@ -748,11 +819,11 @@ void Document::reload_text(const std::string& text) {
     rt::ParseResult r = rt::parse_scene(text);
     diagnostics_ = r.diagnostics;
     if (r.ok()) {
-        replace_state(&text, std::nullopt, std::move(r.scene), false);
+        replace_state(&text, std::nullopt, std::move(r.scene), false, "Reload from disk");
     } else {
         // Show the new text with its errors; the last good scene keeps rendering.
         std::string applied = has_scene_ ? applied_text() : std::string();
-        replace_state(&text, std::move(applied), std::nullopt, behind_);
+        replace_state(&text, std::move(applied), std::nullopt, behind_, "Reload from disk");
     }
     mark_saved();
 }

@@ -239,9 +239,21 @@ const char* item_block_name(const rt::Scene& scene, const ItemRef& ref) {
     return name;
 }
 
+std::string item_label(const rt::Scene& scene, const ItemRef& ref) {
+    const char* block = item_block_name(scene, ref);
+    if (!block) return {};
+    std::string where;
+    for (int k : ref.path) where += k == 0 ? "left " : "right ";
+    if (!ref.path.empty()) return where + block + " of object " + std::to_string(ref.item.index + 1);
+    return std::string(block) + " " + std::to_string(ref.item.index + 1);
+}
+
 std::vector<Field> item_fields(const rt::Scene& scene, const ItemRef& ref) {
     std::vector<Field> out;
     visit_item(const_cast<rt::Scene&>(scene), ref, [&](const auto& b, const auto&) { out = fields_of(b); });
+    if (!ref.path.empty())
+        out.erase(std::remove_if(out.begin(), out.end(), [](const Field& f) { return f.kind == sc::Kind::Material; }),
+                  out.end());
     return out;
 }
 
@@ -290,6 +302,7 @@ FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const F
             if (!(one.lights[0] == doc.scene().lights[i])) doc.edit_light(i) = std::move(one.lights[0]);
             break;
     }
+    if (doc.editing()) doc.name_edit("Edit " + f.label + " of " + item_label(doc.scene(), ref));
     return r;
 }
 

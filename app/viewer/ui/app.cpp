@@ -61,6 +61,12 @@ std::string megabytes(std::uint64_t b) {
     return buf;
 }
 
+// What the status bar adds about a scene without lights: everything in it is black.
+std::string light_note(const Document& doc) {
+    if (!doc.has_scene() || !doc.scene().lights.empty()) return {};
+    return "; the scene has no lights, so it renders black: add a lamp (right-click the picture > Add here > lamp)";
+}
+
 // What the status bar adds when the recent-files list could not be saved.
 std::string recent_note(const rt::Status& recent) {
     return recent ? std::string() : "; recent files not saved: " + recent.message();
@@ -160,7 +166,8 @@ void ViewerApp::poll_loader() {
         selected_ = true;
         panels_.select_from_option(opt_.select);
     }
-    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + recent_note(recent),
+    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + light_note(doc) +
+                    recent_note(recent),
                 !ok || !recent);
     if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.3f s\n", path.c_str(), since_start());
 }
@@ -206,7 +213,13 @@ void ViewerApp::frame() {
     tools_.begin(image_frame(now));
     // A number being typed has the keys, also in the frame or two before its field
     // takes the keyboard ("1" of "1.25" is not the 1:1 zoom).
+    esc_closed_menu_ = false;
     if (interactive_ && !number_typing()) {
+        // Menus are not modal: Escape closes them, and a Ctrl shortcut closes them and
+        // works (the picture tools then see the keys free again).
+        const bool was_open = ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId);
+        esc_closed_menu_ = close_menus_for_keys();
+        if (was_open && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId)) tools_.begin(image_frame(now));
         handle_shortcuts();
         tools_.handle_keys();
     }
@@ -256,7 +269,8 @@ void ViewerApp::frame() {
         }
         // Over the picture, not in the film: a saved image stays clean.
         if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
-            move_.draw(doc, panels_.selection(), screen_view(), layout_.image, layout_.area, layout_.film_w, layout_.film_h);
+            move_.draw(doc, panels_.selection(), screen_view(), render_.world(), layout_.image, layout_.area,
+                       layout_.film_w, layout_.film_h);
     }
     if (!doc.has_scene()) draw_no_image();
     probe_frame();
@@ -470,6 +484,25 @@ ImageFrame ViewerApp::image_frame(double now) {
 // ---------------------------------------------------------------------------------
 // Keyboard
 
+bool ViewerApp::close_menus_for_keys() {
+    ImGuiContext& g = *GImGui;
+    if (g.OpenPopupStack.empty()) return false;
+    // A modal dialog (or a popup not drawn yet) handles its own keys.
+    for (const ImGuiPopupData& p : g.OpenPopupStack)
+        if (!p.Window || (p.Window->Flags & ImGuiWindowFlags_Modal)) return false;
+    if (imgui_key_pressed(ImGuiKey_Escape)) {
+        ImGui::ClosePopupsExceptModals();
+        return true;
+    }
+    if (ImGui::GetIO().KeyCtrl)
+        for (int k = 'A'; k <= 'Z'; ++k)
+            if (key_pressed(k)) {
+                ImGui::ClosePopupsExceptModals();
+                break;
+            }
+    return false;
+}
+
 void ViewerApp::handle_shortcuts() {
     ImGuiIO& io = ImGui::GetIO();
     bool ctrl = io.KeyCtrl, shift = io.KeyShift;
@@ -493,7 +526,8 @@ void ViewerApp::handle_shortcuts() {
         std::strftime(name, sizeof name, "raytracer-view-%Y%m%d-%H%M%S.png", std::localtime(&t));
         run(Command::Screenshot, name);
     }
-    if (loader_.active() && imgui_key_pressed(ImGuiKey_Escape) && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId))
+    if (loader_.active() && imgui_key_pressed(ImGuiKey_Escape) && !esc_closed_menu_ &&
+        !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId))
         run(Command::CancelLoad);
     if (!io.WantCaptureKeyboard && ctrl && !io.KeyAlt && key_pressed(kKeyD)) run(Command::Duplicate);
     if (!io.WantCaptureKeyboard && !ctrl && !io.KeyAlt) {
@@ -512,6 +546,13 @@ void ViewerApp::handle_shortcuts() {
 void ViewerApp::select_at(double px, double py) {
     const rt::World* w = render_.world();
     if (!w) return;
+    // What is drawn over the picture comes first: the selection's handle (it stays
+    // selected), a light's marker.
+    if (move_.over_handle(editor_.doc(), panels_.selection(), screen_view(), px, py)) return;
+    if (int light = move_.light_under(px, py); light >= 0) {
+        panels_.select({Selection::Kind::Light, light, {}});
+        return;
+    }
     rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     rt::PickResult r = pick_at(*w, vc, layout_.image, layout_.film_w, layout_.film_h, px, py);
     Selection s;
@@ -579,11 +620,7 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             host_.quit();
             return true;
         case Command::Undo:
-            if (doc.undo()) status_.set("Undo");
-            return true;
-        case Command::Redo:
-            if (doc.redo()) status_.set("Redo");
-            return true;
+        case Command::Redo: return undo_redo(c == Command::Undo, arg.empty() ? 1 : std::atoi(arg.c_str()));
         case Command::EditText:
             panels_.show_tab(Panels::Text);
             editor_.focus();
@@ -607,6 +644,19 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
     return false;
 }
 
+bool ViewerApp::undo_redo(bool undo, int steps) {
+    Document& doc = editor_.doc();
+    int done = 0;
+    while (done < std::max(steps, 1) && (undo ? doc.undo() : doc.redo())) ++done;
+    if (done == 0) return false;
+    // Say what was taken back or done again: "Undid: Move sphere 3".
+    const std::string& last = doc.last_step_name();
+    const std::string what =
+        done == 1 ? ": " + last : " " + std::to_string(done) + " steps, " + (undo ? "back to before " : "up to ") + last;
+    status_.set(std::string(undo ? "Undid" : "Redid") + what + (undo ? " (Ctrl+Y redoes)" : " (Ctrl+Z undoes)"));
+    return true;
+}
+
 bool ViewerApp::cancel_load() {
     if (!loader_.active()) return false;
     loader_.cancel();
@@ -625,7 +675,7 @@ bool ViewerApp::view_command(Command c) {
     switch (c) {
         case Command::FrameScene:
             if (render_.world())
-                nav_.frame(render_.world()->bounds(),
+                nav_.frame(frame_target(*render_.world()),
                            {layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
             return true;
         case Command::ResetView:
@@ -700,6 +750,7 @@ Placement ViewerApp::new_item_placement() {
         rt::Ray ray = ray_at(vc, im, layout_.film_w, layout_.film_h, px, py);
         at.point = ray.origin + ray.dir * rt::length(vc.centre - vc.position);
     }
+    at.toward = vc.position - at.point;
     return at;
 }
 
@@ -725,8 +776,9 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     const std::string& text = std::as_const(doc).editor_text();
     const rt::Scene& scene = doc.scene();
     std::optional<SceneEdit> e;
-    std::string done;
+    std::string done, name;  // the status bar's message; the undo step's name
     std::optional<SceneItem> sel = item_of_selection(panels_.selection());
+    const std::string label = sel ? item_label(scene, ItemRef{*sel, {}}) : std::string();
     switch (c) {
         case Command::AddItem: {
             static const std::pair<const char*, NewItem> kinds[] = {
@@ -739,24 +791,28 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             if (!kind) return false;
             e = add_item(text, scene, *kind, new_item_placement());
             done = std::string("Added a ") + arg;
+            name = std::string("Add a ") + arg;
             break;
         }
         case Command::Duplicate: {
             if (!sel) return false;
             e = duplicate_item(text, scene, *sel, duplicate_offset(scene));
             done = "Duplicated";
+            name = "Duplicate " + label;
             break;
         }
         case Command::Delete:
             if (!sel) return false;
             e = delete_item(text, scene, *sel);
             done = "Deleted";
+            name = "Delete " + label;
             break;
         case Command::SwitchLight:
             if (!sel || sel->kind != SceneItem::Kind::Light) return false;
             e = switch_light_kind(text, scene, sel->index);
             done = scene.lights[std::size_t(sel->index)].lamp ? "The lamp is a spotlight now (its size is kept)"
                                                               : "The spotlight is a lamp now";
+            name = "Make " + label + (scene.lights[std::size_t(sel->index)].lamp ? " a spotlight" : " a lamp");
             break;
         case Command::MakeCsg: {
             char type = arg.empty() ? 'U' : arg[0];
@@ -764,16 +820,17 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             if (!sel || sel->kind != SceneItem::Kind::Object || (type != 'U' && type != 'I' && type != 'C')) return false;
             e = make_csg(text, scene, sel->index, other, rt::CsgType(type));
             done = "Made a CSG of the two objects";
+            name = "Make a CSG of objects " + std::to_string(sel->index + 1) + " and " + std::to_string(other + 1);
             break;
         }
         default: return false;
     }
-    if (!e || !doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text)) {
+    if (!e || !doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, name)) {
         status_.set("Cannot do that to this scene text", true);
         return false;
     }
     panels_.select(selection_of(e->select));
-    status_.set(done + " (Ctrl+Z undoes)");
+    status_.set(done + " (Ctrl+Z undoes)" + light_note(doc));
     return true;
 }
 
@@ -801,22 +858,30 @@ void ViewerApp::draw_context_menu() {
     if (!ImGui::BeginPopup("image_menu")) return;
     const Selection& sel = panels_.selection();
     const rt::Scene& scene = editor_.doc().scene();
+    // (probe_item: where the rows are, for scripts that click them)
     if (ImGui::BeginMenu("Add here")) {
         static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
-        for (const char* k : kinds)
-            if (ImGui::MenuItem(k)) {
+        for (const char* k : kinds) {
+            const bool chosen = ImGui::MenuItem(k);
+            probe_item(std::string("menu:") + k);
+            if (chosen) {
                 place_x_ = rclick_x_;
                 place_y_ = rclick_y_;
                 run(Command::AddItem, k);
             }
+        }
         ImGui::EndMenu();
     }
+    probe_item("menu:Add here");
     bool has = sel.kind != Selection::Kind::None;
     if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) run(Command::Duplicate);
     if (ImGui::MenuItem("Delete", "Del", false, has)) run(Command::Delete);
     if (sel.kind == Selection::Kind::Light && sel.index >= 0 && std::size_t(sel.index) < scene.lights.size()) {
         bool lamp = scene.lights[std::size_t(sel.index)].lamp;
-        if (ImGui::MenuItem(lamp ? "Make it a spotlight" : "Make it a lamp")) run(Command::SwitchLight);
+        const char* label = lamp ? "Make it a spotlight" : "Make it a lamp";
+        const bool chosen = ImGui::MenuItem(label);
+        probe_item(std::string("menu:") + label);
+        if (chosen) run(Command::SwitchLight);
     }
     const Selection& prev = menu_prev_selection_;
     if (sel.kind == Selection::Kind::Object && prev.kind == Selection::Kind::Object && prev.index != sel.index &&
@@ -1027,13 +1092,16 @@ std::string ViewerApp::layout_text() const {
     const Document& doc = editor_.doc();
     std::optional<SceneItem> item = item_of_selection(panels_.selection());
     std::optional<rt::Vec3> anchor;
-    if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item);
+    const std::vector<int>& path = panels_.selection().path;
+    if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item, path);
     std::optional<ScreenPoint> at;
     if (anchor) at = screen_view().project(*anchor);
     if (at) {
         const char* kind = item->kind == SceneItem::Kind::Object ? "object" : item->kind == SceneItem::Kind::Plane ? "plane" : "light";
         s += "handle " + std::to_string(std::lround(at->x * fb)) + " " + std::to_string(std::lround(at->y * fb)) + " " +
-             kind + " " + std::to_string(item->index + 1) + "\n";
+             kind + " " + std::to_string(item->index + 1);
+        for (int k : path) s += k == 0 ? " left" : " right";  // an operand: "object 4 left"
+        s += "\n";
     }
     else s += "handle none\n";
     for (const auto& [key, value] : probes()) s += "state " + key + " " + value + "\n";

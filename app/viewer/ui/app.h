@@ -96,6 +96,9 @@ private:
     void update_layout();
     ImageFrame image_frame(double now);
     void handle_shortcuts();
+    // Escape with a menu open closes it (true: the key is used up); a Ctrl shortcut
+    // closes it too, and then does what it does.
+    bool close_menus_for_keys();
     void end_edits();
     void poll_loader();
     // Parts of frame(): the render follows the scene, the view and the picture tools;
@@ -119,6 +122,9 @@ private:
     // How far Duplicate moves the copy.
     rt::Vec3 duplicate_offset(const rt::Scene& scene) const;
     bool cancel_load();
+    // Ctrl+Z / Ctrl+Y, or a step of the Edit menu's history: `steps` steps back or
+    // forward, saying which in the status bar.
+    bool undo_redo(bool undo, int steps);
     // The commands that change the view, the pause or the fit.
     bool view_command(Command c);
     void handle_context_menu(bool usable);
@@ -162,6 +168,7 @@ private:
     bool view_scene_written_ = false;
     int frames_ = 0;
     bool again_ = false;  // the last frame changed visible_key(): draw one more
+    bool esc_closed_menu_ = false;  // this frame's Escape closed a menu
 };
 
 }  // namespace rtview

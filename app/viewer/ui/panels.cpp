@@ -20,6 +20,7 @@
 #include "readout.h"
 #include "scene_text.h"
 #include "scene_writer.h"
+#include "shown_numbers.h"
 
 namespace rtview {
 
@@ -112,12 +113,15 @@ bool material_editor(const char* id, rt::Material& m) {
             float col[3] = {float(c.x), float(c.y), float(c.z)};
             if (ImGui::ColorEdit3(("##pick" + label).c_str(), col,
                                   ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_NoInputs)) {
-                c = {col[0], col[1], col[2]};
+                // The channels as the picker shows them (three decimals); the others
+                // as they were, not as a float holds them.
+                c = {from_widget(c.x, col[0], 3), from_widget(c.y, col[1], 3), from_widget(c.z, col[2], 3)};
                 changed = true;
             }
             ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);
             ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - ImGui::GetStyle().ItemInnerSpacing.x);
             changed |= drag_vec3(label.c_str(), c, 0.005f);
+            probe_item(std::string("field_") + id + "_" + label);  // for scripts: "field_material_colour"
             continue;
         }
         if (k.kind != sc::Kind::Number) continue;
@@ -143,6 +147,28 @@ bool material_editor(const char* id, rt::Material& m) {
     return changed;
 }
 
+// Where the menu bar's next header is drawn ("menu:Edit"), for scripts that open it
+// (probe.h): its rectangle is known before BeginMenu() draws it.
+void probe_menu_header(const char* label) {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    const float fb = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.f;
+    const ImVec2 p = ImGui::GetCursorScreenPos();
+    const float w = ImGui::CalcTextSize(label).x + st.ItemSpacing.x, h = ImGui::GetFrameHeight();
+    probe(std::string("menu:") + label, std::to_string(std::lround(p.x * fb)) + " " + std::to_string(std::lround(p.y * fb)) +
+                                            " " + std::to_string(std::lround(w * fb)) + " " +
+                                            std::to_string(std::lround(h * fb)));
+}
+
+// What the camera panel shows of the view (its eye, and its angles and distance), for
+// scripts (probe.h).
+void probe_view(const rt::Camera& view, const double angles[3]) {
+    char shown[160];
+    std::snprintf(shown, sizeof shown, "%.2f %.2f %.2f", angles[0], angles[1], angles[2]);
+    probe("view_angles", shown);
+    std::snprintf(shown, sizeof shown, "%.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
+    probe("view_eye", shown);
+}
+
 }  // namespace
 
 
@@ -152,6 +178,7 @@ bool material_editor(const char* id, rt::Material& m) {
 void Panels::draw_menu_bar() {
     if (!ImGui::BeginMainMenuBar()) return;
     const Document& doc = editor_.doc();
+    probe_menu_header("File");
     if (ImGui::BeginMenu("File")) {
         if (ImGui::MenuItem("Open...", "Ctrl+O")) commands_.run(Command::OpenDialog);
         if (ImGui::BeginMenu("Open Recent")) {
@@ -172,9 +199,9 @@ void Panels::draw_menu_bar() {
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) commands_.run(Command::Quit);
         ImGui::EndMenu();
     }
+    probe_menu_header("Edit");
     if (ImGui::BeginMenu("Edit")) {
-        if (ImGui::MenuItem("Undo", "Ctrl+Z", false, doc.can_undo() || doc.editing())) commands_.run(Command::Undo);
-        if (ImGui::MenuItem("Redo", "Ctrl+Y", false, doc.can_redo())) commands_.run(Command::Redo);
+        draw_undo_items();
         ImGui::Separator();
         if (ImGui::MenuItem("Edit scene text", "Ctrl+E")) commands_.run(Command::EditText);
         if (ImGui::MenuItem("Apply text", "Ctrl+Enter")) commands_.run(Command::ApplyText);
@@ -199,6 +226,7 @@ void Panels::draw_menu_bar() {
             commands_.run(Command::SwitchLight);
         ImGui::EndMenu();
     }
+    probe_menu_header("View");
     if (ImGui::BeginMenu("View")) {
         if (ImGui::MenuItem("Frame the scene", "F")) commands_.run(Command::FrameScene);
         if (ImGui::MenuItem("Reset the view to the scene camera", "R")) commands_.run(Command::ResetView);
@@ -217,11 +245,46 @@ void Panels::draw_menu_bar() {
         tools_.view_menu_items();
         ImGui::EndMenu();
     }
+    probe_menu_header("Help");
     if (ImGui::BeginMenu("Help")) {
         if (ImGui::MenuItem("Mouse and keys...")) commands_.run(Command::Help);
         ImGui::EndMenu();
     }
     ImGui::EndMainMenuBar();
+}
+
+// Undo and Redo, named by the step each takes ("Undo: Move sphere 3"), and the history:
+// the steps undone (greyed, newest at the top) above the steps done, the latest first.
+// A click on a step goes back to before it, or forward up to it.
+void Panels::draw_undo_items() {
+    constexpr std::size_t kShown = 20;
+    const Document& doc = editor_.doc();
+    const std::vector<std::string> undo = doc.undo_names(kShown), redo = doc.redo_names(kShown);
+    const std::string u = undo.empty() ? "Undo" : "Undo: " + undo.front();
+    const std::string r = redo.empty() ? "Redo" : "Redo: " + redo.front();
+    probe("edit_menu", u + " | " + r);
+    if (ImGui::MenuItem(u.c_str(), "Ctrl+Z", false, !undo.empty())) commands_.run(Command::Undo);
+    if (ImGui::MenuItem(r.c_str(), "Ctrl+Y", false, !redo.empty())) commands_.run(Command::Redo);
+    probe_menu_header("Undo history");
+    if (!ImGui::BeginMenu("Undo history", !undo.empty() || !redo.empty())) return;
+    std::string shown;
+    for (std::size_t k = redo.size(); k-- > 0;) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        const bool chosen = ImGui::MenuItem((redo[k] + "##redo" + std::to_string(k)).c_str(), "undone");
+        ImGui::PopStyleColor();
+        probe_item("menu:redo:" + std::to_string(k + 1));
+        shown += "redo:" + redo[k] + "|";
+        if (chosen) commands_.run(Command::Redo, std::to_string(k + 1));
+    }
+    if (!redo.empty() && !undo.empty()) ImGui::Separator();
+    for (std::size_t k = 0; k < undo.size(); ++k) {
+        const bool chosen = ImGui::MenuItem((undo[k] + "##undo" + std::to_string(k)).c_str());
+        probe_item("menu:undo:" + std::to_string(k + 1));
+        shown += "undo:" + undo[k] + "|";
+        if (chosen) commands_.run(Command::Undo, std::to_string(k + 1));
+    }
+    probe("undo_history", shown);
+    ImGui::EndMenu();
 }
 
 // ---------------------------------------------------------------------------------
@@ -383,6 +446,7 @@ void Panels::draw_camera_panel() {
         angles.format = "%.2f";
         if (number_fields("az, el, dist", v3, 3, angles))
             nav_.set(set_view_angles(view, nav_.world_up(), {v3[0], std::clamp(v3[1], -89.0, 89.0), std::max(v3[2], 1e-6)}));
+        probe_view(view, v3);
         if (layout_.fit == FitMode::Window && doc.has_scene()) {
             rt::Camera vc = fit_camera_to_aspect(view, layout_.film_w, layout_.film_h);
             char fitted[96];
@@ -543,6 +607,12 @@ void Panels::draw_outline() {
         }
         ImGui::TreePop();
     }
+    if (s.lights.empty()) {
+        // Whatever is added stays black until a light is: say so where lights are listed.
+        const char* hint = "No lights: everything renders black. Right-click the picture > Add here > lamp.";
+        wrapped_coloured(kWarnColour, hint);
+        probe("outline_hint", hint);
+    }
     scroll_to_selection_ = false;
 }
 
@@ -592,11 +662,14 @@ void Panels::draw_properties() {
         editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), loc.line, loc.col)));
     if (!selection_.path.empty()) {
         if (loc.line > 0) same_line_if_fits("select the parent");
-        if (ImGui::SmallButton("select the parent")) {
+        const bool parent = ImGui::SmallButton("select the parent");
+        probe_item("button_select_the_parent");
+        if (parent) {
             selection_.path.pop_back();
             return;
         }
-        wrapped_hint("A CSG operand: its shape counts, but only the whole CSG's material is rendered.");
+        wrapped_hint("A CSG operand: its shape counts; its colour and finish are the whole CSG's material (select "
+                     "the parent to edit it).");
     }
     if (selection_.kind == Selection::Kind::Light) {
         // The block's kind: switching keeps the lamp's size for switching back.
@@ -632,9 +705,11 @@ void Panels::draw_fields(const ItemRef& ref) {
     char vec_format[16];
     std::snprintf(vec_format, sizeof vec_format, "%%.%df", std::clamp(4 - int(std::floor(std::log10(size))), 3, 9));
     int operand = 0;
+    std::string shown;  // the fields drawn, for scripts (probe.h)
     for (const Field& f : fields) {
         std::optional<FieldValue> cur = field_value(doc.scene(), ref, f);
         if (!cur) continue;
+        shown += (shown.empty() ? "" : ",") + f.label;
         FieldValue v = *cur;
         ImGui::PushID(f.label.c_str());
         ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
@@ -660,6 +735,7 @@ void Panels::draw_fields(const ItemRef& ref) {
         }
         ImGui::PopID();
     }
+    probe("fields", shown);
 }
 
 // The widget of one field of the kind the schema gives it, editing `v`; true if it
@@ -729,6 +805,9 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
 // A light's colour is an intensity (often >> 1 because of the 1/r^2 fall-off): its three
 // numbers, and the same as a tint and a strength.
 bool Panels::light_colour_editor(rt::Vec3& colour) {
+    char shown[128];  // what the field shows, for scripts (probe.h)
+    std::snprintf(shown, sizeof shown, "%.3f %.3f %.3f", colour.x, colour.y, colour.z);
+    probe("light_colour", shown);
     bool changed = drag_vec3("colour", colour, float(std::max({colour.x, colour.y, colour.z, 1.0}) * 0.005));
     double intensity = std::max({colour.x, colour.y, colour.z, 0.0});
     rt::Vec3 tint = intensity > 0 ? colour / intensity : rt::Vec3{1, 1, 1};
@@ -747,8 +826,11 @@ bool Panels::light_colour_editor(rt::Vec3& colour) {
     spec.min = &zero;
     spec.format = "%.2f";
     if (number_field("intensity", &intensity, spec)) tinted = true;
+    probe_item("field_intensity");
     if (tinted) {
-        colour = tint * intensity;
+        // As the colour field shows it: tint * intensity has noise in its last digits.
+        const rt::Vec3 c = tint * intensity;
+        colour = {as_shown(c.x, 3), as_shown(c.y, 3), as_shown(c.z, 3)};
         changed = true;
     }
     return changed;

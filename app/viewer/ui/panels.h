@@ -55,6 +55,7 @@ public:
 
 private:
     void draw_sidebar_edge();
+    void draw_undo_items();
     void draw_camera_panel();
     void draw_scene_camera_fields(float speed);
     void draw_objects_tab();

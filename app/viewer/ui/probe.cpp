@@ -4,7 +4,7 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <cstdio>
+#include <cmath>
 
 namespace rtview {
 
@@ -12,9 +12,11 @@ namespace {
 std::vector<std::pair<std::string, std::string>> g_probes;
 }  // namespace
 
-void probe(const std::string& key, const std::string& value) {
+void probe(const std::string& name, const std::string& value) {
     std::string v = value.substr(0, 512);
     std::replace(v.begin(), v.end(), '\n', ' ');
+    std::string key = name;
+    std::replace(key.begin(), key.end(), ' ', '_');
     for (auto& p : g_probes)
         if (p.first == key) {
             p.second = std::move(v);
@@ -23,15 +25,16 @@ void probe(const std::string& key, const std::string& value) {
     g_probes.emplace_back(key, std::move(v));
 }
 
+void probe_item(const std::string& key) {
+    if (!ImGui::IsItemVisible()) return;  // (scrolled out of its window: not on the screen)
+    const float fb = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.f;
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    probe(key, std::to_string(std::lround(a.x * fb)) + " " + std::to_string(std::lround(a.y * fb)) + " " +
+                   std::to_string(std::lround((b.x - a.x) * fb)) + " " + std::to_string(std::lround((b.y - a.y) * fb)));
+}
+
 const std::vector<std::pair<std::string, std::string>>& probes() { return g_probes; }
 
 void begin_probe_frame() { g_probes.clear(); }
-
-void probe_item(const std::string& key) {
-    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
-    char rect[96];
-    std::snprintf(rect, sizeof rect, "%.0f %.0f %.0f %.0f", a.x, a.y, b.x - a.x, b.y - a.y);
-    probe(key, rect);
-}
 
 }  // namespace rtview

@@ -11,13 +11,14 @@
 namespace rtview {
 
 // Records `value` under `key` for the frame being drawn (the UI thread only; values
-// are kept to one line).
+// are kept to one line, and keys to one word: "menu:Add here" is "menu:Add_here").
 void probe(const std::string& key, const std::string& value);
+// Records where the last ImGui item was drawn, "x y w h" in framebuffer pixels (what
+// xdotool and screenshots use), under `key`: for scripts that click on it. Nothing
+// when the item is scrolled out of sight.
+void probe_item(const std::string& key);
 // The frame's records, in the order made; cleared by begin_probe_frame().
 const std::vector<std::pair<std::string, std::string>>& probes();
-// Records the rectangle of the ImGui item drawn last ("x y w h") under `key`, for
-// scripts that click on it.
-void probe_item(const std::string& key);
 void begin_probe_frame();
 
 }  // namespace rtview

@@ -57,8 +57,8 @@ enum class Command {
     SaveImage,       // arg: path
     Screenshot,      // arg: path
     Quit,            // asks about unsaved edits first
-    Undo,
-    Redo,
+    Undo,            // arg: how many steps (empty: one)
+    Redo,            // arg: how many steps (empty: one)
     EditText,        // show and focus the editor
     ApplyText,
     RevertText,

@@ -19,6 +19,9 @@
 #   click X Y [BUTTON], key KEYS..., type TEXT, shot NAME
 #   editor_xy LINE COL [FRACTION]  screen point of a character of the scene text
 #   select_nothing                 click the picture's empty corner, wait for no selection
+#   item_xy / click_item / hover_item KEY   a probed item's (probe_item) centre; click it;
+#                                  rest the pointer on it (a submenu opens on hover)
+#   drag X0 Y0 X1 Y1 [BUTTON], scroll_to KEY X Y, region_mid NAME
 #   picture_agrees NAME            the picture equals `raytracer`'s render of $SCENE
 set -euo pipefail
 
@@ -187,4 +190,57 @@ picture_agrees() {
 save() {
     key ctrl+s
     wait_state title '^[^*]* - raytracer-view$' 10
+}
+
+# item_xy KEY: the centre of a rectangle the last frame drew under state KEY (probe_item:
+# menu rows "menu:NAME" (spaces in NAME are _), outline rows "outline_object_4_left",
+# fields "field_NAME").
+item_xy() {
+    local r
+    r=$(state "$1")
+    [ -n "$r" ] || fail "'$1' is not on the screen"
+    echo "$r" | awk '{ printf "%d %d\n", $1 + $3 / 2, $2 + $4 / 2 }'
+}
+# click_item KEY: waits until KEY is on the screen, then clicks its centre.
+click_item() {
+    local x y
+    wait_state "$1" '^-?[0-9]+ -?[0-9]+ [0-9]+ [0-9]+$' 5
+    read -r x y <<< "$(item_xy "$1")"
+    click "$x" "$y"
+}
+# drag X0 Y0 X1 Y1 [BUTTON]: presses at (X0, Y0), moves to (X1, Y1) in 20 steps a frame
+# or so apart, releases.
+drag() {
+    local x0=$1 y0=$2 x1=$3 y1=$4 b=${5:-1} i
+    xdotool mousemove "$x0" "$y0"
+    sleep 0.1
+    xdotool mousedown "$b"
+    for i in $(seq 1 20); do
+        xdotool mousemove $((x0 + (x1 - x0) * i / 20)) $((y0 + (y1 - y0) * i / 20))
+        sleep 0.03
+    done
+    sleep 0.1
+    xdotool mouseup "$b"
+}
+# scroll_to KEY X Y: scrolls the wheel at (X, Y) (over the outline, the properties...)
+# until the item KEY is on the screen.
+scroll_to() {
+    local key=$1 i
+    xdotool mousemove "$2" "$3"
+    for i in $(seq 1 20); do
+        [ -n "$(state "$key")" ] && return 0
+        xdotool click 5
+        sleep 0.15
+    done
+    fail "scrolling at $2 $3 never showed '$key'"
+}
+# The middle of the layout's REGION: "x y".
+region_mid() { region "$1" | awk '{ printf "%d %d\n", $1 + $3 / 2, $2 + $4 / 2 }'; }
+# hover_item KEY: waits until KEY is on the screen and rests the pointer on it (a
+# submenu opens on hover; a click would close it again).
+hover_item() {
+    local x y
+    wait_state "$1" '^-?[0-9]+ -?[0-9]+ [0-9]+ [0-9]+$' 5
+    read -r x y <<< "$(item_xy "$1")"
+    xdotool mousemove "$x" "$y"
 }
