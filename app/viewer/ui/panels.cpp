@@ -1052,6 +1052,10 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             if (p.refining > 0) std::snprintf(buf, sizeof buf, "%lld px refining", static_cast<long long>(p.refining));
             else if (p.refining == 0) std::snprintf(buf, sizeof buf, "settled");
             else std::snprintf(buf, sizeof buf, "%d / %d", p.samples, render_.max_samples());
+            if (render_.showing_preview()) {  // the view moves: the last render's state is not the picture's
+                std::snprintf(buf, sizeof buf, "moving");
+                frac = 0;
+            }
             ImGui::ProgressBar(float(frac), ImVec2(ImGui::GetFontSize() * 8, 0), buf);
             ImGui::SameLine();
             double rate = elapsed > 0 ? double(p.rays) / elapsed : 0;
