@@ -142,7 +142,7 @@ public:
     // A structural edit of the text (add, duplicate, delete: scene_edits.h): replaces
     // `length` bytes at `pos` with `text` and applies the result, as one undo step
     // (called `name`) that stores the replacement. Only when the editor text is the scene's (no
-    // draft) and the result parses; else false and nothing changes.
+    // draft), no edit is held (editing()) and the result parses; else false and nothing changes.
     bool replace_text(std::size_t pos, std::size_t length, const std::string& text,
                       const std::string& name = "Edit the scene text");
     // Puts `text` in the editor as an unapplied draft (undoable): crash recovery.
@@ -202,6 +202,7 @@ private:
     void open_edit();
     rt::Scene scene_before_edit() const;  // (a copy: only for the slow paths)
     rt::Scene scene_before_edit_from(const DocStep& step) const;
+    bool reads_back(const DocStep& step, bool wide) const;
     bool commit_in_place(DocStep& step);
     bool commit_generic(DocStep& step);
     void record(DocStep step);

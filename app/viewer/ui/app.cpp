@@ -773,6 +773,12 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         status_.set("The scene text has unapplied changes: apply (Ctrl+Enter) or revert them first", true);
         return false;
     }
+    if (doc.editing()) {
+        // (The edit would be planned on the scene as dragged so far, but the text the
+        // drag writes only when it ends.)
+        status_.set("Finish the drag first", true);
+        return false;
+    }
     const std::string& text = std::as_const(doc).editor_text();
     const rt::Scene& scene = doc.scene();
     std::optional<SceneEdit> e;
