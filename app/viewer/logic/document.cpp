@@ -818,6 +818,17 @@ std::vector<std::string> Document::redo_names(std::size_t max) const {
     return out;
 }
 
+Document::HeldItems Document::held_items() const {
+    HeldItems h;
+    if (!pending_) return h;
+    h.whole = saved_.whole.has_value();
+    for (const auto& p : saved_.objects) h.objects.push_back(p.first);
+    for (const auto& p : saved_.planes) h.planes.push_back(p.first);
+    for (const auto& p : saved_.lights) h.lights.push_back(p.first);
+    h.camera = saved_.camera.has_value();
+    return h;
+}
+
 // ---------------------------------------------------------------------------------
 // Saving and the file on disk
 
@@ -840,7 +851,9 @@ void Document::mark_saved() {
 rt::Status Document::save() {
     commit();
     if (path_.empty()) return rt::Status::error("the scene has no file name yet: use Save As", rt::kExitUsage);
-    if (rt::Status st = rt::write_file_atomic(path_, editor_); !st) return st;
+    // No name until the file is complete: a viewer killed while saving (SIGKILL: no
+    // handler runs) leaves no partial file behind.
+    if (rt::Status st = rt::write_file_atomic(path_, editor_, rt::WhileWriting::NoName); !st) return st;
     mark_saved();
     return {};
 }
@@ -848,7 +861,7 @@ rt::Status Document::save() {
 rt::Status Document::save_as(const std::string& path) {
     commit();
     if (path.empty()) return rt::Status::error("no file name given", rt::kExitUsage);
-    if (rt::Status st = rt::write_file_atomic(path, editor_); !st) return st;
+    if (rt::Status st = rt::write_file_atomic(path, editor_, rt::WhileWriting::NoName); !st) return st;
     path_ = path;
     name_ = base_name(path);
     mark_saved();

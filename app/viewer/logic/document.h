@@ -181,6 +181,19 @@ public:
     rt::Status save();
     rt::Status save_as(const std::string& path);
 
+    // --- crash recovery --------------------------------------------------------
+    // The items a held edit (a drag) has touched so far, by index (their values now are
+    // in scene()): what a recovery copy keeps beside the text, which has not got them
+    // yet. Empty when no edit is held; `whole` for an edit() of the whole scene.
+    struct HeldItems {
+        std::vector<std::size_t> objects, planes, lights;
+        bool camera = false, whole = false;
+        bool empty() const { return objects.empty() && planes.empty() && lights.empty() && !camera && !whole; }
+    };
+    HeldItems held_items() const;
+    // text_hash() of the file as last loaded or saved.
+    std::uint64_t saved_hash() const { return saved_hash_; }
+
     // --- the file on disk ------------------------------------------------------
     enum class DiskEvent { None, Reloaded, Conflict, Removed };
     // Call now and then (the viewer: once a second). Reloads by itself when there

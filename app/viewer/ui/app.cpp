@@ -938,6 +938,7 @@ bool ViewerApp::do_save(bool confirmed) {
     }
     if (!ready_to_save(Command::Save, {}, confirmed)) return false;
     const rt::Status st = doc.save();
+    if (st) editor_.saved();
     if (st) status_.set("Saved " + doc.path());
     else status_.set("Save failed: " + st.message(), true);
     return st.ok();
