@@ -118,7 +118,7 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
     // SIGINT and SIGTERM end the process from the signal handler, in this phase too.
     while (!renderer.wait_for(0.1)) {
         rt::RenderProgress p = renderer.progress();
-        double fraction = (p.samples + p.pass_fraction * (settings.max_samples - p.samples)) / settings.max_samples;
+        double fraction = rt::progress_fraction(p, settings.max_samples);
         if (opt.time_limit > 0) fraction = std::max(fraction, p.elapsed / opt.time_limit);
         bar.update(fraction, p.elapsed);
     }
@@ -158,11 +158,19 @@ struct Times {
 
 void print_stats(const std::string& scene_path, const rt::Scene& scene, const Rendered& r, const Times& t) {
     char line[256];
+    std::cerr << scene_path << ": " << scene.width << "x" << scene.height << ", ";
+    if (r.progress.refining >= 0) {
+        // Adaptive: how the samples went.
+        const double pixels = double(scene.width) * scene.height;
+        std::snprintf(line, sizeof line, "%.3f samples per pixel on average (adaptive, %lld not settled)",
+                      double(r.progress.film_samples) / pixels, static_cast<long long>(r.progress.refining));
+        std::cerr << line;
+    } else {
+        std::cerr << r.progress.samples << (r.progress.samples == 1 ? " sample" : " samples") << " per pixel";
+    }
     std::snprintf(line, sizeof line, "time: parse %.3f s, compile %.3f s, render %.3f s, write %.3f s, total %.3f s\n",
                   t.parse, t.compile, t.render, t.write, t.total);
-    std::cerr << scene_path << ": " << scene.width << "x" << scene.height << ", " << r.progress.samples
-              << (r.progress.samples == 1 ? " sample" : " samples") << " per pixel, " << r.threads
-              << (r.threads == 1 ? " thread" : " threads") << "\n"
+    std::cerr << ", " << r.threads << (r.threads == 1 ? " thread" : " threads") << "\n"
               << line << "rays: " << with_commas(r.progress.rays);
     std::snprintf(line, sizeof line, " (%.2f M rays/s)\n", t.render > 0 ? r.progress.rays / t.render / 1e6 : 0.0);
     std::cerr << line;

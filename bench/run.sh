@@ -23,6 +23,13 @@
 #                      folder with its POV-Ray twin: our whole run split into parse
 #                      (and its MB/s), compile (BVH build), render and write, peak
 #                      memory, and POV-Ray's whole run on the twin
+#   -a, --aa           also the anti-aliasing section: for things-like, csg-400 and
+#                      glass-stack, POV-Ray's +A0.3 (one run) against ours with the
+#                      largest --aa-threshold whose RMSE is no worse, each RMSE (8-bit
+#                      units, bench/image_rmse) measured against the program's own
+#                      converged picture (POV-Ray +A0.0 +AM1 +R6, ours --samples 256)
+#       --aa-refs DIR  keep the converged pictures in DIR and reuse them (they take
+#                      minutes to render; delete them when a renderer changes)
 #   -q, --quick        160x90, 1 run, a smoke test of this script (used by CI)
 #   -h, --help         this text
 #
@@ -33,7 +40,7 @@ set -euo pipefail
 
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
-RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 EMBREE=1 MICRO=1 QUICK=0 GRID=0
+RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 EMBREE=1 MICRO=1 QUICK=0 GRID=0 AA=0 AA_REFS=
 SCENES=()
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
@@ -49,6 +56,8 @@ while [ $# -gt 0 ]; do
         -E|--no-embree) EMBREE=0 ;;
         -M|--no-micro) MICRO=0 ;;
         -g|--grid) need_value "$@"; GRID=$2; shift ;;
+        -a|--aa) AA=1 ;;
+        --aa-refs) need_value "$@"; AA_REFS=$2; shift ;;
         -q|--quick) QUICK=1 ;;
         -h|--help) usage; exit 0 ;;
         -*) echo "run.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
@@ -229,6 +238,70 @@ if [ "$GRID" != 0 ]; then
          "$(median "${writes[@]}") | $mem | $pw | $(ratio "$pw" "$(median "${walls[@]}")") |"
     rm -f "$G.txt" "$G.pov"
 fi
+
+# The anti-aliasing section: POV-Ray's usual anti-aliasing against ours at the same
+# quality. Quality is the RMSE against each program's own converged picture.
+# aa_run SCENE THRESHOLD: one timed run of ours; AA_RESULT="WALL RMSE SPP"; succeeds
+# if the RMSE is no worse than POV-Ray's ($pr). (Uses aa_section's W, H, ourref.)
+aa_run() {
+    local t wall or spp
+    t=$(timed "$OUT/$1-ours-aa.log" "$BIN" --quiet --stats --threads "$THREADS" --width "$W" --height "$H" \
+        --aa-threshold "$2" "$HERE/scenes/$1.txt" "$OUT/$1-ours-aa.png") ||
+        { echo "run.sh: our raytracer failed on $1:" >&2; cat "$OUT/$1-ours-aa.log" >&2; exit 1; }
+    read -r wall _ <<< "$t"
+    or=$("$RMSE_BIN" "$OUT/$1-ours-aa.png" "$ourref" | awk '{ print $2 }')
+    spp=$(sed -n 's/.*, \([0-9.]*\) samples per pixel on average.*/\1/p' "$OUT/$1-ours-aa.log")
+    AA_RESULT="$wall $or $spp"
+    awk -v a="$or" -v b="$pr" 'BEGIN { exit !(a <= b) }'
+}
+
+aa_section() {
+    local refs=${AA_REFS:-$OUT/aa-refs} s t wall or spp aa
+    RMSE_BIN=$(dirname "$BIN")/image_rmse
+    [ -x "$RMSE_BIN" ] || { echo "run.sh: no image_rmse next to $BIN; skipping anti-aliasing" >&2; return; }
+    [ $POV = 1 ] || { echo "run.sh: anti-aliasing compares with POV-Ray; skipping it" >&2; return; }
+    mkdir -p "$refs"
+    echo
+    echo "Anti-aliasing: POV-Ray +A0.3 against ours at the largest --aa-threshold (searched in steps of" \
+         "0.05 from 0.6, then to 0.00625) whose RMSE is no worse; one run each, whole process, both writing PNG:"
+    echo
+    echo "| scene | resolution | POV-Ray +A0.3 (s) | its RMSE | ours: threshold | ours (s) | our RMSE | our samples per pixel | POV/ours |"
+    echo "|---|---|---|---|---|---|---|---|---|"
+    for s in things-like csg-400 glass-stack; do
+        if [ $QUICK = 1 ]; then W=160 H=90; else W=$(scene_size "$s" x_max) H=$(scene_size "$s" y_max); fi
+        local povref=$refs/$s-${W}x$H-pov.png
+        ourref=$refs/$s-${W}x$H-ours256.ppm
+        [ -s "$povref" ] || (cd "$HERE/scenes" && povray -D +A0.0 +AM1 +R6 +W"$W" +H"$H" +WT"$THREADS" \
+            File_Gamma=1.0 +I"$s.pov" +O"$povref" > "$OUT/$s-povref.log" 2>&1) ||
+            { echo "run.sh: povray failed on $s:" >&2; tail -20 "$OUT/$s-povref.log" >&2; exit 1; }
+        [ -s "$ourref" ] || "$BIN" --quiet --threads "$THREADS" --width "$W" --height "$H" --samples 256 \
+            "$HERE/scenes/$s.txt" "$ourref" || { echo "run.sh: our raytracer failed on $s" >&2; exit 1; }
+        t=$(cd "$HERE/scenes" && timed "$OUT/$s-pov-aa.log" povray -D +A0.3 +W"$W" +H"$H" +WT"$THREADS" \
+            File_Gamma=1.0 +I"$s.pov" +O"$OUT/$s-pov-aa.png") ||
+            { echo "run.sh: povray failed on $s:" >&2; tail -20 "$OUT/$s-pov-aa.log" >&2; exit 1; }
+        read -r pwall _ <<< "$t"
+        pr=$("$RMSE_BIN" "$OUT/$s-pov-aa.png" "$povref" | awk '{ print $2 }')  # (aa_run reads it)
+        # Down in steps of 0.05 to the first threshold that matches POV-Ray's RMSE, then
+        # three halvings of the step between it and the one above it that did not.
+        local fail= ok= best=
+        for aa in 0.6 0.55 0.5 0.45 0.4 0.35 0.3 0.25 0.2 0.15 0.1 0.05; do
+            aa_run "$s" "$aa" && { ok=$aa; break; }
+            fail=$aa
+        done
+        best=$AA_RESULT
+        for _ in 1 2 3; do
+            [ -n "$ok" ] && [ -n "$fail" ] || break
+            aa=$(awk -v a="$ok" -v b="$fail" 'BEGIN { printf "%.4g\n", (a + b) / 2 }')
+            if aa_run "$s" "$aa"; then ok=$aa best=$AA_RESULT; else fail=$aa; fi
+        done
+        [ -n "$ok" ] || ok=$aa
+        read -r wall or spp <<< "$best"
+        awk -v a="$or" -v b="$pr" 'BEGIN { exit !(a > b) }' && or="$or (worse)"
+        aa=$ok
+        echo "| $s | ${W}x$H | $pwall | $pr | $aa | $wall | $or | $spp | $(ratio "$pwall" "$wall") |"
+    done
+}
+[ $AA = 1 ] && aa_section
 
 if [ $MICRO = 1 ]; then
     MB=$(dirname "$BIN")/renderer_bench

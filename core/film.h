@@ -1,5 +1,6 @@
 // Float accumulation buffer: per-pixel colour sums and sample counts, plus a preview
-// layer that coarse passes fill until the first full-resolution sample arrives.
+// layer that coarse passes fill until the first full-resolution sample arrives, and
+// for adaptive anti-aliasing the sums of squares that tell how a pixel's samples spread.
 #pragma once
 
 #include <sys/mman.h>
@@ -9,6 +10,7 @@
 #include <cstdlib>
 #include <new>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "math.h"
@@ -67,6 +69,11 @@ public:
         }
         n_ = n;
     }
+    void swap(ZeroedArray& o) noexcept {
+        std::swap(p_, o.p_);
+        std::swap(n_, o.n_);
+        std::swap(mapped_, o.mapped_);
+    }
     std::size_t size() const { return n_; }
     bool empty() const { return n_ == 0; }
     T* data() { return p_; }
@@ -99,6 +106,10 @@ struct Film {
     // a colour (the block's one ray); shown while count == 0. Empty if no coarse passes.
     ZeroedArray<float> preview;
     int preview_level = 0;  // block size of the last complete coarse pass; 0 = none
+    // Adaptive anti-aliasing only (core/adaptive.h), else empty: per pixel, the sum over
+    // its samples of the squared colour channels, each clamped to 0..1. Valid where
+    // count >= 2 (for one sample it is the sum's own square).
+    ZeroedArray<float> squares;
 
     void reset(int w, int h, bool with_preview = true) {
         width = w;
@@ -107,6 +118,7 @@ struct Film {
         count.reset(std::size_t(w) * h);
         preview.reset(with_preview ? std::size_t(w) * h * 3 : 0);
         preview_level = 0;
+        squares.reset(0);
     }
     // Pixel (x, y); idx = y * width + x.
     Colour pixel(int x, int y, std::size_t idx) const {

@@ -1,10 +1,8 @@
-// PPM and PNG encoding, atomic file writes (temporary file + fsync + rename) and the
-// small readers the tools and tests need. PNG bytes come from the packaged stb
-// (libstb, which already holds the implementation: link `stb`, define nothing).
+// PPM and PNG encoding (PNG in png.cpp), atomic file writes (temporary file + fsync +
+// rename) and the small readers the tools and tests need.
 #include "image_io.h"
 
 #include <fcntl.h>
-#include <stb/stb_image_write.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -23,6 +21,7 @@
 #include <thread>
 
 #include "pages.h"
+#include "png.h"
 
 namespace rt {
 namespace {
@@ -103,10 +102,6 @@ std::string write_in_place(const std::string& path, std::initializer_list<std::s
 
 std::string ppm_header(int width, int height) {
     return "P6\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n";
-}
-
-void append_bytes(void* context, void* data, int size) {
-    static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
 }
 
 // A PPM header field: skips whitespace and '#' comments, then reads digits.
@@ -272,11 +267,8 @@ Status write_rgb8(const std::string& path, int width, int height, const std::uin
             return write_file_atomic(path, {ppm_header(width, height),
                                             {reinterpret_cast<const char*>(rgb), size}});
         case ImageFormat::Png: {
-            if (std::size_t(width) * 3 > std::size_t(INT_MAX) / std::size_t(height))
-                return io_error("the picture is too large for a PNG file");
             std::string png;
-            if (!stbi_write_png_to_func(append_bytes, &png, width, height, 3, rgb, width * 3))
-                return io_error("PNG encoding failed");
+            if (!encode_png(rgb, width, height, png)) return io_error("PNG encoding failed");
             return write_file_atomic(path, png);
         }
         case ImageFormat::Unknown:

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "adaptive.h"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -43,20 +45,41 @@ void sums_to_bytes(const float* sum, std::size_t n, std::uint8_t* out) {
 
 using Clock = std::chrono::steady_clock;
 
+enum class PassKind : unsigned char { Coarse, Samples, Decide, Refine };
+
+// Adaptive anti-aliasing's state, shared by the job and its tasks: a decision task
+// writes its own rows of `active` and its own band of `marked` (so a task never waits
+// for another), a refine task reads them.
+struct AdaptiveJob {
+    double threshold = 0;
+    int max_samples = 1;
+    int tile = 32, cols = 0;  // the sample passes' tiles: side, and how many across
+    // Per pixel: marked by the last decision, and by the one before (what the pass in
+    // between refined, for the next decision).
+    ZeroedArray<std::uint8_t> active, changed;
+    std::vector<int> marked;  // per tile of the grid, row by row: pixels the last decision marked
+    bool first = true;        // the next decision is the first: it decides every pixel
+    std::int64_t refining = 0;
+    int refinements = 0;      // refine passes completed
+};
+
 struct RenderTask {
     std::uint64_t generation = 0;
     std::shared_ptr<const World> world;
     std::shared_ptr<const std::atomic<bool>> stop;  // the job's: set when it is cancelled or done
     Clock::time_point deadline = Clock::time_point::max();
     CameraBasis camera;
+    PassKind kind = PassKind::Samples;
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     int block = 0;               // coarse pass: block size; 0 for a sample pass
     int s0 = 0, s1 = 0;          // sample pass: samples [s0, s1)
     int reuse = 0;               // block size (a power of 2) of the last coarse pass: its
                                  // corner pixels already hold sample 0 in the preview layer
+    std::shared_ptr<AdaptiveJob> aa;  // decision and refine passes
 };
 
 struct Pass {
+    PassKind kind = PassKind::Samples;
     int block = 0;
     int s0 = 0, s1 = 0;
 };
@@ -70,7 +93,7 @@ struct Renderer::Job {
     int width = 0, height = 0;
     Clock::time_point start;
     Clock::time_point deadline = Clock::time_point::max();  // start + time limit
-    std::vector<Pass> passes;       // the fixed ones; sample passes are appended as needed
+    std::vector<Pass> passes;       // the fixed ones; adaptive passes are appended as needed
     std::size_t pass = 0;           // current pass
     std::vector<std::array<int, 4>> tiles;
     std::size_t next_tile = 0, tiles_done = 0;
@@ -83,7 +106,32 @@ struct Renderer::Job {
     bool done = false;
     bool paused = false;
     std::uint64_t rays = 0;
+    std::uint64_t film_samples = 0;
+    std::shared_ptr<AdaptiveJob> aa;  // null: a uniform render
 };
+
+namespace {
+double radical(unsigned i, unsigned base) {
+    double f = 1, r = 0;
+    while (i > 0) {
+        f /= base;
+        r += f * (i % base);
+        i /= base;
+    }
+    return r;
+}
+
+// radical(s, 2) and radical(s, 3) of the first samples, worked out once by the same
+// operations (so the same values): their divisions would cost more than the rest of
+// sample_offset together.
+struct Radicals {
+    static constexpr unsigned kCount = 256;
+    double base2[kCount], base3[kCount];
+    Radicals() {
+        for (unsigned s = 0; s < kCount; ++s) base2[s] = radical(s, 2), base3[s] = radical(s, 3);
+    }
+};
+}  // namespace
 
 void sample_offset(int x, int y, int s, double& dx, double& dy) {
     if (s == 0) {
@@ -92,23 +140,20 @@ void sample_offset(int x, int y, int s, double& dx, double& dy) {
     }
     // Halton (2, 3) points, rotated per pixel by a hash so that neighbouring pixels do
     // not share a pattern; centred on the original's sample point.
-    auto radical = [](unsigned i, unsigned base) {
-        double f = 1, r = 0;
-        while (i > 0) {
-            f /= base;
-            r += f * (i % base);
-            i /= base;
-        }
-        return r;
-    };
+    static const Radicals table;
+    const bool held = unsigned(s) < Radicals::kCount;
+    const double r2 = held ? table.base2[s] : radical(unsigned(s), 2);
+    const double r3 = held ? table.base3[s] : radical(unsigned(s), 3);
     std::uint32_t h = std::uint32_t(x) * 0x8da6b343u ^ std::uint32_t(y) * 0xd8163841u;
     h ^= h >> 15;
     h *= 0x2c1b3c6du;
     h ^= h >> 12;
     double rx = (h & 0xffff) / 65536.0, ry = (h >> 16) / 65536.0;
-    double u = radical(unsigned(s), 2) + rx, v = radical(unsigned(s), 3) + ry;
-    dx = u - std::floor(u) - 0.5;
-    dy = v - std::floor(v) - 0.5;
+    double u = r2 + rx, v = r3 + ry;
+    // u and v lie in [0, 2): their floor is 0 or 1, and subtracting it is exact, so this
+    // is u - floor(u) without floor's library call (SSE2 has no rounding instruction).
+    dx = (u >= 1 ? u - 1 : u) - 0.5;
+    dy = (v >= 1 ? v - 1 : v) - 0.5;
 }
 
 void accumulate_pixel(const World& world, const CameraBasis& camera, int x, int y, int s0, int s1, float acc[3],
@@ -140,13 +185,23 @@ Renderer::~Renderer() {
 void Renderer::begin_pass_locked(Job& job) {
     job.tiles.clear();
     job.next_tile = job.tiles_done = 0;
+    const Pass& p = job.passes[job.pass];
     int ts = std::max(8, job.settings.tile_size / 8 * 8);  // coarse blocks never straddle tiles
+    if (p.kind == PassKind::Decide) {
+        // Bands of whole rows, one per row of tiles: each counts its tiles' marked pixels.
+        for (int y = 0; y < job.height; y += ts) job.tiles.push_back({0, y, job.width, std::min(y + ts, job.height)});
+        return;
+    }
     // Coarse passes trace one ray per block: their tiles grow with the block so that a
     // task still holds enough rays to outweigh taking it from the queue.
-    if (job.passes[job.pass].block > 0) ts = std::max(ts, ts * job.passes[job.pass].block / 2);
+    if (p.kind == PassKind::Coarse) ts = std::max(ts, ts * p.block / 2);
     for (int y = 0; y < job.height; y += ts)
-        for (int x = 0; x < job.width; x += ts)
+        for (int x = 0; x < job.width; x += ts) {
+            // A refine pass leaves out the tiles with nothing to refine.
+            if (p.kind == PassKind::Refine && job.aa->marked[std::size_t(y / ts * job.aa->cols + x / ts)] == 0)
+                continue;
             job.tiles.push_back({x, y, std::min(x + ts, job.width), std::min(y + ts, job.height)});
+        }
     if (job.settings.order == TileOrder::CentreOut) {
         double cx = job.width / 2.0, cy = job.height / 2.0;
         std::stable_sort(job.tiles.begin(), job.tiles.end(), [&](const auto& a, const auto& b) {
@@ -156,6 +211,34 @@ void Renderer::begin_pass_locked(Job& job) {
         });
     }
 }
+
+namespace {
+// The passes of a render, as start() lists them: the coarse ones, then the sample
+// passes (adaptive: only the first sample; the decisions and refinements follow it).
+std::vector<Pass> plan_passes(const RenderSettings& settings, int width, int height, int max_samples) {
+    std::vector<Pass> passes;
+    int first_block = 2;  // the largest power of 2 <= coarse_block (blocks are masks)
+    while (first_block < 256 && first_block * 2 <= settings.coarse_block) first_block *= 2;
+    if (settings.coarse)
+        for (int b = first_block; b >= 2; b /= 2)
+            if (width > b || height > b) passes.push_back({PassKind::Coarse, b, 0, 0});
+    if (settings.aa_threshold >= 0) {
+        passes.push_back({PassKind::Samples, 0, 0, 1});
+        return passes;
+    }
+    // Sample passes: the given batch, or 1, 1, 2, 4, 8, 16, 16, ... samples. Under a
+    // time limit the first pass, which always completes, is one sample.
+    int s = 0;
+    while (s < max_samples) {
+        int n = settings.samples_per_pass > 0 ? settings.samples_per_pass : std::clamp(s, 1, 16);
+        if (s == 0 && settings.time_limit > 0) n = 1;
+        n = std::min(n, max_samples - s);
+        passes.push_back({PassKind::Samples, 0, s, s + n});
+        s += n;
+    }
+    return passes;
+}
+}  // namespace
 
 void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& settings) {
     cancel();
@@ -173,28 +256,28 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
     if (settings.time_limit > 0)
         job->deadline = job->start + std::chrono::duration_cast<Clock::duration>(
                                          std::chrono::duration<double>(std::min(settings.time_limit, 1e9)));
-    int first_block = 2;  // the largest power of 2 <= coarse_block (blocks are masks)
-    while (first_block < 256 && first_block * 2 <= settings.coarse_block) first_block *= 2;
-    if (settings.coarse)
-        for (int b = first_block; b >= 2; b /= 2)
-            if (job->width > b || job->height > b) job->passes.push_back({b, 0, 0});
-    // Sample passes: the given batch, or 1, 1, 2, 4, 8, 16, 16, ... samples. Under a
-    // time limit the first pass, which always completes, is one sample.
-    int s = 0;
-    while (s < job->settings.max_samples) {
-        int n = settings.samples_per_pass > 0 ? settings.samples_per_pass : std::clamp(s, 1, 16);
-        if (s == 0 && settings.time_limit > 0) n = 1;
-        n = std::min(n, job->settings.max_samples - s);
-        job->passes.push_back({0, s, s + n});
-        s += n;
-    }
+    job->passes = plan_passes(settings, job->width, job->height, job->settings.max_samples);
     job->paused = paused_;
     steps_ = 0;
+    const std::size_t pixels = std::size_t(job->width) * job->height;
     if (film_.width != job->width || film_.height != job->height) {
         film_.reset(job->width, job->height, settings.coarse);
     } else {
         std::fill(film_.count.begin(), film_.count.end(), 0u);
-        if (settings.coarse && film_.preview.empty()) film_.preview.reset(std::size_t(job->width) * job->height * 3);
+        if (settings.coarse && film_.preview.empty()) film_.preview.reset(pixels * 3);
+    }
+    if (settings.aa_threshold >= 0) {
+        auto aa = std::make_shared<AdaptiveJob>();
+        aa->threshold = settings.aa_threshold;
+        aa->max_samples = job->settings.max_samples;
+        aa->tile = std::max(8, settings.tile_size / 8 * 8);
+        aa->cols = (job->width + aa->tile - 1) / aa->tile;
+        aa->active.reset(pixels);
+        aa->changed.reset(pixels);
+        aa->marked.assign(std::size_t(aa->cols) * std::size_t((job->height + aa->tile - 1) / aa->tile), 0);
+        aa->refining = std::int64_t(pixels);
+        if (film_.squares.size() != pixels) film_.squares.reset(pixels);
+        job->aa = std::move(aa);
     }
     film_.preview_level = 0;
     ++film_version_;
@@ -260,13 +343,15 @@ bool Renderer::next_task(RenderTask& task) {
     task.stop = job.stop;
     // Every pixel gets its first sample whatever the time; what comes after it stops at
     // the limit, even in the middle of a pass. (Coarse passes are too short to matter.)
-    const bool limited = job.settings.hard_time_limit || (p.block == 0 && p.s0 > 0);
-    task.deadline = limited ? job.deadline : Clock::time_point::max();
+    const bool first = p.kind == PassKind::Coarse || (p.kind == PassKind::Samples && p.s0 == 0);
+    task.deadline = job.settings.hard_time_limit || !first ? job.deadline : Clock::time_point::max();
     task.camera = job.camera;
+    task.kind = p.kind;
     task.x0 = t[0], task.y0 = t[1], task.x1 = t[2], task.y1 = t[3];
     task.block = p.block;
     task.s0 = p.s0, task.s1 = p.s1;
     task.reuse = job.coarse_level;
+    task.aa = job.aa;
     return true;
 }
 
@@ -343,27 +428,59 @@ const Colour* first_samples(const RenderTask& task, const Film& film, int y, int
 }
 }  // namespace
 
+namespace {
+// A band of a decision pass: its rows' marks, and how many each of its tiles got.
+void decide_band(const Film& film, const RenderTask& task) {
+    AdaptiveJob& aa = *task.aa;
+    const std::uint8_t* changed = aa.first ? nullptr : aa.changed.data();
+    decide_rows(film, aa.threshold, aa.max_samples, changed, task.y0, task.y1, aa.active.data());
+    int* marked = &aa.marked[std::size_t(task.y0 / aa.tile) * std::size_t(aa.cols)];
+    std::fill(marked, marked + aa.cols, 0);
+    for (int y = task.y0; y < task.y1; ++y) {
+        const std::uint8_t* row = &aa.active[std::size_t(y) * film.width];
+        for (int x = 0; x < film.width; ++x) marked[x / aa.tile] += row[x];
+    }
+}
+}  // namespace
+
 bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStats& stats) {
+    auto cancelled = [&] {
+        return stats.stopped || cancel_gen_.load(std::memory_order_relaxed) != task.generation;
+    };
+    switch (task.kind) {
+        case PassKind::Samples:
+            return run_samples(task, buf, stats);
+        case PassKind::Refine:
+            return run_refine(task, buf, stats);
+        case PassKind::Decide:
+            // The film is not written during this pass: every task reads it freely.
+            if (cancelled()) return false;
+            decide_band(film_, task);
+            return !cancelled();
+        case PassKind::Coarse:
+            break;
+    }
+    // One colour per block, for its corner pixel, blocks in rows.
+    int w = task.x1 - task.x0, h = task.y1 - task.y0;
+    int b = task.block;
+    buf.resize(std::size_t((w + b - 1) / b) * ((h + b - 1) / b) * 3);
+    float* out = buf.data();
+    for (int by = task.y0; by < task.y1; by += b) {
+        std::size_t n = 0;
+        const Colour* c = first_samples(task, film_, by, b, stats, n);
+        if (cancelled()) return false;
+        for (std::size_t k = 0; k < n; ++k) *out++ = float(c[k].x), *out++ = float(c[k].y), *out++ = float(c[k].z);
+    }
+    return !cancelled();
+}
+
+bool Renderer::run_samples(const RenderTask& task, std::vector<float>& buf, RayStats& stats) {
     const World& world = *task.world;
     int w = task.x1 - task.x0, h = task.y1 - task.y0;
     // (The traces poll the stop flag and the deadline themselves and set stats.stopped.)
     auto cancelled = [&] {
         return stats.stopped || cancel_gen_.load(std::memory_order_relaxed) != task.generation;
     };
-    if (task.block > 0) {
-        // One colour per block, for its corner pixel, blocks in rows.
-        int b = task.block;
-        buf.resize(std::size_t((w + b - 1) / b) * ((h + b - 1) / b) * 3);
-        float* out = buf.data();
-        for (int by = task.y0; by < task.y1; by += b) {
-            std::size_t n = 0;
-            const Colour* c = first_samples(task, film_, by, b, stats, n);
-            if (cancelled()) return false;
-            for (std::size_t k = 0; k < n; ++k)
-                *out++ = float(c[k].x), *out++ = float(c[k].y), *out++ = float(c[k].z);
-        }
-        return !cancelled();
-    }
     buf.resize(std::size_t(w) * h * 3);
     // Sample pass: continue each pixel's running sum. The sums of this tile are only
     // touched by this task until it commits, so reading them unlocked is safe.
@@ -404,27 +521,73 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
     return !cancelled();
 }
 
+// A refine task: the marked pixels of its tile into buf (the tile's sums, 3 floats a
+// pixel, then its squares); what the others hold there is not used.
+bool Renderer::run_refine(const RenderTask& task, std::vector<float>& buf, RayStats& stats) {
+    const AdaptiveJob& aa = *task.aa;
+    const int w = task.x1 - task.x0, h = task.y1 - task.y0;
+    const std::size_t n = std::size_t(w) * std::size_t(h);
+    buf.resize(4 * n);
+    thread_local std::vector<std::uint32_t> n0, n1;
+    n0.resize(n);
+    n1.resize(n);
+    for (int y = task.y0; y < task.y1; ++y) {
+        const std::size_t idx = std::size_t(y) * film_.width + task.x0, k0 = std::size_t(y - task.y0) * w;
+        for (int k = 0; k < w; ++k) {
+            n0[k0 + k] = film_.count[idx + k];
+            n1[k0 + k] = aa.active[idx + k] ? refine_count(n0[k0 + k], std::uint32_t(aa.max_samples)) : n0[k0 + k];
+        }
+        std::copy_n(&film_.sum[3 * idx], 3 * w, &buf[3 * k0]);
+        std::copy_n(&film_.squares[idx], w, &buf[3 * n + k0]);
+    }
+    refine_rect(*task.world, task.camera, task.x0, task.y0, w, h, n0.data(), n1.data(), buf.data(), &buf[3 * n],
+                stats);
+    return !stats.stopped && cancel_gen_.load(std::memory_order_relaxed) == task.generation;
+}
+
+// Called with mutex_ held: a finished sample or refine task's pixels into the film.
+void Renderer::commit_film(const RenderTask& task, const std::vector<float>& buf) {
+    Job& job = *job_;
+    const int w = task.x1 - task.x0, h = task.y1 - task.y0;
+    for (int y = task.y0; y < task.y1; ++y) {
+        const std::size_t idx = std::size_t(y) * film_.width + task.x0;
+        const float* row = &buf[3 * std::size_t(y - task.y0) * w];
+        if (task.kind == PassKind::Samples) {
+            std::copy(row, row + 3 * w, film_.sum.data() + 3 * idx);
+            std::fill_n(film_.count.data() + idx, w, std::uint32_t(task.s1));
+            job.film_samples += std::uint64_t(w) * std::uint64_t(task.s1 - task.s0);
+            continue;
+        }
+        const AdaptiveJob& aa = *task.aa;
+        const float* squares = &buf[3 * std::size_t(w) * h + std::size_t(y - task.y0) * w];
+        for (int k = 0; k < w; ++k) {
+            if (!aa.active[idx + k]) continue;
+            std::uint32_t& n = film_.count[idx + k];
+            const std::uint32_t to = refine_count(n, std::uint32_t(aa.max_samples));
+            job.film_samples += to - n;
+            n = to;
+            std::copy_n(row + 3 * k, 3, &film_.sum[3 * (idx + k)]);
+            film_.squares[idx + k] = squares[k];
+        }
+    }
+}
+
 // Called with mutex_ held, for a task of the current job.
 void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     Job& job = *job_;
-    int w = task.x1 - task.x0;
-    if (task.block > 0) {
+    if (task.kind == PassKind::Coarse) {
         const float* c = buf.data();
         for (int y = task.y0; y < task.y1; y += task.block)
             for (int x = task.x0; x < task.x1; x += task.block, c += 3)
                 std::copy(c, c + 3, &film_.preview[3 * (std::size_t(y) * film_.width + x)]);
-    } else {
-        for (int y = task.y0; y < task.y1; ++y) {
-            std::size_t idx = std::size_t(y) * film_.width + task.x0;
-            const float* row = &buf[3 * std::size_t(y - task.y0) * w];
-            std::copy(row, row + 3 * w, film_.sum.data() + 3 * idx);
-            std::fill_n(film_.count.data() + idx, w, std::uint32_t(task.s1));
-        }
+    } else if (task.kind != PassKind::Decide) {
+        commit_film(task, buf);
     }
-    ++film_version_;
     // A coarse tile changes nothing on screen until its whole pass is done (the screen
-    // shows the last complete level, whose corners the pass only traces again).
-    if (task.block == 0) {
+    // shows the last complete level, whose corners the pass only traces again); a
+    // decision changes nothing at all.
+    if (task.kind != PassKind::Decide) ++film_version_;
+    if (task.kind == PassKind::Samples || task.kind == PassKind::Refine) {
         changes_.push_back({film_version_, {task.x0, task.y0, task.x1, task.y1}});
         if (changes_.size() > kMaxChanges) {
             full_version_ = std::max(full_version_, changes_.front().first);
@@ -437,25 +600,49 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     double elapsed = std::chrono::duration<double>(Clock::now() - job.start).count();
     ++job.passes_done;
     job.preview_valid = true;
-    if (p.block > 0) {
+    if (p.kind == PassKind::Coarse) {
         if (job.first_coarse_time < 0) job.first_coarse_time = elapsed;
         job.coarse_level = p.block;
         film_.preview_level = p.block;
         full_version_ = ++film_version_;
         changes_.clear();
-    } else {
+    } else if (p.kind == PassKind::Samples) {
         job.samples_done = p.s1;
     }
     bool out_of_time = job.settings.time_limit > 0 && elapsed >= job.settings.time_limit;
     const bool stop = out_of_time && (job.samples_done > 0 || job.settings.hard_time_limit);
-    if (++job.pass >= job.passes.size() || stop) {
+    if (stop || !next_pass_locked(job)) {
         finish_locked(job);
         return;
     }
     // Out of time in the previews: straight on to the first sample.
-    while (out_of_time && job.passes[job.pass].block > 0) ++job.pass;
+    while (out_of_time && job.passes[job.pass].kind == PassKind::Coarse) ++job.pass;
     begin_pass_locked(job);
     work_cv_.notify_all();
+}
+
+// Called with mutex_ held, when the current pass is complete: moves on to the next
+// pass; false if there is none. An adaptive render decides after the first sample and
+// after every refinement, and is over once a decision marks no pixel.
+bool Renderer::next_pass_locked(Job& job) {
+    const PassKind kind = job.passes[job.pass].kind;
+    if (job.aa && kind == PassKind::Decide) {
+        AdaptiveJob& aa = *job.aa;
+        aa.first = false;
+        aa.refining = 0;
+        for (int m : aa.marked) aa.refining += m;
+        if (aa.refining == 0) return false;
+    }
+    // The next decision reads what this refinement changed, and marks afresh.
+    if (job.aa && kind == PassKind::Refine) {
+        job.aa->active.swap(job.aa->changed);
+        ++job.aa->refinements;
+    }
+    if (job.aa && kind != PassKind::Coarse && kind != PassKind::Decide && job.pass + 1 == job.passes.size()) {
+        job.passes.push_back({PassKind::Decide, 0, 0, 0});
+        job.passes.push_back({PassKind::Refine, 0, 0, 0});
+    }
+    return ++job.pass < job.passes.size();
 }
 
 // Called with mutex_ held: the job is over; workers still inside it stop at once.
@@ -484,7 +671,33 @@ RenderProgress Renderer::progress() const {
     r.done = j.done;
     r.width = j.width;
     r.height = j.height;
+    r.refining = j.aa ? j.aa->refining : -1;
+    r.refinements = j.aa ? j.aa->refinements : 0;
+    r.film_samples = j.film_samples;
     return r;
+}
+
+double progress_fraction(const RenderProgress& p, int max_samples) {
+    if (p.done) return 1;
+    if (p.refining >= 0) {
+        if (p.samples == 0) return 0.5 * p.pass_fraction;
+        return 1 - 0.5 * std::pow(0.5, p.refinements) * (1 - 0.5 * p.pass_fraction);
+    }
+    const double n = std::max(1, max_samples);
+    return std::clamp((p.samples + p.pass_fraction * (n - p.samples)) / n, 0.0, 1.0);
+}
+
+int Renderer::sample_count(int x, int y) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (x < 0 || y < 0 || x >= film_.width || y >= film_.height) return 0;
+    return int(film_.count[std::size_t(y) * film_.width + x]);
+}
+
+void Renderer::sample_counts(std::vector<std::uint32_t>& out, int& width, int& height) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    width = film_.width;
+    height = film_.height;
+    out.assign(film_.count.begin(), film_.count.end());
 }
 
 Image Renderer::snapshot(std::uint64_t* generation) const {
@@ -500,21 +713,24 @@ void Renderer::snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& he
     std::size_t n = std::size_t(width) * height;
     out.reset(n * 3);
     auto convert = [&](int y0, int y1) {
-        // Rows of one sample a pixel (every pixel of a finished one-sample render) in
-        // bulk; the others pixel by pixel.
+        // Runs of one-sample pixels (every pixel of a finished one-sample render, most
+        // of an adaptive one) in bulk; the others pixel by pixel.
         const std::size_t w = std::size_t(width);
-        for (; y0 < y1; ++y0) {
-            const std::size_t first = std::size_t(y0) * w;
+        for (int y = y0; y < y1; ++y) {
+            const std::size_t first = std::size_t(y) * w;
             const std::uint32_t* count = film_.count.data() + first;
-            if (!std::all_of(count, count + w, [](std::uint32_t c) { return c == 1; })) break;
-            sums_to_bytes(film_.sum.data() + 3 * first, 3 * w, &out[3 * first]);
+            for (std::size_t x = 0; x < w;) {
+                std::size_t end = x;
+                while (end < w && count[end] == 1) ++end;
+                sums_to_bytes(film_.sum.data() + 3 * (first + x), 3 * (end - x), &out[3 * (first + x)]);
+                for (x = end; x < w && count[x] != 1; ++x) {
+                    // Through float, exactly as a snapshot() pixel would be.
+                    const Colour c = film_.pixel(int(x), y, first + x);
+                    std::uint8_t* o = &out[3 * (first + x)];
+                    o[0] = to_byte(float(c.x)), o[1] = to_byte(float(c.y)), o[2] = to_byte(float(c.z));
+                }
+            }
         }
-        film_.for_each_pixel(y0, y1, [&](std::size_t i, const Colour& c) {
-            // Through float, exactly as a snapshot() pixel would be.
-            out[3 * i] = to_byte(float(c.x));
-            out[3 * i + 1] = to_byte(float(c.y));
-            out[3 * i + 2] = to_byte(float(c.z));
-        });
     };
     // A big picture is converted by as many threads as the renderer has: the command
     // line waits for this between the render and the file.

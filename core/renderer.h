@@ -5,7 +5,9 @@
 // Passes: coarse previews (one ray per 8x8, 4x4, 2x2 block) unless disabled, then
 // sample after sample at full resolution. Sample s of pixel (x, y) depends only on
 // (x, y, s), and each pixel sums its samples in order, so the film is bit-identical
-// whatever the thread count, tile order or pass grouping.
+// whatever the thread count, tile order or pass grouping. With adaptive anti-aliasing
+// the passes after the first sample refine only the pixels that a decision between
+// passes picks from the film alone (core/adaptive.h): the same film again.
 #pragma once
 
 #include <array>
@@ -46,6 +48,10 @@ struct RenderSettings {
     // Block size of the first coarse pass (a power of 2, then halved down to 2): a
     // viewer picks a larger one when the scene is expensive, so a preview lands in time.
     int coarse_block = 8;
+    // >= 0: adaptive anti-aliasing with this threshold (0..kMaxAaThreshold, see
+    // core/adaptive.h), max_samples being the most a pixel gets; samples_per_pass is
+    // then not used. < 0: every pixel gets max_samples.
+    double aa_threshold = -1;
 };
 
 struct RenderProgress {
@@ -58,10 +64,21 @@ struct RenderProgress {
     double elapsed = 0;            // seconds since start(), or start to finish once done
     double first_coarse_time = -1; // seconds from start() to the first complete coarse pass
     bool running = false;
-    bool done = false;             // reached max_samples or the time limit
+    bool done = false;             // reached max_samples or the time limit (adaptive: or
+                                   // every pixel settled)
     bool paused = false;
     int width = 0, height = 0;
+    // Adaptive anti-aliasing: the pixels not yet settled (all of them until the first
+    // decision after the first sample; 0 once every one is); -1 for a uniform render.
+    std::int64_t refining = -1;
+    int refinements = 0;             // adaptive passes completed after the first sample
+    std::uint64_t film_samples = 0;  // samples in the film, all pixels together
 };
+
+// How far a render with this max_samples has got, 0..1, for progress bars: samples per
+// pixel against max_samples; adaptive (p.refining >= 0), the first sample as the first
+// half, then each refinement as half of what is left (their number is not known).
+double progress_fraction(const RenderProgress& p, int max_samples);
 
 // Sample position for sample s of pixel (x, y): s = 0 is the original's exact pixel
 // corner; later samples are a per-pixel rotated low-discrepancy set around it.
@@ -106,6 +123,9 @@ public:
     // rectangle {x0, y0, x1, y1} that may differ from before.
     bool snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version,
                         std::array<int, 4>* changed = nullptr) const;
+    // The film's per-pixel sample counts, top row first; one pixel's (0 outside the film).
+    void sample_counts(std::vector<std::uint32_t>& out, int& width, int& height) const;
+    int sample_count(int x, int y) const;
     int threads() const { return int(workers_.size()); }
 
 private:
@@ -115,7 +135,11 @@ private:
     bool run_task(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
     void commit(const RenderTask& task, const std::vector<float>& buf);
     void begin_pass_locked(Job& job);
+    bool next_pass_locked(Job& job);
     void finish_locked(Job& job);
+    bool run_samples(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
+    bool run_refine(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
+    void commit_film(const RenderTask& task, const std::vector<float>& buf);
 
     mutable std::mutex mutex_;
     std::condition_variable work_cv_, idle_cv_, done_cv_;

@@ -56,7 +56,9 @@ if [ "$WHAT" != tsan ]; then
     # (so no suppression can name them), and it takes minutes under ASan. The same
     # viewer code runs in viewer_logic and viewer_headless. SANITIZE_XVFB=1 runs it
     # too, with leak checking off.
-    run ctest --test-dir build-asan --output-on-failure -j"$JOBS" --timeout 600 -E '^viewer_xvfb(_move)?$' || status=1
+    # The user journeys (journey_*) drive the same window through the same libraries:
+    # they run in the plain build (the README's test command).
+    run ctest --test-dir build-asan --output-on-failure -j"$JOBS" --timeout 600 -E '^(viewer_xvfb(_move)?|journey_.*)$' || status=1
     if [ "${SANITIZE_XVFB:-0}" = 1 ]; then
         ASAN_OPTIONS=${ASAN_OPTIONS/detect_leaks=1/detect_leaks=0} \
             run ctest --test-dir build-asan --output-on-failure --timeout 600 -R '^viewer_xvfb(_move)?$' || status=1

@@ -301,7 +301,8 @@ TEST_CASE("cli: numeric options are validated with a message naming the option")
         {"--width", "0"},       {"--width", "16385"},  {"--height", "-3"},  {"--height", "12x"},
         {"--samples", "0"},     {"--samples", "65537"}, {"--threads", "0"}, {"--threads", "257"},
         {"--max-depth", "0"},   {"--max-depth", "1001"}, {"--width", ""},   {"--time-limit", "0"},
-        {"--time-limit", "abc"}, {"--width", "99999999999999999999"},
+        {"--time-limit", "abc"}, {"--width", "99999999999999999999"}, {"--aa-threshold", "-0.1"},
+        {"--aa-threshold", "3.01"}, {"--aa-threshold", "1e9"}, {"--aa-threshold", "x"}, {"--aa-threshold", ""},
     };
     for (auto& b : bad) {
         CAPTURE(b[0]);
@@ -314,6 +315,10 @@ TEST_CASE("cli: numeric options are validated with a message naming the option")
     CHECK(!fs::exists(dir / "out.ppm"));
     // The limits themselves are accepted.
     CHECK(dir.run("--width 1 --height 1 --samples 2 --threads 256 --max-depth 1000 scene.txt out.ppm").status == 0);
+    CHECK(dir.run("--aa-threshold 0 --samples 2 scene.txt out.ppm").status == 0);
+    CHECK(dir.run("--aa-threshold 3 scene.txt out.ppm").status == 0);
+    const Result r = dir.run("--aa-threshold 5 scene.txt out.ppm");
+    CHECK(contains(r.err, "--aa-threshold must be between 0 and 3, got 5"));
 }
 
 TEST_CASE("cli: missing arguments are asked for on stderr and read from stdin") {
@@ -389,7 +394,8 @@ TEST_CASE("cli: --version and --help") {
     CHECK(v.out.rfind("raytracer ", 0) == 0);
     Result h = dir.run("--help");
     CHECK(h.status == 0);
-    for (const char* o : {"--width", "--height", "--samples", "--threads", "--max-depth", "--time-limit", "--mirror",
+    for (const char* o : {"--width", "--height", "--samples", "--threads", "--max-depth", "--time-limit",
+                          "--aa-threshold", "--mirror",
                           "--quiet", "--stats", "--check", "--print-scene", "--version", "--help", ".ppm", ".png"}) {
         CAPTURE(o);
         CHECK(contains(h.out, o));
@@ -440,6 +446,14 @@ TEST_CASE("cli: --max-depth limits recursion; --samples, --time-limit, --stats, 
     CHECK(contains(s.err, "rays/s"));
     CHECK(contains(s.err, "4 samples"));
 
+    // Adaptive: a threshold alone refines up to 16 samples; --stats says how it went.
+    Result a = dir.run("--aa-threshold 0.1 --stats --quiet scene.txt a.ppm");
+    CHECK(a.status == 0);
+    CHECK(contains(a.err, "samples per pixel on average (adaptive, 0 not settled)"));
+    CHECK(read_all(dir / "a.ppm") != read_all(dir / "deep.ppm"));
+    REQUIRE(dir.run("--aa-threshold 0 --samples 4 scene.txt a0.ppm").status == 0);
+    CHECK(read_all(dir / "a0.ppm") == read_all(dir / "s4.ppm"));  // threshold 0: every pixel, every sample
+
     // A time limit alone asks for up to 65536 samples: the limit, not the count, ends
     // it, after its 0.3 s (as --stats counts them; a loaded machine only lowers the count).
     Result t = dir.run("--time-limit 0.3 --stats --threads 2 scene.txt timed.ppm");
@@ -488,7 +502,8 @@ TEST_CASE("cli: numbers on the command line are whole decimal tokens, as in scen
     write_all(dir / "scene.txt", kScene);
     for (const char* args : {"--time-limit 0x1p3", "--time-limit inf", "--time-limit nan", "--time-limit ' 2'",
                              "--time-limit 2s", "--width ' 12'", "--width 0x10", "--width '12 '", "--width 1e2",
-                             "--samples +", "--threads ''", "--max-depth 5.0"}) {
+                             "--samples +", "--threads ''", "--max-depth 5.0", "--aa-threshold 0x1p-2",
+                             "--aa-threshold nan", "--aa-threshold inf", "--aa-threshold ' 0.3'"}) {
         CAPTURE(args);
         const Result r = dir.run(std::string(args) + " scene.txt out.ppm");
         CHECK(r.status == 2);

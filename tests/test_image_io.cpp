@@ -21,7 +21,10 @@
 #include <thread>
 #include <vector>
 
+#include <zlib.h>
+
 #include "image_io.h"
+#include "png.h"
 #include "test_util.h"
 
 using namespace rt;
@@ -180,6 +183,98 @@ TEST_CASE("a PNG written has the PNG signature and decodes to the same pixels") 
     CHECK(dh == h);
     CHECK(std::vector<std::uint8_t>(px, px + w * h * 3) == rgb);
     stbi_image_free(px);
+}
+
+namespace {
+
+// A picture with what renders have: smooth gradients, flat runs and noisy patches.
+std::vector<std::uint8_t> render_like(int w, int h) {
+    std::vector<std::uint8_t> rgb(std::size_t(w) * h * 3);
+    std::mt19937 rng(5);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            std::uint8_t* p = &rgb[3 * (std::size_t(y) * w + x)];
+            const bool noisy = (x / 64 + y / 64) % 3 == 0, flat = (x / 64 + y / 64) % 3 == 1;
+            p[0] = noisy ? std::uint8_t(rng()) : flat ? 40 : std::uint8_t(x * 255 / w);
+            p[1] = noisy ? std::uint8_t(rng()) : flat ? 200 : std::uint8_t(y * 255 / h);
+            p[2] = noisy ? std::uint8_t(rng()) : std::uint8_t((x + y) & 255);
+        }
+    return rgb;
+}
+
+std::uint32_t be32(const std::string& s, std::size_t at) {
+    return std::uint32_t(std::uint8_t(s[at])) << 24 | std::uint32_t(std::uint8_t(s[at + 1])) << 16 |
+           std::uint32_t(std::uint8_t(s[at + 2])) << 8 | std::uint32_t(std::uint8_t(s[at + 3]));
+}
+
+// The chunks' checks, as a strict reader makes them: every CRC, then the IDAT data as
+// one zlib stream (inflate checks its Adler-32) of filtered rows of the right length.
+// Returns the number of IDAT chunks.
+int check_png_structure(const std::string& png, int w, int h) {
+    REQUIRE(png.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
+    std::string idat;
+    int idats = 0;
+    std::size_t at = 8;
+    std::string last;
+    while (at + 12 <= png.size()) {
+        const std::uint32_t len = be32(png, at);
+        REQUIRE(at + 12 + len <= png.size());
+        const std::string type = png.substr(at + 4, 4);
+        const auto crc = crc32(0, reinterpret_cast<const Bytef*>(png.data() + at + 4), uInt(4 + len));
+        CAPTURE(type);
+        CHECK(crc == be32(png, at + 8 + len));
+        if (type == "IDAT") idat += png.substr(at + 8, len), ++idats;
+        last = type;
+        at += 12 + len;
+    }
+    CHECK(at == png.size());
+    CHECK(last == "IEND");
+    std::vector<Bytef> raw((std::size_t(w) * 3 + 1) * h + 1);
+    uLongf got = uLongf(raw.size());
+    REQUIRE(uncompress(raw.data(), &got, reinterpret_cast<const Bytef*>(idat.data()), uLong(idat.size())) == Z_OK);
+    CHECK(got == raw.size() - 1);
+    return idats;
+}
+
+}  // namespace
+
+TEST_CASE("a PNG compressed in strips on several threads is one valid stream that decodes to the same pixels") {
+    TempDir dir("rt-imageio");
+    // Sizes for one strip and for several, with rows of every length down to one pixel.
+    for (const auto& [w, h, threads] : std::vector<std::array<int, 3>>{
+             {1, 1, 4}, {1, 3000, 3}, {1200, 1000, 3}, {1201, 999, 5}, {640, 480, 1}, {3000, 7, 4}}) {
+        CAPTURE(w);
+        CAPTURE(h);
+        const std::vector<std::uint8_t> rgb = render_like(w, h);
+        std::string png;
+        REQUIRE(encode_png(rgb.data(), w, h, png, threads));
+        const int idats = check_png_structure(png, w, h);
+        // (Strips of at least a MiB of raw rows, one per thread.)
+        CHECK(idats == std::min<long>(threads, std::max<long>(1, (long(w) * 3 + 1) * h / (1 << 20))));
+        int dw = 0, dh = 0, comp = 0;
+        unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()), int(png.size()),
+                                                  &dw, &dh, &comp, 3);
+        REQUIRE(px != nullptr);
+        CHECK(dw == w);
+        CHECK(dh == h);
+        CHECK(std::equal(rgb.begin(), rgb.end(), px));
+        stbi_image_free(px);
+        if (w == 1201) {
+            // Smaller than the raw bytes (noise and all), and ImageMagick reads it too.
+            CHECK(png.size() < rgb.size() * 2 / 3);
+            const std::string path = dir / "strips.png";
+            spit(path, png);
+            const std::string back = dir / "back.ppm";
+            if (std::system(("convert " + path + " " + back + " 2>/dev/null").c_str()) == 0) {
+                int bw = 0, bh = 0;
+                std::vector<std::uint8_t> pixels;
+                REQUIRE(read_ppm(back, bw, bh, pixels).ok());
+                CHECK(pixels == rgb);
+            } else {
+                MESSAGE("ImageMagick's convert is not installed: not checked with it");
+            }
+        }
+    }
 }
 
 TEST_CASE("write_image refuses unknown extensions and mismatched data, writing nothing") {

@@ -11,7 +11,7 @@ trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
 # configure NAME ARGS...: configures in the background; after `wait`, status NAME puts
-# its exit status into $status. Output goes to $work/NAME.log. (The four configures
+# its exit status into $status. Output goes to $work/NAME.log. (The five configures
 # run at once: each is mostly waiting on compiler checks.)
 configure() {
     name=$1; shift
@@ -23,6 +23,7 @@ configure() {
 status() { status=$(cat "$work/$1.status"); }
 
 configure stb -DCMAKE_DISABLE_FIND_PACKAGE_stb=ON
+configure zlib -DCMAKE_DISABLE_FIND_PACKAGE_ZLIB=ON
 configure imgui -DCMAKE_DISABLE_FIND_PACKAGE_imgui=ON
 configure x11 -DCMAKE_DISABLE_FIND_PACKAGE_X11=ON
 configure embree -DRAYTRACER_BENCH=ON -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON
@@ -32,6 +33,11 @@ wait
 status stb
 [ "$status" -ne 0 ] || fail "configure without stb succeeded"
 grep -q "apt-get install libstb-dev" "$work/stb.log" || { cat "$work/stb.log"; fail "no libstb-dev in the message"; }
+status zlib
+[ "$status" -ne 0 ] || fail "configure without zlib succeeded"
+# (CMake wraps the message: compare it with its lines joined.)
+tr -s ' \n' ' ' < "$work/zlib.log" | grep -q "apt-get install zlib1g-dev" ||
+    { cat "$work/zlib.log"; fail "no zlib1g-dev in the message"; }
 
 # optional NAME PACKAGES LEFT_OUT GONE KEPT: without library NAME the configure succeeds,
 # the message names the Debian PACKAGES and says LEFT_OUT, target GONE is not made

@@ -16,6 +16,8 @@
 #include <optional>
 #include <thread>
 
+#include "adaptive.h"
+#include "adaptive.h"
 #include "arg_table.h"
 #include "diagnostic_text.h"
 #include "image_io.h"
@@ -53,6 +55,17 @@ rt::Status set_seconds(const std::string& opt, const std::string& text, double& 
         return bad_value(opt + " expects a decimal number of seconds such as 2 or 0.5, got '" + shown + "'");
     const std::optional<double> v = rtargs::decimal(text);
     if (!v || *v <= 0 || *v > 1e7) return bad_value(opt + " must be more than 0 and at most 10000000 seconds, got " + shown);
+    out = *v;
+    return {};
+}
+
+// --aa-threshold: a decimal token in [0, rt::kMaxAaThreshold].
+rt::Status set_threshold(const std::string& opt, const std::string& text, std::optional<double>& out) {
+    const std::string shown = rt::escape_text(text);
+    if (!rtargs::is_decimal_token(text))
+        return bad_value(opt + " expects a decimal number such as 0.3, got '" + shown + "'");
+    const std::optional<double> v = rtargs::decimal(text);
+    if (!v || *v < 0 || *v > rt::kMaxAaThreshold) return bad_value(opt + " must be between 0 and 3, got " + shown);
     out = *v;
     return {};
 }
@@ -130,8 +143,17 @@ rtargs::Table option_table(const Program& program, Options& o) {
         optional_number("--height", "picture height in pixels, overriding the scene (1..16384)", 1, side, o.height),
         optional_number("--samples",
                         "samples per pixel (1..65536, default 1: the original's\n"
-                        "single ray through each pixel corner)",
+                        "single ray through each pixel corner); with --aa-threshold\n"
+                        "the most a pixel gets (default 16)",
                         1, 65536, o.samples),
+        rtargs::value_option("--aa-threshold", "T", "a threshold such as 0.3",
+                             "adaptive anti-aliasing: more samples only where a pixel's\n"
+                             "colour differs from a neighbour's by T or more (the sum of the\n"
+                             "red, green and blue differences in 0..1 units, 0..3, as\n"
+                             "POV-Ray's +A) or its samples still spread",
+                             [&o](const std::string& n, const std::string& v) {
+                                 return set_threshold(n, v, o.aa_threshold);
+                             }),
         number("--threads", program.threads_help, 1, 256, o.threads),
         number("--max-depth",
                "recursion limit (1..1000, default 20 as in the original;\n"
@@ -296,8 +318,13 @@ rt::RenderSettings render_settings(const Options& o, int width, int height) {
     settings.coarse = false;  // nobody watches a preview here
     settings.mirror = o.mirror;
     settings.time_limit = o.time_limit;
-    // A time limit with no sample count means "as good as fits in the time".
-    settings.max_samples = o.samples ? *o.samples : (o.time_limit > 0 ? 65536 : 1);
+    // A time limit with no sample count means "as good as fits in the time"; a
+    // threshold alone, at most kDefaultAaMaxSamples.
+    settings.max_samples = o.samples          ? *o.samples
+                           : o.time_limit > 0 ? 65536
+                           : o.aa_threshold   ? rt::kDefaultAaMaxSamples
+                                              : 1;
+    settings.aa_threshold = o.aa_threshold.value_or(-1);
     // Without a time limit nothing is gained by stopping between passes, and one
     // pass makes pass_fraction the whole render's progress.
     if (o.time_limit <= 0) settings.samples_per_pass = settings.max_samples;

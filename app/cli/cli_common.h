@@ -44,6 +44,7 @@ struct Options {
     int max_depth = 20;
     int tile = 32;
     double time_limit = 0;
+    std::optional<double> aa_threshold;  // --aa-threshold: adaptive anti-aliasing
     bool mirror = false, quiet = false, stats = false, print_scene = false;
     bool help = false, version = false;  // printed by parse_args
     std::optional<std::string> check;

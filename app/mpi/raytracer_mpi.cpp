@@ -34,6 +34,7 @@
 #include <thread>
 #include <vector>
 
+#include "adaptive.h"
 #include "cli.h"
 #include "image_io.h"
 #include "scene_parser.h"
@@ -97,21 +98,33 @@ struct JobHeader {
     std::int32_t threads = 0, max_depth = 20, tile = 32, mirror = 0;
     std::int32_t pad = 0;  // no uninitialised padding goes on the wire
     double time_limit = 0;
+    double aa_threshold = -1;
     std::uint64_t text_size = 0;
 };
 
+// A refine assignment (refine >= 0, the round) carries per pixel of the tile its sums,
+// its squares and its sample counts from and to (RefineIn); its result, the sums and
+// the squares. Otherwise: the sums of the earlier passes, if any, and back the sums.
 struct AssignHeader {
     std::int32_t tile = -1;  // -1: stop
     std::int32_t s0 = 0, s1 = 0;
     std::int32_t has_prior = 0;  // the tile's sums of samples [0, s0) follow
+    std::int32_t refine = -1;
+    std::int32_t pad = 0;
 };
 
 struct ResultHeader {
     std::int32_t tile = -1;
     std::int32_t s0 = 0, s1 = 0;
-    std::int32_t pad = 0;
+    std::int32_t refine = -1;
     std::uint64_t rays = 0;
 };
+
+// Floats a tile of n pixels travels as: an assignment's payload, a result's.
+std::size_t assign_floats(const AssignHeader& a, std::size_t n) {
+    return a.refine >= 0 ? 6 * n : a.has_prior ? 3 * n : 0;
+}
+std::size_t result_floats(int refine, std::size_t n) { return refine >= 0 ? 4 * n : 3 * n; }
 
 // Floats taken by a header at the front of a float buffer (keeps the sums aligned).
 template <class H>
@@ -221,7 +234,8 @@ rt::Expected<std::shared_ptr<const rt::World>> build_world(const std::string& te
 struct WorkerState {
     struct Held {
         AssignHeader a;
-        std::vector<float> buf;  // ResultHeader + sums
+        std::vector<float> buf;  // ResultHeader + sums (+ squares)
+        std::vector<std::uint32_t> counts;  // a refine assignment's n0, then n1
         MPI_Request req = MPI_REQUEST_NULL;
         bool sending = false;
     };
@@ -252,16 +266,23 @@ bool take_assignment(const std::vector<Tile>& tiles, TilePool& pool, WorkerState
         w.stop = true;  // rank 0 sends it only once this rank holds nothing
         return true;
     }
-    if (a.tile < 0 || std::size_t(a.tile) >= tiles.size() || a.s0 < 0 || a.s1 <= a.s0)
+    if (a.tile < 0 || std::size_t(a.tile) >= tiles.size() || (a.refine < 0 && (a.s0 < 0 || a.s1 <= a.s0)))
         fail(kExitMpi, "rank 0 sent an invalid tile");
     const Tile& t = tiles[std::size_t(a.tile)];
-    const std::size_t n = 3 * std::size_t(t.pixels());
-    if (got != bytes_of(ah + (a.has_prior ? n : 0))) fail(kExitMpi, "rank 0 sent a tile of the wrong size");
+    const std::size_t px = std::size_t(t.pixels()), n = result_floats(a.refine, px);
+    if (got != bytes_of(ah + assign_floats(a, px))) fail(kExitMpi, "rank 0 sent a tile of the wrong size");
     WorkerState::Held& h = w.held[w.next_id];
     h.a = a;
     h.buf.assign(rh + n, 0.f);
-    if (a.has_prior) std::copy_n(w.in.data() + ah, n, h.buf.data() + rh);
-    pool.submit(w.next_id++, t, a.s0, a.s1, h.buf.data() + rh);
+    if (a.has_prior || a.refine >= 0) std::copy_n(w.in.data() + ah, n, h.buf.data() + rh);
+    if (a.refine >= 0) {
+        h.counts.resize(2 * px);
+        std::memcpy(h.counts.data(), w.in.data() + ah + n, 2 * px * sizeof(std::uint32_t));
+        pool.submit_refine(w.next_id++, t, h.counts.data(), h.counts.data() + px, h.buf.data() + rh,
+                           h.buf.data() + rh + 3 * px);
+    } else {
+        pool.submit(w.next_id++, t, a.s0, a.s1, h.buf.data() + rh);
+    }
     w.post_receive();  // `in` is free again
     return true;
 }
@@ -276,6 +297,7 @@ bool send_finished(TilePool& pool, WorkerState& w, bool crash_me) {
         r.tile = h.a.tile;
         r.s0 = h.a.s0;
         r.s1 = h.a.s1;
+        r.refine = h.a.refine;
         r.rays = f.rays;
         put_header(h.buf, r);
         check(MPI_Isend(h.buf.data(), bytes_of(h.buf.size()), MPI_BYTE, 0, kTagResult, MPI_COMM_WORLD, &h.req),
@@ -301,7 +323,7 @@ void run_worker(const std::vector<Tile>& tiles, int side, TilePool& pool) {
     const bool crash_me = crash && std::atoi(crash) == g_rank;
 
     WorkerState w;
-    w.in.resize(head_floats<AssignHeader>() + 3 * std::size_t(side) * std::size_t(side));
+    w.in.resize(head_floats<AssignHeader>() + 6 * std::size_t(side) * std::size_t(side));
     w.post_receive();
     for (;;) {
         bool busy = false;
@@ -386,7 +408,8 @@ private:
     };
     struct Local {
         Assignment a;
-        std::vector<float> sums;
+        std::vector<float> sums;  // (+ squares, for a refine assignment)
+        std::vector<std::uint32_t> counts;
     };
 
     // Rank 0's own share: kLocalDepth tiles queued in its pool.
@@ -395,10 +418,19 @@ private:
         Assignment a;
         while (local_.size() < std::size_t(kLocalDepth) && sched_.take(a)) {
             Local& l = local_[next_local_];
+            const Tile& t = sched_.tiles()[std::size_t(a.tile)];
+            const std::size_t px = std::size_t(t.pixels());
             l.a = a;
-            l.sums.assign(3 * std::size_t(sched_.tiles()[std::size_t(a.tile)].pixels()), 0.f);
-            if (a.s0 > 0) sched_.prior_sums(a, l.sums.data());
-            pool_.submit(next_local_++, sched_.tiles()[std::size_t(a.tile)], a.s0, a.s1, l.sums.data());
+            l.sums.assign(result_floats(a.refine, px), 0.f);
+            if (a.refine >= 0) {
+                l.counts.resize(2 * px);
+                sched_.refine_input(a, l.sums.data(), l.sums.data() + 3 * px, l.counts.data(), l.counts.data() + px);
+                pool_.submit_refine(next_local_++, t, l.counts.data(), l.counts.data() + px, l.sums.data(),
+                                    l.sums.data() + 3 * px);
+            } else {
+                if (a.s0 > 0) sched_.prior_sums(a, l.sums.data());
+                pool_.submit(next_local_++, t, a.s0, a.s1, l.sums.data());
+            }
             fed = true;
         }
         return fed;
@@ -418,7 +450,7 @@ private:
 
     void post_receive(int w) {
         Peer& p = peers_[std::size_t(w)];
-        p.buf.resize(head_floats<ResultHeader>() + 3 * std::size_t(sched_.tile_side()) * std::size_t(sched_.tile_side()));
+        p.buf.resize(head_floats<ResultHeader>() + 4 * std::size_t(sched_.tile_side()) * std::size_t(sched_.tile_side()));
         check(MPI_Irecv(p.buf.data(), bytes_of(p.buf.size()), MPI_BYTE, w, kTagResult, MPI_COMM_WORLD,
                         &reqs_[std::size_t(w)]),
               "MPI_Irecv (tile)");
@@ -442,14 +474,14 @@ private:
             // The pool finishes tiles in any order (a cheap one can overtake a costly one).
             const auto r = got >= int(sizeof(ResultHeader)) ? get_header<ResultHeader>(p.buf) : ResultHeader{};
             auto it = std::find_if(p.out.begin(), p.out.end(), [&](const Assignment& x) {
-                return x.tile == r.tile && x.s0 == r.s0 && x.s1 == r.s1;
+                return x.tile == r.tile && x.s0 == r.s0 && x.s1 == r.s1 && x.refine == r.refine;
             });
             if (it == p.out.end())
                 fail(kExitMpi, "rank " + std::to_string(w) + " sent back tile " + std::to_string(r.tile) +
                                    ", which it does not hold");
             const Assignment a = *it;
             p.out.erase(it);
-            const std::size_t sums = 3 * std::size_t(sched_.tiles()[std::size_t(a.tile)].pixels());
+            const std::size_t sums = result_floats(a.refine, std::size_t(sched_.tiles()[std::size_t(a.tile)].pixels()));
             if (got != bytes_of(head_floats<ResultHeader>() + sums))
                 fail(kExitMpi, "rank " + std::to_string(w) + " sent tile " + std::to_string(a.tile) +
                                    " with the wrong size");
@@ -474,12 +506,7 @@ private:
             if (p.stopped) continue;
             Assignment a;
             while (p.out.size() < std::size_t(kDepth) && sched_.take(a)) {
-                const std::size_t n = a.s0 > 0 ? 3 * std::size_t(sched_.tiles()[std::size_t(a.tile)].pixels()) : 0;
-                Send s;
-                s.buf.resize(head_floats<AssignHeader>() + n);
-                put_header(s.buf, AssignHeader{a.tile, a.s0, a.s1, a.s0 > 0});
-                if (n) sched_.prior_sums(a, s.buf.data() + head_floats<AssignHeader>());
-                send(w, std::move(s));
+                send(w, assignment(a));
                 p.out.push_back(a);
                 if (p.out.size() == 1) post_receive(w);
                 sent = true;
@@ -495,6 +522,23 @@ private:
             }
         }
         return sent;
+    }
+
+    // The message that hands out `a`: its header, then what the worker continues.
+    Send assignment(const Assignment& a) const {
+        const std::size_t px = std::size_t(sched_.tiles()[std::size_t(a.tile)].pixels());
+        const AssignHeader h{a.tile, a.s0, a.s1, a.refine < 0 && a.s0 > 0, a.refine, 0};
+        Send s;
+        s.buf.resize(head_floats<AssignHeader>() + assign_floats(h, px));
+        put_header(s.buf, h);
+        float* data = s.buf.data() + head_floats<AssignHeader>();
+        if (h.has_prior) sched_.prior_sums(a, data);
+        if (a.refine >= 0) {
+            std::vector<std::uint32_t> counts(2 * px);
+            sched_.refine_input(a, data, data + 3 * px, counts.data(), counts.data() + px);
+            std::memcpy(data + 4 * px, counts.data(), 2 * px * sizeof(std::uint32_t));
+        }
+        return s;
     }
 
     void send(int w, Send&& s) {
@@ -544,8 +588,9 @@ JobHeader settle_job(int argc, char** argv, Front& f, rt::Scene& scene) {
     const Options& o = f.opt;
     // As raytracer: a time limit with no sample count renders as many as fit;
     // without a time limit, one pass (nothing is gained by stopping between).
-    job.max_samples = o.samples ? *o.samples : (o.time_limit > 0 ? 65536 : 1);
+    job.max_samples = o.samples ? *o.samples : o.time_limit > 0 ? 65536 : o.aa_threshold ? rt::kDefaultAaMaxSamples : 1;
     job.samples_per_pass = o.time_limit > 0 ? 0 : job.max_samples;
+    job.aa_threshold = o.aa_threshold.value_or(-1);
     job.threads = o.threads;
     job.max_depth = o.max_depth;
     job.tile = o.tile;
@@ -607,9 +652,16 @@ void print_stats(const Front& f, const JobHeader& job, const Coordinator& coord,
     int total_threads = 0;
     for (int n : all_threads) total_threads += n;
     char line[320];
-    std::cerr << f.scene_path << ": " << job.width << "x" << job.height << ", " << s.samples_done()
-              << (s.samples_done() == 1 ? " sample" : " samples") << " per pixel, " << count(std::size_t(g_size), "rank")
-              << ", " << count(std::size_t(total_threads), "thread") << "\n";
+    std::cerr << f.scene_path << ": " << job.width << "x" << job.height << ", ";
+    if (s.adaptive()) {
+        std::snprintf(line, sizeof line, "%.3f samples per pixel on average (adaptive, %lld not settled)",
+                      double(s.film_samples()) / (double(job.width) * job.height), static_cast<long long>(s.refining()));
+        std::cerr << line;
+    } else {
+        std::cerr << s.samples_done() << (s.samples_done() == 1 ? " sample" : " samples") << " per pixel";
+    }
+    std::cerr << ", " << count(std::size_t(g_size), "rank") << ", " << count(std::size_t(total_threads), "thread")
+              << "\n";
     std::snprintf(line, sizeof line,
                   "time: parse %.3f s, broadcast %.3f s, compile %.3f s, render %.3f s, write %.3f s, total %.3f s\n",
                   f.t_parse, t.bcast, t.compile, t_render, t_write, total);
@@ -635,6 +687,7 @@ int render_and_write(const Front& f, const JobHeader& job, TilePool& pool, const
     ss.max_samples = job.max_samples;
     ss.samples_per_pass = job.samples_per_pass;
     ss.time_limit = job.time_limit;
+    ss.aa_threshold = job.aa_threshold;
     Coordinator coord(ss, pool);
     coord.run(!f.opt.quiet && stderr_watched());
     if (caught_signal()) interrupted();

@@ -1,9 +1,12 @@
 // Schedule: the pass list and the stop rule copy rt::Renderer's (without coarse
-// passes), so a run with the same settings sums the same samples in the same groups.
+// passes), so a run with the same settings sums the same samples in the same groups;
+// an adaptive render decides between rounds with the renderer's own decide_rows().
 #include "schedule.h"
 
 #include <algorithm>
+#include <cmath>
 
+#include "adaptive.h"
 #include "cli.h"
 
 namespace rtmpi {
@@ -12,13 +15,22 @@ Schedule::Schedule(const ScheduleSettings& settings) : settings_(settings) {
     settings_.max_samples = std::max(1, settings_.max_samples);
     tiles_ = make_tiles(settings_.width, settings_.height, settings_.tile_side);
     int s = 0;
-    while (s < settings_.max_samples) {
+    // Adaptive: the first sample; the decisions and refine rounds follow it.
+    const int last = adaptive() ? 1 : settings_.max_samples;
+    while (s < last) {
         int n = settings_.samples_per_pass > 0 ? settings_.samples_per_pass : std::clamp(s, 1, 16);
-        n = std::min(n, settings_.max_samples - s);
+        n = std::min(n, last - s);
         passes_.push_back({s, s + n});
         s += n;
     }
-    film_.reset(settings_.width, settings_.height);
+    film_.reset(settings_.width, settings_.height, false);
+    if (adaptive()) {
+        const std::size_t pixels = std::size_t(settings_.width) * std::size_t(settings_.height);
+        film_.squares.reset(pixels);
+        active_.assign(pixels, 0);
+        changed_.assign(pixels, 0);
+        refining_ = std::int64_t(pixels);
+    }
     begin_pass();
 }
 
@@ -26,15 +38,71 @@ void Schedule::begin_pass() {
     state_.assign(tiles_.size(), State::Free);
     next_ = 0;
     tiles_done_ = 0;
+    if (round_ < 0) return;
+    // A refine round: the tiles without a marked pixel are done already.
+    for (std::size_t k = 0; k < tiles_.size(); ++k) {
+        const Tile& t = tiles_[k];
+        bool marked = false;
+        for (int y = t.y0; y < t.y1 && !marked; ++y) {
+            const std::uint8_t* row = &active_[std::size_t(y) * film_.width];
+            marked = std::any_of(row + t.x0, row + t.x1, [](std::uint8_t m) { return m != 0; });
+        }
+        if (!marked) state_[k] = State::Done, ++tiles_done_;
+    }
 }
 
 bool Schedule::take(Assignment& a) {
+    while (next_ < tiles_.size() && state_[next_] != State::Free) ++next_;
     if (done_ || next_ >= tiles_.size()) return false;
     a.tile = int(next_);
-    a.s0 = passes_[pass_].s0;
-    a.s1 = passes_[pass_].s1;
+    a.refine = round_;
+    a.s0 = round_ < 0 ? passes_[pass_].s0 : 0;
+    a.s1 = round_ < 0 ? passes_[pass_].s1 : 0;
     state_[next_++] = State::Out;
     return true;
+}
+
+void Schedule::refine_input(const Assignment& a, float* sums, float* squares, std::uint32_t* n0,
+                            std::uint32_t* n1) const {
+    const Tile& t = tiles_[std::size_t(a.tile)];
+    for (int y = t.y0; y < t.y1; ++y)
+        for (int x = t.x0; x < t.x1; ++x) {
+            const std::size_t idx = std::size_t(y) * film_.width + x;
+            sums = std::copy_n(&film_.sum[3 * idx], 3, sums);
+            *squares++ = film_.squares[idx];
+            *n0 = film_.count[idx];
+            *n1++ = active_[idx] ? rt::refine_count(*n0, std::uint32_t(settings_.max_samples)) : *n0;
+            ++n0;
+        }
+}
+
+void Schedule::commit_refine(const Tile& t, const float* sums) {
+    const float* squares = sums + 3 * std::size_t(t.pixels());
+    for (int y = t.y0; y < t.y1; ++y)
+        for (int x = t.x0; x < t.x1; ++x, sums += 3, ++squares) {
+            const std::size_t idx = std::size_t(y) * film_.width + x;
+            if (!active_[idx]) continue;
+            std::copy_n(sums, 3, &film_.sum[3 * idx]);
+            film_.squares[idx] = *squares;
+            film_.count[idx] = rt::refine_count(film_.count[idx], std::uint32_t(settings_.max_samples));
+        }
+}
+
+// After the first sample and after every refine round: marks the pixels to refine
+// next, as rt::Renderer's decision passes do (the same function over the same film).
+// False if none is.
+bool Schedule::decide() {
+    if (round_ >= 0) active_.swap(changed_);  // what the round just refined
+    refining_ = std::int64_t(rt::decide_rows(film_, settings_.aa_threshold, settings_.max_samples,
+                                             round_ >= 0 ? changed_.data() : nullptr, 0, film_.height,
+                                             active_.data()));
+    return refining_ > 0;
+}
+
+std::uint64_t Schedule::film_samples() const {
+    std::uint64_t n = 0;
+    for (std::uint32_t c : film_.count) n += c;
+    return n;
 }
 
 void Schedule::prior_sums(const Assignment& a, float* out) const {
@@ -50,15 +118,17 @@ rt::Status Schedule::commit(const Assignment& a, const float* sums, std::uint64_
     if (done_) return refused("a tile arrived after the render was complete");
     if (a.tile < 0 || std::size_t(a.tile) >= tiles_.size())
         return refused("tile " + std::to_string(a.tile) + " does not exist");
-    if (a.s0 != passes_[pass_].s0 || a.s1 != passes_[pass_].s1)
+    if (a.refine != round_ || (round_ < 0 && (a.s0 != passes_[pass_].s0 || a.s1 != passes_[pass_].s1)))
         return refused("tile " + std::to_string(a.tile) + " has samples " + std::to_string(a.s0) + ".." +
-                       std::to_string(a.s1) + ", not those of the current pass");
+                       std::to_string(a.s1) + " (refine round " + std::to_string(a.refine) +
+                       "), not those of the current pass");
     State& st = state_[std::size_t(a.tile)];
     if (st != State::Out)
         return refused("tile " + std::to_string(a.tile) + (st == State::Done ? " arrived twice" : " was never handed out"));
     st = State::Done;
     const Tile& t = tiles_[std::size_t(a.tile)];
-    for (int y = t.y0; y < t.y1; ++y) {
+    if (a.refine >= 0) commit_refine(t, sums);
+    for (int y = t.y0; y < t.y1 && a.refine < 0; ++y) {
         const std::size_t idx = std::size_t(y) * film_.width + t.x0;
         const int n = t.x1 - t.x0;
         std::copy(sums, sums + 3 * n, &film_.sum[3 * idx]);
@@ -69,25 +139,28 @@ rt::Status Schedule::commit(const Assignment& a, const float* sums, std::uint64_
     if (std::size_t(++tiles_done_) < tiles_.size()) return {};
 
     // The pass is complete: the next one, or the end (as rt::Renderer::commit decides).
-    samples_done_ = passes_[pass_].s1;
+    if (round_ < 0) samples_done_ = passes_[pass_].s1;
     const bool out_of_time = settings_.time_limit > 0 && elapsed >= settings_.time_limit;
-    if (++pass_ >= passes_.size() || out_of_time) {
+    if (out_of_time || (!adaptive() && ++pass_ >= passes_.size()) || (adaptive() && !decide())) {
         done_ = true;
         return {};
     }
+    if (adaptive()) ++round_;
     begin_pass();
     return {};
 }
 
 bool Schedule::complete() const {
     if (!done_ || samples_done_ < 1) return false;
-    return std::all_of(film_.count.begin(), film_.count.end(),
-                       [&](std::uint32_t c) { return c == std::uint32_t(samples_done_); });
+    return std::all_of(film_.count.begin(), film_.count.end(), [&](std::uint32_t c) {
+        return adaptive() ? c >= 1 : c == std::uint32_t(samples_done_);
+    });
 }
 
 double Schedule::fraction() const {
     if (done_) return 1.0;
     const double pass = tiles_.empty() ? 1.0 : double(tiles_done_) / double(tiles_.size());
+    if (adaptive()) return round_ < 0 ? 0.5 * pass : 1 - 0.5 * std::pow(0.5, round_) * (1 - 0.5 * pass);
     const int max = settings_.max_samples;
     return (samples_done_ + pass * (max - samples_done_)) / max;
 }

@@ -13,10 +13,13 @@
 
 namespace rtmpi {
 
-// One unit of work: samples [s0, s1) of every pixel of tiles()[tile].
+// One unit of work: samples [s0, s1) of every pixel of tiles()[tile]; or, in round
+// `refine` >= 0 of an adaptive render, more samples for the tile's pixels that the
+// decision before the round marked (see refine_input).
 struct Assignment {
     int tile = -1;
     int s0 = 0, s1 = 0;
+    int refine = -1;
 };
 
 struct ScheduleSettings {
@@ -25,6 +28,7 @@ struct ScheduleSettings {
     int max_samples = 1;
     int samples_per_pass = 0;  // 0: 1, 1, 2, 4, 8, 16, 16, ... as rt::Renderer
     double time_limit = 0;     // seconds; checked when a pass completes (rt::Renderer also stops mid-pass)
+    double aa_threshold = -1;  // >= 0: adaptive anti-aliasing, as rt::RenderSettings
 };
 
 class Schedule {
@@ -43,18 +47,29 @@ public:
     // The sums of samples [0, a.s0) of the tile's pixels, which the renderer of `a`
     // continues (3 floats per pixel, row by row).
     void prior_sums(const Assignment& a, float* out) const;
-    // Stores a finished tile; a tile that is not out in the current pass (never
-    // handed out, or returned twice) is refused, saying why (kExitMpi).
+    // For a refine assignment, per pixel of the tile (row by row): its sums (3) and
+    // sum of squares so far, and the sample counts it has (n0) and goes to (n1; the
+    // same for a pixel not marked), as rt::refine_row takes them.
+    void refine_input(const Assignment& a, float* sums, float* squares, std::uint32_t* n0, std::uint32_t* n1) const;
+    // Stores a finished tile (for a refine assignment, sums then squares); a tile that
+    // is not out in the current pass (never handed out, or returned twice) is refused,
+    // saying why (kExitMpi).
     rt::Status commit(const Assignment& a, const float* sums, std::uint64_t rays, double elapsed);
 
     bool done() const { return done_; }
-    // True when every pixel holds the same number (>= 1) of samples: checked before the
-    // picture is written, so a lost tile can never leave a hole in a written image.
+    // True when every pixel holds the same number (>= 1) of samples (adaptive: at least
+    // one): checked before the picture is written, so a lost tile can never leave a
+    // hole in a written image.
     bool complete() const;
     rt::Image image() const { return film_.resolve(); }
 
     std::uint64_t rays() const { return rays_; }
     int samples_done() const { return samples_done_; }
+    bool adaptive() const { return settings_.aa_threshold >= 0; }
+    // Adaptive: the pixels not settled (as rt::RenderProgress::refining), and the
+    // samples of all pixels together.
+    std::int64_t refining() const { return refining_; }
+    std::uint64_t film_samples() const;
     int pass_index() const { return int(pass_); }
     int pass_count() const { return int(passes_.size()); }
     int pass_tiles_done() const { return tiles_done_; }
@@ -67,6 +82,8 @@ private:
     };
     enum class State : unsigned char { Free, Out, Done };
     void begin_pass();
+    bool decide();
+    void commit_refine(const Tile& t, const float* sums);
 
     ScheduleSettings settings_;
     std::vector<Tile> tiles_;
@@ -79,6 +96,11 @@ private:
     bool done_ = false;
     std::uint64_t rays_ = 0;
     rt::Film film_;
+    // Adaptive: per pixel, marked by the last decision and by the one before; the
+    // round under way (-1: the first sample's pass).
+    std::vector<std::uint8_t> active_, changed_;
+    int round_ = -1;
+    std::int64_t refining_ = 0;
 };
 
 }  // namespace rtmpi

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 
+#include "adaptive.h"
 #include "renderer.h"
 
 namespace rtmpi {
@@ -71,6 +72,22 @@ void TilePool::submit(int id, const Tile& tile, int s0, int s1, float* sums) {
     work_cv_.notify_all();
 }
 
+void TilePool::submit_refine(int id, const Tile& tile, const std::uint32_t* n0, const std::uint32_t* n1, float* sums,
+                             float* squares) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        Job& job = jobs_.emplace_back();
+        job.id = id;
+        job.tile = tile;
+        job.n0 = n0;
+        job.n1 = n1;
+        job.sums = sums;
+        job.squares = squares;
+        ++outstanding_;
+    }
+    work_cv_.notify_all();
+}
+
 std::vector<TilePool::Finished> TilePool::take_finished() {
     std::lock_guard<std::mutex> lock(mutex_);
     std::vector<Finished> out;
@@ -87,6 +104,28 @@ void TilePool::wait_finished(std::chrono::microseconds timeout) {
 int TilePool::outstanding() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return outstanding_;
+}
+
+// Pixels [p0, p1) of the job's tile (counted row by row).
+void TilePool::render_pixels(Job& job, int p0, int p1, rt::RayStats& stats) const {
+    const Tile& tile = job.tile;
+    const int w = tile.x1 - tile.x0;
+    if (!job.n0) {
+        for (int p = p0; p < p1; ++p) {
+            // accumulate_pixel is the one definition of a pixel's value; it continues
+            // the running float sum in sample order, exactly as rt::Renderer does.
+            rt::accumulate_pixel(world_, camera_, tile.x0 + p % w, tile.y0 + p / w, job.s0, job.s1, &job.sums[3 * p],
+                                 stats);
+        }
+        return;
+    }
+    // A refine job: the pixels in runs along their rows, as rt::Renderer refines them.
+    for (int p = p0; p < p1;) {
+        const int run = std::min(p1, (p / w + 1) * w) - p;
+        rt::refine_row(world_, camera_, tile.x0 + p % w, tile.y0 + p / w, run, job.n0 + p, job.n1 + p,
+                       job.sums + 3 * p, job.squares + p, stats);
+        p += run;
+    }
 }
 
 void TilePool::worker_main() {
@@ -107,18 +146,11 @@ void TilePool::worker_main() {
         ++job->workers;  // under the lock: nobody can finish the job under our feet
         lock.unlock();
 
-        const Tile& tile = job->tile;
-        const int w = tile.x1 - tile.x0, n = tile.pixels();
+        const int n = job->tile.pixels();
         rt::RayStats stats;
         for (int i = job->next.fetch_add(kChunk, std::memory_order_relaxed); i < n;
-             i = job->next.fetch_add(kChunk, std::memory_order_relaxed)) {
-            for (int p = i, end = std::min(i + kChunk, n); p < end; ++p) {
-                // accumulate_pixel is the one definition of a pixel's value; it continues
-                // the running float sum in sample order, exactly as rt::Renderer does.
-                rt::accumulate_pixel(world_, camera_, tile.x0 + p % w, tile.y0 + p / w, job->s0, job->s1,
-                                     &job->sums[3 * p], stats);
-            }
-        }
+             i = job->next.fetch_add(kChunk, std::memory_order_relaxed))
+            render_pixels(*job, i, std::min(i + kChunk, n), stats);
 
         lock.lock();
         job->rays += stats.rays;

@@ -54,6 +54,12 @@ public:
     // pixel, row by row, already holding the sums of samples [0, s0)). sums must stay
     // alive and untouched until the tile comes back from take_finished(). Returns at once.
     void submit(int id, const Tile& tile, int s0, int s1, float* sums);
+    // Queues a refine round's work on `tile` (adaptive anti-aliasing): per pixel, row
+    // by row, samples [n0, n1) continuing its sums (3 floats) and squares (1), as
+    // rt::refine_row takes them. The arrays must stay alive and untouched until the
+    // tile comes back from take_finished().
+    void submit_refine(int id, const Tile& tile, const std::uint32_t* n0, const std::uint32_t* n1, float* sums,
+                       float* squares);
     // Tiles completed since the last call, in completion order.
     std::vector<Finished> take_finished();
     // Waits until a tile completes (or one is waiting to be taken), at most `timeout`.
@@ -67,11 +73,14 @@ private:
         Tile tile;
         int s0 = 0, s1 = 0;
         float* sums = nullptr;
+        const std::uint32_t *n0 = nullptr, *n1 = nullptr;  // a refine job's, else null
+        float* squares = nullptr;
         std::atomic<int> next{0};  // next pixel to hand out
         int workers = 0;           // threads inside this job
         std::uint64_t rays = 0;
     };
     void worker_main();
+    void render_pixels(Job& job, int p0, int p1, rt::RayStats& stats) const;
 
     const rt::World& world_;
     const rt::CameraBasis& camera_;

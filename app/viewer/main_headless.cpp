@@ -64,7 +64,8 @@ int render_to_file(const rtview::Options& opt) {
     if (rtcli::caught_signal()) return interrupted();
 
     rtview::FinalRender render(opt.threads);
-    if (const rt::Status st = render.start(scene, opt.render, opt.samples, opt.time_limit); !st) {
+    if (const rt::Status st = render.start(scene, opt.render, opt.samples, opt.time_limit, opt.aa_threshold.value_or(-1));
+        !st) {
         std::fprintf(stderr, "raytracer-view-headless: cannot render: %s\n", st.message().c_str());
         return rtcli::kExitUsage;
     }

@@ -10,7 +10,10 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cfloat>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -37,50 +40,131 @@ private:
     GLFWwindow* window_;
 };
 
-// ImGui 1.86 samples key state once per frame and has no input queue, so fast input
-// (a quick tap, or xdotool) goes wrong in three ways: a key pressed and released
-// between two frames is never seen; Ctrl released in the same batch as the S it
-// modifies turns Ctrl+S into S; and a character typed in the same frame as a Ctrl
-// press is dropped (text fields ignore characters while Ctrl is down). So key and
-// character events pass through a small queue: a release waits for the frame after
-// its press, and a key press waits for the frame after pending characters. Events
-// keep their order; the queue is drained after every frame.
+// ImGui 1.86 samples input state once per frame and has no input queue, so fast
+// input (a quick tap or double-click, xdotool, or any input while the machine is busy
+// and frames are slow) goes wrong: a key pressed and released between two frames is
+// never seen, nor a key or button released and pressed again (a double-click, a
+// repeated Backspace); Ctrl released in the same batch as the S it modifies turns
+// Ctrl+S into S; a character typed in the same frame as a Ctrl press is dropped; and
+// a click is taken where the pointer is at the next frame, not where it was clicked.
+// So input passes through a small queue: a release waits for the frame after its
+// press, a press for the frame after a release or after pending characters, a
+// character for the frame after a key press (which may move the focus), and the
+// pointer's position and buttons are what the events taken so far say (not the live
+// state). Events keep their order; the queue is drained after every frame.
 struct InputEvent {
-    bool is_char;
-    int key, scancode, action, mods;
-    unsigned codepoint;
+    enum class Kind { Key, Char, Button, Motion } kind;
+    int key = 0, scancode = 0, action = 0, mods = 0;  // Key; Button: key is the button
+    unsigned codepoint = 0;                           // Char
+    double x = 0, y = 0;                              // Motion; Button: where
+    double time = 0;                                  // Button: when (glfwGetTime)
 };
 std::vector<InputEvent> g_waiting;  // for the next frame
-bool g_frame_has_press = false, g_frame_has_chars = false;
+bool g_frame_has_press = false, g_frame_has_release = false, g_frame_has_chars = false;
+// The pointer as the events taken so far leave it.
+constexpr int kButtons = 5;
+bool g_button_down[kButtons] = {};
+bool g_have_pointer = false;
+double g_pointer_x = 0, g_pointer_y = 0;
+// A second press soon after the first is a double-click by the events' own times:
+// ImGui measures between the frames that saw the presses, which a busy machine
+// stretches past its limit.
+double g_last_press_time = -1e9, g_last_press_x = 0, g_last_press_y = 0;
+bool g_double_click = false;  // the press this frame takes is the second of a double-click
+
+bool must_wait(const InputEvent& e) {
+    if (!g_waiting.empty()) return true;  // never overtake an earlier event
+    switch (e.kind) {
+        // Characters after a key press (Enter, Tab, Ctrl+E) go to where that key put
+        // the focus, which takes effect in the next frame.
+        case InputEvent::Kind::Char: return g_frame_has_press;
+        case InputEvent::Kind::Motion: return false;
+        case InputEvent::Kind::Key:
+            if (e.action == GLFW_PRESS) return g_frame_has_chars || g_frame_has_release;
+            return e.action == GLFW_RELEASE && g_frame_has_press;
+        case InputEvent::Kind::Button:
+            return e.action == GLFW_PRESS ? g_frame_has_press || g_frame_has_release : g_frame_has_press;
+    }
+    return false;
+}
+
+void deliver(GLFWwindow* w, const InputEvent& e) {
+    if (e.action == GLFW_PRESS) g_frame_has_press = true;
+    if (e.action == GLFW_RELEASE) g_frame_has_release = true;
+    switch (e.kind) {
+        case InputEvent::Kind::Char:
+            g_frame_has_chars = true;
+            ImGui_ImplGlfw_CharCallback(w, e.codepoint);
+            break;
+        case InputEvent::Kind::Key: ImGui_ImplGlfw_KeyCallback(w, e.key, e.scancode, e.action, e.mods); break;
+        case InputEvent::Kind::Button:
+            if (e.key >= 0 && e.key < kButtons) g_button_down[e.key] = e.action == GLFW_PRESS;
+            if (e.key == 0 && e.action == GLFW_PRESS) {
+                const ImGuiIO& io = ImGui::GetIO();
+                g_double_click = e.time - g_last_press_time <= double(io.MouseDoubleClickTime) &&
+                                 std::hypot(e.x - g_last_press_x, e.y - g_last_press_y) <= double(io.MouseDoubleClickMaxDist);
+                g_last_press_time = g_double_click ? -1e9 : e.time;
+                g_last_press_x = e.x;
+                g_last_press_y = e.y;
+            }
+            ImGui_ImplGlfw_MouseButtonCallback(w, e.key, e.action, e.mods);
+            break;
+        case InputEvent::Kind::Motion:
+            g_have_pointer = true;
+            g_pointer_x = e.x;
+            g_pointer_y = e.y;
+            break;
+    }
+}
 
 void route(GLFWwindow* w, const InputEvent& e) {
     ++g_events;
-    bool wait = !g_waiting.empty();  // never overtake an earlier event
-    if (!wait && !e.is_char) {
-        if (e.action == GLFW_PRESS) wait = g_frame_has_chars;
-        else if (e.action == GLFW_RELEASE) wait = g_frame_has_press;
-    }
-    if (wait) {
-        g_waiting.push_back(e);
-        return;
-    }
-    if (e.is_char) {
-        g_frame_has_chars = true;
-        ImGui_ImplGlfw_CharCallback(w, e.codepoint);
-    } else {
-        if (e.action == GLFW_PRESS) g_frame_has_press = true;
-        ImGui_ImplGlfw_KeyCallback(w, e.key, e.scancode, e.action, e.mods);
-    }
+    if (must_wait(e)) g_waiting.push_back(e);
+    else deliver(w, e);
 }
 
 void key_callback(GLFWwindow* w, int key, int scancode, int action, int mods) {
-    route(w, {false, key, scancode, action, mods, 0});
+    InputEvent e{InputEvent::Kind::Key};
+    e.key = key, e.scancode = scancode, e.action = action, e.mods = mods;
+    route(w, e);
 }
-void char_callback(GLFWwindow* w, unsigned c) { route(w, {true, 0, 0, 0, 0, c}); }
+void char_callback(GLFWwindow* w, unsigned c) {
+    InputEvent e{InputEvent::Kind::Char};
+    e.codepoint = c;
+    route(w, e);
+}
+void button_callback(GLFWwindow* w, int button, int action, int mods) {
+    InputEvent e{InputEvent::Kind::Button};
+    e.key = button, e.action = action, e.mods = mods;
+    e.time = glfwGetTime();
+    glfwGetCursorPos(w, &e.x, &e.y);
+    route(w, e);
+}
+void motion_callback(GLFWwindow* w, double x, double y) {
+    InputEvent e{InputEvent::Kind::Motion};
+    e.x = x, e.y = y;
+    route(w, e);
+}
+
+// Between the backend's new frame and ImGui's: the pointer as the events say, and a
+// double-click as their times say (ImGui then compares the frames' times against a
+// limit made long enough, or too short, to agree).
+void pointer_from_events() {
+    ImGuiIO& io = ImGui::GetIO();
+    if (g_have_pointer && io.MousePos.x > -FLT_MAX / 2) io.MousePos = ImVec2(float(g_pointer_x), float(g_pointer_y));
+    for (int b = 0; b < kButtons; ++b) io.MouseDown[b] = g_button_down[b];
+    static const float usual = io.MouseDoubleClickTime;
+    io.MouseDoubleClickTime = g_double_click ? 1e6f : usual;
+    if (g_double_click) {
+        g_double_click = false;
+    } else if (io.MouseDown[0] && io.MouseDownDuration[0] < 0) {
+        io.MouseDoubleClickTime = 0;  // a first press, whatever ImGui's frame times say
+    }
+}
 
 // After a frame: the waiting events get their turn (and may wait again).
 void next_frame_input(GLFWwindow* w) {
-    g_frame_has_press = g_frame_has_chars = false;
+    g_frame_has_press = g_frame_has_release = g_frame_has_chars = false;
     std::vector<InputEvent> events;
     events.swap(g_waiting);
     for (const InputEvent& e : events) route(w, e);
@@ -177,6 +261,7 @@ double thread_cpu() {
 void event_loop(GLFWwindow* window, rtview::ViewerApp& app, const rtview::Options& opt, float scale) {
     unsigned seen = g_events.load() - 1;  // draw the first frame at once
     int settle = 0;
+    bool was_working = false;
     long frames = 0;
     double frame_cpu = 0;  // UI thread CPU seconds spent drawing frames (--verbose)
     while (!glfwWindowShouldClose(window)) {
@@ -190,13 +275,24 @@ void event_loop(GLFWwindow* window, rtview::ViewerApp& app, const rtview::Option
             seen = ev;
             settle = 3;  // ImGui settles hover and popup state over a few frames
         }
+        // What ended the app's work (a render done, a file written, a check
+        // finished) happened during the last frame it worked in, after parts of that
+        // frame were drawn: the frames after it show the state it ended in, with no
+        // input event needed.
+        const bool working = app.working();
+        if (was_working && !working) settle = std::max(settle, 3);
+        was_working = working;
         bool draw = settle > 0 || app.needs_frame();
-        if (!draw && !app.idle_tick()) continue;  // idle: no frame, no CPU
+        if (!draw) {
+            if (!app.idle_tick()) continue;  // idle: no frame, no CPU
+            settle = 3;                      // a reload or a message: let ImGui settle it
+        }
         if (settle > 0) --settle;
 
         double cpu0 = thread_cpu();
         ImGui_ImplOpenGL2_NewFrame();
         ImGui_ImplGlfw_NewFrame();
+        pointer_from_events();
         int fw, fh;
         glfwGetFramebufferSize(window, &fw, &fh);
         rtview::app_frame(app, fw, fh);
@@ -230,12 +326,15 @@ int run(int argc, char** argv) {
     rtview::UiFont font = rtview::begin_imgui(float(rtview::UiSettings().ui_scale()) * scale);
     ImGui::GetIO().ConfigInputTextCursorBlink = false;  // a blinking cursor would need frames while idle
     if (opt.verbose)
-        std::fprintf(stderr, "raytracer-view: UI font %s, %.0f px\n", font.path.empty() ? "(ImGui's own)" : font.path.c_str(),
-                     font.pixels);
+        std::fprintf(stderr, "raytracer-view: UI font %s, fixed-width font %s, %.0f px\n",
+                     font.path.empty() ? "(ImGui's own)" : font.path.c_str(),
+                     font.mono_path.empty() ? "(ImGui's own)" : font.mono_path.c_str(), font.pixels);
     ImGui_ImplGlfw_InitForOpenGL(window, true);
-    // In front of ImGui's own key and character callbacks, which route() calls.
+    // In front of ImGui's own key, character and button callbacks, which deliver() calls.
     glfwSetKeyCallback(window, key_callback);
     glfwSetCharCallback(window, char_callback);
+    glfwSetMouseButtonCallback(window, button_callback);
+    glfwSetCursorPosCallback(window, motion_callback);
 
     int status = 0;
     {

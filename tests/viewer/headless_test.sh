@@ -1,9 +1,10 @@
 #!/bin/sh
 # Headless screenshot test of raytracer-view (OSMesa; needs no X display):
 #  - the image region of the screenshot equals a `raytracer` render of the same
-#    view (same size and samples), within a small tolerance: by default the scene's
-#    picture letterboxed at its picture_size aspect (the letterbox left out), and with
-#    --fit window the camera fitted to the whole area;
+#    view (same samples), within a small tolerance: by default the scene's picture at
+#    its picture_size, shown letterboxed at that aspect (the letterbox left out; the
+#    render drawn at the region's size as the texture is, with linear filtering), and
+#    with --fit window the camera fitted to the whole area, at the area's size;
 #  - the panel region is drawn (not the background colour) and the whole image is not
 #    uniform; repeated with --orbit so the camera maths is on the path too.
 # Usage: headless_test.sh BIN_DIR OUT_DIR   (screenshots stay in OUT_DIR to look at)
@@ -37,8 +38,8 @@ check_case() {
     sx=$(field sidebar 1 "$L"); sy=$(field sidebar 2 "$L"); sw=$(field sidebar 3 "$L"); sh=$(field sidebar 4 "$L")
     "$BIN/raytracer" --samples 2 "$OUT/$name-view.txt" "$OUT/$name-ref.ppm" \
         || fail "$name: raytracer could not render the view scene"
-    echo "$name: image region $iw x $ih at $ix,$iy"
-    "$TOOL" match "$shot" "$ix" "$iy" "$iw" "$ih" "$OUT/$name-ref.ppm" \
+    echo "$name: image region $iw x $ih at $ix,$iy, film $(field film 1 "$L") x $(field film 2 "$L")"
+    "$TOOL" match-scaled "$shot" "$ix" "$iy" "$iw" "$ih" "$OUT/$name-ref.ppm" \
         || fail "$name: the image region differs from the raytracer render"
     # Panels: the clear colour is (0.10, 0.10, 0.11) = 26 26 28; ImGui's window
     # background is darker, and text and widgets add many more colours.
@@ -60,6 +61,9 @@ check_case window --fit window --select "object 4 right"
 aspect_ok=$(awk -v w="$(field image 3 "$OUT/default-layout.txt")" -v h="$(field image 4 "$OUT/default-layout.txt")" \
     'BEGIN { r = w / h; exit !(r > 640 / 480 - 0.01 && r < 640 / 480 + 0.01) }' && echo yes || echo no)
 [ "$aspect_ok" = yes ] || fail "the default image region is not at the scene's 640x480 aspect"
+# ... and renders the scene's picture at its picture_size, whatever the window's size.
+[ "$(field film 1 "$OUT/default-layout.txt") $(field film 2 "$OUT/default-layout.txt")" = "640 480" ] ||
+    fail "the picture frame renders a $(field film 1 "$OUT/default-layout.txt")x$(field film 2 "$OUT/default-layout.txt") film, not picture_size 640x480"
 [ "$(field image 3 "$OUT/window-layout.txt")" -gt "$(field image 3 "$OUT/default-layout.txt")" ] || \
     [ "$(field image 4 "$OUT/window-layout.txt")" -gt "$(field image 4 "$OUT/default-layout.txt")" ] || \
     fail "fill-window mode does not use more of the area"

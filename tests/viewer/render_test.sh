@@ -1,7 +1,8 @@
 #!/bin/sh
-# `raytracer-view --headless SCENE --render OUT --samples N` writes exactly the file
-# that `raytracer --samples N SCENE OUT` writes (the same renderer and settings), as
-# PPM and as PNG; a scene with errors or a bad output name leaves OUT untouched.
+# `raytracer-view --headless SCENE --render OUT --samples N [--aa-threshold T]` writes
+# exactly the file that `raytracer --samples N [--aa-threshold T] SCENE OUT` writes (the
+# same renderer and settings), as PPM and as PNG; a scene with errors or a bad output
+# name leaves OUT untouched.
 # Usage: render_test.sh BIN_DIR SCENES_DIR OUT_DIR
 set -eu
 BIN=$1
@@ -20,19 +21,23 @@ VIEW=$BIN/raytracer-view
 HEADLESS_FLAG=--headless
 [ "$VIEW" = "$BIN/raytracer-view" ] || HEADLESS_FLAG=
 
-for case in glass.ppm glass.png csg-nested.ppm; do
+# (The last case with adaptive anti-aliasing: the same threshold, the same bytes.)
+for case in glass.ppm glass.png csg-nested.ppm showcase.ppm:0.1; do
+    aa=
+    case $case in *:*) aa="--aa-threshold ${case#*:}"; case=${case%:*} ;; esac
     scene=${case%.*}
     ext=${case##*.}
     {
         ref=$OUT/$scene-raytracer.$ext
         got=$OUT/$scene-view.$ext
         rm -f "$ref" "$got"
-        "$BIN/raytracer" --quiet --samples 4 "$SCENES/$scene.txt" "$ref" || fail "raytracer failed on $scene"
-        # shellcheck disable=SC2086  # HEADLESS_FLAG is empty or one word
-        "$VIEW" $HEADLESS_FLAG "$SCENES/$scene.txt" --render "$got" --samples 4 \
+        # shellcheck disable=SC2086  # aa and HEADLESS_FLAG are empty or words
+        "$BIN/raytracer" --quiet --samples 4 $aa "$SCENES/$scene.txt" "$ref" || fail "raytracer failed on $scene"
+        # shellcheck disable=SC2086
+        "$VIEW" $HEADLESS_FLAG "$SCENES/$scene.txt" --render "$got" --samples 4 $aa \
             || fail "raytracer-view --render failed on $scene"
-        cmp "$ref" "$got" || fail "$scene.$ext: --render differs from raytracer's file"
-        echo "$scene.$ext: identical ($(wc -c < "$got") bytes)"
+        cmp "$ref" "$got" || fail "$scene.$ext $aa: --render differs from raytracer's file"
+        echo "$scene.$ext $aa: identical ($(wc -c < "$got") bytes)"
     }
 done
 

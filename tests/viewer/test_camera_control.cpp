@@ -118,12 +118,55 @@ TEST_CASE("dolly moves toward the point under the cursor and keeps it there") {
     }
 }
 
+TEST_CASE("dolly brings the look-at point along: the distance to it scales with the step, the view stays") {
+    for (int n = 0; n < 200; ++n) {
+        rt::Camera c = random_camera();
+        const int w = 500, h = 300;
+        const rt::CameraBasis b = rt::CameraBasis::make(c, w, h, false);
+        const double i0 = uni(0, w), j0 = uni(0, h);
+        const Vec3 target = b.origin + rt::normalize(b.direction(i0, j0)) * uni(1, 50);
+        const double notches = uni(-3, 3);
+        const rt::Camera d = dolly(c, target, notches);
+        const double f = rt::length(target - d.position) / rt::length(target - c.position);
+        CHECK(rt::length(d.centre - d.position) == doctest::Approx(f * rt::length(c.centre - c.position)));
+        CHECK(angle_deg(d.centre - d.position, c.centre - c.position) < 1e-4);
+        CHECK(rt::length((d.up - d.centre) - (c.up - c.centre)) < 1e-9);
+        CHECK(rt::length(d.position - translate(c, dolly_offset(c.position, target, notches)).position) < 1e-9);
+        double i, j;
+        REQUIRE(project(rt::CameraBasis::make(d, w, h, false), target, i, j));
+        CHECK(i == doctest::Approx(i0).epsilon(1e-6));
+        CHECK(j == doctest::Approx(j0).epsilon(1e-6));
+    }
+}
+
 TEST_CASE("dolly never reaches or passes its target") {
     Vec3 eye{0, 0, 0}, target{10, 0, 0};
     for (double n : {1.0, 5.0, 50.0, 1000.0}) {
         Vec3 e = eye + dolly_offset(eye, target, n);
         CHECK(e.x < 10);
         CHECK(e.x >= 0);
+    }
+}
+
+TEST_CASE("an orbit pivot beyond the scene's reach comes to that reach along its ray") {
+    rt::Camera c = random_camera();
+    rt::Aabb box;
+    box.grow({1, 2, 3});
+    box.grow({4, -5, 6});
+    const double reach = scene_reach(c, box);
+    CHECK(reach >= rt::length(c.centre - c.position));
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 corner{k & 1 ? 4.0 : 1.0, k & 2 ? -5.0 : 2.0, k & 4 ? 6.0 : 3.0};
+        CHECK(rt::length(corner - c.position) <= reach + 1e-12);
+    }
+    // Empty bounds: the distance to the centre.
+    CHECK(scene_reach(c, rt::Aabb{}) == rt::length(c.centre - c.position));
+    for (int n = 0; n < 100; ++n) {
+        const Vec3 dir = rt::normalize(rvec(1));
+        const double t = uni(0.1, 3) * reach;
+        const Vec3 p = clamp_pivot(c.position, c.position + dir * t, reach);
+        CHECK(rt::length(p - c.position) == doctest::Approx(std::min(t, reach)));
+        CHECK(angle_deg(p - c.position, dir) < 1e-4);
     }
 }
 

@@ -108,3 +108,19 @@ TEST_CASE("mapping a rectangle leaves the rest of the texture as it was") {
             CHECK(rgba[4 * (y * 4 + x)] == (inside ? 127 : 7));
         }
 }
+
+TEST_CASE("the badge names every way the picture is shown otherwise than saved, and only then") {
+    DisplaySettings d;
+    CHECK(display_badge(d).empty());
+    d.exposure = 2;
+    CHECK(display_badge(d) == "exposure +2.0");
+    d.exposure = -1.5;
+    d.curve = ToneCurve::Soft;
+    CHECK(display_badge(d) == "exposure -1.5  soft curve");
+    d.exposure = 0;
+    d.show_clipped = true;
+    CHECK(display_badge(d) == "soft curve  clipped marked");
+    d.curve = ToneCurve::Clip;
+    d.show_clipped = false;
+    CHECK(display_badge(d).empty() == d.identity());
+}

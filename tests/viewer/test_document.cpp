@@ -108,28 +108,44 @@ TEST_CASE("a panel edit is carried into a draft that parses") {
     CHECK_FALSE(d.text_behind());
 }
 
-TEST_CASE("a panel edit leaves a broken draft alone and says the text is behind") {
+TEST_CASE("a panel edit that cannot be written into a broken draft is not made: text and scene never disagree") {
     Document d;
     d.load_text(rt::kDefaultScene, "", "default.txt");
+    const rt::Scene scene = d.scene();
     d.editor_text().insert(0, "{ broken\n");  // (after `end` it would be ignored)
-    std::string draft = d.editor_text();
+    const std::string draft = d.editor_text();
+    CHECK_FALSE(d.edit_blocker().empty());  // the panels say so before an edit
     d.edit().lights[0].colour = {1, 2, 3};
     d.commit();
-    CHECK(d.editor_text() == draft);
-    CHECK(d.text_behind());
-    CHECK(d.scene().lights[0].colour == rt::Vec3{1, 2, 3});
-    d.revert_text();  // drop the draft: the text shows the scene again
+    CHECK(d.editor_text() == draft);  // the user's text untouched
+    CHECK(d.scene() == scene);        // and the scene as it was
     CHECK_FALSE(d.text_behind());
+    CHECK_FALSE(d.take_refusal().empty());
+    CHECK(d.take_refusal().empty());  // said once
+    // Saving that text asks first; the answer names the error.
+    const std::optional<std::string> problem = d.save_problem();
+    REQUIRE(problem);
+    CHECK(problem->rfind("line 1:", 0) == 0);
+    CHECK_FALSE(d.apply_parsing_draft());
+    d.revert_text();  // drop the draft: edits are possible again
+    CHECK(d.edit_blocker().empty());
+    CHECK_FALSE(d.save_problem());
+    d.edit().lights[0].colour = {1, 2, 3};
+    d.commit();
+    CHECK(parse_ok(d.editor_text()) == d.scene());
+    CHECK(d.scene().lights[0].colour == rt::Vec3{1, 2, 3});
+}
+
+TEST_CASE("saving applies a draft that parses first, so the file is the scene shown") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    std::string& t = d.editor_text();
+    t.replace(t.find("radius 1\n"), 9, "radius 0.75\n");
+    CHECK_FALSE(d.save_problem());
+    CHECK(d.apply_parsing_draft());
     CHECK_FALSE(d.editor_dirty());
     CHECK(parse_ok(d.editor_text()) == d.scene());
-    REQUIRE(d.undo());  // and the draft can come back, still unapplied
-    CHECK(std::as_const(d).editor_text() == draft);
-    CHECK(d.editor_dirty());
-    CHECK(d.text_behind());
-    CHECK(parse_ok(d.applied_text()) == d.scene());
-    REQUIRE(d.redo());
-    CHECK_FALSE(d.editor_dirty());
-    CHECK(parse_ok(std::as_const(d).editor_text()) == d.scene());
+    CHECK_FALSE(d.apply_parsing_draft());  // nothing left to apply
 }
 
 TEST_CASE("a file that does not parse opens with its text and errors, and no scene") {
@@ -452,4 +468,61 @@ TEST_CASE("undo and redo of edit steps give back exactly the states a full-copy 
         CAPTURE(seed);
         check_against_full_copies(seed);
     }
+}
+
+TEST_CASE("every undo step has a name: the edit's own, or what it changed; undo and redo say which they took") {
+    using Names = std::vector<std::string>;
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const Document& cd = d;
+    CHECK(cd.undo_names(5).empty());
+    d.name_edit("not an edit");  // nothing pending: no name is kept for later
+    // A named panel edit: its first name stays; while it is pending it is the next undo.
+    std::get<rt::Sphere>(d.edit_object(1).shape).position.y += 0.5;
+    d.name_edit("Move sphere 2");
+    d.name_edit("Move it again");
+    CHECK(cd.undo_names(5) == Names{"Move sphere 2"});
+    d.commit();
+    // Unnamed edits are named by what they changed.
+    d.edit_light(0).colour = {1, 2, 3};
+    d.commit();
+    rt::Camera cam = cd.scene().camera;
+    cam.position.x -= 1;
+    d.edit_camera() = cam;
+    d.commit();
+    std::get<rt::Sphere>(d.edit().objects[0].shape).radius = 0.5;
+    std::get<rt::Sphere>(d.edit().objects[1].shape).radius = 0.5;
+    d.commit();
+    CHECK(cd.undo_names(9) == Names{"Edit the scene", "Edit the scene camera", "Edit light 1", "Move sphere 2"});
+    CHECK(cd.undo_names(2) == Names{"Edit the scene", "Edit the scene camera"});
+    // Typing is a step of its own once something else happens; so is applying it.
+    d.editor_text() += "// a comment\n";
+    d.note_typed();
+    CHECK(cd.undo_names(1) == Names{"Typing in the scene text"});
+    REQUIRE(d.apply_text());
+    CHECK(cd.undo_names(3) == Names{"Apply the scene text", "Typing in the scene text", "Edit the scene"});
+    // A structural edit carries the caller's name.
+    const std::string& text = cd.editor_text();
+    REQUIRE(d.replace_text(text.find("end\n"), 0, "light { lamp { position 1 1 9 } }\n", "Add a lamp"));
+    CHECK(cd.undo_names(1) == Names{"Add a lamp"});
+    // Undo and redo say which step they took, and the lists follow.
+    REQUIRE(d.undo());
+    CHECK(d.last_step_name() == "Add a lamp");
+    REQUIRE(d.undo());
+    CHECK(d.last_step_name() == "Apply the scene text");
+    CHECK(cd.redo_names(5) == Names{"Apply the scene text", "Add a lamp"});
+    CHECK(cd.undo_names(1) == Names{"Typing in the scene text"});
+    REQUIRE(d.redo());
+    CHECK(d.last_step_name() == "Apply the scene text");
+    CHECK(cd.redo_names(5) == Names{"Add a lamp"});
+    // A new edit ends the redo branch; a pending one already hides it.
+    d.edit_light(0).colour = {4, 5, 6};
+    CHECK(cd.redo_names(5).empty());
+    CHECK(cd.undo_names(1) == Names{"Edit light 1"});
+    d.cancel_edit();
+    CHECK(cd.redo_names(5) == Names{"Add a lamp"});
+    // A new document has no history.
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    CHECK(cd.undo_names(5).empty());
+    CHECK(cd.redo_names(5).empty());
 }

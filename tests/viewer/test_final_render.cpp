@@ -49,6 +49,7 @@ void check_same(const rt::RenderSettings& viewer, const rt::RenderSettings& cli)
     CHECK(viewer.order == cli.order);
     CHECK(viewer.camera == cli.camera);
     CHECK(viewer.coarse_block == cli.coarse_block);
+    CHECK(viewer.aa_threshold == cli.aa_threshold);
 }
 
 }  // namespace
@@ -69,26 +70,31 @@ TEST_CASE("--render takes a file name, with or without =") {
 }
 
 TEST_CASE("the final render's settings are the command line's") {
-    // The viewer's samples and time limit (0: not given) and the same on raytracer's
-    // command line, at two picture sizes.
+    // The viewer's samples, time limit and adaptive threshold (0, 0, -1: not given)
+    // and the same on raytracer's command line, at two picture sizes.
     struct Case {
         int samples;
-        double time_limit;
+        double time_limit, aa_threshold;
         std::vector<std::string> args;
     };
     const Case cases[] = {
-        {0, 0, {}},                                    // the original's one ray per pixel
-        {16, 0, {"--samples", "16"}},
-        {1, 0, {"--samples", "1"}},
-        {0, 2.5, {"--time-limit", "2.5"}},             // as many samples as fit
-        {4, 1.5, {"--samples", "4", "--time-limit", "1.5"}},
+        {0, 0, -1, {}},  // the original's one ray per pixel
+        {16, 0, -1, {"--samples", "16"}},
+        {1, 0, -1, {"--samples", "1"}},
+        {0, 2.5, -1, {"--time-limit", "2.5"}},  // as many samples as fit
+        {4, 1.5, -1, {"--samples", "4", "--time-limit", "1.5"}},
+        {0, 0, 0.3, {"--aa-threshold", "0.3"}},  // adaptive, up to the default count
+        {64, 0, 0.1, {"--samples", "64", "--aa-threshold", "0.1"}},
+        {0, 2, 0, {"--time-limit", "2", "--aa-threshold", "0"}},
     };
     for (const Case& c : cases) {
         for (auto [w, h] : {std::pair{640, 480}, std::pair{37, 21}}) {
             CAPTURE(c.samples);
             CAPTURE(c.time_limit);
+            CAPTURE(c.aa_threshold);
             CAPTURE(w);
-            check_same(final_render_settings(w, h, c.samples, c.time_limit), cli_settings(c.args, w, h));
+            check_same(final_render_settings(w, h, c.samples, c.time_limit, c.aa_threshold),
+                       cli_settings(c.args, w, h));
         }
     }
     // The comparison can tell settings apart: a mirrored picture is not the viewer's.
@@ -106,11 +112,11 @@ end)";
     rt::ParseResult r = rt::parse_scene(text);
     REQUIRE(r.ok());
     FinalRender fr(2);
-    CHECK_FALSE(fr.start(r.scene, "out.jpg", 2, 0).ok());
+    CHECK_FALSE(fr.start(r.scene, "out.jpg", 2, 0, -1).ok());
     CHECK_FALSE(fr.active());
     const std::string out = "test_final_render_out.ppm";
     std::remove(out.c_str());
-    REQUIRE(fr.start(r.scene, out, 2, 0).ok());
+    REQUIRE(fr.start(r.scene, out, 2, 0, -1).ok());
     while (!fr.wait_for(1)) {
     }
     CHECK(fr.fraction() == 1);

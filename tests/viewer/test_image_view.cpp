@@ -11,9 +11,9 @@ using namespace rtview;
 namespace {
 
 // The pixel under a window point, or (-1, -1) outside the picture.
-std::array<int, 2> at(const ImageView& v, const Rect& area, int w, int h, double px, double py) {
+std::array<int, 2> at(const ImageView& v, const Rect& area, int w, int h, double px, double py, double fb = 0) {
     int x = -1, y = -1;
-    if (!picture_pixel_at(v.transform(area, w, h), w, h, px, py, x, y)) return {-1, -1};
+    if (!picture_pixel_at(v.transform(area, w, h, fb), w, h, px, py, x, y)) return {-1, -1};
     return {x, y};
 }
 
@@ -80,20 +80,21 @@ TEST_CASE("1:1 on a hi-DPI screen is one picture pixel per framebuffer pixel") {
 }
 
 TEST_CASE("wheel zoom steps through 1:1 and magnifies about the cursor") {
+    // 1600x1200 in 800x600: larger than the area from 1:1 up, so nothing is centred.
     Rect area{0, 0, 800, 600};
     ImageView v;
-    v.one_to_one(area, 320, 240, 1, 400, 300);
-    P under = at(v, area, 320, 240, 410.5, 305.5);
-    v.zoom_steps(area, 320, 240, 1, 410.5, 305.5, 4);
-    CHECK(v.ratio(area, 320, 240, 1) == doctest::Approx(2));
-    v.zoom_steps(area, 320, 240, 1, 410.5, 305.5, 8);
-    CHECK(v.ratio(area, 320, 240, 1) == doctest::Approx(8));
-    CHECK(at(v, area, 320, 240, 410.5, 305.5) == under);
+    v.one_to_one(area, 1600, 1200, 1, 400, 300);
+    P under = at(v, area, 1600, 1200, 410.5, 305.5);
+    v.zoom_steps(area, 1600, 1200, 1, 410.5, 305.5, 4);
+    CHECK(v.ratio(area, 1600, 1200, 1) == doctest::Approx(2));
+    v.zoom_steps(area, 1600, 1200, 1, 410.5, 305.5, 8);
+    CHECK(v.ratio(area, 1600, 1200, 1) == doctest::Approx(8));
+    CHECK(at(v, area, 1600, 1200, 410.5, 305.5) == under);
     // At 8x a pixel is 8 units wide: 8 units right is the next pixel.
-    CHECK(at(v, area, 320, 240, 410.5 + 8, 305.5) == P{under[0] + 1, under[1]});
-    CHECK(at(v, area, 320, 240, 410.5, 305.5 - 16) == P{under[0], under[1] - 2});
-    v.zoom_steps(area, 320, 240, 1, 410.5, 305.5, -12);
-    CHECK(v.ratio(area, 320, 240, 1) == doctest::Approx(1));
+    CHECK(at(v, area, 1600, 1200, 410.5 + 8, 305.5) == P{under[0] + 1, under[1]});
+    CHECK(at(v, area, 1600, 1200, 410.5, 305.5 - 16) == P{under[0], under[1] - 2});
+    v.zoom_steps(area, 1600, 1200, 1, 410.5, 305.5, -12);
+    CHECK(v.ratio(area, 1600, 1200, 1) == doctest::Approx(1));
     // From a fitted 2.5 the first step in lands on the ladder at 2^(6/4).
     ImageView f;
     f.zoom_steps(area, 320, 240, 1, 400, 300, 1);
@@ -102,16 +103,59 @@ TEST_CASE("wheel zoom steps through 1:1 and magnifies about the cursor") {
     CHECK(f.ratio(area, 320, 240, 1) == doctest::Approx(2.5));
 }
 
-TEST_CASE("pan moves the picture and never loses it") {
+TEST_CASE("a picture that fits is shown whole and centred, at any zoom and wherever the cursor is") {
+    // 640x480 in 845x633 (the default scene beside the sidebar): zoomed in about a
+    // corner and panned, then 1:1 with the cursor near that corner.
+    Rect area{0, 21, 845, 633};
+    ImageView v;
+    v.zoom_steps(area, 640, 480, 1, 60, 80, 6);
+    CHECK(v.ratio(area, 640, 480, 1) > 2);
+    v.pan(area, 640, 480, 200, -150);
+    v.one_to_one(area, 640, 480, 1, 60, 80);
+    ViewTransform t = v.transform(area, 640, 480, 1);
+    CHECK(t.sx == 1);
+    CHECK(t.x0 == std::round((845 - 640) / 2.0));
+    CHECK(t.y0 == std::round(21 + (633 - 480) / 2.0));
+    CHECK(at(v, area, 640, 480, t.x0 + 0.5, t.y0 + 0.5, 1) == P{0, 0});
+    CHECK(at(v, area, 640, 480, t.x0 + 639.5, t.y0 + 479.5, 1) == P{639, 479});
+    // A pan cannot move it off centre; nor can zooming out about a corner.
+    v.pan(area, 640, 480, -70, 40);
+    CHECK(v.transform(area, 640, 480, 1).x0 == t.x0);
+    v.zoom_steps(area, 640, 480, 1, 5, 30, -2);
+    ViewTransform s = v.transform(area, 640, 480);
+    CHECK(s.x0 + 640 * s.sx / 2 == doctest::Approx(845 / 2.0));
+    CHECK(s.y0 + 480 * s.sy / 2 == doctest::Approx(21 + 633 / 2.0));
+}
+
+TEST_CASE("zoomed past the area on one axis, the picture fills it there and stays centred on the other") {
+    // 1000x250 in 800x600 at 2x: 2000 wide (fills the width), 500 high (centred).
     Rect area{0, 0, 800, 600};
     ImageView v;
-    v.one_to_one(area, 320, 240, 1, 400, 300);
-    P before = at(v, area, 320, 240, 400.5, 300.5);
-    v.pan(area, 320, 240, 10, -3);
-    CHECK(at(v, area, 320, 240, 400.5, 300.5) == P{before[0] - 10, before[1] + 3});
-    v.pan(area, 320, 240, 1e6, 1e6);
-    // The area's centre stays on the picture: its top-left corner at the most.
-    CHECK(at(v, area, 320, 240, 400.5, 300.5) == P{0, 0});
+    v.zoom_about(area, 1000, 250, 1, 795, 300, 2.5);  // from fitted 0.8 about the right edge
+    CHECK(v.ratio(area, 1000, 250, 1) == doctest::Approx(2));
+    ViewTransform t = v.transform(area, 1000, 250);
+    CHECK(t.y0 == doctest::Approx(50));
+    CHECK(t.x0 == doctest::Approx(795 - 993.75 * 2));  // the pixel under the cursor stays there
+    // Panned left past its right edge: it stops there, with no gap beside it.
+    v.pan(area, 1000, 250, -100, 0);
+    CHECK(v.transform(area, 1000, 250).x0 == doctest::Approx(800 - 2000));
+    CHECK(at(v, area, 1000, 250, 799.5, 300) == P{999, 125});
+}
+
+TEST_CASE("pan moves the picture up to its edges, and back at once") {
+    Rect area{0, 0, 800, 600};
+    ImageView v;
+    v.one_to_one(area, 1600, 1200, 1, 400, 300);
+    P before = at(v, area, 1600, 1200, 400.5, 300.5);
+    v.pan(area, 1600, 1200, 10, -3);
+    CHECK(at(v, area, 1600, 1200, 400.5, 300.5) == P{before[0] - 10, before[1] + 3});
+    v.pan(area, 1600, 1200, 1e6, 1e6);
+    // The top-left corner of the picture at the area's: no background beside it.
+    CHECK(at(v, area, 1600, 1200, 0.5, 0.5) == P{0, 0});
+    v.pan(area, 1600, 1200, -10, -20);
+    CHECK(at(v, area, 1600, 1200, 0.5, 0.5) == P{10, 20});
+    v.pan(area, 1600, 1200, -1e6, -1e6);
+    CHECK(at(v, area, 1600, 1200, 799.5, 599.5) == P{1599, 1199});
 }
 
 TEST_CASE("a preview film of another resolution: the pixel covering the same spot") {

@@ -2,6 +2,8 @@
 // cancelled load delivers nothing and a failed one an error, and neither touches the
 // document that was open.
 #include <doctest/doctest.h>
+
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -13,6 +15,7 @@
 #include "default_scene.h"
 #include "document.h"
 #include "loader.h"
+#include "test_util.h"
 #include "scene_parser.h"
 
 using namespace rtview;
@@ -106,6 +109,20 @@ TEST_CASE("a failed load reports why and keeps the old scene") {
     CHECK(r->status == LoadResult::Status::Failed);
     CHECK_FALSE(apply_load(*r, d, world));
     before.check_same(d);
+}
+
+TEST_CASE("a FIFO with no writer or a device is no scene: the load fails at once") {
+    rt_test::TempDir dir;
+    const std::string fifo = (dir / "pipe.txt").string();
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    SceneLoader loader;
+    for (const std::string& path : {fifo, std::string("/dev/zero")}) {
+        loader.start(path);
+        std::optional<LoadResult> r = loader.wait();  // would block for ever on the FIFO
+        REQUIRE(r);
+        CHECK(r->status == LoadResult::Status::Failed);
+        CHECK(r->error == "not a regular file (a pipe, a device or a socket)");
+    }
 }
 
 TEST_CASE("a load can be cancelled: nothing arrives, and the next load does") {

@@ -150,6 +150,44 @@ TEST_CASE("move handle: snapping lands the anchor on the grid in the coordinates
     }
 }
 
+TEST_CASE("move handle: lights without a glow are marked where they are seen, unless something hides them") {
+    rt::Scene s;
+    s.camera = camera_at({0, 0, 0}, {10, 0, 0});
+    rt::Object o;
+    o.shape = rt::Sphere{{10, -3, 0}, 1};
+    s.objects.push_back(o);
+    auto light = [](bool lamp, rt::Vec3 p, double size) {
+        rt::Light l;
+        l.lamp = lamp;
+        l.position = p;
+        l.size = size;
+        return l;
+    };
+    s.lights = {light(false, {10, 2, 1}, 1),    // a spotlight in view
+                light(true, {10, 0, 2}, 0.2),   // a lamp: its glow shows it
+                light(false, {14, -3, 0}, 1),   // behind the sphere
+                light(false, {-5, 0, 0}, 1),    // behind the camera
+                light(true, {12, 1, -1}, 0),    // a lamp without a glow, in view
+                light(false, {10, 30, 0}, 1)};  // outside the picture
+    auto world = rt::compile_world(s);
+    ScreenView v(s.camera, kImage, 640, 480);
+    std::vector<LightMarker> m = light_markers(s, world.get(), v, kImage, 100);
+    REQUIRE(m.size() == 2);
+    CHECK(m[0].light == 0);  // the nearer first
+    CHECK(m[1].light == 4);
+    auto at = v.project(s.lights[0].position);
+    REQUIRE(at);
+    CHECK(m[0].at.x == doctest::Approx(at->x));
+    CHECK(m[0].at.y == doctest::Approx(at->y));
+    // Without a world nothing hides the one behind the sphere; `max` keeps the nearest.
+    CHECK(light_markers(s, nullptr, v, kImage, 100).size() == 3);
+    CHECK(light_markers(s, world.get(), v, kImage, 1).size() == 1);
+    // A click finds the marker within the radius, the nearest of two.
+    CHECK(light_at(m, at->x + 3, at->y - 2, 5) == 0);
+    CHECK(light_at(m, at->x + 6, at->y, 5) == -1);
+    CHECK(light_at({{0, {100, 100}}, {4, {104, 100}}}, 103, 100, 5) == 4);
+}
+
 TEST_CASE("object ids: a sphere's texels match its analytic size, and the outline encloses them") {
     rt::Scene s;
     rt::Object o;

@@ -8,8 +8,10 @@
 
 #include "default_scene.h"
 #include "document.h"
+#include "camera_control.h"
 #include "navigator.h"
 #include "scene_parser.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rtview;
@@ -90,6 +92,52 @@ TEST_CASE("navigation moves the view and leaves the document untouched") {
     nav.reset(d.scene().camera);
     CHECK(nav.camera() == d.scene().camera);
     before.check_same(d);
+}
+
+TEST_CASE("an orbit begun on a far point of the floor turns about a point within the scene") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    auto world = rt::compile_world(d.scene());
+    const ViewGeometry g = geometry();
+    Navigator nav;
+    nav.follow(d.scene().camera);
+    // Up the left edge of the picture to where the floor is far away (near the horizon).
+    double y = g.image.y + g.image.h - 1, far = 0;
+    for (; y > g.image.y; y -= 0.25) {
+        rt::PickResult r = pick_at(*world, nav.camera(), g.image, g.film_w, g.film_h, 5, y);
+        if (r.hit && r.plane == 0 && r.t > 200) {
+            far = r.t;
+            break;
+        }
+    }
+    REQUIRE(far > 200);
+    const rt::Camera start = nav.camera();
+    nav.press(0, false, 5, y, world.get(), g);
+    REQUIRE(nav.drag(65, y, world.get(), g));  // 60 pixels: 18 degrees
+    nav.release();
+    // Turned about a point no farther than the scene reaches: the eye moves at most
+    // the chord of 18 degrees on that circle, not on one of the floor point's radius.
+    const double reach = scene_reach(start, world->bounds());
+    const double moved = rt::length(nav.camera().position - start.position);
+    CHECK(moved > 0);
+    CHECK(moved <= 2 * reach * std::sin(9 * M_PI / 180) + 1e-9);
+}
+
+TEST_CASE("F frames the objects, not the lamps far from them; the lamps only when there are no objects") {
+    const std::string objects = "thing { sphere { position 10 0 0 radius 1 } }\n";
+    const std::string rest = "light { lamp { colour 99 99 99 position -20 30 20 size 0.1 }\n"
+                             "        spotlight { colour 9 9 9 position 0 -5 8 } }\n"
+                             "camera { position 0 0 0 centre 10 0 0 up 10 0 1 angle_x 60 angle_y 45 }\n"
+                             "picture_size { x_max 64 y_max 48 }\nend\n";
+    rt::Aabb b = frame_target(*rt::compile_world(rt_test::parse_ok(objects + rest)));
+    CHECK(b.lo == rt::Vec3{9, -1, -1});
+    CHECK(b.hi == rt::Vec3{11, 1, 1});
+    b = frame_target(*rt::compile_world(rt_test::parse_ok(rest)));
+    CHECK(b.lo == rt::Vec3{-20, -5, 8});
+    CHECK(b.hi == rt::Vec3{0, 30, 20});
+    const std::string nothing = "camera { position 0 0 0 centre 10 0 0 up 10 0 1 angle_x 60 angle_y 45 }\n"
+                                "picture_size { x_max 64 y_max 48 }\nend\n";
+    CHECK(frame_target(*rt::compile_world(rt_test::parse_ok(nothing))).empty());
 }
 
 TEST_CASE("a degenerate view is refused and the last good one kept") {

@@ -44,12 +44,22 @@ TEST_CASE("bad arguments are reported, not guessed") {
     CHECK_FALSE(parse({"--frobnicate"}, o).empty());
     CHECK_FALSE(parse({"a.txt", "b.txt"}, o).empty());
     CHECK_FALSE(parse({"--headless=yes"}, o).empty());
+    CHECK_FALSE(parse({"--aa-threshold", "-0.1"}, o).empty());
+    CHECK_FALSE(parse({"--aa-threshold", "3.5"}, o).empty());
+    CHECK_FALSE(parse({"--aa-threshold", "fine"}, o).empty());
+    CHECK_FALSE(o.aa_threshold);
+    CHECK(parse({"--aa-threshold", "0.25"}, o).empty());
+    CHECK(o.aa_threshold == 0.25);
+    CHECK(parse({"--aa-threshold", "off"}, o).empty());  // every pixel the same samples
+    CHECK(o.aa_threshold == -1);
+    CHECK_FALSE(parse({"--aa-threshold", "Off"}, o).empty());
 }
 
 TEST_CASE("help describes every option of both binaries") {
     for (bool headless : {false, true}) {
         std::string h = help_text(headless);
-        for (const char* opt : {"--headless", "--screenshot", "--size", "--samples", "--time-limit", "--orbit", "--fit",
+        for (const char* opt : {"--headless", "--screenshot", "--size", "--samples", "--time-limit", "--aa-threshold",
+                                "--orbit", "--fit",
                                 "--threads", "--tab", "--select", "--view-scene", "--print-layout", "--verbose",
                                 "--help", "--version"})
             CHECK_MESSAGE(h.find(opt) != std::string::npos, opt);

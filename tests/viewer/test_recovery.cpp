@@ -53,6 +53,23 @@ TEST_CASE("recovery: saving (no longer modified) or discarding removes the copy"
     CHECK_FALSE(fs::exists(r.file_for("s.txt")));
 }
 
+TEST_CASE("recovery: a document that takes another name (Save As, Open) leaves no copy under the old one") {
+    rt_test::TempDir dir;
+    Recovery r(dir.path.string());
+    CHECK(r.update("old.txt", "draft", true, 0.0).ok());
+    REQUIRE(r.find("old.txt"));
+    // Saved as new.txt: no longer modified, under its new name.
+    CHECK(r.update("new.txt", "draft", false, 10.0).ok());
+    CHECK_FALSE(r.find("old.txt"));
+    CHECK_FALSE(r.find("new.txt"));
+    // Edited again and another file opened unmodified: the edit's copy goes too.
+    CHECK(r.update("new.txt", "draft 2", true, 20.0).ok());
+    REQUIRE(r.find("new.txt"));
+    CHECK(r.update("other.txt", "other", false, 30.0).ok());
+    CHECK_FALSE(r.find("new.txt"));
+    CHECK(fs::is_empty(dir.path));
+}
+
 TEST_CASE("recovery: a failed write says why and keeps nothing half-written") {
     Recovery r("/proc/no-such-place/recovery");
     CHECK_FALSE(r.update("s.txt", "draft", true, 0.0).ok());

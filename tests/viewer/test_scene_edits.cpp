@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "document.h"
+#include "move_handle.h"
 #include "scene_edits.h"
 #include "scene_parser.h"
 #include "viewer_test_util.h"
@@ -49,6 +50,30 @@ std::string check_edit(const std::string& text, const SceneEdit& e, const rt::Sc
 double dist(rt::Vec3 a, rt::Vec3 b) { return rt::length(a - b); }
 
 }  // namespace
+
+TEST_CASE("scene edits: a CSG operand moves alone, and the move handle sits on it") {
+    const rt::Scene s = parse_ok(kScene);
+    const SceneItem lens{SceneItem::Kind::Object, 4};
+    const auto& before = std::get<rt::Csg>(s.objects[4].shape);
+    rt::Object o = s.objects[4];
+    REQUIRE(translate_operand(o, {0}, {0, 1, 0}));
+    const auto& after = std::get<rt::Csg>(o.shape);
+    CHECK(std::get<rt::Sphere>(after.operands[0].shape).position == rt::Vec3{7, 0.7, 2.2});
+    CHECK(after.operands[1] == before.operands[1]);
+    CHECK(o.material == s.objects[4].material);
+    // An empty path is the whole object; a path to nothing moves nothing.
+    rt::Object whole = s.objects[4];
+    REQUIRE(translate_operand(whole, {}, {0, 1, 0}));
+    CHECK(std::get<rt::Sphere>(std::get<rt::Csg>(whole.shape).operands[1].shape).position == rt::Vec3{7, 1.5, 2.2});
+    CHECK_FALSE(translate_operand(o, {2}, {1, 0, 0}));
+    CHECK_FALSE(translate_operand(o, {0, 0}, {1, 0, 0}));
+    CHECK(std::get<rt::Sphere>(after.operands[0].shape).position == rt::Vec3{7, 0.7, 2.2});
+
+    CHECK(item_anchor(s, lens, {0}) == rt::Vec3{7, -0.3, 2.2});
+    CHECK(item_anchor(s, lens, {1}) == rt::Vec3{7, 0.5, 2.2});
+    CHECK_FALSE(item_anchor(s, lens, {0, 1}));
+    CHECK_FALSE(item_anchor(s, {SceneItem::Kind::Light, 0}, {0}));
+}
 
 TEST_CASE("scene edits: delete each object, plane and light") {
     const std::string text = kScene;
@@ -154,10 +179,15 @@ TEST_CASE("scene edits: add every kind at a point, sized from the scene, also in
                 const rt::Plane& pl = got.planes.back();
                 CHECK(pl.chess == (k == NewItem::ChessPlane));
                 CHECK(dist(pl.point[0], p) < 1e-9);
-                // Facing the normal: P4 above P1, P2 and P3 in the plane z = 0.
-                CHECK(pl.point[1].z == doctest::Approx(0));
-                CHECK(pl.point[2].z == doctest::Approx(0));
-                CHECK(pl.point[3].z > 0);
+                // Upright on the surface z = 0 (not lying in it, where it would not be
+                // seen), lit on the side of the scene's camera.
+                const rt::Vec3 n = rt::normalize(rt::cross(pl.point[1] - pl.point[0], pl.point[2] - pl.point[0]));
+                CHECK(n.z == doctest::Approx(0).epsilon(1e-3));
+                CHECK(pl.point[2].z > 0);
+                CHECK(rt::dot(pl.point[3] - pl.point[0], n) * rt::dot(s.camera.position - p, n) > 0);
+                rt::Vec3 level = s.camera.position - p;
+                level.z = 0;
+                CHECK(std::fabs(rt::dot(rt::normalize(level), n)) == doctest::Approx(1).epsilon(1e-3));
                 want.planes.push_back(pl);
                 CHECK(e->select.kind == SceneItem::Kind::Plane);
                 CHECK(e->select.index == int(s.planes.size()));
@@ -201,6 +231,19 @@ TEST_CASE("scene edits: add every kind at a point, sized from the scene, also in
             check_edit(text, *e, want);
             if (src == kScene) CHECK(t.find("after end { unbalanced") != std::string::npos);
         }
+    }
+    // A plane faces the given viewer, whatever the scene camera; looking straight down
+    // on the surface it still stands upright.
+    const rt::Scene s = parse_ok(kEmpty);
+    for (rt::Vec3 toward : {rt::Vec3{0, 5, 1}, rt::Vec3{0, 0, 7}}) {
+        CAPTURE(toward);
+        auto e = add_item(kEmpty, s, NewItem::Plane, {{3, 0.5, 0}, {0, 0, 1}, toward});
+        REQUIRE(e);
+        const rt::Plane pl = parse_ok(e->replacement.applied_to(kEmpty)).planes.back();
+        const rt::Vec3 n = rt::normalize(rt::cross(pl.point[1] - pl.point[0], pl.point[2] - pl.point[0]));
+        CHECK(n.z == doctest::Approx(0).epsilon(1e-3));
+        CHECK(rt::dot(pl.point[3] - pl.point[0], toward) >= 0);
+        if (toward.y > 0) CHECK(std::fabs(n.y) == doctest::Approx(1));
     }
     // Sizes follow the scene: the same scene ten times larger gets items ten times larger.
     const std::string small = kEmpty;

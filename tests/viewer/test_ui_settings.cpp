@@ -2,6 +2,7 @@
 // colours text sits on.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -55,6 +56,40 @@ TEST_CASE("the UI scale is saved beside the recent files and read back") {
     std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     CHECK(all.find("ui_scale 1.5") != std::string::npos);
     CHECK(all.find("theme dark") != std::string::npos);
+}
+
+TEST_CASE("the sidebar's width is kept in the settings, beside the UI scale") {
+    TempDir dir;
+    std::string file = (dir.path / "settings.txt").string();
+    {
+        UiSettings s(file);
+        CHECK(s.sidebar_width() == 0);  // none yet: the layout chooses
+        CHECK(s.set_ui_scale(2).ok());
+        CHECK(s.set_sidebar_width(250.4, false).ok());  // while dragging: not yet written
+        CHECK(s.sidebar_width() == 250);
+    }
+    CHECK(UiSettings(file).sidebar_width() == 0);
+    {
+        UiSettings s(file);
+        CHECK(s.set_sidebar_width(250.4).ok());  // released
+    }
+    UiSettings s(file);
+    CHECK(s.sidebar_width() == 250);
+    CHECK(s.ui_scale() == 2);
+    // Nonsense is ignored, on reading and on setting.
+    CHECK(s.set_sidebar_width(-3).ok());
+    CHECK(s.set_sidebar_width(std::nan("")).ok());
+    CHECK(s.sidebar_width() == 250);
+    {
+        std::ofstream out(file);
+        out << "sidebar_width -7\nui_scale 1.5\n";
+    }
+    CHECK(UiSettings(file).sidebar_width() == 0);
+    {
+        std::ofstream out(file);
+        out << "sidebar_width 1e300\n";
+    }
+    CHECK(UiSettings(file).sidebar_width() == UiSettings::kMaxSidebarWidth);
 }
 
 TEST_CASE("the UI font is found under a data folder's fonts/") {

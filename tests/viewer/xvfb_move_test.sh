@@ -9,7 +9,7 @@
 #  3. Ctrl+D duplicates it, Delete deletes one, Ctrl+Z brings it back: the sphere
 #     count of the saved text follows, and undo restores the text byte for byte.
 # After each step the picture (the selection cleared, the render settled) equals a
-# `raytracer` render of the saved text at the image's size: text and picture agree.
+# `raytracer` render of the saved text at the film's size: text and picture agree.
 # Screenshots are kept in OUT_DIR to look at.
 # Usage: xvfb_move_test.sh BIN_DIR OUT_DIR
 set -euo pipefail
@@ -62,9 +62,10 @@ agree() {
     xdotool mousemove $((ix + iw / 2)) $((iy + 12)) click 1
     wait_handle none
     wait_stable "$name-clean"
-    "$BIN/raytracer" --quiet --width "$iw" --height "$ih" "$SCENE" "$OUT/$name-ref.ppm" ||
+    # The film is the scene's picture at its picture_size, drawn fitted into the image.
+    "$BIN/raytracer" --quiet --width "$(field film 1)" --height "$(field film 2)" "$SCENE" "$OUT/$name-ref.ppm" ||
         fail "$name: raytracer could not render the saved text"
-    "$TOOL" match "$OUT/$name-clean.png" $IMAGE "$OUT/$name-ref.ppm" ||
+    "$TOOL" match-scaled "$OUT/$name-clean.png" $IMAGE "$OUT/$name-ref.ppm" ||
         fail "$name: the picture differs from a render of the saved text"
 }
 

@@ -3,9 +3,11 @@
 #  1. hovering the picture prints the readout of the pixel under the cursor (the
 #     status line, echoed on stdout with --verbose): the pixel the fitted picture
 #     puts there, its linear colour, and the object its ray hits with the distance;
-#  2. key 1 zooms to 1:1 about the cursor: the pixel under it stays, and moving the
-#     cursor by N screen pixels moves the readout by exactly N picture pixels; the
-#     picture's centre pixel reads "object 1 (sphere) at 9" (camera 9 units from it);
+#  2. key 1 zooms to 1:1: the 320x240 picture, smaller than the area, is shown whole
+#     and centred in it (wherever the cursor is), the readout names the pixel under
+#     the cursor by that placement, and moving the cursor by N screen pixels moves the
+#     readout by exactly N picture pixels; the picture's centre pixel reads
+#     "object 1 (sphere) at 9" (camera 9 units from it);
 #  3. K keeps a snapshot; the sphere's material changes on disk (red -> blue) and the
 #     window reloads it; B shows snapshot | live: left of the split line the sphere is
 #     red (the snapshot), right of it blue (live); B again: the difference image is
@@ -79,16 +81,21 @@ xdotool mousemove "$MX" "$MY"
 wait_readout "^readout: x $EX y $EY .*plane 1 \(chess_plane\) at "
 echo "$(readout)"
 
-step "1:1 about the cursor, then exact pixel steps"
+step "1:1: the picture whole and centred, then exact pixel steps"
 xdotool key 1
 wait_message "Zoom 1:1"
 sleep 1
 shot one-to-one
-# The pixel under the cursor stays (to within the rounding onto whole screen pixels).
-R=$(readout)
-PX=$(echo "$R" | awk '{ print $3 }'); PY=$(echo "$R" | awk '{ print $5 }')
-[ $((PX - EX)) -le 1 ] && [ $((EX - PX)) -le 1 ] && [ $((PY - EY)) -le 1 ] && [ $((EY - PY)) -le 1 ] \
-    || fail "1:1 moved the pixel under the cursor from $EX,$EY to $PX,$PY"
+read -r AX AY AW AH <<< "$(region area)"
+read -r ZX ZY ZW ZH <<< "$(region image)"
+[ "$ZW $ZH" = "320 240" ] || fail "1:1 should show the picture at 320x240, it is ${ZW}x${ZH}"
+[ $((2 * ZX + ZW - 2 * AX - AW)) -le 1 ] && [ $((2 * AX + AW - 2 * ZX - ZW)) -le 1 ] &&
+    [ $((2 * ZY + ZH - 2 * AY - AH)) -le 1 ] && [ $((2 * AY + AH - 2 * ZY - ZH)) -le 1 ] ||
+    fail "1:1 should centre the picture in the area ($AX $AY $AW $AH), it is at $ZX $ZY"
+# The pixel under the cursor is where that placement puts it.
+xdotool mousemove "$((MX + 1))" "$MY"; sleep 0.2; xdotool mousemove "$MX" "$MY"
+PX=$((MX - ZX)); PY=$((MY - ZY))
+wait_readout "^readout: x $PX y $PY "
 xdotool mousemove "$((MX + 7))" "$((MY - 5))"
 wait_readout "^readout: x $((PX + 7)) y $((PY - 5)) "
 # The picture's centre pixel: the sphere, 9 units away, red.

@@ -116,8 +116,12 @@ echo "red pixels in the diagnostics list: $red"
 kept=$("$TOOL" diff "$OUT/orbit.png" "$OUT/error.png" $IMAGE)
 [ "$kept" = "0.000000" ] || fail "the image changed after a failed apply ($kept)"
 
-step "Ctrl+S writes exactly the editor text, errors and all"
+step "Ctrl+S asks first, then writes exactly the editor text, errors and all"
 xdotool key ctrl+s
+sleep 0.5
+read -r bx by <<< "$(awk '$1 == "state" && $2 == "button_save_anyway" { x = $3 + $5 / 2; y = $4 + $6 / 2 } END { print int(x), int(y) }' "$LAYOUT")"
+[ "$bx" -gt 0 ] || fail "Ctrl+S on text with errors did not ask first"
+xdotool mousemove "$bx" "$by" click 1
 sleep 0.5
 printf 'zzbad ' | cat - "$OUT/saved1.txt" | cmp -s - "$SCENE" || fail "the file is not the editor text"
 

@@ -90,6 +90,23 @@ Camera orbit(const Camera& cam, const Vec3& pivot, const Vec3& world_up, double 
     return c;
 }
 
+double scene_reach(const Camera& cam, const rt::Aabb& bounds) {
+    double reach = rt::length(cam.centre - cam.position);
+    if (bounds.empty() || !rt::finite(bounds.lo) || !rt::finite(bounds.hi)) return reach;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 corner{(k & 1 ? bounds.hi : bounds.lo).x, (k & 2 ? bounds.hi : bounds.lo).y,
+                          (k & 4 ? bounds.hi : bounds.lo).z};
+        reach = std::max(reach, rt::length(corner - cam.position));
+    }
+    return reach;
+}
+
+Vec3 clamp_pivot(const Vec3& eye, const Vec3& pivot, double reach) {
+    const double d = rt::length(pivot - eye);
+    if (!(d > reach) || !(reach > 0)) return pivot;
+    return eye + (pivot - eye) * (reach / d);
+}
+
 Vec3 pan_offset(const rt::CameraBasis& view, const Vec3& anchor, double i0, double j0, double i1, double j1) {
     double depth = rt::dot(anchor - view.origin, view.forward);
     if (!(depth > 0)) depth = 1;
@@ -102,11 +119,27 @@ Vec3 pan_offset(const rt::CameraBasis& view, const Vec3& anchor, double i0, doub
     return at_depth(i0, j0) - at_depth(i1, j1);
 }
 
-Vec3 dolly_offset(const Vec3& eye, const Vec3& target, double notches) {
-    double f = 1 - std::pow(0.8, notches);
+namespace {
+
+// The fraction of the way to the target a dolly of `notches` goes.
+double dolly_fraction(double notches) {
     // Never reach (or pass) the target: the point under the cursor stays in front.
-    f = std::min(f, 0.9);
-    return (target - eye) * f;
+    return std::min(1 - std::pow(0.8, notches), 0.9);
+}
+
+}  // namespace
+
+Vec3 dolly_offset(const Vec3& eye, const Vec3& target, double notches) {
+    return (target - eye) * dolly_fraction(notches);
+}
+
+Camera dolly(const Camera& cam, const Vec3& target, double notches) {
+    const double scale = 1 - dolly_fraction(notches);
+    Camera c = cam;
+    c.position = cam.position + dolly_offset(cam.position, target, notches);
+    c.centre = target + (cam.centre - target) * scale;
+    c.up = c.centre + (cam.up - cam.centre);
+    return c;
 }
 
 Vec3 fly_offset(const Camera& cam, const Vec3& world_up, const Vec3& local, double step) {

@@ -27,6 +27,15 @@ rt::Camera translate(const rt::Camera& cam, const rt::Vec3& offset);
 rt::Camera orbit(const rt::Camera& cam, const rt::Vec3& pivot, const rt::Vec3& world_up, double yaw,
                  double elevation);
 
+// How far from the eye the scene reaches: to the farthest corner of `bounds` (its
+// objects and lights; empty bounds count for nothing), and at least to the camera's
+// centre.
+double scene_reach(const rt::Camera& cam, const rt::Aabb& bounds);
+// An orbit pivot picked at `pivot` on a ray from `eye`, moved along that ray to at
+// most `reach` from the eye: a far point of an infinite plane would swing the eye far
+// out of the scene, while the point under the cursor still stays under it.
+rt::Vec3 clamp_pivot(const rt::Vec3& eye, const rt::Vec3& pivot, double reach);
+
 // Rig offset that moves the point `anchor` (seen at pixel (i0, j0) of `view`) to
 // pixel (i1, j1): the grabbed point follows the cursor. Exact for linear projection.
 rt::Vec3 pan_offset(const rt::CameraBasis& view, const rt::Vec3& anchor, double i0, double j0, double i1,
@@ -36,6 +45,12 @@ rt::Vec3 pan_offset(const rt::CameraBasis& view, const rt::Vec3& anchor, double 
 // 1 - 0.8^notches (negative notches move away). Moving along the ray through the
 // cursor keeps the point under the cursor in place.
 rt::Vec3 dolly_offset(const rt::Vec3& eye, const rt::Vec3& target, double notches);
+
+// The wheel's dolly: the eye moves by dolly_offset() and the rig is scaled about
+// `target` by the same factor, so the look-at point comes along and the distance the
+// camera panel shows ("dist") shrinks or grows with the step; the view direction and
+// the point under the cursor stay.
+rt::Camera dolly(const rt::Camera& cam, const rt::Vec3& target, double notches);
 
 // Fly step: `local` is (right, up, forward) in units of `step`; up is world_up.
 rt::Vec3 fly_offset(const rt::Camera& cam, const rt::Vec3& world_up, const rt::Vec3& local, double step);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rtview {
 
@@ -53,6 +54,19 @@ std::size_t count_clipped(const rt::Image& img, double gain) {
     for (std::size_t i = 0; i < pixels; ++i)
         n += is_clipped(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2], gain);
     return n;
+}
+
+std::string display_badge(const DisplaySettings& settings) {
+    std::string s;
+    auto add = [&s](const std::string& part) { s += (s.empty() ? "" : "  ") + part; };
+    if (settings.exposure != 0) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "exposure %+.1f", settings.exposure);
+        add(buf);
+    }
+    if (settings.curve == ToneCurve::Soft) add("soft curve");
+    if (settings.show_clipped) add("clipped marked");
+    return s;
 }
 
 }  // namespace rtview

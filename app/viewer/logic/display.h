@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "film.h"
@@ -52,6 +53,10 @@ void map_to_rgba8(const rt::Image& img, const DisplaySettings& settings, const s
 inline void map_to_rgba8(const rt::Image& img, const DisplaySettings& settings, std::vector<std::uint8_t>& rgba) {
     map_to_rgba8(img, settings, {0, 0, img.width, img.height}, rgba);
 }
+
+// What the picture shows differently from the saved image, for a badge on it:
+// "exposure +2.0  soft curve  clipped marked"; empty when the display is neutral.
+std::string display_badge(const DisplaySettings& settings);
 
 // Counts of the pixels whose channels exceed 1 after the gain (for the status line).
 std::size_t count_clipped(const rt::Image& img, double gain);

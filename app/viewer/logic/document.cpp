@@ -132,10 +132,22 @@ void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::siz
 // Beyond this many changed items an undo step parses the text again instead.
 constexpr std::size_t kMaxStepItems = 4096;
 
+constexpr const char* kTypingName = "Typing in the scene text";
+
+// "Edit object 3", "Edit the scene camera": a step named by what it changed.
+std::string changed_name(std::size_t objects, std::size_t planes, std::size_t lights, bool camera, bool wide,
+                         std::size_t first) {
+    const std::size_t items = objects + planes + lights;
+    if (wide || items > 1) return "Edit the scene";
+    if (items == 0) return camera ? "Edit the scene camera" : "Edit the scene";
+    const char* kind = objects ? "object " : planes ? "plane " : "light ";
+    return std::string("Edit ") + kind + std::to_string(first + 1);
+}
+
 }  // namespace
 
 std::size_t DocStep::bytes() const {
-    std::size_t b = sizeof(DocStep);
+    std::size_t b = sizeof(DocStep) + name.size();
     for (const TextSplice& s : editor) b += sizeof(TextSplice) + s.before.size() + s.after.size();
     if (applied_before) b += applied_before->size();
     if (applied_after) b += applied_after->size();
@@ -157,6 +169,8 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
     history_.clear();
     pending_ = false;
     saved_ = {};
+    pending_name_.clear();
+    last_step_name_.clear();
     typing_base_.reset();
     layout_.reset();
     conflict_ = false;
@@ -224,6 +238,7 @@ void Document::flush_typing() {
     typing_base_.reset();
     if (base == editor_) return;
     DocStep step;
+    step.name = kTypingName;
     step.editor.push_back(diff_texts(base, editor_));
     step.keep_applied = true;
     step.has_scene_before = step.has_scene_after = has_scene_;
@@ -241,9 +256,24 @@ void Document::normalize_applied() {
 void Document::open_edit() {
     if (!pending_) {
         saved_ = {};
+        pending_name_.clear();
         pending_ = true;
     }
     ++scene_version_;
+}
+
+void Document::name_edit(const std::string& name) {
+    if (pending_ && pending_name_.empty()) pending_name_ = name;
+}
+
+std::string Document::pending_name() const {
+    if (!pending_name_.empty()) return pending_name_;
+    const std::size_t first = !saved_.objects.empty() ? saved_.objects[0].first
+                              : !saved_.planes.empty() ? saved_.planes[0].first
+                              : !saved_.lights.empty() ? saved_.lights[0].first
+                                                       : 0;
+    return changed_name(saved_.objects.size(), saved_.planes.size(), saved_.lights.size(), saved_.camera.has_value(),
+                        saved_.whole.has_value(), first);
 }
 
 rt::Object& Document::edit_object(std::size_t i) {
@@ -301,6 +331,7 @@ void Document::cancel_edit() {
     pending_ = false;
     scene_ = scene_before_edit();
     saved_ = {};
+    pending_name_.clear();
     ++scene_version_;
     ++content_version_;
 }
@@ -309,6 +340,7 @@ bool Document::set_camera(const rt::Camera& camera) {
     if (!has_scene_ || camera == scene_.camera) return false;
     commit();
     edit_camera() = camera;
+    name_edit("Set the scene camera from the view");
     commit();
     return true;
 }
@@ -318,6 +350,8 @@ void Document::commit() {
     flush_typing();
     pending_ = false;
     DocStep step;
+    step.name = std::move(pending_name_);
+    pending_name_.clear();
     step.has_scene_before = step.has_scene_after = has_scene_;
     step.behind_before = behind_;
     bool wide = false;
@@ -367,8 +401,21 @@ void Document::commit() {
         saved_ = {};
         return;
     }
+    if (step.name.empty()) {
+        const std::size_t first = !step.objects_after.empty() ? step.objects_after[0].first
+                                  : !step.planes_after.empty() ? step.planes_after[0].first
+                                  : !step.lights_after.empty() ? step.lights_after[0].first
+                                                               : 0;
+        step.name = changed_name(step.objects_after.size(), step.planes_after.size(), step.lights_after.size(),
+                                 step.camera_before.has_value(), wide, first);
+    }
     normalize_applied();
-    if (applied_ || wide || !commit_in_place(step)) commit_generic(step);
+    if ((applied_ || wide || !commit_in_place(step)) && !commit_generic(step)) {
+        saved_ = {};
+        refusal_ = "The edit was undone: it cannot be written into the scene text's unapplied changes "
+                   "(apply or revert them first)";
+        return;
+    }
     saved_ = {};
     step.behind_after = behind_;
     if (!step.editor.empty()) ++text_version_;
@@ -451,8 +498,9 @@ bool Document::commit_in_place(DocStep& step) {
 }
 
 // Drafts and wide edits: the text is synchronised the careful way (this copies the
-// scene once; panels do not come here for documents without a draft).
-void Document::commit_generic(DocStep& step) {
+// scene once; panels do not come here for documents without a draft). False, with
+// the edit undone, when there is a draft the edit cannot be written into in full.
+bool Document::commit_generic(DocStep& step) {
     rt::Scene before = scene_before_edit_from(step);
     const std::string old_applied = applied_text();
     std::string new_applied = has_scene_ ? sync_scene_text(old_applied, before, scene_) : rt::write_scene(scene_);
@@ -461,27 +509,70 @@ void Document::commit_generic(DocStep& step) {
         TextSplice s = diff_texts(editor_, new_applied);
         editor_ = std::move(new_applied);
         if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
-        return;
+        return true;
     }
     // The user has an unapplied draft: carry the edit into it only where that is
-    // unambiguous (the draft parses and has the same items); never overwrite it.
+    // unambiguous (the draft parses and has the same items); never overwrite it. An
+    // edit that cannot be carried is not made: the text the user saves and the scene
+    // the panels show would disagree.
     rt::ParseResult draft = rt::parse_scene(editor_);
-    bool carried = false;
+    std::optional<std::string> patched;
     if (draft.ok()) {
         bool complete = false;
         rt::Scene target = carry_edit(draft.scene, before, scene_, &complete);
-        if (auto patched = patch_scene_text(editor_, draft.scene, target)) {
-            TextSplice s = diff_texts(editor_, *patched);
-            editor_ = std::move(*patched);
-            if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
-            carried = complete;
-        }
+        if (complete) patched = patch_scene_text(editor_, draft.scene, target);
     }
-    behind_ = behind_ || !carried;
+    if (!patched) {
+        scene_ = std::move(before);
+        ++scene_version_;
+        ++content_version_;
+        return false;
+    }
+    TextSplice s = diff_texts(editor_, *patched);
+    editor_ = std::move(*patched);
+    if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
     step.applied_before = *applied_;
     applied_ = std::move(new_applied);
     normalize_applied();
     step.applied_after = applied_;
+    return true;
+}
+
+std::string Document::edit_blocker() const {
+    if (!applied_ || !has_scene_) return {};
+    const std::uint64_t key = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    if (key != blocker_key_) {
+        blocker_key_ = key;
+        blocker_.clear();
+        if (*applied_ != editor_) {
+            const rt::ParseResult draft = rt::parse_scene(editor_);
+            if (!draft.ok())
+                blocker_ = "The scene text has unapplied changes with errors: fix them (Ctrl+Enter applies) "
+                           "or revert them before editing here";
+        }
+    }
+    return blocker_;
+}
+
+std::optional<std::string> Document::save_problem() const {
+    if (has_scene_ && !applied_ && !behind_) return std::nullopt;  // the text is the scene's own
+    if (has_scene_ && applied_ && *applied_ == editor_ && !behind_) return std::nullopt;
+    const rt::ParseResult r = rt::parse_scene(editor_);
+    for (const rt::Diagnostic& d : r.diagnostics)
+        if (d.is_error())
+            return "line " + std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message;
+    return std::nullopt;
+}
+
+bool Document::apply_parsing_draft() {
+    if (!applied_ || *applied_ == editor_ || !rt::parse_scene(editor_).ok()) return false;
+    return apply_text();
+}
+
+std::string Document::take_refusal() {
+    std::string r = std::move(refusal_);
+    refusal_.clear();
+    return r;
 }
 
 rt::Scene Document::scene_before_edit_from(const DocStep& step) const {
@@ -504,8 +595,9 @@ void Document::record(DocStep step) {
 // Whole-text changes
 
 void Document::replace_state(const std::string* editor, std::optional<std::string> applied,
-                             std::optional<rt::Scene> scene, bool behind) {
+                             std::optional<rt::Scene> scene, bool behind, std::string name) {
     DocStep step;
+    step.name = std::move(name);
     // The state before, as it was: the applied text is "the editor text" only if it
     // was equal to the editor text before that changes.
     normalize_applied();
@@ -601,11 +693,11 @@ bool Document::apply_text() {
     if (!r.ok()) return false;
     normalize_applied();
     if (has_scene_ && !applied_ && !behind_ && r.scene == scene_) return true;
-    replace_state(nullptr, std::nullopt, std::move(r.scene), false);
+    replace_state(nullptr, std::nullopt, std::move(r.scene), false, "Apply the scene text");
     return true;
 }
 
-bool Document::replace_text(std::size_t pos, std::size_t length, const std::string& text) {
+bool Document::replace_text(std::size_t pos, std::size_t length, const std::string& text, const std::string& name) {
     commit();
     flush_typing();  // text typed since the last step is a step of its own, first
     normalize_applied();
@@ -615,7 +707,7 @@ bool Document::replace_text(std::size_t pos, std::size_t length, const std::stri
     rt::ParseResult r = rt::parse_scene(edited);
     if (!r.ok()) return false;
     diagnostics_ = r.diagnostics;
-    replace_state(&edited, std::nullopt, std::move(r.scene), false);
+    replace_state(&edited, std::nullopt, std::move(r.scene), false, name);
     return true;
 }
 
@@ -626,7 +718,8 @@ void Document::revert_text() {
     flush_typing();
     std::string target = has_scene_ ? applied_text() : saved_broken_text_;
     if (editor_ == target && !behind_) return;
-    replace_state(&target, has_scene_ ? std::nullopt : std::optional<std::string>(std::string()), std::nullopt, false);
+    replace_state(&target, has_scene_ ? std::nullopt : std::optional<std::string>(std::string()), std::nullopt, false,
+                  "Revert the scene text");
     diagnostics_.clear();
 }
 
@@ -635,7 +728,7 @@ void Document::restore_draft(const std::string& text) {
     flush_typing();
     if (editor_ == text) return;
     std::string applied = applied_text();
-    replace_state(&text, std::move(applied), std::nullopt, behind_);
+    replace_state(&text, std::move(applied), std::nullopt, behind_, "Restore the recovered text");
     check_text();
 }
 
@@ -645,6 +738,7 @@ bool Document::undo() {
     const DocStep* s = history_.undo();
     if (!s) return false;
     apply_step(*s, false);
+    last_step_name_ = s->name;
     return true;
 }
 
@@ -654,7 +748,33 @@ bool Document::redo() {
     const DocStep* s = history_.redo();
     if (!s) return false;
     apply_step(*s, true);
+    last_step_name_ = s->name;
     return true;
+}
+
+std::vector<std::string> Document::undo_names(std::size_t max) const {
+    std::vector<std::string> out;
+    // As undo() goes: a pending edit is committed first (after the typing before it).
+    if (pending_ && out.size() < max) out.push_back(pending_name());
+    if (typing_base_ && *typing_base_ != editor_ && out.size() < max) out.push_back(kTypingName);
+    for (std::size_t k = 0; out.size() < max; ++k) {
+        const DocStep* s = history_.peek_undo(k);
+        if (!s) break;
+        out.push_back(s->name);
+    }
+    return out;
+}
+
+std::vector<std::string> Document::redo_names(std::size_t max) const {
+    // A pending edit or typing becomes a step of its own, which ends the redo branch.
+    if (pending_ || (typing_base_ && *typing_base_ != editor_)) return {};
+    std::vector<std::string> out;
+    for (std::size_t k = 0; k < max; ++k) {
+        const DocStep* s = history_.peek_redo(k);
+        if (!s) break;
+        out.push_back(s->name);
+    }
+    return out;
 }
 
 // ---------------------------------------------------------------------------------
@@ -699,11 +819,11 @@ void Document::reload_text(const std::string& text) {
     rt::ParseResult r = rt::parse_scene(text);
     diagnostics_ = r.diagnostics;
     if (r.ok()) {
-        replace_state(&text, std::nullopt, std::move(r.scene), false);
+        replace_state(&text, std::nullopt, std::move(r.scene), false, "Reload from disk");
     } else {
         // Show the new text with its errors; the last good scene keeps rendering.
         std::string applied = has_scene_ ? applied_text() : std::string();
-        replace_state(&text, std::move(applied), std::nullopt, behind_);
+        replace_state(&text, std::move(applied), std::nullopt, behind_, "Reload from disk");
     }
     mark_saved();
 }

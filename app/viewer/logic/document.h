@@ -41,6 +41,7 @@ struct TextSplice {
 
 // One undo step: what an edit changed, both ways.
 struct DocStep {
+    std::string name;  // what the edit did, for the user: "Move sphere 3"
     std::vector<TextSplice> editor;  // applied in order going forward, in reverse going back
     // The applied text when it differed from the editor text (a draft), before and after.
     std::optional<std::string> applied_before, applied_after;
@@ -104,6 +105,13 @@ public:
     void commit();
     // Drops a pending edit, restoring the scene as it was before it.
     void cancel_edit();
+    // Why panel and handle edits cannot be made now (empty: they can): the editor
+    // holds unapplied changes that do not parse, so an edit could not be written into
+    // the text that Save writes. (Parses the draft once per change of the text.)
+    std::string edit_blocker() const;
+    // Why a commit() just now was not made (an edit that could not be carried into
+    // the draft: the scene went back), once; empty if none.
+    std::string take_refusal();
     // Makes `camera` the scene camera ("Set scene camera from view"): one undo step
     // that rewrites only the camera block of the text. False if nothing changed.
     bool set_camera(const rt::Camera& camera);
@@ -133,9 +141,10 @@ public:
     void revert_text();
     // A structural edit of the text (add, duplicate, delete: scene_edits.h): replaces
     // `length` bytes at `pos` with `text` and applies the result, as one undo step
-    // that stores the replacement. Only when the editor text is the scene's (no
+    // (called `name`) that stores the replacement. Only when the editor text is the scene's (no
     // draft) and the result parses; else false and nothing changes.
-    bool replace_text(std::size_t pos, std::size_t length, const std::string& text);
+    bool replace_text(std::size_t pos, std::size_t length, const std::string& text,
+                      const std::string& name = "Edit the scene text");
     // Puts `text` in the editor as an unapplied draft (undoable): crash recovery.
     void restore_draft(const std::string& text);
     // Re-parses the draft to refresh diagnostics() without applying it (live check).
@@ -151,8 +160,23 @@ public:
     void set_undo_budget(std::size_t bytes) { history_.set_budget(bytes); }
     bool undo();
     bool redo();
+    // Names the pending edit for the undo history ("Move sphere 3", "Edit radius of
+    // sphere 1"); the first name given to an edit stays. An edit left unnamed is named
+    // by what it changed ("Edit object 3", "Edit the scene camera").
+    void name_edit(const std::string& name);
+    // The names of up to `max` steps that undo() (redo()) would take back (do again) in
+    // turn, the next first: a pending edit and text typed since the last step count.
+    std::vector<std::string> undo_names(std::size_t max) const;
+    std::vector<std::string> redo_names(std::size_t max) const;
+    // The step the last successful undo() or redo() took back or did again.
+    const std::string& last_step_name() const { return last_step_name_; }
 
     // --- saving ----------------------------------------------------------------
+    // Save writes the editor text. A draft that parses is applied first, so that the
+    // file and the picture agree (true if it was); one that does not parse makes
+    // save_problem() say why to ask the user before saving it.
+    bool apply_parsing_draft();
+    std::optional<std::string> save_problem() const;
     // Writes the editor text atomically; success, or why not.
     rt::Status save();
     rt::Status save_as(const std::string& path);
@@ -179,7 +203,7 @@ private:
     rt::Scene scene_before_edit() const;  // (a copy: only for the slow paths)
     rt::Scene scene_before_edit_from(const DocStep& step) const;
     bool commit_in_place(DocStep& step);
-    void commit_generic(DocStep& step);
+    bool commit_generic(DocStep& step);
     void record(DocStep step);
     // Text typed into the editor since the last step becomes a step of its own
     // (every step's splices hold for the text exactly as the previous step left it).
@@ -187,7 +211,9 @@ private:
     // Replaces the texts and scene as one undoable step (apply, revert, reload...).
     // `editor` null: the editor text stays; `scene` empty: the scene stays.
     void replace_state(const std::string* editor, std::optional<std::string> applied, std::optional<rt::Scene> scene,
-                       bool behind);
+                       bool behind, std::string name);
+    // The name of the pending edit: as given to name_edit(), else from what it touched.
+    std::string pending_name() const;
     void apply_step(const DocStep& s, bool forward);
     void normalize_applied();
     void mark_saved();
@@ -215,10 +241,15 @@ private:
     std::uint64_t scene_version_ = 1, content_version_ = 1, text_version_ = 1, typed_ = 0;
     bool pending_ = false;
     Saved saved_;
+    std::string pending_name_;    // name_edit() of the pending edit
+    std::string last_step_name_;  // of the last undo() or redo()
     std::optional<SceneLayout> layout_;  // of editor_ when layout_key_ matches
     std::uint64_t layout_key_ = 0;
     bool conflict_ = false;
     std::string conflict_text_;
+    std::string refusal_;
+    mutable std::string blocker_;  // edit_blocker() for blocker_key_
+    mutable std::uint64_t blocker_key_ = ~std::uint64_t(0);
 };
 
 // FNV-1a of a text (the saved file's identity for modified()).

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "adaptive.h"
 #include "image_io.h"
 
 namespace rtview {
@@ -13,15 +14,17 @@ namespace {
 rt::Status usage(std::string message) { return rt::Status::error(std::move(message), rt::kExitUsage); }
 }  // namespace
 
-rt::RenderSettings final_render_settings(int width, int height, int samples, double time_limit) {
+rt::RenderSettings final_render_settings(int width, int height, int samples, double time_limit, double aa_threshold) {
     rt::RenderSettings s;
     s.width = width;
     s.height = height;
     s.coarse = false;  // nobody watches a preview of the final render
     s.mirror = false;
     s.time_limit = time_limit;
-    // A time limit with no sample count means "as good as fits in the time".
-    s.max_samples = samples > 0 ? samples : (time_limit > 0 ? 65536 : 1);
+    // A time limit with no sample count means "as good as fits in the time"; a
+    // threshold alone, at most kDefaultAaMaxSamples.
+    s.max_samples = samples > 0 ? samples : time_limit > 0 ? 65536 : aa_threshold >= 0 ? rt::kDefaultAaMaxSamples : 1;
+    s.aa_threshold = aa_threshold;
     // Without a time limit one pass holds every sample, so the pass fraction is the
     // whole render's progress.
     if (time_limit <= 0) s.samples_per_pass = s.max_samples;
@@ -33,13 +36,13 @@ FinalRender::FinalRender(int threads) : renderer_(threads) {}
 FinalRender::~FinalRender() { renderer_.cancel(); }
 
 rt::Status FinalRender::start(const rt::Scene& scene, const std::string& out_path, int samples, double time_limit,
-                              const rt::World* previous) {
+                              double aa_threshold, const rt::World* previous) {
     cancel();
     if (rt::format_from_path(out_path) == rt::ImageFormat::Unknown)
         return usage("'" + out_path + "': the name must end in .png or .ppm");
     if (scene.width < 1 || scene.height < 1) return usage("the scene has no picture size");
     std::shared_ptr<const rt::World> world = rt::compile_world(scene, previous);
-    settings_ = final_render_settings(scene.width, scene.height, samples, time_limit);
+    settings_ = final_render_settings(scene.width, scene.height, samples, time_limit, aa_threshold);
     width_ = scene.width;
     height_ = scene.height;
     out_ = out_path;
@@ -60,8 +63,7 @@ double FinalRender::fraction() const {
     if (!active_) return 0;
     rt::RenderProgress p = renderer_.progress();
     if (p.done) return 1;
-    double n = settings_.max_samples;
-    double f = (p.samples + p.pass_fraction * (n - p.samples)) / n;
+    double f = rt::progress_fraction(p, settings_.max_samples);
     if (settings_.time_limit > 0) f = std::max(f, p.elapsed / settings_.time_limit);
     return std::clamp(f, 0.0, 1.0);
 }

@@ -15,8 +15,10 @@
 namespace rtview {
 
 // What `raytracer` asks of the renderer for `--samples samples --time-limit
-// time_limit` (samples 0: not given) on a scene of width x height.
-rt::RenderSettings final_render_settings(int width, int height, int samples, double time_limit);
+// time_limit --aa-threshold aa_threshold` (samples 0, aa_threshold < 0: not given) on a
+// scene of width x height.
+rt::RenderSettings final_render_settings(int width, int height, int samples, double time_limit,
+                                         double aa_threshold = -1);
 
 class FinalRender {
 public:
@@ -25,11 +27,11 @@ public:
     FinalRender(const FinalRender&) = delete;
     FinalRender& operator=(const FinalRender&) = delete;
 
-    // Starts rendering `scene` (its own camera and picture size) for `out_path`.
-    // `previous`, if it has the same geometry, lends its BVH. On an error (a bad
-    // output name) starts nothing.
+    // Starts rendering `scene` (its own camera and picture size) for `out_path`, with
+    // adaptive anti-aliasing if aa_threshold >= 0. `previous`, if it has the same
+    // geometry, lends its BVH. On an error (a bad output name) starts nothing.
     rt::Status start(const rt::Scene& scene, const std::string& out_path, int samples, double time_limit,
-                     const rt::World* previous = nullptr);
+                     double aa_threshold, const rt::World* previous = nullptr);
     void cancel();
     bool active() const { return active_; }
     bool done() const;

@@ -18,14 +18,26 @@ ViewTransform fitted_transform(const Rect& area, int pic_w, int pic_h) {
     return t;
 }
 
+// Where the picture's leading edge goes along one axis of the area [a0, a0 + size):
+// centred if its `length` fits, else `wanted` moved just enough to leave no gap (the
+// picture never shows the background beside it while part of it is cut off).
+double place(double a0, double size, double length, double wanted) {
+    if (length <= size) return a0 + (size - length) / 2;
+    return std::clamp(wanted, a0 + size - length, a0);
+}
+
 }  // namespace
 
-ViewTransform ImageView::transform(const Rect& area, int pic_w, int pic_h) const {
+ViewTransform ImageView::transform(const Rect& area, int pic_w, int pic_h, double fb_scale) const {
     if (fit_ || pic_w < 1 || pic_h < 1) return fitted_transform(area, pic_w, pic_h);
     ViewTransform t;
     t.sx = t.sy = scale_;
-    t.x0 = area.x + area.w / 2 - cx_ * scale_;
-    t.y0 = area.y + area.h / 2 - cy_ * scale_;
+    t.x0 = place(area.x, area.w, pic_w * scale_, area.x + area.w / 2 - cx_ * scale_);
+    t.y0 = place(area.y, area.h, pic_h * scale_, area.y + area.h / 2 - cy_ * scale_);
+    if (fb_scale > 0) {
+        t.x0 = std::round(t.x0 * fb_scale) / fb_scale;
+        t.y0 = std::round(t.y0 * fb_scale) / fb_scale;
+    }
     return t;
 }
 
@@ -37,9 +49,11 @@ double ImageView::ratio(const Rect& area, int pic_w, int pic_h, double fb_scale)
 void ImageView::set_from(const Rect& area, int pic_w, int pic_h, const ViewTransform& t) {
     fit_ = false;
     scale_ = t.sx;
-    // The area's centre stays on the picture, so it can never be panned out of sight.
-    cx_ = std::clamp((area.x + area.w / 2 - t.x0) / t.sx, 0.0, double(pic_w));
-    cy_ = std::clamp((area.y + area.h / 2 - t.y0) / t.sy, 0.0, double(pic_h));
+    // Kept as placed (a pan past the edge is not remembered, so panning back moves
+    // the picture at once).
+    const double x0 = place(area.x, area.w, pic_w * scale_, t.x0), y0 = place(area.y, area.h, pic_h * scale_, t.y0);
+    cx_ = (area.x + area.w / 2 - x0) / scale_;
+    cy_ = (area.y + area.h / 2 - y0) / scale_;
 }
 
 void ImageView::zoom_about(const Rect& area, int pic_w, int pic_h, double fb_scale, double px, double py,

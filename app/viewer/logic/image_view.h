@@ -31,8 +31,10 @@ public:
     bool fitted() const { return fit_; }
     // The picture letterboxed in the area (the default; follows window resizes).
     void fit() { fit_ = true; }
-    // The placement for this frame.
-    ViewTransform transform(const Rect& area, int pic_w, int pic_h) const;
+    // The placement for this frame. Zoomed, along each axis the picture is centred
+    // where it fits in the area, and otherwise leaves no gap at either side; with
+    // `fb_scale` > 0 its corner is on a whole framebuffer pixel (texels not split).
+    ViewTransform transform(const Rect& area, int pic_w, int pic_h, double fb_scale = 0) const;
     // Framebuffer pixels per picture pixel (1 at 1:1).
     double ratio(const Rect& area, int pic_w, int pic_h, double fb_scale) const;
 
@@ -44,7 +46,7 @@ public:
     // One picture pixel per framebuffer pixel, keeping the picture point under
     // (px, py) there; on whole framebuffer pixels so that texels are not split.
     void one_to_one(const Rect& area, int pic_w, int pic_h, double fb_scale, double px, double py);
-    // Moves the picture by (dx, dy) window units.
+    // Moves the picture by (dx, dy) window units, as far as its edges allow.
     void pan(const Rect& area, int pic_w, int pic_h, double dx, double dy);
 
 private:

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <utility>
 
+#include "scene_lexer.h"
 #include "document.h"
 #include "scene_writer.h"
 
@@ -202,6 +203,25 @@ FieldResult assign(const sc::Block<T>& b, T& item, const Field& f, const FieldVa
 
 }  // namespace
 
+rt::Status parse_typed_number(std::string_view text, double& v) {
+    const std::size_t b = text.find_first_not_of(" \t"), e = text.find_last_not_of(" \t");
+    const std::string_view t = b == std::string_view::npos ? std::string_view() : text.substr(b, e - b + 1);
+    if (t.empty()) return refused("expected a number, got nothing");
+    auto quoted = [](std::string_view s) {
+        // A typed text may be anything: shown short, and printable.
+        std::string q;
+        for (char c : s.substr(0, 40)) q += (c >= 32 && c < 127) ? c : '?';
+        return "'" + q + (s.size() > 40 ? "...'" : "'");
+    };
+    if (t.size() > rt::Limits::max_token_length || !rt::is_number_syntax(t))
+        return refused("expected a number, got " + quoted(t));
+    const double d = rt::number_value(t);
+    if (!std::isfinite(d) || std::fabs(d) > 1e15)
+        return refused("number " + quoted(t) + " is out of range (magnitude at most 1e15)");
+    v = d;
+    return {};
+}
+
 rt::Status check_number(double v) {
     // As the parser words it for a token it cannot take as a number.
     constexpr double kMaxMagnitude = 1e15;
@@ -219,9 +239,21 @@ const char* item_block_name(const rt::Scene& scene, const ItemRef& ref) {
     return name;
 }
 
+std::string item_label(const rt::Scene& scene, const ItemRef& ref) {
+    const char* block = item_block_name(scene, ref);
+    if (!block) return {};
+    std::string where;
+    for (int k : ref.path) where += k == 0 ? "left " : "right ";
+    if (!ref.path.empty()) return where + block + " of object " + std::to_string(ref.item.index + 1);
+    return std::string(block) + " " + std::to_string(ref.item.index + 1);
+}
+
 std::vector<Field> item_fields(const rt::Scene& scene, const ItemRef& ref) {
     std::vector<Field> out;
     visit_item(const_cast<rt::Scene&>(scene), ref, [&](const auto& b, const auto&) { out = fields_of(b); });
+    if (!ref.path.empty())
+        out.erase(std::remove_if(out.begin(), out.end(), [](const Field& f) { return f.kind == sc::Kind::Material; }),
+                  out.end());
     return out;
 }
 
@@ -270,6 +302,7 @@ FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const F
             if (!(one.lights[0] == doc.scene().lights[i])) doc.edit_light(i) = std::move(one.lights[0]);
             break;
     }
+    if (doc.editing()) doc.name_edit("Edit " + f.label + " of " + item_label(doc.scene(), ref));
     return r;
 }
 

@@ -50,8 +50,13 @@ struct FieldValue {
 // The block the item is written as ("sphere", "chess_plane", "lamp"), or null if `ref`
 // names nothing in `scene`.
 const char* item_block_name(const rt::Scene& scene, const ItemRef& ref);
+// The item as the undo history names it: its block and its number in the outline
+// ("sphere 3", "lamp 1"; an operand: "left sphere of object 4"), "" for nothing.
+std::string item_label(const rt::Scene& scene, const ItemRef& ref);
 // The item's keys: lead keys (a CSG's `type`), the others in schema order, materials
-// last. Empty if `ref` names nothing.
+// last. A CSG operand has no material field: only the whole CSG's material is
+// rendered, so one there would change the text and nothing in the picture. Empty if
+// `ref` names nothing.
 std::vector<Field> item_fields(const rt::Scene& scene, const ItemRef& ref);
 std::optional<FieldValue> field_value(const rt::Scene& scene, const ItemRef& ref, const Field& f);
 
@@ -67,11 +72,14 @@ struct FieldResult {
 // ends, plane points on one line ... refuse it; a warning lets it through).
 FieldResult set_field(rt::Scene& scene, const ItemRef& ref, const Field& f, const FieldValue& v);
 // The same, as a pending edit of the document (Document::commit ends it: a whole slider
-// drag is one undo step and one rewrite of the item's block). Nothing is touched when
-// the value is refused or unchanged.
+// drag is one undo step and one rewrite of the item's block), named "Edit radius of
+// sphere 1". Nothing is touched when the value is refused or unchanged.
 FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const FieldValue& v);
 
 // A number outside the format's range fails, with the parser's message for it.
 rt::Status check_number(double v);
+// A number typed into a field, read as the parser reads a number token (spaces
+// around it allowed): the whole text or nothing, with the parser's message.
+rt::Status parse_typed_number(std::string_view text, double& v);
 
 }  // namespace rtview

@@ -32,14 +32,22 @@ namespace {
 rt::Status read_with_progress(const std::string& path, std::string& out, std::atomic<bool>& cancel,
                               const std::function<void(std::uint64_t, std::uint64_t)>& report) {
     auto fail = [](std::string why) { return rt::Status::error(std::move(why), rt::kExitUsage); };
-    int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // Not blocking on open: a FIFO with no writer would hold the loader (and Cancel)
+    // for ever. Only regular files are scenes here: a FIFO, a device (/dev/zero) or a
+    // folder gets a message at once and the current scene stays.
+    int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0) return fail(std::strerror(errno));
     struct stat st {};
-    if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
-        int e = S_ISDIR(st.st_mode) ? EISDIR : errno;
+    if (::fstat(fd, &st) != 0) {
+        const int e = errno;
         ::close(fd);
         return fail(std::strerror(e));
     }
+    if (!S_ISREG(st.st_mode)) {
+        ::close(fd);
+        return fail(S_ISDIR(st.st_mode) ? std::strerror(EISDIR) : "not a regular file (a pipe, a device or a socket)");
+    }
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
     const std::size_t max_bytes = rt::Limits::max_file_size;
     std::uint64_t total = S_ISREG(st.st_mode) ? std::uint64_t(st.st_size) : 0;
     if (total > max_bytes) {

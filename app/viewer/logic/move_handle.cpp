@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -115,6 +116,42 @@ HandlePart hit_handle(const HandleShape& h, double x, double y, double tolerance
     return best;
 }
 
+std::vector<LightMarker> light_markers(const rt::Scene& scene, const rt::World* world, const ScreenView& view,
+                                       const Rect& image, std::size_t max) {
+    std::vector<std::pair<double, LightMarker>> found;  // (distance, marker)
+    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+        const rt::Light& l = scene.lights[i];
+        if (l.lamp && l.size > 0) continue;  // its glow shows it, and picking finds it
+        std::optional<ScreenPoint> p = view.project(l.position);
+        if (!p || !image.contains(p->x, p->y)) continue;
+        const rt::Vec3 to = l.position - view.eye();
+        const double d = rt::length(to);
+        if (world && d > 0) {
+            // Hidden when the view's ray toward it meets a surface first.
+            rt::PickResult r = rt::pick(*world, rt::Ray{view.eye(), to / d});
+            if (r.hit && r.light != int(i) && r.t < d * (1 - 1e-9)) continue;
+        }
+        found.push_back({d, LightMarker{int(i), *p}});
+    }
+    std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<LightMarker> out;
+    for (std::size_t k = 0; k < found.size() && k < max; ++k) out.push_back(found[k].second);
+    return out;
+}
+
+int light_at(const std::vector<LightMarker>& markers, double x, double y, double radius) {
+    int best = -1;
+    double best_d = radius;
+    for (const LightMarker& m : markers) {
+        const double d = std::hypot(x - m.at.x, y - m.at.y);
+        if (d <= best_d) {
+            best_d = d;
+            best = m.light;
+        }
+    }
+    return best;
+}
+
 double snap_step(double scene_extent) {
     double v = scene_extent / 50;
     if (!(v > 0) || !std::isfinite(v)) return 1;
@@ -177,8 +214,8 @@ rt::Vec3 MoveDrag::delta(const ScreenView& view, double x, double y, double snap
     return d;
 }
 
-std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& item) {
-    if (item.index < 0) return std::nullopt;
+std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& item, const std::vector<int>& path) {
+    if (item.index < 0 || (!path.empty() && item.kind != SceneItem::Kind::Object)) return std::nullopt;
     std::size_t i = std::size_t(item.index);
     switch (item.kind) {
         case SceneItem::Kind::Light:
@@ -189,11 +226,13 @@ std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& ite
             return scene.planes[i].point[0];
         case SceneItem::Kind::Object: {
             if (i >= scene.objects.size()) return std::nullopt;
-            const rt::Shape& s = scene.objects[i].shape;
+            const rt::Object* o = operand_of(scene.objects[i], path);
+            if (!o) return std::nullopt;
+            const rt::Shape& s = o->shape;
             if (const auto* sp = std::get_if<rt::Sphere>(&s)) return sp->position;
             if (const auto* t = std::get_if<rt::Torus>(&s)) return t->position;
             rt::Scene one;
-            one.objects.assign(1, scene.objects[i]);
+            one.objects.assign(1, *o);
             rt::Aabb b = rt::build_geometry(one, false).object_bounds[0];
             if (b.empty()) return std::nullopt;
             return b.centre();

@@ -6,10 +6,12 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "scene.h"
 #include "scene_edits.h"
 #include "viewport.h"
+#include "world.h"
 
 namespace rtview {
 
@@ -55,6 +57,21 @@ HandleShape handle_shape(const ScreenView& view, const rt::Vec3& anchor, double 
 // nearest arrow.
 HandlePart hit_handle(const HandleShape& h, double x, double y, double tolerance);
 
+// A light as the picture marks it: a light that has no glow to be seen by (a
+// spotlight, a lamp of size 0) gets a marker where it is, so that it can be found and
+// clicked in the picture.
+struct LightMarker {
+    int light = -1;  // index into Scene::lights
+    ScreenPoint at;
+};
+// The markers of the scene's glowless lights that are in front of the view, inside
+// `image` and not hidden behind a surface (`world` may be null: nothing hides them);
+// at most `max` of them, the nearest first.
+std::vector<LightMarker> light_markers(const rt::Scene& scene, const rt::World* world, const ScreenView& view,
+                                       const Rect& image, std::size_t max);
+// The light whose marker lies within `radius` of (x, y) (the nearest), or -1.
+int light_at(const std::vector<LightMarker>& markers, double x, double y, double radius);
+
 // A grid step for snapping: a round number (1, 2 or 5 times a power of ten) near a
 // fiftieth of the scene's size.
 double snap_step(double scene_extent);
@@ -80,8 +97,9 @@ private:
     bool ok_ = false;
 };
 
-// The point a handle sits on for an item: a sphere's or torus's centre, a light's
-// position, a plane's first point, else the centre of the item's bounds.
-std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& item);
+// The point a handle sits on for an item (or the CSG operand `path` names below an
+// object): a sphere's or torus's centre, a light's position, a plane's first point,
+// else the centre of the item's bounds.
+std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& item, const std::vector<int>& path = {});
 
 }  // namespace rtview

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "camera_control.h"
+#include "shapes.h"  // rt::Geometry: the objects' bounds
 
 namespace rtview {
 
@@ -19,6 +20,15 @@ bool usable_camera(const rt::Camera& c) {
 }
 
 }  // namespace
+
+rt::Aabb frame_target(const rt::World& world) {
+    rt::Aabb b;
+    for (const rt::Aabb& ob : world.geometry->object_bounds)
+        if (!ob.empty()) b.grow(ob);
+    if (b.empty())
+        for (const rt::ShadeLight& l : world.lights) b.grow(l.position);
+    return b;
+}
 
 void Navigator::follow(const rt::Camera& scene_camera) {
     if (has_view_ && scene_camera == seen_scene_camera_) return;
@@ -73,11 +83,12 @@ bool Navigator::drag(double x, double y, const rt::World* world, const ViewGeome
     double dx = x - press_x_, dy = y - press_y_;
     if (gesture_ == Gesture::Click && (std::fabs(dx) > kClickSlop || std::fabs(dy) > kClickSlop)) {
         gesture_ = Gesture::Orbit;
-        // Pivot: the point under the cursor when the drag began, or the look-at point
-        // if the ray missed everything.
+        // Pivot: the point under the cursor when the drag began (no farther than the
+        // scene reaches), or the look-at point if the ray missed everything.
         bool hit = false;
         rt::Vec3 p = pick_point_or(press_x_, press_y_, 1, world, g, &hit);
-        anchor_ = hit ? p : press_camera_.centre;
+        const double reach = scene_reach(press_camera_, world ? world->bounds() : rt::Aabb{});
+        anchor_ = hit ? clamp_pivot(press_camera_.position, p, reach) : press_camera_.centre;
     }
     if (gesture_ == Gesture::Orbit) {
         // Rotation is relative to the camera at the press, so it never drifts.
@@ -103,7 +114,7 @@ bool Navigator::release() {
 void Navigator::wheel(double notches, double x, double y, const rt::World* world, const ViewGeometry& g) {
     if (!has_view_ || notches == 0) return;
     rt::Vec3 target = pick_point_or(x, y, rt::length(view_.centre - view_.position), world, g);
-    set_view(translate(view_, dolly_offset(view_.position, target, notches)));
+    set_view(dolly(view_, target, notches));
 }
 
 void Navigator::fly(const rt::Vec3& local, double dt, bool fast, double scene_size) {

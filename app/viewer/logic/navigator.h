@@ -18,6 +18,10 @@ struct ViewGeometry {
     bool fit_to_window = false;  // angle_x refitted to the film's aspect
 };
 
+// What F frames: the objects' bounds, or the lights' when there are no objects (lamps
+// far from the objects would leave the objects small). Empty if there is neither.
+rt::Aabb frame_target(const rt::World& world);
+
 class Navigator {
 public:
     // Follows the document's camera: when the scene camera differs from the one last

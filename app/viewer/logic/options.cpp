@@ -11,6 +11,7 @@
 #include <fstream>
 #include <utility>
 
+#include "adaptive.h"
 #include "arg_table.h"
 
 namespace rtview {
@@ -90,6 +91,22 @@ rtargs::Table option_table(Options& o) {
                              [&o](const std::string&, const std::string& v) { return set_size(v, o); }),
         whole("--samples", "samples per pixel to stop at (default 64 in a window, 16 headless)", 1, 65536, o.samples),
         real("--time-limit", "SEC", "stop refining after SEC seconds (default: no limit)", o.time_limit, true),
+        rtargs::value_option("--aa-threshold", "T", "a number",
+                             "adaptive anti-aliasing threshold, 0..3 (default 0.02; 0:\n"
+                             "every pixel gets every sample; off: every pixel the\n"
+                             "same samples, in passes); with --render, as raytracer's\n"
+                             "(default: off)",
+                             [&o](const std::string& n, const std::string& v) {
+                                 if (v == "off") {
+                                     o.aa_threshold = -1;
+                                     return rt::Status();
+                                 }
+                                 const std::optional<double> x = rtargs::decimal(v);
+                                 if (!x || *x < 0 || *x > rt::kMaxAaThreshold)
+                                     return usage(n + " must be a number from 0 to 3 or 'off' (got '" + v + "')");
+                                 o.aa_threshold = *x;
+                                 return rt::Status();
+                             }),
         real("--orbit", "DEG", "orbit the camera DEG degrees around its centre first", o.orbit, false),
         rtargs::value_option("--fit", "picture|window", "window or picture",
                              "show exactly the scene's picture, letterboxed at its\n"
@@ -172,28 +189,33 @@ std::string help_text(bool headless_binary) {
              "  drag the handle      move the selection (its outline shows it): an arrow moves\n"
              "                       along x/y/z, the square in the view plane; Shift snaps to\n"
              "                       a grid scaled to the scene, Esc cancels; one undo step\n"
-             "  W A S D / Q E        fly (shift: faster)     F  frame the scene\n"
+             "  W A S D / Q E        fly (shift: faster)     F  frame the objects\n"
              "  R                    reset the view to the scene camera\n"
-             "  Esc                  cancel opening a file (the old scene stays)\n"
+             "  Esc                  close a menu; cancel opening a file (the old scene stays)\n"
              "  Space                pause / resume rendering\n"
-             "  Ctrl+Z / Ctrl+Y      undo / redo           Ctrl+Enter  apply the scene text\n"
+             "  Ctrl+Z / Ctrl+Y      undo / redo (Edit > Undo history: every step by name)\n"
+             "  Ctrl+Enter           apply the scene text\n"
              "  Ctrl+S               save (Ctrl+Shift+S: save as)  Ctrl+O  open\n"
-             "  Ctrl+E               edit the scene text   Ctrl+P  save the image\n"
+             "  Ctrl+E               edit the scene text   Ctrl+P  save the image (the picture\n"
+             "                       at picture_size in the picture frame, whatever the zoom)\n"
              "  in the text: Ctrl+F find (Enter next, Shift+Enter previous), Ctrl+G go to line\n"
              "  Ctrl+Q               quit (asks about unsaved changes)\n"
              "  F12                  screenshot of the whole window\n"
+             "  Tab                  hide / show the sidebar (drag its edge to resize it)\n"
              "The picture (display only; saved images are unchanged):\n"
              "  + / - / 0            exposure one stop up / down / back to 0\n"
              "  T                    soft tone curve / clip     O  stripe clipped pixels\n"
              "  hover                pixel, linear RGB, samples, object hit and distance\n"
+             "  Ctrl+C               copy that readout to the clipboard (or: right click, Copy pixel)\n"
              "  Ctrl+wheel           zoom about the cursor      1  1:1    Home  fit\n"
+             "                       (the same render: zoom and pan only place it on the screen)\n"
              "  Ctrl+right drag      pan the picture (not the camera)\n"
              "  K                    keep a snapshot            B  compare: split / difference / off\n"
              "  Ctrl+left drag       render only that region    C  clear the region\n"
              "  Ctrl+R               render to file at the scene's picture_size\n"
              "  Ctrl+= / Ctrl+- / Ctrl+0   UI size larger / smaller / 100%\n"
              "Recent files: $XDG_CONFIG_HOME/raytracer-view/recent.txt (or ~/.config/...),\n"
-             "the UI size: settings.txt beside it.\n";
+             "the UI size and the sidebar's width: settings.txt beside it.\n";
     }
     return s;
 }

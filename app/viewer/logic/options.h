@@ -2,6 +2,7 @@
 // binaries accept exactly the same arguments and --headless can be passed through).
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "status.h"
@@ -21,6 +22,8 @@ struct Options {
     bool size_given = false;
     int samples = 0;          // 0: the mode's default
     double time_limit = 0;    // seconds, 0 = none
+    std::optional<double> aa_threshold;  // adaptive anti-aliasing; unset: kDefaultAaThreshold
+                                         // (--render: uniform, as raytracer)
     double orbit = 0;         // degrees around the camera centre before rendering
     int threads = 0;          // 0: all hardware threads
     FitMode fit = FitMode::Picture;
@@ -34,6 +37,9 @@ struct Options {
 
 constexpr int kDefaultSamplesWindow = 64;
 constexpr int kDefaultSamplesHeadless = 16;
+// The viewer refines adaptively: a pixel settles once it differs from no neighbour by
+// this much (the sum of the channel differences, 0..1 units) and its samples agree.
+constexpr double kDefaultAaThreshold = 0.02;
 
 // Fills `o`; a usage error (exit code 2) says what is wrong.
 rt::Status parse_options(int argc, const char* const* argv, Options& o);

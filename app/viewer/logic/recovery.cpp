@@ -45,6 +45,9 @@ std::string Recovery::file_for(const std::string& doc_path) const {
 rt::Status Recovery::update(const std::string& doc_path, const std::string& text, bool modified, double now,
                             double interval) {
     if (doc_path != last_path_) {
+        // Another document (Save As, Open): what was unsaved in the last one has been
+        // saved or let go by the user, so its copy would only raise a false alarm.
+        if (written_) discard(last_path_);
         last_path_ = doc_path;
         last_hash_ = 0;
         written_ = false;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "scene_text.h"
@@ -224,6 +225,14 @@ Vec3 up_of(const rt::Scene& scene, const Placement& at) {
     return rt::length2(up) > 0 ? up : Vec3{0, 0, 1};
 }
 
+// The normal of an upright plane (one that contains `up`) facing `toward`: toward's
+// part across `up`, or `fallback` (across `up` too) when toward runs along it.
+Vec3 upright_facing(const Vec3& up, const Vec3& toward, const Vec3& fallback) {
+    Vec3 n = toward - up * rt::dot(toward, up);
+    if (!rt::finite(n) || !(rt::length2(n) > 1e-12 * rt::length2(toward))) return fallback;
+    return rt::normalize(n);
+}
+
 rt::Colour new_light_colour(const rt::Scene& scene, double extent) {
     if (!scene.lights.empty()) return scene.lights.back().colour;
     // Light falls off as 1/r^2: about 1 at half the scene's size.
@@ -298,6 +307,27 @@ void translate(rt::Plane& p, Vec3 d) {
 
 void translate(rt::Light& l, Vec3 d) { move_point(l.position, d); }
 
+const rt::Object* operand_of(const rt::Object& top, const std::vector<int>& path) {
+    const rt::Object* o = &top;
+    for (int k : path) {
+        const auto* g = std::get_if<rt::Csg>(&o->shape);
+        if (!g || k < 0 || std::size_t(k) >= g->operands.size()) return nullptr;
+        o = &g->operands[std::size_t(k)];
+    }
+    return o;
+}
+
+rt::Object* operand_of(rt::Object& top, const std::vector<int>& path) {
+    return const_cast<rt::Object*>(operand_of(std::as_const(top), path));
+}
+
+bool translate_operand(rt::Object& top, const std::vector<int>& path, Vec3 d) {
+    rt::Object* o = operand_of(top, path);
+    if (!o) return false;
+    translate(*o, d);
+    return true;
+}
+
 double typical_size(const rt::Scene& scene) {
     // Half the box diagonal over sqrt(3): a sphere's radius for a sphere.
     std::vector<double> sizes;
@@ -347,14 +377,16 @@ std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scen
     }
     case NewItem::Plane:
     case NewItem::ChessPlane: {
-        // Through the point, facing `up`; a chess plane's cells are 2r wide.
+        // Through the point, upright on the surface and facing the viewer (lit on the
+        // viewer's side); a chess plane's cells are 2r wide.
         rt::Plane pl;
         pl.chess = kind == NewItem::ChessPlane;
         const double cell = 2 * r;
+        const Vec3 n = upright_facing(up, rt::length2(at.toward) > 0 ? at.toward : scene.camera.position - p, f.u);
         pl.point[0] = rp(p);
-        pl.point[1] = rp(p + f.u * cell);
-        pl.point[2] = rp(p + f.v * cell);
-        pl.point[3] = rp(p + up * cell);
+        pl.point[1] = rp(p + rt::normalize(rt::cross(up, n)) * cell);
+        pl.point[2] = rp(p + up * cell);
+        pl.point[3] = rp(p + n * cell);
         if (pl.chess) {
             pl.has_material = pl.has_material2 = true;
             pl.material = rt::Material{};

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "scene.h"
 
@@ -41,10 +42,12 @@ enum class NewItem { Sphere, Cylinder, Tetrahedron, Torus, Plane, ChessPlane, La
 const char* new_item_name(NewItem k);  // "sphere", ..., as in the format
 
 // Where a new item goes: a point on a surface with its normal, or a point in space
-// (normal zero; the camera's up then orients it).
+// (normal zero; the camera's up then orients it). `toward`: the direction from the
+// point to the viewer (zero: to the scene camera), which a new plane faces.
 struct Placement {
     rt::Vec3 point;
     rt::Vec3 normal{0, 0, 0};
+    rt::Vec3 toward{0, 0, 0};
 };
 
 // The size of the scene: the diagonal of its objects' and lights' bounds, or the
@@ -62,6 +65,9 @@ double typical_size(const rt::Scene& scene);
 
 // A new item with a size from typical_size: objects after the last object (or in a
 // new `thing` section), planes after the last plane, lights after the last light.
+// Objects and lights rest on the surface; a plane stands upright on it (it contains
+// the surface's normal) and faces the viewer: a plane through the point with the
+// surface's own orientation would lie in a floor it was added to, and show nothing.
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at);
 // A copy right after the original. With a zero offset the original's text is copied
 // as it is (comments included); otherwise the copy is written moved by `offset`.
@@ -82,5 +88,12 @@ std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Sc
 void translate(rt::Object& o, rt::Vec3 d);
 void translate(rt::Plane& p, rt::Vec3 d);
 void translate(rt::Light& l, rt::Vec3 d);
+
+// The CSG operand `path` names below `top` (0 = left, 1 = right at each level; top
+// itself for an empty path), or null when there is none.
+const rt::Object* operand_of(const rt::Object& top, const std::vector<int>& path);
+rt::Object* operand_of(rt::Object& top, const std::vector<int>& path);
+// Moves only that operand (the rest of the CSG stays); false if there is none.
+bool translate_operand(rt::Object& top, const std::vector<int>& path, rt::Vec3 d);
 
 }  // namespace rtview

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iterator>
 #include <sstream>
 
 #include "image_io.h"
@@ -39,6 +40,7 @@ UiSettings::UiSettings(std::string file) : file_(file.empty() ? default_path() :
 
 void UiSettings::load() {
     ui_scale_ = 1;
+    sidebar_width_ = 0;
     other_lines_.clear();
     if (file_.empty()) return;
     std::string text;
@@ -51,6 +53,8 @@ void UiSettings::load() {
         double v = 0;
         if (words >> key && key == "ui_scale") {
             if (words >> v && std::isfinite(v)) ui_scale_ = std::clamp(v, kMinScale, kMaxScale);
+        } else if (key == "sidebar_width") {
+            if (words >> v && std::isfinite(v) && v > 0) sidebar_width_ = std::min(v, kMaxSidebarWidth);
         } else if (!line.empty()) {
             other_lines_.push_back(line);
         }
@@ -60,6 +64,7 @@ void UiSettings::load() {
 rt::Status UiSettings::save() const {
     std::ostringstream out;
     out << "ui_scale " << ui_scale_ << "\n";
+    if (sidebar_width_ > 0) out << "sidebar_width " << sidebar_width_ << "\n";
     for (const std::string& l : other_lines_) out << l << "\n";
     return save_config_file(file_, out.str());
 }
@@ -68,6 +73,12 @@ rt::Status UiSettings::set_ui_scale(double scale) {
     if (!std::isfinite(scale)) return {};
     ui_scale_ = std::clamp(scale, kMinScale, kMaxScale);
     return save();
+}
+
+rt::Status UiSettings::set_sidebar_width(double width, bool keep) {
+    if (!std::isfinite(width) || width <= 0) return {};
+    sidebar_width_ = std::min(std::round(width), kMaxSidebarWidth);
+    return keep ? save() : rt::Status{};
 }
 
 double next_ui_scale(double scale, int direction) {
@@ -84,24 +95,34 @@ double next_ui_scale(double scale, int direction) {
     return scale;
 }
 
-std::string find_ui_font_in(const std::vector<std::string>& data_dirs) {
-    static const char* const kNames[] = {
+std::string find_font_in(const std::vector<std::string>& data_dirs, FontFace face) {
+    static const char* const kUi[] = {
         "fonts/truetype/dejavu/DejaVuSans.ttf",  // Debian's fonts-dejavu-core
         "fonts/dejavu/DejaVuSans.ttf",            // Fedora, Arch
         "fonts/TTF/DejaVuSans.ttf",
     };
+    static const char* const kMono[] = {
+        "fonts/truetype/dejavu/DejaVuSansMono.ttf",  // fonts-dejavu-core, beside DejaVu Sans
+        "fonts/dejavu/DejaVuSansMono.ttf",
+        "fonts/TTF/DejaVuSansMono.ttf",
+        "fonts/truetype/liberation/LiberationMono-Regular.ttf",
+        "fonts/truetype/noto/NotoSansMono-Regular.ttf",
+    };
+    const bool mono = face == FontFace::Mono;
     for (const std::string& dir : data_dirs) {
         if (dir.empty()) continue;
-        for (const char* name : kNames) {
-            std::string p = dir + (dir.back() == '/' ? "" : "/") + name;
+        for (std::size_t k = 0; k < (mono ? std::size(kMono) : std::size(kUi)); ++k) {
+            std::string p = dir + (dir.back() == '/' ? "" : "/") + (mono ? kMono[k] : kUi[k]);
             if (is_file(p)) return p;
         }
     }
     return {};
 }
 
-std::string find_ui_font() {
-    if (const char* f = std::getenv("RAYTRACER_VIEW_FONT"); f && is_file(f)) return f;
+namespace {
+
+std::string find_font(const char* env, FontFace face) {
+    if (const char* f = std::getenv(env); f && is_file(f)) return f;
     std::vector<std::string> dirs;
     if (const char* home = std::getenv("HOME"); home && *home) dirs.push_back(std::string(home) + "/.local/share");
     const char* xdg = std::getenv("XDG_DATA_DIRS");
@@ -111,8 +132,13 @@ std::string find_ui_font() {
     while (std::getline(in, d, ':')) dirs.push_back(d);
     // Always look in the system folder too: XDG_DATA_DIRS may list only a Flatpak's.
     dirs.push_back("/usr/share");
-    return find_ui_font_in(dirs);
+    return find_font_in(dirs, face);
 }
+
+}  // namespace
+
+std::string find_ui_font() { return find_font("RAYTRACER_VIEW_FONT", FontFace::Ui); }
+std::string find_mono_font() { return find_font("RAYTRACER_VIEW_MONO_FONT", FontFace::Mono); }
 
 double contrast_ratio(const Rgb& a, const Rgb& b) {
     double la = luminance(a), lb = luminance(b);

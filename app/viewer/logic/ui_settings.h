@@ -1,5 +1,5 @@
 // Settings the viewer remembers beside the recent files ($XDG_CONFIG_HOME/
-// raytracer-view/settings.txt): the UI scale; plus where the UI font is found and the
+// raytracer-view/settings.txt): the UI scale and the sidebar's width; plus where the UI font is found and the
 // colours whose contrast the panels rely on.
 #pragma once
 
@@ -13,6 +13,7 @@ namespace rtview {
 class UiSettings {
 public:
     static constexpr double kMinScale = 0.75, kMaxScale = 3;
+    static constexpr double kMaxSidebarWidth = 16384;  // window units: no screen is wider
 
     // `file` empty: settings.txt beside the recent-files list (memory only if there is
     // no config directory).
@@ -22,12 +23,18 @@ public:
     double ui_scale() const { return ui_scale_; }
     // Sets (clamped) and saves; success, or why saving failed.
     rt::Status set_ui_scale(double scale);
+    // The sidebar's width as the user dragged it, in window units at UI scale 1 (so
+    // that it grows with the UI scale); 0: none yet (the layout's own choice).
+    double sidebar_width() const { return sidebar_width_; }
+    // Sets it (rounded), and saves unless `keep` is false (while the edge is dragged).
+    rt::Status set_sidebar_width(double width, bool keep = true);
     void load();
 
 private:
     rt::Status save() const;
     std::string file_;
     double ui_scale_ = 1;
+    double sidebar_width_ = 0;
     std::vector<std::string> other_lines_;  // settings this version does not know: kept
 };
 
@@ -38,8 +45,17 @@ double next_ui_scale(double scale, int direction);
 // fonts-dejavu-core) under the fonts folder of $XDG_DATA_DIRS or the usual places.
 // Empty if none is found: the caller falls back to ImGui's built-in font.
 std::string find_ui_font();
-// The same search over given data folders (each containing fonts/), for tests.
-std::string find_ui_font_in(const std::vector<std::string>& data_dirs);
+// The fixed-width face of the scene text editor and of text laid out in columns:
+// $RAYTRACER_VIEW_MONO_FONT if it names a file, else DejaVu Sans Mono (the same
+// package), Liberation Mono or Noto Sans Mono. Empty if none is found: the caller
+// falls back to ImGui's built-in font, which is fixed-width too.
+std::string find_mono_font();
+enum class FontFace { Ui, Mono };
+// The same searches over given data folders (each containing fonts/), for tests.
+std::string find_font_in(const std::vector<std::string>& data_dirs, FontFace face);
+inline std::string find_ui_font_in(const std::vector<std::string>& data_dirs) {
+    return find_font_in(data_dirs, FontFace::Ui);
+}
 
 // Font sizes at scale 1, in pixels: DejaVu Sans is drawn larger than ImGui's
 // bitmap font, whose 13 px is its native size.

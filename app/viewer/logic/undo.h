@@ -41,6 +41,10 @@ public:
         redo_.pop_back();
         return &undo_.back().first;
     }
+    // The step the k-th undo() (redo()) from now would return (k = 0: the next), or
+    // null: for listing the history without taking anything back.
+    const Step* peek_undo(std::size_t k) const { return k < undo_.size() ? &undo_[undo_.size() - 1 - k].first : nullptr; }
+    const Step* peek_redo(std::size_t k) const { return k < redo_.size() ? &redo_[redo_.size() - 1 - k].first : nullptr; }
     bool can_undo() const { return !undo_.empty(); }
     bool can_redo() const { return !redo_.empty(); }
     std::size_t undo_size() const { return undo_.size(); }

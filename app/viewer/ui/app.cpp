@@ -19,10 +19,13 @@
 #include <utility>
 
 #include "default_scene.h"
+#include "layout.h"
 #include "image_io.h"
 #include "scene_edits.h"
 #include "scene_writer.h"
 #include "diagnostic_text.h"
+#include "number_field.h"
+#include "probe.h"
 
 namespace rtview {
 
@@ -58,6 +61,12 @@ std::string megabytes(std::uint64_t b) {
     return buf;
 }
 
+// What the status bar adds about a scene without lights: everything in it is black.
+std::string light_note(const Document& doc) {
+    if (!doc.has_scene() || !doc.scene().lights.empty()) return {};
+    return "; the scene has no lights, so it renders black: add a lamp (right-click the picture > Add here > lamp)";
+}
+
 // What the status bar adds when the recent-files list could not be saved.
 std::string recent_note(const rt::Status& recent) {
     return recent ? std::string() : "; recent files not saved: " + recent.message();
@@ -73,7 +82,7 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
       nav_input_(nav_),
       render_(options.threads, interactive,
               options.samples > 0 ? options.samples : (interactive ? kDefaultSamplesWindow : kDefaultSamplesHeadless),
-              options.time_limit),
+              options.time_limit, options.aa_threshold.value_or(kDefaultAaThreshold)),
       dialogs_(*this, editor_.recent()),
       tools_(options.verbose, options.threads),
       panels_(*this, editor_, nav_, render_, layout_, status_, tools_) {
@@ -157,7 +166,8 @@ void ViewerApp::poll_loader() {
         selected_ = true;
         panels_.select_from_option(opt_.select);
     }
-    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + recent_note(recent),
+    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + light_note(doc) +
+                    recent_note(recent),
                 !ok || !recent);
     if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.3f s\n", path.c_str(), since_start());
 }
@@ -195,18 +205,30 @@ void ViewerApp::frame() {
     ++frames_;
     double now = ImGui::GetTime();
     Document& doc = editor_.doc();
+    const std::uint64_t key_before = visible_key();
+    begin_probe_frame();
 
     poll_loader();
     update_layout();
     tools_.begin(image_frame(now));
-    if (interactive_) {
+    // A number being typed has the keys, also in the frame or two before its field
+    // takes the keyboard ("1" of "1.25" is not the 1:1 zoom).
+    esc_closed_menu_ = false;
+    if (interactive_ && !number_typing()) {
+        // Menus are not modal: Escape closes them, and a Ctrl shortcut closes them and
+        // works (the picture tools then see the keys free again).
+        const bool was_open = ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId);
+        esc_closed_menu_ = close_menus_for_keys();
+        if (was_open && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId)) tools_.begin(image_frame(now));
         handle_shortcuts();
         tools_.handle_keys();
     }
     panels_.draw_menu_bar();
     panels_.draw_sidebar();
     panels_.draw_status_bar(load_status());
-    dialogs_.draw(doc.name(), !doc.path().empty(), layout_.fit == FitMode::Window ? "window size" : "picture frame");
+    const std::string image_kind = std::string(layout_.fit == FitMode::Window ? "the window's picture, " : "the scene's picture, ") +
+                                   std::to_string(layout_.film_w) + "x" + std::to_string(layout_.film_h);
+    dialogs_.draw(doc.name(), !doc.path().empty(), image_kind.c_str());
     tools_.draw_popups();
 
     // The view follows real edits of the scene camera (panel fields, undo, reload).
@@ -235,21 +257,104 @@ void ViewerApp::frame() {
     if (doc.has_scene() || render_.started()) {
         // While the view moves, the UI thread's own preview; else the film as the
         // picture tools show it (zoom, display mapping, A/B, region).
-        if (render_.showing_preview()) render_.draw(layout_.image, layout_.fb_scale);
-        else tools_.draw();
+        if (render_.showing_preview()) {
+            // Zoomed, the picture reaches past the area: the preview stays within it.
+            ImDrawList* dl = ImGui::GetBackgroundDrawList();
+            const Rect& a = layout_.area;
+            dl->PushClipRect(ImVec2(float(a.x), float(a.y)), ImVec2(float(a.x + a.w), float(a.y + a.h)), true);
+            render_.draw(layout_.image, layout_.fb_scale);
+            dl->PopClipRect();
+        } else {
+            tools_.draw();
+        }
         // Over the picture, not in the film: a saved image stays clean.
         if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
-            move_.draw(doc, panels_.selection(), screen_view(), layout_.image, layout_.area, layout_.film_w, layout_.film_h);
+            move_.draw(doc, panels_.selection(), screen_view(), render_.world(), layout_.image, layout_.area,
+                       layout_.film_w, layout_.film_h);
     }
     if (!doc.has_scene()) draw_no_image();
+    probe_frame();
     publish_outputs();
+    again_ = visible_key() != key_before;
+}
+
+void ViewerApp::probe_frame() {
+    if (!opt_.print_layout) return;
+    const Document& doc = editor_.doc();
+    probe("title", doc.title());
+    probe("load", loader_.active() ? "loading" : doc.has_scene() ? "ready" : "no scene");
+    probe("message", (status_.error() ? "error: " : "") + status_.text());
+    std::string popups;
+    for (const ImGuiPopupData& p : GImGui->OpenPopupStack)
+        if (p.Window) popups += (popups.empty() ? "" : "|") + std::string(p.Window->Name);
+    probe("popups", popups.empty() ? "none" : popups);
+    probe("readout", tools_.readout_line().empty() ? "none" : tools_.readout_line());
+    {
+        const ImGuiIO& io = ImGui::GetIO();
+        char pointer[96];
+        std::snprintf(pointer, sizeof pointer, "%.0f %.0f%s%s", io.MousePos.x, io.MousePos.y,
+                      io.WantCaptureMouse ? " ui" : "", ImGui::IsAnyMouseDown() ? " down" : "");
+        probe("pointer", pointer);
+    }
+    const rt::RenderProgress p = render_.progress();
+    // What another program would paste, once something was copied.
+    if (!tools_.copied().empty()) {
+        const char* clip = ImGui::GetClipboardText();
+        probe("clipboard", clip ? clip : "");
+    }
+    // The picture rendered (not its place on the screen), and how far it has come.
+    probe("film", std::to_string(p.width) + "x" + std::to_string(p.height) + " " + std::to_string(p.samples) +
+                      " spp generation " + std::to_string(p.generation));
+    probe("render", std::to_string(p.samples) + " " + (p.done ? "done" : p.running ? "running" : "idle"));
+    // As raytracer's options would ask for this render (scripts render its twin).
+    probe("render_settings", "--samples " + std::to_string(render_.max_samples()) +
+                                 (render_.aa_threshold() >= 0 ? " --aa-threshold " + rt::format_number(render_.aa_threshold())
+                                                               : std::string()));
+    probe("diagnostics", std::to_string(doc.diagnostics().size()) +
+                             (doc.diagnostics().empty() ? "" : " " + doc.diagnostics().front().message));
+    probe("text", std::string(doc.editor_dirty() ? "unapplied" : "applied") + (doc.text_behind() ? " behind" : ""));
+}
+
+std::uint64_t ViewerApp::visible_key() const {
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
+    auto mix_text = [&mix](const std::string& s) { mix(text_hash(s)); };
+    const Document& doc = editor_.doc();
+    mix_text(status_.text());
+    mix(status_.error());
+    mix(doc.text_version());
+    mix(doc.typed());
+    mix(doc.scene_version());
+    mix(doc.has_scene());
+    const auto& diags = doc.diagnostics();
+    mix(diags.size());
+    for (std::size_t k = 0; k < diags.size() && k < 32; ++k) {
+        mix(std::uint64_t(diags[k].line) << 32 | std::uint32_t(diags[k].col));
+        mix_text(diags[k].message);
+    }
+    mix(loader_.active());
+    if (loader_.active()) mix(std::uint64_t(loader_.progress().stage));
+    mix(tools_.busy());
+    mix(tools_.final_render_running());
+    mix_text(tools_.readout_line());
+    // A zoom key changes where the picture is after this frame's layout was made.
+    const Rect zoomed = tools_.image_rect();
+    for (double v : {zoomed.x, zoomed.y, zoomed.w, zoomed.h}) mix(std::uint64_t(std::llround(v * 16)));
+    const rt::RenderProgress p = render_.progress();
+    mix(p.generation);
+    mix(std::uint64_t(p.samples));
+    mix(p.done);
+    mix(render_.paused());
+    return h;
 }
 
 void ViewerApp::update_render(double now) {
     Document& doc = editor_.doc();
     render_.sync_world(doc);
-    // A slider held in a panel is motion too: previews within the frame budget.
-    bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
+    // A slider held in a panel is motion too: previews within the frame budget (but
+    // not a number being typed: nothing changes until it is entered).
+    bool widget_busy = ImGui::IsAnyItemActive() && !number_typing() &&
+                       (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
     bool moving = nav_input_.moving(now) || widget_busy || move_.dragging();
     // While a render region refines, the rest of the picture stays as it was (the
     // region re-renders on edits and view changes); a new film size ends the region.
@@ -319,36 +424,28 @@ void ViewerApp::update_layout() {
     float s = ImGui::GetFontSize() / 13.f;  // the UI scale the host chose
     l.menu_h = ImGui::GetFrameHeight();
     l.status_h = std::floor(ImGui::GetFrameHeight() + 8 * s);
-    // Wide enough for the property fields' labels and numbers at this UI scale.
-    const float narrowest = std::max(320 * s, panels_.min_sidebar_width());
-    l.sidebar_w = std::floor(std::clamp(W * 0.34f, narrowest, std::max(narrowest, 470 * s)));
-    if (l.sidebar_w > W * 0.6f) l.sidebar_w = std::floor(W * 0.6f);
+    // Wide enough for the property fields' labels and numbers at this UI scale, unless
+    // the user chose a width (dragging its edge) or hid it (Tab).
+    const float content = std::max(320 * s, panels_.min_sidebar_width());
+    l.sidebar_w = l.sidebar_hidden ? 0.f : sidebar_width(W, float(tools_.ui_scale()), content, tools_.settings().sidebar_width());
     l.status_h = std::max(l.status_h, panels_.status_height(W - l.sidebar_w));
     l.area = {0, double(l.menu_h), std::max(1.0, double(W - l.sidebar_w)), std::max(1.0, double(H - l.menu_h - l.status_h))};
     const Document& doc = editor_.doc();
     if (l.fit == FitMode::Picture && doc.has_scene()) {
-        // The scene's picture, letterboxed at its aspect and rendered at the size it
-        // is shown: what `raytracer` makes of the same camera at that size.
-        l.image = letterbox(l.area, doc.scene().width, doc.scene().height);
+        // The scene's picture, at its picture_size (what `raytracer` makes of the same
+        // camera, and what Save Image writes), shown letterboxed at its aspect.
+        l.fit_image = letterbox(l.area, doc.scene().width, doc.scene().height);
+        picture_film_size(doc.scene().width, doc.scene().height, l.film_w, l.film_h);
     } else {
-        l.image = l.area;
+        // The window's own picture, one pixel per framebuffer pixel.
+        l.fit_image = l.area;
+        l.film_w = std::max(1, int(std::lround(l.area.w * l.fb_scale)));
+        l.film_h = std::max(1, int(std::lround(l.area.h * l.fb_scale)));
     }
-    l.film_w = std::max(1, int(std::lround(l.image.w * l.fb_scale)));
-    l.film_h = std::max(1, int(std::lround(l.image.h * l.fb_scale)));
-    l.fit_image = l.image;
+    l.image = l.fit_image;
+    // Zoom and pan place that film; they never change it (the render goes on).
     if (!tools_.fitted()) {
-        // Zoomed or panned: in the picture frame the film is the scene's own picture,
-        // so that 1:1 shows the pixels `raytracer` writes; in window mode it stays
-        // the window's. The picture tools place it.
-        // (Up to 4096x4096 pixels: a larger picture_size would take gigabytes of film;
-        // it is magnified from the shown size instead.)
-        if (l.fit == FitMode::Picture && doc.has_scene() &&
-            std::int64_t(doc.scene().width) * doc.scene().height <= std::int64_t(4096) * 4096) {
-            l.film_w = doc.scene().width;
-            l.film_h = doc.scene().height;
-        }
-        ImageFrame f = image_frame(ImGui::GetTime());
-        tools_.begin(f);
+        tools_.begin(image_frame(ImGui::GetTime()));
         l.image = tools_.image_rect();
     }
 }
@@ -370,13 +467,6 @@ ImageFrame ViewerApp::image_frame(double now) {
     }
     f.film_w = layout_.film_w;
     f.film_h = layout_.film_h;
-    if (layout_.fit == FitMode::Picture && doc.has_scene()) {
-        f.pic_w = doc.scene().width;
-        f.pic_h = doc.scene().height;
-    } else {
-        f.pic_w = layout_.film_w;
-        f.pic_h = layout_.film_h;
-    }
     f.area = layout_.area;
     f.image = layout_.fit_image;
     f.fb_scale = layout_.fb_scale;
@@ -393,6 +483,25 @@ ImageFrame ViewerApp::image_frame(double now) {
 
 // ---------------------------------------------------------------------------------
 // Keyboard
+
+bool ViewerApp::close_menus_for_keys() {
+    ImGuiContext& g = *GImGui;
+    if (g.OpenPopupStack.empty()) return false;
+    // A modal dialog (or a popup not drawn yet) handles its own keys.
+    for (const ImGuiPopupData& p : g.OpenPopupStack)
+        if (!p.Window || (p.Window->Flags & ImGuiWindowFlags_Modal)) return false;
+    if (imgui_key_pressed(ImGuiKey_Escape)) {
+        ImGui::ClosePopupsExceptModals();
+        return true;
+    }
+    if (ImGui::GetIO().KeyCtrl)
+        for (int k = 'A'; k <= 'Z'; ++k)
+            if (key_pressed(k)) {
+                ImGui::ClosePopupsExceptModals();
+                break;
+            }
+    return false;
+}
 
 void ViewerApp::handle_shortcuts() {
     ImGuiIO& io = ImGui::GetIO();
@@ -417,7 +526,8 @@ void ViewerApp::handle_shortcuts() {
         std::strftime(name, sizeof name, "raytracer-view-%Y%m%d-%H%M%S.png", std::localtime(&t));
         run(Command::Screenshot, name);
     }
-    if (loader_.active() && imgui_key_pressed(ImGuiKey_Escape) && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId))
+    if (loader_.active() && imgui_key_pressed(ImGuiKey_Escape) && !esc_closed_menu_ &&
+        !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId))
         run(Command::CancelLoad);
     if (!io.WantCaptureKeyboard && ctrl && !io.KeyAlt && key_pressed(kKeyD)) run(Command::Duplicate);
     if (!io.WantCaptureKeyboard && !ctrl && !io.KeyAlt) {
@@ -425,12 +535,24 @@ void ViewerApp::handle_shortcuts() {
         if (imgui_key_pressed(ImGuiKey_Space)) run(Command::TogglePause);
         if (key_pressed(kKeyF)) run(Command::FrameScene);
         if (key_pressed(kKeyR)) run(Command::ResetView);
+        // The picture alone, as Tab hides the panels of image editors.
+        if (imgui_key_pressed(ImGuiKey_Tab) && !io.KeyShift && !ImGui::IsAnyItemActive()) {
+            layout_.sidebar_hidden = !layout_.sidebar_hidden;
+            status_.set(layout_.sidebar_hidden ? "Sidebar hidden (Tab shows it)" : "Sidebar shown (drag its edge to resize)");
+        }
     }
 }
 
 void ViewerApp::select_at(double px, double py) {
     const rt::World* w = render_.world();
     if (!w) return;
+    // What is drawn over the picture comes first: the selection's handle (it stays
+    // selected), a light's marker.
+    if (move_.over_handle(editor_.doc(), panels_.selection(), screen_view(), px, py)) return;
+    if (int light = move_.light_under(px, py); light >= 0) {
+        panels_.select({Selection::Kind::Light, light, {}});
+        return;
+    }
     rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     rt::PickResult r = pick_at(*w, vc, layout_.image, layout_.film_w, layout_.film_h, px, py);
     Selection s;
@@ -453,6 +575,7 @@ void ViewerApp::end_edits() {
     // edit, and may stay focused for a long time).
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
     if (!widget_busy && !move_.dragging()) doc.commit();
+    if (const std::string refused = doc.take_refusal(); !refused.empty()) status_.set(refused, true);
 }
 
 void ViewerApp::orbit_degrees(double degrees) {
@@ -484,9 +607,9 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             status_.set("Opened the built-in default scene");
             return true;
         case Command::CancelLoad: return cancel_load();
-        case Command::Save: return do_save();
+        case Command::Save: return do_save(confirmed);
         case Command::SaveAsDialog: dialogs_.show(Dialogs::Kind::SaveAs, doc.path().empty() ? doc.name() : doc.path()); return true;
-        case Command::SaveAs: return do_save_as(arg);
+        case Command::SaveAs: return do_save_as(arg, confirmed);
         case Command::SaveImageDialog: dialogs_.show(Dialogs::Kind::SaveImage, default_image_name()); return true;
         case Command::SaveImage: do_save_image(arg); return true;
         case Command::Screenshot: screenshot_request_ = arg; return true;
@@ -497,11 +620,7 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             host_.quit();
             return true;
         case Command::Undo:
-            if (doc.undo()) status_.set("Undo");
-            return true;
-        case Command::Redo:
-            if (doc.redo()) status_.set("Redo");
-            return true;
+        case Command::Redo: return undo_redo(c == Command::Undo, arg.empty() ? 1 : std::atoi(arg.c_str()));
         case Command::EditText:
             panels_.show_tab(Panels::Text);
             editor_.focus();
@@ -525,6 +644,19 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
     return false;
 }
 
+bool ViewerApp::undo_redo(bool undo, int steps) {
+    Document& doc = editor_.doc();
+    int done = 0;
+    while (done < std::max(steps, 1) && (undo ? doc.undo() : doc.redo())) ++done;
+    if (done == 0) return false;
+    // Say what was taken back or done again: "Undid: Move sphere 3".
+    const std::string& last = doc.last_step_name();
+    const std::string what =
+        done == 1 ? ": " + last : " " + std::to_string(done) + " steps, " + (undo ? "back to before " : "up to ") + last;
+    status_.set(std::string(undo ? "Undid" : "Redid") + what + (undo ? " (Ctrl+Y redoes)" : " (Ctrl+Z undoes)"));
+    return true;
+}
+
 bool ViewerApp::cancel_load() {
     if (!loader_.active()) return false;
     loader_.cancel();
@@ -543,7 +675,7 @@ bool ViewerApp::view_command(Command c) {
     switch (c) {
         case Command::FrameScene:
             if (render_.world())
-                nav_.frame(render_.world()->bounds(),
+                nav_.frame(frame_target(*render_.world()),
                            {layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
             return true;
         case Command::ResetView:
@@ -551,6 +683,10 @@ bool ViewerApp::view_command(Command c) {
             return true;
         case Command::SetSceneCamera:
             if (!doc.has_scene() || !nav_.has_view()) return false;
+            if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
+                status_.set(blocked, true);
+                return false;
+            }
             if (doc.set_camera(nav_.camera())) status_.set("The scene camera is now the view (Ctrl+Z undoes)");
             return true;
         case Command::CopyCamera:
@@ -614,6 +750,7 @@ Placement ViewerApp::new_item_placement() {
         rt::Ray ray = ray_at(vc, im, layout_.film_w, layout_.film_h, px, py);
         at.point = ray.origin + ray.dir * rt::length(vc.centre - vc.position);
     }
+    at.toward = vc.position - at.point;
     return at;
 }
 
@@ -639,8 +776,9 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     const std::string& text = std::as_const(doc).editor_text();
     const rt::Scene& scene = doc.scene();
     std::optional<SceneEdit> e;
-    std::string done;
+    std::string done, name;  // the status bar's message; the undo step's name
     std::optional<SceneItem> sel = item_of_selection(panels_.selection());
+    const std::string label = sel ? item_label(scene, ItemRef{*sel, {}}) : std::string();
     switch (c) {
         case Command::AddItem: {
             static const std::pair<const char*, NewItem> kinds[] = {
@@ -653,24 +791,28 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             if (!kind) return false;
             e = add_item(text, scene, *kind, new_item_placement());
             done = std::string("Added a ") + arg;
+            name = std::string("Add a ") + arg;
             break;
         }
         case Command::Duplicate: {
             if (!sel) return false;
             e = duplicate_item(text, scene, *sel, duplicate_offset(scene));
             done = "Duplicated";
+            name = "Duplicate " + label;
             break;
         }
         case Command::Delete:
             if (!sel) return false;
             e = delete_item(text, scene, *sel);
             done = "Deleted";
+            name = "Delete " + label;
             break;
         case Command::SwitchLight:
             if (!sel || sel->kind != SceneItem::Kind::Light) return false;
             e = switch_light_kind(text, scene, sel->index);
             done = scene.lights[std::size_t(sel->index)].lamp ? "The lamp is a spotlight now (its size is kept)"
                                                               : "The spotlight is a lamp now";
+            name = "Make " + label + (scene.lights[std::size_t(sel->index)].lamp ? " a spotlight" : " a lamp");
             break;
         case Command::MakeCsg: {
             char type = arg.empty() ? 'U' : arg[0];
@@ -678,16 +820,17 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             if (!sel || sel->kind != SceneItem::Kind::Object || (type != 'U' && type != 'I' && type != 'C')) return false;
             e = make_csg(text, scene, sel->index, other, rt::CsgType(type));
             done = "Made a CSG of the two objects";
+            name = "Make a CSG of objects " + std::to_string(sel->index + 1) + " and " + std::to_string(other + 1);
             break;
         }
         default: return false;
     }
-    if (!e || !doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text)) {
+    if (!e || !doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, name)) {
         status_.set("Cannot do that to this scene text", true);
         return false;
     }
     panels_.select(selection_of(e->select));
-    status_.set(done + " (Ctrl+Z undoes)");
+    status_.set(done + " (Ctrl+Z undoes)" + light_note(doc));
     return true;
 }
 
@@ -704,6 +847,7 @@ void ViewerApp::handle_context_menu(bool usable) {
         // A right drag pans; only a click (the pointer stayed put) opens the menu.
         if (std::hypot(mx - rclick_x_, my - rclick_y_) < 4 && usable) {
             menu_prev_selection_ = panels_.selection();
+            menu_readout_ = tools_.readout_line();  // the menu takes the hover away
             select_at(rclick_x_, rclick_y_);
             ImGui::OpenPopup("image_menu");
         }
@@ -714,22 +858,30 @@ void ViewerApp::draw_context_menu() {
     if (!ImGui::BeginPopup("image_menu")) return;
     const Selection& sel = panels_.selection();
     const rt::Scene& scene = editor_.doc().scene();
+    // (probe_item: where the rows are, for scripts that click them)
     if (ImGui::BeginMenu("Add here")) {
         static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
-        for (const char* k : kinds)
-            if (ImGui::MenuItem(k)) {
+        for (const char* k : kinds) {
+            const bool chosen = ImGui::MenuItem(k);
+            probe_item(std::string("menu:") + k);
+            if (chosen) {
                 place_x_ = rclick_x_;
                 place_y_ = rclick_y_;
                 run(Command::AddItem, k);
             }
+        }
         ImGui::EndMenu();
     }
+    probe_item("menu:Add here");
     bool has = sel.kind != Selection::Kind::None;
     if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) run(Command::Duplicate);
     if (ImGui::MenuItem("Delete", "Del", false, has)) run(Command::Delete);
     if (sel.kind == Selection::Kind::Light && sel.index >= 0 && std::size_t(sel.index) < scene.lights.size()) {
         bool lamp = scene.lights[std::size_t(sel.index)].lamp;
-        if (ImGui::MenuItem(lamp ? "Make it a spotlight" : "Make it a lamp")) run(Command::SwitchLight);
+        const char* label = lamp ? "Make it a spotlight" : "Make it a lamp";
+        const bool chosen = ImGui::MenuItem(label);
+        probe_item(std::string("menu:") + label);
+        if (chosen) run(Command::SwitchLight);
     }
     const Selection& prev = menu_prev_selection_;
     if (sel.kind == Selection::Kind::Object && prev.kind == Selection::Kind::Object && prev.index != sel.index &&
@@ -747,6 +899,9 @@ void ViewerApp::draw_context_menu() {
             ImGui::EndMenu();
         }
     }
+    ImGui::Separator();
+    // The pixel's readout, as the status line showed it.
+    if (ImGui::MenuItem("Copy pixel", "Ctrl+C", false, !menu_readout_.empty())) tools_.copy_pixel(menu_readout_);
     ImGui::EndPopup();
 }
 
@@ -755,24 +910,41 @@ std::string ViewerApp::default_image_name() const {
     return stem_of(doc.path().empty() ? doc.name() : doc.path()) + ".png";
 }
 
-bool ViewerApp::do_save() {
+// Before a save: a draft that parses is applied (the file will be the scene shown);
+// text that does not parse is saved only once the user has said so (false: asked).
+bool ViewerApp::ready_to_save(Command c, const std::string& arg, bool confirmed) {
+    Document& doc = editor_.doc();
+    doc.commit();
+    if (doc.apply_parsing_draft()) status_.set("Applied the scene text");
+    if (confirmed) return true;
+    if (std::optional<std::string> problem = doc.save_problem()) {
+        dialogs_.ask_save_with_errors(*problem, c, arg);
+        return false;
+    }
+    return true;
+}
+
+bool ViewerApp::do_save(bool confirmed) {
     Document& doc = editor_.doc();
     if (doc.path().empty()) {
         dialogs_.show(Dialogs::Kind::SaveAs, doc.name());
         return false;
     }
+    if (!ready_to_save(Command::Save, {}, confirmed)) return false;
     const rt::Status st = doc.save();
     if (st) status_.set("Saved " + doc.path());
     else status_.set("Save failed: " + st.message(), true);
     return st.ok();
 }
 
-bool ViewerApp::do_save_as(const std::string& path) {
+bool ViewerApp::do_save_as(const std::string& path, bool confirmed) {
     Document& doc = editor_.doc();
+    if (!ready_to_save(Command::SaveAs, path, confirmed)) return false;
     if (rt::Status st = doc.save_as(path); !st) {
         status_.set("Save failed: " + st.message(), true);
         return false;
     }
+    editor_.saved_as();
     const rt::Status recent = remember_recent(path);
     status_.set("Saved " + doc.path() + recent_note(recent), !recent);
     return true;
@@ -783,7 +955,10 @@ rt::Status ViewerApp::remember_recent(const std::string& path) {
     return editor_.recent().add(path);
 }
 
+// The film as rendered so far: in the picture frame the scene's picture at its
+// picture_size (zoom and pan only place it on the screen), else the window's.
 void ViewerApp::do_save_image(const std::string& path) {
+    const rt::RenderProgress p = render_.progress();
     rt::Image img = render_.snapshot();
     if (img.width < 1) {
         status_.set("There is no image to save yet", true);
@@ -794,8 +969,18 @@ void ViewerApp::do_save_image(const std::string& path) {
         return;
     }
     const rt::Status st = rt::write_image(path, img);
-    if (st) status_.set("Wrote " + path + " (" + std::to_string(img.width) + "x" + std::to_string(img.height) + ")");
-    else status_.set("Cannot write " + path + ": " + st.message(), true);
+    if (!st) {
+        status_.set("Cannot write " + path + ": " + st.message(), true);
+        return;
+    }
+    std::string what = std::to_string(img.width) + "x" + std::to_string(img.height) + ", " + std::to_string(p.samples) +
+                       (p.done ? "" : " of " + std::to_string(render_.max_samples())) + " samples per pixel";
+    const Document& doc = editor_.doc();
+    if (layout_.fit == FitMode::Window) what += ", the window's picture (View > Picture frame saves picture_size)";
+    else if (doc.has_scene() && (img.width != doc.scene().width || img.height != doc.scene().height))
+        what += ", smaller than picture_size " + std::to_string(doc.scene().width) + "x" +
+                std::to_string(doc.scene().height) + " (Render to file makes it)";
+    status_.set("Wrote " + path + " (" + what + ")");
 }
 
 // ---------------------------------------------------------------------------------
@@ -818,6 +1003,7 @@ double ViewerApp::wait_timeout() const {
     // Right after a view change the coarse pass lands within a few milliseconds: look
     // for it more often than the display rate so it shows without a frame's delay
     // (looking is cheap: a frame is drawn only when there is something new).
+    if (again_) return 0;
     if (render_.awaiting_preview()) return 0.004;
     // Anything animating or arriving needs display-rate frames.
     if (ui_busy() || render_.busy()) return 1.0 / 60;
@@ -831,7 +1017,12 @@ bool ViewerApp::needs_frame() {
     if (!interactive_) return true;
     // A frame costs the UI thread and the GL rasteriser CPU time the render threads
     // could use: draw one only for new pixels or for UI that is changing.
+    if (again_) return true;
     return ui_busy() || loader_.active() || render_.has_new_picture() || (render_.busy() && !render_.awaiting_preview());
+}
+
+bool ViewerApp::working() const {
+    return ui_busy() || loader_.active() || render_.busy() || again_;
 }
 
 bool ViewerApp::idle_tick() {
@@ -901,15 +1092,19 @@ std::string ViewerApp::layout_text() const {
     const Document& doc = editor_.doc();
     std::optional<SceneItem> item = item_of_selection(panels_.selection());
     std::optional<rt::Vec3> anchor;
-    if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item);
+    const std::vector<int>& path = panels_.selection().path;
+    if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item, path);
     std::optional<ScreenPoint> at;
     if (anchor) at = screen_view().project(*anchor);
     if (at) {
         const char* kind = item->kind == SceneItem::Kind::Object ? "object" : item->kind == SceneItem::Kind::Plane ? "plane" : "light";
         s += "handle " + std::to_string(std::lround(at->x * fb)) + " " + std::to_string(std::lround(at->y * fb)) + " " +
-             kind + " " + std::to_string(item->index + 1) + "\n";
+             kind + " " + std::to_string(item->index + 1);
+        for (int k : path) s += k == 0 ? " left" : " right";  // an operand: "object 4 left"
+        s += "\n";
     }
     else s += "handle none\n";
+    for (const auto& [key, value] : probes()) s += "state " + key + " " + value + "\n";
     return s;
 }
 

@@ -63,6 +63,10 @@ public:
     double wait_timeout() const;
     // Something other than input needs a new frame (render progress, a due check).
     bool needs_frame();
+    // Something is in progress (a render, a load, a gesture, a dialog's work). When
+    // it stops, the host draws a few more frames: ImGui shows some changes (a popup
+    // closed, a hover) only in the frames after the one that made them.
+    bool working() const;
     // Cheap work while idle (checks the file on disk); true if a frame is then needed.
     bool idle_tick();
 
@@ -85,9 +89,16 @@ private:
     bool run(Command c, const std::string& arg = {}, bool confirmed = false) override;
 
     bool ui_busy() const;
+    // A digest of what the frame shows that other threads or late parts of a frame
+    // change (status text, dialogs, progress, diagnostics, the readout): a frame that
+    // changed it drew some of its parts with the old state, so another frame follows.
+    std::uint64_t visible_key() const;
     void update_layout();
     ImageFrame image_frame(double now);
     void handle_shortcuts();
+    // Escape with a menu open closes it (true: the key is used up); a Ctrl shortcut
+    // closes it too, and then does what it does.
+    bool close_menus_for_keys();
     void end_edits();
     void poll_loader();
     // Parts of frame(): the render follows the scene, the view and the picture tools;
@@ -96,6 +107,8 @@ private:
     void update_render(double now);
     void draw_no_image();
     void publish_outputs();
+    // --print-layout: what the frame showed, in words (probe.h).
+    void probe_frame();
     LoadStatus load_status() const;
     void after_document_replaced();
     void start_load(const std::string& path);
@@ -109,12 +122,17 @@ private:
     // How far Duplicate moves the copy.
     rt::Vec3 duplicate_offset(const rt::Scene& scene) const;
     bool cancel_load();
+    // Ctrl+Z / Ctrl+Y, or a step of the Edit menu's history: `steps` steps back or
+    // forward, saying which in the status bar.
+    bool undo_redo(bool undo, int steps);
     // The commands that change the view, the pause or the fit.
     bool view_command(Command c);
     void handle_context_menu(bool usable);
     void draw_context_menu();
-    bool do_save();
-    bool do_save_as(const std::string& path);
+    bool ready_to_save(Command c, const std::string& arg, bool confirmed);
+    // `confirmed`: the user said to save text that does not parse.
+    bool do_save(bool confirmed = false);
+    bool do_save_as(const std::string& path, bool confirmed = false);
     // Puts `path` first in the recent-files list (in the window only); fails when the
     // list could not be saved.
     rt::Status remember_recent(const std::string& path);
@@ -143,11 +161,14 @@ private:
     double rclick_x_ = 0, rclick_y_ = 0;
     double place_x_ = -1, place_y_ = -1;  // where AddItem puts things (screen); < 0: image centre
     Selection menu_prev_selection_;       // the selection before the right click (for CSG)
+    std::string menu_readout_;            // the pixel readout where it was opened
     std::string screenshot_request_;
     std::string last_title_, last_layout_;
     double last_disk_check_ = 0;
     bool view_scene_written_ = false;
     int frames_ = 0;
+    bool again_ = false;  // the last frame changed visible_key(): draw one more
+    bool esc_closed_menu_ = false;  // this frame's Escape closed a menu
 };
 
 }  // namespace rtview

@@ -4,6 +4,8 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "fonts.h"
+#include "probe.h"
 #include "options.h"
 
 namespace rtview {
@@ -18,6 +20,7 @@ bool escape_pressed() {
 const char* title_of(Dialogs::Kind k) {
     switch (k) {
         case Dialogs::Kind::Unsaved: return "Unsaved changes";
+        case Dialogs::Kind::SaveErrors: return "The scene text has errors";
         case Dialogs::Kind::Open: return "Open scene";
         case Dialogs::Kind::SaveAs: return "Save scene as";
         case Dialogs::Kind::SaveImage: return "Save image";
@@ -35,31 +38,22 @@ void Dialogs::run_pending() {
     commands_.run(pending_, pending_arg_, true);
 }
 
-bool Dialogs::path_field(const char* hint) {
-    if (focus_path_) ImGui::SetKeyboardFocusHere();
-    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 30);
-    return ImGui::InputTextWithHint("##path", hint, &path_, ImGuiInputTextFlags_EnterReturnsTrue);
-}
-
-Dialogs::Answer Dialogs::path_buttons(bool go, const char* button) {
-    go |= ImGui::Button(button);
-    ImGui::SameLine();
-    if (ImGui::Button("Cancel") || escape_pressed()) {
-        ImGui::CloseCurrentPopup();
-        return Answer::Cancel;
-    }
-    if (!go || path_.empty()) return Answer::None;
-    ImGui::CloseCurrentPopup();
-    return Answer::Go;
-}
-
 bool Dialogs::begin(Kind k) {
     ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
     return ImGui::BeginPopupModal(title_of(k), nullptr, ImGuiWindowFlags_AlwaysAutoResize);
 }
 
+void Dialogs::start_browser() {
+    switch (request_) {
+        case Kind::Open: file_.start(FileDialog::Mode::Open, {".txt"}, "Scenes (*.txt)", path_); break;
+        case Kind::SaveAs: file_.start(FileDialog::Mode::Save, {".txt"}, "Scenes (*.txt)", path_); break;
+        case Kind::SaveImage: file_.start(FileDialog::Mode::Save, {".png", ".ppm"}, "Images (*.png, *.ppm)", path_); break;
+        default: break;
+    }
+}
+
 void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image_mode) {
-    focus_path_ = request_ == Kind::Open || request_ == Kind::SaveAs || request_ == Kind::SaveImage;
+    start_browser();
     if (request_ != Kind::None) ImGui::OpenPopup(title_of(request_));
     request_ = Kind::None;
 
@@ -67,34 +61,70 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         draw_unsaved(doc_name, has_path);
         ImGui::EndPopup();
     }
+    if (begin(Kind::SaveErrors)) {
+        draw_save_errors();
+        ImGui::EndPopup();
+    }
     if (begin(Kind::Open)) {
-        bool go = path_field("scene file path");
+        const FileDialog::Result r = file_.draw("Open");
         if (!recent_.paths().empty()) {
             ImGui::TextDisabled("Recent:");
             for (const std::string& p : recent_.paths())
-                if (ImGui::Selectable(p.c_str())) path_ = p;
+                if (ImGui::Selectable(p.c_str())) {
+                    ImGui::CloseCurrentPopup();
+                    commands_.run(Command::Open, p);
+                }
         }
-        if (path_buttons(go, "Open") == Answer::Go) commands_.run(Command::Open, path_);
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        if (r == FileDialog::Result::Go) commands_.run(Command::Open, file_.path());
         ImGui::EndPopup();
     }
     if (begin(Kind::SaveAs)) {
-        const Answer a = path_buttons(path_field("new scene file path"), "Save");
-        if (a == Answer::Cancel) has_pending_ = false;
-        else if (a == Answer::Go && commands_.run(Command::SaveAs, path_)) run_pending();
+        const FileDialog::Result r = file_.draw("Save");
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        if (r == FileDialog::Result::Cancel) has_pending_ = false;
+        else if (r == FileDialog::Result::Go && commands_.run(Command::SaveAs, file_.path())) run_pending();
         ImGui::EndPopup();
     }
     if (begin(Kind::SaveImage)) {
-        ImGui::TextDisabled("The film as rendered so far (%s); .png or .ppm.", image_mode);
-        if (path_buttons(path_field("image path (.png or .ppm)"), "Save") == Answer::Go)
-            commands_.run(Command::SaveImage, path_);
+        ImGui::TextDisabled("The picture as rendered so far (%s); .png or .ppm.", image_mode);
+        const FileDialog::Result r = file_.draw("Save");
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        if (r == FileDialog::Result::Go) commands_.run(Command::SaveImage, file_.path());
         ImGui::EndPopup();
     }
     if (begin(Kind::Help)) {
         std::string help = help_text(false);
         std::size_t at = help.find("Mouse and keys");
+        // Its columns are laid out with spaces: they line up only in a fixed-width face.
+        ImGui::PushFont(mono_font());
         ImGui::TextUnformatted(at == std::string::npos ? help.c_str() : help.c_str() + at);
+        ImGui::PopFont();
         if (ImGui::Button("Close") || escape_pressed()) ImGui::CloseCurrentPopup();
         ImGui::EndPopup();
+    }
+}
+
+void Dialogs::draw_save_errors() {
+    ImGui::TextUnformatted("The scene text does not parse:");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.42f, 0.42f, 1.0f));
+    ImGui::PushTextWrapPos(ImGui::GetFontSize() * 32);
+    ImGui::TextWrapped("%s", save_problem_.c_str());
+    ImGui::PopStyleColor();
+    ImGui::TextWrapped("Saved as it is, the file will not open in raytracer (nor show a picture here) until the "
+                       "errors are fixed.");
+    ImGui::PopTextWrapPos();
+    const bool save = ImGui::Button("Save it anyway");
+    probe_item("button_save_anyway");
+    if (save) {
+        ImGui::CloseCurrentPopup();
+        if (commands_.run(save_command_, save_arg_, true)) run_pending();
+        else has_pending_ = false;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel") || escape_pressed()) {
+        ImGui::CloseCurrentPopup();
+        has_pending_ = false;
     }
 }
 

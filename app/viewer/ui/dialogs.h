@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "file_dialog.h"
 #include "recent_files.h"
 #include "shared.h"
 
@@ -12,7 +13,7 @@ namespace rtview {
 
 class Dialogs {
 public:
-    enum class Kind { None, Unsaved, Open, SaveAs, SaveImage, Help };
+    enum class Kind { None, Unsaved, SaveErrors, Open, SaveAs, SaveImage, Help };
 
     Dialogs(Commands& commands, const RecentFiles& recent) : commands_(commands), recent_(recent) {}
 
@@ -28,30 +29,38 @@ public:
         has_pending_ = true;
         show(Kind::Unsaved);
     }
+    // The text to save does not parse (`problem` says where): ask before running
+    // `save` (Save or SaveAs, with `arg`) confirmed.
+    void ask_save_with_errors(const std::string& problem, Command save, const std::string& arg) {
+        save_problem_ = problem;
+        save_command_ = save;
+        save_arg_ = arg;
+        show(Kind::SaveErrors, path_);
+    }
     // `doc_name`: for the unsaved-changes question; `image_mode`: the Save Image hint.
     void draw(const std::string& doc_name, bool has_path, const char* image_mode);
     bool wants_frames() const { return request_ != Kind::None; }
 
 private:
-    enum class Answer { None, Go, Cancel };
     void run_pending();
     // Inside a dialog: centred modal `k` is open (then EndPopup after drawing it).
     bool begin(Kind k);
     void draw_unsaved(const std::string& doc_name, bool has_path);
-    // The path field (focused when the dialog opens); true on Enter.
-    bool path_field(const char* hint);
-    // `button` and Cancel; Go (dialog closed) when `go` or the button asks for a
-    // non-empty path, Cancel (closed) on Cancel or Escape.
-    Answer path_buttons(bool go, const char* button);
+    void draw_save_errors();
+    // Open, Save As and Save Image browse for their file: the browser starts when
+    // one of them is asked for.
+    void start_browser();
 
     Commands& commands_;
     const RecentFiles& recent_;
     Kind request_ = Kind::None;
     std::string path_;
-    bool focus_path_ = false;  // a path dialog opens this frame
+    FileDialog file_;
     bool has_pending_ = false;
     Command pending_ = Command::Quit;
     std::string pending_arg_;
+    std::string save_problem_, save_arg_;
+    Command save_command_ = Command::Save;
 };
 
 }  // namespace rtview

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "probe.h"
 #include "scene_text.h"
 
 namespace rtview {
@@ -38,13 +39,22 @@ bool DocumentEditor::recovery_busy() {
     return false;
 }
 
+void DocumentEditor::forget_earlier_copy() {
+    // The copy of a document this editor held before (under another name, or another
+    // file): its unsaved text was saved or let go by the user.
+    if (const rt::Status st = recovery_.update(doc_.path(), {}, false, 0); !st)
+        status_.set("cannot keep a recovery copy: " + st.message(), true);
+}
+
 void DocumentEditor::replaced() {
     seen_version_ = 0;
+    const bool offered = recovery_offer_;
     recovery_offer_ = false;
     if (interactive_) {
         // Text a crashed or killed session had not saved, for this same file.
         if (recovery_busy()) recovery_write_.wait();
         recovery_busy();
+        if (!offered) forget_earlier_copy();
         if (auto text = recovery_.find(doc_.path()); text && *text != std::as_const(doc_).editor_text()) {
             recovered_text_ = std::move(*text);
             recovery_offer_ = true;
@@ -95,7 +105,15 @@ bool DocumentEditor::idle_tick(double now) {
 void DocumentEditor::discard_recovery() {
     if (recovery_write_.valid()) recovery_write_.wait();
     recovery_busy();
-    if (!recovery_offer_) recovery_.discard(doc_.path());
+    if (recovery_offer_) return;  // the earlier session's text stays on offer
+    forget_earlier_copy();
+    recovery_.discard(doc_.path());
+}
+
+void DocumentEditor::saved_as() {
+    if (recovery_write_.valid()) recovery_write_.wait();
+    recovery_busy();
+    if (!recovery_offer_) forget_earlier_copy();
 }
 
 void DocumentEditor::focus(int cursor) {
@@ -110,6 +128,7 @@ void DocumentEditor::apply() {
 }
 
 void DocumentEditor::draw_banners() {
+    probe("banner", recovery_offer_ ? "recovery" : doc_.disk_conflict() ? "conflict" : "none");
     if (recovery_offer_) {
         ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
         ImGui::TextWrapped("Unsaved text of %s from an earlier session (the viewer did not close normally) was kept.",

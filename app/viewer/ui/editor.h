@@ -35,6 +35,8 @@ public:
     bool idle_tick(double now);
     // Quitting cleanly: the unsaved text is the user's decision, no recovery copy.
     void discard_recovery();
+    // After Save As: no copy stays under the old name.
+    void saved_as();
 
     // The editor: show it focused, with the cursor at a byte offset (or where it was).
     void focus(int cursor = -1);
@@ -66,6 +68,7 @@ private:
     std::uint64_t recovery_key_ = ~std::uint64_t(0);  // text state last handed to it
     double recovery_last_ = -1e300;
     bool recovery_busy();          // a write is under way (collects a finished one)
+    void forget_earlier_copy();    // removes a copy kept under an earlier name
     bool recovery_offer_ = false;  // a previous session's unsaved text is waiting
     std::string recovered_text_;
 

@@ -39,40 +39,78 @@ void style_for(float scale) {
 
 }  // namespace
 
+namespace {
+
+// Adds the TrueType file at `path` to the atlas at `px` pixels; null if it is not a
+// readable font.
+ImFont* add_font_file(const std::string& path, float px) {
+    if (path.empty()) return nullptr;
+    std::ifstream in(path, std::ios::binary);
+    std::vector<char> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!looks_like_font(data) || data.size() >= (64u << 20)) return nullptr;
+    // The atlas takes ownership of memory from ImGui's allocator.
+    void* mem = IM_ALLOC(data.size());
+    std::memcpy(mem, data.data(), data.size());
+    ImFontConfig cfg;
+    cfg.OversampleH = 2;
+    cfg.PixelSnapH = true;
+    return ImGui::GetIO().Fonts->AddFontFromMemoryTTF(mem, int(data.size()), px, &cfg);
+}
+
+ImFont* add_builtin_font(float px) {
+    ImFontConfig cfg;
+    cfg.SizePixels = px;
+    return ImGui::GetIO().Fonts->AddFontDefault(&cfg);
+}
+
+// Which of the atlas's fonts is the fixed-width one (an index, not a pointer: the
+// atlas may be rebuilt or belong to another context by the time it is asked for).
+int g_mono_index = -1;
+
+int index_of(ImFont* f) {
+    const ImVector<ImFont*>& fonts = ImGui::GetIO().Fonts->Fonts;
+    for (int k = 0; k < fonts.Size; ++k)
+        if (fonts[k] == f) return k;
+    return -1;
+}
+
+}  // namespace
+
 UiFont build_ui_font_and_style(float scale) {
     if (!(scale > 0.1f)) scale = 1;
     ImGuiIO& io = ImGui::GetIO();
     io.Fonts->Clear();
+    g_mono_index = -1;
     UiFont result;
-    std::string path = find_ui_font();
-    if (!path.empty()) {
-        std::ifstream in(path, std::ios::binary);
-        std::vector<char> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        if (looks_like_font(data) && data.size() < (64u << 20)) {
-            // The atlas takes ownership of memory from ImGui's allocator.
-            void* mem = IM_ALLOC(data.size());
-            std::memcpy(mem, data.data(), data.size());
-            ImFontConfig cfg;
-            cfg.OversampleH = 2;
-            cfg.PixelSnapH = true;
-            float px = std::round(kUiFontPixels * scale);
-            if (io.Fonts->AddFontFromMemoryTTF(mem, int(data.size()), px, &cfg) && io.Fonts->Build()) {
-                result.path = path;
-                result.pixels = px;
-            } else {
-                io.Fonts->Clear();
-            }
-        }
-    }
-    if (result.path.empty()) {
-        ImFontConfig cfg;
-        cfg.SizePixels = std::round(kFallbackFontPixels * scale);
-        io.Fonts->AddFontDefault(&cfg);
+    // The UI's face first (ImGui's default font is the atlas's first), then the
+    // fixed-width one, at the same size, so that text in either lines up.
+    const float px = std::round(kUiFontPixels * scale);
+    const std::string ui_path = find_ui_font(), mono_path = find_mono_font();
+    ImFont* ui = add_font_file(ui_path, px);
+    ImFont* mono = ui ? add_font_file(mono_path, px) : nullptr;
+    if (ui && !mono) mono = add_builtin_font(px);  // fixed-width, if blurred when scaled
+    if (ui && io.Fonts->Build()) {
+        result.path = ui_path;
+        result.mono_path = mono_path;
+        result.pixels = px;
+    } else {
+        // No TrueType face (or one that does not build): ImGui's own bitmap font at
+        // its native size serves as both.
+        io.Fonts->Clear();
+        const float bitmap_px = std::round(kFallbackFontPixels * scale);
+        mono = add_builtin_font(bitmap_px);
         io.Fonts->Build();
-        result.pixels = cfg.SizePixels;
+        result.pixels = bitmap_px;
     }
+    g_mono_index = index_of(mono);
     style_for(scale);
     return result;
+}
+
+ImFont* mono_font() {
+    const ImVector<ImFont*>& fonts = ImGui::GetIO().Fonts->Fonts;
+    if (g_mono_index >= 0 && g_mono_index < fonts.Size && fonts[g_mono_index]->IsLoaded()) return fonts[g_mono_index];
+    return ImGui::GetFont();
 }
 
 }  // namespace rtview

@@ -11,11 +11,23 @@
 #include <cstdio>
 #include <ctime>
 
+#include "adaptive.h"
 #include "image_io.h"
+#include "probe.h"
 
 namespace rtview {
 
 namespace {
+
+// "3 s", "1 min 20 s", "2 h 5 min": a time left as a person would say it.
+std::string format_duration(double seconds) {
+    char buf[48];
+    const long t = std::lround(std::max(0.0, std::min(seconds, 1e7)));
+    if (t < 60) std::snprintf(buf, sizeof buf, "%ld s", std::max(1L, t));
+    else if (t < 3600) std::snprintf(buf, sizeof buf, "%ld min %ld s", t / 60, t % 60);
+    else std::snprintf(buf, sizeof buf, "%ld h %ld min", t / 3600, (t % 3600) / 60);
+    return buf;
+}
 
 constexpr int kKeyMinus = 45, kKeyEqual = 61, kKey0 = 48, kKey1 = 49, kKeyKp0 = 320, kKeyKp1 = 321,
               kKeyKpSubtract = 333, kKeyKpAdd = 334;
@@ -71,6 +83,13 @@ void ImageTools::message(const std::string& text, bool error) {
     }
 }
 
+void ImageTools::copy_pixel(const std::string& readout) {
+    if (readout.empty()) return;
+    ImGui::SetClipboardText(readout.c_str());
+    copied_ = readout;
+    message("Copied to the clipboard: " + readout);
+}
+
 bool ImageTools::take_message(std::string& text, bool& error) {
     if (!has_message_) return false;
     text = message_;
@@ -99,7 +118,7 @@ ViewTransform ImageTools::transform() const {
         t.sy = f_.image.h / pic_h();
         return t;
     }
-    return view_.transform(f_.area, pic_w(), pic_h());
+    return view_.transform(f_.area, pic_w(), pic_h(), f_.fb_scale);
 }
 
 Rect ImageTools::image_rect() const { return transform().image(pic_w(), pic_h()); }
@@ -151,6 +170,7 @@ void ImageTools::handle_keys() {
         if (zero) s = 1;
         set_ui_scale(s);
         if (f_.keys_free && key_pressed(kKeyR) && !io.KeyShift && f_.scene) open_render_dialog();
+        if (f_.keys_free && key_pressed(kKeyC) && !io.KeyShift && !readout_text_.empty()) copy_pixel(readout_text_);
         return;
     }
     if (!f_.keys_free || io.KeyAlt || io.KeySuper) return;
@@ -315,9 +335,15 @@ void ImageTools::update_compare() {
         if (same && compare_made_time_ >= 0 && f_.now - compare_made_time_ < kDiffRefresh &&
             !f_.renderer->progress().done)
             return;
+        // Pixel by pixel only: a snapshot of another size (the window's picture before a
+        // resize) shows another view, and resampling it would count every edge.
+        if (snap->image.width != w || snap->image.height != h) {
+            compare_made_id_ = -1;  // nor is the side-by-side texture a difference image
+            compare_made_w_ = compare_made_h_ = 0;
+            return;
+        }
         rt::Image live = f_.film->linear_picture(*f_.renderer, f_.now);
-        rt::Image a = snap->image.width == w && snap->image.height == h ? snap->image : resample_nearest(snap->image, w, h);
-        if (!difference_rgba8(a, live, std::exp2(double(diff_scale_log2_)), bytes, &diff_stats_)) return;
+        if (!difference_rgba8(snap->image, live, std::exp2(double(diff_scale_log2_)), bytes, &diff_stats_)) return;
         compare_made_film_ = f_.film->updates();
     }
     compare_texture_.upload(bytes, w, h, {0, 0, w, h});
@@ -339,13 +365,16 @@ void ImageTools::update() {
     if (final_.active() && final_.done()) {
         rt::RenderProgress p = final_.progress();
         const rt::Status written = final_.write();
-        render_finished_ = true;
         if (written) {
             char buf[160];
-            std::snprintf(buf, sizeof buf, " (%dx%d, %d samples per pixel, %.1f s)", p.width, p.height, p.samples,
+            std::snprintf(buf, sizeof buf, "%dx%d, %d samples per pixel, %.1f s", p.width, p.height, p.samples,
                           p.elapsed);
-            message("Rendered " + render_path_ + buf);
+            render_result_ = RenderResult::Saved;
+            render_result_text_ = buf;
+            message("Saved to " + render_path_ + " (" + buf + ")");
         } else {
+            render_result_ = RenderResult::Failed;
+            render_result_text_ = written.message();
             message("Cannot write " + render_path_ + ": " + written.message(), true);
         }
     }
@@ -364,16 +393,19 @@ void ImageTools::update_readout() {
     // While a button is held (orbiting, panning, dragging a region) the picture moves
     // under the cursor: no readout, and no float copies of the film.
     if (ImGui::IsAnyMouseDown()) return;
-    // A new pixel at once; the same pixel a few times a second while samples arrive.
-    if (x == readout_x_ && y == readout_y_ && f_.now - readout_time_ < kReadoutRefresh) return;
+    // A new pixel at once; the same pixel a few times a second while samples arrive,
+    // and at once when the render ends or restarts (its last samples must show).
+    const rt::RenderProgress progress = f_.renderer->progress();
+    const bool render_turned = progress.done != readout_done_ || progress.generation != readout_generation_;
+    if (x == readout_x_ && y == readout_y_ && !render_turned && f_.now - readout_time_ < kReadoutRefresh) return;
     PixelReadout r;
     r.x = x;
     r.y = y;
     // The film may be a preview of the picture at the size it is shown.
     int fx = x, fy = y;
     picture_to_film_pixel(x, y, pic_w(), pic_h(), f_.film_w, f_.film_h, fx, fy);
-    r.has_colour = f_.film->linear_at(*f_.renderer, f_.now, kReadoutRefresh, fx, fy, r.linear);
-    r.samples = f_.film->samples_at(fx, fy, f_.renderer->progress().samples);
+    r.has_colour = f_.film->linear_at(*f_.renderer, f_.now, render_turned ? 0 : kReadoutRefresh, fx, fy, r.linear);
+    r.samples = f_.film->samples_at(fx, fy, f_.renderer->sample_count(fx, fy));  // adaptive: each its own
     if (f_.world && f_.scene) {
         r.hit = pick_pixel(*f_.world, f_.view_camera, f_.film_w, f_.film_h, fx, fy);
         r.hit_name = outline_name(*f_.scene, r.hit);
@@ -387,6 +419,8 @@ void ImageTools::update_readout() {
     readout_x_ = x;
     readout_y_ = y;
     readout_time_ = f_.now;
+    readout_done_ = progress.done;
+    readout_generation_ = progress.generation;
 }
 
 // ---------------------------------------------------------------------------------
@@ -414,7 +448,9 @@ void ImageTools::draw() {
     g.a1 = ImVec2(float(f_.area.x + f_.area.w), float(f_.area.y + f_.area.h));
     g.p0 = ImVec2(float(g.img.x), float(g.img.y));
     g.p1 = ImVec2(float(g.img.x + g.img.w), float(g.img.y + g.img.h));
-    g.nearest = g.ratio >= 1 - 1e-6;
+    // Sharp pixels from 1:1 up once zoomed; fitted, a picture_size film is shown
+    // smoothly at the letterbox's size.
+    g.nearest = view_.fitted() ? std::fabs(g.ratio - 1) < 1e-6 : g.ratio >= 1 - 1e-6;
     g.comparing = compare_ != Compare::Off && compare_texture_.valid() && compare_made_w_ == f_.film->width() &&
                   compare_made_h_ == f_.film->height();
     f_.texture->set_nearest(g.nearest);
@@ -422,13 +458,16 @@ void ImageTools::draw() {
     draw_picture(dl, g);
     if (g.ratio >= kGridRatio) draw_pixel_grid(dl, g);
     draw_region_outline(dl, g);
-    if (const Snapshot* snap = compared(); g.comparing && snap) {
+    const Snapshot* snap = compared();
+    if (snap && compare_ != Compare::Off) {
         const std::string a = "A  snapshot " + std::to_string(snap->id) + "  " + clock_time(snap->time);
-        if (compare_ == Compare::Split) draw_split_labels(dl, g, a);
-        else draw_difference_legend(dl, g, a);
+        if (compare_ == Compare::Split && g.comparing) draw_split_labels(dl, g, a);
+        else if (compare_ == Compare::Difference) draw_difference_legend(dl, g, a, *snap);
     }
     if (!view_.fitted()) draw_zoom_label(dl, g);
+    draw_display_badge(dl, g);
     dl->PopClipRect();
+    probe("zoom", view_.fitted() ? "fit" : std::to_string(g.ratio));
 }
 
 // The live picture; or, comparing, the difference image, or snapshot | live either
@@ -503,12 +542,22 @@ void ImageTools::draw_split_labels(ImDrawList* dl, const PictureGeometry& g, con
 }
 
 // What the difference image compares, its statistics and its scale: black (no
-// difference) to white (1 / scale or more).
-void ImageTools::draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a) {
+// difference) to white (1 / scale or more); or why there is none.
+void ImageTools::draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a,
+                                        const Snapshot& snap) {
     const float fs = ImGui::GetFontSize();
     char buf[160];
+    if (!g.comparing) {
+        if (snap.image.width == f_.film->width() && snap.image.height == f_.film->height()) return;  // on its way
+        std::snprintf(buf, sizeof buf, "The snapshot is %dx%d, the picture %dx%d: no difference image (K keeps a new one)",
+                      snap.image.width, snap.image.height, f_.film->width(), f_.film->height());
+        label(dl, ImVec2(std::max(g.p0.x, g.a0.x) + fs * 0.5f, std::max(g.p0.y, g.a0.y) + fs * 0.5f), buf);
+        probe("difference", std::string("sizes differ: ") + buf);
+        return;
+    }
     std::snprintf(buf, sizeof buf, "|A - B| x %d   max %.4g   mean %.3g   %zu pixels differ", 1 << diff_scale_log2_,
                   diff_stats_.max_abs, diff_stats_.mean_abs, diff_stats_.differing);
+    probe("difference", buf);
     float top = std::max(g.p0.y, g.a0.y) + fs * 0.5f;
     label(dl, ImVec2(std::max(g.p0.x, g.a0.x) + fs * 0.5f, top), a + "  vs  live");
     float by = top + fs * 1.8f, bx = std::max(g.p0.x, g.a0.x) + fs * 0.5f;
@@ -520,6 +569,18 @@ void ImageTools::draw_difference_legend(ImDrawList* dl, const PictureGeometry& g
     char end[32];
     std::snprintf(end, sizeof end, "%.3g", 1.0 / (1 << diff_scale_log2_));
     label(dl, ImVec2(bx + gw + fs * 0.6f, gy - fs * 0.15f), std::string("0 .. ") + end);
+}
+
+// While the picture is shown otherwise than saved (exposure, tone curve, clipped
+// marks): a badge saying so in its bottom-left corner.
+void ImageTools::draw_display_badge(ImDrawList* dl, const PictureGeometry& g) {
+    const std::string text = display_badge(display_);
+    probe("display_badge", text.empty() ? "none" : text);
+    if (text.empty()) return;
+    const float fs = ImGui::GetFontSize();
+    const ImVec2 sz = ImGui::CalcTextSize(text.c_str());
+    const float x = std::max(g.p0.x, g.a0.x) + fs * 0.6f, y = std::min(g.p1.y, g.a1.y) - sz.y - fs * 0.6f;
+    label(dl, ImVec2(x, y), text, rgba(255, 215, 120));
 }
 
 // The zoom in the area's corner, when not fitted.
@@ -594,13 +655,16 @@ void ImageTools::draw_compare_controls() {
     if (compare_ == Compare::Difference) {
         ImGui::SetNextItemWidth(ImGui::GetFontSize() * 10);
         int s = diff_scale_log2_;
-        if (ImGui::SliderInt("difference scale", &s, 0, 10, "x %d", ImGuiSliderFlags_NoInput)) {
+        // The slider moves through powers of two and shows the factor itself: its
+        // format is the factor's text (ImGui prints a format without '%' as it is).
+        const std::string factor = "x " + std::to_string(1 << s);
+        char shown[32];
+        std::snprintf(shown, sizeof shown, factor.c_str(), s);
+        probe("difference_scale", shown);
+        if (ImGui::SliderInt("difference scale", &s, 0, 10, factor.c_str(), ImGuiSliderFlags_NoInput)) {
             diff_scale_log2_ = s;
             compare_made_id_ = -1;
         }
-        // The slider shows the exponent's power of two.
-        ImGui::SameLine();
-        ImGui::Text("(x %d)", 1 << diff_scale_log2_);
     }
 }
 
@@ -687,6 +751,7 @@ void ImageTools::open_render_dialog() {
     focus_render_path_ = true;
     render_samples_ = std::max(1, f_.max_samples);
     render_error_.clear();
+    render_result_ = RenderResult::None;
     open_render_popup_ = true;
 }
 
@@ -695,52 +760,111 @@ void ImageTools::draw_popups() {
     open_render_popup_ = false;
     ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
     if (!ImGui::BeginPopupModal("Render to file", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
-    const float fs = ImGui::GetFontSize();
-    if (final_.active()) {
-        rt::RenderProgress p = final_.progress();
-        ImGui::Text("Rendering %s (%dx%d)", render_path_.c_str(), p.width, p.height);
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%d%%  %.1f s", int(final_.fraction() * 100), p.elapsed);
-        ImGui::ProgressBar(float(final_.fraction()), ImVec2(fs * 24, 0), buf);
-        if (ImGui::Button("Cancel") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
-            final_.cancel();
-            message("Render to file cancelled; " + render_path_ + " not written");
-            ImGui::CloseCurrentPopup();
-        }
-    } else {
-        if (!f_.scene) {
-            ImGui::TextUnformatted("The scene has errors: nothing to render.");
-        } else {
-            ImGui::Text("The scene at its picture_size, %dx%d, on the renderer of `raytracer`.", f_.scene->width,
-                        f_.scene->height);
-            ImGui::Checkbox("through the scene's camera (as `raytracer SCENE` renders it), not the view",
-                            &render_scene_camera_);
-        }
-        ImGui::SetNextItemWidth(fs * 24);
-        if (focus_render_path_) ImGui::SetKeyboardFocusHere();
-        focus_render_path_ = false;
-        bool go = ImGui::InputTextWithHint("file", "picture.png or .ppm", &render_path_, ImGuiInputTextFlags_EnterReturnsTrue);
-        ImGui::SetNextItemWidth(fs * 8);
-        ImGui::InputInt("samples per pixel", &render_samples_);
-        render_samples_ = std::clamp(render_samples_, 1, 65536);
-        ImGui::SetNextItemWidth(fs * 8);
-        ImGui::InputDouble("time limit (s, 0: none)", &render_time_limit_, 1, 10, "%.1f");
-        render_time_limit_ = std::clamp(render_time_limit_, 0.0, 1e6);
-        if (!render_error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.42f, 0.42f, 1.0f), "%s", render_error_.c_str());
-        go |= ImGui::Button("Render");
-        ImGui::SameLine();
-        if (ImGui::Button("Close") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) ImGui::CloseCurrentPopup();
-        else if (go && f_.scene) {
-            rt::Scene scene = *f_.scene;
-            if (!render_scene_camera_) scene.camera = f_.render_camera;
-            render_error_ =
-                final_.start(scene, render_path_, render_samples_, render_time_limit_, f_.world.get()).message();
-        }
-    }
-    // Finished (written or not): the popup closes, the status bar says how it went.
-    if (render_finished_) ImGui::CloseCurrentPopup();
-    render_finished_ = false;
+    if (final_.active()) draw_render_progress();
+    else if (render_result_ != RenderResult::None) draw_render_result();
+    else draw_render_setup();
     ImGui::EndPopup();
+}
+
+// While the final render runs: its progress, the time it will still take, Cancel.
+void ImageTools::draw_render_progress() {
+    const float fs = ImGui::GetFontSize();
+    rt::RenderProgress p = final_.progress();
+    const double f = final_.fraction();
+    ImGui::Text("Rendering %s (%dx%d)", render_path_.c_str(), p.width, p.height);
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%d%%  %.1f s", int(f * 100), p.elapsed);
+    ImGui::ProgressBar(float(f), ImVec2(fs * 24, 0), buf);
+    // From the rate so far, once there is one to go by.
+    if (f > 0.02 && p.elapsed > 0.5)
+        ImGui::Text("about %s left", format_duration(p.elapsed * (1 - f) / f).c_str());
+    else
+        ImGui::TextDisabled("estimating the time left...");
+    probe("render_dialog", "rendering " + std::to_string(int(f * 100)) + "%");
+    if (ImGui::Button("Cancel") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+        final_.cancel();
+        message("Render to file cancelled; " + render_path_ + " not written");
+        ImGui::CloseCurrentPopup();
+    }
+}
+
+// After the final render: where the picture went (or why it did not), until closed.
+void ImageTools::draw_render_result() {
+    const bool saved = render_result_ == RenderResult::Saved;
+    if (saved) {
+        ImGui::TextColored(ImVec4(0.55f, 0.85f, 0.55f, 1), "Saved to %s", render_path_.c_str());
+        ImGui::TextDisabled("%s", render_result_text_.c_str());
+    } else {
+        ImGui::TextColored(ImVec4(1.0f, 0.42f, 0.42f, 1.0f), "Cannot write %s", render_path_.c_str());
+        ImGui::TextWrapped("%s", render_result_text_.c_str());
+    }
+    probe("render_dialog", (saved ? "saved " : "failed ") + render_path_);
+    if (ImGui::Button("Close") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)) ||
+        ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Enter))) {
+        render_result_ = RenderResult::None;
+        ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Render again...")) render_result_ = RenderResult::None;
+}
+
+// Before the final render: the file, the samples, the time limit.
+void ImageTools::draw_render_setup() {
+    const float fs = ImGui::GetFontSize();
+    if (!f_.scene) {
+        ImGui::TextUnformatted("The scene has errors: nothing to render.");
+    } else {
+        ImGui::Text("The scene at its picture_size, %dx%d, on the renderer of `raytracer`.", f_.scene->width,
+                    f_.scene->height);
+        ImGui::Checkbox("through the scene's camera (as `raytracer SCENE` renders it), not the view",
+                        &render_scene_camera_);
+    }
+    ImGui::SetNextItemWidth(fs * 24);
+    if (focus_render_path_) ImGui::SetKeyboardFocusHere();
+    focus_render_path_ = false;
+    bool go = ImGui::InputTextWithHint("##file", "picture.png or .ppm", &render_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+    probe("render_field", ImGui::IsItemActive() ? "active" : "idle");
+    ImGui::SameLine();
+    if (ImGui::Button("Browse...")) {
+        render_browser_.start(FileDialog::Mode::Save, {".png", ".ppm"}, "Images (*.png, *.ppm)", render_path_);
+        ImGui::OpenPopup("Choose the picture file");
+    }
+    ImGui::SameLine();
+    ImGui::TextUnformatted("file");
+    // (Escape there closes the browser only.)
+    const bool browsing = ImGui::IsPopupOpen("Choose the picture file");
+    ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    if (ImGui::BeginPopupModal("Choose the picture file", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        const FileDialog::Result r = render_browser_.draw("Choose");
+        if (r == FileDialog::Result::Go) render_path_ = render_browser_.path();
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+    ImGui::SetNextItemWidth(fs * 8);
+    ImGui::InputInt("samples per pixel", &render_samples_);
+    render_samples_ = std::clamp(render_samples_, 1, 65536);
+    ImGui::SetNextItemWidth(fs * 8);
+    ImGui::InputDouble("time limit (s, 0: none)", &render_time_limit_, 1, 10, "%.1f");
+    render_time_limit_ = std::clamp(render_time_limit_, 0.0, 1e6);
+    // Samples only where a pixel stands out or its samples disagree (raytracer --aa-threshold).
+    ImGui::Checkbox("adaptive, threshold", &render_adaptive_);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(fs * 6);
+    ImGui::InputDouble("##aa", &render_aa_threshold_, 0.01, 0.1, "%.3f");
+    render_aa_threshold_ = std::clamp(render_aa_threshold_, 0.0, rt::kMaxAaThreshold);
+    if (!render_error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.42f, 0.42f, 1.0f), "%s", render_error_.c_str());
+    probe("render_dialog", "setup");
+    go |= ImGui::Button("Render");
+    ImGui::SameLine();
+    if (ImGui::Button("Close") || (!browsing && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)))) {
+        ImGui::CloseCurrentPopup();
+    } else if (go && f_.scene) {
+        rt::Scene scene = *f_.scene;
+        if (!render_scene_camera_) scene.camera = f_.render_camera;
+        render_error_ = final_.start(scene, render_path_, render_samples_, render_time_limit_,
+                                     render_adaptive_ ? render_aa_threshold_ : -1, f_.world.get())
+                            .message();
+    }
 }
 
 }  // namespace rtview

@@ -12,9 +12,11 @@
 
 #include "display.h"
 #include "film_texture.h"
+#include "file_dialog.h"
 #include "film_view.h"
 #include "final_render.h"
 #include "image_view.h"
+#include "options.h"
 #include "readout.h"
 #include "region.h"
 #include "renderer.h"
@@ -35,9 +37,9 @@ struct ImageFrame {
     const rt::Scene* scene = nullptr;        // the document's scene; null when it has errors
     rt::Camera view_camera;                  // the film's camera (fitted to the film in window mode)
     rt::Camera render_camera;                // the view as `raytracer` would see it at picture_size
-    int film_w = 1, film_h = 1;              // the film the app asks for
-    int pic_w = 1, pic_h = 1;                // the picture zoom and readout count in: the scene's
-                                             // picture_size in the picture frame, else the film
+    int film_w = 1, film_h = 1;              // the film the app asks for: the picture zoom, readout
+                                             // and Save Image count in (the scene's picture_size
+                                             // in the picture frame, else the window's)
     Rect area;                               // all the space for the picture (window units)
     Rect image;                              // where the app fits the film (letterboxed)
     float fb_scale = 1;                      // framebuffer pixels per window unit
@@ -78,6 +80,10 @@ public:
 
     // The readout of the pixel under the cursor; empty when it is not over the picture.
     const std::string& readout_line() const { return readout_text_; }
+    // Puts a pixel's readout on the clipboard (Ctrl+C over the picture, the picture's
+    // context menu); copied() is the last text put there.
+    void copy_pixel(const std::string& readout);
+    const std::string& copied() const { return copied_; }
     // A message for the status bar (taken once).
     bool take_message(std::string& text, bool& error);
     // The app keeps its render as it is while a region refines (the rest keeps its
@@ -91,6 +97,9 @@ public:
     bool busy() const;
     // The UI scale the user asked for (saved); true once after each change.
     double ui_scale() const { return settings_.ui_scale(); }
+    // All the saved settings (the sidebar keeps its width there too).
+    UiSettings& settings() { return settings_; }
+    const UiSettings& settings() const { return settings_; }
     bool take_ui_scale_change();
     // Zoomed or panned: the app's picking must use this image rectangle.
     Rect image_rect() const;
@@ -104,8 +113,8 @@ public:
 private:
     enum class Compare { Off, Split, Difference };
     enum class Drag { None, Region, Pan, Split };
-    int pic_w() const { return std::max(1, f_.pic_w); }
-    int pic_h() const { return std::max(1, f_.pic_h); }
+    int pic_w() const { return std::max(1, f_.film_w); }
+    int pic_h() const { return std::max(1, f_.film_h); }
     // The film on screen matches the one asked for (it lags a frame after a resize).
     bool film_ready() const {
         return f_.film && f_.renderer && f_.film->width() == f_.film_w && f_.film->height() == f_.film_h;
@@ -122,7 +131,8 @@ private:
     void draw_pixel_grid(ImDrawList* dl, const PictureGeometry& g);
     void draw_region_outline(ImDrawList* dl, const PictureGeometry& g);
     void draw_split_labels(ImDrawList* dl, const PictureGeometry& g, const std::string& a);
-    void draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a);
+    void draw_difference_legend(ImDrawList* dl, const PictureGeometry& g, const std::string& a, const Snapshot& snap);
+    void draw_display_badge(ImDrawList* dl, const PictureGeometry& g);
     void draw_zoom_label(ImDrawList* dl, const PictureGeometry& g);
     // draw_panel() in steps, along its sections.
     void draw_display_controls();
@@ -131,6 +141,10 @@ private:
     void draw_snapshot_list();
     void draw_region_controls();
     void update_readout();
+    // draw_popups(): the Render to file dialog's three states.
+    void draw_render_setup();
+    void draw_render_progress();
+    void draw_render_result();
     void update_compare();
     void start_region(const PixelRect& r);
     void restart_region_if_needed();
@@ -148,6 +162,8 @@ private:
     std::string readout_text_;
     int readout_x_ = -1, readout_y_ = -1;
     double readout_time_ = -1;
+    bool readout_done_ = false;            // the render's state the readout was made in
+    std::uint64_t readout_generation_ = 0;
 
     // Snapshots and A/B
     SnapshotStore snapshots_;
@@ -182,10 +198,17 @@ private:
     std::string render_path_;
     int render_samples_ = 64;
     double render_time_limit_ = 0;
+    bool render_adaptive_ = true;  // adaptive anti-aliasing, as the viewer refines
+    double render_aa_threshold_ = kDefaultAaThreshold;
     std::string render_error_;
-    bool render_finished_ = false;
+    // How the last final render ended, shown in the dialog until it is closed.
+    enum class RenderResult { None, Saved, Failed } render_result_ = RenderResult::None;
+    std::string render_result_text_;
     bool focus_render_path_ = false;
     bool render_scene_camera_ = false;  // the scene's camera instead of the view
+    FileDialog render_browser_;          // "Browse..." for the file
+
+    std::string copied_;
 
     std::string message_;
     bool message_error_ = false;

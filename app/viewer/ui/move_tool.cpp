@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "item_fields.h"
 #include "scene_edits.h"
 
 namespace rtview {
@@ -17,8 +18,10 @@ constexpr double kOutlineBudget = 0.012;
 // Outline segments drawn at most (two lines each: well within the 65,536 vertices of
 // an ImGui draw list with 16-bit indices, which the picture shares).
 constexpr std::size_t kMaxEdges = 5000;
-// Arrow length and pointer tolerance, in unscaled UI units.
-constexpr double kArrow = 90, kTolerance = 7;
+// Arrow length, pointer tolerance and a light marker's radius, in unscaled UI units.
+constexpr double kArrow = 90, kTolerance = 7, kMarker = 7;
+// Light markers drawn at most (each costs a pick ray a frame).
+constexpr std::size_t kMaxMarkers = 256;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -49,7 +52,7 @@ void MoveTool::apply(Document& doc, RenderController& render, const rt::Vec3& d)
         case SceneItem::Kind::Object: {
             rt::Object& o = doc.edit_object(i);
             o = g.object;
-            translate(o, d);
+            translate_operand(o, g.path, d);
             // Only this object changed: the renderer refits its BVH instead of building it.
             render.note_moved(int(i), before);
             break;
@@ -67,6 +70,8 @@ void MoveTool::apply(Document& doc, RenderController& render, const rt::Vec3& d)
             break;
         }
     }
+    if (g.name.empty()) g.name = "Move " + item_label(doc.scene(), ItemRef{g.item, g.path});
+    doc.name_edit(g.name);
     g.last = d;
 }
 
@@ -105,15 +110,19 @@ bool MoveTool::handle_mouse(Document& doc, const Selection& sel, const ScreenVie
     hover_ = HandlePart::None;
     std::optional<SceneItem> item = item_of_selection(sel);
     if (!usable || !item || !doc.has_scene() || doc.editing()) return false;
-    std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item);
+    std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item, sel.path);
     if (!anchor) return false;
     HandleShape h = handle_shape(view, *anchor, kArrow * s);
     bool over = !io.WantCaptureMouse && image.contains(mx, my);
     hover_ = over ? hit_handle(h, mx, my, kTolerance * s) : HandlePart::None;
     if (hover_ == HandlePart::None || !ImGui::IsMouseClicked(0)) return hover_ != HandlePart::None && ImGui::IsMouseDown(0);
+    if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
+        status.set(blocked, true);
+        return true;
+    }
     const rt::Scene& scene = doc.scene();
     std::size_t i = std::size_t(item->index);
-    drag_.emplace(*item, MoveDrag(hover_, *anchor, view, mx, my));
+    drag_.emplace(*item, sel.path, MoveDrag(hover_, *anchor, view, mx, my));
     drag_->snap = snap_step(scene_extent(scene));
     if (item->kind == SceneItem::Kind::Object) drag_->object = scene.objects[i];
     else if (item->kind == SceneItem::Kind::Plane) drag_->plane = scene.planes[i];
@@ -190,12 +199,47 @@ void MoveTool::update_outline(const Document& doc, const Selection& sel, const R
     refining_ = !preview && ids_.block > finest_;
 }
 
-void MoveTool::draw(const Document& doc, const Selection& sel, const ScreenView& view, const Rect& image,
-                    const Rect& area, int film_w, int film_h) {
+bool MoveTool::over_handle(const Document& doc, const Selection& sel, const ScreenView& view, double x,
+                           double y) const {
+    std::optional<SceneItem> item = item_of_selection(sel);
+    if (!item || !doc.has_scene()) return false;
+    std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item, sel.path);
+    if (!anchor) return false;
+    const double s = ImGui::GetFontSize() / 13.0;
+    return hit_handle(handle_shape(view, *anchor, kArrow * s), x, y, kTolerance * s) != HandlePart::None;
+}
+
+int MoveTool::light_under(double x, double y) const {
+    return light_at(markers_, x, y, kMarker * ImGui::GetFontSize() / 13.0 + kTolerance * 0.5);
+}
+
+void MoveTool::draw_light_markers(ImDrawList* dl, float s) const {
+    // A small sun: a ring with four rays, dark-edged to show on any picture.
+    const float r = float(kMarker) * s;
+    for (const LightMarker& m : markers_) {
+        const ImVec2 c(float(m.at.x), float(m.at.y));
+        for (int pass = 0; pass < 2; ++pass) {
+            const ImU32 col = pass == 0 ? IM_COL32(0, 0, 0, 170) : IM_COL32(255, 220, 90, 255);
+            const float w = (pass == 0 ? 3.2f : 1.5f) * s;
+            dl->AddCircle(c, r * 0.55f, col, 16, w);
+            for (int k = 0; k < 4; ++k) {
+                const float dx = k == 0 ? 1.f : k == 1 ? -1.f : 0.f, dy = k == 2 ? 1.f : k == 3 ? -1.f : 0.f;
+                dl->AddLine(ImVec2(c.x + dx * r * 0.8f, c.y + dy * r * 0.8f), ImVec2(c.x + dx * r * 1.3f, c.y + dy * r * 1.3f),
+                            col, w);
+            }
+        }
+    }
+}
+
+void MoveTool::draw(const Document& doc, const Selection& sel, const ScreenView& view, const rt::World* world,
+                    const Rect& image, const Rect& area, int film_w, int film_h) {
+    markers_.clear();
     if (!doc.has_scene()) return;
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
     dl->PushClipRect(ImVec2(float(area.x), float(area.y)), ImVec2(float(area.x + area.w), float(area.y + area.h)), true);
     float s = ImGui::GetFontSize() / 13.f;
+    markers_ = light_markers(doc.scene(), world, view, image, kMaxMarkers);
+    draw_light_markers(dl, s);
     if (has_ids_ && ids_code_ == id_code(item_of_selection(sel).value_or(SceneItem{})) && ids_w_ == film_w &&
         ids_h_ == film_h) {
         // Texel borders to window units: texel k starts at film pixel k * block.
@@ -211,7 +255,7 @@ void MoveTool::draw(const Document& doc, const Selection& sel, const ScreenView&
     std::optional<SceneItem> item = item_of_selection(sel);
     std::optional<rt::Vec3> anchor;
     if (drag_) anchor = drag_->drag.anchor() + drag_->last;
-    else if (item) anchor = item_anchor(doc.scene(), *item);
+    else if (item) anchor = item_anchor(doc.scene(), *item, sel.path);
     if (anchor) {
         HandleShape h = handle_shape(view, *anchor, kArrow * s);
         if (h.visible) {

@@ -11,12 +11,17 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "document.h"
 #include "move_handle.h"
 #include "object_ids.h"
 #include "render_controller.h"
 #include "shared.h"
+
+struct ImDrawList;
 
 namespace rtview {
 
@@ -34,9 +39,14 @@ public:
     // while it rests. Call after RenderController::update().
     void update_outline(const Document& doc, const Selection& sel, const RenderController& render,
                         const rt::Camera& camera, int film_w, int film_h);
-    // Outline and handle over the picture in `image` (clipped to `area`).
-    void draw(const Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, const Rect& area,
-              int film_w, int film_h);
+    // Outline and handle over the picture in `image` (clipped to `area`), and the
+    // markers of the lights that have no glow (`world`: what hides them).
+    void draw(const Document& doc, const Selection& sel, const ScreenView& view, const rt::World* world,
+              const Rect& image, const Rect& area, int film_w, int film_h);
+    // What a click at (x, y) finds of what draw() drew over the picture: the selection's
+    // handle (the selection stays), or a light's marker (its index; else -1).
+    bool over_handle(const Document& doc, const Selection& sel, const ScreenView& view, double x, double y) const;
+    int light_under(double x, double y) const;
     // Still refining the outline: frames are needed.
     bool wants_frames() const { return refining_; }
     // Rays the last outline update traced (for --verbose and tests).
@@ -44,19 +54,24 @@ public:
 
 private:
     struct Drag {
-        Drag(SceneItem i, const MoveDrag& d) : item(i), drag(d) {}
+        Drag(SceneItem i, std::vector<int> p, const MoveDrag& d) : item(i), path(std::move(p)), drag(d) {}
         SceneItem item;
+        std::vector<int> path;  // a CSG operand of the object: only it moves
         MoveDrag drag;
         rt::Object object;
         rt::Plane plane;
         rt::Light light;
         double snap = 1;
         rt::Vec3 last{0, 0, 0};
+        std::string name;  // the undo step's: "Move sphere 3"
     };
     void apply(Document& doc, RenderController& render, const rt::Vec3& d);
 
+    void draw_light_markers(ImDrawList* dl, float scale) const;
+
     std::optional<Drag> drag_;
     HandlePart hover_ = HandlePart::None;
+    std::vector<LightMarker> markers_;  // as last drawn
 
     IdBuffer ids_;
     std::vector<Edge> edges_;  // the outline of ids_

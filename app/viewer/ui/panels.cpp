@@ -13,10 +13,14 @@
 
 #include "camera_control.h"
 #include "item_fields.h"
+#include "number_field.h"
+#include "layout.h"
+#include "probe.h"
 #include "scene_schema.h"
 #include "readout.h"
 #include "scene_text.h"
 #include "scene_writer.h"
+#include "shown_numbers.h"
 
 namespace rtview {
 
@@ -81,7 +85,10 @@ bool selection_valid(const rt::Scene& s, const Selection& sel) {
 
 bool drag_vec3(const char* label, rt::Vec3& v, float speed, const char* format = "%.3f") {
     double a[3] = {v.x, v.y, v.z};
-    if (!ImGui::DragScalarN(label, ImGuiDataType_Double, a, 3, speed, nullptr, nullptr, format)) return false;
+    NumberFieldSpec spec;
+    spec.speed = speed;
+    spec.format = format;
+    if (!number_fields(label, a, 3, spec)) return false;
     v = {a[0], a[1], a[2]};
     return true;
 }
@@ -101,12 +108,20 @@ bool material_editor(const char* id, rt::Material& m) {
     for (const sc::Key<rt::Material>& k : sc::material_block().keys) {
         const std::string label(k.name);
         if (k.kind == sc::Kind::Vec3) {
+            // The three numbers (typed whole, or dragged), and a swatch with a picker.
             rt::Vec3& c = k.access.vec3(m, 0);
             float col[3] = {float(c.x), float(c.y), float(c.z)};
-            if (ImGui::ColorEdit3(label.c_str(), col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR)) {
-                c = {col[0], col[1], col[2]};
+            if (ImGui::ColorEdit3(("##pick" + label).c_str(), col,
+                                  ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_NoInputs)) {
+                // The channels as the picker shows them (three decimals); the others
+                // as they were, not as a float holds them.
+                c = {from_widget(c.x, col[0], 3), from_widget(c.y, col[1], 3), from_widget(c.z, col[2], 3)};
                 changed = true;
             }
+            ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);
+            ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - ImGui::GetStyle().ItemInnerSpacing.x);
+            changed |= drag_vec3(label.c_str(), c, 0.005f);
+            probe_item(std::string("field_") + id + "_" + label);  // for scripts: "field_material_colour"
             continue;
         }
         if (k.kind != sc::Kind::Number) continue;
@@ -114,8 +129,12 @@ bool material_editor(const char* id, rt::Material& m) {
         const bool clamped = k.range.rule == sc::Range::Rule::Clamp;
         const double lo = clamped ? k.range.min : 0;
         const double hi = clamped && k.range.max <= lo + 1 ? k.range.max : lo + (clamped ? 2 : 1);
-        ImGuiSliderFlags flags = clamped && k.range.max <= lo + 1 ? ImGuiSliderFlags_AlwaysClamp : 0;
-        changed |= ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &v, &lo, &hi, "%.3f", flags);
+        NumberFieldSpec spec;
+        spec.slider = true;
+        spec.min = &lo;
+        spec.max = &hi;
+        spec.clamp_typed = clamped && k.range.max <= lo + 1;
+        changed |= number_field(label.c_str(), &v, spec);
         if (clamped && v < k.range.min) v = k.range.min;
     }
     double sum = m.reflection + m.refraction + m.scattering;
@@ -128,6 +147,28 @@ bool material_editor(const char* id, rt::Material& m) {
     return changed;
 }
 
+// Where the menu bar's next header is drawn ("menu:Edit"), for scripts that open it
+// (probe.h): its rectangle is known before BeginMenu() draws it.
+void probe_menu_header(const char* label) {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    const float fb = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.f;
+    const ImVec2 p = ImGui::GetCursorScreenPos();
+    const float w = ImGui::CalcTextSize(label).x + st.ItemSpacing.x, h = ImGui::GetFrameHeight();
+    probe(std::string("menu:") + label, std::to_string(std::lround(p.x * fb)) + " " + std::to_string(std::lround(p.y * fb)) +
+                                            " " + std::to_string(std::lround(w * fb)) + " " +
+                                            std::to_string(std::lround(h * fb)));
+}
+
+// What the camera panel shows of the view (its eye, and its angles and distance), for
+// scripts (probe.h).
+void probe_view(const rt::Camera& view, const double angles[3]) {
+    char shown[160];
+    std::snprintf(shown, sizeof shown, "%.2f %.2f %.2f", angles[0], angles[1], angles[2]);
+    probe("view_angles", shown);
+    std::snprintf(shown, sizeof shown, "%.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
+    probe("view_eye", shown);
+}
+
 }  // namespace
 
 
@@ -137,6 +178,7 @@ bool material_editor(const char* id, rt::Material& m) {
 void Panels::draw_menu_bar() {
     if (!ImGui::BeginMainMenuBar()) return;
     const Document& doc = editor_.doc();
+    probe_menu_header("File");
     if (ImGui::BeginMenu("File")) {
         if (ImGui::MenuItem("Open...", "Ctrl+O")) commands_.run(Command::OpenDialog);
         if (ImGui::BeginMenu("Open Recent")) {
@@ -157,9 +199,9 @@ void Panels::draw_menu_bar() {
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) commands_.run(Command::Quit);
         ImGui::EndMenu();
     }
+    probe_menu_header("Edit");
     if (ImGui::BeginMenu("Edit")) {
-        if (ImGui::MenuItem("Undo", "Ctrl+Z", false, doc.can_undo() || doc.editing())) commands_.run(Command::Undo);
-        if (ImGui::MenuItem("Redo", "Ctrl+Y", false, doc.can_redo())) commands_.run(Command::Redo);
+        draw_undo_items();
         ImGui::Separator();
         if (ImGui::MenuItem("Edit scene text", "Ctrl+E")) commands_.run(Command::EditText);
         if (ImGui::MenuItem("Apply text", "Ctrl+Enter")) commands_.run(Command::ApplyText);
@@ -184,6 +226,7 @@ void Panels::draw_menu_bar() {
             commands_.run(Command::SwitchLight);
         ImGui::EndMenu();
     }
+    probe_menu_header("View");
     if (ImGui::BeginMenu("View")) {
         if (ImGui::MenuItem("Frame the scene", "F")) commands_.run(Command::FrameScene);
         if (ImGui::MenuItem("Reset the view to the scene camera", "R")) commands_.run(Command::ResetView);
@@ -196,15 +239,52 @@ void Panels::draw_menu_bar() {
         if (ImGui::MenuItem("Fill the window", nullptr, layout_.fit == FitMode::Window)) commands_.run(Command::FitWindow);
         ImGui::Separator();
         if (ImGui::MenuItem("Pause rendering", "Space", render_.paused())) commands_.run(Command::TogglePause);
+        if (ImGui::MenuItem("Sidebar (drag its edge to resize)", "Tab", !layout_.sidebar_hidden))
+            layout_.sidebar_hidden = !layout_.sidebar_hidden;
         ImGui::Separator();
         tools_.view_menu_items();
         ImGui::EndMenu();
     }
+    probe_menu_header("Help");
     if (ImGui::BeginMenu("Help")) {
         if (ImGui::MenuItem("Mouse and keys...")) commands_.run(Command::Help);
         ImGui::EndMenu();
     }
     ImGui::EndMainMenuBar();
+}
+
+// Undo and Redo, named by the step each takes ("Undo: Move sphere 3"), and the history:
+// the steps undone (greyed, newest at the top) above the steps done, the latest first.
+// A click on a step goes back to before it, or forward up to it.
+void Panels::draw_undo_items() {
+    constexpr std::size_t kShown = 20;
+    const Document& doc = editor_.doc();
+    const std::vector<std::string> undo = doc.undo_names(kShown), redo = doc.redo_names(kShown);
+    const std::string u = undo.empty() ? "Undo" : "Undo: " + undo.front();
+    const std::string r = redo.empty() ? "Redo" : "Redo: " + redo.front();
+    probe("edit_menu", u + " | " + r);
+    if (ImGui::MenuItem(u.c_str(), "Ctrl+Z", false, !undo.empty())) commands_.run(Command::Undo);
+    if (ImGui::MenuItem(r.c_str(), "Ctrl+Y", false, !redo.empty())) commands_.run(Command::Redo);
+    probe_menu_header("Undo history");
+    if (!ImGui::BeginMenu("Undo history", !undo.empty() || !redo.empty())) return;
+    std::string shown;
+    for (std::size_t k = redo.size(); k-- > 0;) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        const bool chosen = ImGui::MenuItem((redo[k] + "##redo" + std::to_string(k)).c_str(), "undone");
+        ImGui::PopStyleColor();
+        probe_item("menu:redo:" + std::to_string(k + 1));
+        shown += "redo:" + redo[k] + "|";
+        if (chosen) commands_.run(Command::Redo, std::to_string(k + 1));
+    }
+    if (!redo.empty() && !undo.empty()) ImGui::Separator();
+    for (std::size_t k = 0; k < undo.size(); ++k) {
+        const bool chosen = ImGui::MenuItem((undo[k] + "##undo" + std::to_string(k)).c_str());
+        probe_item("menu:undo:" + std::to_string(k + 1));
+        shown += "undo:" + undo[k] + "|";
+        if (chosen) commands_.run(Command::Undo, std::to_string(k + 1));
+    }
+    probe("undo_history", shown);
+    ImGui::EndMenu();
 }
 
 // ---------------------------------------------------------------------------------
@@ -243,7 +323,18 @@ double Panels::scene_size() const {
     return std::max(rt::length(c.centre - c.position), 1e-3);
 }
 
+// "object_3", "object_4_left", "plane_1", "light_2", "none": a selection in one word.
+std::string Panels::selection_name(const Selection& s) {
+    if (s.kind == Selection::Kind::None) return "none";
+    std::string n = s.kind == Selection::Kind::Object ? "object_" : s.kind == Selection::Kind::Plane ? "plane_" : "light_";
+    n += std::to_string(s.index + 1);
+    for (int k : s.path) n += k == 0 ? "_left" : "_right";
+    return n;
+}
+
 void Panels::draw_sidebar() {
+    probe("selection", selection_name(selection_));
+    if (layout_.sidebar_hidden) return;
     ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - layout_.sidebar_w, layout_.menu_h));
     ImGui::SetNextWindowSize(ImVec2(layout_.sidebar_w, io.DisplaySize.y - layout_.menu_h));
@@ -266,7 +357,9 @@ void Panels::draw_sidebar() {
             if (t == Text && (doc.editor_dirty() || doc.has_errors()))
                 label += doc.has_errors() ? " (errors)" : " (unapplied)";
             label += "###tab" + std::to_string(t);  // stable ID while the label changes
-            if (ImGui::BeginTabItem(label.c_str(), nullptr, tf)) {
+            const bool shown = ImGui::BeginTabItem(label.c_str(), nullptr, tf);
+            probe_item(std::string("tab_") + names[t]);
+            if (shown) {
                 current_tab_ = t;
                 if (want_tab_ == t) want_tab_ = -1;
                 if (t == Objects) draw_objects_tab();
@@ -278,6 +371,42 @@ void Panels::draw_sidebar() {
         ImGui::EndTabBar();
     }
     ImGui::End();
+    draw_sidebar_edge();
+}
+
+// The sidebar's left edge, a few pixels either side: dragging it sets the sidebar's
+// width, kept in the settings once the button is released.
+void Panels::draw_sidebar_edge() {
+    ImGuiIO& io = ImGui::GetIO();
+    const float W = io.DisplaySize.x, ui = float(tools_.ui_scale());
+    const float grip = std::max(6.f, std::round(ImGui::GetFontSize() * 0.4f));
+    const float edge = W - layout_.sidebar_w;
+    ImGui::SetNextWindowPos(ImVec2(edge - grip / 2, layout_.menu_h));
+    ImGui::SetNextWindowSize(ImVec2(grip, io.DisplaySize.y - layout_.menu_h));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowMinSize, ImVec2(1, 1));
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoBackground |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
+                                   ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoFocusOnAppearing;
+    if (ImGui::Begin("##sidebar_edge", nullptr, flags)) {
+        ImGui::InvisibleButton("edge", ImVec2(grip, io.DisplaySize.y - layout_.menu_h));
+        const bool active = ImGui::IsItemActive();
+        if (ImGui::IsItemActivated()) edge_grab_ = (W - io.MousePos.x) - layout_.sidebar_w;
+        if (ImGui::IsItemHovered() || active) {
+            ImGui::SetMouseCursor(ImGuiMouseCursor_ResizeEW);
+            ImGui::GetWindowDrawList()->AddLine(ImVec2(edge, layout_.menu_h), ImVec2(edge, io.DisplaySize.y),
+                                                ImGui::GetColorU32(ImGuiCol_SeparatorActive), 2);
+        }
+        if (active) {
+            const float w = std::clamp(W - io.MousePos.x - edge_grab_, sidebar_min_width(W, ui), sidebar_max_width(W, ui));
+            (void)tools_.settings().set_sidebar_width(w / ui, false);  // saved on release
+        }
+        if (ImGui::IsItemDeactivated())
+            if (rt::Status st = tools_.settings().set_sidebar_width(layout_.sidebar_w / ui); !st)
+                status_.set("The sidebar's width was not saved: " + st.message(), true);
+    }
+    ImGui::End();
+    ImGui::PopStyleVar(2);
 }
 
 void Panels::draw_camera_panel() {
@@ -303,12 +432,21 @@ void Panels::draw_camera_panel() {
         rt::Camera view = nav_.camera();
         bool differs = doc.has_scene() && nav_.differs_from(doc.scene().camera);
         ImGui::TextDisabled("View%s", differs ? " (moved; not in the file)" : " (= scene camera)");
-        ImGui::TextWrapped("eye    %.3f %.3f %.3f", view.position.x, view.position.y, view.position.z);
-        ImGui::TextWrapped("centre %.3f %.3f %.3f", view.centre.x, view.centre.y, view.centre.z);
+        // The numbers in a column after the labels, whatever the face's widths.
+        const float value_x = ImGui::CalcTextSize("centre ").x + ImGui::GetStyle().ItemSpacing.x;
+        for (const auto& [label, p] : {std::pair<const char*, rt::Vec3>{"eye", view.position}, {"centre", view.centre}}) {
+            ImGui::TextUnformatted(label);
+            ImGui::SameLine(value_x);
+            ImGui::TextWrapped("%.3f %.3f %.3f", p.x, p.y, p.z);
+        }
         ViewAngles va = view_angles(view, nav_.world_up());
         double v3[3] = {va.azimuth, va.elevation, va.distance};
-        if (ImGui::DragScalarN("az, el, dist", ImGuiDataType_Double, v3, 3, 0.25f, nullptr, nullptr, "%.2f"))
+        NumberFieldSpec angles;
+        angles.speed = 0.25f;
+        angles.format = "%.2f";
+        if (number_fields("az, el, dist", v3, 3, angles))
             nav_.set(set_view_angles(view, nav_.world_up(), {v3[0], std::clamp(v3[1], -89.0, 89.0), std::max(v3[2], 1e-6)}));
+        probe_view(view, v3);
         if (layout_.fit == FitMode::Window && doc.has_scene()) {
             rt::Camera vc = fit_camera_to_aspect(view, layout_.film_w, layout_.film_h);
             char fitted[96];
@@ -327,32 +465,50 @@ void Panels::draw_camera_panel() {
         if (ImGui::Button("Reset view (R)")) commands_.run(Command::ResetView);
         ImGui::EndDisabled();
 
-        // The scene camera: part of the document (edits here are undoable edits of
-        // the file, and the view follows them).
-        ImGui::Separator();
-        ImGui::TextDisabled("Scene camera (in the file)");
-        rt::Camera cam = doc.scene().camera;
-        bool changed = false;
-        changed |= drag_vec3("position", cam.position, speed);
-        changed |= drag_vec3("centre", cam.centre, speed);
-        changed |= drag_vec3("up point", cam.up, speed);
-        double ang[2] = {cam.angle_x, cam.angle_y};
-        const double amin = 0.5, amax = 179.5;
-        if (ImGui::DragScalarN("angle x, y", ImGuiDataType_Double, ang, 2, 0.1f, &amin, &amax, "%.2f deg")) {
-            cam.angle_x = ang[0];
-            cam.angle_y = ang[1];
-            changed = true;
-        }
-        int proj = cam.projection == rt::Projection::Polar ? 1 : 0;
-        if (ImGui::Combo("projection", &proj, "linear\0polar (equal angle)\0")) {
-            cam.projection = proj ? rt::Projection::Polar : rt::Projection::Linear;
-            changed = true;
-        }
+        draw_scene_camera_fields(speed);
         ImGui::PopItemWidth();
-        if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;
         ImGui::EndDisabled();
     }
     layout_.camera_panel = item_block(top, width);
+}
+
+// The scene camera: part of the document (edits here are undoable edits of the
+// file, and the view follows them).
+void Panels::draw_scene_camera_fields(float speed) {
+    const Document& doc = editor_.doc();
+    ImGui::Separator();
+    ImGui::TextDisabled("Scene camera (in the file)");
+    // Disabled, not hidden, while the text blocks edits: the panels below keep their place.
+    const bool blocked = !doc.edit_blocker().empty();
+    ImGui::BeginDisabled(blocked);
+    rt::Camera cam = doc.scene().camera;
+    bool changed = false;
+    changed |= drag_vec3("position", cam.position, speed);
+    changed |= drag_vec3("centre", cam.centre, speed);
+    changed |= drag_vec3("up point", cam.up, speed);
+    double ang[2] = {cam.angle_x, cam.angle_y};
+    const double amin = 0.5, amax = 179.5;
+    NumberFieldSpec fov;
+    fov.speed = 0.1f;
+    fov.min = &amin;
+    fov.max = &amax;
+    fov.format = "%.2f deg";
+    fov.clamp_typed = true;
+    if (number_fields("angle x, y", ang, 2, fov)) {
+        cam.angle_x = ang[0];
+        cam.angle_y = ang[1];
+        changed = true;
+    }
+    int proj = cam.projection == rt::Projection::Polar ? 1 : 0;
+    if (ImGui::Combo("projection", &proj, "linear\0polar (equal angle)\0")) {
+        cam.projection = proj ? rt::Projection::Polar : rt::Projection::Linear;
+        changed = true;
+    }
+    ImGui::EndDisabled();
+    if (blocked) changed = false;
+    if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;
+    else if (changed) status_.set(std::string("Camera not changed: ") + rt::camera_problem(cam), true);
+    if (std::string refused; take_number_refusal(refused)) status_.set(refused, true);
 }
 
 void Panels::draw_objects_tab() {
@@ -377,6 +533,7 @@ void Panels::draw_object_node(const rt::Object& obj, int top, std::vector<int>& 
     if (csg) f |= ImGuiTreeNodeFlags_DefaultOpen;
     else f |= ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen;
     bool open = ImGui::TreeNodeEx("node", f, "%s", label.c_str());
+    if (ImGui::IsItemVisible()) probe_item("outline_" + selection_name(me));
     if (ImGui::IsItemClicked() && !ImGui::IsItemToggledOpen()) selection_ = me;
     if (selection_ == me && scroll_to_selection_) {
         ImGui::SetScrollHereY();
@@ -407,6 +564,7 @@ void Panels::draw_outline() {
                                ImGuiTreeNodeFlags_SpanAvailWidth;
         if (selection_ == me) f |= ImGuiTreeNodeFlags_Selected;
         ImGui::TreeNodeEx("node", f, "%s", label.c_str());
+        if (ImGui::IsItemVisible()) probe_item("outline_" + selection_name(me));
         if (ImGui::IsItemClicked()) selection_ = me;
         if (selection_ == me && scroll_to_selection_) {
             ImGui::SetScrollHereY();
@@ -448,6 +606,12 @@ void Panels::draw_outline() {
             ImGui::PopID();
         }
         ImGui::TreePop();
+    }
+    if (s.lights.empty()) {
+        // Whatever is added stays black until a light is: say so where lights are listed.
+        const char* hint = "No lights: everything renders black. Right-click the picture > Add here > lamp.";
+        wrapped_coloured(kWarnColour, hint);
+        probe("outline_hint", hint);
     }
     scroll_to_selection_ = false;
 }
@@ -498,11 +662,14 @@ void Panels::draw_properties() {
         editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), loc.line, loc.col)));
     if (!selection_.path.empty()) {
         if (loc.line > 0) same_line_if_fits("select the parent");
-        if (ImGui::SmallButton("select the parent")) {
+        const bool parent = ImGui::SmallButton("select the parent");
+        probe_item("button_select_the_parent");
+        if (parent) {
             selection_.path.pop_back();
             return;
         }
-        wrapped_hint("A CSG operand: its shape counts, but only the whole CSG's material is rendered.");
+        wrapped_hint("A CSG operand: its shape counts; its colour and finish are the whole CSG's material (select "
+                     "the parent to edit it).");
     }
     if (selection_.kind == Selection::Kind::Light) {
         // The block's kind: switching keeps the lamp's size for switching back.
@@ -513,7 +680,16 @@ void Panels::draw_properties() {
         ImGui::TextDisabled("%s", what);
     }
     ImGui::Separator();
+    // Nothing here may change the scene while the text holds changes it could not be
+    // written into: Save writes that text.
+    const std::string blocked = editor_.doc().edit_blocker();
+    if (!blocked.empty()) {
+        wrapped_coloured(kWarnColour, blocked);
+        probe("edits", "blocked");
+    }
+    ImGui::BeginDisabled(!blocked.empty());
     draw_fields(ref);
+    ImGui::EndDisabled();
 }
 
 // One widget per key of the selected item's block, from the schema (item_fields.h):
@@ -529,14 +705,23 @@ void Panels::draw_fields(const ItemRef& ref) {
     char vec_format[16];
     std::snprintf(vec_format, sizeof vec_format, "%%.%df", std::clamp(4 - int(std::floor(std::log10(size))), 3, 9));
     int operand = 0;
+    std::string shown;  // the fields drawn, for scripts (probe.h)
     for (const Field& f : fields) {
         std::optional<FieldValue> cur = field_value(doc.scene(), ref, f);
         if (!cur) continue;
+        shown += (shown.empty() ? "" : ",") + f.label;
         FieldValue v = *cur;
         ImGui::PushID(f.label.c_str());
         ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
         const bool changed = draw_field(ref, f, v, size, vec_format, operand);
         ImGui::PopItemWidth();
+        {
+            // Where the field is, for scripts that click on it.
+            std::string key = "field_" + f.label;
+            std::replace(key.begin(), key.end(), ' ', '_');
+            probe_item(key);
+        }
+        if (std::string refused; take_number_refusal(refused)) field_message_ = {selection_, f.label, refused, true};
         if (changed) {
             const FieldResult r = set_field(doc, ref, f, v);
             if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true};
@@ -544,10 +729,13 @@ void Panels::draw_fields(const ItemRef& ref) {
             else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
             else if (field_message_.field == f.label) field_message_ = {};
         }
-        if (field_message_.field == f.label && !field_message_.text.empty())
+        if (field_message_.field == f.label && !field_message_.text.empty()) {
             wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+            probe("field_message", f.label + ": " + field_message_.text);
+        }
         ImGui::PopID();
     }
+    probe("fields", shown);
 }
 
 // The widget of one field of the kind the schema gives it, editing `v`; true if it
@@ -558,9 +746,10 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
     bool changed = false;
     switch (f.kind) {
         case sc::Kind::Number: {
-            const float speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
-            changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, speed, nullptr, nullptr, "%.6g");
-            if (ImGui::IsItemHovered()) ImGui::SetTooltip("Drag, or Ctrl+click to type a value");
+            NumberFieldSpec spec;
+            spec.speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
+            spec.format = "%.6g";
+            changed = number_field(f.label.c_str(), &v.number, spec);
             break;
         }
         case sc::Kind::Vec3: {
@@ -572,7 +761,9 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
             break;
         }
         case sc::Kind::Integer: {
-            changed = ImGui::DragScalar(f.label.c_str(), ImGuiDataType_Double, &v.number, 1.0f, nullptr, nullptr, "%.0f");
+            NumberFieldSpec spec;
+            spec.format = "%.0f";
+            changed = number_field(f.label.c_str(), &v.number, spec);
             break;
         }
         case sc::Kind::Choice: {
@@ -614,6 +805,9 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
 // A light's colour is an intensity (often >> 1 because of the 1/r^2 fall-off): its three
 // numbers, and the same as a tint and a strength.
 bool Panels::light_colour_editor(rt::Vec3& colour) {
+    char shown[128];  // what the field shows, for scripts (probe.h)
+    std::snprintf(shown, sizeof shown, "%.3f %.3f %.3f", colour.x, colour.y, colour.z);
+    probe("light_colour", shown);
     bool changed = drag_vec3("colour", colour, float(std::max({colour.x, colour.y, colour.z, 1.0}) * 0.005));
     double intensity = std::max({colour.x, colour.y, colour.z, 0.0});
     rt::Vec3 tint = intensity > 0 ? colour / intensity : rt::Vec3{1, 1, 1};
@@ -627,11 +821,16 @@ bool Panels::light_colour_editor(rt::Vec3& colour) {
     ImGui::SameLine();
     const double zero = 0;
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 6);
-    if (ImGui::DragScalar("intensity", ImGuiDataType_Double, &intensity, float(std::max(intensity * 0.005, 0.01)), &zero,
-                          nullptr, "%.2f"))
-        tinted = true;
+    NumberFieldSpec spec;
+    spec.speed = float(std::max(intensity * 0.005, 0.01));
+    spec.min = &zero;
+    spec.format = "%.2f";
+    if (number_field("intensity", &intensity, spec)) tinted = true;
+    probe_item("field_intensity");
     if (tinted) {
-        colour = tint * intensity;
+        // As the colour field shows it: tint * intensity has noise in its last digits.
+        const rt::Vec3 c = tint * intensity;
+        colour = {as_shown(c.x, 3), as_shown(c.y, 3), as_shown(c.z, 3)};
         changed = true;
     }
     return changed;
@@ -725,56 +924,69 @@ void Panels::draw_render_tab() {
 namespace {
 
 // Pieces of status-bar text flowed into rows: a piece stays on the current row if it
-// fits (with its separator), else it starts a row of its own at the left, wrapped at
-// the bar's right edge. Returns the height of the rows below the first; draws them
-// when `draw`.
+// fits (with its separator), else it starts a row of its own at the left, broken at
+// spaces where it is wider than the bar (never inside a number), and what follows goes
+// on after it. Returns the height of the rows below the first; draws them when `draw`,
+// and gives their text in `shown` (for --print-layout).
 struct StatusPiece {
     std::string text;
     const char* sep = "";
     const ImVec4* colour = nullptr;
 };
 
-float flow_status(const std::vector<StatusPiece>& pieces, float x, float left, float right, bool draw) {
+float flow_status(const std::vector<StatusPiece>& pieces, float x, float left, float right, bool draw,
+                  std::vector<std::string>* shown = nullptr) {
     const ImGuiStyle& st = ImGui::GetStyle();
+    const auto measure = [](std::string_view t) { return ImGui::CalcTextSize(t.data(), t.data() + t.size()).x; };
     float extra = 0;
     bool first = true;
     for (const StatusPiece& p : pieces) {
         const std::string joined = p.sep + p.text;
-        const float w = ImGui::CalcTextSize(joined.c_str()).x;
+        const float w = measure(joined);
         const bool fits = x + w <= right;
+        const std::vector<std::string> rows = fits ? std::vector<std::string>{joined} : wrap_words(p.text, right - left, measure);
+        if (shown) {
+            if (fits && !shown->empty()) shown->back() += (first ? "" : " ") + joined;
+            else shown->insert(shown->end(), rows.begin(), rows.end());
+        }
         if (draw) {
             if (p.colour) ImGui::PushStyleColor(ImGuiCol_Text, *p.colour);
-            if (fits) {
-                if (!first) ImGui::SameLine();
-                ImGui::TextUnformatted(joined.c_str());
-            } else {
-                if (first) ImGui::NewLine();
-                ImGui::SetCursorPosX(left);
-                ImGui::PushTextWrapPos(right);
-                ImGui::TextUnformatted(p.text.c_str());
-                ImGui::PopTextWrapPos();
+            for (std::size_t k = 0; k < rows.size(); ++k) {
+                if (fits && !first) ImGui::SameLine();
+                if (!fits && first && k == 0) ImGui::NewLine();
+                if (!fits) ImGui::SetCursorPosX(left);
+                ImGui::TextUnformatted(rows[k].c_str());
             }
             if (p.colour) ImGui::PopStyleColor();
         }
         if (fits) {
             x += w + st.ItemSpacing.x;
         } else {
-            extra += ImGui::CalcTextSize(p.text.c_str(), nullptr, false, right - left).y + st.ItemSpacing.y;
-            x = right;  // what follows starts a row of its own
+            extra += float(rows.size()) * (ImGui::GetTextLineHeight() + st.ItemSpacing.y);
+            x = left + measure(rows.back()) + st.ItemSpacing.x;
         }
         first = false;
     }
     return extra;
 }
 
-// "spp" names the progress bar's numbers: it stays beside them.
+// "spp" names the progress bar's numbers: it stays beside them. The groups of a
+// pixel readout ("RGB 0.107 0.107 0.125", three spaces apart) each move to the next
+// row whole.
 void add_status_line(std::vector<StatusPiece>& pieces, const std::string& text) {
+    std::string rest = text;
+    const char* sep = "";
     if (text.rfind("spp  ", 0) == 0) {
         pieces.push_back({"spp"});
-        pieces.push_back({text.substr(5), " "});
-    } else {
-        pieces.push_back({text});
+        rest = text.substr(5);
+        sep = " ";
     }
+    for (std::size_t at = rest.find("   "); at != std::string::npos; at = rest.find("   ")) {
+        pieces.push_back({rest.substr(0, at), sep});
+        rest.erase(0, at + 3);
+        sep = "   ";
+    }
+    pieces.push_back({rest, sep});
 }
 
 // The status bar's window padding (unscaled, as its one row always had).
@@ -831,11 +1043,19 @@ void Panels::draw_status_bar(const LoadStatus& load) {
                 commands_.run(Command::TogglePause);
             ImGui::SameLine();
             double elapsed = p.done && render_.done_generation() == p.generation ? render_.done_elapsed() : p.elapsed;
-            double frac = std::clamp((p.samples + p.pass_fraction) / std::max(1, render_.max_samples()), 0.0, 1.0);
+            double frac = p.refining >= 0 ? rt::progress_fraction(p, render_.max_samples())
+                                          : std::clamp((p.samples + p.pass_fraction) / std::max(1, render_.max_samples()), 0.0, 1.0);
             if (render_.time_limit() > 0) frac = std::max(frac, std::min(1.0, elapsed / render_.time_limit()));
             if (p.done) frac = 1;
             char buf[64];
-            std::snprintf(buf, sizeof buf, "%d / %d", p.samples, render_.max_samples());
+            // Adaptive: how many pixels have not settled yet, until every one has.
+            if (p.refining > 0) std::snprintf(buf, sizeof buf, "%lld px refining", static_cast<long long>(p.refining));
+            else if (p.refining == 0) std::snprintf(buf, sizeof buf, "settled");
+            else std::snprintf(buf, sizeof buf, "%d / %d", p.samples, render_.max_samples());
+            if (render_.showing_preview()) {  // the view moves: the last render's state is not the picture's
+                std::snprintf(buf, sizeof buf, "moving");
+                frac = 0;
+            }
             ImGui::ProgressBar(float(frac), ImVec2(ImGui::GetFontSize() * 8, 0), buf);
             ImGui::SameLine();
             double rate = elapsed > 0 ? double(p.rays) / elapsed : 0;
@@ -852,12 +1072,14 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             // Over the picture: the readout of the pixel under the cursor instead of the
             // statistics and the last message.
             char line[512];
+            const char* unit = p.refining >= 0 ? "" : "spp  ";  // (an adaptive bar counts pixels)
             if (!tools_.readout_line().empty())
-                std::snprintf(line, sizeof line, "spp  %s  | %s", shown, tools_.readout_line().c_str());
+                std::snprintf(line, sizeof line, "%s%s  | %s", unit, shown, tools_.readout_line().c_str());
             else
-                std::snprintf(line, sizeof line, "spp  %.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
+                std::snprintf(line, sizeof line, "%s%.2f Mrays/s  %.1f s  %s  |  %s", unit, rate / 1e6, elapsed, shown,
                               layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
-            status_text(line, tools_.readout_line().empty());
+            // An error stays beside the readout: it must be read, not hidden by a hover.
+            status_text(line, tools_.readout_line().empty() || status_.error());
         }
     }
     ImGui::End();
@@ -895,8 +1117,20 @@ void Panels::status_text(const std::string& text, bool show_message) {
     std::vector<StatusPiece> shown;
     add_status_line(shown, text);
     if (show_message) shown = with_message(status_, std::move(shown));
+    std::vector<std::string> rows;
     const float extra = flow_status(shown, ImGui::GetCursorPosX(), ImGui::GetWindowContentRegionMin().x,
-                                    ImGui::GetWindowContentRegionMax().x, true);
+                                    ImGui::GetWindowContentRegionMax().x, true, &rows);
+    std::string all, drawn;
+    for (const StatusPiece& p : shown) all += p.sep + p.text;
+    for (const std::string& r : rows) drawn += (drawn.empty() ? "" : " || ") + r;
+    probe("status_bar", all);
+    if (show_message && status_.error()) {
+        // Errors stay until the next message or until dismissed here.
+        ImGui::SameLine();
+        if (ImGui::SmallButton("x##dismiss")) status_.set("");
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Dismiss this message");
+    }
+    probe("status_rows", drawn);
     const float width = ImGui::GetWindowWidth();
     if (extra > usual_status_extra(width)) status_more_ = {width, ImGui::GetFontSize(), status_.text(), extra};
 }

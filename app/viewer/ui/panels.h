@@ -51,9 +51,13 @@ public:
     // narrow window its text takes more than one row.
     float status_height(float width);
     float min_sidebar_width();
+    static std::string selection_name(const Selection& s);
 
 private:
+    void draw_sidebar_edge();
+    void draw_undo_items();
     void draw_camera_panel();
+    void draw_scene_camera_fields(float speed);
     void draw_objects_tab();
     void draw_outline();
     void draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label);
@@ -91,6 +95,7 @@ private:
         std::string text;
         float extra = 0;
     } status_more_;
+    float edge_grab_ = 0;  // where on the sidebar's edge the drag began
     bool scroll_to_selection_ = false;
     int want_tab_ = -1;  // select this tab on the next frame
     int current_tab_ = 0;

@@ -82,8 +82,13 @@ std::uint64_t shapes_hash(const rt::Scene& s) {
 
 }  // namespace
 
-RenderController::RenderController(int threads, bool interactive, int max_samples, double time_limit)
-    : interactive_(interactive), renderer_(threads), max_samples_(max_samples), time_limit_(time_limit) {}
+RenderController::RenderController(int threads, bool interactive, int max_samples, double time_limit,
+                                   double aa_threshold)
+    : interactive_(interactive),
+      renderer_(threads),
+      max_samples_(max_samples),
+      time_limit_(time_limit),
+      aa_threshold_(aa_threshold) {}
 
 RenderController::~RenderController() {
     renderer_.cancel();
@@ -243,6 +248,7 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h, b
     st.height = film_h;
     st.max_samples = max_samples_;
     st.time_limit = time_limit_;
+    st.aa_threshold = aa_threshold_;  // a settled pixel stops: the picture converges sooner
     st.hard_time_limit = true;  // a viewer shows what it has: the limit holds even before the first full sample
     st.camera = camera;
     // The usual 8x8 first pass, or coarser when the scene is so expensive that it

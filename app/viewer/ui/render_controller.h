@@ -29,7 +29,8 @@ namespace rtview {
 
 class RenderController {
 public:
-    RenderController(int threads, bool interactive, int max_samples, double time_limit);
+    // aa_threshold: adaptive anti-aliasing's (rt::RenderSettings), < 0 for none.
+    RenderController(int threads, bool interactive, int max_samples, double time_limit, double aa_threshold);
     ~RenderController();
 
     // The document's scene changed (or not): compile it, reusing the BVH when only
@@ -91,6 +92,7 @@ public:
     int threads() const { return renderer_.threads(); }
 
     int max_samples() const { return max_samples_; }
+    double aa_threshold() const { return aa_threshold_; }
     void set_max_samples(int n);
     double time_limit() const { return time_limit_; }
     void set_time_limit(double s);
@@ -142,6 +144,7 @@ private:
 
     int max_samples_;
     double time_limit_;
+    double aa_threshold_;
     bool settings_changed_ = false;
     bool paused_ = false;
 

@@ -14,11 +14,12 @@ namespace rtview {
 // Where everything is this frame (ImGui logical coordinates) and the film it implies.
 struct Layout {
     float menu_h = 0, status_h = 0, sidebar_w = 0;
+    bool sidebar_hidden = false;  // Tab: the picture alone
     float fb_scale = 1;
     Rect area;   // all space for the image
     Rect image;  // where the film is drawn (letterboxed in picture mode; zoomed by the picture tools)
     Rect fit_image;  // where it is drawn unzoomed
-    int film_w = 1, film_h = 1;
+    int film_w = 1, film_h = 1;  // the picture rendered: picture_size in the picture frame, else the area's
     FitMode fit = FitMode::Picture;
     // Rectangles of some panels, for --print-layout.
     Rect camera_panel, editor, diagnostics, outline;
@@ -56,8 +57,8 @@ enum class Command {
     SaveImage,       // arg: path
     Screenshot,      // arg: path
     Quit,            // asks about unsaved edits first
-    Undo,
-    Redo,
+    Undo,            // arg: how many steps (empty: one)
+    Redo,            // arg: how many steps (empty: one)
     EditText,        // show and focus the editor
     ApplyText,
     RevertText,
@@ -82,7 +83,8 @@ class Commands {
 public:
     virtual ~Commands() = default;
     // Returns false if the command failed (the status line says why). `confirmed`:
-    // the user already chose to drop unsaved edits (Quit, Open, OpenDefault).
+    // the user already chose to drop unsaved edits (Quit, Open, OpenDefault), or to
+    // save text that does not parse (Save, SaveAs).
     virtual bool run(Command c, const std::string& arg = {}, bool confirmed = false) = 0;
 };
 

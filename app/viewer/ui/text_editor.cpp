@@ -1,12 +1,18 @@
-// The scene text editor widget (see text_editor.h). Geometry assumes a fixed-width
-// font (ImGui's default ProggyClean, also at 2x): a column is one glyph, a tab four.
+// The scene text editor widget (see text_editor.h). Text sits on a grid of columns:
+// a column is one character, a tab four. It is drawn in the fixed-width font
+// (fonts.h); should that face not be fixed-width after all, each character is drawn
+// in its own column, so the caret, selection and clicks still match what is shown.
 #include "text_editor.h"
 
 #include <imgui_internal.h>  // WantTextInputNextFrame, FocusWindow: 1.86 has no public way
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+
+#include "fonts.h"
+#include "probe.h"
 
 namespace rtview {
 
@@ -79,6 +85,14 @@ int imgui_index(TextEditor::Key k) {
     case K::G: return io.KeyMap[ImGuiKey_A] < 0 ? -1 : io.KeyMap[ImGuiKey_A] + ('G' - 'A');
     }
     return -1;
+}
+
+// Whether the printable ASCII characters of `font` at `size` are all `char_w` wide.
+bool fixed_width(const ImFont* font, float size, float char_w) {
+    const float scale = size / font->FontSize;
+    for (ImWchar c = 32; c < 127; ++c)
+        if (std::fabs(font->GetCharAdvance(c) * scale - char_w) > 0.01f * char_w) return false;
+    return true;
 }
 
 }  // namespace
@@ -546,6 +560,7 @@ struct TextEditor::Frame {
     ImDrawList* dl = nullptr;
     ImFont* font = nullptr;
     float fs = 0;
+    bool fixed_width = true;  // every character of the font as wide as "M"
     int digits = 0;                 // of the largest line number
     float mark_w = 0, gutter_w = 0;  // the gutter: mark column, then numbers
     ImRect inner;                   // the text child without its scrollbars
@@ -564,10 +579,12 @@ bool TextEditor::draw(const char* id, const ImVec2& size_arg) {
     if (last_drawn_frame_ < frame - 1) queue_.clear();
     last_drawn_frame_ = frame;
 
+    ImGui::PushFont(mono_font());
     Frame f;
     f.font = ImGui::GetFont();
     f.fs = ImGui::GetFontSize();
     char_w_ = f.font->CalcTextSizeA(f.fs, FLT_MAX, 0, "M").x;
+    f.fixed_width = fixed_width(f.font, f.fs, char_w_);
     line_h_ = std::floor(f.fs + 2);
     f.digits = int(std::to_string(buf_.line_count()).size());
     f.mark_w = char_w_ * 2;
@@ -590,10 +607,20 @@ bool TextEditor::draw(const char* id, const ImVec2& size_arg) {
                       ImGuiWindowFlags_HorizontalScrollbar | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoNavInputs);
     lay_out_text(f);
     draw_rows(f);
+    {
+        // Where the text grid is on the screen: scripts click on characters by it.
+        char grid[160];
+        std::snprintf(grid, sizeof grid, "%.2f %.2f %.3f %.3f %d %s", f.text_origin.x, f.text_origin.y, char_w_, line_h_,
+                      f.fixed_width ? 1 : 0, wrap_ ? "wrap" : "nowrap");
+        probe("editor_grid", grid);
+        probe("editor_cursor", std::to_string(f.cur.line + 1) + " " + std::to_string(f.cur.col + 1) +
+                                   (focused_ ? " focused" : ""));
+    }
     ImGui::EndChild();
     ImGui::PopStyleColor();
     ImGui::EndChild();
     ImGui::PopStyleVar();
+    ImGui::PopFont();
     return buf_.version() != version0;
 }
 
@@ -744,7 +771,15 @@ void TextEditor::draw_row(const Frame& f, int line, int r, float y, const std::v
         a = std::max(a, b0);
         b = std::min(b, b1);
         if (a >= b) return;
-        dl->AddText(f.font, f.fs, ImVec2(x_of(a), y + 1), col, text.data() + a, text.data() + b);
+        if (f.fixed_width) return dl->AddText(f.font, f.fs, ImVec2(x_of(a), y + 1), col, text.data() + a, text.data() + b);
+        for (int c = a; c < b;) {  // each character centred in its own column
+            int n = 1;
+            while (c + n < b && (static_cast<unsigned char>(text[std::size_t(c + n)]) & 0xC0) == 0x80) ++n;
+            const char *s0 = text.data() + c, *s1 = s0 + n;
+            const float w = f.font->CalcTextSizeA(f.fs, FLT_MAX, 0, s0, s1).x;
+            dl->AddText(f.font, f.fs, ImVec2(x_of(c) + std::floor((char_w_ - w) / 2), y + 1), col, s0, s1);
+            c += n;
+        }
     };
     int at = b0;
     const ImU32 plain = kind_colour(TokenKind::Text);

@@ -1,0 +1,40 @@
+// How the window is divided and what size of picture it renders: the film of the
+// picture frame (the scene's picture_size, whatever the window), the sidebar's width
+// (the user's, within what leaves the picture room) and status text flowed into rows
+// without breaking a number. Pure arithmetic: unit-tested.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace rtview {
+
+// The most pixels the viewer renders as one film (a larger picture_size would take
+// gigabytes): "Render to file" makes pictures of any size.
+constexpr std::int64_t kMaxFilmPixels = std::int64_t(4096) * 4096;
+
+// The film of the picture frame: the scene's picture_size, or, past kMaxFilmPixels,
+// the largest film of its aspect within it (so the viewer says the saved image is
+// smaller). Zoom and pan only place this film on the screen.
+void picture_film_size(int pic_w, int pic_h, int& film_w, int& film_h);
+
+// The sidebar's width in a window `window_w` wide at UI scale `scale`:
+// `wanted` (window units at scale 1, as the user dragged it; <= 0: none yet) or else
+// a third of the window, widened to `content_min` (the panels' fields whole) where
+// that leaves the picture most of the window. Never narrower than a few words nor so
+// wide that the picture has no room.
+float sidebar_width(float window_w, float scale, float content_min, double wanted);
+// The limits sidebar_width() keeps to (a drag of the edge stops there).
+float sidebar_min_width(float window_w, float scale);
+float sidebar_max_width(float window_w, float scale);
+
+// `text` broken into rows no wider than `width` (as `measure` says), at spaces only:
+// a number such as "0.107" is never split (ImGui's own wrapping breaks after a '.').
+// A word wider than a row on its own is cut where it must be.
+std::vector<std::string> wrap_words(const std::string& text, float width,
+                                    const std::function<float(std::string_view)>& measure);
+
+}  // namespace rtview

@@ -1,0 +1,115 @@
+// Number fields (see number_field.h). One field at a time is typed into: its ImGui id,
+// its text and whether it has had the keyboard yet are kept here, on the UI thread.
+#include "number_field.h"
+
+#include <imgui.h>
+#include <imgui_internal.h>  // PushMultiItemsWidths, ClearActiveID: 1.86 has no public way
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+
+#include "item_fields.h"
+#include "probe.h"
+#include "scene_writer.h"
+
+namespace rtview {
+
+namespace {
+
+struct Typing {
+    ImGuiID id = 0;        // the field typed into; 0: none
+    std::string text;
+    int frames = 0;        // frames since typing began (the text field takes a frame to activate)
+    bool had_focus = false;
+    std::string refusal;   // the last refused text's message, until taken
+} g_typing;
+
+bool starts_typing() {
+    const ImGuiIO& io = ImGui::GetIO();
+    return ImGui::IsItemHovered() && ((ImGui::IsMouseClicked(0) && io.KeyCtrl) || ImGui::IsMouseDoubleClicked(0));
+}
+
+// The typed text, committed on Enter or when the field loses the keyboard; Escape
+// drops it. True when *v took a new value.
+bool typed_field(const char* label, double* v, const NumberFieldSpec& spec) {
+    Typing& t = g_typing;
+    if (t.frames++ == 0) ImGui::SetKeyboardFocusHere();
+    const bool enter = ImGui::InputText(label, &t.text, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+    const bool active = ImGui::IsItemActive();
+    probe("typing", std::string(label) + (active ? " active" : ""));
+    t.had_focus |= active;
+    const bool escape = active && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape));
+    // Focus never came (another widget took it) or went: the text is let go or taken.
+    const bool left = (t.had_focus && !active) || (!t.had_focus && t.frames > 3);
+    if (!enter && !left && !escape) return false;
+    const std::string text = t.text;
+    t = Typing{0, {}, 0, false, t.refusal};
+    if (escape) return false;
+    double x = 0;
+    if (const rt::Status st = parse_typed_number(text, x); !st) {
+        t.refusal = st.message();
+        return false;
+    }
+    if (spec.clamp_typed && spec.min && spec.max) x = std::clamp(x, *spec.min, *spec.max);
+    if (x == *v) return false;
+    *v = x;
+    return true;
+}
+
+}  // namespace
+
+bool number_field(const char* label, double* v, const NumberFieldSpec& spec) {
+    const ImGuiID id = ImGui::GetID(label);
+    if (g_typing.id == id) {
+        ImGui::PushID("typing");
+        const bool changed = typed_field(label, v, spec);
+        ImGui::PopID();
+        return changed;
+    }
+    const ImGuiSliderFlags flags = ImGuiSliderFlags_NoInput | (spec.clamp_typed ? ImGuiSliderFlags_AlwaysClamp : 0);
+    const bool changed = spec.slider && spec.min && spec.max
+                             ? ImGui::SliderScalar(label, ImGuiDataType_Double, v, spec.min, spec.max, spec.format, flags)
+                             : ImGui::DragScalar(label, ImGuiDataType_Double, v, spec.speed, spec.min, spec.max,
+                                                 spec.format, flags);
+    if (starts_typing()) {
+        ImGui::ClearActiveID();  // the click is the typing's, not the start of a drag
+        g_typing = Typing{id, rt::format_number(*v), 0, false, g_typing.refusal};
+    } else if (ImGui::IsItemHovered() && !ImGui::IsItemActive()) {
+        ImGui::SetTooltip(spec.slider ? "Drag, or Ctrl+click to type a value" : "Drag, or Ctrl+click (double-click) to type a value");
+    }
+    return changed;
+}
+
+bool number_fields(const char* label, double* v, int n, const NumberFieldSpec& spec) {
+    const ImGuiStyle& style = ImGui::GetStyle();
+    bool changed = false;
+    ImGui::BeginGroup();
+    ImGui::PushID(label);
+    ImGui::PushMultiItemsWidths(n, ImGui::CalcItemWidth());
+    for (int i = 0; i < n; ++i) {
+        ImGui::PushID(i);
+        if (i > 0) ImGui::SameLine(0, style.ItemInnerSpacing.x);
+        changed |= number_field("", v + i, spec);
+        ImGui::PopID();
+        ImGui::PopItemWidth();
+    }
+    ImGui::PopID();
+    const char* end = ImGui::FindRenderedTextEnd(label);
+    if (end != label) {
+        ImGui::SameLine(0, style.ItemInnerSpacing.x);
+        ImGui::TextEx(label, end);
+    }
+    ImGui::EndGroup();
+    return changed;
+}
+
+bool number_typing() { return g_typing.id != 0; }
+
+bool take_number_refusal(std::string& message) {
+    if (g_typing.refusal.empty()) return false;
+    message = std::move(g_typing.refusal);
+    g_typing.refusal.clear();
+    return true;
+}
+
+}  // namespace rtview
