@@ -11,10 +11,12 @@
 #include <chrono>
 #include <cstring>
 #include <memory>
+#include <new>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "default_scene.h"
 #include "renderer.h"
 #include "scene_parser.h"
 #include "shapes.h"
@@ -236,7 +238,6 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
             ++reads;
         }
     });
-    double worst_cancel = 0;
     // Edits arrive as they do from the viewer's panels: a material change compiled
     // against the running world (sharing its BVH), alternating with another scene.
     Scene edited = parse_ok(kSceneA);
@@ -253,9 +254,8 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
         if (i % 7 == 3) r.wait_for(0.001);
         if (i % 60 == 10) r.wait();
         if (i % 5 == 1) {
-            auto t0 = std::chrono::steady_clock::now();
+            rt_test::Watchdog dog("cancel() did not return");
             r.cancel();
-            worst_cancel = std::max(worst_cancel, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
     }
     r.start(world_b, s);
@@ -264,8 +264,6 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
     reader.join();
     CHECK(reads.load() > 0);
     CHECK_FALSE(torn.load());
-    CAPTURE(worst_cancel);
-    CHECK(worst_cancel < 2.0);
 
     std::uint64_t gen = 0;
     Image last = r.snapshot(&gen);
@@ -277,19 +275,21 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
     CHECK(same_film(last, fresh));
 }
 
-TEST_CASE("renderer: cancel() of a long render returns quickly and leaves the renderer reusable") {
+TEST_CASE("renderer: cancel() of a long render returns and leaves the renderer reusable") {
     auto world = compile_world(parse_ok(kSceneA));
     Renderer r(2);
     RenderSettings s;
-    s.max_samples = 100000;  // would take minutes
+    s.max_samples = 100000;  // would take many minutes
     r.start(world, s);
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    auto t0 = std::chrono::steady_clock::now();
-    r.cancel();
-    double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    CAPTURE(took);
-    CHECK(took < 2.0);  // generous: timing targets belong to the benchmarks
+    rt_test::wait_until([&] { return r.progress().samples >= 1; }, "the first sample pass");  // under way
+    {
+        // (How quickly is for the benchmarks; a cancel that waited for the render to end
+        // would not return for minutes.)
+        rt_test::Watchdog dog("cancel() of a long render did not return");
+        r.cancel();
+    }
     CHECK_FALSE(r.progress().running);
+    CHECK_FALSE(r.progress().done);
 
     s.max_samples = 1;
     r.start(world, s);
@@ -394,7 +394,7 @@ TEST_CASE("renderer: wait() in one thread returns when another cancels, even wit
     CHECK_FALSE(returned.load());  // nothing is done yet
     r.cancel();
     // A waiter that were never woken would hang here; give it far more than it needs.
-    for (int i = 0; i < 500 && !returned; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (int i = 0; i < 6000 && !returned; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     CHECK(returned.load());
     r.set_paused(false);
     if (!returned) {
@@ -511,4 +511,33 @@ TEST_CASE("renderer: a world compiled from an edited scene shares the geometry u
         b.objects.push_back(b.objects[0]);
         CHECK(compile_world(b, wa.get())->geometry.get() != wa->geometry.get());
     }
+}
+
+TEST_CASE("a render thread that runs out of memory ends the render with a message, not the program") {
+    auto world = compile_world(rt_test::parse_ok(rt::kDefaultScene));
+    Renderer renderer(2);
+    std::atomic<int> tasks{0};
+    // The third task of the render throws as a failed allocation would.
+    renderer.task_hook = [&] {
+        if (tasks.fetch_add(1) == 2) throw std::bad_alloc();
+    };
+    RenderSettings st;
+    st.width = 64;
+    st.height = 48;
+    st.max_samples = 4;
+    renderer.start(world, st);
+    renderer.wait();
+    RenderProgress p = renderer.progress();
+    CHECK(p.done);
+    CHECK(p.error == "out of memory while rendering");
+    CHECK(p.samples < 4);  // stopped, not finished
+    // The next render, without the failure, completes and carries no message.
+    renderer.cancel();  // no worker is between taking a task and calling the hook
+    renderer.task_hook = nullptr;
+    renderer.start(world, st);
+    renderer.wait();
+    p = renderer.progress();
+    CHECK(p.done);
+    CHECK(p.error.empty());
+    CHECK(p.samples == 4);
 }

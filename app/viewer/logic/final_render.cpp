@@ -1,5 +1,6 @@
-// The final render (see final_render.h). The settings mirror app/raytracer.cpp line
-// for line: any difference would show up as different bytes in the file.
+// The final render (see final_render.h). The settings mirror raytracer's
+// (rtcli::render_settings) line for line: any difference would show up as different
+// bytes in the file. tests/viewer/test_final_render.cpp compares the two.
 #include "final_render.h"
 
 #include <algorithm>
@@ -71,6 +72,10 @@ rt::Status FinalRender::write() {
     if (!active_) return usage("no render to write");
     rt::RenderProgress p = renderer_.progress();
     if (!p.done) return usage("the render is not finished");
+    if (!p.error.empty()) {
+        active_ = false;
+        return usage(p.error);
+    }
     rt::ZeroedArray<std::uint8_t> pixels;
     int w = 0, h = 0;
     renderer_.snapshot_rgb8(pixels, w, h);

@@ -29,10 +29,11 @@ struct LoadResult {
     std::shared_ptr<const rt::World> world;  // Ok and parsed: compiled
 };
 
-// Reads a scene file as the loader does: a regular file only (a folder, a FIFO or a
-// device fails at once, never blocking), in pieces with `report(bytes, total)` after
-// each, stopping once `cancel` is set. A file that changes while it is read (another
-// program still writing it) fails too: its bytes could be half old and half new.
+// Reads a scene file as the loader does: a regular file or a FIFO (a folder or a device
+// fails at once, never blocking), in pieces with `report(bytes, total)` after each,
+// stopping once `cancel` is set (a FIFO is waited for in polls that see it). A regular
+// file that changes while it is read (another program still writing it) fails too:
+// its bytes could be half old and half new.
 rt::Status read_scene_file(const std::string& path, std::string& out, const std::atomic<bool>& cancel,
                            const std::function<void(std::uint64_t, std::uint64_t)>& report);
 

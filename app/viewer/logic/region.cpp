@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <new>
 
 #include "renderer.h"
 
@@ -65,6 +66,7 @@ RegionRenderer::~RegionRenderer() {
         std::lock_guard<std::mutex> lock(mutex_);
         quit_ = true;
         ++generation_;
+        stop_ = true;
     }
     work_cv_.notify_all();
     for (std::thread& t : threads_) t.join();
@@ -73,6 +75,7 @@ RegionRenderer::~RegionRenderer() {
 void RegionRenderer::cancel() {
     std::unique_lock<std::mutex> lock(mutex_);
     ++generation_;
+    stop_ = true;
     active_ = false;
     idle_cv_.wait(lock, [&] { return busy_ == 0; });
 }
@@ -82,6 +85,7 @@ void RegionRenderer::start(std::shared_ptr<const rt::World> world, const rt::Cam
     cancel();
     std::lock_guard<std::mutex> lock(mutex_);
     if (!world || rect.empty() || rect.x0 < 0 || rect.y0 < 0 || rect.x1 > width || rect.y1 > height) return;
+    stop_ = false;  // (no worker is busy: cancel() waited)
     world_ = std::move(world);
     basis_ = rt::CameraBasis::make(camera, width, height, false);
     rect_ = rect;
@@ -96,6 +100,7 @@ void RegionRenderer::start(std::shared_ptr<const rt::World> world, const rt::Cam
     next_row_ = rows_done_ = 0;
     active_ = true;
     done_ = false;
+    error_.clear();
     ++version_;
     work_cv_.notify_all();
 }
@@ -108,6 +113,11 @@ bool RegionRenderer::active() const {
 bool RegionRenderer::done() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return active_ && done_;
+}
+
+std::string RegionRenderer::error() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return active_ ? error_ : std::string();
 }
 
 int RegionRenderer::samples() const {
@@ -139,19 +149,36 @@ void RegionRenderer::worker() {
         lock.unlock();
 
         rt::RayStats stats;
+        stats.stop.flag = &stop_;
         bool cancelled = false;
-        for (int x = 0; x < w; ++x) {
-            if (generation_.load(std::memory_order_relaxed) != gen) {
-                cancelled = true;
-                break;
+        // One sample at a time, so that a cancel stops a pixel between its samples (and,
+        // through stats.stop, inside one). The renderer's order of additions: the sum
+        // so far, then samples s0..s1-1.
+        bool failed = false;  // out of memory: the region stops with a message
+        try {
+            for (int x = 0; x < w && !cancelled; ++x) {
+                for (int s = s0; s < s1; ++s) {
+                    if (stats.stopped || generation_.load(std::memory_order_relaxed) != gen) {
+                        cancelled = true;
+                        break;
+                    }
+                    if (sample_hook_) sample_hook_(rect.x0 + x, rect.y0 + r, s);
+                    rt::accumulate_pixel(*world, basis, rect.x0 + x, rect.y0 + r, s, s + 1, &row[3 * std::size_t(x)],
+                                         stats);
+                }
             }
-            // The renderer's order of additions: the sum so far, then samples s0..s1-1.
-            rt::accumulate_pixel(*world, basis, rect.x0 + x, rect.y0 + r, s0, s1, &row[3 * std::size_t(x)], stats);
+        } catch (const std::bad_alloc&) {
+            failed = true;
         }
 
         lock.lock();
         --busy_;
         if (busy_ == 0) idle_cv_.notify_all();
+        if (failed && generation_.load() == gen) {
+            error_ = "out of memory while rendering the region";
+            done_ = true;
+            continue;
+        }
         if (cancelled || generation_.load() != gen) continue;
         std::copy(row.begin(), row.end(), sum_.begin() + 3 * std::ptrdiff_t(r) * w);
         row_samples_[std::size_t(r)] = s1;

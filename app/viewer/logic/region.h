@@ -7,8 +7,10 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -59,13 +61,22 @@ public:
     // seconds (0: none).
     void start(std::shared_ptr<const rt::World> world, const rt::Camera& camera, int width, int height,
                const PixelRect& rect, int max_samples, double time_limit = 0);
-    void cancel();  // returns when no worker touches the region any more
+    // Returns when no worker touches the region any more; a pixel's ray tree in
+    // progress is stopped in the middle (as the renderer's cancel() does).
+    void cancel();
     bool active() const;
     bool done() const;
+    // Why the region stopped unfinished (a worker ran out of memory), or empty.
+    std::string error() const;
     int samples() const;
     PixelRect rect() const;
     // A copy of the region if it changed since `version` (which it then updates).
     bool snapshot(RegionPicture& out, std::uint64_t& version) const;
+
+    // For tests: called on the worker thread before each sample it traces, with the
+    // picture pixel and the sample's number, so that a test can cancel at a known
+    // point, in the middle of a pixel. Set it while no region renders; empty: none.
+    void set_sample_hook(std::function<void(int x, int y, int sample)> hook) { sample_hook_ = std::move(hook); }
 
 private:
     void worker();
@@ -74,13 +85,18 @@ private:
     std::vector<std::thread> threads_;
     bool quit_ = false;
     std::atomic<std::uint64_t> generation_{0};
+    // Set with every new generation, so that the traces in progress stop (a pixel's
+    // ray tree can take minutes); cleared by start() once no worker is busy.
+    std::atomic<bool> stop_{false};
     int busy_ = 0;
+    std::function<void(int, int, int)> sample_hook_;
 
     // The job (guarded by mutex_).
     std::shared_ptr<const rt::World> world_;
     rt::CameraBasis basis_;
     PixelRect rect_;
     bool active_ = false, done_ = false;
+    std::string error_;
     int max_samples_ = 1;
     double time_limit_ = 0;
     std::chrono::steady_clock::time_point start_;
