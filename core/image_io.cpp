@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <climits>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -202,7 +203,7 @@ struct TempFile {
     int fd = -1;
     int err = 0;
 
-    explicit TempFile(const Target& t) {
+    explicit TempFile(const Target& t, WhileWriting how = WhileWriting::TempName) {
         g_pending.fetch_add(1);  // before the interrupt check (see interrupt_writes)
         if (g_interrupted.load()) {
             err = kInterrupted;
@@ -211,6 +212,20 @@ struct TempFile {
         }
         constexpr std::size_t kSuffix = 8;  // "." in front, ".XXXXXX" behind
         name = t.dir + "." + t.name.substr(0, std::min(t.name.size(), std::size_t(NAME_MAX) - kSuffix)) + ".XXXXXX";
+        if (how == WhileWriting::NoName) {
+            fd = ::open(t.dir.empty() ? "." : t.dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0600);
+            if (fd >= 0) {
+                unnamed_ = true;
+                name_gone_ = true;  // nothing to remove until name() gives it one
+                return;
+            }
+            // A file system without O_TMPFILE says so in one of these: a named one then.
+            if (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL) {
+                err = errno;
+                name_gone_ = true;
+                return;
+            }
+        }
         fd = ::mkostemp(name.data(), O_CLOEXEC);
         if (fd < 0) {
             err = errno;
@@ -232,9 +247,31 @@ struct TempFile {
         return r != 0 ? errno : 0;
     }
     void renamed() { name_gone_ = true; }
+    // A complete unnamed file gets its temporary name (for the rename over the target);
+    // 0 or errno. (A named one has it already.)
+    int name_it() {
+        if (!unnamed_) return 0;
+        const std::string proc = "/proc/self/fd/" + std::to_string(fd);
+        static std::atomic<unsigned> counter{0};
+        for (int attempt = 0; attempt < 100; ++attempt) {
+            char suffix[8];
+            const unsigned r = unsigned(::getpid()) * 2654435761u + counter.fetch_add(1) * 40503u + unsigned(attempt);
+            std::snprintf(suffix, sizeof suffix, "%06x", r & 0xffffffu);
+            std::string n = name.substr(0, name.size() - 6) + suffix;
+            if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, n.c_str(), AT_SYMLINK_FOLLOW) == 0) {
+                name = std::move(n);
+                unnamed_ = false;
+                name_gone_ = false;
+                return 0;
+            }
+            if (errno != EEXIST) return errno;
+        }
+        return EEXIST;
+    }
 
 private:
     bool name_gone_ = false;
+    bool unnamed_ = false;
 };
 }  // namespace
 
@@ -277,11 +314,11 @@ Status write_rgb8(const std::string& path, int width, int height, const std::uin
     return io_error("unknown image format: the file name must end in .ppm or .png");
 }
 
-Status write_file_atomic(const std::string& path, const std::string& data) {
-    return write_file_atomic(path, {std::string_view(data)});
+Status write_file_atomic(const std::string& path, const std::string& data, WhileWriting how) {
+    return write_file_atomic(path, {std::string_view(data)}, how);
 }
 
-Status write_file_atomic(const std::string& path_in, std::initializer_list<std::string_view> parts) {
+Status write_file_atomic(const std::string& path_in, std::initializer_list<std::string_view> parts, WhileWriting how) {
     if (path_in.empty()) return io_error("no file name given");
     Target t;
     if (int err = resolve_target(path_in, t)) return io_error(errno_text(err));
@@ -289,7 +326,7 @@ Status write_file_atomic(const std::string& path_in, std::initializer_list<std::
     if (t.exists && !S_ISREG(t.st.st_mode)) return io_status(write_in_place(t.path, parts));
     if (int err = replace_problem(t)) return io_error(errno_text(err));
 
-    TempFile tmp(t);
+    TempFile tmp(t, how);
     if (tmp.fd < 0) return io_error(tmp.error());
     // mkstemp makes the file 0600; give it the mode the file has now, or the mode
     // a newly created file would get.
@@ -301,6 +338,7 @@ Status write_file_atomic(const std::string& path_in, std::initializer_list<std::
     // Without fsync a crash soon after the rename can leave an empty file under the
     // target's name; fsync is also where some file systems first report a full disk.
     if (!err && ::fsync(tmp.fd) != 0) err = errno;
+    if (!err) err = tmp.name_it();
     if (!err) err = tmp.close();
     if (!err && g_interrupted.load()) err = kInterrupted;
     if (!err && ::rename(tmp.name.c_str(), t.path.c_str()) != 0) err = errno;

@@ -27,9 +27,16 @@ std::vector<std::uint8_t> to_rgb8(const Image& img);
 Status write_image(const std::string& path, const Image& img);
 Status write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
 Status write_rgb8(const std::string& path, int width, int height, const std::uint8_t* rgb, std::size_t size);
-Status write_file_atomic(const std::string& path, const std::string& data);
+// How the new file exists while it is written: under a temporary name beside the target
+// (".NAME.XXXXXX", removed on failure or interrupt_writes()), or, where the file system
+// allows (Linux O_TMPFILE; else as TempName), with no name at all until it is complete,
+// so that even a SIGKILL in the middle of the write leaves nothing behind.
+enum class WhileWriting { TempName, NoName };
+Status write_file_atomic(const std::string& path, const std::string& data,
+                         WhileWriting how = WhileWriting::TempName);
 // The same for data in several pieces, written one after the other.
-Status write_file_atomic(const std::string& path, std::initializer_list<std::string_view> parts);
+Status write_file_atomic(const std::string& path, std::initializer_list<std::string_view> parts,
+                         WhileWriting how = WhileWriting::TempName);
 // Success if write_file_atomic(path, ...) can be expected to succeed, else the
 // system's reason (checked before a long render, so that it fails at once). The rules, the
 // same for both: a symbolic link is followed to its end (a dangling link creates its

@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, AddressSanitizer + UndefinedBehaviorSanitizer)
-# into build-fuzz/ and runs each for SECONDS (default 60), both at once (one per core).
+# into build-fuzz/ and runs each for SECONDS (default 60), all at once.
 #   ./scripts/fuzz.sh [SECONDS]
 # Corpora persist in build-fuzz/fuzz/corpus-*; the seed corpus is rebuilt each run from
 # scenes/, bench/scenes/, the parser tests and built-in snippets. Crash, leak, timeout
 # and out-of-memory inputs are saved in build-fuzz/fuzz/artifacts/ and make the script
 # exit non-zero; turn each into a regression test (tests/test_fuzz_regressions.cpp).
 # Environment: BUILD_DIR (default build-fuzz), JOBS (build jobs, default 2),
-# FUZZ_EXTRA (more libFuzzer flags), FUZZ_TARGETS (default "fuzz_parser fuzz_roundtrip").
+# FUZZ_EXTRA (more libFuzzer flags), FUZZ_TARGETS (default "fuzz_parser fuzz_roundtrip
+# fuzz_edits"; fuzz_edits plays user edits through the viewer's document, so the
+# viewer's logic is configured too).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,7 +17,7 @@ SECONDS_EACH=${1:-60}
 case "$SECONDS_EACH" in ''|*[!0-9]*) echo "usage: $0 [SECONDS]" >&2; exit 2;; esac
 BUILD_DIR=${BUILD_DIR:-build-fuzz}
 JOBS=${JOBS:-2}
-TARGETS=${FUZZ_TARGETS:-fuzz_parser fuzz_roundtrip}
+TARGETS=${FUZZ_TARGETS:-fuzz_parser fuzz_roundtrip fuzz_edits}
 
 run() { echo "+ $*" >&2; "$@"; }
 
@@ -28,7 +30,7 @@ run cmake -S . -B "$BUILD_DIR" \
     -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" \
     -DRAYTRACER_FUZZ=ON -DRAYTRACER_SANITIZE=address,undefined \
-    -DRAYTRACER_TESTS=OFF -DRAYTRACER_VIEWER=OFF -DRAYTRACER_BENCH=OFF
+    -DRAYTRACER_TESTS=OFF -DRAYTRACER_VIEWER=ON -DRAYTRACER_BENCH=OFF
 # shellcheck disable=SC2086  # TARGETS is a list of words
 run cmake --build "$BUILD_DIR" -j"$JOBS" --target $TARGETS fuzz_seed_corpus
 

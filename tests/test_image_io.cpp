@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <cmath>
 #include <csignal>
@@ -574,6 +575,57 @@ TEST_CASE("check_writable creates nothing and names the problem") {
     CHECK(check_writable("/dev/null").ok());
     CHECK(dir.files() == std::vector<std::string>{"out.ppm"});
     CHECK(slurp(dir / "out.ppm") == "precious");
+}
+
+namespace {
+
+// The size of a file `pid` has open for writing in `dir` (-1: none): /proc/PID/fd's
+// links name the files, an unnamed one as "DIR/#INODE (deleted)".
+long long file_being_written(pid_t pid, const std::string& dir) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec)) {
+        const std::string target = fs::read_symlink(e.path(), ec).string();
+        if (ec || target.rfind(dir + "/", 0) != 0) continue;
+        struct stat st {};
+        if (::stat(e.path().c_str(), &st) == 0) return (long long)st.st_size;
+    }
+    return -1;
+}
+
+}  // namespace
+
+// SIGKILL runs no handler: whatever name the new file has while it is written stays
+// behind. With WhileWriting::NoName (the viewer's saves) it has none until complete.
+TEST_CASE("write_file_atomic: killed mid-write, NoName leaves nothing behind (a temporary name would stay)") {
+    for (WhileWriting how : {WhileWriting::NoName, WhileWriting::TempName}) {
+        const bool no_name = how == WhileWriting::NoName;
+        CAPTURE(no_name);
+        TempDir dir("rt-imageio");
+        const std::string path = dir / "scene.txt";
+        spit(path, "precious");
+        std::fflush(nullptr);
+        const pid_t pid = fork();
+        REQUIRE(pid >= 0);
+        if (pid == 0) {
+            const std::string big(std::size_t(128) << 20, 'x');
+            (void)write_file_atomic(path, big, how);
+            _exit(0);
+        }
+        // Killed once the new file has some of its bytes (polled, not timed).
+        bool caught = false;
+        for (int i = 0; i < 200000 && !caught; ++i) {
+            const long long n = file_being_written(pid, dir.path.string());
+            caught = n > 0 && n < (128ll << 20);
+            if (!caught) std::this_thread::sleep_for(std::chrono::microseconds(200));
+        }
+        ::kill(pid, SIGKILL);
+        int status = 0;
+        ::waitpid(pid, &status, 0);
+        REQUIRE(caught);
+        CHECK(slurp(path) == "precious");
+        if (no_name) CHECK(dir.files() == std::vector<std::string>{"scene.txt"});
+        else CHECK(dir.files().size() == 2);  // ".scene.txt.XXXXXX", half written
+    }
 }
 
 TEST_CASE("an interrupted write (interrupt_writes, as from a signal handler) removes its temporary file") {

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "default_scene.h"
 #include "document.h"
 #include "image_io.h"
+#include "scene_edits.h"
 #include "scene_parser.h"
 #include "scene_writer.h"
 #include "viewer_test_util.h"
@@ -155,6 +157,32 @@ TEST_CASE("a file that does not parse opens with its text and errors, and no sce
     CHECK(d.has_errors());
     CHECK_FALSE(d.modified());
     CHECK(d.editor_text() == "thing { sphere { radius x } }");
+}
+
+TEST_CASE("revert without a scene goes back to the file's text, never to an empty one") {
+    TempDir dir;
+    const std::string p = (dir / "s.txt").string();
+    spit(p, "thing {\nend\n");
+    Document d;
+    REQUIRE(d.load_file(p).ok());
+    REQUIRE_FALSE(d.has_scene());
+    // A broken file: Revert brings back its text.
+    d.editor_text() += "// typed\n";
+    d.note_typed();
+    d.revert_text();
+    CHECK(d.editor_text() == "thing {\nend\n");
+    // Fixed, applied and saved; then the apply is undone: no scene again, and the file
+    // as saved (it parses) is not kept. Revert leaves the text as it is.
+    d.editor_text() = rt::kDefaultScene;
+    d.note_typed();
+    REQUIRE(d.apply_text());
+    REQUIRE(d.save().ok());
+    REQUIRE(d.undo());
+    REQUIRE_FALSE(d.has_scene());
+    const std::string text = d.editor_text();
+    d.revert_text();
+    CHECK(d.editor_text() == text);
+    CHECK(text == rt::kDefaultScene);
 }
 
 TEST_CASE("save writes the editor text atomically and clears the modified mark") {
@@ -525,4 +553,75 @@ TEST_CASE("every undo step has a name: the edit's own, or what it changed; undo 
     d.load_text(rt::kDefaultScene, "", "default.txt");
     CHECK(cd.undo_names(5).empty());
     CHECK(cd.redo_names(5).empty());
+}
+
+// Found by the edit fuzzer: a structural edit planned while a drag held an edit landed
+// on the wrong bytes once replace_text committed the drag (rewriting the dragged block).
+TEST_CASE("a structural edit is refused while an edit is held, and changes nothing") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const std::string text = d.editor_text();
+    std::get<rt::Sphere>(d.edit_object(0).shape).position.x += 0.123456;
+    const rt::Scene dragged = d.scene();
+    // Delete object 1: one replacement planned on the text as it is now.
+    const std::size_t at = text.find("  sphere {"), end = text.find("  sphere {", at + 1);
+    CHECK_FALSE(d.replace_text(at, end - at, ""));
+    CHECK(d.editing());
+    CHECK(d.editor_text() == text);
+    CHECK(d.scene() == dragged);
+    d.commit();
+    CHECK(parse_ok(d.editor_text()) == d.scene());
+}
+
+// Found by the edit fuzzer: a drag far out (or a move whose rounding merges a tiny
+// tetrahedron's corners) wrote a text that does not parse.
+TEST_CASE("an edit the text cannot hold is undone at the commit, with a message") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const std::string text = d.editor_text();
+    const rt::Scene scene = d.scene();
+    std::get<rt::Sphere>(d.edit_object(0).shape).position.x = 1e16;
+    d.commit();
+    CHECK(d.editor_text() == text);
+    CHECK(d.scene() == scene);
+    CHECK_FALSE(d.can_undo());
+    CHECK(d.take_refusal().find("1e15") != std::string::npos);
+    d.edit_camera().position.z = -2e15;
+    d.commit();
+    CHECK(d.editor_text() == text);
+    CHECK(d.scene() == scene);
+    CHECK_FALSE(d.take_refusal().empty());
+
+    d.load_text("thing { tetrahedron { vect1 1000000 0 0 vect2 1000000.0000001 0 0 vect3 1000000 0.0000001 0 "
+                "vect4 1000000 0 0.0000001 } }\n"
+                "camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }\n"
+                "picture_size { x_max 32 y_max 24 }\nend\n",
+                "", "tiny.txt");
+    const std::string tiny = d.editor_text();
+    translate(d.edit_object(0), {1, 0, 0});  // rounded to 12 digits: the corners merge
+    d.commit();
+    CHECK(d.editor_text() == tiny);
+    CHECK_FALSE(d.take_refusal().empty());
+    CHECK(parse_ok(d.editor_text()) == d.scene());
+}
+
+// Found by the edit fuzzer: 0 and -0 are equal, so an edit that left -0 where the text
+// said 0 wrote nothing for it, and the scene no longer was the text's, bit for bit.
+TEST_CASE("a zero's sign follows the text: the scene holds exactly what its text reads") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    // The chess plane's point 1 is 0 0 0.
+    d.edit_plane(0).point[0].y = -0.0;  // alone: no change at all
+    d.commit();
+    CHECK_FALSE(d.can_undo());
+    CHECK_FALSE(std::signbit(d.scene().planes[0].point[0].y));
+    // Beside a real change: written as it is.
+    rt::Plane& p = d.edit_plane(0);
+    p.point[0].x = 0.5;
+    p.point[0].y = -0.0;
+    d.commit();
+    const rt::Scene read = parse_ok(d.editor_text());
+    CHECK(read.planes[0].point[0].x == 0.5);
+    CHECK(std::signbit(read.planes[0].point[0].y));
+    CHECK(std::signbit(d.scene().planes[0].point[0].y));
 }

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -151,6 +152,50 @@ TEST_CASE("a FIFO is read as its writer writes; with no writer, Cancel ends the 
     REQUIRE(r);
     REQUIRE(r->status == LoadResult::Status::Ok);
     CHECK(r->text == std::string(rt::kDefaultScene));
+}
+
+TEST_CASE("a folder is no scene: the load says so and the scene stays") {
+    rt_test::TempDir dir;
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const DocSnapshot before(d);
+    SceneLoader loader;
+    loader.start(dir.path.string());
+    std::optional<LoadResult> r = loader.wait();
+    REQUIRE(r);
+    CHECK(r->status == LoadResult::Status::Failed);
+    CHECK(r->error == "a folder, not a scene file");
+    std::shared_ptr<const rt::World> world;
+    CHECK_FALSE(apply_load(*r, d, world));
+    before.check_same(d);
+}
+
+// Another program still writing the file: the read would be half old, half new.
+TEST_CASE("a file that grows or shrinks while it is read is refused, with a message") {
+    const std::string text = many_spheres(200000);  // ~10 MB: read in several pieces
+    for (int change : {+1, -1}) {
+        CAPTURE(change);
+        TempFile f(text);
+        std::string out;
+        std::atomic<bool> cancel{false};
+        bool changed = false;
+        const rt::Status st = read_scene_file(f.path, out, cancel, [&](std::uint64_t, std::uint64_t) {
+            if (changed) return;
+            changed = true;  // after the first piece: appended to, or cut short
+            if (change > 0) std::ofstream(f.path, std::ios::binary | std::ios::app) << "// more\n";
+            else REQUIRE(::truncate(f.path.c_str(), off_t(text.size() / 2)) == 0);
+        });
+        CHECK(changed);
+        CHECK_FALSE(st.ok());
+        CHECK(st.message().find("changed while it was read") != std::string::npos);
+        CHECK(out.empty());
+    }
+    // Unchanged, the same file reads whole.
+    TempFile f(text);
+    std::string out;
+    std::atomic<bool> cancel{false};
+    CHECK(read_scene_file(f.path, out, cancel, [](std::uint64_t, std::uint64_t) {}).ok());
+    CHECK(out == text);
 }
 
 TEST_CASE("a load can be cancelled: nothing arrives, and the next load does") {

@@ -4,14 +4,18 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include <unistd.h>
 
+#include "default_scene.h"
+#include "document.h"
 #include "recovery.h"
 #include "test_util.h"
 
 using namespace rtview;
+using rt_test::parse_ok;
 namespace fs = std::filesystem;
 
 
@@ -74,4 +78,90 @@ TEST_CASE("recovery: a failed write says why and keeps nothing half-written") {
     Recovery r("/proc/no-such-place/recovery");
     CHECK_FALSE(r.update("s.txt", "draft", true, 0.0).ok());
     CHECK_FALSE(r.find("s.txt"));
+}
+
+namespace {
+
+const char* const kScene = "thing {\n  sphere { position 5 0 1 radius 1 }  // the ball\n"
+                           "  sphere { position 7 2 1 radius 0.5 }\n}\n"
+                           "camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }\n"
+                           "picture_size { x_max 32 y_max 24 }\nend\n";
+
+}  // namespace
+
+TEST_CASE("recovery: a held drag is kept as the items it changed, and read back into the text as its commit writes it") {
+    rt_test::TempDir dir;
+    const std::string path = (dir / "s.txt").string();
+    rt_test::put(path, kScene);
+    Document doc;
+    REQUIRE(doc.load_file(path).ok());
+    CHECK(held_edit(doc).empty());
+    std::get<rt::Sphere>(doc.edit_object(1).shape).position = {7.25, 2.5, 1};
+    const HeldEdit held = held_edit(doc);
+    REQUIRE(held.objects == std::vector<std::size_t>{1});
+    CHECK(held.items.objects.size() == 1);
+    {
+        // The text is as saved: the held edit's base is the document's file, and no
+        // copy of the text is written.
+        Recovery r((dir / "rec").string());
+        REQUIRE(r.update_held(path, held, doc.saved_hash()).ok());
+        CHECK_FALSE(fs::exists(r.file_for(path)));
+        CHECK(fs::exists(r.held_file_for(path)));
+    }
+    Document committed = doc;
+    committed.commit();
+    const std::optional<std::string> found = Recovery((dir / "rec").string()).find(path);
+    REQUIRE(found);
+    CHECK(*found == committed.editor_text());
+    CHECK(found->find("// the ball") != std::string::npos);  // the rest of the text as it was
+}
+
+TEST_CASE("recovery: a held edit goes only into the text it was made on") {
+    rt_test::TempDir dir;
+    const std::string path = (dir / "s.txt").string();
+    const std::string typed = std::string(kScene) + "// typed\n";
+    Document doc;
+    doc.load_text(typed, path, "s.txt");
+    std::get<rt::Sphere>(doc.edit_object(0).shape).radius = 1.5;
+    const HeldEdit held = held_edit(doc);
+    Recovery r((dir / "rec").string());
+    REQUIRE(r.update(path, typed, true, 0, 0).ok());
+    REQUIRE(r.update_held(path, held, r.written_hash()).ok());
+    std::optional<std::string> found = Recovery((dir / "rec").string()).find(path);
+    REQUIRE(found);
+    CHECK(parse_ok(*found).objects[0] == doc.scene().objects[0]);
+    CHECK(found->find("// typed") != std::string::npos);
+    // The text changed (the first sphere deleted) and the held edit was not written
+    // again: it is not put into a text whose object 1 is another one.
+    const std::string deleted = std::string(kScene).erase(std::string(kScene).find("  sphere"), 49);
+    REQUIRE(parse_ok(deleted).objects.size() == 1);
+    REQUIRE(r.update(path, deleted, true, 10, 0).ok());
+    found = Recovery((dir / "rec").string()).find(path);
+    REQUIRE(found);
+    CHECK(*found == deleted);
+    // Nor into a text without such an item, or one that does not parse.
+    HeldEdit second = held;
+    second.objects = {1};
+    CHECK(with_held_edit(deleted, second) == deleted);
+    CHECK(with_held_edit("thing {", held) == "thing {");
+    // An empty held edit removes its file; discard removes both.
+    REQUIRE(r.update_held(path, held, r.written_hash()).ok());
+    REQUIRE(fs::exists(r.held_file_for(path)));
+    REQUIRE(r.update_held(path, HeldEdit{}, 0).ok());
+    CHECK_FALSE(fs::exists(r.held_file_for(path)));
+    REQUIRE(r.update_held(path, held, r.written_hash()).ok());
+    r.discard(path);
+    CHECK(fs::is_empty(dir / "rec"));
+}
+
+TEST_CASE("recovery: a drag in the unsaved default scene is found again") {
+    rt_test::TempDir dir;
+    Document doc;
+    doc.load_text(rt::kDefaultScene, "", "default.txt");
+    doc.edit_camera().angle_x = 50;
+    Recovery r(dir.path.string());
+    REQUIRE(r.update_held("", held_edit(doc), doc.saved_hash()).ok());
+    const std::optional<std::string> found = Recovery(dir.path.string()).find("");
+    REQUIRE(found);
+    CHECK(parse_ok(*found).camera.angle_x == 50);
 }

@@ -388,6 +388,45 @@ TEST_CASE("scene edits through the document after typing: the typing stays a ste
     CHECK(doc.scene() == parse_ok(text));
 }
 
+// Found by the edit fuzzer: with a light 1e15 away the scene's extent is 1e15, and
+// rounding to a thousandth of it put a new torus's direction at 0 0 0 (a text that does
+// not parse) and every new item at the origin.
+TEST_CASE("scene edits: an item added to a scene with a far light is where it was put, and parses") {
+    const std::string text = "thing { sphere { position 5 0 1 radius 1 } }\n"
+                             "light { spotlight { position 0 0 1e15 colour 1 1 1 } }\n"
+                             "camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }\n"
+                             "picture_size { x_max 32 y_max 24 }\nend\n";
+    const rt::Scene s = parse_ok(text);
+    REQUIRE(scene_extent(s) > 1e14);
+    const Placement at{{5, 0, 2}, {0, 0, 1}, {-1, 0, 0}};
+    for (NewItem k : {NewItem::Sphere, NewItem::Cylinder, NewItem::Tetrahedron, NewItem::Torus, NewItem::Plane,
+                      NewItem::ChessPlane, NewItem::Lamp}) {
+        CAPTURE(new_item_name(k));
+        const auto e = add_item(text, s, k, at);
+        REQUIRE(e);
+        const rt::Scene got = parse_ok(e->replacement.applied_to(text));
+        if (got.objects.size() == 2)
+            if (const auto* t = std::get_if<rt::Torus>(&got.objects[1].shape)) CHECK(t->direction == rt::Vec3{0, 0, 1});
+        const auto where = item_anchor(got, e->select, {});
+        REQUIRE(where);
+        // Near the point it was put at (within a few of the scene's object sizes).
+        CHECK(dist(*where, at.point) < 5);
+    }
+}
+
+// Found by the edit fuzzer: a copy moved by an offset is rounded to 12 significant
+// digits, which far out can merge the corners of a tiny shape; the edit is then not
+// offered (it would not parse).
+TEST_CASE("scene edits: no duplicate whose rounding would flatten a tiny tetrahedron") {
+    const std::string text = "thing { tetrahedron { vect1 1000000 0 0 vect2 1000000.0000001 0 0 "
+                             "vect3 1000000 0.0000001 0 vect4 1000000 0 0.0000001 } }\n"
+                             "camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }\n"
+                             "picture_size { x_max 32 y_max 24 }\nend\n";
+    const rt::Scene s = parse_ok(text);
+    CHECK(duplicate_item(text, s, {SceneItem::Kind::Object, 0}));  // verbatim: fine
+    CHECK_FALSE(duplicate_item(text, s, {SceneItem::Kind::Object, 0}, {1, 0, 0}));
+}
+
 namespace {
 
 // Every kind of item on a line of its own, CSG operands of every kind (a CSG among

@@ -2,6 +2,8 @@
 // byte for byte, offsets, cursor moves, find, go to line and line colouring.
 #include <doctest/doctest.h>
 
+#include <climits>
+
 #include <random>
 #include <string>
 
@@ -220,6 +222,37 @@ TEST_CASE("text buffer: find goes forward and backward, wraps, matches case on r
     CHECK(b.cursor() == TextPos{3, 0});
     b.goto_line(-5);
     CHECK(b.cursor() == TextPos{0, 0});
+}
+
+TEST_CASE("text buffer: find after partial matches, of matches that overlap, and of a needle longer than lines") {
+    // A search that restarts after a partial match must still see "aab" in "aaab".
+    TextBuffer b("aaab abab\nababab\nAAAB\n");
+    auto r = b.find("aab", {0, 0}, true, true);
+    REQUIRE(r);
+    CHECK(r->begin == TextPos{0, 1});
+    r = b.find("aab", {0, 2}, true, false);  // case-insensitive: line 2's "AAB"
+    REQUIRE(r);
+    CHECK(r->begin == TextPos{2, 1});
+    // Matches do not overlap: "abab" in "ababab" once, at 0.
+    r = b.find("abab", {1, 1}, true, true);
+    REQUIRE(r);
+    CHECK(r->begin == TextPos{0, 5});
+    r = b.find("abab", {0, 6}, true, true);
+    REQUIRE(r);
+    CHECK(r->begin == TextPos{1, 0});
+    CHECK_FALSE(b.find(std::string(100, 'a'), {0, 0}, true, true));
+}
+
+TEST_CASE("go to line: the digits of what was typed, at most INT_MAX") {
+    CHECK(parse_line_number("42") == 42);
+    CHECK(parse_line_number("\x01" "4\xff" "2\x1b") == 42);  // control and invalid UTF-8 skipped
+    CHECK(parse_line_number("") == 0);
+    CHECK(parse_line_number("abc") == 0);
+    CHECK(parse_line_number("-7") == 7);
+    CHECK(parse_line_number(std::string(std::size_t(10) << 20, '9')) == INT_MAX);
+    CHECK(parse_line_number("2147483648") == INT_MAX);
+    CHECK(parse_line_number("2147483647") == INT_MAX);
+    CHECK(parse_line_number("2147483646") == 2147483646);
 }
 
 TEST_CASE("text buffer: widest line follows edits, and line shifts report inserted lines") {

@@ -1,10 +1,12 @@
 // The text editor widget driven frame by frame in a window-less ImGui context: no
 // lost keys, typing, find, go to line, marks that follow their lines, and drawing
-// only the visible lines of a large text.
+// only the visible lines of a large text, fields that take a 10 MB paste.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <string>
 
+#include "bounded_input.h"
 #include "imgui_harness.h"
 #include "text_editor.h"
 
@@ -39,6 +41,15 @@ struct Fixture {
         REQUIRE(ed.focused());
     }
 };
+
+// The most vertices a draw list of the last frame has room for: ImGui reserves room
+// for every character it is given to draw, also those it then clips away.
+std::size_t vertex_room() {
+    std::size_t most = 0;
+    if (const ImDrawData* d = ImGui::GetDrawData())
+        for (int i = 0; i < d->CmdListsCount; ++i) most = std::max(most, std::size_t(d->CmdLists[i]->VtxBuffer.Capacity));
+    return most;
+}
 
 }  // namespace
 
@@ -168,4 +179,63 @@ TEST_CASE("text editor: a 100,000-line text draws only the lines in view, also a
     f.frame();
     CHECK(f.ed.stats().first_line == 0);
     CHECK(f.ed.stats().last_line == 0);  // the long line fills the view
+}
+
+TEST_CASE("text editor: find and go to line take a 10 MB paste with control characters and invalid UTF-8") {
+    Fixture f;
+    // A line where a plain search for the needle below takes (line x needle) steps.
+    const std::string as(std::size_t(12) << 20, 'a');
+    f.ed.set_text("lamp { }\n" + as + "\nend\n");
+    f.frame();
+    f.focus();
+    const TextPos at = f.ed.buffer().cursor();
+    using K = TextEditor::Key;
+    f.ed.push_key(K::F, false, true);
+    f.frame();
+    const std::string half(std::size_t(5) << 20, 'a');
+    const std::string needle = half + "\x01\x7f\xff\xfe\xc3\t" + half;  // 10 MB
+    ImGui::SetClipboardText(needle.c_str());
+    f.ed.push_key(K::V, false, true);
+    f.ed.push_key(K::Enter, false, false);
+    f.frame();
+    CHECK(f.ed.buffer().cursor() == at);         // no match: the cursor stays
+    CHECK(f.ed.text().size() == as.size() + 14);  // nothing typed into the text
+    // The field drew the columns in view, not ten million characters.
+    CHECK(vertex_room() < 1000000);
+
+    // Go to line: ten million digits among control characters and invalid UTF-8 are a
+    // line number past the end.
+    f.ed.push_key(K::G, false, true);
+    f.frame();
+    std::string digits(std::size_t(10) << 20, '9');
+    for (std::size_t k = 0; k < digits.size(); k += 4096) digits[k] = "\x01\xff\x1b\xc3"[k / 4096 % 4];
+    ImGui::SetClipboardText(digits.c_str());
+    f.ed.push_key(K::V, false, true);
+    f.ed.push_key(K::Enter, false, false);
+    f.frame();
+    CHECK(f.ed.buffer().cursor().line == 3);  // the last line (empty, after "end\n")
+    CHECK(vertex_room() < 1000000);
+}
+
+TEST_CASE("bounded_input: a 10 MB paste with control characters and invalid UTF-8 is cut to the field's bound") {
+    ImGuiHarness h;
+    std::string text(std::size_t(10) << 20, 'x');
+    for (std::size_t k = 0; k < text.size(); k += 7) text[k] = "\x01\xff\x7f\xc3\xa9\n\xf0\x9f\x98\x80\x80"[k / 7 % 11];
+    const std::string start = text.substr(0, 4096);
+    auto body = [&] {
+        if (h.frames() < 2) ImGui::SetKeyboardFocusHere();
+        bounded_input("##path", "hint", text, 4096);
+    };
+    for (int i = 0; i < 3; ++i) h.frame(body);
+    CHECK(vertex_room() < 1000000);
+    CHECK(text == start);  // cut, and not edited: the bytes as they were
+    // Typed into, then erased back past the bytes ImGui cannot read.
+    h.type("more");
+    h.frame(body);
+    for (int i = 0; i < 40; ++i) h.tap(ImGuiHarness::kBackspace, false, false, body);
+    h.tap(ImGuiHarness::kHome, false, false, body);
+    for (int i = 0; i < 40; ++i) h.tap(ImGuiHarness::kDelete, false, false, body);
+    CHECK(text.size() <= 4096);
+    CHECK(text != start);
+    CHECK(text.find("more") == std::string::npos);
 }

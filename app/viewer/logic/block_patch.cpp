@@ -4,6 +4,7 @@
 #include "block_patch.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <type_traits>
 #include <utility>
@@ -37,6 +38,12 @@ std::string material_text(const rt::Material& m) {
              (k.kind == sc::Kind::Vec3 ? vec_text(k.vec3(m)) : rt::format_number(k.number(m)));
     return s + " }";
 }
+
+// A number is rewritten when its text would change: -0 and 0 are equal as numbers, but
+// the text must read back as the very value the scene holds.
+bool same(double a, double b) { return a == b && std::signbit(a) == std::signbit(b); }
+bool same(const rt::Vec3& a, const rt::Vec3& b) { return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z); }
+bool same(const rt::Material& a, const rt::Material& b) { return material_text(a) == material_text(b); }
 
 class Patcher {
 public:
@@ -159,20 +166,20 @@ private:
         switch (k.kind) {
             case sc::Kind::Number: {
                 const double a = k.number(before, i), b = k.number(after, i);
-                if (a == b) return true;
+                if (same(a, b)) return true;
                 if (at) replace_token(at, rt::format_number(b));
                 else insert_key(close, name + " " + rt::format_number(b));
                 return true;
             }
             case sc::Kind::Vec3: {
                 const rt::Vec3 a = k.vec3(before, i), b = k.vec3(after, i);
-                if (a == b) return true;
+                if (same(a, b)) return true;
                 if (!at) {
                     insert_key(close, name + " " + vec_text(b));
                     return true;
                 }
                 for (int c = 0; c < 3; ++c)
-                    if (a[c] != b[c]) replace_token(at + std::size_t(c), rt::format_number(b[c]));
+                    if (!same(a[c], b[c])) replace_token(at + std::size_t(c), rt::format_number(b[c]));
                 return true;
             }
             case sc::Kind::Integer: {
@@ -192,7 +199,7 @@ private:
             }
             case sc::Kind::Material: {
                 const bool had = k.has_material(before, i), has = k.has_material(after, i);
-                if (had == has && k.material(before, i) == k.material(after, i)) return true;
+                if (had == has && same(k.material(before, i), k.material(after, i))) return true;
                 if (!has) return false;  // a block cannot be taken out here
                 if (!at) {
                     insert_key(close, name + " " + material_text(k.material(after, i)));
@@ -206,7 +213,6 @@ private:
                     const rt::Object* a = k.operand(before, i);
                     const rt::Object* b = k.operand(after, i);
                     if (!a || !b) return a == b;
-                    if (*a == *b) return true;
                     // `{ OBJECT }`: the object's name, then its body.
                     const sc::Block<rt::Object>& ob = sc::object_block(*b);
                     if (!at || &sc::object_block(*a) != &ob || !toks_[at + 1].is(ob.name)) return false;

@@ -129,6 +129,22 @@ void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::siz
     fix(l.append_at);
 }
 
+// The items of a pending edit that changed, as (index, value) pairs both ways. An item
+// that came back to its value (or to -0 where it had 0: equal, but not what its text
+// reads) takes its value from before again, as the text holds it.
+template <class T>
+void diff_saved(const std::vector<std::pair<std::size_t, T>>& saved, std::vector<T>& now,
+                std::vector<std::pair<std::size_t, T>>& before, std::vector<std::pair<std::size_t, T>>& after) {
+    for (const auto& p : saved) {
+        if (p.second == now[p.first]) {
+            now[p.first] = p.second;
+            continue;
+        }
+        before.push_back(p);
+        after.push_back({p.first, now[p.first]});
+    }
+}
+
 // Beyond this many changed items an undo step parses the text again instead.
 constexpr std::size_t kMaxStepItems = 4096;
 
@@ -375,24 +391,14 @@ void Document::commit() {
             step.lights_before.clear(), step.lights_after.clear();
         }
     } else {
-        for (const auto& p : saved_.objects)
-            if (!(p.second == scene_.objects[p.first])) {
-                step.objects_before.push_back(p);
-                step.objects_after.push_back({p.first, scene_.objects[p.first]});
-            }
-        for (const auto& p : saved_.planes)
-            if (!(p.second == scene_.planes[p.first])) {
-                step.planes_before.push_back(p);
-                step.planes_after.push_back({p.first, scene_.planes[p.first]});
-            }
-        for (const auto& p : saved_.lights)
-            if (!(p.second == scene_.lights[p.first])) {
-                step.lights_before.push_back(p);
-                step.lights_after.push_back({p.first, scene_.lights[p.first]});
-            }
+        diff_saved(saved_.objects, scene_.objects, step.objects_before, step.objects_after);
+        diff_saved(saved_.planes, scene_.planes, step.planes_before, step.planes_after);
+        diff_saved(saved_.lights, scene_.lights, step.lights_before, step.lights_after);
         if (saved_.camera && !(*saved_.camera == scene_.camera)) {
             step.camera_before = saved_.camera;
             step.camera_after = scene_.camera;
+        } else if (saved_.camera) {
+            scene_.camera = *saved_.camera;
         }
     }
     bool changed = wide || !step.objects_before.empty() || !step.planes_before.empty() || !step.lights_before.empty() ||
@@ -409,6 +415,16 @@ void Document::commit() {
         step.name = changed_name(step.objects_after.size(), step.planes_after.size(), step.lights_after.size(),
                                  step.camera_before.has_value(), wide, first);
     }
+    if (!reads_back(step, wide)) {
+        // Written as it is, the text would not parse: the edit does not happen.
+        scene_ = scene_before_edit_from(step);
+        saved_ = {};
+        ++scene_version_;
+        ++content_version_;
+        refusal_ = "The edit was undone: the scene text cannot hold it (a number past the format's limit of "
+                   "1e15, or a shape the format refuses)";
+        return;
+    }
     normalize_applied();
     if ((applied_ || wide || !commit_in_place(step)) && !commit_generic(step)) {
         saved_ = {};
@@ -420,6 +436,23 @@ void Document::commit() {
     step.behind_after = behind_;
     if (!step.editor.empty()) ++text_version_;
     record(std::move(step));
+}
+
+// Whether the items a step changed, written as the text will hold them, read back as
+// they are: every number within the format's range, every shape one the parser takes
+// (a drag far out, or a move's rounding of a tiny tetrahedron, could make either
+// false). Only the changed items are written and read (all of them for a wide edit).
+bool Document::reads_back(const DocStep& step, bool wide) const {
+    rt::Scene changed;
+    if (wide) {
+        changed = scene_;
+    } else {
+        changed.camera = scene_.camera;
+        for (const auto& p : step.objects_after) changed.objects.push_back(p.second);
+        for (const auto& p : step.planes_after) changed.planes.push_back(p.second);
+        for (const auto& p : step.lights_after) changed.lights.push_back(p.second);
+    }
+    return text_holds(changed);
 }
 
 // The fast path: no draft, so the editor text is the scene's text; each changed item's
@@ -698,7 +731,10 @@ bool Document::apply_text() {
 }
 
 bool Document::replace_text(std::size_t pos, std::size_t length, const std::string& text, const std::string& name) {
-    commit();
+    // The replacement was planned on the text and the scene as they are now; a held
+    // edit (a drag) would rewrite the text when committed, and the replacement would
+    // land on the wrong bytes.
+    if (pending_) return false;
     flush_typing();  // text typed since the last step is a step of its own, first
     normalize_applied();
     if (applied_ || behind_ || pos > editor_.size() || length > editor_.size() - pos) return false;
@@ -716,6 +752,11 @@ void Document::check_text() { diagnostics_ = rt::parse_scene(editor_).diagnostic
 void Document::revert_text() {
     commit();
     flush_typing();
+    // Without a scene the text goes back to the file as last loaded or saved, which is
+    // kept only when it does not parse; one that parses (an undo went back past its
+    // reload) is not known here, and the text stays.
+    if (!has_scene_ && (saved_broken_text_.size() != saved_size_ || text_hash(saved_broken_text_) != saved_hash_))
+        return;
     std::string target = has_scene_ ? applied_text() : saved_broken_text_;
     if (editor_ == target && !behind_) return;
     replace_state(&target, has_scene_ ? std::nullopt : std::optional<std::string>(std::string()), std::nullopt, false,
@@ -777,6 +818,17 @@ std::vector<std::string> Document::redo_names(std::size_t max) const {
     return out;
 }
 
+Document::HeldItems Document::held_items() const {
+    HeldItems h;
+    if (!pending_) return h;
+    h.whole = saved_.whole.has_value();
+    for (const auto& p : saved_.objects) h.objects.push_back(p.first);
+    for (const auto& p : saved_.planes) h.planes.push_back(p.first);
+    for (const auto& p : saved_.lights) h.lights.push_back(p.first);
+    h.camera = saved_.camera.has_value();
+    return h;
+}
+
 // ---------------------------------------------------------------------------------
 // Saving and the file on disk
 
@@ -799,7 +851,9 @@ void Document::mark_saved() {
 rt::Status Document::save() {
     commit();
     if (path_.empty()) return rt::Status::error("the scene has no file name yet: use Save As", rt::kExitUsage);
-    if (rt::Status st = rt::write_file_atomic(path_, editor_); !st) return st;
+    // No name until the file is complete: a viewer killed while saving (SIGKILL: no
+    // handler runs) leaves no partial file behind.
+    if (rt::Status st = rt::write_file_atomic(path_, editor_, rt::WhileWriting::NoName); !st) return st;
     mark_saved();
     return {};
 }
@@ -807,7 +861,7 @@ rt::Status Document::save() {
 rt::Status Document::save_as(const std::string& path) {
     commit();
     if (path.empty()) return rt::Status::error("no file name given", rt::kExitUsage);
-    if (rt::Status st = rt::write_file_atomic(path, editor_); !st) return st;
+    if (rt::Status st = rt::write_file_atomic(path, editor_, rt::WhileWriting::NoName); !st) return st;
     path_ = path;
     name_ = base_name(path);
     mark_saved();

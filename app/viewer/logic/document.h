@@ -142,7 +142,7 @@ public:
     // A structural edit of the text (add, duplicate, delete: scene_edits.h): replaces
     // `length` bytes at `pos` with `text` and applies the result, as one undo step
     // (called `name`) that stores the replacement. Only when the editor text is the scene's (no
-    // draft) and the result parses; else false and nothing changes.
+    // draft), no edit is held (editing()) and the result parses; else false and nothing changes.
     bool replace_text(std::size_t pos, std::size_t length, const std::string& text,
                       const std::string& name = "Edit the scene text");
     // Puts `text` in the editor as an unapplied draft (undoable): crash recovery.
@@ -181,6 +181,19 @@ public:
     rt::Status save();
     rt::Status save_as(const std::string& path);
 
+    // --- crash recovery --------------------------------------------------------
+    // The items a held edit (a drag) has touched so far, by index (their values now are
+    // in scene()): what a recovery copy keeps beside the text, which has not got them
+    // yet. Empty when no edit is held; `whole` for an edit() of the whole scene.
+    struct HeldItems {
+        std::vector<std::size_t> objects, planes, lights;
+        bool camera = false, whole = false;
+        bool empty() const { return objects.empty() && planes.empty() && lights.empty() && !camera && !whole; }
+    };
+    HeldItems held_items() const;
+    // text_hash() of the file as last loaded or saved.
+    std::uint64_t saved_hash() const { return saved_hash_; }
+
     // --- the file on disk ------------------------------------------------------
     enum class DiskEvent { None, Reloaded, Conflict, Removed };
     // Call now and then (the viewer: once a second). Reloads by itself when there
@@ -202,6 +215,7 @@ private:
     void open_edit();
     rt::Scene scene_before_edit() const;  // (a copy: only for the slow paths)
     rt::Scene scene_before_edit_from(const DocStep& step) const;
+    bool reads_back(const DocStep& step, bool wide) const;
     bool commit_in_place(DocStep& step);
     bool commit_generic(DocStep& step);
     void record(DocStep step);

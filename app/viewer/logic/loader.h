@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -27,6 +28,14 @@ struct LoadResult {
     rt::ParseResult parsed; // Ok: the scene, or the diagnostics of a text that does not parse
     std::shared_ptr<const rt::World> world;  // Ok and parsed: compiled
 };
+
+// Reads a scene file as the loader does: a regular file or a FIFO (a folder or a device
+// fails at once, never blocking), in pieces with `report(bytes, total)` after each,
+// stopping once `cancel` is set (a FIFO is waited for in polls that see it). A regular
+// file that changes while it is read (another program still writing it) fails too:
+// its bytes could be half old and half new.
+rt::Status read_scene_file(const std::string& path, std::string& out, const std::atomic<bool>& cancel,
+                           const std::function<void(std::uint64_t, std::uint64_t)>& report);
 
 // Puts a finished load into `doc` (moving the text and scene in: nothing is copied
 // or parsed again) and hands over its compiled world. Only an Ok result does that; a

@@ -1,14 +1,22 @@
 // Recovery files are named by a hash of the document's absolute path, so two
 // viewers on different files never share one; the first line holds the path itself.
+// The held edit's file names the text it belongs to by that text's hash, so that it
+// is never written into another text (whose items may be others at those indices).
 #include "recovery.h"
 
+#include <cinttypes>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <system_error>
 
+#include "default_scene.h"
 #include "document.h"
 #include "image_io.h"
+#include "scene_parser.h"
+#include "scene_text.h"
+#include "scene_writer.h"
 
 namespace rtview {
 namespace fs = std::filesystem;
@@ -30,7 +38,92 @@ std::string absolute(const std::string& path) {
     return ec ? path : p.lexically_normal().string();
 }
 
+constexpr std::size_t kMaxRecoveryBytes = std::size_t(256) << 20;
+
+// "objects 3 7": the indices after the list's name.
+std::string index_line(const char* name, const std::vector<std::size_t>& v) {
+    std::string s = name;
+    for (std::size_t i : v) s += " " + std::to_string(i);
+    return s + "\n";
+}
+
+bool read_index_line(std::istream& in, const char* name, std::vector<std::size_t>& v) {
+    std::string line;
+    if (!std::getline(in, line)) return false;
+    std::istringstream words(line);
+    std::string word;
+    if (!(words >> word) || word != name) return false;
+    for (std::size_t i; words >> i;) v.push_back(i);
+    return words.eof();
+}
+
+// A held edit's file: the document's path, the hash of its text, the indices, then the
+// items as a scene text (with the camera, so that it parses on its own).
+std::string held_file_text(const std::string& doc, const HeldEdit& held, std::uint64_t base_hash) {
+    char hash[40];
+    std::snprintf(hash, sizeof hash, "held %016" PRIx64 "\n", base_hash);
+    return doc + "\n" + hash + index_line("objects", held.objects) + index_line("planes", held.planes) +
+           index_line("lights", held.lights) + (held.camera ? "camera 1\n" : "camera 0\n") + rt::write_scene(held.items);
+}
+
+bool parse_held_file(const std::string& data, const std::string& doc, HeldEdit& held, std::uint64_t& base_hash) {
+    std::istringstream in(data);
+    std::string line, word;
+    if (!std::getline(in, line) || line != doc || !std::getline(in, line)) return false;
+    std::istringstream head(line);
+    if (!(head >> word) || word != "held" || !(head >> std::hex >> base_hash)) return false;
+    int camera = 0;
+    if (!read_index_line(in, "objects", held.objects) || !read_index_line(in, "planes", held.planes) ||
+        !read_index_line(in, "lights", held.lights) || !std::getline(in, line) ||
+        std::sscanf(line.c_str(), "camera %d", &camera) != 1)
+        return false;
+    held.camera = camera == 1;
+    const std::size_t at = std::size_t(in.tellg());
+    rt::ParseResult r = rt::parse_scene(std::string_view(data).substr(std::min(at, data.size())));
+    if (!r.ok()) return false;
+    held.items = std::move(r.scene);
+    return held.items.objects.size() == held.objects.size() && held.items.planes.size() == held.planes.size() &&
+           held.items.lights.size() == held.lights.size();
+}
+
 }  // namespace
+
+HeldEdit held_edit(const Document& doc) {
+    HeldEdit h;
+    const Document::HeldItems items = doc.held_items();
+    if (items.whole || items.empty() || !doc.has_scene()) return h;
+    const rt::Scene& s = doc.scene();
+    h.objects = items.objects;
+    h.planes = items.planes;
+    h.lights = items.lights;
+    h.camera = items.camera;
+    for (std::size_t i : h.objects) h.items.objects.push_back(s.objects[i]);
+    for (std::size_t i : h.planes) h.items.planes.push_back(s.planes[i]);
+    for (std::size_t i : h.lights) h.items.lights.push_back(s.lights[i]);
+    h.items.camera = s.camera;
+    return h;
+}
+
+std::string with_held_edit(const std::string& text, const HeldEdit& held) {
+    const rt::ParseResult r = rt::parse_scene(text);
+    if (!r.ok() || held.items.objects.size() != held.objects.size() || held.items.planes.size() != held.planes.size() ||
+        held.items.lights.size() != held.lights.size())
+        return text;
+    rt::Scene to = r.scene;
+    auto put = [](auto& list, const std::vector<std::size_t>& at, const auto& values) {
+        for (std::size_t k = 0; k < at.size(); ++k) {
+            if (at[k] >= list.size()) return false;
+            list[at[k]] = values[k];
+        }
+        return true;
+    };
+    if (!put(to.objects, held.objects, held.items.objects) || !put(to.planes, held.planes, held.items.planes) ||
+        !put(to.lights, held.lights, held.items.lights))
+        return text;
+    if (held.camera) to.camera = held.items.camera;
+    if (!text_holds(to)) return text;
+    return sync_scene_text(text, r.scene, to);
+}
 
 Recovery::Recovery(std::string dir) : dir_(dir.empty() ? default_dir() : std::move(dir)) {}
 
@@ -42,18 +135,28 @@ std::string Recovery::file_for(const std::string& doc_path) const {
     return dir_ + "/" + name;
 }
 
+std::string Recovery::held_file_for(const std::string& doc_path) const {
+    std::string f = file_for(doc_path);
+    return f.substr(0, f.size() - 4) + ".held";
+}
+
 rt::Status Recovery::update(const std::string& doc_path, const std::string& text, bool modified, double now,
                             double interval) {
     if (doc_path != last_path_) {
         // Another document (Save As, Open): what was unsaved in the last one has been
         // saved or let go by the user, so its copy would only raise a false alarm.
-        if (written_) discard(last_path_);
+        if (written_ || held_written_) discard(last_path_);
         last_path_ = doc_path;
         last_hash_ = 0;
         written_ = false;
+        held_written_ = false;
     }
     if (!modified) {
-        if (written_) discard(doc_path);
+        // (A held edit's file, for a text as saved, is update_held()'s to keep.)
+        std::error_code ec;
+        if (written_) fs::remove(file_for(doc_path), ec);
+        written_ = false;
+        last_hash_ = 0;
         return {};
     }
     std::uint64_t h = text_hash(text);
@@ -61,7 +164,8 @@ rt::Status Recovery::update(const std::string& doc_path, const std::string& text
     if (now - last_write_ < interval) return {};
     std::error_code ec;
     fs::create_directories(dir_, ec);
-    const rt::Status written = rt::write_file_atomic(file_for(doc_path), absolute(doc_path) + "\n" + text);
+    const rt::Status written =
+        rt::write_file_atomic(file_for(doc_path), absolute(doc_path) + "\n" + text, rt::WhileWriting::NoName);
     last_write_ = now;
     if (!written) return written;
     last_hash_ = h;
@@ -69,19 +173,48 @@ rt::Status Recovery::update(const std::string& doc_path, const std::string& text
     return {};
 }
 
+rt::Status Recovery::update_held(const std::string& doc_path, const HeldEdit& held, std::uint64_t base_hash) {
+    std::error_code ec;
+    if (held.empty()) {
+        if (held_written_) fs::remove(held_file_for(doc_path), ec);
+        held_written_ = false;
+        return {};
+    }
+    fs::create_directories(dir_, ec);
+    const rt::Status st = rt::write_file_atomic(held_file_for(doc_path), held_file_text(absolute(doc_path), held, base_hash),
+                                                rt::WhileWriting::NoName);
+    if (st) held_written_ = true;
+    return st;
+}
+
 std::optional<std::string> Recovery::find(const std::string& doc_path) const {
+    std::optional<std::string> text;
     std::string data;
-    if (!rt::read_file(file_for(doc_path), data, std::size_t(256) << 20).ok()) return std::nullopt;
-    std::size_t nl = data.find('\n');
-    if (nl == std::string::npos || data.compare(0, nl, absolute(doc_path)) != 0) return std::nullopt;
-    return data.substr(nl + 1);
+    if (rt::read_file(file_for(doc_path), data, kMaxRecoveryBytes).ok()) {
+        const std::size_t nl = data.find('\n');
+        if (nl != std::string::npos && data.compare(0, nl, absolute(doc_path)) == 0) text = data.substr(nl + 1);
+    }
+    HeldEdit held;
+    std::uint64_t base = 0;
+    if (!rt::read_file(held_file_for(doc_path), data, kMaxRecoveryBytes).ok() ||
+        !parse_held_file(data, absolute(doc_path), held, base))
+        return text;
+    if (text && text_hash(*text) == base) return with_held_edit(*text, held);
+    // A drag in a text as it was saved: its base is the document's file.
+    std::string file;
+    if (doc_path.empty()) file = rt::kDefaultScene;
+    else if (!rt::read_file(doc_path, file, kMaxRecoveryBytes).ok()) return text;
+    if (text_hash(file) == base) return with_held_edit(file, held);
+    return text;
 }
 
 void Recovery::discard(const std::string& doc_path) {
     std::error_code ec;
     fs::remove(file_for(doc_path), ec);
+    fs::remove(held_file_for(doc_path), ec);
     if (doc_path == last_path_) {
         written_ = false;
+        held_written_ = false;
         last_hash_ = 0;
     }
 }

@@ -1,32 +1,68 @@
-// Crash recovery for the scene editor: while the document has unsaved text, a copy is
-// kept on disk (written atomically, at most every few seconds and only when the text
-// changed), and a later start that opens the same file finds it and offers it back.
+// Crash recovery for the scene editor: while the document has unsaved work, a copy is
+// kept on disk, and a later start that opens the same file finds it and offers it back.
 // Saving or closing cleanly removes it. The viewer calls update() off the UI thread.
+// Two files per document: the text, written whole (atomically) when it changed, and
+// beside it what a held edit (a slider or move drag, not in the text until it ends) has
+// changed so far: only those items, so that a drag in a scene of a million objects never
+// copies the text. Reading the copy back writes them into the text.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "scene.h"
 #include "status.h"
 
 namespace rtview {
+
+class Document;
+
+// The items a held edit has changed so far, with their values now.
+struct HeldEdit {
+    std::vector<std::size_t> objects, planes, lights;  // indices in the scene
+    rt::Scene items;      // their values, in the same order; the scene camera
+    bool camera = false;  // the camera is one of them
+    bool empty() const { return objects.empty() && planes.empty() && lights.empty() && !camera; }
+    bool operator==(const HeldEdit& o) const {
+        return objects == o.objects && planes == o.planes && lights == o.lights && camera == o.camera &&
+               items == o.items;
+    }
+};
+
+// The held edit of `doc`, copying only the items it touched; empty when no edit is held
+// (or it spans the whole scene: edit()).
+HeldEdit held_edit(const Document& doc);
+// `text` with the held edit's items written into it (their blocks rewritten), as the
+// commit would have; `text` as it is when they do not fit it (it does not parse, or has
+// other items).
+std::string with_held_edit(const std::string& text, const HeldEdit& held);
 
 class Recovery {
 public:
     // `dir` empty: $XDG_STATE_HOME/raytracer-view/recovery, or ~/.local/state/...
     explicit Recovery(std::string dir = {});
 
-    // The recovery file for a document path ("" for the unsaved default scene).
+    // The recovery file for a document path ("" for the unsaved default scene), and the
+    // held edit's file beside it.
     std::string file_for(const std::string& doc_path) const;
+    std::string held_file_for(const std::string& doc_path) const;
 
     // Call often (each idle tick). Writes when the text changed since the last write
     // and at least `interval` seconds have passed; removes the file when the document
     // is no longer modified. Fails, saying why, if a write failed.
     rt::Status update(const std::string& doc_path, const std::string& text, bool modified, double now,
                       double interval = 3.0);
-    // Text left by an earlier session for this document, if any.
+    // Writes the held edit's file for the text whose text_hash() is `base_hash` (the
+    // copy update() wrote, or the document's file when the text is as saved); an empty
+    // edit removes it.
+    rt::Status update_held(const std::string& doc_path, const HeldEdit& held, std::uint64_t base_hash);
+    // text_hash() of the text update() wrote last (0: none).
+    std::uint64_t written_hash() const { return written_ ? last_hash_ : 0; }
+    // Text left by an earlier session for this document, if any, with its held edit.
     std::optional<std::string> find(const std::string& doc_path) const;
+    // Removes both files.
     void discard(const std::string& doc_path);
 
     const std::string& dir() const { return dir_; }
@@ -37,6 +73,7 @@ private:
     std::uint64_t last_hash_ = 0;  // of the text last written (not a second copy of it)
     double last_write_ = -1e300;
     bool written_ = false;
+    bool held_written_ = false;
 };
 
 }  // namespace rtview

@@ -342,19 +342,21 @@ double typical_size(const rt::Scene& scene) {
     return sizes[sizes.size() / 2];
 }
 
-std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at) {
-    auto l = layout_of(text, scene);
-    if (!l || !rt::finite(at.point)) return std::nullopt;
+namespace {
+
+// The new item's block (in `one`) at `at`, with coordinates rounded to a thousandth of
+// `scale`; `where` says which list it is in.
+void new_item(const rt::Scene& scene, NewItem kind, const Placement& at, double scale, rt::Scene& one,
+              SceneItem::Kind& where) {
     const double extent = scene_extent(scene);
     const double r = nice_size(typical_size(scene));
     const Vec3 up = up_of(scene, at);
     const rt::Frame f = rt::Frame::from_axis(up);
     const Vec3 p = at.point;
-    auto rp = [&](Vec3 v) { return round_to(v, extent); };
+    auto rp = [&](Vec3 v) { return round_to(v, scale); };
 
-    rt::Scene one;
     one.camera = scene.camera;
-    SceneItem::Kind where = SceneItem::Kind::Object;
+    where = SceneItem::Kind::Object;
     rt::Object o;
     switch (kind) {
     case NewItem::Sphere: o.shape = rt::Sphere{rp(p + up * r), r}; break;
@@ -372,7 +374,9 @@ std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scen
     }
     case NewItem::Torus: {
         double minor = nice_size(r / 3);
-        o.shape = rt::Torus{rp(p + up * minor), rp(up), r, minor};
+        // A direction is a unit vector whatever the scene's size: rounded to hundredths
+        // at most (coarser, a big scene's rounding would make it 0 0 0).
+        o.shape = rt::Torus{rp(p + up * minor), round_to(up, std::min(scale, 10.0)), r, minor};
         break;
     }
     case NewItem::Plane:
@@ -412,10 +416,30 @@ std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scen
     }
     }
     if (where == SceneItem::Kind::Object) one.objects.push_back(o);
-    SceneEdit e;
-    e.replacement = insert_block(text, *l, where, one);
-    e.select = {where, int(count_of(scene, where))};
-    return e;
+}
+
+}  // namespace
+
+std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at) {
+    auto l = layout_of(text, scene);
+    if (!l || !rt::finite(at.point)) return std::nullopt;
+    // Coordinates rounded to a thousandth of the scene's size keep the text short. In a
+    // scene much bigger than its objects (a light far away) that would move the item
+    // far from the point, or merge its corners: then a tenth of the item's own size,
+    // and if that still merges corners (far out, where doubles are coarse), a
+    // thousandth of it.
+    const double extent = scene_extent(scene), r = nice_size(typical_size(scene));
+    for (double scale : {std::min(extent, 100 * r), std::min(extent, r)}) {
+        rt::Scene one;
+        SceneItem::Kind where;
+        new_item(scene, kind, at, scale, one, where);
+        if (!text_holds(one)) continue;
+        SceneEdit e;
+        e.replacement = insert_block(text, *l, where, one);
+        e.select = {where, int(count_of(scene, where))};
+        return e;
+    }
+    return std::nullopt;  // no block the format takes fits there (numbers past 1e15)
 }
 
 std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene& scene, SceneItem item, Vec3 offset) {
@@ -441,6 +465,8 @@ std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene
         one.lights.push_back(scene.lights[std::size_t(item.index)]);
         translate(one.lights[0], offset);
     }
+    // (Rounding the moved copy's numbers can merge a tiny shape's corners far out.)
+    if (!text_holds(one)) return std::nullopt;
     e.replacement = insert_block(text, *l, item.kind, one, std::size_t(item.index));
     return e;
 }

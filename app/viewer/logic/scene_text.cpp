@@ -202,6 +202,11 @@ std::optional<std::string> patch_scene_text(const std::string& text, const rt::S
     return out;
 }
 
+bool text_holds(const rt::Scene& s) {
+    const rt::ParseResult r = rt::parse_scene(rt::write_scene(s));
+    return r.ok() && r.scene == s;
+}
+
 std::string sync_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to) {
     if (auto patched = patch_scene_text(text, from, to)) return *patched;
     return rt::write_scene(to);

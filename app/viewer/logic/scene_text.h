@@ -35,7 +35,13 @@ SceneLayout scan_layout(std::string_view text);
 // number of items changed, the layout is unclear, or the check parse disagrees).
 std::optional<std::string> patch_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to);
 
-// patch_scene_text, falling back to write_scene(to). Always returns text parsing to `to`.
+// Whether the text of `s` (write_scene) reads back as `s`: every number within the
+// format's range, every shape one the parser takes. An edit may make either false (a
+// drag far out; rounding that flattens a tiny tetrahedron); such an edit is not made.
+bool text_holds(const rt::Scene& s);
+
+// patch_scene_text, falling back to write_scene(to). Returns text parsing to `to` for
+// every `to` that text_holds().
 std::string sync_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to);
 
 // `base` with the items that differ between `old_scene` and `new_scene` taken from

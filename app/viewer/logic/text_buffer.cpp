@@ -4,6 +4,7 @@
 #include "text_buffer.h"
 
 #include <algorithm>
+#include <climits>
 #include <cctype>
 #include <utility>
 
@@ -576,14 +577,26 @@ std::vector<TextEdit> TextBuffer::take_edits() {
 void TextBuffer::find_in_line(int line, std::string_view needle, bool match_case, std::vector<TextRange>& out) const {
     if (needle.empty() || line < 0 || line >= line_count()) return;
     const std::string& l = lines_[std::size_t(line)];
-    auto pred = [match_case](char a, char b) { return equal_chars(a, b, match_case); };
-    auto it = l.begin();
-    for (;;) {
-        it = std::search(it, l.end(), needle.begin(), needle.end(), pred);
-        if (it == l.end()) break;
-        int c = int(it - l.begin());
-        out.push_back({{line, c}, {line, c + int(needle.size())}});
-        it += std::ptrdiff_t(needle.size());
+    // Most lines are shorter than the needle (a pasted one may be megabytes long).
+    if (l.size() < needle.size()) return;
+    auto same = [match_case](char a, char b) { return equal_chars(a, b, match_case); };
+    // Knuth-Morris-Pratt: linear in the line and the needle, where a plain search can
+    // take their product ("aaa...ab" in a line of "a"s).
+    const std::size_t m = needle.size();
+    std::vector<std::size_t> border(m + 1, 0);
+    for (std::size_t i = 1, k = 0; i < m; ++i) {
+        while (k > 0 && !same(needle[i], needle[k])) k = border[k];
+        if (same(needle[i], needle[k])) ++k;
+        border[i + 1] = k;
+    }
+    for (std::size_t i = 0, k = 0; i < l.size(); ++i) {
+        while (k > 0 && !same(l[i], needle[k])) k = border[k];
+        if (same(l[i], needle[k])) ++k;
+        if (k == m) {
+            const int c = int(i + 1 - m);
+            out.push_back({{line, c}, {line, c + int(m)}});
+            k = 0;  // matches do not overlap
+        }
     }
 }
 
@@ -607,6 +620,19 @@ std::optional<TextRange> TextBuffer::find(std::string_view needle, TextPos from,
         }
     }
     return std::nullopt;
+}
+
+int parse_line_number(std::string_view typed) {
+    // Digits only (the field takes nothing else); a number too big for an int is the
+    // last line anyway.
+    long long n = 0;
+    bool any = false;
+    for (char c : typed) {
+        if (c < '0' || c > '9') continue;
+        any = true;
+        n = std::min<long long>(n * 10 + (c - '0'), INT_MAX);
+    }
+    return any ? int(n) : 0;
 }
 
 void TextBuffer::goto_line(int line1) {

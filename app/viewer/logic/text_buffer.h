@@ -54,6 +54,10 @@ void tokenise_scene_line(std::string_view line, std::vector<TokenSpan>& out);
 // Whether `token` is a whole number in the scene format ([+-]digits[.digits][e[+-]digits]).
 bool is_scene_number(std::string_view token);
 
+// The number typed into "go to line": its digits (anything else is skipped), at most
+// INT_MAX however many there are; 0 for none.
+int parse_line_number(std::string_view typed);
+
 // ---- the buffer ----------------------------------------------------------------
 class TextBuffer {
 public:

@@ -779,6 +779,12 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         status_.set("The scene text has unapplied changes: apply (Ctrl+Enter) or revert them first", true);
         return false;
     }
+    if (doc.editing()) {
+        // (The edit would be planned on the scene as dragged so far, but the text the
+        // drag writes only when it ends.)
+        status_.set("Finish the drag first", true);
+        return false;
+    }
     const std::string& text = std::as_const(doc).editor_text();
     const rt::Scene& scene = doc.scene();
     std::optional<SceneEdit> e;
@@ -938,6 +944,7 @@ bool ViewerApp::do_save(bool confirmed) {
     }
     if (!ready_to_save(Command::Save, {}, confirmed)) return false;
     const rt::Status st = doc.save();
+    if (st) editor_.saved();
     if (st) status_.set("Saved " + doc.path());
     else status_.set("Save failed: " + st.message(), true);
     return st.ok();

@@ -24,7 +24,6 @@ namespace {
 // Bigger texts are not edited in the widget: it holds a second copy of the text, as
 // lines (the document's copy is the first).
 constexpr std::size_t kMaxEditableBytes = 64u << 20;
-constexpr double kRecoveryInterval = 3.0;
 }  // namespace
 
 DocumentEditor::~DocumentEditor() {
@@ -48,6 +47,8 @@ void DocumentEditor::forget_earlier_copy() {
 
 void DocumentEditor::replaced() {
     seen_version_ = 0;
+    recovery_key_ = ~std::uint64_t(0);
+    recovery_held_ = {};
     const bool offered = recovery_offer_;
     recovery_offer_ = false;
     if (interactive_) {
@@ -71,26 +72,9 @@ void DocumentEditor::tick(double now) {
 }
 
 bool DocumentEditor::idle_tick(double now) {
-    // While an offer is pending the old copy stays on disk untouched. A copy is
-    // written only when the text changed, and off the UI thread: writing 100 MB
-    // must never stall a frame.
-    if (!recovery_offer_ && !recovery_busy()) {
-        const Document& doc = doc_;
-        std::uint64_t key = doc.text_version() * 0x9E3779B97F4A7C15ull + doc.typed();
-        bool modified = doc.modified();
-        if (!modified) {
-            // Removes a copy, if any.
-            if (const rt::Status st = recovery_.update(doc.path(), {}, false, now); !st)
-                status_.set("cannot keep a recovery copy: " + st.message(), true);
-            recovery_key_ = ~std::uint64_t(0);
-        } else if (key != recovery_key_ && now - recovery_last_ >= kRecoveryInterval) {
-            recovery_key_ = key;
-            recovery_last_ = now;
-            recovery_write_ = std::async(std::launch::async, [this, path = doc.path(), text = doc.editor_text(), now] {
-                return recovery_.update(path, text, true, now, 0);
-            });
-        }
-    }
+    (void)now;
+    // While an offer is pending the old copy stays on disk untouched.
+    if (!recovery_offer_ && !recovery_busy()) keep_recovery_copy();
     switch (doc_.check_disk()) {
         case Document::DiskEvent::None: return false;
         case Document::DiskEvent::Reloaded: status_.set("Reloaded " + doc_.name() + " (changed on disk)"); break;
@@ -100,6 +84,43 @@ bool DocumentEditor::idle_tick(double now) {
             break;
     }
     return true;
+}
+
+// A tick comes about once a second, so at most the last second of work is not on disk.
+// The text is copied (on this thread) and written (on another) only when it changed:
+// never during a drag, which changes no text until it ends. A held edit is written as
+// the few items it changed, against the text last written (or the file as saved).
+void DocumentEditor::keep_recovery_copy() {
+    const Document& doc = doc_;
+    const std::uint64_t key = doc.text_version() * 0x9E3779B97F4A7C15ull + doc.typed();
+    const bool modified = doc.modified();
+    HeldEdit held = held_edit(doc);
+    const bool text_due = modified && key != recovery_key_;
+    if (!text_due && held == recovery_held_ && (modified || recovery_key_ == ~std::uint64_t(0))) return;
+    std::optional<std::string> text;
+    if (text_due) text = doc.editor_text();
+    recovery_key_ = modified ? key : ~std::uint64_t(0);
+    recovery_held_ = held;
+    recovery_write_ = std::async(std::launch::async, [this, path = doc.path(), text = std::move(text), modified,
+                                                      held = std::move(held), file_hash = doc.saved_hash()] {
+        rt::Status st;
+        if (text) st = recovery_.update(path, *text, true, 0, 0);
+        else if (!modified) st = recovery_.update(path, {}, false, 0);  // removes the copy
+        // The held edit belongs to the text just written, the one written before (the
+        // text has not changed since), or the file (the text is as saved).
+        const std::uint64_t base = text ? text_hash(*text) : modified ? recovery_.written_hash() : file_hash;
+        const rt::Status held_st = recovery_.update_held(path, held, base);
+        return st ? held_st : st;
+    });
+}
+
+void DocumentEditor::saved() {
+    if (recovery_write_.valid()) recovery_write_.wait();
+    recovery_busy();
+    if (recovery_offer_) return;
+    recovery_.discard(doc_.path());
+    recovery_key_ = ~std::uint64_t(0);
+    recovery_held_ = {};
 }
 
 void DocumentEditor::discard_recovery() {
@@ -134,7 +155,9 @@ void DocumentEditor::draw_banners() {
         ImGui::TextWrapped("Unsaved text of %s from an earlier session (the viewer did not close normally) was kept.",
                            doc_.name().c_str());
         ImGui::PopStyleColor();
-        if (ImGui::Button("Restore it")) {
+        const bool restore = ImGui::Button("Restore it");
+        probe_item("button_restore_recovered");
+        if (restore) {
             doc_.restore_draft(recovered_text_);
             recovered_text_.clear();
             recovery_offer_ = false;

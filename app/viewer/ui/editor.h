@@ -30,13 +30,16 @@ public:
     void replaced();
     // Once a frame: the live check when typing paused.
     void tick(double now);
-    // Once a second while idle: the recovery copy and the file on disk. True if the
+    // Once a second (idle or not): the recovery copy and the file on disk. True if the
     // document changed (a reload) or a message appeared.
     bool idle_tick(double now);
     // Quitting cleanly: the unsaved text is the user's decision, no recovery copy.
     void discard_recovery();
     // After Save As: no copy stays under the old name.
     void saved_as();
+    // After a save: no copy stays (one written before the save would be older than the
+    // file, and offered as unsaved text after a crash).
+    void saved();
 
     // The editor: show it focused, with the cursor at a byte offset (or where it was).
     void focus(int cursor = -1);
@@ -66,8 +69,9 @@ private:
     Recovery recovery_;            // touched by one thread at a time: see recovery_busy()
     std::future<rt::Status> recovery_write_;  // a copy being written off the UI thread
     std::uint64_t recovery_key_ = ~std::uint64_t(0);  // text state last handed to it
-    double recovery_last_ = -1e300;
+    HeldEdit recovery_held_;       // the held edit last handed to it
     bool recovery_busy();          // a write is under way (collects a finished one)
+    void keep_recovery_copy();     // hands what changed since the last tick to a writer
     void forget_earlier_copy();    // removes a copy kept under an earlier name
     bool recovery_offer_ = false;  // a previous session's unsaved text is waiting
     std::string recovered_text_;

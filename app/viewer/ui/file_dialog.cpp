@@ -2,12 +2,13 @@
 #include "file_dialog.h"
 
 #include <imgui.h>
-#include <imgui_stdlib.h>
 
+#include <climits>
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
 
+#include "bounded_input.h"
 #include "probe.h"
 
 namespace rtview {
@@ -122,9 +123,10 @@ bool FileDialog::draw_name_field() {
     focus_field_ = false;
     ImGui::SetNextItemWidth(fs * 30);
     std::pair<const FileBrowser*, std::vector<std::string>*> data{browser_.get(), &candidates_};
-    const bool enter = ImGui::InputTextWithHint(
+    const bool enter = bounded_input(
         "##name", mode_ == Mode::Open ? "file name or path (Tab completes)" : "new file name or path (Tab completes)",
-        &typed_, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_CallbackCompletion, complete_callback, &data);
+        typed_, PATH_MAX, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_CallbackCompletion, complete_callback,
+        &data);
     probe_item("browser_name");
     probe("browser_field", ImGui::IsItemActive() ? "active" : "idle");
     ImGui::SameLine();

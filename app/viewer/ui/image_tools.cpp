@@ -4,14 +4,15 @@
 #include "image_tools.h"
 
 #include <imgui.h>
-#include <imgui_stdlib.h>
 
 #include <algorithm>
 #include <cmath>
+#include <climits>
 #include <cstdio>
 #include <ctime>
 
 #include "adaptive.h"
+#include "bounded_input.h"
 #include "image_io.h"
 #include "probe.h"
 
@@ -827,7 +828,7 @@ void ImageTools::draw_render_setup() {
     ImGui::SetNextItemWidth(fs * 24);
     if (focus_render_path_) ImGui::SetKeyboardFocusHere();
     focus_render_path_ = false;
-    bool go = ImGui::InputTextWithHint("##file", "picture.png or .ppm", &render_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+    bool go = bounded_input("##file", "picture.png or .ppm", render_path_, PATH_MAX, ImGuiInputTextFlags_EnterReturnsTrue);
     probe("render_field", ImGui::IsItemActive() ? "active" : "idle");
     ImGui::SameLine();
     if (ImGui::Button("Browse...")) {

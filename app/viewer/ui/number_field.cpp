@@ -4,10 +4,10 @@
 
 #include <imgui.h>
 #include <imgui_internal.h>  // PushMultiItemsWidths, ClearActiveID: 1.86 has no public way
-#include <imgui_stdlib.h>
 
 #include <algorithm>
 
+#include "bounded_input.h"
 #include "item_fields.h"
 #include "probe.h"
 #include "scene_writer.h"
@@ -15,6 +15,8 @@
 namespace rtview {
 
 namespace {
+
+constexpr std::size_t kMaxTypedBytes = 1024;
 
 struct Typing {
     ImGuiID id = 0;        // the field typed into; 0: none
@@ -34,7 +36,9 @@ bool starts_typing() {
 bool typed_field(const char* label, double* v, const NumberFieldSpec& spec) {
     Typing& t = g_typing;
     if (t.frames++ == 0) ImGui::SetKeyboardFocusHere();
-    const bool enter = ImGui::InputText(label, &t.text, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+    // (Past the parser's longest token a number is refused anyway: a paste is cut.)
+    const bool enter = bounded_input(label, nullptr, t.text, kMaxTypedBytes,
+                                     ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
     const bool active = ImGui::IsItemActive();
     probe("typing", std::string(label) + (active ? " active" : ""));
     t.had_focus |= active;

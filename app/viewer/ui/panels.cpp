@@ -716,10 +716,15 @@ void Panels::draw_fields(const ItemRef& ref) {
         const bool changed = draw_field(ref, f, v, size, vec_format, operand);
         ImGui::PopItemWidth();
         {
-            // Where the field is, for scripts that click on it.
+            // Where the field is, for scripts that click on it, and its value as the
+            // text will hold it (a drag's value before it reaches the text).
             std::string key = "field_" + f.label;
             std::replace(key.begin(), key.end(), ' ', '_');
             probe_item(key);
+            if (f.kind == rt::schema::Kind::Number) probe("value_" + f.label, rt::format_number(cur->number));
+            else if (f.kind == rt::schema::Kind::Vec3)
+                probe("value_" + f.label, rt::format_number(cur->vec.x) + " " + rt::format_number(cur->vec.y) + " " +
+                                              rt::format_number(cur->vec.z));
         }
         if (std::string refused; take_number_refusal(refused)) field_message_ = {selection_, f.label, refused, true};
         if (changed) {

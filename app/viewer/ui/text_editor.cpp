@@ -418,7 +418,7 @@ void TextEditor::handle_field_key(const KeyEvent& e) {
         if (mode_ == Mode::Find) {
             find_next(!e.shift);
         } else {
-            int line = std::atoi(goto_field_.line(0).c_str());
+            int line = parse_line_number(goto_field_.line(0));
             buf_.goto_line(std::max(1, line));
             scroll_request_ = true;
             scroll_centre_ = true;
@@ -470,7 +470,12 @@ bool TextEditor::draw_field(const char* id, TextBuffer& f, float width, bool act
                           ImVec2(tx - shift + float(f.display_col(0, r.end.col)) * char_w_, ty + ImGui::GetFontSize()),
                           ImGui::GetColorU32(ImGuiCol_TextSelectedBg));
     }
-    dl->AddText(ImVec2(tx - shift, ty), ImGui::GetColorU32(ImGuiCol_Text), t.c_str(), t.c_str() + t.size());
+    // Only the columns in view: a pasted line may be megabytes long, and ImGui reserves
+    // vertices for every character it is given.
+    const int first = f.col_at_display(0, std::max(0, int(shift / char_w_) - 1));
+    const int last = f.col_at_display(0, int((shift + avail) / char_w_) + 2);
+    dl->AddText(ImVec2(tx - shift + float(f.display_col(0, first)) * char_w_, ty), ImGui::GetColorU32(ImGuiCol_Text),
+                t.c_str() + first, t.c_str() + std::max(first, last));
     if (active) dl->AddLine(ImVec2(tx - shift + cx, ty), ImVec2(tx - shift + cx, ty + ImGui::GetFontSize()), ImGui::GetColorU32(ImGuiCol_Text));
     dl->PopClipRect();
     return clicked;
