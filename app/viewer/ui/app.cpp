@@ -242,7 +242,7 @@ void ViewerApp::frame() {
         if (tool_mouse) nav_layout.image = Rect{};
         else if (doc.has_scene() && nav_.has_view() &&
                  move_.handle_mouse(doc, panels_.selection(), screen_view(), layout_.image, usable && !nav_.dragging(),
-                                    render_, status_))
+                                    status_))
             nav_layout.image = Rect{};  // the move handle has the pointer
         NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, panels_.scene_size());
         if (r.clicked) select_at(r.x, r.y);

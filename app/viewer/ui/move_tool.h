@@ -31,7 +31,7 @@ public:
     // picture is rendered through; `image` where it is drawn. True while the tool owns
     // the pointer (a press on the handle, a drag): navigation must then ignore it.
     bool handle_mouse(Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, bool usable,
-                      RenderController& render, StatusLine& status);
+                      StatusLine& status);
     bool dragging() const { return drag_.has_value(); }
 
     // The outline's id buffer for this frame's picture: at the preview's block while
@@ -65,7 +65,7 @@ private:
         rt::Vec3 last{0, 0, 0};
         std::string name;  // the undo step's: "Move sphere 3"
     };
-    void apply(Document& doc, RenderController& render, const rt::Vec3& d);
+    void apply(Document& doc, const rt::Vec3& d);
 
     void draw_light_markers(ImDrawList* dl, float scale) const;
 
