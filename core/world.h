@@ -150,6 +150,7 @@ struct RayStats {
 
 struct PickResult;
 struct Ray;
+class BvhLinks;  // bvh_update.h
 
 class World {
 public:
@@ -201,8 +202,12 @@ public:
     // The same world, table for table and so picture for picture, as compile_world()
     // makes of `scene`, but for the BVH's shape. Null when it cannot be done that way
     // (delta.everything, other numbers of objects, an object whose structure changed,
-    // a box that became empty): compile_world() then.
-    std::shared_ptr<const World> update(const Scene& scene, const SceneDelta& delta) const;
+    // a box that became empty): compile_world() then. `links`, if given, are this
+    // world's tree's parent links made elsewhere (BvhLinks of geometry->bvh, say on
+    // another thread while nothing moved): a first move then does not make them. They
+    // must have been made from this world's tree or from one it was refitted from.
+    std::shared_ptr<const World> update(const Scene& scene, const SceneDelta& delta,
+                                        std::shared_ptr<const BvhLinks> links = nullptr) const;
 
     // What compile_world() finds in passes over every object and update() keeps up to
     // date chunk by chunk (per chunk of the object tables): the bounds, the materials'

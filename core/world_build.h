@@ -54,9 +54,10 @@ void add_glow_bvh(World& w, const World* previous);
 void add_light_buffers(World& w, const Scene& scene, const World* previous);
 
 // World::update(), with the geometry of the moved objects made already (`moved`), or
-// made here from what delta.objects names (`moved` null).
+// made here from what delta.objects names (`moved` null; with `links` as World::update).
 std::shared_ptr<const World> update_world(const World& previous, const Scene& scene, const SceneDelta& delta,
-                                          std::shared_ptr<const Geometry> moved);
+                                          std::shared_ptr<const Geometry> moved,
+                                          std::shared_ptr<const BvhLinks> links = nullptr);
 
 }  // namespace detail
 

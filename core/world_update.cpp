@@ -87,7 +87,8 @@ bool update_planes(World& w, const Scene& scene, const SceneDelta& delta) {
 namespace detail {
 
 std::shared_ptr<const World> update_world(const World& previous, const Scene& scene, const SceneDelta& delta,
-                                          std::shared_ptr<const Geometry> moved) {
+                                          std::shared_ptr<const Geometry> moved,
+                                          std::shared_ptr<const BvhLinks> links) {
     if (delta.everything || !previous.geometry || !previous.tallies || scene.objects.size() != previous.materials.size())
         return nullptr;
     auto w = std::make_shared<World>(previous);
@@ -95,7 +96,7 @@ std::shared_ptr<const World> update_world(const World& previous, const Scene& sc
     if (!moved) {
         std::vector<std::uint32_t> which;
         if (!find_moved(*previous.geometry, scene, delta.objects, which)) return nullptr;
-        if (!which.empty() && !(moved = move_objects(*previous.geometry, scene, which))) return nullptr;
+        if (!which.empty() && !(moved = move_objects(*previous.geometry, scene, which, std::move(links)))) return nullptr;
     }
     const bool geometry_changed = moved != nullptr;
     if (geometry_changed) {
@@ -123,8 +124,9 @@ std::shared_ptr<const World> update_world(const World& previous, const Scene& sc
 
 }  // namespace detail
 
-std::shared_ptr<const World> World::update(const Scene& scene, const SceneDelta& delta) const {
-    return detail::update_world(*this, scene, delta, nullptr);
+std::shared_ptr<const World> World::update(const Scene& scene, const SceneDelta& delta,
+                                           std::shared_ptr<const BvhLinks> links) const {
+    return detail::update_world(*this, scene, delta, nullptr, std::move(links));
 }
 
 }  // namespace rt

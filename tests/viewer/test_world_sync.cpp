@@ -298,3 +298,32 @@ TEST_CASE("world sync: edits made while a compile runs go into its world once it
     CHECK(sync.world().get() == loaded.get());
     CHECK(sync.sync(doc) == WorldSync::Step::None);
 }
+
+TEST_CASE("world sync: a new tree's links are made in the background, and the first move uses them") {
+    Rng rng(14);
+    Document doc;
+    doc.load_text(random_scene_text(rng, 40), "", "t.txt");
+    WorldSync sync;
+    sync.finish(doc);
+    const std::shared_ptr<const rt::BvhLinks> links = sync.links();
+    REQUIRE(bool(links));
+    CHECK(!sync.world()->geometry->bvh.links);  // the compiled tree has none of its own
+    translate(doc.edit_object(3), {0.25, 0, 0});
+    REQUIRE(sync.sync(doc) == WorldSync::Step::Updated);
+    CHECK(sync.world()->geometry->bvh.links.get() == links.get());
+    translate(doc.edit_object(3), {0.25, 0, 0});
+    REQUIRE(sync.sync(doc) == WorldSync::Step::Updated);
+    CHECK(sync.world()->geometry->bvh.links.get() == links.get());  // the tree keeps them
+    doc.commit();
+    rt_test::check_same_world(*sync.world(), *rt::compile_world(doc.scene()));
+    // An adopted world gets links of its own tree.
+    std::shared_ptr<const rt::World> loaded = rt::compile_world(doc.scene());
+    sync.adopt(loaded, doc.content_version());
+    sync.finish(doc);
+    REQUIRE(bool(sync.links()));
+    CHECK(sync.links().get() != links.get());
+    translate(doc.edit_object(5), {0, 0.25, 0});
+    REQUIRE(sync.sync(doc) == WorldSync::Step::Updated);
+    CHECK(sync.world()->geometry->bvh.links.get() == sync.links().get());
+    rt_test::check_same_world(*sync.world(), *rt::compile_world(doc.scene()));
+}

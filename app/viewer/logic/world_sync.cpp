@@ -4,26 +4,54 @@
 #include <chrono>
 #include <utility>
 
+#include "shapes.h"
+
 namespace rtview {
 
 namespace {
 
-bool ready(const std::future<std::shared_ptr<const rt::World>>& f) {
+template <class T>
+bool ready(const std::future<T>& f) {
     return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
+template <class T>
+void reap_ready(std::vector<std::future<T>>& v) {
+    for (auto it = v.begin(); it != v.end();) {
+        if (ready(*it)) it = v.erase(it);
+        else ++it;
+    }
 }
 
 }  // namespace
 
 WorldSync::~WorldSync() {
     if (build_.valid()) build_.wait();
+    if (links_build_.valid()) links_build_.wait();
     for (auto& f : dropped_) f.wait();
+    for (auto& f : dropped_links_) f.wait();
 }
 
 void WorldSync::reap() {
-    for (auto it = dropped_.begin(); it != dropped_.end();) {
-        if (ready(*it)) it = dropped_.erase(it);
-        else ++it;
-    }
+    reap_ready(dropped_);
+    reap_ready(dropped_links_);
+}
+
+void WorldSync::prepare_links() {
+    if (!world_ || !world_->geometry || world_->geometry->bvh.links || world_->geometry->object_bounds.size() == 0)
+        return;
+    if (links_build_.valid()) dropped_links_.push_back(std::move(links_build_));
+    links_ = nullptr;
+    links_geometry_ = world_->geometry;
+    links_build_ = std::async(std::launch::async, [g = links_geometry_] {
+        return std::make_shared<const rt::BvhLinks>(g->bvh, g->object_bounds.size());
+    });
+}
+
+std::shared_ptr<const rt::BvhLinks> WorldSync::current_links() {
+    if (links_build_.valid() && ready(links_build_)) links_ = links_build_.get();
+    // A world updated from the one they were made for has its tree's own links then.
+    return world_ && world_->geometry == links_geometry_ ? links_ : nullptr;
 }
 
 bool WorldSync::take_build() {
@@ -36,11 +64,12 @@ bool WorldSync::take_build() {
 WorldSync::Step WorldSync::sync(const Document& doc) {
     reap();
     Step step = take_build() ? Step::Built : Step::None;
+    if (step == Step::Built) prepare_links();
     if (!doc.has_scene() || (world_ && doc.content_version() == version_)) return step;
     if (world_) {
         const rt::SceneDelta delta = doc.changes_since(version_);
         if (!delta.everything && delta.objects.size() + delta.planes.size() + delta.lights.size() <= kMaxDeltaItems) {
-            if (std::shared_ptr<const rt::World> w = world_->update(doc.scene(), delta)) {
+            if (std::shared_ptr<const rt::World> w = world_->update(doc.scene(), delta, current_links())) {
                 world_ = std::move(w);
                 version_ = doc.content_version();
                 return Step::Updated;
@@ -59,6 +88,7 @@ void WorldSync::adopt(std::shared_ptr<const rt::World> world, std::uint64_t vers
     build_ = {};
     world_ = std::move(world);
     version_ = version;
+    prepare_links();
 }
 
 WorldSync::Step WorldSync::finish(const Document& doc) {
@@ -67,6 +97,8 @@ WorldSync::Step WorldSync::finish(const Document& doc) {
         build_.wait();
         step = sync(doc);
     }
+    if (links_build_.valid()) links_build_.wait();
+    current_links();
     return step;
 }
 
