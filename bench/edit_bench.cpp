@@ -3,9 +3,11 @@
 // move-handle drag and of a material slider drag (the document edit and the world
 // update), the commit of each, undo and redo of a move (with the world brought up to
 // date), and a frame in which nothing changed (sync, bounds, modified: the per-frame
-// questions the window asks of the document and the world).
+// questions the window asks of the document and the world). With --reopen N, then
+// the edited scene saved (to SCENE.txt.reopen.txt) and opened N times as the window
+// opens a file (SceneLoader, the world adopted), with the resident memory after each.
 //
-//   edit_bench SCENE.txt [--frames N]
+//   edit_bench SCENE.txt [--frames N] [--reopen N]
 //   bench/make-grid.sh 1000 /tmp/g1000.txt && edit_bench /tmp/g1000.txt   (1,000,000 spheres)
 #include <algorithm>
 #include <chrono>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "document.h"
+#include "loader.h"
 #include "scene_edits.h"
 #include "world_sync.h"
 
@@ -33,6 +36,31 @@ struct Times {
     }
     double max() const { return v.empty() ? 0 : *std::max_element(v.begin(), v.end()); }
 };
+
+// This process's resident memory in MB (Linux), 0 if unknown.
+double rss_mb() {
+    FILE* f = std::fopen("/proc/self/status", "r");
+    if (!f) return 0;
+    char line[256];
+    double kb = 0;
+    while (std::fgets(line, sizeof line, f))
+        if (!std::strncmp(line, "VmRSS:", 6)) kb = std::atof(line + 6);
+    std::fclose(f);
+    return kb / 1024;
+}
+
+// Opens `path` as the window does: read, parsed and compiled by the loader, the world
+// adopted. False if it did not load.
+bool open(const std::string& path, rtview::Document& doc, rtview::WorldSync& sync) {
+    rtview::SceneLoader loader;
+    loader.start(path);
+    std::optional<rtview::LoadResult> r = loader.wait();
+    std::shared_ptr<const rt::World> world;
+    if (!r || !rtview::apply_load(*r, doc, world) || !world) return false;
+    sync.adopt(std::move(world), doc.content_version());
+    sync.finish(doc);
+    return true;
+}
 
 double timed(const std::function<void()>& f) {
     const double t0 = now();
@@ -62,22 +90,22 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "usage: edit_bench SCENE.txt [--frames N]\n");
         return 2;
     }
-    int frames = 30;
-    for (int i = 2; i + 1 < argc; ++i)
+    int frames = 30, reopen = 0;
+    for (int i = 2; i + 1 < argc; ++i) {
         if (!std::strcmp(argv[i], "--frames")) frames = std::max(1, std::atoi(argv[++i]));
+        else if (!std::strcmp(argv[i], "--reopen")) reopen = std::max(0, std::atoi(argv[++i]));
+    }
     rtview::Document doc;
     rtview::WorldSync sync;
     double t0 = now();
-    if (rt::Status s = doc.load_file(argv[1]); !s.ok() || !doc.has_scene() || doc.scene().objects.empty()) {
+    if (!open(argv[1], doc, sync) || doc.scene().objects.empty()) {
         std::fprintf(stderr, "edit_bench: %s does not load or has no objects\n", argv[1]);
         return 1;
     }
-    const double load = now() - t0;
-    t0 = now();
-    sync.finish(doc);
-    const double compile = now() - t0;
+    const double load = now() - t0, rss_loaded = rss_mb();
     const std::size_t n = doc.scene().objects.size(), obj = n / 2 + 7;
-    std::printf("%s: %zu objects; load %.0f ms, compile %.0f ms\n\n", argv[1], n, load * 1e3, compile * 1e3);
+    std::printf("%s: %zu objects; opened (read, parsed, compiled) in %.0f ms, resident %.0f MB\n\n", argv[1], n,
+                load * 1e3, rss_loaded);
     std::printf("| %-44s | %10s | %10s | %4s |\n|---|---:|---:|---:|\n", "measure", "median", "max", "n");
 
     // Two drags of the move handle (of two objects): a document's first commit costs more.
@@ -133,5 +161,17 @@ int main(int argc, char** argv) {
     row("redo of the move + world update", redo);
     row("a frame with nothing changed (sync, bounds, modified)", idle, "us", 1e6);
     std::printf("\n(%g)\n", sink > 0 ? 1.0 : 0.0);
+    if (reopen > 0) {
+        const std::string copy = std::string(argv[1]) + ".reopen.txt";
+        if (!doc.save_as(copy).ok()) return 1;
+        std::printf("\nresident memory: after the first open %.0f MB, after the edits and a save %.0f MB", rss_loaded,
+                    rss_mb());
+        for (int k = 0; k < reopen; ++k) {
+            if (!open(copy, doc, sync)) return 1;
+            std::printf(", open %d %.0f MB (%.2fx)", k + 2, rss_mb(), rss_mb() / rss_loaded);
+        }
+        std::printf("\n");
+        std::remove(copy.c_str());
+    }
     return 0;
 }
