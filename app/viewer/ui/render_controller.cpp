@@ -261,7 +261,9 @@ bool RenderController::settled(int film_w, int film_h) const {
 
 bool RenderController::busy() const {
     rt::RenderProgress p = renderer_.progress();
-    return p.running || sync_.building() || (!final_uploaded_ && !paused_ && started_world_) || showing_preview_;
+    // A render that yields its processors brings no new pixels: no frames for it.
+    const bool rendering = !yield_ && (p.running || (!final_uploaded_ && !paused_ && started_world_));
+    return rendering || sync_.building() || showing_preview_;
 }
 
 }  // namespace rtview
