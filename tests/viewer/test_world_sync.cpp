@@ -327,3 +327,19 @@ TEST_CASE("world sync: a new tree's links are made in the background, and the fi
     CHECK(sync.world()->geometry->bvh.links.get() == sync.links().get());
     rt_test::check_same_world(*sync.world(), *rt::compile_world(doc.scene()));
 }
+
+TEST_CASE("world sync: same_world tells a world from its successor without keeping either alive") {
+    Rng rng(15);
+    Document doc;
+    doc.load_text(random_scene_text(rng, 10), "", "t.txt");
+    std::shared_ptr<const rt::World> a = rt::compile_world(doc.scene());
+    std::weak_ptr<const rt::World> seen = a;
+    CHECK(same_world(seen, a));
+    CHECK(!same_world(seen, rt::compile_world(doc.scene())));
+    CHECK(!same_world(seen, nullptr));
+    CHECK(same_world(std::weak_ptr<const rt::World>(), nullptr));
+    a.reset();
+    CHECK(seen.expired());  // the view's pointer did not keep it
+    // A new world, perhaps at the old one's address, is still another world.
+    for (int k = 0; k < 4; ++k) CHECK(!same_world(seen, rt::compile_world(doc.scene())));
+}

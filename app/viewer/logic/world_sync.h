@@ -20,6 +20,14 @@
 
 namespace rtview {
 
+// Whether `seen` was taken from `world`: what views of a world (the preview, the
+// outline) compare with, without keeping a replaced scene's world alive. Still right
+// once `seen` has expired (it keeps its control block: a new world made at the old
+// one's address is another world).
+inline bool same_world(const std::weak_ptr<const rt::World>& seen, const std::shared_ptr<const rt::World>& world) {
+    return !seen.owner_before(world) && !world.owner_before(seen);
+}
+
 class WorldSync {
 public:
     // What a sync() did.

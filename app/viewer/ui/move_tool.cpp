@@ -139,7 +139,7 @@ void MoveTool::update_outline(const Document& doc, const Selection& sel, const R
         return;
     }
     std::uint32_t code = id_code(*item);
-    bool same_view = has_ids_ && ids_world_ == world && ids_camera_ == camera && ids_w_ == film_w && ids_h_ == film_h &&
+    bool same_view = has_ids_ && same_world(ids_world_, world) && ids_camera_ == camera && ids_w_ == film_w && ids_h_ == film_h &&
                      ids_code_ == code;
     const bool preview = render.showing_preview();
     int block = 8;

@@ -77,7 +77,7 @@ private:
     std::vector<Edge> edges_;  // the outline of ids_
     int finest_ = 1;           // the finest block whose outline fits a draw list
     bool has_ids_ = false;
-    std::shared_ptr<const rt::World> ids_world_;
+    std::weak_ptr<const rt::World> ids_world_;  // compared with, not kept alive
     rt::Camera ids_camera_;
     int ids_w_ = 0, ids_h_ = 0;
     std::uint32_t ids_code_ = 0;

@@ -100,7 +100,7 @@ void RenderController::update(const rt::Camera& camera, int film_w, int film_h, 
     }
     bool changed = world_ptr() != started_world_ || !(camera == started_camera_) || film_w != started_w_ ||
                    film_h != started_h_ || settings_changed_;
-    bool preview_changed = world_ptr() != preview_world_ || !(camera == preview_camera_) || film_w != preview_w_ ||
+    bool preview_changed = !same_world(preview_world_, world_ptr()) || !(camera == preview_camera_) || film_w != preview_w_ ||
                            film_h != preview_h_;
     if (changed && preview_changed) last_change_ = std::chrono::steady_clock::now();
     if (!changed) return;

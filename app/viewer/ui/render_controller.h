@@ -140,7 +140,9 @@ private:
     std::vector<std::uint8_t> preview_rgba_;
     bool showing_preview_ = false;  // the preview is on screen, not the film
     int preview_block_ = 0, preview_w_ = 0, preview_h_ = 0;  // of the film it previews
-    std::shared_ptr<const rt::World> preview_world_;
+    // The world the preview shows, to compare with: not kept alive by it (a replaced
+    // scene's memory is returned).
+    std::weak_ptr<const rt::World> preview_world_;
     rt::Camera preview_camera_;
 
     FilmTexture film_;
