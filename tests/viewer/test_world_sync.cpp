@@ -343,3 +343,29 @@ TEST_CASE("world sync: same_world tells a world from its successor without keepi
     // A new world, perhaps at the old one's address, is still another world.
     for (int k = 0; k < 4; ++k) CHECK(!same_world(seen, rt::compile_world(doc.scene())));
 }
+
+TEST_CASE("world sync: an adopted world replaces the last one, which nothing in the sync keeps alive") {
+    Rng rng(16);
+    Document doc;
+    doc.load_text(random_scene_text(rng, 30), "", "t.txt");
+    // A world whose tree keeps its own links (a move made them).
+    WorldSync other;
+    other.finish(doc);
+    translate(doc.edit_object(2), {0.25, 0, 0});
+    REQUIRE(other.sync(doc) == WorldSync::Step::Updated);
+    std::shared_ptr<const rt::World> moved = other.world();
+    REQUIRE(bool(moved->geometry->bvh.links));
+
+    WorldSync sync;
+    sync.adopt(rt::compile_world(doc.scene()), doc.content_version());
+    sync.finish(doc);
+    REQUIRE(bool(sync.links()));
+    std::weak_ptr<const rt::World> old = sync.world();
+    std::weak_ptr<const rt::Geometry> old_geometry = sync.world()->geometry;
+    sync.adopt(moved, doc.content_version());
+    sync.finish(doc);
+    CHECK(old.expired());
+    CHECK(old_geometry.expired());
+    CHECK(!sync.links());  // the new tree has its own
+    CHECK(sync.world().get() == moved.get());
+}

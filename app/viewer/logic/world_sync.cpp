@@ -4,6 +4,10 @@
 #include <chrono>
 #include <utility>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include "shapes.h"
 
 namespace rtview {
@@ -37,11 +41,24 @@ void WorldSync::reap() {
     reap_ready(dropped_links_);
 }
 
+void WorldSync::return_memory() {
+    if (!return_pending_ || !replaced_.expired()) return;
+    return_pending_ = false;
+#ifdef __GLIBC__
+    // A scene's tables are many blocks below the allocator's mmap threshold: freed,
+    // they stay in its heaps, and a scene opened again would come on top of them.
+    malloc_trim(0);
+#endif
+}
+
 void WorldSync::prepare_links() {
-    if (!world_ || !world_->geometry || world_->geometry->bvh.links || world_->geometry->object_bounds.size() == 0)
-        return;
+    // What was made or is being made for another tree is let go of (it must not keep
+    // a replaced scene's geometry alive).
     if (links_build_.valid()) dropped_links_.push_back(std::move(links_build_));
     links_ = nullptr;
+    links_geometry_ = nullptr;
+    if (!world_ || !world_->geometry || world_->geometry->bvh.links || world_->geometry->object_bounds.size() == 0)
+        return;
     links_geometry_ = world_->geometry;
     links_build_ = std::async(std::launch::async, [g = links_geometry_] {
         return std::make_shared<const rt::BvhLinks>(g->bvh, g->object_bounds.size());
@@ -63,6 +80,7 @@ bool WorldSync::take_build() {
 
 WorldSync::Step WorldSync::sync(const Document& doc) {
     reap();
+    return_memory();
     Step step = take_build() ? Step::Built : Step::None;
     if (step == Step::Built) prepare_links();
     if (!doc.has_scene() || (world_ && doc.content_version() == version_)) return step;
@@ -86,6 +104,10 @@ WorldSync::Step WorldSync::sync(const Document& doc) {
 void WorldSync::adopt(std::shared_ptr<const rt::World> world, std::uint64_t version) {
     if (build_.valid()) dropped_.push_back(std::move(build_));
     build_ = {};
+    if (world_ && world_ != world) {
+        replaced_ = world_;
+        return_pending_ = true;
+    }
     world_ = std::move(world);
     version_ = version;
     prepare_links();

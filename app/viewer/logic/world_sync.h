@@ -50,7 +50,9 @@ public:
     // waiting). O(1) when nothing changed. A document without a scene leaves it alone.
     Step sync(const Document& doc);
     // A world compiled elsewhere (a scene loaded in the background) for the document's
-    // content version `version`; a build under way is dropped (not waited for).
+    // content version `version`; a build under way is dropped (not waited for). Once
+    // the world it replaces is gone (the renderer and the views let go of it), the
+    // memory the allocator kept of it is given back to the system.
     void adopt(std::shared_ptr<const rt::World> world, std::uint64_t version);
     // Blocks until a build under way and the links are done, then syncs (headless runs,
     // tests).
@@ -68,6 +70,8 @@ private:
     // Takes a finished build; true if it did.
     bool take_build();
     void reap();
+    // Gives freed memory back once the world adopt() replaced is gone.
+    void return_memory();
     // Starts making the links of the world's tree unless it has them.
     void prepare_links();
     // Takes the links once made; the links that go with the world's tree, or null.
@@ -78,6 +82,8 @@ private:
     std::future<std::shared_ptr<const rt::World>> build_;
     std::uint64_t build_version_ = 0;
     std::vector<std::future<std::shared_ptr<const rt::World>>> dropped_;  // still finishing
+    std::weak_ptr<const rt::World> replaced_;  // by adopt(), until it is gone
+    bool return_pending_ = false;
     // The links of links_geometry_'s tree: made (links_) or being made (links_build_).
     std::shared_ptr<const rt::Geometry> links_geometry_;
     std::shared_ptr<const rt::BvhLinks> links_;
