@@ -1,7 +1,7 @@
-// move_bench: what moving one object costs in a big scene, as the viewer's move tool
-// does it (core/bvh_update.h): the BVH refit alone, the whole world update (geometry
-// copy, the object compiled again, refit, materials and lights), and for comparison
-// a full compile of the moved scene (BVH built again).
+// move_bench: what editing one object costs in a big scene, as the viewer does it
+// (World::update): the BVH refit alone, the whole world update for a move (the object
+// compiled again, its chunks copied, refit) and for a material change, and for
+// comparison a full compile of the edited scene (BVH built again).
 //
 //   move_bench SCENE.txt [--moves N]
 //   bench/make-grid.sh 100 /tmp/g100.txt && move_bench /tmp/g100.txt    (10,000 spheres)
@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
     std::vector<double> refit, update;
     for (int k = 0; k < moves; ++k) {
         std::uint32_t obj = std::uint32_t((std::size_t(k) * 7919u) % n);
-        rt::Aabb& b = g.object_bounds[obj];
+        rt::Aabb& b = g.object_bounds.write(obj);
         rt::Vec3 d{0.37 * (k % 5), -0.21 * (k % 3), 0.5};
         b.lo = b.lo + d;
         b.hi = b.hi + d;
@@ -72,23 +72,40 @@ int main(int argc, char** argv) {
         if (!links->refit(g.bvh, g.object_bounds, {obj})) return 1;
         refit.push_back(now() - t0);
     }
-    // The whole world update, as each frame of a drag makes it.
-    std::shared_ptr<const rt::BvhLinks> shared = links;
+    // The whole world update, as each frame of a drag makes it (World::update with the
+    // moved object as the delta).
     for (int k = 0; k < moves; ++k) {
         std::uint32_t obj = std::uint32_t((std::size_t(k) * 7919u) % n);
         rt::Object& o = scene.objects[obj];
         if (auto* s = std::get_if<rt::Sphere>(&o.shape)) s->position.z += 0.25;
+        rt::SceneDelta delta;
+        delta.objects = {obj};
         t0 = now();
-        std::shared_ptr<const rt::World> next = rt::update_moved_objects(scene, *world, {obj}, shared);
+        std::shared_ptr<const rt::World> next = world->update(scene, delta);
         update.push_back(now() - t0);
+        if (!next) return 1;
+        world = next;
+    }
+    // A material slider: one object's colour, every step.
+    std::vector<double> material;
+    for (int k = 0; k < moves; ++k) {
+        std::uint32_t obj = std::uint32_t((std::size_t(k) * 104729u) % n);
+        scene.objects[obj].material.colour.x = 0.01 * (k % 100);
+        rt::SceneDelta delta;
+        delta.objects = {obj};
+        t0 = now();
+        std::shared_ptr<const rt::World> next = world->update(scene, delta);
+        material.push_back(now() - t0);
         if (!next) return 1;
         world = next;
     }
     t0 = now();
     std::shared_ptr<const rt::World> full = rt::compile_world(scene);
     double rebuild = now() - t0;
-    std::printf("%zu objects: BVH refit for a one-object move %.4f ms (median of %d); whole world update %.2f ms; "
-                "links (once per drag) %.2f ms; full compile with BVH build %.1f ms (first load %.1f ms)\n",
-                n, median(refit) * 1e3, moves, median(update) * 1e3, link_time * 1e3, rebuild * 1e3, build * 1e3);
+    std::printf("%zu objects: BVH refit for a one-object move %.4f ms (median of %d); world update for a move %.2f ms, "
+                "for a material %.2f ms; links (once per tree) %.2f ms; full compile with BVH build %.1f ms (first "
+                "load %.1f ms)\n",
+                n, median(refit) * 1e3, moves, median(update) * 1e3, median(material) * 1e3, link_time * 1e3,
+                rebuild * 1e3, build * 1e3);
     return 0;
 }

@@ -270,7 +270,7 @@ int main(int argc, char** argv) {
         auto w = rt::compile_world(many);
         build_s.push_back(since(t0));
         bytes = g_live_bytes.load() - before;
-        material_bytes = w->materials.capacity() * sizeof(rt::ShadeMaterial);
+        material_bytes = w->materials.memory_bytes();
         bvh_bytes = w->geometry->bvh.memory_bytes();
     }
     char label[96];

@@ -510,7 +510,7 @@ double half_area(const float b[6]) {
 template <class Node, int W>
 struct Collapser {
     const std::vector<BinNode>& bin;
-    std::vector<Node>& out;
+    Chunked<Node>& out;
 
     std::uint32_t ref(std::uint32_t i) {
         const BinNode& n = bin[i];
@@ -542,10 +542,10 @@ struct Collapser {
             kids[k++] = bin[n].first;
         }
         std::uint32_t index = std::uint32_t(out.size());
-        out.emplace_back();
+        out.push_back(Node{});
         std::uint32_t refs[W];
         for (int j = 0; j < k; ++j) refs[j] = ref(kids[j]);
-        Node& node = out[index];
+        Node& node = out.write(index);
         for (int j = 0; j < W; ++j) {
             for (int a = 0; a < 3; ++a) {
                 node.b[a][j] = j < k ? bin[kids[j]].b[a] : FLT_MAX;
@@ -559,7 +559,7 @@ struct Collapser {
 
 // The 4-wide tree and, for the AVX2 path, the 8-wide one, from the binary tree; the
 // two side by side when `two_threads`.
-void collapse(const std::vector<BinNode>& bin, std::vector<BvhNode>& nodes, std::vector<BvhNode8>& nodes8,
+void collapse(const std::vector<BinNode>& bin, Chunked<BvhNode>& nodes, Chunked<BvhNode8>& nodes8,
               bool two_threads) {
     const bool wide = active_isa() == Isa::Avx2;
     two_ways(two_threads && wide, [&](int part) {
@@ -577,7 +577,14 @@ void collapse(const std::vector<BinNode>& bin, std::vector<BvhNode>& nodes, std:
 
 }  // namespace
 
-void Bvh::build(const std::vector<Aabb>& boxes, int threads) {
+namespace {
+
+template <class Boxes>
+void build_tree(Bvh& bvh, const Boxes& boxes, int threads) {
+    Chunked<BvhNode>& nodes = bvh.nodes;
+    Chunked<BvhNode8>& nodes8 = bvh.nodes8;
+    Shared<std::uint32_t>& items = bvh.items;
+    bvh.links = nullptr;
     nodes.clear();
     nodes8.clear();
     items.clear();
@@ -626,12 +633,18 @@ void Bvh::build(const std::vector<Aabb>& boxes, int threads) {
     // In two halves side by side: reading the ids strides over all the records (80 MB
     // for a million objects), far more than the 4 MB zero fill of the resize.
     items.resize(n);
+    std::uint32_t* ids = &items.write(0);
     const std::size_t item_parts[3] = {0, n / 2, n};
     two_ways(two, [&](int p) {
-        for (std::size_t i = item_parts[p]; i < item_parts[p + 1]; ++i) items[i] = recs[i].id;
+        for (std::size_t i = item_parts[p]; i < item_parts[p + 1]; ++i) ids[i] = recs[i].id;
     });
     rec_mem.reset();
     collapse(bin, nodes, nodes8, threads > 1);
 }
+
+}  // namespace
+
+void Bvh::build(const std::vector<Aabb>& boxes, int threads) { build_tree(*this, boxes, threads); }
+void Bvh::build(const Chunked<Aabb>& boxes, int threads) { build_tree(*this, boxes, threads); }
 
 }  // namespace rt

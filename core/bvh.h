@@ -9,12 +9,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
+#include "chunked.h"
 #include "math.h"
 #include "simd.h"
 
@@ -140,17 +142,26 @@ struct BvhRay {
 // direction also rounded to float) never misses a box the ray really crosses.
 void to_float_box(const Aabb& b, float out[6]);
 
+class BvhLinks;  // bvh_update.h
+
 class Bvh {
 public:
-    std::vector<BvhNode> nodes;        // nodes[0] is the root (when there are items)
-    std::vector<std::uint32_t> items;  // item ids (indices of the boxes given to build)
+    // In chunks that copies share (chunked.h): a refitted copy of the tree holds its own
+    // copies of only the chunks of the nodes it changed.
+    Chunked<BvhNode> nodes;        // nodes[0] is the root (when there are items)
+    Shared<std::uint32_t> items;   // item ids (indices of the boxes given to build)
     // The 8-wide form of the same tree (same leaves), made by build() when the AVX2
     // path is active (simd.h); empty otherwise.
-    std::vector<BvhNode8> nodes8;
+    Chunked<BvhNode8> nodes8;
+
+    // The parent links of this tree's shape, once a refit made them (bvh_update.h): a
+    // refitted copy keeps its shape, so its links too. build() drops them.
+    std::shared_ptr<const BvhLinks> links;
 
     // Items with empty boxes are left out. At most BvhNode::kMaxItems items. Built on
     // up to `threads` threads (0: all hardware threads); the tree is the same for any.
     void build(const std::vector<Aabb>& boxes, int threads = 0);
+    void build(const Chunked<Aabb>& boxes, int threads = 0);
 
     // Which of node's children the ray enters within [0, tmax]: a bit per child, and
     // the entry distances in t.
@@ -229,9 +240,7 @@ public:
         return occluded4(origin, dir, len, tmax, fn);
     }
 
-    std::size_t memory_bytes() const {
-        return nodes.capacity() * sizeof(BvhNode) + nodes8.capacity() * sizeof(BvhNode8) + items.capacity() * 4;
-    }
+    std::size_t memory_bytes() const { return nodes.memory_bytes() + nodes8.memory_bytes() + items.memory_bytes(); }
 
 private:
     // What the walks below need of a node width: its nodes, the ray in the form its box
@@ -240,7 +249,7 @@ private:
         static constexpr int kWidth = 4, kStack = 256;
         using Node = BvhNode;
         using Ray = BvhRay;
-        static const std::vector<Node>& tree(const Bvh& b) { return b.nodes; }
+        static const Chunked<Node>& tree(const Bvh& b) { return b.nodes; }
         static unsigned enter(const Node& n, const Ray& r, float tmax, float t[4]) { return Bvh::enter(n, r, tmax, t); }
     };
 #if RT_HAVE_AVX2_KERNELS
@@ -254,7 +263,7 @@ private:
             // Byte offsets in a node of the near x, y, z and the far x, y, z rows.
             const std::int32_t* rows;
         };
-        static const std::vector<Node>& tree(const Bvh& b) { return b.nodes8; }
+        static const Chunked<Node>& tree(const Bvh& b) { return b.nodes8; }
         // BvhRay::make's ray in 8-wide form, made in one pass: the same double operations
         // lane for lane (so the same floats), without the 4-wide copy in between.
         RT_TARGET_AVX2 static inline Ray ray(const Vec3& origin, const Vec3& dir, double len) {
@@ -349,13 +358,27 @@ private:
         return false;
     }
 
+    // A tree's nodes as the walks read them: an unedited tree's in one block, an edited
+    // one's through its chunk table (chunked.h), either kept in registers.
+    template <class W>
+    struct Nodes {
+        using Node = typename W::Node;
+        static constexpr unsigned kShift = Chunked<Node>::kShift;
+        const Node* flat;
+        Node* const* table;
+        explicit Nodes(const Chunked<Node>& c) : flat(c.flat()), table(c.table()) {}
+        const Node& operator[](std::uint32_t ref) const {
+            return flat ? flat[ref] : table[ref >> kShift][ref & Chunked<Node>::kMask];
+        }
+    };
+
     // Nearest-first walk: of the children a node's test lets through, the nearest box
     // is entered next and the others wait on a stack with their entry distance, to be
     // dropped when they come up beyond the nearest hit found so far. Children of equal
     // distance go in slot order (traverse() promises that order).
     template <class W, class Fn>
     [[gnu::always_inline]] inline void nearest_walk(const typename W::Ray& r, double tmax, Fn& fn) const {
-        const typename W::Node* tree = W::tree(*this).data();
+        const Nodes<W> tree(W::tree(*this));
         float ftmax = widen(tmax);
         struct Entry {
             std::uint32_t ref;
@@ -417,7 +440,7 @@ private:
     // Any-hit walk: children in slot order, no distances kept.
     template <class W, class Fn>
     [[gnu::always_inline]] inline bool occluded_walk(const typename W::Ray& r, float ftmax, Fn& fn) const {
-        const typename W::Node* tree = W::tree(*this).data();
+        const Nodes<W> tree(W::tree(*this));
         std::uint32_t stack[W::kStack];
         int sp = 0;
         std::uint32_t cur = 0;

@@ -3,15 +3,17 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <cstring>
 
 #include "shapes.h"
+#include "world_build.h"
 
 namespace rt {
 
 namespace {
 
 template <class Node, int W>
-void link_tree(const std::vector<Node>& nodes, std::vector<std::uint32_t> const& items, std::size_t item_count,
+void link_tree(const Chunked<Node>& nodes, const Shared<std::uint32_t>& items, std::size_t item_count,
                std::vector<std::uint32_t>& parent_node, std::vector<std::uint32_t>& parent_slot,
                std::vector<std::uint32_t>& leaf_node, std::vector<std::uint32_t>& leaf_slot) {
     parent_node.assign(nodes.size(), 0xffffffffu);
@@ -36,18 +38,22 @@ void link_tree(const std::vector<Node>& nodes, std::vector<std::uint32_t> const&
 }
 
 template <class Node, int W>
-bool set_box(Node& n, std::uint32_t slot, const float b[6]) {
-    bool same = true;
-    for (int k = 0; k < 6; ++k) {
-        same = same && n.b[k][slot] == b[k];
-        n.b[k][slot] = b[k];
-    }
-    return !same;
+void set_box(Node& n, std::uint32_t slot, const float b[6]) {
+    for (int k = 0; k < 6; ++k) n.b[k][slot] = b[k];
 }
 
-// Refits one tree (4- or 8-wide) for one changed item.
+// Whether a node's box in `slot` is `b` already.
+template <class Node>
+bool has_box(const Node& n, std::uint32_t slot, const float b[6]) {
+    for (int k = 0; k < 6; ++k)
+        if (!(n.b[k][slot] == b[k])) return false;
+    return true;
+}
+
+// Refits one tree (4- or 8-wide) for one changed item. Only the nodes whose boxes change
+// are written (and so only their chunks copied, when the tree is shared).
 template <class Node, int W, class Links>
-void refit_tree(std::vector<Node>& nodes, const std::vector<std::uint32_t>& items, const std::vector<Aabb>& boxes,
+void refit_tree(Chunked<Node>& nodes, const Shared<std::uint32_t>& items, const Chunked<Aabb>& boxes,
                 const Links& parent, const Links& leaf, std::uint32_t item) {
     std::uint32_t node = leaf[item].node, slot = leaf[item].slot;
     // The leaf's box as build() makes it: its items' double boxes, rounded outward once.
@@ -57,7 +63,8 @@ void refit_tree(std::vector<Node>& nodes, const std::vector<std::uint32_t>& item
         b.grow(boxes[items[k]]);
     float fb[6];
     to_float_box(b, fb);
-    if (!set_box<Node, W>(nodes[node], slot, fb)) return;
+    if (has_box(nodes[node], slot, fb)) return;
+    set_box<Node, W>(nodes.write(node), slot, fb);
     // Up the tree: each box the union of its node's (already conservative) child boxes.
     // A box that comes out as it was ends the walk: nothing above it changes either.
     while (parent[node].node != 0xffffffffu) {
@@ -71,7 +78,8 @@ void refit_tree(std::vector<Node>& nodes, const std::vector<std::uint32_t>& item
             }
         }
         std::uint32_t p = parent[node].node, ps = parent[node].slot;
-        if (!set_box<Node, W>(nodes[p], ps, u)) return;
+        if (has_box(nodes[p], ps, u)) return;
+        set_box<Node, W>(nodes.write(p), ps, u);
         node = p;
     }
 }
@@ -116,7 +124,7 @@ bool BvhLinks::fits(const Bvh& bvh) const {
            shape_hash(bvh) == shape_;
 }
 
-bool BvhLinks::refit(Bvh& bvh, const std::vector<Aabb>& boxes, const std::vector<std::uint32_t>& changed) const {
+bool BvhLinks::refit(Bvh& bvh, const Chunked<Aabb>& boxes, const std::vector<std::uint32_t>& changed) const {
     // (Sizes only: the caller has checked fits(), and the walk below stays inside the
     // arrays whatever the tree.)
     if (bvh.nodes.size() != nodes4_ || bvh.nodes8.size() != nodes8_ || bvh.items.size() != items_) return false;
@@ -131,50 +139,94 @@ bool BvhLinks::refit(Bvh& bvh, const std::vector<Aabb>& boxes, const std::vector
 
 namespace {
 
-// Copies object `obj`'s compiled records from `one` (the object compiled alone) into
-// g, node for node. False if the two differ in structure.
-bool replace_object(Geometry& g, std::uint32_t obj, const Geometry& one) {
-    std::uint32_t first = g.object_node[obj];
-    std::uint32_t end = obj + 1 < g.object_node.size() ? g.object_node[obj + 1] : std::uint32_t(g.nodes.size());
-    if (end - first != one.nodes.size()) return false;
-    for (std::uint32_t k = 0; k < one.nodes.size(); ++k) {
-        const Node &to = g.nodes[first + k], &from = one.nodes[k];
-        if (to.kind != from.kind) return false;
-        switch (to.kind) {
-            case NodeKind::Sphere: g.spheres[to.index] = one.spheres[from.index]; break;
-            case NodeKind::Tetra: g.tetras[to.index] = one.tetras[from.index]; break;
-            case NodeKind::Cylinder: g.cylinders[to.index] = one.cylinders[from.index]; break;
-            case NodeKind::Torus: g.tori[to.index] = one.tori[from.index]; break;
-            case NodeKind::Csg: {
-                const CsgG &a = g.csgs[to.index], &b = one.csgs[from.index];
-                // Operands are numbered from the object's first node in both.
-                if (a.type != b.type || a.simple != b.simple || a.left - first != b.left || a.right - first != b.right)
-                    return false;
-                break;
-            }
-        }
-    }
-    g.object_bounds[obj] = one.object_bounds[0];
-    return true;
+// Object obj's node range in g: [first, end).
+void node_range(const Geometry& g, std::uint32_t obj, std::uint32_t& first, std::uint32_t& end) {
+    first = g.object_node[obj];
+    end = obj + 1 < g.object_node.size() ? g.object_node[obj + 1] : std::uint32_t(g.nodes.size());
+}
+
+template <class T>
+bool same_record(const T& a, const T& b) {
+    return std::memcmp(&a, &b, sizeof(T)) == 0;
 }
 
 }  // namespace
 
-std::shared_ptr<const World> update_moved_objects(const Scene& scene, const World& previous,
-                                                  const std::vector<std::uint32_t>& moved,
-                                                  std::shared_ptr<const BvhLinks>& links) {
-    if (!previous.geometry || previous.geometry->object_node.size() != scene.objects.size()) return nullptr;
-    auto g = std::make_shared<Geometry>(*previous.geometry);
+ObjectRecords compare_object(const Geometry& g, std::uint32_t obj, const Geometry& one) {
+    std::uint32_t first, end;
+    node_range(g, obj, first, end);
+    if (end - first != one.nodes.size()) return ObjectRecords::OtherStructure;
+    bool same = same_record(g.object_bounds[obj], one.object_bounds[0]);
+    for (std::uint32_t k = 0; k < one.nodes.size(); ++k) {
+        const Node &to = g.nodes[first + k], &from = one.nodes[k];
+        if (to.kind != from.kind) return ObjectRecords::OtherStructure;
+        switch (to.kind) {
+            case NodeKind::Sphere: same = same && same_record(g.spheres[to.index], one.spheres[from.index]); break;
+            case NodeKind::Tetra: same = same && same_record(g.tetras[to.index], one.tetras[from.index]); break;
+            case NodeKind::Cylinder: same = same && same_record(g.cylinders[to.index], one.cylinders[from.index]); break;
+            case NodeKind::Torus: same = same && same_record(g.tori[to.index], one.tori[from.index]); break;
+            case NodeKind::Csg: {
+                const CsgG &a = g.csgs[to.index], &b = one.csgs[from.index];
+                // Operands are numbered from the object's first node in both.
+                if (a.type != b.type || a.simple != b.simple || a.left - first != b.left || a.right - first != b.right)
+                    return ObjectRecords::OtherStructure;
+                break;
+            }
+        }
+    }
+    return same ? ObjectRecords::Same : ObjectRecords::Moved;
+}
+
+void replace_object(Geometry& g, std::uint32_t obj, const Geometry& one) {
+    std::uint32_t first, end;
+    node_range(g, obj, first, end);
+    for (std::uint32_t k = 0; k < one.nodes.size(); ++k) {
+        const Node &to = g.nodes[first + k], &from = one.nodes[k];
+        switch (to.kind) {
+            case NodeKind::Sphere: g.spheres.write(to.index) = one.spheres[from.index]; break;
+            case NodeKind::Tetra: g.tetras.write(to.index) = one.tetras[from.index]; break;
+            case NodeKind::Cylinder: g.cylinders.write(to.index) = one.cylinders[from.index]; break;
+            case NodeKind::Torus: g.tori.write(to.index) = one.tori[from.index]; break;
+            case NodeKind::Csg: break;  // the same structure: compare_object() said so
+        }
+    }
+    g.object_bounds.write(obj) = one.object_bounds[0];
+}
+
+std::shared_ptr<const Geometry> move_objects(const Geometry& previous, const Scene& scene,
+                                             const std::vector<std::uint32_t>& moved,
+                                             std::shared_ptr<const BvhLinks> links) {
+    if (previous.object_node.size() != scene.objects.size()) return nullptr;
+    auto g = std::make_shared<Geometry>(previous);
     Scene one;
     for (std::uint32_t obj : moved) {
         if (obj >= scene.objects.size()) return nullptr;
         if (g->object_bounds[obj].empty()) return nullptr;  // not in the tree
         one.objects.assign(1, scene.objects[obj]);
-        if (!replace_object(*g, obj, build_geometry(one, false))) return nullptr;
+        const Geometry alone = build_geometry(one, false);
+        if (compare_object(*g, obj, alone) == ObjectRecords::OtherStructure) return nullptr;
+        replace_object(*g, obj, alone);
     }
-    if (!links || !links->fits(g->bvh)) links = std::make_shared<const BvhLinks>(g->bvh, g->object_bounds.size());
+    if (!links) links = g->bvh.links;
+    if (!links) links = std::make_shared<const BvhLinks>(g->bvh, g->object_bounds.size());
     if (!links->refit(g->bvh, g->object_bounds, moved)) return nullptr;
-    return compile_world(scene, std::move(g), &previous);
+    g->bvh.links = std::move(links);
+    return g;
+}
+
+std::shared_ptr<const World> update_moved_objects(const Scene& scene, const World& previous,
+                                                  const std::vector<std::uint32_t>& moved,
+                                                  std::shared_ptr<const BvhLinks>& links) {
+    if (!previous.geometry) return nullptr;
+    // Links handed in are used where they fit this tree; else the tree's own, or new ones.
+    if (links && !links->fits(previous.geometry->bvh)) links = nullptr;
+    std::shared_ptr<const Geometry> g = move_objects(*previous.geometry, scene, moved, links);
+    if (!g) return nullptr;
+    links = g->bvh.links;
+    SceneDelta delta;
+    delta.objects = moved;
+    delta.normalize();
+    return detail::update_world(previous, scene, delta, std::move(g));
 }
 
 }  // namespace rt

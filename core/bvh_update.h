@@ -1,7 +1,8 @@
 // Moving objects without building the BVH again: the moved objects' shapes are
-// compiled anew in place, and the boxes of their leaves and of those leaves'
-// ancestors are refitted. The tree keeps its shape, so a move costs a walk up a few
-// dozen nodes however many objects the scene holds (the viewer's move tool).
+// compiled anew, and the boxes of their leaves and of those leaves' ancestors are
+// refitted, in a copy of the geometry that shares every chunk of its arrays but those
+// (chunked.h). The tree keeps its shape, so a move costs a walk up a few dozen nodes
+// and copies of their chunks, however many objects the scene holds.
 #pragma once
 
 #include <cstdint>
@@ -32,7 +33,7 @@ public:
     // build() makes it, an inner node's from its children's). False, with `bvh` left
     // unusable, when an item is not in the tree or its box became empty (the caller
     // builds again then). `bvh` must fit().
-    bool refit(Bvh& bvh, const std::vector<Aabb>& boxes, const std::vector<std::uint32_t>& changed) const;
+    bool refit(Bvh& bvh, const Chunked<Aabb>& boxes, const std::vector<std::uint32_t>& changed) const;
 
 private:
     static constexpr std::uint32_t kNone = 0xffffffffu;
@@ -46,12 +47,28 @@ private:
     std::vector<Slot> leaf4_, leaf8_;      // item -> the slot of the leaf holding it
 };
 
+// How object obj's compiled records in g compare with `one`, the object compiled alone
+// (build_geometry of a scene of it alone).
+enum class ObjectRecords { Same, Moved, OtherStructure };
+ObjectRecords compare_object(const Geometry& g, std::uint32_t obj, const Geometry& one);
+// Writes `one`'s records and box over object obj's in g (their chunks copied first
+// where shared); compare_object() must have found the same structure.
+void replace_object(Geometry& g, std::uint32_t obj, const Geometry& one);
+
+// previous with the objects in `moved` compiled again from `scene` (each with the same
+// structure: moved or otherwise reshaped) and the BVH refitted: a copy that shares all
+// but the chunks those writes touched. `links` are used if given (they must fit the
+// tree), else the tree's own (Bvh::links), else made; the result keeps them. Null when
+// the objects cannot be updated in place (their structure changed, a box became empty,
+// an object out of range): compile the scene in full then.
+std::shared_ptr<const Geometry> move_objects(const Geometry& previous, const Scene& scene,
+                                             const std::vector<std::uint32_t>& moved,
+                                             std::shared_ptr<const BvhLinks> links = nullptr);
+
 // The world of `scene`, which equals previous's scene but for the objects in `moved`
-// (each with the same structure, moved or otherwise reshaped): previous's geometry is
-// copied, those objects compiled again and the BVH refitted. `links` is reused when it
-// fits (pass the same pointer for every step of a drag) and made otherwise. Null when
-// the objects cannot be updated in place (their structure changed, a box became
-// empty): compile the scene in full then.
+// (World::update for that delta). `links` is used when it fits (pass the same pointer
+// for every step of a drag) and is set to the links the new world's tree keeps. Null
+// as move_objects() is.
 std::shared_ptr<const World> update_moved_objects(const Scene& scene, const World& previous,
                                                   const std::vector<std::uint32_t>& moved,
                                                   std::shared_ptr<const BvhLinks>& links);

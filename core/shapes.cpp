@@ -386,8 +386,7 @@ RT_TARGET_AVX2 unsigned Geometry::sphere_entries4(const std::uint32_t ids[4], co
                                                   double t[4]) const {
     static_assert(sizeof(SphereG) == 5 * sizeof(double), "a sphere is five doubles: c, r, r2");
     // Each sphere's y, z, r, r2 in one load, turned into a vector per field; x apart.
-    const SphereG* sp = spheres.data();
-    const SphereG &s0 = sp[ids[0]], &s1 = sp[ids[1]], &s2 = sp[ids[2]], &s3 = sp[ids[3]];
+    const SphereG &s0 = spheres[ids[0]], &s1 = spheres[ids[1]], &s2 = spheres[ids[2]], &s3 = spheres[ids[3]];
     const __m256d q0 = _mm256_loadu_pd(&s0.c.y), q1 = _mm256_loadu_pd(&s1.c.y), q2 = _mm256_loadu_pd(&s2.c.y),
                   q3 = _mm256_loadu_pd(&s3.c.y);
     const __m256d u01 = _mm256_unpacklo_pd(q0, q1), v01 = _mm256_unpackhi_pd(q0, q1);  // y0 y1 r0 r1, z0 z1 r20 r21
@@ -426,10 +425,9 @@ bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& ou
 }
 
 std::size_t Geometry::memory_bytes() const {
-    return spheres.capacity() * sizeof(SphereG) + tetras.capacity() * sizeof(TetraG) +
-           cylinders.capacity() * sizeof(CylinderG) + tori.capacity() * sizeof(TorusG) +
-           csgs.capacity() * sizeof(CsgG) + nodes.capacity() * sizeof(Node) + object_node.capacity() * 4 +
-           object_bounds.capacity() * sizeof(Aabb) + bvh.memory_bytes();
+    return spheres.memory_bytes() + tetras.memory_bytes() + cylinders.memory_bytes() + tori.memory_bytes() +
+           csgs.memory_bytes() + nodes.memory_bytes() + object_node.memory_bytes() + object_bounds.memory_bytes() +
+           bvh.memory_bytes();
 }
 
 namespace {
@@ -469,13 +467,22 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
                 g.csgs.push_back({s.type, 0, 0});
                 std::uint32_t l = add_node(g, s.operands[0]);
                 std::uint32_t r = add_node(g, s.operands[1]);
-                g.csgs[ci].left = l;
-                g.csgs[ci].right = r;
-                g.csgs[ci].simple = g.nodes[l].kind != NodeKind::Csg && g.nodes[r].kind != NodeKind::Csg;
+                CsgG& c = g.csgs.write(ci);
+                c.left = l;
+                c.right = r;
+                c.simple = g.nodes[l].kind != NodeKind::Csg && g.nodes[r].kind != NodeKind::Csg;
             }
         },
         obj.shape);
     return id;
+}
+
+// Adds the object's shapes, its CSG operands' included, to count[] by the variant's
+// index.
+void count_shapes(const Object& obj, std::size_t count[5]) {
+    ++count[obj.shape.index()];
+    if (const Csg* c = std::get_if<Csg>(&obj.shape))
+        for (const Object& o : c->operands) count_shapes(o, count);
 }
 
 }  // namespace
@@ -511,27 +518,21 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
     for (; i < n && objects[i].shape.index() == 0; ++i) add(objects[i]);
     g.sphere_prefix = std::uint32_t(i);
     if (i < n) {
+        // Every shape, CSG operands too: each array is then made in one block.
         std::size_t count[5] = {};
-        for (std::size_t j = i; j < n; ++j) ++count[objects[j].shape.index()];
-        if (!sphere_first) g.spheres.reserve(count[0]);
+        for (std::size_t j = i; j < n; ++j) count_shapes(objects[j], count);
+        g.spheres.reserve(i + count[0]);
         g.tetras.reserve(count[1]);
         g.cylinders.reserve(count[2]);
         g.tori.reserve(count[3]);
         g.csgs.reserve(count[4]);
-        g.nodes.reserve(n + 2 * count[4]);
+        g.nodes.reserve(i + count[0] + count[1] + count[2] + count[3] + count[4]);
         for (; i < n; ++i) add(objects[i]);
     }
     if (with_bvh) g.bvh.build(g.object_bounds);
     return g;
 }
 
-namespace {
-// For records without padding only.
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
-}  // namespace
 
 bool same_shapes(const Geometry& a, const Geometry& b) {
     static_assert(sizeof(SphereG) == 5 * sizeof(double) && sizeof(TetraG) == 16 * sizeof(double) &&
@@ -540,17 +541,13 @@ bool same_shapes(const Geometry& a, const Geometry& b) {
                   "shape records are plain doubles");
     if (!same_bits(a.spheres, b.spheres) || !same_bits(a.tetras, b.tetras) || !same_bits(a.cylinders, b.cylinders) ||
         !same_bits(a.tori, b.tori) || !same_bits(a.object_node, b.object_node) ||
-        !same_bits(a.object_bounds, b.object_bounds) || a.sphere_prefix != b.sphere_prefix ||
-        a.csgs.size() != b.csgs.size() ||
-        a.nodes.size() != b.nodes.size())
+        !same_bits(a.object_bounds, b.object_bounds) || a.sphere_prefix != b.sphere_prefix)
         return false;
-    for (std::size_t i = 0; i < a.csgs.size(); ++i) {
-        const CsgG &x = a.csgs[i], &y = b.csgs[i];
-        if (x.type != y.type || x.left != y.left || x.right != y.right || x.simple != y.simple) return false;
-    }
-    for (std::size_t i = 0; i < a.nodes.size(); ++i)
-        if (a.nodes[i].kind != b.nodes[i].kind || a.nodes[i].index != b.nodes[i].index) return false;
-    return true;
+    return same_items(a.csgs, b.csgs,
+                      [](const CsgG& x, const CsgG& y) {
+                          return x.type == y.type && x.left == y.left && x.right == y.right && x.simple == y.simple;
+                      }) &&
+           same_items(a.nodes, b.nodes, [](const Node& x, const Node& y) { return x.kind == y.kind && x.index == y.index; });
 }
 
 // hit(obj, o, d, 0, out) for a shadow ray's test, out of line: every shape but a

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bvh.h"
+#include "chunked.h"
 #include "math.h"
 #include "scene.h"
 #include "simd.h"
@@ -72,19 +73,22 @@ struct SpanScratch {
     }
 };
 
+// The arrays are shared by copies (chunked.h): the structure whole (no edit in place
+// changes it), the records and boxes in chunks, so that moving an object in a copy
+// copies only the few chunks its records are in.
 struct Geometry {
-    std::vector<SphereG> spheres;
-    std::vector<TetraG> tetras;
-    std::vector<CylinderG> cylinders;
-    std::vector<TorusG> tori;
-    std::vector<CsgG> csgs;
-    std::vector<Node> nodes;
-    std::vector<std::uint32_t> object_node;  // top-level object -> node
+    Chunked<SphereG> spheres;
+    Chunked<TetraG> tetras;
+    Chunked<CylinderG> cylinders;
+    Chunked<TorusG> tori;
+    Shared<CsgG> csgs;
+    Shared<Node> nodes;
+    Shared<std::uint32_t> object_node;  // top-level object -> node
     // Objects [0, sphere_prefix) are spheres with node i = object i = sphere i, so that
     // hit() finds them without the two lookups (a scene of spheres is one prefix).
     std::uint32_t sphere_prefix = 0;
-    std::vector<Aabb> object_bounds;
-    Bvh bvh;                                 // over top-level objects
+    Chunked<Aabb> object_bounds;
+    Bvh bvh;                             // over top-level objects
 
     // Inside spans of node `n` along the whole line o + t d (d unit), ascending.
     void spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<Span>& out, SpanScratch& scratch,

@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "shapes.h"
+#include "world_build.h"
 
 namespace rt {
 namespace {
@@ -214,10 +215,14 @@ void fill_cells(LightBuffer& lb, std::vector<CellRange>& ranges, int n) {
 
 }  // namespace
 
-LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light, int n) {
+namespace {
+
+template <class Boxes>
+LightBuffer build_light_buffer(const Boxes& boxes, const Vec3& light, int n) {
+    using Entry = LightBuffer::Entry;
     LightBuffer lb;
     lb.position = light;
-    lb.position1 = norm1(light);
+    lb.position1 = LightBuffer::norm1(light);
     // Far beyond float range or not finite: the BVH copes; keep to it.
     if (!(norm_inf(light) < 1e30) || n < 1) return lb;
     const std::size_t cells = 6 * std::size_t(n) * std::size_t(n);
@@ -265,6 +270,16 @@ LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light
     return lb;
 }
 
+}  // namespace
+
+LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light, int n) {
+    return build_light_buffer(boxes, light, n);
+}
+
+LightBuffer LightBuffer::build(const Chunked<Aabb>& boxes, const Vec3& light, int n) {
+    return build_light_buffer(boxes, light, n);
+}
+
 struct World::Ctx {
     SpanScratch scratch;
     RayStats* stats = nullptr;
@@ -282,6 +297,8 @@ struct World::Ctx {
     // Per light, the last opaque object that shadowed a point (+1; 0 = none). Shadows
     // are coherent, so trying it first usually ends the search at once.
     std::vector<std::uint32_t> blocker;
+    // glass_tint()'s refractive objects on a shadow ray: where it enters each.
+    std::vector<std::pair<double, std::uint32_t>> glass;
 };
 
 namespace {
@@ -621,11 +638,12 @@ inline bool World::cell_blocks(const ShadowRay& s, const LightBuffer& lb, const 
     // Spheres of the prefix are tested here, as Geometry::hit() would (the same
     // operations, so the same bits), without its lookups; the rest through it.
     const std::uint32_t prefix = g.sphere_prefix;
-    const SphereG* const spheres = g.spheres.data();
+    const SphereG* const flat = g.spheres.flat();
+    SphereG* const* const table = g.spheres.table();
     for (; e != end && !(double(e->dmin) > s.r); ++e) {
         const std::uint32_t obj = e->obj;
         if (obj < prefix) {
-            const SphereG& sp = spheres[obj];
+            const SphereG& sp = flat ? flat[obj] : table[obj >> Chunked<SphereG>::kShift][obj & Chunked<SphereG>::kMask];
             Vec3 oc = s.o - sp.c;
             double b = dot(oc, s.vh);
             double disc = b * b - (dot(oc, oc) - sp.r2);
@@ -665,26 +683,29 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
     Colour sum;  // (returned as a copy: the caller's object would be written every turn)
     if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
     const double p1 = LightBuffer::norm1(p);  // for the light buffers' usable()
-    // (The count and the array once: the loop's stores might otherwise be taken to
-    // change them.)
-    const ShadeLight* const all = lights.data();
-    const std::size_t count = lights.size();
-    for (std::size_t li = 0; li < count; ++li) {
-        const ShadeLight& light = all[li];
-        Vec3 v = light.position - p;
-        double r2 = dot(v, v);
-        // (Multiplying by reciprocals: a division each would sit on the critical path.)
-        Colour e = r2 > 0 ? light.colour * (1 / r2) : Colour{1, 1, 1};
-        sum += mul(e, cp) * 0.1;
-        double vn = dot(v, n);
-        if (!(vn > 0)) continue;
-        double r = std::sqrt(r2), inv_r = 1 / r;
-        Vec3 vh = v * inv_r;
-        const ShadowRay s{p + vh * kDelta, v, vh, r, r - 10 * kDelta, li};
-        ++ctx.stats->rays;
-        Colour sh{1, 1, 1};
-        if (objects_block(s, p1, sh, ctx) || others_block<kGlowBvh>(s)) continue;
-        sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
+    // Chunk by chunk of the lights (most scenes have one); each chunk's array and count
+    // once: the loop's stores might otherwise be taken to change them.
+    for (std::size_t c = 0, chunks = lights.chunk_count(); c < chunks; ++c) {
+        const ShadeLight* const all = lights.chunk(c);
+        const std::size_t first = c << Chunked<ShadeLight>::kShift, count = lights.chunk_size(c);
+        for (std::size_t k = 0; k < count; ++k) {
+            const std::size_t li = first + k;
+            const ShadeLight& light = all[k];
+            Vec3 v = light.position - p;
+            double r2 = dot(v, v);
+            // (Multiplying by reciprocals: a division each would sit on the critical path.)
+            Colour e = r2 > 0 ? light.colour * (1 / r2) : Colour{1, 1, 1};
+            sum += mul(e, cp) * 0.1;
+            double vn = dot(v, n);
+            if (!(vn > 0)) continue;
+            double r = std::sqrt(r2), inv_r = 1 / r;
+            Vec3 vh = v * inv_r;
+            const ShadowRay s{p + vh * kDelta, v, vh, r, r - 10 * kDelta, li};
+            ++ctx.stats->rays;
+            Colour sh{1, 1, 1};
+            if (objects_block(s, p1, sh, ctx) || others_block<kGlowBvh>(s)) continue;
+            sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
+        }
     }
     return Colour{sum.x, sum.y, sum.z};
 }
@@ -698,15 +719,19 @@ bool World::objects_block_bvh(const ShadowRay& s, ShadowSearch& found, Ctx& ctx)
 }
 
 // `sh` times the tints of all the refractive objects on the shadow ray (none opaque),
-// in the BVH's order.
+// nearest first (on a tie, the earlier object first): an order that is the same
+// whatever the BVH's shape, so that a refitted tree gives the picture of a new one.
 Colour World::glass_tint(const ShadowRay& s, Colour sh, Ctx& ctx) const {
     const Geometry& g = *geometry;
-    g.bvh.traverse(s.o, s.v, s.r, s.limit, [&](std::uint32_t obj, double tmax) -> double {
+    std::vector<std::pair<double, std::uint32_t>>& met = ctx.glass;
+    met.clear();
+    g.bvh.occluded(s.o, s.v, s.r, s.limit, [&](std::uint32_t obj) {
         SpanEnd e;
-        if (!g.hit(obj, s.o, s.vh, 0.0, e, ctx.scratch) || !(e.t < s.limit)) return tmax;
-        sh = through_glass(obj, e.t, s, sh, ctx);
-        return tmax;
+        if (g.hit(obj, s.o, s.vh, 0.0, e, ctx.scratch) && e.t < s.limit) met.push_back({e.t, obj});
+        return false;
     });
+    std::sort(met.begin(), met.end());
+    for (const auto& [t, obj] : met) sh = through_glass(obj, t, s, sh, ctx);
     return sh;
 }
 
@@ -1173,13 +1198,7 @@ Colour World::trace_camera(const CameraBasis& cam, double i, double j, RayStats&
     return trace(cam.origin, cam.direction(i, j), 0, stats);
 }
 
-Aabb World::bounds() const {
-    Aabb b;
-    for (const Aabb& ob : geometry->object_bounds)
-        if (!ob.empty()) b.grow(ob);
-    for (const ShadeLight& l : lights) b.grow(l.position);
-    return b;
-}
+Aabb World::bounds() const { return tallies ? tallies->bounds : Aabb{}; }
 
 std::size_t World::geometry_bytes() const { return geometry->memory_bytes(); }
 
@@ -1210,8 +1229,13 @@ double box_distance2(const Vec3& p, const Vec3& lo, const Vec3& hi) {
     return d2;
 }
 
-// The distance from p to the nearest object box: a lower bound of its distance to any
-// surface point of an object. Branch and bound through the BVH.
+}  // namespace
+
+namespace detail {
+
+// Branch and bound through the BVH. Its node boxes only prune (they are padded
+// outward: their distance is a lower bound too), so the answer is the least distance
+// of an object box, whatever the tree.
 double distance_to_objects(const Geometry& g, const Vec3& p) {
     const Bvh& bvh = g.bvh;
     double best2 = HUGE_VAL;
@@ -1233,7 +1257,6 @@ double distance_to_objects(const Geometry& g, const Vec3& p) {
                 }
                 continue;
             }
-            // The node's float boxes are padded outward: their distance is a lower bound too.
             Vec3 lo{n.b[0][i], n.b[1][i], n.b[2][i]}, hi{n.b[3][i], n.b[4][i], n.b[5][i]};
             double cd2 = box_distance2(p, lo, hi);
             if (cd2 < best2) todo.push_back({cd2, c});
@@ -1242,8 +1265,6 @@ double distance_to_objects(const Geometry& g, const Vec3& p) {
     return std::sqrt(best2);
 }
 
-// Whether material m keeps radiance_bound's premises (no negative weight, no tint above
-// 1, a finite colour); cp grows to its colour's largest channel if it scatters.
 bool bounded_material(const ShadeMaterial& m, double& cp) {
     if (!(m.reflection >= 0 && m.refraction >= 0 && m.scattering >= 0)) return false;
     if (m.refraction > 0 && max3(m.log_tint) > 0) return false;  // a tint above 1
@@ -1253,13 +1274,33 @@ bool bounded_material(const ShadeMaterial& m, double& cp) {
     return true;
 }
 
-// The objects' shading materials, with bounded_material over all of them (made on the
-// materials' own thread for a big scene, and only once for each run of repeats).
-struct ObjectMaterials {
-    std::vector<ShadeMaterial> list;
-    bool bounded = true;
-    double cp = 0;
-};
+World::Tallies::Materials tally_materials(const Chunked<ShadeMaterial>& materials, std::size_t c) {
+    World::Tallies::Materials t;
+    const ShadeMaterial* m = materials.chunk(c);
+    for (std::size_t k = 0, e = materials.chunk_size(c); k < e && t.bounded; ++k) t.bounded = bounded_material(m[k], t.cp);
+    return t;
+}
+
+Aabb tally_boxes(const Chunked<Aabb>& boxes, std::size_t c) {
+    Aabb u;
+    const Aabb* b = boxes.chunk(c);
+    for (std::size_t k = 0, e = boxes.chunk_size(c); k < e; ++k)
+        if (!b[k].empty()) u.grow(b[k]);
+    return u;
+}
+
+void tally_lights(World::Tallies& t, const World& w) {
+    t.light_reach.clear();
+    t.light_reach.reserve(w.lights.size());
+    for (const ShadeLight& l : w.lights) t.light_reach.push_back(distance_to_objects(*w.geometry, l.position));
+    t.bounds = Aabb{};
+    for (const Aabb& b : t.boxes) t.bounds.grow(b);
+    for (const ShadeLight& l : w.lights) t.bounds.grow(l.position);
+}
+
+}  // namespace detail
+
+namespace {
 
 // An upper bound of the colour any ray can bring back, for the ray tree's bound
 // (World::omit_weight); +inf where there is none. Every value a ray returns is a mix,
@@ -1268,19 +1309,24 @@ struct ObjectMaterials {
 // can get, or the brightest glow, provided no weight is negative and no tint brightens.
 // Direct light at p is at most sum over lights of |colour| |Cp| / r^2 (rendering.md
 // §3), with r at least the light's distance to the nearest surface.
-double radiance_bound(const World& w, const ObjectMaterials& objects) {
+double radiance_bound(const World& w) {
     const double inf = HUGE_VAL;
-    if (!objects.bounded) return inf;
-    double cp = objects.cp;
+    const World::Tallies& t = *w.tallies;
+    double cp = 0;
+    for (const World::Tallies::Materials& m : t.materials) {
+        if (!m.bounded) return inf;
+        cp = std::max(cp, m.cp);
+    }
     for (const ShadeMaterial& m : w.plane_mats)
-        if (!bounded_material(m, cp)) return inf;
+        if (!detail::bounded_material(m, cp)) return inf;
     double glow = 0, direct = 0;
-    for (const ShadeLight& l : w.lights) {
+    for (std::size_t li = 0; li < w.lights.size(); ++li) {
+        const ShadeLight& l = w.lights[li];
         double c = max3(cabs(l.colour));
         if (!std::isfinite(c)) return inf;
         if (l.glow > 0) glow = std::max(glow, c);
         if (c == 0 || cp == 0) continue;
-        double r = distance_to_objects(*w.geometry, l.position);
+        double r = t.light_reach[li];
         for (const PlaneShape& pl : w.planes) r = std::min(r, std::fabs(dot(pl.n, l.position) + pl.D));
         // Hit points lie on their surface only to within rounding and the original's
         // surface tolerance.
@@ -1291,29 +1337,39 @@ double radiance_bound(const World& w, const ObjectMaterials& objects) {
     return std::max(glow, cp * direct);
 }
 
-}  // namespace
+// The objects' shading materials (made on a thread of their own for a big scene) and
+// their chunks' tallies; they do not depend on the geometry.
+struct ObjectMaterials {
+    Chunked<ShadeMaterial> list;
+    std::vector<World::Tallies::Materials> tallies;
+};
 
-namespace {
-
-// The objects' shading materials; they do not depend on the geometry.
 ObjectMaterials make_materials(const Scene& scene) {
     ObjectMaterials made;
-    std::vector<ShadeMaterial>& out = made.list;
-    out.reserve(scene.objects.size());
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    Chunked<ShadeMaterial>& out = made.list;
+    const std::size_t n = scene.objects.size();
+    out.reserve(n);
+    constexpr unsigned kShift = Chunked<ShadeMaterial>::kShift;
+    World::Tallies::Materials tally;
+    for (std::size_t i = 0; i < n; ++i) {
         // Big scenes repeat a few materials, often alternating: one equal (bit for bit)
-        // to either of the last two objects' is copied, saving its three logarithms
-        // and its check, which gives the same answer.
+        // to either of the last two objects' in its chunk is copied, saving its three
+        // logarithms and its check, which gives the same answer (and the same tally as
+        // tally_materials(), which checks every one).
         static_assert(sizeof(Material) == 8 * sizeof(double), "materials compare as bytes");
         const Material& m = scene.objects[i].material;
         std::size_t k = 1;
-        for (; k <= 2 && k <= i; ++k)
+        for (; k <= 2 && k <= i && (i - k) >> kShift == i >> kShift; ++k)
             if (std::memcmp(&m, &scene.objects[i - k].material, sizeof m) == 0) break;
-        if (k <= 2 && k <= i) {
+        if (k <= 2 && k <= i && (i - k) >> kShift == i >> kShift) {
             out.push_back(out[i - k]);
         } else {
             out.push_back(ShadeMaterial::from(m));
-            if (made.bounded) made.bounded = bounded_material(out.back(), made.cp);
+            if (tally.bounded) tally.bounded = detail::bounded_material(out.back(), tally.cp);
+        }
+        if (((i + 1) >> kShift) != (i >> kShift) || i + 1 == n) {
+            made.tallies.push_back(tally);
+            tally = {};
         }
     }
     return made;
@@ -1376,23 +1432,26 @@ std::shared_ptr<const World> compile_world(const Scene& scene, std::shared_ptr<c
     return finish_world(scene, std::move(geometry), make_materials(scene), previous);
 }
 
-namespace {
+namespace detail {
 
-// The planes' and lights' shading data, and which lights have glow discs.
-void add_planes_and_lights(World& w, const Scene& scene) {
+void add_planes(World& w, const Scene& scene) {
     for (const Plane& p : scene.planes) {
         w.planes.push_back(PlaneShape::from(p));
         w.plane_mats.push_back(ShadeMaterial::from(p.material));
         w.plane_mats.push_back(ShadeMaterial::from(p.chess ? p.material2 : p.material));
     }
+}
+
+void add_lights(World& w, const Scene& scene) {
+    w.lights.reserve(scene.lights.size());
     for (const Light& l : scene.lights) {
         if (l.lamp && l.size > 0) w.glows.push_back(std::uint32_t(w.lights.size()));
         w.lights.push_back({l.position, l.colour, l.lamp && l.size > 0 ? l.size : 0.0});
     }
 }
 
-// The BVH of many glow discs: the previous world's if its discs are the same.
 void add_glow_bvh(World& w, const World* previous) {
+    w.glow_bvh = nullptr;
     if (w.glows.size() < kGlowBvhMin) return;
     bool same = previous && previous->glow_bvh && previous->glows == w.glows;
     for (std::size_t k = 0; same && k < w.glows.size(); ++k) {
@@ -1415,10 +1474,14 @@ void add_glow_bvh(World& w, const World* previous) {
     w.glow_bvh = std::move(bvh);
 }
 
+}  // namespace detail
+
+namespace {
+
 // A light buffer around each point of `todo`, each on its own, on as many threads as
 // there are (a big scene's take tens of milliseconds each; a small one's,
 // microseconds on this thread).
-std::vector<LightBuffer> build_light_buffers(const std::vector<Aabb>& boxes, const std::vector<Vec3>& todo,
+std::vector<LightBuffer> build_light_buffers(const Chunked<Aabb>& boxes, const std::vector<Vec3>& todo,
                                              int cells_n) {
     std::vector<LightBuffer> made(todo.size());
     std::atomic<std::size_t> next{0};
@@ -1449,9 +1512,13 @@ std::vector<LightBuffer> build_light_buffers(const std::vector<Aabb>& boxes, con
     return made;
 }
 
-// The camera's light buffer and the lights', or the previous world's where they serve.
+}  // namespace
+
+namespace detail {
+
 void add_light_buffers(World& w, const Scene& scene, const World* previous) {
-    const std::vector<Aabb>& boxes = w.geometry->object_bounds;
+    const Chunked<Aabb>& boxes = w.geometry->object_bounds;
+    w.light_buffers = nullptr;
     // Cells enough that a cell holds a few of the objects it may see.
     const int cells_n = std::clamp(2 * int(std::ceil(std::sqrt(double(boxes.size())))), 64, 256);
     const bool small = !boxes.empty() && boxes.size() * (w.lights.size() + 1) <= kLightBufferMaxWork;
@@ -1491,21 +1558,38 @@ void add_light_buffers(World& w, const Scene& scene, const World* previous) {
     w.camera_buffer = std::move(camera_buffer);
 }
 
+void set_ray_tree_bound(World& w) {
+    w.radiance_bound = radiance_bound(w);
+    // Half a display step (1/255 of the unit colour) over the brightest possible return.
+    // A world that cannot return any colour (nothing lit, no glow) stops at once.
+    w.omit_weight = 0;
+    if (w.radiance_bound == 0)
+        w.omit_weight = HUGE_VAL;
+    else if (std::isfinite(w.radiance_bound))
+        w.omit_weight = 0.5 / 255 / w.radiance_bound;
+}
+
+}  // namespace detail
+
+namespace {
+
 std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
                                           ObjectMaterials materials, const World* previous) {
     auto w = std::make_shared<World>();
     w->geometry = std::move(geometry);
     w->materials = std::move(materials.list);
-    add_planes_and_lights(*w, scene);
-    add_glow_bvh(*w, previous);
-    add_light_buffers(*w, scene, previous);
-    w->radiance_bound = radiance_bound(*w, materials);
-    // Half a display step (1/255 of the unit colour) over the brightest possible return.
-    // A world that cannot return any colour (nothing lit, no glow) stops at once.
-    if (w->radiance_bound == 0)
-        w->omit_weight = HUGE_VAL;
-    else if (std::isfinite(w->radiance_bound))
-        w->omit_weight = 0.5 / 255 / w->radiance_bound;
+    detail::add_planes(*w, scene);
+    detail::add_lights(*w, scene);
+    detail::add_glow_bvh(*w, previous);
+    detail::add_light_buffers(*w, scene, previous);
+    auto tallies = std::make_shared<World::Tallies>();
+    tallies->materials = std::move(materials.tallies);
+    const Chunked<Aabb>& boxes = w->geometry->object_bounds;
+    tallies->boxes.reserve(boxes.chunk_count());
+    for (std::size_t c = 0; c < boxes.chunk_count(); ++c) tallies->boxes.push_back(detail::tally_boxes(boxes, c));
+    detail::tally_lights(*tallies, *w);
+    w->tallies = std::move(tallies);
+    detail::set_ray_tree_bound(*w);
     w->camera = scene.camera;
     w->width = scene.width;
     w->height = scene.height;

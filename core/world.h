@@ -1,6 +1,6 @@
 // A scene compiled for tracing: flat primitive arrays, a BVH, normalised materials.
-// Geometry is shared (immutable) so that a camera, material or light change makes a
-// new World that reuses the previous one's BVH.
+// A world is immutable once made; an edit makes a new one (World::update) that shares
+// every table and chunk of table the edit did not touch with the world it came from.
 #pragma once
 
 #include <algorithm>
@@ -12,8 +12,10 @@
 #include <vector>
 
 #include "camera.h"
+#include "chunked.h"
 #include "math.h"
 #include "scene.h"
+#include "scene_delta.h"
 
 namespace rt {
 
@@ -70,6 +72,7 @@ struct LightBuffer {
     std::vector<Entry> entries;
     std::vector<Entry> always;          // objects around or next to the light: every ray's
     static LightBuffer build(const std::vector<Aabb>& boxes, const Vec3& light, int n);
+    static LightBuffer build(const Chunked<Aabb>& boxes, const Vec3& light, int n);
     // Whether a shadow ray from p (r from the light) may use the buffer: the rounding
     // of its points stays within the cells' padding.
     bool usable(const Vec3& p, double r) const { return usable(norm1(p), r); }
@@ -151,14 +154,15 @@ struct RayStats {
 
 struct PickResult;
 struct Ray;
+class BvhLinks;  // bvh_update.h
 
 class World {
 public:
     std::shared_ptr<const Geometry> geometry;
-    std::vector<ShadeMaterial> materials;   // per top-level object
+    Chunked<ShadeMaterial> materials;       // per top-level object
     std::vector<PlaneShape> planes;
     std::vector<ShadeMaterial> plane_mats;  // 2 per plane (material 1, material 2)
-    std::vector<ShadeLight> lights;
+    Chunked<ShadeLight> lights;
     std::vector<std::uint32_t> glows;       // indices of the lights with a glow disc
     Camera camera;
     int width = 1, height = 1;
@@ -191,9 +195,29 @@ public:
     // same colours, for callers that trace a row in one go (the per-ray set-up is done
     // once). Once `stats` has stopped, the remaining colours are black.
     void trace_units(const Vec3& origin, const Vec3* unit_dirs, std::size_t n, RayStats& stats, Colour* out) const;
-    // Bounds of all bounded objects (and lamps); empty if there are none.
+    // Bounds of all bounded objects (and lamps); empty if there are none. Kept up to
+    // date by compile_world() and update(): no pass over the objects.
     Aabb bounds() const;
     std::size_t geometry_bytes() const;
+
+    // The world of `scene`, which is this world's scene changed as `delta` says: the
+    // entries of the items it names are made again and everything else is shared with
+    // this world; moved objects have their boxes refitted into the BVH (bvh_update.h).
+    // The same world, table for table and so picture for picture, as compile_world()
+    // makes of `scene`, but for the BVH's shape. Null when it cannot be done that way
+    // (delta.everything, other numbers of objects, an object whose structure changed,
+    // a box that became empty): compile_world() then. `links`, if given, are this
+    // world's tree's parent links made elsewhere (BvhLinks of geometry->bvh, say on
+    // another thread while nothing moved): a first move then does not make them. They
+    // must have been made from this world's tree or from one it was refitted from.
+    std::shared_ptr<const World> update(const Scene& scene, const SceneDelta& delta,
+                                        std::shared_ptr<const BvhLinks> links = nullptr) const;
+
+    // What compile_world() finds in passes over every object and update() keeps up to
+    // date chunk by chunk (per chunk of the object tables): the bounds, the materials'
+    // share of the ray tree's bound, and each light's distance to the nearest object.
+    struct Tallies;
+    std::shared_ptr<const Tallies> tallies;
 
     struct Ctx;
     struct HitRec;

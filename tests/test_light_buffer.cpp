@@ -134,7 +134,7 @@ TEST_CASE("light buffer: each cell lists its objects once, nearest box first (ti
         Scene scene = random_scene(rng, light, 60 + 40 * round);
         Geometry g = build_geometry(scene);
         // Some objects twice over, so that equal distances occur.
-        std::vector<Aabb> boxes = g.object_bounds;
+        std::vector<Aabb> boxes = g.object_bounds.to_vector();
         for (std::size_t k = 0; k < g.object_bounds.size(); k += 3) boxes.push_back(g.object_bounds[k]);
         int n = round % 2 ? 32 : 8;
         LightBuffer lb = LightBuffer::build(boxes, light, n);

@@ -145,6 +145,20 @@ void diff_saved(const std::vector<std::pair<std::size_t, T>>& saved, std::vector
     }
 }
 
+// The items of (index, value) lists, as a delta.
+template <class O, class P, class L>
+rt::SceneDelta items_of(const O& objects, const P& planes, const L& lights) {
+    rt::SceneDelta d;
+    for (const auto& p : objects) d.objects.push_back(std::uint32_t(p.first));
+    for (const auto& p : planes) d.planes.push_back(std::uint32_t(p.first));
+    for (const auto& p : lights) d.lights.push_back(std::uint32_t(p.first));
+    d.normalize();
+    return d;
+}
+
+// The changes kept for changes_since(): a consumer further behind compiles anew.
+constexpr std::size_t kMaxChanges = 256;
+
 // Beyond this many changed items an undo step parses the text again instead.
 constexpr std::size_t kMaxStepItems = 4096;
 
@@ -207,7 +221,8 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
         applied_ = std::string();  // nothing applied yet
     }
     ++scene_version_;
-    ++content_version_;
+    changes_.clear();
+    changed(rt::SceneDelta::all());
     ++text_version_;
     mark_saved();
     if (has_scene_) file_camera_ = scene_.camera;
@@ -225,6 +240,28 @@ rt::Status Document::load_file(const std::string& path) {
     if (rt::Status st = rt::read_file(path, text, rt::Limits::max_file_size); !st) return st;
     load_text(text, path, base_name(path));
     return {};
+}
+
+void Document::changed(rt::SceneDelta delta) {
+    const std::uint64_t from = content_version_++;
+    // A pending edit changes its item every frame: one entry for all of them.
+    if (!changes_.empty() && changes_.back().to == from && !delta.everything && !changes_.back().delta.everything &&
+        changes_.back().delta.objects == delta.objects && changes_.back().delta.planes == delta.planes &&
+        changes_.back().delta.lights == delta.lights) {
+        changes_.back().to = content_version_;
+        return;
+    }
+    changes_.push_back({from, content_version_, std::move(delta)});
+    if (changes_.size() > kMaxChanges) changes_.pop_front();
+}
+
+rt::SceneDelta Document::changes_since(std::uint64_t version) const {
+    rt::SceneDelta d;
+    if (version == content_version_) return d;
+    if (version > content_version_ || changes_.empty() || version < changes_.front().from) return rt::SceneDelta::all();
+    for (const Change& c : changes_)
+        if (c.to > version) d.merge(c.delta);
+    return d;
 }
 
 bool Document::modified() const {
@@ -294,7 +331,9 @@ std::string Document::pending_name() const {
 
 rt::Object& Document::edit_object(std::size_t i) {
     open_edit();
-    ++content_version_;
+    rt::SceneDelta d;
+    if (i < scene_.objects.size()) d.objects.push_back(std::uint32_t(i));
+    changed(std::move(d));
     auto& v = saved_.objects;
     if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
         v.push_back({i, scene_.objects.at(i)});
@@ -303,7 +342,9 @@ rt::Object& Document::edit_object(std::size_t i) {
 
 rt::Plane& Document::edit_plane(std::size_t i) {
     open_edit();
-    ++content_version_;
+    rt::SceneDelta d;
+    if (i < scene_.planes.size()) d.planes.push_back(std::uint32_t(i));
+    changed(std::move(d));
     auto& v = saved_.planes;
     if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
         v.push_back({i, scene_.planes.at(i)});
@@ -312,7 +353,9 @@ rt::Plane& Document::edit_plane(std::size_t i) {
 
 rt::Light& Document::edit_light(std::size_t i) {
     open_edit();
-    ++content_version_;
+    rt::SceneDelta d;
+    if (i < scene_.lights.size()) d.lights.push_back(std::uint32_t(i));
+    changed(std::move(d));
     auto& v = saved_.lights;
     if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
         v.push_back({i, scene_.lights.at(i)});
@@ -327,7 +370,7 @@ rt::Camera& Document::edit_camera() {
 
 rt::Scene& Document::edit() {
     open_edit();
-    ++content_version_;
+    changed(rt::SceneDelta::all());
     if (!saved_.whole) saved_.whole = scene_before_edit();
     return scene_;
 }
@@ -346,10 +389,11 @@ void Document::cancel_edit() {
     if (!pending_) return;
     pending_ = false;
     scene_ = scene_before_edit();
+    rt::SceneDelta d = saved_.whole ? rt::SceneDelta::all() : items_of(saved_.objects, saved_.planes, saved_.lights);
     saved_ = {};
     pending_name_.clear();
     ++scene_version_;
-    ++content_version_;
+    changed(std::move(d));
 }
 
 bool Document::set_camera(const rt::Camera& camera) {
@@ -558,7 +602,7 @@ bool Document::commit_generic(DocStep& step) {
     if (!patched) {
         scene_ = std::move(before);
         ++scene_version_;
-        ++content_version_;
+        changed(saved_.whole ? rt::SceneDelta::all() : items_of(step.objects_before, step.planes_before, step.lights_before));
         return false;
     }
     TextSplice s = diff_texts(editor_, *patched);
@@ -674,7 +718,8 @@ void Document::replace_state(const std::string* editor, std::optional<std::strin
     step.has_scene_after = has_scene_;
     step.behind_after = behind_;
     if (scene_changed) ++scene_version_;
-    if (content_changed) ++content_version_;
+    if (content_changed)
+        changed(step.reparse ? rt::SceneDelta::all() : items_of(step.objects_after, step.planes_after, step.lights_after));
     if (!step.editor.empty()) ++text_version_;
     record(std::move(step));
 }
@@ -704,9 +749,10 @@ void Document::apply_step(const DocStep& s, bool forward) {
     if (s.camera_before) scene_.camera = forward ? *s.camera_after : *s.camera_before;
     behind_ = forward ? s.behind_after : s.behind_before;
     ++scene_version_;
-    if (s.reparse || !s.objects_before.empty() || !s.planes_before.empty() || !s.lights_before.empty() ||
-        s.has_scene_before != s.has_scene_after)
-        ++content_version_;
+    if (s.reparse || s.has_scene_before != s.has_scene_after)
+        changed(rt::SceneDelta::all());
+    else if (!s.objects_before.empty() || !s.planes_before.empty() || !s.lights_before.empty())
+        changed(items_of(s.objects_before, s.planes_before, s.lights_before));
     if (!s.editor.empty() || s.applied_before != s.applied_after) ++text_version_;
     typing_base_.reset();
     diagnostics_ = editor_dirty() ? rt::parse_scene(editor_).diagnostics : std::vector<rt::Diagnostic>{};

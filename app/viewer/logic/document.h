@@ -8,11 +8,13 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "scene.h"
+#include "scene_delta.h"
 #include "scene_parser.h"
 #include "scene_text.h"
 #include "status.h"
@@ -88,6 +90,10 @@ public:
     // Increases when anything but the camera changes: the compiled world depends
     // on this only (the renderer takes its camera from the view).
     std::uint64_t content_version() const { return content_version_; }
+    // What changed in the scene since content version `version` (everything when that is
+    // not known: too long ago, or not a version of this document's): what a compiled
+    // world of that version needs to become this one (World::update).
+    rt::SceneDelta changes_since(std::uint64_t version) const;
     // The camera of the file as last loaded or saved.
     const rt::Camera& file_camera() const { return file_camera_; }
 
@@ -229,6 +235,9 @@ private:
     // The name of the pending edit: as given to name_edit(), else from what it touched.
     std::string pending_name() const;
     void apply_step(const DocStep& s, bool forward);
+    // The scene's content changed as `delta` says: a new content version, logged for
+    // changes_since().
+    void changed(rt::SceneDelta delta);
     void normalize_applied();
     void mark_saved();
     void reload_text(const std::string& text);
@@ -253,6 +262,12 @@ private:
     FileStamp stamp_;
     std::vector<rt::Diagnostic> diagnostics_;
     std::uint64_t scene_version_ = 1, content_version_ = 1, text_version_ = 1, typed_ = 0;
+    // What changed from content version `from` to `to`, oldest first (changes_since()).
+    struct Change {
+        std::uint64_t from, to;
+        rt::SceneDelta delta;
+    };
+    std::deque<Change> changes_;
     bool pending_ = false;
     Saved saved_;
     std::string pending_name_;    // name_edit() of the pending edit

@@ -242,7 +242,7 @@ void ViewerApp::frame() {
         if (tool_mouse) nav_layout.image = Rect{};
         else if (doc.has_scene() && nav_.has_view() &&
                  move_.handle_mouse(doc, panels_.selection(), screen_view(), layout_.image, usable && !nav_.dragging(),
-                                    render_, status_))
+                                    status_))
             nav_layout.image = Rect{};  // the move handle has the pointer
         NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, panels_.scene_size());
         if (r.clicked) select_at(r.x, r.y);
@@ -359,8 +359,11 @@ void ViewerApp::update_render(double now) {
     // While a render region refines, the rest of the picture stays as it was (the
     // region re-renders on edits and view changes); a new film size ends the region.
     bool region_holds = tools_.region_active() && tools_.region_fits(layout_.film_w, layout_.film_h);
-    // A final render ("Render to file...") or a refining region gets the processors.
-    render_.set_yield(tools_.final_render_running() || (region_holds && tools_.busy()));
+    // A final render ("Render to file..."), a refining region or a file being parsed
+    // and compiled gets the processors (the old scene's picture stays as it is
+    // meanwhile; not while reading, which may wait for a pipe's writer).
+    const bool compiling = loader_.active() && loader_.progress().stage != SceneLoader::Stage::Reading;
+    render_.set_yield(tools_.final_render_running() || (region_holds && tools_.busy()) || compiling);
     if (doc.has_scene() && nav_.has_view() && !region_holds)
         render_.update(nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
                        layout_.film_w, layout_.film_h, moving);

@@ -44,17 +44,15 @@ std::optional<SceneItem> item_of_selection(const Selection& s) {
     return std::nullopt;
 }
 
-void MoveTool::apply(Document& doc, RenderController& render, const rt::Vec3& d) {
+void MoveTool::apply(Document& doc, const rt::Vec3& d) {
     Drag& g = *drag_;
     std::size_t i = std::size_t(g.item.index);
-    std::uint64_t before = doc.content_version();
+    // (The document notes which item changed: the world takes only that.)
     switch (g.item.kind) {
         case SceneItem::Kind::Object: {
             rt::Object& o = doc.edit_object(i);
             o = g.object;
             translate_operand(o, g.path, d);
-            // Only this object changed: the renderer refits its BVH instead of building it.
-            render.note_moved(int(i), before);
             break;
         }
         case SceneItem::Kind::Plane: {
@@ -76,7 +74,7 @@ void MoveTool::apply(Document& doc, RenderController& render, const rt::Vec3& d)
 }
 
 bool MoveTool::handle_mouse(Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, bool usable,
-                            RenderController& render, StatusLine& status) {
+                            StatusLine& status) {
     ImGuiIO& io = ImGui::GetIO();
     double mx = io.MousePos.x, my = io.MousePos.y;
     double s = ImGui::GetFontSize() / 13.0;  // the UI scale
@@ -92,7 +90,7 @@ bool MoveTool::handle_mouse(Document& doc, const Selection& sel, const ScreenVie
             // the scene's scale, so the text gets short numbers (-0.2636, not
             // -0.26361007019).
             rt::Vec3 d = drag_->drag.delta(view, mx, my, io.KeyShift ? drag_->snap : drag_->snap / 100);
-            if (!(d == drag_->last) && rt::finite(d)) apply(doc, render, d);
+            if (!(d == drag_->last) && rt::finite(d)) apply(doc, d);
             return true;
         }
         // Released: one undo step, or nothing if it did not move.
@@ -141,7 +139,7 @@ void MoveTool::update_outline(const Document& doc, const Selection& sel, const R
         return;
     }
     std::uint32_t code = id_code(*item);
-    bool same_view = has_ids_ && ids_world_ == world && ids_camera_ == camera && ids_w_ == film_w && ids_h_ == film_h &&
+    bool same_view = has_ids_ && same_world(ids_world_, world) && ids_camera_ == camera && ids_w_ == film_w && ids_h_ == film_h &&
                      ids_code_ == code;
     const bool preview = render.showing_preview();
     int block = 8;

@@ -31,7 +31,7 @@ public:
     // picture is rendered through; `image` where it is drawn. True while the tool owns
     // the pointer (a press on the handle, a drag): navigation must then ignore it.
     bool handle_mouse(Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, bool usable,
-                      RenderController& render, StatusLine& status);
+                      StatusLine& status);
     bool dragging() const { return drag_.has_value(); }
 
     // The outline's id buffer for this frame's picture: at the preview's block while
@@ -65,7 +65,7 @@ private:
         rt::Vec3 last{0, 0, 0};
         std::string name;  // the undo step's: "Move sphere 3"
     };
-    void apply(Document& doc, RenderController& render, const rt::Vec3& d);
+    void apply(Document& doc, const rt::Vec3& d);
 
     void draw_light_markers(ImDrawList* dl, float scale) const;
 
@@ -77,7 +77,7 @@ private:
     std::vector<Edge> edges_;  // the outline of ids_
     int finest_ = 1;           // the finest block whose outline fits a draw list
     bool has_ids_ = false;
-    std::shared_ptr<const rt::World> ids_world_;
+    std::weak_ptr<const rt::World> ids_world_;  // compared with, not kept alive
     rt::Camera ids_camera_;
     int ids_w_ = 0, ids_h_ = 0;
     std::uint32_t ids_code_ = 0;

@@ -38,51 +38,6 @@ std::array<std::uint64_t, 5> signature(const rt::RenderProgress& p) {
             std::uint64_t(p.pass_fraction * 16)};
 }
 
-// A fingerprint of the scene's shapes: equal fingerprints mean a material, light or
-// camera edit, compiled at once on this thread (compile_world checks the shapes exactly
-// and rebuilds the BVH itself if they differ, so a collision costs time, not pictures).
-struct ShapeHash {
-    std::uint64_t h = 1469598103934665603ull;
-    void add(std::uint64_t v) { h = (h ^ v) * 1099511628211ull ^ (h >> 29); }
-    void add(double d) {
-        std::uint64_t v;
-        std::memcpy(&v, &d, sizeof v);
-        add(v);
-    }
-    void add(const rt::Vec3& v) {
-        add(v.x);
-        add(v.y);
-        add(v.z);
-    }
-    void add(const rt::Shape& shape) {
-        add(std::uint64_t(shape.index()));
-        std::visit(
-            [&](const auto& x) {
-                using T = std::decay_t<decltype(x)>;
-                if constexpr (std::is_same_v<T, rt::Sphere>) {
-                    add(x.position), add(x.radius);
-                } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
-                    for (const rt::Vec3& v : x.v) add(v);
-                } else if constexpr (std::is_same_v<T, rt::Cylinder>) {
-                    add(x.end1), add(x.end2), add(x.radius);
-                } else if constexpr (std::is_same_v<T, rt::Torus>) {
-                    add(x.position), add(x.direction), add(x.major), add(x.minor);
-                } else {
-                    add(std::uint64_t(x.type));
-                    for (const rt::Object& o : x.operands) add(o.shape);
-                }
-            },
-            shape);
-    }
-};
-
-std::uint64_t shapes_hash(const rt::Scene& s) {
-    ShapeHash h;
-    h.add(std::uint64_t(s.objects.size()));
-    for (const rt::Object& o : s.objects) h.add(o.shape);
-    return h.h;
-}
-
 }  // namespace
 
 RenderController::RenderController(int threads, bool interactive, int max_samples, double time_limit,
@@ -94,61 +49,15 @@ RenderController::RenderController(int threads, bool interactive, int max_sample
       aa_threshold_(aa_threshold),
       preview_pool_(renderer_.threads()) {}
 
-RenderController::~RenderController() {
-    renderer_.cancel();
-    if (building_.valid()) building_.wait();
-}
+RenderController::~RenderController() { renderer_.cancel(); }
 
 void RenderController::sync_world(const Document& doc) {
-    if (building_.valid() && building_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-        world_ = building_.get();
-        world_version_ = building_version_;
-        world_shapes_ = building_shapes_;
-        world_shapes_known_ = true;
-    }
-    if (!doc.has_scene()) {
-        clear();
-        return;
-    }
-    if (world_ && !world_shapes_known_ && doc.content_version() == world_version_) {
-        world_shapes_ = shapes_hash(doc.scene());  // an adopted world: its scene is the document's
-        world_shapes_known_ = true;
-    }
-    if (doc.content_version() == world_version_ || building_.valid()) return;
-    const rt::Scene& s = doc.scene();
-    int moved = moved_object_;
-    moved_object_ = -1;
-    if (moved >= 0 && world_ && world_version_ == moved_from_) {
-        // One object moved since this world: its shapes compiled again and the BVH
-        // refitted, in well under a millisecond for 10,000 objects.
-        if (auto w = rt::update_moved_objects(s, *world_, {std::uint32_t(moved)}, moved_links_)) {
-            world_ = std::move(w);
-            world_version_ = doc.content_version();
-            world_shapes_known_ = false;
-            return;
-        }
-    }
-    const std::uint64_t shapes = shapes_hash(s);
-    if (world_ && world_shapes_known_ && shapes == world_shapes_) {
-        // Same geometry: materials, lights or the camera changed. compile_world reuses
-        // the BVH, so this stays well under a frame even for big scenes.
-        world_ = rt::compile_world(s, world_.get());
-        world_version_ = doc.content_version();
-    } else {
-        // New geometry: build the BVH on another thread; the last world keeps
-        // rendering and the UI keeps running meanwhile.
-        building_version_ = doc.content_version();
-        building_shapes_ = shapes;
-        building_ = std::async(std::launch::async, [scene = s] { return rt::compile_world(scene, nullptr); });
-    }
+    sync_.sync(doc);
+    if (!doc.has_scene()) clear();
 }
 
 void RenderController::adopt_world(std::shared_ptr<const rt::World> world, std::uint64_t content_version) {
-    if (building_.valid()) building_.wait();
-    building_ = {};
-    world_ = std::move(world);
-    world_version_ = content_version;
-    world_shapes_known_ = false;
+    sync_.adopt(std::move(world), content_version);
 }
 
 void RenderController::clear() {
@@ -181,7 +90,7 @@ void RenderController::set_yield(bool y) {
 }
 
 void RenderController::update(const rt::Camera& camera, int film_w, int film_h, bool moving) {
-    if (!world_ || film_w < 1 || film_h < 1) return;
+    if (!world() || film_w < 1 || film_h < 1) return;
     rt::RenderProgress p = renderer_.progress();
     // The first coarse pass of the running render measures what a ray costs now.
     if (!measured_ && p.generation == started_generation_ && p.first_coarse_time >= 0) {
@@ -189,9 +98,9 @@ void RenderController::update(const rt::Camera& camera, int film_w, int film_h, 
         pacer_.measured(rays, p.first_coarse_time);
         measured_ = true;
     }
-    bool changed = world_ != started_world_ || !(camera == started_camera_) || film_w != started_w_ ||
+    bool changed = world_ptr() != started_world_ || !(camera == started_camera_) || film_w != started_w_ ||
                    film_h != started_h_ || settings_changed_;
-    bool preview_changed = world_ != preview_world_ || !(camera == preview_camera_) || film_w != preview_w_ ||
+    bool preview_changed = !same_world(preview_world_, world_ptr()) || !(camera == preview_camera_) || film_w != preview_w_ ||
                            film_h != preview_h_;
     if (changed && preview_changed) last_change_ = std::chrono::steady_clock::now();
     if (!changed) return;
@@ -228,7 +137,7 @@ void RenderController::trace_preview(const rt::Camera& camera, int film_w, int f
     rt::TraceStop stop;
     stop.deadline = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                              std::chrono::duration<double>(kPreviewDeadline));
-    PreviewResult r = rtview::trace_preview(*world_, camera, film_w, film_h, b, preview_rgba_, pw, ph,
+    PreviewResult r = rtview::trace_preview(*world(), camera, film_w, film_h, b, preview_rgba_, pw, ph,
                                             &preview_pool_, stop);
     double took = seconds_since(t0);
     ui_pacer_.measured(double(std::max<std::uint64_t>(r.traced, 1)), took);
@@ -238,7 +147,7 @@ void RenderController::trace_preview(const rt::Camera& camera, int film_w, int f
     preview_block_ = b;
     preview_w_ = film_w;
     preview_h_ = film_h;
-    preview_world_ = world_;
+    preview_world_ = world_ptr();
     preview_camera_ = camera;
     ++pictures_;
     if (timing_change_) first_image_after_change(r.stopped ? "preview, stopped at its deadline" : "preview", took, film_w, film_h, b);
@@ -273,8 +182,8 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h, b
         held_ = false;
         renderer_.set_paused(paused_ || yield_);
     }
-    renderer_.start(world_, st);
-    started_world_ = world_;
+    renderer_.start(world_ptr(), st);
+    started_world_ = world_ptr();
     started_camera_ = camera;
     started_w_ = film_w;
     started_h_ = film_h;
@@ -345,14 +254,16 @@ void RenderController::draw(const Rect& image, float fb_scale) {
 }
 
 bool RenderController::settled(int film_w, int film_h) const {
-    if (!started_world_ || building_.valid()) return false;
+    if (!started_world_ || sync_.building()) return false;
     rt::RenderProgress p = renderer_.progress();
     return p.done && final_uploaded_ && p.width == film_w && p.height == film_h;
 }
 
 bool RenderController::busy() const {
     rt::RenderProgress p = renderer_.progress();
-    return p.running || building_.valid() || (!final_uploaded_ && !paused_ && started_world_) || showing_preview_;
+    // A render that yields its processors brings no new pixels: no frames for it.
+    const bool rendering = !yield_ && (p.running || (!final_uploaded_ && !paused_ && started_world_));
+    return rendering || sync_.building() || showing_preview_;
 }
 
 }  // namespace rtview

@@ -11,7 +11,6 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
-#include <future>
 #include <memory>
 #include <vector>
 
@@ -22,10 +21,10 @@
 #include "region.h"
 #include "pacing.h"
 #include "parallel.h"
-#include "bvh_update.h"
 #include "renderer.h"
 #include "viewport.h"
 #include "world.h"
+#include "world_sync.h"
 
 namespace rtview {
 
@@ -35,18 +34,10 @@ public:
     RenderController(int threads, bool interactive, int max_samples, double time_limit, double aa_threshold);
     ~RenderController();
 
-    // The document's scene changed (or not): compile it, reusing the BVH when only
-    // materials, lights or the camera changed; new geometry is built off the UI thread
-    // while the last world keeps rendering.
+    // The document's scene changed (or not): its changes go into the world (world_sync.h:
+    // in place where they can, else compiled anew off the UI thread while the last
+    // world keeps rendering).
     void sync_world(const Document& doc);
-    // Object `object` alone was just changed in the document (the move tool), whose
-    // content version was `version_before` until then: the next sync_world() updates
-    // that object and refits the BVH instead of building the world again, provided
-    // the world it has is that version's.
-    void note_moved(int object, std::uint64_t version_before) {
-        moved_object_ = object;
-        moved_from_ = version_before;
-    }
     // Takes a world compiled elsewhere (a scene loaded in the background) for the
     // document's current content version.
     void adopt_world(std::shared_ptr<const rt::World> world, std::uint64_t content_version);
@@ -77,9 +68,9 @@ public:
     // Draws the film into `image`.
     void draw(const Rect& image, float fb_scale);
 
-    const rt::World* world() const { return world_.get(); }
-    const std::shared_ptr<const rt::World>& world_ptr() const { return world_; }
-    bool building() const { return building_.valid(); }
+    const rt::World* world() const { return sync_.world().get(); }
+    const std::shared_ptr<const rt::World>& world_ptr() const { return sync_.world(); }
+    bool building() const { return sync_.building(); }
     bool started() const { return started_world_ != nullptr; }
     // All requested samples are in and the texture shows the final film of this size.
     bool settled(int film_w, int film_h) const;
@@ -122,16 +113,7 @@ private:
     bool interactive_;
     rt::Renderer renderer_;
     PreviewPacer pacer_;
-    std::shared_ptr<const rt::World> world_;  // compiled doc scene
-    std::uint64_t world_version_ = 0;         // doc content_version world_ matches
-    std::future<std::shared_ptr<const rt::World>> building_;
-    std::uint64_t building_version_ = 0;
-    std::uint64_t building_shapes_ = 0;   // shapes_hash of the scene being built
-    std::uint64_t world_shapes_ = 0;      // shapes_hash of world_'s scene, when known
-    bool world_shapes_known_ = false;
-    int moved_object_ = -1;             // note_moved()
-    std::uint64_t moved_from_ = 0;
-    std::shared_ptr<const rt::BvhLinks> moved_links_;  // kept through a drag
+    WorldSync sync_;  // the compiled document scene
 
     // The render as last started.
     std::shared_ptr<const rt::World> started_world_;
@@ -158,7 +140,9 @@ private:
     std::vector<std::uint8_t> preview_rgba_;
     bool showing_preview_ = false;  // the preview is on screen, not the film
     int preview_block_ = 0, preview_w_ = 0, preview_h_ = 0;  // of the film it previews
-    std::shared_ptr<const rt::World> preview_world_;
+    // The world the preview shows, to compare with: not kept alive by it (a replaced
+    // scene's memory is returned).
+    std::weak_ptr<const rt::World> preview_world_;
     rt::Camera preview_camera_;
 
     FilmTexture film_;

@@ -1,0 +1,127 @@
+// The world that follows the document (see world_sync.h).
+#include "world_sync.h"
+
+#include <chrono>
+#include <utility>
+
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
+#include "shapes.h"
+
+namespace rtview {
+
+namespace {
+
+template <class T>
+bool ready(const std::future<T>& f) {
+    return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
+template <class T>
+void reap_ready(std::vector<std::future<T>>& v) {
+    for (auto it = v.begin(); it != v.end();) {
+        if (ready(*it)) it = v.erase(it);
+        else ++it;
+    }
+}
+
+}  // namespace
+
+WorldSync::~WorldSync() {
+    if (build_.valid()) build_.wait();
+    if (links_build_.valid()) links_build_.wait();
+    for (auto& f : dropped_) f.wait();
+    for (auto& f : dropped_links_) f.wait();
+}
+
+void WorldSync::reap() {
+    reap_ready(dropped_);
+    reap_ready(dropped_links_);
+}
+
+void WorldSync::return_memory() {
+    if (!return_pending_ || !replaced_.expired()) return;
+    return_pending_ = false;
+#ifdef __GLIBC__
+    // A scene's tables are many blocks below the allocator's mmap threshold: freed,
+    // they stay in its heaps, and a scene opened again would come on top of them.
+    malloc_trim(0);
+#endif
+}
+
+void WorldSync::prepare_links() {
+    // What was made or is being made for another tree is let go of (it must not keep
+    // a replaced scene's geometry alive).
+    if (links_build_.valid()) dropped_links_.push_back(std::move(links_build_));
+    links_ = nullptr;
+    links_geometry_ = nullptr;
+    if (!world_ || !world_->geometry || world_->geometry->bvh.links || world_->geometry->object_bounds.size() == 0)
+        return;
+    links_geometry_ = world_->geometry;
+    links_build_ = std::async(std::launch::async, [g = links_geometry_] {
+        return std::make_shared<const rt::BvhLinks>(g->bvh, g->object_bounds.size());
+    });
+}
+
+std::shared_ptr<const rt::BvhLinks> WorldSync::current_links() {
+    if (links_build_.valid() && ready(links_build_)) links_ = links_build_.get();
+    // A world updated from the one they were made for has its tree's own links then.
+    return world_ && world_->geometry == links_geometry_ ? links_ : nullptr;
+}
+
+bool WorldSync::take_build() {
+    if (!build_.valid() || !ready(build_)) return false;
+    world_ = build_.get();
+    version_ = build_version_;
+    return true;
+}
+
+WorldSync::Step WorldSync::sync(const Document& doc) {
+    reap();
+    return_memory();
+    Step step = take_build() ? Step::Built : Step::None;
+    if (step == Step::Built) prepare_links();
+    if (!doc.has_scene() || (world_ && doc.content_version() == version_)) return step;
+    if (world_) {
+        const rt::SceneDelta delta = doc.changes_since(version_);
+        if (!delta.everything && delta.objects.size() + delta.planes.size() + delta.lights.size() <= kMaxDeltaItems) {
+            if (std::shared_ptr<const rt::World> w = world_->update(doc.scene(), delta, current_links())) {
+                world_ = std::move(w);
+                version_ = doc.content_version();
+                return Step::Updated;
+            }
+        }
+    }
+    // One build at a time: what changes meanwhile goes into its world once it is there.
+    if (build_.valid()) return step;
+    build_version_ = doc.content_version();
+    build_ = std::async(std::launch::async, [scene = doc.scene()] { return rt::compile_world(scene, nullptr); });
+    return Step::Building;
+}
+
+void WorldSync::adopt(std::shared_ptr<const rt::World> world, std::uint64_t version) {
+    if (build_.valid()) dropped_.push_back(std::move(build_));
+    build_ = {};
+    if (world_ && world_ != world) {
+        replaced_ = world_;
+        return_pending_ = true;
+    }
+    world_ = std::move(world);
+    version_ = version;
+    prepare_links();
+}
+
+WorldSync::Step WorldSync::finish(const Document& doc) {
+    Step step = sync(doc);
+    while (build_.valid()) {
+        build_.wait();
+        step = sync(doc);
+    }
+    if (links_build_.valid()) links_build_.wait();
+    current_links();
+    return step;
+}
+
+}  // namespace rtview

@@ -1,0 +1,94 @@
+// The compiled world that follows the document, and the policy of how: what changed
+// since the world's version (Document::changes_since) goes into it at once when the
+// world can take it in place (World::update: a move refits the BVH, a material or a
+// light rewrites its entry, in well under a millisecond whatever the scene's size);
+// when the lists changed, an object's structure changed or too much changed, the
+// scene is compiled anew on another thread while the last world stays on screen, and
+// what changed meanwhile goes into the new world as soon as it is there. A new tree's
+// parent links (what a refit walks: 41 ms for a million objects) are made on another
+// thread too, before the first move needs them.
+#pragma once
+
+#include <cstdint>
+#include <future>
+#include <memory>
+#include <vector>
+
+#include "bvh_update.h"
+#include "document.h"
+#include "world.h"
+
+namespace rtview {
+
+// Whether `seen` was taken from `world`: what views of a world (the preview, the
+// outline) compare with, without keeping a replaced scene's world alive. Still right
+// once `seen` has expired (it keeps its control block: a new world made at the old
+// one's address is another world).
+inline bool same_world(const std::weak_ptr<const rt::World>& seen, const std::shared_ptr<const rt::World>& world) {
+    return !seen.owner_before(world) && !world.owner_before(seen);
+}
+
+class WorldSync {
+public:
+    // What a sync() did.
+    enum class Step {
+        None,      // the world is the document's already (or cannot be yet)
+        Updated,   // the changes went into the world in place
+        Building,  // a full compile started in the background
+        Built,     // a background compile finished and is the world now
+    };
+    // More changed items than this at once (a text applied with thousands of changed
+    // numbers) are compiled anew rather than updated one by one.
+    static constexpr std::size_t kMaxDeltaItems = std::size_t(1) << 16;
+
+    WorldSync() = default;
+    ~WorldSync();
+    WorldSync(const WorldSync&) = delete;
+    WorldSync& operator=(const WorldSync&) = delete;
+
+    // Brings the world as close to the document's scene as it can now (without
+    // waiting). O(1) when nothing changed. A document without a scene leaves it alone.
+    Step sync(const Document& doc);
+    // A world compiled elsewhere (a scene loaded in the background) for the document's
+    // content version `version`; a build under way is dropped (not waited for). Once
+    // the world it replaces is gone (the renderer and the views let go of it), the
+    // memory the allocator kept of it is given back to the system.
+    void adopt(std::shared_ptr<const rt::World> world, std::uint64_t version);
+    // Blocks until a build under way and the links are done, then syncs (headless runs,
+    // tests).
+    Step finish(const Document& doc);
+
+    const std::shared_ptr<const rt::World>& world() const { return world_; }
+    // The content version of the document the world is compiled from.
+    std::uint64_t version() const { return version_; }
+    bool building() const { return build_.valid(); }
+    // The parent links made in the background for the tree of the world last built or
+    // adopted; null until they are there.
+    const std::shared_ptr<const rt::BvhLinks>& links() const { return links_; }
+
+private:
+    // Takes a finished build; true if it did.
+    bool take_build();
+    void reap();
+    // Gives freed memory back once the world adopt() replaced is gone.
+    void return_memory();
+    // Starts making the links of the world's tree unless it has them.
+    void prepare_links();
+    // Takes the links once made; the links that go with the world's tree, or null.
+    std::shared_ptr<const rt::BvhLinks> current_links();
+
+    std::shared_ptr<const rt::World> world_;
+    std::uint64_t version_ = 0;
+    std::future<std::shared_ptr<const rt::World>> build_;
+    std::uint64_t build_version_ = 0;
+    std::vector<std::future<std::shared_ptr<const rt::World>>> dropped_;  // still finishing
+    std::weak_ptr<const rt::World> replaced_;  // by adopt(), until it is gone
+    bool return_pending_ = false;
+    // The links of links_geometry_'s tree: made (links_) or being made (links_build_).
+    std::shared_ptr<const rt::Geometry> links_geometry_;
+    std::shared_ptr<const rt::BvhLinks> links_;
+    std::future<std::shared_ptr<const rt::BvhLinks>> links_build_;
+    std::vector<std::future<std::shared_ptr<const rt::BvhLinks>>> dropped_links_;
+};
+
+}  // namespace rtview
