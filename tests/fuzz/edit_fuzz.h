@@ -377,7 +377,9 @@ inline bool same_material(const rt::ShadeMaterial& a, const rt::ShadeMaterial& b
            same_bits(a.scattering, b.scattering) && same_bits(a.translusans, b.translusans) &&
            same_bits(a.ior, b.ior) && same_bits(a.colour, b.colour) && same_bits(a.log_tint, b.log_tint);
 }
-inline bool same_materials(const std::vector<rt::ShadeMaterial>& a, const std::vector<rt::ShadeMaterial>& b) {
+// Over the world's tables: plain vectors or shared chunks.
+template <class A, class B>
+bool same_materials(const A& a, const B& b) {
     if (a.size() != b.size()) return false;
     for (std::size_t i = 0; i < a.size(); ++i)
         if (!same_material(a[i], b[i])) return false;
