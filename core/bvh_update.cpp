@@ -145,6 +145,7 @@ bool replace_object(Geometry& g, std::uint32_t obj, const Geometry& one) {
             case NodeKind::Tetra: g.tetras[to.index] = one.tetras[from.index]; break;
             case NodeKind::Cylinder: g.cylinders[to.index] = one.cylinders[from.index]; break;
             case NodeKind::Torus: g.tori[to.index] = one.tori[from.index]; break;
+            case NodeKind::Mesh: g.meshes[to.index] = one.meshes[from.index]; break;
             case NodeKind::Csg: {
                 const CsgG &a = g.csgs[to.index], &b = one.csgs[from.index];
                 // Operands are numbered from the object's first node in both.
