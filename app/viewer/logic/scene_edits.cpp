@@ -9,8 +9,10 @@
 #include <utility>
 #include <vector>
 
+#include "model.h"
 #include "scene_text.h"
 #include "scene_writer.h"
+#include "triangles.h"
 
 namespace rtview {
 
@@ -60,6 +62,16 @@ void grow(rt::Aabb& b, const rt::Object& o) {
                 for (const Vec3& v : s.v) grow(b, v);
             } else if constexpr (std::is_same_v<T, rt::Torus>) {
                 grow(b, s.position, std::fabs(s.major) + std::fabs(s.minor));
+            } else if constexpr (std::is_same_v<T, rt::Mesh>) {
+                const rt::Aabb m = s.model ? rt::MeshInstance::make(s.position, s.scale, s.rotation)
+                                                 .world_bounds(s.model->bounds())
+                                           : rt::Aabb();
+                if (m.empty()) {
+                    grow(b, s.position);
+                } else {
+                    grow(b, m.lo);
+                    grow(b, m.hi);
+                }
             } else {
                 for (const rt::Object& op : s.operands) grow(b, op);
             }
@@ -288,7 +300,8 @@ void translate(rt::Object& o, Vec3 d) {
     std::visit(
         [&](auto& s) {
             using T = std::decay_t<decltype(s)>;
-            if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus>) move_point(s.position, d);
+            if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus> || std::is_same_v<T, rt::Mesh>)
+                move_point(s.position, d);
             else if constexpr (std::is_same_v<T, rt::Cylinder>) {
                 move_point(s.end1, d);
                 move_point(s.end2, d);

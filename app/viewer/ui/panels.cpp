@@ -788,6 +788,10 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
             changed = material_editor(f.label.c_str(), v.material);
             break;
         }
+        case sc::Kind::File:
+            // The model is read with the scene: a new name is typed in the scene text.
+            ImGui::TextWrapped("%s: %s", f.label.c_str(), v.text.c_str());
+            break;
         case sc::Kind::Operand: {
             // A CSG's operands: select one to edit its keys (also in the outline).
             const int side = operand++;

@@ -64,6 +64,9 @@ struct ShapeHash {
                     add(x.end1), add(x.end2), add(x.radius);
                 } else if constexpr (std::is_same_v<T, rt::Torus>) {
                     add(x.position), add(x.direction), add(x.major), add(x.minor);
+                } else if constexpr (std::is_same_v<T, rt::Mesh>) {
+                    add(x.position), add(x.scale), add(x.rotation), add(std::uint64_t(x.smooth));
+                    add(std::uint64_t(reinterpret_cast<std::uintptr_t>(x.model.get())));
                 } else {
                     add(std::uint64_t(x.type));
                     for (const rt::Object& o : x.operands) add(o.shape);
