@@ -116,8 +116,9 @@ bool header_line(const std::vector<std::string_view>& w, Header& h, bool& format
         h.elements.back().props.push_back(std::move(p));
         return true;
     }
-    error.message = "unknown header line " + shown(w[0]);
-    return false;
+    // Other lines (some writers add free text such as "Created by ...") say nothing
+    // about the data: passed over, as comments are.
+    return true;
 }
 
 bool read_header(std::string_view bytes, Header& h, ModelError& error) {
@@ -244,10 +245,11 @@ struct PlyReader {
     bool fits(const Element& e) {
         std::uint64_t least = 0;
         for (const Property& p : e.props) least += body.ascii() ? 2 : std::uint64_t(size_of(p.list ? p.count_type : p.type));
-        if (least == 0 || e.count <= (body.left() + 1) / least) return true;
+        // (In ASCII the last value needs no space after it.)
+        const std::uint64_t most = least == 0 ? e.count : (body.left() + (body.ascii() ? 1 : 0)) / least;
+        if (e.count <= most) return true;
         error.message = "the header claims " + std::to_string(e.count) + " " + e.name + " records, but the " +
-                        std::to_string(body.left()) + " bytes after it hold at most " +
-                        std::to_string((body.left() + 1) / least);
+                        std::to_string(body.left()) + " bytes after it hold at most " + std::to_string(most);
         return false;
     }
 

@@ -847,6 +847,7 @@ private:
                                   csg_operands() + ")");
             skip_rest_of_block();
             st.bad = true;
+            if (ob) st.given |= 1u << index;  // it is there, just not allowed: no second message
             return true;
         }
         Object operand;

@@ -7,7 +7,8 @@
 # and out-of-memory inputs are saved in build-fuzz/fuzz/artifacts/ and make the script
 # exit non-zero; turn each into a regression test (tests/test_fuzz_regressions.cpp).
 # Environment: BUILD_DIR (default build-fuzz), JOBS (build jobs, default 2),
-# FUZZ_EXTRA (more libFuzzer flags), FUZZ_TARGETS (default "fuzz_parser fuzz_roundtrip").
+# FUZZ_EXTRA (more libFuzzer flags), FUZZ_TARGETS (default: the scene parser's two and
+# the model readers' two, all four at once).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,7 +16,7 @@ SECONDS_EACH=${1:-60}
 case "$SECONDS_EACH" in ''|*[!0-9]*) echo "usage: $0 [SECONDS]" >&2; exit 2;; esac
 BUILD_DIR=${BUILD_DIR:-build-fuzz}
 JOBS=${JOBS:-2}
-TARGETS=${FUZZ_TARGETS:-fuzz_parser fuzz_roundtrip}
+TARGETS=${FUZZ_TARGETS:-fuzz_parser fuzz_roundtrip fuzz_obj fuzz_ply}
 
 run() { echo "+ $*" >&2; "$@"; }
 
@@ -39,7 +40,7 @@ mkdir -p "$SEEDS" "$WORK/artifacts"
 shopt -s nullglob
 SEED_FILES=()
 for f in scenes/*.txt bench/scenes/*.txt tests/test_parser.cpp tests/test_writer.cpp tests/test_limits.cpp \
-         tests/test_fuzz_regressions.cpp tests/fuzz/regressions/*; do
+         tests/test_fuzz_regressions.cpp tests/fuzz/regressions/* tests/models/*; do
     [ -f "$f" ] && SEED_FILES+=("$f")
 done
 run "$BUILD_DIR/bin/fuzz_seed_corpus" "$SEEDS" "${SEED_FILES[@]}"
