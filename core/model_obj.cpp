@@ -200,7 +200,7 @@ bool ObjReader::report_index_range() {
                 if (index > 0 && std::size_t(index) > count) {
                     error.line = line;
                     error.message = "face index " + std::to_string(index) + " out of range (" + std::to_string(count) +
-                                    " vertices)";
+                                    (count == 1 ? " vertex)" : " vertices)");
                     return false;
                 }
                 while (p < l.size() && l[p] != ' ' && l[p] != '\t') ++p;

@@ -331,7 +331,8 @@ bool PlyReader::face(std::uint64_t r, const Element& e, std::size_t list, std::s
             if (i != list) continue;
             if (!(v >= 0 && v < double(vertices) && v == std::floor(v)))
                 return fail("face index " + (std::isfinite(v) ? std::to_string(std::int64_t(v)) : std::string("nan")) +
-                                " out of range (" + std::to_string(vertices) + " vertices)", r, "face");
+                                " out of range (" + std::to_string(vertices) + (vertices == 1 ? " vertex)" : " vertices)"),
+                            r, "face");
             poly.push_back(std::uint32_t(v));
         }
     }

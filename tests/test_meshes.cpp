@@ -570,8 +570,9 @@ TEST_CASE("mesh: block errors, file names with and without quotes, and no mesh i
 
 TEST_CASE("mesh: a tetrahedron's four faces render like the tetrahedron with the same corners") {
     rt_test::TempDir dir;
-    // Corners whose coordinates are floats exactly, as a model file holds them.
-    rt_test::put(dir / "tetra.obj", "v -1 -0.75 -1\nv 1.25 -0.5 -1\nv 0 1 -1\nv 0.25 0 1.5\nf 1 2 3\nf 1 2 4\nf 2 3 4\nf 3 1 4\n");
+    // Corners whose coordinates are floats exactly, as a model file holds them; the
+    // faces wound every which way (the surface is lit on whichever side is seen).
+    rt_test::put(dir / "tetra.obj", "v -1 -0.75 -1\nv 1.25 -0.5 -1\nv 0 1 -1\nv 0.25 0 1.5\nf 1 2 3\nf 1 4 2\nf 2 4 3\nf 3 1 4\n");
     const std::string corners = "vect1 -1 -0.75 -1 vect2 1.25 -0.5 -1 vect3 0 1 -1 vect4 0.25 0 1.5";
     for (const char* material : {"{ colour 0.9 0.5 0.2 }", "{ reflection 0.6 scattering 0.4 colour 0.9 0.9 0.9 }",
                                  "{ refraction 0.8 scattering 0.2 translusans 0.7 refractive_index 1.4 colour 0.8 1 0.9 }"}) {
