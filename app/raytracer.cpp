@@ -17,7 +17,6 @@
 #include <string>
 #include <vector>
 
-#include "adaptive.h"
 #include "cli_common.h"
 #include "diagnostic_text.h"
 #include "image_io.h"
@@ -111,22 +110,7 @@ struct Rendered {
 // Phase 4: renders with the progress bar.
 rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene& scene, const Options& opt,
            Rendered& out) {
-    rt::RenderSettings settings;
-    settings.width = scene.width;
-    settings.height = scene.height;
-    settings.coarse = false;  // nobody watches a preview here
-    settings.mirror = opt.mirror;
-    settings.time_limit = opt.time_limit;
-    // A time limit with no sample count means "as good as fits in the time"; a
-    // threshold alone, at most kDefaultAaMaxSamples.
-    settings.max_samples = opt.samples          ? *opt.samples
-                           : opt.time_limit > 0 ? 65536
-                           : opt.aa_threshold   ? rt::kDefaultAaMaxSamples
-                                                : 1;
-    settings.aa_threshold = opt.aa_threshold.value_or(-1);
-    // Without a time limit nothing is gained by stopping between passes, and one
-    // pass makes pass_fraction the whole render's progress.
-    if (opt.time_limit <= 0) settings.samples_per_pass = settings.max_samples;
+    const rt::RenderSettings settings = render_settings(opt, scene.width, scene.height);
 
     rt::Renderer renderer(opt.threads);
     ProgressBar bar(!opt.quiet && isatty(STDERR_FILENO));

@@ -291,7 +291,7 @@ namespace {
     const TraceStop& stop = st.stop;
     bool flagged = stop.flag && stop.flag->load(std::memory_order_relaxed);
     if (flagged || (stop.deadline != std::chrono::steady_clock::time_point::max() &&
-                    std::chrono::steady_clock::now() >= stop.deadline)) {
+                    (stop.now ? stop.now() : std::chrono::steady_clock::now()) >= stop.deadline)) {
         st.stopped = true;
         budget = cutoff = std::numeric_limits<double>::infinity();
     }

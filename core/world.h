@@ -130,6 +130,10 @@ struct TraceOptions {
 struct TraceStop {
     const std::atomic<bool>* flag = nullptr;
     std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+    // The clock the deadline is read on (null: steady_clock::now), read once a poll
+    // while a deadline is set. For tests, whose clock advances by the poll instead of
+    // by what a loaded machine makes of a second.
+    std::chrono::steady_clock::time_point (*now)() = nullptr;
 };
 
 // What one thread's run of traces counts, and how it is stopped. A ray tree can take

@@ -93,14 +93,19 @@ TEST_CASE("fuzz regression: a low max_errors must not terminate in the whole-sce
 
 // Every input saved in tests/fuzz/regressions/ (crashes, leaks, timeouts and broken
 // invariants the fuzzers found, minimised) must now pass all of the fuzzers' checks.
+// A missing or emptied folder fails: the replay would pass having replayed nothing.
 TEST_CASE("fuzz regression: every saved input passes the fuzzers' checks") {
+    // Inputs saved so far: raise it when adding one, never lower it.
+    constexpr std::size_t kSaved = 2;
     const fs::path dir = fs::path(RT_SOURCE_DIR) / "tests" / "fuzz" / "regressions";
+    REQUIRE_MESSAGE(fs::is_directory(dir), dir.string() << " is missing: the saved fuzz inputs are gone");
     std::vector<fs::path> files;
-    if (fs::is_directory(dir))
-        for (const auto& e : fs::directory_iterator(dir))
-            if (e.is_regular_file() && e.path().filename().string()[0] != '.') files.push_back(e.path());
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.is_regular_file() && e.path().filename().string()[0] != '.') files.push_back(e.path());
     std::sort(files.begin(), files.end());
     MESSAGE(files.size() << " saved fuzz inputs in " << dir.string());
+    REQUIRE_MESSAGE(files.size() >= kSaved, dir.string() << " holds " << files.size() << " inputs, fewer than the "
+                                                          << kSaved << " saved so far");
     for (const fs::path& f : files) {
         CAPTURE(f.filename().string());
         const std::string text = read_bytes(f);

@@ -100,11 +100,10 @@ TEST_CASE("isa: a path the processor lacks cannot be forced, and SSE2 always can
 }
 
 #if RT_HAVE_AVX2_KERNELS
-TEST_CASE("isa: four spheres at once give hit()'s answer bit for bit") {
-    if (!isa_supported(Isa::Avx2)) {
-        MESSAGE("no AVX2 here: the four-sphere kernel is never used");
-        return;
-    }
+// Skipped (and counted as skipped in doctest's summary) where the processor lacks
+// AVX2: the kernel is never used there. ctest runs the AVX2 tests as an entry of their
+// own, isa_avx2, which its log then shows as "Skipped" rather than "Passed".
+TEST_CASE("isa: four spheres at once give hit()'s answer bit for bit" * doctest::skip(!isa_supported(Isa::Avx2))) {
     rt_test::Rng rng(17);
     Scene scene;
     for (int i = 0; i < 64; ++i) {
@@ -140,6 +139,7 @@ TEST_CASE("isa: four spheres at once give hit()'s answer bit for bit") {
     // Both outcomes were tried often enough to mean something.
     CHECK(hits > 1000);
     CHECK(misses > 1000);
+    MESSAGE("AVX2 ran: " << hits + misses << " sphere tests compared with hit()");
 }
 #endif
 
@@ -228,11 +228,10 @@ Scene random_scene(rt_test::Rng& rng, bool lamp) {
 
 }  // namespace
 
-TEST_CASE("isa: packets of four camera rays shade as single rays do, bit for bit") {
-    if (!isa_supported(Isa::Avx2)) {
-        MESSAGE("no AVX2 here: camera rays are never traced in packets");
-        return;
-    }
+// Skipped where the processor lacks AVX2 (camera rays are never traced in packets
+// there), as the test above.
+TEST_CASE("isa: packets of four camera rays shade as single rays do, bit for bit" *
+          doctest::skip(!isa_supported(Isa::Avx2))) {
     IsaGuard guard;
     REQUIRE(set_isa(Isa::Avx2));
     rt_test::Rng rng(29);
@@ -261,4 +260,5 @@ TEST_CASE("isa: packets of four camera rays shade as single rays do, bit for bit
     CHECK(mismatches == 0);
     // Most rays met something lit, so the comparison covered the shading.
     CHECK(coloured > rays / 2);
+    MESSAGE("AVX2 ran: " << rays << " camera rays traced in packets and one by one");
 }

@@ -236,7 +236,6 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
             ++reads;
         }
     });
-    double worst_cancel = 0;
     // Edits arrive as they do from the viewer's panels: a material change compiled
     // against the running world (sharing its BVH), alternating with another scene.
     Scene edited = parse_ok(kSceneA);
@@ -253,9 +252,8 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
         if (i % 7 == 3) r.wait_for(0.001);
         if (i % 60 == 10) r.wait();
         if (i % 5 == 1) {
-            auto t0 = std::chrono::steady_clock::now();
+            rt_test::Watchdog dog("cancel() did not return");
             r.cancel();
-            worst_cancel = std::max(worst_cancel, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
     }
     r.start(world_b, s);
@@ -264,8 +262,6 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
     reader.join();
     CHECK(reads.load() > 0);
     CHECK_FALSE(torn.load());
-    CAPTURE(worst_cancel);
-    CHECK(worst_cancel < 2.0);
 
     std::uint64_t gen = 0;
     Image last = r.snapshot(&gen);
@@ -277,19 +273,21 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
     CHECK(same_film(last, fresh));
 }
 
-TEST_CASE("renderer: cancel() of a long render returns quickly and leaves the renderer reusable") {
+TEST_CASE("renderer: cancel() of a long render returns and leaves the renderer reusable") {
     auto world = compile_world(parse_ok(kSceneA));
     Renderer r(2);
     RenderSettings s;
-    s.max_samples = 100000;  // would take minutes
+    s.max_samples = 100000;  // would take many minutes
     r.start(world, s);
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    auto t0 = std::chrono::steady_clock::now();
-    r.cancel();
-    double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    CAPTURE(took);
-    CHECK(took < 2.0);  // generous: timing targets belong to the benchmarks
+    rt_test::wait_until([&] { return r.progress().samples >= 1; }, "the first sample pass");  // under way
+    {
+        // (How quickly is for the benchmarks; a cancel that waited for the render to end
+        // would not return for minutes.)
+        rt_test::Watchdog dog("cancel() of a long render did not return");
+        r.cancel();
+    }
     CHECK_FALSE(r.progress().running);
+    CHECK_FALSE(r.progress().done);
 
     s.max_samples = 1;
     r.start(world, s);
@@ -394,7 +392,7 @@ TEST_CASE("renderer: wait() in one thread returns when another cancels, even wit
     CHECK_FALSE(returned.load());  // nothing is done yet
     r.cancel();
     // A waiter that were never woken would hang here; give it far more than it needs.
-    for (int i = 0; i < 500 && !returned; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (int i = 0; i < 6000 && !returned; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     CHECK(returned.load());
     r.set_paused(false);
     if (!returned) {

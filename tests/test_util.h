@@ -1,18 +1,26 @@
 // Helpers the test files share: a temporary folder per test, reading and writing
 // whole files, shell quoting, collecting failures of a property test, parsing a scene
-// that must parse. Header-only, for every test program (they all link the core).
+// that must parse, a watchdog for calls that would hang when broken, what another
+// process is doing (from /proc). Header-only, for every test program (they all link
+// the core).
 #pragma once
 
 #include <doctest/doctest.h>
 #include <sys/stat.h>
+#include <sys/types.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -112,5 +120,76 @@ struct TempDir {
     fs::path operator/(const std::string& name) const { return path / name; }
     std::vector<std::string> files() const { return listing(path); }
 };
+
+// CPU seconds (user and system) process `pid` has used, from /proc/PID/stat; -1 if
+// it is gone. Unlike the time on the clock, it only grows while the process runs.
+inline double process_cpu_seconds(pid_t pid) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    std::string stat;
+    std::getline(in, stat);
+    const std::size_t paren = stat.rfind(')');  // the name before it may hold spaces
+    if (paren == std::string::npos) return -1;
+    std::istringstream fields(stat.substr(paren + 1));
+    std::string field;
+    unsigned long long utime = 0, stime = 0;
+    for (int i = 3; i <= 15 && fields >> field; ++i) {  // utime and stime are fields 14 and 15
+        if (i == 14) utime = std::stoull(field);
+        if (i == 15) stime = std::stoull(field);
+    }
+    return double(utime + stime) / double(::sysconf(_SC_CLK_TCK));
+}
+
+// Whether process `pid` is blocked opening a FIFO that nobody has opened from the
+// other side (the kernel's wait_for_partner).
+inline bool blocked_opening_fifo(pid_t pid) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/wchan");
+    std::string wchan;
+    std::getline(in, wchan);
+    return wchan == "wait_for_partner";
+}
+
+// Guards a call that returns at once when it works and never when it is broken (a
+// cancel that cannot reach a ray tree without end): if the guarded scope is still
+// running after `limit`, says `what` and ends the test program, which would otherwise
+// hang. Not a timing check: no limit is close to what a working call takes.
+class Watchdog {
+public:
+    explicit Watchdog(std::string what, std::chrono::seconds limit = std::chrono::seconds(120))
+        : what_(std::move(what)), thread_([this, limit] {
+              std::unique_lock<std::mutex> lock(mutex_);
+              if (cv_.wait_for(lock, limit, [this] { return done_; })) return;
+              std::fprintf(stderr, "FATAL: %s (still running after %lld s)\n", what_.c_str(),
+                           static_cast<long long>(limit.count()));
+              std::fflush(nullptr);
+              std::_Exit(3);
+          }) {}
+    ~Watchdog() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            done_ = true;
+        }
+        cv_.notify_all();
+        thread_.join();
+    }
+    Watchdog(const Watchdog&) = delete;
+    Watchdog& operator=(const Watchdog&) = delete;
+
+private:
+    std::string what_;
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    bool done_ = false;
+    std::thread thread_;  // last: started once the rest exists
+};
+
+// Polls `condition` (every millisecond, leaving the CPU to the threads it waits for)
+// until it holds. One that never comes ends the program through a Watchdog, saying
+// what it waited for: a broken render then fails instead of hanging the run.
+template <class Condition>
+void wait_until(Condition condition, const std::string& what,
+                std::chrono::seconds limit = std::chrono::seconds(120)) {
+    Watchdog dog("waited in vain for " + what, limit);
+    while (!condition()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+}
 
 }  // namespace rt_test

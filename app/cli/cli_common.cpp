@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "adaptive.h"
+#include "adaptive.h"
 #include "arg_table.h"
 #include "diagnostic_text.h"
 #include "image_io.h"
@@ -309,6 +310,26 @@ std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_dep
         world = std::move(changed);
     }
     return world;
+}
+
+rt::RenderSettings render_settings(const Options& o, int width, int height) {
+    rt::RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.coarse = false;  // nobody watches a preview here
+    settings.mirror = o.mirror;
+    settings.time_limit = o.time_limit;
+    // A time limit with no sample count means "as good as fits in the time"; a
+    // threshold alone, at most kDefaultAaMaxSamples.
+    settings.max_samples = o.samples          ? *o.samples
+                           : o.time_limit > 0 ? 65536
+                           : o.aa_threshold   ? rt::kDefaultAaMaxSamples
+                                              : 1;
+    settings.aa_threshold = o.aa_threshold.value_or(-1);
+    // Without a time limit nothing is gained by stopping between passes, and one
+    // pass makes pass_fraction the whole render's progress.
+    if (o.time_limit <= 0) settings.samples_per_pass = settings.max_samples;
+    return settings;
 }
 
 rt::Status print_scene(const Program& program, rt::Scene scene) {

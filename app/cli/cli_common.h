@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer.h"
 #include "scene.h"
 #include "status.h"
 #include "world.h"
@@ -84,6 +85,11 @@ rt::Status check_output(const Program& program, const std::string& out, const st
 // The scene compiled for rendering, with --max-depth in place of the scene's own
 // recursion limit.
 std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_depth);
+
+// What `raytracer` renders with: the picture size given (the scene's, after --width
+// and --height), no preview passes, and the samples and time limit of `o`. The
+// viewer's final render must make the same (tests/viewer/test_final_render.cpp).
+rt::RenderSettings render_settings(const Options& o, int width, int height);
 
 // --print-scene: writes the scene in normalised form, every default written out,
 // including the material an object or plane gets without a material block. Both

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_common.h"
 #include "final_render.h"
 #include "image_io.h"
 #include "options.h"
@@ -18,6 +19,38 @@ using namespace rtview;
 namespace {
 
 const auto parse = rtview_test::parse_args;
+
+// The settings `raytracer ARGS scene.txt out.ppm` renders a width x height picture
+// with, made by the command line's own code.
+rt::RenderSettings cli_settings(std::vector<std::string> args, int width, int height) {
+    const rtcli::Program program{"raytracer", "", "", ""};
+    args.insert(args.begin(), "raytracer");
+    args.push_back("scene.txt");
+    args.push_back("out.ppm");
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    rtcli::Options o;
+    const rt::Status st = rtcli::parse_args(program, int(argv.size()), argv.data(), o);
+    REQUIRE_MESSAGE(st.ok(), st.message());
+    return rtcli::render_settings(o, width, height);
+}
+
+// Every field of RenderSettings, each compared on its own so that a failure names it.
+void check_same(const rt::RenderSettings& viewer, const rt::RenderSettings& cli) {
+    CHECK(viewer.width == cli.width);
+    CHECK(viewer.height == cli.height);
+    CHECK(viewer.max_samples == cli.max_samples);
+    CHECK(viewer.time_limit == cli.time_limit);
+    CHECK(viewer.hard_time_limit == cli.hard_time_limit);
+    CHECK(viewer.coarse == cli.coarse);
+    CHECK(viewer.mirror == cli.mirror);
+    CHECK(viewer.tile_size == cli.tile_size);
+    CHECK(viewer.samples_per_pass == cli.samples_per_pass);
+    CHECK(viewer.order == cli.order);
+    CHECK(viewer.camera == cli.camera);
+    CHECK(viewer.coarse_block == cli.coarse_block);
+    CHECK(viewer.aa_threshold == cli.aa_threshold);
+}
 
 }  // namespace
 
@@ -37,29 +70,36 @@ TEST_CASE("--render takes a file name, with or without =") {
 }
 
 TEST_CASE("the final render's settings are the command line's") {
-    // raytracer: no --samples means the original's one ray per pixel, one pass.
-    rt::RenderSettings s = final_render_settings(640, 480, 0, 0);
-    CHECK(s.width == 640);
-    CHECK(s.height == 480);
-    CHECK(s.max_samples == 1);
-    CHECK(s.samples_per_pass == 1);
-    CHECK_FALSE(s.coarse);
-    CHECK_FALSE(s.mirror);
-    s = final_render_settings(640, 480, 16, 0);
-    CHECK(s.max_samples == 16);
-    CHECK(s.samples_per_pass == 16);
-    // A time limit alone: as many samples as fit, in growing passes.
-    s = final_render_settings(640, 480, 0, 2.5);
-    CHECK(s.max_samples == 65536);
-    CHECK(s.samples_per_pass == 0);
-    CHECK(s.time_limit == 2.5);
-    CHECK(s.aa_threshold < 0);
-    // A threshold: adaptive, up to raytracer's default of 16 samples unless given more.
-    s = final_render_settings(640, 480, 0, 0, 0.3);
-    CHECK(s.aa_threshold == 0.3);
-    CHECK(s.max_samples == 16);
-    s = final_render_settings(640, 480, 64, 0, 0.1);
-    CHECK(s.max_samples == 64);
+    // The viewer's samples, time limit and adaptive threshold (0, 0, -1: not given)
+    // and the same on raytracer's command line, at two picture sizes.
+    struct Case {
+        int samples;
+        double time_limit, aa_threshold;
+        std::vector<std::string> args;
+    };
+    const Case cases[] = {
+        {0, 0, -1, {}},  // the original's one ray per pixel
+        {16, 0, -1, {"--samples", "16"}},
+        {1, 0, -1, {"--samples", "1"}},
+        {0, 2.5, -1, {"--time-limit", "2.5"}},  // as many samples as fit
+        {4, 1.5, -1, {"--samples", "4", "--time-limit", "1.5"}},
+        {0, 0, 0.3, {"--aa-threshold", "0.3"}},  // adaptive, up to the default count
+        {64, 0, 0.1, {"--samples", "64", "--aa-threshold", "0.1"}},
+        {0, 2, 0, {"--time-limit", "2", "--aa-threshold", "0"}},
+    };
+    for (const Case& c : cases) {
+        for (auto [w, h] : {std::pair{640, 480}, std::pair{37, 21}}) {
+            CAPTURE(c.samples);
+            CAPTURE(c.time_limit);
+            CAPTURE(c.aa_threshold);
+            CAPTURE(w);
+            check_same(final_render_settings(w, h, c.samples, c.time_limit, c.aa_threshold),
+                       cli_settings(c.args, w, h));
+        }
+    }
+    // The comparison can tell settings apart: a mirrored picture is not the viewer's.
+    const rt::RenderSettings mirrored = cli_settings({"--mirror"}, 640, 480);
+    CHECK(mirrored.mirror != final_render_settings(640, 480, 0, 0).mirror);
 }
 
 TEST_CASE("a final render writes the scene's picture size and refuses bad names") {

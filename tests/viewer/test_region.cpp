@@ -1,9 +1,12 @@
-// Render region: the rectangle a drag selects at several zooms, and region pixels
-// equal to the full renderer's pixels at the same sample count.
+// Render region: the rectangle a drag selects at several zooms, region pixels equal
+// to the full renderer's pixels at the same sample count, and a cancel in the middle of
+// a pixel (placed there through the renderer's sample hook) that stops it at once.
 #include <doctest/doctest.h>
 
+#include <atomic>
 #include <chrono>
 #include <thread>
+#include <vector>
 
 #include "readout.h"
 #include "region.h"
@@ -25,8 +28,54 @@ picture_size { x_max 64 y_max 48 }
 end)";
 
 bool wait_done(const RegionRenderer& rr) {
-    for (int k = 0; k < 3000 && !rr.done(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    for (int k = 0; k < 24000 && !rr.done(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     return rr.done();
+}
+
+// The full renderer's picture of `scene` at `samples` samples per pixel.
+rt::Image full_render(const std::shared_ptr<const rt::World>& world, int samples) {
+    rt::Renderer full(2);
+    rt::RenderSettings st;
+    st.max_samples = samples;
+    full.start(world, st);
+    full.wait();
+    return full.snapshot();
+}
+
+// How many pixels of `rect` differ from the same pixels of `ref`.
+int differing(const RegionPicture& pic, const PixelRect& rect, const rt::Image& ref) {
+    int different = 0;
+    for (int y = rect.y0; y < rect.y1; ++y)
+        for (int x = rect.x0; x < rect.x1; ++x)
+            for (int c = 0; c < 3; ++c) {
+                float a = pic.image.rgb[3 * (std::size_t(y - rect.y0) * rect.width() + (x - rect.x0)) + c];
+                float b = ref.rgb[3 * (std::size_t(y) * ref.width + x) + c];
+                different += a != b;
+            }
+    return different;
+}
+
+// A glass ball in a closed box of perfect mirrors, depth 1000 and the ray tree's bound
+// off: a pixel's tree doubles at every pass through the ball and never ends.
+std::shared_ptr<const rt::World> endless_world(rt::Scene& scene) {
+    std::string planes;
+    const char* const kPlanes[6] = {"-3 0 0  point 2 -3 1 0  point 3 -3 0 1", "3 0 0  point 2 3 1 0  point 3 3 0 1",
+                                    "0 -3 0  point 2 0 -3 1  point 3 1 -3 0", "0 3 0  point 2 0 3 1  point 3 1 3 0",
+                                    "0 0 -3  point 2 1 0 -3  point 3 0 1 -3", "0 0 3  point 2 1 0 3  point 3 0 1 3"};
+    for (const char* p : kPlanes)
+        planes += std::string("  plane { material { reflection 1 scattering 0 colour 0.9 0.9 0.9 } point 1 ") + p +
+                  "  point 4 0 0 0.5 }\n";
+    scene = rtview_test::parse_ok(
+        "thing { sphere { material { reflection 0.45 refraction 0.45 scattering 0.1 translusans 1 refractive_index 1.5 "
+        "colour 1 1 1 } position 0 0 0 radius 1.2 } }\n"
+        "special_thing {\n" + planes + "}\n"
+        "light { spotlight { colour 20 20 20 position 1.5 2 2.2 } }\n"
+        "camera { position -2.5 -2 1 centre 0 0 0 up 0 0 1 angle_x 60 angle_y 45 }\n"
+        "picture_size { x_max 16 y_max 12 }\nend\n");
+    auto world = std::make_shared<rt::World>(*rt::compile_world(scene));
+    world->options.max_depth = 1000;
+    world->omit_weight = 0;
+    return world;
 }
 
 }  // namespace
@@ -53,12 +102,7 @@ TEST_CASE("a drag selects the pixels under both ends and everything between") {
 TEST_CASE("region pixels are the full render's pixels at the same sample count") {
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
-    rt::Renderer full(2);
-    rt::RenderSettings st;
-    st.max_samples = 5;
-    full.start(world, st);
-    full.wait();
-    rt::Image ref = full.snapshot();
+    rt::Image ref = full_render(world, 5);
     REQUIRE(ref.width == 64);
 
     RegionRenderer rr(2);
@@ -71,15 +115,7 @@ TEST_CASE("region pixels are the full render's pixels at the same sample count")
     REQUIRE(rr.snapshot(pic, version));
     CHECK_FALSE(rr.snapshot(pic, version));  // nothing new since
     REQUIRE(pic.rect == rect);
-    int different = 0;
-    for (int y = rect.y0; y < rect.y1; ++y)
-        for (int x = rect.x0; x < rect.x1; ++x)
-            for (int c = 0; c < 3; ++c) {
-                float a = pic.image.rgb[3 * (std::size_t(y - rect.y0) * rect.width() + (x - rect.x0)) + c];
-                float b = ref.rgb[3 * (std::size_t(y) * ref.width + x) + c];
-                different += a != b;
-            }
-    CHECK(different == 0);
+    CHECK(differing(pic, rect, ref) == 0);
 
     // Pasted into an old picture: the region's pixels change, the rest stays.
     rt::Image old;
@@ -98,8 +134,10 @@ TEST_CASE("a region render can be cancelled and started again") {
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
     RegionRenderer rr(2);
+    std::atomic<int> traced{0};
+    rr.set_sample_hook([&](int, int, int) { ++traced; });
     rr.start(world, s.camera, 64, 48, {0, 0, 64, 48}, 4096);
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    rt_test::wait_until([&] { return traced.load() >= 100; }, "100 samples traced");  // under way
     rr.cancel();
     CHECK_FALSE(rr.active());
     CHECK(rr.rect().empty());
@@ -109,6 +147,74 @@ TEST_CASE("a region render can be cancelled and started again") {
     // A rectangle outside the picture starts nothing.
     rr.start(world, s.camera, 64, 48, {60, 40, 70, 50}, 2);
     CHECK_FALSE(rr.active());
+}
+
+TEST_CASE("a cancel in the middle of a pixel traces none of its other samples, and cancel() waits for the worker") {
+    rt::Scene s = rtview_test::parse_ok(kScene);
+    auto world = rt::compile_world(s);
+    RegionRenderer rr(1);  // one worker: the samples come in a known order
+    // 4 x 2 pixels to 8 samples, in passes of samples [0, 1), [1, 2), [2, 4), [4, 8),
+    // each pass row by row: the last pass traces pixel (20, 10)'s samples 4 to 7, then
+    // (21, 10)'s. The cancel comes at (21, 10)'s sample 5: in the middle of that pixel.
+    const PixelRect rect{20, 10, 24, 12};
+    struct Sample {
+        int x, y, s;
+    };
+    std::vector<Sample> traced;  // written by the worker; read once cancel() has returned
+    std::atomic<bool> at_cancel{false}, cancel_returned{false};
+    bool returned_before_the_worker_left = false;
+    rr.set_sample_hook([&](int x, int y, int sample) {
+        traced.push_back({x, y, sample});
+        if (x == 21 && y == 10 && sample == 5) {
+            at_cancel = true;
+            // Until the cancel has begun: the sample below is traced after it.
+            while (rr.active()) std::this_thread::yield();
+            returned_before_the_worker_left = cancel_returned.load();
+        }
+    });
+    rr.start(world, s.camera, 64, 48, rect, 8);
+    rt_test::wait_until([&] { return at_cancel.load(); }, "sample 5 of pixel (21, 10)");
+    rr.cancel();
+    cancel_returned = true;
+    // Every sample up to the one in progress, and none after it.
+    REQUIRE(traced.size() == 8 + 8 + 16 + 4 + 2);
+    CHECK(traced.back().x == 21);
+    CHECK(traced.back().s == 5);
+    CHECK(traced[37].x == 21);
+    CHECK(traced[36].x == 21);
+    CHECK(traced[35].x == 20);
+    CHECK(traced[35].s == 7);
+    CHECK_FALSE(returned_before_the_worker_left);
+    CHECK_FALSE(rr.active());
+    CHECK(rr.rect().empty());
+
+    // Started again, the region renders as if nothing had happened.
+    rr.set_sample_hook(nullptr);
+    rr.start(world, s.camera, 64, 48, rect, 8);
+    REQUIRE(wait_done(rr));
+    RegionPicture pic;
+    std::uint64_t version = 0;
+    REQUIRE(rr.snapshot(pic, version));
+    CHECK(pic.samples == 8);
+    CHECK(differing(pic, rect, full_render(world, 8)) == 0);
+}
+
+TEST_CASE("a cancel stops a pixel inside a ray tree that would never end") {
+    rt::Scene s;
+    auto world = endless_world(s);
+    RegionRenderer rr(1);
+    std::atomic<int> traced{0};
+    rr.set_sample_hook([&](int, int, int) { ++traced; });
+    rr.start(world, s.camera, 16, 12, {7, 5, 9, 7}, 1);
+    // The worker has begun the first pixel's only sample, which never ends by itself.
+    rt_test::wait_until([&] { return traced.load() > 0; }, "the first sample");
+    {
+        rt_test::Watchdog dog("RegionRenderer::cancel() did not stop a ray tree without end");
+        rr.cancel();
+    }
+    CHECK(traced.load() == 1);
+    CHECK_FALSE(rr.active());
+    CHECK_FALSE(rr.done());
 }
 
 TEST_CASE("the readout names what a pixel's ray hit as the outline does") {

@@ -1,10 +1,15 @@
 // Structural edits as text replacements: each kind applied to the text parses to the
 // scene with the edit made on the Scene directly; the inverse restores the text byte
-// for byte; lamp -> spotlight -> lamp keeps the size; comments elsewhere survive.
+// for byte; lamp -> spotlight -> lamp keeps the size; comments elsewhere survive. And
+// moves: every kind of item moved as the move tool does it, against numbers by hand.
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <iterator>
+#include <sstream>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "document.h"
 #include "move_handle.h"
@@ -381,4 +386,172 @@ TEST_CASE("scene edits through the document after typing: the typing stays a ste
     }
     CHECK(std::as_const(doc).editor_text() == text);
     CHECK(doc.scene() == parse_ok(text));
+}
+
+namespace {
+
+// Every kind of item on a line of its own, CSG operands of every kind (a CSG among
+// them), and the same moved by kMove, written out by hand: the oracle does not call
+// translate().
+const char* const kMoveScene[] = {
+    "// every kind of item, each on its own line",
+    "thing {",
+    "  sphere { position 1 2 3 radius 0.5 }",
+    "  cylinder { end_1 1 0 0 end_2 1 0 2 radius 0.25 }",
+    "  tetrahedron { vect1 0 0 0 vect2 1 0 0 vect3 0 1 0 vect4 0 0 1 }",
+    "  torus { position 4 5 6 direction 0 1 1 major 1 minor 0.25 }",
+    "  constructive_solid_geometry { type U left { cylinder { end_1 0 0 0 end_2 0 0 1 radius 0.5 } } right { "
+    "constructive_solid_geometry { type I left { tetrahedron { vect1 0 0 0 vect2 2 0 0 vect3 0 2 0 vect4 0 0 2 } } "
+    "right { torus { position 1 1 1 direction 1 0 0 major 2 minor 0.5 } } } } }",
+    "  constructive_solid_geometry { type C left { sphere { position 0 0 0 radius 1 } } right { sphere { position 0.5 0 "
+    "0 radius 1 } } material { colour 1 0 0 } }",
+    "}",
+    "special_thing {",
+    "  plane { point 1 0 0 0 point 2 1 0 0 point 3 0 1 0 point 4 0 0 1 }",
+    "  chess_plane { material 2 { colour 0 0 0 } point 1 0 0 -1 point 2 1 0 -1 point 3 0 1 -1 point 4 0 0 5 }",
+    "}",
+    "light {",
+    "  lamp { colour 10 10 10 position 1 2 3 size 0.5 }",
+    "  spotlight { colour 5 5 5 position -1 -2 -3 }",
+    "}",
+    "camera { position -10 0 2 centre 0 0 0 up 0 0 3 angle_x 60 angle_y 45 }",
+    "picture_size { x_max 32 y_max 24 }",
+    "end",
+};
+const rt::Vec3 kMove{1.5, -2, 0.25};  // exact in binary: the sums are exact too
+
+struct MovedItem {
+    const char* what;
+    SceneItem item;
+    int line;           // its line in kMoveScene
+    const char* moved;  // that line with every point moved by kMove
+};
+const MovedItem kMovedItems[] = {
+    {"sphere", {SceneItem::Kind::Object, 0}, 2, "  sphere { position 2.5 0 3.25 radius 0.5 }"},
+    {"cylinder", {SceneItem::Kind::Object, 1}, 3, "  cylinder { end_1 2.5 -2 0.25 end_2 2.5 -2 2.25 radius 0.25 }"},
+    {"tetrahedron", {SceneItem::Kind::Object, 2}, 4,
+     "  tetrahedron { vect1 1.5 -2 0.25 vect2 2.5 -2 0.25 vect3 1.5 -1 0.25 vect4 1.5 -2 1.25 }"},
+    {"torus (its direction stays)", {SceneItem::Kind::Object, 3}, 5,
+     "  torus { position 5.5 3 6.25 direction 0 1 1 major 1 minor 0.25 }"},
+    {"CSG of a cylinder and a CSG of a tetrahedron and a torus", {SceneItem::Kind::Object, 4}, 6,
+     "  constructive_solid_geometry { type U left { cylinder { end_1 1.5 -2 0.25 end_2 1.5 -2 1.25 radius 0.5 } } "
+     "right { constructive_solid_geometry { type I left { tetrahedron { vect1 1.5 -2 0.25 vect2 3.5 -2 0.25 vect3 "
+     "1.5 0 0.25 vect4 1.5 -2 2.25 } } right { torus { position 2.5 -1 1.25 direction 1 0 0 major 2 minor 0.5 } } } "
+     "} }"},
+    {"CSG of two spheres", {SceneItem::Kind::Object, 5}, 7,
+     "  constructive_solid_geometry { type C left { sphere { position 1.5 -2 0.25 radius 1 } } right { sphere { "
+     "position 2 -2 0.25 radius 1 } } material { colour 1 0 0 } }"},
+    {"plane", {SceneItem::Kind::Plane, 0}, 10,
+     "  plane { point 1 1.5 -2 0.25 point 2 2.5 -2 0.25 point 3 1.5 -1 0.25 point 4 1.5 -2 1.25 }"},
+    {"chess plane", {SceneItem::Kind::Plane, 1}, 11,
+     "  chess_plane { material 2 { colour 0 0 0 } point 1 1.5 -2 -0.75 point 2 2.5 -2 -0.75 point 3 1.5 -1 -0.75 "
+     "point 4 1.5 -2 5.25 }"},
+    {"lamp", {SceneItem::Kind::Light, 0}, 14, "  lamp { colour 10 10 10 position 2.5 0 3.25 size 0.5 }"},
+    {"spotlight", {SceneItem::Kind::Light, 1}, 15, "  spotlight { colour 5 5 5 position 0.5 -4 -2.75 }"},
+};
+
+std::string lines_text(const std::vector<std::string>& lines) {
+    std::string t;
+    for (const std::string& l : lines) t += l + "\n";
+    return t;
+}
+
+std::vector<std::string> split_lines(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    return lines;
+}
+
+// A drag of the move tool (ui/move_tool.cpp MoveTool::apply): every frame the item
+// becomes what it was when the drag began, moved by the drag so far; the release
+// commits. Two frames, halfway and all the way.
+void drag_item(Document& doc, SceneItem item, rt::Vec3 d) {
+    const std::size_t i = std::size_t(item.index);
+    const rt::Scene start = doc.scene();
+    for (rt::Vec3 so_far : {d * 0.5, d}) {
+        switch (item.kind) {
+            case SceneItem::Kind::Object: {
+                rt::Object& o = doc.edit_object(i);
+                o = start.objects[i];
+                translate(o, so_far);
+                break;
+            }
+            case SceneItem::Kind::Plane: {
+                rt::Plane& p = doc.edit_plane(i);
+                p = start.planes[i];
+                translate(p, so_far);
+                break;
+            }
+            case SceneItem::Kind::Light: {
+                rt::Light& l = doc.edit_light(i);
+                l = start.lights[i];
+                translate(l, so_far);
+                break;
+            }
+        }
+    }
+    doc.commit();
+}
+
+}  // namespace
+
+TEST_CASE("scene edits: moving each kind of item moves every point of it in the text, and nothing else") {
+    const std::vector<std::string> lines(std::begin(kMoveScene), std::end(kMoveScene));
+    const std::string text = lines_text(lines);
+    const rt::Scene s = parse_ok(text);
+    REQUIRE(s.objects.size() == 6);
+    REQUIRE(s.planes.size() == 2);
+    REQUIRE(s.lights.size() == 2);
+    for (const MovedItem& m : kMovedItems) {
+        CAPTURE(m.what);
+        std::vector<std::string> want_lines = lines;
+        REQUIRE(lines[std::size_t(m.line)].find(std::string(m.moved).substr(0, 8)) == 0);
+        want_lines[std::size_t(m.line)] = m.moved;
+        const rt::Scene want = parse_ok(lines_text(want_lines));
+        REQUIRE_FALSE(want == s);
+
+        // Moved with the move tool, through the document.
+        Document doc;
+        doc.load_text(text, "", "moves");
+        drag_item(doc, m.item, kMove);
+        const std::string moved = std::as_const(doc).editor_text();
+        INFO("text after the move:\n" << moved);
+        const rt::Scene got = parse_ok(moved);
+        // Each item compared on its own, so that a failure names the one that differs.
+        for (std::size_t k = 0; k < want.objects.size(); ++k) {
+            CAPTURE(k);
+            CHECK(got.objects[k] == want.objects[k]);
+        }
+        for (std::size_t k = 0; k < want.planes.size(); ++k) {
+            CAPTURE(k);
+            CHECK(got.planes[k] == want.planes[k]);
+        }
+        for (std::size_t k = 0; k < want.lights.size(); ++k) {
+            CAPTURE(k);
+            CHECK(got.lights[k] == want.lights[k]);
+        }
+        CHECK(got == want);
+        CHECK(doc.scene() == got);
+        // The text changed on the item's own line only.
+        const std::vector<std::string> got_lines = split_lines(moved);
+        REQUIRE(got_lines.size() == lines.size());
+        for (std::size_t k = 0; k < lines.size(); ++k)
+            if (k != std::size_t(m.line)) CHECK(got_lines[k] == lines[k]);
+        // One undo step takes it back to the original bytes.
+        REQUIRE(doc.undo());
+        CHECK(std::as_const(doc).editor_text() == text);
+
+        // Duplicated with an offset (Edit > Duplicate moved aside): the copy is the
+        // item moved.
+        auto e = duplicate_item(text, s, m.item, kMove);
+        REQUIRE(e);
+        const rt::Scene dup = parse_ok(e->replacement.applied_to(text));
+        const std::size_t at = std::size_t(m.item.index) + 1;
+        switch (m.item.kind) {
+            case SceneItem::Kind::Object: CHECK(dup.objects.at(at) == want.objects[at - 1]); break;
+            case SceneItem::Kind::Plane: CHECK(dup.planes.at(at) == want.planes[at - 1]); break;
+            case SceneItem::Kind::Light: CHECK(dup.lights.at(at) == want.lights[at - 1]); break;
+        }
+    }
 }

@@ -37,11 +37,17 @@ wait_handle() {
     fail "expected the handle line to be $1, it is '$(field handle 1) $(field handle 2)'"
 }
 
+# Saves the edit just made. It waits for the edit to show first (the title's "*"): on
+# a busy machine a frame can take longer than the pause after a key, and a title
+# without "*" would then be the last save's, not this one's.
 save() {
-    local before
-    before=$(stat -c %Y.%s "$SCENE" 2>/dev/null || true)
+    for _ in $(seq 1 300); do
+        [[ "$(title)" == *"*"* ]] && break
+        sleep 0.1
+    done
+    [[ "$(title)" == *"*"* ]] || fail "the edit never showed in the title ('$(title)')"
     xdotool key ctrl+s
-    for _ in $(seq 1 50); do
+    for _ in $(seq 1 300); do
         [[ "$(title)" != *"*"* ]] && break
         sleep 0.1
     done

@@ -1,5 +1,6 @@
-// The final render (see final_render.h). The settings mirror app/raytracer.cpp line
-// for line: any difference would show up as different bytes in the file.
+// The final render (see final_render.h). The settings mirror raytracer's
+// (rtcli::render_settings) line for line: any difference would show up as different
+// bytes in the file. tests/viewer/test_final_render.cpp compares the two.
 #include "final_render.h"
 
 #include <algorithm>

@@ -2,6 +2,7 @@
 #include "loader.h"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -33,7 +34,8 @@ rt::Status read_with_progress(const std::string& path, std::string& out, std::at
                               const std::function<void(std::uint64_t, std::uint64_t)>& report) {
     auto fail = [](std::string why) { return rt::Status::error(std::move(why), rt::kExitUsage); };
     // Not blocking on open: a FIFO with no writer would hold the loader (and Cancel)
-    // for ever. Only regular files are scenes here: a FIFO, a device (/dev/zero) or a
+    // for ever. A FIFO (`raytracer-view <(make-scene)`) is read as its writer writes,
+    // waiting in polls that Cancel and signals end; a device (/dev/zero), a socket or a
     // folder gets a message at once and the current scene stays.
     int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0) return fail(std::strerror(errno));
@@ -43,11 +45,12 @@ rt::Status read_with_progress(const std::string& path, std::string& out, std::at
         ::close(fd);
         return fail(std::strerror(e));
     }
-    if (!S_ISREG(st.st_mode)) {
+    const bool fifo = S_ISFIFO(st.st_mode);
+    if (!S_ISREG(st.st_mode) && !fifo) {
         ::close(fd);
-        return fail(S_ISDIR(st.st_mode) ? std::strerror(EISDIR) : "not a regular file (a pipe, a device or a socket)");
+        return fail(S_ISDIR(st.st_mode) ? std::strerror(EISDIR) : "not a regular file or a pipe (a device or a socket)");
     }
-    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    if (!fifo) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
     const std::size_t max_bytes = rt::Limits::max_file_size;
     std::uint64_t total = S_ISREG(st.st_mode) ? std::uint64_t(st.st_size) : 0;
     if (total > max_bytes) {
@@ -68,10 +71,20 @@ rt::Status read_with_progress(const std::string& path, std::string& out, std::at
         std::size_t at = out.size();
         std::size_t want = at < total ? std::min<std::size_t>(kChunk, std::size_t(total) - at) : kChunk;
         out.resize(at + want);
+        if (fifo) {
+            // Until a writer has come, poll reports nothing (not even a hang-up), and
+            // a read would say end of file: wait for data or the writer's end.
+            pollfd p{fd, POLLIN, 0};
+            const int ready = ::poll(&p, 1, 50);
+            if (ready == 0 || (ready < 0 && errno == EINTR)) {
+                out.resize(at);
+                continue;
+            }
+        }
         ssize_t n = ::read(fd, &out[at], want);
         if (n < 0) {
             out.resize(at);
-            if (errno == EINTR) continue;
+            if (errno == EINTR || errno == EAGAIN) continue;
             int e = errno;
             ::close(fd);
             out.clear();

@@ -65,6 +65,7 @@ RegionRenderer::~RegionRenderer() {
         std::lock_guard<std::mutex> lock(mutex_);
         quit_ = true;
         ++generation_;
+        stop_ = true;
     }
     work_cv_.notify_all();
     for (std::thread& t : threads_) t.join();
@@ -73,6 +74,7 @@ RegionRenderer::~RegionRenderer() {
 void RegionRenderer::cancel() {
     std::unique_lock<std::mutex> lock(mutex_);
     ++generation_;
+    stop_ = true;
     active_ = false;
     idle_cv_.wait(lock, [&] { return busy_ == 0; });
 }
@@ -82,6 +84,7 @@ void RegionRenderer::start(std::shared_ptr<const rt::World> world, const rt::Cam
     cancel();
     std::lock_guard<std::mutex> lock(mutex_);
     if (!world || rect.empty() || rect.x0 < 0 || rect.y0 < 0 || rect.x1 > width || rect.y1 > height) return;
+    stop_ = false;  // (no worker is busy: cancel() waited)
     world_ = std::move(world);
     basis_ = rt::CameraBasis::make(camera, width, height, false);
     rect_ = rect;
@@ -139,14 +142,20 @@ void RegionRenderer::worker() {
         lock.unlock();
 
         rt::RayStats stats;
+        stats.stop.flag = &stop_;
         bool cancelled = false;
-        for (int x = 0; x < w; ++x) {
-            if (generation_.load(std::memory_order_relaxed) != gen) {
-                cancelled = true;
-                break;
+        // One sample at a time, so that a cancel stops a pixel between its samples (and,
+        // through stats.stop, inside one). The renderer's order of additions: the sum
+        // so far, then samples s0..s1-1.
+        for (int x = 0; x < w && !cancelled; ++x) {
+            for (int s = s0; s < s1; ++s) {
+                if (stats.stopped || generation_.load(std::memory_order_relaxed) != gen) {
+                    cancelled = true;
+                    break;
+                }
+                if (sample_hook_) sample_hook_(rect.x0 + x, rect.y0 + r, s);
+                rt::accumulate_pixel(*world, basis, rect.x0 + x, rect.y0 + r, s, s + 1, &row[3 * std::size_t(x)], stats);
             }
-            // The renderer's order of additions: the sum so far, then samples s0..s1-1.
-            rt::accumulate_pixel(*world, basis, rect.x0 + x, rect.y0 + r, s0, s1, &row[3 * std::size_t(x)], stats);
         }
 
         lock.lock();

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -59,13 +60,20 @@ public:
     // seconds (0: none).
     void start(std::shared_ptr<const rt::World> world, const rt::Camera& camera, int width, int height,
                const PixelRect& rect, int max_samples, double time_limit = 0);
-    void cancel();  // returns when no worker touches the region any more
+    // Returns when no worker touches the region any more; a pixel's ray tree in
+    // progress is stopped in the middle (as the renderer's cancel() does).
+    void cancel();
     bool active() const;
     bool done() const;
     int samples() const;
     PixelRect rect() const;
     // A copy of the region if it changed since `version` (which it then updates).
     bool snapshot(RegionPicture& out, std::uint64_t& version) const;
+
+    // For tests: called on the worker thread before each sample it traces, with the
+    // picture pixel and the sample's number, so that a test can cancel at a known
+    // point, in the middle of a pixel. Set it while no region renders; empty: none.
+    void set_sample_hook(std::function<void(int x, int y, int sample)> hook) { sample_hook_ = std::move(hook); }
 
 private:
     void worker();
@@ -74,7 +82,11 @@ private:
     std::vector<std::thread> threads_;
     bool quit_ = false;
     std::atomic<std::uint64_t> generation_{0};
+    // Set with every new generation, so that the traces in progress stop (a pixel's
+    // ray tree can take minutes); cleared by start() once no worker is busy.
+    std::atomic<bool> stop_{false};
     int busy_ = 0;
+    std::function<void(int, int, int)> sample_hook_;
 
     // The job (guarded by mutex_).
     std::shared_ptr<const rt::World> world_;
