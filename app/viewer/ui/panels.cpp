@@ -59,6 +59,7 @@ std::string shape_summary(const rt::Shape& s) {
     if (auto* t = std::get_if<rt::Torus>(&s)) return "at " + fmt_vec(t->position);
     if (auto* c = std::get_if<rt::Cylinder>(&s)) return fmt_vec(c->end1) + " .. " + fmt_vec(c->end2);
     if (auto* t = std::get_if<rt::Tetrahedron>(&s)) return "vect1 " + fmt_vec(t->v[0]);
+    if (auto* m = std::get_if<rt::Mesh>(&s)) return m->file.substr(m->file.find_last_of('/') + 1) + " at " + fmt_vec(m->position);
     return {};
 }
 
