@@ -77,11 +77,16 @@ bool read_file(const std::string& path, std::string& out, ModelError& error) {
 
 }  // namespace
 
+bool is_model_file(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    return ext == ".obj" || ext == ".ply";
+}
+
 bool read_model(const std::string& path, MeshData& out, ModelError& error) {
     out = MeshData();
     error = ModelError();
     const std::string ext = lower_extension(path);
-    if (ext != ".obj" && ext != ".ply") {
+    if (!is_model_file(path)) {
         error.message = "unknown model format '" + ext + "' (expected a .obj or .ply file)";
         return false;
     }
@@ -136,6 +141,15 @@ const std::vector<float>& MeshModel::vertex_normals() const {
     return normals_;
 }
 
+bool MeshModel::unchanged_on_disk() const {
+    if (stamp_[2] < 0) return true;
+    struct stat st;
+    if (::stat(path_.c_str(), &st) != 0) return true;  // gone: keep what was read
+    return std::int64_t(st.st_dev) == stamp_[0] && std::int64_t(st.st_ino) == stamp_[1] &&
+           std::int64_t(st.st_size) == stamp_[2] &&
+           std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec == stamp_[3];
+}
+
 ModelStore::Loaded ModelStore::load(const std::string& path) {
     Loaded result;
     struct stat st;
@@ -159,7 +173,9 @@ ModelStore::Loaded ModelStore::load(const std::string& path) {
     Entry e;
     e.id = id;
     if (read_model(path, data, result.error)) {
-        auto model = std::make_shared<const MeshModel>(path, std::move(data));
+        auto model = std::make_shared<MeshModel>(path, std::move(data));
+        const std::int64_t stamp[4] = {std::int64_t(id.dev), std::int64_t(id.ino), id.size, id.mtime_ns};
+        std::copy(stamp, stamp + 4, model->stamp_);
         e.model = model;
         result.model = std::move(model);
     } else {

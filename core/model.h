@@ -55,6 +55,9 @@ public:
     const std::string& path() const { return path_; }  // as resolved (the scene's folder joined)
     const MeshData& data() const { return data_; }
     const Aabb& bounds() const { return bounds_; }  // of the vertices that triangles use
+    // Whether the file is still the one read (same size, modification time and inode);
+    // always true for a model made from data rather than read by a ModelStore.
+    bool unchanged_on_disk() const;
     // Built once, on the first call from any thread (the others wait for it).
     const TriangleAccel& accel() const;
     // Unit normals per vertex (x y z each): the file's own, else the sum of the
@@ -62,14 +65,18 @@ public:
     const std::vector<float>& vertex_normals() const;
 
 private:
+    friend class ModelStore;
     std::string path_;
     MeshData data_;
+    std::int64_t stamp_[4] = {0, 0, -1, 0};  // dev, inode, size, mtime (ns) as read; size -1: none
     Aabb bounds_;
     mutable std::once_flag built_, normals_made_;
     mutable std::unique_ptr<TriangleAccel> accel_;
     mutable std::vector<float> normals_;
 };
 
+// Whether read_model reads a file of this name: .obj or .ply, any case.
+bool is_model_file(const std::string& path);
 // Reads an .obj or .ply file (chosen by the name's extension, any case). False with
 // `error` set if the file cannot be read or is not a model the limits allow.
 bool read_model(const std::string& path, MeshData& out, ModelError& error);

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "model.h"
 #include "scene.h"
 #include "scene_parser.h"
 #include "scene_text.h"
@@ -182,11 +183,19 @@ public:
     rt::Status save_as(const std::string& path);
 
     // --- the file on disk ------------------------------------------------------
-    enum class DiskEvent { None, Reloaded, Conflict, Removed };
+    enum class DiskEvent { None, Reloaded, Conflict, Removed, ModelsReloaded, ModelUnreadable };
     // Call now and then (the viewer: once a second). Reloads by itself when there
     // are no unsaved edits (looking around is not an edit: the view camera lives
-    // outside the document); reports a conflict otherwise.
+    // outside the document); reports a conflict otherwise. A model file a mesh names
+    // that changed is read again (the text stays: ModelsReloaded); if it no longer
+    // reads, the scene keeps the model as it was (ModelUnreadable, model_problem()).
+    // The models read for this document's scenes, kept between parses (and shared
+    // with the loader, which reads them in the background).
+    rt::ModelStore& models() const { return models_; }
+    // How the document parses a text that is (to be) the file at `path`.
+    rt::ParseOptions parse_options(const std::string& path) const;
     DiskEvent check_disk();
+    const std::string& model_problem() const { return model_problem_; }
     bool disk_conflict() const { return conflict_; }
     void resolve_conflict_reload();  // take the disk version (undoable)
     void resolve_conflict_keep();    // keep ours; ask again only on the next change
@@ -218,7 +227,11 @@ private:
     void normalize_applied();
     void mark_saved();
     void reload_text(const std::string& text);
+    // The scene's models read again if one changed on disk; true if the scene changed.
+    bool reload_models();
 
+    mutable rt::ModelStore models_;  // (a cache: reading through it changes no state)
+    std::string model_problem_;      // why a changed model did not read, once said
     std::string editor_;
     std::optional<std::string> applied_;  // only while it differs from editor_ (or may)
     std::optional<std::string> typing_base_;  // editor_ as the last step left it, while typed into
