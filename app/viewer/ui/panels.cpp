@@ -179,6 +179,7 @@ void probe_view(const rt::Camera& view, const double angles[3]) {
 void Panels::draw_menu_bar() {
     if (!ImGui::BeginMainMenuBar()) return;
     const Document& doc = editor_.doc();
+    const bool can = doc.has_scene() && !doc.editor_dirty() && !doc.text_behind();  // structural edits
     probe_menu_header("File");
     if (ImGui::BeginMenu("File")) {
         if (ImGui::MenuItem("Open...", "Ctrl+O")) commands_.run(Command::OpenDialog);
@@ -189,6 +190,9 @@ void Panels::draw_menu_bar() {
             ImGui::EndMenu();
         }
         if (ImGui::MenuItem("Open the default scene")) commands_.run(Command::OpenDefault);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Add model...", nullptr, false, can)) commands_.run(Command::AddModelDialog);
+        probe_item("menu:Add model");
         ImGui::Separator();
         if (ImGui::MenuItem("Save", "Ctrl+S")) commands_.run(Command::Save);
         if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) commands_.run(Command::SaveAsDialog);
@@ -209,7 +213,6 @@ void Panels::draw_menu_bar() {
         if (ImGui::MenuItem("Revert text", nullptr, false, doc.editor_dirty())) commands_.run(Command::RevertText);
         ImGui::Separator();
         // Structural edits: written into the text as ordinary blocks, one undo step each.
-        const bool can = doc.has_scene() && !doc.editor_dirty() && !doc.text_behind();
         if (ImGui::BeginMenu("Add (in front of the view)", can)) {
             static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
             for (const char* k : kinds)
