@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -522,8 +523,20 @@ TEST_CASE("mesh: a thousand model files, and a clear error past the limit of fil
             ParseResult r = parse_scene(scene + "}\ncamera { position 50 -50 50 centre 50 50 0 up 50 50 1 angle_x 60 "
                                                 "angle_y 45 }\npicture_size { x_max 8 y_max 8 }\nend\n",
                                         o);
-            CHECK(r.ok());
-            CHECK(r.scene.objects.size() == 1000);
+            REQUIRE(r.ok());
+            REQUIRE(r.scene.objects.size() == 1000);
+            // Each its own model, and each found where it was placed in the world.
+            std::set<const MeshModel*> models;
+            for (const Object& ob : r.scene.objects) models.insert(std::get<Mesh>(ob.shape).model.get());
+            CHECK(models.size() == 1000);
+            CHECK(models.count(nullptr) == 0);
+            const auto world = compile_world(r.scene);
+            int found = 0;
+            for (int k = 0; k < 1000; ++k) {
+                const PickResult p = pick(*world, Ray{{k % 100 + 0.2, k / 100 + 0.2, 5}, {0, 0, -1}});
+                found += p.hit && p.object == k && std::fabs(p.t - 5) < 1e-9;
+            }
+            CHECK(found == 1000);
         }
     }
     ParseOptions o;
