@@ -264,11 +264,18 @@ TEST_CASE("models: every malformed file gets its message, with the line where it
     std::string range_ply = good_ply;
     const std::int32_t big = 99999;
     std::memcpy(&range_ply[good_ply.size() - 4], &big, 4);
+    // The first index past the end: a check of <= instead of < would let it through
+    // and the renderer read past the vertices.
+    std::string edge_ply = good_ply;
+    const std::int32_t three = 3;
+    std::memcpy(&edge_ply[good_ply.size() - 4], &three, 4);
     std::string utf16 = "\xff\xfe";
     for (char ch : std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")) utf16 += ch, utf16 += '\0';
     const std::vector<Case> cases = {
         {"range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 99999\n", 5, "face index 99999 out of range (3 vertices)"},
         {"before.obj", "v 0 0 0\nf -2 -1 1\n", 2, "vertex index -2 out of range (1 vertex before it)"},
+        {"edge.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", 4, "face index 4 out of range (3 vertices)"},
+        {"index0.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 4, "vertex index 0 (OBJ counts from 1) or not a number"},
         {"two.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", 3, "a face needs at least 3 vertices, this one has 2"},
         {"nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 2, "vertex coordinate 'nan' is not a number"},
         {"huge.obj", "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n", 2, "vertex coordinate out of range (magnitude at most 1e15)"},
@@ -279,6 +286,10 @@ TEST_CASE("models: every malformed file gets its message, with the line where it
         {"truncated.ply", good_ply.substr(0, good_ply.size() - 5), 0, "the file ends in face 1 (truncated, or the header's counts are wrong)"},
         {"nan.ply", nan_ply, 0, "vertex 1: coordinate y is not a number"},
         {"range.ply", range_ply, 0, "face 1: face index 99999 out of range (3 vertices)"},
+        {"edge.ply", edge_ply, 0, "face 1: face index 3 out of range (3 vertices)"},
+        {"edge_ascii.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                           "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+         13, "face index 3 out of range (3 vertices)"},
         {"huge.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
                      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1e300 0 0\n0 1 0\n3 0 1 2\n",
          11, "coordinate x is out of range (magnitude at most 1e15)"},
