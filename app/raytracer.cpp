@@ -125,6 +125,8 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
     bar.clear();
     out.progress = renderer.progress();
     out.threads = renderer.threads();
+    // A render thread that ran out of memory ended the render: nothing is written.
+    if (!out.progress.error.empty()) return failure(kProgram, out.progress.error, kExitUsage);
     renderer.snapshot_rgb8(out.pixels, out.width, out.height);
     if (out.width != scene.width || out.height != scene.height || out.progress.samples < 1)
         return failure(kProgram,

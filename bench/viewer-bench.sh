@@ -27,7 +27,7 @@ NEED=(raytracer raytracer-view rtview-xframes)
 
 # start_viewer SCENE LOG: starts the viewer with --verbose, waits for its first picture.
 start_viewer() {
-    "$BIN/raytracer-view" "$1" --size 1280x800 --print-layout -v > "$OUT/layout.txt" 2> "$2" &
+    "$BIN/raytracer-view" "$1" --size 1280x800 ${VIEW_ARGS:-} --print-layout -v > "$OUT/layout.txt" 2> "$2" &
     VP=$!
     PIDS+=($VP)
     for _ in $(seq 1 1200); do grep -q "first picture" "$2" && break; sleep 0.1; done
@@ -42,7 +42,7 @@ stop_viewer() {
     kill "$VP" 2> /dev/null || true
 }
 
-# drag_run BUSY: one 2 s drag; prints "changes max_gap_ms".
+# drag_run BUSY: one 2 s drag; prints "changes max_gap_ms median_block threads".
 drag_run() {
     local busy=$1 bp=()
     start_viewer "${DRAG_SCENE:-$HERE/../scenes/default.txt}" "$OUT/drag.err"
@@ -67,23 +67,29 @@ drag_run() {
     wait "$xf"
     for p in "${bp[@]}"; do kill "$p"; done
     stop_viewer
-    awk '/^changes/ { print $2, $6 }' "$OUT/frames.txt"
+    # The preview's block size, from the viewer's own log of each view change.
+    local block
+    block=$(sed -n 's/.*(preview[^)]*, block \([0-9]*\)).*/\1/p' "$OUT/drag.err" | sort -n |
+        awk '{ v[NR] = $1 } END { print (NR ? v[int((NR + 1) / 2)] : "none") }')
+    echo "$(awk '/^changes/ { print $2, $6 }' "$OUT/frames.txt") $block"
 }
 
 echo "raytracer-view bench, $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores, load average before: $(load)"
 echo
 for busy in 0 1; do
-    rates=() gaps=()
+    rates=() gaps=() blocks=()
     for _ in $(seq 1 "$RUNS"); do
-        read -r c g <<< "$(drag_run $busy)"
+        read -r c g b <<< "$(drag_run $busy)"
         rates+=("$(awk -v c="$c" 'BEGIN { printf "%.1f", c / 2.0 }')")
         gaps+=("$g")
+        blocks+=("$b")
     done
     label=$([ "$busy" = 1 ] && echo "two busy processes" || echo "no extra load")
-    echo "drag, $(basename "${DRAG_SCENE:-default.txt}"), 1280x800, $label: picture updates/s ${rates[*]}; longest still gap ms ${gaps[*]} (load $(load))"
+    echo "drag, $(basename "${DRAG_SCENE:-default.txt}"), 1280x800, $label: picture updates/s ${rates[*]}; longest still gap ms ${gaps[*]};" \
+        "median preview block ${blocks[*]} on $(nproc) threads (load $(load))"
 done
+[ "${DRAG_ONLY:-0}" = 1 ] && { rm -rf "$OUT"; exit 0; }
 
-[ "${DRAG_ONLY:-0}" = 1 ] && exit 0
 echo
 /usr/bin/time -f "%e %M" "$BIN/raytracer" "$GRID" "$OUT/grid.ppm" 2> "$OUT/cli.time" > /dev/null
 read -r CLI_S CLI_KB <<< "$(tail -1 "$OUT/cli.time")"

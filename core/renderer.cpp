@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <new>
+#include <stdexcept>
 
 #include "adaptive.h"
 
@@ -108,6 +110,7 @@ struct Renderer::Job {
     std::uint64_t rays = 0;
     std::uint64_t film_samples = 0;
     std::shared_ptr<AdaptiveJob> aa;  // null: a uniform render
+    std::string error;                // RenderProgress::error
 };
 
 namespace {
@@ -369,11 +372,26 @@ void Renderer::worker_main() {
         RayStats stats;
         stats.stop.flag = task.stop.get();
         stats.stop.deadline = task.deadline;
-        bool complete = run_task(task, buf, stats);
+        std::string error;
+        bool complete = false;
+        try {
+            if (task_hook) task_hook();
+            complete = run_task(task, buf, stats);
+        } catch (const std::bad_alloc&) {
+            error = "out of memory while rendering";
+        } catch (const std::exception& e) {
+            error = std::string("a render thread failed: ") + e.what();
+        }
         lock.lock();
         bool current = job_ && job_->generation == task.generation && !job_->done;
         if (current) job_->rays += stats.rays;
-        if (complete && current) {
+        if (!error.empty()) {
+            // The render ends here, with the message; the others stop at once.
+            if (current) {
+                job_->error = std::move(error);
+                finish_locked(*job_);
+            }
+        } else if (complete && current) {
             commit(task, buf);
         } else if (current && Clock::now() >= task.deadline) {
             // Out of time in the middle of a pass: the tiles committed keep their extra
@@ -674,6 +692,7 @@ RenderProgress Renderer::progress() const {
     r.refining = j.aa ? j.aa->refining : -1;
     r.refinements = j.aa ? j.aa->refinements : 0;
     r.film_samples = j.film_samples;
+    r.error = j.error;
     return r;
 }
 

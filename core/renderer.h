@@ -20,6 +20,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -73,6 +74,9 @@ struct RenderProgress {
     std::int64_t refining = -1;
     int refinements = 0;             // adaptive passes completed after the first sample
     std::uint64_t film_samples = 0;  // samples in the film, all pixels together
+    // Why the render stopped unfinished, or empty: a worker ran out of memory (a
+    // bad_alloc on a render thread ends the render, not the program). done is set too.
+    std::string error;
 };
 
 // How far a render with this max_samples has got, 0..1, for progress bars: samples per
@@ -127,6 +131,10 @@ public:
     void sample_counts(std::vector<std::uint32_t>& out, int& width, int& height) const;
     int sample_count(int x, int y) const;
     int threads() const { return int(workers_.size()); }
+
+    // Called by a worker before each task it takes, outside the lock (null: nothing).
+    // Tests throw from it to see a failing worker end the render with a message.
+    std::function<void()> task_hook;
 
 private:
     struct Job;

@@ -11,10 +11,12 @@
 #include <chrono>
 #include <cstring>
 #include <memory>
+#include <new>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "default_scene.h"
 #include "renderer.h"
 #include "scene_parser.h"
 #include "shapes.h"
@@ -509,4 +511,33 @@ TEST_CASE("renderer: a world compiled from an edited scene shares the geometry u
         b.objects.push_back(b.objects[0]);
         CHECK(compile_world(b, wa.get())->geometry.get() != wa->geometry.get());
     }
+}
+
+TEST_CASE("a render thread that runs out of memory ends the render with a message, not the program") {
+    auto world = compile_world(rt_test::parse_ok(rt::kDefaultScene));
+    Renderer renderer(2);
+    std::atomic<int> tasks{0};
+    // The third task of the render throws as a failed allocation would.
+    renderer.task_hook = [&] {
+        if (tasks.fetch_add(1) == 2) throw std::bad_alloc();
+    };
+    RenderSettings st;
+    st.width = 64;
+    st.height = 48;
+    st.max_samples = 4;
+    renderer.start(world, st);
+    renderer.wait();
+    RenderProgress p = renderer.progress();
+    CHECK(p.done);
+    CHECK(p.error == "out of memory while rendering");
+    CHECK(p.samples < 4);  // stopped, not finished
+    // The next render, without the failure, completes and carries no message.
+    renderer.cancel();  // no worker is between taking a task and calling the hook
+    renderer.task_hook = nullptr;
+    renderer.start(world, st);
+    renderer.wait();
+    p = renderer.progress();
+    CHECK(p.done);
+    CHECK(p.error.empty());
+    CHECK(p.samples == 4);
 }

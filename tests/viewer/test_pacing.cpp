@@ -2,8 +2,12 @@
 // it fits the frame budget.
 #include <doctest/doctest.h>
 
+#include <atomic>
+#include <chrono>
+
 #include "default_scene.h"
 #include "film.h"
+#include "mirror_box.h"
 #include "pacing.h"
 #include "scene_parser.h"
 
@@ -69,4 +73,84 @@ TEST_CASE("a preview is the picture's block corners, traced as the camera ray th
             distinct += p[0] != rgba[0] || p[1] != rgba[1] || p[2] != rgba[2];
         }
     CHECK(distinct > 20);  // a picture, not a flat colour
+}
+
+TEST_CASE("the viewer's own preview blocks need not be powers of 2: twice the speed, a finer block") {
+    PreviewPacer p;
+    CHECK(p.preview_block(1280, 720, 0.010) == 8);  // nothing measured yet
+    // 1280x720 at 8x8 (160x90 = 14400 rays) just within 10 ms on one core...
+    p.measured(14400, 0.0099);
+    CHECK(p.preview_block(1280, 720, 0.010) == 8);
+    // ...and with two cores each ray costs half the wall time: 6x6 fits (214x120 =
+    // 25680 rays, 8.8 ms); a power of 2 would have stayed at 8 (4x4 needs 17.6 ms).
+    PreviewPacer q;
+    q.measured(14400, 0.0099 / 2);
+    CHECK(q.preview_block(1280, 720, 0.010) == 6);
+    CHECK(q.coarse_block(1280, 720, 0.010) == 8);
+    PreviewPacer slow;
+    slow.measured(1, 1.0);
+    CHECK(slow.preview_block(1280, 720, 0.010) == 64);
+}
+
+TEST_CASE("a preview traced on a pool has the same bytes as on one thread") {
+    rt::ParseResult r = rt::parse_scene(rt::kDefaultScene);
+    REQUIRE(r.ok());
+    auto world = rt::compile_world(r.scene);
+    for (int b : {1, 3, 8}) {
+        std::vector<std::uint8_t> alone, pooled;
+        int aw = 0, ah = 0, qw = 0, qh = 0;
+        PreviewResult one = trace_preview(*world, r.scene.camera, 161, 97, b, alone, aw, ah);
+        rt::ThreadPool pool(4);
+        PreviewResult many = trace_preview(*world, r.scene.camera, 161, 97, b, pooled, qw, qh, &pool);
+        CHECK(aw == qw);
+        CHECK(ah == qh);
+        CHECK(one.traced == std::uint64_t(aw) * std::uint64_t(ah));
+        CHECK(many.traced == one.traced);
+        CHECK_FALSE(one.stopped);
+        CHECK_FALSE(many.stopped);
+        CHECK(alone == pooled);
+    }
+}
+
+namespace {
+// TraceStop::now for every thread of a preview: one millisecond from the epoch per
+// read, that is per poll (every RayStats::kPollRays rays).
+std::atomic<int> g_reads{0};
+std::chrono::steady_clock::time_point counting_clock() {
+    return std::chrono::steady_clock::time_point{} + std::chrono::milliseconds(g_reads.fetch_add(1) + 1);
+}
+}  // namespace
+
+TEST_CASE("a preview of ray trees without end stops at its deadline, within a poll per thread") {
+    // Without a stop this preview would not end for hours: every pixel's tree is
+    // endless (perfect mirrors around glass, depth 1000, no bound).
+    auto world = rt_test::endless_world();
+    for (int threads : {1, 3}) {
+        rt::ThreadPool pool(threads);
+        g_reads = 0;
+        rt::TraceStop stop;
+        stop.now = counting_clock;
+        stop.deadline = std::chrono::steady_clock::time_point{} + std::chrono::milliseconds(20);
+        std::vector<std::uint8_t> rgba;
+        int pw = 0, ph = 0;
+        PreviewResult res = trace_preview(*world, world->camera, 64, 48, 1, rgba, pw, ph, &pool, stop);
+        CHECK(res.stopped);
+        CHECK(res.traced < std::uint64_t(pw) * std::uint64_t(ph));
+        // The deadline's read, then at most one more poll by each thread (one that
+        // began a row before it saw the others stop): 100 ms of a stop is 100 polls.
+        CHECK(g_reads.load() >= 20);
+        CHECK(g_reads.load() <= 20 + 2 * threads);
+        REQUIRE(rgba.size() == std::size_t(pw) * std::size_t(ph) * 4);
+        for (std::size_t i = 3; i < rgba.size(); i += 4) REQUIRE(rgba[i] == 255);  // every row filled
+    }
+    // A flag raised before it starts: nothing is traced.
+    std::atomic<bool> flag{true};
+    rt::TraceStop stop;
+    stop.flag = &flag;
+    std::vector<std::uint8_t> rgba;
+    int pw = 0, ph = 0;
+    rt::ThreadPool pool(2);
+    PreviewResult res = trace_preview(*world, world->camera, 64, 48, 4, rgba, pw, ph, &pool, stop);
+    CHECK(res.stopped);
+    CHECK(res.traced == 0);
 }

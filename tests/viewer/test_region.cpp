@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <atomic>
+#include <new>
 #include <chrono>
 #include <thread>
 #include <vector>
@@ -244,4 +245,24 @@ TEST_CASE("the readout names what a pixel's ray hit as the outline does") {
     CHECK(line.find("RGB 0.500 0.250 1.750") != std::string::npos);
     CHECK(line.find("64 spp") != std::string::npos);
     CHECK(line.find("object 1 (sphere) at 9") != std::string::npos);
+}
+
+TEST_CASE("a region worker that runs out of memory stops the region with a message, not the program") {
+    rt::Scene s = rtview_test::parse_ok(kScene);
+    auto world = rt::compile_world(s);
+    RegionRenderer rr(2);
+    rr.set_sample_hook([&](int x, int y, int sample) {
+        if (x == 21 && y == 11 && sample == 1) throw std::bad_alloc();
+    });
+    rr.start(world, s.camera, 64, 48, {20, 10, 24, 12}, 8);
+    REQUIRE(wait_done(rr));
+    CHECK(rr.error() == "out of memory while rendering the region");
+    CHECK(rr.samples() < 8);
+    rr.cancel();
+    // Started again without the failure: no message, every sample.
+    rr.set_sample_hook(nullptr);
+    rr.start(world, s.camera, 64, 48, {20, 10, 24, 12}, 8);
+    REQUIRE(wait_done(rr));
+    CHECK(rr.error().empty());
+    CHECK(rr.samples() == 8);
 }

@@ -72,6 +72,10 @@ rt::Status FinalRender::write() {
     if (!active_) return usage("no render to write");
     rt::RenderProgress p = renderer_.progress();
     if (!p.done) return usage("the render is not finished");
+    if (!p.error.empty()) {
+        active_ = false;
+        return usage(p.error);
+    }
     rt::ZeroedArray<std::uint8_t> pixels;
     int w = 0, h = 0;
     renderer_.snapshot_rgb8(pixels, w, h);

@@ -2,6 +2,7 @@
 #include "pacing.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "film.h"
@@ -28,22 +29,63 @@ int PreviewPacer::coarse_block(int width, int height, double budget) const {
     return 64;
 }
 
-void trace_preview(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
-                   std::vector<std::uint8_t>& rgba, int& width, int& height) {
-    int b = std::max(1, block);
-    rt::CameraBasis basis = rt::CameraBasis::make(camera, film_w, film_h, false);
+int PreviewPacer::preview_block(int width, int height, double budget) const {
+    if (per_ray_ <= 0 || budget <= 0) return 8;
+    for (int b = 1; b < 64; ++b)
+        if (std::ceil(std::max(width, 1) / double(b)) * std::ceil(std::max(height, 1) / double(b)) * per_ray_ <= budget)
+            return b;
+    return 64;
+}
+
+PreviewResult trace_preview(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
+                            std::vector<std::uint8_t>& rgba, int& width, int& height, rt::ThreadPool* pool,
+                            const rt::TraceStop& stop) {
+    const int b = std::max(1, block);
+    const rt::CameraBasis basis = rt::CameraBasis::make(camera, film_w, film_h, false);
     width = (film_w + b - 1) / b;
     height = (film_h + b - 1) / b;
+    const int w = width;
     rgba.resize(std::size_t(width) * std::size_t(height) * 4);
-    rt::RayStats stats;
-    std::uint8_t* out = rgba.data();
-    for (int by = 0; by < height; ++by)
-        for (int bx = 0; bx < width; ++bx, out += 4) {
+    // done[y]: row y was traced to its end before any stop.
+    std::vector<std::uint8_t> done(std::size_t(height), 0);
+    std::atomic<bool> stopped{false};
+    std::atomic<std::uint64_t> traced{0};
+    auto row = [&](int by) {
+        if (stopped.load(std::memory_order_relaxed)) return;
+        rt::RayStats stats;
+        stats.stop = stop;
+        std::uint8_t* out = rgba.data() + std::size_t(by) * std::size_t(w) * 4;
+        for (int bx = 0; bx < w; ++bx, out += 4) {
             rt::Colour c = world.trace_unit(basis.origin, rt::normalize(basis.direction(bx * b, by * b)), stats);
+            if (stats.stopped) {
+                stopped = true;
+                return;
+            }
             // Through float, as the film stores it: the same bytes as the coarse pass.
             out[0] = rt::to_byte(float(c.x)), out[1] = rt::to_byte(float(c.y)), out[2] = rt::to_byte(float(c.z));
             out[3] = 255;
         }
+        done[std::size_t(by)] = 1;
+        traced.fetch_add(std::uint64_t(w), std::memory_order_relaxed);
+    };
+    if (pool)
+        pool->parallel_for(height, row);
+    else
+        for (int by = 0; by < height; ++by) row(by);
+    PreviewResult r{traced.load(), stopped.load()};
+    if (r.stopped) {
+        const std::size_t bytes = std::size_t(w) * 4;
+        for (int by = 0, last = -1; by < height; ++by) {
+            std::uint8_t* dst = rgba.data() + std::size_t(by) * bytes;
+            if (done[std::size_t(by)])
+                last = by;
+            else if (last >= 0)
+                std::copy_n(rgba.data() + std::size_t(last) * bytes, bytes, dst);
+            else
+                for (std::size_t i = 0; i < bytes; ++i) dst[i] = (i % 4 == 3) ? 255 : 0;
+        }
+    }
+    return r;
 }
 
 }  // namespace rtview

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "parallel.h"
 #include "world.h"
 
 namespace rtview {
@@ -23,6 +24,9 @@ public:
     // Block size (a power of 2, 2..64) of the first coarse pass of a w x h film so that
     // it is expected within `budget` seconds. Before any measurement: 8.
     int coarse_block(int width, int height, double budget) const;
+    // The same for the viewer's own preview, whose blocks need not be powers of 2:
+    // the smallest block, 1..64, expected within `budget`. Before any measurement: 8.
+    int preview_block(int width, int height, double budget) const;
 
 private:
     double per_ray_ = 0;
@@ -30,8 +34,17 @@ private:
 
 // A preview of a film_w x film_h picture of `world` through `camera`: one ray per
 // `block` x `block` block, through its corner pixel (the rays of the renderer's coarse
-// pass of that block size), as RGBA8 of ceil(w / block) x ceil(h / block) pixels.
-void trace_preview(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
-                   std::vector<std::uint8_t>& rgba, int& width, int& height);
+// pass of that block size), as RGBA8 of ceil(w / block) x ceil(h / block) pixels. Its
+// rows are shared among `pool`'s threads (null: this thread alone); the pixels are the
+// same for any number of threads. Every trace honours `stop` (a deep ray tree can take
+// minutes): once stopped, the rows not traced repeat the last row that was, and the
+// result says how many pixels were traced.
+struct PreviewResult {
+    std::uint64_t traced = 0;  // pixels traced
+    bool stopped = false;      // `stop` ended it before every row was traced
+};
+PreviewResult trace_preview(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
+                            std::vector<std::uint8_t>& rgba, int& width, int& height, rt::ThreadPool* pool = nullptr,
+                            const rt::TraceStop& stop = {});
 
 }  // namespace rtview

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <new>
 
 #include "renderer.h"
 
@@ -99,6 +100,7 @@ void RegionRenderer::start(std::shared_ptr<const rt::World> world, const rt::Cam
     next_row_ = rows_done_ = 0;
     active_ = true;
     done_ = false;
+    error_.clear();
     ++version_;
     work_cv_.notify_all();
 }
@@ -111,6 +113,11 @@ bool RegionRenderer::active() const {
 bool RegionRenderer::done() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return active_ && done_;
+}
+
+std::string RegionRenderer::error() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return active_ ? error_ : std::string();
 }
 
 int RegionRenderer::samples() const {
@@ -147,20 +154,31 @@ void RegionRenderer::worker() {
         // One sample at a time, so that a cancel stops a pixel between its samples (and,
         // through stats.stop, inside one). The renderer's order of additions: the sum
         // so far, then samples s0..s1-1.
-        for (int x = 0; x < w && !cancelled; ++x) {
-            for (int s = s0; s < s1; ++s) {
-                if (stats.stopped || generation_.load(std::memory_order_relaxed) != gen) {
-                    cancelled = true;
-                    break;
+        bool failed = false;  // out of memory: the region stops with a message
+        try {
+            for (int x = 0; x < w && !cancelled; ++x) {
+                for (int s = s0; s < s1; ++s) {
+                    if (stats.stopped || generation_.load(std::memory_order_relaxed) != gen) {
+                        cancelled = true;
+                        break;
+                    }
+                    if (sample_hook_) sample_hook_(rect.x0 + x, rect.y0 + r, s);
+                    rt::accumulate_pixel(*world, basis, rect.x0 + x, rect.y0 + r, s, s + 1, &row[3 * std::size_t(x)],
+                                         stats);
                 }
-                if (sample_hook_) sample_hook_(rect.x0 + x, rect.y0 + r, s);
-                rt::accumulate_pixel(*world, basis, rect.x0 + x, rect.y0 + r, s, s + 1, &row[3 * std::size_t(x)], stats);
             }
+        } catch (const std::bad_alloc&) {
+            failed = true;
         }
 
         lock.lock();
         --busy_;
         if (busy_ == 0) idle_cv_.notify_all();
+        if (failed && generation_.load() == gen) {
+            error_ = "out of memory while rendering the region";
+            done_ = true;
+            continue;
+        }
         if (cancelled || generation_.load() != gen) continue;
         std::copy(row.begin(), row.end(), sum_.begin() + 3 * std::ptrdiff_t(r) * w);
         row_samples_[std::size_t(r)] = s1;

@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -65,6 +66,8 @@ public:
     void cancel();
     bool active() const;
     bool done() const;
+    // Why the region stopped unfinished (a worker ran out of memory), or empty.
+    std::string error() const;
     int samples() const;
     PixelRect rect() const;
     // A copy of the region if it changed since `version` (which it then updates).
@@ -93,6 +96,7 @@ private:
     rt::CameraBasis basis_;
     PixelRect rect_;
     bool active_ = false, done_ = false;
+    std::string error_;
     int max_samples_ = 1;
     double time_limit_ = 0;
     std::chrono::steady_clock::time_point start_;

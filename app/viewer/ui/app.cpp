@@ -381,6 +381,12 @@ void ViewerApp::update_render(double now) {
         bool error = false;
         if (tools_.take_message(text, error)) status_.set(text, error);
     }
+    // A render thread that ran out of memory stopped the render: say so once.
+    const rt::RenderProgress p = render_.progress();
+    if (!p.error.empty() && p.generation != render_error_shown_) {
+        render_error_shown_ = p.generation;
+        status_.set("Render stopped: " + p.error, true);
+    }
 }
 
 void ViewerApp::draw_no_image() {

@@ -170,6 +170,7 @@ private:
     double last_disk_check_ = 0;
     bool view_scene_written_ = false;
     int frames_ = 0;
+    std::uint64_t render_error_shown_ = 0;  // the render generation whose error was shown
     bool again_ = false;  // the last frame changed visible_key(): draw one more
     bool esc_closed_menu_ = false;  // this frame's Escape closed a menu
 };

@@ -263,6 +263,7 @@ void ImageTools::start_region(const PixelRect& r) {
     region_w_ = f_.film_w;
     region_h_ = f_.film_h;
     region_.start(f_.world, f_.view_camera, f_.film_w, f_.film_h, fr, f_.max_samples, f_.time_limit);
+    region_error_said_ = false;
     char buf[128];
     std::snprintf(buf, sizeof buf, "Render region %d,%d - %d,%d (%dx%d); C clears it", r.x0, r.y0, r.x1, r.y1,
                   r.width(), r.height());
@@ -359,6 +360,10 @@ void ImageTools::update_compare() {
 
 void ImageTools::update() {
     restart_region_if_needed();
+    if (!region_error_said_ && region_active() && region_.done() && !region_.error().empty()) {
+        region_error_said_ = true;
+        message("Render region stopped: " + region_.error(), true);
+    }
     update_compare();
     update_readout();
 

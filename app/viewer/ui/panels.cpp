@@ -922,6 +922,9 @@ void Panels::draw_render_tab() {
     if (p.first_coarse_time >= 0)
         ImGui::TextWrapped("first coarse pass: %.1f ms (%dx%d blocks)", p.first_coarse_time * 1000, render_.last_coarse_block(),
                     render_.last_coarse_block());
+    if (render_.last_preview_block() > 0)
+        ImGui::TextWrapped("preview while moving: %dx%d blocks on %d threads", render_.last_preview_block(),
+                           render_.last_preview_block(), render_.preview_threads());
     if (render_.last_latency_ms() >= 0) ImGui::TextWrapped("last view change to image: %.1f ms", render_.last_latency_ms());
     ImGui::Separator();
     if (ImGui::Button("Save image... (Ctrl+P)")) commands_.run(Command::SaveImageDialog);

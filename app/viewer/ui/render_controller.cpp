@@ -22,6 +22,9 @@ namespace {
 constexpr double kPreviewBudget = 0.025;
 // What the UI thread's own preview may take of a frame.
 constexpr double kUiPreviewBudget = 0.010;
+// A preview that takes this long is stopped (a deep ray tree could hold the UI for
+// minutes); the rows left repeat the last traced row, and the next one is coarser.
+constexpr double kPreviewDeadline = 0.050;
 // The view counts as resting this long after its last change: the render refines.
 constexpr double kRestAfter = 0.15;
 
@@ -91,7 +94,8 @@ RenderController::RenderController(int threads, bool interactive, int max_sample
       renderer_(threads),
       max_samples_(max_samples),
       time_limit_(time_limit),
-      aa_threshold_(aa_threshold) {}
+      aa_threshold_(aa_threshold),
+      preview_pool_(renderer_.threads()) {}
 
 RenderController::~RenderController() {
     renderer_.cancel();
@@ -198,8 +202,8 @@ void RenderController::update(const rt::Camera& camera, int film_w, int film_h, 
         change_time_ = std::chrono::steady_clock::now();
         timing_change_ = true;
     }
-    // The view is moving: this frame's picture is traced here and now, and the render
-    // threads wait (refining a view that the next frame replaces would only take the
+    // The view is moving: this frame's picture is traced here and now (by this thread
+    // and the preview pool's, on the cores the render threads leave), and they wait (refining a view that the next frame replaces would only take the
     // CPU the UI needs). A view that stopped for a moment counts as resting.
     if (interactive_ && moving && seconds_since(last_change_) < kRestAfter) {
         if (!held_ && !paused_) {
@@ -220,11 +224,17 @@ void RenderController::update(const rt::Camera& camera, int film_w, int film_h, 
 
 void RenderController::trace_preview(const rt::Camera& camera, int film_w, int film_h) {
     auto t0 = std::chrono::steady_clock::now();
-    int b = ui_pacer_.coarse_block(film_w, film_h, kUiPreviewBudget);
+    // The render threads are held while the view moves: their cores trace the preview
+    // with this one, and blocks shrink with the cores there are.
+    int b = ui_pacer_.preview_block(film_w, film_h, kUiPreviewBudget);
     int pw = 0, ph = 0;
-    rtview::trace_preview(*world_, camera, film_w, film_h, b, preview_rgba_, pw, ph);
+    rt::TraceStop stop;
+    stop.deadline = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double>(kPreviewDeadline));
+    PreviewResult r = rtview::trace_preview(*world_, camera, film_w, film_h, b, preview_rgba_, pw, ph,
+                                            &preview_pool_, stop);
     double took = seconds_since(t0);
-    ui_pacer_.measured(double(pw) * ph, took);
+    ui_pacer_.measured(double(std::max<std::uint64_t>(r.traced, 1)), took);
     preview_tex_.upload(preview_rgba_, pw, ph, {0, 0, pw, ph});
     preview_tex_.set_nearest(true);
     showing_preview_ = true;
@@ -234,7 +244,7 @@ void RenderController::trace_preview(const rt::Camera& camera, int film_w, int f
     preview_world_ = world_;
     preview_camera_ = camera;
     ++pictures_;
-    if (timing_change_) first_image_after_change("preview traced on the UI thread", took, film_w, film_h, b);
+    if (timing_change_) first_image_after_change(r.stopped ? "preview, stopped at its deadline" : "preview", took, film_w, film_h, b);
 }
 
 void RenderController::first_image_after_change(const char* source, double took, int w, int h, int block) {

@@ -1,10 +1,11 @@
 // The render side of the viewer: owns the renderer, the compiled world, the preview
 // pacing and the film texture. Each frame it is told what to show (world from the
 // document, view camera, film size). While the view moves, the frame's picture is
-// traced right here on the UI thread, as coarse as the measured cost of recent
-// previews requires to fit the frame budget: a picture on every frame whatever the
-// render threads are doing (under load, handing work to them and back costs more
-// than the preview itself). When the view rests, the renderer refines it.
+// traced right here, by the UI thread and a pool of as many more threads as the
+// renderer has less one (the render threads are held meanwhile), as coarse as the
+// measured cost of recent previews requires to fit the frame budget: a picture on
+// every frame whatever the render threads are doing. When the view rests, the
+// renderer refines it.
 #pragma once
 
 #include <array>
@@ -20,6 +21,7 @@
 #include "film_view.h"
 #include "region.h"
 #include "pacing.h"
+#include "parallel.h"
 #include "bvh_update.h"
 #include "renderer.h"
 #include "viewport.h"
@@ -103,6 +105,7 @@ public:
     std::uint64_t done_generation() const { return done_generation_; }
     double last_latency_ms() const { return last_latency_ms_; }
     int last_coarse_block() const { return started_block_; }
+    int preview_threads() const { return preview_pool_.size(); }  // tracing a moving view
     // Pictures put on screen (texture uploads of a new preview or pass).
     std::uint64_t pictures_shown() const { return pictures_; }
     bool verbose = false;
@@ -148,7 +151,8 @@ private:
     bool settings_changed_ = false;
     bool paused_ = false;
 
-    // The UI thread's own previews while the view moves.
+    // The previews of a moving view, traced by this thread and the pool's.
+    rt::ThreadPool preview_pool_;
     PreviewPacer ui_pacer_;
     FilmTexture preview_tex_;
     std::vector<std::uint8_t> preview_rgba_;

@@ -1,0 +1,54 @@
+// A fixed set of threads that run the iterations of a loop with the calling thread
+// (pbrt-v4's ParallelFor in miniature): the caller takes part, so a pool of one thread
+// is a plain loop, and nothing is handed over when there is nothing to share.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace rt {
+
+class ThreadPool {
+public:
+    // `threads` counts the caller: threads - 1 are started (at least none).
+    explicit ThreadPool(int threads);
+    ~ThreadPool();
+    ThreadPool(const ThreadPool&) = delete;
+    ThreadPool& operator=(const ThreadPool&) = delete;
+
+    int size() const { return int(workers_.size()) + 1; }
+
+    // Calls fn(i) once for every i in [0, n), on the pool's threads and the caller's,
+    // and returns when every call has returned. The first exception thrown by a call
+    // (a bad_alloc on a worker, say) is rethrown here once all have stopped; the
+    // iterations not yet begun are then skipped. One loop at a time per pool.
+    void parallel_for(int n, const std::function<void(int)>& fn);
+
+private:
+    // One loop: every thread that joins it holds it, so a worker that wakes late
+    // finds its items all taken instead of taking the next loop's.
+    struct Loop {
+        const std::function<void(int)>* fn = nullptr;
+        int n = 0;
+        std::atomic<int> next{0};
+        std::atomic<bool> failed{false};
+        std::exception_ptr error;  // under the pool's mutex
+        int busy = 0;              // workers inside it (under the pool's mutex)
+    };
+    void work();
+    void run_items(Loop& loop);
+
+    std::vector<std::thread> workers_;
+    std::mutex mutex_;
+    std::condition_variable wake_, done_;
+    std::shared_ptr<Loop> loop_;  // the latest loop posted (under mutex_)
+    bool quit_ = false;
+};
+
+}  // namespace rt
