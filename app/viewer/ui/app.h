@@ -153,7 +153,7 @@ private:
     Navigator nav_;
     NavigationInput nav_input_;
     RenderController render_;
-    SceneLoader loader_;
+    SceneLoader loader_;  // after editor_: its worker reads into the document's model store, and is joined first
     Dialogs dialogs_;
     ImageTools tools_;
     Panels panels_;
