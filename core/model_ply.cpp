@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -75,6 +76,17 @@ std::string shown(std::string_view s) {
 }
 
 // One header line's meaning. False with error.message set.
+// A face's count or index as the file gives it, for a message: a value past the
+// 64-bit integers (converting it would be undefined behaviour) in floating-point
+// notation.
+std::string index_text(double v) {
+    if (std::isnan(v)) return "nan";
+    if (std::fabs(v) < 9e18) return std::to_string(std::int64_t(v));
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
 bool header_line(const std::vector<std::string_view>& w, Header& h, bool& format_seen, ModelError& error) {
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") return true;
     if (w[0] == "format") {
@@ -321,16 +333,16 @@ bool PlyReader::face(std::uint64_t r, const Element& e, std::size_t list, std::s
         double n = 1, v;
         if (p.list && (!body.value(p.count_type, n, bad) || !(n >= 0 && n <= 1e9 && n == std::floor(n)))) return short_of_data(r, "face", bad);
         if (i == list) {
-            if (n < 3) return fail("a face needs at least 3 vertices, this one has " + std::to_string(long(n)), r, "face");
+            if (n < 3) return fail("a face needs at least 3 vertices, this one has " + index_text(n), r, "face");
             if (n > double(ModelLimits::max_polygon))
-                return fail("a face of " + std::to_string(long(n)) + " vertices (limit " + std::to_string(ModelLimits::max_polygon) + ")", r, "face");
+                return fail("a face of " + index_text(n) + " vertices (limit " + std::to_string(ModelLimits::max_polygon) + ")", r, "face");
             poly.clear();
         }
         for (double k = 0; k < n; ++k) {
             if (!body.value(p.type, v, bad)) return short_of_data(r, "face", bad);
             if (i != list) continue;
             if (!(v >= 0 && v < double(vertices) && v == std::floor(v)))
-                return fail("face index " + (std::isfinite(v) ? std::to_string(std::int64_t(v)) : std::string("nan")) +
+                return fail("face index " + index_text(v) +
                                 " out of range (" + std::to_string(vertices) + (vertices == 1 ? " vertex)" : " vertices)"),
                             r, "face");
             poly.push_back(std::uint32_t(v));

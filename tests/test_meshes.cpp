@@ -287,6 +287,11 @@ TEST_CASE("models: every malformed file gets its message, with the line where it
         {"nan.ply", nan_ply, 0, "vertex 1: coordinate y is not a number"},
         {"range.ply", range_ply, 0, "face 1: face index 99999 out of range (3 vertices)"},
         {"edge.ply", edge_ply, 0, "face 1: face index 3 out of range (3 vertices)"},
+        // Found by fuzz_ply: the message converted the index to a 64-bit integer.
+        {"bigindex.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+                         "3 0 1 888888888888888888888888\n",
+         13, "face index 8.88889e+23 out of range (3 vertices)"},
         {"edge_ascii.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
          13, "face index 3 out of range (3 vertices)"},
