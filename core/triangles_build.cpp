@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cfloat>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -109,7 +110,12 @@ struct Binner {
     Binner(const Box& centres) {
         alignas(16) float l[4], h[4], s[4];
         centres.lo.store(l), centres.hi.store(h);
-        for (int a = 0; a < 4; ++a) s[a] = a < 3 && h[a] > l[a] ? float(kBins) / (h[a] - l[a]) : 0.0f;
+        // An extent so thin that kBins over it overflows gets one bin: an infinite
+        // scale would make 0 * inf = NaN of the centre at `lo`, and a NaN bin number.
+        for (int a = 0; a < 4; ++a) {
+            s[a] = a < 3 && h[a] > l[a] ? float(kBins) / (h[a] - l[a]) : 0.0f;
+            if (!std::isfinite(s[a])) s[a] = 0.0f;
+        }
         lo = centres.lo;
         scale = F4::load(s);
     }
