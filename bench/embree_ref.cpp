@@ -5,9 +5,11 @@
 //
 //   embree_ref SCENE.txt [--threads N] [--repeats N] [--width W --height H]
 //
-// Spheres are Embree's own (float) sphere primitives; every other object is a user
-// primitive whose intersection is ours (core/shapes), and planes are tested one by
-// one as our renderer does. Rays: one per pixel through the pixel's corner (sample 0),
+// Spheres are Embree's own (float) sphere primitives and meshes its own triangles
+// (each mesh's triangles placed in world space, one triangle geometry per mesh: no
+// instancing, Embree's fastest case); every other object is a user primitive whose
+// intersection is ours (core/shapes), and planes are tested one by one as our
+// renderer does. Rays: one per pixel through the pixel's corner (sample 0),
 // from each hit a shadow ray toward every light the surface faces, and a mirror ray
 // where the material reflects, up to depth 20.
 #include <embree3/rtcore.h>
@@ -24,6 +26,7 @@
 
 #include "camera.h"
 #include "image_io.h"
+#include "model.h"
 #include "scene_parser.h"
 #include "shapes.h"
 #include "world.h"
@@ -39,6 +42,8 @@ struct Ref {
     RTCScene scene = nullptr;
     unsigned sphere_geom = RTC_INVALID_GEOMETRY_ID, user_geom = RTC_INVALID_GEOMETRY_ID;
     std::vector<std::uint32_t> sphere_obj, user_obj;  // primitive -> object
+    std::vector<std::uint32_t> mesh_obj;              // mesh -> object
+    std::vector<unsigned> mesh_geom;                  // mesh -> its triangle geometry
     rt::CameraBasis cam;
 };
 
@@ -128,14 +133,25 @@ bool plane_blocks(const rt::World& w, const Vec3& o, const Vec3& d, double limit
     return false;
 }
 
+// The object a hit belongs to.
+std::uint32_t object_of(const Ref& r, unsigned geom, unsigned prim) {
+    if (geom == r.sphere_geom) return r.sphere_obj[prim];
+    if (geom == r.user_geom) return r.user_obj[prim];
+    for (std::size_t m = 0; m < r.mesh_geom.size(); ++m)
+        if (r.mesh_geom[m] == geom) return r.mesh_obj[m];
+    return 0;
+}
+
 Surface resolve(const Ref& r, const Vec3& o, const Vec3& d, float t, unsigned geom, unsigned prim, int plane,
-                double plane_t, const rt::SpanEnd& end) {
+                double plane_t, const rt::SpanEnd& end, const Vec3& ng) {
     Surface s;
     const rt::World& w = *r.world;
     if (geom != RTC_INVALID_GEOMETRY_ID) {
-        std::uint32_t obj = geom == r.sphere_geom ? r.sphere_obj[prim] : r.user_obj[prim];
+        std::uint32_t obj = object_of(r, geom, prim);
         s.p = o + d * double(t);
-        if (geom == r.sphere_geom) {
+        if (geom != r.sphere_geom && geom != r.user_geom) {
+            s.n = normalize(ng);  // a triangle's geometric normal, from Embree
+        } else if (geom == r.sphere_geom) {
             s.n = normalize(s.p - r.g->spheres[r.g->nodes[r.g->object_node[obj]].index].c);
         } else {
             s.n = r.g->normal(end.node, end.face, s.p);
@@ -180,7 +196,8 @@ std::uint64_t trace_single(const Ref& r, Context& c, const Vec3& origin, Vec3 d)
         rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(r.scene, &c.ctx, &rh);
         ++rays;
-        Surface s = resolve(r, o, d, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, plane, pt, c.ends[0]);
+        Surface s = resolve(r, o, d, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, plane, pt, c.ends[0],
+                            Vec3{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z});
         if (!s.hit) break;
         for (const rt::ShadeLight& l : w.lights) {
             Vec3 v = l.position - s.p;
@@ -239,7 +256,7 @@ std::uint64_t trace_packet(const Ref& r, Context& c, const Vec3& origin, const V
         for (int i = 0; i < 8; ++i)
             if (live[i])
                 s[i] = resolve(r, o[i], d[i], rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], plane[i], pt[i],
-                               c.ends[i]);
+                               c.ends[i], Vec3{rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]});
         for (const rt::ShadeLight& l : w.lights) {
             alignas(32) int sv[8];
             alignas(32) RTCRay8 sr;
@@ -327,7 +344,9 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "embree_ref: cannot read %s: %s\n", path.c_str(), err.c_str());
         return 2;
     }
-    rt::ParseResult parsed = rt::parse_scene(text);
+    rt::ParseOptions options;
+    options.base_dir = rt::folder_of(path);  // meshes name their files from the scene's folder
+    rt::ParseResult parsed = rt::parse_scene(text, options);
     if (!parsed.ok()) {
         for (const auto& d : parsed.diagnostics) std::fprintf(stderr, "%s\n", rt::format_diagnostic(path, d).c_str());
         return 1;
@@ -350,7 +369,9 @@ int main(int argc, char** argv) {
     const rt::Geometry& g = *ref.g;
     for (std::uint32_t obj = 0; obj < g.object_node.size(); ++obj) {
         if (g.object_bounds[obj].empty()) continue;
-        (g.nodes[g.object_node[obj]].kind == rt::NodeKind::Sphere ? ref.sphere_obj : ref.user_obj).push_back(obj);
+        const rt::NodeKind kind = g.nodes[g.object_node[obj]].kind;
+        (kind == rt::NodeKind::Sphere ? ref.sphere_obj : kind == rt::NodeKind::Mesh ? ref.mesh_obj : ref.user_obj)
+            .push_back(obj);
     }
     double t0 = now();
     ref.scene = rtcNewScene(device);
@@ -365,6 +386,25 @@ int main(int argc, char** argv) {
         }
         rtcCommitGeometry(geom);
         ref.sphere_geom = rtcAttachGeometry(ref.scene, geom);
+        rtcReleaseGeometry(geom);
+    }
+    std::size_t triangles = 0;
+    for (std::uint32_t obj : ref.mesh_obj) {
+        const rt::MeshG& m = g.meshes[g.nodes[g.object_node[obj]].index];
+        const rt::MeshData& data = m.model->data();
+        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), data.vertex_count()));
+        for (std::size_t i = 0; i < data.vertex_count(); ++i) {
+            const Vec3 p = m.instance.point_to_world({data.positions[3 * i], data.positions[3 * i + 1], data.positions[3 * i + 2]});
+            v[3 * i] = float(p.x), v[3 * i + 1] = float(p.y), v[3 * i + 2] = float(p.z);
+        }
+        auto* tri = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), data.triangle_count()));
+        std::copy(data.triangles.begin(), data.triangles.end(), tri);
+        triangles += data.triangle_count();
+        rtcCommitGeometry(geom);
+        ref.mesh_geom.push_back(rtcAttachGeometry(ref.scene, geom));
         rtcReleaseGeometry(geom);
     }
     if (!ref.user_obj.empty()) {
@@ -412,8 +452,8 @@ int main(int argc, char** argv) {
         }
     std::printf("embree_ref: %s at %dx%d, %d threads, Embree %s, best of %d\n", path.c_str(), W, H, threads,
                 RTC_VERSION_STRING, repeats);
-    std::printf("  scene build: %.3f s (%zu spheres, %zu user primitives)\n", build, ref.sphere_obj.size(),
-                ref.user_obj.size());
+    std::printf("  scene build: %.3f s (%zu spheres, %zu triangles, %zu user primitives)\n", build,
+                ref.sphere_obj.size(), triangles, ref.user_obj.size());
     std::printf("  single rays:       %.3f s, %llu rays (%.1f M rays/s)\n", best[0], (unsigned long long)rays[0],
                 rays[0] / best[0] / 1e6);
     std::printf("  packets of 8:      %.3f s, %llu rays (%.1f M rays/s)\n", best[1], (unsigned long long)rays[1],

@@ -23,6 +23,13 @@
 #                      folder with its POV-Ray twin: our whole run split into parse
 #                      (and its MB/s), compile (BVH build), render and write, peak
 #                      memory, and POV-Ray's whole run on the twin
+#   -m, --mesh N       also a bumpy ball of N triangles (bench/make-mesh.sh; 1000000 for
+#                      issue 27's table), generated into the output folder as binary
+#                      PLY and OBJ with its POV-Ray twin (mesh2): our whole run on the
+#                      PLY scene split into read + BVH build (parse + compile), render
+#                      and write, peak memory, the same read + build from the OBJ file,
+#                      POV-Ray's whole run on the twin, and (with -E off) Embree's best
+#                      on the same rays with its own triangles over ours
 #   -a, --aa           also the anti-aliasing section: for things-like, csg-400 and
 #                      glass-stack, POV-Ray's +A0.3 (one run) against ours with the
 #                      largest --aa-threshold whose RMSE is no worse, each RMSE (8-bit
@@ -40,7 +47,7 @@ set -euo pipefail
 
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
-RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 EMBREE=1 MICRO=1 QUICK=0 GRID=0 AA=0 AA_REFS=
+RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 EMBREE=1 MICRO=1 QUICK=0 GRID=0 AA=0 AA_REFS= MESH=0
 SCENES=()
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
@@ -56,6 +63,7 @@ while [ $# -gt 0 ]; do
         -E|--no-embree) EMBREE=0 ;;
         -M|--no-micro) MICRO=0 ;;
         -g|--grid) need_value "$@"; GRID=$2; shift ;;
+        -m|--mesh) need_value "$@"; MESH=$2; shift ;;
         -a|--aa) AA=1 ;;
         --aa-refs) need_value "$@"; AA_REFS=$2; shift ;;
         -q|--quick) QUICK=1 ;;
@@ -70,6 +78,7 @@ done
 [[ $THREADS =~ ^[1-9][0-9]*$ ]] || { echo "run.sh: --threads must be a positive integer" >&2; exit 2; }
 [[ $GRID =~ ^[0-9]+$ ]] && { [ "$GRID" = 0 ] || [ "$GRID" -ge 2 ]; } ||
     { echo "run.sh: --grid must be an integer of at least 2" >&2; exit 2; }
+[[ $MESH =~ ^[0-9]+$ ]] || { echo "run.sh: --mesh must be a number of triangles" >&2; exit 2; }
 [ -x "$BIN" ] || { echo "run.sh: no raytracer binary at $BIN (build first, or pass -b)" >&2; exit 2; }
 for s in "${SCENES[@]}"; do
     [ -f "$HERE/scenes/$s.txt" ] || { echo "run.sh: unknown scene '$s' (no bench/scenes/$s.txt)" >&2; exit 2; }
@@ -238,6 +247,62 @@ if [ "$GRID" != 0 ]; then
          "$(median "${writes[@]}") | $mem | $pw | $(ratio "$pw" "$(median "${walls[@]}")") |"
     rm -f "$G.txt" "$G.pov"
 fi
+
+# The big mesh: generated here (never committed), rendered at its own 1920x1080. Every
+# ratio comes from runs of one loop turn, so that a change of load on a shared machine
+# shifts both sides of it alike.
+mesh_section() {
+    local M=$OUT/mesh$MESH t wall kb e_best=n/a
+    MAKE_MESH=${MAKE_MESH:-$(dirname "$BIN")/make_mesh} "$HERE/make-mesh.sh" "$MESH" "$M" --pov
+    local walls=() reads=() renders=() writes=() rss=() objreads=() pov=() embree=()
+    for _ in $(seq "$RUNS"); do
+        if [ -x /usr/bin/time ]; then
+            t=$( { /usr/bin/time -f '%e %M' "$BIN" --quiet --stats --threads "$THREADS" "$M.txt" "$M.ppm" \
+                     2> "$M-ours.log" > /dev/null; } 2>&1; tail -1 "$M-ours.log")
+        else
+            t="$(timed "$M-ours.log" "$BIN" --quiet --stats --threads "$THREADS" "$M.txt" "$M.ppm" | cut -d' ' -f1) n/a"
+        fi
+        grep -q '^time:' "$M-ours.log" || { echo "run.sh: our raytracer failed on the mesh:" >&2; cat "$M-ours.log" >&2; exit 1; }
+        read -r wall kb <<< "$t"
+        walls+=("$wall") rss+=("$kb")
+        reads+=("$(awk '/^time:/ { for (i = 1; i < NF; ++i) { if ($i == "parse") p = $(i + 1); if ($i == "compile") c = $(i + 1) } print p + c }' "$M-ours.log")")
+        renders+=("$(render_time "$M-ours.log")")
+        writes+=("$(sed -n 's/.*write \([0-9.]*\) s.*/\1/p' "$M-ours.log")")
+        "$BIN" --quiet --stats --threads "$THREADS" --width 8 --height 8 "$M-obj.txt" "$M-obj.ppm" 2> "$M-obj.log" ||
+            { echo "run.sh: our raytracer failed on the OBJ mesh:" >&2; cat "$M-obj.log" >&2; exit 1; }
+        objreads+=("$(awk '/^time:/ { for (i = 1; i < NF; ++i) { if ($i == "parse") p = $(i + 1); if ($i == "compile") c = $(i + 1) } print p + c }' "$M-obj.log")")
+        if [ $POV = 1 ]; then
+            t=$(cd "$OUT" && timed "$M-pov.log" povray -D -A +W1920 +H1080 +WT"$THREADS" File_Gamma=1.0 \
+                    +I"mesh$MESH.pov" +O"$M-pov.png") ||
+                { echo "run.sh: povray failed on the mesh:" >&2; tail -20 "$M-pov.log" >&2; exit 1; }
+            read -r wall _ <<< "$t"
+            pov+=("$wall")
+        fi
+        if [ $EMBREE = 1 ] && [ -x "$(dirname "$BIN")/embree_ref" ]; then
+            "$(dirname "$BIN")/embree_ref" "$M.txt" --threads "$THREADS" --repeats 1 > "$M-embree.log" 2>&1 ||
+                { echo "run.sh: embree_ref failed on the mesh:" >&2; cat "$M-embree.log" >&2; exit 1; }
+            embree+=("$(sed -n 's/^best \([0-9.]*\)$/\1/p' "$M-embree.log")")
+        fi
+    done
+    kb=n/a
+    [ "${rss[0]}" != n/a ] && kb=$(median "${rss[@]}")
+    local mem pw
+    mem=$(awk -v k="$kb" 'BEGIN { if (k == "n/a") print k; else printf "%.0f MB", k * 1024 / 1e6 }')
+    pw=n/a
+    [ $POV = 1 ] && pw=$(median "${pov[@]}")
+    [ ${#embree[@]} -gt 0 ] && e_best=$(median "${embree[@]}")
+    echo
+    echo "Bumpy ball of about $MESH triangles (bench/make-mesh.sh), 1920x1080, 1 sample per pixel, $THREADS threads, medians of $RUNS:"
+    echo
+    echo "| ours whole (s) | PLY read + BVH (s) | OBJ read + BVH (s) | render (s) | write (s) | ours peak memory | POV-Ray whole (s) | POV/ours | Embree best (s) | Embree best / our render | Embree best / ours whole |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|"
+    local ow
+    ow=$(median "${walls[@]}")
+    echo "| $ow | $(median "${reads[@]}") | $(median "${objreads[@]}") | $(median "${renders[@]}") | $(median "${writes[@]}") |" \
+         "$mem | $pw | $(ratio "$pw" "$ow") | $e_best | $(ratio "$e_best" "$(median "${renders[@]}")") | $(ratio "$e_best" "$ow") |"
+    rm -f "$M.ply" "$M.obj" "$M.inc"
+}
+[ "$MESH" != 0 ] && mesh_section
 
 # The anti-aliasing section: POV-Ray's usual anti-aliasing against ours at the same
 # quality. Quality is the RMSE against each program's own converged picture.

@@ -11,6 +11,8 @@
 # little without it.
 #   bench/viewer-bench.sh [BIN_DIR] [DISPLAY_NUMBER] [GRID_FILE]
 #   (defaults: build/bin, 92, /tmp/grid1m.txt, made with bench/make-grid.sh 1000)
+# DRAG_SCENE=FILE drags (orbits) on FILE instead of the default scene (issue 27: the
+# 1M-triangle mesh of bench/make-mesh.sh); DRAG_ONLY=1 stops after the drags.
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 BIN=$(cd "${1:-$HERE/../build/bin}" && pwd)
@@ -21,7 +23,7 @@ OUT=$(mktemp -d /tmp/viewer-bench.XXXXXX)
 NEED=(raytracer raytracer-view rtview-xframes)
 # shellcheck source=bench/xvfb-session.sh
 . "$HERE/xvfb-session.sh"
-[ -s "$GRID" ] || "$HERE/make-grid.sh" 1000 "$GRID"
+[ "${DRAG_ONLY:-0}" = 1 ] || [ -s "$GRID" ] || "$HERE/make-grid.sh" 1000 "$GRID"
 
 # start_viewer SCENE LOG: starts the viewer with --verbose, waits for its first picture.
 start_viewer() {
@@ -43,7 +45,7 @@ stop_viewer() {
 # drag_run BUSY: one 2 s drag; prints "changes max_gap_ms median_block threads".
 drag_run() {
     local busy=$1 bp=()
-    start_viewer "$HERE/../scenes/default.txt" "$OUT/drag.err"
+    start_viewer "${DRAG_SCENE:-$HERE/../scenes/default.txt}" "$OUT/drag.err"
     if [ "$busy" = 1 ]; then
         yes > /dev/null & bp+=($!)
         yes > /dev/null & bp+=($!)
@@ -83,7 +85,7 @@ for busy in 0 1; do
         blocks+=("$b")
     done
     label=$([ "$busy" = 1 ] && echo "two busy processes" || echo "no extra load")
-    echo "drag, default scene, 1280x800, $label: picture updates/s ${rates[*]}; longest still gap ms ${gaps[*]};" \
+    echo "drag, $(basename "${DRAG_SCENE:-default.txt}"), 1280x800, $label: picture updates/s ${rates[*]}; longest still gap ms ${gaps[*]};" \
         "median preview block ${blocks[*]} on $(nproc) threads (load $(load))"
 done
 [ "${DRAG_ONLY:-0}" = 1 ] && { rm -rf "$OUT"; exit 0; }

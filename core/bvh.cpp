@@ -22,11 +22,7 @@ namespace rt {
 namespace {
 
 // The binary tree the SAH build makes.
-struct BinNode {
-    float b[6];           // lo x, y, z then hi x, y, z
-    std::uint32_t first;  // leaf: first index into items; inner: right child (left is this + 1)
-    std::uint32_t count;  // leaf: number of items (> 0); inner: 0
-};
+using BinNode = BvhBinNode;
 
 constexpr int kBins = 16;
 constexpr std::uint32_t kMaxLeaf = 4;
@@ -639,12 +635,19 @@ void build_tree(Bvh& bvh, const Boxes& boxes, int threads) {
         for (std::size_t i = item_parts[p]; i < item_parts[p + 1]; ++i) ids[i] = recs[i].id;
     });
     rec_mem.reset();
-    collapse(bin, nodes, nodes8, threads > 1);
+    rt::collapse(bin, nodes, nodes8, threads > 1);
 }
+
 
 }  // namespace
 
 void Bvh::build(const std::vector<Aabb>& boxes, int threads) { build_tree(*this, boxes, threads); }
 void Bvh::build(const Chunked<Aabb>& boxes, int threads) { build_tree(*this, boxes, threads); }
+
+void Bvh::collapse(const std::vector<BvhBinNode>& bin, int threads) {
+    nodes.clear();
+    nodes8.clear();
+    if (!bin.empty()) rt::collapse(bin, nodes, nodes8, threads > 1);
+}
 
 }  // namespace rt

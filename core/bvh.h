@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -137,6 +138,14 @@ struct BvhRay {
     }
 };
 
+// A node of the binary tree a build makes before it is collapsed into wide nodes, in
+// preorder: an inner node's left child follows it, its right child is at `first`.
+struct BvhBinNode {
+    float b[6];           // lo x, y, z then hi x, y, z
+    std::uint32_t first;  // leaf: first index into items; inner: right child
+    std::uint32_t count;  // leaf: number of items (> 0, at most kMaxLeafCount); inner: 0
+};
+
 // Round a double box outward to float and pad it by a few float ulps of its largest
 // coordinate, so that the float slab test (with the ray's origin and inverse
 // direction also rounded to float) never misses a box the ray really crosses.
@@ -162,6 +171,23 @@ public:
     // up to `threads` threads (0: all hardware threads); the tree is the same for any.
     void build(const std::vector<Aabb>& boxes, int threads = 0);
     void build(const Chunked<Aabb>& boxes, int threads = 0);
+    // The wide nodes of a binary tree built elsewhere (triangles.h builds its own, in
+    // less memory); `items` is left to the caller. On two threads if `threads` > 1.
+    void collapse(const std::vector<BvhBinNode>& bin, int threads);
+
+    // Walks that hand fn whole leaves instead of single items, for callers that test a
+    // leaf's items together: traverse_nearest() calling fn(first, count, tmax) -> the new
+    // tmax (or a negative value to stop), and occluded() calling fn(first, count) -> hit.
+    template <class Fn>
+    void traverse_nearest_leaves(const Vec3& origin, const Vec3& dir, double tmax, Fn&& fn) const {
+        Leaves<std::remove_reference_t<Fn>> leaves{fn};
+        traverse_nearest(origin, dir, tmax, leaves);
+    }
+    template <class Fn>
+    bool occluded_leaves(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn&& fn) const {
+        Leaves<std::remove_reference_t<Fn>> leaves{fn};
+        return occluded(origin, dir, len, tmax, leaves);
+    }
 
     // Which of node's children the ray enters within [0, tmax]: a bit per child, and
     // the entry distances in t.
@@ -328,6 +354,22 @@ private:
     }
 
     static float widen(double t) { return t == HUGE_VAL ? INFINITY : float(t * (1 + 1e-6) + 1e-6); }
+
+    template <class F>
+    struct Leaves {
+        F& fn;
+    };
+    template <class F>
+    bool visit_leaf(std::uint32_t ref, double& tmax, Leaves<F>& leaves) const {
+        const double nt = leaves.fn(BvhNode::leaf_first(ref), BvhNode::leaf_count(ref), tmax);
+        if (nt < 0) return false;
+        if (nt < tmax) tmax = nt;
+        return true;
+    }
+    template <class F>
+    bool any_in_leaf(std::uint32_t ref, Leaves<F>& leaves) const {
+        return leaves.fn(BvhNode::leaf_first(ref), BvhNode::leaf_count(ref));
+    }
 
     // The items of a leaf to fn(item, tmax) in order, tmax shrinking as fn says; false
     // if fn said stop.

@@ -165,6 +165,15 @@ ObjectRecords compare_object(const Geometry& g, std::uint32_t obj, const Geometr
             case NodeKind::Tetra: same = same && same_record(g.tetras[to.index], one.tetras[from.index]); break;
             case NodeKind::Cylinder: same = same && same_record(g.cylinders[to.index], one.cylinders[from.index]); break;
             case NodeKind::Torus: same = same && same_record(g.tori[to.index], one.tori[from.index]); break;
+            case NodeKind::Mesh: {
+                // A moved, rescaled or re-read mesh is compiled anew (its instance's
+                // transform and the model's tree are built together); unchanged, it stays.
+                const MeshG &a = g.meshes[to.index], &b = one.meshes[from.index];
+                if (!same_record(a.instance, b.instance) || a.model != b.model || a.smooth != b.smooth ||
+                    a.opaque != b.opaque)
+                    return ObjectRecords::OtherStructure;
+                break;
+            }
             case NodeKind::Csg: {
                 const CsgG &a = g.csgs[to.index], &b = one.csgs[from.index];
                 // Operands are numbered from the object's first node in both.
@@ -187,6 +196,7 @@ void replace_object(Geometry& g, std::uint32_t obj, const Geometry& one) {
             case NodeKind::Tetra: g.tetras.write(to.index) = one.tetras[from.index]; break;
             case NodeKind::Cylinder: g.cylinders.write(to.index) = one.cylinders[from.index]; break;
             case NodeKind::Torus: g.tori.write(to.index) = one.tori[from.index]; break;
+            case NodeKind::Mesh: g.meshes.write(to.index) = one.meshes[from.index]; break;
             case NodeKind::Csg: break;  // the same structure: compare_object() said so
         }
     }

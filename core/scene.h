@@ -4,6 +4,7 @@
 // normalises the weights when it compiles the scene.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <variant>
 #include <vector>
@@ -69,6 +70,26 @@ struct Torus {
     }
 };
 
+class MeshModel;  // model.h
+
+// A model file's triangles placed in the scene: scaled (per axis), turned about x, then
+// y, then z (degrees), then moved to `position`. `model` is the file as read when the
+// scene was parsed (null until then, and when it could not be read); two meshes are
+// equal only if they hold the same read of the file, so a file changed on disk makes
+// the scene different.
+struct Mesh {
+    std::string file;  // as written in the scene: relative to the scene file's folder
+    Vec3 position{0, 0, 0};
+    Vec3 scale{1, 1, 1};
+    Vec3 rotation{0, 0, 0};
+    int smooth = 0;  // 1: vertex normals interpolated across each triangle
+    std::shared_ptr<const MeshModel> model;
+    bool operator==(const Mesh& o) const {
+        return file == o.file && position == o.position && scale == o.scale && rotation == o.rotation &&
+               smooth == o.smooth && model == o.model;
+    }
+};
+
 struct Object;
 
 enum class CsgType : char { Union = 'U', Intersection = 'I', Difference = 'C' };
@@ -81,7 +102,7 @@ struct Csg {
     bool operator==(const Csg& o) const;
 };
 
-using Shape = std::variant<Sphere, Tetrahedron, Cylinder, Torus, Csg>;
+using Shape = std::variant<Sphere, Tetrahedron, Cylinder, Torus, Csg, Mesh>;
 
 struct Object {
     Shape shape;

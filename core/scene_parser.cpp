@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iterator>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -389,7 +390,11 @@ private:
             if (!number(name, k.access.number(item, i))) return false;
             break;
         case sc::Kind::Vec3:
-            if (!vec3(name, k.access.vec3(item, i))) return false;
+            if (!(k.one_or_three ? one_or_three(name, k.access.vec3(item, i)) : vec3(name, k.access.vec3(item, i))))
+                return false;
+            break;
+        case sc::Kind::File:
+            if (!file_name(name, k.access.text(item, i))) return false;
             break;
         case sc::Kind::Integer: {
             long v = 0;
@@ -481,6 +486,69 @@ private:
             if (!take_number(lex_.next(), scan, fast, r[i])) return false;
         }
         v = r;
+        return true;
+    }
+
+    // One number for all three (`scale 2`), or three.
+    bool one_or_three(const Token& key, Vec3& v) {
+        double x = 0;
+        if (!number(key, x)) return false;
+        double unused;
+        if (scan_number(lex_.peek().text, unused) == NumberScan::NotNumber) {
+            v = {x, x, x};
+            return true;
+        }
+        Vec3 r{x, 0, 0};
+        if (!number(key, r.y) || !number(key, r.z)) return false;
+        v = r;
+        return true;
+    }
+
+    // A file name in double quotes, on one line; spaces inside are part of it (so the
+    // closing quote is looked for in the text, not among the tokens). A name without
+    // quotes is one word.
+    bool file_name(const Token& key, std::string& out) {
+        const Token t = lex_.peek();
+        if (t.eof()) fatal(t, "unexpected end of file: expected a file name after " + quote(key.text));
+        if (t.is('{') || t.is('}')) {
+            error(t, "expected a file name in double quotes after " + quote(key.text) + ", got " + got(t));
+            return false;
+        }
+        std::string_view name = t.text;
+        if (t.text[0] == '"') {
+            const std::string_view text = lex_.text();
+            std::size_t end = t.offset + 1;
+            while (end < text.size() && text[end] != '"' && text[end] != '\n' && text[end] != '\r') ++end;
+            if (end >= text.size() || text[end] != '"') {
+                lex_.skip();
+                error(t, "the file name has no closing quote on its line");
+                return false;
+            }
+            const char after = end + 1 < text.size() ? text[end + 1] : ' ';
+            if (!(after == ' ' || (after >= '\t' && after <= '\r') || after == '{' || after == '}')) {
+                lex_.skip();
+                error(t, "expected a space after the file name's closing quote");
+                return false;
+            }
+            name = text.substr(t.offset + 1, end - t.offset - 1);
+            lex_.seek(end + 1);
+        } else {
+            lex_.skip();
+        }
+        if (name.empty()) {
+            error(t, "the file name is empty");
+            return false;
+        }
+        if (name.size() > 4096) {
+            error(t, "file name too long (" + std::to_string(name.size()) + " characters, limit 4096)");
+            return false;
+        }
+        for (char c : name)
+            if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f || c == '"') {
+                error(t, "the file name " + quote(name) + (c == '"' ? " holds a double quote" : " holds a control character"));
+                return false;
+            }
+        out = std::string(name);
         return true;
     }
 
@@ -702,6 +770,8 @@ private:
     }
 
     bool object_body(const sc::Block<Object>& b, const Token& t, Object& obj) {
+        // Models are read by the main reading only (a helper would read them again).
+        if (piece_ && is_mesh(b)) throw Bail{};
         count_object(t);
         const bool nests = std::any_of(b.keys.begin(), b.keys.end(),
                                        [](const sc::Key<Object>& k) { return k.kind == sc::Kind::Operand; });
@@ -715,14 +785,48 @@ private:
         obj = b.make();
         obj.loc = loc;
         ItemState st;
+        const int errors_before = errors_;
         read_block(b, obj, st);
         finish(b, obj, st, t.offset, [&] { return obj.loc; });
+        if (Mesh* m = std::get_if<Mesh>(&obj.shape); m && errors_ == errors_before) {
+            const std::size_t at = st.value_at[key_index(b, *b.find("file"))];
+            read_model(*m, at != kNone ? at : t.offset);
+        }
         for (const sc::Key<Object>& k : b.keys)
             if (k.kind == sc::Kind::Operand && !(st.given & (1u << key_index(b, k)))) {
                 error_at(obj.loc, "CSG is missing its '" + std::string(k.name) + "' operand");
                 st.bad = true;
             }
         return !st.bad;
+    }
+
+    // The model a mesh names, read once per parse however many meshes name it; its
+    // errors are reported at the file name, with the model file's own line.
+    void read_model(Mesh& m, std::size_t at) {
+        if (!opt_.read_models) return;
+        const std::string path = resolve_model_path(opt_.base_dir, m.file);
+        auto it = models_.find(path);
+        if (it == models_.end()) {
+            if (models_.size() >= ModelLimits::max_files) {
+                error_at(at, "too many model files (limit " + std::to_string(ModelLimits::max_files) + ")");
+                return;
+            }
+            it = models_.emplace(path, (opt_.models ? *opt_.models : own_models_).load(path)).first;
+            if (const MeshModel* model = it->second.model.get()) triangles_ += model->data().triangle_count();
+            if (triangles_ > ModelLimits::max_triangles) {
+                error_at(at, "the scene's models hold more than " + std::to_string(ModelLimits::max_triangles) +
+                                 " triangles in all");
+                it->second.model.reset();
+                it->second.error = {0, "(over the scene's limit of triangles)"};
+                return;
+            }
+        }
+        const ModelStore::Loaded& l = it->second;
+        if (!l.model) {
+            error_at(at, m.file + (l.error.line > 0 ? ":" + std::to_string(l.error.line) : "") + ": " + l.error.message);
+            return;
+        }
+        m.model = l.model;
     }
 
     // A CSG's `left { OBJECT }` or `right { OBJECT }` (after its name).
@@ -736,11 +840,14 @@ private:
             st.bad = true;
             return true;
         }
-        if (!sc::object_block(first.text)) {
-            error(first, "unknown object " + got(first) + " in CSG " + side + " operand (expected " +
-                             sc::names_of(sc::object_blocks()) + ")");
+        const sc::Block<Object>* ob = sc::object_block(first.text);
+        if (!ob || is_mesh(*ob)) {
+            error(first, ob ? "a mesh cannot be a CSG operand: CSG combines solids (" + csg_operands() + ")"
+                            : "unknown object " + got(first) + " in CSG " + side + " operand (expected " +
+                                  csg_operands() + ")");
             skip_rest_of_block();
             st.bad = true;
+            if (ob) st.given |= 1u << index;  // it is there, just not allowed: no second message
             return true;
         }
         Object operand;
@@ -760,6 +867,15 @@ private:
         lex_.next();
         return true;
     }
+
+    // The objects a CSG may hold: all but meshes, which are surfaces, not solids.
+    static std::string csg_operands() {
+        std::string out;
+        for (const sc::Block<Object>& b : sc::object_blocks())
+            if (!is_mesh(b)) out += (out.empty() ? "" : ", ") + std::string(b.name);
+        return out;
+    }
+    static bool is_mesh(const sc::Block<Object>& b) { return sc::same_word(b.name, "mesh"); }
 
     // Whole-scene checks that need every section read.
     void validate() {
@@ -802,6 +918,9 @@ private:
     int depth_ = 0;  // CSG nesting of the object being read
     std::size_t objects_ = 0;
     std::size_t populated_ = 0;  // objects.size() at which populate_ahead is next called
+    std::map<std::string, ModelStore::Loaded> models_;  // by resolved path
+    ModelStore own_models_;  // when the options give no store
+    std::size_t triangles_ = 0;  // in the models read
     bool camera_seen_ = false, size_seen_ = false;
     ItemState camera_keys_, size_keys_;  // keys accumulate over repeated sections
     SourceLoc camera_loc_, size_loc_;

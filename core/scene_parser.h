@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "model.h"
 #include "scene.h"
 #include "status.h"
 
@@ -57,6 +58,15 @@ struct ParseOptions {
     // and the objects made so far; returning false cancels the parse (the result is
     // then `cancelled`, and not ok).
     std::function<bool(std::size_t bytes, std::size_t objects)> progress;
+    // The folder a mesh's `file` is relative to: the scene file's own ("" = the current
+    // folder, for text that comes from no file).
+    std::string base_dir;
+    // Where models are read and kept between parses (the viewer keeps one for its
+    // document); null: read for this parse alone. Each file is read once per parse
+    // however many meshes name it.
+    ModelStore* models = nullptr;
+    // False: mesh files are not read (their blocks are checked, their `model` stays null).
+    bool read_models = true;
 };
 
 ParseResult parse_scene(std::string_view text, const ParseOptions& options = {});

@@ -153,6 +153,28 @@ Block<Object> csg() {
             }};
 }
 
+Block<Object> mesh() {
+    Key<Object> file{"file", Kind::File, {}};
+    file.access.text = [](Object& o, int) -> std::string& { return shape<Mesh>(o).file; };
+    file.lead = true;
+    Key<Object> scale = vec3_key<Object>("scale", [](Object& o, int) -> Vec3& { return shape<Mesh>(o).scale; });
+    scale.one_or_three = true;
+    Key<Object> smooth{"smooth", Kind::Integer, {}};
+    smooth.access.integer = [](Object& o, int) -> int& { return shape<Mesh>(o).smooth; };
+    smooth.range = {Range::Rule::Error, 0, 1, false, "smooth must be 0 (flat triangles) or 1 (smooth)"};
+    return {"mesh",
+            {file, vec3_key<Object>("position", [](Object& o, int) -> Vec3& { return shape<Mesh>(o).position; }),
+             scale, vec3_key<Object>("rotation", [](Object& o, int) -> Vec3& { return shape<Mesh>(o).rotation; }),
+             smooth, object_material()},
+            [] { return object_of(Mesh{}); },
+            [](const Object& o) {
+                const Mesh& m = std::get<Mesh>(o.shape);
+                if (m.file.empty()) return error("mesh needs a 'file' (the model to show)");
+                if (m.scale.x == 0 || m.scale.y == 0 || m.scale.z == 0) return error("mesh scale must not be 0 on any axis");
+                return Problem{};
+            }};
+}
+
 // ---- planes and lights --------------------------------------------------------------
 
 Key<Plane> plane_point() {
@@ -297,7 +319,7 @@ bool Choice::find(std::string_view word, int& value) const {
 }
 
 const std::vector<Block<Object>>& object_blocks() {
-    static const std::vector<Block<Object>> blocks = {sphere(), tetrahedron(), cylinder(), torus(), csg()};
+    static const std::vector<Block<Object>> blocks = {sphere(), tetrahedron(), cylinder(), torus(), csg(), mesh()};
     return blocks;
 }
 

@@ -24,6 +24,7 @@ enum class Kind {
     Choice,    // one word from a list
     Material,  // a `{ ... }` block of material keys
     Operand,   // a `{ ... }` holding exactly one object (CSG left/right)
+    File,      // a file name in double quotes (a mesh's model)
 };
 
 // What happens to a Number outside [min, max] (`min_open`: min itself is outside too).
@@ -65,6 +66,7 @@ struct Access {
     Material& (*material)(T&, int i) = nullptr;
     bool& (*has_material)(T&, int i) = nullptr;  // a Material key given in the file
     Object* (*operand)(T&, int i) = nullptr;  // null: the item has no such operand
+    std::string& (*text)(T&, int i) = nullptr;
 };
 
 template <class T>
@@ -78,6 +80,7 @@ struct Key {
     const Choice* choice = nullptr;  // Kind::Choice
     bool required = false;          // must be given (somewhere in the file)
     bool lead = false;              // the writer puts it before the other keys
+    bool one_or_three = false;      // Vec3: one number may stand for three equal ones
 
     // Read access for const items (the accessors are shared with writing).
     double number(const T& t, int i = 0) const { return access.number(const_cast<T&>(t), i); }
@@ -86,6 +89,7 @@ struct Key {
     const Material& material(const T& t, int i = 0) const { return access.material(const_cast<T&>(t), i); }
     bool has_material(const T& t, int i = 0) const { return access.has_material(const_cast<T&>(t), i); }
     const Object* operand(const T& t, int i = 0) const { return access.operand(const_cast<T&>(t), i); }
+    const std::string& text(const T& t, int i = 0) const { return access.text(const_cast<T&>(t), i); }
 };
 
 // A rule across keys, checked once the block is read. Reported at the item's name.

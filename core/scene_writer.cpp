@@ -79,7 +79,11 @@ public:
         if (k.count > 0) s += " " + std::to_string(i + 1);
         switch (k.kind) {
         case sc::Kind::Number: return s + " " + num(k.number(t, i));
-        case sc::Kind::Vec3: return s + " " + vec(k.vec3(t, i));
+        case sc::Kind::Vec3: {
+            const Vec3 v = k.vec3(t, i);
+            return s + " " + (k.one_or_three && v.x == v.y && v.y == v.z ? num(v.x) : vec(v));
+        }
+        case sc::Kind::File: return s + " \"" + k.text(t, i) + "\"";
         case sc::Kind::Integer: return s + " " + std::to_string(k.integer(t, i));
         case sc::Kind::Choice: return s + " " + std::string(k.choice->word_for(k.access.get_choice(t)));
         case sc::Kind::Material: return s + " " + material_body(k.material(t, i));

@@ -8,7 +8,9 @@
 #include <cstring>
 
 #include "csg.h"
+#include "model.h"
 #include "roots.h"
+#include "world.h"
 
 namespace rt {
 namespace {
@@ -172,7 +174,8 @@ void Geometry::leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& ou
         case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, out); return;
         case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, out); return;
         case NodeKind::Torus: torus_spans(tori[node.index], n, o, d, out); return;
-        case NodeKind::Csg: return;
+        case NodeKind::Csg:
+        case NodeKind::Mesh: return;
     }
 }
 
@@ -184,7 +187,8 @@ inline void Geometry::one_span(const Node& node, std::uint32_t n, const Vec3& o,
         case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, out); return;
         case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, out); return;
         case NodeKind::Torus:
-        case NodeKind::Csg: return;
+        case NodeKind::Csg:
+        case NodeKind::Mesh: return;
     }
 }
 
@@ -218,7 +222,8 @@ void Geometry::spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<
         case NodeKind::Sphere:
         case NodeKind::Tetra:
         case NodeKind::Cylinder:
-        case NodeKind::Torus: leaf_spans(n, o, d, out); return;
+        case NodeKind::Torus:
+        case NodeKind::Mesh: leaf_spans(n, o, d, out); return;
         case NodeKind::Csg: {
             const CsgG& c = csgs[node.index];
             std::vector<Span>& a = scratch.at(2 * depth);
@@ -254,9 +259,56 @@ Vec3 Geometry::normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const {
             Vec3 q = rl > 0 ? l - ring * (s.R / rl) : Vec3{0, 0, l.z};
             return s.frame.to_world(normalize(q));
         }
-        case NodeKind::Csg: break;
+        case NodeKind::Csg:
+        case NodeKind::Mesh: break;
     }
     return {};
+}
+
+Vec3 Geometry::surface_normal(std::uint32_t obj, const SpanEnd& e, const Vec3& p) const {
+    const Node& node = nodes[object_node[obj]];
+    if (node.kind == NodeKind::Mesh) return mesh_normal(meshes[node.index], e, p);
+    Vec3 n = normal(e.node, e.face, p);
+    if (e.flip) n = -n;
+    return n;
+}
+
+bool Geometry::mesh_hit(const MeshG& m, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out) const {
+    if (!m.accel) return false;
+    const TriRay r = TriRay::make(m.instance.point_to_model(o), m.instance.to_model(d));
+    TriHit h;
+    if (!m.accel->nearest(r, tmin, HUGE_VAL, h)) return false;
+    Vec3 c[3];
+    m.accel->corners(h.slot, c);
+    out = {h.t, h.slot, 0, dot(cross(c[1] - c[0], c[2] - c[0]), r.d) > 0};
+    return true;
+}
+
+Vec3 Geometry::mesh_normal(const MeshG& m, const SpanEnd& e, const Vec3& p) const {
+    Vec3 c[3];
+    m.accel->corners(e.node, c);
+    const Vec3 e1 = c[1] - c[0], e2 = c[2] - c[0];
+    const Vec3 flat = cross(e1, e2);
+    Vec3 n = flat;
+    if (m.smooth) {
+        // The corners' normals weighted by the point's barycentric coordinates.
+        const std::uint32_t* v = &m.model->data().triangles[3 * std::size_t(m.accel->ids[e.node])];
+        const std::vector<float>& vn = m.model->vertex_normals();
+        const Vec3 q = m.instance.point_to_model(p) - c[0];
+        const double d00 = dot(e1, e1), d01 = dot(e1, e2), d11 = dot(e2, e2), d20 = dot(q, e1), d21 = dot(q, e2);
+        const double den = d00 * d11 - d01 * d01;
+        const double b1 = std::clamp((d11 * d20 - d01 * d21) / den, 0.0, 1.0);
+        const double b2 = std::clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - b1);
+        const double w[3] = {1 - b1 - b2, b1, b2};
+        Vec3 s;
+        for (int k = 0; k < 3; ++k) s += Vec3{vn[3 * v[k]], vn[3 * v[k] + 1], vn[3 * v[k] + 2]} * w[k];
+        // Normals given the other way round from the triangles' winding are turned to
+        // agree with them (the flip below goes by the winding).
+        if (dot(s, flat) < 0) s = -s;
+        if (length2(s) > 0 && finite(s)) n = s;
+    }
+    n = normalize(m.instance.normal_to_world(n));
+    return e.flip ? -n : n;
 }
 
 Aabb Geometry::bounds(std::uint32_t n) const {
@@ -302,6 +354,10 @@ Aabb Geometry::bounds(std::uint32_t n) const {
             b.lo = s.c - ext;
             b.hi = s.c + ext;
             return b;
+        }
+        case NodeKind::Mesh: {
+            const MeshG& m = meshes[node.index];
+            return m.model ? m.instance.world_bounds(m.model->bounds()) : Aabb();
         }
         case NodeKind::Csg: {
             const CsgG& c = csgs[node.index];
@@ -360,6 +416,7 @@ bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, doub
         out = a.s.in;
         return true;
     }
+    if (node.kind == NodeKind::Mesh) return mesh_hit(meshes[node.index], o, d, tmin, out);
     if (node.kind == NodeKind::Csg) {
         // The common CSG (two operands of one span each) here, with a small frame.
         const CsgG& c = csgs[node.index];
@@ -413,6 +470,7 @@ RT_TARGET_AVX2 unsigned Geometry::sphere_entries4(const std::uint32_t ids[4], co
 bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& scratch) const {
     const std::uint32_t n = object_node[obj];
     const Node& node = nodes[n];
+    if (node.kind == NodeKind::Mesh) return mesh_hit(meshes[node.index], o, d, kDelta, out);
     if (node.kind != NodeKind::Torus && node.kind != NodeKind::Csg) {
         // One span at most, as in hit_general().
         OneSpan a;
@@ -427,10 +485,36 @@ bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& ou
 std::size_t Geometry::memory_bytes() const {
     return spheres.memory_bytes() + tetras.memory_bytes() + cylinders.memory_bytes() + tori.memory_bytes() +
            csgs.memory_bytes() + nodes.memory_bytes() + object_node.memory_bytes() + object_bounds.memory_bytes() +
-           bvh.memory_bytes();
+           bvh.memory_bytes() + meshes.memory_bytes() + model_bytes();
+}
+
+std::size_t Geometry::model_bytes() const {
+    // Each model once, however many meshes show it.
+    std::vector<const TriangleAccel*> seen;
+    std::size_t bytes = 0;
+    for (const MeshG& m : meshes) {
+        if (!m.accel || std::find(seen.begin(), seen.end(), m.accel) != seen.end()) continue;
+        seen.push_back(m.accel);
+        bytes += m.accel->memory_bytes() + m.model->data().positions.capacity() * 4 +
+                 m.model->data().normals.capacity() * 4 + m.model->data().triangles.capacity() * 4;
+    }
+    return bytes;
 }
 
 namespace {
+
+MeshG mesh_g(const Mesh& s, const Material& material) {
+    MeshG m;
+    m.instance = MeshInstance::make(s.position, s.scale, s.rotation);
+    m.model = s.model;
+    if (m.model) {
+        m.accel = &m.model->accel();
+        if (s.smooth) m.model->vertex_normals();  // made now, not while tracing
+    }
+    m.smooth = s.smooth != 0;
+    m.opaque = ShadeMaterial::from(material).refraction == 0;
+    return m;
+}
 
 std::uint32_t add_node(Geometry& g, const Object& obj) {
     std::uint32_t id = std::uint32_t(g.nodes.size());
@@ -461,6 +545,9 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
             } else if constexpr (std::is_same_v<T, Torus>) {
                 g.nodes.push_back({NodeKind::Torus, std::uint32_t(g.tori.size())});
                 g.tori.push_back({s.position, Frame::from_axis(s.direction), std::fabs(s.major), std::fabs(s.minor)});
+            } else if constexpr (std::is_same_v<T, Mesh>) {
+                g.nodes.push_back({NodeKind::Mesh, std::uint32_t(g.meshes.size())});
+                g.meshes.push_back(mesh_g(s, obj.material));
             } else {
                 g.nodes.push_back({NodeKind::Csg, std::uint32_t(g.csgs.size())});
                 std::uint32_t ci = std::uint32_t(g.csgs.size());
@@ -479,7 +566,7 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
 
 // Adds the object's shapes, its CSG operands' included, to count[] by the variant's
 // index.
-void count_shapes(const Object& obj, std::size_t count[5]) {
+void count_shapes(const Object& obj, std::size_t count[6]) {
     ++count[obj.shape.index()];
     if (const Csg* c = std::get_if<Csg>(&obj.shape))
         for (const Object& o : c->operands) count_shapes(o, count);
@@ -497,7 +584,8 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
     // object: the spheres are reserved for all objects (address space only, where the
     // run ends early), the other shapes counted from the first that is not a sphere.
     static_assert(std::is_same_v<std::variant_alternative_t<0, Shape>, Sphere> &&
-                      std::is_same_v<std::variant_alternative_t<4, Shape>, Csg>,
+                      std::is_same_v<std::variant_alternative_t<4, Shape>, Csg> &&
+                      std::is_same_v<std::variant_alternative_t<5, Shape>, Mesh>,
                   "counted by the variant's index");
     const bool sphere_first = n > 0 && objects[0].shape.index() == 0;
     std::size_t i = 0;
@@ -519,14 +607,15 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
     g.sphere_prefix = std::uint32_t(i);
     if (i < n) {
         // Every shape, CSG operands too: each array is then made in one block.
-        std::size_t count[5] = {};
+        std::size_t count[6] = {};
         for (std::size_t j = i; j < n; ++j) count_shapes(objects[j], count);
         g.spheres.reserve(i + count[0]);
         g.tetras.reserve(count[1]);
         g.cylinders.reserve(count[2]);
         g.tori.reserve(count[3]);
         g.csgs.reserve(count[4]);
-        g.nodes.reserve(i + count[0] + count[1] + count[2] + count[3] + count[4]);
+        g.meshes.reserve(count[5]);
+        g.nodes.reserve(i + count[0] + count[1] + count[2] + count[3] + count[4] + count[5]);
         for (; i < n; ++i) add(objects[i]);
     }
     if (with_bvh) g.bvh.build(g.object_bounds);
@@ -543,6 +632,13 @@ bool same_shapes(const Geometry& a, const Geometry& b) {
         !same_bits(a.tori, b.tori) || !same_bits(a.object_node, b.object_node) ||
         !same_bits(a.object_bounds, b.object_bounds) || a.sphere_prefix != b.sphere_prefix)
         return false;
+    if (a.meshes.size() != b.meshes.size()) return false;
+    for (std::size_t i = 0; i < a.meshes.size(); ++i) {
+        const MeshG &x = a.meshes[i], &y = b.meshes[i];
+        if (std::memcmp(&x.instance, &y.instance, sizeof x.instance) != 0 || x.model != y.model ||
+            x.smooth != y.smooth || x.opaque != y.opaque)
+            return false;
+    }
     return same_items(a.csgs, b.csgs,
                       [](const CsgG& x, const CsgG& y) {
                           return x.type == y.type && x.left == y.left && x.right == y.right && x.simple == y.simple;
@@ -552,8 +648,17 @@ bool same_shapes(const Geometry& a, const Geometry& b) {
 
 // hit(obj, o, d, 0, out) for a shadow ray's test, out of line: every shape but a
 // sphere straight to hit_general() (whose one-span shapes already skip first_end()).
-bool Geometry::shadow_hit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const {
-    if (nodes[object_node[obj]].kind == NodeKind::Sphere) return hit(obj, o, d, 0.0, out, s);
+bool Geometry::shadow_hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double limit, SpanEnd& out,
+                          SpanScratch& s) const {
+    const Node& node = nodes[object_node[obj]];
+    if (node.kind == NodeKind::Sphere) return hit(obj, o, d, 0.0, out, s);
+    if (node.kind == NodeKind::Mesh && meshes[node.index].opaque) {
+        const MeshG& m = meshes[node.index];
+        if (!m.accel) return false;
+        const TriRay r = TriRay::make(m.instance.point_to_model(o), m.instance.to_model(d));
+        out = {0, 0, 0, false};
+        return m.accel->any(r, 0.0, limit, out.t);
+    }
     return hit_general(obj, o, d, 0.0, out, s);
 }
 

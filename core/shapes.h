@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "bvh.h"
@@ -11,13 +12,14 @@
 #include "math.h"
 #include "scene.h"
 #include "simd.h"
+#include "triangles.h"
 
 namespace rt {
 
 // 1.5e-5 world units: the original's surface tolerance.
 constexpr double kDelta = 1.5e-5;
 
-enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg };
+enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg, Mesh };
 
 struct SphereG {
     Vec3 c;
@@ -41,6 +43,19 @@ struct CsgG {
     CsgType type;
     std::uint32_t left, right;  // node indices
     bool simple = false;        // both operands are primitives: at most 2 spans each
+};
+
+// A mesh block: a model's triangles (shared with every mesh naming the same file)
+// placed by its transform. A mesh is a surface, not a solid: its "spans" are single
+// crossings, found by mesh_hit(); its SpanEnd's `node` is the triangle's slot in the
+// model's TriangleAccel and `flip` says that the triangle faces along the ray (so its
+// normal is turned toward the ray: both sides are lit alike).
+struct MeshG {
+    MeshInstance instance;
+    std::shared_ptr<const MeshModel> model;  // null: no model was read (nothing to hit)
+    const TriangleAccel* accel = nullptr;  // model->accel()
+    bool smooth = false;
+    bool opaque = true;  // its material lets no light through: a shadow ray may stop at any hit
 };
 
 struct Node {
@@ -82,6 +97,7 @@ struct Geometry {
     Chunked<CylinderG> cylinders;
     Chunked<TorusG> tori;
     Shared<CsgG> csgs;
+    Shared<MeshG> meshes;  // instances of models (their triangles shared, not copied)
     Shared<Node> nodes;
     Shared<std::uint32_t> object_node;  // top-level object -> node
     // Objects [0, sphere_prefix) are spheres with node i = object i = sphere i, so that
@@ -93,8 +109,11 @@ struct Geometry {
     // Inside spans of node `n` along the whole line o + t d (d unit), ascending.
     void spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<Span>& out, SpanScratch& scratch,
                std::size_t depth = 0) const;
-    // Outward unit normal of surface `face` of node `n` at p.
+    // Outward unit normal of surface `face` of node `n` at p (not for meshes).
     [[nodiscard]] Vec3 normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const;
+    // The unit normal at p of the surface `e` of object `obj` that a ray hit: normal()
+    // turned by e.flip, or for a mesh its triangle's (interpolated if smooth).
+    [[nodiscard]] Vec3 surface_normal(std::uint32_t obj, const SpanEnd& e, const Vec3& p) const;
     Aabb bounds(std::uint32_t n) const;
 
     // Nearest entry into object `obj` with t > tmin; false if none.
@@ -137,14 +156,20 @@ struct Geometry {
                                    SpanScratch& s) const;
     // hit(obj, o, d, 0.0, out, s) out of line, for shadow rays' tests of objects outside
     // the sphere prefix (mostly tetrahedra, cylinders and CSG, which they mostly miss).
-    [[nodiscard]] bool shadow_hit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const;
+    // The ray ends at `limit`: an opaque mesh stops at any triangle before it (out.t is
+    // then that one's, not necessarily the nearest).
+    [[nodiscard]] bool shadow_hit(std::uint32_t obj, const Vec3& o, const Vec3& d, double limit, SpanEnd& out,
+                                  SpanScratch& s) const;
     // Where a ray inside object `obj` (or on its surface, going in) leaves it:
     // the first span end beyond kDelta; false if none.
     [[nodiscard]] bool exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const;
 
     std::size_t memory_bytes() const;
+    std::size_t model_bytes() const;  // the meshes' models, each once
 
 private:
+    bool mesh_hit(const MeshG& m, const Vec3& o, const Vec3& d, double tmin, SpanEnd& out) const;
+    Vec3 mesh_normal(const MeshG& m, const SpanEnd& e, const Vec3& p) const;
     template <class Out>
     void leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& out) const;
     template <class Out>

@@ -549,7 +549,8 @@ inline bool World::met(std::uint32_t obj, double t, const ShadowRay& s, ShadowSe
 template <bool kOther>
 inline bool World::shadow_test(std::uint32_t obj, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const {
     SpanEnd e;
-    bool hit = kOther ? geometry->shadow_hit(obj, s.o, s.vh, e, ctx.scratch) : geometry->hit(obj, s.o, s.vh, 0.0, e, ctx.scratch);
+    bool hit = kOther ? geometry->shadow_hit(obj, s.o, s.vh, s.limit, e, ctx.scratch)
+                      : geometry->hit(obj, s.o, s.vh, 0.0, e, ctx.scratch);
     return hit && e.t < s.limit && met(obj, e.t, s, found, ctx);
 }
 
@@ -610,7 +611,7 @@ inline bool World::blocker_blocks(const ShadowRay& s, Ctx& ctx) const {
     const std::uint32_t blocker = ctx.blocker[s.light];
     if (blocker == 0 || blocker > materials.size() || materials[blocker - 1].refraction != 0) return false;
     SpanEnd e;
-    return geometry->shadow_hit(blocker - 1, s.o, s.vh, e, ctx.scratch) && e.t < s.limit;
+    return geometry->shadow_hit(blocker - 1, s.o, s.vh, s.limit, e, ctx.scratch) && e.t < s.limit;
 }
 
 // `sh` tinted by the refractive objects that a shadow ray met (none opaque): one alone
@@ -752,12 +753,10 @@ Colour World::walk(const HitRec& x, const Vec3& q0, const Vec3& d1, double eta, 
         SpanEnd e;
         if (g.exit(x.index, q0, d1, e, ctx.scratch) && std::isfinite(e.t)) {
             s = e.t;
-            n1 = g.normal(e.node, e.face, q0 + d1 * s);
-            if (e.flip) n1 = -n1;
+            n1 = g.surface_normal(x.index, e, q0 + d1 * s);
         } else {
             // The original would use a negative length here; treat it as 0 instead.
-            n1 = g.normal(x.end.node, x.end.face, q0);
-            if (x.end.flip) n1 = -n1;
+            n1 = g.surface_normal(x.index, x.end, q0);
         }
     } else {
         const PlaneShape& p = planes[x.index];
@@ -806,8 +805,7 @@ inline bool World::shade_surface(const Vec3& o, const Vec3& d, int depth, double
     Vec3 n;
     if (h.kind == HitRec::Object) {
         m = &materials[h.index];
-        n = geometry->normal(h.end.node, h.end.face, p);
-        if (h.end.flip) n = -n;
+        n = geometry->surface_normal(h.index, h.end, p);
     } else {
         const PlaneShape& pl = planes[h.index];
         m = &plane_mats[2 * h.index + pl.cell(p)];

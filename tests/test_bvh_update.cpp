@@ -63,7 +63,8 @@ void move(Object& o, const Vec3& d) {
     std::visit(
         [&](auto& x) {
             using T = std::decay_t<decltype(x)>;
-            if constexpr (std::is_same_v<T, Sphere> || std::is_same_v<T, Torus>) x.position = x.position + d;
+            if constexpr (std::is_same_v<T, Sphere> || std::is_same_v<T, Torus> || std::is_same_v<T, Mesh>)
+                x.position = x.position + d;
             else if constexpr (std::is_same_v<T, Cylinder>) x.end1 = x.end1 + d, x.end2 = x.end2 + d;
             else if constexpr (std::is_same_v<T, Tetrahedron>)
                 for (Vec3& v : x.v) v = v + d;

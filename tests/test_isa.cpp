@@ -15,6 +15,7 @@
 #include "renderer.h"
 #include "scene_parser.h"
 #include "shapes.h"
+#include "test_util.h"
 #include "simd.h"
 #include "test_random.h"
 
@@ -61,7 +62,7 @@ TEST_CASE("isa: every available path renders the example and benchmark scenes to
         CAPTURE(file.string());
         std::string text;
         REQUIRE(read_file(file.string(), text, Limits::max_file_size).ok());
-        ParseResult parsed = parse_scene(text);
+        ParseResult parsed = parse_scene(text, rt_test::options_for(file.parent_path().string()));
         REQUIRE(parsed.ok());
         // An eighth of the size in each direction: enough rays for every kind of hit.
         int w = std::max(8, parsed.scene.width / 8), h = std::max(8, parsed.scene.height / 8);

@@ -25,7 +25,9 @@ TEST_CASE("every example scene renders like its stored reference") {
         CAPTURE(name);
         std::string text;
         REQUIRE(read_file(entry.path().string(), text, Limits::max_file_size).ok());
-        ParseResult parsed = parse_scene(text);
+        ParseOptions options;
+        options.base_dir = scenes.string();
+        ParseResult parsed = parse_scene(text, options);
         REQUIRE(parsed.ok());
 
         int w = 0, h = 0;

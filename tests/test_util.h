@@ -45,15 +45,35 @@ inline void put(const fs::path& p, const std::string& data) {
     REQUIRE(out.good());
 }
 
+// Options that read a scene's models from `folder`, every parse sharing one store, so
+// that meshes naming the same file hold the same model (and compare equal) across
+// parses, as in one viewer session.
+inline rt::ParseOptions options_for(const std::string& folder) {
+    static rt::ModelStore store;
+    rt::ParseOptions o;
+    o.base_dir = folder;
+    o.models = &store;
+    return o;
+}
+#ifdef RT_SOURCE_DIR
+// Those of the example scenes (scenes/, whose models are in scenes/models/).
+inline rt::ParseOptions scenes_options() { return options_for(RT_SOURCE_DIR "/scenes"); }
+#endif
+
 // The scene `text` describes; the test stops here, with the parser's messages and the
-// text, if it does not parse.
-inline rt::Scene parse_ok(const std::string& text) {
-    rt::ParseResult r = rt::parse_scene(text);
+// text, if it does not parse. Models are read as for scenes/ (from `options`).
+inline rt::Scene parse_ok(const std::string& text, const rt::ParseOptions& options) {
+    rt::ParseResult r = rt::parse_scene(text, options);
     const rt::Status st = r.status("scene");
     INFO("text:\n" << text);
     REQUIRE_MESSAGE(st.ok(), st.message());
     return std::move(r.scene);
 }
+#ifdef RT_SOURCE_DIR
+inline rt::Scene parse_ok(const std::string& text) { return parse_ok(text, scenes_options()); }
+#else
+inline rt::Scene parse_ok(const std::string& text) { return parse_ok(text, rt::ParseOptions()); }
+#endif
 
 inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 

@@ -63,7 +63,7 @@ std::string errors_of(const ParseResult& r) {
 void check_round_trip(const Scene& s) {
     const std::string text = write_scene(s);
     INFO("text:\n" << text);
-    ParseResult r = parse_scene(text);
+    ParseResult r = parse_scene(text, rt_test::scenes_options());
     INFO("errors:\n" << errors_of(r));
     REQUIRE(r.ok());
     CHECK(r.scene == s);
@@ -494,7 +494,12 @@ void change_key(const schema::Key<T>& k, T& item, int i, double step) {
         break;
     }
     case schema::Kind::Vec3: k.access.vec3(item, i) += Vec3{step, 2 * step, -step}; break;
-    case schema::Kind::Integer: k.access.integer(item, i) += 7; break;
+    case schema::Kind::Integer: {
+        int& v = k.access.integer(item, i);
+        v = v + 7 <= k.range.max ? v + 7 : int(k.range.min) + (v == int(k.range.min));  // stay in range
+        break;
+    }
+    case schema::Kind::File: k.access.text(item, i) += "x.obj"; break;
     case schema::Kind::Choice: {
         // Another value of the list.
         const int now = k.access.get_choice(item);
@@ -531,16 +536,20 @@ TEST_CASE("round trip: every key the schema lists, changed one at a time, is wri
                 CAPTURE(std::string(k.name));
                 CAPTURE(i);
                 auto item = make();
-                if constexpr (std::is_same_v<decltype(item), Object>)
+                if constexpr (std::is_same_v<decltype(item), Object>) {
                     if (auto* t = std::get_if<Tetrahedron>(&item.shape))  // the default one is flat
                         *t = Tetrahedron{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+                    if (auto* m = std::get_if<Mesh>(&item.shape)) m->file = "models/a b.obj";  // none by default
+                }
                 change_key(k, item, i, 0.375);
                 Scene s = parse_ok(kCamera + "picture_size { x_max 4 y_max 4 }\nend\n");
                 get_list(s).push_back(item);
                 const std::string text = write_scene(s);
                 CHECK(text.find(section + " {") != std::string::npos);
                 CHECK(text.find(std::string(k.name)) != std::string::npos);
-                ParseResult r = parse_scene(text);
+                ParseOptions o;
+                o.read_models = false;  // the names are checked, not the files
+                ParseResult r = parse_scene(text, o);
                 INFO(text);
                 REQUIRE(r.ok());
                 CHECK(r.scene == s);
@@ -555,7 +564,7 @@ TEST_CASE("round trip: every key the schema lists, changed one at a time, is wri
                    [](Scene& s) -> std::vector<Plane>& { return s.planes; });
     for (const auto& b : schema::light_blocks())
         check_item("light", std::string(b.name), b.make, b, [](Scene& s) -> std::vector<Light>& { return s.lights; });
-    CHECK(keys == 3 + 5 + 4 + 5 + 4 + (4 + 1) + (4 + 2) + 3 + 2);  // sphere ... spotlight
+    CHECK(keys == 3 + 5 + 4 + 5 + 4 + 6 + (4 + 1) + (4 + 2) + 3 + 2);  // sphere ... mesh ... spotlight
 
     // Camera, picture size and material keys through whole scenes.
     for (const auto& k : schema::camera_block().keys) {

@@ -5,7 +5,9 @@
 // Protocol (all MPI calls on each rank's main thread, so MPI_THREAD_FUNNELED suffices):
 //   1. Bcast JobHeader from rank 0: an exit status for everyone (help, usage or scene
 //      error: printed once, by rank 0), or the render settings and the text's size.
-//   2. Bcast the scene text; every rank parses it and builds its own World and BVH.
+//   2. Bcast the scene text, then the models its meshes name (each file's triangles as
+//      rank 0 read them, so that every rank holds the very same ones); every rank
+//      parses the text (without reading model files) and builds its own World and BVH.
 //   3. Gather every rank's thread count (or -1: could not build); Bcast go / no-go.
 //   4. Rank 0 keeps kDepth tiles out at each worker (one rendering, the others queued,
 //      so a worker never idles for a round trip); each finished tile comes back as its
@@ -37,6 +39,7 @@
 #include "adaptive.h"
 #include "cli.h"
 #include "image_io.h"
+#include "model.h"
 #include "scene_parser.h"
 #include "schedule.h"
 #include "status.h"
@@ -216,12 +219,71 @@ rt::Status front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
     return {};
 }
 
-// Every rank: the World from the broadcast text and settings. Rank 0 parsed the same
-// text already, so an error here means a broken broadcast, not a bad scene.
-rt::Expected<std::shared_ptr<const rt::World>> build_world(const std::string& text, const JobHeader& job) {
-    rt::ParseResult parsed = rt::parse_scene(text);
+// The models of the scene's meshes by the file name the scene gives them.
+using Models = std::map<std::string, std::shared_ptr<const rt::MeshModel>>;
+
+// A buffer of any size from rank 0 to every rank, in pieces an int can count.
+void bcast_bytes(void* data, std::uint64_t size, const char* what) {
+    constexpr std::uint64_t kPiece = std::uint64_t(1) << 30;
+    for (std::uint64_t at = 0; at < size; at += kPiece)
+        check(MPI_Bcast(static_cast<char*>(data) + at, int(std::min(kPiece, size - at)), MPI_BYTE, 0, MPI_COMM_WORLD),
+              what);
+}
+
+template <class T>
+void bcast_vector(std::vector<T>& v, const char* what) {
+    std::uint64_t n = v.size();
+    check(MPI_Bcast(&n, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), what);
+    v.resize(std::size_t(n));
+    bcast_bytes(v.data(), n * sizeof(T), what);
+}
+
+// Step 2's models: rank 0 sends those of `scene` (which it read); the others receive
+// them and make models of their own from the same triangles.
+Models share_models(const rt::Scene& scene) {
+    Models models;
+    if (g_rank == 0)
+        for (const rt::Object& o : scene.objects)
+            if (const rt::Mesh* m = std::get_if<rt::Mesh>(&o.shape)) models.emplace(m->file, m->model);
+    std::uint64_t count = models.size();
+    check(MPI_Bcast(&count, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "MPI_Bcast (models)");
+    auto it = models.begin();
+    for (std::uint64_t k = 0; k < count; ++k) {
+        std::vector<char> name;
+        rt::MeshData data;
+        if (g_rank == 0) {
+            name.assign(it->first.begin(), it->first.end());
+            data = it->second->data();
+        }
+        bcast_vector(name, "MPI_Bcast (model name)");
+        bcast_vector(data.positions, "MPI_Bcast (model vertices)");
+        bcast_vector(data.normals, "MPI_Bcast (model normals)");
+        bcast_vector(data.triangles, "MPI_Bcast (model triangles)");
+        if (g_rank == 0) {
+            ++it;
+        } else {
+            const std::string file(name.begin(), name.end());
+            models.emplace(file, std::make_shared<const rt::MeshModel>(file, std::move(data)));
+        }
+    }
+    return models;
+}
+
+// Every rank: the World from the broadcast text, models and settings. Rank 0 parsed
+// the same text already, so an error here means a broken broadcast, not a bad scene.
+rt::Expected<std::shared_ptr<const rt::World>> build_world(const std::string& text, const Models& models,
+                                                           const JobHeader& job) {
+    rt::ParseOptions options;
+    options.read_models = false;  // they came with the text
+    rt::ParseResult parsed = rt::parse_scene(text, options);
     if (!parsed.ok()) return rt::Status::error("the broadcast scene text does not parse", kExitMpi);
     rt::Scene& scene = parsed.scene;
+    for (rt::Object& o : scene.objects)
+        if (rt::Mesh* m = std::get_if<rt::Mesh>(&o.shape)) {
+            auto it = models.find(m->file);
+            if (it == models.end()) return rt::Status::error("a mesh's model was not broadcast", kExitMpi);
+            m->model = it->second;
+        }
     scene.width = job.width;
     scene.height = job.height;
     return rtcli::build_world(scene, job.max_depth);
@@ -608,9 +670,9 @@ struct Built {
 };
 
 // Step 2's second half, on every rank: success, or why this rank could not build.
-rt::Status build_rank(const std::string& text, const JobHeader& job, Built& b) {
+rt::Status build_rank(const std::string& text, const Models& models, const JobHeader& job, Built& b) {
     try {
-        rt::Expected<std::shared_ptr<const rt::World>> world = build_world(text, job);
+        rt::Expected<std::shared_ptr<const rt::World>> world = build_world(text, models, job);
         if (!world) return world.status();
         b.world = std::move(*world);
         b.camera = rt::CameraBasis::make(b.world->camera, job.width, job.height, job.mirror != 0);
@@ -718,10 +780,11 @@ int run(int argc, char** argv) {
     std::string text = std::move(f.text);
     text.resize(std::size_t(job.text_size));
     check(MPI_Bcast(text.data(), int(job.text_size), MPI_BYTE, 0, MPI_COMM_WORLD), "MPI_Bcast (scene)");
+    const Models models = share_models(scene);
     times.bcast = seconds_since(t_bcast0);
     const auto t_compile0 = Clock::now();
     Built built;
-    const rt::Status built_ok = build_rank(text, job, built);
+    const rt::Status built_ok = build_rank(text, models, job, built);
     times.compile = seconds_since(t_compile0);
 
     // Step 3: everyone ready?

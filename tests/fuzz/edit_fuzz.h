@@ -599,6 +599,7 @@ private:
                 break;
             case sc::Kind::Material: material_value(v.material); break;
             case sc::Kind::Operand: break;
+            case sc::Kind::File: break;  // (the fuzzer's scenes name no model files)
         }
     }
     void material_value(rt::Material& m) {

@@ -13,9 +13,12 @@
 #include <vector>
 
 #include "camera.h"
+#include "model.h"
+#include "model_readers.h"
 #include "scene.h"
 #include "scene_parser.h"
 #include "scene_writer.h"
+#include "triangles.h"
 
 namespace rtfuzz {
 
@@ -88,7 +91,18 @@ inline std::size_t check_object(const rt::Object& o, int csg_depth) {
         if (g->type != rt::CsgType::Union && g->type != rt::CsgType::Intersection &&
             g->type != rt::CsgType::Difference)
             fail("CSG with a bad type accepted");
-        for (const auto& op : g->operands) count += check_object(op, csg_depth + 1);
+        for (const auto& op : g->operands) {
+            if (std::holds_alternative<rt::Mesh>(op.shape)) fail("a mesh accepted as a CSG operand");
+            count += check_object(op, csg_depth + 1);
+        }
+    } else if (const auto* m = std::get_if<rt::Mesh>(&o.shape)) {
+        check_vec(m->position, "mesh position");
+        check_vec(m->scale, "mesh scale");
+        check_vec(m->rotation, "mesh rotation");
+        if (m->scale.x == 0 || m->scale.y == 0 || m->scale.z == 0) fail("mesh with a scale of 0 accepted");
+        if (m->smooth != 0 && m->smooth != 1) fail("mesh smooth other than 0 or 1 accepted");
+        if (m->file.empty() || m->file.find_first_of("\"\n\r") != std::string::npos)
+            fail("mesh file name empty or holding a quote or line end accepted");
     }
     return count;
 }
@@ -189,6 +203,7 @@ inline void check_pieces(std::string_view text, const rt::ParseResult& one, rt::
 inline void check_parse(std::string_view text, int low_max_errors) {
     rt::ParseOptions one_go;
     one_go.threads = 1;
+    one_go.read_models = false;  // the text alone (the model readers have targets of their own)
     const rt::ParseResult r = rt::parse_scene(text, one_go);
     check_diagnostics(text, r);
     if (r.ok()) check_scene(r.scene);
@@ -203,10 +218,12 @@ inline void check_parse(std::string_view text, int low_max_errors) {
 
 // parse -> write -> parse gives an equal scene, and writing it again the same text.
 inline void check_roundtrip(std::string_view text) {
-    const rt::ParseResult r = rt::parse_scene(text);
+    rt::ParseOptions o;
+    o.read_models = false;
+    const rt::ParseResult r = rt::parse_scene(text, o);
     if (!r.ok()) return;
     const std::string text2 = rt::write_scene(r.scene);
-    const rt::ParseResult r2 = rt::parse_scene(text2);
+    const rt::ParseResult r2 = rt::parse_scene(text2, o);
     if (!r2.ok()) {
         std::string why;
         for (const auto& d : r2.diagnostics) why += "\n  " + rt::format_diagnostic("written", d);
@@ -216,6 +233,39 @@ inline void check_roundtrip(std::string_view text) {
     const std::string text3 = rt::write_scene(r2.scene);
     if (text3 != text2)
         fail("write(parse(text2)) != text2", "\n--- text2 ---\n" + text2 + "--- text3 ---\n" + text3);
+}
+
+// A model reader's promises for any bytes: an error with a message, or triangles within
+// the limits whose indices name vertices there are, at finite coordinates; and the
+// triangles' BVH builds and answers rays without going outside its arrays.
+inline void check_model(std::string_view bytes, bool (*read)(std::string_view, rt::MeshData&, rt::ModelError&)) {
+    rt::MeshData m;
+    rt::ModelError e;
+    if (!read(bytes, m, e)) {
+        if (e.message.empty()) fail("a model refused without a message");
+        if (e.line < 0) fail("a model error at a negative line");
+        return;
+    }
+    if (m.triangles.empty() || m.triangles.size() % 3 != 0 || m.positions.size() % 3 != 0)
+        fail("a model without whole triangles or vertices accepted");
+    if (!m.normals.empty() && m.normals.size() != m.positions.size()) fail("normals not one per vertex");
+    if (m.triangle_count() > rt::ModelLimits::max_triangles || m.vertex_count() > rt::ModelLimits::max_vertices)
+        fail("a model over the limits accepted");
+    for (std::uint32_t v : m.triangles)
+        if (v >= m.vertex_count()) fail("a triangle naming a vertex beyond the last", std::to_string(v));
+    for (float x : m.positions)
+        if (!(std::fabs(x) <= rt::ModelLimits::max_coordinate)) fail("a coordinate out of range accepted");
+    const rt::TriangleAccel acc = rt::TriangleAccel::build(m, 1);
+    const rt::Aabb b = rt::MeshModel("fuzz", m).bounds();
+    const rt::Vec3 c = (b.lo + b.hi) * 0.5;
+    for (int k = 0; k < 8; ++k) {
+        const rt::Vec3 d{k & 1 ? 1.0 : -1.0, k & 2 ? 0.5 : -0.7, k & 4 ? 0.3 : -1.1};
+        rt::TriHit h;
+        double t;
+        if (acc.nearest(rt::TriRay::make(c - d * 1e3, d), 0, HUGE_VAL, h) && h.slot >= acc.ids.size())
+            fail("a hit outside the triangles");
+        (void)acc.any(rt::TriRay::make(c, d), 0, HUGE_VAL, t);
+    }
 }
 
 }  // namespace rtfuzz

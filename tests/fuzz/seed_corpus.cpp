@@ -36,6 +36,9 @@ const char* const kBodies[] = {
     "special_thing { plane { point 1 0 0 0 point 2 1 0 0 point 3 0 1 0 point 4 0 0 1 material { colour 1 1 1 } } }",
     "special_thing { chess_plane { material 1 { colour 1 1 1 } material 2 { colour 0 0 0 } point 4 0 0 5 } }",
     "light { lamp { position 1 2 3 colour 10 10 10 size 0.5 } spotlight { position 0 0 5 colour 5 5 5 } }",
+    "thing { mesh { file \"models/cube.obj\" position 1 2 3 scale 2 rotation 0 90 45 smooth 1 "
+    "material { colour 1 0 0 } } mesh { file plain.ply scale 1 2 0.5 } }",
+    "thing { constructive_solid_geometry { left { mesh { file \"a b.obj\" } } right { sphere { } } } }",
     "// comment\nthing { // after brace\n sphere { radius 1 } // trailing\n}",
     "thing{sphere{radius 1}}",
     // warnings

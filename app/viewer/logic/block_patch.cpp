@@ -81,6 +81,10 @@ public:
 
 private:
     bool is_brace(std::size_t i, char c) const { return i < toks_.size() && toks_[i].is(c); }
+    // Whether the value at token i is three numbers (else one stands for three).
+    bool three_numbers(std::size_t i) const {
+        return i + 2 < toks_.size() && rt::is_number_syntax(toks_[i + 1].text) && rt::is_number_syntax(toks_[i + 2].text);
+    }
 
     // Past the balanced `{ ... }` starting at token i.
     bool skip_braces(std::size_t& i) const {
@@ -140,7 +144,16 @@ private:
                 case sc::Kind::Number:
                 case sc::Kind::Choice:
                 case sc::Kind::Integer: i += 1; break;
-                case sc::Kind::Vec3: i += 3; break;
+                case sc::Kind::Vec3: i += k->one_or_three && !three_numbers(i) ? 1 : 3; break;
+                case sc::Kind::File: {
+                    // A quoted name with spaces is several tokens, up to the one ending the quote.
+                    const std::string_view first = i < toks_.size() ? toks_[i].text : std::string_view();
+                    if (!first.empty() && first.front() == '"' && (first.size() < 2 || first.back() != '"'))
+                        while (++i < toks_.size() && toks_[i].text.back() != '"') {
+                        }
+                    i += 1;
+                    break;
+                }
                 case sc::Kind::Material:
                 case sc::Kind::Operand:
                     if (!skip_braces(i)) return false;
@@ -178,6 +191,10 @@ private:
                     insert_key(close, name + " " + vec_text(b));
                     return true;
                 }
+                if (k.one_or_three && !three_numbers(at)) {  // `scale 2`: one number for all three
+                    replace_token(at, b.x == b.y && b.y == b.z ? rt::format_number(b.x) : vec_text(b));
+                    return true;
+                }
                 for (int c = 0; c < 3; ++c)
                     if (!same(a[c], b[c])) replace_token(at + std::size_t(c), rt::format_number(b[c]));
                 return true;
@@ -208,6 +225,8 @@ private:
                 std::size_t j = at;
                 return body(sc::material_block(), j, k.material(before, i), k.material(after, i));
             }
+            case sc::Kind::File:
+                return k.text(before, i) == k.text(after, i);  // a new name: the block is written anew
             case sc::Kind::Operand:
                 if constexpr (std::is_same_v<T, rt::Object>) {
                     const rt::Object* a = k.operand(before, i);
@@ -234,9 +253,18 @@ template <class T>
 bool reads_back(const std::string& block, const char* section, const T& after) {
     std::string scene = std::string(section) + " {\n" + block + "\n}\n" + rt::write_camera(rt::Camera{}) +
                         "picture_size { x_max 1 y_max 1 }\nend\n";
-    rt::ParseResult r = rt::parse_scene(scene);
+    rt::ParseOptions o;
+    o.read_models = false;  // the block's text is what is checked; its model stays as read
+    rt::ParseResult r = rt::parse_scene(scene, o);
     if (!r.ok()) return false;
-    if constexpr (std::is_same_v<T, rt::Object>) return r.scene.objects.size() == 1 && r.scene.objects[0] == after;
+    if constexpr (std::is_same_v<T, rt::Object>) {
+        if (r.scene.objects.size() != 1) return false;
+        if (const rt::Mesh* m = std::get_if<rt::Mesh>(&after.shape)) {
+            rt::Object& read = r.scene.objects[0];
+            if (rt::Mesh* back = std::get_if<rt::Mesh>(&read.shape)) back->model = m->model;
+        }
+        return r.scene.objects[0] == after;
+    }
     if constexpr (std::is_same_v<T, rt::Plane>) return r.scene.planes.size() == 1 && r.scene.planes[0] == after;
     if constexpr (std::is_same_v<T, rt::Light>) return r.scene.lights.size() == 1 && r.scene.lights[0] == after;
     return false;

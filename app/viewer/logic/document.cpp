@@ -191,7 +191,7 @@ std::size_t DocStep::bytes() const {
 Document::Document() { load_text("", "", "untitled"); }
 
 void Document::load_text(const std::string& text, const std::string& path, const std::string& name) {
-    load_parsed(text, rt::parse_scene(text), path, name);
+    load_parsed(text, rt::parse_scene(text, parse_options(path)), path, name);
 }
 
 void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::string& path,
@@ -464,7 +464,7 @@ void Document::commit() {
         scene_ = scene_before_edit_from(step);
         saved_ = {};
         ++scene_version_;
-        ++content_version_;
+        this->changed(rt::SceneDelta::all());
         refusal_ = "The edit was undone: the scene text cannot hold it (a number past the format's limit of "
                    "1e15, or a shape the format refuses)";
         return;
@@ -592,7 +592,7 @@ bool Document::commit_generic(DocStep& step) {
     // unambiguous (the draft parses and has the same items); never overwrite it. An
     // edit that cannot be carried is not made: the text the user saves and the scene
     // the panels show would disagree.
-    rt::ParseResult draft = rt::parse_scene(editor_);
+    rt::ParseResult draft = rt::parse_scene(editor_, parse_options(path_));
     std::optional<std::string> patched;
     if (draft.ok()) {
         bool complete = false;
@@ -622,7 +622,7 @@ std::string Document::edit_blocker() const {
         blocker_key_ = key;
         blocker_.clear();
         if (*applied_ != editor_) {
-            const rt::ParseResult draft = rt::parse_scene(editor_);
+            const rt::ParseResult draft = rt::parse_scene(editor_, parse_options(path_));
             if (!draft.ok())
                 blocker_ = "The scene text has unapplied changes with errors: fix them (Ctrl+Enter applies) "
                            "or revert them before editing here";
@@ -634,7 +634,7 @@ std::string Document::edit_blocker() const {
 std::optional<std::string> Document::save_problem() const {
     if (has_scene_ && !applied_ && !behind_) return std::nullopt;  // the text is the scene's own
     if (has_scene_ && applied_ && *applied_ == editor_ && !behind_) return std::nullopt;
-    const rt::ParseResult r = rt::parse_scene(editor_);
+    const rt::ParseResult r = rt::parse_scene(editor_, parse_options(path_));
     for (const rt::Diagnostic& d : r.diagnostics)
         if (d.is_error())
             return "line " + std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message;
@@ -642,7 +642,7 @@ std::optional<std::string> Document::save_problem() const {
 }
 
 bool Document::apply_parsing_draft() {
-    if (!applied_ || *applied_ == editor_ || !rt::parse_scene(editor_).ok()) return false;
+    if (!applied_ || *applied_ == editor_ || !rt::parse_scene(editor_, parse_options(path_)).ok()) return false;
     return apply_text();
 }
 
@@ -738,7 +738,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
     has_scene_ = forward ? s.has_scene_after : s.has_scene_before;
     if (s.reparse) {
         if (has_scene_) {
-            rt::ParseResult r = rt::parse_scene(applied_text());
+            rt::ParseResult r = rt::parse_scene(applied_text(), parse_options(path_));
             scene_ = std::move(r.scene);
         }
     } else {
@@ -755,7 +755,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
         changed(items_of(s.objects_before, s.planes_before, s.lights_before));
     if (!s.editor.empty() || s.applied_before != s.applied_after) ++text_version_;
     typing_base_.reset();
-    diagnostics_ = editor_dirty() ? rt::parse_scene(editor_).diagnostics : std::vector<rt::Diagnostic>{};
+    diagnostics_ = editor_dirty() ? rt::parse_scene(editor_, parse_options(path_)).diagnostics : std::vector<rt::Diagnostic>{};
 }
 
 bool Document::has_errors() const {
@@ -767,7 +767,7 @@ bool Document::has_errors() const {
 bool Document::apply_text() {
     commit();
     flush_typing();
-    rt::ParseResult r = rt::parse_scene(editor_);
+    rt::ParseResult r = rt::parse_scene(editor_, parse_options(path_));
     diagnostics_ = r.diagnostics;
     if (!r.ok()) return false;
     normalize_applied();
@@ -786,14 +786,14 @@ bool Document::replace_text(std::size_t pos, std::size_t length, const std::stri
     if (applied_ || behind_ || pos > editor_.size() || length > editor_.size() - pos) return false;
     std::string edited = editor_;
     edited.replace(pos, length, text);
-    rt::ParseResult r = rt::parse_scene(edited);
+    rt::ParseResult r = rt::parse_scene(edited, parse_options(path_));
     if (!r.ok()) return false;
     diagnostics_ = r.diagnostics;
     replace_state(&edited, std::nullopt, std::move(r.scene), false, name);
     return true;
 }
 
-void Document::check_text() { diagnostics_ = rt::parse_scene(editor_).diagnostics; }
+void Document::check_text() { diagnostics_ = rt::parse_scene(editor_, parse_options(path_)).diagnostics; }
 
 void Document::revert_text() {
     commit();
@@ -916,7 +916,7 @@ rt::Status Document::save_as(const std::string& path) {
 
 void Document::reload_text(const std::string& text) {
     flush_typing();
-    rt::ParseResult r = rt::parse_scene(text);
+    rt::ParseResult r = rt::parse_scene(text, parse_options(path_));
     diagnostics_ = r.diagnostics;
     if (r.ok()) {
         replace_state(&text, std::nullopt, std::move(r.scene), false, "Reload from disk");
@@ -928,7 +928,44 @@ void Document::reload_text(const std::string& text) {
     mark_saved();
 }
 
+rt::ParseOptions Document::parse_options(const std::string& path) const {
+    rt::ParseOptions o;
+    o.base_dir = rt::folder_of(path);  // mesh files are named from the scene's folder
+    o.models = models_.get();
+    return o;
+}
+
+bool Document::reload_models() {
+    if (!has_scene_ || pending_ || editor_dirty() || behind_) return false;
+    std::vector<const rt::MeshModel*> seen;
+    bool changed = false;
+    for (const rt::Object& o : scene_.objects)
+        if (const rt::Mesh* m = std::get_if<rt::Mesh>(&o.shape); m && m->model) {
+            if (std::find(seen.begin(), seen.end(), m->model.get()) != seen.end()) continue;
+            seen.push_back(m->model.get());
+            changed = changed || !m->model->unchanged_on_disk();
+        }
+    if (!changed) return false;
+    // The text is the same: only the scene's models are new (no undo step). A model
+    // that no longer reads leaves the scene as it was, and is said once.
+    rt::ParseResult r = rt::parse_scene(editor_, parse_options(path_));
+    if (!r.ok()) {
+        std::string why;
+        for (const rt::Diagnostic& d : r.diagnostics)
+            if (d.is_error() && why.empty()) why = "line " + std::to_string(d.line) + ": " + d.message;
+        if (why == model_problem_) return false;
+        model_problem_ = why;
+        return true;
+    }
+    model_problem_.clear();
+    scene_.objects = std::move(r.scene.objects);
+    ++scene_version_;
+    this->changed(rt::SceneDelta::all());  // a model's triangles: the world is compiled anew
+    return true;
+}
+
 Document::DiskEvent Document::check_disk() {
+    if (reload_models()) return model_problem_.empty() ? DiskEvent::ModelsReloaded : DiskEvent::ModelUnreadable;
     if (path_.empty() || pending_) return DiskEvent::None;  // not in the middle of a gesture
     FileStamp st = FileStamp::of(path_);
     if (st == stamp_) return DiskEvent::None;

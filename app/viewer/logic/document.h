@@ -10,9 +10,11 @@
 #include <cstdint>
 #include <deque>
 #include <optional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "model.h"
 #include "scene.h"
 #include "scene_delta.h"
 #include "scene_parser.h"
@@ -201,11 +203,19 @@ public:
     std::uint64_t saved_hash() const { return saved_hash_; }
 
     // --- the file on disk ------------------------------------------------------
-    enum class DiskEvent { None, Reloaded, Conflict, Removed };
+    enum class DiskEvent { None, Reloaded, Conflict, Removed, ModelsReloaded, ModelUnreadable };
     // Call now and then (the viewer: once a second). Reloads by itself when there
     // are no unsaved edits (looking around is not an edit: the view camera lives
-    // outside the document); reports a conflict otherwise.
+    // outside the document); reports a conflict otherwise. A model file a mesh names
+    // that changed is read again (the text stays: ModelsReloaded); if it no longer
+    // reads, the scene keeps the model as it was (ModelUnreadable, model_problem()).
+    // The models read for this document's scenes, kept between parses (and shared
+    // with the loader, which reads them in the background).
+    rt::ModelStore& models() const { return *models_; }
+    // How the document parses a text that is (to be) the file at `path`.
+    rt::ParseOptions parse_options(const std::string& path) const;
     DiskEvent check_disk();
+    const std::string& model_problem() const { return model_problem_; }
     bool disk_conflict() const { return conflict_; }
     void resolve_conflict_reload();  // take the disk version (undoable)
     void resolve_conflict_keep();    // keep ours; ask again only on the next change
@@ -241,7 +251,12 @@ private:
     void normalize_applied();
     void mark_saved();
     void reload_text(const std::string& text);
+    // The scene's models read again if one changed on disk; true if the scene changed.
+    bool reload_models();
 
+    // A cache: reading through it changes no state, and copies of the document share it.
+    std::shared_ptr<rt::ModelStore> models_ = std::make_shared<rt::ModelStore>();
+    std::string model_problem_;      // why a changed model did not read, once said
     std::string editor_;
     std::optional<std::string> applied_;  // only while it differs from editor_ (or may)
     std::optional<std::string> typing_base_;  // editor_ as the last step left it, while typed into

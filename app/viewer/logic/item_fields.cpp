@@ -102,6 +102,7 @@ FieldValue value_of(const sc::Block<T>& b, const T& item, const Field& f) {
             v.has_material = k.has_material(item, f.index);
             break;
         case sc::Kind::Operand: v.operand = k.operand(item, f.index); break;
+        case sc::Kind::File: v.text = k.text(item, f.index); break;
     }
     return v;
 }
@@ -185,6 +186,10 @@ FieldResult assign(const sc::Block<T>& b, T& item, const Field& f, const FieldVa
         }
         case sc::Kind::Operand:
             r.status = refused("select the " + std::string(k.name) + " operand to edit it");
+            return r;
+        case sc::Kind::File:
+            // The model is read when the text is parsed: a field could not read it.
+            r.status = refused("change the " + std::string(k.name) + " in the scene text (Ctrl+E)");
             return r;
     }
     if (b.check) {

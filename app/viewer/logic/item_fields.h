@@ -45,6 +45,7 @@ struct FieldValue {
     rt::Material material;
     bool has_material = false;  // Material: the block gives one (else the default is shown)
     const rt::Object* operand = nullptr;  // Operand: the object inside it
+    std::string text;                     // File: the name as written
 };
 
 // The block the item is written as ("sphere", "chess_plane", "lamp"), or null if `ref`

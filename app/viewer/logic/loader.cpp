@@ -9,10 +9,12 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <utility>
 
 #include "scene.h"
+#include "scene_edits.h"
 #include "status.h"
 
 namespace rtview {
@@ -20,6 +22,8 @@ namespace rtview {
 struct SceneLoader::Job {
     std::string path;
     bool compile = true;
+    rt::ModelStore* models = nullptr;
+    rt::ModelStore own_models;  // when no store is given
     std::atomic<bool> cancel{false};
     std::atomic<bool> finished{false};
     mutable std::mutex mutex;
@@ -101,11 +105,36 @@ rt::Status read_scene_file(const std::string& path, std::string& out, const std:
     return {};
 }
 
+namespace {
+
+// A model opened on its own: a new scene showing it (scene_edits.h), the model read
+// through the store (where the scene's parse finds it again). The scene names the
+// file by its absolute path: it has no folder of its own until it is saved.
+rt::Status model_scene_text(const std::string& path, rt::ModelStore& models, std::string& text) {
+    std::error_code ec;
+    const std::string absolute = std::filesystem::absolute(path, ec).lexically_normal().string();
+    if (ec) return rt::Status::error(ec.message(), rt::kExitUsage);
+    const rt::ModelStore::Loaded l = models.load(absolute);
+    if (!l.model)
+        return rt::Status::error((l.error.line > 0 ? "line " + std::to_string(l.error.line) + ": " : "") + l.error.message,
+                                 rt::kExitUsage);
+    text = model_scene(absolute, *l.model);
+    return {};
+}
+
+}  // namespace
+
 bool apply_load(LoadResult& r, Document& doc, std::shared_ptr<const rt::World>& world) {
     if (r.status != LoadResult::Status::Ok) return false;
     std::size_t slash = r.path.find_last_of('/');
     std::string name = slash == std::string::npos ? r.path : r.path.substr(slash + 1);
     world = std::move(r.world);
+    if (r.new_scene) {
+        // A scene of its own, unsaved: Save asks where (the name offered beside the model).
+        const std::size_t dot = name.find_last_of('.');
+        doc.load_parsed(std::move(r.text), std::move(r.parsed), "", name.substr(0, dot) + ".txt");
+        return true;
+    }
     doc.load_parsed(std::move(r.text), std::move(r.parsed), r.path, name);
     return true;
 }
@@ -122,8 +151,10 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
     };
     LoadResult r;
     r.path = job->path;
+    rt::ModelStore& models = job->models ? *job->models : job->own_models;
     stage(Stage::Reading);
-    const rt::Status read = read_scene_file(job->path, r.text, job->cancel, [&](std::uint64_t b, std::uint64_t t) {
+    r.new_scene = rt::is_model_file(job->path);
+    const rt::Status read = r.new_scene ? model_scene_text(job->path, models, r.text) : read_scene_file(job->path, r.text, job->cancel, [&](std::uint64_t b, std::uint64_t t) {
         std::lock_guard<std::mutex> lock(job->mutex);
         job->progress.bytes = b;
         job->progress.total = t;
@@ -142,6 +173,8 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
         }
         // Bytes parsed so far for the status bar; Esc stops the parse within a MB.
         rt::ParseOptions popts;
+        popts.base_dir = r.new_scene ? std::string() : rt::folder_of(job->path);
+        popts.models = &models;
         popts.progress = [&](std::size_t bytes, std::size_t objects) {
             std::lock_guard<std::mutex> lock(job->mutex);
             job->progress.bytes = bytes;
@@ -163,17 +196,18 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
             r.status = job->cancel ? LoadResult::Status::Cancelled : LoadResult::Status::Ok;
         }
     }
-    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, {}, {}, {}, {}};
+    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, false, {}, {}, {}, {}};
     job->result = std::move(r);
     stage(Stage::Done);
     job->finished = true;
 }
 
-void SceneLoader::start(const std::string& path, bool compile) {
+void SceneLoader::start(const std::string& path, bool compile, rt::ModelStore* models) {
     cancel();
     job_ = std::make_shared<Job>();
     job_->path = path;
     job_->compile = compile;
+    job_->models = models;
     job_->progress.path = path;
     job_->progress.stage = Stage::Reading;
     thread_ = std::thread(&SceneLoader::run, job_);

@@ -23,6 +23,9 @@ namespace rtview {
 struct LoadResult {
     enum class Status { Ok, Failed, Cancelled } status = Status::Failed;
     std::string path;
+    // The file was a model (.obj, .ply): the text is a new scene showing it, to be
+    // opened unsaved (named after the model).
+    bool new_scene = false;
     std::string error;      // Failed: why the file could not be read
     std::string text;       // the file's bytes (Ok)
     rt::ParseResult parsed; // Ok: the scene, or the diagnostics of a text that does not parse
@@ -59,7 +62,10 @@ public:
 
     // Starts loading `path`, cancelling a load under way. `compile`: build the world
     // too (the viewer does; the world is then ready when the result arrives).
-    void start(const std::string& path, bool compile = true);
+    // `models`: where the scene's models are read and kept (the document's store),
+    // null for a store of the load's own. A model file (.obj, .ply) opens as a new
+    // scene showing it (LoadResult::new_scene).
+    void start(const std::string& path, bool compile = true, rt::ModelStore* models = nullptr);
     // Stops the load under way; its result is never delivered.
     void cancel();
     bool active() const;

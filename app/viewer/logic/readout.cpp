@@ -14,6 +14,7 @@ const char* shape_name(const rt::Shape& s) {
         case 1: return "tetrahedron";
         case 2: return "cylinder";
         case 3: return "torus";
+        case 5: return "mesh";
         default: {
             switch (std::get<rt::Csg>(s).type) {
                 case rt::CsgType::Union: return "CSG union";

@@ -9,8 +9,10 @@
 #include <utility>
 #include <vector>
 
+#include "model.h"
 #include "scene_text.h"
 #include "scene_writer.h"
+#include "triangles.h"
 
 namespace rtview {
 
@@ -60,6 +62,16 @@ void grow(rt::Aabb& b, const rt::Object& o) {
                 for (const Vec3& v : s.v) grow(b, v);
             } else if constexpr (std::is_same_v<T, rt::Torus>) {
                 grow(b, s.position, std::fabs(s.major) + std::fabs(s.minor));
+            } else if constexpr (std::is_same_v<T, rt::Mesh>) {
+                const rt::Aabb m = s.model ? rt::MeshInstance::make(s.position, s.scale, s.rotation)
+                                                 .world_bounds(s.model->bounds())
+                                           : rt::Aabb();
+                if (m.empty()) {
+                    grow(b, s.position);
+                } else {
+                    grow(b, m.lo);
+                    grow(b, m.hi);
+                }
             } else {
                 for (const rt::Object& op : s.operands) grow(b, op);
             }
@@ -288,7 +300,8 @@ void translate(rt::Object& o, Vec3 d) {
     std::visit(
         [&](auto& s) {
             using T = std::decay_t<decltype(s)>;
-            if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus>) move_point(s.position, d);
+            if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus> || std::is_same_v<T, rt::Mesh>)
+                move_point(s.position, d);
             else if constexpr (std::is_same_v<T, rt::Cylinder>) {
                 move_point(s.end1, d);
                 move_point(s.end2, d);
@@ -440,6 +453,92 @@ std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scen
         return e;
     }
     return std::nullopt;  // no block the format takes fits there (numbers past 1e15)
+}
+
+std::optional<SceneEdit> add_model(const std::string& text, const rt::Scene& scene, const std::string& file,
+                                   const rt::MeshModel& model, const Placement& at) {
+    auto l = layout_of(text, scene);
+    const rt::Aabb mb = model.bounds();
+    if (!l || !rt::finite(at.point) || mb.empty()) return std::nullopt;
+    const double extent = scene_extent(scene);
+    const Vec3 up = up_of(scene, at);
+    rt::Mesh m;
+    m.file = file;
+    const double own = rt::length(mb.hi - mb.lo) / (2 * std::sqrt(3.0));  // as typical_size measures
+    const double s = nice_size(typical_size(scene) / (own > 0 ? own : 1.0));
+    m.scale = {s, s, s};
+    const Vec3 scene_up = up_of(scene, Placement{});
+    if (std::fabs(scene_up.z) > std::fabs(scene_up.y) && scene_up.z > 0) m.rotation = {90, 0, 0};
+    // The box as placed at the origin, moved so that it rests on the surface.
+    const rt::Aabb wb = rt::MeshInstance::make({0, 0, 0}, m.scale, m.rotation).world_bounds(mb);
+    const Vec3 half = (wb.hi - wb.lo) * 0.5;
+    const double lift = rt::length2(at.normal) > 0
+                            ? std::fabs(up.x) * half.x + std::fabs(up.y) * half.y + std::fabs(up.z) * half.z
+                            : 0.0;
+    m.position = round_to(at.point + up * lift - (wb.lo + wb.hi) * 0.5, extent);
+    rt::Scene one;
+    one.camera = scene.camera;
+    rt::Object o;
+    o.shape = m;
+    one.objects.push_back(o);
+    SceneEdit e;
+    e.replacement = insert_block(text, *l, SceneItem::Kind::Object, one);
+    e.select = {SceneItem::Kind::Object, int(scene.objects.size())};
+    return e;
+}
+
+std::string model_scene(const std::string& file, const rt::MeshModel& model) {
+    const rt::Aabb b = model.bounds().empty() ? rt::Aabb{{-1, -1, -1}, {1, 1, 1}} : model.bounds();
+    const Vec3 c = (b.lo + b.hi) * 0.5;
+    const double r = std::max(rt::length(b.hi - b.lo) * 0.5, 1e-9);  // the box's half diagonal
+    rt::Scene s;
+    s.width = 640;
+    s.height = 480;
+    rt::Mesh m;
+    m.file = file;
+    m.smooth = model.data().normals.empty() ? 0 : 1;  // the file's own normals say it is curved
+    rt::Object o;
+    o.shape = m;
+    o.material.colour = {0.8, 0.72, 0.6};
+    o.has_material = true;
+    s.objects.push_back(o);
+    // Cells about a fifth of the model wide, the floor at its lowest point.
+    rt::Plane floor;
+    floor.chess = floor.has_material = floor.has_material2 = true;
+    floor.material.colour = {0.7, 0.7, 0.7};
+    floor.material2.colour = {0.25, 0.25, 0.3};
+    const double cell = nice_size(r / 2.5);
+    const Vec3 p0{c.x, b.lo.y, c.z};
+    floor.point[0] = p0;
+    floor.point[1] = p0 + Vec3{0, 0, cell};
+    floor.point[2] = p0 + Vec3{cell, 0, 0};
+    floor.point[3] = p0 + Vec3{0, cell, 0};
+    // Seen from the front, a little above and to the right; the whole bounding sphere
+    // fits in the narrower field of view.
+    s.camera.angle_x = 55;
+    s.camera.angle_y = 41.25;
+    const double dist = 1.1 * r / std::sin(s.camera.angle_y * 0.5 * 3.14159265358979 / 180);
+    s.camera.centre = c;
+    s.camera.position = c + rt::normalize(Vec3{0.45, 0.35, 1.0}) * dist;
+    s.camera.up = c + Vec3{0, 1, 0};
+    // A lamp over the camera's left shoulder, bright enough at its distance (light
+    // falls off as 1/r^2).
+    rt::Light lamp;
+    lamp.lamp = true;
+    lamp.position = c + Vec3{-0.8, 1.6, 1.0} * dist;
+    const double d2 = rt::length2(lamp.position - c);
+    lamp.colour = {0.9 * d2, 0.88 * d2, 0.82 * d2};
+    lamp.size = nice_size(r / 10);
+    auto rp = [&](Vec3 v) { return round_to(v, 2 * r) + Vec3{0, 0, 0}; };  // (+0: no "-0" in the text)
+    s.camera.position = rp(s.camera.position);
+    s.camera.centre = rp(s.camera.centre);
+    s.camera.up = rp(s.camera.up);
+    lamp.position = rp(lamp.position);
+    lamp.colour = round_to(lamp.colour, lamp.colour.x);
+    for (Vec3& v : floor.point) v = rp(v);
+    s.lights.push_back(lamp);
+    s.planes.push_back(floor);
+    return "// A model opened on its own: a floor under it, a lamp and a camera around it.\n" + rt::write_scene(s);
 }
 
 std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene& scene, SceneItem item, Vec3 offset) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "model.h"
 #include "scene.h"
 
 namespace rtview {
@@ -69,6 +70,17 @@ double typical_size(const rt::Scene& scene);
 // the surface's normal) and faces the viewer: a plane through the point with the
 // surface's own orientation would lie in a floor it was added to, and show nothing.
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at);
+// A mesh of the model read from `file` (as the block names it): its size typical_size,
+// its box resting on the surface at the point (centred on a point in space), turned
+// so that the model's y axis (OBJ's and PLY's usual up) is the scene's up when that
+// is z.
+std::optional<SceneEdit> add_model(const std::string& text, const rt::Scene& scene, const std::string& file,
+                                   const rt::MeshModel& model, const Placement& at);
+// A new scene that shows the model read from `file` (written as it is, best
+// absolute): the model as the file has it (y up), on a chess floor under its lowest
+// point, lit by a lamp and framed by the camera.
+std::string model_scene(const std::string& file, const rt::MeshModel& model);
+
 // A copy right after the original. With a zero offset the original's text is copied
 // as it is (comments included); otherwise the copy is written moved by `offset`.
 std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene& scene, SceneItem item,

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <optional>
 #include <utility>
 
@@ -109,7 +110,7 @@ rt::Status ViewerApp::open_initial() {
         doc.load_pending(base_name(opt_.scene));
         start_load(opt_.scene);
     } else {
-        loader_.start(opt_.scene);
+        loader_.start(opt_.scene, true, &doc.models());
         std::optional<LoadResult> r = loader_.wait();
         std::shared_ptr<const rt::World> world;
         if (!r || !apply_load(*r, doc, world))
@@ -129,7 +130,8 @@ void ViewerApp::after_document_replaced() {
 }
 
 void ViewerApp::start_load(const std::string& path) {
-    loader_.start(path);
+    // The document's store: a model the new scene shares with the old one is not read again.
+    loader_.start(path, true, &editor_.doc().models());
     status_.set("Opening " + path);
 }
 
@@ -648,7 +650,9 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
         case Command::Duplicate:
         case Command::Delete:
         case Command::SwitchLight:
-        case Command::MakeCsg: return scene_edit(arg, c);
+        case Command::MakeCsg:
+        case Command::AddModel: return scene_edit(arg, c);
+        case Command::AddModelDialog: dialogs_.show(Dialogs::Kind::AddModel, rt::folder_of(doc.path())); return true;
     }
     return false;
 }
@@ -809,6 +813,11 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             name = std::string("Add a ") + arg;
             break;
         }
+        case Command::AddModel:
+            if (!(e = model_edit(arg))) return false;
+            done = "Added " + base_name(arg);
+            name = "Add model " + base_name(arg);
+            break;
         case Command::Duplicate: {
             if (!sel) return false;
             e = duplicate_item(text, scene, *sel, duplicate_offset(scene));
@@ -849,6 +858,29 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     return true;
 }
 
+std::optional<SceneEdit> ViewerApp::model_edit(const std::string& path) {
+    Document& doc = editor_.doc();
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path file = fs::absolute(path, ec).lexically_normal();
+    const rt::ModelStore::Loaded l = doc.models().load(file.string());
+    if (!l.model) {
+        const std::string line = l.error.line > 0 ? ":" + std::to_string(l.error.line) : "";
+        status_.set("Cannot add " + path + line + ": " + l.error.message, true);
+        return std::nullopt;
+    }
+    // Named from the scene's folder when it is in it (the scene and its models then
+    // move together), else by its absolute path.
+    std::string name = file.string();
+    if (!doc.path().empty()) {
+        const fs::path rel = file.lexically_relative(fs::absolute(rt::folder_of(doc.path()), ec).lexically_normal());
+        if (!rel.empty() && *rel.begin() != "..") name = rel.string();
+    }
+    std::optional<SceneEdit> e = add_model(std::as_const(doc).editor_text(), doc.scene(), name, *l.model, new_item_placement());
+    if (!e) status_.set("Cannot add a mesh to this scene text", true);
+    return e;
+}
+
 void ViewerApp::handle_context_menu(bool usable) {
     ImGuiIO& io = ImGui::GetIO();
     double mx = io.MousePos.x, my = io.MousePos.y;
@@ -884,6 +916,13 @@ void ViewerApp::draw_context_menu() {
                 place_y_ = rclick_y_;
                 run(Command::AddItem, k);
             }
+        }
+        const bool model = ImGui::MenuItem("model...");
+        probe_item("menu:model");
+        if (model) {
+            place_x_ = rclick_x_;
+            place_y_ = rclick_y_;
+            run(Command::AddModelDialog);
         }
         ImGui::EndMenu();
     }

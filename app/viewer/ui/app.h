@@ -117,6 +117,9 @@ private:
     ScreenView screen_view() const;
     // Structural edits and the image's context menu.
     bool scene_edit(const std::string& arg, Command c);
+    // File > Add model's mesh block for the model at `path` (read through the
+    // document's models); none, with the status saying why, if it cannot be read.
+    std::optional<SceneEdit> model_edit(const std::string& path);
     // Where AddItem puts a new item: under the context menu's point, else the centre.
     Placement new_item_placement();
     // How far Duplicate moves the copy.
@@ -150,7 +153,7 @@ private:
     Navigator nav_;
     NavigationInput nav_input_;
     RenderController render_;
-    SceneLoader loader_;
+    SceneLoader loader_;  // after editor_: its worker reads into the document's model store, and is joined first
     Dialogs dialogs_;
     ImageTools tools_;
     Panels panels_;

@@ -24,6 +24,7 @@ const char* title_of(Dialogs::Kind k) {
         case Dialogs::Kind::Open: return "Open scene";
         case Dialogs::Kind::SaveAs: return "Save scene as";
         case Dialogs::Kind::SaveImage: return "Save image";
+        case Dialogs::Kind::AddModel: return "Add model";
         case Dialogs::Kind::Help: return "Mouse and keys";
         case Dialogs::Kind::None: break;
     }
@@ -45,7 +46,10 @@ bool Dialogs::begin(Kind k) {
 
 void Dialogs::start_browser() {
     switch (request_) {
-        case Kind::Open: file_.start(FileDialog::Mode::Open, {".txt"}, "Scenes (*.txt)", path_); break;
+        case Kind::Open:
+            file_.start(FileDialog::Mode::Open, {".txt", ".obj", ".ply"}, "Scenes (*.txt), models (*.obj, *.ply)", path_);
+            break;
+        case Kind::AddModel: file_.start(FileDialog::Mode::Open, {".obj", ".ply"}, "Models (*.obj, *.ply)", path_); break;
         case Kind::SaveAs: file_.start(FileDialog::Mode::Save, {".txt"}, "Scenes (*.txt)", path_); break;
         case Kind::SaveImage: file_.start(FileDialog::Mode::Save, {".png", ".ppm"}, "Images (*.png, *.ppm)", path_); break;
         default: break;
@@ -91,6 +95,12 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         const FileDialog::Result r = file_.draw("Save");
         if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
         if (r == FileDialog::Result::Go) commands_.run(Command::SaveImage, file_.path());
+        ImGui::EndPopup();
+    }
+    if (begin(Kind::AddModel)) {
+        const FileDialog::Result r = file_.draw("Add");
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        if (r == FileDialog::Result::Go) commands_.run(Command::AddModel, file_.path());
         ImGui::EndPopup();
     }
     if (begin(Kind::Help)) {

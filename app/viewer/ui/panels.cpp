@@ -59,6 +59,7 @@ std::string shape_summary(const rt::Shape& s) {
     if (auto* t = std::get_if<rt::Torus>(&s)) return "at " + fmt_vec(t->position);
     if (auto* c = std::get_if<rt::Cylinder>(&s)) return fmt_vec(c->end1) + " .. " + fmt_vec(c->end2);
     if (auto* t = std::get_if<rt::Tetrahedron>(&s)) return "vect1 " + fmt_vec(t->v[0]);
+    if (auto* m = std::get_if<rt::Mesh>(&s)) return m->file.substr(m->file.find_last_of('/') + 1) + " at " + fmt_vec(m->position);
     return {};
 }
 
@@ -178,6 +179,7 @@ void probe_view(const rt::Camera& view, const double angles[3]) {
 void Panels::draw_menu_bar() {
     if (!ImGui::BeginMainMenuBar()) return;
     const Document& doc = editor_.doc();
+    const bool can = doc.has_scene() && !doc.editor_dirty() && !doc.text_behind();  // structural edits
     probe_menu_header("File");
     if (ImGui::BeginMenu("File")) {
         if (ImGui::MenuItem("Open...", "Ctrl+O")) commands_.run(Command::OpenDialog);
@@ -188,6 +190,9 @@ void Panels::draw_menu_bar() {
             ImGui::EndMenu();
         }
         if (ImGui::MenuItem("Open the default scene")) commands_.run(Command::OpenDefault);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Add model...", nullptr, false, can)) commands_.run(Command::AddModelDialog);
+        probe_item("menu:Add model");
         ImGui::Separator();
         if (ImGui::MenuItem("Save", "Ctrl+S")) commands_.run(Command::Save);
         if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) commands_.run(Command::SaveAsDialog);
@@ -208,7 +213,6 @@ void Panels::draw_menu_bar() {
         if (ImGui::MenuItem("Revert text", nullptr, false, doc.editor_dirty())) commands_.run(Command::RevertText);
         ImGui::Separator();
         // Structural edits: written into the text as ordinary blocks, one undo step each.
-        const bool can = doc.has_scene() && !doc.editor_dirty() && !doc.text_behind();
         if (ImGui::BeginMenu("Add (in front of the view)", can)) {
             static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
             for (const char* k : kinds)
@@ -793,6 +797,10 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
             changed = material_editor(f.label.c_str(), v.material);
             break;
         }
+        case sc::Kind::File:
+            // The model is read with the scene: a new name is typed in the scene text.
+            ImGui::TextWrapped("%s: %s", f.label.c_str(), v.text.c_str());
+            break;
         case sc::Kind::Operand: {
             // A CSG's operands: select one to edit its keys (also in the outline).
             const int side = operand++;

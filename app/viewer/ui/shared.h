@@ -77,6 +77,8 @@ enum class Command {
     Delete,
     SwitchLight,     // the selected lamp <-> spotlight
     MakeCsg,         // arg: "U", "I" or "C" and an object number: "U 3" (the selection is left)
+    AddModelDialog,  // ask for a model file (.obj, .ply) to add
+    AddModel,        // arg: the model file's path; a mesh block where AddItem puts a new object
 };
 
 class Commands {

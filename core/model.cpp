@@ -1,0 +1,204 @@
+// Reading model files safely (see model.h): only regular files within the size limit
+// are read, in one piece, before a reader looks at them; text formats in UTF-16 or
+// UTF-32 are refused as the scene files are; the readers (model_readers.h) check
+// every count against the bytes there are before they allocate.
+#include "model.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "diagnostic_text.h"
+#include "model_readers.h"
+#include "triangles.h"
+
+namespace rt {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+    const std::size_t slash = path.find_last_of('/');
+    const std::size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
+    std::string ext = path.substr(dot);
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+// The whole file, if it is a regular file within the size limit.
+bool read_file(const std::string& path, std::string& out, ModelError& error) {
+    // Non-blocking: a FIFO must not stop the open (it is refused below).
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+    if (fd < 0) {
+        error.message = std::strerror(errno);
+        return false;
+    }
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat st;
+    if (::fstat(fd, &st) != 0) {
+        error.message = std::strerror(errno);
+        return false;
+    }
+    if (S_ISDIR(st.st_mode)) {
+        error.message = "is a folder, not a model file";
+        return false;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        error.message = "is not a regular file (a device, pipe or socket); models are read from files";
+        return false;
+    }
+    if (std::uint64_t(st.st_size) > ModelLimits::max_file_size) {
+        error.message = "file too large (" + std::to_string(st.st_size) + " bytes, limit " +
+                        std::to_string(ModelLimits::max_file_size) + ")";
+        return false;
+    }
+    out.resize(std::size_t(st.st_size));
+    std::size_t got = 0;
+    while (got < out.size()) {
+        const ssize_t n = ::read(fd, &out[got], out.size() - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) {
+            error.message = std::strerror(errno);
+            return false;
+        }
+        if (n == 0) break;  // shrank while being read: what is there is the file
+        got += std::size_t(n);
+    }
+    out.resize(got);
+    return true;
+}
+
+}  // namespace
+
+bool is_model_file(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    return ext == ".obj" || ext == ".ply";
+}
+
+bool read_model(const std::string& path, MeshData& out, ModelError& error) {
+    out = MeshData();
+    error = ModelError();
+    const std::string ext = lower_extension(path);
+    if (!is_model_file(path)) {
+        error.message = "unknown model format '" + ext + "' (expected a .obj or .ply file)";
+        return false;
+    }
+    std::string text;
+    if (!read_file(path, text, error)) return false;
+    if (ext == ".obj") {
+        if (Status s = check_encoding(text); !s.ok()) {
+            error.message = s.message();
+            return false;
+        }
+        return read_obj(text, out, error);
+    }
+    return read_ply(text, out, error);
+}
+
+MeshModel::MeshModel(std::string path, MeshData data) : path_(std::move(path)), data_(std::move(data)) {
+    const std::vector<float>& p = data_.positions;
+    for (std::uint32_t v : data_.triangles) bounds_.grow(Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]});
+}
+
+MeshModel::~MeshModel() = default;
+
+const TriangleAccel& MeshModel::accel() const {
+    std::call_once(built_, [this] { accel_ = std::make_unique<TriangleAccel>(TriangleAccel::build(data_)); });
+    return *accel_;
+}
+
+const std::vector<float>& MeshModel::vertex_normals() const {
+    std::call_once(normals_made_, [this] {
+        const MeshData& m = data_;
+        const std::size_t nv = m.vertex_count();
+        std::vector<double> sum(3 * nv, 0.0);
+        if (m.normals.size() == 3 * nv) {
+            sum.assign(m.normals.begin(), m.normals.end());
+        } else {
+            auto at = [&](std::uint32_t v) { return Vec3{m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]}; };
+            for (std::size_t t = 0; t < m.triangles.size(); t += 3) {
+                const std::uint32_t* v = &m.triangles[t];
+                const Vec3 a = at(v[0]);
+                const Vec3 n = cross(at(v[1]) - a, at(v[2]) - a);  // twice the area, along the normal
+                for (int k = 0; k < 3; ++k)
+                    for (int c = 0; c < 3; ++c) sum[3 * std::size_t(v[k]) + std::size_t(c)] += n[c];
+            }
+        }
+        normals_.assign(3 * nv, 0.0f);
+        for (std::size_t i = 0; i < nv; ++i) {
+            const Vec3 n = normalize(Vec3{sum[3 * i], sum[3 * i + 1], sum[3 * i + 2]});
+            if (!finite(n)) continue;  // left 0: shading takes the triangle's own normal there
+            for (int c = 0; c < 3; ++c) normals_[3 * i + std::size_t(c)] = float(n[c]);
+        }
+    });
+    return normals_;
+}
+
+bool MeshModel::unchanged_on_disk() const {
+    if (stamp_[2] < 0) return true;
+    struct stat st;
+    if (::stat(path_.c_str(), &st) != 0) return true;  // gone: keep what was read
+    return std::int64_t(st.st_dev) == stamp_[0] && std::int64_t(st.st_ino) == stamp_[1] &&
+           std::int64_t(st.st_size) == stamp_[2] &&
+           std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec == stamp_[3];
+}
+
+ModelStore::Loaded ModelStore::load(const std::string& path) {
+    Loaded result;
+    struct stat st;
+    FileId id;
+    if (::stat(path.c_str(), &st) == 0)
+        id = {std::uint64_t(st.st_dev), std::uint64_t(st.st_ino), std::int64_t(st.st_size),
+              std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec};
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = entries_.find(path);
+        if (it != entries_.end() && id.size >= 0 && it->second.id == id) {
+            if (it->second.failed) {
+                result.error = it->second.error;
+                return result;
+            }
+            if ((result.model = it->second.model.lock())) return result;
+        }
+    }
+    // Read outside the lock: another thread may read another file meanwhile.
+    MeshData data;
+    Entry e;
+    e.id = id;
+    if (read_model(path, data, result.error)) {
+        auto model = std::make_shared<MeshModel>(path, std::move(data));
+        const std::int64_t stamp[4] = {std::int64_t(id.dev), std::int64_t(id.ino), id.size, id.mtime_ns};
+        std::copy(stamp, stamp + 4, model->stamp_);
+        e.model = model;
+        result.model = std::move(model);
+    } else {
+        e.failed = true;
+        e.error = result.error;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    // Entries of models nobody holds any more are dropped as the store is used.
+    for (auto it = entries_.begin(); it != entries_.end();)
+        it = !it->second.failed && it->second.model.expired() ? entries_.erase(it) : std::next(it);
+    if (id.size >= 0) entries_[path] = std::move(e);
+    return result;
+}
+
+std::string folder_of(const std::string& path) {
+    const std::size_t slash = path.find_last_of('/');
+    if (slash == std::string::npos) return {};
+    return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+std::string resolve_model_path(const std::string& base_dir, const std::string& file) {
+    if (file.empty() || file[0] == '/' || base_dir.empty()) return file;
+    return base_dir.back() == '/' ? base_dir + file : base_dir + "/" + file;
+}
+
+}  // namespace rt

@@ -1,0 +1,91 @@
+// A model's triangles compiled for tracing: a BVH over them (the same wide nodes and
+// walks as the scene's objects, built in less memory per item), its leaves' triangles
+// stored four to a block in the order the leaves come, and the watertight ray-triangle
+// test of Woop, Benthin and Wald (JCGT 2013) over a leaf at once. One TriangleAccel
+// serves every mesh block that names the model: a mesh instance (MeshInstance) takes
+// the ray into the model's space and back.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bvh.h"
+#include "math.h"
+#include "model.h"
+
+namespace rt {
+
+// Up to four triangles, a lane each: corner k's coordinate a at v[3 k + a][lane].
+struct alignas(32) TriBlock {
+    float v[9][4];
+};
+
+// A ray set up for the watertight test (in the model's space): its origin, the axis
+// of its direction's largest component (kz) and the two others, and the shear that
+// takes the direction to that axis.
+struct TriRay {
+    Vec3 o, d;
+    int kx, ky, kz;
+    double sx, sy, sz;
+    double ox, oy, oz;  // o's kx, ky and kz coordinates
+    static TriRay make(const Vec3& o, const Vec3& d);
+};
+
+// The nearest hit of a ray on a model's triangles: its distance and the triangle
+// (its slot: 4 * block + lane).
+struct TriHit {
+    double t;
+    std::uint32_t slot;
+};
+
+struct TriangleAccel {
+    Bvh bvh;  // leaves hold [first, first + count): slots of one block (first = 4 * block)
+    std::vector<TriBlock> blocks;
+    std::vector<std::uint32_t> ids;  // per slot, the triangle's index in the model
+
+    static TriangleAccel build(const MeshData& m, int threads = 0);
+
+    // The nearest triangle the line o + t d meets with tmin < t < tmax (ties: the
+    // lower slot); false if none.
+    bool nearest(const TriRay& r, double tmin, double tmax, TriHit& hit) const;
+    // Whether a triangle lies on it with tmin < t < tmax (t: the first one found).
+    bool any(const TriRay& r, double tmin, double tmax, double& t) const;
+
+    // The triangle's corners in the model's space.
+    void corners(std::uint32_t slot, Vec3 c[3]) const;
+    std::size_t memory_bytes() const;
+};
+
+// The watertight test of lane `lane` of a block: t of the hit (the line's parameter)
+// when the line crosses the triangle (its edges and corners included), else NaN.
+// Exposed for the tests; nearest() and any() use it or its four-lane form.
+double tri_intersect(const TriRay& r, const TriBlock& b, int lane);
+
+// A mesh block's placement of a model: x_world = L x_model + position, with
+// L = R(z) R(y) R(x) S; M = L^-1 takes world vectors into the model's space (normals
+// go back by M^T).
+struct MeshInstance {
+    double m[3][3];  // world -> model
+    double l[3][3];  // model -> world
+    Vec3 position;
+    static MeshInstance make(const Vec3& position, const Vec3& scale, const Vec3& rotation_degrees);
+    Vec3 to_model(const Vec3& v) const {
+        return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+                m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+    }
+    Vec3 point_to_model(const Vec3& p) const { return to_model(p - position); }
+    Vec3 normal_to_world(const Vec3& n) const {
+        return {m[0][0] * n.x + m[1][0] * n.y + m[2][0] * n.z, m[0][1] * n.x + m[1][1] * n.y + m[2][1] * n.z,
+                m[0][2] * n.x + m[1][2] * n.y + m[2][2] * n.z};
+    }
+    Vec3 point_to_world(const Vec3& p) const {
+        return Vec3{l[0][0] * p.x + l[0][1] * p.y + l[0][2] * p.z, l[1][0] * p.x + l[1][1] * p.y + l[1][2] * p.z,
+                    l[2][0] * p.x + l[2][1] * p.y + l[2][2] * p.z} +
+               position;
+    }
+    // The world box of a model box (its eight corners placed), padded for rounding.
+    Aabb world_bounds(const Aabb& model) const;
+};
+
+}  // namespace rt

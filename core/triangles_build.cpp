@@ -1,0 +1,404 @@
+// The BVH build over a model's triangles (see triangles.h): binned SAH on float boxes,
+// 32 bytes a triangle (the objects' build takes 80: a 10M-triangle model must build in
+// a few hundred MB), four floats at a time, into the binary tree that Bvh::collapse()
+// turns into the same wide nodes as the scene's objects. Each node's children's boxes
+// are unions of bins and their centre bounds come from the partition, so a node costs
+// one binning pass and one partition pass over its triangles. Subtrees (and the
+// binning of big nodes) go to another thread while one is spare; each is built apart
+// and spliced in where the serial order puts it, so the tree is the same for any
+// number of threads.
+#include <algorithm>
+#include <atomic>
+#include <cfloat>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <new>
+#include <stdexcept>
+#include <system_error>
+#include <thread>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include "triangles.h"
+
+namespace rt {
+
+namespace {
+
+constexpr int kBins = 16;
+constexpr std::uint32_t kLeaf = 4;  // triangles in a leaf: one block
+constexpr int kMaxSahDepth = 64;
+constexpr std::uint32_t kParallelItems = 16384;     // subtrees built on another thread
+constexpr std::uint32_t kParallelBinItems = 1u << 16;  // nodes binned in two halves
+
+// Four floats: one SSE2 register, or plain floats where there is none.
+#if defined(__SSE2__)
+struct F4 {
+    __m128 v;
+    static F4 load(const float* p) { return {_mm_load_ps(p)}; }
+    static F4 all(float x) { return {_mm_set1_ps(x)}; }
+    void store(float* p) const { _mm_store_ps(p, v); }
+    friend F4 min(F4 a, F4 b) { return {_mm_min_ps(a.v, b.v)}; }
+    friend F4 max(F4 a, F4 b) { return {_mm_max_ps(a.v, b.v)}; }
+    friend F4 operator+(F4 a, F4 b) { return {_mm_add_ps(a.v, b.v)}; }
+    friend F4 operator-(F4 a, F4 b) { return {_mm_sub_ps(a.v, b.v)}; }
+    friend F4 operator*(F4 a, F4 b) { return {_mm_mul_ps(a.v, b.v)}; }
+    // Truncated to int, lane by lane.
+    void truncate(std::int32_t out[4]) const { _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_cvttps_epi32(v)); }
+};
+#else
+struct F4 {
+    float v[4];
+    static F4 load(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
+    static F4 all(float x) { return {{x, x, x, x}}; }
+    void store(float* p) const { std::memcpy(p, v, sizeof v); }
+    template <class Op>
+    static F4 each(F4 a, F4 b, Op op) {
+        return {{op(a.v[0], b.v[0]), op(a.v[1], b.v[1]), op(a.v[2], b.v[2]), op(a.v[3], b.v[3])}};
+    }
+    friend F4 min(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x < y ? x : y; }); }
+    friend F4 max(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x > y ? x : y; }); }
+    friend F4 operator+(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x + y; }); }
+    friend F4 operator-(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x - y; }); }
+    friend F4 operator*(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x * y; }); }
+    void truncate(std::int32_t out[4]) const {
+        for (int k = 0; k < 4; ++k) out[k] = std::int32_t(v[k]);
+    }
+};
+#endif
+
+// A triangle as the build moves it: its box, with its index in the fourth lanes (low
+// and high 16 bits as small whole floats, so that no lane ever holds a denormal or a
+// NaN for the arithmetic to trip on). Centres are taken as lo + hi (twice the centre).
+struct alignas(16) TRec {
+    float lo[4], hi[4];
+    std::uint32_t id() const { return std::uint32_t(lo[3]) | std::uint32_t(hi[3]) << 16; }
+};
+
+struct Box {
+    F4 lo = F4::all(FLT_MAX), hi = F4::all(-FLT_MAX);
+    void grow(F4 l, F4 h) { lo = min(lo, l), hi = max(hi, h); }
+    void grow(const Box& b) { grow(b.lo, b.hi); }
+    // Half the surface area (lanes 0-2); 0 when empty.
+    double area() const {
+        alignas(16) float l[4], h[4];
+        lo.store(l), hi.store(h);
+        if (l[0] > h[0]) return 0;
+        const double x = double(h[0]) - l[0], y = double(h[1]) - l[1], z = double(h[2]) - l[2];
+        return x * y + y * z + z * x;
+    }
+};
+
+struct Bins {
+    Box box[3][kBins];
+    std::uint32_t count[3][kBins] = {};
+    void merge(const Bins& o) {
+        for (int a = 0; a < 3; ++a)
+            for (int k = 0; k < kBins; ++k) box[a][k].grow(o.box[a][k]), count[a][k] += o.count[a][k];
+    }
+};
+
+// Which bins a centre falls in, per axis: the same float operations everywhere (the
+// binning and the partition must agree).
+struct Binner {
+    F4 lo, scale;
+    Binner(const Box& centres) {
+        alignas(16) float l[4], h[4], s[4];
+        centres.lo.store(l), centres.hi.store(h);
+        // An extent so thin that kBins over it overflows gets one bin: an infinite
+        // scale would make 0 * inf = NaN of the centre at `lo`, and a NaN bin number.
+        for (int a = 0; a < 4; ++a) {
+            s[a] = a < 3 && h[a] > l[a] ? float(kBins) / (h[a] - l[a]) : 0.0f;
+            if (!std::isfinite(s[a])) s[a] = 0.0f;
+        }
+        lo = centres.lo;
+        scale = F4::load(s);
+    }
+    void bins(F4 centre, std::int32_t k[4]) const {
+        min(max((centre - lo) * scale, F4::all(0)), F4::all(float(kBins - 1))).truncate(k);
+    }
+};
+
+void fill_bins(const TRec* recs, std::uint32_t begin, std::uint32_t end, const Binner& binner, Bins& bins) {
+    alignas(16) std::int32_t k[4];
+    for (const TRec *r = recs + begin, *e = recs + end; r != e; ++r) {
+        const F4 lo = F4::load(r->lo), hi = F4::load(r->hi);
+        binner.bins(lo + hi, k);
+        for (int a = 0; a < 3; ++a) {
+            bins.box[a][k[a]].grow(lo, hi);
+            ++bins.count[a][k[a]];
+        }
+    }
+}
+
+struct Split {
+    int axis = -1, bin = 0;
+    double cost = DBL_MAX;
+};
+
+// The cheapest split between bins on one axis, if cheaper than `best`.
+void sweep(const Bins& bins, int axis, Split& best) {
+    double left_area[kBins];
+    std::uint32_t left_n[kBins];
+    Box acc;
+    std::uint32_t n = 0;
+    for (int k = 0; k < kBins; ++k) {
+        acc.grow(bins.box[axis][k]);
+        n += bins.count[axis][k];
+        left_area[k] = acc.area();
+        left_n[k] = n;
+    }
+    acc = Box();
+    n = 0;
+    for (int k = kBins - 1; k > 0; --k) {
+        acc.grow(bins.box[axis][k]);
+        n += bins.count[axis][k];
+        if (left_n[k - 1] == 0 || n == 0) continue;
+        const double cost = left_area[k - 1] * left_n[k - 1] + acc.area() * n;
+        if (cost < best.cost) best = {axis, k - 1, cost};
+    }
+}
+
+// A node's triangles split in two, with each side's box and centre box.
+struct Halves {
+    std::uint32_t mid;
+    Box lb, lcb, rb, rcb;
+};
+
+// f(0) here and f(1) on another thread when `two` and one can be had; else both here.
+// An exception from either is rethrown once both have ended.
+template <class F>
+void two_ways(bool two, F&& f) {
+    std::thread t;
+    std::exception_ptr failed;
+    if (two) {
+        try {
+            t = std::thread([&] {
+                try {
+                    f(1);
+                } catch (...) {
+                    failed = std::current_exception();
+                }
+            });
+        } catch (const std::system_error&) {
+        }
+    }
+    try {
+        f(0);
+        if (!t.joinable()) f(1);
+    } catch (...) {
+        if (t.joinable()) t.join();
+        throw;
+    }
+    if (t.joinable()) t.join();
+    if (failed) std::rethrow_exception(failed);
+}
+
+struct TriBuilder {
+    TRec* recs;
+    std::atomic<int>& spare;
+
+    bool take_thread() {
+        int n = spare.load(std::memory_order_relaxed);
+        while (n > 0)
+            if (spare.compare_exchange_weak(n, n - 1, std::memory_order_relaxed)) return true;
+        return false;
+    }
+    void give_thread() { spare.fetch_add(1, std::memory_order_relaxed); }
+
+    void bounds(std::uint32_t begin, std::uint32_t end, Box& b, Box& cb) const {
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const F4 lo = F4::load(recs[i].lo), hi = F4::load(recs[i].hi);
+            b.grow(lo, hi);
+            const F4 c = lo + hi;
+            cb.grow(c, c);
+        }
+    }
+
+    void bin(std::uint32_t begin, std::uint32_t end, const Binner& binner, Bins& bins) {
+        if (end - begin < kParallelBinItems || !take_thread()) return fill_bins(recs, begin, end, binner, bins);
+        const std::uint32_t mid = begin + (end - begin) / 2;
+        Bins upper;
+        struct Give {
+            TriBuilder& b;
+            ~Give() { b.give_thread(); }
+        } give{*this};
+        two_ways(true, [&](int part) { fill_bins(recs, part ? mid : begin, part ? end : mid, binner, part ? upper : bins); });
+        bins.merge(upper);
+    }
+
+    // By the binned SAH where it separates the triangles; else at the median of the
+    // widest centre axis (or in half, when all centres coincide).
+    Halves split(std::uint32_t begin, std::uint32_t end, const Box& cb, int depth) {
+        Halves h;
+        if (depth < kMaxSahDepth) {
+            const Binner binner(cb);
+            Bins bins;
+            bin(begin, end, binner, bins);
+            Split s;
+            for (int a = 0; a < 3; ++a) sweep(bins, a, s);
+            if (s.axis >= 0) {
+                const int axis = s.axis;
+                // The bin on `axis` as Binner::bins() finds it: the same float operations.
+                alignas(16) float lo[4], scale[4];
+                binner.lo.store(lo), binner.scale.store(scale);
+                const float l = lo[axis], sc = scale[axis];
+                TRec* mid = std::partition(recs + begin, recs + end, [&](const TRec& r) {
+                    const F4 c = F4::load(r.lo) + F4::load(r.hi);
+                    const float x = std::min(std::max((r.lo[axis] + r.hi[axis] - l) * sc, 0.0f), float(kBins - 1));
+                    const bool left = std::int32_t(x) <= s.bin;
+                    (left ? h.lcb : h.rcb).grow(c, c);
+                    return left;
+                });
+                h.mid = std::uint32_t(mid - recs);
+                for (int b = 0; b < kBins; ++b) (b <= s.bin ? h.lb : h.rb).grow(bins.box[axis][b]);
+                if (h.mid != begin && h.mid != end) return h;
+            }
+        }
+        alignas(16) float l[4], hh[4];
+        cb.lo.store(l), cb.hi.store(hh);
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+            if (hh[a] - l[a] > hh[axis] - l[axis]) axis = a;
+        h = Halves();
+        h.mid = begin + (end - begin) / 2;
+        if (hh[axis] > l[axis])
+            std::nth_element(recs + begin, recs + h.mid, recs + end, [axis](const TRec& a, const TRec& b) {
+                return a.lo[axis] + a.hi[axis] < b.lo[axis] + b.hi[axis];
+            });
+        bounds(begin, h.mid, h.lb, h.lcb);
+        bounds(h.mid, end, h.rb, h.rcb);
+        return h;
+    }
+
+    static void set_box(BvhBinNode& n, const Box& b) {
+        alignas(16) float l[4], h[4];
+        b.lo.store(l), b.hi.store(h);
+        Aabb a;
+        a.lo = {l[0], l[1], l[2]};
+        a.hi = {h[0], h[1], h[2]};
+        to_float_box(a, n.b);
+    }
+
+    // The subtree over [begin, end), whose box is b and centre box cb, with its root
+    // at out[node], in preorder (see BvhBinNode).
+    void build(std::vector<BvhBinNode>& out, std::uint32_t node, std::uint32_t begin, std::uint32_t end, const Box& b,
+               const Box& cb, int depth) {
+        set_box(out[node], b);
+        if (end - begin <= kLeaf) {
+            out[node].first = begin;
+            out[node].count = end - begin;
+            return;
+        }
+        const Halves h = split(begin, end, cb, depth);
+        out[node].count = 0;
+        if (end - begin >= kParallelItems && take_thread()) return build_apart(out, node, begin, end, h, depth + 1);
+        const std::uint32_t left = std::uint32_t(out.size());
+        out.emplace_back();
+        build(out, left, begin, h.mid, h.lb, h.lcb, depth + 1);
+        const std::uint32_t right = std::uint32_t(out.size());
+        out.emplace_back();
+        build(out, right, h.mid, end, h.rb, h.rcb, depth + 1);
+        out[node].first = right;
+    }
+
+    // The right subtree on a thread of its own, into its own array, then copied in
+    // after the left one (built here, in place).
+    void build_apart(std::vector<BvhBinNode>& out, std::uint32_t node, std::uint32_t begin, std::uint32_t end,
+                     const Halves& h, int depth) {
+        std::vector<BvhBinNode> right(1);
+        right.reserve((end - h.mid) / 2 + 16);
+        std::exception_ptr failed;
+        std::thread t([&] {
+            try {
+                build(right, 0, h.mid, end, h.rb, h.rcb, depth);
+            } catch (...) {
+                failed = std::current_exception();
+            }
+            give_thread();
+        });
+        try {
+            const std::uint32_t left = std::uint32_t(out.size());
+            out.emplace_back();
+            build(out, left, begin, h.mid, h.lb, h.lcb, depth);
+        } catch (...) {
+            t.join();
+            throw;
+        }
+        t.join();
+        if (failed) std::rethrow_exception(failed);
+        const std::uint32_t offset = std::uint32_t(out.size());
+        out[node].first = offset;
+        out.insert(out.end(), right.begin(), right.end());
+        for (std::size_t i = offset; i < out.size(); ++i)
+            if (out[i].count == 0) out[i].first += offset;
+    }
+};
+
+// Each leaf's triangles into a block of their own, in the leaves' order; the leaves
+// then name their block's slots.
+void fill_blocks(TriangleAccel& acc, std::vector<BvhBinNode>& bin, const TRec* recs, const MeshData& m) {
+    std::size_t leaves = 0;
+    for (const BvhBinNode& b : bin) leaves += b.count > 0;
+    if (4 * leaves >= BvhNode::kMaxItems) throw std::length_error("too many triangles for the BVH");
+    acc.blocks.resize(leaves);
+    acc.ids.assign(4 * leaves, 0);
+    const float* p = m.positions.data();
+    std::size_t block = 0;
+    for (BvhBinNode& b : bin) {
+        if (b.count == 0) continue;
+        TriBlock& tb = acc.blocks[block];
+        std::memset(&tb, 0, sizeof tb);
+        for (std::uint32_t l = 0; l < b.count; ++l) {
+            const std::uint32_t id = recs[b.first + l].id();
+            acc.ids[4 * block + l] = id;
+            for (int k = 0; k < 3; ++k)
+                for (int a = 0; a < 3; ++a) tb.v[3 * k + a][l] = p[3 * m.triangles[3 * std::size_t(id) + k] + a];
+        }
+        b.first = std::uint32_t(4 * block++);
+    }
+}
+
+}  // namespace
+
+TriangleAccel TriangleAccel::build(const MeshData& m, int threads) {
+    TriangleAccel acc;
+    const std::size_t n = m.triangle_count();
+    if (n == 0) return acc;
+    if (n > ModelLimits::max_triangles) throw std::length_error("too many triangles for the BVH");
+    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    // malloc, not a vector: no zero fill before the real values.
+    std::unique_ptr<TRec, void (*)(void*)> mem(static_cast<TRec*>(std::malloc(n * sizeof(TRec))), std::free);
+    if (!mem) throw std::bad_alloc();
+    TRec* recs = mem.get();
+    const float* p = m.positions.data();
+    for (std::size_t t = 0; t < n; ++t) {
+        const std::uint32_t* v = &m.triangles[3 * t];
+        TRec& r = recs[t];
+        for (int a = 0; a < 3; ++a) {
+            const float x = p[3 * v[0] + a], y = p[3 * v[1] + a], z = p[3 * v[2] + a];
+            r.lo[a] = std::min({x, y, z});
+            r.hi[a] = std::max({x, y, z});
+        }
+        r.lo[3] = float(t & 0xffff);
+        r.hi[3] = float(t >> 16);
+    }
+    std::atomic<int> spare{threads - 1};
+    TriBuilder builder{recs, spare};
+    Box b, cb;
+    builder.bounds(0, std::uint32_t(n), b, cb);
+    std::vector<BvhBinNode> bin(1);
+    bin.reserve(n / 2 + 16);
+    builder.build(bin, 0, 0, std::uint32_t(n), b, cb, 0);
+    fill_blocks(acc, bin, recs, m);
+    mem.reset();
+    acc.bvh.collapse(bin, threads);
+    return acc;
+}
+
+}  // namespace rt
