@@ -369,3 +369,46 @@ TEST_CASE("world sync: an adopted world replaces the last one, which nothing in 
     CHECK(!sync.links());  // the new tree has its own
     CHECK(sync.world().get() == moved.get());
 }
+
+TEST_CASE("world sync: a moved mesh and a mesh's new material reach the world as a full compile makes it") {
+    const std::string dir = std::string(RT_SOURCE_DIR) + "/tests/models";
+    Document doc;
+    doc.load_text("thing {\n"
+                  "  sphere { position 0 0 3 radius 0.5 material { colour 1 0 0 } }\n"
+                  "  mesh { file \"cube.obj\" position 0 0 0 scale 1 material { colour 0.5 0.5 0.5 } }\n"
+                  "}\n"
+                  "light { lamp { position 3 -4 6 colour 40 40 40 size 0.5 } }\n"
+                  "camera { position 6 -6 4 centre 0 0 0.5 up 6 -6 5 angle_x 40 angle_y 30 }\n"
+                  "picture_size { x_max 32 y_max 24 }\nend\n",
+                  dir + "/scene.txt", "scene.txt");
+    for (const auto& d : doc.diagnostics()) MESSAGE(d.line << ": " << d.message);
+    REQUIRE(doc.has_scene());
+    REQUIRE(doc.scene().objects.size() == 2);
+    WorldSync sync;
+    sync.finish(doc);
+    const rt::Aabb before = sync.world()->geometry->object_bounds[1];
+    REQUIRE_FALSE(before.empty());
+    // A drag of the move handle: frames, then the commit.
+    const rt::Object start = doc.scene().objects[1];
+    for (int f = 1; f <= 3; ++f) {
+        rt::Object& o = doc.edit_object(1);
+        o = start;
+        translate(o, rt::Vec3{0.5, 0, 0} * double(f));
+        sync.sync(doc);
+    }
+    doc.commit();
+    sync.finish(doc);
+    REQUIRE(sync.version() == doc.content_version());
+    CHECK(sync.world()->geometry->object_bounds[1].lo.x == doctest::Approx(before.lo.x + 1.5));
+    std::shared_ptr<const rt::World> fresh = rt::compile_world(doc.scene());
+    rt_test::check_same_world(*sync.world(), *fresh);
+    rt_test::check_same_pictures(sync.world(), fresh);
+    // A material slider on the mesh: in place, no new compile.
+    for (int f = 0; f < 3; ++f) doc.edit_object(1).material.colour.y = 0.2 + 0.2 * f;
+    doc.commit();
+    sync.sync(doc);
+    sync.finish(doc);
+    fresh = rt::compile_world(doc.scene());
+    rt_test::check_same_world(*sync.world(), *fresh);
+    rt_test::check_same_pictures(sync.world(), fresh);
+}

@@ -203,8 +203,19 @@ std::optional<std::string> patch_scene_text(const std::string& text, const rt::S
 }
 
 bool text_holds(const rt::Scene& s) {
-    const rt::ParseResult r = rt::parse_scene(rt::write_scene(s));
-    return r.ok() && r.scene == s;
+    // Mesh files are not read: what the text holds of a mesh is its block (which model
+    // the file gives is the model store's business, and no part of the text).
+    rt::ParseOptions o;
+    o.read_models = false;
+    const rt::ParseResult r = rt::parse_scene(rt::write_scene(s), o);
+    if (!r.ok()) return false;
+    bool meshes = false;
+    for (const rt::Object& obj : s.objects) meshes = meshes || std::holds_alternative<rt::Mesh>(obj.shape);
+    if (!meshes) return r.scene == s;
+    rt::Scene without = s;
+    for (rt::Object& obj : without.objects)
+        if (rt::Mesh* m = std::get_if<rt::Mesh>(&obj.shape)) m->model = nullptr;
+    return r.scene == without;
 }
 
 std::string sync_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to) {
