@@ -59,7 +59,6 @@ private:
     int width_ = 0, height_ = 0;
     std::uint64_t fast_version_ = 0;
     std::array<int, 4> pending_{0, 0, 0, 0};  // changed in fast_ since mapped_ was made
-    bool mapped_stale_ = true;
     double mapped_time_ = -1e9;
 
     rt::Image linear_;                  // the renderer's film at linear_version_
