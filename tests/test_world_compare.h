@@ -19,7 +19,8 @@ namespace rt_test {
 
 using namespace rt;
 
-inline bool same_bytes(const void* a, const void* b, std::size_t n) { return std::memcmp(a, b, n) == 0; }
+// (Empty tables may have no storage at all: memcmp must not see their null pointers.)
+inline bool same_bytes(const void* a, const void* b, std::size_t n) { return n == 0 || std::memcmp(a, b, n) == 0; }
 
 inline bool same_buffer(const LightBuffer* a, const LightBuffer* b) {
     if (!a || !b) return a == b;
