@@ -513,6 +513,7 @@ def view_good; case_view_good() { need_viewer; [ -n "$SKIPPED" ] && return; newd
 
 RT_MPI=$BIN/raytracer-mpi
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export HWLOC_COMPONENTS=-gl  # (hwloc would open any X display there is: see tests/mpi/mpi_test.sh)
 need_mpi() { { [ -x "$RT_MPI" ] && command -v mpirun > /dev/null; } || SKIPPED="(no raytracer-mpi or mpirun)"; }
 def mpi_sigterm_render; case_mpi_sigterm_render() { need_mpi; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; endless_box_scene > "$D/s.txt"
     # As a batch system cancels a job: SIGTERM to mpirun, which passes it on to the ranks.
