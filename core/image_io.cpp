@@ -39,15 +39,6 @@ std::string errno_text(int err) { return std::strerror(err); }
 Status io_error(std::string message) { return Status::error(std::move(message), kExitUsage); }
 Status io_status(std::string message) { return message.empty() ? Status() : io_error(std::move(message)); }
 
-std::string lower_extension(const std::string& path) {
-    const std::size_t slash = path.find_last_of('/');
-    const std::size_t dot = path.find_last_of('.');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-    std::string ext = path.substr(dot);
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
-}
-
 // Writes all of `size` bytes, retrying short writes and signals; errno on failure.
 int write_all(int fd, const char* data, std::size_t size) {
     while (size > 0) {
@@ -274,6 +265,15 @@ private:
     bool unnamed_ = false;
 };
 }  // namespace
+
+std::string lower_extension(const std::string& path) {
+    const std::size_t slash = path.find_last_of('/');
+    const std::size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
+    std::string ext = path.substr(dot);
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
 
 ImageFormat format_from_path(const std::string& path) {
     const std::string ext = lower_extension(path);

@@ -60,6 +60,10 @@ void reset_write_interrupt();
 // Reads a whole file. Refuses files over max_bytes.
 Status read_file(const std::string& path, std::string& out, std::size_t max_bytes);
 
+// The extension of a path's last component, with its dot, in lower case ("" if none):
+// what picks an image format or a model reader.
+std::string lower_extension(const std::string& path);
+
 // A file's bytes, for big files read once: growing it leaves the new bytes unwritten
 // until the read fills them, where a std::string would zero them first (one more pass
 // over a 100+ MB scene on one thread).

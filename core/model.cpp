@@ -13,21 +13,13 @@
 #include <unistd.h>
 
 #include "diagnostic_text.h"
+#include "image_io.h"
 #include "model_readers.h"
 #include "triangles.h"
 
 namespace rt {
 
 namespace {
-
-std::string lower_extension(const std::string& path) {
-    const std::size_t slash = path.find_last_of('/');
-    const std::size_t dot = path.find_last_of('.');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-    std::string ext = path.substr(dot);
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
-}
 
 // The whole file, if it is a regular file within the size limit.
 bool read_file(const std::string& path, std::string& out, ModelError& error) {
