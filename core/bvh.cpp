@@ -18,6 +18,8 @@
 #include <thread>
 #include <type_traits>
 
+#include "parallel.h"
+
 namespace rt {
 namespace {
 
@@ -39,35 +41,6 @@ constexpr std::uint32_t kParallelItems = 4096;
 // thread is spare (the root and the first levels, before the subtrees fill the threads).
 constexpr std::uint32_t kParallelBinItems = 1u << 16;
 
-// f(0) here and f(1) on another thread when `two` and a thread can be had; else f(0)
-// then f(1). An exception from either is rethrown here once both have ended.
-template <class F>
-void two_ways(bool two, F&& f) {
-    std::thread t;
-    std::exception_ptr failed;
-    if (two) {
-        try {
-            t = std::thread([&] {
-                try {
-                    f(1);
-                } catch (...) {
-                    failed = std::current_exception();
-                }
-            });
-        } catch (const std::system_error&) {
-            // No thread: both parts here.
-        }
-    }
-    try {
-        f(0);
-        if (!t.joinable()) f(1);
-    } catch (...) {
-        if (t.joinable()) t.join();
-        throw;
-    }
-    if (t.joinable()) t.join();
-    if (failed) std::rethrow_exception(failed);
-}
 
 }  // namespace
 

@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -50,5 +51,36 @@ private:
     std::shared_ptr<Loop> loop_;  // the latest loop posted (under mutex_)
     bool quit_ = false;
 };
+
+// f(0) here and f(1) on another thread when `two` and a thread can be had; else f(0)
+// then f(1). An exception from either is rethrown here once both have ended. (The
+// BVH builds' halves: work split once, where a pool's loop would cost more than it.)
+template <class F>
+void two_ways(bool two, F&& f) {
+    std::thread t;
+    std::exception_ptr failed;
+    if (two) {
+        try {
+            t = std::thread([&] {
+                try {
+                    f(1);
+                } catch (...) {
+                    failed = std::current_exception();
+                }
+            });
+        } catch (const std::system_error&) {
+            // No thread: both parts here.
+        }
+    }
+    try {
+        f(0);
+        if (!t.joinable()) f(1);
+    } catch (...) {
+        if (t.joinable()) t.join();
+        throw;
+    }
+    if (t.joinable()) t.join();
+    if (failed) std::rethrow_exception(failed);
+}
 
 }  // namespace rt

@@ -24,6 +24,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "parallel.h"
 #include "triangles.h"
 
 namespace rt {
@@ -170,34 +171,6 @@ struct Halves {
     Box lb, lcb, rb, rcb;
 };
 
-// f(0) here and f(1) on another thread when `two` and one can be had; else both here.
-// An exception from either is rethrown once both have ended.
-template <class F>
-void two_ways(bool two, F&& f) {
-    std::thread t;
-    std::exception_ptr failed;
-    if (two) {
-        try {
-            t = std::thread([&] {
-                try {
-                    f(1);
-                } catch (...) {
-                    failed = std::current_exception();
-                }
-            });
-        } catch (const std::system_error&) {
-        }
-    }
-    try {
-        f(0);
-        if (!t.joinable()) f(1);
-    } catch (...) {
-        if (t.joinable()) t.join();
-        throw;
-    }
-    if (t.joinable()) t.join();
-    if (failed) std::rethrow_exception(failed);
-}
 
 struct TriBuilder {
     TRec* recs;
