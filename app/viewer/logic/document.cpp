@@ -742,7 +742,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
             scene_ = std::move(r.scene);
         }
     } else {
-        for (const auto& p : forward ? s.objects_after : s.objects_before) scene_.objects[p.first] = p.second;
+        for (const auto& p : forward ? s.objects_after : s.objects_before) restore_object(p.first, p.second);
         for (const auto& p : forward ? s.planes_after : s.planes_before) scene_.planes[p.first] = p.second;
         for (const auto& p : forward ? s.lights_after : s.lights_before) scene_.lights[p.first] = p.second;
     }
@@ -756,6 +756,15 @@ void Document::apply_step(const DocStep& s, bool forward) {
     if (!s.editor.empty() || s.applied_before != s.applied_after) ++text_version_;
     typing_base_.reset();
     diagnostics_ = editor_dirty() ? rt::parse_scene(editor_, parse_options(path_)).diagnostics : std::vector<rt::Diagnostic>{};
+}
+
+void Document::restore_object(std::size_t i, const rt::Object& o) {
+    rt::Object& slot = scene_.objects[i];
+    slot = o;
+    // The step holds the model as it was when the step was made; a file read again
+    // since (it changed on disk) is shown as it is now, as everywhere else.
+    if (rt::Mesh* m = std::get_if<rt::Mesh>(&slot.shape); m && m->model && !m->model->unchanged_on_disk())
+        if (rt::ModelStore::Loaded l = models_->load(m->model->path()); l.model) m->model = std::move(l.model);
 }
 
 bool Document::has_errors() const {

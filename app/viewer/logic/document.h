@@ -253,6 +253,7 @@ private:
     void reload_text(const std::string& text);
     // The scene's models read again if one changed on disk; true if the scene changed.
     bool reload_models();
+    void restore_object(std::size_t i, const rt::Object& o);  // an undo step's object, with today's model
 
     // A cache: reading through it changes no state, and copies of the document share it.
     std::shared_ptr<rt::ModelStore> models_ = std::make_shared<rt::ModelStore>();
