@@ -21,7 +21,7 @@ const char* title_of(Dialogs::Kind k) {
     switch (k) {
         case Dialogs::Kind::Unsaved: return "Unsaved changes";
         case Dialogs::Kind::SaveErrors: return "The scene text has errors";
-        case Dialogs::Kind::Open: return "Open scene";
+        case Dialogs::Kind::Open: return "Open scene or model";
         case Dialogs::Kind::SaveAs: return "Save scene as";
         case Dialogs::Kind::SaveImage: return "Save image";
         case Dialogs::Kind::AddModel: return "Add model";

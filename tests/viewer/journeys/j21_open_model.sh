@@ -6,7 +6,8 @@
 # Checks: the window shows a new unsaved scene named after the model (the bunny on a
 # floor: raytracer's picture of the saved text); the handle moves the mesh (its
 # position's x grows in the saved text); the added mesh names the file from the
-# scene's folder; a changed model file is read again and the picture follows it.
+# scene's folder; a changed model file is read again and the picture follows it, also
+# after undo; a cancelled Add here > model... leaves no point behind for File > Add model.
 # Usage: j21_open_model.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -79,5 +80,36 @@ picture_agrees 3-reloaded
 changed=$("$TOOL" diff "$OUT/2-added-shown.png" "$OUT/3-reloaded-shown.png" $IMAGE)
 echo "fraction of the picture changed: $changed"
 awk -v f="$changed" 'BEGIN { exit !(f > 0.02) }' || fail "only $changed of the picture changed: the new model is not shown"
+
+step "Add here > model... on the left, cancelled; then File > Add model...: in the middle, not where the menu was"
+click $((ix + iw * 8 / 100)) $((iy + ih * 90 / 100)) 3
+hover_item "menu:Add_here"
+click_item "menu:model"
+wait_state popups "Add model"
+key Escape
+wait_state popups "^none$"
+click_item "menu:File"
+click_item "menu:Add_model"
+wait_state popups "Add model"
+wait_state browser_field "^active$"
+key ctrl+a
+type_text "$OUT/models/bunny.obj"
+key Return
+wait_state message "^Added bunny.obj"
+wait_state selection "^object_3$"
+idle 0.5
+echo "the new mesh's handle at $(field handle 1) $(field handle 2) in the image at $ix $iy ${iw}x$ih"
+[ "$(field handle 1)" -gt $((ix + iw * 25 / 100)) ] || fail "the mesh went where the cancelled menu was opened"
+
+step "undo three times (the adds, the move): the model as it is on disk now, where it was"
+key ctrl+z
+key ctrl+z
+key ctrl+z
+wait_state message "^Undid: Move"
+save
+[ "$(meshes)" = 1 ] || fail "expected one mesh after the undos, found $(meshes)"
+x2=$(awk '/^ *position/ { print $2; exit }' "$SCENE")
+[ "$x2" = "$x0" ] || fail "the mesh's x is '$x2' after undoing the move, expected '$x0'"
+picture_agrees 4-undone
 quit_viewer
 echo PASS
