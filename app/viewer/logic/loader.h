@@ -32,8 +32,9 @@ struct LoadResult {
     std::shared_ptr<const rt::World> world;  // Ok and parsed: compiled
 };
 
-// Reads a scene file as the loader does: a regular file or a FIFO (a folder or a device
-// fails at once, never blocking), in pieces with `report(bytes, total)` after each,
+// Reads a scene file as the loader does: with the command line's reader (rt::read_file,
+// strict): a regular file or a FIFO (a folder or a device fails at once, never
+// blocking), with `report(bytes, total)` as it arrives,
 // stopping once `cancel` is set (a FIFO is waited for in polls that see it). A regular
 // file that changes while it is read (another program still writing it) fails too:
 // its bytes could be half old and half new.
