@@ -123,8 +123,10 @@ Status read_into(const std::string& path, Buffer& out, std::size_t max_bytes, co
     const std::size_t limit = max_bytes == std::size_t(-1) ? max_bytes : max_bytes + 1;
     std::size_t size = 0;
     out.clear();
+    const std::size_t spare =
+        control && regular ? std::size_t(double(st.st_size) * std::clamp(control->spare_share, 0.0, 1.0)) : 0;
     const std::size_t first =
-        std::min(limit, regular && st.st_size > 0 ? std::size_t(st.st_size) + 1 : std::size_t(65536));
+        std::min(limit, regular && st.st_size > 0 ? std::size_t(st.st_size) + 1 + spare : std::size_t(65536));
     const bool big = regular && std::size_t(st.st_size) >= (std::size_t(8) << 20) && first > std::size_t(st.st_size);
     if (big) {
         // The first-touch faults (most of the cost of filling fresh pages) taken on two

@@ -69,6 +69,10 @@ struct ReadControl {
     // that changes while it is read fails ("changed while it was read") rather than
     // arrive half old, half new.
     bool strict = false;
+    // Room left beyond a regular file's bytes, as a share of its size: a text edited in
+    // place (the viewer's) then grows by that much without being moved (a 100 MB move
+    // and its fresh pages' faults on the edit that first makes the text longer).
+    double spare_share = 0;
 };
 
 // Reads a whole file (file_read.cpp). Refuses files over max_bytes.

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <system_error>
 #include <functional>
 #include <utility>
 
@@ -31,6 +32,7 @@ rt::Status read_scene_file(const std::string& path, std::string& out, const std:
     control.cancel = &cancel;
     control.progress = report;
     control.strict = true;
+    control.spare_share = 1.0 / 32;  // the document edits the text in place
     return rt::read_file(path, out, rt::Limits::max_file_size, &control);
 }
 
@@ -61,11 +63,23 @@ bool apply_load(LoadResult& r, Document& doc, std::shared_ptr<const rt::World>& 
     if (r.new_scene) {
         // A scene of its own, unsaved: Save asks where (the name offered beside the model).
         const std::size_t dot = name.find_last_of('.');
-        doc.load_parsed(std::move(r.text), std::move(r.parsed), "", name.substr(0, dot) + ".txt");
+        doc.load_parsed(std::move(r.text), std::move(r.parsed), "", name.substr(0, dot) + ".txt", std::move(r.layout));
         return true;
     }
-    doc.load_parsed(std::move(r.text), std::move(r.parsed), r.path, name);
+    doc.load_parsed(std::move(r.text), std::move(r.parsed), r.path, name, std::move(r.layout));
     return true;
+}
+
+void SceneLoader::compile_and_scan(LoadResult& r) {
+    // The scan on a thread of its own meanwhile (it reads the text only); without one,
+    // the document scans at its first edit.
+    std::thread scan;
+    try {
+        scan = std::thread([&r] { r.layout = scan_layout(r.text); });
+    } catch (const std::system_error&) {
+    }
+    r.world = rt::compile_world(r.parsed.scene, nullptr);
+    if (scan.joinable()) scan.join();
 }
 
 SceneLoader::~SceneLoader() {
@@ -120,12 +134,12 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
             }
             if (job->compile && r.parsed.ok()) {
                 stage(Stage::Building);
-                r.world = rt::compile_world(r.parsed.scene, nullptr);
+                compile_and_scan(r);
             }
             r.status = job->cancel ? LoadResult::Status::Cancelled : LoadResult::Status::Ok;
         }
     }
-    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, false, {}, {}, {}, {}};
+    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, false, {}, {}, {}, {}, {}};
     job->result = std::move(r);
     stage(Stage::Done);
     job->finished = true;
