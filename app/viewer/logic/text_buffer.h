@@ -6,7 +6,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -48,7 +47,6 @@ struct TokenSpan {
 // Splits one line into coloured spans (spans may leave gaps: plain text). The
 // format's tokens never span lines (`//` ends at the line's end), so a line can be
 // coloured without looking at its neighbours, and only the visible lines need it.
-using LineTokeniser = std::function<void(std::string_view line, std::vector<TokenSpan>& out)>;
 // The scene format's words, by kind; numbers as the parser reads them (whole tokens).
 void tokenise_scene_line(std::string_view line, std::vector<TokenSpan>& out);
 // Whether `token` is a whole number in the scene format ([+-]digits[.digits][e[+-]digits]).
