@@ -28,9 +28,10 @@ struct TextRange {
     bool empty() const { return begin == end; }
 };
 
-// One replacement, with what it replaced: enough to apply it again or take it back.
+// The buffer's record of one replacement, in lines and columns, with what it replaced and
+// the cursors: enough to apply it again or take it back.
 // `removed` started at `at`; after the edit `inserted` starts there.
-struct TextEdit {
+struct BufferEdit {
     TextPos at;
     std::string removed, inserted;
     TextPos cursor_before, anchor_before;  // restored by undo
@@ -123,7 +124,7 @@ public:
     // `s.replace(e.offset, e.removed.size(), e.inserted)` in order keeps s == text().
     // take_edits() empties the list. set_text() is not an edit: it clears the list.
     void set_logging(bool on) { logging_ = on; }
-    std::vector<TextEdit> take_edits();
+    std::vector<BufferEdit> take_edits();
 
     // Lines [first, first+removed) were replaced by `added` lines by the last edit;
     // for markers attached to lines (diagnostics) that should follow the text.
@@ -163,7 +164,7 @@ private:
     TextPos word_left(TextPos p) const;
     TextPos word_right(TextPos p) const;
     TextPos apply(TextPos at, TextPos end, std::string_view s, std::string* removed);
-    void record(TextEdit e, bool mergeable_insert, bool mergeable_erase);
+    void record(BufferEdit e, bool mergeable_insert, bool mergeable_erase);
     void touch_lines(int from);
     static int width_of(std::string_view s);
 
@@ -180,11 +181,11 @@ private:
     TextPos cursor_, anchor_;
     int want_dcol_ = -1;  // column kept across Up/Down runs
 
-    std::vector<TextEdit> undo_, redo_;
+    std::vector<BufferEdit> undo_, redo_;
     enum class LastKind { None, Insert, Erase } last_ = LastKind::None;
     bool merge_ok_ = false;
     bool logging_ = false;
-    std::vector<TextEdit> log_;
+    std::vector<BufferEdit> log_;
     std::size_t last_offset_ = 0;  // of the last apply(), when logging
     std::vector<LineShift> shifts_;
 };

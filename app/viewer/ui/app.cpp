@@ -246,7 +246,7 @@ void ViewerApp::frame() {
                  move_.handle_mouse(doc, panels_.selection(), screen_view(), layout_.image, usable && !nav_.dragging(),
                                     status_))
             nav_layout.image = Rect{};  // the move handle has the pointer
-        NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, panels_.scene_size());
+        NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, panels_.scene_extent());
         if (r.clicked) select_at(r.x, r.y);
         handle_context_menu(usable);
         draw_context_menu();
@@ -772,7 +772,7 @@ rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
     // step: the copy's numbers stay as short as the original's).
     rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     rt::Vec3 right = rt::normalize(rt::cross(vc.centre - vc.position, nav_.world_up()));
-    double step = 2.5 * typical_size(scene);
+    double step = 2.5 * typical_object_size(scene);
     double q = std::pow(10.0, std::floor(std::log10(step > 0 ? step : 1.0)) - 1);
     rt::Vec3 off = right * step;
     off = {std::round(off.x / q) * q, std::round(off.y / q) * q, std::round(off.z / q) * q};

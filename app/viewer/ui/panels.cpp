@@ -318,7 +318,7 @@ void Panels::select_from_option(const std::string& spec) {
     scroll_to_selection_ = true;
 }
 
-double Panels::scene_size() const {
+double Panels::scene_extent() const {
     if (const rt::World* w = render_.world()) {
         rt::Aabb b = w->bounds();
         if (!b.empty() && rt::finite(b.lo) && rt::finite(b.hi)) return std::max(rt::length(b.hi - b.lo), 1e-3);
@@ -425,7 +425,7 @@ void Panels::draw_camera_panel() {
         ImGui::TextDisabled("No scene yet.");
     } else if (open) {
         ImGui::BeginDisabled(!doc.has_scene());
-        float speed = float(scene_size() * 0.002);
+        float speed = float(scene_extent() * 0.002);
         // Room for the longest label at any font size (UI scale).
         float label_w = 0;
         for (const char* l : {"position", "up point", "angle x, y", "projection", "az, el, dist"})
@@ -704,7 +704,7 @@ void Panels::draw_fields(const ItemRef& ref) {
     const std::vector<Field> fields = item_fields(doc.scene(), ref);
     // Room for the longest label, whatever the UI scale.
     const float label_w = field_label_width();
-    const float size = float(scene_size());
+    const float size = float(scene_extent());
     // Dragging rounds to the digits shown: enough of them for a small scene.
     char vec_format[16];
     std::snprintf(vec_format, sizeof vec_format, "%%.%df", std::clamp(4 - int(std::floor(std::log10(size))), 3, 9));

@@ -39,6 +39,8 @@ private:
     bool error_ = false;
 };
 
+// What the viewer has selected: nothing, or what an ItemRef (item_fields.h) names, an
+// item or a CSG operand below an object (Panels::selected_item gives the ItemRef).
 struct Selection {
     enum class Kind { None, Object, Plane, Light } kind = Kind::None;
     int index = -1;         // top-level object, plane or light
