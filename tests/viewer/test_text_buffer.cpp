@@ -2,6 +2,7 @@
 // byte for byte, offsets, cursor moves, find, go to line and line colouring.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <climits>
 
 #include <random>
