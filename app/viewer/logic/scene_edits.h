@@ -30,12 +30,23 @@ struct TextReplacement {
 };
 
 // A top-level item of a scene: scene.objects[index], planes[index] or lights[index].
-// (ItemRef, item_fields.h, also names a CSG operand below an object; the viewer's
-// Selection is an ItemRef or nothing.)
 struct SceneItem {
     enum class Kind { Object, Plane, Light } kind = Kind::Object;
     int index = -1;
     bool operator==(const SceneItem& o) const { return kind == o.kind && index == o.index; }
+};
+
+// A top-level item, or a CSG operand below an object (path: 0 = left, 1 = right); none
+// when item.index < 0. The viewer's selection is one.
+struct ItemRef {
+    SceneItem item;
+    std::vector<int> path;
+    bool none() const { return item.index < 0; }
+    // Whether it names an item of kind k (or an operand below one).
+    bool is(SceneItem::Kind k) const { return !none() && item.kind == k; }
+    bool operator==(const ItemRef& o) const {
+        return none() ? o.none() : !o.none() && item == o.item && path == o.path;
+    }
 };
 
 struct SceneEdit {
