@@ -1,7 +1,8 @@
 // The scene text editor's model, without GL or ImGui: the text as a vector of lines,
 // the cursor and selection, edits recorded for undo, find, go to line, and the
-// colouring of one line. Every keystroke touches only the lines it changes, so typing
-// in a 10 MB file costs about as much as typing in a small one.
+// colouring of one line. A keystroke rewrites only the lines it changes; one that adds
+// or joins lines also moves the later lines' strings along the vector, and the offset
+// of a later line is counted again from the changed one when it is next asked for.
 #pragma once
 
 #include <cstddef>
