@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Writes an N x N grid of spheres: spheres-10k's layout (radius 0.4, spacing 1, diffuse
 # and 50 % mirror spheres alternating, a plane, two lights) scaled up, for big-scene
-# tests. N = 1000 gives a million spheres in a ~99 MB file. With a third argument it
+# tests. N = 1000 gives a million spheres in a ~114 MB file. With a third argument it
 # also writes the POV-Ray twin.
 #   bench/make-grid.sh N OUT.txt [OUT.pov]
 set -euo pipefail

@@ -101,7 +101,7 @@ median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END {
     if (NR % 2) printf "%.3f\n", v[(NR + 1) / 2]; else printf "%.3f\n", (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "n/a" || b == "n/a" || b == 0) print "n/a"; else printf "%.2f\n", a / b }'; }
 millions() { awk -v r="$1" 'BEGIN { if (r == "n/a") print r; else printf "%.1f M\n", r }'; }
-scene_size() { awk -v k="$2" '$1 == k { print $2; exit }' "$HERE/scenes/$1.txt"; }
+picture_size() { awk -v k="$2" '$1 == k { print $2; exit }' "$HERE/scenes/$1.txt"; }
 
 # Runs a command with its output in LOG; prints "WALL CPU" in seconds. CPU time (user +
 # sys of the process and its threads) is reported too because this machine may be
@@ -137,7 +137,7 @@ echo "|---|---|---|---|---|---|---|---|"
 
 declare -A OURS ONE RENDER ONE_RENDER
 for s in "${SCENES[@]}"; do
-    if [ $QUICK = 1 ]; then W=160 H=90; else W=$(scene_size "$s" x_max) H=$(scene_size "$s" y_max); fi
+    if [ $QUICK = 1 ]; then W=160 H=90; else W=$(picture_size "$s" x_max) H=$(picture_size "$s" y_max); fi
     ours=() ours_cpu=() pov=() pov_cpu=() rps=() render=() one=() one_render=()
     for _ in $(seq "$RUNS"); do
         t=$(run_ours "$s" "$W" "$H" "$THREADS"); read -r wall cpu <<< "$t"
@@ -333,7 +333,7 @@ aa_section() {
     echo "| scene | resolution | POV-Ray +A0.3 (s) | its RMSE | ours: threshold | ours (s) | our RMSE | our samples per pixel | POV/ours |"
     echo "|---|---|---|---|---|---|---|---|---|"
     for s in things-like csg-400 glass-stack; do
-        if [ $QUICK = 1 ]; then W=160 H=90; else W=$(scene_size "$s" x_max) H=$(scene_size "$s" y_max); fi
+        if [ $QUICK = 1 ]; then W=160 H=90; else W=$(picture_size "$s" x_max) H=$(picture_size "$s" y_max); fi
         local povref=$refs/$s-${W}x$H-pov.png
         ourref=$refs/$s-${W}x$H-ours256.ppm
         [ -s "$povref" ] || (cd "$HERE/scenes" && povray -D +A0.0 +AM1 +R6 +W"$W" +H"$H" +WT"$THREADS" \

@@ -1,8 +1,12 @@
 // Moving objects without building the BVH again: the moved objects' shapes are
 // compiled anew, and the boxes of their leaves and of those leaves' ancestors are
 // refitted, in a copy of the geometry that shares every chunk of its arrays but those
-// (chunked.h). The tree keeps its shape, so a move costs a walk up a few dozen nodes
-// and copies of their chunks, however many objects the scene holds.
+// (chunked.h). The tree keeps its shape, so the refit walks up a few dozen nodes per
+// moved object and copies their chunks. The rest grows with the scene, if slowly: the
+// copy of the geometry takes a pointer per chunk of each of its tables, and
+// update_moved_objects() checks links handed in with a pass over the whole tree
+// (BvhLinks::fits). The world around the geometry costs more where it has light
+// buffers (objects times lights + 1 up to 131,072): a move builds them again.
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
-// LightBuffer::build(): the cube map of the objects a point light (or the camera)
-// sees in each direction, for its shadow rays (world.h).
+// LightBuffer::build(): the cube map of the objects a point light sees in each
+// direction, for its shadow rays, or the camera sees, for its rays (world.h).
 
 #include <algorithm>
 #include <cmath>

@@ -482,12 +482,6 @@ bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& ou
     return first_end(obj, o, d, scratch, FirstEnd{false, kDelta, out});
 }
 
-std::size_t Geometry::memory_bytes() const {
-    return spheres.memory_bytes() + tetras.memory_bytes() + cylinders.memory_bytes() + tori.memory_bytes() +
-           csgs.memory_bytes() + nodes.memory_bytes() + object_node.memory_bytes() + object_bounds.memory_bytes() +
-           bvh.memory_bytes() + meshes.memory_bytes() + model_bytes();
-}
-
 std::size_t Geometry::model_bytes() const {
     // Each model once, however many meshes show it.
     std::vector<const TriangleAccel*> seen;

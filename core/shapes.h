@@ -164,7 +164,6 @@ struct Geometry {
     // the first span end beyond kDelta; false if none.
     [[nodiscard]] bool exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& out, SpanScratch& s) const;
 
-    std::size_t memory_bytes() const;
     std::size_t model_bytes() const;  // the meshes' models, each once
 
 private:

@@ -65,6 +65,4 @@ int PlaneShape::cell(const Vec3& p) const {
 
 Aabb World::bounds() const { return tallies ? tallies->bounds : Aabb{}; }
 
-std::size_t World::geometry_bytes() const { return geometry->memory_bytes(); }
-
 }  // namespace rt

@@ -198,7 +198,6 @@ public:
     // Bounds of all bounded objects (and lamps); empty if there are none. Kept up to
     // date by compile_world() and update(): no pass over the objects.
     Aabb bounds() const;
-    std::size_t geometry_bytes() const;
 
     // The world of `scene`, which is this world's scene changed as `delta` says: the
     // entries of the items it names are made again and everything else is shared with

@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
     std::string mirror = text;
     auto body = [&] {
         if (ed.draw("editor", ImVec2(0, 0)))
-            for (const rtview::TextEdit& e : ed.buffer().take_edits()) mirror.replace(e.offset, e.removed.size(), e.inserted);
+            for (const rtview::BufferEdit& e : ed.buffer().take_edits()) mirror.replace(e.offset, e.removed.size(), e.inserted);
     };
 
     auto t0 = Clock::now();

@@ -124,7 +124,7 @@ TEST_CASE("models: Add model puts a mesh block on the surface picked, its size t
     // The model's y axis turned to z when the scene's up is z.
     if (up_z > 0.9) CHECK(m->rotation == rt::Vec3{90, 0, 0});
     // About as big as the scene's other objects (nice_size rounds to 1, 2 or 5).
-    const double typical = typical_size(scene);
+    const double typical = typical_object_size(scene);
     const double own = size / (2 * std::sqrt(3.0));
     CHECK(own > typical / 2.5);
     CHECK(own < typical * 2.5);

@@ -2,6 +2,7 @@
 // byte for byte, offsets, cursor moves, find, go to line and line colouring.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <climits>
 
 #include <random>
@@ -53,7 +54,7 @@ TEST_CASE("text buffer: random replacements agree with std::string, and undo/red
     b.set_logging(true);
     std::string mirror = ref;  // follows the edit log
     auto replay = [&] {
-        for (const TextEdit& e : b.take_edits()) {
+        for (const BufferEdit& e : b.take_edits()) {
             REQUIRE(mirror.compare(e.offset, e.removed.size(), e.removed) == 0);
             mirror.replace(e.offset, e.removed.size(), e.inserted);
         }
@@ -279,7 +280,7 @@ TEST_CASE("text buffer: the edit log replays onto a copy of the text, undo inclu
     b.insert("torus { }");
     b.select({{0, 0}, {0, 5}});
     b.insert("light");
-    for (const TextEdit& e : b.take_edits()) {
+    for (const BufferEdit& e : b.take_edits()) {
         // Offsets are those of the text before each edit: replay in order.
         REQUIRE(e.offset == ref_offset(mirror, e.at));
         REQUIRE(mirror.compare(e.offset, e.removed.size(), e.removed) == 0);

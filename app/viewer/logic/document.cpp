@@ -89,8 +89,8 @@ std::string written_item(const rt::Scene& one, int kind, const std::string& inde
     return out;
 }
 
-// The one splice that turns `a` into `b` (common prefix and suffix left out).
-TextSplice diff_texts(const std::string& a, const std::string& b) {
+// The one replacement that turns `a` into `b` (common prefix and suffix left out).
+UndoableReplacement diff_texts(const std::string& a, const std::string& b) {
     std::size_t p = 0, n = std::min(a.size(), b.size());
     while (p < n && a[p] == b[p]) ++p;
     std::size_t s = 0;
@@ -178,7 +178,7 @@ std::string changed_name(std::size_t objects, std::size_t planes, std::size_t li
 
 std::size_t DocStep::bytes() const {
     std::size_t b = sizeof(DocStep) + name.size();
-    for (const TextSplice& s : editor) b += sizeof(TextSplice) + s.before.size() + s.after.size();
+    for (const UndoableReplacement& s : editor) b += sizeof(UndoableReplacement) + s.before.size() + s.after.size();
     if (applied_before) b += applied_before->size();
     if (applied_after) b += applied_after->size();
     for (const auto& o : objects_before) b += object_bytes(o.second) + sizeof(std::size_t);
@@ -507,7 +507,7 @@ bool Document::reads_back(const DocStep& step, bool wide) const {
 // block is rewritten where it stands. Nothing else of the text is touched or parsed.
 bool Document::commit_in_place(DocStep& step) {
     // The layout of the text is scanned once and then kept up to date through the
-    // document's own splices: an edit costs its block, not a pass over the text.
+    // document's own replacements: an edit costs its block, not a pass over the text.
     const std::uint64_t key = layout_key();
     if (!layout_ || layout_key_ != key) {
         layout_ = scan_layout(editor_);
@@ -568,7 +568,7 @@ bool Document::commit_in_place(DocStep& step) {
     // Back to front, so every span still holds where the text was read.
     std::sort(reps.begin(), reps.end(), [](const Rep& a, const Rep& b) { return a.span.begin > b.span.begin; });
     for (Rep& r : reps) {
-        TextSplice s{r.span.begin, editor_.substr(r.span.begin, r.span.end - r.span.begin), std::move(r.text)};
+        UndoableReplacement s{r.span.begin, editor_.substr(r.span.begin, r.span.end - r.span.begin), std::move(r.text)};
         editor_.replace(s.pos, s.before.size(), s.after);
         shift_layout(l, s.pos, s.before.size(), s.after.size());
         step.editor.push_back(std::move(s));
@@ -587,7 +587,7 @@ bool Document::commit_generic(DocStep& step) {
     std::string new_applied = has_scene_ ? sync_scene_text(old_applied, before, scene_) : rt::write_scene(scene_);
     if (!applied_) {
         // No draft: the editor text is the applied text.
-        TextSplice s = diff_texts(editor_, new_applied);
+        UndoableReplacement s = diff_texts(editor_, new_applied);
         editor_ = std::move(new_applied);
         if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
         return true;
@@ -609,7 +609,7 @@ bool Document::commit_generic(DocStep& step) {
         changed(saved_.whole ? rt::SceneDelta::all() : items_of(step.objects_before, step.planes_before, step.lights_before));
         return false;
     }
-    TextSplice s = diff_texts(editor_, *patched);
+    UndoableReplacement s = diff_texts(editor_, *patched);
     editor_ = std::move(*patched);
     if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
     step.applied_before = *applied_;
@@ -733,7 +733,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
     // before the step when they are one and the same now.
     if (s.keep_applied && !applied_) applied_ = editor_;
     if (forward) {
-        for (const TextSplice& t : s.editor) editor_.replace(t.pos, t.before.size(), t.after);
+        for (const UndoableReplacement& t : s.editor) editor_.replace(t.pos, t.before.size(), t.after);
     } else {
         for (auto it = s.editor.rbegin(); it != s.editor.rend(); ++it) editor_.replace(it->pos, it->after.size(), it->before);
     }

@@ -37,8 +37,9 @@ struct FileStamp {
     static FileStamp of(const std::string& path);
 };
 
-// A replacement in a text: [pos, pos + before.size()) held `before` and now holds `after`.
-struct TextSplice {
+// A replacement made in a text, with what it replaced, so that an undo step can take it
+// back: [pos, pos + before.size()) held `before` and now holds `after`.
+struct UndoableReplacement {
     std::size_t pos = 0;
     std::string before, after;
 };
@@ -46,7 +47,7 @@ struct TextSplice {
 // One undo step: what an edit changed, both ways.
 struct DocStep {
     std::string name;  // what the edit did, for the user: "Move sphere 3"
-    std::vector<TextSplice> editor;  // applied in order going forward, in reverse going back
+    std::vector<UndoableReplacement> editor;  // applied in order going forward, in reverse going back
     // The applied text when it differed from the editor text (a draft), before and after.
     std::optional<std::string> applied_before, applied_after;
     // The scene: the items that changed (index, value), or, for wide changes, nothing:
@@ -237,7 +238,7 @@ private:
     bool commit_generic(DocStep& step);
     void record(DocStep step);
     // Text typed into the editor since the last step becomes a step of its own
-    // (every step's splices hold for the text exactly as the previous step left it).
+    // (every step's replacements hold for the text exactly as the previous step left it).
     void flush_typing();
     // Replaces the texts and scene as one undoable step (apply, revert, reload...).
     // `editor` null: the editor text stays; `scene` empty: the scene stays.

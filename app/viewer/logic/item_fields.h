@@ -20,12 +20,6 @@ namespace rtview {
 
 class Document;
 
-// A top-level item, or a CSG operand below an object (path: 0 = left, 1 = right).
-struct ItemRef {
-    SceneItem item;
-    std::vector<int> path;
-};
-
 // One key of the item's block (one per index for keys with an index: "point 2").
 struct Field {
     std::string label;       // "radius", "point 2", "material 1"

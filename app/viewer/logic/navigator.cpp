@@ -118,9 +118,9 @@ void Navigator::wheel(double notches, double x, double y, const rt::World* world
     set_view(dolly(view_, target, notches));
 }
 
-void Navigator::fly(const rt::Vec3& local, double dt, bool fast, double scene_size) {
+void Navigator::fly(const rt::Vec3& local, double dt, bool fast, double scene_extent) {
     if (!has_view_ || rt::length2(local) == 0) return;
-    double step = scene_size * 0.35 * std::clamp(dt, 0.0, 0.1) * (fast ? 4 : 1);
+    double step = scene_extent * 0.35 * std::clamp(dt, 0.0, 0.1) * (fast ? 4 : 1);
     set_view(translate(view_, fly_offset(view_, up_, local, step)));
 }
 

@@ -61,7 +61,7 @@ public:
     // Wheel notches (positive: towards the point under the cursor).
     void wheel(double notches, double x, double y, const rt::World* world, const ViewGeometry& g);
     // Fly by `local` = (right, up, forward) keys held, for `dt` seconds.
-    void fly(const rt::Vec3& local, double dt, bool fast, double scene_size);
+    void fly(const rt::Vec3& local, double dt, bool fast, double scene_extent);
     // Keep the view direction and fit the bounds in view.
     void frame(const rt::Aabb& bounds, const ViewGeometry& g);
     // Turn about the look-at point (the headless --orbit).

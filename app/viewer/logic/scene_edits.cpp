@@ -341,7 +341,7 @@ bool translate_operand(rt::Object& top, const std::vector<int>& path, Vec3 d) {
     return true;
 }
 
-double typical_size(const rt::Scene& scene) {
+double typical_object_size(const rt::Scene& scene) {
     // Half the box diagonal over sqrt(3): a sphere's radius for a sphere.
     std::vector<double> sizes;
     for (const rt::Object& o : scene.objects) {
@@ -362,7 +362,7 @@ namespace {
 void new_item(const rt::Scene& scene, NewItem kind, const Placement& at, double scale, rt::Scene& one,
               SceneItem::Kind& where) {
     const double extent = scene_extent(scene);
-    const double r = nice_size(typical_size(scene));
+    const double r = nice_size(typical_object_size(scene));
     const Vec3 up = up_of(scene, at);
     const rt::Frame f = rt::Frame::from_axis(up);
     const Vec3 p = at.point;
@@ -441,7 +441,7 @@ std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scen
     // far from the point, or merge its corners: then a tenth of the item's own size,
     // and if that still merges corners (far out, where doubles are coarse), a
     // thousandth of it.
-    const double extent = scene_extent(scene), r = nice_size(typical_size(scene));
+    const double extent = scene_extent(scene), r = nice_size(typical_object_size(scene));
     for (double scale : {std::min(extent, 100 * r), std::min(extent, r)}) {
         rt::Scene one;
         SceneItem::Kind where;
@@ -464,8 +464,8 @@ std::optional<SceneEdit> add_model(const std::string& text, const rt::Scene& sce
     const Vec3 up = up_of(scene, at);
     rt::Mesh m;
     m.file = file;
-    const double own = rt::length(mb.hi - mb.lo) / (2 * std::sqrt(3.0));  // as typical_size measures
-    const double s = nice_size(typical_size(scene) / (own > 0 ? own : 1.0));
+    const double own = rt::length(mb.hi - mb.lo) / (2 * std::sqrt(3.0));  // as typical_object_size measures
+    const double s = nice_size(typical_object_size(scene) / (own > 0 ? own : 1.0));
     m.scale = {s, s, s};
     const Vec3 scene_up = up_of(scene, Placement{});
     if (std::fabs(scene_up.z) > std::fabs(scene_up.y) && scene_up.z > 0) m.rotation = {90, 0, 0};

@@ -15,7 +15,9 @@
 
 namespace rtview {
 
-// Replace `length` bytes at `offset` with `text`.
+// Replace `length` bytes at `offset` with `text`: a replacement to make. Once made, the
+// document keeps it as an UndoableReplacement (document.h), which holds both texts; the
+// editor's buffer keeps its own as BufferEdit (text_buffer.h), in lines and columns.
 struct TextReplacement {
     std::size_t offset = 0, length = 0;
     std::string text;
@@ -32,6 +34,19 @@ struct SceneItem {
     enum class Kind { Object, Plane, Light } kind = Kind::Object;
     int index = -1;
     bool operator==(const SceneItem& o) const { return kind == o.kind && index == o.index; }
+};
+
+// A top-level item, or a CSG operand below an object (path: 0 = left, 1 = right); none
+// when item.index < 0. The viewer's selection is one.
+struct ItemRef {
+    SceneItem item;
+    std::vector<int> path;
+    bool none() const { return item.index < 0; }
+    // Whether it names an item of kind k (or an operand below one).
+    bool is(SceneItem::Kind k) const { return !none() && item.kind == k; }
+    bool operator==(const ItemRef& o) const {
+        return none() ? o.none() : !o.none() && item == o.item && path == o.path;
+    }
 };
 
 struct SceneEdit {
@@ -57,20 +72,20 @@ struct Placement {
 double scene_extent(const rt::Scene& scene);
 // The size new objects get: the median size of the scene's objects (a sphere's
 // radius), or a twentieth of scene_extent when there are none.
-double typical_size(const rt::Scene& scene);
+double typical_object_size(const rt::Scene& scene);
 
 // All edits take the scene text and the scene it parses to (its items must match
 // the text's blocks one for one), and return nothing when the text's structure is
 // unclear or the item does not exist. The result is a plain block of the format, so
 // applying it and parsing gives the scene with the edit made.
 
-// A new item with a size from typical_size: objects after the last object (or in a
+// A new item with a size from typical_object_size: objects after the last object (or in a
 // new `thing` section), planes after the last plane, lights after the last light.
 // Objects and lights rest on the surface; a plane stands upright on it (it contains
 // the surface's normal) and faces the viewer: a plane through the point with the
 // surface's own orientation would lie in a floor it was added to, and show nothing.
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at);
-// A mesh of the model read from `file` (as the block names it): its size typical_size,
+// A mesh of the model read from `file` (as the block names it): its size typical_object_size,
 // its box resting on the surface at the point (centred on a point in space), turned
 // so that the model's y axis (OBJ's and PLY's usual up) is the scene's up when that
 // is z.

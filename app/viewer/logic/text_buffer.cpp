@@ -427,14 +427,14 @@ TextPos TextBuffer::apply(TextPos at, TextPos end, std::string_view s, std::stri
     return after;
 }
 
-void TextBuffer::record(TextEdit e, bool mergeable_insert, bool mergeable_erase) {
+void TextBuffer::record(BufferEdit e, bool mergeable_insert, bool mergeable_erase) {
     redo_.clear();
     if (logging_) {
         e.offset = last_offset_;
         log_.push_back(e);
     }
     if (merge_ok_ && !undo_.empty()) {
-        TextEdit& last = undo_.back();
+        BufferEdit& last = undo_.back();
         if (mergeable_insert && last_ == LastKind::Insert && last.removed.empty() &&
             end_after(last.at, last.inserted) == e.at &&
             // A space after a word starts a new step: undo takes back a word at a time.
@@ -470,7 +470,7 @@ void TextBuffer::replace(TextRange r, std::string_view s) {
 }
 
 void TextBuffer::replace_range(TextRange r, std::string_view s, bool typing, bool may_merge) {
-    TextEdit e;
+    BufferEdit e;
     e.cursor_before = cursor_;
     e.anchor_before = anchor_;
     e.at = r.begin;
@@ -526,7 +526,7 @@ void TextBuffer::erase_toward(Move step) {
     cursor_ = anchor_ = at;
     if (other == at) return;
     const TextPos begin = std::min(at, other), end = std::max(at, other);
-    TextEdit e;
+    BufferEdit e;
     e.cursor_before = at;
     e.anchor_before = at;
     e.at = begin;
@@ -540,7 +540,7 @@ void TextBuffer::erase_toward(Move step) {
 
 bool TextBuffer::undo() {
     if (undo_.empty()) return false;
-    TextEdit e = std::move(undo_.back());
+    BufferEdit e = std::move(undo_.back());
     undo_.pop_back();
     apply(e.at, end_after(e.at, e.inserted), e.removed, nullptr);
     if (logging_) log_.push_back({e.at, e.inserted, e.removed, {}, {}, {}, last_offset_});
@@ -554,7 +554,7 @@ bool TextBuffer::undo() {
 
 bool TextBuffer::redo() {
     if (redo_.empty()) return false;
-    TextEdit e = std::move(redo_.back());
+    BufferEdit e = std::move(redo_.back());
     redo_.pop_back();
     apply(e.at, end_after(e.at, e.removed), e.inserted, nullptr);
     if (logging_) log_.push_back({e.at, e.removed, e.inserted, {}, {}, {}, last_offset_});
@@ -565,8 +565,8 @@ bool TextBuffer::redo() {
     return true;
 }
 
-std::vector<TextEdit> TextBuffer::take_edits() {
-    std::vector<TextEdit> out;
+std::vector<BufferEdit> TextBuffer::take_edits() {
+    std::vector<BufferEdit> out;
     out.swap(log_);
     return out;
 }

@@ -1,12 +1,12 @@
 // The scene text editor's model, without GL or ImGui: the text as a vector of lines,
 // the cursor and selection, edits recorded for undo, find, go to line, and the
-// colouring of one line. Every keystroke touches only the lines it changes, so typing
-// in a 10 MB file costs about as much as typing in a small one.
+// colouring of one line. A keystroke rewrites only the lines it changes; one that adds
+// or joins lines also moves the later lines' strings along the vector, and the offset
+// of a later line is counted again from the changed one when it is next asked for.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,9 +29,10 @@ struct TextRange {
     bool empty() const { return begin == end; }
 };
 
-// One replacement, with what it replaced: enough to apply it again or take it back.
+// The buffer's record of one replacement, in lines and columns, with what it replaced and
+// the cursors: enough to apply it again or take it back.
 // `removed` started at `at`; after the edit `inserted` starts there.
-struct TextEdit {
+struct BufferEdit {
     TextPos at;
     std::string removed, inserted;
     TextPos cursor_before, anchor_before;  // restored by undo
@@ -48,7 +49,6 @@ struct TokenSpan {
 // Splits one line into coloured spans (spans may leave gaps: plain text). The
 // format's tokens never span lines (`//` ends at the line's end), so a line can be
 // coloured without looking at its neighbours, and only the visible lines need it.
-using LineTokeniser = std::function<void(std::string_view line, std::vector<TokenSpan>& out)>;
 // The scene format's words, by kind; numbers as the parser reads them (whole tokens).
 void tokenise_scene_line(std::string_view line, std::vector<TokenSpan>& out);
 // Whether `token` is a whole number in the scene format ([+-]digits[.digits][e[+-]digits]).
@@ -125,7 +125,7 @@ public:
     // `s.replace(e.offset, e.removed.size(), e.inserted)` in order keeps s == text().
     // take_edits() empties the list. set_text() is not an edit: it clears the list.
     void set_logging(bool on) { logging_ = on; }
-    std::vector<TextEdit> take_edits();
+    std::vector<BufferEdit> take_edits();
 
     // Lines [first, first+removed) were replaced by `added` lines by the last edit;
     // for markers attached to lines (diagnostics) that should follow the text.
@@ -165,7 +165,7 @@ private:
     TextPos word_left(TextPos p) const;
     TextPos word_right(TextPos p) const;
     TextPos apply(TextPos at, TextPos end, std::string_view s, std::string* removed);
-    void record(TextEdit e, bool mergeable_insert, bool mergeable_erase);
+    void record(BufferEdit e, bool mergeable_insert, bool mergeable_erase);
     void touch_lines(int from);
     static int width_of(std::string_view s);
 
@@ -182,11 +182,11 @@ private:
     TextPos cursor_, anchor_;
     int want_dcol_ = -1;  // column kept across Up/Down runs
 
-    std::vector<TextEdit> undo_, redo_;
+    std::vector<BufferEdit> undo_, redo_;
     enum class LastKind { None, Insert, Erase } last_ = LastKind::None;
     bool merge_ok_ = false;
     bool logging_ = false;
-    std::vector<TextEdit> log_;
+    std::vector<BufferEdit> log_;
     std::size_t last_offset_ = 0;  // of the last apply(), when logging
     std::vector<LineShift> shifts_;
 };

@@ -246,7 +246,7 @@ void ViewerApp::frame() {
                  move_.handle_mouse(doc, panels_.selection(), screen_view(), layout_.image, usable && !nav_.dragging(),
                                     status_))
             nav_layout.image = Rect{};  // the move handle has the pointer
-        NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, panels_.scene_size());
+        NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, panels_.scene_extent());
         if (r.clicked) select_at(r.x, r.y);
         handle_context_menu(usable);
         draw_context_menu();
@@ -561,15 +561,15 @@ void ViewerApp::select_at(double px, double py) {
     // selected), a light's marker.
     if (move_.over_handle(editor_.doc(), panels_.selection(), screen_view(), px, py)) return;
     if (int light = move_.light_under(px, py); light >= 0) {
-        panels_.select({Selection::Kind::Light, light, {}});
+        panels_.select({{SceneItem::Kind::Light, light}, {}});
         return;
     }
     rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     rt::PickResult r = pick_at(*w, vc, layout_.image, layout_.film_w, layout_.film_h, px, py);
-    Selection s;
-    if (r.object >= 0) s = {Selection::Kind::Object, r.object, {}};
-    else if (r.plane >= 0) s = {Selection::Kind::Plane, r.plane, {}};
-    else if (r.light >= 0) s = {Selection::Kind::Light, r.light, {}};
+    ItemRef s;
+    if (r.object >= 0) s = {{SceneItem::Kind::Object, r.object}, {}};
+    else if (r.plane >= 0) s = {{SceneItem::Kind::Plane, r.plane}, {}};
+    else if (r.light >= 0) s = {{SceneItem::Kind::Light, r.light}, {}};
     panels_.select(s);
 }
 
@@ -732,18 +732,6 @@ bool ViewerApp::view_command(Command c) {
 // Structural edits: one text replacement each (scene_edits.h), applied by the document
 // as one undo step. The text must be the scene's: a draft is applied or reverted first.
 
-namespace {
-
-Selection selection_of(const SceneItem& item) {
-    if (item.index < 0) return {};
-    Selection::Kind k = item.kind == SceneItem::Kind::Object ? Selection::Kind::Object
-                        : item.kind == SceneItem::Kind::Plane ? Selection::Kind::Plane
-                                                              : Selection::Kind::Light;
-    return {k, item.index, {}};
-}
-
-}  // namespace
-
 Placement ViewerApp::new_item_placement() {
     // On the surface under the point (its normal from two neighbouring picks), or in
     // front of the camera at the distance it looks at.
@@ -778,7 +766,7 @@ rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
     // step: the copy's numbers stay as short as the original's).
     rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     rt::Vec3 right = rt::normalize(rt::cross(vc.centre - vc.position, nav_.world_up()));
-    double step = 2.5 * typical_size(scene);
+    double step = 2.5 * typical_object_size(scene);
     double q = std::pow(10.0, std::floor(std::log10(step > 0 ? step : 1.0)) - 1);
     rt::Vec3 off = right * step;
     off = {std::round(off.x / q) * q, std::round(off.y / q) * q, std::round(off.z / q) * q};
@@ -859,7 +847,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         status_.set("Cannot do that to this scene text", true);
         return false;
     }
-    panels_.select(selection_of(e->select));
+    panels_.select({e->select, {}});
     status_.set(done + " (Ctrl+Z undoes)" + light_note(doc));
     return true;
 }
@@ -911,7 +899,7 @@ void ViewerApp::handle_context_menu(bool usable) {
 
 void ViewerApp::draw_context_menu() {
     if (!ImGui::BeginPopup("image_menu")) return;
-    const Selection& sel = panels_.selection();
+    const ItemRef& sel = panels_.selection();
     const rt::Scene& scene = editor_.doc().scene();
     // (probe_item: where the rows are, for scripts that click them)
     if (ImGui::BeginMenu("Add here")) {
@@ -935,22 +923,22 @@ void ViewerApp::draw_context_menu() {
         ImGui::EndMenu();
     }
     probe_item("menu:Add here");
-    bool has = sel.kind != Selection::Kind::None;
+    bool has = !sel.none();
     if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) run(Command::Duplicate);
     if (ImGui::MenuItem("Delete", "Del", false, has)) run(Command::Delete);
-    if (sel.kind == Selection::Kind::Light && sel.index >= 0 && std::size_t(sel.index) < scene.lights.size()) {
-        bool lamp = scene.lights[std::size_t(sel.index)].lamp;
+    if (sel.is(SceneItem::Kind::Light) && std::size_t(sel.item.index) < scene.lights.size()) {
+        bool lamp = scene.lights[std::size_t(sel.item.index)].lamp;
         const char* label = lamp ? "Make it a spotlight" : "Make it a lamp";
         const bool chosen = ImGui::MenuItem(label);
         probe_item(std::string("menu:") + label);
         if (chosen) run(Command::SwitchLight);
     }
-    const Selection& prev = menu_prev_selection_;
-    if (sel.kind == Selection::Kind::Object && prev.kind == Selection::Kind::Object && prev.index != sel.index &&
-        prev.index >= 0 && std::size_t(prev.index) < scene.objects.size()) {
-        std::string label = "CSG of object " + std::to_string(prev.index + 1) + " and this one";
+    const ItemRef& prev = menu_prev_selection_;
+    if (sel.is(SceneItem::Kind::Object) && prev.is(SceneItem::Kind::Object) && prev.item.index != sel.item.index &&
+        std::size_t(prev.item.index) < scene.objects.size()) {
+        std::string label = "CSG of object " + std::to_string(prev.item.index + 1) + " and this one";
         if (ImGui::BeginMenu(label.c_str())) {
-            std::string other = " " + std::to_string(sel.index);
+            std::string other = " " + std::to_string(sel.item.index);
             auto csg = [&](const char* type) {
                 panels_.select(prev);  // the left operand
                 run(Command::MakeCsg, type + other);

@@ -311,7 +311,7 @@ bool DocumentEditor::draw_text_widget(float height) {
         active_ = widget_.focused();
         if (changed) {
             std::string& text = doc_.editor_text();
-            for (const TextEdit& e : widget_.buffer().take_edits()) text.replace(e.offset, e.removed.size(), e.inserted);
+            for (const BufferEdit& e : widget_.buffer().take_edits()) text.replace(e.offset, e.removed.size(), e.inserted);
             doc_.note_typed();
         }
     }

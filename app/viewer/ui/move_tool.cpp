@@ -34,14 +34,9 @@ ImU32 axis_colour(int k, bool hot) {
 
 }  // namespace
 
-std::optional<SceneItem> item_of_selection(const Selection& s) {
-    switch (s.kind) {
-        case Selection::Kind::Object: return SceneItem{SceneItem::Kind::Object, s.index};
-        case Selection::Kind::Plane: return SceneItem{SceneItem::Kind::Plane, s.index};
-        case Selection::Kind::Light: return SceneItem{SceneItem::Kind::Light, s.index};
-        case Selection::Kind::None: break;
-    }
-    return std::nullopt;
+std::optional<SceneItem> item_of_selection(const ItemRef& s) {
+    if (s.none()) return std::nullopt;
+    return s.item;
 }
 
 void MoveTool::apply(Document& doc, const rt::Vec3& d) {
@@ -73,7 +68,7 @@ void MoveTool::apply(Document& doc, const rt::Vec3& d) {
     g.last = d;
 }
 
-bool MoveTool::handle_mouse(Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, bool usable,
+bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView& view, const Rect& image, bool usable,
                             StatusLine& status) {
     ImGuiIO& io = ImGui::GetIO();
     double mx = io.MousePos.x, my = io.MousePos.y;
@@ -128,7 +123,7 @@ bool MoveTool::handle_mouse(Document& doc, const Selection& sel, const ScreenVie
     return true;
 }
 
-void MoveTool::update_outline(const Document& doc, const Selection& sel, const RenderController& render,
+void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const RenderController& render,
                               const rt::Camera& camera, int film_w, int film_h) {
     refining_ = false;
     last_rays_ = 0;
@@ -197,7 +192,7 @@ void MoveTool::update_outline(const Document& doc, const Selection& sel, const R
     refining_ = !preview && ids_.block > finest_;
 }
 
-bool MoveTool::over_handle(const Document& doc, const Selection& sel, const ScreenView& view, double x,
+bool MoveTool::over_handle(const Document& doc, const ItemRef& sel, const ScreenView& view, double x,
                            double y) const {
     std::optional<SceneItem> item = item_of_selection(sel);
     if (!item || !doc.has_scene()) return false;
@@ -229,7 +224,7 @@ void MoveTool::draw_light_markers(ImDrawList* dl, float s) const {
     }
 }
 
-void MoveTool::draw(const Document& doc, const Selection& sel, const ScreenView& view, const rt::World* world,
+void MoveTool::draw(const Document& doc, const ItemRef& sel, const ScreenView& view, const rt::World* world,
                     const Rect& image, const Rect& area, int film_w, int film_h) {
     markers_.clear();
     if (!doc.has_scene()) return;

@@ -30,22 +30,22 @@ public:
     // One frame of pointer input, before navigation sees it. `view` is the view the
     // picture is rendered through; `image` where it is drawn. True while the tool owns
     // the pointer (a press on the handle, a drag): navigation must then ignore it.
-    bool handle_mouse(Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, bool usable,
+    bool handle_mouse(Document& doc, const ItemRef& sel, const ScreenView& view, const Rect& image, bool usable,
                       StatusLine& status);
     bool dragging() const { return drag_.has_value(); }
 
     // The outline's id buffer for this frame's picture: at the preview's block while
     // the view moves, refined toward single pixels (within a time budget per frame)
     // while it rests. Call after RenderController::update().
-    void update_outline(const Document& doc, const Selection& sel, const RenderController& render,
+    void update_outline(const Document& doc, const ItemRef& sel, const RenderController& render,
                         const rt::Camera& camera, int film_w, int film_h);
     // Outline and handle over the picture in `image` (clipped to `area`), and the
     // markers of the lights that have no glow (`world`: what hides them).
-    void draw(const Document& doc, const Selection& sel, const ScreenView& view, const rt::World* world,
+    void draw(const Document& doc, const ItemRef& sel, const ScreenView& view, const rt::World* world,
               const Rect& image, const Rect& area, int film_w, int film_h);
     // What a click at (x, y) finds of what draw() drew over the picture: the selection's
     // handle (the selection stays), or a light's marker (its index; else -1).
-    bool over_handle(const Document& doc, const Selection& sel, const ScreenView& view, double x, double y) const;
+    bool over_handle(const Document& doc, const ItemRef& sel, const ScreenView& view, double x, double y) const;
     int light_under(double x, double y) const;
     // Still refining the outline: frames are needed.
     bool wants_frames() const { return refining_; }
@@ -87,6 +87,6 @@ private:
 };
 
 // The document item a selection edits (a CSG operand: its top-level object).
-std::optional<SceneItem> item_of_selection(const Selection& s);
+std::optional<SceneItem> item_of_selection(const ItemRef& s);
 
 }  // namespace rtview

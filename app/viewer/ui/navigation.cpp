@@ -28,7 +28,7 @@ bool NavigationInput::moving(double now) const {
 }
 
 NavigationInput::Result NavigationInput::handle(const Layout& layout, const rt::World* world, bool usable,
-                                                double scene_size) {
+                                                double scene_extent) {
     Result res;
     ImGuiIO& io = ImGui::GetIO();
     double mx = io.MousePos.x, my = io.MousePos.y;
@@ -71,7 +71,7 @@ NavigationInput::Result NavigationInput::handle(const Layout& layout, const rt::
     auto held = [&](int k) { return fly_armed_[k] && !io.KeyCtrl && !io.KeyAlt ? 1.0 : 0.0; };
     rt::Vec3 local{held(0) - held(1), held(2) - held(3), held(4) - held(5)};
     flying_ = rt::length2(local) > 0;
-    if (flying_) nav_.fly(local, double(io.DeltaTime), io.KeyShift, scene_size);
+    if (flying_) nav_.fly(local, double(io.DeltaTime), io.KeyShift, scene_extent);
     return res;
 }
 

@@ -18,7 +18,7 @@ public:
         double x = 0, y = 0;
     };
     // One frame of input. `usable`: a scene and a world exist and no modal is open.
-    Result handle(const Layout& layout, const rt::World* world, bool usable, double scene_size);
+    Result handle(const Layout& layout, const rt::World* world, bool usable, double scene_extent);
     // The view is in motion (a drag, flying, or the wheel within the last moments).
     bool moving(double now) const;
 

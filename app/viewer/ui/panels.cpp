@@ -63,9 +63,9 @@ std::string shape_summary(const rt::Shape& s) {
     return {};
 }
 
-const rt::Object* resolve(const rt::Scene& s, const Selection& sel) {
-    if (sel.kind != Selection::Kind::Object || sel.index < 0 || sel.index >= int(s.objects.size())) return nullptr;
-    const rt::Object* o = &s.objects[std::size_t(sel.index)];
+const rt::Object* resolve(const rt::Scene& s, const ItemRef& sel) {
+    if (!sel.is(SceneItem::Kind::Object) || sel.item.index >= int(s.objects.size())) return nullptr;
+    const rt::Object* o = &s.objects[std::size_t(sel.item.index)];
     for (int k : sel.path) {
         auto* g = std::get_if<rt::Csg>(&o->shape);
         if (!g || k < 0 || k >= int(g->operands.size())) return nullptr;
@@ -74,12 +74,12 @@ const rt::Object* resolve(const rt::Scene& s, const Selection& sel) {
     return o;
 }
 
-bool selection_valid(const rt::Scene& s, const Selection& sel) {
-    switch (sel.kind) {
-        case Selection::Kind::None: return true;
-        case Selection::Kind::Object: return resolve(s, sel) != nullptr;
-        case Selection::Kind::Plane: return sel.index >= 0 && sel.index < int(s.planes.size());
-        case Selection::Kind::Light: return sel.index >= 0 && sel.index < int(s.lights.size());
+bool selection_valid(const rt::Scene& s, const ItemRef& sel) {
+    if (sel.none()) return true;
+    switch (sel.item.kind) {
+        case SceneItem::Kind::Object: return resolve(s, sel) != nullptr;
+        case SceneItem::Kind::Plane: return sel.item.index < int(s.planes.size());
+        case SceneItem::Kind::Light: return sel.item.index < int(s.lights.size());
     }
     return false;
 }
@@ -219,12 +219,12 @@ void Panels::draw_menu_bar() {
                 if (ImGui::MenuItem(k)) commands_.run(Command::AddItem, k);
             ImGui::EndMenu();
         }
-        const bool has = can && selection_.kind != Selection::Kind::None;
+        const bool has = can && !selection_.none();
         if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) commands_.run(Command::Duplicate);
         if (ImGui::MenuItem("Delete", "Del", false, has)) commands_.run(Command::Delete);
-        const bool light = has && selection_.kind == Selection::Kind::Light && selection_.index >= 0 &&
-                           std::size_t(selection_.index) < doc.scene().lights.size();
-        if (ImGui::MenuItem(light && !doc.scene().lights[std::size_t(selection_.index)].lamp ? "Make the spotlight a lamp"
+        const bool light = has && selection_.is(SceneItem::Kind::Light) &&
+                           std::size_t(selection_.item.index) < doc.scene().lights.size();
+        if (ImGui::MenuItem(light && !doc.scene().lights[std::size_t(selection_.item.index)].lamp ? "Make the spotlight a lamp"
                                                                                             : "Make the lamp a spotlight",
                             nullptr, false, light))
             commands_.run(Command::SwitchLight);
@@ -294,10 +294,10 @@ void Panels::draw_undo_items() {
 // ---------------------------------------------------------------------------------
 // Sidebar
 
-void Panels::select(const Selection& s) {
+void Panels::select(const ItemRef& s) {
     selection_ = s;
     scroll_to_selection_ = true;
-    if (s.kind != Selection::Kind::None && current_tab_ != Objects) want_tab_ = Objects;
+    if (!s.none() && current_tab_ != Objects) want_tab_ = Objects;
 }
 
 void Panels::select_from_option(const std::string& spec) {
@@ -308,17 +308,17 @@ void Panels::select_from_option(const std::string& spec) {
     const rt::Scene& s = editor_.doc().scene();
     if (kind == "object" && n >= 1 && n <= int(s.objects.size())) {
         // "object 5 left right": a CSG operand below it.
-        Selection sel{Selection::Kind::Object, n - 1, {}};
+        ItemRef sel{{SceneItem::Kind::Object, n - 1}, {}};
         std::string side;
         while (in >> side && (side == "left" || side == "right")) sel.path.push_back(side == "left" ? 0 : 1);
         if (resolve(s, sel)) selection_ = sel;
     }
-    if (kind == "plane" && n >= 1 && n <= int(s.planes.size())) selection_ = {Selection::Kind::Plane, n - 1, {}};
-    if (kind == "light" && n >= 1 && n <= int(s.lights.size())) selection_ = {Selection::Kind::Light, n - 1, {}};
+    if (kind == "plane" && n >= 1 && n <= int(s.planes.size())) selection_ = {{SceneItem::Kind::Plane, n - 1}, {}};
+    if (kind == "light" && n >= 1 && n <= int(s.lights.size())) selection_ = {{SceneItem::Kind::Light, n - 1}, {}};
     scroll_to_selection_ = true;
 }
 
-double Panels::scene_size() const {
+double Panels::scene_extent() const {
     if (const rt::World* w = render_.world()) {
         rt::Aabb b = w->bounds();
         if (!b.empty() && rt::finite(b.lo) && rt::finite(b.hi)) return std::max(rt::length(b.hi - b.lo), 1e-3);
@@ -328,10 +328,10 @@ double Panels::scene_size() const {
 }
 
 // "object_3", "object_4_left", "plane_1", "light_2", "none": a selection in one word.
-std::string Panels::selection_name(const Selection& s) {
-    if (s.kind == Selection::Kind::None) return "none";
-    std::string n = s.kind == Selection::Kind::Object ? "object_" : s.kind == Selection::Kind::Plane ? "plane_" : "light_";
-    n += std::to_string(s.index + 1);
+std::string Panels::selection_name(const ItemRef& s) {
+    if (s.none()) return "none";
+    std::string n = s.is(SceneItem::Kind::Object) ? "object_" : s.is(SceneItem::Kind::Plane) ? "plane_" : "light_";
+    n += std::to_string(s.item.index + 1);
     for (int k : s.path) n += k == 0 ? "_left" : "_right";
     return n;
 }
@@ -425,7 +425,7 @@ void Panels::draw_camera_panel() {
         ImGui::TextDisabled("No scene yet.");
     } else if (open) {
         ImGui::BeginDisabled(!doc.has_scene());
-        float speed = float(scene_size() * 0.002);
+        float speed = float(scene_extent() * 0.002);
         // Room for the longest label at any font size (UI scale).
         float label_w = 0;
         for (const char* l : {"position", "up point", "angle x, y", "projection", "az, el, dist"})
@@ -530,7 +530,7 @@ void Panels::draw_objects_tab() {
 }
 
 void Panels::draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label) {
-    Selection me{Selection::Kind::Object, top, path};
+    ItemRef me{{SceneItem::Kind::Object, top}, path};
     auto* csg = std::get_if<rt::Csg>(&obj.shape);
     ImGuiTreeNodeFlags f = ImGuiTreeNodeFlags_OpenOnArrow | ImGuiTreeNodeFlags_SpanAvailWidth;
     if (selection_ == me) f |= ImGuiTreeNodeFlags_Selected;
@@ -563,7 +563,7 @@ void Panels::draw_outline() {
         return;
     }
     const rt::Scene& s = editor_.doc().scene();
-    auto leaf = [&](Selection me, const std::string& label) {
+    auto leaf = [&](const ItemRef& me, const std::string& label) {
         ImGuiTreeNodeFlags f = ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen |
                                ImGuiTreeNodeFlags_SpanAvailWidth;
         if (selection_ == me) f |= ImGuiTreeNodeFlags_Selected;
@@ -596,7 +596,7 @@ void Panels::draw_outline() {
     if (ImGui::TreeNode("planes", "Planes (%d)", int(s.planes.size()))) {
         for (int k = 0; k < int(s.planes.size()); ++k) {
             ImGui::PushID(k);
-            leaf({Selection::Kind::Plane, k, {}}, std::to_string(k + 1) + "  " + (s.planes[std::size_t(k)].chess ? "chess_plane" : "plane"));
+            leaf({{SceneItem::Kind::Plane, k}, {}}, std::to_string(k + 1) + "  " + (s.planes[std::size_t(k)].chess ? "chess_plane" : "plane"));
             ImGui::PopID();
         }
         ImGui::TreePop();
@@ -606,7 +606,7 @@ void Panels::draw_outline() {
         for (int k = 0; k < int(s.lights.size()); ++k) {
             const rt::Light& l = s.lights[std::size_t(k)];
             ImGui::PushID(k);
-            leaf({Selection::Kind::Light, k, {}}, std::to_string(k + 1) + "  " + (l.lamp ? "lamp" : "spotlight") + "  at " + fmt_vec(l.position));
+            leaf({{SceneItem::Kind::Light, k}, {}}, std::to_string(k + 1) + "  " + (l.lamp ? "lamp" : "spotlight") + "  at " + fmt_vec(l.position));
             ImGui::PopID();
         }
         ImGui::TreePop();
@@ -620,47 +620,34 @@ void Panels::draw_outline() {
     scroll_to_selection_ = false;
 }
 
-ItemRef Panels::selected_item() const {
-    ItemRef r;
-    switch (selection_.kind) {
-        case Selection::Kind::None: r.item.index = -1; break;
-        case Selection::Kind::Object: r.item = {SceneItem::Kind::Object, selection_.index}; break;
-        case Selection::Kind::Plane: r.item = {SceneItem::Kind::Plane, selection_.index}; break;
-        case Selection::Kind::Light: r.item = {SceneItem::Kind::Light, selection_.index}; break;
-    }
-    r.path = selection_.path;
-    return r;
-}
-
 void Panels::draw_properties() {
     if (!editor_.doc().has_scene()) return;
     const rt::Scene& s = editor_.doc().scene();
     if (!(field_message_.selection == selection_)) field_message_ = {};
-    if (selection_.kind == Selection::Kind::None) {
+    if (selection_.none()) {
         wrapped_hint("Click an object in the image or in the list above.");
         return;
     }
-    const ItemRef ref = selected_item();
+    const ItemRef ref = selection_;
     const char* block = item_block_name(s, ref);
     if (!block) return;
     // "Object 5: constructive_solid_geometry", "Object 5, left, right: sphere".
     std::string title;
-    switch (selection_.kind) {
-        case Selection::Kind::Object: title = "Object " + std::to_string(selection_.index + 1); break;
-        case Selection::Kind::Plane: title = "Plane " + std::to_string(selection_.index + 1); break;
-        case Selection::Kind::Light: title = "Light " + std::to_string(selection_.index + 1); break;
-        case Selection::Kind::None: break;
+    switch (selection_.item.kind) {
+        case SceneItem::Kind::Object: title = "Object " + std::to_string(selection_.item.index + 1); break;
+        case SceneItem::Kind::Plane: title = "Plane " + std::to_string(selection_.item.index + 1); break;
+        case SceneItem::Kind::Light: title = "Light " + std::to_string(selection_.item.index + 1); break;
     }
     for (int k : selection_.path) title += k == 0 ? ", left" : ", right";
     title += std::string(": ") + block;
     ImGui::TextWrapped("%s", title.c_str());
     rt::SourceLoc loc;
-    if (selection_.kind == Selection::Kind::Object) {
+    if (selection_.is(SceneItem::Kind::Object)) {
         if (const rt::Object* o = resolve(s, selection_)) loc = o->loc;
-    } else if (selection_.kind == Selection::Kind::Plane) {
-        loc = s.planes[std::size_t(selection_.index)].loc;
+    } else if (selection_.is(SceneItem::Kind::Plane)) {
+        loc = s.planes[std::size_t(selection_.item.index)].loc;
     } else {
-        loc = s.lights[std::size_t(selection_.index)].loc;
+        loc = s.lights[std::size_t(selection_.item.index)].loc;
     }
     if (loc.line > 0 && ImGui::SmallButton("show in text"))
         editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), loc.line, loc.col)));
@@ -675,9 +662,9 @@ void Panels::draw_properties() {
         wrapped_hint("A CSG operand: its shape counts; its colour and finish are the whole CSG's material (select "
                      "the parent to edit it).");
     }
-    if (selection_.kind == Selection::Kind::Light) {
+    if (selection_.is(SceneItem::Kind::Light)) {
         // The block's kind: switching keeps the lamp's size for switching back.
-        const bool lamp = s.lights[std::size_t(selection_.index)].lamp;
+        const bool lamp = s.lights[std::size_t(selection_.item.index)].lamp;
         if (ImGui::SmallButton(lamp ? "make it a spotlight" : "make it a lamp")) commands_.run(Command::SwitchLight);
         const char* what = lamp ? "(point light and glow)" : "(point light)";
         same_line_if_fits(what);
@@ -704,7 +691,7 @@ void Panels::draw_fields(const ItemRef& ref) {
     const std::vector<Field> fields = item_fields(doc.scene(), ref);
     // Room for the longest label, whatever the UI scale.
     const float label_w = field_label_width();
-    const float size = float(scene_size());
+    const float size = float(scene_extent());
     // Dragging rounds to the digits shown: enough of them for a small scene.
     char vec_format[16];
     std::snprintf(vec_format, sizeof vec_format, "%%.%df", std::clamp(4 - int(std::floor(std::log10(size))), 3, 9));

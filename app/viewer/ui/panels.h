@@ -41,17 +41,19 @@ public:
     void show_tab(Tab t) { want_tab_ = t; }
     bool wants_frames() const { return want_tab_ >= 0; }
     Tab current_tab() const { return Tab(current_tab_); }
-    void select(const Selection& s);
-    const Selection& selection() const { return selection_; }
+    void select(const ItemRef& s);
+    const ItemRef& selection() const { return selection_; }
     void clear_selection() { selection_ = {}; }
     // --select "object N" etc.
     void select_from_option(const std::string& spec);
-    double scene_size() const;
+    // scene_extent() (scene_edits.h) from the world's bounds, which need no pass over
+    // the objects.
+    double scene_extent() const;
     // The status bar's height in a window `width` wide: at a large UI scale or in a
     // narrow window its text takes more than one row.
     float status_height(float width);
     float min_sidebar_width();
-    static std::string selection_name(const Selection& s);
+    static std::string selection_name(const ItemRef& s);
 
 private:
     void draw_sidebar_edge();
@@ -67,7 +69,6 @@ private:
     bool light_colour_editor(rt::Vec3& colour);
     static std::string choice_label(std::string_view key, std::string_view word);
     float field_label_width();
-    ItemRef selected_item() const;
     void draw_render_tab();
     void status_text(const std::string& text, bool show_message);
     float usual_status_extra(float width) const;
@@ -80,11 +81,11 @@ private:
     StatusLine& status_;
     ImageTools& tools_;
 
-    Selection selection_;
+    ItemRef selection_;
     // The last refusal or warning of a property field, shown under it until that field
     // is set again or another item is selected.
     struct FieldMessage {
-        Selection selection;
+        ItemRef selection;
         std::string field, text;
         bool error = false;
     } field_message_;

@@ -126,7 +126,7 @@ void RenderController::update(const rt::Camera& camera, int film_w, int film_h, 
         }
         return;
     }
-    start(camera, film_w, film_h, false);
+    start(camera, film_w, film_h);
 }
 
 void RenderController::trace_preview(const rt::Camera& camera, int film_w, int film_h) {
@@ -150,7 +150,6 @@ void RenderController::trace_preview(const rt::Camera& camera, int film_w, int f
     preview_h_ = film_h;
     preview_world_ = world_ptr();
     preview_camera_ = camera;
-    ++pictures_;
     if (timing_change_) first_image_after_change(r.stopped ? "preview, stopped at its deadline" : "preview", took, film_w, film_h, b);
 }
 
@@ -162,7 +161,7 @@ void RenderController::first_image_after_change(const char* source, double took,
                      last_latency_ms_, source, took * 1000, w, h, block);
 }
 
-void RenderController::start(const rt::Camera& camera, int film_w, int film_h, bool moving) {
+void RenderController::start(const rt::Camera& camera, int film_w, int film_h) {
     rt::RenderSettings st;
     st.width = film_w;
     st.height = film_h;
@@ -174,7 +173,6 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h, b
     // The usual 8x8 first pass, or coarser when the scene is so expensive that it
     // would not land within the budget; the render refines to full samples by itself.
     st.coarse_block = std::max(8, pacer_.coarse_block(film_w, film_h, kPreviewBudget));
-    (void)moving;
     if (paused_ && interactive_ && started_world_) {
         // Moving the view while paused would show nothing new; resume instead.
         set_paused(false);
@@ -191,7 +189,6 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h, b
     started_block_ = st.coarse_block;
     started_generation_ = renderer_.progress().generation;
     started_at_ = std::chrono::steady_clock::now();
-    preview_shown_ = false;
     measured_ = false;
     settings_changed_ = false;
     final_uploaded_ = false;
@@ -218,8 +215,6 @@ void RenderController::upload() {
                 std::fprintf(stderr, "raytracer-view: first picture on screen at %.3f s\n", clock());
                 first_picture_reported_ = true;
             }
-            if (!preview_shown_ || before.samples > 0) ++pictures_;
-            preview_shown_ = true;
         }
         if (timing_change_ && has_picture && before.generation == started_generation_ && w == started_w_ &&
             h == started_h_)

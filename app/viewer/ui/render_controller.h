@@ -97,14 +97,12 @@ public:
     double last_latency_ms() const { return last_latency_ms_; }
     int last_coarse_block() const { return started_block_; }
     int preview_threads() const { return preview_pool_.size(); }  // tracing a moving view
-    // Pictures put on screen (texture uploads of a new preview or pass).
-    std::uint64_t pictures_shown() const { return pictures_; }
     bool verbose = false;
     // Seconds since the program started (for --verbose timings of the first picture).
     double (*clock)() = nullptr;
 
 private:
-    void start(const rt::Camera& camera, int film_w, int film_h, bool moving);
+    void start(const rt::Camera& camera, int film_w, int film_h);
     void trace_preview(const rt::Camera& camera, int film_w, int film_h);
     // The first image after a view change is on screen: the latency, said with
     // --verbose along with what made the image (`source`, taking `took` seconds).
@@ -122,7 +120,6 @@ private:
     int started_block_ = 8;
     std::uint64_t started_generation_ = 0;
     std::chrono::steady_clock::time_point started_at_{};
-    bool preview_shown_ = false;  // something of the started render reached the texture
     bool measured_ = false;       // its first coarse pass went into the pacer
     bool held_ = false;           // paused after its preview while the view moves
     std::chrono::steady_clock::time_point last_change_{};
@@ -153,7 +150,6 @@ private:
     std::uint64_t done_generation_ = ~std::uint64_t(0);
     double done_elapsed_ = 0;
     bool final_uploaded_ = false;
-    std::uint64_t pictures_ = 0;
     bool first_picture_reported_ = false;
     std::array<std::uint64_t, 5> uploaded_sig_{};  // progress signature of the last upload
     // Timing of "a view change -> coarse image on screen" (printed with --verbose).

@@ -1,5 +1,5 @@
-// What the parts of the viewer share: the frame's layout, the status line, the
-// selection, and the commands that menus, panels, dialogs and keys ask the app to run
+// What the parts of the viewer share: the frame's layout, the status line and
+// the commands that menus, panels, dialogs and keys ask the app to run
 // (so that no part reaches into another's state).
 #pragma once
 
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "options.h"
+#include "scene_edits.h"
 #include "viewport.h"
 
 namespace rtview {
@@ -37,13 +38,6 @@ public:
 private:
     std::string text_;
     bool error_ = false;
-};
-
-struct Selection {
-    enum class Kind { None, Object, Plane, Light } kind = Kind::None;
-    int index = -1;         // top-level object, plane or light
-    std::vector<int> path;  // CSG operand path below an object (0 = left, 1 = right)
-    bool operator==(const Selection& o) const { return kind == o.kind && index == o.index && path == o.path; }
 };
 
 enum class Command {

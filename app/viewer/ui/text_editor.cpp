@@ -713,7 +713,7 @@ void TextEditor::draw_rows(const Frame& f) {
 
         matches.clear();
         if (find_open_ && !find_field_.line(0).empty()) buf_.find_in_line(line, find_field_.line(0), match_case_, matches);
-        tokenise_(text, spans_);
+        tokenise_scene_line(text, spans_);
         for (int r = sub0; r < nrows && drawn < rows_visible; ++r, ++drawn, y += line_h_)
             draw_row(f, line, r, y, matches);
         f.dl->PopClipRect();

@@ -50,7 +50,6 @@ public:
     void set_marks(std::vector<LineMark> marks);
     // The marks as they are now: they move with inserted and deleted lines.
     const std::vector<LineMark>& marks() const { return marks_; }
-    void set_tokeniser(LineTokeniser t) { tokenise_ = std::move(t); }
     void set_wrap(bool on) { wrap_ = on; }
     bool wrap() const { return wrap_; }
 
@@ -101,7 +100,6 @@ private:
     TextPos pos_at(const ImVec2& mouse, const ImVec2& text_origin) const;
 
     TextBuffer buf_;
-    LineTokeniser tokenise_ = tokenise_scene_line;
     std::vector<LineMark> marks_;  // sorted by line
     std::vector<TokenSpan> spans_;
     bool wrap_ = false;
