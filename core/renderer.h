@@ -50,8 +50,8 @@ struct RenderSettings {
     // viewer picks a larger one when the scene is expensive, so a preview lands in time.
     int coarse_block = 8;
     // >= 0: adaptive anti-aliasing with this threshold (0..kMaxAaThreshold, see
-    // core/adaptive.h), max_samples being the most a pixel gets; samples_per_pass is
-    // then not used. < 0: every pixel gets max_samples.
+    // core/render_request.h and core/adaptive.h), max_samples being the most a pixel
+    // gets; samples_per_pass is then not used. < 0: every pixel gets max_samples.
     double aa_threshold = -1;
 };
 

@@ -18,6 +18,7 @@
 #include "probe.h"
 #include "scene_schema.h"
 #include "readout.h"
+#include "render_request.h"
 #include "scene_text.h"
 #include "scene_writer.h"
 #include "shown_numbers.h"
@@ -903,7 +904,7 @@ void Panels::draw_render_tab() {
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 11);
     int samples = render_.max_samples();
     ImGui::InputInt("samples per pixel", &samples, 1, 16);
-    render_.set_max_samples(std::clamp(samples, 1, 65536));
+    render_.set_max_samples(std::clamp(samples, 1, rt::kMaxSamples));
     double limit = render_.time_limit();
     const double step = 1, fast = 10;
     ImGui::InputScalar("time limit (s)", ImGuiDataType_Double, &limit, &step, &fast, "%.1f");
