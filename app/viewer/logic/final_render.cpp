@@ -23,6 +23,8 @@ rt::RenderRequest final_render_request(int samples, double time_limit, double aa
 
 FinalRender::FinalRender(int threads) : renderer_(threads) {}
 
+FinalRender::FinalRender(rt::ThreadPool& pool) : renderer_(pool) {}
+
 FinalRender::~FinalRender() { renderer_.cancel(); }
 
 rt::Status FinalRender::start(const rt::Scene& scene, const std::string& out_path, const rt::RenderRequest& request,

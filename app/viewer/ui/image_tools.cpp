@@ -67,7 +67,7 @@ std::string clock_time(std::time_t t) {
 
 }  // namespace
 
-ImageTools::ImageTools(bool verbose, int threads) : verbose_(verbose), region_(threads), final_(threads) {}
+ImageTools::ImageTools(bool verbose, rt::ThreadPool& pool) : verbose_(verbose), region_(pool), final_(pool) {}
 
 ImageTools::~ImageTools() {
     region_.cancel();
