@@ -12,7 +12,9 @@
 #   bench/viewer-bench.sh [BIN_DIR] [DISPLAY_NUMBER] [GRID_FILE]
 #   (defaults: build/bin, 92, /tmp/grid1m.txt, made with bench/make-grid.sh 1000)
 # DRAG_SCENE=FILE drags (orbits) on FILE instead of the default scene (issue 27: the
-# 1M-triangle mesh of bench/make-mesh.sh); DRAG_ONLY=1 stops after the drags.
+# 1M-triangle mesh of bench/make-mesh.sh); DRAG_ONLY=1 stops after the drags;
+# VIEW_SIZE=WxH sizes the window (1715x818 gives a 1280x720 image area beside the
+# sidebar; the X screen is XVFB_SCREEN, 1920x1080x24).
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 BIN=$(cd "${1:-$HERE/../build/bin}" && pwd)
@@ -27,7 +29,7 @@ NEED=(raytracer raytracer-view rtview-xframes)
 
 # start_viewer SCENE LOG: starts the viewer with --verbose, waits for its first picture.
 start_viewer() {
-    "$BIN/raytracer-view" "$1" --size 1280x800 ${VIEW_ARGS:-} --print-layout -v > "$OUT/layout.txt" 2> "$2" &
+    "$BIN/raytracer-view" "$1" --size "${VIEW_SIZE:-1280x800}" ${VIEW_ARGS:-} --print-layout -v > "$OUT/layout.txt" 2> "$2" &
     VP=$!
     PIDS+=($VP)
     for _ in $(seq 1 1200); do grep -q "first picture" "$2" && break; sleep 0.1; done
@@ -42,7 +44,7 @@ stop_viewer() {
     kill "$VP" 2> /dev/null || true
 }
 
-# drag_run BUSY: one 2 s drag; prints "changes max_gap_ms median_block threads".
+# drag_run BUSY: one 2 s drag; prints "changes max_gap_ms median_block image_size".
 drag_run() {
     local busy=$1 bp=()
     start_viewer "${DRAG_SCENE:-$HERE/../scenes/default.txt}" "$OUT/drag.err"
@@ -71,7 +73,7 @@ drag_run() {
     local block
     block=$(sed -n 's/.*(preview[^)]*, block \([0-9]*\)).*/\1/p' "$OUT/drag.err" | sort -n |
         awk '{ v[NR] = $1 } END { print (NR ? v[int((NR + 1) / 2)] : "none") }')
-    echo "$(awk '/^changes/ { print $2, $6 }' "$OUT/frames.txt") $block"
+    echo "$(awk '/^changes/ { print $2, $6 }' "$OUT/frames.txt") $block ${IW}x${IH}"
 }
 
 echo "raytracer-view bench, $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores, load average before: $(load)"
@@ -79,13 +81,13 @@ echo
 for busy in 0 1; do
     rates=() gaps=() blocks=()
     for _ in $(seq 1 "$RUNS"); do
-        read -r c g b <<< "$(drag_run $busy)"
+        read -r c g b IMAGE_SIZE <<< "$(drag_run $busy)"
         rates+=("$(awk -v c="$c" 'BEGIN { printf "%.1f", c / 2.0 }')")
         gaps+=("$g")
         blocks+=("$b")
     done
     label=$([ "$busy" = 1 ] && echo "two busy processes" || echo "no extra load")
-    echo "drag, $(basename "${DRAG_SCENE:-default.txt}"), 1280x800, $label: picture updates/s ${rates[*]}; longest still gap ms ${gaps[*]};" \
+    echo "drag, $(basename "${DRAG_SCENE:-default.txt}"), window ${VIEW_SIZE:-1280x800} (image ${IMAGE_SIZE}), $label: picture updates/s ${rates[*]}; longest still gap ms ${gaps[*]};" \
         "median preview block ${blocks[*]} on $(nproc) threads (load $(load))"
 done
 [ "${DRAG_ONLY:-0}" = 1 ] && { rm -rf "$OUT"; exit 0; }

@@ -11,7 +11,7 @@ export XDG_CONFIG_HOME=$OUT/config XDG_STATE_HOME=$OUT/state
 PIDS=()
 cleanup() { for p in "${PIDS[@]}"; do kill "$p" 2> /dev/null || true; done; }
 trap cleanup EXIT
-Xvfb ":$DNUM" -screen 0 1280x800x24 -nolisten tcp > /dev/null 2>&1 &
+Xvfb ":$DNUM" -screen 0 "${XVFB_SCREEN:-1920x1080x24}" -nolisten tcp > /dev/null 2>&1 &
 PIDS+=($!)
 sleep 1
 load() { cut -d' ' -f1-3 /proc/loadavg; }

@@ -19,9 +19,7 @@
 #include <initializer_list>
 #include <string_view>
 #include <system_error>
-#include <thread>
 
-#include "pages.h"
 #include "png.h"
 
 namespace rt {
@@ -376,116 +374,6 @@ bool interrupt_writes() {
 }
 
 void reset_write_interrupt() { g_interrupted.store(false); }
-
-namespace {
-
-// Up to n bytes at `at` (fewer only at the end of the file); -1 with errno on error.
-ssize_t pread_full(int fd, char* p, std::size_t n, off_t at) {
-    std::size_t got = 0;
-    while (got < n) {
-        const ssize_t r = ::pread(fd, p + got, n - got, at + off_t(got));
-        if (r < 0) {
-            if (errno == EINTR) continue;
-            return -1;
-        }
-        if (r == 0) break;
-        got += std::size_t(r);
-    }
-    return ssize_t(got);
-}
-
-}  // namespace
-
-namespace {
-
-// read_file into a std::string or a FileText.
-template <class Buffer>
-Status read_into(const std::string& path, Buffer& out, std::size_t max_bytes) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return io_error(errno_text(errno));
-    auto fail = [&](std::string msg) {
-        ::close(fd);
-        out.clear();
-        return io_error(std::move(msg));
-    };
-    auto too_big = [&] { return fail("the file is larger than " + std::to_string(max_bytes) + " bytes"); };
-    struct stat st;
-    if (::fstat(fd, &st) != 0) return fail(errno_text(errno));
-    if (S_ISDIR(st.st_mode)) return fail(errno_text(EISDIR));
-    if (S_ISREG(st.st_mode) && std::size_t(st.st_size) > max_bytes) return too_big();
-    // Read straight into `out` (a scene can be 100+ MB: no second copy through a
-    // buffer), but to the end of the file rather than trusting st_size: pipes and /proc
-    // files have none, and a file may grow while it is read. One byte more than the
-    // size lets the read that finds the end need no bigger buffer.
-    const std::size_t limit = max_bytes == std::size_t(-1) ? max_bytes : max_bytes + 1;
-    std::size_t size = 0;
-    out.clear();
-    const std::size_t first = std::min(limit, S_ISREG(st.st_mode) && st.st_size > 0 ? std::size_t(st.st_size) + 1
-                                                                                   : std::size_t(65536));
-    const bool big = S_ISREG(st.st_mode) && std::size_t(st.st_size) >= (std::size_t(8) << 20) &&
-                     first > std::size_t(st.st_size);
-    if (big) {
-        // The first-touch faults (most of the cost of filling fresh pages) taken on two
-        // threads; else a std::string's zero fill in resize() would take them all on
-        // this one, and a FileText's read would take them as it goes.
-        out.reserve(first);
-        populate_pages_on_two_threads(out.data(), first);
-    }
-    out.resize(first);
-    // A big regular file: its second half is read on another thread meanwhile (copying
-    // from the page cache is most of a read's time). Then the loop reads on from the
-    // size, for a file that grew; one that shrank is read again in one go.
-    if (big) {
-        const std::size_t total = std::size_t(st.st_size), half = total / 2;
-        ssize_t second = -1;
-        int second_errno = 0;
-        std::thread t;
-        try {
-            t = std::thread([&] {
-                second = pread_full(fd, &out[half], total - half, off_t(half));
-                if (second < 0) second_errno = errno;
-            });
-        } catch (const std::system_error&) {
-            // No thread: the loop reads it all.
-        }
-        if (t.joinable()) {
-            const ssize_t first = pread_full(fd, &out[0], half, 0);
-            const int first_errno = errno;
-            t.join();
-            if (first < 0) return fail(errno_text(first_errno));
-            if (second < 0) return fail(errno_text(second_errno));
-            if (std::size_t(first) == half && std::size_t(second) == total - half &&
-                ::lseek(fd, off_t(total), SEEK_SET) == off_t(total))
-                size = total;
-            else if (::lseek(fd, 0, SEEK_SET) != 0)
-                return fail(errno_text(errno));
-        }
-    }
-    for (;;) {
-        if (size == out.size()) out.resize(std::min(limit, std::max(out.size() * 2, std::size_t(65536))));
-        const ssize_t n = ::read(fd, &out[size], out.size() - size);
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            return fail(errno_text(errno));
-        }
-        if (n == 0) break;
-        size += std::size_t(n);
-        if (size > max_bytes) return too_big();
-    }
-    out.resize(size);
-    ::close(fd);
-    return {};
-}
-
-}  // namespace
-
-Status read_file(const std::string& path, std::string& out, std::size_t max_bytes) {
-    return read_into(path, out, max_bytes);
-}
-
-Status read_file(const std::string& path, FileText& out, std::size_t max_bytes) {
-    return read_into(path, out, max_bytes);
-}
 
 Status read_ppm(const std::string& path, int& width, int& height, std::vector<std::uint8_t>& rgb) {
     std::string data;

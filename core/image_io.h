@@ -4,8 +4,10 @@
 // links, read-only files and other users' files are those of check_writable().
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <initializer_list>
 #include <memory>
 #include <string>
@@ -57,8 +59,25 @@ bool interrupt_writes();
 // Undoes interrupt_writes() (for tests).
 void reset_write_interrupt();
 
-// Reads a whole file. Refuses files over max_bytes.
-Status read_file(const std::string& path, std::string& out, std::size_t max_bytes);
+// What a reader that must stay responsive (the viewer's loader) asks of read_file.
+struct ReadControl {
+    const std::atomic<bool>* cancel = nullptr;  // once set, the read ends: "cancelled"
+    // After each piece read: bytes so far, of `total` (0 when unknown: a pipe).
+    std::function<void(std::uint64_t done, std::uint64_t total)> progress;
+    // Only a regular file or a FIFO, never blocking: a folder, a device or a socket
+    // fails at once, a FIFO is waited for in polls that see `cancel`, and a regular file
+    // that changes while it is read fails ("changed while it was read") rather than
+    // arrive half old, half new.
+    bool strict = false;
+    // Room left beyond a regular file's bytes, as a share of its size: a text edited in
+    // place (the viewer's) then grows by that much without being moved (a 100 MB move
+    // and its fresh pages' faults on the edit that first makes the text longer).
+    double spare_share = 0;
+};
+
+// Reads a whole file (file_read.cpp). Refuses files over max_bytes.
+Status read_file(const std::string& path, std::string& out, std::size_t max_bytes,
+                 const ReadControl* control = nullptr);
 
 // The extension of a path's last component, with its dot, in lower case ("" if none):
 // what picks an image format or a model reader.
@@ -90,7 +109,8 @@ private:
     std::unique_ptr<char[]> data_;
     std::size_t size_ = 0, capacity_ = 0;
 };
-Status read_file(const std::string& path, FileText& out, std::size_t max_bytes);
+Status read_file(const std::string& path, FileText& out, std::size_t max_bytes,
+                 const ReadControl* control = nullptr);
 
 // Reads a binary (P6) or ASCII (P3) PPM.
 Status read_ppm(const std::string& path, int& width, int& height, std::vector<std::uint8_t>& rgb);

@@ -1,4 +1,4 @@
-// The parts of making a World that compile_world() (world.cpp) and World::update()
+// The parts of making a World that compile_world() (world_compile.cpp) and World::update()
 // (world_update.cpp) share: the tables of planes and lights, the glow BVH, the light
 // buffers, and the tallies behind World::bounds() and the ray tree's bound. Internal
 // to core.
@@ -26,6 +26,15 @@ struct World::Tallies {
     std::vector<double> light_reach;
     Aabb bounds;  // all the objects' boxes and the lights' positions (World::bounds)
 };
+
+// Light buffers are made for scenes of up to this many objects times lights (their
+// build is serial and must stay well under the BVH's), and hold at most this many
+// entries per object on average (and eight per cell).
+constexpr std::size_t kLightBufferMaxWork = 1 << 17;
+constexpr std::size_t kLightBufferMaxEntries = 64;
+// And at most this many cells in all (4 bytes each): many lights over a few objects
+// would otherwise take memory out of proportion to the scene.
+constexpr std::size_t kLightBufferMaxCells = std::size_t(1) << 24;
 
 namespace detail {
 

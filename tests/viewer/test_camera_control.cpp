@@ -253,3 +253,23 @@ TEST_CASE("project inverts CameraBasis::direction for both projections") {
         }
     }
 }
+
+TEST_CASE("a tidied camera is the same view to under 1e-7 radians, at any scale") {
+    for (double scale : {1e-4, 1.0, 3e6}) {
+        for (int k = 0; k < 200; ++k) {
+            rt::Camera c = orbit(random_camera(), Vec3{0, 0, 0}, Vec3{0, 0, 1}, uni(-3, 3), uni(-1, 1));
+            c.position = c.position * scale, c.centre = c.centre * scale, c.up = c.up * scale;
+            const rt::Camera t = tidy_camera(c);
+            CAPTURE(scale);
+            const double d = rt::length(c.centre - c.position);
+            // Each point moves by at most half the grid's step (<= 1e-7 d), so the
+            // view direction and the up direction turn by well under 1e-6 degrees.
+            CHECK(rt::length(t.position - c.position) <= 1e-7 * d);
+            CHECK(rt::length(t.centre - c.centre) <= 1e-7 * d);
+            CHECK(angle_deg(t.centre - t.position, c.centre - c.position) < 1e-5);
+            CHECK(angle_deg(t.up - t.position, c.up - c.position) < 1e-5);
+            CHECK(t.angle_x == c.angle_x);
+            CHECK(tidy_camera(t) == t);  // already on the grid: unchanged
+        }
+    }
+}

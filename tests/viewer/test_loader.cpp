@@ -270,3 +270,39 @@ TEST_CASE("a file with errors loads as text with its diagnostics and no world") 
     CHECK_FALSE(d.has_scene());
     CHECK(d.has_errors());
 }
+
+TEST_CASE("a load brings where the text's items are: the first edit patches the text as a fresh scan would") {
+    std::string text = many_spheres(300);
+    text.replace(text.find("up 50 50 1 }"), 12, "up 50 50 1 angle_x 60 angle_y 45 }\npicture_size { x_max 8 y_max 8 }");
+    TempFile f(text);
+    SceneLoader loader;
+    loader.start(f.path);
+    std::optional<LoadResult> r = loader.wait();
+    REQUIRE(r);
+    REQUIRE(r->status == LoadResult::Status::Ok);
+    for (const auto& d : r->parsed.diagnostics) MESSAGE(d.line << ": " << d.message);
+    REQUIRE(r->parsed.ok());
+    CHECK(r->world);
+    REQUIRE(r->layout);
+    const SceneLayout fresh = scan_layout(text);
+    REQUIRE(r->layout->ok);
+    REQUIRE(r->layout->objects.size() == fresh.objects.size());
+    for (std::size_t i = 0; i < fresh.objects.size(); ++i) {
+        CHECK(r->layout->objects[i].begin == fresh.objects[i].begin);
+        CHECK(r->layout->objects[i].end == fresh.objects[i].end);
+    }
+    Document loaded, scanned;
+    std::shared_ptr<const rt::World> world;
+    REQUIRE(apply_load(*r, loaded, world));
+    scanned.load_text(text, f.path, "scene.txt");
+    for (Document* d : {&loaded, &scanned}) {
+        for (std::size_t i : {std::size_t(7), std::size_t(250)}) {
+            rt::Object& o = d->edit_object(i);
+            std::get<rt::Sphere>(o.shape).position.x += 0.5;
+            d->commit();
+        }
+    }
+    CHECK(loaded.editor_text() == scanned.editor_text());
+    CHECK(loaded.editor_text() != text);
+    CHECK(rt::parse_scene(loaded.editor_text()).scene == loaded.scene());
+}

@@ -210,3 +210,32 @@ TEST_CASE("models: a model file changed on disk is read again; one that no longe
     CHECK(mesh_of(doc.scene(), 0)->model->data().triangle_count() == 4);
     CHECK(mesh_of(doc.scene(), 0)->model->bounds().hi.x == 2);
 }
+
+TEST_CASE("models: undo and redo after a model file changed on disk keep the model as it is now") {
+    rt_test::TempDir dir;
+    write(dir / "m.obj", tetra_obj(1));
+    write(dir / "scene.txt", "thing { mesh { file \"m.obj\" } }\n"
+                             "camera { position 0 0 -5 centre 0 0 0 up 0 1 0 angle_x 60 angle_y 45 }\n"
+                             "picture_size { x_max 8 y_max 8 }\nend\n");
+    Document doc;
+    REQUIRE(doc.load_file((dir / "scene.txt").string()));
+    REQUIRE(mesh_of(doc.scene(), 0));
+    // A move of the mesh: one undo step holding the mesh before and after.
+    std::get<rt::Mesh>(doc.edit_object(0).shape).position = rt::Vec3{1, 0, 0};
+    doc.commit();
+    REQUIRE(doc.can_undo());
+
+    std::ifstream cube(kCube, std::ios::binary);
+    write(dir / "m.obj", std::string(std::istreambuf_iterator<char>(cube), {}));
+    REQUIRE(doc.check_disk() == Document::DiskEvent::ModelsReloaded);
+    REQUIRE(mesh_of(doc.scene(), 0)->model->data().triangle_count() == 12);
+
+    const std::uint64_t v = doc.content_version();
+    REQUIRE(doc.undo());
+    CHECK(mesh_of(doc.scene(), 0)->position == rt::Vec3{0, 0, 0});
+    CHECK(mesh_of(doc.scene(), 0)->model->data().triangle_count() == 12);
+    CHECK(doc.content_version() > v);
+    REQUIRE(doc.redo());
+    CHECK(mesh_of(doc.scene(), 0)->position == rt::Vec3{1, 0, 0});
+    CHECK(mesh_of(doc.scene(), 0)->model->data().triangle_count() == 12);
+}

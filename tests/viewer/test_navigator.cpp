@@ -11,6 +11,7 @@
 #include "camera_control.h"
 #include "navigator.h"
 #include "scene_parser.h"
+#include "scene_writer.h"
 #include "test_util.h"
 #include "world.h"
 
@@ -180,6 +181,12 @@ TEST_CASE("Set scene camera from view is one undo step and round-trips through t
     rt::Scene rest = back.scene;
     rest.camera = original;
     CHECK(rest == rt::parse_scene(original_text).scene);
+    // In numbers a person would write: no 17 digits of an orbit's rounding noise.
+    for (const rt::Vec3& p : {view.position, view.centre, view.up})
+        for (double v : {p.x, p.y, p.z}) {
+            CAPTURE(rt::format_number(v));
+            CHECK(rt::format_number(v).size() <= 11);
+        }
     // The view stays where it is (it is the scene camera now).
     nav.follow(d.scene().camera);
     CHECK(nav.camera() == view);

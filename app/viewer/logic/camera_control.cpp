@@ -133,6 +133,25 @@ Vec3 dolly_offset(const Vec3& eye, const Vec3& target, double notches) {
     return (target - eye) * dolly_fraction(notches);
 }
 
+Camera tidy_camera(const Camera& cam) {
+    const double d = length(cam.centre - cam.position);
+    if (!(d > 0) || !std::isfinite(d)) return cam;
+    // The grid's step is 10^-m; dividing by 10^m (exact for |m| <= 22) gives the
+    // double nearest the decimal, which the writer prints in its few digits.
+    const int m = std::clamp(int(std::ceil(-std::log10(d * 1e-7))), -22, 22);
+    const double scale = std::pow(10.0, std::abs(m));
+    auto snap = [&](double v) {
+        const double q = m >= 0 ? std::round(v * scale) / scale : std::round(v / scale) * scale;
+        return std::isfinite(q) ? q : v;
+    };
+    auto snap3 = [&](const Vec3& v) { return Vec3{snap(v.x), snap(v.y), snap(v.z)}; };
+    Camera c = cam;
+    c.position = snap3(cam.position);
+    c.centre = snap3(cam.centre);
+    c.up = snap3(cam.up);
+    return c;
+}
+
 Camera dolly(const Camera& cam, const Vec3& target, double notches) {
     const double scale = 1 - dolly_fraction(notches);
     Camera c = cam;

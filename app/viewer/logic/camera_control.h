@@ -73,6 +73,13 @@ rt::Camera set_view_angles(const rt::Camera& cam, const rt::Vec3& world_up, cons
 // takes them). False if the point is behind the eye. Linear projection only is exact.
 bool project(const rt::CameraBasis& view, const rt::Vec3& p, double& i, double& j);
 
+// The camera with its three points (eye, centre, up point) on a decimal grid at least
+// ten million times finer than the eye-to-centre distance: the view turns by under
+// 1e-7 radians (a ten-thousandth of a pixel), and the numbers a scene file gets from
+// the view ("Set scene camera from view") are short decimals, not 17 digits of the
+// rounding noise of an orbit's sines and cosines.
+rt::Camera tidy_camera(const rt::Camera& cam);
+
 // Rodrigues rotation of v about unit axis k by angle radians.
 rt::Vec3 rotate(const rt::Vec3& v, const rt::Vec3& k, double angle);
 

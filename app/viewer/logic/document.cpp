@@ -195,7 +195,7 @@ void Document::load_text(const std::string& text, const std::string& path, const
 }
 
 void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::string& path,
-                           const std::string& name) {
+                           const std::string& name, std::optional<SceneLayout> layout) {
     history_.clear();
     pending_ = false;
     saved_ = {};
@@ -226,6 +226,10 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
     ++text_version_;
     mark_saved();
     if (has_scene_) file_camera_ = scene_.camera;
+    if (layout) {
+        layout_ = std::move(layout);
+        layout_key_ = layout_key();
+    }
 }
 
 void Document::load_pending(const std::string& name) {
@@ -504,7 +508,7 @@ bool Document::reads_back(const DocStep& step, bool wide) const {
 bool Document::commit_in_place(DocStep& step) {
     // The layout of the text is scanned once and then kept up to date through the
     // document's own splices: an edit costs its block, not a pass over the text.
-    std::uint64_t key = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    const std::uint64_t key = layout_key();
     if (!layout_ || layout_key_ != key) {
         layout_ = scan_layout(editor_);
         layout_key_ = key;
@@ -570,7 +574,7 @@ bool Document::commit_in_place(DocStep& step) {
         step.editor.push_back(std::move(s));
     }
     // The text changes its version below: the layout stays valid for the new one.
-    layout_key_ = (text_version_ + 1) * 0x9E3779B97F4A7C15ull + typed_;
+    layout_key_ = layout_key(1);
     return true;
 }
 
@@ -742,7 +746,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
             scene_ = std::move(r.scene);
         }
     } else {
-        for (const auto& p : forward ? s.objects_after : s.objects_before) scene_.objects[p.first] = p.second;
+        for (const auto& p : forward ? s.objects_after : s.objects_before) restore_object(p.first, p.second);
         for (const auto& p : forward ? s.planes_after : s.planes_before) scene_.planes[p.first] = p.second;
         for (const auto& p : forward ? s.lights_after : s.lights_before) scene_.lights[p.first] = p.second;
     }
@@ -756,6 +760,15 @@ void Document::apply_step(const DocStep& s, bool forward) {
     if (!s.editor.empty() || s.applied_before != s.applied_after) ++text_version_;
     typing_base_.reset();
     diagnostics_ = editor_dirty() ? rt::parse_scene(editor_, parse_options(path_)).diagnostics : std::vector<rt::Diagnostic>{};
+}
+
+void Document::restore_object(std::size_t i, const rt::Object& o) {
+    rt::Object& slot = scene_.objects[i];
+    slot = o;
+    // The step holds the model as it was when the step was made; a file read again
+    // since (it changed on disk) is shown as it is now, as everywhere else.
+    if (rt::Mesh* m = std::get_if<rt::Mesh>(&slot.shape); m && m->model && !m->model->unchanged_on_disk())
+        if (rt::ModelStore::Loaded l = models_->load(m->model->path()); l.model) m->model = std::move(l.model);
 }
 
 bool Document::has_errors() const {

@@ -70,8 +70,9 @@ public:
     // Replaces everything (history too). `path` empty: an unsaved scene called `name`.
     void load_text(const std::string& text, const std::string& path, const std::string& name);
     // Takes a text parsed elsewhere (a background load): nothing is parsed again and
-    // the text is moved in, not copied.
-    void load_parsed(std::string text, rt::ParseResult parsed, const std::string& path, const std::string& name);
+    // the text is moved in, not copied; `layout`, if given, is scan_layout(text).
+    void load_parsed(std::string text, rt::ParseResult parsed, const std::string& path, const std::string& name,
+                     std::optional<SceneLayout> layout = std::nullopt);
     // An empty document with no scene and no errors: the window's state while its
     // first file loads in the background.
     void load_pending(const std::string& name);
@@ -253,6 +254,7 @@ private:
     void reload_text(const std::string& text);
     // The scene's models read again if one changed on disk; true if the scene changed.
     bool reload_models();
+    void restore_object(std::size_t i, const rt::Object& o);  // an undo step's object, with today's model
 
     // A cache: reading through it changes no state, and copies of the document share it.
     std::shared_ptr<rt::ModelStore> models_ = std::make_shared<rt::ModelStore>();
@@ -289,6 +291,11 @@ private:
     std::string last_step_name_;  // of the last undo() or redo()
     std::optional<SceneLayout> layout_;  // of editor_ when layout_key_ matches
     std::uint64_t layout_key_ = 0;
+    // What layout_key_ must be for the text as it is (`ahead`: after that many more
+    // versions): its version and the keys typed into it.
+    std::uint64_t layout_key(std::uint64_t ahead = 0) const {
+        return (text_version_ + ahead) * 0x9E3779B97F4A7C15ull + typed_;
+    }
     bool conflict_ = false;
     std::string conflict_text_;
     std::string refusal_;

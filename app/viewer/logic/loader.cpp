@@ -1,18 +1,13 @@
 // Background scene loading (see loader.h).
 #include "loader.h"
 
-#include <fcntl.h>
-#include <poll.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
+#include <system_error>
 #include <functional>
 #include <utility>
 
+#include "image_io.h"
 #include "scene.h"
 #include "scene_edits.h"
 #include "status.h"
@@ -31,78 +26,14 @@ struct SceneLoader::Job {
     LoadResult result;  // written by the worker before `finished`
 };
 
-namespace {
-
-// Waits up to 50 ms for a FIFO to have data or its writer's end: until a writer has
-// come, poll reports nothing (not even a hang-up), and a read would say end of file.
-// False: nothing yet, ask again (after a look at cancel).
-bool fifo_ready(int fd) {
-    pollfd p{fd, POLLIN, 0};
-    const int ready = ::poll(&p, 1, 50);
-    return !(ready == 0 || (ready < 0 && errno == EINTR));
-}
-
-// Whether the file still has the size and time it had when it was opened.
-bool unchanged(int fd, const struct stat& st) {
-    struct stat now {};
-    return ::fstat(fd, &now) == 0 && now.st_size == st.st_size && now.st_mtim.tv_sec == st.st_mtim.tv_sec &&
-           now.st_mtim.tv_nsec == st.st_mtim.tv_nsec;
-}
-
-}  // namespace
-
 rt::Status read_scene_file(const std::string& path, std::string& out, const std::atomic<bool>& cancel,
                            const std::function<void(std::uint64_t, std::uint64_t)>& report) {
-    auto fail = [&](int fd, std::string why) {
-        if (fd >= 0) ::close(fd);
-        out.clear();
-        return rt::Status::error(std::move(why), rt::kExitUsage);
-    };
-    // Not blocking on open: a FIFO with no writer would hold the loader (and Cancel)
-    // for ever. A FIFO (`raytracer-view <(make-scene)`) is read as its writer writes,
-    // waiting in polls that Cancel and signals end; a device (/dev/zero), a socket or a
-    // folder gets a message at once and the current scene stays.
-    int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-    if (fd < 0) return fail(-1, std::strerror(errno));
-    struct stat st {};
-    if (::fstat(fd, &st) != 0) return fail(fd, std::strerror(errno));
-    const bool fifo = S_ISFIFO(st.st_mode);
-    if (S_ISDIR(st.st_mode)) return fail(fd, "a folder, not a scene file");
-    if (!S_ISREG(st.st_mode) && !fifo) return fail(fd, "not a regular file or a pipe (a device or a socket)");
-    if (!fifo) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
-    const std::size_t max_bytes = rt::Limits::max_file_size;
-    const std::string too_big = "the file is larger than " + std::to_string(max_bytes) + " bytes";
-    // A regular file's size is known: one another program is still writing (it grows,
-    // shrinks or is rewritten meanwhile) could be read half old, half new.
-    const std::uint64_t total = fifo ? 0 : std::uint64_t(st.st_size);
-    if (total > max_bytes) return fail(fd, too_big);
-    const std::string changing = "the file changed while it was read (is another program still writing it?)";
-    out.clear();
-    out.reserve(std::size_t(total));
-    constexpr std::size_t kChunk = 4u << 20;
-    for (;;) {
-        if (cancel) return fail(fd, "cancelled");
-        // Within the size the file said it has, the buffer never grows: a 100 MB
-        // scene must not pass through a 200 MB reallocation. Past it, one byte tells.
-        const std::size_t at = out.size();
-        const std::size_t want = fifo ? kChunk : at < total ? std::min<std::size_t>(kChunk, std::size_t(total) - at) : 1;
-        if (fifo && !fifo_ready(fd)) continue;
-        out.resize(at + want);
-        const ssize_t n = ::read(fd, &out[at], want);
-        if (n < 0) {
-            out.resize(at);
-            if (errno == EINTR || errno == EAGAIN) continue;
-            return fail(fd, std::strerror(errno));
-        }
-        out.resize(at + std::size_t(n));
-        if (n == 0) break;
-        if (fifo && out.size() > max_bytes) return fail(fd, too_big);
-        if (!fifo && out.size() > total) return fail(fd, changing);  // it grew
-        report(out.size(), std::max<std::uint64_t>(total, out.size()));
-    }
-    if (!fifo && (out.size() != total || !unchanged(fd, st))) return fail(fd, changing);
-    ::close(fd);
-    return {};
+    rt::ReadControl control;
+    control.cancel = &cancel;
+    control.progress = report;
+    control.strict = true;
+    control.spare_share = 1.0 / 32;  // the document edits the text in place
+    return rt::read_file(path, out, rt::Limits::max_file_size, &control);
 }
 
 namespace {
@@ -132,11 +63,23 @@ bool apply_load(LoadResult& r, Document& doc, std::shared_ptr<const rt::World>& 
     if (r.new_scene) {
         // A scene of its own, unsaved: Save asks where (the name offered beside the model).
         const std::size_t dot = name.find_last_of('.');
-        doc.load_parsed(std::move(r.text), std::move(r.parsed), "", name.substr(0, dot) + ".txt");
+        doc.load_parsed(std::move(r.text), std::move(r.parsed), "", name.substr(0, dot) + ".txt", std::move(r.layout));
         return true;
     }
-    doc.load_parsed(std::move(r.text), std::move(r.parsed), r.path, name);
+    doc.load_parsed(std::move(r.text), std::move(r.parsed), r.path, name, std::move(r.layout));
     return true;
+}
+
+void SceneLoader::compile_and_scan(LoadResult& r) {
+    // The scan on a thread of its own meanwhile (it reads the text only); without one,
+    // the document scans at its first edit.
+    std::thread scan;
+    try {
+        scan = std::thread([&r] { r.layout = scan_layout(r.text); });
+    } catch (const std::system_error&) {
+    }
+    r.world = rt::compile_world(r.parsed.scene, nullptr);
+    if (scan.joinable()) scan.join();
 }
 
 SceneLoader::~SceneLoader() {
@@ -191,12 +134,12 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
             }
             if (job->compile && r.parsed.ok()) {
                 stage(Stage::Building);
-                r.world = rt::compile_world(r.parsed.scene, nullptr);
+                compile_and_scan(r);
             }
             r.status = job->cancel ? LoadResult::Status::Cancelled : LoadResult::Status::Ok;
         }
     }
-    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, false, {}, {}, {}, {}};
+    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, false, {}, {}, {}, {}, {}};
     job->result = std::move(r);
     stage(Stage::Done);
     job->finished = true;

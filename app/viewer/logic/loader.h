@@ -30,10 +30,14 @@ struct LoadResult {
     std::string text;       // the file's bytes (Ok)
     rt::ParseResult parsed; // Ok: the scene, or the diagnostics of a text that does not parse
     std::shared_ptr<const rt::World> world;  // Ok and parsed: compiled
+    // Ok and parsed: where the text's items are, scanned beside the compile, so that
+    // the first edit of a big scene patches the text at once (no pass over 100 MB then).
+    std::optional<SceneLayout> layout;
 };
 
-// Reads a scene file as the loader does: a regular file or a FIFO (a folder or a device
-// fails at once, never blocking), in pieces with `report(bytes, total)` after each,
+// Reads a scene file as the loader does: with the command line's reader (rt::read_file,
+// strict): a regular file or a FIFO (a folder or a device fails at once, never
+// blocking), with `report(bytes, total)` as it arrives,
 // stopping once `cancel` is set (a FIFO is waited for in polls that see it). A regular
 // file that changes while it is read (another program still writing it) fails too:
 // its bytes could be half old and half new.
@@ -78,6 +82,7 @@ public:
 private:
     struct Job;
     static void run(std::shared_ptr<Job> job);
+    static void compile_and_scan(LoadResult& r);
     void reap(bool wait_all);
 
     std::shared_ptr<Job> job_;

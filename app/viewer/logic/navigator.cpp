@@ -43,7 +43,8 @@ void Navigator::reset(const rt::Camera& scene_camera) {
     gesture_ = Gesture::None;
 }
 
-bool Navigator::set_view(const rt::Camera& c) {
+bool Navigator::set_view(const rt::Camera& moved) {
+    const rt::Camera c = tidy_camera(moved);
     // A degenerate camera would render nothing; keep the last good one.
     if (!usable_camera(c) || c == view_) return false;
     view_ = c;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <vector>
 
 #include "film.h"
 
@@ -54,16 +55,24 @@ PreviewResult trace_preview(const rt::World& world, const rt::Camera& camera, in
         if (stopped.load(std::memory_order_relaxed)) return;
         rt::RayStats stats;
         stats.stop = stop;
+        // The row in one call, as the renderer traces its rows (packets where the ISA
+        // has them): the same rays, the same colours as one at a time.
+        thread_local std::vector<rt::Vec3> dirs;
+        thread_local std::vector<rt::Colour> colours;
+        dirs.resize(std::size_t(w));
+        colours.resize(std::size_t(w));
+        basis.unit_directions(0, b, w, double(by * b), dirs.data());
+        world.trace_units(basis.origin, dirs.data(), std::size_t(w), stats, colours.data());
+        if (stats.stopped) {
+            stopped = true;
+            return;
+        }
         std::uint8_t* out = rgba.data() + std::size_t(by) * std::size_t(w) * 4;
-        for (int bx = 0; bx < w; ++bx, out += 4) {
-            rt::Colour c = world.trace_unit(basis.origin, rt::normalize(basis.direction(bx * b, by * b)), stats);
-            if (stats.stopped) {
-                stopped = true;
-                return;
-            }
+        for (const rt::Colour& c : colours) {
             // Through float, as the film stores it: the same bytes as the coarse pass.
             out[0] = rt::to_byte(float(c.x)), out[1] = rt::to_byte(float(c.y)), out[2] = rt::to_byte(float(c.z));
             out[3] = 255;
+            out += 4;
         }
         done[std::size_t(by)] = 1;
         traced.fetch_add(std::uint64_t(w), std::memory_order_relaxed);

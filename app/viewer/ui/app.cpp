@@ -660,7 +660,13 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
         case Command::SwitchLight:
         case Command::MakeCsg:
         case Command::AddModel: return scene_edit(arg, c);
-        case Command::AddModelDialog: dialogs_.show(Dialogs::Kind::AddModel, rt::folder_of(doc.path())); return true;
+        case Command::AddModelDialog:
+            // The model goes where the menu was opened (or in the middle): kept for the
+            // dialog's answer, so a dialog cancelled leaves no point for the next Add.
+            model_place_x_ = std::exchange(place_x_, -1);
+            model_place_y_ = std::exchange(place_y_, -1);
+            dialogs_.show(Dialogs::Kind::AddModel, rt::folder_of(doc.path()));
+            return true;
     }
     return false;
 }
@@ -884,6 +890,8 @@ std::optional<SceneEdit> ViewerApp::model_edit(const std::string& path) {
         const fs::path rel = file.lexically_relative(fs::absolute(rt::folder_of(doc.path()), ec).lexically_normal());
         if (!rel.empty() && *rel.begin() != "..") name = rel.string();
     }
+    place_x_ = std::exchange(model_place_x_, -1);
+    place_y_ = std::exchange(model_place_y_, -1);
     std::optional<SceneEdit> e = add_model(std::as_const(doc).editor_text(), doc.scene(), name, *l.model, new_item_placement());
     if (!e) status_.set("Cannot add a mesh to this scene text", true);
     return e;

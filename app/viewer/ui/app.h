@@ -167,6 +167,7 @@ private:
     bool rclick_armed_ = false;
     double rclick_x_ = 0, rclick_y_ = 0;
     double place_x_ = -1, place_y_ = -1;  // where AddItem puts things (screen); < 0: image centre
+    double model_place_x_ = -1, model_place_y_ = -1;  // place_x_/y_ while the Add model dialog asks
     Selection menu_prev_selection_;       // the selection before the right click (for CSG)
     std::string menu_readout_;            // the pixel readout where it was opened
     std::string screenshot_request_;

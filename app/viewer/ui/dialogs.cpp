@@ -21,7 +21,7 @@ const char* title_of(Dialogs::Kind k) {
     switch (k) {
         case Dialogs::Kind::Unsaved: return "Unsaved changes";
         case Dialogs::Kind::SaveErrors: return "The scene text has errors";
-        case Dialogs::Kind::Open: return "Open scene";
+        case Dialogs::Kind::Open: return "Open scene or model";
         case Dialogs::Kind::SaveAs: return "Save scene as";
         case Dialogs::Kind::SaveImage: return "Save image";
         case Dialogs::Kind::AddModel: return "Add model";
@@ -140,15 +140,17 @@ void Dialogs::draw_save_errors() {
 
 void Dialogs::draw_unsaved(const std::string& doc_name, bool has_path) {
     ImGui::Text("%s has unsaved changes.", doc_name.c_str());
-    if (ImGui::Button("Save")) {
+    const bool save = ImGui::Button("Save");
+    probe_item("button_unsaved_save");
+    if (save) {
         ImGui::CloseCurrentPopup();
         if (!has_path) {
             show(Kind::SaveAs, doc_name);  // the pending action runs after Save As
         } else if (commands_.run(Command::Save)) {
             run_pending();
-        } else {
-            has_pending_ = false;
-        }
+        } else if (request_ != Kind::SaveErrors) {
+            has_pending_ = false;  // the save failed: the window stays, with its message
+        }  // (else the text has errors: the pending action waits for "Save it anyway")
     }
     ImGui::SameLine();
     if (ImGui::Button("Discard changes")) {

@@ -902,14 +902,18 @@ void Panels::draw_render_tab() {
         ImGui::Spacing();
     }
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 11);
-    int samples = render_.max_samples();
-    ImGui::InputInt("samples per pixel", &samples, 1, 16);
-    render_.set_max_samples(std::clamp(samples, 1, rt::kMaxSamples));
+    // Dragged live; typed values (Ctrl+click) apply on Enter, not a digit at a time:
+    // "256" typed must not stop the render at 2 samples first.
+    static const double kLeastSamples = 1, kMostSamples = rt::kMaxSamples, kNoLimit = 0, kMaxLimit = rt::kMaxTimeLimit;
+    double samples = render_.max_samples();
+    if (number_field("samples per pixel", &samples, {0.5f, &kLeastSamples, &kMostSamples, "%.0f", false, true}))
+        render_.set_max_samples(int(std::clamp(std::round(samples), kLeastSamples, kMostSamples)));
+    probe_item("field_samples");
     double limit = render_.time_limit();
-    const double step = 1, fast = 10;
-    ImGui::InputScalar("time limit (s)", ImGuiDataType_Double, &limit, &step, &fast, "%.1f");
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Stop refining after this many seconds; 0: no limit.");
-    render_.set_time_limit(std::max(0.0, limit));
+    if (number_field("time limit (s)", &limit, {0.1f, &kNoLimit, &kMaxLimit, "%.1f", false, true}))
+        render_.set_time_limit(std::clamp(limit, kNoLimit, kMaxLimit));
+    if (ImGui::IsItemHovered() && !number_typing())
+        ImGui::SetTooltip("Stop refining after this many seconds; 0: no limit. Drag, or Ctrl+click to type.");
     ImGui::PopItemWidth();
     bool paused = render_.paused();
     if (ImGui::Checkbox("Paused (Space)", &paused)) commands_.run(Command::TogglePause);

@@ -20,7 +20,8 @@ namespace {
 // Time the first preview of a moving view may take: a 30 Hz stream of input then
 // still gets a new picture on nearly every frame, with room left for the UI itself.
 constexpr double kPreviewBudget = 0.025;
-// What the UI thread's own preview may take of a frame.
+// What the preview of a moving view may take of a frame (traced on every core while
+// the UI thread waits).
 constexpr double kUiPreviewBudget = 0.010;
 // A preview that takes this long is stopped (a deep ray tree could hold the UI for
 // minutes); the rows left repeat the last traced row, and the next one is coarser.

@@ -35,7 +35,7 @@ shot 1-save-failed
 
 open_file() {
     key ctrl+o
-    wait_state popups "Open scene"
+    wait_state popups "Open scene or model"
     wait_state browser_field "^active$"
     key ctrl+a
     type_text "$1"

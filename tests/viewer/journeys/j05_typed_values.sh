@@ -5,7 +5,8 @@
 # Checks: the too-large and the non-number text are refused with the parser's message
 # and change nothing (no "*", Save writes the file unchanged: never the partial "1e1");
 # 1.5 and 1.25 apply whole, and the saved file and raytracer's picture of it agree
-# with the picture on the screen.
+# with the picture on the screen. Last, in the Render tab, 256 typed into samples per
+# pixel applies on Enter only (never 2, then 25).
 # Usage: j05_typed_values.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -54,4 +55,17 @@ save
 [ "$(radius_of_sphere_1)" = 1.25 ] || fail "radius in the file is $(radius_of_sphere_1), expected 1.25"
 select_nothing
 picture_agrees typed
+step "Render tab: 256 typed into samples per pixel applies on Enter, not a digit at a time"
+click_item tab_Render
+wait_state field_samples '^-?[0-9]+ '
+read -r sx sy sw sh <<< "$(state field_samples)"
+xdotool mousemove $((sx + sw / 4)) $((sy + sh / 2)) keydown ctrl click 1 keyup ctrl
+wait_state typing "^samples per pixel active$"
+before=$(state render_settings)
+type_text "256"
+idle 0.5
+[ "$(state render_settings)" = "$before" ] || fail "typing applied a partial value: $(state render_settings) (was $before)"
+key Return
+wait_state render_settings "^--samples 256( |$)"
+shot 5-render-tab
 echo PASS

@@ -3,12 +3,13 @@
 # "radius 0.5abc" and does not apply it, selects the torus and tries to type 0.8 into
 # "major", then saves (Ctrl+S), first cancelling, then saving the broken text anyway.
 # Then the user fixes the line to "radius 0.5" (still not applied), types 0.8 into
-# "major" and saves.
+# "major" and saves. Last, a new error typed and Ctrl+Q: Save, Save it anyway.
 # Checks: while the text does not parse the panel refuses edits (so text and panels
 # cannot disagree); saving asks first, and Cancel leaves the file as it was; "Save it
 # anyway" writes the text as typed with the torus unchanged, and the title has no "*";
 # with the text fixed, the panel edit goes into it and Save applies it: the file holds
-# both changes and raytracer's picture of it is the picture on the screen.
+# both changes and raytracer's picture of it is the picture on the screen; quitting
+# with unsaved broken text, "Save it anyway" saves it and then quits.
 # Usage: j06_save_draft.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -88,4 +89,21 @@ grep -q '^    radius 0.5$' "$SCENE" || fail "the fixed line was not saved: $(sed
 wait_state text "^applied$"
 select_nothing
 picture_agrees saved
+
+step "an error typed again, then Ctrl+Q: Save, Save it anyway: the text is saved and the window closes"
+key ctrl+e
+read -r x y <<< "$(editor_xy 6 15 0.9)"
+click "$x" "$y"
+wait_state editor_cursor "^6 [0-9]+ focused$"
+key End
+type_text "x"
+wait_state diagnostics "^1 " 5
+key ctrl+q
+wait_state popups "Unsaved changes"
+click_item button_unsaved_save
+wait_state popups "The scene text has errors"
+click_item button_save_anyway
+for _ in $(seq 1 100); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
+kill -0 "$VIEWER_PID" 2>/dev/null && fail "the window stayed open after Save it anyway"
+grep -q '^    radius 0.5x$' "$SCENE" || fail "the text was not saved: $(sed -n 6p "$SCENE")"
 echo PASS

@@ -15,7 +15,7 @@ start_viewer "$SCENES/default.txt" --samples 2
 
 step "Ctrl+O, 'sce' Tab Enter, 'gl' Tab Enter: opens scenes/glass.txt"
 key ctrl+o
-wait_state popups "Open scene"
+wait_state popups "Open scene or model"
 wait_state browser_field "^active$"
 wait_state browser_folder "^$OUT$"
 type_text "sce"

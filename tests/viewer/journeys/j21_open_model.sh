@@ -6,7 +6,8 @@
 # Checks: the window shows a new unsaved scene named after the model (the bunny on a
 # floor: raytracer's picture of the saved text); the handle moves the mesh (its
 # position's x grows in the saved text); the added mesh names the file from the
-# scene's folder; a changed model file is read again and the picture follows it.
+# scene's folder; a changed model file is read again and the picture follows it, also
+# after undo; a cancelled Add here > model... leaves no point behind for File > Add model.
 # Usage: j21_open_model.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -14,6 +15,22 @@ MODELS=$(cd "$SCENES/models" && pwd)
 mkdir -p "$OUT/models"
 cp "$MODELS/bunny.obj" "$OUT/models/bunny.obj"
 meshes() { grep -c '^[[:space:]]*mesh[[:space:]]*{' "$SCENE" || true; }
+# open_add_here X Y: right-click at image point (X, Y), Add here > model...: the dialog.
+open_add_here() {
+    click "$1" "$2" 3
+    hover_item "menu:Add_here"
+    click_item "menu:model"
+    wait_state popups "Add model"
+}
+# choose_model N: types the bunny's path into the open Add model dialog; mesh N selected.
+choose_model() {
+    wait_state browser_field "^active$"
+    key ctrl+a
+    type_text "$OUT/models/bunny.obj"
+    key Return
+    wait_state message "^Added bunny.obj"
+    wait_state selection "^object_$1$"
+}
 
 step "raytracer-view models/bunny.obj: a new scene called bunny.txt"
 (cd "$OUT" && exec "$BIN/raytracer-view" models/bunny.obj --size "$SCREEN" --print-layout --samples 4 \
@@ -55,16 +72,8 @@ x1=$(awk '/^ *position/ { print $2; exit }' "$SCENE")
 awk -v x="$x1" 'BEGIN { exit !(x > 0.01) }' || fail "the mesh's x is '$x1' (was '$x0'), expected it to grow from 0"
 
 step "right-click the floor in front: Add here > model... models/bunny.obj"
-click $((ix + iw * 25 / 100)) $((iy + ih * 88 / 100)) 3
-hover_item "menu:Add_here"
-click_item "menu:model"
-wait_state popups "Add model"
-wait_state browser_field "^active$"
-key ctrl+a
-type_text "$OUT/models/bunny.obj"
-key Return
-wait_state message "^Added bunny.obj"
-wait_state selection "^object_2$"
+open_add_here $((ix + iw * 25 / 100)) $((iy + ih * 88 / 100))
+choose_model 2
 save
 [ "$(meshes)" = 2 ] || fail "expected two meshes in the saved text, found $(meshes)"
 grep -qF 'file "models/bunny.obj"' "$SCENE" || fail "the added mesh does not name models/bunny.obj: $(grep file "$SCENE")"
@@ -79,5 +88,28 @@ picture_agrees 3-reloaded
 changed=$("$TOOL" diff "$OUT/2-added-shown.png" "$OUT/3-reloaded-shown.png" $IMAGE)
 echo "fraction of the picture changed: $changed"
 awk -v f="$changed" 'BEGIN { exit !(f > 0.02) }' || fail "only $changed of the picture changed: the new model is not shown"
+
+step "Add here > model... on the left, cancelled; then File > Add model...: in the middle, not where the menu was"
+open_add_here $((ix + iw * 8 / 100)) $((iy + ih * 90 / 100))
+key Escape
+wait_state popups "^none$"
+click_item "menu:File"
+click_item "menu:Add_model"
+wait_state popups "Add model"
+choose_model 3
+idle 0.5
+echo "the new mesh's handle at $(field handle 1) $(field handle 2) in the image at $ix $iy ${iw}x$ih"
+[ "$(field handle 1)" -gt $((ix + iw * 25 / 100)) ] || fail "the mesh went where the cancelled menu was opened"
+
+step "undo three times (the adds, the move): the model as it is on disk now, where it was"
+key ctrl+z
+key ctrl+z
+key ctrl+z
+wait_state message "^Undid: Move"
+save
+[ "$(meshes)" = 1 ] || fail "expected one mesh after the undos, found $(meshes)"
+x2=$(awk '/^ *position/ { print $2; exit }' "$SCENE")
+[ "$x2" = "$x0" ] || fail "the mesh's x is '$x2' after undoing the move, expected '$x0'"
+picture_agrees 4-undone
 quit_viewer
 echo PASS

@@ -1,0 +1,207 @@
+// LightBuffer::build(): the cube map of the objects a point light (or the camera)
+// sees in each direction, for its shadow rays (world.h).
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "world.h"
+#include "world_build.h"
+
+namespace rt {
+
+namespace {
+// Cells of padding on each side of an object's range in a light buffer: directions
+// are computed with rounding, and a ray's points sit off its exact line by a little.
+constexpr double kCellPad = 0.01;
+
+inline double norm_inf(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
+
+// The cells of one cube face, [i0, i1] x [j0, j1], in which a light may see object `obj`.
+struct CellRange {
+    std::uint32_t obj;
+    float dmin;
+    int face, i0, i1, j0, j1;
+};
+
+// Appends the cell ranges of the box [lo, hi] (relative to the light) on the faces of
+// an n x n cube map, padded by kCellPad cells on each side (tol = 2 kCellPad / n in
+// face coordinates); returns the cells they cover.
+std::size_t face_ranges(const Vec3& lo, const Vec3& hi, std::uint32_t obj, float dmin, int n, double tol,
+                        std::vector<CellRange>& out) {
+    std::size_t covered = 0;
+    for (int face = 0; face < 6; ++face) {
+        const int a = face / 2, bx = (a + 1) % 3, cx = (a + 2) % 3;
+        // The box along the face's axis, turned so that the face looks along +a.
+        double a0 = face & 1 ? -hi[a] : lo[a], a1 = face & 1 ? -lo[a] : hi[a];
+        if (!(a1 > 0)) continue;
+        double a0p = std::max(a0, 0.0);
+        // The range of d_k / d_a over the box's part in front of the face: its
+        // extremes are at corners (or unbounded where the box reaches the plane
+        // of the light).
+        auto range = [&](int k, double& u0, double& u1) {
+            double k0 = lo[k], k1 = hi[k];
+            u0 = k0 >= 0 ? k0 / a1 : (a0p > 0 ? k0 / a0p : -HUGE_VAL);
+            u1 = k1 <= 0 ? k1 / a1 : (a0p > 0 ? k1 / a0p : HUGE_VAL);
+        };
+        double u0, u1, w0, w1;
+        range(bx, u0, u1);
+        range(cx, w0, w1);
+        if (u0 > 1 + tol || u1 < -1 - tol || w0 > 1 + tol || w1 < -1 - tol) continue;
+        auto index = [&](double u, double pad) {
+            double x = (std::min(std::max(u, -2.0), 2.0) + 1) * 0.5 * n + pad;
+            return std::min(std::max(int(std::floor(x)), 0), n - 1);
+        };
+        CellRange r{obj, dmin, face, index(u0, -kCellPad), index(u1, kCellPad), index(w0, -kCellPad),
+                    index(w1, kCellPad)};
+        covered += std::size_t(r.i1 - r.i0 + 1) * std::size_t(r.j1 - r.j0 + 1);
+        out.push_back(r);
+    }
+    return covered;
+}
+
+// The least distance from the light (the origin) to the box [lo, hi]; and that, rounded
+// down with room for the ray's points being off by rounding, as a float.
+double origin_distance(const Vec3& lo, const Vec3& hi, float& rounded_down) {
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        double e = std::max({lo[k], 0.0, -hi[k]});
+        d2 += e * e;
+    }
+    double dmin = std::sqrt(d2);
+    double dm = dmin * (1 - 1e-3);
+    rounded_down = float(dm);
+    if (double(rounded_down) > dm) rounded_down = std::nextafter(rounded_down, 0.0f);
+    return dmin;
+}
+
+// Sorts the ranges by dmin, ties in their order (which is the objects' order): a
+// stable radix sort on dmin's bits, which order like the values since dmin >= 0.
+void sort_nearest_first(std::vector<CellRange>& ranges) {
+    const std::size_t m = ranges.size();
+    // Key (dmin's bits) above the range's index, so that the digits come from the top
+    // half; the index says where each range goes in the end.
+    std::vector<std::uint64_t> a(m), b(m);
+    for (std::size_t k = 0; k < m; ++k) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &ranges[k].dmin, sizeof bits);
+        a[k] = std::uint64_t(bits) << 32 | k;
+    }
+    constexpr int kDigit = 11;
+    for (int shift = 32; shift < 64; shift += kDigit) {
+        std::uint32_t count[1u << kDigit] = {};
+        const std::uint64_t mask = (std::uint64_t(1) << kDigit) - 1;
+        for (std::uint64_t x : a) ++count[x >> shift & mask];
+        // A digit that all keys share leaves the order as it is.
+        if (m == 0 || count[a[0] >> shift & mask] == m) continue;
+        std::uint32_t sum = 0;
+        for (std::uint32_t& c : count) {
+            std::uint32_t here = c;
+            c = sum;
+            sum += here;
+        }
+        for (std::uint64_t x : a) b[count[x >> shift & mask]++] = x;
+        a.swap(b);
+    }
+    std::vector<CellRange> sorted(m);
+    for (std::size_t k = 0; k < m; ++k) sorted[k] = ranges[std::uint32_t(a[k])];
+    ranges.swap(sorted);
+}
+
+// The buffer's cells from the ranges (a counting sort), each cell's entries nearest first
+// (ties: the earlier object first).
+void fill_cells(LightBuffer& lb, std::vector<CellRange>& ranges, int n) {
+    const std::size_t cells = 6 * std::size_t(n) * std::size_t(n);
+    auto cell = [n](const CellRange& r, int i, int j) { return (std::size_t(r.face) * n + j) * n + i; };
+    // The ranges nearest first: filled in that order, every cell comes out sorted
+    // (an object has one range per face, so at most one entry in a cell), with no
+    // sort per cell.
+    sort_nearest_first(ranges);
+    // start[c]: first the count of cell c, then the end of its entries (a running sum),
+    // then, filled from the back, their start.
+    std::vector<std::uint32_t>& start = lb.start;
+    start.assign(cells + 1, 0);
+    for (const CellRange& r : ranges)
+        for (int j = r.j0; j <= r.j1; ++j)
+            for (int i = r.i0; i <= r.i1; ++i) ++start[cell(r, i, j)];
+    std::uint32_t sum = 0;
+    for (std::size_t c = 0; c < cells; ++c) start[c] = sum += start[c];
+    start[cells] = sum;
+    lb.entries.resize(sum);
+    LightBuffer::Entry* const entries = lb.entries.data();
+    for (auto r = ranges.rbegin(); r != ranges.rend(); ++r)
+        for (int j = r->j0; j <= r->j1; ++j)
+            for (int i = r->i0; i <= r->i1; ++i) entries[--start[cell(*r, i, j)]] = {r->obj, r->dmin};
+}
+
+}  // namespace
+
+namespace {
+
+template <class Boxes>
+LightBuffer build_light_buffer(const Boxes& boxes, const Vec3& light, int n) {
+    using Entry = LightBuffer::Entry;
+    LightBuffer lb;
+    lb.position = light;
+    lb.position1 = LightBuffer::norm1(light);
+    // Far beyond float range or not finite: the BVH copes; keep to it.
+    if (!(norm_inf(light) < 1e30) || n < 1) return lb;
+    const std::size_t cells = 6 * std::size_t(n) * std::size_t(n);
+    const double tol = 2 * kCellPad / n;  // the padding in face coordinates
+    std::vector<CellRange> ranges;
+    std::vector<Entry> always;
+    std::size_t total = 0, objects = 0;
+    double near = HUGE_VAL;
+    for (std::uint32_t obj = 0; obj < boxes.size(); ++obj) {
+        const Aabb& b = boxes[obj];
+        if (b.empty()) continue;  // never in the BVH: never hit
+        ++objects;
+        if (!(norm_inf(b.lo) < 1e30 && norm_inf(b.hi) < 1e30)) return lb;
+        Vec3 lo = b.lo - light, hi = b.hi - light;
+        float df;
+        double dmin = origin_distance(lo, hi, df);
+        double scale = std::max({norm_inf(b.lo), norm_inf(b.hi), norm_inf(light)});
+        // Nearer than rounding can tell directions apart (or around the light): every
+        // ray tests it.
+        if (!(dmin > 1e-6 * (scale + 1))) {
+            always.push_back({obj, 0.0f});
+            continue;
+        }
+        near = std::min(near, dmin);
+        std::size_t first_range = ranges.size();
+        std::size_t covered = face_ranges(lo, hi, obj, df, n, tol, ranges);
+        // One seen in most directions is cheaper tested by every ray than listed.
+        if (covered > cells / 4) {
+            ranges.resize(first_range);
+            always.push_back({obj, df});
+            continue;
+        }
+        total += covered;
+        if (total > kLightBufferMaxEntries * boxes.size() + 8 * cells) return lb;
+    }
+    if (objects == 0) return lb;
+    fill_cells(lb, ranges, n);
+    lb.always = std::move(always);
+    // How far a ray's points may be off its line, against the nearest listed box:
+    // about 8 rounding errors of |p| + |light| + r, which must stay within the padding
+    // (tol) times that box's distance, with a factor 2 to spare.
+    lb.reach = near == HUGE_VAL ? HUGE_VAL : tol * near / (16 * 2.3e-16);
+    lb.n = n;
+    lb.half_n = 0.5 * n;
+    return lb;
+}
+
+}  // namespace
+
+LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light, int n) {
+    return build_light_buffer(boxes, light, n);
+}
+
+LightBuffer LightBuffer::build(const Chunked<Aabb>& boxes, const Vec3& light, int n) {
+    return build_light_buffer(boxes, light, n);
+}
+
+}  // namespace rt
