@@ -43,7 +43,8 @@ const Program kProgram{
     "  OUT ends in .ppm (binary PPM, P6) or .png.\n"
     "\n"
     "Options:\n",
-    "worker threads (1..256, default: all cores)",
+    "worker threads",
+    "all cores",
     "Exit status: 0 success, 1 the scene has errors, 2 usage or I/O error,\n"
     "128+N interrupted by signal N (130 for Ctrl+C). An interrupted or failed run\n"
     "leaves OUT untouched.\n"};
@@ -112,14 +113,14 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
            Rendered& out) {
     const rt::RenderSettings settings = render_settings(opt, scene.width, scene.height);
 
-    rt::Renderer renderer(opt.threads);
+    rt::Renderer renderer(opt.render.threads);
     ProgressBar bar(!opt.quiet && isatty(STDERR_FILENO));
     renderer.start(world, settings);
     // SIGINT and SIGTERM end the process from the signal handler, in this phase too.
     while (!renderer.wait_for(0.1)) {
         rt::RenderProgress p = renderer.progress();
         double fraction = rt::progress_fraction(p, settings.max_samples);
-        if (opt.time_limit > 0) fraction = std::max(fraction, p.elapsed / opt.time_limit);
+        if (opt.render.time_limit > 0) fraction = std::max(fraction, p.elapsed / opt.render.time_limit);
         bar.update(fraction, p.elapsed);
     }
     bar.clear();
@@ -205,7 +206,7 @@ rt::Status run(int argc, char** argv) {
     if (opt.print_scene) return print_scene(kProgram, std::move(scene));
 
     const auto t_compile0 = Clock::now();
-    const std::shared_ptr<const rt::World> world = build_world(scene, opt.max_depth);
+    const std::shared_ptr<const rt::World> world = build_world(scene, opt.render.max_depth);
     times.compile = seconds_since(t_compile0);
 
     const auto t_render0 = Clock::now();

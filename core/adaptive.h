@@ -14,12 +14,6 @@
 
 namespace rt {
 
-// The limits of --aa-threshold: the sum of the red, green and blue differences of two
-// colours in 0-1 units, as POV-Ray's Antialias_Threshold measures them.
-constexpr double kMaxAaThreshold = 3.0;
-// The most samples a pixel gets when only a threshold is given.
-constexpr int kDefaultAaMaxSamples = 16;
-
 // The sample count a pixel being refined goes to from n: 6, then twice as many, at most
 // max. (Of 4 to 8 first, 6 reached the bench scenes' target errors with the fewest rays:
 // fewer samples too often all fall on one side of an edge and stop, more are wasted on

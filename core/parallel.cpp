@@ -34,15 +34,33 @@ void ThreadPool::work() {
     std::shared_ptr<Loop> seen;
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
-        wake_.wait(lock, [&] { return quit_ || loop_ != seen; });
+        wake_.wait(lock, [&] { return quit_ || loop_ != seen || !tasks_.empty(); });
         if (quit_) return;
-        seen = loop_;
-        ++seen->busy;
+        if (loop_ != seen) {
+            // A loop first: its caller waits for it.
+            seen = loop_;
+            ++seen->busy;
+            lock.unlock();
+            run_items(*seen);
+            lock.lock();
+            if (--seen->busy == 0) done_.notify_all();
+            continue;
+        }
+        std::function<void()> task = std::move(tasks_.front());
+        tasks_.pop_front();
         lock.unlock();
-        run_items(*seen);
+        task();
+        task = nullptr;  // what it holds goes before the next wait
         lock.lock();
-        if (--seen->busy == 0) done_.notify_all();
     }
+}
+
+void ThreadPool::post(std::function<void()> fn) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        tasks_.push_back(std::move(fn));
+    }
+    wake_.notify_one();
 }
 
 void ThreadPool::parallel_for(int n, const std::function<void(int)>& fn) {

@@ -1,10 +1,12 @@
 // A fixed set of threads that run the iterations of a loop with the calling thread
 // (pbrt-v4's ParallelFor in miniature): the caller takes part, so a pool of one thread
-// is a plain loop, and nothing is handed over when there is nothing to share.
+// is a plain loop, and nothing is handed over when there is nothing to share. The same
+// threads run tasks posted to run later (a renderer's tiles), one pool for all work.
 #pragma once
 
 #include <atomic>
 #include <condition_variable>
+#include <deque>
 #include <exception>
 #include <functional>
 #include <memory>
@@ -24,12 +26,21 @@ public:
     ThreadPool& operator=(const ThreadPool&) = delete;
 
     int size() const { return int(workers_.size()) + 1; }
+    // The threads that run posted tasks: size() - 1.
+    int workers() const { return int(workers_.size()); }
 
     // Calls fn(i) once for every i in [0, n), on the pool's threads and the caller's,
     // and returns when every call has returned. The first exception thrown by a call
     // (a bad_alloc on a worker, say) is rethrown here once all have stopped; the
     // iterations not yet begun are then skipped. One loop at a time per pool.
     void parallel_for(int n, const std::function<void(int)>& fn);
+
+    // Runs fn() once on one of the workers, later, and returns at once. Tasks start in
+    // the order posted, each after the loop items waiting then (a loop's caller is
+    // waiting for those). fn must not throw. Needs a worker (workers() >= 1); the
+    // tasks still waiting when the pool ends do not run, so whoever posts one waits
+    // for it before the pool goes.
+    void post(std::function<void()> fn);
 
 private:
     // One loop: every thread that joins it holds it, so a worker that wakes late
@@ -49,6 +60,7 @@ private:
     std::mutex mutex_;
     std::condition_variable wake_, done_;
     std::shared_ptr<Loop> loop_;  // the latest loop posted (under mutex_)
+    std::deque<std::function<void()>> tasks_;  // posted, not yet started (under mutex_)
     bool quit_ = false;
 };
 

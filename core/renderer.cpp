@@ -171,18 +171,27 @@ void accumulate_pixel(const World& world, const CameraBasis& camera, int x, int 
 
 Renderer::Renderer(int threads) {
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
-    for (int i = 0; i < threads; ++i) workers_.emplace_back([this] { worker_main(); });
+    // A pool's size counts the caller of its loops: `threads` workers besides it.
+    own_pool_ = std::make_unique<ThreadPool>(threads + 1);
+    pool_ = own_pool_.get();
+    max_runners_ = threads;
+}
+
+Renderer::Renderer(ThreadPool& pool) : pool_(&pool), max_runners_(pool.workers()) {
+    if (max_runners_ > 0) return;
+    // A pool of the caller alone cannot render in the background: one worker of its own.
+    own_pool_ = std::make_unique<ThreadPool>(2);
+    pool_ = own_pool_.get();
+    max_runners_ = 1;
 }
 
 Renderer::~Renderer() {
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        quit_ = true;
-        ++cancel_gen_;
-        if (job_) job_->stop->store(true);
-    }
-    work_cv_.notify_all();
-    for (auto& t : workers_) t.join();
+    std::unique_lock<std::mutex> lock(mutex_);
+    ++cancel_gen_;
+    if (job_) job_->stop->store(true);
+    job_.reset();
+    // Runners still waiting in the pool hold `this`: each ends at once, finding no job.
+    idle_cv_.wait(lock, [&] { return runners_ == 0; });
 }
 
 void Renderer::begin_pass_locked(Job& job) {
@@ -288,7 +297,7 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
     changes_.clear();
     begin_pass_locked(*job);
     job_ = job;
-    work_cv_.notify_all();
+    kick_locked();
 }
 
 void Renderer::cancel() {
@@ -297,27 +306,21 @@ void Renderer::cancel() {
     if (job_) job_->stop->store(true);
     job_.reset();
     done_cv_.notify_all();  // wait() returns: there is no render any more
-    ++idle_waiters_;
     idle_cv_.wait(lock, [&] { return busy_ == 0; });
-    --idle_waiters_;
 }
 
 void Renderer::set_paused(bool paused) {
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        paused_ = paused;
-        steps_ = 0;
-        if (job_) job_->paused = paused;
-    }
-    work_cv_.notify_all();
+    std::lock_guard<std::mutex> lock(mutex_);
+    paused_ = paused;
+    steps_ = 0;
+    if (job_) job_->paused = paused;
+    kick_locked();
 }
 
 void Renderer::step(int tiles) {
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        steps_ += std::max(0, tiles);
-    }
-    work_cv_.notify_all();
+    std::lock_guard<std::mutex> lock(mutex_);
+    steps_ += std::max(0, tiles);
+    kick_locked();
 }
 
 void Renderer::wait() {
@@ -358,50 +361,70 @@ bool Renderer::next_task(RenderTask& task) {
     return true;
 }
 
-void Renderer::worker_main() {
-    std::vector<float> buf;
+void Renderer::kick_locked() {
+    if (!job_ || job_->done) return;
+    const Job& job = *job_;
+    std::size_t left = job.tiles.size() - job.next_tile;
+    if (job.paused) left = std::min(left, std::size_t(std::max(0, steps_)));
+    // A runner not yet inside a task will take one of those left.
+    while (runners_ < max_runners_ && std::size_t(runners_ - busy_) < left) {
+        ++runners_;
+        pool_->post([this] { run_one(); });
+    }
+}
+
+void Renderer::run_one() {
+    thread_local std::vector<float> buf;
     std::unique_lock<std::mutex> lock(mutex_);
-    while (!quit_) {
-        RenderTask task;
-        if (!next_task(task)) {
-            work_cv_.wait(lock);
-            continue;
-        }
-        ++busy_;
-        lock.unlock();
-        RayStats stats;
-        stats.stop.flag = task.stop.get();
-        stats.stop.deadline = task.deadline;
-        std::string error;
-        bool complete = false;
-        try {
-            if (task_hook) task_hook();
-            complete = run_task(task, buf, stats);
-        } catch (const std::bad_alloc&) {
-            error = "out of memory while rendering";
-        } catch (const std::exception& e) {
-            error = std::string("a render thread failed: ") + e.what();
-        }
-        lock.lock();
-        bool current = job_ && job_->generation == task.generation && !job_->done;
-        if (current) job_->rays += stats.rays;
-        if (!error.empty()) {
-            // The render ends here, with the message; the others stop at once.
-            if (current) {
-                job_->error = std::move(error);
-                finish_locked(*job_);
-            }
-        } else if (complete && current) {
-            commit(task, buf);
-        } else if (current && Clock::now() >= task.deadline) {
-            // Out of time in the middle of a pass: the tiles committed keep their extra
-            // samples, the others the samples of the passes before.
+    RenderTask task;
+    if (!next_task(task)) {
+        if (--runners_ == 0) idle_cv_.notify_all();
+        return;
+    }
+    ++busy_;
+    lock.unlock();
+    RayStats stats;
+    stats.stop.flag = task.stop.get();
+    stats.stop.deadline = task.deadline;
+    std::string error;
+    bool complete = false;
+    try {
+        if (task_hook) task_hook();
+        complete = run_task(task, buf, stats);
+    } catch (const std::bad_alloc&) {
+        error = "out of memory while rendering";
+    } catch (const std::exception& e) {
+        error = std::string("a render thread failed: ") + e.what();
+    }
+    lock.lock();
+    finish_task_locked(task, complete, error, buf, stats.rays);
+    --busy_;
+    --runners_;
+    // The next task goes behind whatever else waits for the pool's threads.
+    kick_locked();
+    if (busy_ == 0 || runners_ == 0) idle_cv_.notify_all();
+}
+
+// Called with mutex_ held, after a task ran: its pixels into the film if it is
+// complete and still wanted; the render's end if it failed or ran out of time.
+void Renderer::finish_task_locked(RenderTask& task, bool complete, std::string& error, const std::vector<float>& buf,
+                                  std::uint64_t rays) {
+    bool current = job_ && job_->generation == task.generation && !job_->done;
+    if (current) job_->rays += rays;
+    if (!error.empty()) {
+        // The render ends here, with the message; the others stop at once.
+        if (current) {
+            job_->error = std::move(error);
             finish_locked(*job_);
         }
-        task.world.reset();
-        // cancel() waits for all idle; waiters for "done" are woken by commit() itself.
-        if (--busy_ == 0 && idle_waiters_ > 0) idle_cv_.notify_all();
+    } else if (complete && current) {
+        commit(task, buf);
+    } else if (current && Clock::now() >= task.deadline) {
+        // Out of time in the middle of a pass: the tiles committed keep their extra
+        // samples, the others the samples of the passes before.
+        finish_locked(*job_);
     }
+    task.world.reset();
 }
 
 namespace {
@@ -636,7 +659,7 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     // Out of time in the previews: straight on to the first sample.
     while (out_of_time && job.passes[job.pass].kind == PassKind::Coarse) ++job.pass;
     begin_pass_locked(job);
-    work_cv_.notify_all();
+    kick_locked();
 }
 
 // Called with mutex_ held, when the current pass is complete: moves on to the next
@@ -753,11 +776,8 @@ void Renderer::snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& he
     };
     // A big picture is converted by as many threads as the renderer has: the command
     // line waits for this between the render and the file.
-    int parts = int(std::min<std::size_t>(workers_.size(), n / (1 << 18) + 1));
-    std::vector<std::thread> helpers;
-    for (int k = 1; k < parts; ++k) helpers.emplace_back(convert, height * k / parts, height * (k + 1) / parts);
-    convert(0, height / parts);
-    for (std::thread& t : helpers) t.join();
+    const int parts = int(std::min<std::size_t>(std::size_t(max_runners_), n / (1 << 18) + 1));
+    pool_->parallel_for(parts, [&](int k) { convert(height * k / parts, height * (k + 1) / parts); });
 }
 
 bool Renderer::snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version,

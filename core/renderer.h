@@ -1,4 +1,4 @@
-// Progressive tiled renderer over a pool of worker threads.
+// Progressive tiled renderer over a thread pool (its own, or one it shares).
 //   start()   begins a render (cancelling any previous one) and returns at once;
 //   cancel()  stops it and returns when every worker is idle;
 //   snapshot  copies the film at any time, never torn between two renders.
@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "film.h"
+#include "parallel.h"
 #include "world.h"
 
 namespace rt {
@@ -50,8 +51,8 @@ struct RenderSettings {
     // viewer picks a larger one when the scene is expensive, so a preview lands in time.
     int coarse_block = 8;
     // >= 0: adaptive anti-aliasing with this threshold (0..kMaxAaThreshold, see
-    // core/adaptive.h), max_samples being the most a pixel gets; samples_per_pass is
-    // then not used. < 0: every pixel gets max_samples.
+    // core/render_request.h and core/adaptive.h), max_samples being the most a pixel
+    // gets; samples_per_pass is then not used. < 0: every pixel gets max_samples.
     double aa_threshold = -1;
 };
 
@@ -98,7 +99,11 @@ struct RenderTask;
 
 class Renderer {
 public:
-    explicit Renderer(int threads = 0);  // 0: all hardware threads
+    // Renders with a pool of its own of `threads` workers (0: all hardware threads).
+    explicit Renderer(int threads = 0);
+    // Renders on `pool`'s workers (at least one), shared with whatever else runs there;
+    // the pool must outlive the renderer.
+    explicit Renderer(ThreadPool& pool);
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
@@ -130,7 +135,9 @@ public:
     // The film's per-pixel sample counts, top row first; one pixel's (0 outside the film).
     void sample_counts(std::vector<std::uint32_t>& out, int& width, int& height) const;
     int sample_count(int x, int y) const;
-    int threads() const { return int(workers_.size()); }
+    int threads() const { return max_runners_; }
+    // The pool it renders on (for other work alongside, such as a preview's loops).
+    ThreadPool& pool() const { return *pool_; }
 
     // Called by a worker before each task it takes, outside the lock (null: nothing).
     // Tests throw from it to see a failing worker end the render with a message.
@@ -138,7 +145,12 @@ public:
 
 private:
     struct Job;
-    void worker_main();
+    // Posts runners while there are tasks to take and fewer runners than threads().
+    void kick_locked();
+    // One pool task: takes one render task, runs and commits it, and posts the next.
+    void run_one();
+    void finish_task_locked(RenderTask& task, bool complete, std::string& error, const std::vector<float>& buf,
+                            std::uint64_t rays);
     bool next_task(RenderTask& task);
     bool run_task(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
     void commit(const RenderTask& task, const std::vector<float>& buf);
@@ -149,10 +161,12 @@ private:
     bool run_refine(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
     void commit_film(const RenderTask& task, const std::vector<float>& buf);
 
+    std::unique_ptr<ThreadPool> own_pool_;  // null when sharing one
+    ThreadPool* pool_ = nullptr;
+    int max_runners_ = 1;
     mutable std::mutex mutex_;
-    std::condition_variable work_cv_, idle_cv_, done_cv_;
-    std::vector<std::thread> workers_;
-    bool quit_ = false;
+    std::condition_variable idle_cv_, done_cv_;
+    int runners_ = 0;  // run_one tasks posted and not yet ended (under mutex_)
     std::atomic<std::uint64_t> cancel_gen_{0};  // workers stop a task when it differs from theirs
 
     std::shared_ptr<Job> job_;
@@ -163,8 +177,7 @@ private:
     // level) or before the oldest entry kept, everything.
     std::deque<std::pair<std::uint64_t, std::array<int, 4>>> changes_;
     std::uint64_t full_version_ = 0;
-    int busy_ = 0;
-    int idle_waiters_ = 0;  // threads in cancel() waiting for busy_ == 0
+    int busy_ = 0;  // runners inside a task
     bool paused_ = false;
     int steps_ = 0;  // tiles that may still be taken while paused
 };

@@ -1,9 +1,12 @@
 // The thread pool behind parallel_for: every iteration runs exactly once, on the
 // caller's thread and the pool's, loop after loop; a throw ends the loop and reaches
-// the caller.
+// the caller. Tasks posted to it run once each, on its workers, in order.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <condition_variable>
+#include <mutex>
 #include <new>
 #include <set>
 #include <stdexcept>
@@ -74,4 +77,60 @@ TEST_CASE("a throw in an iteration (a bad_alloc on a worker) reaches the caller;
     std::atomic<int> after{0};
     pool.parallel_for(1000, [&](int) { after.fetch_add(1); });
     CHECK(after.load() == 1000);
+}
+
+namespace {
+// Waits until `count` reaches `n` (polled under the lock the tasks count under).
+void wait_count(std::mutex& m, std::condition_variable& cv, const int& count, int n) {
+    std::unique_lock<std::mutex> lock(m);
+    cv.wait(lock, [&] { return count >= n; });
+}
+}  // namespace
+
+TEST_CASE("posted tasks run once each, on the workers, not on the caller") {
+    ThreadPool pool(3);
+    CHECK(pool.workers() == 2);
+    constexpr int n = 2000;
+    std::vector<int> runs(n, 0);
+    std::mutex m;
+    std::condition_variable cv;
+    int count = 0;
+    bool on_caller = false;
+    const auto me = std::this_thread::get_id();
+    for (int i = 0; i < n; ++i)
+        pool.post([&, i] {
+            std::lock_guard<std::mutex> lock(m);
+            ++runs[std::size_t(i)];
+            on_caller |= std::this_thread::get_id() == me;
+            if (++count == n) cv.notify_all();
+        });
+    wait_count(m, cv, count, n);
+    CHECK_FALSE(on_caller);
+    CHECK(std::count(runs.begin(), runs.end(), 1) == n);
+}
+
+TEST_CASE("one worker runs posted tasks in the order posted, between loops") {
+    ThreadPool pool(2);
+    std::mutex m;
+    std::condition_variable cv;
+    std::vector<int> order;
+    int count = 0;
+    for (int i = 0; i < 100; ++i) {
+        pool.post([&, i] {
+            std::lock_guard<std::mutex> lock(m);
+            order.push_back(i);
+            ++count;
+            cv.notify_all();
+        });
+        // A loop in between: the posted tasks wait or run around it, none is lost.
+        if (i % 10 == 0) {
+            std::atomic<int> items{0};
+            pool.parallel_for(50, [&](int) { items.fetch_add(1); });
+            REQUIRE(items.load() == 50);
+        }
+    }
+    wait_count(m, cv, count, 100);
+    std::vector<int> expected(100);
+    for (int i = 0; i < 100; ++i) expected[std::size_t(i)] = i;
+    CHECK(order == expected);
 }

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "default_scene.h"
+#include "parallel.h"
 #include "renderer.h"
 #include "scene_parser.h"
 #include "shapes.h"
@@ -136,6 +137,46 @@ TEST_CASE("renderer: the film is bit-identical for 1, 2 and 4 threads and either
             CHECK(same_film(render(world, s, threads), reference));
         }
     }
+}
+
+TEST_CASE("renderer: renderers sharing one pool make the films they make alone, bit for bit") {
+    auto world_a = compile_world(parse_ok(kSceneA));
+    auto world_b = compile_world(parse_ok(kSceneB));
+    RenderSettings sa, sb;
+    sa.max_samples = 4;
+    sa.tile_size = 16;
+    sb.max_samples = 3;
+    sb.aa_threshold = 0.05;
+    sb.tile_size = 8;
+    const Image ref_a = render(world_a, sa, 1);
+    Renderer alone(1);
+    alone.start(world_b, sb);  // adaptive: render() would count its samples
+    alone.wait();
+    const Image ref_b = alone.snapshot();
+    CHECK(distinct_pixels(ref_b) > 300);
+    ThreadPool pool(3);
+    Renderer a(pool), b(pool);
+    CHECK(a.threads() == 2);
+    CHECK(&a.pool() == &pool);
+    for (int round = 0; round < 3; ++round) {
+        a.start(world_a, sa);
+        b.start(world_b, sb);
+        // The pool's caller meanwhile runs loops of its own on the same threads.
+        std::atomic<int> items{0};
+        pool.parallel_for(1000, [&](int) { items.fetch_add(1); });
+        CHECK(items.load() == 1000);
+        a.wait();
+        b.wait();
+        CHECK(a.progress().done);
+        CHECK(same_film(a.snapshot(), ref_a));
+        CHECK(same_film(b.snapshot(), ref_b));
+    }
+    // A cancelled render leaves the pool to the other.
+    a.start(world_a, sa);
+    a.cancel();
+    b.start(world_b, sb);
+    b.wait();
+    CHECK(same_film(b.snapshot(), ref_b));
 }
 
 TEST_CASE("renderer: a progressive render stopped at N samples equals a straight N-sample render") {

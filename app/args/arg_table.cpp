@@ -74,7 +74,7 @@ std::string help_lines(const Table& table) {
     for (const Option& o : table.options) {
         std::string line = std::string("  ") + o.names + (o.value ? std::string(" ") + o.value : "");
         line.resize(std::max(line.size() + 1, column), ' ');
-        for (const char* p = o.help; *p; ++p) {
+        for (const char* p = o.help.c_str(); *p; ++p) {
             line += *p;
             if (*p == '\n') line.append(column, ' ');
         }

@@ -19,7 +19,7 @@ struct Option {
     const char* names;   // as --help shows them: "--width", "-v, --verbose"
     const char* value;   // --help's placeholder ("N", "SEC"), or null for a flag
     const char* needs;   // what "option 'NAME' needs ..." says when the value is missing
-    const char* help;    // description; '\n' starts a continuation line
+    std::string help;    // description; '\n' starts a continuation line
     std::function<rt::Status(const std::string& name, const std::string& value)> set;  // null for a flag
     std::function<void()> on_flag;
     bool stops = false;  // parsing ends after this flag (--help, --version)
@@ -28,11 +28,11 @@ struct Option {
 using Setter = std::function<rt::Status(const std::string& name, const std::string& value)>;
 
 // An option with a value, and a flag.
-inline Option value_option(const char* names, const char* value, const char* needs, const char* help, Setter set) {
-    return Option{names, value, needs, help, std::move(set), nullptr, false};
+inline Option value_option(const char* names, const char* value, const char* needs, std::string help, Setter set) {
+    return Option{names, value, needs, std::move(help), std::move(set), nullptr, false};
 }
-inline Option flag_option(const char* names, const char* help, std::function<void()> on_flag, bool stops = false) {
-    return Option{names, nullptr, nullptr, help, nullptr, std::move(on_flag), stops};
+inline Option flag_option(const char* names, std::string help, std::function<void()> on_flag, bool stops = false) {
+    return Option{names, nullptr, nullptr, std::move(help), nullptr, std::move(on_flag), stops};
 }
 
 struct Table {

@@ -16,8 +16,6 @@
 #include <optional>
 #include <thread>
 
-#include "adaptive.h"
-#include "adaptive.h"
 #include "arg_table.h"
 #include "diagnostic_text.h"
 #include "image_io.h"
@@ -34,6 +32,9 @@ namespace rtcli {
 namespace {
 
 constexpr int kMaxShownDiagnostics = 20;
+
+// A limit as --help and the messages write it: "3", "65536".
+std::string limit(double v) { return std::to_string(long(v)); }
 
 // Usage errors name the option: "--width expects a whole decimal number, got 'x'".
 rt::Status bad_value(const std::string& message) { return rt::Status::error(message, kExitUsage); }
@@ -54,7 +55,9 @@ rt::Status set_seconds(const std::string& opt, const std::string& text, double& 
     if (!rtargs::is_decimal_token(text))
         return bad_value(opt + " expects a decimal number of seconds such as 2 or 0.5, got '" + shown + "'");
     const std::optional<double> v = rtargs::decimal(text);
-    if (!v || *v <= 0 || *v > 1e7) return bad_value(opt + " must be more than 0 and at most 10000000 seconds, got " + shown);
+    if (!v || *v <= 0 || *v > rt::kMaxTimeLimit)
+        return bad_value(opt + " must be more than 0 and at most " + std::to_string(long(rt::kMaxTimeLimit)) +
+                         " seconds, got " + shown);
     out = *v;
     return {};
 }
@@ -65,7 +68,8 @@ rt::Status set_threshold(const std::string& opt, const std::string& text, std::o
     if (!rtargs::is_decimal_token(text))
         return bad_value(opt + " expects a decimal number such as 0.3, got '" + shown + "'");
     const std::optional<double> v = rtargs::decimal(text);
-    if (!v || *v < 0 || *v > rt::kMaxAaThreshold) return bad_value(opt + " must be between 0 and 3, got " + shown);
+    if (!v || *v < 0 || *v > rt::kMaxAaThreshold)
+        return bad_value(opt + " must be between 0 and " + limit(rt::kMaxAaThreshold) + ", got " + shown);
     out = *v;
     return {};
 }
@@ -114,14 +118,14 @@ extern "C" void on_signal(int sig) {
 namespace {
 
 // An option with a whole-number value in [lo, hi].
-rtargs::Option number(const char* name, const char* help, long lo, long hi, int& out) {
-    return rtargs::value_option(name, "N", "a number", help, [lo, hi, &out](const std::string& n, const std::string& v) {
+rtargs::Option number(const char* name, std::string help, long lo, long hi, int& out) {
+    return rtargs::value_option(name, "N", "a number", std::move(help), [lo, hi, &out](const std::string& n, const std::string& v) {
         return set_int(n, v, lo, hi, out);
     });
 }
 
-rtargs::Option optional_number(const char* name, const char* help, long lo, long hi, std::optional<int>& out) {
-    return rtargs::value_option(name, "N", "a number", help, [lo, hi, &out](const std::string& n, const std::string& v) {
+rtargs::Option optional_number(const char* name, std::string help, long lo, long hi, std::optional<int>& out) {
+    return rtargs::value_option(name, "N", "a number", std::move(help), [lo, hi, &out](const std::string& n, const std::string& v) {
         int x = 0;
         rt::Status st = set_int(n, v, lo, hi, x);
         if (st) out = x;
@@ -137,37 +141,49 @@ rtargs::Option flag(const char* name, const char* help, bool& out, bool stops = 
 // tiles. `o` receives the values.
 rtargs::Table option_table(const Program& program, Options& o) {
     const long side = rt::Limits::max_picture_side;
+    rt::RenderRequest& r = o.render;
     rtargs::Table t;
     t.options = {
-        optional_number("--width", "picture width in pixels, overriding the scene (1..16384)", 1, side, o.width),
-        optional_number("--height", "picture height in pixels, overriding the scene (1..16384)", 1, side, o.height),
+        optional_number("--width", "picture width in pixels, overriding the scene (1.." + limit(side) + ")", 1, side,
+                        o.width),
+        optional_number("--height", "picture height in pixels, overriding the scene (1.." + limit(side) + ")", 1, side,
+                        o.height),
         optional_number("--samples",
-                        "samples per pixel (1..65536, default 1: the original's\n"
-                        "single ray through each pixel corner); with --aa-threshold\n"
-                        "the most a pixel gets (default 16)",
-                        1, 65536, o.samples),
+                        "samples per pixel (1.." + limit(rt::kMaxSamples) +
+                            ", default 1: the original's\n"
+                            "single ray through each pixel corner); with --aa-threshold\n"
+                            "the most a pixel gets (default " + limit(rt::kDefaultAaMaxSamples) + ")",
+                        1, rt::kMaxSamples, r.samples),
         rtargs::value_option("--aa-threshold", "T", "a threshold such as 0.3",
                              "adaptive anti-aliasing: more samples only where a pixel's\n"
                              "colour differs from a neighbour's by T or more (the sum of the\n"
-                             "red, green and blue differences in 0..1 units, 0..3, as\n"
-                             "POV-Ray's +A) or its samples still spread",
-                             [&o](const std::string& n, const std::string& v) {
-                                 return set_threshold(n, v, o.aa_threshold);
+                             "red, green and blue differences in 0..1 units, 0.." + limit(rt::kMaxAaThreshold) +
+                                 ", as\n"
+                                 "POV-Ray's +A) or its samples still spread",
+                             [&r](const std::string& n, const std::string& v) {
+                                 return set_threshold(n, v, r.aa_threshold);
                              }),
-        number("--threads", program.threads_help, 1, 256, o.threads),
+        number("--threads",
+               std::string(program.threads_what) + " (1.." + limit(rt::kMaxThreads) +
+                   ", default: " + program.threads_default + ")",
+               1, rt::kMaxThreads, r.threads),
         number("--max-depth",
-               "recursion limit (1..1000, default 20 as in the original;\n"
-               "a reflection costs 2 levels, a refraction 3)",
-               1, 1000, o.max_depth),
+               "recursion limit (1.." + limit(rt::kMaxRecursion) + ", default " + limit(rt::kDefaultMaxDepth) +
+                   " as in the original;\n"
+                   "a reflection costs 2 levels, a refraction 3)",
+               1, rt::kMaxRecursion, r.max_depth),
         rtargs::value_option("--time-limit", "SEC", "a number of seconds",
                              "stop adding samples after SEC seconds (every pixel still gets\n"
                              "at least one); without --samples, render as many as fit",
-                             [&o](const std::string& n, const std::string& v) { return set_seconds(n, v, o.time_limit); }),
+                             [&r](const std::string& n, const std::string& v) { return set_seconds(n, v, r.time_limit); }),
     };
     if (program.tile_option)
-        t.options.push_back(number("--tile", "side of the square tiles handed out (8..256, default 32)", 8, 256, o.tile));
+        t.options.push_back(number("--tile",
+                                   "side of the square tiles handed out (" + limit(rt::kMinTile) + ".." +
+                                       limit(rt::kMaxTile) + ", default " + limit(rt::kDefaultTile) + ")",
+                                   rt::kMinTile, rt::kMaxTile, r.tile));
     for (rtargs::Option opt : std::initializer_list<rtargs::Option>{
-             flag("--mirror", "mirror the picture left-right, as the 2013 program did", o.mirror),
+             flag("--mirror", "mirror the picture left-right, as the 2013 program did", r.mirror),
              flag("--quiet", "no progress bar", o.quiet),
              flag("--stats", "print times, ray count and rays per second to stderr", o.stats),
              rtargs::value_option("--check", "SCENE", "a scene file",
@@ -313,23 +329,7 @@ std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_dep
 }
 
 rt::RenderSettings render_settings(const Options& o, int width, int height) {
-    rt::RenderSettings settings;
-    settings.width = width;
-    settings.height = height;
-    settings.coarse = false;  // nobody watches a preview here
-    settings.mirror = o.mirror;
-    settings.time_limit = o.time_limit;
-    // A time limit with no sample count means "as good as fits in the time"; a
-    // threshold alone, at most kDefaultAaMaxSamples.
-    settings.max_samples = o.samples          ? *o.samples
-                           : o.time_limit > 0 ? 65536
-                           : o.aa_threshold   ? rt::kDefaultAaMaxSamples
-                                              : 1;
-    settings.aa_threshold = o.aa_threshold.value_or(-1);
-    // Without a time limit nothing is gained by stopping between passes, and one
-    // pass makes pass_fraction the whole render's progress.
-    if (o.time_limit <= 0) settings.samples_per_pass = settings.max_samples;
-    return settings;
+    return rt::final_settings(o.render, width, height);
 }
 
 rt::Status print_scene(const Program& program, rt::Scene scene) {

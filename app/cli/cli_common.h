@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "render_request.h"
 #include "renderer.h"
 #include "scene.h"
 #include "status.h"
@@ -29,7 +30,8 @@ using rt::kExitUsage;
 struct Program {
     const char* name;          // in messages: "NAME: ..."
     const char* help_head;     // usage and description, up to and including "Options:\n"
-    const char* threads_help;  // the --threads description (per process or per rank)
+    const char* threads_what;     // --threads' help: what the threads are (per process or per rank)
+    const char* threads_default;  // and how many there are by default
     const char* help_tail;     // after the option list: the exit statuses
     bool tile_option = false;  // accepts --tile N (8..256)
 };
@@ -39,13 +41,9 @@ std::string help_text(const Program& program);
 
 struct Options {
     std::optional<int> width, height;
-    std::optional<int> samples;
-    int threads = 0;  // 0: all cores
-    int max_depth = 20;
-    int tile = 32;
-    double time_limit = 0;
-    std::optional<double> aa_threshold;  // --aa-threshold: adaptive anti-aliasing
-    bool mirror = false, quiet = false, stats = false, print_scene = false;
+    // --samples, --time-limit, --aa-threshold, --threads, --max-depth, --tile, --mirror
+    rt::RenderRequest render;
+    bool quiet = false, stats = false, print_scene = false;
     bool help = false, version = false;  // printed by parse_args
     std::optional<std::string> check;
     std::vector<std::string> positional;
@@ -86,9 +84,9 @@ rt::Status check_output(const Program& program, const std::string& out, const st
 // recursion limit.
 std::shared_ptr<const rt::World> build_world(const rt::Scene& scene, int max_depth);
 
-// What `raytracer` renders with: the picture size given (the scene's, after --width
-// and --height), no preview passes, and the samples and time limit of `o`. The
-// viewer's final render must make the same (tests/viewer/test_final_render.cpp).
+// What `raytracer` renders with: rt::final_settings of o.render for the picture size
+// given (the scene's, after --width and --height). The viewer's final render makes
+// the same (tests/viewer/test_final_render.cpp).
 rt::RenderSettings render_settings(const Options& o, int width, int height);
 
 // --print-scene: writes the scene in normalised form, every default written out,

@@ -25,9 +25,10 @@ const rtcli::Program kProgram{
     "  OUT ends in .ppm (binary PPM, P6) or .png.\n"
     "\n"
     "Options:\n",
-    "worker threads per rank (1..256, default: the CPUs the\n"
+    "worker threads per rank",
+    "the CPUs the\n"
     "rank may use; mpirun may bind a rank to one core: run one\n"
-    "rank per machine with `mpirun --bind-to none`)",
+    "rank per machine with `mpirun --bind-to none`",
     "Exit status (of every rank): 0 success, 1 the scene has errors, 2 usage or I/O\n"
     "error, 3 a rank or MPI failed. A failed run leaves OUT untouched.\n",
     true};

@@ -98,7 +98,7 @@ struct JobHeader {
     std::int32_t status = -1;  // -1: render; else every rank exits with this status
     std::int32_t width = 0, height = 0;
     std::int32_t max_samples = 1, samples_per_pass = 0;
-    std::int32_t threads = 0, max_depth = 20, tile = 32, mirror = 0;
+    std::int32_t threads = 0, max_depth = rt::kDefaultMaxDepth, tile = rt::kDefaultTile, mirror = 0;
     std::int32_t pad = 0;  // no uninitialised padding goes on the wire
     double time_limit = 0;
     double aa_threshold = -1;
@@ -647,17 +647,17 @@ JobHeader settle_job(int argc, char** argv, Front& f, rt::Scene& scene) {
     }
     job.width = scene.width;
     job.height = scene.height;
-    const Options& o = f.opt;
-    // As raytracer: a time limit with no sample count renders as many as fit;
-    // without a time limit, one pass (nothing is gained by stopping between).
-    job.max_samples = o.samples ? *o.samples : o.time_limit > 0 ? 65536 : o.aa_threshold ? rt::kDefaultAaMaxSamples : 1;
-    job.samples_per_pass = o.time_limit > 0 ? 0 : job.max_samples;
-    job.aa_threshold = o.aa_threshold.value_or(-1);
-    job.threads = o.threads;
-    job.max_depth = o.max_depth;
-    job.tile = o.tile;
-    job.mirror = o.mirror;
-    job.time_limit = o.time_limit;
+    // What raytracer renders with: the same passes make the same picture.
+    const rt::RenderRequest& r = f.opt.render;
+    const rt::RenderSettings s = rt::final_settings(r, scene.width, scene.height);
+    job.max_samples = s.max_samples;
+    job.samples_per_pass = s.samples_per_pass;
+    job.aa_threshold = s.aa_threshold;
+    job.threads = r.threads;
+    job.max_depth = r.max_depth;
+    job.tile = r.tile;
+    job.mirror = r.mirror;
+    job.time_limit = s.time_limit;
     job.text_size = f.text.size();
     return job;
 }

@@ -6,6 +6,7 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <thread>
 
 #include "adaptive.h"
 #include "renderer.h"
@@ -44,18 +45,24 @@ int default_threads() {
 }
 
 TilePool::TilePool(const rt::World& world, const rt::CameraBasis& camera, int threads)
-    : world_(world), camera_(camera) {
-    nthreads_ = threads > 0 ? threads : default_threads();
-    for (int i = 0; i < nthreads_; ++i) workers_.emplace_back([this] { worker_main(); });
-}
+    : world_(world),
+      camera_(camera),
+      nthreads_(threads > 0 ? threads : default_threads()),
+      pool_(nthreads_ + 1) {}
 
 TilePool::~TilePool() {
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        quit_ = true;
+    std::unique_lock<std::mutex> lock(mutex_);
+    quit_ = true;
+    stop_ = true;
+    // Runners still waiting in the pool hold `this`: each ends at once.
+    idle_cv_.wait(lock, [&] { return runners_ == 0; });
+}
+
+void TilePool::kick_locked() {
+    while (!quit_ && runners_ < nthreads_) {
+        ++runners_;
+        pool_.post([this] { run(); });
     }
-    work_cv_.notify_all();
-    for (auto& t : workers_) t.join();
 }
 
 void TilePool::submit(int id, const Tile& tile, int s0, int s1, float* sums) {
@@ -68,8 +75,8 @@ void TilePool::submit(int id, const Tile& tile, int s0, int s1, float* sums) {
         job.s1 = s1;
         job.sums = sums;
         ++outstanding_;
+        kick_locked();
     }
-    work_cv_.notify_all();
 }
 
 void TilePool::submit_refine(int id, const Tile& tile, const std::uint32_t* n0, const std::uint32_t* n1, float* sums,
@@ -84,8 +91,8 @@ void TilePool::submit_refine(int id, const Tile& tile, const std::uint32_t* n0, 
         job.sums = sums;
         job.squares = squares;
         ++outstanding_;
+        kick_locked();
     }
-    work_cv_.notify_all();
 }
 
 std::vector<TilePool::Finished> TilePool::take_finished() {
@@ -128,26 +135,27 @@ void TilePool::render_pixels(Job& job, int p0, int p1, rt::RayStats& stats) cons
     }
 }
 
-void TilePool::worker_main() {
+void TilePool::run() {
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
         // The oldest job with pixels left; finished jobs leave the list at once.
         Job* job = nullptr;
-        work_cv_.wait(lock, [&] {
-            if (quit_) return true;
-            for (Job& j : jobs_)
-                if (j.next.load(std::memory_order_relaxed) < j.tile.pixels()) {
-                    job = &j;
-                    return true;
-                }
-            return false;
-        });
-        if (quit_) return;
+        for (Job& j : jobs_)
+            if (j.next.load(std::memory_order_relaxed) < j.tile.pixels()) {
+                job = &j;
+                break;
+            }
+        if (quit_ || !job) {
+            // Nothing left to hand out: the next submit() posts runners again.
+            if (--runners_ == 0) idle_cv_.notify_all();
+            return;
+        }
         ++job->workers;  // under the lock: nobody can finish the job under our feet
         lock.unlock();
 
         const int n = job->tile.pixels();
         rt::RayStats stats;
+        stats.stop.flag = &stop_;
         for (int i = job->next.fetch_add(kChunk, std::memory_order_relaxed); i < n;
              i = job->next.fetch_add(kChunk, std::memory_order_relaxed))
             render_pixels(*job, i, std::min(i + kChunk, n), stats);

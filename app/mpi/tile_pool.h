@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <list>
 #include <mutex>
-#include <thread>
 #include <vector>
 
 #include "camera.h"
+#include "parallel.h"
 #include "world.h"
 
 namespace rtmpi {
@@ -32,10 +32,11 @@ std::vector<Tile> make_tiles(int width, int height, int side);
 // when it starts 2 or fewer), and more threads than that only queue for them.
 int default_threads();
 
-// Renders queued tiles on a fixed set of threads. All threads work on the oldest tile
-// that still has pixels to hand out, then go straight on to the next queued one: a
-// thread never waits for the caller between tiles (on a busy machine every such wait
-// costs a trip through the scheduler queue), so keep a tile or two queued.
+// Renders queued tiles on the workers of a thread pool (rt::ThreadPool). All of them
+// work on the oldest tile that still has pixels to hand out, then go straight on to
+// the next queued one: a thread never waits for the caller between tiles (on a busy
+// machine every such wait costs a trip through the scheduler queue), so keep a tile
+// or two queued.
 class TilePool {
 public:
     struct Finished {
@@ -79,19 +80,24 @@ private:
         int workers = 0;           // threads inside this job
         std::uint64_t rays = 0;
     };
-    void worker_main();
+    // Posts runners, up to threads(), while tiles wait.
+    void kick_locked();
+    // One pool task: renders the queued tiles, oldest first, until none is left.
+    void run();
     void render_pixels(Job& job, int p0, int p1, rt::RayStats& stats) const;
 
     const rt::World& world_;
     const rt::CameraBasis& camera_;
     int nthreads_ = 0;
+    rt::ThreadPool pool_;  // nthreads_ workers (its size counts a loop's caller)
     mutable std::mutex mutex_;
-    std::condition_variable work_cv_, done_cv_;
+    std::condition_variable idle_cv_, done_cv_;
+    int runners_ = 0;  // posted and not yet ended (under mutex_)
+    std::atomic<bool> stop_{false};  // set when the pool ends: the traces in progress stop
     std::list<Job> jobs_;  // queued or running, oldest first; list: addresses stay put
     std::vector<Finished> finished_;
     int outstanding_ = 0;
     bool quit_ = false;
-    std::vector<std::thread> workers_;
 };
 
 }  // namespace rtmpi

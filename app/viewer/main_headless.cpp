@@ -32,7 +32,7 @@ constexpr int kMaxShownDiagnostics = 20;  // as raytracer
 // Signals as raytracer's (app/cli): a signal ends the program at once, unless a
 // temporary output file exists; then the write stops, removes it and fails, and main
 // exits with 128+N.
-const rtcli::Program kProgram{"raytracer-view-headless", "", "", ""};  // messages only: no help
+const rtcli::Program kProgram{"raytracer-view-headless", "", "", "", ""};  // messages only: no help
 
 class NullHost : public rtview::Host {
 public:
@@ -64,8 +64,9 @@ int render_to_file(const rtview::Options& opt) {
     if (rtcli::caught_signal()) return interrupted();
 
     rtview::FinalRender render(opt.threads);
-    if (const rt::Status st = render.start(scene, opt.render, opt.samples, opt.time_limit, opt.aa_threshold.value_or(-1));
-        !st) {
+    const rt::RenderRequest request =
+        rtview::final_render_request(opt.samples, opt.time_limit, opt.aa_threshold.value_or(-1));
+    if (const rt::Status st = render.start(scene, opt.render, request); !st) {
         std::fprintf(stderr, "raytracer-view-headless: cannot render: %s\n", st.message().c_str());
         return rtcli::kExitUsage;
     }

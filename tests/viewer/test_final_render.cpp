@@ -23,7 +23,7 @@ const auto parse = rtview_test::parse_args;
 // The settings `raytracer ARGS scene.txt out.ppm` renders a width x height picture
 // with, made by the command line's own code.
 rt::RenderSettings cli_settings(std::vector<std::string> args, int width, int height) {
-    const rtcli::Program program{"raytracer", "", "", ""};
+    const rtcli::Program program{"raytracer", "", "", "", ""};
     args.insert(args.begin(), "raytracer");
     args.push_back("scene.txt");
     args.push_back("out.ppm");
@@ -93,13 +93,13 @@ TEST_CASE("the final render's settings are the command line's") {
             CAPTURE(c.time_limit);
             CAPTURE(c.aa_threshold);
             CAPTURE(w);
-            check_same(final_render_settings(w, h, c.samples, c.time_limit, c.aa_threshold),
+            check_same(rt::final_settings(final_render_request(c.samples, c.time_limit, c.aa_threshold), w, h),
                        cli_settings(c.args, w, h));
         }
     }
     // The comparison can tell settings apart: a mirrored picture is not the viewer's.
     const rt::RenderSettings mirrored = cli_settings({"--mirror"}, 640, 480);
-    CHECK(mirrored.mirror != final_render_settings(640, 480, 0, 0).mirror);
+    CHECK(mirrored.mirror != rt::final_settings(final_render_request(0, 0), 640, 480).mirror);
 }
 
 TEST_CASE("a final render writes the scene's picture size and refuses bad names") {
@@ -112,11 +112,11 @@ end)";
     rt::ParseResult r = rt::parse_scene(text);
     REQUIRE(r.ok());
     FinalRender fr(2);
-    CHECK_FALSE(fr.start(r.scene, "out.jpg", 2, 0, -1).ok());
+    CHECK_FALSE(fr.start(r.scene, "out.jpg", final_render_request(2, 0)).ok());
     CHECK_FALSE(fr.active());
     const std::string out = "test_final_render_out.ppm";
     std::remove(out.c_str());
-    REQUIRE(fr.start(r.scene, out, 2, 0, -1).ok());
+    REQUIRE(fr.start(r.scene, out, final_render_request(2, 0)).ok());
     while (!fr.wait_for(1)) {
     }
     CHECK(fr.fraction() == 1);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "readout.h"
+#include "parallel.h"
 #include "region.h"
 #include "renderer.h"
 #include "scene_parser.h"
@@ -216,6 +217,53 @@ TEST_CASE("a cancel stops a pixel inside a ray tree that would never end") {
     CHECK(traced.load() == 1);
     CHECK_FALSE(rr.active());
     CHECK_FALSE(rr.done());
+}
+
+TEST_CASE("a region on a shared pool, beside a render on the same pool: both the full render's pixels") {
+    rt::Scene s = rtview_test::parse_ok(kScene);
+    auto world = rt::compile_world(s);
+    const rt::Image ref = full_render(world, 5);
+    rt::ThreadPool pool(3);
+    RegionRenderer rr(pool);
+    rt::Renderer full(pool);
+    rt::RenderSettings st;
+    st.max_samples = 5;
+    const PixelRect rect{3, 20, 60, 44};
+    full.start(world, st);
+    rr.start(world, s.camera, 64, 48, rect, 5);
+    full.wait();
+    REQUIRE(wait_done(rr));
+    CHECK(rr.samples() == 5);
+    RegionPicture pic;
+    std::uint64_t version = 0;
+    REQUIRE(rr.snapshot(pic, version));
+    CHECK(differing(pic, rect, ref) == 0);
+    const rt::Image film = full.snapshot();
+    CHECK(film.rgb == ref.rgb);
+}
+
+TEST_CASE("a region's time limit stops it in the middle of a pass, once every pixel has its first sample") {
+    rt::Scene s = rtview_test::parse_ok(kScene);
+    auto world = rt::compile_world(s);
+    RegionRenderer rr(1);
+    const double limit = 0.02;
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point first{};
+    rr.set_sample_hook([&](int x, int y, int sample) {
+        if (first == Clock::time_point{}) first = Clock::now();  // after start() set the deadline
+        // The second pass's first pixel begins once the limit has passed: its trace
+        // must stop there, and the pass with it.
+        if (x == 20 && y == 10 && sample == 1)
+            while (Clock::now() < first + std::chrono::duration<double>(limit)) std::this_thread::yield();
+    });
+    rr.start(world, s.camera, 64, 48, {20, 10, 24, 12}, 4, limit);
+    REQUIRE(wait_done(rr));
+    CHECK(rr.error().empty());
+    CHECK(rr.samples() == 1);
+    RegionPicture pic;
+    std::uint64_t version = 0;
+    REQUIRE(rr.snapshot(pic, version));
+    CHECK(pic.row_samples == std::vector<int>{1, 1});  // the stopped row keeps its first sample
 }
 
 TEST_CASE("the readout names what a pixel's ray hit as the outline does") {

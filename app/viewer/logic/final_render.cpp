@@ -1,11 +1,10 @@
-// The final render (see final_render.h). The settings mirror raytracer's
-// (rtcli::render_settings) line for line: any difference would show up as different
-// bytes in the file. tests/viewer/test_final_render.cpp compares the two.
+// The final render (see final_render.h). The settings are raytracer's
+// (rt::final_settings): any difference would show up as different bytes in the file.
+// tests/viewer/test_final_render.cpp compares the two.
 #include "final_render.h"
 
 #include <algorithm>
 
-#include "adaptive.h"
 #include "image_io.h"
 
 namespace rtview {
@@ -14,35 +13,28 @@ namespace {
 rt::Status usage(std::string message) { return rt::Status::error(std::move(message), rt::kExitUsage); }
 }  // namespace
 
-rt::RenderSettings final_render_settings(int width, int height, int samples, double time_limit, double aa_threshold) {
-    rt::RenderSettings s;
-    s.width = width;
-    s.height = height;
-    s.coarse = false;  // nobody watches a preview of the final render
-    s.mirror = false;
-    s.time_limit = time_limit;
-    // A time limit with no sample count means "as good as fits in the time"; a
-    // threshold alone, at most kDefaultAaMaxSamples.
-    s.max_samples = samples > 0 ? samples : time_limit > 0 ? 65536 : aa_threshold >= 0 ? rt::kDefaultAaMaxSamples : 1;
-    s.aa_threshold = aa_threshold;
-    // Without a time limit one pass holds every sample, so the pass fraction is the
-    // whole render's progress.
-    if (time_limit <= 0) s.samples_per_pass = s.max_samples;
-    return s;
+rt::RenderRequest final_render_request(int samples, double time_limit, double aa_threshold) {
+    rt::RenderRequest r;
+    if (samples > 0) r.samples = samples;
+    r.time_limit = time_limit;
+    if (aa_threshold >= 0) r.aa_threshold = aa_threshold;
+    return r;
 }
 
 FinalRender::FinalRender(int threads) : renderer_(threads) {}
 
+FinalRender::FinalRender(rt::ThreadPool& pool) : renderer_(pool) {}
+
 FinalRender::~FinalRender() { renderer_.cancel(); }
 
-rt::Status FinalRender::start(const rt::Scene& scene, const std::string& out_path, int samples, double time_limit,
-                              double aa_threshold, const rt::World* previous) {
+rt::Status FinalRender::start(const rt::Scene& scene, const std::string& out_path, const rt::RenderRequest& request,
+                              const rt::World* previous) {
     cancel();
     if (rt::format_from_path(out_path) == rt::ImageFormat::Unknown)
         return usage("'" + out_path + "': the name must end in .png or .ppm");
     if (scene.width < 1 || scene.height < 1) return usage("the scene has no picture size");
     std::shared_ptr<const rt::World> world = rt::compile_world(scene, previous);
-    settings_ = final_render_settings(scene.width, scene.height, samples, time_limit, aa_threshold);
+    settings_ = rt::final_settings(request, scene.width, scene.height);
     width_ = scene.width;
     height_ = scene.height;
     out_ = out_path;

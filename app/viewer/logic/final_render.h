@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "render_request.h"
 #include "renderer.h"
 #include "scene.h"
 #include "status.h"
@@ -14,24 +15,25 @@
 
 namespace rtview {
 
-// What `raytracer` asks of the renderer for `--samples samples --time-limit
-// time_limit --aa-threshold aa_threshold` (samples 0, aa_threshold < 0: not given) on a
-// scene of width x height.
-rt::RenderSettings final_render_settings(int width, int height, int samples, double time_limit,
-                                         double aa_threshold = -1);
+// The viewer's render settings (samples 0, aa_threshold < 0: not given) as the
+// command line's `--samples samples --time-limit time_limit --aa-threshold
+// aa_threshold`; rt::final_settings makes of it what `raytracer` renders.
+rt::RenderRequest final_render_request(int samples, double time_limit, double aa_threshold = -1);
 
 class FinalRender {
 public:
-    explicit FinalRender(int threads = 0);  // 0: all hardware threads
+    explicit FinalRender(int threads = 0);  // a pool of its own; 0: all hardware threads
+    explicit FinalRender(rt::ThreadPool& pool);  // on a shared pool (see rt::Renderer)
     ~FinalRender();
     FinalRender(const FinalRender&) = delete;
     FinalRender& operator=(const FinalRender&) = delete;
 
-    // Starts rendering `scene` (its own camera and picture size) for `out_path`, with
-    // adaptive anti-aliasing if aa_threshold >= 0. `previous`, if it has the same
-    // geometry, lends its BVH. On an error (a bad output name) starts nothing.
-    rt::Status start(const rt::Scene& scene, const std::string& out_path, int samples, double time_limit,
-                     double aa_threshold, const rt::World* previous = nullptr);
+    // Starts rendering `scene` (its own camera and picture size) for `out_path`, as
+    // `request` asks (its threads, max_depth and tile are not used: the pool's
+    // threads, the scene's recursion limit). `previous`, if it has the same geometry,
+    // lends its BVH. On an error (a bad output name) starts nothing.
+    rt::Status start(const rt::Scene& scene, const std::string& out_path, const rt::RenderRequest& request,
+                     const rt::World* previous = nullptr);
     void cancel();
     bool active() const { return active_; }
     bool done() const;

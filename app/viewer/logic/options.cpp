@@ -11,8 +11,9 @@
 #include <fstream>
 #include <utility>
 
-#include "adaptive.h"
 #include "arg_table.h"
+#include "render_request.h"
+#include "scene.h"
 
 namespace rtview {
 
@@ -44,8 +45,8 @@ rtargs::Option text(const char* name, const char* value, const char* help, std::
     });
 }
 
-rtargs::Option whole(const char* name, const char* help, int lo, int hi, int& out) {
-    return rtargs::value_option(name, "N", "a number", help, [lo, hi, &out](const std::string& n, const std::string& v) {
+rtargs::Option whole(const char* name, std::string help, int lo, int hi, int& out) {
+    return rtargs::value_option(name, "N", "a number", std::move(help), [lo, hi, &out](const std::string& n, const std::string& v) {
         const std::optional<long> x = rtargs::integer_in(v, lo, hi);
         if (!x) return usage("option '" + n + "' must be a whole number in range (got '" + v + "')");
         out = int(*x);
@@ -63,11 +64,21 @@ rtargs::Option real(const char* name, const char* value, const char* help, doubl
     });
 }
 
+// A default as --help writes it: "0.02".
+std::string shown(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
 rt::Status set_size(const std::string& v, Options& o) {
     const auto x = v.find('x');
-    const auto w = x == std::string::npos ? std::nullopt : rtargs::integer_in(v.substr(0, x), 64, 16384);
-    const auto h = x == std::string::npos ? std::nullopt : rtargs::integer_in(v.substr(x + 1), 64, 16384);
-    if (!w || !h) return usage("--size must be WIDTHxHEIGHT, each 64..16384 (got '" + v + "')");
+    const int lo = kMinWindowSide, hi = rt::Limits::max_picture_side;
+    const auto w = x == std::string::npos ? std::nullopt : rtargs::integer_in(v.substr(0, x), lo, hi);
+    const auto h = x == std::string::npos ? std::nullopt : rtargs::integer_in(v.substr(x + 1), lo, hi);
+    if (!w || !h)
+        return usage("--size must be WIDTHxHEIGHT, each " + std::to_string(lo) + ".." + std::to_string(hi) + " (got '" +
+                     v + "')");
     o.width = int(*w);
     o.height = int(*h);
     o.size_given = true;
@@ -89,10 +100,14 @@ rtargs::Table option_table(Options& o) {
              o.render),
         rtargs::value_option("--size", "WxH", "WIDTHxHEIGHT", "window (or headless image) size in pixels (default 1280x800)",
                              [&o](const std::string&, const std::string& v) { return set_size(v, o); }),
-        whole("--samples", "samples per pixel to stop at (default 64 in a window, 16 headless)", 1, 65536, o.samples),
+        whole("--samples",
+              "samples per pixel to stop at (default " + std::to_string(kDefaultSamplesWindow) + " in a window, " +
+                  std::to_string(kDefaultSamplesHeadless) + " headless)",
+              1, rt::kMaxSamples, o.samples),
         real("--time-limit", "SEC", "stop refining after SEC seconds (default: no limit)", o.time_limit, true),
         rtargs::value_option("--aa-threshold", "T", "a number",
-                             "adaptive anti-aliasing threshold, 0..3 (default 0.02; 0:\n"
+                             "adaptive anti-aliasing threshold, 0.." + std::to_string(int(rt::kMaxAaThreshold)) +
+                                 " (default " + shown(kDefaultAaThreshold) + "; 0:\n"
                              "every pixel gets every sample; off: every pixel the\n"
                              "same samples, in passes); with --render, as raytracer's\n"
                              "(default: off)",
@@ -103,7 +118,9 @@ rtargs::Table option_table(Options& o) {
                                  }
                                  const std::optional<double> x = rtargs::decimal(v);
                                  if (!x || *x < 0 || *x > rt::kMaxAaThreshold)
-                                     return usage(n + " must be a number from 0 to 3 or 'off' (got '" + v + "')");
+                                     return usage(n + " must be a number from 0 to " +
+                                                  std::to_string(int(rt::kMaxAaThreshold)) + " or 'off' (got '" + v +
+                                                  "')");
                                  o.aa_threshold = *x;
                                  return rt::Status();
                              }),
@@ -117,7 +134,7 @@ rtargs::Table option_table(Options& o) {
                                  o.fit = v == "window" ? FitMode::Window : FitMode::Picture;
                                  return rt::Status();
                              }),
-        whole("--threads", "render threads (default: all hardware threads)", 0, 256, o.threads),
+        whole("--threads", "render threads (default: all hardware threads)", 0, rt::kMaxThreads, o.threads),
         text("--tab", "NAME", "sidebar tab to show: objects (default), text or render", o.tab,
              [](const std::string& v) {
                  return v == "objects" || v == "text" || v == "render" ? rt::Status()

@@ -35,6 +35,7 @@ struct Options {
     bool help = false, version = false;
 };
 
+constexpr int kMinWindowSide = 64;  // --size, each side (at most rt::Limits::max_picture_side)
 constexpr int kDefaultSamplesWindow = 64;
 constexpr int kDefaultSamplesHeadless = 16;
 // The viewer refines adaptively: a pixel settles once it differs from no neighbour by

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <new>
+#include <thread>
 
 #include "renderer.h"
 
@@ -58,18 +59,25 @@ void paste_region_rgba8(const RegionPicture& reg, const DisplaySettings& s, int 
 
 RegionRenderer::RegionRenderer(int threads) {
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
-    for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { worker(); });
+    own_pool_ = std::make_unique<rt::ThreadPool>(threads + 1);  // (the size counts a loop's caller)
+    pool_ = own_pool_.get();
+    max_runners_ = threads;
+}
+
+RegionRenderer::RegionRenderer(rt::ThreadPool& pool) : pool_(&pool), max_runners_(pool.workers()) {
+    if (max_runners_ > 0) return;
+    own_pool_ = std::make_unique<rt::ThreadPool>(2);  // no worker to share: one of its own
+    pool_ = own_pool_.get();
+    max_runners_ = 1;
 }
 
 RegionRenderer::~RegionRenderer() {
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        quit_ = true;
-        ++generation_;
-        stop_ = true;
-    }
-    work_cv_.notify_all();
-    for (std::thread& t : threads_) t.join();
+    std::unique_lock<std::mutex> lock(mutex_);
+    ++generation_;
+    stop_ = true;
+    active_ = false;
+    // Runners still waiting in the pool hold `this`: each ends at once, finding no work.
+    idle_cv_.wait(lock, [&] { return runners_ == 0; });
 }
 
 void RegionRenderer::cancel() {
@@ -90,8 +98,10 @@ void RegionRenderer::start(std::shared_ptr<const rt::World> world, const rt::Cam
     basis_ = rt::CameraBasis::make(camera, width, height, false);
     rect_ = rect;
     max_samples_ = std::max(1, max_samples);
-    time_limit_ = time_limit;
-    start_ = std::chrono::steady_clock::now();
+    deadline_ = time_limit > 0 ? std::chrono::steady_clock::now() +
+                                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                         std::chrono::duration<double>(std::min(time_limit, 1e9)))
+                               : std::chrono::steady_clock::time_point::max();
     sum_.assign(3 * std::size_t(rect.width()) * rect.height(), 0.f);
     row_samples_.assign(std::size_t(rect.height()), 0);
     samples_done_ = 0;
@@ -102,7 +112,7 @@ void RegionRenderer::start(std::shared_ptr<const rt::World> world, const rt::Cam
     done_ = false;
     error_.clear();
     ++version_;
-    work_cv_.notify_all();
+    kick_locked();
 }
 
 bool RegionRenderer::active() const {
@@ -130,72 +140,99 @@ PixelRect RegionRenderer::rect() const {
     return active_ ? rect_ : PixelRect{};
 }
 
-void RegionRenderer::worker() {
-    std::vector<float> row;
-    std::unique_lock<std::mutex> lock(mutex_);
-    for (;;) {
-        work_cv_.wait(lock, [&] { return quit_ || (active_ && !done_ && next_row_ < rect_.height()); });
-        if (quit_) return;
-        const std::uint64_t gen = generation_.load();
-        const int r = next_row_++;
-        const int s0 = pass_s0_, s1 = pass_s1_;
-        const PixelRect rect = rect_;
-        std::shared_ptr<const rt::World> world = world_;
-        const rt::CameraBasis basis = basis_;
-        const int w = rect.width();
-        // This row's sums are only written by whoever holds the row, under the lock.
-        row.assign(sum_.begin() + 3 * std::ptrdiff_t(r) * w, sum_.begin() + 3 * std::ptrdiff_t(r + 1) * w);
-        ++busy_;
-        lock.unlock();
-
-        rt::RayStats stats;
-        stats.stop.flag = &stop_;
-        bool cancelled = false;
-        // One sample at a time, so that a cancel stops a pixel between its samples (and,
-        // through stats.stop, inside one). The renderer's order of additions: the sum
-        // so far, then samples s0..s1-1.
-        bool failed = false;  // out of memory: the region stops with a message
-        try {
-            for (int x = 0; x < w && !cancelled; ++x) {
-                for (int s = s0; s < s1; ++s) {
-                    if (stats.stopped || generation_.load(std::memory_order_relaxed) != gen) {
-                        cancelled = true;
-                        break;
-                    }
-                    if (sample_hook_) sample_hook_(rect.x0 + x, rect.y0 + r, s);
-                    rt::accumulate_pixel(*world, basis, rect.x0 + x, rect.y0 + r, s, s + 1, &row[3 * std::size_t(x)],
-                                         stats);
-                }
-            }
-        } catch (const std::bad_alloc&) {
-            failed = true;
-        }
-
-        lock.lock();
-        --busy_;
-        if (busy_ == 0) idle_cv_.notify_all();
-        if (failed && generation_.load() == gen) {
-            error_ = "out of memory while rendering the region";
-            done_ = true;
-            continue;
-        }
-        if (cancelled || generation_.load() != gen) continue;
-        std::copy(row.begin(), row.end(), sum_.begin() + 3 * std::ptrdiff_t(r) * w);
-        row_samples_[std::size_t(r)] = s1;
-        ++version_;
-        if (++rows_done_ < rect.height()) continue;
-        // The pass is complete: the next one doubles the samples, as the renderer's do.
-        samples_done_ = s1;
-        double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-        if (s1 >= max_samples_ || (time_limit_ > 0 && elapsed >= time_limit_)) {
-            done_ = true;
-            continue;
-        }
-        pass_s0_ = s1;
-        pass_s1_ = std::min(max_samples_, s1 + std::max(1, std::min(s1, 16)));
-        next_row_ = rows_done_ = 0;
-        work_cv_.notify_all();
+void RegionRenderer::kick_locked() {
+    if (!active_ || done_) return;
+    const int left = rect_.height() - next_row_;
+    while (runners_ < max_runners_ && runners_ - busy_ < left) {
+        ++runners_;
+        pool_->post([this] { run_one(); });
     }
+}
+
+void RegionRenderer::run_one() {
+    thread_local std::vector<float> row;
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (!active_ || done_ || next_row_ >= rect_.height()) {
+        if (--runners_ == 0) idle_cv_.notify_all();
+        return;
+    }
+    const std::uint64_t gen = generation_.load();
+    const int r = next_row_++;
+    const int s0 = pass_s0_, s1 = pass_s1_;
+    const PixelRect rect = rect_;
+    std::shared_ptr<const rt::World> world = world_;
+    const rt::CameraBasis basis = basis_;
+    const int w = rect.width();
+    // This row's sums are only written by whoever holds the row, under the lock.
+    row.assign(sum_.begin() + 3 * std::ptrdiff_t(r) * w, sum_.begin() + 3 * std::ptrdiff_t(r + 1) * w);
+    ++busy_;
+    lock.unlock();
+
+    rt::RayStats stats;
+    stats.stop.flag = &stop_;
+    // Every pixel gets its first sample whatever the time, as in the renderer.
+    if (s0 > 0) stats.stop.deadline = deadline_;
+    bool cancelled = false;
+    // One sample at a time, so that a cancel stops a pixel between its samples (and,
+    // through stats.stop, inside one). The renderer's order of additions: the sum
+    // so far, then samples s0..s1-1.
+    bool failed = false;  // out of memory: the region stops with a message
+    try {
+        for (int x = 0; x < w && !cancelled; ++x) {
+            for (int s = s0; s < s1; ++s) {
+                if (stats.stopped || generation_.load(std::memory_order_relaxed) != gen) {
+                    cancelled = true;
+                    break;
+                }
+                if (sample_hook_) sample_hook_(rect.x0 + x, rect.y0 + r, s);
+                rt::accumulate_pixel(*world, basis, rect.x0 + x, rect.y0 + r, s, s + 1, &row[3 * std::size_t(x)],
+                                     stats);
+            }
+        }
+        cancelled |= stats.stopped;
+    } catch (const std::bad_alloc&) {
+        failed = true;
+    }
+    world.reset();
+    lock.lock();
+    --busy_;
+    finish_row_locked(r, s1, gen, failed, cancelled, row);
+    --runners_;
+    kick_locked();  // the next row goes behind whatever else waits for the pool
+    if (busy_ == 0 || runners_ == 0) idle_cv_.notify_all();
+}
+
+// Called with mutex_ held, after row r of the pass up to s1 was traced for generation
+// gen: its sums into the region if it is complete and still wanted; the region's end
+// if it failed or ran out of time.
+void RegionRenderer::finish_row_locked(int r, int s1, std::uint64_t gen, bool failed, bool cancelled,
+                                       const std::vector<float>& row) {
+    if (generation_.load() != gen) return;
+    if (failed) {
+        error_ = "out of memory while rendering the region";
+        done_ = true;
+        return;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (cancelled) {
+        // Out of time in the middle of a pass: the rows committed keep their samples.
+        if (now >= deadline_) done_ = true;
+        return;
+    }
+    const int w = rect_.width();
+    std::copy(row.begin(), row.end(), sum_.begin() + 3 * std::ptrdiff_t(r) * w);
+    row_samples_[std::size_t(r)] = s1;
+    ++version_;
+    if (++rows_done_ < rect_.height()) return;
+    // The pass is complete: the next one doubles the samples, as the renderer's do.
+    samples_done_ = s1;
+    if (s1 >= max_samples_ || now >= deadline_) {
+        done_ = true;
+        return;
+    }
+    pass_s0_ = s1;
+    pass_s1_ = std::min(max_samples_, s1 + std::max(1, std::min(s1, 16)));
+    next_row_ = rows_done_ = 0;
 }
 
 bool RegionRenderer::snapshot(RegionPicture& out, std::uint64_t& version) const {

@@ -5,18 +5,19 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "display.h"
 #include "film.h"
 #include "image_view.h"
+#include "parallel.h"
 #include "world.h"
 
 namespace rtview {
@@ -51,14 +52,18 @@ void paste_region_rgba8(const RegionPicture& region, const DisplaySettings& sett
 
 class RegionRenderer {
 public:
-    explicit RegionRenderer(int threads = 0);  // 0: all hardware threads
+    // Renders with a pool of its own of `threads` workers (0: all hardware threads).
+    explicit RegionRenderer(int threads = 0);
+    // Renders on `pool`'s workers, shared (at least one); the pool must outlive it.
+    explicit RegionRenderer(rt::ThreadPool& pool);
     ~RegionRenderer();
     RegionRenderer(const RegionRenderer&) = delete;
     RegionRenderer& operator=(const RegionRenderer&) = delete;
 
     // Renders `rect` of a width x height film of `world` seen through `camera`, up to
     // max_samples, in passes of 1, 1, 2, 4, ... samples, stopping after time_limit
-    // seconds (0: none).
+    // seconds (0: none): once every pixel has its first sample, at once, even in the
+    // middle of a pass or of a pixel (the rows finished keep their samples).
     void start(std::shared_ptr<const rt::World> world, const rt::Camera& camera, int width, int height,
                const PixelRect& rect, int max_samples, double time_limit = 0);
     // Returns when no worker touches the region any more; a pixel's ray tree in
@@ -79,11 +84,16 @@ public:
     void set_sample_hook(std::function<void(int x, int y, int sample)> hook) { sample_hook_ = std::move(hook); }
 
 private:
-    void worker();
+    // As rt::Renderer's: runners posted to the pool, each taking one row.
+    void kick_locked();
+    void run_one();
+    void finish_row_locked(int r, int s1, std::uint64_t gen, bool failed, bool cancelled, const std::vector<float>& row);
+    std::unique_ptr<rt::ThreadPool> own_pool_;  // null when sharing one
+    rt::ThreadPool* pool_ = nullptr;
+    int max_runners_ = 1;
+    int runners_ = 0;  // posted and not yet ended (under mutex_)
     mutable std::mutex mutex_;
-    std::condition_variable work_cv_, idle_cv_;
-    std::vector<std::thread> threads_;
-    bool quit_ = false;
+    std::condition_variable idle_cv_;
     std::atomic<std::uint64_t> generation_{0};
     // Set with every new generation, so that the traces in progress stop (a pixel's
     // ray tree can take minutes); cleared by start() once no worker is busy.
@@ -98,8 +108,7 @@ private:
     bool active_ = false, done_ = false;
     std::string error_;
     int max_samples_ = 1;
-    double time_limit_ = 0;
-    std::chrono::steady_clock::time_point start_;
+    std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
     int pass_s0_ = 0, pass_s1_ = 0;  // samples of the current pass
     int next_row_ = 0, rows_done_ = 0;
     int samples_done_ = 0;

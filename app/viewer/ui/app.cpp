@@ -12,11 +12,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <optional>
+#include <thread>
 #include <utility>
 
 #include "default_scene.h"
@@ -73,6 +74,12 @@ std::string recent_note(const rt::Status& recent) {
     return recent ? std::string() : "; recent files not saved: " + recent.message();
 }
 
+// The pool's size: the render threads asked for (0: one per hardware thread) and the
+// UI thread, which takes part in the preview's loops.
+int pool_size(int threads) {
+    return 1 + (threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency())));
+}
+
 }  // namespace
 
 ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
@@ -81,11 +88,12 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
       interactive_(interactive),
       editor_(interactive, status_),
       nav_input_(nav_),
-      render_(options.threads, interactive,
+      pool_(pool_size(options.threads)),
+      render_(pool_, interactive,
               options.samples > 0 ? options.samples : (interactive ? kDefaultSamplesWindow : kDefaultSamplesHeadless),
               options.time_limit, options.aa_threshold.value_or(kDefaultAaThreshold)),
       dialogs_(*this, editor_.recent()),
-      tools_(options.verbose, options.threads),
+      tools_(options.verbose, pool_),
       panels_(*this, editor_, nav_, render_, layout_, status_, tools_) {
     layout_.fit = opt_.fit;
     render_.verbose = opt_.verbose;

@@ -11,10 +11,10 @@
 #include <cstdio>
 #include <ctime>
 
-#include "adaptive.h"
 #include "bounded_input.h"
 #include "image_io.h"
 #include "probe.h"
+#include "render_request.h"
 
 namespace rtview {
 
@@ -67,7 +67,7 @@ std::string clock_time(std::time_t t) {
 
 }  // namespace
 
-ImageTools::ImageTools(bool verbose, int threads) : verbose_(verbose), region_(threads), final_(threads) {}
+ImageTools::ImageTools(bool verbose, rt::ThreadPool& pool) : verbose_(verbose), region_(pool), final_(pool) {}
 
 ImageTools::~ImageTools() {
     region_.cancel();
@@ -848,10 +848,10 @@ void ImageTools::draw_render_setup() {
     }
     ImGui::SetNextItemWidth(fs * 8);
     ImGui::InputInt("samples per pixel", &render_samples_);
-    render_samples_ = std::clamp(render_samples_, 1, 65536);
+    render_samples_ = std::clamp(render_samples_, 1, rt::kMaxSamples);
     ImGui::SetNextItemWidth(fs * 8);
     ImGui::InputDouble("time limit (s, 0: none)", &render_time_limit_, 1, 10, "%.1f");
-    render_time_limit_ = std::clamp(render_time_limit_, 0.0, 1e6);
+    render_time_limit_ = std::clamp(render_time_limit_, 0.0, rt::kMaxTimeLimit);
     // Samples only where a pixel stands out or its samples disagree (raytracer --aa-threshold).
     ImGui::Checkbox("adaptive, threshold", &render_adaptive_);
     ImGui::SameLine();
@@ -867,9 +867,9 @@ void ImageTools::draw_render_setup() {
     } else if (go && f_.scene) {
         rt::Scene scene = *f_.scene;
         if (!render_scene_camera_) scene.camera = f_.render_camera;
-        render_error_ = final_.start(scene, render_path_, render_samples_, render_time_limit_,
-                                     render_adaptive_ ? render_aa_threshold_ : -1, f_.world.get())
-                            .message();
+        const rt::RenderRequest request =
+            final_render_request(render_samples_, render_time_limit_, render_adaptive_ ? render_aa_threshold_ : -1);
+        render_error_ = final_.start(scene, render_path_, request, f_.world.get()).message();
     }
 }
 

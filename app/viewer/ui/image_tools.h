@@ -53,7 +53,8 @@ struct ImageFrame {
 
 class ImageTools {
 public:
-    explicit ImageTools(bool verbose, int threads);
+    // The region and the final render run on `pool` (the viewer's one pool).
+    ImageTools(bool verbose, rt::ThreadPool& pool);
     ~ImageTools();
 
     void begin(const ImageFrame& f) { f_ = f; }

@@ -18,6 +18,7 @@
 #include "probe.h"
 #include "scene_schema.h"
 #include "readout.h"
+#include "render_request.h"
 #include "scene_text.h"
 #include "scene_writer.h"
 #include "shown_numbers.h"
@@ -890,10 +891,10 @@ void Panels::draw_render_tab() {
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 11);
     // Dragged live; typed values (Ctrl+click) apply on Enter, not a digit at a time:
     // "256" typed must not stop the render at 2 samples first.
-    static const double kMinSamples = 1, kMaxSamples = 65536, kNoLimit = 0, kMaxLimit = 1e6;
+    static const double kLeastSamples = 1, kMostSamples = rt::kMaxSamples, kNoLimit = 0, kMaxLimit = rt::kMaxTimeLimit;
     double samples = render_.max_samples();
-    if (number_field("samples per pixel", &samples, {0.5f, &kMinSamples, &kMaxSamples, "%.0f", false, true}))
-        render_.set_max_samples(int(std::clamp(std::round(samples), kMinSamples, kMaxSamples)));
+    if (number_field("samples per pixel", &samples, {0.5f, &kLeastSamples, &kMostSamples, "%.0f", false, true}))
+        render_.set_max_samples(int(std::clamp(std::round(samples), kLeastSamples, kMostSamples)));
     probe_item("field_samples");
     double limit = render_.time_limit();
     if (number_field("time limit (s)", &limit, {0.1f, &kNoLimit, &kMaxLimit, "%.1f", false, true}))

@@ -41,14 +41,13 @@ std::array<std::uint64_t, 5> signature(const rt::RenderProgress& p) {
 
 }  // namespace
 
-RenderController::RenderController(int threads, bool interactive, int max_samples, double time_limit,
+RenderController::RenderController(rt::ThreadPool& pool, bool interactive, int max_samples, double time_limit,
                                    double aa_threshold)
     : interactive_(interactive),
-      renderer_(threads),
+      renderer_(pool),
       max_samples_(max_samples),
       time_limit_(time_limit),
-      aa_threshold_(aa_threshold),
-      preview_pool_(renderer_.threads()) {}
+      aa_threshold_(aa_threshold) {}
 
 RenderController::~RenderController() { renderer_.cancel(); }
 
@@ -139,7 +138,7 @@ void RenderController::trace_preview(const rt::Camera& camera, int film_w, int f
     stop.deadline = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                              std::chrono::duration<double>(kPreviewDeadline));
     PreviewResult r = rtview::trace_preview(*world(), camera, film_w, film_h, b, preview_rgba_, pw, ph,
-                                            &preview_pool_, stop);
+                                            &renderer_.pool(), stop);
     double took = seconds_since(t0);
     ui_pacer_.measured(double(std::max<std::uint64_t>(r.traced, 1)), took);
     preview_tex_.upload(preview_rgba_, pw, ph, {0, 0, pw, ph});

@@ -30,8 +30,10 @@ namespace rtview {
 
 class RenderController {
 public:
-    // aa_threshold: adaptive anti-aliasing's (rt::RenderSettings), < 0 for none.
-    RenderController(int threads, bool interactive, int max_samples, double time_limit, double aa_threshold);
+    // Renders on `pool` (the viewer's one pool, which must outlive it); aa_threshold:
+    // adaptive anti-aliasing's (rt::RenderSettings), < 0 for none.
+    RenderController(rt::ThreadPool& pool, bool interactive, int max_samples, double time_limit,
+                     double aa_threshold);
     ~RenderController();
 
     // The document's scene changed (or not): its changes go into the world (world_sync.h:
@@ -96,7 +98,7 @@ public:
     std::uint64_t done_generation() const { return done_generation_; }
     double last_latency_ms() const { return last_latency_ms_; }
     int last_coarse_block() const { return started_block_; }
-    int preview_threads() const { return preview_pool_.size(); }  // tracing a moving view
+    int preview_threads() const { return renderer_.pool().size(); }  // tracing a moving view
     bool verbose = false;
     // Seconds since the program started (for --verbose timings of the first picture).
     double (*clock)() = nullptr;
@@ -131,7 +133,6 @@ private:
     bool paused_ = false;
 
     // The previews of a moving view, traced by this thread and the pool's.
-    rt::ThreadPool preview_pool_;
     PreviewPacer ui_pacer_;
     FilmTexture preview_tex_;
     std::vector<std::uint8_t> preview_rgba_;
