@@ -24,6 +24,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "pages.h"
 #include "parallel.h"
 #include "triangles.h"
 
@@ -313,27 +314,36 @@ struct TriBuilder {
     }
 };
 
-// Each leaf's triangles into a block of their own, in the leaves' order; the leaves
-// then name their block's slots.
-void fill_blocks(TriangleAccel& acc, std::vector<BvhBinNode>& bin, const TRec* recs, const MeshData& m) {
+// The leaves' triangles in the leaves' order, four slots to a leaf (unused slots 0),
+// and the leaves then naming their slots: all the blocks need of the records, which can
+// go before the blocks are made.
+void number_slots(TriangleAccel& acc, std::vector<BvhBinNode>& bin, const TRec* recs) {
     std::size_t leaves = 0;
     for (const BvhBinNode& b : bin) leaves += b.count > 0;
     if (4 * leaves >= BvhNode::kMaxItems) throw std::length_error("too many triangles for the BVH");
-    acc.blocks.resize(leaves);
     acc.ids.assign(4 * leaves, 0);
-    const float* p = m.positions.data();
-    std::size_t block = 0;
+    std::uint32_t slot = 0;
     for (BvhBinNode& b : bin) {
         if (b.count == 0) continue;
-        TriBlock& tb = acc.blocks[block];
+        for (std::uint32_t l = 0; l < b.count; ++l) acc.ids[slot + l] = recs[b.first + l].id();
+        b.first = slot;
+        slot += 4;
+    }
+}
+
+// Each leaf's triangles into a block of their own, from the slots' triangles.
+void fill_blocks(TriangleAccel& acc, const std::vector<BvhBinNode>& bin, const MeshData& m) {
+    acc.blocks.resize(acc.ids.size() / 4);
+    const float* p = m.positions.data();
+    for (const BvhBinNode& b : bin) {
+        if (b.count == 0) continue;
+        TriBlock& tb = acc.blocks[b.first / 4];
         std::memset(&tb, 0, sizeof tb);
         for (std::uint32_t l = 0; l < b.count; ++l) {
-            const std::uint32_t id = recs[b.first + l].id();
-            acc.ids[4 * block + l] = id;
+            const std::uint32_t id = acc.ids[b.first + l];
             for (int k = 0; k < 3; ++k)
                 for (int a = 0; a < 3; ++a) tb.v[3 * k + a][l] = p[3 * m.triangles[3 * std::size_t(id) + k] + a];
         }
-        b.first = std::uint32_t(4 * block++);
     }
 }
 
@@ -345,10 +355,10 @@ TriangleAccel TriangleAccel::build(const MeshData& m, int threads) {
     if (n == 0) return acc;
     if (n > ModelLimits::max_triangles) throw std::length_error("too many triangles for the BVH");
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
-    // malloc, not a vector: no zero fill before the real values.
-    std::unique_ptr<TRec, void (*)(void*)> mem(static_cast<TRec*>(std::malloc(n * sizeof(TRec))), std::free);
-    if (!mem) throw std::bad_alloc();
-    TRec* recs = mem.get();
+    // Pages of their own, given back before the blocks are made (pages.h).
+    PageBuffer mem(n * sizeof(TRec));
+    populate_pages_on_two_threads(mem.data(), mem.size());
+    TRec* recs = reinterpret_cast<TRec*>(mem.data());
     const float* p = m.positions.data();
     for (std::size_t t = 0; t < n; ++t) {
         const std::uint32_t* v = &m.triangles[3 * t];
@@ -365,11 +375,14 @@ TriangleAccel TriangleAccel::build(const MeshData& m, int threads) {
     TriBuilder builder{recs, spare};
     Box b, cb;
     builder.bounds(0, std::uint32_t(n), b, cb);
+    // Room for the tree the build usually makes (leaves of three or four triangles and
+    // as many inner nodes), so that it seldom moves; the pages not used cost nothing.
     std::vector<BvhBinNode> bin(1);
-    bin.reserve(n / 2 + 16);
+    bin.reserve(n * 2 / 3 + 16);
     builder.build(bin, 0, 0, std::uint32_t(n), b, cb, 0);
-    fill_blocks(acc, bin, recs, m);
+    number_slots(acc, bin, recs);
     mem.reset();
+    fill_blocks(acc, bin, m);
     acc.bvh.collapse(bin, threads);
     return acc;
 }
