@@ -143,6 +143,10 @@ struct Split {
     double cost = DBL_MAX;
 };
 
+// A side's cost counts the blocks its triangles will fill, not the triangles: a leaf
+// tests four at once, so splits that leave whole blocks are preferred.
+inline double blocks(std::uint32_t n) { return double((n + kLeaf - 1) / kLeaf); }
+
 // The cheapest split between bins on one axis, if cheaper than `best`.
 void sweep(const Bins& bins, int axis, Split& best) {
     double left_area[kBins];
@@ -161,7 +165,7 @@ void sweep(const Bins& bins, int axis, Split& best) {
         acc.grow(bins.box[axis][k]);
         n += bins.count[axis][k];
         if (left_n[k - 1] == 0 || n == 0) continue;
-        const double cost = left_area[k - 1] * left_n[k - 1] + acc.area() * n;
+        const double cost = left_area[k - 1] * blocks(left_n[k - 1]) + acc.area() * blocks(n);
         if (cost < best.cost) best = {axis, k - 1, cost};
     }
 }
