@@ -335,19 +335,44 @@ void number_slots(TriangleAccel& acc, std::vector<BvhBinNode>& bin, const TRec* 
     }
 }
 
-// Each leaf's triangles into a block of their own, from the slots' triangles.
-void fill_blocks(TriangleAccel& acc, const std::vector<BvhBinNode>& bin, const MeshData& m) {
-    acc.blocks.resize(acc.ids.size() / 4);
+// Each leaf's triangles into a block of its own, from the slots' triangles.
+void fill_blocks(TriangleAccel& acc, const BvhBinNode* begin, const BvhBinNode* end, const MeshData& m) {
     const float* p = m.positions.data();
-    for (const BvhBinNode& b : bin) {
+    for (const BvhBinNode* n = begin; n != end; ++n) {
+        const BvhBinNode& b = *n;
         if (b.count == 0) continue;
         TriBlock& tb = acc.blocks[b.first / 4];
-        std::memset(&tb, 0, sizeof tb);
         for (std::uint32_t l = 0; l < b.count; ++l) {
             const std::uint32_t id = acc.ids[b.first + l];
             for (int k = 0; k < 3; ++k)
                 for (int a = 0; a < 3; ++a) tb.v[3 * k + a][l] = p[3 * m.triangles[3 * std::size_t(id) + k] + a];
         }
+    }
+}
+
+// All the leaves' blocks (zero in unused lanes): the leaves of each half of the tree
+// on a thread of their own.
+void fill_blocks(TriangleAccel& acc, const std::vector<BvhBinNode>& bin, const MeshData& m, bool two_threads) {
+    acc.blocks.resize(acc.ids.size() / 4);
+    two_ways(two_threads, [&](int part) {
+        const std::size_t half = bin.size() / 2;
+        fill_blocks(acc, bin.data() + (part ? half : 0), bin.data() + (part ? bin.size() : half), m);
+    });
+}
+
+// The records of triangles [begin, end).
+void make_records(const MeshData& m, TRec* recs, std::size_t begin, std::size_t end) {
+    const float* p = m.positions.data();
+    for (std::size_t t = begin; t < end; ++t) {
+        const std::uint32_t* v = &m.triangles[3 * t];
+        TRec& r = recs[t];
+        for (int a = 0; a < 3; ++a) {
+            const float x = p[3 * v[0] + a], y = p[3 * v[1] + a], z = p[3 * v[2] + a];
+            r.lo[a] = std::min({x, y, z});
+            r.hi[a] = std::max({x, y, z});
+        }
+        r.lo[3] = float(t & 0xffff);
+        r.hi[3] = float(t >> 16);
     }
 }
 
@@ -361,24 +386,20 @@ TriangleAccel TriangleAccel::build(const MeshData& m, int threads) {
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
     // Pages of their own, given back before the blocks are made (pages.h).
     PageBuffer mem(n * sizeof(TRec));
-    populate_pages_on_two_threads(mem.data(), mem.size());
     TRec* recs = reinterpret_cast<TRec*>(mem.data());
-    const float* p = m.positions.data();
-    for (std::size_t t = 0; t < n; ++t) {
-        const std::uint32_t* v = &m.triangles[3 * t];
-        TRec& r = recs[t];
-        for (int a = 0; a < 3; ++a) {
-            const float x = p[3 * v[0] + a], y = p[3 * v[1] + a], z = p[3 * v[2] + a];
-            r.lo[a] = std::min({x, y, z});
-            r.hi[a] = std::max({x, y, z});
-        }
-        r.lo[3] = float(t & 0xffff);
-        r.hi[3] = float(t >> 16);
-    }
     std::atomic<int> spare{threads - 1};
     TriBuilder builder{recs, spare};
-    Box b, cb;
-    builder.bounds(0, std::uint32_t(n), b, cb);
+    // The records and their bounds, a half on each of two threads (the bounds' union
+    // is the same either way).
+    Box b, cb, half_b, half_cb;
+    const std::size_t mid = n / 2;
+    two_ways(threads > 1 && n >= kParallelItems, [&](int part) {
+        const std::size_t begin = part ? mid : 0, end = part ? n : mid;
+        make_records(m, recs, begin, end);
+        builder.bounds(std::uint32_t(begin), std::uint32_t(end), part ? half_b : b, part ? half_cb : cb);
+    });
+    b.grow(half_b);
+    cb.grow(half_cb);
     // Room for the tree the build usually makes (leaves of three or four triangles and
     // as many inner nodes), so that it seldom moves; the pages not used cost nothing.
     std::vector<BvhBinNode> bin(1);
@@ -386,7 +407,7 @@ TriangleAccel TriangleAccel::build(const MeshData& m, int threads) {
     builder.build(bin, 0, 0, std::uint32_t(n), b, cb, 0);
     number_slots(acc, bin, recs);
     mem.reset();
-    fill_blocks(acc, bin, m);
+    fill_blocks(acc, bin, m, threads > 1 && n >= kParallelItems);
     acc.bvh.collapse(bin, threads);
     return acc;
 }
