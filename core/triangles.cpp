@@ -177,9 +177,12 @@ struct NearestLeaf {
     TriHit& hit;
     bool& found;
     double operator()(std::uint32_t first, std::uint32_t count, double) const {
-        double t[4];
-        Lanes::ts(r, a.blocks[first >> 2], count, t);
-        keep_nearest(t, first, count, tmin, hit, found);
+        for (std::uint32_t j = 0; j < count; j += 4) {
+            double t[4];
+            const std::uint32_t c = std::min(count - j, 4u);
+            Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
+            keep_nearest(t, first + j, c, tmin, hit, found);
+        }
         return hit.t;
     }
 };
@@ -191,9 +194,13 @@ struct AnyLeaf {
     double tmin, tmax;
     double& found;
     bool operator()(std::uint32_t first, std::uint32_t count) const {
-        double t[4];
-        Lanes::ts(r, a.blocks[first >> 2], count, t);
-        return first_within(t, count, tmin, tmax, found);
+        for (std::uint32_t j = 0; j < count; j += 4) {
+            double t[4];
+            const std::uint32_t c = std::min(count - j, 4u);
+            Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
+            if (first_within(t, c, tmin, tmax, found)) return true;
+        }
+        return false;
     }
 };
 
@@ -221,17 +228,24 @@ struct Avx2Lanes {
 // inlines into them.
 struct NearestLeafAvx2 : NearestLeaf<Avx2Lanes> {
     RT_TARGET_AVX2 double operator()(std::uint32_t first, std::uint32_t count, double) const {
-        double t[4];
-        Avx2Lanes::ts(r, a.blocks[first >> 2], count, t);
-        keep_nearest(t, first, count, tmin, hit, found);
+        for (std::uint32_t j = 0; j < count; j += 4) {
+            double t[4];
+            const std::uint32_t c = std::min(count - j, 4u);
+            Avx2Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
+            keep_nearest(t, first + j, c, tmin, hit, found);
+        }
         return hit.t;
     }
 };
 struct AnyLeafAvx2 : AnyLeaf<Avx2Lanes> {
     RT_TARGET_AVX2 bool operator()(std::uint32_t first, std::uint32_t count) const {
-        double t[4];
-        Avx2Lanes::ts(r, a.blocks[first >> 2], count, t);
-        return first_within(t, count, tmin, tmax, found);
+        for (std::uint32_t j = 0; j < count; j += 4) {
+            double t[4];
+            const std::uint32_t c = std::min(count - j, 4u);
+            Avx2Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
+            if (first_within(t, c, tmin, tmax, found)) return true;
+        }
+        return false;
     }
 };
 

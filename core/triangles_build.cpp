@@ -33,7 +33,9 @@ namespace rt {
 namespace {
 
 constexpr int kBins = 16;
-constexpr std::uint32_t kLeaf = 4;  // triangles in a leaf: one block
+constexpr std::uint32_t kLeaf = 4;     // triangles in a block; a leaf always when no more
+constexpr std::uint32_t kMaxLeaf = 8;  // triangles in a leaf at most: two blocks
+constexpr double kNodeCost = 1.0;      // a node's test, in blocks' tests
 constexpr int kMaxSahDepth = 64;
 constexpr std::uint32_t kParallelItems = 16384;     // subtrees built on another thread
 constexpr std::uint32_t kParallelBinItems = 1u << 16;  // nodes binned in two halves
@@ -174,6 +176,7 @@ void sweep(const Bins& bins, int axis, Split& best) {
 struct Halves {
     std::uint32_t mid;
     Box lb, lcb, rb, rcb;
+    double cost = DBL_MAX;  // the SAH split's (blocks times half areas); DBL_MAX for a median split
 };
 
 
@@ -235,6 +238,7 @@ struct TriBuilder {
                 });
                 h.mid = std::uint32_t(mid - recs);
                 for (int b = 0; b < kBins; ++b) (b <= s.bin ? h.lb : h.rb).grow(bins.box[axis][b]);
+                h.cost = s.cost;
                 if (h.mid != begin && h.mid != end) return h;
             }
         }
@@ -274,6 +278,13 @@ struct TriBuilder {
             return;
         }
         const Halves h = split(begin, end, cb, depth);
+        // Two blocks in one leaf where the SAH finds that cheaper than a node over two
+        // leaves (a node's test costing about a block's).
+        if (end - begin <= kMaxLeaf && h.cost >= b.area() * (blocks(end - begin) - kNodeCost)) {
+            out[node].first = begin;
+            out[node].count = end - begin;
+            return;
+        }
         out[node].count = 0;
         if (end - begin >= kParallelItems && take_thread()) return build_apart(out, node, begin, end, h, depth + 1);
         const std::uint32_t left = std::uint32_t(out.size());
@@ -318,34 +329,35 @@ struct TriBuilder {
     }
 };
 
-// The leaves' triangles in the leaves' order, four slots to a leaf (unused slots 0),
+// The leaves' triangles in the leaves' order, four slots to a block and one or two
+// blocks to a leaf (unused slots 0),
 // and the leaves then naming their slots: all the blocks need of the records, which can
 // go before the blocks are made.
 void number_slots(TriangleAccel& acc, std::vector<BvhBinNode>& bin, const TRec* recs) {
-    std::size_t leaves = 0;
-    for (const BvhBinNode& b : bin) leaves += b.count > 0;
-    if (4 * leaves >= BvhNode::kMaxItems) throw std::length_error("too many triangles for the BVH");
-    acc.ids.assign(4 * leaves, 0);
+    std::size_t slots = 0;
+    for (const BvhBinNode& b : bin) slots += 4 * std::size_t(blocks(b.count));
+    if (slots >= BvhNode::kMaxItems) throw std::length_error("too many triangles for the BVH");
+    acc.ids.assign(slots, 0);
     std::uint32_t slot = 0;
     for (BvhBinNode& b : bin) {
         if (b.count == 0) continue;
         for (std::uint32_t l = 0; l < b.count; ++l) acc.ids[slot + l] = recs[b.first + l].id();
         b.first = slot;
-        slot += 4;
+        slot += 4 * std::uint32_t(blocks(b.count));
     }
 }
 
-// Each leaf's triangles into a block of its own, from the slots' triangles.
+// Each leaf's triangles into blocks of its own (one or two), from the slots' triangles.
 void fill_blocks(TriangleAccel& acc, const BvhBinNode* begin, const BvhBinNode* end, const MeshData& m) {
     const float* p = m.positions.data();
     for (const BvhBinNode* n = begin; n != end; ++n) {
         const BvhBinNode& b = *n;
         if (b.count == 0) continue;
-        TriBlock& tb = acc.blocks[b.first / 4];
         for (std::uint32_t l = 0; l < b.count; ++l) {
+            TriBlock& tb = acc.blocks[(b.first + l) / 4];
             const std::uint32_t id = acc.ids[b.first + l];
             for (int k = 0; k < 3; ++k)
-                for (int a = 0; a < 3; ++a) tb.v[3 * k + a][l] = p[3 * m.triangles[3 * std::size_t(id) + k] + a];
+                for (int a = 0; a < 3; ++a) tb.v[3 * k + a][l & 3] = p[3 * m.triangles[3 * std::size_t(id) + k] + a];
         }
     }
 }
