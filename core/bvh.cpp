@@ -487,9 +487,10 @@ struct Collapser {
         return BvhNode::kLeaf | (n.count - 1) << BvhNode::kCountShift | n.first;
     }
 
-    // A W-wide node for the binary inner node i (or for a lone leaf at the root).
-    std::uint32_t make(std::uint32_t i) {
-        std::uint32_t kids[W];
+    // The binary nodes that become the children of the W-wide node made for the binary
+    // inner node i (or for a lone leaf at the root): i's children, then those of the
+    // largest inner one among them, until there are W or all are leaves. Their number.
+    int gather(std::uint32_t i, std::uint32_t kids[W]) const {
         int k = 0;
         if (bin[i].count > 0) {
             kids[k++] = i;
@@ -510,6 +511,24 @@ struct Collapser {
             kids[best] = n + 1;
             kids[k++] = bin[n].first;
         }
+        return k;
+    }
+
+    // How many W-wide nodes make() makes for node i: room for them is taken at once, in
+    // one block, with nothing to copy or give back afterwards.
+    std::size_t count(std::uint32_t i) const {
+        std::uint32_t kids[W];
+        const int k = gather(i, kids);
+        std::size_t n = 1;
+        for (int j = 0; j < k; ++j)
+            if (bin[kids[j]].count == 0) n += count(kids[j]);
+        return n;
+    }
+
+    // A W-wide node for the binary inner node i (or for a lone leaf at the root).
+    std::uint32_t make(std::uint32_t i) {
+        std::uint32_t kids[W];
+        const int k = gather(i, kids);
         std::uint32_t index = std::uint32_t(out.size());
         out.push_back(Node{});
         std::uint32_t refs[W];
@@ -533,13 +552,13 @@ void collapse(const std::vector<BinNode>& bin, Chunked<BvhNode>& nodes, Chunked<
     const bool wide = active_isa() == Isa::Avx2;
     two_ways(two_threads && wide, [&](int part) {
         if (part == 0) {
-            nodes.reserve(bin.size() / 3 + 1);
-            Collapser<BvhNode, 4>{bin, nodes}.make(0);
-            nodes.shrink_to_fit();
+            Collapser<BvhNode, 4> c{bin, nodes};
+            nodes.reserve(c.count(0));
+            c.make(0);
         } else if (wide) {
-            nodes8.reserve(bin.size() / 7 + 1);
-            Collapser<BvhNode8, 8>{bin, nodes8}.make(0);
-            nodes8.shrink_to_fit();
+            Collapser<BvhNode8, 8> c{bin, nodes8};
+            nodes8.reserve(c.count(0));
+            c.make(0);
         }
     });
 }

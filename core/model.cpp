@@ -15,14 +15,16 @@
 #include "diagnostic_text.h"
 #include "image_io.h"
 #include "model_readers.h"
+#include "pages.h"
 #include "triangles.h"
 
 namespace rt {
 
 namespace {
 
-// The whole file, if it is a regular file within the size limit.
-bool read_file(const std::string& path, std::string& out, ModelError& error) {
+// The whole file, if it is a regular file within the size limit: in pages of its own,
+// handed back once the reader is done (a 10M-triangle model's text is ~200 MB).
+bool read_file(const std::string& path, PageBuffer& out, ModelError& error) {
     // Non-blocking: a FIFO must not stop the open (it is refused below).
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
     if (fd < 0) {
@@ -51,10 +53,11 @@ bool read_file(const std::string& path, std::string& out, ModelError& error) {
                         std::to_string(ModelLimits::max_file_size) + ")";
         return false;
     }
-    out.resize(std::size_t(st.st_size));
+    out = PageBuffer(std::size_t(st.st_size));
+    if (out.size() >= (std::size_t(1) << 24)) populate_pages_on_two_threads(out.data(), out.size());
     std::size_t got = 0;
     while (got < out.size()) {
-        const ssize_t n = ::read(fd, &out[got], out.size() - got);
+        const ssize_t n = ::read(fd, out.data() + got, out.size() - got);
         if (n < 0 && errno == EINTR) continue;
         if (n < 0) {
             error.message = std::strerror(errno);
@@ -63,7 +66,7 @@ bool read_file(const std::string& path, std::string& out, ModelError& error) {
         if (n == 0) break;  // shrank while being read: what is there is the file
         got += std::size_t(n);
     }
-    out.resize(got);
+    out.shrink(got);
     return true;
 }
 
@@ -82,8 +85,9 @@ bool read_model(const std::string& path, MeshData& out, ModelError& error) {
         error.message = "unknown model format '" + ext + "' (expected a .obj or .ply file)";
         return false;
     }
-    std::string text;
-    if (!read_file(path, text, error)) return false;
+    PageBuffer file;
+    if (!read_file(path, file, error)) return false;
+    const std::string_view text(file.data(), file.size());
     if (ext == ".obj") {
         if (Status s = check_encoding(text); !s.ok()) {
             error.message = s.message();

@@ -173,6 +173,11 @@ public:
     std::size_t left() const { return b_.size() - pos_; }
     long line() const { return line_; }
     bool ascii() const { return format_ == Format::Ascii; }
+    bool big_endian() const { return format_ == Format::Big; }
+    // The bytes not read yet, for the fast paths that read whole records at once, and
+    // the step past what they read.
+    const unsigned char* here() const { return reinterpret_cast<const unsigned char*>(b_.data() + pos_); }
+    void skip(std::size_t n) { pos_ += n; }
 
     // The next value, read as `t`. False at the end of the data or on a word that is no number.
     bool value(Type t, double& v, std::string& bad) {
@@ -229,6 +234,18 @@ private:
     Format format_;
 };
 
+// A 4-byte value of the file's byte order at p.
+template <class T>
+inline T load4(const unsigned char* p, bool big) {
+    static_assert(sizeof(T) == 4, "four bytes");
+    std::uint32_t u;
+    std::memcpy(&u, p, 4);
+    if (big) u = __builtin_bswap32(u);
+    T v;
+    std::memcpy(&v, &u, 4);
+    return v;
+}
+
 struct PlyReader {
     const Header& h;
     Body body;
@@ -282,8 +299,73 @@ struct PlyReader {
 
     bool vertices(const Element& e);
     bool faces(const Element& e, std::size_t list);
+    std::uint64_t fast_vertices(const Element& e, const int slot[6], bool normals);
+    std::uint64_t fast_faces(const Element& e);
     bool face(std::uint64_t r, const Element& e, std::size_t list, std::string& bad);
 };
+
+// The common binary layouts read whole records at a time: vertices of fixed-size
+// records whose x, y, z (and nx, ny, nz) are floats, and faces that are only a list of
+// int indices counted by a byte. They stop at the first record that needs more than
+// that (another size of face, a bad value, the data's end) and the general reader goes
+// on from there, so its messages are the same. Both return the records read.
+std::uint64_t PlyReader::fast_vertices(const Element& e, const int slot[6], bool normals) {
+    if (body.ascii()) return 0;
+    std::size_t size = 0, at[6] = {};
+    for (std::size_t i = 0; i < e.props.size(); ++i) {
+        if (e.props[i].list) return 0;
+        for (int k = 0; k < 6; ++k)
+            if (slot[k] == int(i)) {
+                if (e.props[i].type != Type::Float32) return 0;
+                at[k] = size;
+            }
+        size += std::size_t(size_of(e.props[i].type));
+    }
+    const std::uint64_t n = std::min<std::uint64_t>(e.count, body.left() / size);
+    const bool big = body.big_endian();
+    out.positions.resize(3 * n);
+    if (normals) out.normals.resize(3 * n);
+    float* pos = out.positions.data();
+    std::uint64_t r = 0;
+    for (const unsigned char* p = body.here(); r < n; ++r, p += size) {
+        const float x = load4<float>(p + at[0], big), y = load4<float>(p + at[1], big), z = load4<float>(p + at[2], big);
+        if (!(std::fabs(x) <= ModelLimits::max_coordinate && std::fabs(y) <= ModelLimits::max_coordinate &&
+              std::fabs(z) <= ModelLimits::max_coordinate))
+            break;
+        pos[3 * r] = x, pos[3 * r + 1] = y, pos[3 * r + 2] = z;
+        if (normals)
+            for (int k = 0; k < 3; ++k) out.normals[3 * r + std::size_t(k)] = load4<float>(p + at[3 + k], big);
+    }
+    out.positions.resize(3 * r);
+    if (normals) out.normals.resize(3 * r);
+    body.skip(r * size);
+    return r;
+}
+
+std::uint64_t PlyReader::fast_faces(const Element& e) {
+    const Property& p = e.props[0];
+    if (body.ascii() || e.props.size() != 1 || size_of(p.count_type) != 1 ||
+        (p.type != Type::Int32 && p.type != Type::UInt32))
+        return 0;
+    const std::uint64_t n = std::min<std::uint64_t>(e.count, body.left() / 13);
+    const std::uint32_t vertices = std::uint32_t(out.positions.size() / 3);
+    const bool big = body.big_endian();
+    const std::size_t before = out.triangles.size();
+    out.triangles.resize(before + 3 * n);
+    std::uint32_t* t = out.triangles.data() + before;
+    std::uint64_t r = 0;
+    // (An Int32 index below 0 is a huge uint32: out of range too.)
+    for (const unsigned char* q = body.here(); r < n; ++r, q += 13) {
+        if (q[0] != 3) break;
+        const std::uint32_t a = load4<std::uint32_t>(q + 1, big), b = load4<std::uint32_t>(q + 5, big),
+                            c = load4<std::uint32_t>(q + 9, big);
+        if (a >= vertices || b >= vertices || c >= vertices) break;
+        t[3 * r] = a, t[3 * r + 1] = b, t[3 * r + 2] = c;
+    }
+    out.triangles.resize(before + 3 * r);
+    body.skip(r * 13);
+    return r;
+}
 
 bool PlyReader::vertices(const Element& e) {
     if (e.count > ModelLimits::max_vertices)
@@ -303,7 +385,7 @@ bool PlyReader::vertices(const Element& e) {
     if (normals) out.normals.reserve(3 * e.count);
     std::vector<double> rec(e.props.size());
     std::string bad;
-    for (std::uint64_t r = 0; r < e.count; ++r) {
+    for (std::uint64_t r = fast_vertices(e, slot, normals); r < e.count; ++r) {
         for (std::size_t i = 0; i < e.props.size(); ++i) {
             double n = 1;
             const Property& p = e.props[i];
@@ -364,7 +446,7 @@ bool PlyReader::faces(const Element& e, std::size_t list) {
                     0, "face");
     out.triangles.reserve(3 * e.count);
     std::string bad;
-    for (std::uint64_t r = 0; r < e.count; ++r)
+    for (std::uint64_t r = list == 0 ? fast_faces(e) : 0; r < e.count; ++r)
         if (!face(r, e, list, bad)) return false;
     return true;
 }

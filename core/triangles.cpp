@@ -114,7 +114,7 @@ namespace {
 // tri_intersect() for the four lanes of a block at once, the same operations lane for
 // lane: t per lane (NaN for a miss). Lanes with an edge function of exactly zero are
 // left to the scalar test (bit `exact`).
-RT_TARGET_AVX2 void tri_intersect4(const TriRay& r, const TriBlock& b, double t[4], unsigned& exact) {
+RT_TARGET_AVX2 inline void tri_intersect4(const TriRay& r, const TriBlock& b, double t[4], unsigned& exact) {
     const __m256d ox = _mm256_set1_pd(r.ox), oy = _mm256_set1_pd(r.oy), oz = _mm256_set1_pd(r.oz);
     const __m256d sx = _mm256_set1_pd(r.sx), sy = _mm256_set1_pd(r.sy), sz = _mm256_set1_pd(r.sz);
     __m256d X[3], Y[3], Z[3];
@@ -148,53 +148,135 @@ RT_TARGET_AVX2 void tri_intersect4(const TriRay& r, const TriBlock& b, double t[
 
 namespace {
 
-// The t of each lane of a leaf's block (count lanes), NaN for a miss: four at once
-// where AVX2 is active, the same values either way.
-inline void leaf_ts(const TriRay& r, const TriBlock& b, std::uint32_t count, double t[4]) {
+// The leaf tests, from the t of each lane of the leaf's block (NaN for a miss).
+// keep_nearest: the nearest; on an exact tie the lower slot, so that the order of the
+// leaves (which differs between the 4- and 8-wide trees) cannot matter.
+inline void keep_nearest(const double t[4], std::uint32_t first, std::uint32_t count, double tmin, TriHit& hit,
+                         bool& found) {
+    for (std::uint32_t l = 0; l < count; ++l) {
+        const std::uint32_t slot = first + l;
+        if (t[l] > tmin && (t[l] < hit.t || (found && t[l] == hit.t && slot < hit.slot))) {
+            hit = {t[l], slot};
+            found = true;
+        }
+    }
+}
+inline bool first_within(const double t[4], std::uint32_t count, double tmin, double tmax, double& found) {
+    for (std::uint32_t l = 0; l < count; ++l)
+        if (t[l] > tmin && t[l] < tmax) return found = t[l], true;
+    return false;
+}
+
+// The walks' leaf visitors: Lanes::ts(r, b, count, t) gives the t of the first count
+// lanes of a block.
+template <class Lanes>
+struct NearestLeaf {
+    const TriangleAccel& a;
+    const TriRay& r;
+    double tmin;
+    TriHit& hit;
+    bool& found;
+    double operator()(std::uint32_t first, std::uint32_t count, double) const {
+        for (std::uint32_t j = 0; j < count; j += 4) {
+            double t[4];
+            const std::uint32_t c = std::min(count - j, 4u);
+            Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
+            keep_nearest(t, first + j, c, tmin, hit, found);
+        }
+        return hit.t;
+    }
+};
+
+template <class Lanes>
+struct AnyLeaf {
+    const TriangleAccel& a;
+    const TriRay& r;
+    double tmin, tmax;
+    double& found;
+    bool operator()(std::uint32_t first, std::uint32_t count) const {
+        for (std::uint32_t j = 0; j < count; j += 4) {
+            double t[4];
+            const std::uint32_t c = std::min(count - j, 4u);
+            Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
+            if (first_within(t, c, tmin, tmax, found)) return true;
+        }
+        return false;
+    }
+};
+
+struct ScalarLanes {
+    static void ts(const TriRay& r, const TriBlock& b, std::uint32_t count, double t[4]) {
+        for (std::uint32_t l = 0; l < count; ++l) t[l] = tri_intersect(r, b, int(l));
+    }
+};
+
 #if RT_HAVE_AVX2_KERNELS
-    if (avx2_active()) {
+// Four lanes at once, the same values as ScalarLanes; compiled with the 8-wide walks
+// (the leaf tests then inline into them).
+struct Avx2Lanes {
+    RT_TARGET_AVX2 static inline void ts(const TriRay& r, const TriBlock& b, std::uint32_t count, double t[4]) {
         unsigned exact;
         tri_intersect4(r, b, t, exact);
         for (exact &= (1u << count) - 1; exact; exact &= exact - 1) {
             const int l = __builtin_ctz(exact);
             t[l] = tri_intersect(r, b, l);
         }
-        return;
     }
-#endif
-    for (std::uint32_t l = 0; l < count; ++l) t[l] = tri_intersect(r, b, int(l));
+};
+
+// The same visitors compiled with the 8-wide walks, so that the four-lane test
+// inlines into them.
+struct NearestLeafAvx2 : NearestLeaf<Avx2Lanes> {
+    RT_TARGET_AVX2 double operator()(std::uint32_t first, std::uint32_t count, double) const {
+        for (std::uint32_t j = 0; j < count; j += 4) {
+            double t[4];
+            const std::uint32_t c = std::min(count - j, 4u);
+            Avx2Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
+            keep_nearest(t, first + j, c, tmin, hit, found);
+        }
+        return hit.t;
+    }
+};
+struct AnyLeafAvx2 : AnyLeaf<Avx2Lanes> {
+    RT_TARGET_AVX2 bool operator()(std::uint32_t first, std::uint32_t count) const {
+        for (std::uint32_t j = 0; j < count; j += 4) {
+            double t[4];
+            const std::uint32_t c = std::min(count - j, 4u);
+            Avx2Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
+            if (first_within(t, c, tmin, tmax, found)) return true;
+        }
+        return false;
+    }
+};
+
+RT_TARGET_AVX2 bool nearest_avx2(const TriangleAccel& a, const TriRay& r, double tmin, TriHit& hit) {
+    bool found = false;
+    a.bvh.traverse_nearest_leaves(r.o, r.d, hit.t, NearestLeafAvx2{{a, r, tmin, hit, found}});
+    return found;
 }
+
+RT_TARGET_AVX2 bool any_avx2(const TriangleAccel& a, const TriRay& r, double tmin, double tmax, double& found) {
+    return a.bvh.occluded_leaves(r.o, r.d, 1.0, tmax, AnyLeafAvx2{{a, r, tmin, tmax, found}});
+}
+#endif
 
 }  // namespace
 
 bool TriangleAccel::nearest(const TriRay& r, double tmin, double tmax, TriHit& hit) const {
-    bool found = false;
     hit = {tmax, 0};
-    bvh.traverse_nearest_leaves(r.o, r.d, tmax, [&](std::uint32_t first, std::uint32_t count, double) -> double {
-        double t[4];
-        leaf_ts(r, blocks[first >> 2], count, t);
-        for (std::uint32_t l = 0; l < count; ++l) {
-            // The nearest; on an exact tie the lower slot, so that the order of the
-            // leaves (which differs between the 4- and 8-wide trees) cannot matter.
-            const std::uint32_t slot = first + l;
-            if (t[l] > tmin && (t[l] < hit.t || (found && t[l] == hit.t && slot < hit.slot))) {
-                hit = {t[l], slot};
-                found = true;
-            }
-        }
-        return hit.t;
-    });
+#if RT_HAVE_AVX2_KERNELS
+    if (avx2_active()) return nearest_avx2(*this, r, tmin, hit);
+#endif
+    bool found = false;
+    bvh.traverse_nearest_leaves(r.o, r.d, tmax, NearestLeaf<ScalarLanes>{*this, r, tmin, hit, found});
     return found;
 }
 
 bool TriangleAccel::any(const TriRay& r, double tmin, double tmax, double& found) const {
-    return bvh.occluded_leaves(r.o, r.d, 1.0, tmax, [&](std::uint32_t first, std::uint32_t count) {
-        double t[4];
-        leaf_ts(r, blocks[first >> 2], count, t);
-        for (std::uint32_t l = 0; l < count; ++l)
-            if (t[l] > tmin && t[l] < tmax) return found = t[l], true;
-        return false;
-    });
+#if RT_HAVE_AVX2_KERNELS
+    if (avx2_active()) return any_avx2(*this, r, tmin, tmax, found);
+#endif
+    return bvh.occluded_leaves(r.o, r.d, 1.0, tmax, AnyLeaf<ScalarLanes>{*this, r, tmin, tmax, found});
 }
 
 void TriangleAccel::corners(std::uint32_t slot, Vec3 c[3]) const {

@@ -1,9 +1,9 @@
 // A model's triangles compiled for tracing: a BVH over them (the same wide nodes and
 // walks as the scene's objects, built in less memory per item), its leaves' triangles
-// stored four to a block in the order the leaves come, and the watertight ray-triangle
-// test of Woop, Benthin and Wald (JCGT 2013) over a leaf at once. One TriangleAccel
-// serves every mesh block that names the model: a mesh instance (MeshInstance) takes
-// the ray into the model's space and back.
+// stored four to a block (one or two blocks a leaf) in the order the leaves come, and
+// the watertight ray-triangle test of Woop, Benthin and Wald (JCGT 2013) over a block
+// at once. One TriangleAccel serves every mesh block that names the model: a mesh
+// instance (MeshInstance) takes the ray into the model's space and back.
 #pragma once
 
 #include <cstdint>
@@ -40,7 +40,7 @@ struct TriHit {
 };
 
 struct TriangleAccel {
-    Bvh bvh;  // leaves hold [first, first + count): slots of one block (first = 4 * block)
+    Bvh bvh;  // leaves hold [first, first + count): slots of one or two blocks (first = 4 * block)
     std::vector<TriBlock> blocks;
     std::vector<std::uint32_t> ids;  // per slot, the triangle's index in the model
 

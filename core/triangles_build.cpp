@@ -24,6 +24,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "pages.h"
 #include "parallel.h"
 #include "triangles.h"
 
@@ -32,7 +33,9 @@ namespace rt {
 namespace {
 
 constexpr int kBins = 16;
-constexpr std::uint32_t kLeaf = 4;  // triangles in a leaf: one block
+constexpr std::uint32_t kLeaf = 4;     // triangles in a block; a leaf always when no more
+constexpr std::uint32_t kMaxLeaf = 8;  // triangles in a leaf at most: two blocks
+constexpr double kNodeCost = 1.0;      // a node's test, in blocks' tests
 constexpr int kMaxSahDepth = 64;
 constexpr std::uint32_t kParallelItems = 16384;     // subtrees built on another thread
 constexpr std::uint32_t kParallelBinItems = 1u << 16;  // nodes binned in two halves
@@ -142,6 +145,10 @@ struct Split {
     double cost = DBL_MAX;
 };
 
+// A side's cost counts the blocks its triangles will fill, not the triangles: a leaf
+// tests four at once, so splits that leave whole blocks are preferred.
+inline double blocks(std::uint32_t n) { return double((n + kLeaf - 1) / kLeaf); }
+
 // The cheapest split between bins on one axis, if cheaper than `best`.
 void sweep(const Bins& bins, int axis, Split& best) {
     double left_area[kBins];
@@ -160,7 +167,7 @@ void sweep(const Bins& bins, int axis, Split& best) {
         acc.grow(bins.box[axis][k]);
         n += bins.count[axis][k];
         if (left_n[k - 1] == 0 || n == 0) continue;
-        const double cost = left_area[k - 1] * left_n[k - 1] + acc.area() * n;
+        const double cost = left_area[k - 1] * blocks(left_n[k - 1]) + acc.area() * blocks(n);
         if (cost < best.cost) best = {axis, k - 1, cost};
     }
 }
@@ -169,6 +176,7 @@ void sweep(const Bins& bins, int axis, Split& best) {
 struct Halves {
     std::uint32_t mid;
     Box lb, lcb, rb, rcb;
+    double cost = DBL_MAX;  // the SAH split's (blocks times half areas); DBL_MAX for a median split
 };
 
 
@@ -230,6 +238,7 @@ struct TriBuilder {
                 });
                 h.mid = std::uint32_t(mid - recs);
                 for (int b = 0; b < kBins; ++b) (b <= s.bin ? h.lb : h.rb).grow(bins.box[axis][b]);
+                h.cost = s.cost;
                 if (h.mid != begin && h.mid != end) return h;
             }
         }
@@ -269,6 +278,13 @@ struct TriBuilder {
             return;
         }
         const Halves h = split(begin, end, cb, depth);
+        // Two blocks in one leaf where the SAH finds that cheaper than a node over two
+        // leaves (a node's test costing about a block's).
+        if (end - begin <= kMaxLeaf && h.cost >= b.area() * (blocks(end - begin) - kNodeCost)) {
+            out[node].first = begin;
+            out[node].count = end - begin;
+            return;
+        }
         out[node].count = 0;
         if (end - begin >= kParallelItems && take_thread()) return build_apart(out, node, begin, end, h, depth + 1);
         const std::uint32_t left = std::uint32_t(out.size());
@@ -313,27 +329,62 @@ struct TriBuilder {
     }
 };
 
-// Each leaf's triangles into a block of their own, in the leaves' order; the leaves
-// then name their block's slots.
-void fill_blocks(TriangleAccel& acc, std::vector<BvhBinNode>& bin, const TRec* recs, const MeshData& m) {
-    std::size_t leaves = 0;
-    for (const BvhBinNode& b : bin) leaves += b.count > 0;
-    if (4 * leaves >= BvhNode::kMaxItems) throw std::length_error("too many triangles for the BVH");
-    acc.blocks.resize(leaves);
-    acc.ids.assign(4 * leaves, 0);
-    const float* p = m.positions.data();
-    std::size_t block = 0;
+// The leaves' triangles in the leaves' order, four slots to a block and one or two
+// blocks to a leaf (unused slots 0),
+// and the leaves then naming their slots: all the blocks need of the records, which can
+// go before the blocks are made.
+void number_slots(TriangleAccel& acc, std::vector<BvhBinNode>& bin, const TRec* recs) {
+    std::size_t slots = 0;
+    for (const BvhBinNode& b : bin) slots += 4 * std::size_t(blocks(b.count));
+    if (slots >= BvhNode::kMaxItems) throw std::length_error("too many triangles for the BVH");
+    acc.ids.assign(slots, 0);
+    std::uint32_t slot = 0;
     for (BvhBinNode& b : bin) {
         if (b.count == 0) continue;
-        TriBlock& tb = acc.blocks[block];
-        std::memset(&tb, 0, sizeof tb);
+        for (std::uint32_t l = 0; l < b.count; ++l) acc.ids[slot + l] = recs[b.first + l].id();
+        b.first = slot;
+        slot += 4 * std::uint32_t(blocks(b.count));
+    }
+}
+
+// Each leaf's triangles into blocks of its own (one or two), from the slots' triangles.
+void fill_blocks(TriangleAccel& acc, const BvhBinNode* begin, const BvhBinNode* end, const MeshData& m) {
+    const float* p = m.positions.data();
+    for (const BvhBinNode* n = begin; n != end; ++n) {
+        const BvhBinNode& b = *n;
+        if (b.count == 0) continue;
         for (std::uint32_t l = 0; l < b.count; ++l) {
-            const std::uint32_t id = recs[b.first + l].id();
-            acc.ids[4 * block + l] = id;
+            TriBlock& tb = acc.blocks[(b.first + l) / 4];
+            const std::uint32_t id = acc.ids[b.first + l];
             for (int k = 0; k < 3; ++k)
-                for (int a = 0; a < 3; ++a) tb.v[3 * k + a][l] = p[3 * m.triangles[3 * std::size_t(id) + k] + a];
+                for (int a = 0; a < 3; ++a) tb.v[3 * k + a][l & 3] = p[3 * m.triangles[3 * std::size_t(id) + k] + a];
         }
-        b.first = std::uint32_t(4 * block++);
+    }
+}
+
+// All the leaves' blocks (zero in unused lanes): the leaves of each half of the tree
+// on a thread of their own.
+void fill_blocks(TriangleAccel& acc, const std::vector<BvhBinNode>& bin, const MeshData& m, bool two_threads) {
+    acc.blocks.resize(acc.ids.size() / 4);
+    two_ways(two_threads, [&](int part) {
+        const std::size_t half = bin.size() / 2;
+        fill_blocks(acc, bin.data() + (part ? half : 0), bin.data() + (part ? bin.size() : half), m);
+    });
+}
+
+// The records of triangles [begin, end).
+void make_records(const MeshData& m, TRec* recs, std::size_t begin, std::size_t end) {
+    const float* p = m.positions.data();
+    for (std::size_t t = begin; t < end; ++t) {
+        const std::uint32_t* v = &m.triangles[3 * t];
+        TRec& r = recs[t];
+        for (int a = 0; a < 3; ++a) {
+            const float x = p[3 * v[0] + a], y = p[3 * v[1] + a], z = p[3 * v[2] + a];
+            r.lo[a] = std::min({x, y, z});
+            r.hi[a] = std::max({x, y, z});
+        }
+        r.lo[3] = float(t & 0xffff);
+        r.hi[3] = float(t >> 16);
     }
 }
 
@@ -345,31 +396,30 @@ TriangleAccel TriangleAccel::build(const MeshData& m, int threads) {
     if (n == 0) return acc;
     if (n > ModelLimits::max_triangles) throw std::length_error("too many triangles for the BVH");
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
-    // malloc, not a vector: no zero fill before the real values.
-    std::unique_ptr<TRec, void (*)(void*)> mem(static_cast<TRec*>(std::malloc(n * sizeof(TRec))), std::free);
-    if (!mem) throw std::bad_alloc();
-    TRec* recs = mem.get();
-    const float* p = m.positions.data();
-    for (std::size_t t = 0; t < n; ++t) {
-        const std::uint32_t* v = &m.triangles[3 * t];
-        TRec& r = recs[t];
-        for (int a = 0; a < 3; ++a) {
-            const float x = p[3 * v[0] + a], y = p[3 * v[1] + a], z = p[3 * v[2] + a];
-            r.lo[a] = std::min({x, y, z});
-            r.hi[a] = std::max({x, y, z});
-        }
-        r.lo[3] = float(t & 0xffff);
-        r.hi[3] = float(t >> 16);
-    }
+    // Pages of their own, given back before the blocks are made (pages.h).
+    PageBuffer mem(n * sizeof(TRec));
+    TRec* recs = reinterpret_cast<TRec*>(mem.data());
     std::atomic<int> spare{threads - 1};
     TriBuilder builder{recs, spare};
-    Box b, cb;
-    builder.bounds(0, std::uint32_t(n), b, cb);
+    // The records and their bounds, a half on each of two threads (the bounds' union
+    // is the same either way).
+    Box b, cb, half_b, half_cb;
+    const std::size_t mid = n / 2;
+    two_ways(threads > 1 && n >= kParallelItems, [&](int part) {
+        const std::size_t begin = part ? mid : 0, end = part ? n : mid;
+        make_records(m, recs, begin, end);
+        builder.bounds(std::uint32_t(begin), std::uint32_t(end), part ? half_b : b, part ? half_cb : cb);
+    });
+    b.grow(half_b);
+    cb.grow(half_cb);
+    // Room for the tree the build usually makes (leaves of three or four triangles and
+    // as many inner nodes), so that it seldom moves; the pages not used cost nothing.
     std::vector<BvhBinNode> bin(1);
-    bin.reserve(n / 2 + 16);
+    bin.reserve(n * 2 / 3 + 16);
     builder.build(bin, 0, 0, std::uint32_t(n), b, cb, 0);
-    fill_blocks(acc, bin, recs, m);
+    number_slots(acc, bin, recs);
     mem.reset();
+    fill_blocks(acc, bin, m, threads > 1 && n >= kParallelItems);
     acc.bvh.collapse(bin, threads);
     return acc;
 }

@@ -230,6 +230,68 @@ TEST_CASE("models: the bunny reads alike from OBJ and from PLY in each encoding"
     }
 }
 
+TEST_CASE("models: binary PLY records the whole-record reader leaves to the general one read alike") {
+    // Vertices with normals and a byte property among them, and a quad between the
+    // triangles: the whole-record reading stops at the quad and the general reader
+    // goes on from there. The same model in ASCII (read by the general reader alone)
+    // gives the same triangles, in either byte order.
+    auto ply = [](bool ascii, bool big) {
+        std::string s = std::string("ply\nformat ") + (ascii ? "ascii" : big ? "binary_big_endian" : "binary_little_endian") +
+                        " 1.0\nelement vertex 5\nproperty float x\nproperty uchar red\nproperty float y\nproperty float z\n"
+                        "property float nx\nproperty float ny\nproperty float nz\nelement face 3\n"
+                        "property list uchar int vertex_indices\nend_header\n";
+        auto put = [&](const void* p, std::size_t n) {
+            std::string b(static_cast<const char*>(p), n);
+            if (big) std::reverse(b.begin(), b.end());
+            s += b;
+        };
+        const float v[5][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5f, 0.5f, 1}};
+        for (const auto& p : v) {
+            if (ascii) {
+                s += std::to_string(p[0]) + " 7 " + std::to_string(p[1]) + " " + std::to_string(p[2]) + " 0 0 1\n";
+                continue;
+            }
+            const float n[3] = {0, 0, 1};
+            put(&p[0], 4);
+            s += char(7);
+            put(&p[1], 4), put(&p[2], 4);
+            for (float c : n) put(&c, 4);
+        }
+        const std::vector<std::vector<std::int32_t>> faces = {{0, 1, 4}, {0, 1, 2, 3}, {2, 3, 4}};
+        for (const auto& f : faces) {
+            if (ascii) {
+                s += std::to_string(f.size());
+                for (std::int32_t i : f) s += " " + std::to_string(i);
+                s += "\n";
+                continue;
+            }
+            s += char(f.size());
+            for (std::int32_t i : f) put(&i, 4);
+        }
+        return s;
+    };
+    rt_test::TempDir dir;
+    rt_test::put(dir / "a.ply", ply(true, false));
+    const MeshData a = read_ok((dir / "a.ply").string());
+    CHECK(a.triangle_count() == 4);
+    CHECK(a.normals.size() == 15);
+    for (bool big : {false, true}) {
+        CAPTURE(big);
+        rt_test::put(dir / "b.ply", ply(false, big));
+        const MeshData b = read_ok((dir / "b.ply").string());
+        CHECK(b.triangles == a.triangles);
+        CHECK(b.positions == a.positions);
+        CHECK(b.normals == a.normals);
+        // A bad index in a later triangle is found where it is, in either byte order.
+        std::string bad = ply(false, big);
+        const std::int32_t far = 5;
+        std::string idx(reinterpret_cast<const char*>(&far), 4);
+        if (big) std::reverse(idx.begin(), idx.end());
+        bad.replace(bad.size() - 4, 4, idx);
+        CHECK(read_error(dir, "bad.ply", bad).message == "face 3: face index 5 out of range (5 vertices)");
+    }
+}
+
 TEST_CASE("models: polygons are cut into triangles that cover them, concave ones too") {
     // An L of six corners (area 3) and a star-like concave octagon (area 2.5).
     rt_test::TempDir dir;
