@@ -22,7 +22,8 @@ field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$O
 # state KEY: the last value the viewer printed for probe KEY ("x y w h" for a widget).
 state() { awk -v k="$1" '$1 == "state" && $2 == k { sub("^state " k " ?", ""); v = $0 } END { print v }' "$OUT/layout.txt"; }
 
-# run SCENE MODE: one 2 s drag (MODE orbit, move or colour); prints the pictures counted.
+# run SCENE MODE: one 2 s drag (MODE orbit, move or colour); prints the pictures counted
+# on screen and the pictures the viewer made.
 run() {
     local scene=$1 mode=$2
     cp "$scene" "$OUT/scene.txt"
@@ -61,6 +62,8 @@ run() {
     fi
     "$BIN/rtview-xframes" $((ix + iw / 4)) $((iy + ih / 4)) $((iw / 2)) $((ih / 2)) 10 2.0 > "$OUT/frames.txt" &
     local xf=$!
+    local traced0
+    traced0=$(grep -c "first image on screen" "$OUT/viewer.err" || true)
     xdotool mousemove "$x" "$y" mousedown 1
     local t0 i
     t0=$(date +%s.%N)
@@ -70,17 +73,26 @@ run() {
     done
     xdotool mouseup 1
     wait "$xf"
+    # The pictures the viewer made for the drag (its -v log: one line each), beside
+    # those that changed the screen: a colour change of a sphere a pixel or two wide
+    # in a coarse preview often changes nothing to count there.
+    local traced
+    traced=$(($(grep -c "first image on screen" "$OUT/viewer.err" || true) - traced0))
     kill "$vp" 2> /dev/null || true
     wait "$vp" 2> /dev/null || true
-    awk '/^changes/ { print $2 }' "$OUT/frames.txt"
+    echo "$(awk '/^changes/ { print $2 }' "$OUT/frames.txt") $traced"
 }
 
 echo "move-drag bench, $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores, load average before: $(load)"
 for scene in ${SCENES:-"$HERE/../scenes/default.txt" "$HERE/scenes/spheres-10k.txt"}; do
     for mode in orbit move colour; do
-        rates=()
-        for _ in $(seq 1 "$RUNS"); do rates+=("$(awk -v c="$(run "$scene" $mode)" 'BEGIN { printf "%.1f", c / 2.0 }')"); done
-        echo "$(basename "$scene"), $mode drag: picture updates/s ${rates[*]} (load $(load))"
+        rates=() made=()
+        for _ in $(seq 1 "$RUNS"); do
+            read -r c m <<< "$(run "$scene" $mode)"
+            rates+=("$(awk -v c="$c" 'BEGIN { printf "%.1f", c / 2.0 }')")
+            made+=("$(awk -v c="$m" 'BEGIN { printf "%.1f", c / 2.0 }')")
+        done
+        echo "$(basename "$scene"), $mode drag: picture updates/s on screen ${rates[*]}; made by the viewer ${made[*]} (load $(load))"
     done
 done
 rm -rf "$OUT"

@@ -21,8 +21,10 @@ namespace {
 // still gets a new picture on nearly every frame, with room left for the UI itself.
 constexpr double kPreviewBudget = 0.025;
 // What the preview of a moving view may take of a frame (traced on every core while
-// the UI thread waits).
-constexpr double kUiPreviewBudget = 0.010;
+// the UI thread waits): half of a 30 Hz input stream's 33 ms, the rest left for the
+// UI. Measured on 2 cores (bench/viewer-bench.sh): things-like at 1245x700 orbits at
+// 29.5 pictures a second in 4x4-5x5 blocks (6x6 at 10 ms); the default scene in 3x3.
+constexpr double kUiPreviewBudget = 0.016;
 // A preview that takes this long is stopped (a deep ray tree could hold the UI for
 // minutes); the rows left repeat the last traced row, and the next one is coarser.
 constexpr double kPreviewDeadline = 0.050;
