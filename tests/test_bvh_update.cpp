@@ -12,6 +12,7 @@
 #include "shapes.h"
 #include "test_brute.h"
 #include "test_random.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rt;
@@ -59,21 +60,6 @@ Scene random_scene(Rng& rng, std::size_t n, double size) {
     return s;
 }
 
-void move(Object& o, const Vec3& d) {
-    std::visit(
-        [&](auto& x) {
-            using T = std::decay_t<decltype(x)>;
-            if constexpr (std::is_same_v<T, Sphere> || std::is_same_v<T, Torus> || std::is_same_v<T, Mesh>)
-                x.position = x.position + d;
-            else if constexpr (std::is_same_v<T, Cylinder>) x.end1 = x.end1 + d, x.end2 = x.end2 + d;
-            else if constexpr (std::is_same_v<T, Tetrahedron>)
-                for (Vec3& v : x.v) v = v + d;
-            else
-                for (Object& op : x.operands) move(op, d);
-        },
-        o.shape);
-}
-
 void check_moves(std::size_t n, unsigned seed) {
     Rng rng(seed);
     const double size = std::cbrt(double(n)) * 1.5;
@@ -85,7 +71,7 @@ void check_moves(std::size_t n, unsigned seed) {
         // Small nudges, jumps across the scene and far outside it.
         std::uint32_t obj = std::uint32_t(rng.index(n));
         double reach = step % 3 == 0 ? 0.2 : step % 3 == 1 ? size : 6 * size;
-        move(scene.objects[obj], rng.in_ball(reach));
+        rt_test::translate(scene.objects[obj], rng.in_ball(reach));
         std::shared_ptr<const World> next = update_moved_objects(scene, *world, {obj}, links);
         REQUIRE(bool(next));
         ++refits;
@@ -140,7 +126,7 @@ TEST_CASE("bvh_update: links made for one tree are not used on another of the sa
     CHECK(!links->fits(wb->geometry->bvh));
     // Handed the other tree's links, the update makes its own and stays exact.
     std::shared_ptr<const BvhLinks> shared = links;
-    move(b.objects[7], {3, -2, 1});
+    rt_test::translate(b.objects[7], {3, -2, 1});
     std::shared_ptr<const World> next = update_moved_objects(b, *wb, {7}, shared);
     REQUIRE(bool(next));
     CHECK(shared.get() != links.get());

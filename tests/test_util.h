@@ -1,6 +1,6 @@
 // Helpers the test files share: a temporary folder per test, reading and writing
 // whole files, shell quoting, collecting failures of a property test, parsing a scene
-// that must parse, a watchdog for calls that would hang when broken, what another
+// that must parse, moving an object, a watchdog for calls that would hang when broken, what another
 // process is doing (from /proc). Header-only, for every test program (they all link
 // the core).
 #pragma once
@@ -21,7 +21,9 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "scene_parser.h"
@@ -190,6 +192,23 @@ void wait_until(Condition condition, const std::string& what,
                 std::chrono::seconds limit = std::chrono::seconds(120)) {
     Watchdog dog("waited in vain for " + what, limit);
     while (!condition()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+}
+
+// Moves an object by d: every point of its shape (a CSG's operands too), as the
+// viewer's move handle does, without the viewer's clamping of far points.
+inline void translate(rt::Object& o, const rt::Vec3& d) {
+    std::visit(
+        [&](auto& x) {
+            using T = std::decay_t<decltype(x)>;
+            if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus> || std::is_same_v<T, rt::Mesh>)
+                x.position = x.position + d;
+            else if constexpr (std::is_same_v<T, rt::Cylinder>) x.end1 = x.end1 + d, x.end2 = x.end2 + d;
+            else if constexpr (std::is_same_v<T, rt::Tetrahedron>)
+                for (rt::Vec3& v : x.v) v = v + d;
+            else
+                for (rt::Object& op : x.operands) translate(op, d);
+        },
+        o.shape);
 }
 
 }  // namespace rt_test

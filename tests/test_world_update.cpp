@@ -12,6 +12,7 @@
 #include "shapes.h"
 #include "simd.h"
 #include "test_random.h"
+#include "test_util.h"
 #include "test_world_compare.h"
 #include "world.h"
 
@@ -94,28 +95,13 @@ Scene random_scene(Rng& rng, std::size_t objects, std::size_t lights) {
     return s;
 }
 
-void translate(Object& o, const Vec3& d) {
-    std::visit(
-        [&](auto& x) {
-            using T = std::decay_t<decltype(x)>;
-            if constexpr (std::is_same_v<T, Sphere> || std::is_same_v<T, Torus> || std::is_same_v<T, Mesh>)
-                x.position = x.position + d;
-            else if constexpr (std::is_same_v<T, Cylinder>) x.end1 = x.end1 + d, x.end2 = x.end2 + d;
-            else if constexpr (std::is_same_v<T, Tetrahedron>)
-                for (Vec3& v : x.v) v = v + d;
-            else
-                for (Object& op : x.operands) translate(op, d);
-        },
-        o.shape);
-}
-
 // One edit in place, as the viewer makes them, noted in `delta`.
 void edit_in_place(Rng& rng, Scene& s, SceneDelta& delta) {
     const double size = std::cbrt(double(s.objects.size())) * 1.2;
     const std::uint32_t i = std::uint32_t(rng.index(s.objects.size()));
     switch (rng.index(7)) {
         case 0:  // a move handle: near or far, now and then out of the scene's bounds
-        case 1: translate(s.objects[i], rng.in_ball(rng.uni() < 0.7 ? 0.5 : 3 * size)); break;
+        case 1: rt_test::translate(s.objects[i], rng.in_ball(rng.uni() < 0.7 ? 0.5 : 3 * size)); break;
         case 2: s.objects[i].material = random_material(rng); break;
         case 3: {
             if (s.lights.empty()) return;
@@ -140,7 +126,7 @@ void edit_in_place(Rng& rng, Scene& s, SceneDelta& delta) {
             return;
         default:  // the same structure, other sizes
             if (auto* sp = std::get_if<Sphere>(&s.objects[i].shape)) sp->radius *= rng.uni(0.5, 1.5);
-            else translate(s.objects[i], {0, 0, 0.25});
+            else rt_test::translate(s.objects[i], {0, 0, 0.25});
             break;
     }
     delta.objects.push_back(i);
@@ -253,7 +239,7 @@ TEST_CASE("world update: an edit shares every table and chunk of a table it does
 
     // A move: its sphere's and box's chunks, and the chunks of the BVH nodes on its way
     // up the tree; the materials not at all.
-    translate(scene.objects[2500], {0.3, -0.2, 0.1});
+    rt_test::translate(scene.objects[2500], {0.3, -0.2, 0.1});
     std::shared_ptr<const World> moved = coloured->update(scene, delta);
     REQUIRE(bool(moved));
     const Geometry &g = *moved->geometry, &before = *coloured->geometry;
