@@ -3,11 +3,11 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <system_error>
 #include <functional>
 #include <utility>
 
 #include "image_io.h"
+#include "parallel.h"
 #include "scene.h"
 #include "scene_edits.h"
 #include "status.h"
@@ -71,15 +71,12 @@ bool apply_load(LoadResult& r, Document& doc, std::shared_ptr<const rt::World>& 
 }
 
 void SceneLoader::compile_and_scan(LoadResult& r) {
-    // The scan on a thread of its own meanwhile (it reads the text only); without one,
-    // the document scans at its first edit.
-    std::thread scan;
-    try {
-        scan = std::thread([&r] { r.layout = scan_layout(r.text); });
-    } catch (const std::system_error&) {
-    }
-    r.world = rt::compile_world(r.parsed.scene, nullptr);
-    if (scan.joinable()) scan.join();
+    // The scan beside the compile (it reads the text only); with no thread to be had,
+    // after it.
+    rt::two_ways(true, [&r](int part) {
+        if (part == 0) r.world = rt::compile_world(r.parsed.scene, nullptr);
+        else r.layout = scan_layout(r.text);
+    });
 }
 
 SceneLoader::~SceneLoader() {
