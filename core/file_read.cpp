@@ -82,13 +82,16 @@ Status read_halves(int fd, std::size_t total, Buffer& out, std::size_t& size) {
     return {};
 }
 
+std::string too_big(std::size_t max_bytes) {
+    return "the file is larger than " + std::to_string(max_bytes) + " bytes";
+}
+
 // What kind of file `st` is allowed to be; a message when it is not.
 std::string refusal(const struct stat& st, std::size_t max_bytes, const ReadControl* control) {
     if (S_ISDIR(st.st_mode)) return control && control->strict ? "a folder, not a scene file" : std::strerror(EISDIR);
     if (control && control->strict && !S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode))
         return "not a regular file or a pipe (a device or a socket)";
-    if (S_ISREG(st.st_mode) && std::uint64_t(st.st_size) > max_bytes)
-        return "the file is larger than " + std::to_string(max_bytes) + " bytes";
+    if (S_ISREG(st.st_mode) && std::uint64_t(st.st_size) > max_bytes) return too_big(max_bytes);
     return {};
 }
 
@@ -105,7 +108,6 @@ Status read_into(const std::string& path, Buffer& out, std::size_t max_bytes, co
         out.clear();
         return read_error(std::move(msg));
     };
-    const std::string too_big = "the file is larger than " + std::to_string(max_bytes) + " bytes";
     const std::string changing = "the file changed while it was read (is another program still writing it?)";
     struct stat st;
     if (::fstat(fd, &st) != 0) return fail(std::strerror(errno));
@@ -155,7 +157,7 @@ Status read_into(const std::string& path, Buffer& out, std::size_t max_bytes, co
         }
         if (n == 0) break;
         size += std::size_t(n);
-        if (size > max_bytes) return fail(too_big);
+        if (size > max_bytes) return fail(too_big(max_bytes));
         // Strict: a regular file's size is known, and one another program is still
         // writing (it grows, shrinks or is rewritten meanwhile) could be read half old,
         // half new.
