@@ -234,6 +234,51 @@ TEST_CASE("object ids: a sphere's texels match its analytic size, and the outlin
     CHECK(std::fabs(double(n4) * 16 - area) < 2 * M_PI * R * 4);
 }
 
+TEST_CASE("object ids: a selected CSG operand is outlined as its own silhouette, hidden parts too") {
+    // A sphere of radius 2 with a dimple carved by a sphere of radius 1 nearer the eye:
+    // the carving sphere shows as the dimple only, and its outline is its whole disc.
+    rt::Scene s;
+    rt::Object big, small, csg;
+    big.shape = rt::Sphere{{10, 0, 0}, 2};
+    small.shape = rt::Sphere{{8.5, 0, 0}, 1};
+    csg.shape = rt::Csg{rt::CsgType::Difference, {big, small}};
+    s.objects.push_back(csg);
+    rt::Camera cam = camera_at({0, 0, 0}, {10, 0, 0});
+    s.camera = cam;
+    const int W = 400, H = 300;
+    auto disc_texels = [&](double dist, double r) {
+        double a = std::tan(std::asin(r / dist));
+        return M_PI * a / std::tan(30 * rt::kDegree) * (W / 2.0) * a / std::tan(22.5 * rt::kDegree) * (H / 2.0);
+    };
+    auto count = [&](const rt::World& w, std::uint32_t code) {
+        IdBuffer ids;
+        trace_ids(w, cam, W, H, 1, 0, 0, W, H, ids);
+        std::size_t n = 0;
+        for (std::uint32_t v : ids.ids) n += v == code;
+        return double(n);
+    };
+    ItemRef sel;
+    sel.item = {SceneItem::Kind::Object, 0};
+    CHECK_FALSE(bool(operand_world(s, sel)));  // the CSG itself: the scene's world serves
+    sel.path = {1};
+    auto carver = operand_world(s, sel);
+    REQUIRE(bool(carver));
+    const std::uint32_t code = id_code(SceneItem{SceneItem::Kind::Object, 0});
+    const double small_disc = disc_texels(8.5, 1), big_disc = disc_texels(10, 2);
+    CHECK(std::fabs(count(*carver, code) - small_disc) < 0.05 * small_disc);
+    sel.path = {0};
+    auto outer = operand_world(s, sel);
+    REQUIRE(bool(outer));
+    CHECK(std::fabs(count(*outer, code) - big_disc) < 0.05 * big_disc);
+    // The whole CSG, for contrast, is the big disc (the dimple is still its surface).
+    CHECK(std::fabs(count(*rt::compile_world(s), code) - big_disc) < 0.05 * big_disc);
+    sel.path = {1, 0};  // below a sphere: no operand
+    CHECK_FALSE(bool(operand_world(s, sel)));
+    sel.path = {1};
+    sel.item.index = 3;  // no such object
+    CHECK_FALSE(bool(operand_world(s, sel)));
+}
+
 TEST_CASE("object ids: the outline of a block of texels is its four sides") {
     IdBuffer b;
     b.width = 6, b.height = 5;

@@ -21,6 +21,20 @@ std::uint32_t id_code(const SceneItem& item) {
     return std::uint32_t(item.index + 1) * 4 + k;
 }
 
+std::shared_ptr<const rt::World> operand_world(const rt::Scene& scene, const ItemRef& sel) {
+    if (sel.path.empty() || !sel.is(SceneItem::Kind::Object)) return nullptr;
+    const std::size_t i = std::size_t(sel.item.index);
+    if (i >= scene.objects.size()) return nullptr;
+    const rt::Object* op = operand_of(scene.objects[i], sel.path);
+    if (!op) return nullptr;
+    rt::Scene alone;
+    alone.camera = scene.camera;
+    alone.width = scene.width;
+    alone.height = scene.height;
+    alone.objects.push_back(*op);
+    return rt::compile_world(alone);
+}
+
 void item_window(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
                  const SceneItem& item, int& x0, int& y0, int& x1, int& y1) {
     int b = std::max(1, block);

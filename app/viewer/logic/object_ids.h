@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "camera.h"
@@ -37,6 +38,12 @@ struct IdBuffer {
 // Empty (x0 == x1) when the item is wholly off screen or does not exist.
 void item_window(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
                  const SceneItem& item, int& x0, int& y0, int& x1, int& y1);
+
+// A selected CSG operand's outline is its own silhouette, not the whole CSG's (a
+// subtracted operand shows as the hole it carves and the part of it that is hidden):
+// a world of that operand alone, as object 0, whose ids the outline traces. Null when
+// `sel` names no operand of an object of `scene`.
+std::shared_ptr<const rt::World> operand_world(const rt::Scene& scene, const ItemRef& sel);
 
 // Fills `out` for that window. Returns the number of rays traced.
 std::size_t trace_ids(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block, int x0,

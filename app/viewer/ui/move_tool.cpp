@@ -128,10 +128,24 @@ void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const Ren
     refining_ = false;
     last_rays_ = 0;
     std::optional<SceneItem> item = item_of_selection(sel);
-    const std::shared_ptr<const rt::World>& world = render.world_ptr();
+    std::shared_ptr<const rt::World> world = render.world_ptr();
     if (!item || !world || !doc.has_scene()) {
         has_ids_ = false;
         return;
+    }
+    if (!sel.path.empty()) {
+        // An operand: its own silhouette, traced in a world of it alone.
+        if (!operand_world_ || !same_world(operand_source_, world) || !(operand_sel_ == sel)) {
+            operand_world_ = operand_world(doc.scene(), sel);
+            operand_source_ = world;
+            operand_sel_ = sel;
+        }
+        if (operand_world_) {
+            world = operand_world_;
+            item = SceneItem{SceneItem::Kind::Object, 0};
+        }
+    } else {
+        operand_world_ = nullptr;
     }
     std::uint32_t code = id_code(*item);
     bool same_view = has_ids_ && same_world(ids_world_, world) && ids_camera_ == camera && ids_w_ == film_w && ids_h_ == film_h &&
@@ -189,6 +203,7 @@ void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const Ren
     ids_w_ = film_w;
     ids_h_ = film_h;
     ids_code_ = code;
+    ids_sel_ = sel;
     refining_ = !preview && ids_.block > finest_;
 }
 
@@ -233,7 +248,7 @@ void MoveTool::draw(const Document& doc, const ItemRef& sel, const ScreenView& v
     float s = ImGui::GetFontSize() / 13.f;
     markers_ = light_markers(doc.scene(), world, view, image, kMaxMarkers);
     draw_light_markers(dl, s);
-    if (has_ids_ && ids_code_ == id_code(item_of_selection(sel).value_or(SceneItem{})) && ids_w_ == film_w &&
+    if (has_ids_ && ids_sel_ == sel && ids_w_ == film_w &&
         ids_h_ == film_h) {
         // Texel borders to window units: texel k starts at film pixel k * block.
         auto wx = [&](int tx) { return float(image.x + std::min(tx * ids_.block, film_w) * image.w / film_w); };

@@ -81,7 +81,13 @@ private:
     rt::Camera ids_camera_;
     int ids_w_ = 0, ids_h_ = 0;
     std::uint32_t ids_code_ = 0;
+    ItemRef ids_sel_;  // the selection ids_ outlines
     bool refining_ = false;
+    // A selected CSG operand's world (operand_world()), made again when the document's
+    // world or the selection changes.
+    std::shared_ptr<const rt::World> operand_world_;
+    std::weak_ptr<const rt::World> operand_source_;
+    ItemRef operand_sel_;
     double per_ray_ = 0;  // measured seconds per id ray
     std::size_t last_rays_ = 0;
 };
