@@ -15,6 +15,7 @@
 #include "move_handle.h"
 #include "scene_edits.h"
 #include "scene_parser.h"
+#include "scene_writer.h"
 #include "viewer_test_util.h"
 
 using namespace rtview;
@@ -110,6 +111,48 @@ TEST_CASE("scene edits: delete each object, plane and light") {
     CHECK(t.find("thing {\n  tetrahedron {") != std::string::npos);
     CHECK_FALSE(delete_item(text, s, {SceneItem::Kind::Object, 5}));
     CHECK_FALSE(delete_item(text, s, {SceneItem::Kind::Light, -1}));
+}
+
+TEST_CASE("scene edits: deleting a CSG operand leaves the other, with the CSG's material") {
+    const std::string text = kScene;
+    const rt::Scene s = parse_ok(text);
+    const auto& lens = std::get<rt::Csg>(s.objects[4].shape);
+    for (int side = 0; side < 2; ++side) {
+        CAPTURE(side);
+        auto e = delete_operand(text, s, 4, {side});
+        REQUIRE(e);
+        rt::Scene want = s;
+        want.objects[4] = lens.operands[std::size_t(1 - side)];
+        want.objects[4].material = s.objects[4].material;
+        want.objects[4].has_material = true;
+        std::string t = check_edit(text, *e, want);
+        CHECK(e->select.index == 4);
+        CHECK(t.find("constructive_solid_geometry") == std::string::npos);
+        CHECK(t.find("// demo scene") == 0);  // the rest of the text as it was
+    }
+    // Nested: deleting an operand of the inner CSG leaves the outer one, the inner
+    // CSG's place taken by its other operand.
+    rt::Scene nested = s;
+    rt::Object inner = s.objects[4];
+    rt::Object outer;
+    outer.shape = rt::Csg{rt::CsgType::Union, {inner, s.objects[0]}};
+    outer.material = s.objects[1].material;
+    outer.has_material = true;
+    nested.objects[4] = outer;
+    const std::string ntext = rt::write_scene(nested);
+    const rt::Scene ns = parse_ok(ntext);
+    REQUIRE(ns == nested);
+    auto e = delete_operand(ntext, ns, 4, {0, 1});
+    REQUIRE(e);
+    rt::Scene want = ns;
+    std::get<rt::Csg>(want.objects[4].shape).operands[0] = lens.operands[0];  // its own material, not rendered
+    check_edit(ntext, *e, want);
+    // Paths to nothing, and no path at all (the object itself: delete_item's).
+    CHECK_FALSE(delete_operand(text, s, 4, {}));
+    CHECK_FALSE(delete_operand(text, s, 4, {2}));
+    CHECK_FALSE(delete_operand(text, s, 4, {0, 1}));
+    CHECK_FALSE(delete_operand(text, s, 0, {0}));
+    CHECK_FALSE(delete_operand(text, s, 9, {0}));
 }
 
 TEST_CASE("scene edits: duplicate copies the block verbatim, or moved by an offset") {

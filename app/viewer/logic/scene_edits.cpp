@@ -582,6 +582,32 @@ std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& s
     return e;
 }
 
+std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene& scene, int index,
+                                        const std::vector<int>& path) {
+    auto l = layout_of(text, scene);
+    if (!l || path.empty() || index < 0 || std::size_t(index) >= scene.objects.size()) return std::nullopt;
+    const int side = path.back();
+    if (side != 0 && side != 1) return std::nullopt;
+    rt::Object top = scene.objects[std::size_t(index)];
+    rt::Object* parent = operand_of(top, std::vector<int>(path.begin(), path.end() - 1));
+    rt::Csg* csg = parent ? std::get_if<rt::Csg>(&parent->shape) : nullptr;
+    if (!csg || csg->operands.size() != 2) return std::nullopt;
+    rt::Object keep = csg->operands[std::size_t(1 - side)];
+    if (path.size() == 1) {
+        keep.material = top.material;
+        keep.has_material = top.has_material;
+    }
+    *parent = std::move(keep);
+    rt::Scene one;
+    one.camera = scene.camera;
+    one.objects.push_back(std::move(top));
+    const TextSpan s = l->objects[std::size_t(index)];
+    SceneEdit e;
+    e.replacement = {s.begin, s.end - s.begin, written_block(one, SceneItem::Kind::Object, line_indent(text, s.begin))};
+    e.select = {SceneItem::Kind::Object, index};
+    return e;
+}
+
 std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scene, int a, int b, rt::CsgType type) {
     auto l = layout_of(text, scene);
     const int n = int(scene.objects.size());

@@ -102,6 +102,11 @@ std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene
                                         rt::Vec3 offset = {0, 0, 0});
 // Removes the item's block, with its line when the line holds nothing else.
 std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& scene, SceneItem item);
+// Removes the CSG operand `path` names below object `index`: its CSG becomes the other
+// operand (a whole CSG when that is one). When the CSG was the object itself, the
+// object keeps its material, the one that was rendered; the object stays selected.
+std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene& scene, int index,
+                                        const std::vector<int>& path);
 // Objects a and b (top level, a != b) become one CSG `left a, right b` at a's place,
 // with a's material (only the CSG's own material is rendered).
 std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scene, int a, int b, rt::CsgType type);

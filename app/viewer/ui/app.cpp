@@ -829,6 +829,13 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         }
         case Command::Delete:
             if (!sel) return false;
+            if (const ItemRef& ref = panels_.selection(); !ref.path.empty()) {
+                // An operand: its CSG becomes the other operand.
+                e = delete_operand(text, scene, sel->index, ref.path);
+                done = "Deleted the operand: its CSG is the other operand now";
+                name = "Delete " + item_label(scene, ref);
+                break;
+            }
             e = delete_item(text, scene, *sel);
             done = "Deleted";
             name = "Delete " + label;
