@@ -102,8 +102,10 @@ struct Film {
     int width = 0, height = 0;
     ZeroedArray<float> sum;  // 3 per pixel
     ZeroedArray<std::uint32_t> count;
-    // Coarse previews: 3 floats per pixel, but only the corner pixel of each block holds
-    // a colour (the block's one ray); shown while count == 0. Empty if no coarse passes.
+    // Coarse previews: the colour of each block's corner pixel (the block's one ray),
+    // shown while count == 0; empty if no coarse passes. Blocks are 2x2 or larger, so
+    // every corner has even coordinates: 3 floats for each pixel of even x and y only,
+    // at preview_index() (a quarter of the film's size, and a row's corners side by side).
     ZeroedArray<float> preview;
     int preview_level = 0;  // block size of the last complete coarse pass; 0 = none
     // Adaptive anti-aliasing only (core/adaptive.h), else empty: per pixel, the sum over
@@ -116,9 +118,17 @@ struct Film {
         height = h;
         sum.reset(std::size_t(w) * h * 3);
         count.reset(std::size_t(w) * h);
-        preview.reset(with_preview ? std::size_t(w) * h * 3 : 0);
+        preview.reset(with_preview ? preview_size(w, h) : 0);
         preview_level = 0;
         squares.reset(0);
+    }
+    // The floats of a preview layer for a w x h film.
+    static std::size_t preview_size(int w, int h) {
+        return std::size_t((w + 1) / 2) * std::size_t((h + 1) / 2) * 3;
+    }
+    // Where the preview colour of pixel (x, y), both even, begins.
+    std::size_t preview_index(int x, int y) const {
+        return 3 * (std::size_t(y >> 1) * std::size_t((width + 1) >> 1) + std::size_t(x >> 1));
     }
     // Pixel (x, y); idx = y * width + x.
     Colour pixel(int x, int y, std::size_t idx) const {
@@ -126,7 +136,7 @@ struct Film {
         if (n == 0) {
             if (preview_level == 0 || preview.empty()) return {};
             int mask = ~(preview_level - 1);
-            const float* p = &preview[3 * (std::size_t(y & mask) * width + std::size_t(x & mask))];
+            const float* p = &preview[preview_index(x & mask, y & mask)];
             return {p[0], p[1], p[2]};
         }
         if (n == 1) return {sum[3 * idx], sum[3 * idx + 1], sum[3 * idx + 2]};

@@ -276,7 +276,7 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
         film_.reset(job->width, job->height, settings.coarse);
     } else {
         std::fill(film_.count.begin(), film_.count.end(), 0u);
-        if (settings.coarse && film_.preview.empty()) film_.preview.reset(pixels * 3);
+        if (settings.coarse && film_.preview.empty()) film_.preview.reset(Film::preview_size(job->width, job->height));
     }
     if (settings.aa_threshold >= 0) {
         auto aa = std::make_shared<AdaptiveJob>();
@@ -434,34 +434,47 @@ namespace {
 // until the thread's next call.
 const Colour* first_samples(const RenderTask& task, const Film& film, int y, int step, RayStats& stats,
                             std::size_t& n) {
-    thread_local std::vector<Vec3> dirs, picked;
+    thread_local std::vector<Vec3> dirs;
     thread_local std::vector<Colour> colours;
-    // The row's camera rays, made before any is traced: independent square roots and
-    // divisions overlap, where one at a time each would wait for the last.
     n = std::size_t((task.x1 - task.x0 + step - 1) / step);
-    dirs.resize(n);
-    task.camera.unit_directions(task.x0, step, int(n), y, dirs.data());
     colours.resize(n);
     Colour* c = colours.data();
     const World& world = *task.world;
     const int mask = task.reuse - 1;
+    // The row's camera rays are made before any is traced: independent square roots and
+    // divisions overlap, where one at a time each would wait for the last.
     if (task.reuse == 0 || (y & mask) != 0) {
+        dirs.resize(n);
+        task.camera.unit_directions(task.x0, step, int(n), y, dirs.data());
         world.trace_units(task.camera.origin, dirs.data(), n, stats, c);
         return c;
     }
-    picked.clear();
-    for (std::size_t k = 0; k < n; ++k)
-        if (((task.x0 + int(k) * step) & mask) != 0) picked.push_back(dirs[k]);
-    world.trace_units(task.camera.origin, picked.data(), picked.size(), stats, c);
+    // A row of corners: only the pixels between them are traced.
+    if (task.reuse == 2 * step && (task.x0 & mask) == 0) {
+        // (The usual case: the last coarse pass had twice this step, so the corners are
+        // every other pixel from the first; the others are made at a stride of two.)
+        const std::size_t m = n / 2;
+        dirs.resize(m);
+        task.camera.unit_directions(task.x0 + step, 2 * step, int(m), y, dirs.data());
+    } else {
+        dirs.clear();
+        for (std::size_t k = 0; k < n; ++k) {
+            const int x = task.x0 + int(k) * step;
+            if ((x & mask) == 0) continue;
+            dirs.emplace_back();
+            task.camera.unit_directions(x, step, 1, y, &dirs.back());
+        }
+    }
+    world.trace_units(task.camera.origin, dirs.data(), dirs.size(), stats, c);
     // The traced colours spread out to their places (from the right, in place), the
     // corners' in between.
-    std::size_t j = picked.size();
+    std::size_t j = dirs.size();
     for (std::size_t k = n; k-- > 0;) {
         const int x = task.x0 + int(k) * step;
         if ((x & mask) != 0) {
             c[k] = c[--j];
         } else {
-            const float* p = &film.preview[3 * (std::size_t(y) * film.width + x)];
+            const float* p = &film.preview[film.preview_index(x, y)];
             c[k] = {p[0], p[1], p[2]};
         }
     }
@@ -620,7 +633,7 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
         const float* c = buf.data();
         for (int y = task.y0; y < task.y1; y += task.block)
             for (int x = task.x0; x < task.x1; x += task.block, c += 3)
-                std::copy(c, c + 3, &film_.preview[3 * (std::size_t(y) * film_.width + x)]);
+                std::copy(c, c + 3, &film_.preview[film_.preview_index(x, y)]);
     } else if (task.kind != PassKind::Decide) {
         commit_film(task, buf);
     }

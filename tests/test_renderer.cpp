@@ -343,9 +343,11 @@ TEST_CASE("film: a pixel with no sample shows its block's corner colour at the l
     f.reset(10, 7);
     CHECK(f.pixel(3, 2, 2 * 10 + 3) == Colour{});  // no coarse pass yet: black
     // Corners of 4x4 blocks hold (x, y, 1); every other preview value is garbage.
-    for (int y = 0; y < 7; ++y)
-        for (int x = 0; x < 10; ++x) {
-            float* p = &f.preview[3 * (std::size_t(y) * 10 + x)];
+    CHECK(f.preview.size() == Film::preview_size(10, 7));
+    CHECK(Film::preview_size(10, 7) == 5 * 4 * 3);
+    for (int y = 0; y < 7; y += 2)
+        for (int x = 0; x < 10; x += 2) {
+            float* p = &f.preview[f.preview_index(x, y)];
             bool corner = x % 4 == 0 && y % 4 == 0;
             p[0] = corner ? float(x) : -1.f, p[1] = corner ? float(y) : -1.f, p[2] = corner ? 1.f : -1.f;
         }
