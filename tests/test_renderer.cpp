@@ -338,6 +338,36 @@ TEST_CASE("renderer: cancel() of a long render returns and leaves the renderer r
     CHECK(same_film(r.snapshot(), render(world, s, 1)));
 }
 
+TEST_CASE("camera: unit_directions() gives normalize(direction()) bit for bit, pixel for pixel") {
+    Camera cam;
+    cam.position = {-9.8, -2.6, 6.3};
+    cam.centre = {0.7, -0.2, 0.8};
+    cam.up = {0.7, -0.2, 1.8};
+    cam.angle_x = 61.3;
+    cam.angle_y = 35.9834;
+    int checked = 0;
+    for (Projection proj : {Projection::Linear, Projection::Polar})
+        for (bool mirror : {false, true})
+            for (int width : {1, 2, 7, 1280}) {
+                cam.projection = proj;
+                const CameraBasis b = CameraBasis::make(cam, width, 5, mirror);
+                for (int step : {1, 2, 3})
+                    for (int i0 : {0, 1, width / 2}) {
+                        const int count = (width - i0 + step - 1) / step;
+                        std::vector<Vec3> out(std::size_t(std::max(count, 0)) + 1, Vec3{7, 7, 7});
+                        b.unit_directions(i0, step, count, 3, out.data());
+                        for (int k = 0; k < count; ++k) {
+                            const Vec3 want = normalize(b.direction(i0 + k * step, 3));
+                            CAPTURE(k);
+                            REQUIRE(std::memcmp(&out[std::size_t(k)], &want, sizeof want) == 0);
+                            ++checked;
+                        }
+                        CHECK(out[std::size_t(std::max(count, 0))] == Vec3{7, 7, 7});  // nothing past count
+                    }
+            }
+    CHECK(checked > 10000);
+}
+
 TEST_CASE("film: a pixel with no sample shows its block's corner colour at the last coarse level") {
     Film f;
     f.reset(10, 7);
