@@ -9,6 +9,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -366,6 +367,25 @@ TEST_CASE("camera: unit_directions() gives normalize(direction()) bit for bit, p
                     }
             }
     CHECK(checked > 10000);
+}
+
+TEST_CASE("film: zeroed arrays of every size are zero, writable to their ends, and huge ones start on 2 MB") {
+    for (std::size_t n : {std::size_t(1), std::size_t(1000), std::size_t(300000), std::size_t(524288),
+                          std::size_t(524289), std::size_t(3000001)}) {
+        CAPTURE(n);
+        ZeroedArray<float> a(n);
+        REQUIRE(a.size() == n);
+        const bool huge = n * sizeof(float) >= (std::size_t(2) << 20);
+        if (huge) CHECK(reinterpret_cast<std::uintptr_t>(a.data()) % (std::size_t(2) << 20) == 0);
+        CHECK(std::all_of(a.begin(), a.end(), [](float v) { return v == 0.0f; }));
+        a[n - 1] = 2.f;
+        a[0] += 1.f;
+        CHECK(a[0] == (n == 1 ? 3.f : 1.f));
+        CHECK(a[n - 1] == (n == 1 ? 3.f : 2.f));
+        a.reset(n);  // again, from a fresh mapping: zero
+        CHECK(a[0] == 0.f);
+        CHECK(a[n - 1] == 0.f);
+    }
 }
 
 TEST_CASE("film: a pixel with no sample shows its block's corner colour at the last coarse level") {
