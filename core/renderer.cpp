@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <new>
 #include <stdexcept>
@@ -428,6 +429,14 @@ void Renderer::finish_task_locked(RenderTask& task, bool complete, std::string& 
 }
 
 namespace {
+// Asks for the cache lines of [begin, end) ahead of their use (to write them, if kWrite).
+template <bool kWrite, class T>
+void prefetch(const T* begin, const T* end) {
+    const auto last = reinterpret_cast<std::uintptr_t>(end);
+    for (auto a = reinterpret_cast<std::uintptr_t>(begin) & ~std::uintptr_t(63); a < last; a += 64)
+        __builtin_prefetch(reinterpret_cast<const void*>(a), kWrite ? 1 : 0);
+}
+
 // Sample 0 of the pixels (x0 + k step, y) of the task's row, k < n: traced in one call,
 // except where the last coarse pass traced the same ray (its blocks' corners), whose
 // colour the preview holds (the same ray, so the same colour). The colours stay valid
@@ -465,6 +474,10 @@ const Colour* first_samples(const RenderTask& task, const Film& film, int y, int
             task.camera.unit_directions(x, step, 1, y, &dirs.back());
         }
     }
+    // The corners' colours were written a pass ago and have left the caches: they are
+    // fetched while the others are traced.
+    prefetch<false>(film.preview.data() + film.preview_index(task.x0, y),
+                    film.preview.data() + film.preview_index(task.x0 + int(n - 1) * step, y) + 3);
     world.trace_units(task.camera.origin, dirs.data(), dirs.size(), stats, c);
     // The traced colours spread out to their places (from the right, in place), the
     // corners' in between.
@@ -539,6 +552,11 @@ bool Renderer::run_samples(const RenderTask& task, std::vector<float>& buf, RayS
     // Sample pass: continue each pixel's running sum. The sums of this tile are only
     // touched by this task until it commits, so reading them unlocked is safe.
     for (int y = task.y0; y < task.y1; ++y) {
+        // The commit (under the lock) writes the row's sums and counts, which the last
+        // pass left out of the caches: they are fetched while the tile is traced.
+        const std::size_t row = std::size_t(y) * film_.width + task.x0;
+        prefetch<true>(film_.sum.data() + 3 * row, film_.sum.data() + 3 * (row + w));
+        prefetch<true>(film_.count.data() + row, film_.count.data() + row + w);
         std::size_t n = 0;
         const Colour* traced = task.s0 == 0 ? first_samples(task, film_, y, 1, stats, n) : nullptr;
         if (task.s0 == 0 && task.s1 == 1) {
