@@ -648,10 +648,19 @@ void Renderer::commit_film(const RenderTask& task, const std::vector<float>& buf
 void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     Job& job = *job_;
     if (task.kind == PassKind::Coarse) {
+        // A row's corners lie block / 2 entries apart in the preview: side by side at 2.
         const float* c = buf.data();
-        for (int y = task.y0; y < task.y1; y += task.block)
-            for (int x = task.x0; x < task.x1; x += task.block, c += 3)
-                std::copy(c, c + 3, &film_.preview[film_.preview_index(x, y)]);
+        const int b = task.block, n = (task.x1 - task.x0 + b - 1) / b;
+        const std::size_t stride = 3 * std::size_t(b / 2);
+        for (int y = task.y0; y < task.y1; y += b, c += 3 * n) {
+            float* out = film_.preview.data() + film_.preview_index(task.x0, y);
+            if (b == 2) {
+                std::copy(c, c + 3 * n, out);
+                continue;
+            }
+            for (int k = 0; k < n; ++k, out += stride)
+                out[0] = c[3 * k], out[1] = c[3 * k + 1], out[2] = c[3 * k + 2];
+        }
     } else if (task.kind != PassKind::Decide) {
         commit_film(task, buf);
     }
