@@ -4,6 +4,7 @@
 #pragma once
 
 #include <sys/mman.h>
+#include <unistd.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -44,6 +45,7 @@ template <class T>
 class ZeroedArray {
     static_assert(std::is_arithmetic_v<T>, "all-zero bytes must mean the value 0");
     static constexpr std::size_t kMapBytes = std::size_t(1) << 20;
+    static constexpr std::size_t kHugeBytes = std::size_t(2) << 20;  // x86-64's huge page
 
 public:
     ZeroedArray() = default;
@@ -59,9 +61,7 @@ public:
         if (n > std::size_t(-1) / sizeof(T)) throw std::bad_alloc();
         const std::size_t bytes = n * sizeof(T);
         if (bytes >= kMapBytes) {
-            void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-            if (p == MAP_FAILED) throw std::bad_alloc();
-            p_ = static_cast<T*>(p);
+            p_ = static_cast<T*>(map(bytes));
             mapped_ = true;
         } else {
             p_ = static_cast<T*>(std::calloc(n, sizeof(T)));
@@ -86,6 +86,27 @@ public:
     const T* end() const { return p_ + n_; }
 
 private:
+    // Zeroed pages for `bytes`. From kHugeBytes on, they start on a huge-page boundary
+    // and the kernel is asked to back them with huge pages: a film is read and written
+    // row by row of tiles, each row on pages of its own, and in small pages the address
+    // translations missed on nearly every row (a film at 1280x720 spans 4,000 of them).
+    static void* map(std::size_t bytes) {
+        const std::size_t span = bytes >= kHugeBytes ? bytes + kHugeBytes : bytes;
+        void* p = ::mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (p == MAP_FAILED) throw std::bad_alloc();
+        if (span == bytes) return p;
+        // The mapping from the first boundary on, the pages around it given back.
+        const std::uintptr_t base = reinterpret_cast<std::uintptr_t>(p);
+        const std::uintptr_t start = (base + kHugeBytes - 1) & ~std::uintptr_t(kHugeBytes - 1);
+        const std::uintptr_t page = std::uintptr_t(::sysconf(_SC_PAGESIZE));
+        const std::uintptr_t end = start + ((bytes + page - 1) & ~(page - 1));
+        if (start > base) ::munmap(p, start - base);
+        if (base + span > end) ::munmap(reinterpret_cast<void*>(end), base + span - end);
+#ifdef MADV_HUGEPAGE
+        ::madvise(reinterpret_cast<void*>(start), bytes, MADV_HUGEPAGE);  // advice: small pages if refused
+#endif
+        return reinterpret_cast<void*>(start);
+    }
     void release() {
         if (mapped_) ::munmap(p_, n_ * sizeof(T));
         else std::free(p_);
@@ -102,8 +123,10 @@ struct Film {
     int width = 0, height = 0;
     ZeroedArray<float> sum;  // 3 per pixel
     ZeroedArray<std::uint32_t> count;
-    // Coarse previews: 3 floats per pixel, but only the corner pixel of each block holds
-    // a colour (the block's one ray); shown while count == 0. Empty if no coarse passes.
+    // Coarse previews: the colour of each block's corner pixel (the block's one ray),
+    // shown while count == 0; empty if no coarse passes. Blocks are 2x2 or larger, so
+    // every corner has even coordinates: 3 floats for each pixel of even x and y only,
+    // at preview_index() (a quarter of the film's size, and a row's corners side by side).
     ZeroedArray<float> preview;
     int preview_level = 0;  // block size of the last complete coarse pass; 0 = none
     // Adaptive anti-aliasing only (core/adaptive.h), else empty: per pixel, the sum over
@@ -116,9 +139,17 @@ struct Film {
         height = h;
         sum.reset(std::size_t(w) * h * 3);
         count.reset(std::size_t(w) * h);
-        preview.reset(with_preview ? std::size_t(w) * h * 3 : 0);
+        preview.reset(with_preview ? preview_size(w, h) : 0);
         preview_level = 0;
         squares.reset(0);
+    }
+    // The floats of a preview layer for a w x h film.
+    static std::size_t preview_size(int w, int h) {
+        return std::size_t((w + 1) / 2) * std::size_t((h + 1) / 2) * 3;
+    }
+    // Where the preview colour of pixel (x, y), both even, begins.
+    std::size_t preview_index(int x, int y) const {
+        return 3 * (std::size_t(y >> 1) * std::size_t((width + 1) >> 1) + std::size_t(x >> 1));
     }
     // Pixel (x, y); idx = y * width + x.
     Colour pixel(int x, int y, std::size_t idx) const {
@@ -126,7 +157,7 @@ struct Film {
         if (n == 0) {
             if (preview_level == 0 || preview.empty()) return {};
             int mask = ~(preview_level - 1);
-            const float* p = &preview[3 * (std::size_t(y & mask) * width + std::size_t(x & mask))];
+            const float* p = &preview[preview_index(x & mask, y & mask)];
             return {p[0], p[1], p[2]};
         }
         if (n == 1) return {sum[3 * idx], sum[3 * idx + 1], sum[3 * idx + 2]};

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <new>
 #include <stdexcept>
@@ -276,7 +277,7 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
         film_.reset(job->width, job->height, settings.coarse);
     } else {
         std::fill(film_.count.begin(), film_.count.end(), 0u);
-        if (settings.coarse && film_.preview.empty()) film_.preview.reset(pixels * 3);
+        if (settings.coarse && film_.preview.empty()) film_.preview.reset(Film::preview_size(job->width, job->height));
     }
     if (settings.aa_threshold >= 0) {
         auto aa = std::make_shared<AdaptiveJob>();
@@ -428,40 +429,65 @@ void Renderer::finish_task_locked(RenderTask& task, bool complete, std::string& 
 }
 
 namespace {
+// Asks for the cache lines of [begin, end) ahead of their use (to write them, if kWrite).
+template <bool kWrite, class T>
+void prefetch(const T* begin, const T* end) {
+    const auto last = reinterpret_cast<std::uintptr_t>(end);
+    for (auto a = reinterpret_cast<std::uintptr_t>(begin) & ~std::uintptr_t(63); a < last; a += 64)
+        __builtin_prefetch(reinterpret_cast<const void*>(a), kWrite ? 1 : 0);
+}
+
 // Sample 0 of the pixels (x0 + k step, y) of the task's row, k < n: traced in one call,
 // except where the last coarse pass traced the same ray (its blocks' corners), whose
 // colour the preview holds (the same ray, so the same colour). The colours stay valid
 // until the thread's next call.
 const Colour* first_samples(const RenderTask& task, const Film& film, int y, int step, RayStats& stats,
                             std::size_t& n) {
-    thread_local std::vector<Vec3> dirs, picked;
+    thread_local std::vector<Vec3> dirs;
     thread_local std::vector<Colour> colours;
-    // The row's camera rays, made before any is traced: independent square roots and
-    // divisions overlap, where one at a time each would wait for the last.
     n = std::size_t((task.x1 - task.x0 + step - 1) / step);
-    dirs.resize(n);
-    task.camera.unit_directions(task.x0, step, int(n), y, dirs.data());
     colours.resize(n);
     Colour* c = colours.data();
     const World& world = *task.world;
     const int mask = task.reuse - 1;
+    // The row's camera rays are made before any is traced: independent square roots and
+    // divisions overlap, where one at a time each would wait for the last.
     if (task.reuse == 0 || (y & mask) != 0) {
+        dirs.resize(n);
+        task.camera.unit_directions(task.x0, step, int(n), y, dirs.data());
         world.trace_units(task.camera.origin, dirs.data(), n, stats, c);
         return c;
     }
-    picked.clear();
-    for (std::size_t k = 0; k < n; ++k)
-        if (((task.x0 + int(k) * step) & mask) != 0) picked.push_back(dirs[k]);
-    world.trace_units(task.camera.origin, picked.data(), picked.size(), stats, c);
+    // A row of corners: only the pixels between them are traced.
+    if (task.reuse == 2 * step && (task.x0 & mask) == 0) {
+        // (The usual case: the last coarse pass had twice this step, so the corners are
+        // every other pixel from the first; the others are made at a stride of two.)
+        const std::size_t m = n / 2;
+        dirs.resize(m);
+        task.camera.unit_directions(task.x0 + step, 2 * step, int(m), y, dirs.data());
+    } else {
+        dirs.clear();
+        for (std::size_t k = 0; k < n; ++k) {
+            const int x = task.x0 + int(k) * step;
+            if ((x & mask) == 0) continue;
+            dirs.emplace_back();
+            task.camera.unit_directions(x, step, 1, y, &dirs.back());
+        }
+    }
+    // The corners' colours were written a pass ago and have left the caches: they are
+    // fetched while the others are traced.
+    prefetch<false>(film.preview.data() + film.preview_index(task.x0, y),
+                    film.preview.data() + film.preview_index(task.x0 + int(n - 1) * step, y) + 3);
+    world.trace_units(task.camera.origin, dirs.data(), dirs.size(), stats, c);
     // The traced colours spread out to their places (from the right, in place), the
     // corners' in between.
-    std::size_t j = picked.size();
+    std::size_t j = dirs.size();
     for (std::size_t k = n; k-- > 0;) {
         const int x = task.x0 + int(k) * step;
         if ((x & mask) != 0) {
             c[k] = c[--j];
         } else {
-            const float* p = &film.preview[3 * (std::size_t(y) * film.width + x)];
+            const float* p = &film.preview[film.preview_index(x, y)];
             c[k] = {p[0], p[1], p[2]};
         }
     }
@@ -526,6 +552,11 @@ bool Renderer::run_samples(const RenderTask& task, std::vector<float>& buf, RayS
     // Sample pass: continue each pixel's running sum. The sums of this tile are only
     // touched by this task until it commits, so reading them unlocked is safe.
     for (int y = task.y0; y < task.y1; ++y) {
+        // The commit (under the lock) writes the row's sums and counts, which the last
+        // pass left out of the caches: they are fetched while the tile is traced.
+        const std::size_t row = std::size_t(y) * film_.width + task.x0;
+        prefetch<true>(film_.sum.data() + 3 * row, film_.sum.data() + 3 * (row + w));
+        prefetch<true>(film_.count.data() + row, film_.count.data() + row + w);
         std::size_t n = 0;
         const Colour* traced = task.s0 == 0 ? first_samples(task, film_, y, 1, stats, n) : nullptr;
         if (task.s0 == 0 && task.s1 == 1) {
@@ -617,10 +648,19 @@ void Renderer::commit_film(const RenderTask& task, const std::vector<float>& buf
 void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     Job& job = *job_;
     if (task.kind == PassKind::Coarse) {
+        // A row's corners lie block / 2 entries apart in the preview: side by side at 2.
         const float* c = buf.data();
-        for (int y = task.y0; y < task.y1; y += task.block)
-            for (int x = task.x0; x < task.x1; x += task.block, c += 3)
-                std::copy(c, c + 3, &film_.preview[3 * (std::size_t(y) * film_.width + x)]);
+        const int b = task.block, n = (task.x1 - task.x0 + b - 1) / b;
+        const std::size_t stride = 3 * std::size_t(b / 2);
+        for (int y = task.y0; y < task.y1; y += b, c += 3 * n) {
+            float* out = film_.preview.data() + film_.preview_index(task.x0, y);
+            if (b == 2) {
+                std::copy(c, c + 3 * n, out);
+                continue;
+            }
+            for (int k = 0; k < n; ++k, out += stride)
+                out[0] = c[3 * k], out[1] = c[3 * k + 1], out[2] = c[3 * k + 2];
+        }
     } else if (task.kind != PassKind::Decide) {
         commit_film(task, buf);
     }

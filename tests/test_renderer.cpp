@@ -9,6 +9,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -338,14 +339,65 @@ TEST_CASE("renderer: cancel() of a long render returns and leaves the renderer r
     CHECK(same_film(r.snapshot(), render(world, s, 1)));
 }
 
+TEST_CASE("camera: unit_directions() gives normalize(direction()) bit for bit, pixel for pixel") {
+    Camera cam;
+    cam.position = {-9.8, -2.6, 6.3};
+    cam.centre = {0.7, -0.2, 0.8};
+    cam.up = {0.7, -0.2, 1.8};
+    cam.angle_x = 61.3;
+    cam.angle_y = 35.9834;
+    int checked = 0;
+    for (Projection proj : {Projection::Linear, Projection::Polar})
+        for (bool mirror : {false, true})
+            for (int width : {1, 2, 7, 1280}) {
+                cam.projection = proj;
+                const CameraBasis b = CameraBasis::make(cam, width, 5, mirror);
+                for (int step : {1, 2, 3})
+                    for (int i0 : {0, 1, width / 2}) {
+                        const int count = (width - i0 + step - 1) / step;
+                        std::vector<Vec3> out(std::size_t(std::max(count, 0)) + 1, Vec3{7, 7, 7});
+                        b.unit_directions(i0, step, count, 3, out.data());
+                        for (int k = 0; k < count; ++k) {
+                            const Vec3 want = normalize(b.direction(i0 + k * step, 3));
+                            CAPTURE(k);
+                            REQUIRE(std::memcmp(&out[std::size_t(k)], &want, sizeof want) == 0);
+                            ++checked;
+                        }
+                        CHECK(out[std::size_t(std::max(count, 0))] == Vec3{7, 7, 7});  // nothing past count
+                    }
+            }
+    CHECK(checked > 10000);
+}
+
+TEST_CASE("film: zeroed arrays of every size are zero, writable to their ends, and huge ones start on 2 MB") {
+    for (std::size_t n : {std::size_t(1), std::size_t(1000), std::size_t(300000), std::size_t(524288),
+                          std::size_t(524289), std::size_t(3000001)}) {
+        CAPTURE(n);
+        ZeroedArray<float> a(n);
+        REQUIRE(a.size() == n);
+        const bool huge = n * sizeof(float) >= (std::size_t(2) << 20);
+        if (huge) CHECK(reinterpret_cast<std::uintptr_t>(a.data()) % (std::size_t(2) << 20) == 0);
+        CHECK(std::all_of(a.begin(), a.end(), [](float v) { return v == 0.0f; }));
+        a[n - 1] = 2.f;
+        a[0] += 1.f;
+        CHECK(a[0] == (n == 1 ? 3.f : 1.f));
+        CHECK(a[n - 1] == (n == 1 ? 3.f : 2.f));
+        a.reset(n);  // again, from a fresh mapping: zero
+        CHECK(a[0] == 0.f);
+        CHECK(a[n - 1] == 0.f);
+    }
+}
+
 TEST_CASE("film: a pixel with no sample shows its block's corner colour at the last coarse level") {
     Film f;
     f.reset(10, 7);
     CHECK(f.pixel(3, 2, 2 * 10 + 3) == Colour{});  // no coarse pass yet: black
     // Corners of 4x4 blocks hold (x, y, 1); every other preview value is garbage.
-    for (int y = 0; y < 7; ++y)
-        for (int x = 0; x < 10; ++x) {
-            float* p = &f.preview[3 * (std::size_t(y) * 10 + x)];
+    CHECK(f.preview.size() == Film::preview_size(10, 7));
+    CHECK(Film::preview_size(10, 7) == 5 * 4 * 3);
+    for (int y = 0; y < 7; y += 2)
+        for (int x = 0; x < 10; x += 2) {
+            float* p = &f.preview[f.preview_index(x, y)];
             bool corner = x % 4 == 0 && y % 4 == 0;
             p[0] = corner ? float(x) : -1.f, p[1] = corner ? float(y) : -1.f, p[2] = corner ? 1.f : -1.f;
         }
