@@ -1,7 +1,9 @@
 // Binned SAH build (16 bins on the centroid bounds of each axis), falling back to a
 // median split when binning cannot separate the items or the tree gets deep. The
 // binary tree is then collapsed into 4-wide nodes: each node pulls up the children of
-// its largest inner children until it has four.
+// its largest inner children until it has four. A triangle model's binary tree
+// (Bvh::collapse) is collapsed by cost instead: the wide nodes chosen for the least
+// total area (CollapsePlan).
 #include "bvh.h"
 
 #include <algorithm>
@@ -476,10 +478,79 @@ double half_area(const float b[6]) {
     return x * y + y * z + z * x;
 }
 
+// Which binary inner nodes become W-wide nodes, chosen for the least total area of the
+// wide nodes (all that a ray's walk costs beyond the leaves, which stay as they are:
+// a wide node is entered about as often as its box's area says). Per binary node n
+// and per number of slots k = 1..W it may take in its wide parent, plan[W n + k - 1]
+// says how it fills them: 0, n itself in one slot (a leaf, or a wide node of its
+// own), else l * 8 + r: its left subtree in l slots and its right one in r. Made by
+// the recursion of Ylitie, Karras and Laine (HPG 2017) over fixed leaves.
+template <int W>
+struct CollapsePlan {
+    const std::vector<BinNode>& bin;
+    std::vector<std::uint8_t> plan;
+
+    // The least cost of the subtree at n in k slots, for k = 1..W (cost[k - 1]).
+    void solve(std::uint32_t n, double cost[W]) {
+        std::uint8_t* p = &plan[std::size_t(W) * n];
+        if (bin[n].count > 0) {
+            for (int k = 0; k < W; ++k) cost[k] = 0, p[k] = 0;
+            return;
+        }
+        double l[W], r[W];
+        solve(n + 1, l);
+        solve(bin[n].first, r);
+        // Split j: left in j slots, right in k - j; the best for each k.
+        auto best_split = [&](int k, int& j_best) {
+            j_best = 1;
+            double best = DBL_MAX;
+            for (int j = 1; j < k; ++j)
+                if (l[j - 1] + r[k - j - 1] < best) best = l[j - 1] + r[k - j - 1], j_best = j;
+            return best;
+        };
+        int j;
+        const double inner = half_area(bin[n].b) + best_split(W, j);
+        cost[0] = inner;
+        p[0] = 0;
+        for (int k = 2; k <= W; ++k) {
+            int jk = 0;
+            const double split = best_split(k, jk);
+            // On a tie the split: one wide node fewer. At k = W the split always
+            // wins (no split of fewer slots is cheaper, nor is n as a node, which
+            // costs its best split of W slots and more), so p[W - 1] is the split that
+            // makes n's children when n becomes a wide node.
+            if (split <= cost[k - 2]) {
+                cost[k - 1] = split;
+                p[k - 1] = std::uint8_t(jk * 8 + (k - jk));
+            } else {
+                cost[k - 1] = cost[k - 2];
+                p[k - 1] = p[k - 2];
+            }
+        }
+    }
+
+    explicit CollapsePlan(const std::vector<BinNode>& b) : bin(b), plan(std::size_t(W) * b.size()) {
+        double cost[W];
+        if (!b.empty()) solve(0, cost);
+    }
+};
+
 template <class Node, int W>
 struct Collapser {
     const std::vector<BinNode>& bin;
     Chunked<Node>& out;
+    const std::uint8_t* plan = nullptr;  // CollapsePlan's, or null: the largest children opened first
+
+    // The binary nodes the plan puts in k slots for the subtree at n.
+    void expand(std::uint32_t n, int k, std::uint32_t kids[W], int& count) const {
+        const std::uint8_t p = plan[std::size_t(W) * n + std::size_t(k - 1)];
+        if (p == 0) {
+            kids[count++] = n;
+            return;
+        }
+        expand(n + 1, p >> 3, kids, count);
+        expand(bin[n].first, p & 7, kids, count);
+    }
 
     std::uint32_t ref(std::uint32_t i) {
         const BinNode& n = bin[i];
@@ -494,6 +565,12 @@ struct Collapser {
         int k = 0;
         if (bin[i].count > 0) {
             kids[k++] = i;
+        } else if (plan) {
+            // The plan's W slots for i: always a split (see CollapsePlan::solve).
+            const std::uint8_t p = plan[std::size_t(W) * i + std::size_t(W - 1)];
+            expand(i + 1, p >> 3, kids, k);
+            expand(bin[i].first, p & 7, kids, k);
+            return k;
         } else {
             kids[k++] = i + 1;
             kids[k++] = bin[i].first;
@@ -545,20 +622,25 @@ struct Collapser {
     }
 };
 
+template <class Node, int W>
+void collapse_into(const std::vector<BinNode>& bin, Chunked<Node>& out, bool by_area) {
+    const std::vector<std::uint8_t> plan = by_area ? CollapsePlan<W>(bin).plan : std::vector<std::uint8_t>();
+    Collapser<Node, W> c{bin, out, by_area ? plan.data() : nullptr};
+    out.reserve(c.count(0));
+    c.make(0);
+}
+
 // The 4-wide tree and, for the AVX2 path, the 8-wide one, from the binary tree; the
-// two side by side when `two_threads`.
+// two side by side when `two_threads`. by_area: the wide nodes CollapsePlan chooses,
+// else each node's largest children opened first.
 void collapse(const std::vector<BinNode>& bin, Chunked<BvhNode>& nodes, Chunked<BvhNode8>& nodes8,
-              bool two_threads) {
+              bool two_threads, bool by_area) {
     const bool wide = active_isa() == Isa::Avx2;
     two_ways(two_threads && wide, [&](int part) {
         if (part == 0) {
-            Collapser<BvhNode, 4> c{bin, nodes};
-            nodes.reserve(c.count(0));
-            c.make(0);
+            collapse_into<BvhNode, 4>(bin, nodes, by_area);
         } else if (wide) {
-            Collapser<BvhNode8, 8> c{bin, nodes8};
-            nodes8.reserve(c.count(0));
-            c.make(0);
+            collapse_into<BvhNode8, 8>(bin, nodes8, by_area);
         }
     });
 }
@@ -627,7 +709,7 @@ void build_tree(Bvh& bvh, const Boxes& boxes, int threads) {
         for (std::size_t i = item_parts[p]; i < item_parts[p + 1]; ++i) ids[i] = recs[i].id;
     });
     rec_mem.reset();
-    rt::collapse(bin, nodes, nodes8, threads > 1);
+    rt::collapse(bin, nodes, nodes8, threads > 1, false);
 }
 
 
@@ -639,7 +721,7 @@ void Bvh::build(const Chunked<Aabb>& boxes, int threads) { build_tree(*this, box
 void Bvh::collapse(const std::vector<BvhBinNode>& bin, int threads) {
     nodes.clear();
     nodes8.clear();
-    if (!bin.empty()) rt::collapse(bin, nodes, nodes8, threads > 1);
+    if (!bin.empty()) rt::collapse(bin, nodes, nodes8, threads > 1, true);
 }
 
 }  // namespace rt

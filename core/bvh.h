@@ -172,7 +172,8 @@ public:
     void build(const std::vector<Aabb>& boxes, int threads = 0);
     void build(const Chunked<Aabb>& boxes, int threads = 0);
     // The wide nodes of a binary tree built elsewhere (triangles.h builds its own, in
-    // less memory); `items` is left to the caller. On two threads if `threads` > 1.
+    // less memory), chosen for the least total area of their boxes (the binary tree's
+    // leaves kept); `items` is left to the caller. On two threads if `threads` > 1.
     void collapse(const std::vector<BvhBinNode>& bin, int threads);
 
     // Walks that hand fn whole leaves instead of single items, for callers that test a

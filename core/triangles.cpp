@@ -224,15 +224,30 @@ struct Avx2Lanes {
     }
 };
 
+// The lanes among the first `count` with lo < t and t < hi (below: t <= hi when
+// `or_equal`), a bit each; NaN in none.
+template <bool or_equal>
+RT_TARGET_AVX2 inline unsigned lanes_within(const double t[4], std::uint32_t count, double lo, double hi) {
+    const __m256d v = _mm256_loadu_pd(t);
+    const __m256d in = _mm256_and_pd(_mm256_cmp_pd(v, _mm256_set1_pd(lo), _CMP_GT_OQ),
+                                     _mm256_cmp_pd(v, _mm256_set1_pd(hi), or_equal ? _CMP_LE_OQ : _CMP_LT_OQ));
+    return unsigned(_mm256_movemask_pd(in)) & ((1u << count) - 1);
+}
+
 // The same visitors compiled with the 8-wide walks, so that the four-lane test
-// inlines into them.
+// inlines into them, and their lanes sifted at once: keep_nearest() and
+// first_within() then see only the lanes that can matter (t within reach), in order.
 struct NearestLeafAvx2 : NearestLeaf<Avx2Lanes> {
     RT_TARGET_AVX2 double operator()(std::uint32_t first, std::uint32_t count, double) const {
         for (std::uint32_t j = 0; j < count; j += 4) {
             double t[4];
             const std::uint32_t c = std::min(count - j, 4u);
             Avx2Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
-            keep_nearest(t, first + j, c, tmin, hit, found);
+            // hit.t only shrinks: a lane beyond it now stays beyond it.
+            for (unsigned m = lanes_within<true>(t, c, tmin, hit.t); m != 0; m &= m - 1) {
+                const std::uint32_t l = std::uint32_t(__builtin_ctz(m));
+                keep_nearest(t + l, first + j + l, 1, tmin, hit, found);
+            }
         }
         return hit.t;
     }
@@ -243,7 +258,7 @@ struct AnyLeafAvx2 : AnyLeaf<Avx2Lanes> {
             double t[4];
             const std::uint32_t c = std::min(count - j, 4u);
             Avx2Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
-            if (first_within(t, c, tmin, tmax, found)) return true;
+            if (const unsigned m = lanes_within<false>(t, c, tmin, tmax)) return found = t[__builtin_ctz(m)], true;
         }
         return false;
     }

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -540,6 +541,59 @@ TEST_CASE("triangles: rays aimed exactly at a closed mesh's shared edges and cor
     }
     CHECK(rays > 10000);
     CHECK(misses == 0);
+}
+
+namespace {
+// A wide tree's shape: every slot of the model in exactly one leaf, no inner node with
+// fewer than two children, and the children per node on average.
+template <class Node, int W>
+double children_per_node(const Chunked<Node>& nodes, std::size_t slots) {
+    std::vector<int> seen(slots, 0), entered(nodes.size(), 0);
+    std::size_t kids = 0;
+    int thin = 0;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        int k = 0;
+        for (int j = 0; j < W; ++j) {
+            const std::uint32_t c = nodes[i].child[j];
+            if (c == BvhNode::kEmpty) continue;
+            ++k;
+            if (!BvhNode::is_leaf(c)) {
+                REQUIRE(c < nodes.size());
+                ++entered[c];
+                continue;
+            }
+            for (std::uint32_t s = BvhNode::leaf_first(c); s < BvhNode::leaf_first(c) + BvhNode::leaf_count(c); ++s)
+                ++seen[s];
+        }
+        thin += k < 2;
+        kids += std::size_t(k);
+    }
+    CHECK(thin == 0);
+    // Every node but the root is one node's child; every slot in one leaf at most (the
+    // slots in none are the unused lanes of blocks).
+    CHECK(entered[0] == 0);
+    CHECK(std::count(entered.begin() + 1, entered.end(), 1) == std::ptrdiff_t(nodes.size() - 1));
+    CHECK(std::count_if(seen.begin(), seen.end(), [](int n) { return n > 1; }) == 0);
+    CHECK(std::size_t(std::count(seen.begin(), seen.end(), 1)) > slots * 3 / 4);
+    return double(kids) / double(nodes.size());
+}
+}  // namespace
+
+// The wide nodes are chosen for the least total area of their boxes: with leaves of
+// four to eight triangles the nodes come nearly full, where opening each node's
+// largest children first left 8-wide nodes with about four children.
+TEST_CASE("triangles: the wide trees hold every leaf once in well-filled nodes") {
+    const Isa saved = active_isa();
+    const MeshData m = read_ok(RT_SOURCE_DIR "/scenes/models/bunny.obj");
+    for (Isa isa : {Isa::Sse2, Isa::Avx2}) {
+        if (!isa_supported(isa)) continue;
+        REQUIRE(set_isa(isa));
+        const TriangleAccel acc = TriangleAccel::build(m);
+        REQUIRE(acc.bvh.nodes.size() > 100);
+        CHECK(children_per_node<BvhNode, 4>(acc.bvh.nodes, acc.ids.size()) > 3.3);
+        if (isa == Isa::Avx2) CHECK(children_per_node<BvhNode8, 8>(acc.bvh.nodes8, acc.ids.size()) > 5.5);
+    }
+    set_isa(saved);
 }
 
 #if RT_HAVE_AVX2_KERNELS
