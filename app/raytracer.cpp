@@ -20,6 +20,7 @@
 #include "cli_common.h"
 #include "diagnostic_text.h"
 #include "image_io.h"
+#include "parallel.h"
 #include "renderer.h"
 #include "scene.h"
 #include "scene_parser.h"
@@ -113,7 +114,7 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
            Rendered& out) {
     const rt::RenderSettings settings = render_settings(opt, scene.width, scene.height);
 
-    rt::Renderer renderer(opt.render.threads);
+    rt::Renderer renderer(rt::process_pool());
     ProgressBar bar(!opt.quiet && isatty(STDERR_FILENO));
     renderer.start(world, settings);
     // SIGINT and SIGTERM end the process from the signal handler, in this phase too.
@@ -190,6 +191,9 @@ rt::Status run(int argc, char** argv) {
     // Installed only now: at a prompt, Ctrl+C should just end the program. Before the
     // output check, which creates (and removes) a temporary file.
     install_signal_handlers(kProgram);
+    // The pool the reading, the build, the render and the writing share (its threads
+    // started after the handlers, so that they block the signals too).
+    rt::set_process_threads(opt.render.threads);
     if (!opt.print_scene) {
         if (rt::Status st = check_output(kProgram, out_path, scene_path); !st) return st;
         if (caught_signal()) return interrupted();  // came during the check

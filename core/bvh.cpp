@@ -433,32 +433,23 @@ struct Builder {
         out[node].first = right;
     }
 
-    // The right subtree on a thread of its own, into its own array; the left one here,
-    // in place after node as in the serial order; then the right one is copied in
-    // after it.
+    // The right subtree beside the left one (on another of the pool's threads), into
+    // its own array; the left one in place after node as in the serial order; then the
+    // right one is copied in after it.
     void build_apart(std::vector<BinNode>& out, std::uint32_t node, std::uint32_t begin, std::uint32_t end,
                      const Halves& h, int depth) {
         std::vector<BinNode> right(1);
         right.reserve(2 * std::size_t(end - h.mid));
-        std::exception_ptr failed;
-        std::thread t([&] {
-            try {
+        two_ways(true, [&](int part) {
+            if (part == 1) {
                 build(right, 0, h.mid, end, h.rb, h.rcb, depth);
-            } catch (...) {
-                failed = std::current_exception();
+                spare.fetch_add(1, std::memory_order_relaxed);  // (a throw ends the whole build)
+                return;
             }
-            spare.fetch_add(1, std::memory_order_relaxed);
-        });
-        try {
             std::uint32_t left = std::uint32_t(out.size());
             out.emplace_back();
             build(out, left, begin, h.mid, h.lb, h.lcb, depth);
-        } catch (...) {
-            t.join();
-            throw;
-        }
-        t.join();
-        if (failed) std::rethrow_exception(failed);
+        });
         out[node].first = std::uint32_t(out.size());
         splice(out, right);
     }

@@ -9,11 +9,10 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <system_error>
-#include <thread>
 
 #include "image_io.h"
 #include "pages.h"
+#include "parallel.h"
 
 namespace rt {
 namespace {
@@ -51,27 +50,26 @@ bool unchanged(int fd, const struct stat& st) {
            now.st_mtim.tv_nsec == st.st_mtim.tv_nsec;
 }
 
-// A big regular file read in two halves at once (copying from the page cache is most
-// of a read's time). `size` becomes `total` when both halves were read whole; it stays
-// 0 when the caller's loop is to read the file instead (no thread, or the file is no
-// longer as big).
+// A big regular file read in two halves at once, the second on another of the process
+// pool's threads (copying from the page cache is most of a read's time). `size`
+// becomes `total` when both halves were read whole; it stays 0 when the caller's loop
+// is to read the file instead (the file is no longer as big).
 template <class Buffer>
 Status read_halves(int fd, std::size_t total, Buffer& out, std::size_t& size) {
     const std::size_t half = total / 2;
     ssize_t second = -1;
     int second_errno = 0;
-    std::thread t;
-    try {
-        t = std::thread([&] {
+    ssize_t first = -1;
+    int first_errno = 0;
+    two_ways(true, [&](int part) {
+        if (part == 0) {
+            first = pread_full(fd, &out[0], half, 0);
+            if (first < 0) first_errno = errno;
+        } else {
             second = pread_full(fd, &out[half], total - half, off_t(half));
             if (second < 0) second_errno = errno;
-        });
-    } catch (const std::system_error&) {
-        return {};  // no thread: the loop reads it all
-    }
-    const ssize_t first = pread_full(fd, &out[0], half, 0);
-    const int first_errno = errno;
-    t.join();
+        }
+    });
     if (first < 0) return read_error(std::strerror(first_errno));
     if (second < 0) return read_error(std::strerror(second_errno));
     if (std::size_t(first) == half && std::size_t(second) == total - half &&

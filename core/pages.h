@@ -10,8 +10,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <new>
-#include <system_error>
-#include <thread>
+
+#include "parallel.h"
 
 namespace rt {
 
@@ -28,17 +28,13 @@ inline void populate_pages(const void* p, std::size_t n) {
 #endif
 }
 
-// The same with the upper half on another thread (when one can be had).
+// The same with the upper half on another of the process pool's threads.
 inline void populate_pages_on_two_threads(const void* p, std::size_t n) {
     const std::size_t half = n / 2;
-    const void* upper = static_cast<const char*>(p) + half;
-    std::thread t;
-    try {
-        t = std::thread([=] { populate_pages(upper, n - half); });
-    } catch (const std::system_error&) {
-    }
-    populate_pages(p, t.joinable() ? half : n);
-    if (t.joinable()) t.join();
+    two_ways(true, [=](int part) {
+        if (part == 0) populate_pages(p, half);
+        else populate_pages(static_cast<const char*>(p) + half, n - half);
+    });
 }
 
 // Scratch bytes in pages of their own (an anonymous mapping), handed back to the

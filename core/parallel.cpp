@@ -1,6 +1,8 @@
 // The pool behind parallel_for (see parallel.h).
 #include "parallel.h"
 
+#include <algorithm>
+
 namespace rt {
 
 ThreadPool::ThreadPool(int threads) {
@@ -30,20 +32,25 @@ void ThreadPool::run_items(Loop& loop) {
     }
 }
 
+ThreadPool::Loop* ThreadPool::loop_with_items() const {
+    for (auto it = loops_.rbegin(); it != loops_.rend(); ++it)
+        if ((*it)->has_items()) return *it;
+    return nullptr;
+}
+
 void ThreadPool::work() {
-    std::shared_ptr<Loop> seen;
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
-        wake_.wait(lock, [&] { return quit_ || loop_ != seen || !tasks_.empty(); });
+        Loop* loop = nullptr;
+        wake_.wait(lock, [&] { return quit_ || (loop = loop_with_items()) != nullptr || !tasks_.empty(); });
         if (quit_) return;
-        if (loop_ != seen) {
-            // A loop first: its caller waits for it.
-            seen = loop_;
-            ++seen->busy;
+        if (loop) {
+            // A loop first: its caller waits for it. The loop stays while busy > 0.
+            ++loop->busy;
             lock.unlock();
-            run_items(*seen);
+            run_items(*loop);
             lock.lock();
-            if (--seen->busy == 0) done_.notify_all();
+            if (--loop->busy == 0) done_.notify_all();
             continue;
         }
         std::function<void()> task = std::move(tasks_.front());
@@ -69,24 +76,66 @@ void ThreadPool::parallel_for(int n, const std::function<void(int)>& fn) {
         for (int i = 0; i < n; ++i) fn(i);
         return;
     }
-    auto loop = std::make_shared<Loop>();
-    loop->fn = &fn;
-    loop->n = n;
+    Loop loop;
+    loop.fn = &fn;
+    loop.n = n;
+    loop.next = 1;  // item 0 is the caller's
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        loop_ = loop;
+        loops_.push_back(&loop);
     }
-    wake_.notify_all();
-    run_items(*loop);
+    // Enough workers for the items besides the caller's.
+    if (n - 1 >= workers())
+        wake_.notify_all();
+    else
+        for (int k = 0; k < n - 1; ++k) wake_.notify_one();
+    try {
+        fn(0);
+    } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        loop.error = std::current_exception();
+        loop.failed = true;
+    }
+    run_items(loop);
     std::exception_ptr error;
     {
-        // Every item is taken; wait for the workers still running one. A worker that
-        // wakes only now finds nothing left and leaves at once.
+        // Every item is taken: no worker joins from now on. Wait for those still
+        // running one.
         std::unique_lock<std::mutex> lock(mutex_);
-        done_.wait(lock, [&] { return loop->busy == 0; });
-        error = loop->error;
+        loops_.erase(std::find(loops_.begin(), loops_.end(), &loop));
+        done_.wait(lock, [&] { return loop.busy == 0; });
+        error = loop.error;
     }
     if (error) std::rethrow_exception(error);
+}
+
+namespace {
+
+std::mutex process_mutex;
+int process_workers = 0;  // asked for (0: one per hardware thread); under process_mutex
+std::atomic<ThreadPool*> process{nullptr};
+
+int workers_for(int asked) { return asked > 0 ? asked : int(std::max(1u, std::thread::hardware_concurrency())); }
+
+}  // namespace
+
+ThreadPool& process_pool() {
+    if (ThreadPool* p = process.load(std::memory_order_acquire)) return *p;
+    std::lock_guard<std::mutex> lock(process_mutex);
+    ThreadPool* p = process.load(std::memory_order_relaxed);
+    if (!p) {
+        // Never deleted: a thread still in a loop when the process exits keeps it.
+        p = new ThreadPool(workers_for(process_workers) + 1);
+        process.store(p, std::memory_order_release);
+    }
+    return *p;
+}
+
+bool set_process_threads(int workers) {
+    std::lock_guard<std::mutex> lock(process_mutex);
+    if (ThreadPool* p = process.load(std::memory_order_relaxed)) return p->workers() == workers_for(workers);
+    process_workers = workers;
+    return true;
 }
 
 }  // namespace rt

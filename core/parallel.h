@@ -1,7 +1,8 @@
-// A fixed set of threads that run the iterations of a loop with the calling thread
+// A fixed set of threads that run the iterations of loops with their callers
 // (pbrt-v4's ParallelFor in miniature): the caller takes part, so a pool of one thread
 // is a plain loop, and nothing is handed over when there is nothing to share. The same
 // threads run tasks posted to run later (a renderer's tiles), one pool for all work.
+// process_pool() is the one the whole process shares (pbrt-v4's ParallelInit).
 #pragma once
 
 #include <atomic>
@@ -11,7 +12,6 @@
 #include <functional>
 #include <memory>
 #include <mutex>
-#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -29,22 +29,26 @@ public:
     // The threads that run posted tasks: size() - 1.
     int workers() const { return int(workers_.size()); }
 
-    // Calls fn(i) once for every i in [0, n), on the pool's threads and the caller's,
-    // and returns when every call has returned. The first exception thrown by a call
+    // Calls fn(i) once for every i in [0, n), on the pool's threads and the caller's
+    // (fn(0) always on the caller's), and returns when every call has returned. The first exception thrown by a call
     // (a bad_alloc on a worker, say) is rethrown here once all have stopped; the
-    // iterations not yet begun are then skipped. One loop at a time per pool.
+    // iterations not yet begun are then skipped.
+    // Any number of threads may run loops on one pool at once, and an iteration may
+    // itself run a loop (nested): each caller runs its own loop's items until none is
+    // left, so a loop ends even when no worker is free; idle workers help whichever
+    // loops have items left (the latest begun first), before any posted task.
     void parallel_for(int n, const std::function<void(int)>& fn);
 
     // Runs fn() once on one of the workers, later, and returns at once. Tasks start in
-    // the order posted, each after the loop items waiting then (a loop's caller is
-    // waiting for those). fn must not throw. Needs a worker (workers() >= 1); the
-    // tasks still waiting when the pool ends do not run, so whoever posts one waits
-    // for it before the pool goes.
+    // the order posted, each when no loop has items left for the worker to take. fn
+    // must not throw; it may run loops on this pool. Needs a worker (workers() >= 1);
+    // the tasks still waiting when the pool ends do not run, so whoever posts one
+    // waits for it before the pool goes.
     void post(std::function<void()> fn);
 
 private:
     // One loop: every thread that joins it holds it, so a worker that wakes late
-    // finds its items all taken instead of taking the next loop's.
+    // finds its items all taken instead of taking another loop's.
     struct Loop {
         const std::function<void(int)>* fn = nullptr;
         int n = 0;
@@ -52,47 +56,44 @@ private:
         std::atomic<bool> failed{false};
         std::exception_ptr error;  // under the pool's mutex
         int busy = 0;              // workers inside it (under the pool's mutex)
+        bool has_items() const {
+            return next.load(std::memory_order_relaxed) < n && !failed.load(std::memory_order_relaxed);
+        }
     };
     void work();
     void run_items(Loop& loop);
+    // The latest begun loop with items left, or null (under mutex_).
+    Loop* loop_with_items() const;
 
     std::vector<std::thread> workers_;
     std::mutex mutex_;
     std::condition_variable wake_, done_;
-    std::shared_ptr<Loop> loop_;  // the latest loop posted (under mutex_)
+    std::vector<Loop*> loops_;  // begun, their callers not yet done taking items (under mutex_)
     std::deque<std::function<void()>> tasks_;  // posted, not yet started (under mutex_)
     bool quit_ = false;
 };
 
-// f(0) here and f(1) on another thread when `two` and a thread can be had; else f(0)
-// then f(1). An exception from either is rethrown here once both have ended. (The
-// BVH builds' halves: work split once, where a pool's loop would cost more than it.)
+// The pool the process shares: loading, BVH builds, image writing and renders run
+// their parallel parts on it. Made on first use with the workers that
+// set_process_threads asked for (by default one per hardware thread); it lasts as
+// long as the process.
+ThreadPool& process_pool();
+// The workers process_pool() is to have (0: one per hardware thread). Takes effect
+// only before the pool's first use; returns whether the pool has (or will have) that
+// many workers.
+bool set_process_threads(int workers);
+
+// f(0) on the caller's thread and, when `two`, f(1) at the same time on a thread of
+// process_pool() (or after f(0) on the caller's, when none is free); else f(0) then f(1). An exception from either is rethrown here once both
+// have ended. (The BVH builds' halves: work split once.)
 template <class F>
 void two_ways(bool two, F&& f) {
-    std::thread t;
-    std::exception_ptr failed;
-    if (two) {
-        try {
-            t = std::thread([&] {
-                try {
-                    f(1);
-                } catch (...) {
-                    failed = std::current_exception();
-                }
-            });
-        } catch (const std::system_error&) {
-            // No thread: both parts here.
-        }
-    }
-    try {
+    if (!two) {
         f(0);
-        if (!t.joinable()) f(1);
-    } catch (...) {
-        if (t.joinable()) t.join();
-        throw;
+        f(1);
+        return;
     }
-    if (t.joinable()) t.join();
-    if (failed) std::rethrow_exception(failed);
+    process_pool().parallel_for(2, [&f](int part) { f(part); });
 }
 
 }  // namespace rt

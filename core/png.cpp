@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "deflate.h"
+#include "parallel.h"
 
 namespace rt {
 
@@ -70,7 +71,7 @@ void compress_rows(const std::uint8_t* rgb, int width, bool first, bool last, St
     s.ok = true;
 }
 
-// On its own thread: out of memory fails the strip, not the process.
+// On any of the pool's threads: out of memory fails the strip, not the process.
 void compress_strip(const std::uint8_t* rgb, int width, bool first, bool last, Strip& s) {
     try {
         compress_rows(rgb, width, first, last, s);
@@ -99,15 +100,13 @@ bool encode_png(const std::uint8_t* rgb, int width, int height, std::string& out
     const std::size_t most = std::max<std::size_t>(1, raw / kStripBytes), least = raw / (std::size_t(1) << 29) + 1;
     const int n = int(std::min<std::size_t>(std::size_t(height), std::max(least, std::min<std::size_t>(most, threads))));
     std::vector<Strip> strips{static_cast<std::size_t>(n)};
-    std::vector<std::thread> helpers;
     for (int k = 0; k < n; ++k) {
         Strip& s = strips[std::size_t(k)];
         s.y0 = int(std::int64_t(height) * k / n);
         s.y1 = int(std::int64_t(height) * (k + 1) / n);
-        if (k > 0) helpers.emplace_back(compress_strip, rgb, width, false, k == n - 1, std::ref(s));
     }
-    compress_strip(rgb, width, true, n == 1, strips[0]);
-    for (std::thread& t : helpers) t.join();
+    process_pool().parallel_for(
+            n, [&](int k) { compress_strip(rgb, width, k == 0, k == n - 1, strips[std::size_t(k)]); });
     if (!std::all_of(strips.begin(), strips.end(), [](const Strip& s) { return s.ok; })) return false;
 
     // The stream's Adler-32 ends the last chunk.

@@ -10,8 +10,9 @@
 namespace rt {
 
 // Appends the PNG file of the width x height picture `rgb` (3 bytes a pixel, top row
-// first) to `out`, compressing on up to `threads` threads (0: as many as the machine
-// has). False if out of memory.
+// first) to `out`, in up to `threads` strips (0: one per hardware thread; the file's
+// bytes depend on it) compressed on the process pool (parallel.h). False if out of
+// memory.
 bool encode_png(const std::uint8_t* rgb, int width, int height, std::string& out, int threads = 0);
 
 }  // namespace rt

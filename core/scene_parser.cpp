@@ -31,6 +31,7 @@
 
 #include "diagnostic_text.h"
 #include "pages.h"
+#include "parallel.h"
 #include "scene_lexer.h"
 #include "scene_schema.h"
 
@@ -82,14 +83,18 @@ int key_index(const sc::Block<T>& b, const sc::Key<T>& k) {
     return int(&k - b.keys.data());
 }
 
-// The items of a thing section from `start` on, read by a helper thread.
+// The items of a thing section from `start` on, read by a helper (an item of a loop on
+// the process pool beside the main reading).
 struct Piece {
     std::size_t start = 0;    // a guessed item start (the offset of an object name)
     std::size_t stop_at = 0;  // the helper ends at the first item starting at or after it
     std::size_t max_counted = 0;  // the helper gives up past this many objects
     std::atomic<bool> quit{false};  // the main reading passed `start`: the work is not needed
     std::atomic<std::size_t> at{0}, made{0};  // how far the helper got, for progress
-    std::thread thread;
+    // Set by whichever comes first: the helper starting, or the main reading that
+    // arrives at or passes `start` (then no helper begins, and the main reading reads
+    // the items itself).
+    std::atomic<bool> claimed{false};
     std::mutex mutex;
     std::condition_variable finished;
     bool done = false;  // under mutex; then the fields below are the helper's result
@@ -114,7 +119,7 @@ public:
     Parser(std::string_view text, const ParseOptions& opt, ParseResult& out, Piece& piece)
         : lex_(text, piece.start), lines_(text, piece.start), opt_(opt), out_(out), piece_(&piece) {}
 
-    void run(std::vector<std::unique_ptr<Piece>> pieces = {}) {
+    void run(std::vector<Piece*> pieces = {}) {
         pieces_ = std::move(pieces);
         next_start_ = pieces_.empty() ? kNone : pieces_.front()->start;
         try {
@@ -138,6 +143,7 @@ public:
     // the end of the section, or the first item at or after stop_at.
     void run_piece() {
         Piece& p = *piece_;
+        if (p.claimed.exchange(true)) return;  // the main reading got there first
         std::vector<Object>& objects = out_.scene.objects;
         std::size_t kept = 0, counted = 0, end = p.start;
         try {
@@ -183,6 +189,7 @@ private:
             }
             if (p.start < here) {
                 p.quit = true;
+                keep_from_helper(p);
                 ++next_piece_;
                 continue;
             }
@@ -220,7 +227,17 @@ private:
             for (Object& operand : c->operands) to_true_lines(operand, first_line);
     }
 
+    // Sees that no helper begins `p` if none has yet: then it is done, with nothing
+    // read (p.end is p.start).
+    static void keep_from_helper(Piece& p) {
+        if (p.claimed.exchange(true)) return;
+        std::lock_guard<std::mutex> lock(p.mutex);
+        p.done = true;
+    }
+
+    // Waits for the helper of `p` to end (at once when none has begun).
     void wait_for(Piece& p) {
+        keep_from_helper(p);
         std::unique_lock<std::mutex> lock(p.mutex);
         while (!p.done) {
             if (opt_.progress) {
@@ -233,11 +250,14 @@ private:
         }
     }
 
-    // Stops the helpers still reading and waits for them.
+    // Stops the helpers still reading and waits for them; those not begun never do.
     void end_pieces() {
-        for (auto& p : pieces_) p->quit = true;
-        for (auto& p : pieces_)
-            if (p->thread.joinable()) p->thread.join();
+        for (Piece* p : pieces_) p->quit = true;
+        for (Piece* p : pieces_) {
+            keep_from_helper(*p);
+            std::unique_lock<std::mutex> lock(p->mutex);
+            p->finished.wait(lock, [&] { return p->done; });
+        }
         pieces_.clear();
     }
 
@@ -909,7 +929,7 @@ private:
     const ParseOptions& opt_;
     ParseResult& out_;
     Piece* piece_ = nullptr;  // set in a helper
-    std::vector<std::unique_ptr<Piece>> pieces_;  // the helpers' pieces, in file order
+    std::vector<Piece*> pieces_;  // the helpers' pieces, in file order
     std::size_t next_piece_ = 0;  // pieces_ before it are taken or passed
     std::size_t next_start_ = kNone;  // its start
     std::size_t next_tick_ = kNone;
@@ -992,28 +1012,31 @@ ParseResult parse_scene(std::string_view text, const ParseOptions& options) {
             p->max_counted = Limits::max_objects / starts.size();
             pieces.push_back(std::move(p));
         }
-        try {
-            for (auto& p : pieces)
-                p->thread = std::thread([text, &options, piece = p.get()] {
-                    ParseResult own;
-                    try {
-                        own.scene.objects.reserve((std::min(piece->stop_at, text.size()) - piece->start) / 64);
-                    } catch (const std::bad_alloc&) {
-                    }
-                    Parser helper(text, options, own, *piece);
-                    helper.run_piece();
-                });
-        } catch (...) {
-            // No more threads: the pieces without one are never reached by a helper.
-            for (auto& p : pieces)
-                if (!p->thread.joinable()) {
-                    std::lock_guard<std::mutex> lock(p->mutex);
-                    p->done = true;
-                }
-        }
     }
-    Parser p(text, options, result);
-    p.run(std::move(pieces));
+    if (pieces.empty()) {
+        Parser(text, options, result).run();
+        return result;
+    }
+    // The main reading is item 0, on this thread (progress is reported here); the
+    // helpers, the others. Each thread runs what it takes to the end, and the main
+    // reading never waits for a helper not begun, so the loop ends whichever threads
+    // are free.
+    std::vector<Piece*> own;
+    for (auto& p : pieces) own.push_back(p.get());
+    process_pool().parallel_for(int(pieces.size()) + 1, [&](int k) {
+        if (k == 0) {
+            Parser(text, options, result).run(own);
+            return;
+        }
+        Piece* piece = pieces[std::size_t(k - 1)].get();
+        if (piece->claimed.load()) return;
+        ParseResult helper_out;
+        try {
+            helper_out.scene.objects.reserve((std::min(piece->stop_at, text.size()) - piece->start) / 64);
+        } catch (const std::bad_alloc&) {
+        }
+        Parser(text, options, helper_out, *piece).run_piece();
+    });
     return result;
 }
 

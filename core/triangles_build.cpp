@@ -296,31 +296,22 @@ struct TriBuilder {
         out[node].first = right;
     }
 
-    // The right subtree on a thread of its own, into its own array, then copied in
-    // after the left one (built here, in place).
+    // The right subtree beside the left one (on another of the pool's threads), into
+    // its own array, then copied in after the left one (built in place).
     void build_apart(std::vector<BvhBinNode>& out, std::uint32_t node, std::uint32_t begin, std::uint32_t end,
                      const Halves& h, int depth) {
         std::vector<BvhBinNode> right(1);
         right.reserve((end - h.mid) / 2 + 16);
-        std::exception_ptr failed;
-        std::thread t([&] {
-            try {
+        two_ways(true, [&](int part) {
+            if (part == 1) {
                 build(right, 0, h.mid, end, h.rb, h.rcb, depth);
-            } catch (...) {
-                failed = std::current_exception();
+                give_thread();  // (a throw ends the whole build)
+                return;
             }
-            give_thread();
-        });
-        try {
             const std::uint32_t left = std::uint32_t(out.size());
             out.emplace_back();
             build(out, left, begin, h.mid, h.lb, h.lcb, depth);
-        } catch (...) {
-            t.join();
-            throw;
-        }
-        t.join();
-        if (failed) std::rethrow_exception(failed);
+        });
         const std::uint32_t offset = std::uint32_t(out.size());
         out[node].first = offset;
         out.insert(out.end(), right.begin(), right.end());

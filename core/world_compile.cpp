@@ -3,15 +3,11 @@
 // parts World::update() (world_update.cpp) shares through world_build.h.
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <iterator>
-#include <mutex>
-#include <system_error>
-#include <thread>
 
 #include "bvh.h"
+#include "parallel.h"
 #include "shade.h"
 #include "shapes.h"
 #include "world.h"
@@ -182,49 +178,28 @@ std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<co
 }  // namespace
 
 std::shared_ptr<const World> compile_world(const Scene& scene, const World* previous) {
-    // For a big scene the materials are made on a thread of their own while the shapes
-    // and the BVH are built.
+    // For a big scene the materials are made on another of the process pool's threads
+    // while the shapes and the BVH are built.
     ObjectMaterials materials;
-    std::thread materials_thread;
-    std::exception_ptr materials_failed;
-    if (scene.objects.size() >= 65536 && std::thread::hardware_concurrency() > 1) {
-        try {
-            materials_thread = std::thread([&] {
-                try {
-                    materials = make_materials(scene);
-                } catch (...) {
-                    materials_failed = std::current_exception();
-                }
-            });
-        } catch (const std::system_error&) {
-            // No thread to be had: made below.
-        }
-    }
-    struct Join {
-        std::thread& t;
-        ~Join() {
-            if (t.joinable()) t.join();
-        }
-    } join{materials_thread};
     std::shared_ptr<const Geometry> geometry;
-    if (previous && previous->geometry && previous->geometry->object_node.size() == scene.objects.size()) {
-        // The shapes compiled again are cheap to compare; only the BVH is worth keeping.
-        Geometry g = build_geometry(scene, false);
-        if (same_shapes(g, *previous->geometry)) {
-            geometry = previous->geometry;
-        } else {
-            g.bvh.build(g.object_bounds);
-            geometry = std::make_shared<const Geometry>(std::move(g));
+    two_ways(scene.objects.size() >= 65536, [&](int part) {
+        if (part == 1) {
+            materials = make_materials(scene);
+            return;
         }
-    } else {
-        geometry = std::make_shared<const Geometry>(build_geometry(scene));
-    }
-    if (materials_thread.joinable()) {
-        materials_thread.join();
-        if (materials_failed) std::rethrow_exception(materials_failed);
-    } else {
-        materials = make_materials(scene);
-    }
+        if (previous && previous->geometry && previous->geometry->object_node.size() == scene.objects.size()) {
+            // The shapes compiled again are cheap to compare; only the BVH is worth keeping.
+            Geometry g = build_geometry(scene, false);
+            if (same_shapes(g, *previous->geometry)) {
+                geometry = previous->geometry;
+            } else {
+                g.bvh.build(g.object_bounds);
+                geometry = std::make_shared<const Geometry>(std::move(g));
+            }
+        } else {
+            geometry = std::make_shared<const Geometry>(build_geometry(scene));
+        }
+    });
     return finish_world(scene, std::move(geometry), std::move(materials), previous);
 }
 
@@ -279,37 +254,18 @@ void add_glow_bvh(World& w, const World* previous) {
 
 namespace {
 
-// A light buffer around each point of `todo`, each on its own, on as many threads as
-// there are (a big scene's take tens of milliseconds each; a small one's,
-// microseconds on this thread).
+// A light buffer around each point of `todo`, each on its own, on the process pool's
+// threads (a big scene's take tens of milliseconds each; a small one's, microseconds
+// on this thread).
 std::vector<LightBuffer> build_light_buffers(const Chunked<Aabb>& boxes, const std::vector<Vec3>& todo,
                                              int cells_n) {
     std::vector<LightBuffer> made(todo.size());
-    std::atomic<std::size_t> next{0};
-    auto work = [&] {
-        for (std::size_t i; (i = next++) < todo.size();) made[i] = LightBuffer::build(boxes, todo[i], cells_n);
-    };
-    std::size_t threads = boxes.size() < 4096 ? 1 : std::min<std::size_t>(todo.size(), std::max(1u, std::thread::hardware_concurrency()));
-    std::vector<std::thread> pool;
-    std::exception_ptr failed;
-    std::mutex failed_mutex;
-    for (std::size_t t = 1; t < threads; ++t)
-        pool.emplace_back([&] {
-            try {
-                work();
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(failed_mutex);
-                failed = std::current_exception();
-            }
-        });
-    try {
-        work();
-    } catch (...) {
-        for (std::thread& t : pool) t.join();
-        throw;
+    auto one = [&](std::size_t i) { made[i] = LightBuffer::build(boxes, todo[i], cells_n); };
+    if (boxes.size() < 4096) {
+        for (std::size_t i = 0; i < todo.size(); ++i) one(i);
+    } else {
+        process_pool().parallel_for(int(todo.size()), [&](int i) { one(std::size_t(i)); });
     }
-    for (std::thread& t : pool) t.join();
-    if (failed) std::rethrow_exception(failed);
     return made;
 }
 

@@ -209,6 +209,9 @@ rt::Status front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
         if (caught_signal()) interrupted();  // came during the check
     }
     install_signal_handlers();
+    // The pool the reading, the build and the render share (its threads started after
+    // the handlers, so that they block the signals too).
+    rt::set_process_threads(opt.render.threads > 0 ? opt.render.threads : default_threads());
     f.t_start = Clock::now();
     if (rt::Status st = load_scene(f.scene_path, f.text, scene); !st) return st;
     if (opt.width) scene.width = *opt.width;
@@ -676,7 +679,7 @@ rt::Status build_rank(const std::string& text, const Models& models, const JobHe
         if (!world) return world.status();
         b.world = std::move(*world);
         b.camera = rt::CameraBasis::make(b.world->camera, job.width, job.height, job.mirror != 0);
-        b.pool = std::make_unique<TilePool>(*b.world, b.camera, job.threads);
+        b.pool = std::make_unique<TilePool>(*b.world, b.camera, rt::process_pool());
     } catch (const std::bad_alloc&) {
         return rt::Status::error("out of memory building the scene", kExitMpi);
     } catch (const std::exception& e) {
@@ -783,6 +786,8 @@ int run(int argc, char** argv) {
     const Models models = share_models(scene);
     times.bcast = seconds_since(t_bcast0);
     const auto t_compile0 = Clock::now();
+    // (Rank 0 set it from the same count before reading the scene.)
+    rt::set_process_threads(job.threads > 0 ? job.threads : default_threads());
     Built built;
     const rt::Status built_ok = build_rank(text, models, job, built);
     times.compile = seconds_since(t_compile0);

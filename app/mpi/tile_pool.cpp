@@ -44,11 +44,8 @@ int default_threads() {
     return int(std::max(1u, std::thread::hardware_concurrency()));
 }
 
-TilePool::TilePool(const rt::World& world, const rt::CameraBasis& camera, int threads)
-    : world_(world),
-      camera_(camera),
-      nthreads_(threads > 0 ? threads : default_threads()),
-      pool_(nthreads_ + 1) {}
+TilePool::TilePool(const rt::World& world, const rt::CameraBasis& camera, rt::ThreadPool& pool)
+    : world_(world), camera_(camera), nthreads_(pool.workers()), pool_(pool) {}
 
 TilePool::~TilePool() {
     std::unique_lock<std::mutex> lock(mutex_);

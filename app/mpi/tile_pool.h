@@ -44,7 +44,8 @@ public:
         std::uint64_t rays = 0;
     };
 
-    TilePool(const rt::World& world, const rt::CameraBasis& camera, int threads);  // threads 0: default_threads()
+    // Renders on all of `pool`'s workers (at least one); the pool must outlive it.
+    TilePool(const rt::World& world, const rt::CameraBasis& camera, rt::ThreadPool& pool);
     ~TilePool();
     TilePool(const TilePool&) = delete;
     TilePool& operator=(const TilePool&) = delete;
@@ -89,7 +90,7 @@ private:
     const rt::World& world_;
     const rt::CameraBasis& camera_;
     int nthreads_ = 0;
-    rt::ThreadPool pool_;  // nthreads_ workers (its size counts a loop's caller)
+    rt::ThreadPool& pool_;  // nthreads_ workers
     mutable std::mutex mutex_;
     std::condition_variable idle_cv_, done_cv_;
     int runners_ = 0;  // posted and not yet ended (under mutex_)

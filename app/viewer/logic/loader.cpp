@@ -71,8 +71,7 @@ bool apply_load(LoadResult& r, Document& doc, std::shared_ptr<const rt::World>& 
 }
 
 void SceneLoader::compile_and_scan(LoadResult& r) {
-    // The scan beside the compile (it reads the text only); with no thread to be had,
-    // after it.
+    // The scan beside the compile (it reads the text only), on the process pool.
     rt::two_ways(true, [&r](int part) {
         if (part == 0) r.world = rt::compile_world(r.parsed.scene, nullptr);
         else r.layout = scan_layout(r.text);

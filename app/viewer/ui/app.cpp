@@ -17,7 +17,6 @@
 #include <ctime>
 #include <filesystem>
 #include <optional>
-#include <thread>
 #include <utility>
 
 #include "default_scene.h"
@@ -74,10 +73,11 @@ std::string recent_note(const rt::Status& recent) {
     return recent ? std::string() : "; recent files not saved: " + recent.message();
 }
 
-// The pool's size: the render threads asked for (0: one per hardware thread) and the
-// UI thread, which takes part in the preview's loops.
-int pool_size(int threads) {
-    return 1 + (threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency())));
+// The process's pool, with the render threads asked for (0: one per hardware thread)
+// when it is not running yet.
+rt::ThreadPool& render_pool(int threads) {
+    rt::set_process_threads(threads);
+    return rt::process_pool();
 }
 
 }  // namespace
@@ -88,7 +88,7 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
       interactive_(interactive),
       editor_(interactive, status_),
       nav_input_(nav_),
-      pool_(pool_size(options.threads)),
+      pool_(render_pool(options.threads)),
       render_(pool_, interactive,
               options.samples > 0 ? options.samples : (interactive ? kDefaultSamplesWindow : kDefaultSamplesHeadless),
               options.time_limit, options.aa_threshold.value_or(kDefaultAaThreshold)),

@@ -152,10 +152,10 @@ private:
     DocumentEditor editor_;
     Navigator nav_;
     NavigationInput nav_input_;
-    // The one pool of render threads: the progressive render, the moving view's
-    // preview (with the UI thread), the region and the final render. Before its users,
-    // which end their work on it before it goes.
-    rt::ThreadPool pool_;
+    // The process's pool (rt::process_pool()), of --threads workers: the progressive
+    // render, the moving view's preview (with the UI thread), the region and the final
+    // render, and the loading's and the builds' parallel parts.
+    rt::ThreadPool& pool_;
     RenderController render_;
     SceneLoader loader_;  // after editor_: its worker reads into the document's model store, and is joined first
     Dialogs dialogs_;
