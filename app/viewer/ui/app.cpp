@@ -781,6 +781,19 @@ rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
     return rt::finite(off) ? off : rt::Vec3{};
 }
 
+namespace {
+// The item an "add" command names ("sphere", ..., "spotlight"), as in the format.
+std::optional<NewItem> new_item_kind(const std::string& name) {
+    static const std::pair<const char*, NewItem> kinds[] = {
+        {"sphere", NewItem::Sphere}, {"cylinder", NewItem::Cylinder}, {"tetrahedron", NewItem::Tetrahedron},
+        {"torus", NewItem::Torus},   {"plane", NewItem::Plane},       {"chess_plane", NewItem::ChessPlane},
+        {"lamp", NewItem::Lamp},     {"spotlight", NewItem::Spotlight}};
+    for (const auto& k : kinds)
+        if (name == k.first) return k.second;
+    return std::nullopt;
+}
+}  // namespace
+
 bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     Document& doc = editor_.doc();
     if (!doc.has_scene() || loader_.active()) return false;
@@ -802,13 +815,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     const std::string label = sel ? item_label(scene, ItemRef{*sel, {}}) : std::string();
     switch (c) {
         case Command::AddItem: {
-            static const std::pair<const char*, NewItem> kinds[] = {
-                {"sphere", NewItem::Sphere}, {"cylinder", NewItem::Cylinder}, {"tetrahedron", NewItem::Tetrahedron},
-                {"torus", NewItem::Torus},   {"plane", NewItem::Plane},       {"chess_plane", NewItem::ChessPlane},
-                {"lamp", NewItem::Lamp},     {"spotlight", NewItem::Spotlight}};
-            const NewItem* kind = nullptr;
-            for (const auto& k : kinds)
-                if (arg == k.first) kind = &k.second;
+            const std::optional<NewItem> kind = new_item_kind(arg);
             if (!kind) return false;
             e = add_item(text, scene, *kind, new_item_placement());
             done = std::string("Added a ") + arg;
@@ -827,19 +834,15 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             name = "Duplicate " + label;
             break;
         }
-        case Command::Delete:
+        case Command::Delete: {
             if (!sel) return false;
-            if (const ItemRef& ref = panels_.selection(); !ref.path.empty()) {
-                // An operand: its CSG becomes the other operand.
-                e = delete_operand(text, scene, sel->index, ref.path);
-                done = "Deleted the operand: its CSG is the other operand now";
-                name = "Delete " + item_label(scene, ref);
-                break;
-            }
-            e = delete_item(text, scene, *sel);
-            done = "Deleted";
-            name = "Delete " + label;
+            const ItemRef& ref = panels_.selection();
+            const bool operand = !ref.path.empty();  // its CSG becomes the other operand
+            e = operand ? delete_operand(text, scene, sel->index, ref.path) : delete_item(text, scene, *sel);
+            done = operand ? "Deleted the operand: its CSG is the other operand now" : "Deleted";
+            name = "Delete " + (operand ? item_label(scene, ref) : label);
             break;
+        }
         case Command::SwitchLight:
             if (!sel || sel->kind != SceneItem::Kind::Light) return false;
             e = switch_light_kind(text, scene, sel->index);

@@ -123,6 +123,16 @@ bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView&
     return true;
 }
 
+std::shared_ptr<const rt::World> MoveTool::operand_outline_world(const Document& doc, const ItemRef& sel,
+                                                                 const std::shared_ptr<const rt::World>& world) {
+    if (!operand_world_ || !same_world(operand_source_, world) || !(operand_sel_ == sel)) {
+        operand_world_ = operand_world(doc.scene(), sel);
+        operand_source_ = world;
+        operand_sel_ = sel;
+    }
+    return operand_world_ ? operand_world_ : world;
+}
+
 void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const RenderController& render,
                               const rt::Camera& camera, int film_w, int film_h) {
     refining_ = false;
@@ -133,20 +143,8 @@ void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const Ren
         has_ids_ = false;
         return;
     }
-    if (!sel.path.empty()) {
-        // An operand: its own silhouette, traced in a world of it alone.
-        if (!operand_world_ || !same_world(operand_source_, world) || !(operand_sel_ == sel)) {
-            operand_world_ = operand_world(doc.scene(), sel);
-            operand_source_ = world;
-            operand_sel_ = sel;
-        }
-        if (operand_world_) {
-            world = operand_world_;
-            item = SceneItem{SceneItem::Kind::Object, 0};
-        }
-    } else {
-        operand_world_ = nullptr;
-    }
+    if (!sel.path.empty() && (world = operand_outline_world(doc, sel, world)) == operand_world_)
+        item = SceneItem{SceneItem::Kind::Object, 0};  // an operand: its own silhouette
     std::uint32_t code = id_code(*item);
     bool same_view = has_ids_ && same_world(ids_world_, world) && ids_camera_ == camera && ids_w_ == film_w && ids_h_ == film_h &&
                      ids_code_ == code;

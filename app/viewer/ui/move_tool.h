@@ -84,7 +84,9 @@ private:
     ItemRef ids_sel_;  // the selection ids_ outlines
     bool refining_ = false;
     // A selected CSG operand's world (operand_world()), made again when the document's
-    // world or the selection changes.
+    // world or the selection changes; `world` when there is none.
+    std::shared_ptr<const rt::World> operand_outline_world(const Document& doc, const ItemRef& sel,
+                                                           const std::shared_ptr<const rt::World>& world);
     std::shared_ptr<const rt::World> operand_world_;
     std::weak_ptr<const rt::World> operand_source_;
     ItemRef operand_sel_;
