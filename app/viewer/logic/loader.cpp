@@ -2,6 +2,7 @@
 #include "loader.h"
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <utility>
@@ -73,8 +74,11 @@ bool apply_load(LoadResult& r, Document& doc, std::shared_ptr<const rt::World>& 
 void SceneLoader::compile_and_scan(LoadResult& r) {
     // The scan beside the compile (it reads the text only), on the process pool.
     rt::two_ways(true, [&r](int part) {
+        const auto t0 = std::chrono::steady_clock::now();
         if (part == 0) r.world = rt::compile_world(r.parsed.scene, nullptr);
         else r.layout = scan_layout(r.text);
+        (part == 0 ? r.times.compile : r.times.scan) =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     });
 }
 
@@ -90,6 +94,13 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
     };
     LoadResult r;
     r.path = job->path;
+    auto t = std::chrono::steady_clock::now();
+    auto lap = [&t] {
+        const auto now = std::chrono::steady_clock::now();
+        const double s = std::chrono::duration<double>(now - t).count();
+        t = now;
+        return s;
+    };
     rt::ModelStore& models = job->models ? *job->models : job->own_models;
     stage(Stage::Reading);
     r.new_scene = rt::is_model_file(job->path);
@@ -98,6 +109,7 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
         job->progress.bytes = b;
         job->progress.total = t;
     });
+    r.times.read = lap();
     if (job->cancel) {
         r.status = LoadResult::Status::Cancelled;
     } else if (!read) {
@@ -121,6 +133,7 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
             return !job->cancel;
         };
         r.parsed = rt::parse_scene(r.text, popts);
+        r.times.parse = lap();
         if (job->cancel) {
             r.status = LoadResult::Status::Cancelled;
         } else {
@@ -131,11 +144,12 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
             if (job->compile && r.parsed.ok()) {
                 stage(Stage::Building);
                 compile_and_scan(r);
+                r.times.build = lap();
             }
             r.status = job->cancel ? LoadResult::Status::Cancelled : LoadResult::Status::Ok;
         }
     }
-    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, false, {}, {}, {}, {}, {}};
+    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, false, {}, {}, {}, {}, {}, {}};
     job->result = std::move(r);
     stage(Stage::Done);
     job->finished = true;

@@ -33,6 +33,11 @@ struct LoadResult {
     // Ok and parsed: where the text's items are, scanned beside the compile, so that
     // the first edit of a big scene patches the text at once (no pass over 100 MB then).
     std::optional<SceneLayout> layout;
+    // Seconds each stage took (raytracer-view -v prints them beside raytracer --stats').
+    struct Times {
+        double read = 0, parse = 0, build = 0;
+        double compile = 0, scan = 0;  // the build's two parts, side by side
+    } times;
 };
 
 // Reads a scene file as the loader does: with the command line's reader (rt::read_file,

@@ -159,6 +159,7 @@ void ViewerApp::poll_loader() {
     Document& doc = editor_.doc();
     std::string path = r->path;
     bool ok = r->parsed.ok();
+    const LoadResult::Times times = r->times;
     std::shared_ptr<const rt::World> world;
     if (!apply_load(*r, doc, world)) return;  // cancelled: the old scene stays
     if (world) render_.adopt_world(std::move(world), doc.content_version());
@@ -179,7 +180,11 @@ void ViewerApp::poll_loader() {
     status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + light_note(doc) +
                     recent_note(recent),
                 !ok || !recent);
-    if (opt_.verbose) std::fprintf(stderr, "raytracer-view: loaded %s at %.3f s\n", path.c_str(), since_start());
+    if (opt_.verbose)
+        std::fprintf(stderr,
+                     "raytracer-view: loaded %s at %.3f s (read %.3f s, parse %.3f s, build %.3f s: compile %.3f s "
+                     "beside the layout scan %.3f s)\n",
+                     path.c_str(), since_start(), times.read, times.parse, times.build, times.compile, times.scan);
 }
 
 // ---------------------------------------------------------------------------------
