@@ -20,6 +20,7 @@
 #include <thread>
 #include <type_traits>
 
+#include "huge_pages.h"
 #include "parallel.h"
 
 namespace rt {
@@ -667,6 +668,7 @@ void build_tree(Bvh& bvh, const Boxes& boxes, int threads) {
                                                   std::free);
     if (!rec_mem) throw std::bad_alloc();
     Rec* recs = rec_mem.get();
+    advise_huge_pages(recs, boxes.size() * sizeof(Rec));
     std::size_t kept[2] = {0, 0};
     Aabb bounds[2], centres[2];  // per half (unions as exact as one pass: see Bins::merge)
     two_ways(two, [&](int p) {
@@ -687,6 +689,7 @@ void build_tree(Bvh& bvh, const Boxes& boxes, int threads) {
     centres[0].grow(centres[1]);
     std::vector<BinNode> bin;
     bin.reserve(2 * n + 1);
+    advise_huge_pages(bin.data(), bin.capacity() * sizeof(BinNode));
     std::atomic<int> spare{threads - 1};
     Builder b{recs, n, spare};
     bin.emplace_back();

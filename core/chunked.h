@@ -15,6 +15,8 @@
 #include <utility>
 #include <vector>
 
+#include "huge_pages.h"
+
 namespace rt {
 
 namespace detail {
@@ -151,6 +153,7 @@ private:
         Chunked old = std::move(*this);
         clear();
         T* block = static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(alignof(T))));
+        advise_huge_pages(block, n * sizeof(T));
         std::shared_ptr<T> whole(block, [](T* q) { ::operator delete(q, std::align_val_t(alignof(T))); });
         const std::size_t chunks = (n + kMask) >> kShift;
         owners_.reserve(chunks);
@@ -261,7 +264,11 @@ public:
         sync();
     }
     void reserve(std::size_t n) {
-        own().reserve(n);
+        std::vector<T>& v = own();
+        if (n > v.capacity()) {
+            v.reserve(n);
+            advise_huge_pages(v.data() + v.size(), (v.capacity() - v.size()) * sizeof(T));
+        }
         sync();
     }
     void resize(std::size_t n) {

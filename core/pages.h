@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <new>
 
+#include "huge_pages.h"
 #include "parallel.h"
 
 namespace rt {
@@ -28,8 +29,10 @@ inline void populate_pages(const void* p, std::size_t n) {
 #endif
 }
 
-// The same with the upper half on another of the process pool's threads.
+// The same with the upper half on another of the process pool's threads, in huge
+// pages where the system has them.
 inline void populate_pages_on_two_threads(const void* p, std::size_t n) {
+    advise_huge_pages(p, n);
     const std::size_t half = n / 2;
     two_ways(true, [=](int part) {
         if (part == 0) populate_pages(p, half);
