@@ -510,7 +510,7 @@ bool Document::commit_in_place(DocStep& step) {
     // document's own replacements: an edit costs its block, not a pass over the text.
     const std::uint64_t key = layout_key();
     if (!layout_ || layout_key_ != key) {
-        layout_ = scan_layout(editor_);
+        layout_ = scan_layout(editor_, has_scene_ ? scene_.objects.size() : 0);
         layout_key_ = key;
     }
     SceneLayout& l = *layout_;

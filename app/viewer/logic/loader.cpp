@@ -76,7 +76,7 @@ void SceneLoader::compile_and_scan(LoadResult& r) {
     rt::two_ways(true, [&r](int part) {
         const auto t0 = std::chrono::steady_clock::now();
         if (part == 0) r.world = rt::compile_world(r.parsed.scene, nullptr);
-        else r.layout = scan_layout(r.text);
+        else r.layout = scan_layout(r.text, r.parsed.scene.objects.size());
         (part == 0 ? r.times.compile : r.times.scan) =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     });

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "block_patch.h"
+#include "huge_pages.h"
 #include "scene_lexer.h"
 #include "scene_parser.h"
 #include "scene_schema.h"
@@ -91,8 +92,12 @@ struct Replacement {
 
 }  // namespace
 
-SceneLayout scan_layout(std::string_view text) {
+SceneLayout scan_layout(std::string_view text, std::size_t objects) {
     SceneLayout l;
+    if (objects > 0) {
+        l.objects.reserve(objects);
+        rt::advise_huge_pages(l.objects.data(), objects * sizeof(TextSpan));
+    }
     Scanner sc(text);
     l.append_at = text.size();
     for (;;) {

@@ -28,7 +28,9 @@ struct SceneLayout {
     std::vector<TextSpan> cameras;  // whole `camera { ... }` sections
     std::size_t append_at = 0;      // where a new section goes: before `end`, or the text's end
 };
-SceneLayout scan_layout(std::string_view text);
+// `objects`: how many objects the text is known to hold (a parse's count), room for
+// whose spans is made at once (in huge pages when big) instead of by doubling.
+SceneLayout scan_layout(std::string_view text, std::size_t objects = 0);
 
 // `text` must parse to `from`. Returns `text` with the items that differ between
 // `from` and `to` rewritten, or nothing if the edit cannot be done in place (the
