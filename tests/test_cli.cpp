@@ -102,17 +102,6 @@ Picture load_ppm(const fs::path& p) {
     return pic;
 }
 
-// Whether process `pid` has a handler for `sig`, from the SigCgt mask in /proc.
-bool catches_signal(pid_t pid, int sig) {
-    // Not before the exec: the forked test process has doctest's handlers.
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/" + std::to_string(pid) + "/exe", ec);
-    if (ec || exe.filename() != "raytracer") return false;
-    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-    for (std::string line; std::getline(in, line);)
-        if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1;
-    return false;
-}
 
 // Runs the binary in `dir` with `args`, stderr into dir/.stderr; returns its pid.
 pid_t start_binary(const fs::path& dir, const std::vector<const char*>& args) {
@@ -138,7 +127,7 @@ bool interrupt(pid_t pid, int sig, const std::function<bool(pid_t)>& ready, int&
                std::chrono::seconds limit = std::chrono::seconds(60)) {
     bool caught = false;
     for (int i = 0; i < 24000 && !caught; ++i) {
-        caught = catches_signal(pid, sig) && ready(pid);
+        caught = rt_test::catches_signal(pid, sig) && ready(pid);
         if (!caught) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
     CHECK(caught);

@@ -365,12 +365,17 @@ TEST_CASE("output safety: an interrupted render (SIGINT, SIGTERM, SIGKILL) leave
         put(box.work / "out.ppm", "precious\n");
         const FileState before = FileState::of(box.work / "out.ppm");
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        // Far more work than anyone waits for; the signal comes once it is under way (50
-        // ms of CPU, far more than reading the scene: the signal handlers are in place).
+        // Far more work than anyone waits for; the signal comes once it is under way: its
+        // handlers in place and 50 ms of CPU used (far more than reading the scene).
         pid_t pid = start(box, box.work,
                           {"--quiet", "--threads", "2", "--samples", "65536", "--width", "1000", "--height", "1000",
                            "scene.txt", "out.ppm"});
-        rt_test::wait_until([&] { return rt_test::process_cpu_seconds(pid) >= 0.05; }, "the render to be under way");
+        rt_test::wait_until(
+            [&] {
+                return rt_test::catches_signal(pid, SIGINT) && rt_test::catches_signal(pid, SIGTERM) &&
+                       rt_test::process_cpu_seconds(pid) >= 0.05;
+            },
+            "the render to be under way");
         const auto t0 = std::chrono::steady_clock::now();
         kill(pid, sig);
         const Run r = finish(box, pid, 30);

@@ -20,6 +20,7 @@
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <type_traits>
 #include <utility>
@@ -122,6 +123,21 @@ struct TempDir {
     fs::path operator/(const std::string& name) const { return path / name; }
     std::vector<std::string> files() const { return listing(path); }
 };
+
+// Whether process `pid` (a `raytracer` started by the test) has a handler for `sig`,
+// from the SigCgt mask in /proc: its signal handlers are in place. (CPU time alone is
+// no sign of that: a sanitizer build's start-up takes 0.1 s of CPU on some machines
+// before main runs.)
+inline bool catches_signal(pid_t pid, int sig) {
+    // Not before the exec: the forked test process has doctest's handlers.
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/" + std::to_string(pid) + "/exe", ec);
+    if (ec || exe.filename() != "raytracer") return false;
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1;
+    return false;
+}
 
 // CPU seconds (user and system) process `pid` has used, from /proc/PID/stat; -1 if
 // it is gone. Unlike the time on the clock, it only grows while the process runs.
