@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "huge_pages.h"
 #include "math.h"
 
 namespace rt {
@@ -45,7 +46,7 @@ template <class T>
 class ZeroedArray {
     static_assert(std::is_arithmetic_v<T>, "all-zero bytes must mean the value 0");
     static constexpr std::size_t kMapBytes = std::size_t(1) << 20;
-    static constexpr std::size_t kHugeBytes = std::size_t(2) << 20;  // x86-64's huge page
+    static constexpr std::size_t kHugeBytes = kHugePageBytes;
 
 public:
     ZeroedArray() = default;
@@ -102,9 +103,7 @@ private:
         const std::uintptr_t end = start + ((bytes + page - 1) & ~(page - 1));
         if (start > base) ::munmap(p, start - base);
         if (base + span > end) ::munmap(reinterpret_cast<void*>(end), base + span - end);
-#ifdef MADV_HUGEPAGE
-        ::madvise(reinterpret_cast<void*>(start), bytes, MADV_HUGEPAGE);  // advice: small pages if refused
-#endif
+        advise_huge_pages(reinterpret_cast<void*>(start), bytes, kHugeBytes);  // advice: small pages if refused
         return reinterpret_cast<void*>(start);
     }
     void release() {
