@@ -3,6 +3,7 @@
 // resolution). No window, no GL: unit-tested.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <vector>
 
@@ -11,6 +12,10 @@
 #include "world.h"
 
 namespace rtview {
+
+inline double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
 
 class PreviewPacer {
 public:

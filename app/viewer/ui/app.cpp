@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "default_scene.h"
+#include "imgui_common.h"
 #include "layout.h"
 #include "image_io.h"
 #include "scene_edits.h"
@@ -31,16 +32,6 @@
 namespace rtview {
 
 namespace {
-
-// Letter and function keys as the GLFW backend reports them in io.KeysDown (GLFW key
-// codes: letters are their upper-case ASCII codes). ImGui 1.86 maps only a few keys.
-constexpr int kKeyD = 'D', kKeyE = 'E', kKeyF = 'F', kKeyK = 'K', kKeyO = 'O', kKeyP = 'P', kKeyQ = 'Q', kKeyR = 'R', kKeyS = 'S';
-constexpr int kKeyF12 = 301;
-
-bool key_pressed(int k, bool repeat = false) {
-    return k >= 0 && k < int(IM_ARRAYSIZE(ImGui::GetIO().KeysDown)) && ImGui::IsKeyPressed(k, repeat);
-}
-bool imgui_key_pressed(ImGuiKey k, bool repeat = false) { return key_pressed(ImGui::GetKeyIndex(k), repeat); }
 
 std::string stem_of(const std::string& name) {
     std::size_t dot = name.find_last_of('.');
@@ -531,12 +522,12 @@ void ViewerApp::handle_shortcuts() {
     ImGuiIO& io = ImGui::GetIO();
     bool ctrl = io.KeyCtrl, shift = io.KeyShift;
     if (ctrl) {
-        if (key_pressed(kKeyS)) run(shift ? Command::SaveAsDialog : Command::Save);
-        if (key_pressed(kKeyQ)) run(Command::Quit);  // asks first if there are unsaved edits
-        if (key_pressed(kKeyO)) run(Command::OpenDialog);
-        if (key_pressed(kKeyP)) run(Command::SaveImageDialog);
-        if (key_pressed(kKeyE)) run(Command::EditText);
-        if (key_pressed(kKeyK)) run(Command::SetSceneCamera);
+        if (key_pressed(keys::kS)) run(shift ? Command::SaveAsDialog : Command::Save);
+        if (key_pressed(keys::kQ)) run(Command::Quit);  // asks first if there are unsaved edits
+        if (key_pressed(keys::kO)) run(Command::OpenDialog);
+        if (key_pressed(keys::kP)) run(Command::SaveImageDialog);
+        if (key_pressed(keys::kE)) run(Command::EditText);
+        if (key_pressed(keys::kK)) run(Command::SetSceneCamera);
         if (imgui_key_pressed(ImGuiKey_Enter) || imgui_key_pressed(ImGuiKey_KeyPadEnter)) run(Command::ApplyText);
         // In a text field, Ctrl+Z/Y belong to the field's own undo.
         if (!io.WantTextInput) {
@@ -544,7 +535,7 @@ void ViewerApp::handle_shortcuts() {
             else if (imgui_key_pressed(ImGuiKey_Y, true)) run(Command::Redo);
         }
     }
-    if (key_pressed(kKeyF12)) {
+    if (key_pressed(keys::kF12)) {
         char name[64];
         std::time_t t = std::time(nullptr);
         std::strftime(name, sizeof name, "raytracer-view-%Y%m%d-%H%M%S.png", std::localtime(&t));
@@ -553,12 +544,12 @@ void ViewerApp::handle_shortcuts() {
     if (loader_.active() && imgui_key_pressed(ImGuiKey_Escape) && !esc_closed_menu_ &&
         !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId))
         run(Command::CancelLoad);
-    if (!io.WantCaptureKeyboard && ctrl && !io.KeyAlt && key_pressed(kKeyD)) run(Command::Duplicate);
+    if (!io.WantCaptureKeyboard && ctrl && !io.KeyAlt && key_pressed(keys::kD)) run(Command::Duplicate);
     if (!io.WantCaptureKeyboard && !ctrl && !io.KeyAlt) {
         if (imgui_key_pressed(ImGuiKey_Delete)) run(Command::Delete);
         if (imgui_key_pressed(ImGuiKey_Space)) run(Command::TogglePause);
-        if (key_pressed(kKeyF)) run(Command::FrameScene);
-        if (key_pressed(kKeyR)) run(Command::ResetView);
+        if (key_pressed(keys::kF)) run(Command::FrameScene);
+        if (key_pressed(keys::kR)) run(Command::ResetView);
         // The picture alone, as Tab hides the panels of image editors.
         if (imgui_key_pressed(ImGuiKey_Tab) && !io.KeyShift && !ImGui::IsAnyItemActive()) {
             layout_.sidebar_hidden = !layout_.sidebar_hidden;

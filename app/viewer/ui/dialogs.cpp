@@ -5,17 +5,13 @@
 #include <imgui_stdlib.h>
 
 #include "fonts.h"
+#include "imgui_common.h"
 #include "probe.h"
 #include "options.h"
 
 namespace rtview {
 
 namespace {
-
-bool escape_pressed() {
-    int k = ImGui::GetKeyIndex(ImGuiKey_Escape);
-    return k >= 0 && ImGui::IsKeyPressed(k, false);
-}
 
 const char* title_of(Dialogs::Kind k) {
     switch (k) {

@@ -7,18 +7,11 @@
 #include <utility>
 #include <vector>
 
+#include "imgui_common.h"
 #include "probe.h"
 #include "scene_text.h"
 
 namespace rtview {
-
-namespace {
-
-const ImVec4 kErrorColour{1.0f, 0.42f, 0.42f, 1.0f};
-const ImVec4 kWarnColour{1.0f, 0.80f, 0.35f, 1.0f};
-const ImVec4 kOkColour{0.55f, 0.85f, 0.55f, 1.0f};
-
-}  // namespace
 
 namespace {
 // Bigger texts are not edited in the widget: it holds a second copy of the text, as

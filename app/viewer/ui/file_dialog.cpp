@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "bounded_input.h"
+#include "imgui_common.h"
 #include "probe.h"
 
 namespace rtview {
@@ -17,8 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const ImVec4 kErrorColour{1.0f, 0.42f, 0.42f, 1.0f};
-
 std::string size_text(std::uintmax_t b) {
     char buf[32];
     if (b < 1024) std::snprintf(buf, sizeof buf, "%ju B", b);
@@ -26,11 +25,6 @@ std::string size_text(std::uintmax_t b) {
     else if (b < (1u << 30)) std::snprintf(buf, sizeof buf, "%.1f MB", double(b) / (1 << 20));
     else std::snprintf(buf, sizeof buf, "%.1f GB", double(b) / (1 << 30));
     return buf;
-}
-
-bool escape_pressed() {
-    const int k = ImGui::GetKeyIndex(ImGuiKey_Escape);
-    return k >= 0 && ImGui::IsKeyPressed(k, false);
 }
 
 // Tab in the name field: the browser completes the text (ImGui's callback).

@@ -13,6 +13,7 @@
 
 #include "bounded_input.h"
 #include "image_io.h"
+#include "imgui_common.h"
 #include "probe.h"
 #include "render_request.h"
 
@@ -30,16 +31,9 @@ std::string format_duration(double seconds) {
     return buf;
 }
 
-constexpr int kKeyMinus = 45, kKeyEqual = 61, kKey0 = 48, kKey1 = 49, kKeyKp0 = 320, kKeyKp1 = 321,
-              kKeyKpSubtract = 333, kKeyKpAdd = 334;
-constexpr int kKeyB = 'B', kKeyC = 'C', kKeyK = 'K', kKeyO = 'O', kKeyR = 'R', kKeyT = 'T';
 constexpr double kSplitGrab = 5;          // window units either side of the split line
 constexpr double kReadoutRefresh = 0.25;  // seconds: the hovered pixel's value while rendering
 constexpr double kDiffRefresh = 0.25;     // seconds between difference images while rendering
-
-bool key_pressed(int k, bool repeat = false) {
-    return k >= 0 && k < int(IM_ARRAYSIZE(ImGui::GetIO().KeysDown)) && ImGui::IsKeyPressed(k, repeat);
-}
 
 ImU32 rgba(int r, int g, int b, int a = 255) { return IM_COL32(r, g, b, a); }
 
@@ -160,9 +154,9 @@ void ImageTools::set_compare(int mode) {
 
 void ImageTools::handle_keys() {
     ImGuiIO& io = ImGui::GetIO();
-    const bool plus = key_pressed(kKeyEqual, true) || key_pressed(kKeyKpAdd, true);
-    const bool minus = key_pressed(kKeyMinus, true) || key_pressed(kKeyKpSubtract, true);
-    const bool zero = key_pressed(kKey0) || key_pressed(kKeyKp0);
+    const bool plus = key_pressed(keys::kEqual, true) || key_pressed(keys::kKpAdd, true);
+    const bool minus = key_pressed(keys::kMinus, true) || key_pressed(keys::kKpSubtract, true);
+    const bool zero = key_pressed(keys::k0) || key_pressed(keys::kKp0);
     if (io.KeyCtrl && !io.KeyAlt) {
         // The UI scale works even in a text field: it is never text.
         double s = settings_.ui_scale();
@@ -170,26 +164,26 @@ void ImageTools::handle_keys() {
         if (minus) s = next_ui_scale(s, -1);
         if (zero) s = 1;
         set_ui_scale(s);
-        if (f_.keys_free && key_pressed(kKeyR) && !io.KeyShift && f_.scene) open_render_dialog();
-        if (f_.keys_free && key_pressed(kKeyC) && !io.KeyShift && !readout_text_.empty()) copy_pixel(readout_text_);
+        if (f_.keys_free && key_pressed(keys::kR) && !io.KeyShift && f_.scene) open_render_dialog();
+        if (f_.keys_free && key_pressed(keys::kC) && !io.KeyShift && !readout_text_.empty()) copy_pixel(readout_text_);
         return;
     }
     if (!f_.keys_free || io.KeyAlt || io.KeySuper) return;
     if (plus) set_exposure(display_.exposure + 1);
     if (minus) set_exposure(display_.exposure - 1);
     if (zero) set_exposure(0);
-    if (key_pressed(kKeyT)) {
+    if (key_pressed(keys::kT)) {
         display_.curve = display_.curve == ToneCurve::Clip ? ToneCurve::Soft : ToneCurve::Clip;
         message(display_.curve == ToneCurve::Soft ? "Tone curve: soft" : "Tone curve: clip");
     }
-    if (key_pressed(kKeyO)) {
+    if (key_pressed(keys::kO)) {
         display_.show_clipped = !display_.show_clipped;
         message(display_.show_clipped ? "Marking clipped pixels" : "Clipped pixels not marked");
     }
     ImVec2 m = io.MousePos;
     bool over = f_.area.contains(m.x, m.y);
     double cx = over ? m.x : f_.area.x + f_.area.w / 2, cy = over ? m.y : f_.area.y + f_.area.h / 2;
-    if (key_pressed(kKey1) || key_pressed(kKeyKp1)) {
+    if (key_pressed(keys::k1) || key_pressed(keys::kKp1)) {
         view_.one_to_one(f_.area, pic_w(), pic_h(), f_.fb_scale, cx, cy);
         message("Zoom 1:1");
     }
@@ -197,9 +191,9 @@ void ImageTools::handle_keys() {
         view_.fit();
         message("Zoom to fit");
     }
-    if (key_pressed(kKeyK)) keep_snapshot();
-    if (key_pressed(kKeyB)) set_compare((int(compare_) + 1) % 3);
-    if (key_pressed(kKeyC) && region_active()) clear_region();
+    if (key_pressed(keys::kK)) keep_snapshot();
+    if (key_pressed(keys::kB)) set_compare((int(compare_) + 1) % 3);
+    if (key_pressed(keys::kC) && region_active()) clear_region();
 }
 
 bool ImageTools::handle_mouse() {

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "item_fields.h"
+#include "pacing.h"
 #include "scene_edits.h"
 
 namespace rtview {
@@ -22,10 +23,6 @@ constexpr std::size_t kMaxEdges = 5000;
 constexpr double kArrow = 90, kTolerance = 7, kMarker = 7;
 // Light markers drawn at most (each costs a pick ray a frame).
 constexpr std::size_t kMaxMarkers = 256;
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 ImU32 axis_colour(int k, bool hot) {
     static const ImU32 normal[3] = {IM_COL32(235, 64, 52, 255), IM_COL32(70, 200, 60, 255), IM_COL32(60, 120, 245, 255)};

@@ -1,6 +1,8 @@
 // ImGui input -> view camera gestures (see navigation.h).
 #include "navigation.h"
 
+#include "imgui_common.h"
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -11,11 +13,6 @@ namespace {
 
 constexpr double kWheelSettle = 0.4;  // seconds after the last notch the view counts as moving
 
-// Letter keys as the GLFW backend reports them in io.KeysDown (upper-case ASCII codes).
-constexpr int kKeyA = 'A', kKeyD = 'D', kKeyE = 'E', kKeyQ = 'Q', kKeyS = 'S', kKeyW = 'W';
-
-bool key_down(int k) { return k >= 0 && k < int(IM_ARRAYSIZE(ImGui::GetIO().KeysDown)) && ImGui::GetIO().KeysDown[k]; }
-bool key_pressed(int k) { return k >= 0 && k < int(IM_ARRAYSIZE(ImGui::GetIO().KeysDown)) && ImGui::IsKeyPressed(k, false); }
 
 }  // namespace
 
@@ -62,7 +59,7 @@ NavigationInput::Result NavigationInput::handle(const Layout& layout, const rt::
     // WASD/QE fly, scaled to the scene so that any scene crosses in a few seconds.
     // A key flies only if it went down without Ctrl/Alt: releasing Ctrl a moment
     // before the S of Ctrl+S must not turn into a step backwards.
-    static const int fly_keys[6] = {kKeyD, kKeyA, kKeyE, kKeyQ, kKeyW, kKeyS};
+    static const int fly_keys[6] = {keys::kD, keys::kA, keys::kE, keys::kQ, keys::kW, keys::kS};
     bool free_keys = usable && !io.WantCaptureKeyboard;
     for (int k = 0; k < 6; ++k) {
         if (!key_down(fly_keys[k]) || !free_keys) fly_armed_[k] = false;

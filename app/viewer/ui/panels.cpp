@@ -13,6 +13,7 @@
 
 #include "camera_control.h"
 #include "item_fields.h"
+#include "imgui_common.h"
 #include "number_field.h"
 #include "layout.h"
 #include "probe.h"
@@ -26,10 +27,6 @@
 namespace rtview {
 
 namespace {
-
-const ImVec4 kErrorColour{1.0f, 0.42f, 0.42f, 1.0f};
-const ImVec4 kWarnColour{1.0f, 0.80f, 0.35f, 1.0f};
-const ImVec4 kOkColour{0.55f, 0.85f, 0.55f, 1.0f};
 
 // Messages wrap at the panel's edge instead of running past it (at any UI scale).
 void wrapped_coloured(const ImVec4& colour, const std::string& text) {

@@ -31,10 +31,6 @@ constexpr double kPreviewDeadline = 0.050;
 // The view counts as resting this long after its last change: the render refines.
 constexpr double kRestAfter = 0.15;
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 // What of a render's progress shows on screen: a new one of these means new pixels.
 std::array<std::uint64_t, 5> signature(const rt::RenderProgress& p) {
     return {p.generation, std::uint64_t(p.passes), std::uint64_t(p.coarse_level), std::uint64_t(p.samples),
