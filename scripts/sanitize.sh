@@ -27,8 +27,10 @@ stage() { echo; echo "=== $* ($(date +%T))"; }
 if ! pkg-config --exists imgui glfw3 osmesa 2>/dev/null; then
     echo "note: GUI libraries (imgui, glfw3, osmesa) missing: only the viewer logic is built" >&2
 fi
+# (The test programs with a precompiled header: these builds are made once, and most of
+# their time went into compiling doctest and the standard library in every test file.)
 COMMON=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DRAYTRACER_TESTS=ON -DRAYTRACER_BENCH=OFF -DRAYTRACER_FUZZ=OFF
-        -DRAYTRACER_VIEWER=ON)
+        -DRAYTRACER_VIEWER=ON -DRAYTRACER_TEST_PCH=ON)
 # shellcheck disable=SC2206  # CMAKE_ARGS is a list of words
 COMMON+=(${CMAKE_ARGS:-})
 

@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kBinary = RT_BIN_DIR "/raytracer";
+using rt_test::kRaytracer;
 
 // An asymmetric little scene: a red ball on the viewer's left (+y), a mirror ball on
 // the right, so mirroring and the recursion limit both change the picture.
@@ -65,7 +65,7 @@ struct TempDir : rt_test::TempDir {
     Result run(const std::string& args, const std::string& input = "", int cpu_limit_s = 0) const {
         write_all(path / ".stdin", input);
         std::string cmd = (cpu_limit_s > 0 ? "ulimit -t " + std::to_string(cpu_limit_s) + " && " : std::string()) +
-                          "cd " + quote(path.string()) + " && " + quote(kBinary) + " " + args +
+                          "cd " + quote(path.string()) + " && " + quote(kRaytracer) + " " + args +
                           " <.stdin >.stdout 2>.stderr";
         int raw = std::system(cmd.c_str());
         Result r;
@@ -113,7 +113,7 @@ pid_t start_binary(const fs::path& dir, const std::vector<const char*>& args) {
     if (pid == 0) {
         if (chdir(dir.c_str()) != 0) _exit(99);
         if (!freopen(".stderr", "w", stderr)) _exit(99);
-        execv(kBinary.c_str(), argv.data());
+        execv(kRaytracer.c_str(), argv.data());
         _exit(98);
     }
     return pid;
@@ -513,7 +513,7 @@ TEST_CASE("cli: --print-scene to a full or closed stdout says why and exits 2") 
     write_all(dir / "scene.txt", kScene);
     for (const char* redirect : {">/dev/full", ">&-"}) {
         CAPTURE(redirect);
-        const std::string cmd = "cd " + quote(dir.path.string()) + " && " + quote(kBinary) +
+        const std::string cmd = "cd " + quote(dir.path.string()) + " && " + quote(kRaytracer) +
                                 " --print-scene scene.txt " + redirect + " 2>.stderr";
         const int raw = std::system(cmd.c_str());
         CHECK((WIFEXITED(raw) && WEXITSTATUS(raw) == 2));

@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kBinary = RT_BIN_DIR "/raytracer";
+using rt_test::kRaytracer;
 
 struct Run {
     int status = -1;
@@ -26,7 +26,7 @@ struct Run {
 };
 
 Run run_in(const fs::path& dir, const std::string& args) {
-    const std::string cmd = "cd " + rt_test::shell_quote(dir.string()) + " && " + rt_test::shell_quote(kBinary) + " " +
+    const std::string cmd = "cd " + rt_test::shell_quote(dir.string()) + " && " + rt_test::shell_quote(kRaytracer) + " " +
                             args + " </dev/null >/dev/null 2>.stderr";
     const int raw = std::system(cmd.c_str());
     Run r;

@@ -24,10 +24,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct IsaGuard {
-    Isa saved = active_isa();
-    ~IsaGuard() { set_isa(saved); }
-};
+using rt_test::IsaGuard;
 
 std::vector<std::uint8_t> render(const Scene& scene, int w, int h, bool& wide_tree) {
     auto world = compile_world(scene);

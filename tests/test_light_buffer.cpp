@@ -20,6 +20,7 @@
 #include "shapes.h"
 #include "simd.h"
 #include "test_random.h"
+#include "test_util.h"
 #include "world.h"
 
 using namespace rt;
@@ -226,10 +227,7 @@ TEST_CASE("light buffer: none for scenes or lights beyond float range, nor witho
 
 namespace {
 
-struct IsaGuard {
-    Isa saved = active_isa();
-    ~IsaGuard() { set_isa(saved); }
-};
+using rt_test::IsaGuard;
 
 std::vector<std::uint8_t> render(std::shared_ptr<const World> world, int w, int h) {
     Renderer renderer(2);

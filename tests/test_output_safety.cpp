@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kRaytracer = RT_BIN_DIR "/raytracer";
+using rt_test::kRaytracer;
 
 const char* const kGoodScene = R"(thing {
   sphere { material { colour 1 0.2 0.2 } position 5 0 0 radius 1 }

@@ -118,10 +118,7 @@ bool same_film(const Image& a, const Image& b) {
            std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
 }
 
-struct IsaGuard {
-    Isa saved = active_isa();
-    ~IsaGuard() { set_isa(saved); }
-};
+using rt_test::IsaGuard;
 
 }  // namespace
 

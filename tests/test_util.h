@@ -1,7 +1,8 @@
 // Helpers the test files share: a temporary folder per test, reading and writing
 // whole files, shell quoting, collecting failures of a property test, parsing a scene
-// that must parse, moving an object, a watchdog for calls that would hang when broken, what another
-// process is doing (from /proc). Header-only, for every test program (they all link
+// that must parse, moving an object, the raytracer binary's path, restoring the ISA
+// path, a watchdog for calls that would hang when broken, what another process is
+// doing (from /proc). Header-only, for every test program (they all link
 // the core).
 #pragma once
 
@@ -28,10 +29,22 @@
 #include <vector>
 
 #include "scene_parser.h"
+#include "simd.h"
 
 namespace rt_test {
 
 namespace fs = std::filesystem;
+
+#ifdef RT_BIN_DIR
+// The command-line renderer these tests were built with.
+inline const std::string kRaytracer = RT_BIN_DIR "/raytracer";
+#endif
+
+// Restores the instruction-set path active when it was made (tests force each in turn).
+struct IsaGuard {
+    rt::Isa saved = rt::active_isa();
+    ~IsaGuard() { rt::set_isa(saved); }
+};
 
 // The whole file as bytes ("" if it cannot be read).
 inline std::string slurp(const fs::path& p) {
