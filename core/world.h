@@ -275,6 +275,16 @@ std::shared_ptr<const World> compile_world(const Scene& scene, const World* prev
 std::shared_ptr<const World> compile_world(const Scene& scene, std::shared_ptr<const Geometry> geometry,
                                            const World* previous);
 
+// Scenes of up to this many objects get a camera buffer made for a view away from the
+// scene's camera (with_camera_at): its build then takes well under what it saves.
+constexpr std::size_t kQuickCameraBuffer = 512;
+// `world` with its camera buffer (World::camera_buffer) around `position`, for rays
+// from a view that moved away from the scene's camera: the same colours, the camera
+// rays through the buffer instead of the BVH. Shares every table with `world`; is
+// `world` itself when that already has a buffer there, or has none (a big scene), or
+// has more than kQuickCameraBuffer objects.
+std::shared_ptr<const World> with_camera_at(std::shared_ptr<const World> world, const Vec3& position);
+
 // What lies under a camera ray: the nearest object or plane.
 struct PickResult {
     bool hit = false;

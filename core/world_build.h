@@ -38,6 +38,9 @@ constexpr std::size_t kLightBufferMaxCells = std::size_t(1) << 24;
 
 namespace detail {
 
+// Cells per face side of a scene's light buffers, for its number of objects.
+int light_buffer_cells(std::size_t objects);
+
 // Whether material m keeps radiance_bound's premises (no negative weight, no tint above
 // 1, a finite colour); cp grows to its colour's largest channel if it scatters.
 bool bounded_material(const ShadeMaterial& m, double& cp);

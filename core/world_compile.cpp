@@ -273,11 +273,15 @@ std::vector<LightBuffer> build_light_buffers(const Chunked<Aabb>& boxes, const s
 
 namespace detail {
 
+int light_buffer_cells(std::size_t objects) {
+    // Cells enough that a cell holds a few of the objects it may see.
+    return std::clamp(2 * int(std::ceil(std::sqrt(double(objects)))), 64, 256);
+}
+
 void add_light_buffers(World& w, const Scene& scene, const World* previous) {
     const Chunked<Aabb>& boxes = w.geometry->object_bounds;
     w.light_buffers = nullptr;
-    // Cells enough that a cell holds a few of the objects it may see.
-    const int cells_n = std::clamp(2 * int(std::ceil(std::sqrt(double(boxes.size())))), 64, 256);
+    const int cells_n = light_buffer_cells(boxes.size());
     const bool small = !boxes.empty() && boxes.size() * (w.lights.size() + 1) <= kLightBufferMaxWork;
     // The buffers to make: the camera's (index 0) and the lights' (1 + light), unless
     // the previous world's serve.
@@ -355,5 +359,15 @@ std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<co
 }
 
 }  // namespace
+
+std::shared_ptr<const World> with_camera_at(std::shared_ptr<const World> world, const Vec3& position) {
+    const LightBuffer* cb = world ? world->camera_buffer.get() : nullptr;
+    if (!cb || cb->position == position || world->geometry->object_bounds.size() > kQuickCameraBuffer) return world;
+    auto moved = std::make_shared<World>(*world);
+    const Chunked<Aabb>& boxes = world->geometry->object_bounds;
+    moved->camera_buffer =
+        std::make_shared<const LightBuffer>(LightBuffer::build(boxes, position, detail::light_buffer_cells(boxes.size())));
+    return moved;
+}
 
 }  // namespace rt

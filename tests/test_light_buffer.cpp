@@ -304,3 +304,48 @@ TEST_CASE("light buffer: pictures are the same bytes as with the BVH alone, on e
         }
     }
 }
+
+TEST_CASE("light buffer: a view away from the scene's camera gets a buffer of its own, the same bytes") {
+    IsaGuard guard;
+    Scene scene = glass_scene();
+    auto world = compile_world(scene);
+    REQUIRE(bool(world->camera_buffer));
+    CHECK(with_camera_at(world, scene.camera.position).get() == world.get());
+    Camera view = scene.camera;
+    view.position = {-12, 11, 7};
+    auto moved = with_camera_at(world, view.position);
+    REQUIRE(moved.get() != world.get());
+    REQUIRE(bool(moved->camera_buffer));
+    CHECK(moved->camera_buffer->position == view.position);
+    CHECK(moved->camera_buffer->n > 0);
+    CHECK(moved->geometry.get() == world->geometry.get());
+    CHECK(world->camera_buffer->position == scene.camera.position);
+    auto through = [&](std::shared_ptr<const World> w) {
+        Renderer renderer(2);
+        RenderSettings settings;
+        settings.width = 160;
+        settings.height = 90;
+        settings.coarse = false;
+        settings.camera = view;
+        renderer.start(std::move(w), settings);
+        renderer.wait();
+        return to_rgb8(renderer.snapshot());
+    };
+    for (Isa isa : {Isa::Sse2, Isa::Avx2}) {
+        if (!set_isa(isa)) continue;
+        CAPTURE(isa_name(isa));
+        CHECK(through(moved) == through(world));
+    }
+    // A scene too big to make one in passing, and one without a camera buffer, keep theirs.
+    Scene big;
+    for (std::size_t i = 0; i <= kQuickCameraBuffer; ++i)
+        big.objects.push_back(make(Sphere{{double(i % 40), double(i / 40), 0}, 0.3}));
+    big.camera = scene.camera;
+    auto big_world = compile_world(big);
+    REQUIRE(bool(big_world->camera_buffer));
+    CHECK(with_camera_at(big_world, view.position).get() == big_world.get());
+    auto none = std::make_shared<World>(*world);
+    none->camera_buffer.reset();
+    std::shared_ptr<const World> none_c = none;
+    CHECK(with_camera_at(none_c, view.position).get() == none_c.get());
+}

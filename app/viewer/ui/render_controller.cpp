@@ -135,7 +135,10 @@ void RenderController::trace_preview(const rt::Camera& camera, int film_w, int f
     rt::TraceStop stop;
     stop.deadline = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                              std::chrono::duration<double>(kPreviewDeadline));
-    PreviewResult r = rtview::trace_preview(*world(), camera, film_w, film_h, b, preview_rgba_, pw, ph,
+    // (The camera rays go through a buffer around the view's position where the scene is
+    // small enough to make one in passing.)
+    const std::shared_ptr<const rt::World> seen = rt::with_camera_at(world_ptr(), camera.position);
+    PreviewResult r = rtview::trace_preview(*seen, camera, film_w, film_h, b, preview_rgba_, pw, ph,
                                             &renderer_.pool(), stop);
     double took = seconds_since(t0);
     ui_pacer_.measured(double(std::max<std::uint64_t>(r.traced, 1)), took);
@@ -178,7 +181,7 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h) {
         held_ = false;
         renderer_.set_paused(paused_ || yield_);
     }
-    renderer_.start(world_ptr(), st);
+    renderer_.start(rt::with_camera_at(world_ptr(), camera.position), st);
     started_world_ = world_ptr();
     started_camera_ = camera;
     started_w_ = film_w;
