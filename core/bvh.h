@@ -190,6 +190,21 @@ public:
         return occluded(origin, dir, len, tmax, leaves);
     }
 
+#if RT_HAVE_AVX2_KERNELS
+    // The same walks on the 8-wide tree only (it must exist: !nodes8.empty()), for
+    // callers compiled for AVX2 whose visitors are too (and may then be inlined).
+    template <class Fn>
+    RT_TARGET_AVX2 void traverse_nearest_leaves8(const Vec3& origin, const Vec3& dir, double tmax, Fn&& fn) const {
+        Leaves<std::remove_reference_t<Fn>> leaves{fn};
+        traverse8(origin, dir, tmax, leaves);
+    }
+    template <class Fn>
+    RT_TARGET_AVX2 bool occluded_leaves8(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn&& fn) const {
+        Leaves<std::remove_reference_t<Fn>> leaves{fn};
+        return occluded8(origin, dir, len, tmax, leaves);
+    }
+#endif
+
     // Which of node's children the ray enters within [0, tmax]: a bit per child, and
     // the entry distances in t.
     static inline unsigned enter(const BvhNode& n, const BvhRay& r, float tmax, float t[4]) {
@@ -360,15 +375,17 @@ private:
     struct Leaves {
         F& fn;
     };
+    // (Always inline: a caller compiled for AVX2 may then inline a visitor compiled for
+    // it, which these, compiled for any processor, could not.)
     template <class F>
-    bool visit_leaf(std::uint32_t ref, double& tmax, Leaves<F>& leaves) const {
+    [[gnu::always_inline]] bool visit_leaf(std::uint32_t ref, double& tmax, Leaves<F>& leaves) const {
         const double nt = leaves.fn(BvhNode::leaf_first(ref), BvhNode::leaf_count(ref), tmax);
         if (nt < 0) return false;
         if (nt < tmax) tmax = nt;
         return true;
     }
     template <class F>
-    bool any_in_leaf(std::uint32_t ref, Leaves<F>& leaves) const {
+    [[gnu::always_inline]] bool any_in_leaf(std::uint32_t ref, Leaves<F>& leaves) const {
         return leaves.fn(BvhNode::leaf_first(ref), BvhNode::leaf_count(ref));
     }
 

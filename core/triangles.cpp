@@ -114,7 +114,8 @@ namespace {
 // tri_intersect() for the four lanes of a block at once, the same operations lane for
 // lane: t per lane (NaN for a miss). Lanes with an edge function of exactly zero are
 // left to the scalar test (bit `exact`).
-RT_TARGET_AVX2 inline void tri_intersect4(const TriRay& r, const TriBlock& b, double t[4], unsigned& exact) {
+[[gnu::always_inline]] RT_TARGET_AVX2 inline void tri_intersect4(const TriRay& r, const TriBlock& b, double t[4],
+                                                                  unsigned& exact) {
     const __m256d ox = _mm256_set1_pd(r.ox), oy = _mm256_set1_pd(r.oy), oz = _mm256_set1_pd(r.oz);
     const __m256d sx = _mm256_set1_pd(r.sx), sy = _mm256_set1_pd(r.sy), sz = _mm256_set1_pd(r.sz);
     __m256d X[3], Y[3], Z[3];
@@ -211,15 +212,20 @@ struct ScalarLanes {
 };
 
 #if RT_HAVE_AVX2_KERNELS
+// tri_intersect() kept out of line for the lanes the four-lane test leaves to it (rare),
+// so that the flattened walks below stay small.
+[[gnu::noinline]] double exact_lane(const TriRay& r, const TriBlock& b, int l) { return tri_intersect(r, b, l); }
+
 // Four lanes at once, the same values as ScalarLanes; compiled with the 8-wide walks
 // (the leaf tests then inline into them).
 struct Avx2Lanes {
-    RT_TARGET_AVX2 static inline void ts(const TriRay& r, const TriBlock& b, std::uint32_t count, double t[4]) {
+    [[gnu::always_inline]] RT_TARGET_AVX2 static inline void ts(const TriRay& r, const TriBlock& b, std::uint32_t count,
+                                                                 double t[4]) {
         unsigned exact;
         tri_intersect4(r, b, t, exact);
         for (exact &= (1u << count) - 1; exact; exact &= exact - 1) {
             const int l = __builtin_ctz(exact);
-            t[l] = tri_intersect(r, b, l);
+            t[l] = exact_lane(r, b, l);
         }
     }
 };
@@ -227,7 +233,8 @@ struct Avx2Lanes {
 // The lanes among the first `count` with lo < t and t < hi (below: t <= hi when
 // `or_equal`), a bit each; NaN in none.
 template <bool or_equal>
-RT_TARGET_AVX2 inline unsigned lanes_within(const double t[4], std::uint32_t count, double lo, double hi) {
+[[gnu::always_inline]] RT_TARGET_AVX2 inline unsigned lanes_within(const double t[4], std::uint32_t count, double lo,
+                                                                    double hi) {
     const __m256d v = _mm256_loadu_pd(t);
     const __m256d in = _mm256_and_pd(_mm256_cmp_pd(v, _mm256_set1_pd(lo), _CMP_GT_OQ),
                                      _mm256_cmp_pd(v, _mm256_set1_pd(hi), or_equal ? _CMP_LE_OQ : _CMP_LT_OQ));
@@ -264,14 +271,17 @@ struct AnyLeafAvx2 : AnyLeaf<Avx2Lanes> {
     }
 };
 
-RT_TARGET_AVX2 bool nearest_avx2(const TriangleAccel& a, const TriRay& r, double tmin, TriHit& hit) {
+// The 8-wide walks with the leaf visitors inlined (flatten): a call per leaf would
+// spill the ray's broadcast registers around it in the walks' hottest loops.
+[[gnu::flatten]] RT_TARGET_AVX2 bool nearest_avx2(const TriangleAccel& a, const TriRay& r, double tmin, TriHit& hit) {
     bool found = false;
-    a.bvh.traverse_nearest_leaves(r.o, r.d, hit.t, NearestLeafAvx2{{a, r, tmin, hit, found}});
+    a.bvh.traverse_nearest_leaves8(r.o, r.d, hit.t, NearestLeafAvx2{{a, r, tmin, hit, found}});
     return found;
 }
 
-RT_TARGET_AVX2 bool any_avx2(const TriangleAccel& a, const TriRay& r, double tmin, double tmax, double& found) {
-    return a.bvh.occluded_leaves(r.o, r.d, 1.0, tmax, AnyLeafAvx2{{a, r, tmin, tmax, found}});
+[[gnu::flatten]] RT_TARGET_AVX2 bool any_avx2(const TriangleAccel& a, const TriRay& r, double tmin, double tmax,
+                                              double& found) {
+    return a.bvh.occluded_leaves8(r.o, r.d, 1.0, tmax, AnyLeafAvx2{{a, r, tmin, tmax, found}});
 }
 #endif
 
@@ -280,7 +290,7 @@ RT_TARGET_AVX2 bool any_avx2(const TriangleAccel& a, const TriRay& r, double tmi
 bool TriangleAccel::nearest(const TriRay& r, double tmin, double tmax, TriHit& hit) const {
     hit = {tmax, 0};
 #if RT_HAVE_AVX2_KERNELS
-    if (avx2_active()) return nearest_avx2(*this, r, tmin, hit);
+    if (avx2_active() && !bvh.nodes8.empty()) return nearest_avx2(*this, r, tmin, hit);
 #endif
     bool found = false;
     bvh.traverse_nearest_leaves(r.o, r.d, tmax, NearestLeaf<ScalarLanes>{*this, r, tmin, hit, found});
@@ -289,7 +299,7 @@ bool TriangleAccel::nearest(const TriRay& r, double tmin, double tmax, TriHit& h
 
 bool TriangleAccel::any(const TriRay& r, double tmin, double tmax, double& found) const {
 #if RT_HAVE_AVX2_KERNELS
-    if (avx2_active()) return any_avx2(*this, r, tmin, tmax, found);
+    if (avx2_active() && !bvh.nodes8.empty()) return any_avx2(*this, r, tmin, tmax, found);
 #endif
     return bvh.occluded_leaves(r.o, r.d, 1.0, tmax, AnyLeaf<ScalarLanes>{*this, r, tmin, tmax, found});
 }
