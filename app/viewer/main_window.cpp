@@ -22,6 +22,7 @@
 #include "app.h"
 #include "fonts.h"
 #include "host_common.h"
+#include "parallel.h"
 #include "ui_settings.h"
 
 namespace {
@@ -35,6 +36,7 @@ public:
     explicit GlfwHost(GLFWwindow* w) : window_(w) {}
     void set_title(const std::string& title) override { glfwSetWindowTitle(window_, title.c_str()); }
     void quit() override { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
+    void wake() override { glfwPostEmptyEvent(); }
 
 private:
     GLFWwindow* window_;
@@ -319,6 +321,13 @@ int run(int argc, char** argv) {
     if (auto status = rtview::settle_command_line("raytracer-view", false, argc, argv, opt)) return *status;
     if (opt.headless) return exec_headless(argv);
     if (!rtview::fits_in_memory("raytracer-view", opt, false)) return 2;
+    // The start-up file loads while the window opens and the fonts are made (a file
+    // that cannot be read is left to the app, which says why).
+    rtview::EarlyLoad early;
+    if (!opt.scene.empty() && ::access(opt.scene.c_str(), R_OK) == 0) {
+        rt::set_process_threads(opt.threads);
+        early.loader.start(opt.scene, true, early.models.get());
+    }
     GLFWwindow* window = open_window(opt);
     if (!window) return 1;
 
@@ -340,7 +349,7 @@ int run(int argc, char** argv) {
     {
         GlfwHost host(window);
         rtview::ViewerApp app(opt, host, true);
-        status = rtview::open_initial_scene("raytracer-view", app);
+        status = rtview::open_initial_scene("raytracer-view", app, &early);
         if (status == 0) {
             // The scene loads in the background; its diagnostics are printed when it arrives.
             glfwSetWindowUserPointer(window, &app);

@@ -85,6 +85,50 @@ TEST_CASE("a load delivers the text, the parsed scene and the compiled world") {
     CHECK(d.scene() == rt::parse_scene(rt::kDefaultScene).scene);
 }
 
+TEST_CASE("a load begun by one loader is finished by another, which is told when it is done") {
+    // The default scene with many spheres more: a load that takes a while.
+    std::string text = rt::kDefaultScene;
+    text.insert(0, many_spheres(3000).substr(0, many_spheres(3000).find("}\ncamera") + 2));
+    TempFile f(text);
+    SceneLoader early;
+    early.start(f.path);
+    SceneLoader loader;
+    std::atomic<int> told{0};
+    loader.set_on_finished([&told] { ++told; });
+    loader.take_over(early);
+    CHECK_FALSE(early.active());
+    CHECK(loader.active());
+    // poll() only: the callback says when there is something to take.
+    std::optional<LoadResult> r;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!r && std::chrono::steady_clock::now() < until) {
+        r = loader.poll();
+        if (!r) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    REQUIRE(r);
+    REQUIRE(r->status == LoadResult::Status::Ok);
+    REQUIRE(r->parsed.ok());
+    CHECK(r->parsed.scene.objects.size() > 3000);
+    // Either the taken-over job was told (it finished after the hand-over) or it had
+    // finished before it: never twice.
+    CHECK(told.load() <= 1);
+    REQUIRE(r->text_hash);
+    CHECK(*r->text_hash == text_hash(r->text));
+    Document d;
+    std::shared_ptr<const rt::World> world;
+    REQUIRE(apply_load(*r, d, world));
+    CHECK(d.saved_hash() == text_hash(d.editor_text()));
+    CHECK_FALSE(d.modified());
+
+    // A load this loader starts itself tells it once it can be taken.
+    TempFile g(rt::kDefaultScene);
+    loader.start(g.path);
+    std::optional<LoadResult> r2 = loader.wait();
+    REQUIRE(r2);
+    CHECK(r2->status == LoadResult::Status::Ok);
+    CHECK(told.load() >= 1);
+}
+
 TEST_CASE("a failed load reports why and keeps the old scene") {
     Document d;
     d.load_text(rt::kDefaultScene, "", "default.txt");

@@ -328,6 +328,32 @@ TEST_CASE("world sync: a new tree's links are made in the background, and the fi
     rt_test::check_same_world(*sync.world(), *rt::compile_world(doc.scene()));
 }
 
+TEST_CASE("world sync: an adopted world's links wait for start_links, and a move before them still works") {
+    Rng rng(17);
+    Document doc;
+    doc.load_text(random_scene_text(rng, 40), "", "t.txt");
+    WorldSync sync;
+    sync.adopt(rt::compile_world(doc.scene()), doc.content_version());
+    CHECK(sync.sync(doc) == WorldSync::Step::None);
+    CHECK(!sync.links());
+    // A move before the links: the update makes its own.
+    translate(doc.edit_object(3), {0.25, 0, 0});
+    REQUIRE(sync.sync(doc) == WorldSync::Step::Updated);
+    CHECK(bool(sync.world()->geometry->bvh.links));
+    doc.commit();
+    rt_test::check_same_world(*sync.world(), *rt::compile_world(doc.scene()));
+
+    sync.adopt(rt::compile_world(doc.scene()), doc.content_version());
+    sync.start_links();
+    sync.finish(doc);
+    REQUIRE(bool(sync.links()));
+    translate(doc.edit_object(5), {0, 0.25, 0});
+    REQUIRE(sync.sync(doc) == WorldSync::Step::Updated);
+    CHECK(sync.world()->geometry->bvh.links.get() == sync.links().get());
+    doc.commit();
+    rt_test::check_same_world(*sync.world(), *rt::compile_world(doc.scene()));
+}
+
 TEST_CASE("world sync: same_world tells a world from its successor without keeping either alive") {
     Rng rng(15);
     Document doc;

@@ -195,7 +195,8 @@ void Document::load_text(const std::string& text, const std::string& path, const
 }
 
 void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::string& path,
-                           const std::string& name, std::optional<SceneLayout> layout) {
+                           const std::string& name, std::optional<SceneLayout> layout,
+                           std::optional<std::uint64_t> hash) {
     history_.clear();
     pending_ = false;
     saved_ = {};
@@ -224,7 +225,7 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
     changes_.clear();
     changed(rt::SceneDelta::all());
     ++text_version_;
-    mark_saved();
+    mark_saved(hash);
     if (has_scene_) file_camera_ = scene_.camera;
     if (layout) {
         layout_ = std::move(layout);
@@ -891,8 +892,8 @@ Document::HeldItems Document::held_items() const {
 // ---------------------------------------------------------------------------------
 // Saving and the file on disk
 
-void Document::mark_saved() {
-    saved_hash_ = text_hash(editor_);
+void Document::mark_saved(std::optional<std::uint64_t> hash) {
+    saved_hash_ = hash ? *hash : text_hash(editor_);
     saved_size_ = editor_.size();
     // The text is the saved one now: no need to hash it again to know that.
     modified_key_ = text_version_ * 0x9E3779B97F4A7C15ull + typed_;

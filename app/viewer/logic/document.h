@@ -71,9 +71,10 @@ public:
     // Replaces everything (history too). `path` empty: an unsaved scene called `name`.
     void load_text(const std::string& text, const std::string& path, const std::string& name);
     // Takes a text parsed elsewhere (a background load): nothing is parsed again and
-    // the text is moved in, not copied; `layout`, if given, is scan_layout(text).
+    // the text is moved in, not copied; `layout`, if given, is scan_layout(text), and
+    // `hash` text_hash(text).
     void load_parsed(std::string text, rt::ParseResult parsed, const std::string& path, const std::string& name,
-                     std::optional<SceneLayout> layout = std::nullopt);
+                     std::optional<SceneLayout> layout = std::nullopt, std::optional<std::uint64_t> hash = std::nullopt);
     // An empty document with no scene and no errors: the window's state while its
     // first file loads in the background.
     void load_pending(const std::string& name);
@@ -214,6 +215,9 @@ public:
     // The models read for this document's scenes, kept between parses (and shared
     // with the loader, which reads them in the background).
     rt::ModelStore& models() const { return *models_; }
+    // Reads models through `store` from now on (one a load begun before the document
+    // existed reads into).
+    void share_models(std::shared_ptr<rt::ModelStore> store) { models_ = std::move(store); }
     // How the document parses a text that is (to be) the file at `path`.
     rt::ParseOptions parse_options(const std::string& path) const;
     DiskEvent check_disk();
@@ -251,7 +255,7 @@ private:
     // changes_since().
     void changed(rt::SceneDelta delta);
     void normalize_applied();
-    void mark_saved();
+    void mark_saved(std::optional<std::uint64_t> hash = std::nullopt);
     void reload_text(const std::string& text);
     // The scene's models read again if one changed on disk; true if the scene changed.
     bool reload_models();

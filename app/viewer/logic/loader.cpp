@@ -24,6 +24,7 @@ struct SceneLoader::Job {
     std::atomic<bool> finished{false};
     mutable std::mutex mutex;
     Progress progress;  // under mutex
+    std::function<void()> on_finished;  // under mutex
     LoadResult result;  // written by the worker before `finished`
 };
 
@@ -64,19 +65,25 @@ bool apply_load(LoadResult& r, Document& doc, std::shared_ptr<const rt::World>& 
     if (r.new_scene) {
         // A scene of its own, unsaved: Save asks where (the name offered beside the model).
         const std::size_t dot = name.find_last_of('.');
-        doc.load_parsed(std::move(r.text), std::move(r.parsed), "", name.substr(0, dot) + ".txt", std::move(r.layout));
+        doc.load_parsed(std::move(r.text), std::move(r.parsed), "", name.substr(0, dot) + ".txt", std::move(r.layout),
+                        r.text_hash);
         return true;
     }
-    doc.load_parsed(std::move(r.text), std::move(r.parsed), r.path, name, std::move(r.layout));
+    doc.load_parsed(std::move(r.text), std::move(r.parsed), r.path, name, std::move(r.layout), r.text_hash);
     return true;
 }
 
 void SceneLoader::compile_and_scan(LoadResult& r) {
-    // The scan beside the compile (it reads the text only), on the process pool.
+    // The scan and the text's hash beside the compile (they read the text only), on
+    // the process pool.
     rt::two_ways(true, [&r](int part) {
         const auto t0 = std::chrono::steady_clock::now();
-        if (part == 0) r.world = rt::compile_world(r.parsed.scene, nullptr);
-        else r.layout = scan_layout(r.text, r.parsed.scene.objects.size());
+        if (part == 0) {
+            r.world = rt::compile_world(r.parsed.scene, nullptr);
+        } else {
+            r.layout = scan_layout(r.text, r.parsed.scene.objects.size());
+            r.text_hash = rtview::text_hash(r.text);
+        }
         (part == 0 ? r.times.compile : r.times.scan) =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     });
@@ -149,10 +156,16 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
             r.status = job->cancel ? LoadResult::Status::Cancelled : LoadResult::Status::Ok;
         }
     }
-    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, false, {}, {}, {}, {}, {}, {}};
+    if (r.status == LoadResult::Status::Cancelled) r = LoadResult{LoadResult::Status::Cancelled, r.path, false, {}, {}, {}, {}, {}, {}, {}};
     job->result = std::move(r);
-    stage(Stage::Done);
+    std::function<void()> notify;
+    {
+        std::lock_guard<std::mutex> lock(job->mutex);
+        job->progress.stage = Stage::Done;
+        notify = job->on_finished;
+    }
     job->finished = true;
+    if (notify && !job->cancel) notify();
 }
 
 void SceneLoader::start(const std::string& path, bool compile, rt::ModelStore* models) {
@@ -163,7 +176,22 @@ void SceneLoader::start(const std::string& path, bool compile, rt::ModelStore* m
     job_->models = models;
     job_->progress.path = path;
     job_->progress.stage = Stage::Reading;
+    job_->on_finished = on_finished_;
     thread_ = std::thread(&SceneLoader::run, job_);
+}
+
+void SceneLoader::take_over(SceneLoader& other) {
+    cancel();
+    job_ = std::move(other.job_);
+    thread_ = std::move(other.thread_);
+    other.job_ = nullptr;
+    if (job_) {
+        // A load that finished before this wakes nobody: it is polled for anyway.
+        std::lock_guard<std::mutex> lock(job_->mutex);
+        job_->on_finished = on_finished_;
+    }
+    for (auto& r : other.retired_) retired_.push_back(std::move(r));
+    other.retired_.clear();
 }
 
 void SceneLoader::cancel() {

@@ -33,6 +33,9 @@ struct LoadResult {
     // Ok and parsed: where the text's items are, scanned beside the compile, so that
     // the first edit of a big scene patches the text at once (no pass over 100 MB then).
     std::optional<SceneLayout> layout;
+    // Ok: text_hash() of the text, taken beside the compile (the document's saved
+    // state, without a pass over 100 MB on the UI thread when the load arrives).
+    std::optional<std::uint64_t> text_hash;
     // Seconds each stage took (raytracer-view -v prints them beside raytracer --stats').
     struct Times {
         double read = 0, parse = 0, build = 0;
@@ -77,6 +80,12 @@ public:
     void start(const std::string& path, bool compile = true, rt::ModelStore* models = nullptr);
     // Stops the load under way; its result is never delivered.
     void cancel();
+    // Takes over the load `other` has under way (a start-up file whose load began
+    // before the window opened); `other` is then idle.
+    void take_over(SceneLoader& other);
+    // Called on the worker thread once a load's result is ready to poll() (to wake
+    // a UI thread that sleeps until then); set before start().
+    void set_on_finished(std::function<void()> f) { on_finished_ = std::move(f); }
     bool active() const;
     Progress progress() const;
     // The finished load, once; nothing while it runs (or after a cancel).
@@ -92,6 +101,7 @@ private:
 
     std::shared_ptr<Job> job_;
     std::thread thread_;
+    std::function<void()> on_finished_;
     std::vector<std::pair<std::shared_ptr<Job>, std::thread>> retired_;  // cancelled, still finishing a stage
 };
 

@@ -51,12 +51,21 @@ void WorldSync::return_memory() {
 #endif
 }
 
-void WorldSync::prepare_links() {
+void WorldSync::drop_links() {
     // What was made or is being made for another tree is let go of (it must not keep
     // a replaced scene's geometry alive).
     if (links_build_.valid()) dropped_links_.push_back(std::move(links_build_));
     links_ = nullptr;
     links_geometry_ = nullptr;
+    links_waiting_ = false;
+}
+
+void WorldSync::start_links() {
+    if (links_waiting_) prepare_links();
+}
+
+void WorldSync::prepare_links() {
+    drop_links();
     if (!world_ || !world_->geometry || world_->geometry->bvh.links || world_->geometry->object_bounds.size() == 0)
         return;
     links_geometry_ = world_->geometry;
@@ -110,10 +119,12 @@ void WorldSync::adopt(std::shared_ptr<const rt::World> world, std::uint64_t vers
     }
     world_ = std::move(world);
     version_ = version;
-    prepare_links();
+    drop_links();
+    links_waiting_ = true;
 }
 
 WorldSync::Step WorldSync::finish(const Document& doc) {
+    start_links();
     Step step = sync(doc);
     while (build_.valid()) {
         build_.wait();

@@ -52,10 +52,14 @@ public:
     // A world compiled elsewhere (a scene loaded in the background) for the document's
     // content version `version`; a build under way is dropped (not waited for). Once
     // the world it replaces is gone (the renderer and the views let go of it), the
-    // memory the allocator kept of it is given back to the system.
+    // memory the allocator kept of it is given back to the system. Its tree's links
+    // wait for start_links(): a loaded scene's first picture should not share the
+    // processors with them.
     void adopt(std::shared_ptr<const rt::World> world, std::uint64_t version);
-    // Blocks until a build under way and the links are done, then syncs (headless runs,
-    // tests).
+    // Starts making the links an adopted world's tree waits for (nothing otherwise).
+    void start_links();
+    // Starts the links an adopted world waits for, blocks until a build under way and
+    // the links are done, then syncs (headless runs, tests).
     Step finish(const Document& doc);
 
     const std::shared_ptr<const rt::World>& world() const { return world_; }
@@ -74,6 +78,8 @@ private:
     void return_memory();
     // Starts making the links of the world's tree unless it has them.
     void prepare_links();
+    // Lets go of the links made or being made.
+    void drop_links();
     // Takes the links once made; the links that go with the world's tree, or null.
     std::shared_ptr<const rt::BvhLinks> current_links();
 
@@ -88,6 +94,7 @@ private:
     std::shared_ptr<const rt::Geometry> links_geometry_;
     std::shared_ptr<const rt::BvhLinks> links_;
     std::future<std::shared_ptr<const rt::BvhLinks>> links_build_;
+    bool links_waiting_ = false;  // for start_links()
     std::vector<std::future<std::shared_ptr<const rt::BvhLinks>>> dropped_links_;
 };
 

@@ -89,6 +89,8 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
     layout_.fit = opt_.fit;
     render_.verbose = opt_.verbose;
     render_.clock = &since_start;
+    // A finished load is taken in the next frame, not when the host next looks.
+    loader_.set_on_finished([&host] { host.wake(); });
     if (opt_.tab == "text") panels_.show_tab(Panels::Text);
     else if (opt_.tab == "render") panels_.show_tab(Panels::Render);
     else panels_.show_tab(Panels::Objects);
@@ -96,7 +98,7 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
 
 ViewerApp::~ViewerApp() = default;
 
-rt::Status ViewerApp::open_initial() {
+rt::Status ViewerApp::open_initial(EarlyLoad* early) {
     Document& doc = editor_.doc();
     if (opt_.scene.empty()) {
         doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
@@ -107,7 +109,13 @@ rt::Status ViewerApp::open_initial() {
         if (::access(opt_.scene.c_str(), R_OK) != 0)
             return rt::Status::error("cannot open '" + opt_.scene + "': " + std::strerror(errno), rt::kExitUsage);
         doc.load_pending(base_name(opt_.scene));
-        start_load(opt_.scene);
+        if (early && early->loader.active()) {
+            doc.share_models(early->models);
+            loader_.take_over(early->loader);
+            status_.set("Opening " + opt_.scene);
+        } else {
+            start_load(opt_.scene);
+        }
     } else {
         loader_.start(opt_.scene, true, &doc.models());
         std::optional<LoadResult> r = loader_.wait();
@@ -1072,8 +1080,9 @@ double ViewerApp::wait_timeout() const {
     if (render_.awaiting_preview()) return 0.004;
     // Anything animating or arriving needs display-rate frames.
     if (ui_busy() || render_.busy()) return 1.0 / 60;
-    // A load's progress needs a few frames a second, not 60: its thread wants the CPU.
-    if (loader_.active()) return 0.1;
+    // A load's progress needs a few frames a second, not 60: its threads want the CPU
+    // (and its end wakes the host at once).
+    if (loader_.active()) return 0.25;
     // Idle: sleep until input, waking once a second to look at the file on disk.
     return 1.0;
 }

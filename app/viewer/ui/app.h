@@ -37,6 +37,16 @@ public:
     virtual ~Host() = default;
     virtual void set_title(const std::string& title) = 0;
     virtual void quit() = 0;  // close the window now (the app has already asked)
+    // From any thread: ends the host's wait for events now (work done elsewhere, such
+    // as a load, wants a frame).
+    virtual void wake() {}
+};
+
+// A load of the start-up scene begun before the app exists (while the window opens),
+// with the store its models are read into.
+struct EarlyLoad {
+    SceneLoader loader;
+    std::shared_ptr<rt::ModelStore> models = std::make_shared<rt::ModelStore>();
 };
 
 class ViewerApp : private Commands {
@@ -47,8 +57,9 @@ public:
     // Opens options.scene (or the default scene). Interactive: the file loads in the
     // background and this returns at once (the window paints meanwhile); headless: it
     // loads now. Returns a message for the terminal when the file cannot be read (the
-    // caller exits); parse errors open anyway.
-    rt::Status open_initial();
+    // caller exits); parse errors open anyway. `early`: the window's load of that
+    // file, begun already; it is taken over instead of starting another.
+    rt::Status open_initial(EarlyLoad* early = nullptr);
 
     // One UI frame, between ImGui::NewFrame() and ImGui::Render().
     void frame();

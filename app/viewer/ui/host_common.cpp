@@ -49,8 +49,8 @@ void end_imgui() {
     ImGui::DestroyContext();
 }
 
-int open_initial_scene(const char* program, ViewerApp& app) {
-    const rt::Status st = app.open_initial();
+int open_initial_scene(const char* program, ViewerApp& app, EarlyLoad* early) {
+    const rt::Status st = app.open_initial(early);
     if (st) return 0;
     std::fprintf(stderr, "%s: %s\n", program, st.message().c_str());
     return st.exit_code();

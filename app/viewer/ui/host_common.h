@@ -28,9 +28,10 @@ bool fits_in_memory(const char* program, const Options& opt, bool headless);
 UiFont begin_imgui(float scale);
 void end_imgui();
 
-// The initial scene (the command line's or the default): 0 once it is loading, else
+// The initial scene (the command line's or the default; `early`: its load begun already,
+// app.h): 0 once it is loading, else
 // the message on stderr and 2.
-int open_initial_scene(const char* program, ViewerApp& app);
+int open_initial_scene(const char* program, ViewerApp& app, EarlyLoad* early = nullptr);
 
 // One ImGui frame of the app: laid out, then (if `paint`) drawn into the current GL
 // framebuffer of width x height pixels. The caller starts its backends' frames first.

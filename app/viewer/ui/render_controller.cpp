@@ -211,6 +211,8 @@ void RenderController::upload() {
         bool has_picture = before.coarse_level > 0 || before.samples > 0;
         if (has_picture && before.generation == started_generation_) {
             showing_preview_ = false;
+            // An adopted world's links (for its first move) once its picture is up.
+            sync_.start_links();
             if (verbose && clock && !first_picture_reported_) {
                 std::fprintf(stderr, "raytracer-view: first picture on screen at %.3f s\n", clock());
                 first_picture_reported_ = true;
