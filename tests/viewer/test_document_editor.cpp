@@ -83,5 +83,14 @@ TEST_CASE("recovery in the viewer: a drag is kept every tick as its items, the t
     const std::optional<std::string> found = disk.find(path);
     REQUIRE(found);
     CHECK(std::get<rt::Sphere>(rt::parse_scene(*found).scene.objects[0].shape).radius == 2);
+    {
+        // The next start offers it: found off the UI thread, shown by a later tick.
+        DocumentEditor ed(true, status);
+        REQUIRE(ed.doc().load_file(path).ok());
+        ed.replaced();
+        CHECK(eventually(ed, 7, [&] { return ed.recovery_offered(); }));
+        CHECK(ed.recovered_text() == *found);
+        CHECK(fs::exists(disk.held_file_for(path)));  // kept while on offer
+    }
     ::unsetenv("XDG_STATE_HOME");
 }

@@ -162,10 +162,38 @@ TEST_CASE("writing panel edits back round-trips for random edits") {
             std::string out = sync_scene_text(text, cur, next);
             CHECK(parse_ok(out) == next);
             CHECK(patch_scene_text(text, cur, next).has_value());  // never needed the fallback
+            // The same edit named by its items gives the same text.
+            ItemIndices at;
+            rt::Scene values;
+            for (std::size_t i = 0; i < next.objects.size(); ++i)
+                if (!(cur.objects[i] == next.objects[i])) at.objects.push_back(i), values.objects.push_back(next.objects[i]);
+            for (std::size_t i = 0; i < next.planes.size(); ++i)
+                if (!(cur.planes[i] == next.planes[i])) at.planes.push_back(i), values.planes.push_back(next.planes[i]);
+            for (std::size_t i = 0; i < next.lights.size(); ++i)
+                if (!(cur.lights[i] == next.lights[i])) at.lights.push_back(i), values.lights.push_back(next.lights[i]);
+            at.camera = !(cur.camera == next.camera);
+            values.camera = next.camera;
+            CHECK(patch_scene_items(text, cur, at, values) == out);
             text = out;
             cur = next;
         }
     }
+}
+
+TEST_CASE("an edit named by its items refuses indices out of range and values that do not read back") {
+    const std::string text = kExample;
+    const rt::Scene cur = parse_ok(text);
+    ItemIndices at;
+    rt::Scene values;
+    at.objects = {cur.objects.size()};
+    values.objects = {cur.objects[0]};
+    CHECK_FALSE(patch_scene_items(text, cur, at, values));
+    at.objects = {0};
+    CHECK_FALSE(patch_scene_items(text, cur, at, rt::Scene{}));  // one index, no value
+    std::get<rt::Sphere>(values.objects[0].shape).position.x = 1e300;  // beyond the format's numbers
+    CHECK_FALSE(patch_scene_items(text, cur, at, values));
+    values.objects[0] = cur.objects[0];
+    CHECK(patch_scene_items(text, cur, at, values) == text);  // nothing changed
 }
 
 TEST_CASE("sync falls back to the writer when the items changed in number") {

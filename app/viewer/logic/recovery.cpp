@@ -105,24 +105,14 @@ HeldEdit held_edit(const Document& doc) {
 }
 
 std::string with_held_edit(const std::string& text, const HeldEdit& held) {
-    const rt::ParseResult r = rt::parse_scene(text);
-    if (!r.ok() || held.items.objects.size() != held.objects.size() || held.items.planes.size() != held.planes.size() ||
-        held.items.lights.size() != held.lights.size())
-        return text;
-    rt::Scene to = r.scene;
-    auto put = [](auto& list, const std::vector<std::size_t>& at, const auto& values) {
-        for (std::size_t k = 0; k < at.size(); ++k) {
-            if (at[k] >= list.size()) return false;
-            list[at[k]] = values[k];
-        }
-        return true;
-    };
-    if (!put(to.objects, held.objects, held.items.objects) || !put(to.planes, held.planes, held.items.planes) ||
-        !put(to.lights, held.lights, held.items.lights))
-        return text;
-    if (held.camera) to.camera = held.items.camera;
-    if (!text_holds(to)) return text;
-    return sync_scene_text(text, r.scene, to);
+    // The models a mesh names are not read: only the text is patched.
+    rt::ParseOptions o;
+    o.read_models = false;
+    const rt::ParseResult r = rt::parse_scene(text, o);
+    if (!r.ok()) return text;
+    const ItemIndices at{held.objects, held.planes, held.lights, held.camera};
+    std::optional<std::string> patched = patch_scene_items(text, r.scene, at, held.items);
+    return patched ? std::move(*patched) : text;
 }
 
 Recovery::Recovery(std::string dir) : dir_(dir.empty() ? default_dir() : std::move(dir)) {}

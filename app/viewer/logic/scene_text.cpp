@@ -134,77 +134,133 @@ SceneLayout scan_layout(std::string_view text, std::size_t objects) {
     return l;
 }
 
+namespace {
+
+std::vector<rt::Object>& items_of(rt::Scene& s, const rt::Object&) { return s.objects; }
+std::vector<rt::Plane>& items_of(rt::Scene& s, const rt::Plane&) { return s.planes; }
+std::vector<rt::Light>& items_of(rt::Scene& s, const rt::Light&) { return s.lights; }
+Kind kind_of(const rt::Object&) { return Kind::Object; }
+Kind kind_of(const rt::Plane&) { return Kind::Plane; }
+Kind kind_of(const rt::Light&) { return Kind::Light; }
+
+// The replacements of one edit, gathered against the layout `l` of `text`.
+class Patcher {
+public:
+    Patcher(const std::string& text, const SceneLayout& l, const rt::Camera& camera) : text_(text), l_(l) {
+        one_.camera = camera;  // a valid camera, so the writer prints a normal scene
+    }
+
+    // The item at `at` of its list from `was` to `now`: only its changed values where
+    // that can be done (block_patch.h), else the writer's block in its place.
+    template <class T>
+    bool item(std::size_t at, const T& was, const T& now) {
+        if (was == now) return true;
+        const Kind kind = kind_of(now);
+        const TextSpan span = (kind == Kind::Object ? l_.objects : kind == Kind::Plane ? l_.planes : l_.lights)[at];
+        if (std::optional<std::string> t =
+                patch_block(std::string_view(text_).substr(span.begin, span.end - span.begin), was, now)) {
+            reps_.push_back({span, std::move(*t)});
+            return true;
+        }
+        items_of(one_, now) = {now};
+        std::size_t windent = 0;
+        std::string written = written_item(one_, kind, windent);
+        items_of(one_, now).clear();
+        if (written.empty()) return false;
+        reps_.push_back({span, reindent(written, windent, line_indent(text_, span.begin))});
+        return true;
+    }
+
+    // Camera keys accumulate over all camera sections, so one complete block in place
+    // of the last section gives exactly the new camera.
+    bool camera(const rt::Camera& now) {
+        one_.camera = now;
+        std::size_t windent = 0;
+        std::string block = written_item(one_, Kind::Camera, windent);
+        if (block.empty()) return false;
+        TextSpan span{l_.append_at, l_.append_at};
+        std::string indent;
+        if (!l_.cameras.empty()) {
+            span = l_.cameras.back();
+            indent = line_indent(text_, span.begin);
+        } else {
+            block += "\n";
+        }
+        reps_.push_back({span, reindent(block, windent, indent)});
+        return true;
+    }
+
+    bool empty() const { return reps_.empty(); }
+
+    // The text with every replacement made (back to front, so each span still holds).
+    std::string result() {
+        std::sort(reps_.begin(), reps_.end(),
+                  [](const Replacement& a, const Replacement& b) { return a.span.begin > b.span.begin; });
+        std::string out = text_;
+        for (const Replacement& r : reps_) out.replace(r.span.begin, r.span.end - r.span.begin, r.text);
+        return out;
+    }
+
+private:
+    const std::string& text_;
+    const SceneLayout& l_;
+    rt::Scene one_;
+    std::vector<Replacement> reps_;
+};
+
+bool same_counts(const SceneLayout& l, const rt::Scene& s) {
+    return l.ok && l.objects.size() == s.objects.size() && l.planes.size() == s.planes.size() &&
+           l.lights.size() == s.lights.size();
+}
+
+}  // namespace
+
 std::optional<std::string> patch_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to) {
     if (from.objects.size() != to.objects.size() || from.planes.size() != to.planes.size() ||
         from.lights.size() != to.lights.size())
         return std::nullopt;
-    SceneLayout l = scan_layout(text);
-    if (!l.ok || l.objects.size() != from.objects.size() || l.planes.size() != from.planes.size() ||
-        l.lights.size() != from.lights.size())
-        return std::nullopt;
-
-    std::vector<Replacement> reps;
-    auto add = [&](TextSpan span, const rt::Scene& one, Kind kind) -> bool {
-        std::size_t windent = 0;
-        std::string item = written_item(one, kind, windent);
-        if (item.empty()) return false;
-        reps.push_back({span, reindent(item, windent, line_indent(text, span.begin))});
-        return true;
-    };
-    // Only the changed values of a block, where that can be done (block_patch.h).
-    auto patched = [&](TextSpan span, const auto& was, const auto& now) {
-        std::optional<std::string> t = patch_block(std::string_view(text).substr(span.begin, span.end - span.begin), was, now);
-        if (t) reps.push_back({span, std::move(*t)});
-        return t.has_value();
-    };
-    rt::Scene one;  // carries a valid camera so the writer prints a normal scene
-    one.camera = to.camera;
-    for (std::size_t k = 0; k < to.objects.size(); ++k) {
-        if (from.objects[k] == to.objects[k] || patched(l.objects[k], from.objects[k], to.objects[k])) continue;
-        one.objects = {to.objects[k]};
-        if (!add(l.objects[k], one, Kind::Object)) return std::nullopt;
-    }
-    one.objects.clear();
-    for (std::size_t k = 0; k < to.planes.size(); ++k) {
-        if (from.planes[k] == to.planes[k] || patched(l.planes[k], from.planes[k], to.planes[k])) continue;
-        one.planes = {to.planes[k]};
-        if (!add(l.planes[k], one, Kind::Plane)) return std::nullopt;
-    }
-    one.planes.clear();
-    for (std::size_t k = 0; k < to.lights.size(); ++k) {
-        if (from.lights[k] == to.lights[k] || patched(l.lights[k], from.lights[k], to.lights[k])) continue;
-        one.lights = {to.lights[k]};
-        if (!add(l.lights[k], one, Kind::Light)) return std::nullopt;
-    }
+    const SceneLayout l = scan_layout(text);
+    if (!same_counts(l, from)) return std::nullopt;
     // Panels never change the picture size; a change there is left to the writer.
     if (from.width != to.width || from.height != to.height) return std::nullopt;
-    if (!(from.camera == to.camera)) {
-        // Camera keys accumulate over all camera sections, so one complete block in
-        // place of the last section gives exactly the new camera.
-        std::size_t windent = 0;
-        std::string block = written_item(one, Kind::Camera, windent);
-        if (block.empty()) return std::nullopt;
-        TextSpan span{l.append_at, l.append_at};
-        std::string indent;
-        if (!l.cameras.empty()) {
-            span = l.cameras.back();
-            indent = line_indent(text, span.begin);
-        } else {
-            block += "\n";
-        }
-        reps.push_back({span, reindent(block, windent, indent)});
-    }
-    if (reps.empty()) return text;
-
-    std::sort(reps.begin(), reps.end(), [](const Replacement& a, const Replacement& b) {
-        return a.span.begin > b.span.begin;
-    });
-    std::string out = text;
-    for (const Replacement& r : reps) out.replace(r.span.begin, r.span.end - r.span.begin, r.text);
-
+    Patcher p(text, l, to.camera);
+    for (std::size_t k = 0; k < to.objects.size(); ++k)
+        if (!p.item(k, from.objects[k], to.objects[k])) return std::nullopt;
+    for (std::size_t k = 0; k < to.planes.size(); ++k)
+        if (!p.item(k, from.planes[k], to.planes[k])) return std::nullopt;
+    for (std::size_t k = 0; k < to.lights.size(); ++k)
+        if (!p.item(k, from.lights[k], to.lights[k])) return std::nullopt;
+    if (!(from.camera == to.camera) && !p.camera(to.camera)) return std::nullopt;
+    if (p.empty()) return text;
+    std::string out = p.result();
     rt::ParseResult check = rt::parse_scene(out);
     if (!check.ok() || check.scene != to) return std::nullopt;
     return out;
+}
+
+std::optional<std::string> patch_scene_items(const std::string& text, const rt::Scene& from, const ItemIndices& at,
+                                             const rt::Scene& values) {
+    if (at.objects.size() != values.objects.size() || at.planes.size() != values.planes.size() ||
+        at.lights.size() != values.lights.size())
+        return std::nullopt;
+    const SceneLayout l = scan_layout(text, from.objects.size());
+    if (!same_counts(l, from)) return std::nullopt;
+    // What the changed items read back as is all that is checked: the rest of the text
+    // is not touched (as a panel edit's commit in the document does).
+    rt::Scene changed = values;
+    if (!at.camera) changed.camera = from.camera;
+    if (!text_holds(changed)) return std::nullopt;
+    Patcher p(text, l, changed.camera);
+    auto each = [&p](const auto& list, const std::vector<std::size_t>& indices, const auto& now) {
+        for (std::size_t k = 0; k < indices.size(); ++k)
+            if (indices[k] >= list.size() || !p.item(indices[k], list[indices[k]], now[k])) return false;
+        return true;
+    };
+    if (!each(from.objects, at.objects, values.objects) || !each(from.planes, at.planes, values.planes) ||
+        !each(from.lights, at.lights, values.lights))
+        return std::nullopt;
+    if (at.camera && !(from.camera == values.camera) && !p.camera(values.camera)) return std::nullopt;
+    return p.empty() ? text : p.result();
 }
 
 bool text_holds(const rt::Scene& s) {

@@ -37,6 +37,21 @@ SceneLayout scan_layout(std::string_view text, std::size_t objects = 0);
 // number of items changed, the layout is unclear, or the check parse disagrees).
 std::optional<std::string> patch_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to);
 
+// Positions in a scene's item lists, and whether the camera is meant.
+struct ItemIndices {
+    std::vector<std::size_t> objects, planes, lights;
+    bool camera = false;
+};
+
+// patch_scene_text for an edit of a few items: those at `at` (indices into `from`'s
+// lists) become `values`' items, in the same order, and the camera `values.camera`
+// when `at.camera`. Only those items are compared, written and checked (text_holds),
+// so the cost is a layout scan of `text` and the items, whatever the scene's size.
+// Nothing when an index is out of range, the counts disagree or an item cannot be
+// written so that it reads back.
+std::optional<std::string> patch_scene_items(const std::string& text, const rt::Scene& from, const ItemIndices& at,
+                                             const rt::Scene& values);
+
 // Whether the text of `s` (write_scene) reads back as `s`: every number within the
 // format's range, every shape one the parser takes. An edit may make either false (a
 // drag far out; rounding that flattens a tiny tetrahedron); such an edit is not made.

@@ -31,6 +31,22 @@ bool DocumentEditor::recovery_busy() {
     return false;
 }
 
+bool DocumentEditor::recovery_finding() {
+    if (!recovery_find_.valid()) return false;
+    if (recovery_find_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return true;
+    settle_recovery_find();
+    return false;
+}
+
+void DocumentEditor::settle_recovery_find() {
+    if (!recovery_find_.valid()) return;
+    std::optional<std::string> text = recovery_find_.get();
+    if (text && *text != std::as_const(doc_).editor_text()) {
+        recovered_text_ = std::move(*text);
+        recovery_offer_ = true;
+    }
+}
+
 void DocumentEditor::forget_earlier_copy() {
     // The copy of a document this editor held before (under another name, or another
     // file): its unsaved text was saved or let go by the user.
@@ -48,16 +64,17 @@ void DocumentEditor::replaced() {
         // Text a crashed or killed session had not saved, for this same file.
         if (recovery_busy()) recovery_write_.wait();
         recovery_busy();
+        if (recovery_find_.valid()) recovery_find_.wait();  // an earlier document's: no longer wanted
+        recovery_find_ = {};
         if (!offered) forget_earlier_copy();
-        if (auto text = recovery_.find(doc_.path()); text && *text != std::as_const(doc_).editor_text()) {
-            recovered_text_ = std::move(*text);
-            recovery_offer_ = true;
-        }
+        recovered_text_.clear();
+        recovery_find_ = std::async(std::launch::async, [this, path = doc_.path()] { return recovery_.find(path); });
     }
     if (!doc_.has_scene() || doc_.has_errors()) want_tab_ = true;  // show the errors
 }
 
 void DocumentEditor::tick(double now) {
+    recovery_finding();
     if (check_due_ >= 0 && now >= check_due_) {
         doc_.check_text();
         check_due_ = -1;
@@ -66,8 +83,10 @@ void DocumentEditor::tick(double now) {
 
 bool DocumentEditor::idle_tick(double now) {
     (void)now;
-    // While an offer is pending the old copy stays on disk untouched.
-    if (!recovery_offer_ && !recovery_busy()) keep_recovery_copy();
+    // While an offer is pending (or being looked for) the old copy stays on disk untouched.
+    const bool finding = recovery_find_.valid();
+    if (!recovery_finding() && !recovery_offer_ && !recovery_busy()) keep_recovery_copy();
+    if (finding && recovery_offer_) return true;  // the banner shows it
     switch (doc_.check_disk()) {
         case Document::DiskEvent::None: return false;
         case Document::DiskEvent::Reloaded: status_.set("Reloaded " + doc_.name() + " (changed on disk)"); break;
@@ -113,6 +132,7 @@ void DocumentEditor::keep_recovery_copy() {
 }
 
 void DocumentEditor::saved() {
+    settle_recovery_find();
     if (recovery_write_.valid()) recovery_write_.wait();
     recovery_busy();
     if (recovery_offer_) return;
@@ -122,6 +142,7 @@ void DocumentEditor::saved() {
 }
 
 void DocumentEditor::discard_recovery() {
+    settle_recovery_find();
     if (recovery_write_.valid()) recovery_write_.wait();
     recovery_busy();
     if (recovery_offer_) return;  // the earlier session's text stays on offer
@@ -130,6 +151,7 @@ void DocumentEditor::discard_recovery() {
 }
 
 void DocumentEditor::saved_as() {
+    settle_recovery_find();
     if (recovery_write_.valid()) recovery_write_.wait();
     recovery_busy();
     if (!recovery_offer_) forget_earlier_copy();

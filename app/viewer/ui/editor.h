@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <future>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,11 @@ public:
     // file, and offered as unsaved text after a crash).
     void saved();
 
+    // An earlier session's unsaved text for this document is on offer (the banner), and
+    // that text. Looked for after replaced() off the UI thread: a later tick shows it.
+    bool recovery_offered() const { return recovery_offer_; }
+    const std::string& recovered_text() const { return recovered_text_; }
+
     // The editor: show it focused, with the cursor at a byte offset (or where it was).
     void focus(int cursor = -1);
     void apply();
@@ -73,6 +79,11 @@ private:
     bool recovery_busy();          // a write is under way (collects a finished one)
     void keep_recovery_copy();     // hands what changed since the last tick to a writer
     void forget_earlier_copy();    // removes a copy kept under an earlier name
+    // An earlier session's copy being read (and a held edit written into it: a pass
+    // over a big scene's text) off the UI thread; recovery_ is left alone until then.
+    std::future<std::optional<std::string>> recovery_find_;
+    bool recovery_finding();       // the read is under way (takes in a finished one)
+    void settle_recovery_find();   // waits for the read and takes it in
     bool recovery_offer_ = false;  // a previous session's unsaved text is waiting
     std::string recovered_text_;
 
