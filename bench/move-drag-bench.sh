@@ -27,6 +27,9 @@ state() { awk -v k="$1" '$1 == "state" && $2 == k { sub("^state " k " ?", ""); v
 run() {
     local scene=$1 mode=$2
     cp "$scene" "$OUT/scene.txt"
+    # Each run starts as a first start: the last run was killed mid-edit, and its
+    # recovery copy would otherwise be offered (and read) by this one.
+    rm -rf "$XDG_STATE_HOME"
     "$BIN/raytracer-view" "$OUT/scene.txt" --size 1280x800 --print-layout -v > "$OUT/layout.txt" 2> "$OUT/viewer.err" &
     local vp=$!
     PIDS+=($vp)
