@@ -51,28 +51,36 @@ TEST_CASE("faster passes are believed at once, slower ones halfway") {
 TEST_CASE("a preview is the picture's block corners, traced as the camera ray through each") {
     rt::ParseResult r = rt::parse_scene(rt::kDefaultScene);
     REQUIRE(r.ok());
-    auto world = rt::compile_world(r.scene);
-    const int w = 101, h = 67, b = 8;
-    std::vector<std::uint8_t> rgba;
-    int pw = 0, ph = 0;
-    trace_preview(*world, r.scene.camera, w, h, b, rgba, pw, ph);
-    CHECK(pw == 13);  // ceil(101 / 8)
-    CHECK(ph == 9);   // ceil(67 / 8)
-    REQUIRE(rgba.size() == std::size_t(pw * ph * 4));
-    rt::CameraBasis basis = rt::CameraBasis::make(r.scene.camera, w, h, false);
-    int distinct = 0;
-    for (int by = 0; by < ph; ++by)
-        for (int bx = 0; bx < pw; ++bx) {
-            rt::RayStats stats;
-            rt::Colour c = world->trace_camera(basis, bx * b, by * b, stats);
-            const std::uint8_t* p = &rgba[std::size_t(by * pw + bx) * 4];
-            CHECK(int(p[0]) == int(rt::to_byte(float(c.x))));
-            CHECK(int(p[1]) == int(rt::to_byte(float(c.y))));
-            CHECK(int(p[2]) == int(rt::to_byte(float(c.z))));
-            CHECK(p[3] == 255);
-            distinct += p[0] != rgba[0] || p[1] != rgba[1] || p[2] != rgba[2];
-        }
-    CHECK(distinct > 20);  // a picture, not a flat colour
+    // The scene as it is, and with its lights so bright that most channels clip at 255.
+    for (double gain : {1.0, 100.0}) {
+        CAPTURE(gain);
+        rt::Scene scene = r.scene;
+        for (rt::Light& l : scene.lights) l.colour = l.colour * gain;
+        auto world = rt::compile_world(scene);
+        const int w = 101, h = 67, b = 8;
+        std::vector<std::uint8_t> rgba;
+        int pw = 0, ph = 0;
+        trace_preview(*world, scene.camera, w, h, b, rgba, pw, ph);
+        CHECK(pw == 13);  // ceil(101 / 8)
+        CHECK(ph == 9);   // ceil(67 / 8)
+        REQUIRE(rgba.size() == std::size_t(pw * ph * 4));
+        rt::CameraBasis basis = rt::CameraBasis::make(scene.camera, w, h, false);
+        int distinct = 0, clipped = 0;
+        for (int by = 0; by < ph; ++by)
+            for (int bx = 0; bx < pw; ++bx) {
+                rt::RayStats stats;
+                rt::Colour c = world->trace_camera(basis, bx * b, by * b, stats);
+                const std::uint8_t* p = &rgba[std::size_t(by * pw + bx) * 4];
+                CHECK(int(p[0]) == int(rt::to_byte(float(c.x))));
+                CHECK(int(p[1]) == int(rt::to_byte(float(c.y))));
+                CHECK(int(p[2]) == int(rt::to_byte(float(c.z))));
+                CHECK(p[3] == 255);
+                distinct += p[0] != rgba[0] || p[1] != rgba[1] || p[2] != rgba[2];
+                clipped += c.x > 1 || c.y > 1 || c.z > 1;
+            }
+        CHECK(distinct > 20);  // a picture, not a flat colour
+        if (gain > 1) CHECK(clipped > 20);
+    }
 }
 
 TEST_CASE("the viewer's own preview blocks need not be powers of 2: twice the speed, a finer block") {

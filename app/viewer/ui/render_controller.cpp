@@ -59,6 +59,7 @@ void RenderController::adopt_world(std::shared_ptr<const rt::World> world, std::
 }
 
 void RenderController::clear() {
+    at_ = nullptr;
     if (started_world_) {
         renderer_.cancel();
         started_world_ = nullptr;
@@ -137,7 +138,7 @@ void RenderController::trace_preview(const rt::Camera& camera, int film_w, int f
                              std::chrono::duration<double>(kPreviewDeadline));
     // (The camera rays go through a buffer around the view's position where the scene is
     // small enough to make one in passing.)
-    const std::shared_ptr<const rt::World> seen = rt::with_camera_at(world_ptr(), camera.position);
+    const std::shared_ptr<const rt::World> seen = world_at(camera.position);
     PreviewResult r = rtview::trace_preview(*seen, camera, film_w, film_h, b, preview_rgba_, pw, ph,
                                             &renderer_.pool(), stop);
     double took = seconds_since(t0);
@@ -151,6 +152,16 @@ void RenderController::trace_preview(const rt::Camera& camera, int film_w, int f
     preview_world_ = world_ptr();
     preview_camera_ = camera;
     if (timing_change_) first_image_after_change(r.stopped ? "preview, stopped at its deadline" : "preview", took, film_w, film_h, b);
+}
+
+std::shared_ptr<const rt::World> RenderController::world_at(const rt::Vec3& position) {
+    if (!at_ || !same_world(at_world_, world_ptr()) || !(at_position_ == position)) {
+        at_ = nullptr;  // (the last one's tables go before the next are made)
+        at_ = rt::with_camera_at(world_ptr(), position);
+        at_world_ = world_ptr();
+        at_position_ = position;
+    }
+    return at_;
 }
 
 void RenderController::first_image_after_change(const char* source, double took, int w, int h, int block) {
@@ -181,7 +192,7 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h) {
         held_ = false;
         renderer_.set_paused(paused_ || yield_);
     }
-    renderer_.start(rt::with_camera_at(world_ptr(), camera.position), st);
+    renderer_.start(world_at(camera.position), st);
     started_world_ = world_ptr();
     started_camera_ = camera;
     started_w_ = film_w;

@@ -106,6 +106,10 @@ public:
 private:
     void start(const rt::Camera& camera, int film_w, int film_h);
     void trace_preview(const rt::Camera& camera, int film_w, int film_h);
+    // The world as seen from `position` (rt::with_camera_at: its camera buffer there),
+    // made once per world and position: the last preview of a moving view and the
+    // render started when the view rests share one.
+    std::shared_ptr<const rt::World> world_at(const rt::Vec3& position);
     // The first image after a view change is on screen: the latency, said with
     // --verbose along with what made the image (`source`, taking `took` seconds).
     void first_image_after_change(const char* source, double took, int w, int h, int block);
@@ -142,6 +146,10 @@ private:
     // scene's memory is returned).
     std::weak_ptr<const rt::World> preview_world_;
     rt::Camera preview_camera_;
+    // world_at()'s last answer, and the world and position it was made for.
+    std::shared_ptr<const rt::World> at_;
+    std::weak_ptr<const rt::World> at_world_;
+    rt::Vec3 at_position_;
 
     FilmTexture film_;
     FilmView view_;
