@@ -113,16 +113,33 @@ double tri_intersect(const TriRay& r, const TriBlock& b, int l) {
 namespace {
 // tri_intersect() for the four lanes of a block at once, the same operations lane for
 // lane: t per lane (NaN for a miss). Lanes with an edge function of exactly zero are
-// left to the scalar test (bit `exact`).
-[[gnu::always_inline]] RT_TARGET_AVX2 inline void tri_intersect4(const TriRay& r, const TriBlock& b, double t[4],
-                                                                  unsigned& exact) {
-    const __m256d ox = _mm256_set1_pd(r.ox), oy = _mm256_set1_pd(r.oy), oz = _mm256_set1_pd(r.oz);
-    const __m256d sx = _mm256_set1_pd(r.sx), sy = _mm256_set1_pd(r.sy), sz = _mm256_set1_pd(r.sz);
+// left to the scalar test (bit `exact`). False, with t not written, when the edge
+// functions' signs already rule out each of the first `count` lanes (none exact):
+// most blocks a walk meets, which then skip the distances and their division.
+// The ray as the four-lane test takes it, made once a walk (not at every leaf): its
+// values in all four lanes, and the byte offsets in a corner's rows of its kx, ky and
+// kz coordinates.
+struct TriLanes {
+    __m256d ox, oy, oz, sx, sy, sz;
+    std::size_t kx, ky, kz;
+    RT_TARGET_AVX2 explicit TriLanes(const TriRay& r)
+        : ox(_mm256_set1_pd(r.ox)), oy(_mm256_set1_pd(r.oy)), oz(_mm256_set1_pd(r.oz)), sx(_mm256_set1_pd(r.sx)),
+          sy(_mm256_set1_pd(r.sy)), sz(_mm256_set1_pd(r.sz)), kx(sizeof(float[4]) * std::size_t(r.kx)),
+          ky(sizeof(float[4]) * std::size_t(r.ky)), kz(sizeof(float[4]) * std::size_t(r.kz)) {}
+};
+
+[[gnu::always_inline]] RT_TARGET_AVX2 inline bool tri_intersect4(const TriLanes& q, const TriBlock& b,
+                                                                  std::uint32_t count, double t[4], unsigned& exact) {
+    const __m256d ox = q.ox, oy = q.oy, oz = q.oz, sx = q.sx, sy = q.sy, sz = q.sz;
     __m256d X[3], Y[3], Z[3];
     for (int k = 0; k < 3; ++k) {
-        const __m256d z = _mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(b.v[3 * k + r.kz])), oz);
-        X[k] = _mm256_sub_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(b.v[3 * k + r.kx])), ox), _mm256_mul_pd(sx, z));
-        Y[k] = _mm256_sub_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(b.v[3 * k + r.ky])), oy), _mm256_mul_pd(sy, z));
+        const char* corner = reinterpret_cast<const char*>(b.v[3 * k]);
+        auto row = [corner](std::size_t offset) RT_TARGET_AVX2 {
+            return _mm256_cvtps_pd(_mm_load_ps(reinterpret_cast<const float*>(corner + offset)));
+        };
+        const __m256d z = _mm256_sub_pd(row(q.kz), oz);
+        X[k] = _mm256_sub_pd(_mm256_sub_pd(row(q.kx), ox), _mm256_mul_pd(sx, z));
+        Y[k] = _mm256_sub_pd(_mm256_sub_pd(row(q.ky), oy), _mm256_mul_pd(sy, z));
         Z[k] = z;
     }
     const __m256d u = _mm256_sub_pd(_mm256_mul_pd(X[2], Y[1]), _mm256_mul_pd(Y[2], X[1]));
@@ -136,13 +153,16 @@ namespace {
                                      _mm256_cmp_pd(w, zero, _CMP_LT_OQ));
     const __m256d pos = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(u, zero, _CMP_GT_OQ), _mm256_cmp_pd(v, zero, _CMP_GT_OQ)),
                                      _mm256_cmp_pd(w, zero, _CMP_GT_OQ));
+    const __m256d mixed = _mm256_and_pd(neg, pos);
+    if (((~unsigned(_mm256_movemask_pd(mixed)) | exact) & ((1u << count) - 1)) == 0) return false;
     const __m256d det = _mm256_add_pd(_mm256_add_pd(u, v), w);
     const __m256d tt = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(u, _mm256_mul_pd(sz, Z[0])),
                                                    _mm256_mul_pd(v, _mm256_mul_pd(sz, Z[1]))),
                                      _mm256_mul_pd(w, _mm256_mul_pd(sz, Z[2])));
     // A miss (mixed signs, or det 0: the division then gives inf or NaN) becomes NaN.
-    const __m256d miss = _mm256_or_pd(_mm256_and_pd(neg, pos), _mm256_cmp_pd(det, zero, _CMP_EQ_OQ));
+    const __m256d miss = _mm256_or_pd(mixed, _mm256_cmp_pd(det, zero, _CMP_EQ_OQ));
     _mm256_storeu_pd(t, _mm256_or_pd(_mm256_div_pd(tt, det), miss));
+    return true;
 }
 }  // namespace
 #endif
@@ -217,16 +237,18 @@ struct ScalarLanes {
 [[gnu::noinline]] double exact_lane(const TriRay& r, const TriBlock& b, int l) { return tri_intersect(r, b, l); }
 
 // Four lanes at once, the same values as ScalarLanes; compiled with the 8-wide walks
-// (the leaf tests then inline into them).
+// (the leaf tests then inline into them). False, t not written, when every lane
+// misses.
 struct Avx2Lanes {
-    [[gnu::always_inline]] RT_TARGET_AVX2 static inline void ts(const TriRay& r, const TriBlock& b, std::uint32_t count,
-                                                                 double t[4]) {
+    [[gnu::always_inline]] RT_TARGET_AVX2 static inline bool ts(const TriRay& r, const TriLanes& q, const TriBlock& b,
+                                                                 std::uint32_t count, double t[4]) {
         unsigned exact;
-        tri_intersect4(r, b, t, exact);
+        if (!tri_intersect4(q, b, count, t, exact)) return false;
         for (exact &= (1u << count) - 1; exact; exact &= exact - 1) {
             const int l = __builtin_ctz(exact);
             t[l] = exact_lane(r, b, l);
         }
+        return true;
     }
 };
 
@@ -245,11 +267,12 @@ template <bool or_equal>
 // inlines into them, and their lanes sifted at once: keep_nearest() and
 // first_within() then see only the lanes that can matter (t within reach), in order.
 struct NearestLeafAvx2 : NearestLeaf<Avx2Lanes> {
+    const TriLanes& q;
     RT_TARGET_AVX2 double operator()(std::uint32_t first, std::uint32_t count, double) const {
         for (std::uint32_t j = 0; j < count; j += 4) {
             double t[4];
             const std::uint32_t c = std::min(count - j, 4u);
-            Avx2Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
+            if (!Avx2Lanes::ts(r, q, a.blocks[(first + j) >> 2], c, t)) continue;
             // hit.t only shrinks: a lane beyond it now stays beyond it.
             for (unsigned m = lanes_within<true>(t, c, tmin, hit.t); m != 0; m &= m - 1) {
                 const std::uint32_t l = std::uint32_t(__builtin_ctz(m));
@@ -260,11 +283,12 @@ struct NearestLeafAvx2 : NearestLeaf<Avx2Lanes> {
     }
 };
 struct AnyLeafAvx2 : AnyLeaf<Avx2Lanes> {
+    const TriLanes& q;
     RT_TARGET_AVX2 bool operator()(std::uint32_t first, std::uint32_t count) const {
         for (std::uint32_t j = 0; j < count; j += 4) {
             double t[4];
             const std::uint32_t c = std::min(count - j, 4u);
-            Avx2Lanes::ts(r, a.blocks[(first + j) >> 2], c, t);
+            if (!Avx2Lanes::ts(r, q, a.blocks[(first + j) >> 2], c, t)) continue;
             if (const unsigned m = lanes_within<false>(t, c, tmin, tmax)) return found = t[__builtin_ctz(m)], true;
         }
         return false;
@@ -275,13 +299,15 @@ struct AnyLeafAvx2 : AnyLeaf<Avx2Lanes> {
 // spill the ray's broadcast registers around it in the walks' hottest loops.
 [[gnu::flatten]] RT_TARGET_AVX2 bool nearest_avx2(const TriangleAccel& a, const TriRay& r, double tmin, TriHit& hit) {
     bool found = false;
-    a.bvh.traverse_nearest_leaves8(r.o, r.d, hit.t, NearestLeafAvx2{{a, r, tmin, hit, found}});
+    const TriLanes q(r);
+    a.bvh.traverse_nearest_leaves8(r.o, r.d, hit.t, NearestLeafAvx2{{a, r, tmin, hit, found}, q});
     return found;
 }
 
 [[gnu::flatten]] RT_TARGET_AVX2 bool any_avx2(const TriangleAccel& a, const TriRay& r, double tmin, double tmax,
                                               double& found) {
-    return a.bvh.occluded_leaves8(r.o, r.d, 1.0, tmax, AnyLeafAvx2{{a, r, tmin, tmax, found}});
+    const TriLanes q(r);
+    return a.bvh.occluded_leaves8(r.o, r.d, 1.0, tmax, AnyLeafAvx2{{a, r, tmin, tmax, found}, q});
 }
 #endif
 

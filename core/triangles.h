@@ -17,7 +17,7 @@
 namespace rt {
 
 // Up to four triangles, a lane each: corner k's coordinate a at v[3 k + a][lane].
-struct alignas(32) TriBlock {
+struct alignas(16) TriBlock {
     float v[9][4];
 };
 
