@@ -71,7 +71,11 @@ int main(int argc, char** argv) {
     rtview::TextEditor ed;
     // As raytracer-view does: the document's std::string follows the widget through
     // its edit log, so each key also pays one replace() in a 10 MB string.
-    std::string mirror = text;
+    // The viewer's loader reads with 1/32 spare capacity, so the first key does not
+    // move the string: the same here.
+    std::string mirror;
+    mirror.reserve(text.size() + text.size() / 32);
+    mirror = text;
     auto body = [&] {
         if (ed.draw("editor", ImVec2(0, 0)))
             for (const rtview::BufferEdit& e : ed.buffer().take_edits()) mirror.replace(e.offset, e.removed.size(), e.inserted);
