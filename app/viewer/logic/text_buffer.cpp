@@ -130,19 +130,22 @@ int TextBuffer::width_of(std::string_view s) {
 void TextBuffer::set_text(std::string_view text) {
     lines_.clear();
     widths_.clear();
+    // The line starts are indexed here, in the pass that splits the lines, not by the
+    // first edit (a first key in a 99 MB text would pay a pass over its 2.8M lines).
+    starts_.clear();
     std::size_t i = 0;
     for (;;) {
         std::size_t nl = text.find('\n', i);
         std::string_view l = text.substr(i, nl == std::string_view::npos ? std::string_view::npos : nl - i);
         lines_.emplace_back(l);
         widths_.push_back(width_of(l));
+        starts_.push_back(i);
         if (nl == std::string_view::npos) break;
         i = nl + 1;
     }
     size_ = text.size();
     max_dirty_ = true;
-    starts_.clear();
-    starts_valid_ = 0;
+    starts_valid_ = int(starts_.size());
     cursor_ = anchor_ = {};
     want_dcol_ = -1;
     undo_.clear();
