@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_scene.h"
 #include "camera.h"
 #include "image_io.h"
 #include "model.h"
@@ -339,19 +340,10 @@ int main(int argc, char** argv) {
         else return usage();
     }
     if (path.empty()) return usage();
-    std::string text;
-    if (std::string err = rt::read_file(path, text, rt::Limits::max_file_size).message(); !err.empty()) {
-        std::fprintf(stderr, "embree_ref: cannot read %s: %s\n", path.c_str(), err.c_str());
-        return 2;
-    }
-    rt::ParseOptions options;
-    options.base_dir = rt::folder_of(path);  // meshes name their files from the scene's folder
-    rt::ParseResult parsed = rt::parse_scene(text, options);
-    if (!parsed.ok()) {
-        for (const auto& d : parsed.diagnostics) std::fprintf(stderr, "%s\n", rt::format_diagnostic(path, d).c_str());
-        return 1;
-    }
-    auto world = rt::compile_world(parsed.scene);
+    int exit_code = 0;
+    const std::optional<rt::Scene> scene = bench::read_scene("embree_ref", path, exit_code);
+    if (!scene) return exit_code;
+    auto world = rt::compile_world(*scene);
     if (width > 0) world = [&] { auto w = std::make_shared<rt::World>(*world); w->width = width; return w; }();
     if (height > 0) world = [&] { auto w = std::make_shared<rt::World>(*world); w->height = height; return w; }();
     const int W = world->width, H = world->height;

@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_scene.h"
 #include "image_io.h"
 #include "pacing.h"
 #include "scene_parser.h"
@@ -71,17 +72,10 @@ int main(int argc, char** argv) {
             return usage();
         }
     }
-    std::string text;
-    if (std::string err = rt::read_file(scene_path, text, rt::Limits::max_file_size).message(); !err.empty()) {
-        std::fprintf(stderr, "preview_bench: cannot read %s: %s\n", scene_path.c_str(), err.c_str());
-        return 2;
-    }
-    rt::ParseResult parsed = rt::parse_scene(text);
-    if (!parsed.ok()) {
-        for (const auto& d : parsed.diagnostics) std::fprintf(stderr, "%s\n", rt::format_diagnostic(scene_path, d).c_str());
-        return 1;
-    }
-    const std::shared_ptr<const rt::World> world = rt::compile_world(parsed.scene);
+    int exit_code = 0;
+    const std::optional<rt::Scene> scene = bench::read_scene("preview_bench", scene_path, exit_code);
+    if (!scene) return exit_code;
+    const std::shared_ptr<const rt::World> world = rt::compile_world(*scene);
     rt::ThreadPool pool(threads + 1);  // the caller and `threads` workers, as the viewer's
     std::printf("preview_bench: %s at %dx%d, the caller and %d workers, %d frames a block size\n\n",
                 scene_path.c_str(), width, height, threads, frames);

@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_scene.h"
 #include "image_io.h"
 #include "renderer.h"
 #include "shapes.h"
@@ -167,17 +168,10 @@ int main(int argc, char** argv) {
         return usage();
     }
 
-    std::string text;
-    if (std::string err = rt::read_file(scene_path, text, rt::Limits::max_file_size).message(); !err.empty()) {
-        std::fprintf(stderr, "renderer_bench: cannot read %s: %s\n", scene_path.c_str(), err.c_str());
-        return 2;
-    }
-    rt::ParseResult parsed = rt::parse_scene(text);
-    if (!parsed.ok()) {
-        for (const auto& d : parsed.diagnostics) std::fprintf(stderr, "%s\n", rt::format_diagnostic(scene_path, d).c_str());
-        return 1;
-    }
-    rt::Scene scene = parsed.scene;
+    int exit_code = 0;
+    std::optional<rt::Scene> read = bench::read_scene("renderer_bench", scene_path, exit_code);
+    if (!read) return exit_code;
+    rt::Scene scene = std::move(*read);
 
     rt::Renderer renderer(threads);
     std::printf("renderer_bench: %s at %dx%d, %d threads, %d repeats\n\n", scene_path.c_str(), width, height,
