@@ -3,6 +3,7 @@
 // the usual `file:line:col: error: ...` form under the tool's name.
 #pragma once
 
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -13,6 +14,16 @@
 #include "scene_parser.h"
 
 namespace bench {
+
+// A camera moved along a circle about the z axis (the scene format's worlds are z-up)
+// through its centre: what an orbit drag does.
+inline rt::Camera orbited(const rt::Camera& c, double angle) {
+    rt::Camera out = c;
+    const rt::Vec3 d = c.position - c.centre;
+    const double cs = std::cos(angle), sn = std::sin(angle);
+    out.position = c.centre + rt::Vec3{cs * d.x - sn * d.y, sn * d.x + cs * d.y, d.z};
+    return out;
+}
 
 // The scene at `path`, or nothing with the reason printed and `exit_code` set (2: the
 // file cannot be read, 1: it does not parse).

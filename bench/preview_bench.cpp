@@ -27,14 +27,6 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// A camera moved along a circle about the z axis through its centre (an orbit drag).
-rt::Camera orbited(const rt::Camera& c, double angle) {
-    rt::Camera out = c;
-    rt::Vec3 d = c.position - c.centre;
-    double cs = std::cos(angle), sn = std::sin(angle);
-    out.position = c.centre + rt::Vec3{cs * d.x - sn * d.y, sn * d.x + cs * d.y, d.z};
-    return out;
-}
 
 int usage() {
     std::fprintf(stderr, "usage: preview_bench [SCENE] [--size WxH] [--frames N] [--threads N] [--blocks B,B,...]\n");
@@ -86,7 +78,7 @@ int main(int argc, char** argv) {
         std::vector<double> t;
         std::uint64_t rays = 0;
         for (int f = 0; f < frames; ++f) {
-            const rt::Camera camera = orbited(world->camera, 0.01 * (f + 1));
+            const rt::Camera camera = bench::orbited(world->camera, 0.01 * (f + 1));
             const Clock::time_point t0 = Clock::now();
             const std::shared_ptr<const rt::World> seen = rt::with_camera_at(world, camera.position);
             int pw = 0, ph = 0;

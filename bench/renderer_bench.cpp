@@ -101,15 +101,6 @@ void row(const char* what, const std::vector<double>& seconds) {
     std::printf("| %-52s | %9.2f | %9.2f | %9.2f |\n", what, s.median * 1e3, s.min * 1e3, s.max * 1e3);
 }
 
-// A camera moved a little along a circle around its centre: what an orbit drag does.
-rt::Camera orbited(const rt::Camera& c, double angle) {
-    rt::Camera out = c;
-    rt::Vec3 d = c.position - c.centre;
-    double cs = std::cos(angle), sn = std::sin(angle);
-    // Rotate about the z axis (the scene format's worlds are z-up) through the centre.
-    out.position = c.centre + rt::Vec3{cs * d.x - sn * d.y, sn * d.x + cs * d.y, d.z};
-    return out;
-}
 
 rt::Scene random_spheres(int n) {
     rt::Scene s;
@@ -186,7 +177,7 @@ int main(int argc, char** argv) {
     std::shared_ptr<const rt::World> world = rt::compile_world(scene);
     for (int r = 0; r < repeats; ++r) {
         rt::Scene moved = scene;
-        moved.camera = orbited(scene.camera, 0.01 * (r + 1));
+        moved.camera = bench::orbited(scene.camera, 0.01 * (r + 1));
         auto t0 = Clock::now();
         world = rt::compile_world(moved, world.get());
         compile_s.push_back(since(t0));
@@ -219,7 +210,7 @@ int main(int argc, char** argv) {
     std::vector<double> full_only;
     for (int r = 0; r < repeats; ++r) {
         rt::Scene moved = scene;
-        moved.camera = orbited(scene.camera, 0.01 * (r + 1));
+        moved.camera = bench::orbited(scene.camera, 0.01 * (r + 1));
         world = rt::compile_world(moved, world.get());
         rt::RenderSettings st;
         st.width = width;
