@@ -111,11 +111,6 @@ double tri_intersect(const TriRay& r, const TriBlock& b, int l) {
 
 #if RT_HAVE_AVX2_KERNELS
 namespace {
-// tri_intersect() for the four lanes of a block at once, the same operations lane for
-// lane: t per lane (NaN for a miss). Lanes with an edge function of exactly zero are
-// left to the scalar test (bit `exact`). False, with t not written, when the edge
-// functions' signs already rule out each of the first `count` lanes (none exact):
-// most blocks a walk meets, which then skip the distances and their division.
 // The ray as the four-lane test takes it, made once a walk (not at every leaf): its
 // values in all four lanes, and the byte offsets in a corner's rows of its kx, ky and
 // kz coordinates.
@@ -128,6 +123,11 @@ struct TriLanes {
           ky(sizeof(float[4]) * std::size_t(r.ky)), kz(sizeof(float[4]) * std::size_t(r.kz)) {}
 };
 
+// tri_intersect() for the four lanes of a block at once, the same operations lane for
+// lane: t per lane (NaN for a miss). Lanes with an edge function of exactly zero are
+// left to the scalar test (bit `exact`). False, with t not written, when the edge
+// functions' signs already rule out each of the first `count` lanes (none exact):
+// most blocks a walk meets, which then skip the distances and their division.
 [[gnu::always_inline]] RT_TARGET_AVX2 inline bool tri_intersect4(const TriLanes& q, const TriBlock& b,
                                                                   std::uint32_t count, double t[4], unsigned& exact) {
     const __m256d ox = q.ox, oy = q.oy, oz = q.oz, sx = q.sx, sy = q.sy, sz = q.sz;
