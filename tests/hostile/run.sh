@@ -91,6 +91,12 @@ signal_after() {
 
 # Problems found by the checks of the current case (empty: it passed).
 PROBLEMS=
+# Until the run started with start() fills its temporary file for old.ppm (or ends;
+# at most 30 s).
+wait_for_temp_file() {
+    local n=0
+    until find "$D" -name '.old.ppm.*' -size +0 2> /dev/null | grep -q . || ! kill -0 "$PID" 2> /dev/null || [ $n -ge 6000 ]; do sleep 0.005; n=$((n + 1)); done
+}
 problem() { PROBLEMS+="$*; "; }
 temps_left() { find "$D" -name '.*' -regextype posix-extended -regex '.*/\..*\.[A-Za-z0-9]{6}$' 2> /dev/null | head -3; }
 # The standard checks after any run: no temporary file, old.ppm intact unless allowed.
@@ -413,8 +419,7 @@ def random_sighup; case_random_sighup() { signal_case HUP 129; }
 write_signal_case() {  # signals once the temporary file is being filled
     newdir "$1"; shift; empty_scene 3000 3000 > "$D/s.txt"
     start "$RT" --quiet s.txt old.ppm
-    local n=0
-    until find "$D" -name '.old.ppm.*' -size +0 2> /dev/null | grep -q . || ! kill -0 "$PID" 2> /dev/null || [ $n -ge 6000 ]; do sleep 0.005; n=$((n + 1)); done
+    wait_for_temp_file
     signal_after 0 5 "$@"
     want_fast 1
     # The old file, or (had the write ended and the rename happened before the signal
@@ -439,7 +444,7 @@ def sigterm_at_prompt; case_sigterm_at_prompt() { newdir "$FUNCNAME"
 def sigkill_during_write; case_sigkill_during_write() { newdir "$FUNCNAME"; empty_scene 3000 3000 > "$D/s.txt"
     # SIGKILL cannot be caught: the old file stays; only a temporary file may remain.
     start "$RT" --quiet s.txt old.ppm
-    local n=0; until find "$D" -name '.old.ppm.*' -size +0 2> /dev/null | grep -q . || ! kill -0 "$PID" 2> /dev/null || [ $n -ge 6000 ]; do sleep 0.005; n=$((n + 1)); done
+    wait_for_temp_file
     signal_after 0 5 KILL; [ "$(cat "$D/old.ppm" | head -c 8)" = precious ] || want_ppm old.ppm 3000 3000; } 2> /dev/null
 
 # --- option values ---------------------------------------------------------------------
@@ -521,7 +526,7 @@ def mpi_sigterm_render; case_mpi_sigterm_render() { need_mpi; [ -n "$SKIPPED" ] 
     [ "$RC" != 0 ] || problem "exit 0"; want_fast 3; clean_checks; }
 def mpi_sigterm_write; case_mpi_sigterm_write() { need_mpi; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; empty_scene 3000 3000 > "$D/s.txt"
     start mpirun --oversubscribe -np 1 "$RT_MPI" --quiet s.txt old.ppm
-    local n=0; until find "$D" -name '.old.ppm.*' -size +0 2> /dev/null | grep -q . || ! kill -0 "$PID" 2> /dev/null || [ $n -ge 6000 ]; do sleep 0.005; n=$((n + 1)); done
+    wait_for_temp_file
     signal_after 0 10 TERM; [ "$RC" != 0 ] || problem "exit 0"; want_fast 3
     if [ "$(head -c 8 "$D/old.ppm")" != precious ]; then want_ppm old.ppm 3000 3000; clean_checks replaced; else clean_checks; fi; }
 def mpi_fifo_scene; case_mpi_fifo_scene() { need_mpi; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"; mkfifo "$D/s.txt"
