@@ -68,20 +68,7 @@ run() {
     local xf=$!
     local traced0
     traced0=$(grep -c "first image on screen" "$OUT/viewer.err" || true)
-    xdotool mousemove "$x" "$y" mousedown 1
-    local t0 i moves=()
-    if [ "${DRAG_EVENTS:-one}" = each ]; then
-        t0=$(date +%s.%N)
-        for i in $(seq 1 60); do
-            xdotool mousemove $((x - 60 + i * 2)) $((y - 20 + i / 2))
-            sleep "$(awk -v t0="$t0" -v i="$i" -v now="$(date +%s.%N)" 'BEGIN { d = t0 + i / 30 - now; printf "%.4f\n", (d > 0 ? d : 0) }')"
-        done
-    else
-        # 30 events a second from one process, as bench/viewer-bench.sh drags.
-        for i in $(seq 1 60); do moves+=(mousemove $((x - 60 + i * 2)) $((y - 20 + i / 2)) sleep 0.0333); done
-        xdotool "${moves[@]}"
-    fi
-    xdotool mouseup 1
+    drag "$x" "$y" $((x - 60)) $((y - 20)) 2
     wait "$xf"
     # The pictures the viewer made for the drag (its -v log: one line each), beside
     # those that changed the screen: a colour change of a sphere a pixel or two wide

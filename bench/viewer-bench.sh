@@ -59,22 +59,7 @@ drag_run() {
     # sampling a quarter of the area keeps the counting from loading the X server.
     "$BIN/rtview-xframes" $((IX + IW / 4)) $((IY + IH / 4)) $((IW / 2)) $((IH / 2)) 10 2.0 > "$OUT/frames.txt" &
     local xf=$!
-    xdotool mousemove $CX $CY mousedown 1
-    local t0 i moves=()
-    if [ "${DRAG_EVENTS:-one}" = each ]; then
-        t0=$(date +%s.%N)
-        for i in $(seq 1 60); do
-            xdotool mousemove $((CX - 90 + i * 3)) $((CY + i / 2))
-            # 30 events a second, whatever xdotool itself took
-            sleep "$(awk -v t0="$t0" -v i="$i" -v now="$(date +%s.%N)" 'BEGIN { d = t0 + i / 30 - now; printf "%.4f\n", (d > 0 ? d : 0) }')"
-        done
-    else
-        # 30 events a second from one process: a hand on a mouse costs the machine
-        # next to nothing.
-        for i in $(seq 1 60); do moves+=(mousemove $((CX - 90 + i * 3)) $((CY + i / 2)) sleep 0.0333); done
-        xdotool "${moves[@]}"
-    fi
-    xdotool mouseup 1
+    drag "$CX" "$CY" $((CX - 90)) "$CY" 3
     wait "$xf"
     for p in "${bp[@]}"; do kill "$p"; done
     stop_viewer
