@@ -11,7 +11,9 @@
 //   - a saved file holds the editor text, and its render through core (as `raytracer`
 //     renders it) is the viewer's picture;
 //   - undo back to the start gives the original bytes, every state on the way one the
-//     user saw; redo to the end gives the same bytes and scenes again.
+//     user saw; redo to the end gives the same bytes and scenes again;
+//   - a text widget that follows the document's own changes of the text (as the Text
+//     tab does: text_changes_since(), typing carried the other way) holds its text.
 // A broken promise throws Broken (fuzz_common.h) naming it, with the steps so far.
 #pragma once
 
@@ -38,6 +40,7 @@
 #include "scene_parser.h"
 #include "scene_writer.h"
 #include "shapes.h"
+#include "text_buffer.h"
 #include "world.h"
 
 namespace rtfuzz {
@@ -845,9 +848,11 @@ private:
 
     // Typing in the scene text: a few edits of the editor text, then maybe applied.
     void typing() {
+        follow_text();
         std::string& t = doc_.editor_text();
         const int edits = c_.between(1, 3);
         for (int k = 0; k < edits; ++k) type_once(t);
+        typed_in_widget(t);
         doc_.note_typed();
         own_texts_.insert(t);
         log("type: now " + std::to_string(t.size()) + " bytes");
@@ -1041,8 +1046,36 @@ private:
             broken(std::string("the viewer's world differs from a full compile of ") + what + ": " + d);
     }
 
+    // The Text tab's widget, brought up to the document's text version as the tab does.
+    void follow_text() {
+        const Doc& d = doc_;
+        if (d.text_version() == widget_version_) return;
+        std::vector<rtview::TextChange> changes;
+        if (widget_version_ != 0 && d.text_changes_since(widget_version_, changes)) {
+            for (const rtview::TextChange& ch : changes) widget_.follow_replacement(ch.pos, ch.removed, ch.inserted);
+        } else {
+            widget_.set_text(d.editor_text());
+        }
+        widget_version_ = d.text_version();
+    }
+    // Typing reaches the document from the widget: the same change, made in the widget.
+    void typed_in_widget(const std::string& typed) {
+        const std::string before = widget_.text();
+        std::size_t head = 0, tail = 0;
+        while (head < before.size() && head < typed.size() && before[head] == typed[head]) ++head;
+        while (tail < before.size() - head && tail < typed.size() - head &&
+               before[before.size() - 1 - tail] == typed[typed.size() - 1 - tail])
+            ++tail;
+        widget_.replace_bytes(head, before.size() - head - tail, typed.substr(head, typed.size() - head - tail));
+    }
+    void check_text_widget() {
+        follow_text();
+        if (widget_.text() != doc_.editor_text()) broken("the text widget following the document holds another text");
+    }
+
     void check() {
         follow_world();
+        check_text_widget();
         if (doc_.editing()) {
             check_pending();
             return;
@@ -1081,6 +1114,7 @@ private:
         std::vector<State> back{end};
         std::vector<State> seen = seen_;
         while (doc_.undo()) {
+            check_text_widget();
             back.push_back(state());
             if (!seen_before(back.back())) broken("an undo went to a state the user never saw");
             if (back.size() - 2 >= undo_names.size() || doc_.last_step_name() != undo_names[back.size() - 2])
@@ -1091,6 +1125,7 @@ private:
         seen_ = std::move(seen);
         for (std::size_t k = back.size() - 1; k-- > 0;) {
             if (!doc_.redo()) broken("redo stopped before the end");
+            check_text_widget();
             if (!(state() == back[k])) broken("redo did not retrace the undo's states");
         }
         if (!(state() == end)) broken("redo to the end did not give the same text and scene");
@@ -1117,6 +1152,8 @@ private:
     std::string path_;
     Doc doc_;
     ViewerWorld world_;
+    rtview::TextBuffer widget_;
+    std::uint64_t widget_version_ = 0;
     std::string saved_;                 // the file as the document last loaded or saved it
     std::set<std::string> own_texts_;   // texts the user typed, restored or opened that do not parse
     std::vector<State> seen_;           // states since the history began, oldest first

@@ -5,6 +5,9 @@
 // lists and the rest of the viewer's panels. For comparison it times ImGui's
 // InputTextMultiline (the widget the editor replaces) on the same text.
 //
+// It also times a panel edit's write-back as the widget follows it (against set_text,
+// which the widget took for each such change before).
+//
 //   rtview-editor-bench [MEGABYTES=10] [KEYS=300] [--no-baseline]
 #include <imgui.h>
 #include <imgui_stdlib.h>
@@ -132,6 +135,19 @@ int main(int argc, char** argv) {
         h.frame(body);
         t_idle.push_back(ms_since(t));
     }
+    // A panel edit written back into the text (or its undo): the document replaces one
+    // item's block and the widget follows the replacement, here one number's line at
+    // places spread over the text, each followed by a frame.
+    std::vector<double> t_follow;
+    for (int k = 0; k < 40; ++k) {
+        const std::size_t at = mirror.find("radius 0.4", mirror.size() / 41 * std::size_t(k + 1));
+        if (at == std::string::npos) break;
+        auto t = Clock::now();
+        ed.buffer().follow_replacement(at, 10, "radius 0.5");
+        h.frame(body);
+        t_follow.push_back(ms_since(t));
+        mirror.replace(at, 10, "radius 0.5");
+    }
     auto report = [](const char* what, const std::vector<double>& v) {
         Summary s = summarise(v);
         std::printf("%-28s n=%4zu  median %7.3f ms  p95 %7.3f ms  max %7.3f ms\n", what, v.size(), s.median, s.p95, s.max);
@@ -143,6 +159,7 @@ int main(int argc, char** argv) {
     report("editor: Backspace (join)", t_join);
     report("editor: Home (cursor move)", t_move);
     report("editor: idle frame", t_idle);
+    report("panel edit followed + frame", t_follow);
     t0 = Clock::now();
     std::string back = ed.text();
     std::printf("text() for the parser: %.1f ms (%zu bytes)\n", ms_since(t0), back.size());

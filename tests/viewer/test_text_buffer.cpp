@@ -291,6 +291,42 @@ TEST_CASE("text buffer: the edit log replays onto a copy of the text, undo inclu
     CHECK(b.take_edits().empty());
 }
 
+TEST_CASE("text buffer: following replacements made elsewhere keeps the text, the cursor's place, no log") {
+    std::mt19937 rng(11);
+    std::string ref = "camera { position 0 0 5 }\nthing {\n  sphere { radius 1 }\n}\nend\n";
+    TextBuffer b(ref);
+    b.set_logging(true);
+    b.insert("// ");  // an edit of the buffer's own: in its log and undo history
+    ref.insert(0, "// ");
+    CHECK(b.can_undo());
+    (void)b.take_edits();
+    for (int k = 0; k < 300; ++k) {
+        const std::size_t cursor = b.offset_of(b.cursor());
+        const std::size_t pos = rng() % (ref.size() + 1);
+        const std::size_t len = std::min<std::size_t>(rng() % 12, ref.size() - pos);
+        static const char* const kTexts[] = {"", "x", "\n", "radius 2\n  ", "}\n\n{", "\r\n"};
+        const std::string text = kTexts[rng() % 6];
+        b.follow_replacement(pos, len, text);
+        ref.replace(pos, len, text);
+        REQUIRE(b.text() == ref);
+        REQUIRE(b.size() == ref.size());
+        // The cursor keeps its place: moved with what came before it, kept inside the
+        // replaced bytes (within the new ones).
+        const std::size_t want = cursor <= pos ? cursor : cursor >= pos + len ? cursor - len + text.size()
+                                                                               : std::min(cursor, pos + text.size());
+        REQUIRE(b.offset_of(b.cursor()) == want);
+        REQUIRE(b.cursor() == b.anchor());
+        if (k % 50 == 0) b.set_cursor(b.pos_of(ref.size() / 2));
+    }
+    // Not the buffer's own edits: nothing to carry back, and its undo steps are gone
+    // (their places may not hold).
+    CHECK(b.take_edits().empty());
+    CHECK_FALSE(b.can_undo());
+    // Far past the end: clamped, as replace_bytes does.
+    b.follow_replacement(ref.size() + 100, 5, "tail");
+    CHECK(b.text() == ref + "tail");
+}
+
 TEST_CASE("scene line colouring: sections, objects, keys, numbers, comments, braces") {
     CHECK(spans_as_text("thing { sphere { position 1 -2.5 3e2 radius .5 } // glass {") ==
           "section:thing brace:{ object:sphere brace:{ key:position number:1 number:-2.5 number:3e2 key:radius "

@@ -225,6 +225,8 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
     changes_.clear();
     changed(rt::SceneDelta::all());
     ++text_version_;
+    text_log_.clear();
+    text_log_bytes_ = 0;
     mark_saved(hash);
     if (has_scene_) file_camera_ = scene_.camera;
     if (layout) {
@@ -483,7 +485,7 @@ void Document::commit() {
     }
     saved_ = {};
     step.behind_after = behind_;
-    if (!step.editor.empty()) ++text_version_;
+    if (!step.editor.empty()) text_changed(step, true);
     record(std::move(step));
 }
 
@@ -667,6 +669,39 @@ rt::Scene Document::scene_before_edit_from(const DocStep& step) const {
     return s;
 }
 
+void Document::text_changed(const DocStep& s, bool forward) {
+    ++text_version_;
+    std::vector<TextChange> changes;
+    std::size_t bytes = 0;
+    if (forward) {
+        for (const UndoableReplacement& t : s.editor) {
+            changes.push_back({t.pos, t.before.size(), t.after});
+            bytes += t.after.size() + sizeof(TextChange);
+        }
+    } else {
+        for (auto it = s.editor.rbegin(); it != s.editor.rend(); ++it) {
+            changes.push_back({it->pos, it->after.size(), it->before});
+            bytes += it->before.size() + sizeof(TextChange);
+        }
+    }
+    // A widget that has not looked for this long takes the whole text again.
+    constexpr std::size_t kMaxVersions = 256, kMaxBytes = std::size_t(4) << 20;
+    text_log_.push_back(std::move(changes));
+    text_log_bytes_ += bytes;
+    while (text_log_.size() > kMaxVersions || (text_log_bytes_ > kMaxBytes && !text_log_.empty())) {
+        for (const TextChange& c : text_log_.front()) text_log_bytes_ -= c.inserted.size() + sizeof(TextChange);
+        text_log_.pop_front();
+    }
+}
+
+bool Document::text_changes_since(std::uint64_t version, std::vector<TextChange>& out) const {
+    out.clear();
+    if (version > text_version_ || text_version_ - version > text_log_.size()) return false;
+    for (std::size_t k = text_log_.size() - std::size_t(text_version_ - version); k < text_log_.size(); ++k)
+        out.insert(out.end(), text_log_[k].begin(), text_log_[k].end());
+    return true;
+}
+
 void Document::record(DocStep step) {
     typing_base_.reset();
     std::size_t bytes = step.bytes();
@@ -725,7 +760,7 @@ void Document::replace_state(const std::string* editor, std::optional<std::strin
     if (scene_changed) ++scene_version_;
     if (content_changed)
         changed(step.reparse ? rt::SceneDelta::all() : items_of(step.objects_after, step.planes_after, step.lights_after));
-    if (!step.editor.empty()) ++text_version_;
+    if (!step.editor.empty()) text_changed(step, true);
     record(std::move(step));
 }
 
@@ -758,7 +793,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
         changed(rt::SceneDelta::all());
     else if (!s.objects_before.empty() || !s.planes_before.empty() || !s.lights_before.empty())
         changed(items_of(s.objects_before, s.planes_before, s.lights_before));
-    if (!s.editor.empty() || s.applied_before != s.applied_after) ++text_version_;
+    if (!s.editor.empty() || s.applied_before != s.applied_after) text_changed(s, forward);
     typing_base_.reset();
     diagnostics_ = editor_dirty() ? rt::parse_scene(editor_, parse_options(path_)).diagnostics : std::vector<rt::Diagnostic>{};
 }

@@ -44,6 +44,13 @@ struct UndoableReplacement {
     std::string before, after;
 };
 
+// A change of the editor text made by the document (a panel edit written back, undo,
+// redo, revert): [pos, pos + removed) now holds `inserted`.
+struct TextChange {
+    std::size_t pos = 0, removed = 0;
+    std::string inserted;
+};
+
 // One undo step: what an edit changed, both ways.
 struct DocStep {
     std::string name;  // what the edit did, for the user: "Move sphere 3"
@@ -140,6 +147,10 @@ public:
     // Increases when editor_text() is replaced by the document (undo, reload, panel
     // write-back), so an active text widget knows to reload its buffer.
     std::uint64_t text_version() const { return text_version_; }
+    // The changes that take the editor text of text version `version` to this one, in
+    // order: a widget holding that text applies them instead of taking the whole text
+    // again. False when they are not kept (a load, or too many or too large since).
+    bool text_changes_since(std::uint64_t version, std::vector<TextChange>& out) const;
     // The editor text was typed into (call after a widget changed it).
     void note_typed() { ++typed_; }
     // Changes with every possible change of the editor text (with text_version()).
@@ -260,6 +271,9 @@ private:
     // The scene's models read again if one changed on disk; true if the scene changed.
     bool reload_models();
     void restore_object(std::size_t i, const rt::Object& o);  // an undo step's object, with today's model
+    // The editor text changed by `s` (forward: as made or redone; else undone): a new
+    // text version, whose changes text_changes_since() gives.
+    void text_changed(const DocStep& s, bool forward);
 
     // A cache: reading through it changes no state, and copies of the document share it.
     std::shared_ptr<rt::ModelStore> models_ = std::make_shared<rt::ModelStore>();
@@ -290,6 +304,10 @@ private:
         rt::SceneDelta delta;
     };
     std::deque<Change> changes_;
+    // Text versions (text_version_ - text_log_.size(), text_version_] as changes of the
+    // one before, oldest first, within a budget (text_changes_since()).
+    std::deque<std::vector<TextChange>> text_log_;
+    std::size_t text_log_bytes_ = 0;
     bool pending_ = false;
     Saved saved_;
     std::string pending_name_;    // name_edit() of the pending edit

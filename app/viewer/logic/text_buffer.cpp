@@ -492,6 +492,24 @@ void TextBuffer::replace_bytes(std::size_t offset, std::size_t length, std::stri
     replace({pos_of(offset), pos_of(offset + length)}, s);
 }
 
+void TextBuffer::follow_replacement(std::size_t offset, std::size_t length, std::string_view s) {
+    offset = std::min(offset, size_);
+    length = std::min(length, size_ - offset);
+    // A place after the replaced bytes moves with them; one inside stays, within the new ones.
+    auto moved = [&](std::size_t at) {
+        return at <= offset ? at : at >= offset + length ? at - length + s.size() : std::min(at, offset + s.size());
+    };
+    const std::size_t cursor = moved(offset_of(cursor_)), anchor = moved(offset_of(anchor_));
+    apply(pos_of(offset), pos_of(offset + length), s, nullptr);
+    cursor_ = pos_of(cursor);
+    anchor_ = pos_of(anchor);
+    want_dcol_ = -1;
+    undo_.clear();
+    redo_.clear();
+    last_ = LastKind::None;
+    merge_ok_ = false;
+}
+
 void TextBuffer::insert(std::string_view s) {
     if (s.empty() && !has_selection()) return;
     bool typing = !has_selection() && s.size() <= 4 && s.find('\n') == std::string_view::npos;

@@ -111,6 +111,11 @@ public:
     void replace(TextRange r, std::string_view s);
     // The same by byte offsets (an edit computed on text(), e.g. from scene_edits).
     void replace_bytes(std::size_t offset, std::size_t length, std::string_view s);
+    // A replacement made elsewhere, in a copy of the text that this buffer follows (the
+    // document's panel edits, undo and redo): not an edit of the buffer's own, so not
+    // logged, and the undo history goes as with set_text(). The cursor and the anchor
+    // keep their places in the text around it. Costs what the lines it touches cost.
+    void follow_replacement(std::size_t offset, std::size_t length, std::string_view s);
 
     bool can_undo() const { return !undo_.empty(); }
     bool can_redo() const { return !redo_.empty(); }

@@ -208,12 +208,18 @@ void DocumentEditor::draw_banners() {
     }
 }
 
-// The widget keeps the text as lines; the document keeps it as one string. A new
-// document text (load, undo, a panel edit) replaces the widget's; typing is carried
-// the other way as the widget's edit log, one small replacement per edit.
+// The widget keeps the text as lines; the document keeps it as one string. The
+// document's changes (undo, a panel edit) are made in the widget too, and a new text
+// (a load, or changes the document no longer keeps) replaces the widget's; typing is
+// carried the other way as the widget's edit log, one small replacement per edit.
 void DocumentEditor::sync_widget() {
     if (doc_.text_version() != seen_version_) {
-        widget_.set_text(std::as_const(doc_).editor_text());
+        std::vector<TextChange> changes;
+        if (seen_version_ != 0 && doc_.text_changes_since(seen_version_, changes)) {
+            for (const TextChange& c : changes) widget_.buffer().follow_replacement(c.pos, c.removed, c.inserted);
+        } else {
+            widget_.set_text(std::as_const(doc_).editor_text());
+        }
         widget_.buffer().set_logging(true);
         seen_version_ = doc_.text_version();
     }
