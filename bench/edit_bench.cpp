@@ -3,7 +3,8 @@
 // move-handle drag and of a material slider drag (the document edit and the world
 // update), the commit of each, undo and redo of a move (with the world brought up to
 // date), and a frame in which nothing changed (sync, bounds, modified: the per-frame
-// questions the window asks of the document and the world). With --reopen N, then
+// questions the window asks of the document and the world), and the once-a-second
+// check of the files on disk. With --reopen N, then
 // the edited scene saved (to SCENE.txt.reopen.txt) and opened N times as the window
 // opens a file (SceneLoader, the world adopted), with the resident memory after each.
 //
@@ -151,6 +152,10 @@ int main(int argc, char** argv) {
             sink += b.hi.x - b.lo.x + double(doc.modified());
         }));
     if (sync.world().get() != w) std::fprintf(stderr, "edit_bench: the world changed with nothing edited\n");
+    // The window's check of the files on disk (once a second): the scene file and the
+    // models the scene names, nothing changed.
+    Times disk;
+    for (int k = 0; k < 20; ++k) disk.v.push_back(timed([&] { sink += double(doc.check_disk()); }));
 
     row("move drag: edit + world update, per frame", move);
     row("move: commit (the text patched), first", move_commit[0]);
@@ -160,6 +165,7 @@ int main(int argc, char** argv) {
     row("undo of the move + world update", undo);
     row("redo of the move + world update", redo);
     row("a frame with nothing changed (sync, bounds, modified)", idle, "us", 1e6);
+    row("a check of the files on disk, nothing changed", disk, "us", 1e6);
     std::printf("\n(%g)\n", sink > 0 ? 1.0 : 0.0);
     if (reopen > 0) {
         const std::string copy = std::string(argv[1]) + ".reopen.txt";

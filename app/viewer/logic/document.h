@@ -278,6 +278,9 @@ private:
     // A cache: reading through it changes no state, and copies of the document share it.
     std::shared_ptr<rt::ModelStore> models_ = std::make_shared<rt::ModelStore>();
     std::string model_problem_;      // why a changed model did not read, once said
+    // The distinct models scene_ holds, as of scene version scene_models_version_.
+    std::vector<std::shared_ptr<const rt::MeshModel>> scene_models_;
+    std::uint64_t scene_models_version_ = 0;
     std::string editor_;
     std::optional<std::string> applied_;  // only while it differs from editor_ (or may)
     std::optional<std::string> typing_base_;  // editor_ as the last step left it, while typed into
