@@ -54,41 +54,6 @@ bool same_except_camera(const rt::Scene& a, const rt::Scene& b) {
            a.height == b.height;
 }
 
-// Whitespace that starts the line holding `offset`.
-std::string line_indent(std::string_view text, std::size_t offset) {
-    std::size_t ls = offset == 0 ? 0 : text.rfind('\n', offset - 1);
-    ls = ls == std::string_view::npos ? 0 : (offset == 0 ? 0 : ls + 1);
-    std::size_t e = ls;
-    while (e < text.size() && (text[e] == ' ' || text[e] == '\t')) ++e;
-    return std::string(text.substr(ls, e - ls));
-}
-
-// An item's text as the writer prints it, indented for a line that starts with `indent`.
-// `kind`: 0 object, 1 plane, 2 light, 3 camera. Empty if the writer's text is unclear.
-std::string written_item(const rt::Scene& one, int kind, const std::string& indent) {
-    std::string all = kind == 3 ? rt::write_camera(one.camera) : rt::write_scene(one);
-    SceneLayout l = scan_layout(all);
-    const std::vector<TextSpan>& v = kind == 0 ? l.objects : kind == 1 ? l.planes : kind == 2 ? l.lights : l.cameras;
-    if (!l.ok || v.size() != 1) return {};
-    std::string from = line_indent(all, v[0].begin);
-    std::string_view block(all.data() + v[0].begin, v[0].end - v[0].begin);
-    std::string out;
-    std::size_t i = 0;
-    for (bool first = true;; first = false) {
-        std::size_t nl = block.find('\n', i);
-        std::string_view line = block.substr(i, nl == std::string_view::npos ? std::string_view::npos : nl - i);
-        if (!first) {
-            if (line.substr(0, from.size()) == from) line.remove_prefix(from.size());
-            out += indent;
-        }
-        out += line;
-        if (nl == std::string_view::npos) break;
-        out += '\n';
-        i = nl + 1;
-    }
-    return out;
-}
-
 // The one replacement that turns `a` into `b` (common prefix and suffix left out).
 UndoableReplacement diff_texts(const std::string& a, const std::string& b) {
     std::size_t p = 0, n = std::min(a.size(), b.size());
@@ -529,7 +494,7 @@ bool Document::commit_in_place(DocStep& step) {
     one.camera = scene_.camera;
     // An item's block keeps its comments and layout when only its changed values can
     // be replaced (block_patch.h); else the writer's block replaces it.
-    auto add = [&](TextSpan span, int kind, std::optional<std::string> patched = std::nullopt) {
+    auto add = [&](TextSpan span, ItemList kind, std::optional<std::string> patched = std::nullopt) {
         std::string t = patched ? std::move(*patched) : written_item(one, kind, line_indent(editor_, span.begin));
         if (t.empty()) return false;
         reps.push_back({span, std::move(t)});
@@ -539,21 +504,21 @@ bool Document::commit_in_place(DocStep& step) {
     for (std::size_t k = 0; k < step.objects_after.size(); ++k) {
         const auto& p = step.objects_after[k];
         one.objects = {p.second};
-        if (!add(l.objects[p.first], 0, patch_block(block(l.objects[p.first]), step.objects_before[k].second, p.second)))
+        if (!add(l.objects[p.first], ItemList::Object, patch_block(block(l.objects[p.first]), step.objects_before[k].second, p.second)))
             return false;
     }
     one.objects.clear();
     for (std::size_t k = 0; k < step.planes_after.size(); ++k) {
         const auto& p = step.planes_after[k];
         one.planes = {p.second};
-        if (!add(l.planes[p.first], 1, patch_block(block(l.planes[p.first]), step.planes_before[k].second, p.second)))
+        if (!add(l.planes[p.first], ItemList::Plane, patch_block(block(l.planes[p.first]), step.planes_before[k].second, p.second)))
             return false;
     }
     one.planes.clear();
     for (std::size_t k = 0; k < step.lights_after.size(); ++k) {
         const auto& p = step.lights_after[k];
         one.lights = {p.second};
-        if (!add(l.lights[p.first], 2, patch_block(block(l.lights[p.first]), step.lights_before[k].second, p.second)))
+        if (!add(l.lights[p.first], ItemList::Light, patch_block(block(l.lights[p.first]), step.lights_before[k].second, p.second)))
             return false;
     }
     one.lights.clear();
@@ -561,9 +526,9 @@ bool Document::commit_in_place(DocStep& step) {
         // Camera keys accumulate over all camera sections, so one complete block in
         // place of the last section gives exactly the new camera.
         if (!l.cameras.empty()) {
-            if (!add(l.cameras.back(), 3)) return false;
+            if (!add(l.cameras.back(), ItemList::Camera)) return false;
         } else {
-            std::string t = written_item(one, 3, "");
+            std::string t = written_item(one, ItemList::Camera, "");
             if (t.empty()) return false;
             reps.push_back({{l.append_at, l.append_at}, t + "\n"});
         }

@@ -113,46 +113,13 @@ Vec3 round_to(Vec3 v, double extent) { return {round_to(v.x, extent), round_to(v
 
 bool blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
-std::string line_indent(const std::string& text, std::size_t offset) {
-    std::size_t ls = offset == 0 ? 0 : text.rfind('\n', offset - 1);
-    ls = (ls == std::string::npos || offset == 0) ? 0 : ls + 1;
-    std::size_t e = ls;
-    while (e < text.size() && (text[e] == ' ' || text[e] == '\t')) ++e;
-    return text.substr(ls, e - ls);
-}
-
-// Continuation lines of `block` get `indent` instead of the first `strip` spaces.
-std::string reindent(const std::string& block, std::size_t strip, const std::string& indent) {
-    std::string out;
-    std::size_t i = 0;
-    bool first = true;
-    for (;;) {
-        std::size_t nl = block.find('\n', i);
-        std::string line = block.substr(i, nl == std::string::npos ? std::string::npos : nl - i);
-        if (!first) {
-            std::size_t s = 0;
-            while (s < strip && s < line.size() && line[s] == ' ') ++s;
-            line = indent + line.substr(s);
-        }
-        out += line;
-        if (nl == std::string::npos) break;
-        out += '\n';
-        i = nl + 1;
-        first = false;
-    }
-    return out;
+ItemList list_of(SceneItem::Kind kind) {
+    return kind == SceneItem::Kind::Object ? ItemList::Object : kind == SceneItem::Kind::Plane ? ItemList::Plane : ItemList::Light;
 }
 
 // The writer's text of the only item of `one`, indented for a line starting with `indent`.
 std::string written_block(const rt::Scene& one, SceneItem::Kind kind, const std::string& indent) {
-    std::string all = rt::write_scene(one);
-    SceneLayout l = scan_layout(all);
-    const std::vector<TextSpan>& v = kind == SceneItem::Kind::Object  ? l.objects
-                                     : kind == SceneItem::Kind::Plane ? l.planes
-                                                                      : l.lights;
-    if (!l.ok || v.size() != 1) return {};
-    std::size_t windent = line_indent(all, v[0].begin).size();
-    return reindent(all.substr(v[0].begin, v[0].end - v[0].begin), windent, indent);
+    return written_item(one, list_of(kind), indent);
 }
 
 const std::vector<TextSpan>& spans_of(const SceneLayout& l, SceneItem::Kind k) {

@@ -38,15 +38,6 @@ private:
     rt::SceneLexer lex_;
 };
 
-// Whitespace before the line's first character at `offset`'s line.
-std::string line_indent(std::string_view text, std::size_t offset) {
-    std::size_t ls = text.find_last_of("\r\n", offset == 0 ? 0 : offset - 1);  // CR alone ends lines too
-    ls = (ls == std::string_view::npos || offset == 0) ? 0 : ls + 1;
-    std::size_t e = ls;
-    while (e < text.size() && (text[e] == ' ' || text[e] == '\t')) ++e;
-    return std::string(text.substr(ls, e - ls));
-}
-
 // Re-indents the continuation lines of `block` (written at `from_indent`) to `to_indent`.
 std::string reindent(std::string_view block, std::size_t from_indent, const std::string& to_indent) {
     std::string out;
@@ -70,27 +61,32 @@ std::string reindent(std::string_view block, std::size_t from_indent, const std:
     return out;
 }
 
-// The text of one item as the writer prints it, taken from a one-item scene.
-enum class Kind { Object, Plane, Light, Camera };
-std::string written_item(const rt::Scene& one, Kind kind, std::size_t& writer_indent) {
-    std::string all = kind == Kind::Camera ? rt::write_camera(one.camera) : rt::write_scene(one);
-    SceneLayout l = scan_layout(all);
-    const std::vector<TextSpan>* v = kind == Kind::Object  ? &l.objects
-                                     : kind == Kind::Plane ? &l.planes
-                                     : kind == Kind::Light ? &l.lights
-                                                           : &l.cameras;
-    if (!l.ok || v->size() != 1) return {};
-    TextSpan s = (*v)[0];
-    writer_indent = line_indent(all, s.begin).size();
-    return all.substr(s.begin, s.end - s.begin);
-}
-
 struct Replacement {
     TextSpan span;
     std::string text;
 };
 
 }  // namespace
+
+std::string line_indent(std::string_view text, std::size_t offset) {
+    std::size_t ls = text.find_last_of("\r\n", offset == 0 ? 0 : offset - 1);  // CR alone ends lines too
+    ls = (ls == std::string_view::npos || offset == 0) ? 0 : ls + 1;
+    std::size_t e = ls;
+    while (e < text.size() && (text[e] == ' ' || text[e] == '\t')) ++e;
+    return std::string(text.substr(ls, e - ls));
+}
+
+std::string written_item(const rt::Scene& one, ItemList list, const std::string& indent) {
+    const std::string all = list == ItemList::Camera ? rt::write_camera(one.camera) : rt::write_scene(one);
+    const SceneLayout l = scan_layout(all);
+    const std::vector<TextSpan>& v = list == ItemList::Object  ? l.objects
+                                     : list == ItemList::Plane ? l.planes
+                                     : list == ItemList::Light ? l.lights
+                                                               : l.cameras;
+    if (!l.ok || v.size() != 1) return {};
+    return reindent(std::string_view(all).substr(v[0].begin, v[0].end - v[0].begin), line_indent(all, v[0].begin).size(),
+                    indent);
+}
 
 SceneLayout scan_layout(std::string_view text, std::size_t objects) {
     SceneLayout l;
@@ -139,9 +135,9 @@ namespace {
 std::vector<rt::Object>& items_of(rt::Scene& s, const rt::Object&) { return s.objects; }
 std::vector<rt::Plane>& items_of(rt::Scene& s, const rt::Plane&) { return s.planes; }
 std::vector<rt::Light>& items_of(rt::Scene& s, const rt::Light&) { return s.lights; }
-Kind kind_of(const rt::Object&) { return Kind::Object; }
-Kind kind_of(const rt::Plane&) { return Kind::Plane; }
-Kind kind_of(const rt::Light&) { return Kind::Light; }
+ItemList kind_of(const rt::Object&) { return ItemList::Object; }
+ItemList kind_of(const rt::Plane&) { return ItemList::Plane; }
+ItemList kind_of(const rt::Light&) { return ItemList::Light; }
 
 // The replacements of one edit, gathered against the layout `l` of `text`.
 class Patcher {
@@ -155,19 +151,18 @@ public:
     template <class T>
     bool item(std::size_t at, const T& was, const T& now) {
         if (was == now) return true;
-        const Kind kind = kind_of(now);
-        const TextSpan span = (kind == Kind::Object ? l_.objects : kind == Kind::Plane ? l_.planes : l_.lights)[at];
+        const ItemList kind = kind_of(now);
+        const TextSpan span = (kind == ItemList::Object ? l_.objects : kind == ItemList::Plane ? l_.planes : l_.lights)[at];
         if (std::optional<std::string> t =
                 patch_block(std::string_view(text_).substr(span.begin, span.end - span.begin), was, now)) {
             reps_.push_back({span, std::move(*t)});
             return true;
         }
         items_of(one_, now) = {now};
-        std::size_t windent = 0;
-        std::string written = written_item(one_, kind, windent);
+        std::string written = written_item(one_, kind, line_indent(text_, span.begin));
         items_of(one_, now).clear();
         if (written.empty()) return false;
-        reps_.push_back({span, reindent(written, windent, line_indent(text_, span.begin))});
+        reps_.push_back({span, std::move(written)});
         return true;
     }
 
@@ -175,18 +170,12 @@ public:
     // of the last section gives exactly the new camera.
     bool camera(const rt::Camera& now) {
         one_.camera = now;
-        std::size_t windent = 0;
-        std::string block = written_item(one_, Kind::Camera, windent);
-        if (block.empty()) return false;
         TextSpan span{l_.append_at, l_.append_at};
-        std::string indent;
-        if (!l_.cameras.empty()) {
-            span = l_.cameras.back();
-            indent = line_indent(text_, span.begin);
-        } else {
-            block += "\n";
-        }
-        reps_.push_back({span, reindent(block, windent, indent)});
+        if (!l_.cameras.empty()) span = l_.cameras.back();
+        std::string block = written_item(one_, ItemList::Camera, l_.cameras.empty() ? "" : line_indent(text_, span.begin));
+        if (block.empty()) return false;
+        if (l_.cameras.empty()) block += "\n";
+        reps_.push_back({span, std::move(block)});
         return true;
     }
 

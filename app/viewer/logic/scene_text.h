@@ -68,6 +68,16 @@ std::string sync_scene_text(const std::string& text, const rt::Scene& from, cons
 rt::Scene carry_edit(const rt::Scene& base, const rt::Scene& old_scene, const rt::Scene& new_scene,
                      bool* complete = nullptr);
 
+// The whitespace that starts the line holding `offset` (LF, CR LF and a lone CR end
+// lines, as the parser counts them).
+std::string line_indent(std::string_view text, std::size_t offset);
+
+// The list of a scene an item is in (the camera: its one block).
+enum class ItemList { Object, Plane, Light, Camera };
+// The only item of `one` in `list` as the writer prints it, its lines after the first
+// indented for a line that starts with `indent`; empty if the writer's text is unclear.
+std::string written_item(const rt::Scene& one, ItemList list, const std::string& indent);
+
 // 1-based line/column <-> byte offset, as the parser counts them (columns count bytes;
 // LF, CR LF and a lone CR each end a line).
 std::size_t offset_of(std::string_view text, int line, int col);
