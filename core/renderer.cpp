@@ -112,6 +112,7 @@ struct Renderer::Job {
     std::uint64_t film_samples = 0;
     std::shared_ptr<AdaptiveJob> aa;  // null: a uniform render
     std::string error;                // RenderProgress::error
+    int raise_to = 0;                 // raise_samples() of an adaptive render, at the next pass
 };
 
 namespace {
@@ -226,6 +227,18 @@ void Renderer::begin_pass_locked(Job& job) {
 }
 
 namespace {
+// Sample passes for samples [from, to): the given batch, or 1, 1, 2, 4, 8, 16, 16, ...
+// samples. Under a time limit the first pass, which always completes, is one sample.
+void add_sample_passes(std::vector<Pass>& passes, const RenderSettings& settings, int from, int to) {
+    for (int s = from; s < to;) {
+        int n = settings.samples_per_pass > 0 ? settings.samples_per_pass : std::clamp(s, 1, 16);
+        if (s == 0 && settings.time_limit > 0) n = 1;
+        n = std::min(n, to - s);
+        passes.push_back({PassKind::Samples, 0, s, s + n});
+        s += n;
+    }
+}
+
 // The passes of a render, as start() lists them: the coarse ones, then the sample
 // passes (adaptive: only the first sample; the decisions and refinements follow it).
 std::vector<Pass> plan_passes(const RenderSettings& settings, int width, int height, int max_samples) {
@@ -239,16 +252,7 @@ std::vector<Pass> plan_passes(const RenderSettings& settings, int width, int hei
         passes.push_back({PassKind::Samples, 0, 0, 1});
         return passes;
     }
-    // Sample passes: the given batch, or 1, 1, 2, 4, 8, 16, 16, ... samples. Under a
-    // time limit the first pass, which always completes, is one sample.
-    int s = 0;
-    while (s < max_samples) {
-        int n = settings.samples_per_pass > 0 ? settings.samples_per_pass : std::clamp(s, 1, 16);
-        if (s == 0 && settings.time_limit > 0) n = 1;
-        n = std::min(n, max_samples - s);
-        passes.push_back({PassKind::Samples, 0, s, s + n});
-        s += n;
-    }
+    add_sample_passes(passes, settings, 0, max_samples);
     return passes;
 }
 }  // namespace
@@ -299,6 +303,48 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
     begin_pass_locked(*job);
     job_ = job;
     kick_locked();
+}
+
+bool Renderer::raise_samples(int max_samples) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!job_ || !job_->error.empty() || job_->settings.time_limit > 0 ||
+        max_samples <= std::max(job_->settings.max_samples, job_->raise_to))
+        return false;
+    Job& job = *job_;
+    const std::size_t planned = job.passes.size();
+    if (!job.aa) {
+        // Uniform: more sample passes after the planned ones (tasks read the list only
+        // under the lock, so it may grow while they run).
+        add_sample_passes(job.passes, job.settings, job.settings.max_samples, max_samples);
+        job.settings.max_samples = max_samples;
+    } else {
+        // Adaptive: tasks of the running pass read the limit; it changes between passes.
+        job.raise_to = max_samples;
+        if (!job.done) return true;
+        raise_locked(job);
+        job.passes.push_back({PassKind::Decide, 0, 0, 0});
+        job.passes.push_back({PassKind::Refine, 0, 0, 0});
+    }
+    if (job.done) {
+        // Finished: on from the pass after the last one done, with a stop flag of its own
+        // (the old one stays set for whatever still holds it).
+        job.pass = job.aa ? job.passes.size() - 2 : planned;
+        job.done = false;
+        job.done_time = -1;
+        job.stop = std::make_shared<std::atomic<bool>>(false);
+        begin_pass_locked(job);
+        kick_locked();
+    }
+    return true;
+}
+
+// Called with mutex_ held, between passes of an adaptive render: its new sample limit,
+// and a decision of every pixel next (those stopped at the old limit may go on).
+void Renderer::raise_locked(Job& job) {
+    job.settings.max_samples = job.raise_to;
+    job.aa->max_samples = job.raise_to;
+    job.aa->first = true;
+    job.raise_to = 0;
 }
 
 void Renderer::cancel() {
@@ -707,6 +753,16 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
 // after every refinement, and is over once a decision marks no pixel.
 bool Renderer::next_pass_locked(Job& job) {
     const PassKind kind = job.passes[job.pass].kind;
+    if (job.aa && job.raise_to > 0 && kind != PassKind::Coarse) {
+        raise_locked(job);
+        // After a decision made with the old limit: a decision with the new one next.
+        if (kind == PassKind::Decide) {
+            job.passes.resize(job.pass + 1);
+            job.passes.push_back({PassKind::Decide, 0, 0, 0});
+            job.passes.push_back({PassKind::Refine, 0, 0, 0});
+            return ++job.pass < job.passes.size();
+        }
+    }
     if (job.aa && kind == PassKind::Decide) {
         AdaptiveJob& aa = *job.aa;
         aa.first = false;

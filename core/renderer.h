@@ -109,6 +109,13 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     void start(std::shared_ptr<const World> world, const RenderSettings& settings);
+    // Raises the running (or finished) render's max_samples to `max_samples`: it goes on
+    // from the samples it has, instead of starting again. The film is the one a render
+    // started with that many would give for a uniform render; an adaptive one decides
+    // every pixel again at its next decision, with the new limit. False (nothing done)
+    // if there is no render, it ended with an error, has a time limit, or already has
+    // that many.
+    bool raise_samples(int max_samples);
     void cancel();
     void set_paused(bool paused);
     // While paused: let the workers take `tiles` more tiles. A render one tile at a
@@ -156,6 +163,7 @@ private:
     void commit(const RenderTask& task, const std::vector<float>& buf);
     void begin_pass_locked(Job& job);
     bool next_pass_locked(Job& job);
+    void raise_locked(Job& job);
     void finish_locked(Job& job);
     bool run_samples(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
     bool run_refine(const RenderTask& task, std::vector<float>& buf, RayStats& stats);

@@ -333,3 +333,112 @@ TEST_CASE("adaptive: renders started and cancelled in every kind of pass, while 
     CHECK(counts == fresh.counts);
     CHECK(same_film(r.snapshot(), fresh.film));
 }
+
+TEST_CASE("raising max samples: a render goes on from the samples it has, uniform or adaptive") {
+    const auto world = compile_world(parse_ok(kScene));
+    RenderSettings uniform;
+    uniform.coarse = true;
+    const auto counts_of = [](const Renderer& r) {
+        std::vector<std::uint32_t> c;
+        int w = 0, h = 0;
+        r.sample_counts(c, w, h);
+        return c;
+    };
+    SUBCASE("uniform: raised once finished, or while it runs, it ends as a straight render of that many") {
+        RenderSettings straight = uniform;
+        straight.coarse = false;
+        straight.max_samples = 6;
+        const Result want = render(world, straight, 1);
+        Renderer r(2);
+        uniform.max_samples = 2;
+        r.start(world, uniform);
+        r.wait();
+        REQUIRE(r.progress().samples == 2);
+        CHECK(r.raise_samples(6));
+        r.wait();
+        CHECK(r.progress().done);
+        CHECK(r.progress().samples == 6);
+        CHECK(counts_of(r) == want.counts);
+        CHECK(same_film(r.snapshot(), want.film));
+        CHECK_FALSE(r.raise_samples(6));  // already that many
+        CHECK_FALSE(r.raise_samples(3));  // fewer: a new render's business
+
+        // Raised before the first pass is over (paused: nothing is done until stepped).
+        uniform.max_samples = 3;
+        r.set_paused(true);
+        r.start(world, uniform);
+        r.step(3);
+        CHECK(r.raise_samples(6));
+        r.set_paused(false);
+        r.wait();
+        CHECK(counts_of(r) == want.counts);
+        CHECK(same_film(r.snapshot(), want.film));
+    }
+    SUBCASE("adaptive: the pixels the old limit stopped go on, and the picture is the same for any thread count") {
+        const RenderSettings s = adaptive(0.1, 4);
+        std::vector<std::uint32_t> before, after;
+        Image film;
+        for (int threads : {1, 3}) {
+            CAPTURE(threads);
+            Renderer r(threads);
+            r.start(world, s);
+            r.wait();
+            const std::vector<std::uint32_t> b = counts_of(r);
+            REQUIRE(std::count(b.begin(), b.end(), 4u) > 20);
+            REQUIRE(r.raise_samples(16));
+            r.wait();
+            const RenderProgress p = r.progress();
+            CHECK(p.done);
+            CHECK(p.refining == 0);
+            const std::vector<std::uint32_t> a = counts_of(r);
+            std::uint64_t total = 0;
+            bool lost = false, beyond = false, over = false;
+            for (std::size_t i = 0; i < a.size(); ++i) {
+                total += a[i];
+                lost = lost || a[i] < b[i];
+                beyond = beyond || (b[i] == 4 && a[i] > 4);
+                over = over || a[i] > 16;
+            }
+            CHECK(p.film_samples == total);
+            CHECK_FALSE(lost);
+            CHECK(beyond);
+            CHECK_FALSE(over);
+            if (threads == 1) {
+                before = b, after = a, film = r.snapshot();
+            } else {
+                CHECK(b == before);
+                CHECK(a == after);
+                CHECK(same_film(r.snapshot(), film));
+            }
+        }
+    }
+    SUBCASE("adaptive, raised in its first pass: the new limit from the first decision on") {
+        Renderer r(2);
+        r.set_paused(true);
+        r.start(world, adaptive(0.1, 4));
+        r.step(2);
+        REQUIRE(r.raise_samples(16));
+        CHECK_FALSE(r.raise_samples(12));
+        r.set_paused(false);
+        r.wait();
+        const std::vector<std::uint32_t> a = counts_of(r);
+        CHECK(r.progress().refining == 0);
+        CHECK(*std::max_element(a.begin(), a.end()) == 16u);
+        Renderer fresh(2);
+        fresh.start(world, adaptive(0.1, 16));
+        fresh.wait();
+        // Raised before any decision: the render 16 would have made.
+        CHECK(counts_of(fresh) == a);
+        CHECK(same_film(fresh.snapshot(), r.snapshot()));
+    }
+    SUBCASE("nothing to raise: no render, or one under a time limit") {
+        Renderer r(1);
+        CHECK_FALSE(r.raise_samples(8));
+        RenderSettings limited = uniform;
+        limited.max_samples = 2;
+        limited.time_limit = 100;
+        r.start(world, limited);
+        r.wait();
+        CHECK_FALSE(r.raise_samples(8));
+    }
+}

@@ -67,7 +67,13 @@ void RenderController::clear() {
 }
 
 void RenderController::set_max_samples(int n) {
-    if (n != max_samples_) settings_changed_ = true;
+    if (n == max_samples_) return;
+    // More samples for the picture being refined: it goes on from the ones it has.
+    if (n > max_samples_ && !settings_changed_ && started_world_ && renderer_.raise_samples(n)) {
+        max_samples_ = n;
+        return;
+    }
+    settings_changed_ = true;
     max_samples_ = n;
 }
 

@@ -1,0 +1,60 @@
+#!/bin/bash
+# Journey: asking for more samples refines the picture on the screen further instead of
+# starting it again. The user opens default.txt with 4 samples a pixel (uniform) and
+# waits for the render to finish, then types 12 into the Render tab's samples field and
+# rests; then asks for an adaptive render (--aa-threshold on the command line is the
+# same render as the tab's) of 4 samples at most and raises it to 16.
+# Checks: after Enter the same render (its generation) goes on from 4 samples to 12,
+# never showing fewer than 4 on the way, and the picture at the end is `raytracer
+# --samples 12`'s; adaptive, the raised render also keeps its generation and ends
+# settled at the new limit's picture quality (its samples counted as before).
+# Usage: j34_more_samples.sh BIN_DIR OUT_DIR
+. "$(dirname "$0")/lib.sh" "$@"
+
+# Types $1 into the Render tab's samples field and presses Enter.
+set_samples() {
+    wait_state field_samples '^-?[0-9]+ '
+    read -r sx sy sw sh <<< "$(state field_samples)"
+    xdotool mousemove $((sx + sw / 4)) $((sy + sh / 2)) keydown ctrl click 1 keyup ctrl
+    wait_state typing "^samples per pixel active$"
+    type_text "$1"
+    key Return
+    wait_state render_settings "^--samples $1( |$)"
+}
+
+generation() { state film | sed -n 's/.* generation \([0-9]*\)$/\1/p'; }
+
+step "open default.txt at 4 samples a pixel and let the render finish"
+start_viewer "$SCENES/default.txt" --samples 4 --aa-threshold off
+wait_state render "^4 done" 120
+gen=$(generation)
+[ -n "$gen" ] || fail "no render generation in '$(state film)'"
+shot 1-four-done
+
+step "12 samples typed into the Render tab: the same render goes on"
+click_item tab_Render
+set_samples 12
+least=99
+for _ in $(seq 1 40); do
+    s=$(state render | cut -d' ' -f1)
+    [ "$s" -lt "$least" ] && least=$s
+    [[ "$(state render)" == "12 done" ]] && break
+    idle 0.25
+done
+wait_state render "^12 done" 120
+[ "$least" -ge 4 ] || fail "the render went back to $least samples: it was started again"
+[ "$(generation)" = "$gen" ] || fail "the render was started again (generation $(generation), was $gen)"
+picture_agrees twelve
+
+step "adaptive at 4 samples at most, then 16: the same render refines further"
+quit_viewer
+start_viewer "$SCENES/default.txt" --samples 4 --aa-threshold 0.02
+wait_state render "done" 120
+gen=$(generation)
+click_item tab_Render
+set_samples 16
+wait_state render "done" 120
+[ "$(generation)" = "$gen" ] || fail "the adaptive render was started again (generation $(generation), was $gen)"
+echo "adaptive: $(state film)"
+shot 2-adaptive-16
+echo PASS
