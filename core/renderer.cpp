@@ -330,6 +330,8 @@ bool Renderer::raise_samples(int max_samples) {
         // (the old one stays set for whatever still holds it).
         job.pass = job.aa ? job.passes.size() - 2 : planned;
         job.done = false;
+        // Its time goes on from where it stopped (the rest in between is not rendering).
+        job.start = Clock::now() - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(job.done_time));
         job.done_time = -1;
         job.stop = std::make_shared<std::atomic<bool>>(false);
         begin_pass_locked(job);

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -354,7 +355,11 @@ TEST_CASE("raising max samples: a render goes on from the samples it has, unifor
         r.start(world, uniform);
         r.wait();
         REQUIRE(r.progress().samples == 2);
+        const double took = r.progress().elapsed;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1000));
         CHECK(r.raise_samples(6));
+        // The rest in between does not count as rendering time.
+        CHECK(r.progress().elapsed < took + 0.6);
         r.wait();
         CHECK(r.progress().done);
         CHECK(r.progress().samples == 6);
