@@ -17,7 +17,8 @@ snapshot_resize_difference() {
     key k
     wait_state message "^Kept snapshot 1" 5
     xdotool windowsize "$WID" 1100 700
-    for _ in $(seq 1 50); do [ "$(field window 3)" = 1100 ] && break; sleep 0.1; done
+    # (Under load the window manager's resize and the next frame may take a while.)
+    for _ in $(seq 1 200); do [ "$(field window 3) $(field window 4)" = "1100 700" ] && break; sleep 0.1; done
     [ "$(field window 3) $(field window 4)" = "1100 700" ] || fail "the window was not resized: $(region window)"
     idle 1
     wait_state render "^16 done" 120
