@@ -489,6 +489,15 @@ struct CollapsePlan {
             for (int k = 0; k < W; ++k) cost[k] = 0, p[k] = 0;
             return;
         }
+        // Two leaves (most of the nodes at the bottom of a triangle model's tree): what
+        // the general case below gives, without its loops. Their own plans stay 0.
+        const double area = half_area(bin[n].b);
+        if (bin[n + 1].count > 0 && bin[bin[n].first].count > 0 && area >= 0) {
+            cost[0] = area;
+            p[0] = 0;
+            for (int k = 2; k <= W; ++k) cost[k - 1] = 0, p[k - 1] = std::uint8_t(8 + (k - 1));
+            return;
+        }
         double l[W], r[W];
         solve(n + 1, l);
         solve(bin[n].first, r);
@@ -501,7 +510,7 @@ struct CollapsePlan {
             return best;
         };
         int j;
-        const double inner = half_area(bin[n].b) + best_split(W, j);
+        const double inner = area + best_split(W, j);
         cost[0] = inner;
         p[0] = 0;
         for (int k = 2; k <= W; ++k) {
