@@ -1054,14 +1054,20 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             if (p.done) frac = 1;
             char buf[64];
             // Adaptive: how many pixels have not settled yet, until every one has.
-            if (p.refining > 0) std::snprintf(buf, sizeof buf, "%lld px refining", static_cast<long long>(p.refining));
+            // (Thousands above 9999, rounded up: "305k px refining" fits the bar.)
+            if (p.refining > 9999)
+                std::snprintf(buf, sizeof buf, "%lldk px refining", static_cast<long long>((p.refining + 999) / 1000));
+            else if (p.refining > 0) std::snprintf(buf, sizeof buf, "%lld px refining", static_cast<long long>(p.refining));
             else if (p.refining == 0) std::snprintf(buf, sizeof buf, "settled");
             else std::snprintf(buf, sizeof buf, "%d / %d", p.samples, render_.max_samples());
             if (render_.showing_preview()) {  // the view moves: the last render's state is not the picture's
                 std::snprintf(buf, sizeof buf, "moving");
                 frac = 0;
             }
-            ImGui::ProgressBar(float(frac), ImVec2(ImGui::GetFontSize() * 8, 0), buf);
+            // As wide as its longest usual text (up to 100M pixels refining), at any UI scale.
+            const float bar_w = std::max(ImGui::GetFontSize() * 8,
+                                         ImGui::CalcTextSize("99999k px refining").x + ImGui::GetStyle().FramePadding.x * 4);
+            ImGui::ProgressBar(float(frac), ImVec2(bar_w, 0), buf);
             ImGui::SameLine();
             double rate = elapsed > 0 ? double(p.rays) / elapsed : 0;
             const char* state = render_.paused() ? "paused"
