@@ -71,6 +71,9 @@ void RenderController::set_max_samples(int n) {
     // More samples for the picture being refined: it goes on from the ones it has.
     if (n > max_samples_ && !settings_changed_ && started_world_ && renderer_.raise_samples(n)) {
         max_samples_ = n;
+        // Not finished any more: its end, its time and its last film are still to come.
+        final_uploaded_ = false;
+        done_generation_ = ~std::uint64_t(0);
         return;
     }
     settings_changed_ = true;
