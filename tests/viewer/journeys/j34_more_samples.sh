@@ -13,12 +13,7 @@
 
 # Types $1 into the Render tab's samples field and presses Enter.
 set_samples() {
-    wait_state field_samples '^-?[0-9]+ '
-    read -r sx sy sw sh <<< "$(state field_samples)"
-    xdotool mousemove $((sx + sw / 4)) $((sy + sh / 2)) keydown ctrl click 1 keyup ctrl
-    wait_state typing "^samples per pixel active$"
-    type_text "$1"
-    key Return
+    type_value samples "$1" "samples per pixel"
     wait_state render_settings "^--samples $1( |$)"
 }
 

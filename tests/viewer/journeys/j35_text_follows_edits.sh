@@ -72,12 +72,7 @@ step "radius 1.5 for sphere 1 in the Objects tab, then a comment typed in the Te
 click $((ix + iw * 37 / 100)) $((iy + ih * 55 / 100))
 wait_state selection "^object_1$"
 click_item tab_Objects
-wait_state field_radius '^[0-9]'
-read -r fx fy fw fh <<< "$(state field_radius)"
-xdotool mousemove $((fx + fw / 4)) $((fy + fh / 2)) keydown ctrl click 1 keyup ctrl
-wait_state typing "^radius active$"
-type_text 1.5
-key Return
+type_value radius 1.5
 wait_state title '^default.txt\* - raytracer-view$'
 click_item tab_Text
 wait_state editor_grid '^[0-9]'

@@ -23,11 +23,7 @@ step "type 0.77 into the radius of sphere 2"
 start_viewer "$BIG" --samples 1
 [ "$SCENE" = "$BIG" ] || fail "the viewer edits $SCENE, not $BIG"
 select_outline object_2
-read -r fx fy fw fh <<< "$(state field_radius)"
-xdotool mousemove $((fx + fw / 4)) $((fy + fh / 2)) keydown ctrl click 1 keyup ctrl
-wait_state typing "^radius active$"
-type_text "0.77"
-key Return
+type_value radius 0.77
 wait_state value_radius "^0.77$"
 wait_state title '^big.txt\* - raytracer-view$'
 # Typed more than a second before the kill: a copy of it must survive.

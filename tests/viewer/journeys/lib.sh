@@ -22,6 +22,7 @@
 #   item_xy / click_item / hover_item KEY   a probed item's (probe_item) centre; click it;
 #                                  rest the pointer on it (a submenu opens on hover)
 #   drag X0 Y0 X1 Y1 [BUTTON], scroll_to KEY X Y, region_mid NAME
+#   type_value FIELD TEXT [NAME]   Ctrl+click a panel field, type TEXT, Enter
 #   picture_agrees NAME            the picture equals `raytracer`'s render of $SCENE
 set -euo pipefail
 
@@ -207,6 +208,17 @@ click_item() {
     wait_state "$1" '^-?[0-9]+ -?[0-9]+ [0-9]+ [0-9]+$' 5
     read -r x y <<< "$(item_xy "$1")"
     click "$x" "$y"
+}
+# type_value FIELD TEXT [NAME]: Ctrl+clicks the panel field probed as field_FIELD, waits
+# until it takes the keyboard (as the field NAME, default FIELD), types TEXT, presses Enter.
+type_value() {
+    local x y w h
+    wait_state "field_$1" '^-?[0-9]+ -?[0-9]+ [0-9]+ [0-9]+$' 10
+    read -r x y w h <<< "$(state "field_$1")"
+    xdotool mousemove $((x + w / 4)) $((y + h / 2)) keydown ctrl click 1 keyup ctrl
+    wait_state typing "^${3:-$1} active$"
+    type_text "$2"
+    key Return
 }
 # drag X0 Y0 X1 Y1 [BUTTON]: presses at (X0, Y0), moves to (X1, Y1) in 20 steps a frame
 # or so apart, releases.
