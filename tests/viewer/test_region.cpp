@@ -132,6 +132,37 @@ TEST_CASE("region pixels are the full render's pixels at the same sample count")
     CHECK(old.at(20, 30).x == -1.f);
 }
 
+TEST_CASE("a region raised to more samples goes on from its own: the full render's pixels at the new count") {
+    rt::Scene s = rtview_test::parse_ok(kScene);
+    auto world = rt::compile_world(s);
+    const rt::Image ref = full_render(world, 7);
+    RegionRenderer rr(2);
+    const PixelRect rect{3, 4, 30, 40};
+    rr.start(world, s.camera, 64, 48, rect, 2);
+    REQUIRE(wait_done(rr));
+    REQUIRE(rr.samples() == 2);
+    CHECK(rr.raise_samples(7));
+    CHECK_FALSE(rr.done());
+    CHECK_FALSE(rr.raise_samples(7));  // already that many
+    REQUIRE(wait_done(rr));
+    CHECK(rr.samples() == 7);
+    RegionPicture pic;
+    std::uint64_t version = 0;
+    REQUIRE(rr.snapshot(pic, version));
+    CHECK(differing(pic, rect, ref) == 0);
+    // Raised while it runs: the same pixels.
+    rr.start(world, s.camera, 64, 48, rect, 3);
+    CHECK(rr.raise_samples(7));
+    REQUIRE(wait_done(rr));
+    CHECK(rr.samples() == 7);
+    REQUIRE(rr.snapshot(pic, version));
+    CHECK(differing(pic, rect, ref) == 0);
+    // Under a time limit it starts again instead.
+    rr.start(world, s.camera, 64, 48, rect, 2, 100);
+    REQUIRE(wait_done(rr));
+    CHECK_FALSE(rr.raise_samples(7));
+}
+
 TEST_CASE("a region render can be cancelled and started again") {
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);

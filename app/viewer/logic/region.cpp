@@ -230,9 +230,29 @@ void RegionRenderer::finish_row_locked(int r, int s1, std::uint64_t gen, bool fa
         done_ = true;
         return;
     }
+    next_pass_locked(s1);
+}
+
+void RegionRenderer::next_pass_locked(int s1) {
     pass_s0_ = s1;
     pass_s1_ = std::min(max_samples_, s1 + std::max(1, std::min(s1, 16)));
     next_row_ = rows_done_ = 0;
+}
+
+bool RegionRenderer::raise_samples(int max_samples) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!active_ || !error_.empty() || deadline_ != std::chrono::steady_clock::time_point::max() ||
+        max_samples <= max_samples_)
+        return false;
+    max_samples_ = max_samples;
+    if (done_) {
+        // Finished: on with the next pass (a region running on takes the new limit
+        // when its pass ends).
+        done_ = false;
+        next_pass_locked(samples_done_);
+        kick_locked();
+    }
+    return true;
 }
 
 bool RegionRenderer::snapshot(RegionPicture& out, std::uint64_t& version) const {

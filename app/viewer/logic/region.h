@@ -66,6 +66,10 @@ public:
     // middle of a pass or of a pixel (the rows finished keep their samples).
     void start(std::shared_ptr<const rt::World> world, const rt::Camera& camera, int width, int height,
                const PixelRect& rect, int max_samples, double time_limit = 0);
+    // Raises the region's max_samples: it goes on from the samples it has (the same
+    // pixels as a region started with that many). False (nothing done) if no region
+    // renders, it failed, has a time limit, or already has that many.
+    bool raise_samples(int max_samples);
     // Returns when no worker touches the region any more; a pixel's ray tree in
     // progress is stopped in the middle (as the renderer's cancel() does).
     void cancel();
@@ -88,6 +92,8 @@ private:
     void kick_locked();
     void run_one();
     void finish_row_locked(int r, int s1, std::uint64_t gen, bool failed, bool cancelled, const std::vector<float>& row);
+    // The pass after samples [.., s1): up to twice as many, as the renderer's.
+    void next_pass_locked(int s1);
     std::unique_ptr<rt::ThreadPool> own_pool_;  // null when sharing one
     rt::ThreadPool* pool_ = nullptr;
     int max_runners_ = 1;

@@ -272,7 +272,12 @@ void ImageTools::restart_region_if_needed() {
         return;
     }
     // An edit or a camera move re-renders the region only; the rest keeps its picture.
-    if (f_.world && (f_.world != region_world_ || !(f_.view_camera == region_camera_) || f_.max_samples != region_samples_))
+    // More samples refine it on from the ones it has.
+    if (!f_.world) return;
+    const bool same = f_.world == region_world_ && f_.view_camera == region_camera_;
+    if (same && f_.max_samples > region_samples_ && region_.raise_samples(f_.max_samples))
+        region_samples_ = f_.max_samples;
+    else if (!same || f_.max_samples != region_samples_)
         start_region(region_rect_);
 }
 
