@@ -525,6 +525,7 @@ void ImageTools::draw_region_outline(ImDrawList* dl, const PictureGeometry& g) {
         outline(region_rect_, rgba(255, 210, 60));
         char buf[64];
         std::snprintf(buf, sizeof buf, "region  %d spp%s", region_.samples(), region_.done() ? "" : "  rendering");
+        probe("region", std::to_string(region_.samples()) + (region_.done() ? " spp done" : " spp rendering"));
         label(dl, ImVec2(float(t.to_window_x(region_rect_.x0)) + fs * 0.3f, float(t.to_window_y(region_rect_.y0)) + fs * 0.3f), buf);
     }
     if (drag_ == Drag::Region) {

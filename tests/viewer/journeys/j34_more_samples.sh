@@ -2,12 +2,14 @@
 # Journey: asking for more samples refines the picture on the screen further instead of
 # starting it again. The user opens default.txt with 4 samples a pixel (uniform) and
 # waits for the render to finish, then types 12 into the Render tab's samples field and
-# rests; then asks for an adaptive render (--aa-threshold on the command line is the
-# same render as the tab's) of 4 samples at most and raises it to 16.
+# rests; Ctrl+drags a region of the picture and types 20; then asks for an adaptive
+# render (--aa-threshold on the command line is the same render as the tab's) of 4
+# samples at most and raises it to 16.
 # Checks: after Enter the same render (its generation) goes on from 4 samples to 12,
 # never showing fewer than 4 on the way, and the picture at the end is `raytracer
-# --samples 12`'s; adaptive, the raised render also keeps its generation and ends
-# settled at the new limit's picture quality (its samples counted as before).
+# --samples 12`'s; a region refined with Ctrl+drag then goes on from its 12 samples to
+# 20 when 20 are asked for; adaptive, the raised render also keeps its generation and
+# ends settled.
 # Usage: j34_more_samples.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -41,6 +43,23 @@ wait_state render "^12 done" 120
 [ "$(generation)" = "$gen" ] || fail "the render was started again (generation $(generation), was $gen)"
 picture_agrees twelve
 
+step "a region refined (Ctrl+drag), then 20 samples: the region goes on from its 12"
+xdotool keydown ctrl
+drag $((ix + iw / 4)) $((iy + ih / 4)) $((ix + iw / 2)) $((iy + ih / 2))
+xdotool keyup ctrl
+wait_state region "^12 spp done$" 60
+set_samples 20
+least=99
+for _ in $(seq 1 40); do
+    s=$(state region | cut -d' ' -f1)
+    [ "$s" -lt "$least" ] && least=$s
+    [[ "$(state region)" == "20 spp done" ]] && break
+    idle 0.25
+done
+wait_state region "^20 spp done$" 60
+[ "$least" -ge 12 ] || fail "the region went back to $least samples: it was started again"
+shot 2-region-20
+
 step "adaptive at 4 samples at most, then 16: the same render refines further"
 quit_viewer
 start_viewer "$SCENES/default.txt" --samples 4 --aa-threshold 0.02
@@ -51,5 +70,5 @@ set_samples 16
 wait_state render "done" 120
 [ "$(generation)" = "$gen" ] || fail "the adaptive render was started again (generation $(generation), was $gen)"
 echo "adaptive: $(state film)"
-shot 2-adaptive-16
+shot 3-adaptive-16
 echo PASS
