@@ -21,6 +21,20 @@ set_samples() {
 
 generation() { state film | sed -n 's/.* generation \([0-9]*\)$/\1/p'; }
 
+# goes_on KEY END LEAST: waits (no input) until state KEY reads END, its sample count
+# (the first word) never below LEAST on the way: what was raised was not started again.
+goes_on() {
+    local least=99 s
+    for _ in $(seq 1 40); do
+        s=$(state "$1" | cut -d' ' -f1)
+        [ "$s" -lt "$least" ] && least=$s
+        [ "$(state "$1")" = "$2" ] && break
+        idle 0.25
+    done
+    wait_state "$1" "^$2\$" 60
+    [ "$least" -ge "$3" ] || fail "$1 went back to $least samples: it was started again"
+}
+
 step "open default.txt at 4 samples a pixel and let the render finish"
 start_viewer "$SCENES/default.txt" --samples 4 --aa-threshold off
 wait_state render "^4 done" 120
@@ -31,15 +45,7 @@ shot 1-four-done
 step "12 samples typed into the Render tab: the same render goes on"
 click_item tab_Render
 set_samples 12
-least=99
-for _ in $(seq 1 40); do
-    s=$(state render | cut -d' ' -f1)
-    [ "$s" -lt "$least" ] && least=$s
-    [[ "$(state render)" == "12 done" ]] && break
-    idle 0.25
-done
-wait_state render "^12 done" 120
-[ "$least" -ge 4 ] || fail "the render went back to $least samples: it was started again"
+goes_on render "12 done" 4
 [ "$(generation)" = "$gen" ] || fail "the render was started again (generation $(generation), was $gen)"
 picture_agrees twelve
 
@@ -49,15 +55,7 @@ drag $((ix + iw / 4)) $((iy + ih / 4)) $((ix + iw / 2)) $((iy + ih / 2))
 xdotool keyup ctrl
 wait_state region "^12 spp done$" 60
 set_samples 20
-least=99
-for _ in $(seq 1 40); do
-    s=$(state region | cut -d' ' -f1)
-    [ "$s" -lt "$least" ] && least=$s
-    [[ "$(state region)" == "20 spp done" ]] && break
-    idle 0.25
-done
-wait_state region "^20 spp done$" 60
-[ "$least" -ge 12 ] || fail "the region went back to $least samples: it was started again"
+goes_on region "20 spp done" 12
 shot 2-region-20
 
 step "adaptive at 4 samples at most, then 16: the same render refines further"
