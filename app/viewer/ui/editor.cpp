@@ -217,6 +217,8 @@ void DocumentEditor::sync_widget() {
         std::vector<TextChange> changes;
         if (seen_version_ != 0 && doc_.text_changes_since(seen_version_, changes)) {
             for (const TextChange& c : changes) widget_.buffer().follow_replacement(c.pos, c.removed, c.inserted);
+        } else if (seen_version_ == 0) {
+            widget_.start_over(std::as_const(doc_).editor_text());  // another document
         } else {
             widget_.set_text(std::as_const(doc_).editor_text());
         }

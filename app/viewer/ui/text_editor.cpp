@@ -116,6 +116,14 @@ void TextEditor::set_text(std::string_view text) {
     buf_.clear_line_shifts();
 }
 
+void TextEditor::start_over(std::string_view text) {
+    buf_.set_text(text);
+    buf_.set_cursor({0, 0});
+    buf_.clear_line_shifts();
+    scroll_request_ = true;
+    scroll_centre_ = false;
+}
+
 void TextEditor::set_marks(std::vector<LineMark> marks) {
     std::stable_sort(marks.begin(), marks.end(), [](const LineMark& a, const LineMark& b) { return a.line < b.line; });
     marks_ = std::move(marks);

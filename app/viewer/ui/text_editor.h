@@ -41,6 +41,8 @@ public:
     // Replaces the text (a reload, an undo of the document): keeps the cursor's line
     // and the scroll position where they still exist.
     void set_text(std::string_view text);
+    // Another document's text: the cursor at its start, scrolled to the top.
+    void start_over(std::string_view text);
     std::string text() const { return buf_.text(); }
 
     // Draws the editor filling `size` (ImGui sizes: 0 = available, < 0 = available
