@@ -11,6 +11,7 @@
 
 #include "default_scene.h"
 #include "document.h"
+#include "new_scene.h"
 #include "recovery.h"
 #include "test_util.h"
 
@@ -154,14 +155,19 @@ TEST_CASE("recovery: a held edit goes only into the text it was made on") {
     CHECK(fs::is_empty(dir / "rec"));
 }
 
-TEST_CASE("recovery: a drag in the unsaved default scene is found again") {
-    rt_test::TempDir dir;
-    Document doc;
-    doc.load_text(rt::kDefaultScene, "", "default.txt");
-    doc.edit_camera().angle_x = 50;
-    Recovery r(dir.path.string());
-    REQUIRE(r.update_held("", held_edit(doc), doc.saved_hash()).ok());
-    const std::optional<std::string> found = Recovery(dir.path.string()).find("");
-    REQUIRE(found);
-    CHECK(parse_ok(*found).camera.angle_x == 50);
+TEST_CASE("recovery: a drag in the unsaved default scene, or in a new scene, is found again") {
+    for (const char* start : {rt::kDefaultScene, kNewScene}) {
+        CAPTURE(start);
+        rt_test::TempDir dir;
+        Document doc;
+        doc.load_text(start, "", "untitled.txt");
+        doc.edit_camera().angle_x = 50;
+        Recovery r(dir.path.string());
+        REQUIRE(r.update_held("", held_edit(doc), doc.saved_hash()).ok());
+        const std::optional<std::string> found = Recovery(dir.path.string()).find("");
+        REQUIRE(found);
+        const rt::Scene scene = parse_ok(*found);
+        CHECK(scene.camera.angle_x == 50);
+        CHECK(scene.objects == parse_ok(start).objects);  // the text the drag was made in
+    }
 }

@@ -212,7 +212,7 @@ std::string help_text(bool headless_binary) {
              "  Space                pause / resume rendering\n"
              "  Ctrl+Z / Ctrl+Y      undo / redo (Edit > Undo history: every step by name)\n"
              "  Ctrl+Enter           apply the scene text\n"
-             "  Ctrl+S               save (Ctrl+Shift+S: save as)  Ctrl+O  open\n"
+             "  Ctrl+S               save (Ctrl+Shift+S: save as)  Ctrl+O  open  Ctrl+N  new\n"
              "  Ctrl+E               edit the scene text   Ctrl+P  save the image (the picture\n"
              "                       at picture_size in the picture frame, whatever the zoom)\n"
              "  in the text: Ctrl+F find (Enter next, Shift+Enter previous), Ctrl+G go to line\n"

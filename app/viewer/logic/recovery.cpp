@@ -13,6 +13,7 @@
 
 #include "default_scene.h"
 #include "document.h"
+#include "new_scene.h"
 #include "image_io.h"
 #include "scene_parser.h"
 #include "scene_text.h"
@@ -190,10 +191,15 @@ std::optional<std::string> Recovery::find(const std::string& doc_path) const {
         !parse_held_file(data, absolute(doc_path), held, base))
         return text;
     if (text && text_hash(*text) == base) return with_held_edit(*text, held);
-    // A drag in a text as it was saved: its base is the document's file.
+    // A drag in a text as it was saved: its base is the document's file (for a
+    // document never saved, the text it started from).
+    if (doc_path.empty()) {
+        for (const char* start : {rt::kDefaultScene, kNewScene})
+            if (text_hash(start) == base) return with_held_edit(start, held);
+        return text;
+    }
     std::string file;
-    if (doc_path.empty()) file = rt::kDefaultScene;
-    else if (!rt::read_file(doc_path, file, kMaxRecoveryBytes).ok()) return text;
+    if (!rt::read_file(doc_path, file, kMaxRecoveryBytes).ok()) return text;
     if (text_hash(file) == base) return with_held_edit(file, held);
     return text;
 }

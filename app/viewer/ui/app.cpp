@@ -22,6 +22,7 @@
 #include "default_scene.h"
 #include "imgui_common.h"
 #include "layout.h"
+#include "new_scene.h"
 #include "image_io.h"
 #include "scene_edits.h"
 #include "scene_writer.h"
@@ -533,6 +534,7 @@ void ViewerApp::handle_shortcuts() {
         if (key_pressed(keys::kS)) run(shift ? Command::SaveAsDialog : Command::Save);
         if (key_pressed(keys::kQ)) run(Command::Quit);  // asks first if there are unsaved edits
         if (key_pressed(keys::kO)) run(Command::OpenDialog);
+        if (key_pressed(keys::kN)) run(Command::NewScene);
         if (key_pressed(keys::kP)) run(Command::SaveImageDialog);
         if (key_pressed(keys::kE)) run(Command::EditText);
         if (key_pressed(keys::kK)) run(Command::SetSceneCamera);
@@ -628,6 +630,16 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
             after_document_replaced();
             status_.set("Opened the built-in default scene");
+            return true;
+        case Command::NewScene:
+            if (ask_first(c)) return true;
+            loader_.cancel();
+            doc.load_text(kNewScene, "", kNewSceneName);
+            after_document_replaced();
+            // A new scene is written by hand: the text, ready for typing.
+            panels_.show_tab(Panels::Text);
+            editor_.focus();
+            status_.set(std::string("New scene ") + kNewSceneName + ": Ctrl+Enter applies the text, Ctrl+S saves it");
             return true;
         case Command::CancelLoad: return cancel_load();
         case Command::Save: return do_save(confirmed);

@@ -149,12 +149,16 @@ void Dialogs::draw_unsaved(const std::string& doc_name, bool has_path) {
         }  // (else the text has errors: the pending action waits for "Save it anyway")
     }
     ImGui::SameLine();
-    if (ImGui::Button("Discard changes")) {
+    const bool discard = ImGui::Button("Discard changes");
+    probe_item("button_unsaved_discard");
+    if (discard) {
         ImGui::CloseCurrentPopup();
         run_pending();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Cancel") || escape_pressed()) {
+    const bool cancel = ImGui::Button("Cancel");
+    probe_item("button_unsaved_cancel");
+    if (cancel || escape_pressed()) {
         ImGui::CloseCurrentPopup();
         has_pending_ = false;
     }

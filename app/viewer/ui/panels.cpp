@@ -180,6 +180,7 @@ void Panels::draw_menu_bar() {
     const bool can = doc.has_scene() && !doc.editor_dirty() && !doc.text_behind();  // structural edits
     probe_menu_header("File");
     if (ImGui::BeginMenu("File")) {
+        if (ImGui::MenuItem("New scene", "Ctrl+N")) commands_.run(Command::NewScene);
         if (ImGui::MenuItem("Open...", "Ctrl+O")) commands_.run(Command::OpenDialog);
         if (ImGui::BeginMenu("Open Recent")) {
             if (editor_.recent().paths().empty()) ImGui::MenuItem("(none yet)", nullptr, false, false);

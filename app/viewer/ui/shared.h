@@ -44,6 +44,7 @@ enum class Command {
     OpenDialog,      // ask for a path
     Open,            // arg: path (asks about unsaved edits first)
     OpenDefault,
+    NewScene,        // a new unsaved scene (kNewScene; asks about unsaved edits first)
     Save,
     SaveAsDialog,
     SaveAs,          // arg: path
@@ -79,7 +80,7 @@ class Commands {
 public:
     virtual ~Commands() = default;
     // Returns false if the command failed (the status line says why). `confirmed`:
-    // the user already chose to drop unsaved edits (Quit, Open, OpenDefault), or to
+    // the user already chose to drop unsaved edits (Quit, Open, OpenDefault, NewScene), or to
     // save text that does not parse (Save, SaveAs).
     virtual bool run(Command c, const std::string& arg = {}, bool confirmed = false) = 0;
 };

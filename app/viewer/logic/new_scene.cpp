@@ -1,0 +1,47 @@
+#include "new_scene.h"
+
+namespace rtview {
+
+const char* const kNewScene =
+    "// A new scene. Ctrl+Enter applies\n"
+    "// the text, Ctrl+S saves it.\n"
+    "thing {\n"
+    "  sphere {\n"
+    "    material {\n"
+    "      reflection 0.2  scattering 0.8\n"
+    "      colour 0.9 0.35 0.25\n"
+    "    }\n"
+    "    position 5 0 1\n"
+    "    radius 1\n"
+    "  }\n"
+    "}\n"
+    "special_thing {\n"
+    "  chess_plane {\n"
+    "    material 1 {\n"
+    "      reflection 0.1  scattering 0.9\n"
+    "      colour 0.9 0.9 0.9\n"
+    "    }\n"
+    "    material 2 {\n"
+    "      reflection 0.1  scattering 0.9\n"
+    "      colour 0.2 0.2 0.25\n"
+    "    }\n"
+    "    point 1 0 0 0  point 2 1 0 0\n"
+    "    point 3 0 1 0  point 4 0 0 10\n"
+    "  }\n"
+    "}\n"
+    "light {\n"
+    "  lamp { colour 100 100 95 position 2 3 6 }\n"
+    "}\n"
+    "camera {\n"
+    "  position 0 0 2\n"
+    "  centre 5 0 1\n"
+    "  up 5 0 2\n"
+    "  projection linear\n"
+    "  angle_x 60\n"
+    "  angle_y 46.83\n"
+    "}\n"
+    "picture_size { x_max 640 y_max 480 }\n"
+    "end\n";
+const char* const kNewSceneName = "untitled.txt";
+
+}  // namespace rtview
