@@ -4,11 +4,13 @@
 // read back to the same double.
 #include "scene_writer.h"
 
+#include <algorithm>
 #include <cfloat>
 #include <charconv>
 #include <cmath>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "scene_schema.h"
 
@@ -125,6 +127,97 @@ public:
 };
 
 }  // namespace
+
+namespace {
+
+// A block on one line, its keys as the writer orders them: `sphere { position 0 0 0 ... }`.
+// Materials and operands are named, not spelled out.
+template <class T>
+std::string block_line(const sc::Block<T>& b) {
+    const T item = b.make();
+    std::string s = std::string(b.name) + " {";
+    const char* gap = " ";
+    for (bool lead : {true, false})
+        for (const sc::Key<T>& k : b.keys) {
+            if (k.lead != lead) continue;
+            for (int i = 0; i < std::max(k.count, 1); ++i, gap = "  ") {
+                const std::string index = k.count > 0 ? " " + std::to_string(i + 1) : "";
+                s += gap;
+                if (k.kind == sc::Kind::Material) s += std::string(k.name) + index + " {...}";
+                else if (k.kind == sc::Kind::Operand) s += std::string(k.name) + " { OBJECT }";
+                else if (k.kind == sc::Kind::File) s += std::string(k.name) + " \"MODEL.obj\"";
+                else s += Writer::simple_value(k, item, i);
+            }
+        }
+    return s + " }";
+}
+
+// The rules of a block's keys: the keys it must have, choices, ranges (errors and
+// clamps); each rule once.
+template <class T>
+void key_rules(const sc::Block<T>& b, std::vector<std::string>& required, std::vector<std::string>& rules) {
+    std::string needed;
+    auto add = [&rules](const std::string& r) {
+        if (std::find(rules.begin(), rules.end(), r) == rules.end()) rules.push_back(r);
+    };
+    for (const sc::Key<T>& k : b.keys) {
+        const std::string name = std::string(b.name) + " " + std::string(k.name);
+        if (k.required) needed += (needed.empty() ? "" : ", ") + std::string(k.name);
+        if (k.choice) {
+            std::string words;
+            for (const sc::Choice::Word& w : k.choice->words) words += (words.empty() ? "" : ", ") + std::string(w.word);
+            add(name + ": one of " + words);
+        }
+        if (k.range.rule == sc::Range::Rule::Error && k.range.message) add(k.range.message);
+        if (k.range.rule == sc::Range::Rule::Clamp)
+            add(name + " is clamped to " + format_number(k.range.min) +
+                (k.range.max < 1e300 ? ".." + format_number(k.range.max) : " or more"));
+    }
+    if (!needed.empty()) required.push_back(std::string(b.name) + ": " + needed);
+}
+
+}  // namespace
+
+std::string format_reference() {
+    std::string optional;
+    for (const sc::Section& s : sc::sections())
+        if (s.item_noun) optional += (optional.empty() ? "" : ", ") + std::string(s.name);
+    std::string out = "The scene format: the sections in this order (" + optional +
+                      " may be left out),\n`end` closing the file. Every block with each of its keys at its "
+                      "default;\n`//` starts a comment.\n\n";
+    std::vector<std::string> required, rules;
+    auto items = [&](const sc::Section& s, const auto& blocks) {
+        out += std::string(s.name) + " {\n";
+        for (const auto& b : blocks) {
+            out += "  " + block_line(b) + "\n";
+            key_rules(b, required, rules);
+        }
+        out += "}\n";
+    };
+    for (const sc::Section& s : sc::sections()) {
+        switch (s.kind) {
+        case sc::SectionKind::Things: items(s, sc::object_blocks()); break;
+        case sc::SectionKind::Specials: items(s, sc::plane_blocks()); break;
+        case sc::SectionKind::Lights: items(s, sc::light_blocks()); break;
+        case sc::SectionKind::Camera:
+            out += block_line(sc::camera_block()) + "\n";
+            key_rules(sc::camera_block(), required, rules);
+            break;
+        case sc::SectionKind::PictureSize:
+            out += block_line(sc::picture_size_block()) + "\n";
+            key_rules(sc::picture_size_block(), required, rules);
+            break;
+        case sc::SectionKind::End: out += std::string(s.name) + "\n"; break;
+        }
+    }
+    key_rules(sc::material_block(), required, rules);
+    out += "\nmaterial {...} is " + block_line(sc::material_block()) + "\n";
+    out += "OBJECT is any one block of `thing` (a mesh excepted)\n\nKeys a block must have:\n";
+    for (const std::string& r : required) out += "  " + r + "\n";
+    out += "Values:\n";
+    for (const std::string& r : rules) out += "  " + r + "\n";
+    return out;
+}
 
 std::string write_camera(const Camera& camera) {
     Writer w;

@@ -11,6 +11,10 @@ namespace rt {
 std::string write_scene(const Scene& scene);
 // One `camera { ... }` block (for the viewer's "copy camera" button).
 std::string write_camera(const Camera& camera);
+// The format in brief, from the schema: each section and block on a line with every
+// key at its default (`material {...}` spelled out once), then the rules a value must
+// keep. raytracer --help-format prints it; the viewer's Help shows it.
+std::string format_reference();
 // A number as the writer prints it: shortest text that reads back to the same double.
 std::string format_number(double v);
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "image_io.h"
+#include "scene_writer.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -379,6 +380,14 @@ TEST_CASE("cli: --print-scene prints a normalised scene that reads back the same
     CHECK(read_all(dir / "a.ppm") == read_all(dir / "b.ppm"));
 }
 
+TEST_CASE("cli: --help-format prints the format's reference to stdout, exit 0, with no scene") {
+    TempDir dir;
+    Result r = dir.run("--help-format");
+    CHECK(r.status == 0);
+    CHECK(r.out == rt::format_reference());
+    CHECK(r.err.empty());
+}
+
 TEST_CASE("cli: --version and --help") {
     TempDir dir;
     Result v = dir.run("--version");
@@ -388,7 +397,7 @@ TEST_CASE("cli: --version and --help") {
     CHECK(h.status == 0);
     for (const char* o : {"--width", "--height", "--samples", "--threads", "--max-depth", "--time-limit",
                           "--aa-threshold", "--mirror",
-                          "--quiet", "--stats", "--check", "--print-scene", "--version", "--help", ".ppm", ".png"}) {
+                          "--quiet", "--stats", "--check", "--print-scene", "--help-format", "--version", "--help", ".ppm", ".png"}) {
         CAPTURE(o);
         CHECK(contains(h.out, o));
     }

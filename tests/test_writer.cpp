@@ -587,3 +587,112 @@ TEST_CASE("round trip: every key the schema lists, changed one at a time, is wri
         check_round_trip(s);
     }
 }
+
+namespace {
+
+// The reference's line for a block, spelled out as text the parser takes: its material
+// placeholders as the reference's own material line, an operand as a sphere, the model
+// as a cube of tests/models.
+std::string spelled(std::string line, const std::string& material) {
+    auto replace_all = [&line](const std::string& from, const std::string& to) {
+        for (std::size_t at = 0; (at = line.find(from, at)) != std::string::npos; at += to.size())
+            line.replace(at, from.size(), to);
+    };
+    replace_all("{...}", material);
+    replace_all("{ OBJECT }", "{ sphere { radius 1 } }");
+    replace_all("\"MODEL.obj\"", "\"cube.obj\"");
+    return line;
+}
+
+// The line of `ref` that starts (after its indent) with `name {`.
+std::string line_of(const std::string& ref, const std::string& name) {
+    std::istringstream in(ref);
+    for (std::string line; std::getline(in, line);)
+        if (line.find_first_not_of(' ') != std::string::npos && line.substr(line.find_first_not_of(' ')).rfind(name + " {", 0) == 0)
+            return line;
+    return {};
+}
+
+// Each block of `blocks` read back from its reference line inside `section`: the
+// block's defaults exactly, or, where the defaults break the block's own rule (a flat
+// tetrahedron), just that rule's error.
+template <class T, class Items>
+void blocks_read_back(const std::string& ref, const std::string& frame, const char* section,
+                      const std::vector<schema::Block<T>>& blocks, const std::string& material, Items items) {
+    for (const schema::Block<T>& b : blocks) {
+        const std::string line = line_of(ref, std::string(b.name));
+        INFO("reference line: " << line);
+        REQUIRE(!line.empty());
+        // Every key is there (a key left out would read back as its default too).
+        for (const schema::Key<T>& k : b.keys)
+            for (int i = 0; i < std::max(k.count, 1); ++i) {
+                const std::string key = std::string(k.name) + (k.count ? " " + std::to_string(i + 1) : "") + " ";
+                const bool there = rt_test::contains(line, "  " + key) || rt_test::contains(line, "{ " + key);
+                CHECK_MESSAGE(there, "key " << key);
+            }
+        const std::string text = std::string(section) + " {\n" + spelled(line, material) + "\n}\n" + frame;
+        const ParseResult r = parse_scene(text, rt_test::options_for(RT_SOURCE_DIR "/tests/models"));
+        T want = b.make();
+        for (const schema::Key<T>& k : b.keys)
+            if (k.kind == schema::Kind::File) k.access.text(want, 0) = "cube.obj";  // as spelled()
+        const schema::Problem rule = b.check ? b.check(want) : schema::Problem{};
+        if (rule.severity == schema::Problem::Severity::Error) {
+            REQUIRE(r.diagnostics.size() == 1);
+            CHECK(r.diagnostics[0].message == rule.message);
+            continue;
+        }
+        REQUIRE_MESSAGE(r.ok(), r.status("reference").message());
+        const auto& got = items(r.scene);
+        REQUIRE(got.size() == 1);
+        // Every key but the material (given in the line, absent from make()).
+        for (const schema::Key<T>& k : b.keys) {
+            if (k.kind == schema::Kind::Material || k.kind == schema::Kind::Operand || k.kind == schema::Kind::File) continue;
+            for (int i = 0; i < std::max(k.count, 1); ++i) {
+                INFO("key " << std::string(k.name) << " " << i + 1);
+                switch (k.kind) {
+                case schema::Kind::Number: CHECK(k.number(got[0], i) == k.number(want, i)); break;
+                case schema::Kind::Vec3: CHECK(k.vec3(got[0], i) == k.vec3(want, i)); break;
+                case schema::Kind::Integer: CHECK(k.integer(got[0], i) == k.integer(want, i)); break;
+                case schema::Kind::Choice: CHECK(k.access.get_choice(got[0]) == k.access.get_choice(want)); break;
+                default: break;
+                }
+            }
+        }
+    }
+}
+
+}  // namespace
+
+TEST_CASE("format_reference: every block's line reads back as the block's defaults, and the rules are listed") {
+    const std::string ref = format_reference();
+    // The material line and the camera and picture size lines make a frame for each block.
+    const std::string material_line = line_of(ref, "material {...} is material");
+    REQUIRE(!material_line.empty());
+    const std::string material = material_line.substr(material_line.find("is material ") + 12);
+    const std::string camera = line_of(ref, "camera"), picture = line_of(ref, "picture_size");
+    REQUIRE(!camera.empty());
+    REQUIRE(!picture.empty());
+    const std::string frame = camera + "\n" + picture + "\nend\n";
+    const Scene framed = parse_ok(frame);
+    CHECK(framed.camera == schema::camera_block().make());
+    CHECK(framed.width == schema::picture_size_block().make().width);
+    CHECK(framed.height == schema::picture_size_block().make().height);
+    const Scene with_material = parse_ok("thing { sphere { material " + material + " } }\n" + frame);
+    CHECK(with_material.objects.at(0).material == schema::material_block().make());
+
+    blocks_read_back(ref, frame, "thing", schema::object_blocks(), material, [](const Scene& s) -> const auto& { return s.objects; });
+    blocks_read_back(ref, frame, "special_thing", schema::plane_blocks(), material, [](const Scene& s) -> const auto& { return s.planes; });
+    blocks_read_back(ref, frame, "light", schema::light_blocks(), material, [](const Scene& s) -> const auto& { return s.lights; });
+
+    // Each section is named in file order, and each rule a value can break is there.
+    std::size_t at = 0;
+    for (const schema::Section& s : schema::sections()) {
+        const std::size_t next = ref.find("\n" + std::string(s.name) + (s.kind == schema::SectionKind::End ? "\n" : " {"), at);
+        CHECK_MESSAGE(next != std::string::npos, "section " << std::string(s.name));
+        if (next != std::string::npos) at = next;
+    }
+    CHECK(rt_test::contains(ref, "sphere radius must be greater than 0"));
+    CHECK(rt_test::contains(ref, "constructive_solid_geometry type: one of U, I, C"));
+    CHECK(rt_test::contains(ref, "material translusans is clamped to 0..1"));
+    CHECK(rt_test::contains(ref, "camera: position, centre, up, angle_x, angle_y"));
+}

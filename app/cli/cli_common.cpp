@@ -193,6 +193,8 @@ rtargs::Table option_table(const Program& program, Options& o) {
                                       return rt::Status();
                                   }),
              flag("--print-scene", "print SCENE in normalised form to stdout; render nothing", o.print_scene),
+             flag("--help-format", "print the scene format in brief (every block and key, its\n"
+                                   "default and its rules) and exit", o.help_format, true),
              flag("--version", "print the version and exit", o.version, true),
              flag("-h, --help", "print this help and exit", o.help, true),
          })
@@ -234,7 +236,8 @@ rt::Status parse_args(const Program& program, int argc, char** argv, Options& o)
 bool print_help_or_version(const Program& program, const Options& o) {
     if (o.help) std::cout << help_text(program);
     else if (o.version) std::cout << program.name << " " RT_VERSION "\n";
-    return o.help || o.version;
+    else if (o.help_format) std::cout << rt::format_reference();
+    return o.help || o.version || o.help_format;
 }
 
 namespace {

@@ -44,7 +44,7 @@ struct Options {
     // --samples, --time-limit, --aa-threshold, --threads, --max-depth, --tile, --mirror
     rt::RenderRequest render;
     bool quiet = false, stats = false, print_scene = false;
-    bool help = false, version = false;  // printed by parse_args
+    bool help = false, version = false, help_format = false;  // printed by print_help_or_version
     std::optional<std::string> check;
     std::vector<std::string> positional;
 };

@@ -670,6 +670,7 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
         case Command::FitWindow:
         case Command::FitPicture: return view_command(c);
         case Command::Help: dialogs_.show(Dialogs::Kind::Help); return true;
+        case Command::FormatHelp: dialogs_.show(Dialogs::Kind::Format); return true;
         case Command::AddItem:
         case Command::Duplicate:
         case Command::Delete:

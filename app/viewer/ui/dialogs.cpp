@@ -4,10 +4,14 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include <algorithm>
+#include <string>
+
 #include "fonts.h"
 #include "imgui_common.h"
 #include "probe.h"
 #include "options.h"
+#include "scene_writer.h"
 
 namespace rtview {
 
@@ -22,6 +26,7 @@ const char* title_of(Dialogs::Kind k) {
         case Dialogs::Kind::SaveImage: return "Save image";
         case Dialogs::Kind::AddModel: return "Add model";
         case Dialogs::Kind::Help: return "Mouse and keys";
+        case Dialogs::Kind::Format: return "Scene format";
         case Dialogs::Kind::None: break;
     }
     return "";
@@ -106,6 +111,25 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         ImGui::PushFont(mono_font());
         ImGui::TextUnformatted(at == std::string::npos ? help.c_str() : help.c_str() + at);
         ImGui::PopFont();
+        if (ImGui::Button("Close") || escape_pressed()) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+    if (begin(Kind::Format)) {
+        // The blocks line up as text to copy: a fixed-width face, in a box that scrolls
+        // when the window is smaller than the text.
+        static const std::string reference = rt::format_reference();
+        ImGui::PushFont(mono_font());
+        const ImVec2 text = ImGui::CalcTextSize(reference.c_str());
+        const ImVec2 screen = ImGui::GetMainViewport()->WorkSize;
+        const ImGuiStyle& style = ImGui::GetStyle();
+        const ImVec2 box(std::min(text.x + 2 * style.WindowPadding.x + style.ScrollbarSize, 0.9f * screen.x),
+                         std::min(text.y + 2 * style.WindowPadding.y + style.ScrollbarSize, 0.75f * screen.y));
+        ImGui::BeginChild("reference", box, true, ImGuiWindowFlags_HorizontalScrollbar);
+        ImGui::TextUnformatted(reference.c_str());
+        ImGui::EndChild();
+        ImGui::PopFont();
+        if (ImGui::Button("Copy to clipboard")) ImGui::SetClipboardText(reference.c_str());
+        ImGui::SameLine();
         if (ImGui::Button("Close") || escape_pressed()) ImGui::CloseCurrentPopup();
         ImGui::EndPopup();
     }

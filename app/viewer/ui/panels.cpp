@@ -251,6 +251,8 @@ void Panels::draw_menu_bar() {
     probe_menu_header("Help");
     if (ImGui::BeginMenu("Help")) {
         if (ImGui::MenuItem("Mouse and keys...")) commands_.run(Command::Help);
+        if (ImGui::MenuItem("Scene format...")) commands_.run(Command::FormatHelp);
+        probe_item("menu:Scene_format");
         ImGui::EndMenu();
     }
     ImGui::EndMainMenuBar();

@@ -65,6 +65,7 @@ enum class Command {
     FitWindow,
     FitPicture,
     Help,
+    FormatHelp,      // the scene format in brief (rt::format_reference)
     CancelLoad,
     // Structural edits (scene_edits.h), each one undo step written into the text.
     AddItem,         // arg: "sphere", ..., "spotlight"; at the point set by place_at (else the image centre)

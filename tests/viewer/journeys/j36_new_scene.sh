@@ -6,7 +6,8 @@
 # Checks: Cancel keeps the typed text and its title; the new scene is untitled.txt,
 # unsaved, its text focused; the saved file holds the typed line above a scene that
 # `raytracer --check` accepts, and the picture shown is raytracer's render of it; the
-# window then closes without asking.
+# Help > Scene format shows the format's blocks and closes with Esc; the window then
+# closes without asking.
 # Usage: j36_new_scene.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -49,6 +50,14 @@ SCENE=$OUT/mine.txt
 grep -q "1 object, 1 plane, 1 light" "$OUT/check.txt" || fail "the new scene is not a sphere, a floor and a lamp: $(cat "$OUT/check.txt")"
 select_nothing
 picture_agrees new
+
+step "Help > Scene format: the blocks to copy from; Esc closes it"
+click_item "menu:Help"
+click_item "menu:Scene_format"
+wait_state popups "Scene format"
+shot format
+key Escape
+wait_state popups "^none$"
 
 step "Ctrl+Q closes without asking (saved)"
 quit_viewer
