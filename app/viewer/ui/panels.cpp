@@ -174,10 +174,8 @@ void probe_view(const rt::Camera& view, const double angles[3]) {
 // ---------------------------------------------------------------------------------
 // Menu bar
 
-void Panels::draw_menu_bar() {
-    if (!ImGui::BeginMainMenuBar()) return;
-    const Document& doc = editor_.doc();
-    const bool can = doc.has_scene() && !doc.editor_dirty() && !doc.text_behind();  // structural edits
+// File: documents (new, open, save), models, images, quit.
+void Panels::draw_file_menu(bool can) {
     probe_menu_header("File");
     if (ImGui::BeginMenu("File")) {
         if (ImGui::MenuItem("New scene", "Ctrl+N")) commands_.run(Command::NewScene);
@@ -203,6 +201,13 @@ void Panels::draw_menu_bar() {
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) commands_.run(Command::Quit);
         ImGui::EndMenu();
     }
+}
+
+void Panels::draw_menu_bar() {
+    if (!ImGui::BeginMainMenuBar()) return;
+    const Document& doc = editor_.doc();
+    const bool can = doc.has_scene() && !doc.editor_dirty() && !doc.text_behind();  // structural edits
+    draw_file_menu(can);
     probe_menu_header("Edit");
     if (ImGui::BeginMenu("Edit")) {
         draw_undo_items();

@@ -34,6 +34,7 @@ public:
           tools_(tools) {}
 
     void draw_menu_bar();
+    void draw_file_menu(bool can);  // can: structural edits allowed
     void draw_sidebar();
     void draw_status_bar(const LoadStatus& load);
     void draw_surround();  // the area around a letterboxed image, dimmed
