@@ -240,6 +240,7 @@ void ViewerApp::frame() {
     }
     panels_.draw_menu_bar();
     panels_.draw_sidebar();
+    if (const int passed = editor_.take_passed_undo()) run(passed > 0 ? Command::Undo : Command::Redo);
     panels_.draw_status_bar(load_status());
     const std::string image_kind = std::string(layout_.fit == FitMode::Window ? "the window's picture, " : "the scene's picture, ") +
                                    std::to_string(layout_.film_w) + "x" + std::to_string(layout_.film_h);

@@ -59,6 +59,9 @@ public:
     void draw_banners();   // recovery offer, disk conflict
     void draw_text_tab(Layout& layout);
     bool wants_text_tab() { bool w = want_tab_; want_tab_ = false; return w; }
+    // Ctrl+Z (+1) or Ctrl+Y (-1) typed in the text with nothing of its own to take back:
+    // the document's undo is the user's next step back (a panel edit, a move).
+    int take_passed_undo() { return widget_.take_passed_undo(); }
 
 private:
     void sync_widget();

@@ -264,10 +264,11 @@ void TextEditor::handle_key(const KeyEvent& e) {
             }
             break;
         case Key::Z:
-            if (e.shift) buf_.redo();
-            else buf_.undo();
+            if (e.shift ? !buf_.redo() : !buf_.undo()) passed_undo_ = e.shift ? -1 : 1;
             break;
-        case Key::Y: buf_.redo(); break;
+        case Key::Y:
+            if (!buf_.redo()) passed_undo_ = -1;
+            break;
         case Key::F: open_find(); break;
         case Key::G: open_goto(); break;
         case Key::Left: buf_.move(M::WordLeft, e.shift); break;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <imgui.h>
@@ -56,6 +57,9 @@ public:
     bool wrap() const { return wrap_; }
 
     bool focused() const { return focused_; }
+    // An undo (+1) or redo (-1) asked of the text when it had no step to take (its
+    // history starts again where the document changed the text): the host's to make.
+    int take_passed_undo() { return std::exchange(passed_undo_, 0); }
     void focus() { want_focus_ = true; }
     // Cursor to `p`, scrolled into view (centred when it was out of view), focused.
     void show(TextPos p);
@@ -110,6 +114,7 @@ private:
     float view_w_ = 0, view_h_ = 0;
 
     bool focused_ = false, want_focus_ = false;
+    int passed_undo_ = 0;
     bool external_keys_ = false, external_chars_ = false;
     std::vector<KeyEvent> queue_;
     int last_drawn_frame_ = -10;

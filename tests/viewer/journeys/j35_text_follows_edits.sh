@@ -9,7 +9,9 @@
 # Checks: every comment lands exactly where it was typed and nothing else of the text
 # changes but the moved position and the radius (the file's bytes against default.txt
 # edited the same way); the saved text parses; the undo leaves the text of the first
-# save, byte for byte.
+# save, byte for byte; Ctrl+Y and Ctrl+Z typed in the text then redo and undo the
+# radius (the text's own history starts again at the undo: the keys pass to the
+# document's).
 # Usage: j35_text_follows_edits.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -102,4 +104,18 @@ wait_state message "^Undid: Edit radius of sphere 1" 1
 save
 cmp "$SCENE" "$OUT/saved1.txt" || fail "after the undo the text is not the first save's: $(diff "$OUT/saved1.txt" "$SCENE" | head)"
 shot 4-undone
+
+step "Ctrl+Y and Ctrl+Z typed in the text, which has no steps of its own: the document's redo and undo"
+click_item tab_Text
+wait_state editor_grid '^[0-9]'
+read -r x y <<< "$(editor_xy 1 1 0.1)"
+click "$x" "$y"
+wait_state editor_cursor "^1 1 focused$" 3
+key ctrl+y
+wait_state message "^Redid: Edit radius of sphere 1" 3
+wait_state title '^default.txt\* - raytracer-view$'
+key ctrl+z
+wait_state message "^Undid: Edit radius of sphere 1" 3
+wait_state title '^default.txt - raytracer-view$'
+wait_state editor_cursor "focused$" 1
 echo PASS
