@@ -637,24 +637,24 @@ rt::Scene Document::scene_before_edit_from(const DocStep& step) const {
 void Document::text_changed(const DocStep& s, bool forward) {
     ++text_version_;
     std::vector<TextChange> changes;
-    std::size_t bytes = 0;
     if (forward) {
-        for (const UndoableReplacement& t : s.editor) {
-            changes.push_back({t.pos, t.before.size(), t.after});
-            bytes += t.after.size() + sizeof(TextChange);
-        }
+        for (const UndoableReplacement& t : s.editor) changes.push_back({t.pos, t.before.size(), t.after});
     } else {
-        for (auto it = s.editor.rbegin(); it != s.editor.rend(); ++it) {
+        for (auto it = s.editor.rbegin(); it != s.editor.rend(); ++it)
             changes.push_back({it->pos, it->after.size(), it->before});
-            bytes += it->before.size() + sizeof(TextChange);
-        }
     }
+    // What a version's changes hold, as the log counts it in and out.
+    auto bytes_of = [](const std::vector<TextChange>& v) {
+        std::size_t n = 0;
+        for (const TextChange& c : v) n += c.inserted.size() + sizeof(TextChange);
+        return n;
+    };
     // A widget that has not looked for this long takes the whole text again.
     constexpr std::size_t kMaxVersions = 256, kMaxBytes = std::size_t(4) << 20;
+    text_log_bytes_ += bytes_of(changes);
     text_log_.push_back(std::move(changes));
-    text_log_bytes_ += bytes;
     while (text_log_.size() > kMaxVersions || (text_log_bytes_ > kMaxBytes && !text_log_.empty())) {
-        for (const TextChange& c : text_log_.front()) text_log_bytes_ -= c.inserted.size() + sizeof(TextChange);
+        text_log_bytes_ -= bytes_of(text_log_.front());
         text_log_.pop_front();
     }
 }

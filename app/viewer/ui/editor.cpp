@@ -65,7 +65,6 @@ void DocumentEditor::replaced() {
         if (recovery_busy()) recovery_write_.wait();
         recovery_busy();
         if (recovery_find_.valid()) recovery_find_.wait();  // an earlier document's: no longer wanted
-        recovery_find_ = {};
         if (!offered) forget_earlier_copy();
         recovered_text_.clear();
         recovery_find_ = std::async(std::launch::async, [this, path = doc_.path()] { return recovery_.find(path); });
