@@ -207,8 +207,9 @@ void Renderer::begin_pass_locked(Job& job) {
         return;
     }
     // Coarse passes trace one ray per block: their tiles grow with the block so that a
-    // task still holds enough rays to outweigh taking it from the queue.
-    if (p.kind == PassKind::Coarse) ts = std::max(ts, ts * p.block / 2);
+    // task holds as many rays as a sample pass's, in rows as long (a short row's rays
+    // cost more each, and a small task more to take from the queue than it holds).
+    if (p.kind == PassKind::Coarse) ts *= p.block;
     for (int y = 0; y < job.height; y += ts)
         for (int x = 0; x < job.width; x += ts) {
             // A refine pass leaves out the tiles with nothing to refine.

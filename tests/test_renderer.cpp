@@ -427,8 +427,8 @@ TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversio
     int w = 0, h = 0;
     int compared = 0, partial = 0, differing = 0, steps = 0;
     // Paused and stepped one tile at a time, so that every intermediate state is seen
-    // whatever the machine's load. Per render: coarse passes of 6, 24 and 96 tiles (a
-    // coarse tile grows with its block: 32, 16, 8 pixels), then 3 sample passes of 96.
+    // whatever the machine's load. Per render: coarse passes of 2, 6 and 24 tiles (a
+    // coarse tile grows with its block: 64, 32, 16 pixels), then 3 sample passes of 96.
     r.set_paused(true);
     for (int round = 0; round < 3; ++round) {
         r.start(world, s);  // a new render over the same film size: a full update first
@@ -463,11 +463,11 @@ TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversio
     CAPTURE(steps);
     CAPTURE(compared);
     CAPTURE(partial);
-    CHECK(steps == 3 * (6 + 24 + 96 + 3 * 96));
+    CHECK(steps == 3 * (2 + 6 + 24 + 3 * 96));
     CHECK(differing == 0);
-    // Each state is compared once the first coarse pass is complete (its first 5 tiles
-    // show nothing yet); every sample tile is a partial update.
-    CHECK(compared == steps - 3 * 5);
+    // Each state is compared once the first coarse pass is complete (its first tile
+    // shows nothing yet); every sample tile is a partial update.
+    CHECK(compared == steps - 3 * 1);
     CHECK(partial >= 3 * 3 * 96);
 }
 
