@@ -203,6 +203,41 @@ TEST_CASE("renderer: a progressive render stopped at N samples equals a straight
     CHECK(same_film(render(world, coarse, 4), render(world, plain, 1)));
 }
 
+TEST_CASE("renderer: the samples after coarse passes of any block, tile or picture size equal those without") {
+    // The first sample pass takes the last coarse pass's corners from the preview: every
+    // other pixel of its rows, or (previews cut short by the time limit) every 8th.
+    for (const char* text : {kSceneA, kSceneB}) {
+        auto world = compile_world(parse_ok(text));
+        for (int samples : {1, 3}) {
+            for (int tile : {8, 24}) {
+                for (int block : {2, 8, 16}) {
+                    for (double limit : {0.0, 1e-9}) {
+                        CAPTURE(samples);
+                        CAPTURE(tile);
+                        CAPTURE(block);
+                        CAPTURE(limit);
+                        RenderSettings plain;
+                        plain.width = 101;
+                        plain.height = 67;
+                        plain.max_samples = samples;
+                        plain.samples_per_pass = samples;
+                        plain.tile_size = tile;
+                        plain.coarse = false;
+                        RenderSettings coarse = plain;
+                        coarse.coarse = true;
+                        coarse.coarse_block = block;
+                        coarse.time_limit = limit;
+                        if (limit > 0 && samples > 1) continue;  // (a time limit's first pass is one sample)
+                        const Image want = render(world, plain, 1);
+                        CHECK(distinct_pixels(want) > 300);
+                        CHECK(same_film(render(world, coarse, 2), want));
+                    }
+                }
+            }
+        }
+    }
+}
+
 TEST_CASE("renderer: coarse passes complete at block sizes 8, then 4, then 2, before the first sample") {
     auto world = compile_world(parse_ok(kSceneA));
     Renderer r(1);
