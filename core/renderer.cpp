@@ -207,8 +207,9 @@ void Renderer::begin_pass_locked(Job& job) {
         return;
     }
     // Coarse passes trace one ray per block: their tiles grow with the block so that a
-    // task still holds enough rays to outweigh taking it from the queue.
-    if (p.kind == PassKind::Coarse) ts = std::max(ts, ts * p.block / 2);
+    // task holds as many rays as a sample pass's, in rows as long (a short row's rays
+    // cost more each, and a small task more to take from the queue than it holds).
+    if (p.kind == PassKind::Coarse) ts *= p.block;
     for (int y = 0; y < job.height; y += ts)
         for (int x = 0; x < job.width; x += ts) {
             // A refine pass leaves out the tiles with nothing to refine.
@@ -485,61 +486,78 @@ void prefetch(const T* begin, const T* end) {
         __builtin_prefetch(reinterpret_cast<const void*>(a), kWrite ? 1 : 0);
 }
 
-// Sample 0 of the pixels (x0 + k step, y) of the task's row, k < n: traced in one call,
-// except where the last coarse pass traced the same ray (its blocks' corners), whose
-// colour the preview holds (the same ray, so the same colour). The colours stay valid
-// until the thread's next call.
-const Colour* first_samples(const RenderTask& task, const Film& film, int y, int step, RayStats& stats,
-                            std::size_t& n) {
+// The number of pixels first_samples() gives for a row of the task at this step.
+std::size_t row_count(const RenderTask& task, int step) {
+    return std::size_t((task.x1 - task.x0 + step - 1) / step);
+}
+
+// Sample 0 of the pixels (x0 + k step, y) of the task's row, k < row_count(), as
+// floats into out (3 a pixel: float() of each channel, as the film and the preview
+// hold them): traced in one call, except where the last coarse pass traced the same
+// ray (its blocks' corners), whose colour the preview holds (the same ray, so the
+// same colour, already a float). kSums: as a sum that starts at 0 (0.0f + each, so
+// -0 becomes 0), which is what a one-sample pass puts in the film.
+template <bool kSums>
+void first_samples(const RenderTask& task, const Film& film, int y, int step, RayStats& stats, float* out) {
+    // (Grown only: a row's rays are the first of them. Rows of corners trace half as
+    // many, and a resize back up would zero what is written next.)
     thread_local std::vector<Vec3> dirs;
     thread_local std::vector<Colour> colours;
-    n = std::size_t((task.x1 - task.x0 + step - 1) / step);
-    colours.resize(n);
-    Colour* c = colours.data();
+    const std::size_t n = row_count(task, step);
+    if (dirs.size() < n) dirs.resize(n), colours.resize(n);
     const World& world = *task.world;
     const int mask = task.reuse - 1;
+    constexpr float zero = kSums ? 0.0f : -0.0f;  // (-0.0f + v is v, bit for bit)
+    auto put = [](const Colour& c, float* o) {
+        o[0] = zero + float(c.x), o[1] = zero + float(c.y), o[2] = zero + float(c.z);
+    };
     // The row's camera rays are made before any is traced: independent square roots and
     // divisions overlap, where one at a time each would wait for the last.
     if (task.reuse == 0 || (y & mask) != 0) {
-        dirs.resize(n);
         task.camera.unit_directions(task.x0, step, int(n), y, dirs.data());
-        world.trace_units(task.camera.origin, dirs.data(), n, stats, c);
-        return c;
+        world.trace_units(task.camera.origin, dirs.data(), n, stats, colours.data());
+        for (std::size_t k = 0; k < n; ++k) put(colours[k], out + 3 * k);
+        return;
     }
     // A row of corners: only the pixels between them are traced.
-    if (task.reuse == 2 * step && (task.x0 & mask) == 0) {
-        // (The usual case: the last coarse pass had twice this step, so the corners are
-        // every other pixel from the first; the others are made at a stride of two.)
-        const std::size_t m = n / 2;
-        dirs.resize(m);
+    const bool usual = task.reuse == 2 * step && (task.x0 & mask) == 0;
+    std::size_t m = 0;  // rays to trace
+    if (usual) {
+        // (The last coarse pass had twice this step, so the corners are every other
+        // pixel from the first; the others are made at a stride of two.)
+        m = n / 2;
         task.camera.unit_directions(task.x0 + step, 2 * step, int(m), y, dirs.data());
     } else {
-        dirs.clear();
         for (std::size_t k = 0; k < n; ++k) {
             const int x = task.x0 + int(k) * step;
-            if ((x & mask) == 0) continue;
-            dirs.emplace_back();
-            task.camera.unit_directions(x, step, 1, y, &dirs.back());
+            if ((x & mask) != 0) task.camera.unit_directions(x, step, 1, y, &dirs[m++]);
         }
     }
     // The corners' colours were written a pass ago and have left the caches: they are
     // fetched while the others are traced.
-    prefetch<false>(film.preview.data() + film.preview_index(task.x0, y),
-                    film.preview.data() + film.preview_index(task.x0 + int(n - 1) * step, y) + 3);
-    world.trace_units(task.camera.origin, dirs.data(), dirs.size(), stats, c);
-    // The traced colours spread out to their places (from the right, in place), the
-    // corners' in between.
-    std::size_t j = dirs.size();
-    for (std::size_t k = n; k-- > 0;) {
+    const float* corners = film.preview.data() + film.preview_index(task.x0, y);
+    prefetch<false>(corners, film.preview.data() + film.preview_index(task.x0 + int(n - 1) * step, y) + 3);
+    world.trace_units(task.camera.origin, dirs.data(), m, stats, colours.data());
+    const Colour* c = colours.data();
+    if (usual) {
+        // Corner, traced, corner, ...: the corners lie 3 step floats apart in the preview
+        // (their x are 2 step apart, and a preview row holds every other pixel).
+        const std::size_t stride = 3 * std::size_t(step);
+        for (std::size_t k = 0; k < n; k += 2, out += 6, corners += stride, ++c) {
+            out[0] = zero + corners[0], out[1] = zero + corners[1], out[2] = zero + corners[2];
+            if (k + 1 < n) put(*c, out + 3);
+        }
+        return;
+    }
+    for (std::size_t k = 0; k < n; ++k, out += 3) {
         const int x = task.x0 + int(k) * step;
         if ((x & mask) != 0) {
-            c[k] = c[--j];
+            put(*c++, out);
         } else {
             const float* p = &film.preview[film.preview_index(x, y)];
-            c[k] = {p[0], p[1], p[2]};
+            out[0] = zero + p[0], out[1] = zero + p[1], out[2] = zero + p[2];
         }
     }
-    return c;
 }
 }  // namespace
 
@@ -580,11 +598,10 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
     int b = task.block;
     buf.resize(std::size_t((w + b - 1) / b) * ((h + b - 1) / b) * 3);
     float* out = buf.data();
-    for (int by = task.y0; by < task.y1; by += b) {
-        std::size_t n = 0;
-        const Colour* c = first_samples(task, film_, by, b, stats, n);
+    const std::size_t n = row_count(task, b);
+    for (int by = task.y0; by < task.y1; by += b, out += 3 * n) {
+        first_samples<false>(task, film_, by, b, stats, out);
         if (cancelled()) return false;
-        for (std::size_t k = 0; k < n; ++k) *out++ = float(c[k].x), *out++ = float(c[k].y), *out++ = float(c[k].z);
     }
     return !cancelled();
 }
@@ -605,20 +622,14 @@ bool Renderer::run_samples(const RenderTask& task, std::vector<float>& buf, RayS
         const std::size_t row = std::size_t(y) * film_.width + task.x0;
         prefetch<true>(film_.sum.data() + 3 * row, film_.sum.data() + 3 * (row + w));
         prefetch<true>(film_.count.data() + row, film_.count.data() + row + w);
-        std::size_t n = 0;
-        const Colour* traced = task.s0 == 0 ? first_samples(task, film_, y, 1, stats, n) : nullptr;
+        float* const row_sums = &buf[3 * std::size_t(y - task.y0) * w];
         if (task.s0 == 0 && task.s1 == 1) {
-            // One sample a pixel, all traced: the row's sums as the loop below makes
-            // them (a sum that starts at 0, so -0 becomes 0 as there).
+            // One sample a pixel, all traced: the row's sums as the loop below makes them.
+            first_samples<true>(task, film_, y, 1, stats, row_sums);
             if (cancelled()) return false;
-            float* p = &buf[3 * std::size_t(y - task.y0) * w];
-            for (int k = 0; k < w; ++k, p += 3) {
-                p[0] = 0.0f + float(traced[k].x);
-                p[1] = 0.0f + float(traced[k].y);
-                p[2] = 0.0f + float(traced[k].z);
-            }
             continue;
         }
+        if (task.s0 == 0) first_samples<false>(task, film_, y, 1, stats, row_sums);
         for (int x = task.x0; x < task.x1; ++x) {
             if (cancelled()) return false;
             std::size_t idx = std::size_t(y) * film_.width + x;
@@ -629,8 +640,8 @@ bool Renderer::run_samples(const RenderTask& task, std::vector<float>& buf, RayS
             int s = task.s0;
             if (s == 0) {
                 // (Sample 0 is the pixel's corner: sample_offset gives 0, 0.)
-                const Colour& c = traced[x - task.x0];
-                acc[0] += float(c.x), acc[1] += float(c.y), acc[2] += float(c.z);
+                const float* c = &row_sums[3 * (x - task.x0)];
+                acc[0] += c[0], acc[1] += c[1], acc[2] += c[2];
                 ++s;
             }
             accumulate_pixel(world, task.camera, x, y, s, task.s1, acc, stats);

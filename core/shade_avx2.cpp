@@ -60,6 +60,10 @@ RT_TARGET_AVX2 unsigned planes_block4(const World& w, const V3& o, const V3& vh,
         const __m256d across = _mm256_or_pd(
             _mm256_and_pd(_mm256_cmp_pd(side, zero, _CMP_GT_OQ), _mm256_cmp_pd(dn, zero, _CMP_LT_OQ)),
             _mm256_and_pd(_mm256_cmp_pd(side, zero, _CMP_LT_OQ), _mm256_cmp_pd(dn, zero, _CMP_GT_OQ)));
+        // As in others_block(), the division only where a lane's ray may cross: most
+        // rays (a point and its light on the same side) end here, and a division's
+        // latency would hold up the rest.
+        if (!(lanes(across) & live & ~blocked)) continue;
         const __m256d t = _mm256_div_pd(_mm256_xor_pd(side, splat(-0.0)), dn);
         const __m256d within = _mm256_and_pd(_mm256_cmp_pd(t, zero, _CMP_GT_OQ), _mm256_cmp_pd(t, limit, _CMP_LT_OQ));
         unsigned m = lanes(_mm256_and_pd(across, within)) & live & ~blocked;

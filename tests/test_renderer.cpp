@@ -203,6 +203,41 @@ TEST_CASE("renderer: a progressive render stopped at N samples equals a straight
     CHECK(same_film(render(world, coarse, 4), render(world, plain, 1)));
 }
 
+TEST_CASE("renderer: the samples after coarse passes of any block, tile or picture size equal those without") {
+    // The first sample pass takes the last coarse pass's corners from the preview: every
+    // other pixel of its rows, or (previews cut short by the time limit) every 8th.
+    for (const char* text : {kSceneA, kSceneB}) {
+        auto world = compile_world(parse_ok(text));
+        for (int samples : {1, 3}) {
+            for (int tile : {8, 24}) {
+                for (int block : {2, 8, 16}) {
+                    for (double limit : {0.0, 1e-9}) {
+                        CAPTURE(samples);
+                        CAPTURE(tile);
+                        CAPTURE(block);
+                        CAPTURE(limit);
+                        RenderSettings plain;
+                        plain.width = 101;
+                        plain.height = 67;
+                        plain.max_samples = samples;
+                        plain.samples_per_pass = samples;
+                        plain.tile_size = tile;
+                        plain.coarse = false;
+                        RenderSettings coarse = plain;
+                        coarse.coarse = true;
+                        coarse.coarse_block = block;
+                        coarse.time_limit = limit;
+                        if (limit > 0 && samples > 1) continue;  // (a time limit's first pass is one sample)
+                        const Image want = render(world, plain, 1);
+                        CHECK(distinct_pixels(want) > 300);
+                        CHECK(same_film(render(world, coarse, 2), want));
+                    }
+                }
+            }
+        }
+    }
+}
+
 TEST_CASE("renderer: coarse passes complete at block sizes 8, then 4, then 2, before the first sample") {
     auto world = compile_world(parse_ok(kSceneA));
     Renderer r(1);
@@ -427,8 +462,8 @@ TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversio
     int w = 0, h = 0;
     int compared = 0, partial = 0, differing = 0, steps = 0;
     // Paused and stepped one tile at a time, so that every intermediate state is seen
-    // whatever the machine's load. Per render: coarse passes of 6, 24 and 96 tiles (a
-    // coarse tile grows with its block: 32, 16, 8 pixels), then 3 sample passes of 96.
+    // whatever the machine's load. Per render: coarse passes of 2, 6 and 24 tiles (a
+    // coarse tile grows with its block: 64, 32, 16 pixels), then 3 sample passes of 96.
     r.set_paused(true);
     for (int round = 0; round < 3; ++round) {
         r.start(world, s);  // a new render over the same film size: a full update first
@@ -463,11 +498,11 @@ TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversio
     CAPTURE(steps);
     CAPTURE(compared);
     CAPTURE(partial);
-    CHECK(steps == 3 * (6 + 24 + 96 + 3 * 96));
+    CHECK(steps == 3 * (2 + 6 + 24 + 3 * 96));
     CHECK(differing == 0);
-    // Each state is compared once the first coarse pass is complete (its first 5 tiles
-    // show nothing yet); every sample tile is a partial update.
-    CHECK(compared == steps - 3 * 5);
+    // Each state is compared once the first coarse pass is complete (its first tile
+    // shows nothing yet); every sample tile is a partial update.
+    CHECK(compared == steps - 3 * 1);
     CHECK(partial >= 3 * 3 * 96);
 }
 
