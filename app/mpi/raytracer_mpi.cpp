@@ -481,7 +481,7 @@ private:
     bool feed_local() {
         bool fed = false;
         Assignment a;
-        while (local_.size() < std::size_t(kLocalDepth) && sched_.take(a)) {
+        while (local_.size() < std::size_t(kLocalDepth) && sched_.take(a, seconds_since(t0_))) {
             Local& l = local_[next_local_];
             const Tile& t = sched_.tiles()[std::size_t(a.tile)];
             const std::size_t px = std::size_t(t.pixels());
@@ -570,7 +570,7 @@ private:
             Peer& p = peers_[std::size_t(w)];
             if (p.stopped) continue;
             Assignment a;
-            while (p.out.size() < std::size_t(kDepth) && sched_.take(a)) {
+            while (p.out.size() < std::size_t(kDepth) && sched_.take(a, seconds_since(t0_))) {
                 send(w, assignment(a));
                 p.out.push_back(a);
                 if (p.out.size() == 1) post_receive(w);

@@ -51,7 +51,12 @@ void Schedule::begin_pass() {
     }
 }
 
-bool Schedule::take(Assignment& a) {
+bool Schedule::take(Assignment& a, double elapsed) {
+    if (!done_ && samples_done_ >= 1 && out_of_time(elapsed)) {
+        stopping_ = true;
+        if (out_ == 0) done_ = true;
+        return false;
+    }
     while (next_ < tiles_.size() && state_[next_] != State::Free) ++next_;
     if (done_ || next_ >= tiles_.size()) return false;
     a.tile = int(next_);
@@ -59,6 +64,7 @@ bool Schedule::take(Assignment& a) {
     a.s0 = round_ < 0 ? passes_[pass_].s0 : 0;
     a.s1 = round_ < 0 ? passes_[pass_].s1 : 0;
     state_[next_++] = State::Out;
+    ++out_;
     return true;
 }
 
@@ -126,6 +132,7 @@ rt::Status Schedule::commit(const Assignment& a, const float* sums, std::uint64_
     if (st != State::Out)
         return refused("tile " + std::to_string(a.tile) + (st == State::Done ? " arrived twice" : " was never handed out"));
     st = State::Done;
+    --out_;
     const Tile& t = tiles_[std::size_t(a.tile)];
     if (a.refine >= 0) commit_refine(t, sums);
     for (int y = t.y0; y < t.y1 && a.refine < 0; ++y) {
@@ -136,12 +143,15 @@ rt::Status Schedule::commit(const Assignment& a, const float* sums, std::uint64_
         std::fill_n(&film_.count[idx], n, std::uint32_t(a.s1));
     }
     rays_ += rays;
-    if (std::size_t(++tiles_done_) < tiles_.size()) return {};
+    if (std::size_t(++tiles_done_) < tiles_.size()) {
+        if (stopping_ && out_ == 0) done_ = true;  // the last tile out is back
+        return {};
+    }
 
     // The pass is complete: the next one, or the end (as rt::Renderer::commit decides).
     if (round_ < 0) samples_done_ = passes_[pass_].s1;
-    const bool out_of_time = settings_.time_limit > 0 && elapsed >= settings_.time_limit;
-    if (out_of_time || (!adaptive() && ++pass_ >= passes_.size()) || (adaptive() && !decide())) {
+    if (stopping_ || out_of_time(elapsed) || (!adaptive() && ++pass_ >= passes_.size()) ||
+        (adaptive() && !decide())) {
         done_ = true;
         return {};
     }
@@ -152,8 +162,10 @@ rt::Status Schedule::commit(const Assignment& a, const float* sums, std::uint64_
 
 bool Schedule::complete() const {
     if (!done_ || samples_done_ < 1) return false;
+    // Stopped in the middle of a pass, its tiles out before the stop hold its samples.
+    const std::uint32_t partial = stopping_ && !adaptive() ? std::uint32_t(passes_[pass_].s1) : 0;
     return std::all_of(film_.count.begin(), film_.count.end(), [&](std::uint32_t c) {
-        return adaptive() ? c >= 1 : c == std::uint32_t(samples_done_);
+        return adaptive() ? c >= 1 : c == std::uint32_t(samples_done_) || c == partial;
     });
 }
 

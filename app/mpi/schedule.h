@@ -27,7 +27,7 @@ struct ScheduleSettings {
     int tile_side = 32;
     int max_samples = 1;
     int samples_per_pass = 0;  // 0: 1, 1, 2, 4, 8, 16, 16, ... as rt::Renderer
-    double time_limit = 0;     // seconds; checked when a pass completes (rt::Renderer also stops mid-pass)
+    double time_limit = 0;     // seconds: past it (every pixel sampled once) no more tiles are handed out
     double aa_threshold = -1;  // >= 0: adaptive anti-aliasing, as rt::RenderSettings
 };
 
@@ -42,8 +42,11 @@ public:
 
     // The next free tile of the current pass; false if none is free right now (all out,
     // or the render is done). A pass starts only when the previous one is complete,
-    // because its pixels continue the previous pass's sums.
-    bool take(Assignment& a);
+    // because its pixels continue the previous pass's sums. `elapsed`: seconds since the
+    // render began; past the time limit, once every pixel has its first sample, no tile
+    // is handed out any more and the render ends when the tiles out come back (as
+    // rt::Renderer stops in the middle of a pass: pixels then hold one pass more or less).
+    bool take(Assignment& a, double elapsed);
     // The sums of samples [0, a.s0) of the tile's pixels, which the renderer of `a`
     // continues (3 floats per pixel, row by row).
     void prior_sums(const Assignment& a, float* out) const;
@@ -57,9 +60,10 @@ public:
     rt::Status commit(const Assignment& a, const float* sums, std::uint64_t rays, double elapsed);
 
     bool done() const { return done_; }
-    // True when every pixel holds the same number (>= 1) of samples (adaptive: at least
-    // one): checked before the picture is written, so a lost tile can never leave a
-    // hole in a written image.
+    // True when every pixel holds the samples of the passes done (stopped by the time
+    // limit in the middle of a pass: or of that pass too; adaptive: at least one):
+    // checked before the picture is written, so a lost tile can never leave a hole in a
+    // written image.
     bool complete() const;
     rt::Image image() const { return film_.resolve(); }
 
@@ -92,6 +96,9 @@ private:
     std::vector<State> state_;  // per tile, for the current pass
     std::size_t next_ = 0;      // next free tile of the current pass
     int tiles_done_ = 0;
+    int out_ = 0;               // tiles handed out and not back yet
+    bool stopping_ = false;     // past the time limit: the tiles out are the last
+    bool out_of_time(double elapsed) const { return settings_.time_limit > 0 && elapsed >= settings_.time_limit; }
     int samples_done_ = 0;
     bool done_ = false;
     std::uint64_t rays_ = 0;
