@@ -9,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -152,6 +153,12 @@ std::string block_line(const sc::Block<T>& b) {
     return s + " }";
 }
 
+// `list` with `item` after a comma, as the reference lists names.
+void add_listed(std::string& list, std::string_view item) {
+    if (!list.empty()) list += ", ";
+    list += item;
+}
+
 // The rules of a block's keys: the keys it must have, choices, ranges (errors and
 // clamps); each rule once.
 template <class T>
@@ -162,10 +169,10 @@ void key_rules(const sc::Block<T>& b, std::vector<std::string>& required, std::v
     };
     for (const sc::Key<T>& k : b.keys) {
         const std::string name = std::string(b.name) + " " + std::string(k.name);
-        if (k.required) needed += (needed.empty() ? "" : ", ") + std::string(k.name);
+        if (k.required) add_listed(needed, k.name);
         if (k.choice) {
             std::string words;
-            for (const sc::Choice::Word& w : k.choice->words) words += (words.empty() ? "" : ", ") + std::string(w.word);
+            for (const sc::Choice::Word& w : k.choice->words) add_listed(words, w.word);
             add(name + ": one of " + words);
         }
         if (k.range.rule == sc::Range::Rule::Error && k.range.message) add(k.range.message);
@@ -181,17 +188,18 @@ void key_rules(const sc::Block<T>& b, std::vector<std::string>& required, std::v
 std::string format_reference() {
     std::string optional;
     for (const sc::Section& s : sc::sections())
-        if (s.item_noun) optional += (optional.empty() ? "" : ", ") + std::string(s.name);
+        if (s.item_noun) add_listed(optional, s.name);
     std::string out = "The scene format: the sections in this order (" + optional +
                       " may be left out),\n`end` closing the file. Every block with each of its keys at its "
                       "default;\n`//` starts a comment.\n\n";
     std::vector<std::string> required, rules;
+    auto block = [&](const auto& b, const char* indent) {
+        out += indent + block_line(b) + "\n";
+        key_rules(b, required, rules);
+    };
     auto items = [&](const sc::Section& s, const auto& blocks) {
         out += std::string(s.name) + " {\n";
-        for (const auto& b : blocks) {
-            out += "  " + block_line(b) + "\n";
-            key_rules(b, required, rules);
-        }
+        for (const auto& b : blocks) block(b, "  ");
         out += "}\n";
     };
     for (const sc::Section& s : sc::sections()) {
@@ -199,14 +207,8 @@ std::string format_reference() {
         case sc::SectionKind::Things: items(s, sc::object_blocks()); break;
         case sc::SectionKind::Specials: items(s, sc::plane_blocks()); break;
         case sc::SectionKind::Lights: items(s, sc::light_blocks()); break;
-        case sc::SectionKind::Camera:
-            out += block_line(sc::camera_block()) + "\n";
-            key_rules(sc::camera_block(), required, rules);
-            break;
-        case sc::SectionKind::PictureSize:
-            out += block_line(sc::picture_size_block()) + "\n";
-            key_rules(sc::picture_size_block(), required, rules);
-            break;
+        case sc::SectionKind::Camera: block(sc::camera_block(), ""); break;
+        case sc::SectionKind::PictureSize: block(sc::picture_size_block(), ""); break;
         case sc::SectionKind::End: out += std::string(s.name) + "\n"; break;
         }
     }

@@ -117,9 +117,8 @@ void TextEditor::set_text(std::string_view text) {
 }
 
 void TextEditor::start_over(std::string_view text) {
-    buf_.set_text(text);
+    set_text(text);
     buf_.set_cursor({0, 0});
-    buf_.clear_line_shifts();
     scroll_request_ = true;
     scroll_centre_ = false;
 }
