@@ -197,12 +197,16 @@ void DocumentEditor::draw_banners() {
         ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
         ImGui::TextWrapped("%s changed on disk, and you have unsaved edits here.", doc_.name().c_str());
         ImGui::PopStyleColor();
-        if (ImGui::Button("Reload from disk")) {
+        const bool reload = ImGui::Button("Reload from disk");
+        probe_item("button_disk_reload");
+        if (reload) {
             doc_.resolve_conflict_reload();
             status_.set("Reloaded " + doc_.name() + " (Ctrl+Z brings your edits back)");
         }
         ImGui::SameLine();
-        if (ImGui::Button("Keep mine")) doc_.resolve_conflict_keep();
+        const bool keep = ImGui::Button("Keep mine");
+        probe_item("button_disk_keep");
+        if (keep) doc_.resolve_conflict_keep();
         ImGui::Separator();
     }
 }
