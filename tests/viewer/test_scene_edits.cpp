@@ -637,3 +637,45 @@ TEST_CASE("scene edits: moving each kind of item moves every point of it in the 
         }
     }
 }
+
+TEST_CASE("scene edits: the menu's Add finds a clear spot; added objects keep the scene's size") {
+    // A unit sphere on the floor z = 0 at the origin, seen from -x.
+    const std::string text = "thing { sphere { position 0 0 1 radius 1 } }\n"
+                             "camera { position -10 0 2 centre 0 0 1 up 0 0 2 angle_x 60 angle_y 45 }\n"
+                             "picture_size { x_max 32 y_max 24 }\nend\n";
+    const rt::Scene s = parse_ok(text);
+    const rt::Vec3 up{0, 0, 1};
+    // On the sphere's front (where the picture's centre looks), on the floor right in
+    // front of it, then beside it: the first clear one is beside.
+    const std::vector<Placement> candidates = {
+        {{-1, 0, 1}, {-1, 0, 0}}, {{-1.5, 0, 0}, up}, {{0, 2.4, 0}, up}, {{0, 3.6, 0}, up}, {{0, 6, 0}, up}};
+    const std::optional<std::size_t> k = first_clear(s, candidates);
+    REQUIRE(k);
+    // The new unit sphere at (0, 3.6, 1) stands 2.6 from the box at y <= 1: more than
+    // 1.5 sizes. At (0, 2.4, 1) only 1.4: too near.
+    CHECK(*k == 3);
+    // Nothing clear: none.
+    CHECK_FALSE(first_clear(s, {candidates[0], candidates[1]}));
+    // In the air (no normal): the point is the object's middle.
+    CHECK(first_clear(s, {{{0, 0, 3.6}}}) == std::optional<std::size_t>(0));
+    CHECK_FALSE(first_clear(s, {{{0, 0, 3.4}}}));
+
+    // Added one after another, objects keep the first one's size (a bigger torus box
+    // does not make the next object bigger), and no coordinate is written -0.
+    std::string t = text;
+    rt::Scene cur = s;
+    double y = 3;
+    for (NewItem kind : {NewItem::Torus, NewItem::Sphere, NewItem::Cylinder, NewItem::Sphere}) {
+        CAPTURE(new_item_name(kind));
+        // (The normal as picks measure it: a hair off the axis.)
+        auto e = add_item(t, cur, kind, {{0, y, 0}, {-1e-9, -1e-9, 1}, {-1, 0, 0}});
+        REQUIRE(e);
+        t = e->replacement.applied_to(t);
+        cur = parse_ok(t);
+        CHECK(typical_object_size(cur) == doctest::Approx(1));
+        y += 3;
+    }
+    CHECK(std::get<rt::Sphere>(cur.objects.back().shape).radius == 1);
+    CHECK(t.find("-0 ") == std::string::npos);
+    CHECK(t.find("direction 0 0 1") != std::string::npos);
+}

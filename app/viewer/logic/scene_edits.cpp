@@ -100,12 +100,13 @@ double nice_size(double v) {
 double round_to(double v, double extent) {
     if (!std::isfinite(v)) return 0;
     double e = std::floor(std::log10(extent > 0 && std::isfinite(extent) ? extent : 1.0)) - 3;
+    // (+ 0.0: a value rounded to zero is written 0, not -0.)
     if (e < 0) {
         double k = std::pow(10.0, -e);
-        return std::round(v * k) / k;
+        return std::round(v * k) / k + 0.0;
     }
     double q = std::pow(10.0, e);
-    return std::round(v / q) * q;
+    return std::round(v / q) * q + 0.0;
 }
 Vec3 round_to(Vec3 v, double extent) { return {round_to(v.x, extent), round_to(v.y, extent), round_to(v.z, extent)}; }
 
@@ -318,8 +319,11 @@ double typical_object_size(const rt::Scene& scene) {
         if (b.lo.x <= b.hi.x && d > 0 && std::isfinite(d)) sizes.push_back(d);
     }
     if (sizes.empty()) return 0.05 * scene_extent(scene);  // a twentieth of the scene
-    std::nth_element(sizes.begin(), sizes.begin() + std::ptrdiff_t(sizes.size() / 2), sizes.end());
-    return sizes[sizes.size() / 2];
+    // (The lower median of an even count: new objects, which count too, do not grow
+    // one after another.)
+    const std::size_t mid = (sizes.size() - 1) / 2;
+    std::nth_element(sizes.begin(), sizes.begin() + std::ptrdiff_t(mid), sizes.end());
+    return sizes[mid];
 }
 
 namespace {
@@ -399,6 +403,30 @@ void new_item(const rt::Scene& scene, NewItem kind, const Placement& at, double 
 }
 
 }  // namespace
+
+std::optional<std::size_t> first_clear(const rt::Scene& scene, const std::vector<Placement>& candidates,
+                                       const std::function<bool(const rt::Vec3&, double)>& seen) {
+    std::vector<rt::Aabb> boxes;
+    boxes.reserve(scene.objects.size());
+    for (const rt::Object& o : scene.objects) {
+        rt::Aabb b;
+        grow(b, o);
+        if (b.lo.x <= b.hi.x) boxes.push_back(b);
+    }
+    const double r = nice_size(typical_object_size(scene)), reach = 1.5 * r;
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+        const Placement& at = candidates[i];
+        if (!rt::finite(at.point)) continue;
+        // The new object's middle: a size above the surface (add_item's sphere).
+        const Vec3 c = rt::length2(at.normal) > 0 ? at.point + up_of(scene, at) * r : at.point;
+        const bool clear = std::none_of(boxes.begin(), boxes.end(), [&](const rt::Aabb& b) {
+            const Vec3 q = rt::vmin(rt::vmax(c, b.lo), b.hi);  // the box's point nearest c
+            return rt::length2(q - c) < reach * reach;
+        });
+        if (clear && (!seen || seen(c, reach))) return i;
+    }
+    return std::nullopt;
+}
 
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at) {
     auto l = layout_of(text, scene);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,6 +55,7 @@ struct SceneEdit {
     SceneItem select;  // what to select afterwards: the new item, or -1 when none
 };
 
+// (The objects first, up to Torus.)
 enum class NewItem { Sphere, Cylinder, Tetrahedron, Torus, Plane, ChessPlane, Lamp, Spotlight };
 const char* new_item_name(NewItem k);  // "sphere", ..., as in the format
 
@@ -85,6 +87,13 @@ double typical_object_size(const rt::Scene& scene);
 // the surface's normal) and faces the viewer: a plane through the point with the
 // surface's own orientation would lie in a floor it was added to, and show nothing.
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at);
+// The menu's Add (no place pointed at) puts a new object where it is seen and stands
+// free: of `candidates` (best first), the index of the first where an object of
+// typical_object_size, standing as add_item() stands it, keeps clear of every object's
+// box (the ball around it, 1.5 times its size, meets none) and, given `seen`, that
+// says `seen(middle, reach)` of that ball. nullopt: none is.
+std::optional<std::size_t> first_clear(const rt::Scene& scene, const std::vector<Placement>& candidates,
+                                       const std::function<bool(const rt::Vec3&, double)>& seen = {});
 // A mesh of the model read from `file` (as the block names it): its size typical_object_size,
 // its box resting on the surface at the point (centred on a point in space), turned
 // so that the model's y axis (OBJ's and PLY's usual up) is the scene's up when that

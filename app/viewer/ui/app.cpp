@@ -758,13 +758,10 @@ bool ViewerApp::view_command(Command c) {
 // Structural edits: one text replacement each (scene_edits.h), applied by the document
 // as one undo step. The text must be the scene's: a draft is applied or reverted first.
 
-Placement ViewerApp::new_item_placement() {
+Placement ViewerApp::placement_at(const rt::Camera& vc, double px, double py) const {
     // On the surface under the point (its normal from two neighbouring picks), or in
     // front of the camera at the distance it looks at.
     const Rect& im = layout_.image;
-    double px = place_x_ >= 0 ? place_x_ : im.x + im.w / 2, py = place_x_ >= 0 ? place_y_ : im.y + im.h / 2;
-    place_x_ = place_y_ = -1;
-    rt::Camera vc = nav_.display_camera({im, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     Placement at;
     const rt::World* w = render_.world();
     rt::PickResult r0 = w ? pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py) : rt::PickResult{};
@@ -785,6 +782,50 @@ Placement ViewerApp::new_item_placement() {
     }
     at.toward = vc.position - at.point;
     return at;
+}
+
+Placement ViewerApp::new_item_placement(bool object) {
+    const Rect& im = layout_.image;
+    const bool pointed = place_x_ >= 0;
+    const double px = pointed ? place_x_ : im.x + im.w / 2, py = pointed ? place_y_ : im.y + im.h / 2;
+    place_x_ = place_y_ = -1;
+    const rt::Camera vc = nav_.display_camera({im, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
+    const Placement centre = placement_at(vc, px, py);
+    const Document& doc = editor_.doc();
+    const rt::Scene* scene = doc.has_scene() ? &doc.scene() : nullptr;
+    if (pointed || !object || !scene) return centre;
+    // From the menu, an object goes where it is seen and stands free: on a surface in
+    // the picture, nearest the point under its centre, where it meets no other object
+    // (in front of an object it would hide it, or stand inside it); in the air only
+    // where no surface has room.
+    std::vector<std::pair<double, Placement>> around;
+    const double step = std::max(1.0, im.w / 16.0);
+    for (int j = -5; j <= 5; ++j)
+        for (int i = -7; i <= 7; ++i) {
+            const double x = px + i * step, y = py + j * step;
+            if ((i == 0 && j == 0) || x < im.x || y < im.y || x >= im.x + im.w || y >= im.y + im.h) continue;
+            Placement at = placement_at(vc, x, y);
+            const double d = rt::length(at.point - centre.point);
+            if (std::isfinite(d)) around.push_back({rt::length2(at.normal) > 0 ? d : 1e300, at});
+        }
+    std::stable_sort(around.begin(), around.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Placement> candidates{centre};
+    for (auto& a : around) candidates.push_back(a.second);
+    // ... and the whole of it in the picture.
+    const ScreenView view(vc, im, layout_.film_w, layout_.film_h);
+    auto in_picture = [&](const rt::Vec3& middle, double reach) {
+        for (int axis = 0; axis < 3; ++axis)
+            for (double side : {-reach, reach}) {
+                rt::Vec3 q = middle;
+                (axis == 0 ? q.x : axis == 1 ? q.y : q.z) += side;
+                const std::optional<ScreenPoint> sp = view.project(q);
+                if (!sp || sp->x < im.x || sp->y < im.y || sp->x > im.x + im.w || sp->y > im.y + im.h) return false;
+            }
+        return true;
+    };
+    std::optional<std::size_t> k = first_clear(*scene, candidates, in_picture);
+    if (!k) k = first_clear(*scene, candidates);
+    return k ? candidates[*k] : centre;
 }
 
 rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
@@ -835,7 +876,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         case Command::AddItem: {
             const std::optional<NewItem> kind = new_item_kind(arg);
             if (!kind) return false;
-            e = add_item(text, scene, *kind, new_item_placement());
+            e = add_item(text, scene, *kind, new_item_placement(*kind <= NewItem::Torus));
             done = std::string("Added a ") + arg;
             name = std::string("Add a ") + arg;
             break;
@@ -908,7 +949,7 @@ std::optional<SceneEdit> ViewerApp::model_edit(const std::string& path) {
     }
     place_x_ = std::exchange(model_place_x_, -1);
     place_y_ = std::exchange(model_place_y_, -1);
-    std::optional<SceneEdit> e = add_model(std::as_const(doc).editor_text(), doc.scene(), name, *l.model, new_item_placement());
+    std::optional<SceneEdit> e = add_model(std::as_const(doc).editor_text(), doc.scene(), name, *l.model, new_item_placement(true));
     if (!e) status_.set("Cannot add a mesh to this scene text", true);
     return e;
 }

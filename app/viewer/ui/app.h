@@ -132,7 +132,10 @@ private:
     // document's models); none, with the status saying why, if it cannot be read.
     std::optional<SceneEdit> model_edit(const std::string& path);
     // Where AddItem puts a new item: under the context menu's point, else the centre.
-    Placement new_item_placement();
+    Placement placement_at(const rt::Camera& vc, double px, double py) const;
+    // Where an added item goes: at the point pointed at (right-click > Add here), else
+    // near the picture's centre (an object: where it stands clear of the others).
+    Placement new_item_placement(bool object);
     // How far Duplicate moves the copy.
     rt::Vec3 duplicate_offset(const rt::Scene& scene) const;
     bool cancel_load();

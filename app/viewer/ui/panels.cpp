@@ -219,10 +219,14 @@ void Panels::draw_menu_bar() {
         // Structural edits: written into the text as ordinary blocks, one undo step each.
         if (ImGui::BeginMenu("Add (in front of the view)", can)) {
             static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
-            for (const char* k : kinds)
-                if (ImGui::MenuItem(k)) commands_.run(Command::AddItem, k);
+            for (const char* k : kinds) {
+                const bool chosen = ImGui::MenuItem(k);
+                probe_item(std::string("menu:") + k);
+                if (chosen) commands_.run(Command::AddItem, k);
+            }
             ImGui::EndMenu();
         }
+        probe_item("menu:Add in front");
         const bool has = can && !selection_.none();
         if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) commands_.run(Command::Duplicate);
         if (ImGui::MenuItem("Delete", "Del", false, has)) commands_.run(Command::Delete);

@@ -6,8 +6,9 @@
 # Checks: Cancel keeps the typed text and its title; the new scene is untitled.txt,
 # unsaved, its text focused; the saved file holds the typed line above a scene that
 # `raytracer --check` accepts, and the picture shown is raytracer's render of it; the
-# Help > Scene format shows the format's blocks and closes with Esc; the window then
-# closes without asking.
+# Help > Scene format shows the format's blocks and closes with Esc; Edit > Add > torus
+# stands it on the floor beside the sphere (not in front of it, hiding it); the window
+# then closes without asking.
 # Usage: j36_new_scene.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -58,6 +59,22 @@ wait_state popups "Scene format"
 shot format
 key Escape
 wait_state popups "^none$"
+
+step "Edit > Add > torus: it stands on the floor beside the sphere, not in front of it"
+click_item "menu:Edit"
+hover_item "menu:Add_in_front"
+click_item "menu:torus"
+wait_state message "^Added a torus"
+save
+# The torus's middle (position) against the sphere's (5 0 1, radius 1): on the floor
+# (z = its minor radius) and at least a torus's width (major + minor) from the sphere.
+read -r tx ty tz minor <<< "$(awk '/torus \{/ { t = 1 } t && $1 == "position" { p = $2 " " $3 " " $4 } t && $1 == "minor" { print p, $2; exit }' "$SCENE")"
+[ -n "$minor" ] || fail "no torus in the saved scene: $(cat "$SCENE")"
+awk -v x="$tx" -v y="$ty" -v z="$tz" -v m="$minor" 'BEGIN {
+    d = sqrt((x - 5) ^ 2 + y ^ 2); exit !(z == m && d >= 2 + m) }' ||
+    fail "the torus at $tx $ty $tz (minor $minor) is not on the floor beside the sphere"
+wait_state render "done" 30
+shot torus
 
 step "Ctrl+Q closes without asking (saved)"
 quit_viewer
