@@ -1,6 +1,7 @@
 #!/bin/bash
 # Journey: the scene file is changed by another program while the viewer shows it.
-# With no unsaved edits the viewer reads the new file by itself (the mouse resting).
+# With no unsaved edits the viewer reads the new file by itself (the mouse resting);
+# saved with an error, the status line says where and the last good picture stays.
 # With unsaved edits (a radius typed in the Objects tab) it asks instead: a banner
 # offers "Reload from disk" and "Keep mine". Keep mine, then Ctrl+S: the file holds
 # the user's edit. Changed on disk again: Reload from disk shows the file's text,
@@ -30,6 +31,19 @@ wait_state title '^default.txt - raytracer-view$'
 wait_state banner "^none$"
 picture_agrees 1-reloaded
 cp "$SCENE" "$OUT/disk1.txt"
+
+step "saved by the other program half done: the error's place is said, the picture stays"
+outside_write "$(with_radius "$ORIG" "0.6 oops")"
+wait_state message "^error: default.txt:6:16: unknown key 'oops'" 10
+wait_state message "the last good scene stays"
+wait_state title '^default.txt - raytracer-view$'
+cp "$OUT/disk1.txt" "$OUT/good.txt"
+SCENE_SHOWN=$SCENE SCENE=$OUT/good.txt
+picture_agrees 1-kept
+SCENE=$SCENE_SHOWN
+outside_write "$(with_radius "$ORIG" 0.6)"
+wait_state message "^Reloaded default.txt \(changed on disk\)" 10
+wait_state text "^applied$"
 
 step "a radius typed for sphere 1, then the file changed on disk: the banner asks"
 click $((ix + iw * 37 / 100)) $((iy + ih * 55 / 100))
