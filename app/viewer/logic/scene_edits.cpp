@@ -414,7 +414,12 @@ std::optional<std::size_t> first_clear(const rt::Scene& scene, const std::vector
         if (b.lo.x <= b.hi.x) boxes.push_back(b);
     }
     const double r = nice_size(typical_object_size(scene)), reach = 1.5 * r;
-    for (std::size_t i = 0; i < candidates.size(); ++i) {
+    // At most ~20M box tests (a menu click, not a wait): in a million-object scene the
+    // first 20 candidates.
+    constexpr std::size_t kMaxTests = 20'000'000;
+    const std::size_t per_candidate = std::max<std::size_t>(1, boxes.size());
+    const std::size_t tried = std::min(candidates.size(), std::max<std::size_t>(1, kMaxTests / per_candidate));
+    for (std::size_t i = 0; i < tried; ++i) {
         const Placement& at = candidates[i];
         if (!rt::finite(at.point)) continue;
         // The new object's middle: a size above the surface (add_item's sphere).

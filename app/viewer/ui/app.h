@@ -131,7 +131,8 @@ private:
     // File > Add model's mesh block for the model at `path` (read through the
     // document's models); none, with the status saying why, if it cannot be read.
     std::optional<SceneEdit> model_edit(const std::string& path);
-    // Where AddItem puts a new item: under the context menu's point, else the centre.
+    // What lies under the window point (px, py) seen by the view camera vc: the
+    // surface with its normal, or a point in the air at the distance vc looks at.
     Placement placement_at(const rt::Camera& vc, double px, double py) const;
     // Where an added item goes: at the point pointed at (right-click > Add here), else
     // near the picture's centre (an object: where it stands clear of the others).
