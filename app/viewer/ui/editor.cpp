@@ -88,7 +88,7 @@ bool DocumentEditor::idle_tick(double now) {
     if (finding && recovery_offer_) return true;  // the banner shows it
     switch (doc_.check_disk()) {
         case Document::DiskEvent::None: return false;
-        case Document::DiskEvent::Reloaded: reloaded_status(); break;
+        case Document::DiskEvent::Reloaded: reloaded_status("Reloaded " + doc_.name() + " (changed on disk)"); break;
         case Document::DiskEvent::Conflict: status_.set(doc_.name() + " changed on disk; you have unsaved edits"); break;
         case Document::DiskEvent::Removed:
             status_.set(doc_.name() + " was removed on disk; Save writes it again", true);
@@ -102,17 +102,17 @@ bool DocumentEditor::idle_tick(double now) {
     return true;
 }
 
-// Read again from disk: said so, or, when the new text has errors (a scene written in
-// another editor, saved half done), where the first one is; the picture stays.
-void DocumentEditor::reloaded_status() {
+// Read again from disk: `ok` says so, or, when the new text has errors (a scene written
+// in another editor, saved half done), the first one says where; the picture stays.
+void DocumentEditor::reloaded_status(const std::string& ok) {
     const auto& diags = doc_.diagnostics();
     const auto first = std::find_if(diags.begin(), diags.end(), [](const rt::Diagnostic& d) { return d.is_error(); });
     if (first == diags.end()) {
-        status_.set("Reloaded " + doc_.name() + " (changed on disk)");
+        status_.set(ok);
         return;
     }
-    status_.set(doc_.name() + ":" + std::to_string(first->line) + ":" + std::to_string(first->col) + ": " +
-                    first->message + " (read again from disk; the last good scene stays; Ctrl+Z undoes the reload)",
+    status_.set(rt::format_diagnostic(doc_.name(), *first) +
+                    " (read again from disk; the last good scene stays; Ctrl+Z undoes the reload)",
                 true);
 }
 
@@ -215,8 +215,7 @@ void DocumentEditor::draw_banners() {
         probe_item("button_disk_reload");
         if (reload) {
             doc_.resolve_conflict_reload();
-            if (doc_.has_errors()) reloaded_status();
-            else status_.set("Reloaded " + doc_.name() + " (Ctrl+Z brings your edits back)");
+            reloaded_status("Reloaded " + doc_.name() + " (Ctrl+Z brings your edits back)");
         }
         ImGui::SameLine();
         const bool keep = ImGui::Button("Keep mine");

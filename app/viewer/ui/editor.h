@@ -65,7 +65,7 @@ public:
 
 private:
     void sync_widget();
-    void reloaded_status();  // the status line after the file was read again from disk
+    void reloaded_status(const std::string& ok);  // the status line after the file was read again
     // draw_text_tab() in steps, top to bottom.
     void draw_text_toolbar();
     std::vector<std::string> diagnostic_lines(float& list_h) const;

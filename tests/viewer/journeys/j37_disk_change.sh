@@ -34,7 +34,7 @@ cp "$SCENE" "$OUT/disk1.txt"
 
 step "saved by the other program half done: the error's place is said, the picture stays"
 outside_write "$(with_radius "$ORIG" "0.6 oops")"
-wait_state message "^error: default.txt:6:16: unknown key 'oops'" 10
+wait_state message "^error: default.txt:6:16: error: unknown key 'oops'" 10
 wait_state message "the last good scene stays"
 wait_state title '^default.txt - raytracer-view$'
 cp "$OUT/disk1.txt" "$OUT/good.txt"
