@@ -659,6 +659,10 @@ TEST_CASE("scene edits: the menu's Add finds a clear spot; added objects keep th
     // In the air (no normal): the point is the object's middle.
     CHECK(first_clear(s, {{{0, 0, 3.6}}}) == std::optional<std::size_t>(0));
     CHECK_FALSE(first_clear(s, {{{0, 0, 3.4}}}));
+    // Seen whole: the first clear one `seen` accepts; accepting none, the first clear one.
+    auto beyond = [](const rt::Vec3& middle, double) { return middle.y > 5; };
+    CHECK(first_clear(s, candidates, beyond) == std::optional<std::size_t>(4));
+    CHECK(first_clear(s, candidates, [](const rt::Vec3&, double) { return false; }) == std::optional<std::size_t>(3));
 
     // Added one after another, objects keep the first one's size (a bigger torus box
     // does not make the next object bigger), and no coordinate is written -0.

@@ -419,6 +419,7 @@ std::optional<std::size_t> first_clear(const rt::Scene& scene, const std::vector
     constexpr std::size_t kMaxTests = 20'000'000;
     const std::size_t per_candidate = std::max<std::size_t>(1, boxes.size());
     const std::size_t tried = std::min(candidates.size(), std::max<std::size_t>(1, kMaxTests / per_candidate));
+    std::optional<std::size_t> unseen;  // the first clear one that `seen` refused
     for (std::size_t i = 0; i < tried; ++i) {
         const Placement& at = candidates[i];
         if (!rt::finite(at.point)) continue;
@@ -428,9 +429,11 @@ std::optional<std::size_t> first_clear(const rt::Scene& scene, const std::vector
             const Vec3 q = rt::vmin(rt::vmax(c, b.lo), b.hi);  // the box's point nearest c
             return rt::length2(q - c) < reach * reach;
         });
-        if (clear && (!seen || seen(c, reach))) return i;
+        if (!clear) continue;
+        if (!seen || seen(c, reach)) return i;
+        if (!unseen) unseen = i;
     }
-    return std::nullopt;
+    return unseen;
 }
 
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at) {

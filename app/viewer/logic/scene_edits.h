@@ -91,7 +91,8 @@ std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scen
 // free: of `candidates` (best first), the index of the first where an object of
 // typical_object_size, standing as add_item() stands it, keeps clear of every object's
 // box (the ball around it, 1.5 times its size, meets none) and, given `seen`, that
-// says `seen(middle, reach)` of that ball. nullopt: none is. (In a scene of more than
+// says `seen(middle, reach)` of that ball; if `seen` says it of none, the first clear
+// one. nullopt: none is clear. (In a scene of more than
 // 133,000 objects only the first 20M / objects candidates are tried.)
 std::optional<std::size_t> first_clear(const rt::Scene& scene, const std::vector<Placement>& candidates,
                                        const std::function<bool(const rt::Vec3&, double)>& seen = {});

@@ -823,8 +823,7 @@ Placement ViewerApp::new_item_placement(bool object) {
             }
         return true;
     };
-    std::optional<std::size_t> k = first_clear(*scene, candidates, in_picture);
-    if (!k) k = first_clear(*scene, candidates);
+    const std::optional<std::size_t> k = first_clear(*scene, candidates, in_picture);
     return k ? candidates[*k] : centre;
 }
 
