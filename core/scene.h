@@ -4,6 +4,8 @@
 // normalises the weights when it compiles the scene.
 #pragma once
 
+#include <cstddef>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <variant>
@@ -19,6 +21,8 @@ struct SourceLoc {
     int col = 0;
 };
 
+class Texture;  // texture.h: a decoded image file
+
 struct Material {
     double reflection = 0;
     double refraction = 0;
@@ -26,6 +30,17 @@ struct Material {
     double translusans = 1;       // clamped to [0,1] by the parser
     double refractive_index = 1;  // values below 1 become 1
     Colour colour{0.5, 0.5, 0.5};
+    // New: a Blinn-Phong highlight of each light (0..1; 0: none, the 2013 look) and its
+    // exponent (1..10000).
+    double specular = 0;
+    double shininess = 50;
+    // New: an image multiplied into `colour` ("" = none): the file as written, relative
+    // to the scene file's folder, and its decoded texels once the scene is parsed (null
+    // until then, and when it could not be read). texture_scale: scene units per repeat
+    // where the mapping has no scale of its own (planes).
+    double texture_scale = 1;
+    std::string texture;
+    std::shared_ptr<const Texture> texture_image;
 
     // An object with no material block at all: translusans 0 (scene-format §5).
     static Material object_default() {
@@ -35,9 +50,18 @@ struct Material {
     }
     bool operator==(const Material& o) const {
         return reflection == o.reflection && refraction == o.refraction && scattering == o.scattering &&
-               translusans == o.translusans && refractive_index == o.refractive_index && colour == o.colour;
+               translusans == o.translusans && refractive_index == o.refractive_index && colour == o.colour &&
+               specular == o.specular && shininess == o.shininess && texture == o.texture &&
+               texture_scale == o.texture_scale && texture_image == o.texture_image;
     }
     bool operator!=(const Material& o) const { return !(*this == o); }
+    // The same numbers bit for bit (-0 is not 0, NaNs as they are) and the same texture:
+    // materials that compile alike. (Big scenes repeat a few materials: cheaper than ==.)
+    bool same_bits(const Material& o) const {
+        static_assert(offsetof(Material, texture) == 11 * sizeof(double), "the numbers come first");
+        return std::memcmp(this, &o, offsetof(Material, texture)) == 0 && texture_image == o.texture_image &&
+               texture == o.texture;
+    }
 };
 
 struct Sphere {

@@ -153,11 +153,10 @@ ObjectMaterials make_materials(const Scene& scene) {
         // to either of the last two objects' in its chunk is copied, saving its three
         // logarithms and its check, which gives the same answer (and the same tally as
         // tally_materials(), which checks every one).
-        static_assert(sizeof(Material) == 8 * sizeof(double), "materials compare as bytes");
         const Material& m = scene.objects[i].material;
         std::size_t k = 1;
         for (; k <= 2 && k <= i && (i - k) >> kShift == i >> kShift; ++k)
-            if (std::memcmp(&m, &scene.objects[i - k].material, sizeof m) == 0) break;
+            if (m.same_bits(scene.objects[i - k].material)) break;
         if (k <= 2 && k <= i && (i - k) >> kShift == i >> kShift) {
             out.push_back(out[i - k]);
         } else {

@@ -104,10 +104,9 @@ TEST_CASE("isa: four spheres at once give hit()'s answer bit for bit" * doctest:
     rt_test::Rng rng(17);
     Scene scene;
     for (int i = 0; i < 64; ++i) {
-        Object o;
         // Radii from 1e-3 to 5 in a 10-unit box: misses, grazes, hits, origins inside.
-        o.shape = Sphere{{rng.uni(-5, 5), rng.uni(-5, 5), rng.uni(-5, 5)}, std::exp(rng.uni(std::log(1e-3), std::log(5.0)))};
-        scene.objects.push_back(o);
+        const Vec3 c{rng.uni(-5, 5), rng.uni(-5, 5), rng.uni(-5, 5)};
+        scene.objects.emplace_back().shape.emplace<Sphere>(Sphere{c, std::exp(rng.uni(std::log(1e-3), std::log(5.0)))});
     }
     Geometry g = build_geometry(scene, false);
     REQUIRE(g.sphere_prefix == 64);
