@@ -161,9 +161,13 @@ struct Light {
     Vec3 position{1, 1, 1};
     Colour colour{0.5, 0.5, 0.5};
     double size = 1;  // glow radius (lamp only); <= 0: no glow
+    // New: the light emits from a sphere of this radius (soft shadows); 0: a point, the
+    // 2013 light.
+    double radius = 0;
     SourceLoc loc;
     bool operator==(const Light& o) const {
-        return lamp == o.lamp && position == o.position && colour == o.colour && size == o.size;
+        return lamp == o.lamp && position == o.position && colour == o.colour && size == o.size &&
+               radius == o.radius;
     }
 };
 
@@ -176,9 +180,16 @@ struct Camera {
     Projection projection = Projection::Linear;
     double angle_x = 60;  // full field of view, degrees
     double angle_y = 45;
+    // New: a thin lens of this diameter (scene units; 0: the 2013 pinhole), sharp at
+    // focus_distance from `position` (0: at `centre`'s distance).
+    double aperture = 0;
+    double focus_distance = 0;
+    // New: the colour of rays that leave the scene (black: the 2013 picture).
+    Colour background{0, 0, 0};
     bool operator==(const Camera& o) const {
         return position == o.position && centre == o.centre && up == o.up && projection == o.projection &&
-               angle_x == o.angle_x && angle_y == o.angle_y;
+               angle_x == o.angle_x && angle_y == o.angle_y && aperture == o.aperture &&
+               focus_distance == o.focus_distance && background == o.background;
     }
 };
 

@@ -15,11 +15,13 @@
 #include "scene_parser.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <iterator>
 #include <map>
@@ -72,15 +74,22 @@ constexpr std::size_t kNone = std::size_t(-1);
 // given, where each one's last value was (for range errors), and whether an error
 // made the item unusable.
 struct ItemState {
-    static constexpr int kMaxKeys = 8;
+    static constexpr int kMaxKeys = 32;  // bits of `given`; every block has fewer keys (checked below)
     unsigned given = 0;
-    std::size_t value_at[kMaxKeys] = {kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone};
+    std::array<std::size_t, kMaxKeys> value_at = filled();
+    static std::array<std::size_t, kMaxKeys> filled() {
+        std::array<std::size_t, kMaxKeys> a;
+        a.fill(kNone);
+        return a;
+    }
     bool bad = false;
 };
 
 template <class T>
 int key_index(const sc::Block<T>& b, const sc::Key<T>& k) {
-    return int(&k - b.keys.data());
+    const int i = int(&k - b.keys.data());
+    if (i >= ItemState::kMaxKeys) std::abort();  // a block with more keys than ItemState holds
+    return i;
 }
 
 // The items of a thing section from `start` on, read by a helper (an item of a loop on

@@ -54,6 +54,14 @@ Key<Object> object_material() {
 }
 
 Range positive(const char* message) { return {Range::Rule::Error, 0, 1e300, true, message}; }
+Range not_negative(const char* message) { return {Range::Rule::Error, 0, 1e300, false, message}; }
+
+// A key of the format's later additions (New:): written only when not at its default.
+template <class T>
+Key<T> optional(Key<T> k) {
+    k.optional = true;
+    return k;
+}
 
 Problem error(std::string message) { return {Problem::Severity::Error, std::move(message)}; }
 Problem warning(std::string message) { return {Problem::Severity::Warning, std::move(message)}; }
@@ -156,6 +164,7 @@ Block<Object> csg() {
 Block<Object> mesh() {
     Key<Object> file{"file", Kind::File, {}};
     file.access.text = [](Object& o, int) -> std::string& { return shape<Mesh>(o).file; };
+    file.placeholder = "MODEL.obj";
     file.lead = true;
     Key<Object> scale = vec3_key<Object>("scale", [](Object& o, int) -> Vec3& { return shape<Mesh>(o).scale; });
     scale.one_or_three = true;
@@ -225,10 +234,20 @@ std::vector<Key<Light>> light_keys(bool lamp) {
         vec3_key<Light>("colour", [](Light& l, int) -> Vec3& { return l.colour; }),
     };
     if (lamp) keys.push_back(number_key<Light>("size", [](Light& l, int) -> double& { return l.size; }));
+    keys.push_back(optional(number_key<Light>("radius", [](Light& l, int) -> double& { return l.radius; },
+                                              not_negative("light radius must not be negative"))));
     return keys;
 }
 
 // ---- material, camera, picture size -------------------------------------------------
+
+Key<Material> texture_key() {
+    Key<Material> k{"texture", Kind::File, {}};
+    k.access.text = [](Material& m, int) -> std::string& { return m.texture; };
+    k.placeholder = "IMAGE.png";
+    k.default_text = "no texture";
+    return k;
+}
 
 Block<Material> material() {
     auto weight = [](std::string_view name, double& (*f)(Material&, int), Range r = {}) {
@@ -242,7 +261,14 @@ Block<Material> material() {
                     {Range::Rule::Clamp, 0, 1}),
              weight("refractive_index", [](Material& m, int) -> double& { return m.refractive_index; },
                     {Range::Rule::Clamp, 1, 1e300}),
-             vec3_key<Material>("colour", [](Material& m, int) -> Vec3& { return m.colour; })},
+             vec3_key<Material>("colour", [](Material& m, int) -> Vec3& { return m.colour; }),
+             optional(weight("specular", [](Material& m, int) -> double& { return m.specular; },
+                             {Range::Rule::Error, 0, 1, false, "specular must be 0..1"})),
+             optional(weight("shininess", [](Material& m, int) -> double& { return m.shininess; },
+                             {Range::Rule::Error, 1, 10000, false, "shininess must be 1..10000"})),
+             optional(texture_key()),
+             optional(weight("texture_scale", [](Material& m, int) -> double& { return m.texture_scale; },
+                             positive("texture_scale must be greater than 0")))},
             [] { return Material{}; },
             [](const Material& m) {
                 if (m.reflection + m.refraction + m.scattering != 0) return Problem{};
@@ -264,6 +290,13 @@ const Choice kProjection{{{"linear", int(Projection::Linear)},
                          "expected a projection (linear, polar or a single character) after 'projection', got ",
                          false};
 
+Key<Camera> focus_key() {
+    Key<Camera> k = optional(number_key<Camera>("focus_distance", [](Camera& c, int) -> double& { return c.focus_distance; },
+                                                positive("focus_distance must be greater than 0")));
+    k.default_text = "the distance from position to centre";
+    return k;
+}
+
 Block<Camera> camera() {
     auto point = [](std::string_view name, Vec3& (*f)(Camera&, int)) { return vec3_key<Camera>(name, f, true); };
     auto angle = [](std::string_view name, double& (*f)(Camera&, int)) {
@@ -280,7 +313,11 @@ Block<Camera> camera() {
              point("centre", [](Camera& c, int) -> Vec3& { return c.centre; }),
              point("up", [](Camera& c, int) -> Vec3& { return c.up; }), projection,
              angle("angle_x", [](Camera& c, int) -> double& { return c.angle_x; }),
-             angle("angle_y", [](Camera& c, int) -> double& { return c.angle_y; })},
+             angle("angle_y", [](Camera& c, int) -> double& { return c.angle_y; }),
+             optional(number_key<Camera>("aperture", [](Camera& c, int) -> double& { return c.aperture; },
+                                         not_negative("aperture must not be negative"))),
+             focus_key(),
+             optional(vec3_key<Camera>("background", [](Camera& c, int) -> Vec3& { return c.background; }))},
             [] { return Camera{}; },
             [](const Camera& c) {
                 const char* why = camera_problem(c);

@@ -81,6 +81,10 @@ struct Key {
     bool required = false;          // must be given (somewhere in the file)
     bool lead = false;              // the writer puts it before the other keys
     bool one_or_three = false;      // Vec3: one number may stand for three equal ones
+    bool optional = false;          // New: written only where it differs from its default, so
+                                    // that a 2013 scene is written as it always was
+    const char* placeholder = nullptr;  // File: the name the format reference shows
+    const char* default_text = nullptr;  // a default that no value spells (the reference says it)
 
     // Read access for const items (the accessors are shared with writing).
     double number(const T& t, int i = 0) const { return access.number(const_cast<T&>(t), i); }

@@ -8,6 +8,8 @@
 #include <cfloat>
 #include <charconv>
 #include <cmath>
+#include <cstring>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -70,9 +72,30 @@ public:
 
     // One line: six keys are easier to scan side by side than stacked.
     static std::string material_body(const Material& m) {
+        static const Material defaults = sc::material_block().make();
         std::string s = "{";
-        for (const sc::Key<Material>& k : sc::material_block().keys) s += " " + simple_value(k, m, 0);
+        for (const sc::Key<Material>& k : sc::material_block().keys)
+            if (!(k.optional && at_default(k, m, defaults, 0))) s += " " + simple_value(k, m, 0);
         return s + " }";
+    }
+
+    // Whether key k of t holds the value it has in `defaults` (bit for bit for numbers).
+    template <class T>
+    static bool at_default(const sc::Key<T>& k, const T& t, const T& defaults, int i) {
+        auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+        switch (k.kind) {
+        case sc::Kind::Number: return same(k.number(t, i), k.number(defaults, i));
+        case sc::Kind::Vec3: {
+            const Vec3 a = k.vec3(t, i), b = k.vec3(defaults, i);
+            return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z);
+        }
+        case sc::Kind::File: return k.text(t, i) == k.text(defaults, i);
+        case sc::Kind::Integer: return k.integer(t, i) == k.integer(defaults, i);
+        case sc::Kind::Choice: return k.access.get_choice(t) == k.access.get_choice(defaults);
+        case sc::Kind::Material:
+        case sc::Kind::Operand: break;
+        }
+        return false;
     }
 
     // `name value` for the keys that fit on one line.
@@ -99,15 +122,19 @@ public:
     template <class T>
     void item(int depth, const sc::Block<T>& b, const T& t) {
         line(depth, std::string(b.name) + " {");
+        // (Made only for blocks with optional keys: writing a big scene makes no copies.)
+        const bool optional = std::any_of(b.keys.begin(), b.keys.end(), [](const sc::Key<T>& k) { return k.optional; });
+        const std::optional<T> defaults = optional ? std::optional<T>(b.make()) : std::nullopt;
         for (bool lead : {true, false})
             for (const sc::Key<T>& k : b.keys)
-                if (k.lead == lead) key(depth + 1, k, t);
+                if (k.lead == lead) key(depth + 1, k, t, defaults ? &*defaults : nullptr);
         line(depth, "}");
     }
 
     template <class T>
-    void key(int depth, const sc::Key<T>& k, const T& t) {
+    void key(int depth, const sc::Key<T>& k, const T& t, const T* defaults) {
         for (int i = 0; i < std::max(k.count, 1); ++i) {
+            if (k.optional && defaults && at_default(k, t, *defaults, i)) continue;
             if (k.kind == sc::Kind::Operand) {
                 // Only CSGs have operands.
                 if constexpr (std::is_same_v<T, Object>) {
@@ -140,13 +167,13 @@ std::string block_line(const sc::Block<T>& b) {
     const char* gap = " ";
     for (bool lead : {true, false})
         for (const sc::Key<T>& k : b.keys) {
-            if (k.lead != lead) continue;
+            if (k.lead != lead || k.default_text) continue;
             for (int i = 0; i < std::max(k.count, 1); ++i, gap = "  ") {
                 const std::string index = k.count > 0 ? " " + std::to_string(i + 1) : "";
                 s += gap;
                 if (k.kind == sc::Kind::Material) s += std::string(k.name) + index + " {...}";
                 else if (k.kind == sc::Kind::Operand) s += std::string(k.name) + " { OBJECT }";
-                else if (k.kind == sc::Kind::File) s += std::string(k.name) + " \"MODEL.obj\"";
+                else if (k.kind == sc::Kind::File) s += std::string(k.name) + " \"" + k.placeholder + "\"";
                 else s += Writer::simple_value(k, item, i);
             }
         }
@@ -170,6 +197,7 @@ void key_rules(const sc::Block<T>& b, std::vector<std::string>& required, std::v
     for (const sc::Key<T>& k : b.keys) {
         const std::string name = std::string(b.name) + " " + std::string(k.name);
         if (k.required) add_listed(needed, k.name);
+        if (k.default_text) add(name + ": " + k.default_text + " unless given");
         if (k.choice) {
             std::string words;
             for (const sc::Choice::Word& w : k.choice->words) add_listed(words, w.word);
@@ -220,6 +248,8 @@ std::string format_reference() {
     for (const std::string& r : rules) out += "  " + r + "\n";
     return out;
 }
+
+std::string write_material(const Material& m) { return Writer::material_body(m); }
 
 std::string write_camera(const Camera& camera) {
     Writer w;

@@ -11,6 +11,8 @@ namespace rt {
 std::string write_scene(const Scene& scene);
 // One `camera { ... }` block (for the viewer's "copy camera" button).
 std::string write_camera(const Camera& camera);
+// A material block's `{ ... }` as write_scene prints it (the New: keys only when set).
+std::string write_material(const Material& m);
 // The format in brief, from the schema: each section and block on a line with every
 // key at its default (`material {...}` spelled out once), then the rules a value must
 // keep. raytracer --help-format prints it; the viewer's Help shows it.

@@ -447,17 +447,17 @@ TEST_CASE("errors: an unknown key in each block names exactly that block's keys"
          "unknown key 'bogus' in constructive_solid_geometry (expected left, right, type, material)"},
         {"thing { sphere { material { bogus 1 } } }",
          "unknown key 'bogus' in material (expected reflection, refraction, scattering, translusans, "
-         "refractive_index, colour)"},
+         "refractive_index, colour, specular, shininess, texture, texture_scale)"},
         {"special_thing { plane { bogus 1 } }", "unknown key 'bogus' in plane (expected point, material)"},
         {"special_thing { chess_plane { bogus 1 } }", "unknown key 'bogus' in chess_plane (expected point, material)"},
-        {"light { lamp { bogus 1 } }", "unknown key 'bogus' in lamp (expected position, colour, size)"},
-        {"light { spotlight { bogus 1 } }", "unknown key 'bogus' in spotlight (expected position, colour)"},
+        {"light { lamp { bogus 1 } }", "unknown key 'bogus' in lamp (expected position, colour, size, radius)"},
+        {"light { spotlight { bogus 1 } }", "unknown key 'bogus' in spotlight (expected position, colour, radius)"},
         {"camera { bogus 1 }",
-         "unknown key 'bogus' in camera (expected position, centre, up, projection, angle_x, angle_y)"},
+         "unknown key 'bogus' in camera (expected position, centre, up, projection, angle_x, angle_y, aperture, focus_distance, background)"},
         {"picture_size { bogus 1 }", "unknown key 'bogus' in picture_size (expected x_max, y_max)"},
         // A key of another block is just as unknown: none is taken for a default.
         {"thing { sphere { major 1 } }", "unknown key 'major' in sphere (expected position, radius, material)"},
-        {"light { spotlight { size 1 } }", "unknown key 'size' in spotlight (expected position, colour)"},
+        {"light { spotlight { size 1 } }", "unknown key 'size' in spotlight (expected position, colour, radius)"},
         {"special_thing { plane { radius 1 } }", "unknown key 'radius' in plane (expected point, material)"},
         {"picture_size { position 1 }", "unknown key 'position' in picture_size (expected x_max, y_max)"},
     };

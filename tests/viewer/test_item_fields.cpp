@@ -124,8 +124,8 @@ TEST_CASE("item fields: the keys of every block, from the schema") {
     CHECK(labels(obj(4, {1})) == "position,radius");
     CHECK(labels(plane(0)) == "point 1,point 2,point 3,point 4,material 1,material 2");
     CHECK(labels(plane(1)) == "point 1,point 2,point 3,point 4,material");
-    CHECK(labels(light(0)) == "position,colour,size");
-    CHECK(labels(light(1)) == "position,colour");
+    CHECK(labels(light(0)) == "position,colour,size,radius");
+    CHECK(labels(light(1)) == "position,colour,radius");
     CHECK(std::string(item_block_name(s, obj(4))) == "constructive_solid_geometry");
     CHECK(std::string(item_block_name(s, light(1))) == "spotlight");
     // Nothing for what is not there.

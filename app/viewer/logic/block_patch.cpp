@@ -31,13 +31,7 @@ std::string vec_text(const rt::Vec3& v) {
 }
 
 // `{ reflection ... colour r g b }`, as the writer prints a material.
-std::string material_text(const rt::Material& m) {
-    std::string s = "{";
-    for (const sc::Key<rt::Material>& k : sc::material_block().keys)
-        s += " " + std::string(k.name) + " " +
-             (k.kind == sc::Kind::Vec3 ? vec_text(k.vec3(m)) : rt::format_number(k.number(m)));
-    return s + " }";
-}
+std::string material_text(const rt::Material& m) { return rt::write_material(m); }
 
 // A number is rewritten when its text would change: -0 and 0 are equal as numbers, but
 // the text must read back as the very value the scene holds.

@@ -123,6 +123,7 @@ rt::Status check_material(rt::Material& m) {
             if (rt::Status st = check_vec(k.vec3(m)); !st) return st;
             continue;
         }
+        if (k.kind != sc::Kind::Number) continue;  // a texture's name: read when the text is parsed
         double& x = k.access.number(m, 0);
         if (rt::Status st = check_number(x); !st) return st;
         if (k.range.rule == sc::Range::Rule::Clamp && !k.range.contains(x)) x = std::clamp(x, k.range.min, k.range.max);
