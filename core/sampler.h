@@ -1,5 +1,5 @@
-// The random numbers of a pixel's samples: for the lens and the sphere lights (the New:
-// `aperture` and `radius` keys). Sample s of pixel (x, y) takes its points from an
+// The random numbers of a pixel's samples (docs/rendering.md §11): for the lens and the
+// sphere lights (the New: `aperture` and `radius` keys). Sample s of pixel (x, y) takes its points from an
 // Owen-scrambled Sobol sequence, shuffled and scrambled per pixel and per dimension
 // (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020): the samples of one pixel
 // are stratified over the lens disc and over each light, neighbouring pixels use

@@ -226,7 +226,7 @@ Colour World::direct_sampled(const Vec3& p, const Vec3& n, const Vec3& d, const 
     const double p1 = LightBuffer::norm1(p);
     for (std::size_t li = 0; li < lights.size(); ++li) {
         const ShadeLight& light = lights[li];
-        // The 2013 terms (rendering.md §3) at the light's centre: its strength, the
+        // The 2013 terms (docs/rendering.md §3) at the light's centre: its strength, the
         // unshadowed tenth; then the shadow ray and the cosine toward the light's point
         // that this sample takes (the centre for a point light, or from inside one).
         Vec3 vc = light.position - p;

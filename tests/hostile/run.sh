@@ -375,8 +375,8 @@ def out_trailing_slash; case_out_trailing_slash() { newdir "$FUNCNAME"; run 10 "
 def out_missing_folder; case_out_missing_folder() { newdir "$FUNCNAME"; empty_scene 4000 4000 > "$D/s.txt"; run 10 "$RT" s.txt no/such/o.ppm; want_rc 2; want_err 'does not exist'; want_fast 1; clean_checks; }
 def out_folder_is_file; case_out_folder_is_file() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt old.ppm/o.ppm; want_rc 2; want_err 'Not a directory|not a folder'; clean_checks; }
 def out_is_scene; case_out_is_scene() { newdir "$FUNCNAME"; cp "$D/ok.txt" "$D/s.ppm"; run 10 "$RT" s.ppm s.ppm; want_rc 2; want_err 'scene file itself'; cmp -s "$D/s.ppm" "$D/ok.txt" || problem "scene changed"; clean_checks; }
-def out_bad_extension; case_out_bad_extension() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt o.jpg; want_rc 2; want_err '.ppm or .png'; clean_checks; }
-def out_dev_null; case_out_dev_null() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt /dev/null; want_rc 2; want_err '.ppm or .png'; clean_checks; }
+def out_bad_extension; case_out_bad_extension() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt o.jpg; want_rc 2; want_err '.pfm or .exr'; clean_checks; }
+def out_dev_null; case_out_dev_null() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt /dev/null; want_rc 2; want_err '.pfm or .exr'; clean_checks; }
 def out_dev_full_link; case_out_dev_full_link() { newdir "$FUNCNAME"; ln -s /dev/full "$D/full.ppm"; run 10 "$RT" ok.txt full.ppm; want_rc 2; want_err 'No space left'; [ -c /dev/full ] || problem "/dev/full replaced"; clean_checks; }
 def out_dev_null_link; case_out_dev_null_link() { newdir "$FUNCNAME"; ln -s /dev/null "$D/null.ppm"; run 10 "$RT" ok.txt null.ppm; want_rc 0; [ -c /dev/null ] || problem "/dev/null replaced"; clean_checks; }
 def out_fifo_sigterm; case_out_fifo_sigterm() { newdir "$FUNCNAME"; mkfifo "$D/o.ppm"; start "$RT" --quiet ok.txt o.ppm; signal_after 1 5 TERM; want_rc 143; want_fast 1; [ -p "$D/o.ppm" ] || problem "FIFO replaced"; clean_checks; }
