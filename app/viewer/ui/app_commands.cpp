@@ -1,4 +1,4 @@
-// ViewerApp's commands: what menus, panels, dialogs and keys ask for (shared.h),
+// ViewerApp's commands: what menus, panels, dialogs and keys ask for (commands.h),
 // the view's commands, undo and redo, and saving the scene and the picture.
 #include "app.h"
 
