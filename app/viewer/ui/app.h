@@ -27,7 +27,9 @@
 #include "render_controller.h"
 #include "scene_edits.h"
 #include "status.h"
-#include "shared.h"
+#include "commands.h"
+#include "layout.h"
+#include "status_line.h"
 
 namespace rtview {
 

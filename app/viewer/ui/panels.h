@@ -13,7 +13,9 @@
 #include "item_fields.h"
 #include "navigator.h"
 #include "render_controller.h"
-#include "shared.h"
+#include "commands.h"
+#include "layout.h"
+#include "status_line.h"
 
 namespace rtview {
 
