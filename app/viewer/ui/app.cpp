@@ -497,6 +497,44 @@ void ViewerApp::select_at(double px, double py) {
     panels_.select(s);
 }
 
+void ViewerApp::focus_at(double px, double py) {
+    const rt::World* w = render_.world();
+    Document& doc = editor_.doc();
+    if (!w || !doc.has_scene()) return;
+    if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
+        status_.set(blocked, true);
+        return;
+    }
+    const rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
+    const rt::PickResult r = pick_at(*w, vc, layout_.image, layout_.film_w, layout_.film_h, px, py);
+    if (!r.hit) {
+        status_.set("Nothing under the cursor to focus on", true);
+        return;
+    }
+    const rt::Camera view = nav_.camera();
+    const bool moved = nav_.differs_from(doc.scene().camera);
+    rt::Camera cam = doc.scene().camera;
+    const double d = focus_distance_to(cam, r.point), dv = focus_distance_to(view, r.point);
+    if (!(d > 0)) {
+        status_.set("That point is behind the scene camera: focus not changed", true);
+        return;
+    }
+    cam.focus_distance = d;
+    if (!doc.set_camera(cam)) return;
+    if (moved && dv > 0) {
+        // The view stays where it was (a scene camera edit would take it back), with
+        // the same focus.
+        nav_.follow(doc.scene().camera);
+        rt::Camera v = view;
+        v.focus_distance = dv;
+        nav_.set(v);
+    }
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "Focus distance %.4g%s (Ctrl+Z undoes)", d,
+                  cam.aperture > 0 ? "" : "; set the camera's aperture to see the blur");
+    status_.set(msg);
+}
+
 ScreenView ViewerApp::screen_view() const {
     return ScreenView(nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
                       layout_.image, layout_.film_w, layout_.film_h);

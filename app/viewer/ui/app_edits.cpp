@@ -287,6 +287,9 @@ void ViewerApp::draw_context_menu() {
             ImGui::EndMenu();
         }
     }
+    const bool focus = ImGui::MenuItem("Focus here");
+    probe_item("menu:Focus here");
+    if (focus) focus_at(rclick_x_, rclick_y_);
     ImGui::Separator();
     // The pixel's readout, as the status line showed it.
     if (ImGui::MenuItem("Copy pixel", "Ctrl+C", false, !menu_readout_.empty())) tools_.copy_pixel(menu_readout_);

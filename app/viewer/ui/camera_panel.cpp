@@ -57,7 +57,7 @@ void Panels::draw_camera_panel() {
         float speed = float(scene_extent() * 0.002);
         // Room for the longest label at any font size (UI scale).
         float label_w = 0;
-        for (const char* l : {"position", "up point", "angle x, y", "projection", "az, el, dist"})
+        for (const char* l : {"position", "up point", "angle x, y", "projection", "az, el, dist", "focus dist", "background"})
             label_w = std::max(label_w, ImGui::CalcTextSize(l).x);
         ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
 
@@ -105,6 +105,49 @@ void Panels::draw_camera_panel() {
     layout_.camera_panel = item_block(top, width);
 }
 
+// The New: camera keys: the lens (aperture, focus distance) and the background.
+// The focus distance shows the centre's distance while it is not given (0); "Focus
+// here" in the picture's menu sets it to a surface.
+bool Panels::draw_lens_fields(rt::Camera& cam, float speed) {
+    bool changed = false;
+    const double zero = 0;
+    NumberFieldSpec lens;
+    lens.speed = speed * 0.1f;
+    lens.min = &zero;
+    lens.clamp_typed = true;
+    double aperture = cam.aperture;
+    if (number_field("aperture", &aperture, lens)) {
+        cam.aperture = std::max(0.0, aperture);
+        changed = true;
+    }
+    probe_item("field_camera_aperture");
+    const bool automatic = !(cam.focus_distance > 0);
+    double focus = automatic ? rt::length(cam.centre - cam.position) : cam.focus_distance;
+    NumberFieldSpec fs;
+    fs.speed = speed;
+    fs.format = automatic ? "%.3f (centre)" : "%.3f";
+    if (number_field("focus dist", &focus, fs) && focus > 0) {
+        cam.focus_distance = focus;
+        changed = true;
+    }
+    probe_item("field_camera_focus_distance");
+    if (!automatic) {
+        same_line_if_fits("centre");
+        if (ImGui::SmallButton("centre")) {
+            cam.focus_distance = 0;  // back to the centre's distance (the key is left out)
+            changed = true;
+        }
+    }
+    float bg[3] = {float(cam.background.x), float(cam.background.y), float(cam.background.z)};
+    if (ImGui::ColorEdit3("background", bg, ImGuiColorEditFlags_Float)) {
+        cam.background = {from_widget(cam.background.x, bg[0], 3), from_widget(cam.background.y, bg[1], 3),
+                          from_widget(cam.background.z, bg[2], 3)};
+        changed = true;
+    }
+    probe_item("field_camera_background");
+    return changed;
+}
+
 // The scene camera: part of the document (edits here are undoable edits of the
 // file, and the view follows them).
 void Panels::draw_scene_camera_fields(float speed) {
@@ -137,6 +180,7 @@ void Panels::draw_scene_camera_fields(float speed) {
         cam.projection = proj ? rt::Projection::Polar : rt::Projection::Linear;
         changed = true;
     }
+    changed |= draw_lens_fields(cam, speed);
     ImGui::EndDisabled();
     if (blocked) changed = false;
     if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;

@@ -58,6 +58,21 @@ bool material_editor(const char* id, rt::Material& m) {
         }
         if (k.kind != sc::Kind::Number) continue;
         double& v = k.access.number(m, 0);
+        if (k.range.rule == sc::Range::Rule::Error) {
+            // A range the parser enforces (specular 0..1, shininess 1..10000, texture_scale
+            // > 0): a slider over a short one, else a drag; typed values kept inside.
+            const double lo = k.range.min, hi = k.range.max;
+            const double lo_field = k.range.min_open ? lo + 1e-3 : lo;
+            NumberFieldSpec spec;
+            spec.slider = hi - lo <= 1;
+            spec.min = &lo_field;
+            spec.max = hi < 1e300 ? &hi : nullptr;
+            spec.speed = spec.slider ? 1 : float(std::max(0.01, 0.005 * std::max(1.0, std::fabs(v))));
+            spec.clamp_typed = true;
+            changed |= number_field(label.c_str(), &v, spec);
+            probe_item(std::string("field_") + id + "_" + label);
+            continue;
+        }
         const bool clamped = k.range.rule == sc::Range::Rule::Clamp;
         const double lo = clamped ? k.range.min : 0;
         const double hi = clamped && k.range.max <= lo + 1 ? k.range.max : lo + (clamped ? 2 : 1);
