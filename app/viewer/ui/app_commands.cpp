@@ -220,7 +220,7 @@ void ViewerApp::do_save_image(const std::string& path) {
         return;
     }
     if (rt::format_from_path(path) == rt::ImageFormat::Unknown) {
-        status_.set("Image names must end in .png or .ppm", true);
+        status_.set("Image names must end in .png, .ppm, .pfm or .exr", true);
         return;
     }
     const rt::Status st = rt::write_image(path, img);

@@ -114,7 +114,7 @@ void ImageTools::draw_render_setup() {
     ImGui::SetNextItemWidth(fs * 24);
     if (focus_render_path_) ImGui::SetKeyboardFocusHere();
     focus_render_path_ = false;
-    bool go = bounded_input("##file", "picture.png or .ppm", render_path_, PATH_MAX, ImGuiInputTextFlags_EnterReturnsTrue);
+    bool go = bounded_input("##file", "picture.png, .ppm, .pfm or .exr", render_path_, PATH_MAX, ImGuiInputTextFlags_EnterReturnsTrue);
     probe("render_field", ImGui::IsItemActive() ? "active" : "idle");
     ImGui::SameLine();
     if (ImGui::Button("Browse...")) {
