@@ -632,8 +632,13 @@ private:
         const sc::Block<Material>& b = sc::material_block();
         Material m = b.make();
         ItemState st;
+        const int errors_before = errors_;
         read_block(b, m, st);
         finish(b, m, st, key.offset, [&] { return loc_of(key.offset); });
+        if (!m.texture.empty() && errors_ == errors_before) {
+            const std::size_t at = st.value_at[key_index(b, *b.find("texture"))];
+            read_texture(m, at != kNone ? at : key.offset);
+        }
         out = m;
         return true;
     }
@@ -858,6 +863,29 @@ private:
         m.model = l.model;
     }
 
+    // The texture a material names, decoded once per parse however many materials name
+    // it; its errors are reported at the file name.
+    void read_texture(Material& m, std::size_t at) {
+        // Textures are read by the main reading only (a helper would read them again).
+        if (piece_) throw Bail{};
+        if (!opt_.read_textures) return;
+        const std::string path = resolve_model_path(opt_.base_dir, m.texture);
+        auto it = textures_.find(path);
+        if (it == textures_.end()) {
+            if (textures_.size() >= TextureLimits::max_files) {
+                error_at(at, "too many texture files (limit " + std::to_string(TextureLimits::max_files) + ")");
+                return;
+            }
+            it = textures_.emplace(path, (opt_.textures ? *opt_.textures : own_textures_).load(path)).first;
+        }
+        const TextureStore::Loaded& l = it->second;
+        if (!l.texture) {
+            error_at(at, m.texture + ": " + l.error);
+            return;
+        }
+        m.texture_image = l.texture;
+    }
+
     // A CSG's `left { OBJECT }` or `right { OBJECT }` (after its name).
     bool operand(const sc::Key<Object>& k, const Token& name, Object& csg, ItemState& st, int index) {
         if (!open(name)) return false;
@@ -949,6 +977,8 @@ private:
     std::size_t populated_ = 0;  // objects.size() at which populate_ahead is next called
     std::map<std::string, ModelStore::Loaded> models_;  // by resolved path
     ModelStore own_models_;  // when the options give no store
+    std::map<std::string, TextureStore::Loaded> textures_;  // by resolved path
+    TextureStore own_textures_;  // when the options give no store
     std::size_t triangles_ = 0;  // in the models read
     bool camera_seen_ = false, size_seen_ = false;
     ItemState camera_keys_, size_keys_;  // keys accumulate over repeated sections
