@@ -263,7 +263,7 @@ Colour World::shade(const Vec3& o, const Vec3& d, int depth, double weight, Ctx&
     Colour out;
     if (!shade_surface(o, d, depth, weight, ctx, s, out)) return out;
     const ShadeMaterial* m = s.m;
-    const Colour lit = m->scattering > 0 ? direct(s.p, s.n, m->colour, ctx) : Colour{};
+    const Colour lit = m->scattering > 0 ? direct(s.p, s.n, s.cp, ctx) : Colour{};
     const Colour mirror =
         m->reflection > 0 ? shade(s.p, reflect(d, s.n), depth + 2, weight * m->reflection, ctx) : Colour{};
     return combine(s, lit, mirror);

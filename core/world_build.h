@@ -59,6 +59,8 @@ void set_ray_tree_bound(World& w);
 // The planes' and lights' tables of `scene` in w (which holds none yet), and which
 // lights have glow discs.
 void add_planes(World& w, const Scene& scene);
+// Adds `more` to w.textures (each texture once).
+void keep_textures(World& w, std::vector<std::shared_ptr<const Texture>> more);
 void add_lights(World& w, const Scene& scene);
 // The BVH of many glow discs: the previous world's if its discs are the same.
 void add_glow_bvh(World& w, const World* previous);
