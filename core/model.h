@@ -55,6 +55,12 @@ struct MeshData {
     static constexpr std::size_t max_materials = 0xfff0;
     std::vector<Material> materials;
     std::vector<std::uint16_t> triangle_material;
+    // OBJ: the `mtllib` files named (as written) and the `usemtl` names in the order
+    // first met, which triangle_material counts until read_model() has found them in
+    // the files (then materials holds them in that order; the names not found are
+    // kNoMaterial).
+    std::vector<std::string> material_libs;
+    std::vector<std::string> material_names;
     // New: what the reading found amiss but could do without (a missing MTL file).
     std::vector<ModelError> warnings;
     std::size_t vertex_count() const { return positions.size() / 3; }
@@ -73,6 +79,8 @@ public:
     // Whether the file is still the one read (same size, modification time and inode);
     // always true for a model made from data rather than read by a ModelStore.
     bool unchanged_on_disk() const;
+    // Whether the textures of its materials are (New:; part of unchanged_on_disk()).
+    bool textures_unchanged() const;
     // Built once, on the first call from any thread (the others wait for it).
     const TriangleAccel& accel() const;
     // Unit normals per vertex (x y z each): the file's own, else the sum of the
@@ -99,7 +107,9 @@ private:
 bool is_model_file(const std::string& path);
 // Reads an .obj or .ply file (chosen by the name's extension, any case). False with
 // `error` set if the file cannot be read or is not a model the limits allow.
-bool read_model(const std::string& path, MeshData& out, ModelError& error);
+// An OBJ's MTL files are read too (relative to the OBJ's folder), their map_Kd
+// textures through `textures` (null: a store of this call's own).
+bool read_model(const std::string& path, MeshData& out, ModelError& error, TextureStore* textures = nullptr);
 
 // The models read so far, by resolved path. A file is read again only when it changed
 // on disk (its size, modification time or inode), so that parsing the same scene
@@ -111,7 +121,7 @@ public:
         std::shared_ptr<const MeshModel> model;  // null on error
         ModelError error;
     };
-    Loaded load(const std::string& path);
+    Loaded load(const std::string& path, TextureStore* textures = nullptr);
 
 private:
     struct FileId {

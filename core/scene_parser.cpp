@@ -845,7 +845,9 @@ private:
                 error_at(at, "too many model files (limit " + std::to_string(ModelLimits::max_files) + ")");
                 return;
             }
-            it = models_.emplace(path, (opt_.models ? *opt_.models : own_models_).load(path)).first;
+            it = models_.emplace(path, (opt_.models ? *opt_.models : own_models_)
+                                           .load(path, opt_.textures ? opt_.textures : &own_textures_))
+                     .first;
             if (const MeshModel* model = it->second.model.get()) triangles_ += model->data().triangle_count();
             if (triangles_ > ModelLimits::max_triangles) {
                 error_at(at, "the scene's models hold more than " + std::to_string(ModelLimits::max_triangles) +
@@ -861,6 +863,9 @@ private:
             return;
         }
         m.model = l.model;
+        for (const ModelError& w : l.model->data().warnings)
+            report(Diagnostic::Severity::Warning, loc_of(at),
+                   m.file + (w.line > 0 ? ":" + std::to_string(w.line) : "") + ": " + w.message);
     }
 
     // The texture a material names, decoded once per parse however many materials name

@@ -204,6 +204,7 @@ inline void check_parse(std::string_view text, int low_max_errors) {
     rt::ParseOptions one_go;
     one_go.threads = 1;
     one_go.read_models = false;  // the text alone (the model readers have targets of their own)
+    one_go.read_textures = false;
     const rt::ParseResult r = rt::parse_scene(text, one_go);
     check_diagnostics(text, r);
     if (r.ok()) check_scene(r.scene);
@@ -220,6 +221,7 @@ inline void check_parse(std::string_view text, int low_max_errors) {
 inline void check_roundtrip(std::string_view text) {
     rt::ParseOptions o;
     o.read_models = false;
+    o.read_textures = false;
     const rt::ParseResult r = rt::parse_scene(text, o);
     if (!r.ok()) return;
     const std::string text2 = rt::write_scene(r.scene);
