@@ -25,7 +25,8 @@ namespace {
 
 // The whole file, if it is a regular file within the size limit: in pages of its own,
 // handed back once the reader is done (a 10M-triangle model's text is ~200 MB).
-bool read_file(const std::string& path, PageBuffer& out, ModelError& error, const char* what = "a model file") {
+bool read_file(const std::string& path, PageBuffer& out, ModelError& error, const char* what = "a model file",
+               const char* kind = "models") {
     // Non-blocking: a FIFO must not stop the open (it is refused below).
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
     if (fd < 0) {
@@ -46,7 +47,8 @@ bool read_file(const std::string& path, PageBuffer& out, ModelError& error, cons
         return false;
     }
     if (!S_ISREG(st.st_mode)) {
-        error.message = "is not a regular file (a device, pipe or socket)";
+        error.message = std::string("is not a regular file (a device, pipe or socket); ") +
+                        kind + " are read from files";
         return false;
     }
     if (std::uint64_t(st.st_size) > ModelLimits::max_file_size) {
@@ -99,7 +101,7 @@ bool read_materials(const std::string& obj_path, MeshData& out, ModelError& erro
         }
         PageBuffer file;
         ModelError e;
-        if (!read_file(path, file, e, "a material file")) {
+        if (!read_file(path, file, e, "a material file", "material files")) {
             out.warnings.push_back({0, "material file " + lib + ": " + e.message + "; the mesh's own colour is used"});
             continue;
         }
