@@ -80,10 +80,10 @@ bool read_mtl(std::string_view text, std::vector<MtlMaterial>& out, ModelError& 
         if (same(key, "newmtl")) {
             if (out.size() >= MeshData::max_materials)
                 return fail("too many materials (limit " + std::to_string(MeshData::max_materials) + ")");
-            // The name is the rest of the line (names may hold spaces).
-            std::string_view name = line.substr(std::size_t(w[1 < w.size() ? 1 : 0].data() - line.data()));
+            // The name is the rest of the line (names may hold spaces; Blender writes
+            // an empty one, which `usemtl` with no name uses).
+            std::string_view name = w.size() < 2 ? std::string_view() : line.substr(std::size_t(w[1].data() - line.data()));
             while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.remove_suffix(1);
-            if (w.size() < 2) return fail("newmtl needs a name");
             MtlMaterial m;
             m.name = std::string(name.substr(0, 4096));
             out.push_back(std::move(m));
