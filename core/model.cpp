@@ -132,6 +132,8 @@ bool read_materials(const std::string& obj_path, MeshData& out, ModelError& erro
     // a name counts), with their textures read.
     std::vector<std::uint16_t> index(out.material_names.size(), MeshData::kNoMaterial);
     int unknown = 0;
+    std::vector<const Texture*> held;  // the textures read, each counted once
+    std::uint64_t texels = 0;
     for (std::size_t i = 0; i < out.material_names.size(); ++i) {
         const std::string& name = out.material_names[i];
         auto it = std::find_if(found.begin(), found.end(), [&](const Found& f) { return f.m.name == name; });
@@ -148,6 +150,16 @@ bool read_materials(const std::string& obj_path, MeshData& out, ModelError& erro
                 error.message = it->lib + ":" + std::to_string(it->m.texture_line) + ": map_Kd " + it->m.texture + ": " +
                                 l.error;
                 return false;
+            }
+            if (std::find(held.begin(), held.end(), l.texture.get()) == held.end()) {
+                held.push_back(l.texture.get());
+                texels += std::uint64_t(l.texture->width()) * std::uint64_t(l.texture->height());
+                if (texels > TextureLimits::max_scene_texels) {
+                    error.message = it->lib + ":" + std::to_string(it->m.texture_line) +
+                                    ": the model's textures hold more than " +
+                                    std::to_string(TextureLimits::max_scene_texels) + " pixels in all";
+                    return false;
+                }
             }
             m.texture = it->m.texture;
             m.texture_image = std::move(l.texture);

@@ -28,6 +28,7 @@
 #include <memory>
 #include <mutex>
 #include <new>
+#include <set>
 #include <thread>
 #include <type_traits>
 
@@ -862,6 +863,12 @@ private:
             error_at(at, m.file + (l.error.line > 0 ? ":" + std::to_string(l.error.line) : "") + ": " + l.error.message);
             return;
         }
+        for (const Material& mm : l.model->data().materials)
+            if (mm.texture_image && !count_texels(*mm.texture_image)) {
+                error_at(at, m.file + ": the scene's textures hold more than " +
+                                 std::to_string(TextureLimits::max_scene_texels) + " pixels in all");
+                return;
+            }
         m.model = l.model;
         for (const ModelError& w : l.model->data().warnings)
             report(Diagnostic::Severity::Warning, loc_of(at),
@@ -888,7 +895,20 @@ private:
             error_at(at, m.texture + ": " + l.error);
             return;
         }
+        if (!count_texels(*l.texture)) {
+            error_at(at, "the scene's textures hold more than " + std::to_string(TextureLimits::max_scene_texels) +
+                             " pixels in all");
+            it->second = {nullptr, "(over the scene's limit of texture pixels)"};
+            return;
+        }
         m.texture_image = l.texture;
+    }
+    // Counts a texture's pixels toward the scene's limit (each texture once); false
+    // once over it.
+    bool count_texels(const Texture& t) {
+        if (!counted_textures_.insert(&t).second) return true;
+        texels_ += std::uint64_t(t.width()) * std::uint64_t(t.height());
+        return texels_ <= TextureLimits::max_scene_texels;
     }
 
     // A CSG's `left { OBJECT }` or `right { OBJECT }` (after its name).
@@ -984,6 +1004,8 @@ private:
     ModelStore own_models_;  // when the options give no store
     std::map<std::string, TextureStore::Loaded> textures_;  // by resolved path
     TextureStore own_textures_;  // when the options give no store
+    std::set<const Texture*> counted_textures_;  // those counted in texels_
+    std::uint64_t texels_ = 0;  // of the textures read, toward the scene's limit
     std::size_t triangles_ = 0;  // in the models read
     bool camera_seen_ = false, size_seen_ = false;
     ItemState camera_keys_, size_keys_;  // keys accumulate over repeated sections

@@ -22,6 +22,8 @@ struct TextureLimits {
     // Texels of one image (12 bytes each once decoded): 1.5 GB at most.
     static constexpr std::uint64_t max_texels = std::uint64_t(1) << 27;
     static constexpr std::size_t max_files = 10000;  // distinct texture files in a scene
+    // Texels of all the textures of one scene (or one model's MTL files): 3 GB at most.
+    static constexpr std::uint64_t max_scene_texels = std::uint64_t(1) << 28;
 };
 
 class Texture;
