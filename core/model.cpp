@@ -81,18 +81,18 @@ std::string file_in(const std::string& folder, std::string name) {
     return resolve_model_path(folder, name);
 }
 
-// The OBJ's `mtllib` files read and its `usemtl` names found in them: out.materials in
-// the order of out.material_names, the triangles renumbered (names no file defines:
-// the mesh's own material, with a warning). A missing MTL file is a warning; a file
-// that cannot be read as MTL, or a map_Kd that cannot be read, an error.
-bool read_materials(const std::string& obj_path, MeshData& out, ModelError& error, TextureStore& textures) {
+// An MTL file's material, with where it came from.
+struct FoundMaterial {
+    MtlMaterial m;
+    std::string lib;       // the MTL file, as the OBJ names it
+    std::string tex_path;  // map_Kd resolved ("" if none)
+};
+
+// The OBJ's `mtllib` files read into `found` (a missing one is a warning in
+// out.warnings); false with `error` set for a file that cannot be read as MTL or whose
+// map_Kd names the MTL or OBJ file itself.
+bool read_libraries(const std::string& obj_path, MeshData& out, ModelError& error, std::vector<FoundMaterial>& found) {
     const std::string folder = folder_of(obj_path);
-    struct Found {
-        MtlMaterial m;
-        std::string lib;       // the MTL file, as the OBJ names it
-        std::string tex_path;  // map_Kd resolved ("" if none)
-    };
-    std::vector<Found> found;
     for (const std::string& lib : out.material_libs) {
         const std::string path = file_in(folder, lib);
         if (path == obj_path) {
@@ -128,15 +128,24 @@ bool read_materials(const std::string& obj_path, MeshData& out, ModelError& erro
             found.push_back({std::move(m), lib, std::move(tex)});
         }
     }
-    // The names the faces use, in the order first met: found (the first definition of
-    // a name counts), with their textures read.
+    return true;
+}
+
+// The OBJ's `mtllib` files read and its `usemtl` names found in them: out.materials in
+// the order of out.material_names (the first definition of a name counts), with their
+// textures, and the triangles renumbered (names no file defines: the mesh's own
+// material, with a warning). A missing MTL file is a warning; a file that cannot be
+// read as MTL, or a map_Kd that cannot be read, an error.
+bool read_materials(const std::string& obj_path, MeshData& out, ModelError& error, TextureStore& textures) {
+    std::vector<FoundMaterial> found;
+    if (!read_libraries(obj_path, out, error, found)) return false;
     std::vector<std::uint16_t> index(out.material_names.size(), MeshData::kNoMaterial);
     int unknown = 0;
     std::vector<const Texture*> held;  // the textures read, each counted once
     std::uint64_t texels = 0;
     for (std::size_t i = 0; i < out.material_names.size(); ++i) {
         const std::string& name = out.material_names[i];
-        auto it = std::find_if(found.begin(), found.end(), [&](const Found& f) { return f.m.name == name; });
+        auto it = std::find_if(found.begin(), found.end(), [&](const FoundMaterial& f) { return f.m.name == name; });
         if (it == found.end()) {
             if (!found.empty() && ++unknown <= 5)
                 out.warnings.push_back({0, "usemtl " + name + ": no such material in the MTL files; the mesh's own "
@@ -146,17 +155,16 @@ bool read_materials(const std::string& obj_path, MeshData& out, ModelError& erro
         Material m = it->m.material;
         if (!it->tex_path.empty()) {
             TextureStore::Loaded l = textures.load(it->tex_path);
+            const std::string at = it->lib + ":" + std::to_string(it->m.texture_line) + ": ";
             if (!l.texture) {
-                error.message = it->lib + ":" + std::to_string(it->m.texture_line) + ": map_Kd " + it->m.texture + ": " +
-                                l.error;
+                error.message = at + "map_Kd " + it->m.texture + ": " + l.error;
                 return false;
             }
             if (std::find(held.begin(), held.end(), l.texture.get()) == held.end()) {
                 held.push_back(l.texture.get());
                 texels += std::uint64_t(l.texture->width()) * std::uint64_t(l.texture->height());
                 if (texels > TextureLimits::max_scene_texels) {
-                    error.message = it->lib + ":" + std::to_string(it->m.texture_line) +
-                                    ": the model's textures hold more than " +
+                    error.message = at + "the model's textures hold more than " +
                                     std::to_string(TextureLimits::max_scene_texels) + " pixels in all";
                     return false;
                 }

@@ -51,14 +51,75 @@ int option_values(std::string_view o) {
     return -1;
 }
 
+// `map_Kd [options] FILE`: the file name after the options (the rest of the line, so
+// it may hold spaces), backslashes made slashes. Empty with `why` set if unusable.
+std::string map_file(std::string_view line, const std::vector<std::string_view>& w, std::string& why) {
+    std::size_t i = 1;
+    while (i < w.size() && w[i].size() > 1 && w[i][0] == '-' && option_values(w[i]) >= 0) {
+        const int n = option_values(w[i]);
+        ++i;
+        double v;
+        for (int k = 0; k < n && i + 1 < w.size() && (number(w[i], v) || n == 1); ++k) ++i;
+    }
+    if (i >= w.size()) return why = "map_Kd needs a file name", "";
+    std::string_view file = line.substr(std::size_t(w[i].data() - line.data()));
+    while (!file.empty() && (file.back() == ' ' || file.back() == '\t')) file.remove_suffix(1);
+    if (file.size() > 4096) return why = "map_Kd file name too long", "";
+    std::string f(file);
+    std::replace(f.begin(), f.end(), '\\', '/');
+    for (char c : f)
+        if (static_cast<unsigned char>(c) < 0x20) return why = "map_Kd file name holds a control character", "";
+    return f;
+}
+
+// A statement of numbers (Kd, Ks, Ns, d, Tr, Ni) into `m`; false with `why` set.
+bool numbers(std::string_view key, const std::vector<std::string_view>& w, Material& m, std::string& why) {
+    std::vector<double> v;
+    for (std::size_t i = 1; i < w.size(); ++i) {
+        double x;
+        if (!number(w[i], x)) {
+            why = std::string(key) + " value '" + std::string(w[i].substr(0, 40)) + "' is not a number" +
+                  (same(w[i], "spectral") || same(w[i], "xyz") ? " (spectral and xyz colours are not read)" : "");
+            return false;
+        }
+        v.push_back(x);
+    }
+    const bool colour = same(key, "Kd") || same(key, "Ks");
+    if (colour ? (v.size() != 1 && v.size() != 3) : v.size() != 1) {
+        why = std::string(key) + (colour ? " needs 1 or 3 numbers" : " needs 1 number");
+        return false;
+    }
+    if (v.size() == 1) v.resize(3, v[0]);
+    if (same(key, "Kd")) {
+        m.colour = {v[0], v[1], v[2]};
+    } else if (same(key, "Ks")) {
+        m.specular = std::clamp(std::max({v[0], v[1], v[2]}), 0.0, 1.0);
+    } else if (same(key, "Ns")) {
+        m.shininess = std::clamp(v[0], 1.0, 10000.0);
+    } else if (same(key, "d")) {
+        m.refraction = std::clamp(1 - v[0], 0.0, 1.0);
+    } else if (same(key, "Tr")) {
+        m.refraction = std::clamp(v[0], 0.0, 1.0);
+    } else {
+        m.refractive_index = std::max(1.0, v[0]);
+    }
+    m.scattering = 1 - m.refraction;
+    return true;
+}
+
 }  // namespace
 
 bool read_mtl(std::string_view text, std::vector<MtlMaterial>& out, ModelError& error) {
     out.clear();
     long line_no = 0;
     MtlMaterial* cur = nullptr;
-    std::size_t at = 0;
-    while (at <= text.size()) {
+    std::string why;
+    auto fail = [&](std::string message) {
+        error.line = line_no;
+        error.message = std::move(message);
+        return false;
+    };
+    for (std::size_t at = 0; at <= text.size();) {
         std::size_t end = at;
         while (end < text.size() && text[end] != '\n' && text[end] != '\r') ++end;
         std::string_view line = text.substr(at, end - at);
@@ -67,15 +128,7 @@ bool read_mtl(std::string_view text, std::vector<MtlMaterial>& out, ModelError& 
         if (end < text.size() && text[end] == '\r' && at < text.size() && text[at] == '\n') ++at;
         if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
         const std::vector<std::string_view> w = words(line);
-        if (w.empty()) {
-            if (end >= text.size()) break;
-            continue;
-        }
-        auto fail = [&](std::string message) {
-            error.line = line_no;
-            error.message = std::move(message);
-            return false;
-        };
+        if (w.empty()) continue;
         const std::string_view key = w[0];
         if (same(key, "newmtl")) {
             if (out.size() >= MeshData::max_materials)
@@ -84,64 +137,23 @@ bool read_mtl(std::string_view text, std::vector<MtlMaterial>& out, ModelError& 
             // an empty one, which `usemtl` with no name uses).
             std::string_view name = w.size() < 2 ? std::string_view() : line.substr(std::size_t(w[1].data() - line.data()));
             while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.remove_suffix(1);
-            MtlMaterial m;
-            m.name = std::string(name.substr(0, 4096));
-            out.push_back(std::move(m));
+            out.emplace_back();
+            out.back().name = std::string(name.substr(0, 4096));
             cur = &out.back();
             continue;
         }
-        const bool known = same(key, "Kd") || same(key, "Ks") || same(key, "Ns") || same(key, "d") || same(key, "Tr") ||
-                           same(key, "Ni") || same(key, "map_Kd");
-        if (!known) continue;  // Ka, Ke, illum, other maps...: not used
+        const bool map = same(key, "map_Kd");
+        if (!map && !same(key, "Kd") && !same(key, "Ks") && !same(key, "Ns") && !same(key, "d") && !same(key, "Tr") &&
+            !same(key, "Ni"))
+            continue;  // Ka, Ke, illum, other maps...: not used
         if (!cur) return fail(std::string(key) + " before any newmtl");
-        Material& m = cur->material;
-        if (same(key, "map_Kd")) {
-            std::size_t i = 1;
-            while (i < w.size() && w[i].size() > 1 && w[i][0] == '-' && option_values(w[i]) >= 0) {
-                const int n = option_values(w[i]);
-                ++i;
-                double v;
-                for (int k = 0; k < n && i + 1 < w.size() && (number(w[i], v) || n == 1); ++k) ++i;
-            }
-            if (i >= w.size()) return fail("map_Kd needs a file name");
-            std::string_view file = line.substr(std::size_t(w[i].data() - line.data()));
-            while (!file.empty() && (file.back() == ' ' || file.back() == '\t')) file.remove_suffix(1);
-            if (file.size() > 4096) return fail("map_Kd file name too long");
-            std::string f(file);
-            std::replace(f.begin(), f.end(), '\\', '/');
-            for (char c : f)
-                if (static_cast<unsigned char>(c) < 0x20) return fail("map_Kd file name holds a control character");
-            cur->texture = f;
+        if (map) {
+            cur->texture = map_file(line, w, why);
+            if (cur->texture.empty()) return fail(why);
             cur->texture_line = line_no;
-            continue;
+        } else if (!numbers(key, w, cur->material, why)) {
+            return fail(why);
         }
-        std::vector<double> v;
-        for (std::size_t i = 1; i < w.size(); ++i) {
-            double x;
-            if (!number(w[i], x))
-                return fail(std::string(key) + " value '" + std::string(w[i].substr(0, 40)) + "' is not a number" +
-                            (same(w[i], "spectral") || same(w[i], "xyz") ? " (spectral and xyz colours are not read)" : ""));
-            v.push_back(x);
-        }
-        const bool colour = same(key, "Kd") || same(key, "Ks");
-        if (colour ? (v.size() != 1 && v.size() != 3) : v.size() != 1)
-            return fail(std::string(key) + (colour ? " needs 1 or 3 numbers" : " needs 1 number"));
-        if (v.size() == 1) v.resize(3, v[0]);
-        if (same(key, "Kd")) {
-            m.colour = {v[0], v[1], v[2]};
-        } else if (same(key, "Ks")) {
-            m.specular = std::clamp(std::max({v[0], v[1], v[2]}), 0.0, 1.0);
-        } else if (same(key, "Ns")) {
-            m.shininess = std::clamp(v[0], 1.0, 10000.0);
-        } else if (same(key, "d")) {
-            m.refraction = std::clamp(1 - v[0], 0.0, 1.0);
-        } else if (same(key, "Tr")) {
-            m.refraction = std::clamp(v[0], 0.0, 1.0);
-        } else {
-            m.refractive_index = std::max(1.0, v[0]);
-        }
-        m.scattering = 1 - m.refraction;
-        if (end >= text.size()) break;
     }
     return true;
 }
