@@ -93,6 +93,27 @@ struct StbFree {
 
 }  // namespace
 
+bool image_size(std::string_view bytes, long long& w, long long& h) {
+    w = h = 0;
+    if (bytes.size() > std::size_t(INT_MAX)) return false;
+    // A PNG's size is read here first: stb refuses big ones without saying the size.
+    if (is_png(bytes) && bytes.size() >= 24 && bytes.compare(12, 4, "IHDR") == 0) {
+        auto be32 = [&](std::size_t at) {
+            std::uint32_t v = 0;
+            for (std::size_t k = 0; k < 4; ++k) v = v << 8 | static_cast<unsigned char>(bytes[at + k]);
+            return v;
+        };
+        w = be32(16), h = be32(20);
+        if (too_large(w, h)) return true;
+    }
+    int iw = 0, ih = 0, comp = 0;
+    if (!(is_png(bytes) || is_jpeg(bytes)) ||
+        !stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &iw, &ih, &comp))
+        return false;
+    w = iw, h = ih;
+    return true;
+}
+
 std::shared_ptr<Texture> decode_texture(std::string_view bytes, std::string& error) {
     error.clear();
     if (bytes.empty()) {
@@ -112,19 +133,7 @@ std::shared_ptr<Texture> decode_texture(std::string_view bytes, std::string& err
     const int len = int(bytes.size());
     const char* kind = png ? "PNG" : "JPEG";
     long long w = 0, h = 0;
-    int iw = 0, ih = 0, comp = 0;
-    // A PNG's size is read here first: stb refuses big ones without saying the size.
-    if (png && bytes.size() >= 24 && bytes.compare(12, 4, "IHDR") == 0) {
-        auto be32 = [&](std::size_t at) {
-            std::uint32_t v = 0;
-            for (std::size_t k = 0; k < 4; ++k) v = v << 8 | static_cast<unsigned char>(bytes[at + k]);
-            return v;
-        };
-        w = be32(16), h = be32(20);
-    }
-    if (!too_large(w, h) && stbi_info_from_memory(data, len, &iw, &ih, &comp)) {
-        w = iw, h = ih;
-    } else if (!too_large(w, h)) {
+    if (!image_size(bytes, w, h)) {
         error = std::string("not a readable ") + kind + " image (" + reason() + ")";
         return nullptr;
     }

@@ -60,6 +60,9 @@ private:
 // RGBA). Refuses, before any texel is allocated, an image whose header claims more
 // than the limits allow. Null with `error` set otherwise.
 std::shared_ptr<Texture> decode_texture(std::string_view bytes, std::string& error);
+// The size a PNG or JPEG header claims, read without decoding (true: w and h set;
+// false: not a PNG or JPEG header stb_image can read).
+bool image_size(std::string_view bytes, long long& w, long long& h);
 // The same from a file: only a regular file within the size limit is read (a folder,
 // a device or a FIFO is refused at once, never waited on).
 std::shared_ptr<Texture> read_texture(const std::string& path, std::string& error);
