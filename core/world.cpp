@@ -35,8 +35,13 @@ ShadeMaterial ShadeMaterial::from(const Material& m) {
 
 ShadeMaterial ShadeMaterial::of(const Object& o) {
     ShadeMaterial s = from(o.material);
-    if (const Mesh* mesh = std::get_if<Mesh>(&o.shape); mesh && mesh->model && !o.has_material)
+    if (const Mesh* mesh = std::get_if<Mesh>(&o.shape); mesh && mesh->model && !o.has_material) {
         s.file = mesh->model->shading();
+        // Light refracted through a face the file makes transparent crosses the model
+        // unabsorbed (MTL's dissolve says how much is seen through, not a tint); the
+        // object's own material would absorb all of it (translusans 0).
+        if (s.file) s.log_tint = {};
+    }
     return s;
 }
 

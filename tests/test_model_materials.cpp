@@ -90,6 +90,10 @@ TEST_CASE("model materials: shading takes each face's material, its texture thro
     const ShadeMaterial object = ShadeMaterial::of(s.objects[0]);
     REQUIRE(object.file);
     CHECK(object.file->materials.size() == 2);
+    // Light refracted in through the transparent faces is not absorbed on its way
+    // (the object's own material, translusans 0, would absorb all of it).
+    CHECK(object.log_tint == Colour{0, 0, 0});
+    CHECK(ShadeMaterial::from(s.objects[0].material).log_tint.x == -HUGE_VAL);
     const ShadeMaterial* m = nullptr;
     // On the quad: the red material, no texture.
     Colour c = look_down(s, 0.5, 0.3, object, m);
