@@ -28,6 +28,7 @@
 #include <memory>
 #include <mutex>
 #include <new>
+#include <set>
 #include <thread>
 #include <type_traits>
 
@@ -632,8 +633,13 @@ private:
         const sc::Block<Material>& b = sc::material_block();
         Material m = b.make();
         ItemState st;
+        const int errors_before = errors_;
         read_block(b, m, st);
         finish(b, m, st, key.offset, [&] { return loc_of(key.offset); });
+        if (!m.texture.empty() && errors_ == errors_before) {
+            const std::size_t at = st.value_at[key_index(b, *b.find("texture"))];
+            read_texture(m, at != kNone ? at : key.offset);
+        }
         out = m;
         return true;
     }
@@ -851,7 +857,9 @@ private:
                 error_at(at, "too many model files (limit " + std::to_string(ModelLimits::max_files) + ")");
                 return;
             }
-            it = models_.emplace(path, (opt_.models ? *opt_.models : own_models_).load(path)).first;
+            it = models_.emplace(path, (opt_.models ? *opt_.models : own_models_)
+                                           .load(path, opt_.textures ? opt_.textures : &own_textures_))
+                     .first;
             if (const MeshModel* model = it->second.model.get()) triangles_ += model->data().triangle_count();
             if (triangles_ > ModelLimits::max_triangles) {
                 error_at(at, "the scene's models hold more than " + std::to_string(ModelLimits::max_triangles) +
@@ -866,7 +874,52 @@ private:
             error_at(at, m.file + (l.error.line > 0 ? ":" + std::to_string(l.error.line) : "") + ": " + l.error.message);
             return;
         }
+        for (const Material& mm : l.model->data().materials)
+            if (mm.texture_image && !count_texels(*mm.texture_image)) {
+                error_at(at, m.file + ": the scene's textures hold more than " +
+                                 std::to_string(TextureLimits::max_scene_texels) + " pixels in all");
+                return;
+            }
         m.model = l.model;
+        for (const ModelError& w : l.model->data().warnings)
+            report(Diagnostic::Severity::Warning, loc_of(at),
+                   m.file + (w.line > 0 ? ":" + std::to_string(w.line) : "") + ": " + w.message);
+    }
+
+    // The texture a material names, decoded once per parse however many materials name
+    // it; its errors are reported at the file name.
+    void read_texture(Material& m, std::size_t at) {
+        // Textures are read by the main reading only (a helper would read them again).
+        if (piece_) throw Bail{};
+        if (!opt_.read_textures) return;
+        const std::string path = resolve_model_path(opt_.base_dir, m.texture);
+        auto it = textures_.find(path);
+        if (it == textures_.end()) {
+            if (textures_.size() >= TextureLimits::max_files) {
+                error_at(at, "too many texture files (limit " + std::to_string(TextureLimits::max_files) + ")");
+                return;
+            }
+            it = textures_.emplace(path, (opt_.textures ? *opt_.textures : own_textures_).load(path)).first;
+        }
+        const TextureStore::Loaded& l = it->second;
+        if (!l.texture) {
+            error_at(at, m.texture + ": " + l.error);
+            return;
+        }
+        if (!count_texels(*l.texture)) {
+            error_at(at, "the scene's textures hold more than " + std::to_string(TextureLimits::max_scene_texels) +
+                             " pixels in all");
+            it->second = {nullptr, "(over the scene's limit of texture pixels)"};
+            return;
+        }
+        m.texture_image = l.texture;
+    }
+    // Counts a texture's pixels toward the scene's limit (each texture once); false
+    // once over it.
+    bool count_texels(const Texture& t) {
+        if (!counted_textures_.insert(&t).second) return true;
+        texels_ += std::uint64_t(t.width()) * std::uint64_t(t.height());
+        return texels_ <= TextureLimits::max_scene_texels;
     }
 
     // A CSG's `left { OBJECT }` or `right { OBJECT }` (after its name).
@@ -960,6 +1013,10 @@ private:
     std::size_t populated_ = 0;  // objects.size() at which populate_ahead is next called
     std::map<std::string, ModelStore::Loaded> models_;  // by resolved path
     ModelStore own_models_;  // when the options give no store
+    std::map<std::string, TextureStore::Loaded> textures_;  // by resolved path
+    TextureStore own_textures_;  // when the options give no store
+    std::set<const Texture*> counted_textures_;  // those counted in texels_
+    std::uint64_t texels_ = 0;  // of the textures read, toward the scene's limit
     std::size_t triangles_ = 0;  // in the models read
     bool camera_seen_ = false, size_seen_ = false;
     ItemState camera_keys_, size_keys_;  // keys accumulate over repeated sections

@@ -339,12 +339,12 @@ Colour World::shade(const Vec3& o, const Vec3& d, int depth, double weight, Ctx&
         // The New: terms: sphere lights sampled, highlights.
         Colour highlight;
         const Colour lit =
-            m->scattering > 0 || m->specular > 0 ? direct_sampled(s.p, s.n, d, *m, m->colour, highlight, ctx) : Colour{};
+            m->scattering > 0 || m->specular > 0 ? direct_sampled(s.p, s.n, d, *m, s.cp, highlight, ctx) : Colour{};
         const Colour mirror =
             m->reflection > 0 ? shade(s.p, reflect(d, s.n), depth + 2, weight * m->reflection, ctx) : Colour{};
         return combine(s, lit, mirror) + highlight;
     }
-    const Colour lit = m->scattering > 0 ? direct(s.p, s.n, m->colour, ctx) : Colour{};
+    const Colour lit = m->scattering > 0 ? direct(s.p, s.n, s.cp, ctx) : Colour{};
     const Colour mirror =
         m->reflection > 0 ? shade(s.p, reflect(d, s.n), depth + 2, weight * m->reflection, ctx) : Colour{};
     return combine(s, lit, mirror);

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "shapes.h"
+#include "texture_map.h"
 #include "world.h"
 
 namespace rt {
@@ -121,6 +122,7 @@ struct World::Surface {
     Vec3 p, n;
     const ShadeMaterial* m = nullptr;
     Colour refr;
+    Colour cp;  // the surface's colour at p: m->colour, times its texture's texel there
 };
 
 // A shadow ray toward one light: it leaves p a little toward the light, along the unit
@@ -320,10 +322,15 @@ inline bool World::shade_surface(const Vec3& o, const Vec3& d, int depth, double
     if (h.kind == HitRec::Object) {
         m = &materials[h.index];
         n = geometry->surface_normal(h.index, h.end, p);
+        s.cp = m->colour;
+        if (__builtin_expect(m->texture != nullptr || m->file != nullptr, 0))
+            object_look(*geometry, h.index, h.end, p, m, s.cp);
     } else {
         const PlaneShape& pl = planes[h.index];
         m = &plane_mats[2 * h.index + pl.cell(p)];
         n = pl.n;
+        s.cp = m->colour;
+        if (__builtin_expect(m->texture != nullptr, 0)) s.cp = plane_look(pl, *m, p);
     }
     s.m = m;
     s.refr = {};

@@ -23,6 +23,8 @@ namespace rt {
 struct Geometry;  // primitives + BVH (shapes.h, bvh.h)
 class Bvh;
 
+struct ModelShading;
+
 // Material as the tracer uses it: weights normalised to sum 1 (or all 0).
 struct ShadeMaterial {
     double reflection = 0, refraction = 0, scattering = 1;
@@ -33,7 +35,24 @@ struct ShadeMaterial {
     Colour log_tint;
     // New: the lights' highlight (Blinn-Phong), added on top of the terms above.
     double specular = 0, shininess = 50;
+    // New: the image multiplied into `colour` (null: none, the 2013 look; the scene's
+    // Material holds it, and World::textures keeps it alive) and the scene units per
+    // repeat of the mappings that have no scale of their own.
+    const Texture* texture = nullptr;
+    double texture_scale = 1;
+    // New: a mesh drawn with its model file's own materials or vertex colours (no
+    // material block overrides them): what the file gives, made once per model.
+    const ModelShading* file = nullptr;
     static ShadeMaterial from(const Material& m);
+    // The material of object `o` as shading uses it (a mesh's with its file's).
+    static ShadeMaterial of(const Object& o);
+};
+
+// A model file's materials as shading uses them (MeshModel::shading()): per entry of
+// MeshData::materials, and whether its vertices' colours colour it.
+struct ModelShading {
+    std::vector<ShadeMaterial> materials;
+    bool vertex_colours = false;
 };
 
 // An infinite plane, two-sided for hits, one-sided for shading (normal toward point 4).
@@ -44,6 +63,9 @@ struct PlaneShape {
     bool chess = false;
     bool singular = true;  // point 4 in the plane: every cell is material 1
     Vec3 inv_row[3];       // cell coordinates of p - p1
+    // New: texture coordinates of p - p1 in scene units: along point 1 -> 2 and, in
+    // the plane, along point 1 -> 3 (the axes as they are, not made square).
+    Vec3 uv_row[2];
     static PlaneShape from(const Plane& p);
     // 0 for material 1, 1 for material 2.
     int cell(const Vec3& p) const;
@@ -185,6 +207,9 @@ public:
     // Glow discs of many lamps in a BVH of their own (null when a loop over them is
     // cheaper): a ray then tests the few discs near it, not every lamp.
     std::shared_ptr<const Bvh> glow_bvh;
+    // New: every texture the materials above point to (a model's own are kept by its
+    // model, which the geometry holds).
+    std::vector<std::shared_ptr<const Texture>> textures;
     // Per light (same index), its light buffer; null or n == 0: shadow rays walk the BVH.
     std::shared_ptr<const std::vector<LightBuffer>> light_buffers;
     // The same around the camera's position, for the rays that leave from it; null if none.

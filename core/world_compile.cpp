@@ -62,14 +62,29 @@ double distance_to_objects(const Geometry& g, const Vec3& p) {
     return std::sqrt(best2);
 }
 
+bool has_highlight(const ShadeMaterial& m) {
+    if (m.specular > 0) return true;
+    if (m.file)
+        for (const ShadeMaterial& f : m.file->materials)
+            if (f.specular > 0) return true;
+    return false;
+}
+
 bool bounded_material(const ShadeMaterial& m, double& cp) {
     if (!(m.reflection >= 0 && m.refraction >= 0 && m.scattering >= 0)) return false;
     if (m.refraction > 0 && max3(m.log_tint) > 0) return false;  // a tint above 1
     double c = max3(cabs(m.colour));
     if (!std::isfinite(c)) return false;
+    // A texel is at most 1, so a texture never brightens the colour.
     if (m.scattering > 0) cp = std::max(cp, c);
     // A highlight adds at most specular times a light's strength, whatever scatters.
     if (m.specular > 0) cp = std::max(cp, (m.scattering > 0 ? c : 0.0) + m.specular);
+    if (m.file) {
+        for (const ShadeMaterial& f : m.file->materials)
+            if (!bounded_material(f, cp)) return false;
+        // Vertex colours: linear values of 8 or 16-bit channels, or floats as written.
+        if (m.file->vertex_colours) return false;
+    }
     return true;
 }
 
@@ -78,7 +93,7 @@ World::Tallies::Materials tally_materials(const Chunked<ShadeMaterial>& material
     const ShadeMaterial* m = materials.chunk(c);
     const std::size_t e = materials.chunk_size(c);
     for (std::size_t k = 0; k < e && t.bounded; ++k) t.bounded = bounded_material(m[k], t.cp);
-    for (std::size_t k = 0; k < e && !t.specular; ++k) t.specular = m[k].specular > 0;
+    for (std::size_t k = 0; k < e && !t.specular; ++k) t.specular = has_highlight(m[k]);
     return t;
 }
 
@@ -143,6 +158,7 @@ double radiance_bound(const World& w) {
 struct ObjectMaterials {
     Chunked<ShadeMaterial> list;
     std::vector<World::Tallies::Materials> tallies;
+    std::vector<std::shared_ptr<const Texture>> textures;  // those the materials name
 };
 
 ObjectMaterials make_materials(const Scene& scene) {
@@ -157,16 +173,21 @@ ObjectMaterials make_materials(const Scene& scene) {
         // to either of the last two objects' in its chunk is copied, saving its three
         // logarithms and its check, which gives the same answer (and the same tally as
         // tally_materials(), which checks every one).
-        const Material& m = scene.objects[i].material;
-        std::size_t k = 1;
+        // (A mesh's shading material depends on its model too.)
+        const Object& o = scene.objects[i];
+        const Material& m = o.material;
+        const bool mesh = std::holds_alternative<Mesh>(o.shape);
+        std::size_t k = mesh ? 3 : 1;
         for (; k <= 2 && k <= i && (i - k) >> kShift == i >> kShift; ++k)
             if (m.same_bits(scene.objects[i - k].material)) break;
         if (k <= 2 && k <= i && (i - k) >> kShift == i >> kShift) {
             out.push_back(out[i - k]);
         } else {
-            out.push_back(ShadeMaterial::from(m));
+            if (m.texture_image && (made.textures.empty() || made.textures.back() != m.texture_image))
+                made.textures.push_back(m.texture_image);
+            out.push_back(ShadeMaterial::of(o));
             if (tally.bounded) tally.bounded = detail::bounded_material(out.back(), tally.cp);
-            tally.specular |= out.back().specular > 0;
+            tally.specular |= detail::has_highlight(out.back());
         }
         if (((i + 1) >> kShift) != (i >> kShift) || i + 1 == n) {
             made.tallies.push_back(tally);
@@ -214,7 +235,20 @@ std::shared_ptr<const World> compile_world(const Scene& scene, std::shared_ptr<c
 
 namespace detail {
 
+void keep_textures(World& w, std::vector<std::shared_ptr<const Texture>> more) {
+    if (more.empty()) return;
+    more.insert(more.end(), w.textures.begin(), w.textures.end());
+    std::sort(more.begin(), more.end());
+    more.erase(std::unique(more.begin(), more.end()), more.end());
+    w.textures = std::move(more);
+}
+
 void add_planes(World& w, const Scene& scene) {
+    std::vector<std::shared_ptr<const Texture>> textures;
+    for (const Plane& p : scene.planes)
+        for (const Material* m : {&p.material, &p.material2})
+            if (m->texture_image) textures.push_back(m->texture_image);
+    keep_textures(w, std::move(textures));
     for (const Plane& p : scene.planes) {
         w.planes.push_back(PlaneShape::from(p));
         w.plane_mats.push_back(ShadeMaterial::from(p.material));
@@ -235,7 +269,7 @@ void set_features(World& w, const Scene& scene) {
     }
     w.highlights = false;
     for (const World::Tallies::Materials& m : w.tallies->materials) w.highlights |= m.specular;
-    for (const ShadeMaterial& m : w.plane_mats) w.highlights |= m.specular > 0;
+    for (const ShadeMaterial& m : w.plane_mats) w.highlights |= has_highlight(m);
 }
 
 void add_lights(World& w, const Scene& scene) {
@@ -361,6 +395,7 @@ std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<co
     auto w = std::make_shared<World>();
     w->geometry = std::move(geometry);
     w->materials = std::move(materials.list);
+    detail::keep_textures(*w, std::move(materials.textures));
     detail::add_planes(*w, scene);
     detail::add_lights(*w, scene);
     detail::add_glow_bvh(*w, previous);

@@ -34,14 +34,19 @@ bool find_moved(const Geometry& g, const Scene& scene, const std::vector<std::ui
 // chunks written.
 std::vector<std::size_t> update_materials(World& w, const Scene& scene, const std::vector<std::uint32_t>& changed) {
     std::vector<std::size_t> chunks;
+    std::vector<std::shared_ptr<const Texture>> textures;
     for (std::uint32_t i : changed) {
-        const ShadeMaterial m = ShadeMaterial::from(scene.objects[i].material);
-        static_assert(sizeof(ShadeMaterial) == 13 * sizeof(double), "shading materials compare as bytes");
+        const ShadeMaterial m = ShadeMaterial::of(scene.objects[i]);
+        if (scene.objects[i].material.texture_image) textures.push_back(scene.objects[i].material.texture_image);
+        static_assert(sizeof(ShadeMaterial) == 13 * sizeof(double) + 3 * 8, "shading materials compare as bytes");
         if (std::memcmp(&m, &w.materials[i], sizeof m) == 0) continue;
         w.materials.write(i) = m;
         const std::size_t c = i >> Chunked<ShadeMaterial>::kShift;
         if (chunks.empty() || chunks.back() != c) chunks.push_back(c);
     }
+    // The world keeps what it may point to (the textures it held too: other objects
+    // may still name them).
+    detail::keep_textures(w, std::move(textures));
     return chunks;
 }
 

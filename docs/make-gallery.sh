@@ -105,8 +105,9 @@ awk -v dir="$tmp/blocks" '
 ' "$docs/scene-format.md"
 
 mkdir -p "$docs/img" "$tmp/examples" "$tmp/check"
-# The examples' models are named as from scenes/, where they are.
+# The examples' models and textures are named as from scenes/, where they are.
 ln -s "$root/scenes/models" "$tmp/examples/models"
+ln -s "$root/scenes/textures" "$tmp/examples/textures"
 thumbs=()
 for block in "$tmp"/blocks/*.scene.*; do
     [ -e "$block" ] || die "no \`\`\`scene blocks found in scene-format.md"

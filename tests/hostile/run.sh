@@ -353,6 +353,56 @@ def scene_unreadable; case_scene_unreadable() { need_root; [ -n "$SKIPPED" ] && 
     run 10 "${AS_NOBODY[@]}" "$RT" ok.txt new.ppm; want_rc 2; want_err 'Permission denied'; clean_checks; }
 def scene_latin1_name; case_scene_latin1_name() { newdir "$FUNCNAME"; run 10 "$RT" "$(printf 'no\xe9\x1b[1m.txt')" old.ppm; want_rc 2; want_clean_text; clean_checks; }
 
+# --- textures and model materials ---------------------------------------------------
+# A texture file must give its error at its name in the scene (nothing written) or a
+# correct picture; never a hang (FIFO, /dev/zero) or an allocation of what a header
+# claims.
+
+SRC=$(cd "$(dirname "$0")/../.." && pwd)
+# The good scene with its sphere textured by FILE.
+tex_scene() { printf '%s\n' "${SCENE_OK/colour 0.9 0.2 0.15 /colour 0.9 0.2 0.15 texture \"$1\" }"; }
+# A texture case that must be refused: the reason in stderr at the file name's place.
+tex_refused() {  # REASON
+    run 10 "$RT" s.txt new.ppm; want_rc 1; want_err "s.txt:1:[0-9]+: error: .*$1"; want_fast 3
+    [ -e "$D/new.ppm" ] && problem "new.ppm written"; clean_checks; }
+# A texture case that must render.
+tex_renders() { run 20 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
+def tex_truncated; case_tex_truncated() { newdir "$FUNCNAME"; head -c 120 "$SRC/scenes/textures/uv-grid.png" > "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_refused 't.png: '; }
+def tex_empty; case_tex_empty() { newdir "$FUNCNAME"; : > "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_refused 'empty'; }
+def tex_folder; case_tex_folder() { newdir "$FUNCNAME"; mkdir "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_refused 'is a folder'; }
+def tex_dev_zero; case_tex_dev_zero() { newdir "$FUNCNAME"; tex_scene /dev/zero > "$D/s.txt"; tex_refused 'not a regular file'; }
+def tex_fifo; case_tex_fifo() { newdir "$FUNCNAME"; mkfifo "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_refused 'not a regular file'; }
+def tex_not_image; case_tex_not_image() { newdir "$FUNCNAME"; printf '%s\n' "$SCENE_OK" > "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_refused 'not a PNG or JPEG'; }
+def tex_missing; case_tex_missing() { newdir "$FUNCNAME"; tex_scene nosuch.png > "$D/s.txt"; tex_refused 'No such file'; }
+def tex_huge_header; case_tex_huge_header() { newdir "$FUNCNAME"
+    # A PNG header claiming 100000 x 100000 pixels (30 GB of texels), and nothing after it.
+    printf '\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00\x00\x00\x00\x00' > "$D/t.png"
+    tex_scene t.png > "$D/s.txt"; tex_refused '100000 x 100000 pixels is too large'; }
+def tex_huge_jpeg; case_tex_huge_jpeg() { newdir "$FUNCNAME"; need_no_sanitizer; [ -n "$SKIPPED" ] && return
+    # A JPEG header claiming 65000 x 65000 under a 1 GB address space: refused by its size.
+    printf '\xff\xd8\xff\xc0\x00\x11\x08\xfd\xe8\xfd\xe8\x03\x01\x22\x00\x02\x11\x01\x03\x11\x01\xff\xd9' > "$D/t.jpg"
+    tex_scene t.jpg > "$D/s.txt"; run 10 bash -c "ulimit -v 1000000; exec '$RT' s.txt new.ppm"; want_rc 1; want_err '65000 x 65000'
+    [ -e "$D/new.ppm" ] && problem "new.ppm written"; clean_checks; }
+def tex_png16; case_tex_png16() { newdir "$FUNCNAME"; convert -size 8x8 xc:'rgb(200,100,50)' -depth 16 PNG48:"$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_renders; }
+def tex_grey; case_tex_grey() { newdir "$FUNCNAME"; convert -size 8x8 xc:'gray(40%)' -define png:color-type=0 -depth 8 "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_renders; }
+def tex_grey_alpha; case_tex_grey_alpha() { newdir "$FUNCNAME"; convert -size 8x8 xc:'graya(40%,0.5)' -define png:color-type=4 -depth 8 "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_renders; }
+def tex_alpha; case_tex_alpha() { newdir "$FUNCNAME"; convert -size 8x8 xc:'rgba(200,100,50,0.3)' PNG32:"$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_renders; }
+def tex_cmyk_jpeg; case_tex_cmyk_jpeg() { newdir "$FUNCNAME"; cp "$SRC/tests/textures/cmyk.jpg" "$D/t.jpg"; tex_scene t.jpg > "$D/s.txt"; tex_renders; }
+def tex_progressive_jpeg; case_tex_progressive_jpeg() { newdir "$FUNCNAME"; cp "$SRC/tests/textures/progressive.jpg" "$D/t.jpg"; tex_scene t.jpg > "$D/s.txt"; tex_renders; }
+# An OBJ naming an MTL file: its scene is the good one with this mesh added.
+mtl_case() {  # MTL_TEXT (written to m.mtl unless empty)
+    printf 'mtllib m.mtl\nv 4 -1 0\nv 4 1 0\nv 4 0 2\nusemtl a\nf 1 2 3\n' > "$D/m.obj"
+    [ -n "$1" ] && printf '%s\n' "$1" > "$D/m.mtl"
+    { echo 'thing { mesh { file "m.obj" } }'; printf '%s\n' "$SCENE_OK" | tail -n +2; } > "$D/s.txt"; }
+def mtl_missing; case_mtl_missing() { newdir "$FUNCNAME"; mtl_case ''
+    run 10 "$RT" s.txt new.ppm; want_rc 0; want_err 's.txt:1:21: warning: m.obj: material file m.mtl: No such file'; want_ppm new.ppm 16 12; clean_checks; }
+def mtl_names_itself; case_mtl_names_itself() { newdir "$FUNCNAME"; mtl_case 'newmtl a
+map_Kd m.mtl'; run 10 "$RT" s.txt new.ppm; want_rc 1; want_err 'map_Kd m.mtl names the material file itself'; [ -e "$D/new.ppm" ] && problem "new.ppm written"; clean_checks; }
+def mtl_missing_texture; case_mtl_missing_texture() { newdir "$FUNCNAME"; mtl_case 'newmtl a
+map_Kd gone.png'; run 10 "$RT" s.txt new.ppm; want_rc 1; want_err 'm.mtl:2: map_Kd gone.png: No such file'; [ -e "$D/new.ppm" ] && problem "new.ppm written"; clean_checks; }
+def mtl_fifo_texture; case_mtl_fifo_texture() { newdir "$FUNCNAME"; mkfifo "$D/p.png"; mtl_case 'newmtl a
+map_Kd p.png'; run 10 "$RT" s.txt new.ppm; want_rc 1; want_err 'not a regular file'; want_fast 3; clean_checks; }
+
 # --- output edge cases -------------------------------------------------------------
 
 def out_name_248; case_out_name_248() { newdir "$FUNCNAME"; local n; n=$(printf 'o%.0s' $(seq 244)).ppm; run 10 "$RT" ok.txt "$n"; want_rc 0; want_ppm "$n" 16 12; clean_checks; }
