@@ -47,6 +47,8 @@ public:
     // true for a texture made from data.
     bool unchanged_on_disk() const;
     std::size_t memory_bytes() const { return rgb_.size() * sizeof(float); }
+    // The texels, 3 floats each, rows from the top (to send a texture elsewhere).
+    const std::vector<float>& texels() const { return rgb_; }
 
 private:
     friend std::shared_ptr<Texture> read_texture(const std::string& path, std::string& error);

@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstddef>
 #include <cstring>
 #include <iostream>
 #include <list>
@@ -44,6 +45,7 @@
 #include "schedule.h"
 #include "status.h"
 #include "tile_pool.h"
+#include "texture.h"
 #include "world.h"
 
 namespace rtmpi {
@@ -241,9 +243,93 @@ void bcast_vector(std::vector<T>& v, const char* what) {
     bcast_bytes(v.data(), n * sizeof(T), what);
 }
 
+// The textures of a scene and its models (New:), by the name the materials give.
+using Textures = std::map<std::string, std::shared_ptr<const rt::Texture>>;
+
+void add_texture(Textures& t, const rt::Material& m) {
+    if (m.texture_image) t.emplace(m.texture, m.texture_image);
+}
+void add_textures(Textures& t, const rt::Object& o) {
+    add_texture(t, o.material);
+    if (const rt::Csg* c = std::get_if<rt::Csg>(&o.shape))
+        for (const rt::Object& k : c->operands) add_textures(t, k);
+}
+
+void bcast_string(std::string& s, const char* what) {
+    std::vector<char> v(s.begin(), s.end());
+    bcast_vector(v, what);
+    s.assign(v.begin(), v.end());
+}
+
+// Step 2's textures: rank 0 sends the images of `scene`'s materials and of its models'
+// materials (which it read); the others make textures from the same texels.
+Textures share_textures(const rt::Scene& scene) {
+    Textures textures;
+    if (g_rank == 0) {
+        for (const rt::Object& o : scene.objects) {
+            add_textures(textures, o);
+            if (const rt::Mesh* m = std::get_if<rt::Mesh>(&o.shape); m && m->model)
+                for (const rt::Material& mm : m->model->data().materials) add_texture(textures, mm);
+        }
+        for (const rt::Plane& p : scene.planes) add_texture(textures, p.material), add_texture(textures, p.material2);
+    }
+    std::uint64_t count = textures.size();
+    check(MPI_Bcast(&count, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "MPI_Bcast (textures)");
+    auto it = textures.begin();
+    for (std::uint64_t k = 0; k < count; ++k) {
+        std::string name;
+        std::int32_t size[2] = {0, 0};
+        std::vector<float> rgb;
+        if (g_rank == 0) {
+            name = it->first;
+            size[0] = it->second->width(), size[1] = it->second->height();
+            rgb = it->second->texels();
+            ++it;
+        }
+        bcast_string(name, "MPI_Bcast (texture name)");
+        check(MPI_Bcast(size, 2, MPI_INT32_T, 0, MPI_COMM_WORLD), "MPI_Bcast (texture size)");
+        bcast_vector(rgb, "MPI_Bcast (texels)");
+        if (g_rank != 0) textures.emplace(name, std::make_shared<const rt::Texture>(size[0], size[1], std::move(rgb)));
+    }
+    return textures;
+}
+
+// A material's image from the shared textures (false: it names one that was not sent).
+bool take_texture(rt::Material& m, const Textures& textures) {
+    if (m.texture.empty()) return true;
+    auto it = textures.find(m.texture);
+    if (it == textures.end()) return false;
+    m.texture_image = it->second;
+    return true;
+}
+bool take_textures(rt::Object& o, const Textures& textures) {
+    bool ok = take_texture(o.material, textures);
+    if (rt::Csg* c = std::get_if<rt::Csg>(&o.shape))
+        for (rt::Object& k : c->operands) ok = take_textures(k, textures) && ok;
+    return ok;
+}
+
+// A model's materials through MPI: the numbers (the 11 doubles that come first) and
+// each texture's name.
+void bcast_materials(std::vector<rt::Material>& materials, const Textures& textures) {
+    std::uint64_t n = materials.size();
+    check(MPI_Bcast(&n, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "MPI_Bcast (model materials)");
+    materials.resize(std::size_t(n));
+    for (rt::Material& m : materials) {
+        double numbers[11];
+        static_assert(offsetof(rt::Material, texture) == sizeof numbers, "the numbers come first");
+        std::memcpy(numbers, &m, sizeof numbers);
+        check(MPI_Bcast(numbers, 11, MPI_DOUBLE, 0, MPI_COMM_WORLD), "MPI_Bcast (model material)");
+        std::memcpy(static_cast<void*>(&m), numbers, sizeof numbers);
+        bcast_string(m.texture, "MPI_Bcast (model texture name)");
+        if (g_rank != 0) take_texture(m, textures);
+    }
+}
+
 // Step 2's models: rank 0 sends those of `scene` (which it read); the others receive
-// them and make models of their own from the same triangles.
-Models share_models(const rt::Scene& scene) {
+// them and make models of their own from the same triangles, corners' texture
+// coordinates, vertex colours and materials.
+Models share_models(const rt::Scene& scene, const Textures& textures) {
     Models models;
     if (g_rank == 0)
         for (const rt::Object& o : scene.objects)
@@ -262,6 +348,10 @@ Models share_models(const rt::Scene& scene) {
         bcast_vector(data.positions, "MPI_Bcast (model vertices)");
         bcast_vector(data.normals, "MPI_Bcast (model normals)");
         bcast_vector(data.triangles, "MPI_Bcast (model triangles)");
+        bcast_vector(data.corner_uv, "MPI_Bcast (model texture coordinates)");
+        bcast_vector(data.colours, "MPI_Bcast (model vertex colours)");
+        bcast_vector(data.triangle_material, "MPI_Bcast (model triangle materials)");
+        bcast_materials(data.materials, textures);
         if (g_rank == 0) {
             ++it;
         } else {
@@ -275,12 +365,18 @@ Models share_models(const rt::Scene& scene) {
 // Every rank: the World from the broadcast text, models and settings. Rank 0 parsed
 // the same text already, so an error here means a broken broadcast, not a bad scene.
 rt::Expected<std::shared_ptr<const rt::World>> build_world(const std::string& text, const Models& models,
-                                                           const JobHeader& job) {
+                                                           const Textures& textures, const JobHeader& job) {
     rt::ParseOptions options;
     options.read_models = false;  // they came with the text
+    options.read_textures = false;
     rt::ParseResult parsed = rt::parse_scene(text, options);
     if (!parsed.ok()) return rt::Status::error("the broadcast scene text does not parse", kExitMpi);
     rt::Scene& scene = parsed.scene;
+    bool all_textures = true;
+    for (rt::Plane& p : scene.planes)
+        all_textures = take_texture(p.material, textures) && take_texture(p.material2, textures) && all_textures;
+    for (rt::Object& o : scene.objects) all_textures = take_textures(o, textures) && all_textures;
+    if (!all_textures) return rt::Status::error("a material's texture was not broadcast", kExitMpi);
     for (rt::Object& o : scene.objects)
         if (rt::Mesh* m = std::get_if<rt::Mesh>(&o.shape)) {
             auto it = models.find(m->file);
@@ -673,9 +769,10 @@ struct Built {
 };
 
 // Step 2's second half, on every rank: success, or why this rank could not build.
-rt::Status build_rank(const std::string& text, const Models& models, const JobHeader& job, Built& b) {
+rt::Status build_rank(const std::string& text, const Models& models, const Textures& textures, const JobHeader& job,
+                      Built& b) {
     try {
-        rt::Expected<std::shared_ptr<const rt::World>> world = build_world(text, models, job);
+        rt::Expected<std::shared_ptr<const rt::World>> world = build_world(text, models, textures, job);
         if (!world) return world.status();
         b.world = std::move(*world);
         b.camera = rt::CameraBasis::make(b.world->camera, job.width, job.height, job.mirror != 0);
@@ -783,13 +880,14 @@ int run(int argc, char** argv) {
     std::string text = std::move(f.text);
     text.resize(std::size_t(job.text_size));
     check(MPI_Bcast(text.data(), int(job.text_size), MPI_BYTE, 0, MPI_COMM_WORLD), "MPI_Bcast (scene)");
-    const Models models = share_models(scene);
+    const Textures textures = share_textures(scene);
+    const Models models = share_models(scene, textures);
     times.bcast = seconds_since(t_bcast0);
     const auto t_compile0 = Clock::now();
     // (Rank 0 set it from the same count before reading the scene.)
     rt::set_process_threads(job.threads > 0 ? job.threads : default_threads());
     Built built;
-    const rt::Status built_ok = build_rank(text, models, job, built);
+    const rt::Status built_ok = build_rank(text, models, textures, job, built);
     times.compile = seconds_since(t_compile0);
 
     // Step 3: everyone ready?
