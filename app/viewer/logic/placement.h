@@ -6,9 +6,15 @@
 #include <cstddef>
 #include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "scene.h"
+#include "viewport.h"
+
+namespace rt {
+class World;
+}
 
 namespace rtview {
 
@@ -44,5 +50,26 @@ rt::Vec3 up_of(const rt::Scene& scene, const Placement& at);
 // 133,000 objects only the first 20M / objects candidates are tried.)
 std::optional<std::size_t> first_clear(const rt::Scene& scene, const std::vector<Placement>& candidates,
                                        const std::function<bool(const rt::Vec3&, double)>& seen = {});
+
+// The picture the viewer shows: a film of film_w x film_h drawn in `image` (window
+// units), seen by `camera` (the view camera), of `world` (null: none compiled yet).
+struct PictureView {
+    const rt::World* world = nullptr;
+    rt::Camera camera;
+    Rect image;
+    int film_w = 1, film_h = 1;
+};
+
+// What lies under the window point (px, py): the surface with its normal (from two
+// neighbouring picks; none where they hit something else), or a point in the air at
+// the distance the camera looks at. `toward` points back to the camera.
+Placement placement_at(const PictureView& view, double px, double py);
+
+// Where an added item goes: at the window point `pointed` (right-click > Add here),
+// else near the picture's centre; an object from the menu (`object`, nothing pointed)
+// goes where it stands clear of the others and is seen whole (first_clear), on a
+// surface nearest the centre before a point in the air.
+Placement new_item_placement(const PictureView& view, const rt::Scene* scene, bool object,
+                             std::optional<std::pair<double, double>> pointed);
 
 }  // namespace rtview
