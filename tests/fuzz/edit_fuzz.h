@@ -777,7 +777,9 @@ private:
             return;
         }
         if (!done) {
-            const rt::ParseResult r = rt::parse_scene(e->replacement.applied_to(text));
+            std::string edited = text;
+            e->replacement.apply(edited);
+            const rt::ParseResult r = rt::parse_scene(edited);
             std::string why;
             for (const rt::Diagnostic& d : r.diagnostics) why += "\n  " + rt::format_diagnostic("edited", d);
             broken(what + " made a text that does not parse:" + why);
@@ -1050,9 +1052,9 @@ private:
     void follow_text() {
         const Doc& d = doc_;
         if (d.text_version() == widget_version_) return;
-        std::vector<rtview::TextChange> changes;
+        std::vector<rtview::TextReplacement> changes;
         if (widget_version_ != 0 && d.text_changes_since(widget_version_, changes)) {
-            for (const rtview::TextChange& ch : changes) widget_.follow_replacement(ch.pos, ch.removed, ch.inserted);
+            for (const rtview::TextReplacement& ch : changes) widget_.follow_replacement(ch.offset, ch.length, ch.text);
         } else {
             widget_.set_text(d.editor_text());
         }

@@ -149,7 +149,7 @@ void Document::flush_typing() {
     if (base == editor_) return;
     DocStep step;
     step.name = kTypingName;
-    step.editor.push_back(diff_texts(base, editor_));
+    step.made(diff_texts(base, editor_), base);
     step.keep_applied = true;
     step.has_scene_before = step.has_scene_after = has_scene_;
     step.behind_before = step.behind_after = behind_;

@@ -118,7 +118,7 @@ public:
     // The changes that take the editor text of text version `version` to this one, in
     // order: a widget holding that text applies them instead of taking the whole text
     // again. False when they are not kept (a load, or too many or too large since).
-    bool text_changes_since(std::uint64_t version, std::vector<TextChange>& out) const;
+    bool text_changes_since(std::uint64_t version, std::vector<TextReplacement>& out) const;
     // The editor text was typed into (call after a widget changed it).
     void note_typed() { ++typed_; }
     // Changes with every possible change of the editor text (with text_version()).
@@ -277,7 +277,7 @@ private:
     std::deque<Change> changes_;
     // Text versions (text_version_ - text_log_.size(), text_version_] as changes of the
     // one before, oldest first, within a budget (text_changes_since()).
-    std::deque<std::vector<TextChange>> text_log_;
+    std::deque<std::vector<TextReplacement>> text_log_;
     std::size_t text_log_bytes_ = 0;
     bool pending_ = false;
     Saved saved_;

@@ -269,11 +269,7 @@ bool Document::commit_in_place(DocStep& step) {
     if (!l.ok || l.objects.size() != scene_.objects.size() || l.planes.size() != scene_.planes.size() ||
         l.lights.size() != scene_.lights.size())
         return false;
-    struct Rep {
-        TextSpan span;
-        std::string text;
-    };
-    std::vector<Rep> reps;
+    std::vector<TextReplacement> reps;
     rt::Scene one;  // carries a valid camera so the writer prints a normal scene
     one.camera = scene_.camera;
     // An item's block keeps its comments and layout when only its changed values can
@@ -281,7 +277,7 @@ bool Document::commit_in_place(DocStep& step) {
     auto add = [&](TextSpan span, ItemList kind, std::optional<std::string> patched = std::nullopt) {
         std::string t = patched ? std::move(*patched) : written_item(one, kind, line_indent(editor_, span.begin));
         if (t.empty()) return false;
-        reps.push_back({span, std::move(t)});
+        reps.push_back({span.begin, span.end - span.begin, std::move(t)});
         return true;
     };
     auto block = [&](TextSpan span) { return std::string_view(editor_).substr(span.begin, span.end - span.begin); };
@@ -314,16 +310,16 @@ bool Document::commit_in_place(DocStep& step) {
         } else {
             std::string t = written_item(one, ItemList::Camera, "");
             if (t.empty()) return false;
-            reps.push_back({{l.append_at, l.append_at}, t + "\n"});
+            reps.push_back({l.append_at, 0, t + "\n"});
         }
     }
     // Back to front, so every span still holds where the text was read.
-    std::sort(reps.begin(), reps.end(), [](const Rep& a, const Rep& b) { return a.span.begin > b.span.begin; });
-    for (Rep& r : reps) {
-        UndoableReplacement s{r.span.begin, editor_.substr(r.span.begin, r.span.end - r.span.begin), std::move(r.text)};
-        editor_.replace(s.pos, s.before.size(), s.after);
-        shift_layout(l, s.pos, s.before.size(), s.after.size());
-        step.editor.push_back(std::move(s));
+    std::sort(reps.begin(), reps.end(),
+              [](const TextReplacement& a, const TextReplacement& b) { return a.offset > b.offset; });
+    for (TextReplacement& r : reps) {
+        shift_layout(l, r.offset, r.length, r.text.size());
+        step.editor_back.push_back(r.apply(editor_));
+        step.editor.push_back(std::move(r));
     }
     // The text changes its version below: the layout stays valid for the new one.
     layout_key_ = layout_key(1);
@@ -339,9 +335,8 @@ bool Document::commit_generic(DocStep& step) {
     std::string new_applied = has_scene_ ? sync_scene_text(old_applied, before, scene_) : rt::write_scene(scene_);
     if (!applied_) {
         // No draft: the editor text is the applied text.
-        UndoableReplacement s = diff_texts(editor_, new_applied);
+        step.made(diff_texts(editor_, new_applied), editor_);
         editor_ = std::move(new_applied);
-        if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
         return true;
     }
     // The user has an unapplied draft: carry the edit into it only where that is
@@ -361,9 +356,8 @@ bool Document::commit_generic(DocStep& step) {
         changed(saved_.whole ? rt::SceneDelta::all() : items_of(step.objects_before, step.planes_before, step.lights_before));
         return false;
     }
-    UndoableReplacement s = diff_texts(editor_, *patched);
+    step.made(diff_texts(editor_, *patched), editor_);
     editor_ = std::move(*patched);
-    if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
     step.applied_before = *applied_;
     applied_ = std::move(new_applied);
     normalize_applied();

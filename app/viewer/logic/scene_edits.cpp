@@ -17,14 +17,6 @@
 
 namespace rtview {
 
-TextReplacement TextReplacement::apply(std::string& s) const {
-    std::size_t off = std::min(offset, s.size());
-    std::size_t len = std::min(length, s.size() - off);
-    TextReplacement back{off, text.size(), s.substr(off, len)};
-    s.replace(off, len, text);
-    return back;
-}
-
 const char* new_item_name(NewItem k) {
     switch (k) {
     case NewItem::Sphere: return "sphere";

@@ -14,22 +14,9 @@
 #include "model.h"
 #include "placement.h"
 #include "scene.h"
+#include "text_replacement.h"
 
 namespace rtview {
-
-// Replace `length` bytes at `offset` with `text`: a replacement to make. Once made, the
-// document keeps it as an UndoableReplacement (document.h), which holds both texts; the
-// editor's buffer keeps its own as BufferEdit (text_buffer.h), in lines and columns.
-struct TextReplacement {
-    std::size_t offset = 0, length = 0;
-    std::string text;
-    // Applies it to `s` and returns the replacement that takes it back.
-    TextReplacement apply(std::string& s) const;
-    std::string applied_to(std::string s) const {
-        apply(s);
-        return s;
-    }
-};
 
 // A top-level item of a scene: scene.objects[index], planes[index] or lights[index].
 struct SceneItem {

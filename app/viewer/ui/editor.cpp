@@ -231,9 +231,9 @@ void DocumentEditor::draw_banners() {
 // carried the other way as the widget's edit log, one small replacement per edit.
 void DocumentEditor::sync_widget() {
     if (doc_.text_version() != seen_version_) {
-        std::vector<TextChange> changes;
+        std::vector<TextReplacement> changes;
         if (seen_version_ != 0 && doc_.text_changes_since(seen_version_, changes)) {
-            for (const TextChange& c : changes) widget_.buffer().follow_replacement(c.pos, c.removed, c.inserted);
+            for (const TextReplacement& c : changes) widget_.buffer().follow_replacement(c.offset, c.length, c.text);
         } else if (seen_version_ == 0) {
             widget_.start_over(std::as_const(doc_).editor_text());  // another document
         } else {
