@@ -518,7 +518,7 @@ private:
         // A held edit (a slider held while the user presses Ctrl+Z, Ctrl+S...) ends in
         // the call that commits it first; the other steps come after a release.
         const bool commits_first = op == 8 || op == 11 || op == 12 || op == 13 || op == 14 || op == 16 || op >= 19;
-        if (doc_.editing()) {
+        if (doc_.edit_held()) {
             if (!commits_first || !c_.one_in(3)) {
                 end_edit();
                 check();
@@ -549,7 +549,7 @@ private:
     }
 
     void end_edit() {
-        if (!doc_.editing()) return;
+        if (!doc_.edit_held()) return;
         if (c_.one_in(8)) {
             log("cancel the held edit");
             doc_.cancel_edit();
@@ -758,7 +758,7 @@ private:
         if (!doc_.has_scene()) return;
         // While a drag holds an edit the viewer refuses: the edit is planned on the text
         // and scene as they are, and committing the held edit would change both.
-        const bool ui_allows = !doc_.editor_dirty() && !doc_.text_behind() && !doc_.editing();
+        const bool ui_allows = !doc_.editor_dirty() && !doc_.text_behind() && !doc_.edit_held();
         if (!ui_allows && !c_.one_in(6)) return;
         const rt::Scene before = doc_.scene();
         const std::string text = std::as_const(doc_).editor_text();
@@ -1078,7 +1078,7 @@ private:
     void check() {
         follow_world();
         check_text_widget();
-        if (doc_.editing()) {
+        if (doc_.edit_held()) {
             check_pending();
             return;
         }

@@ -566,7 +566,7 @@ TEST_CASE("a structural edit is refused while an edit is held, and changes nothi
     // Delete object 1: one replacement planned on the text as it is now.
     const std::size_t at = text.find("  sphere {"), end = text.find("  sphere {", at + 1);
     CHECK_FALSE(d.replace_text(at, end - at, ""));
-    CHECK(d.editing());
+    CHECK(d.edit_held());
     CHECK(d.editor_text() == text);
     CHECK(d.scene() == dragged);
     d.commit();

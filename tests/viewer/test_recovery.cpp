@@ -96,9 +96,9 @@ TEST_CASE("recovery: a held drag is kept as the items it changed, and read back 
     rt_test::put(path, kScene);
     Document doc;
     REQUIRE(doc.load_file(path).ok());
-    CHECK(held_edit(doc).empty());
+    CHECK(doc.held_edit().empty());
     std::get<rt::Sphere>(doc.edit_object(1).shape).position = {7.25, 2.5, 1};
-    const HeldEdit held = held_edit(doc);
+    const HeldEdit held = doc.held_edit();
     REQUIRE(held.objects == std::vector<std::size_t>{1});
     CHECK(held.items.objects.size() == 1);
     {
@@ -124,7 +124,7 @@ TEST_CASE("recovery: a held edit goes only into the text it was made on") {
     Document doc;
     doc.load_text(typed, path, "s.txt");
     std::get<rt::Sphere>(doc.edit_object(0).shape).radius = 1.5;
-    const HeldEdit held = held_edit(doc);
+    const HeldEdit held = doc.held_edit();
     Recovery r((dir / "rec").string());
     REQUIRE(r.update(path, typed, true, 0, 0).ok());
     REQUIRE(r.update_held(path, held, r.written_hash()).ok());
@@ -163,7 +163,7 @@ TEST_CASE("recovery: a drag in the unsaved default scene, or in a new scene, is 
         doc.load_text(start, "", "untitled.txt");
         doc.edit_camera().angle_x = 50;
         Recovery r(dir.path.string());
-        REQUIRE(r.update_held("", held_edit(doc), doc.saved_hash()).ok());
+        REQUIRE(r.update_held("", doc.held_edit(), doc.saved_hash()).ok());
         const std::optional<std::string> found = Recovery(dir.path.string()).find("");
         REQUIRE(found);
         const rt::Scene scene = parse_ok(*found);

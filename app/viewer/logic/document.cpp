@@ -47,9 +47,9 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
                            const std::string& name, std::optional<SceneLayout> layout,
                            std::optional<std::uint64_t> hash) {
     history_.clear();
-    pending_ = false;
+    held_ = false;
     saved_ = {};
-    pending_name_.clear();
+    held_name_.clear();
     last_step_name_.clear();
     typing_base_.reset();
     layout_.reset();
@@ -100,7 +100,7 @@ rt::Status Document::load_file(const std::string& path) {
 
 void Document::changed(rt::SceneDelta delta) {
     const std::uint64_t from = content_version_++;
-    // A pending edit changes its item every frame: one entry for all of them.
+    // A held edit changes its item every frame: one entry for all of them.
     if (!changes_.empty() && changes_.back().to == from && !delta.everything && !changes_.back().delta.everything &&
         changes_.back().delta.objects == delta.objects && changes_.back().delta.planes == delta.planes &&
         changes_.back().delta.lights == delta.lights) {
@@ -182,7 +182,7 @@ bool Document::replace_text(std::size_t pos, std::size_t length, const std::stri
     // The replacement was planned on the text and the scene as they are now; a held
     // edit (a drag) would rewrite the text when committed, and the replacement would
     // land on the wrong bytes.
-    if (pending_) return false;
+    if (held_) return false;
     flush_typing();  // text typed since the last step is a step of its own, first
     normalize_applied();
     if (applied_ || behind_ || pos > editor_.size() || length > editor_.size() - pos) return false;

@@ -101,7 +101,7 @@ rt::ParseOptions Document::parse_options(const std::string& path) const {
 }
 
 bool Document::reload_models() {
-    if (!has_scene_ || pending_ || editor_dirty() || behind_) return false;
+    if (!has_scene_ || held_ || editor_dirty() || behind_) return false;
     // The scene's models, looked for once per scene version (a pass over every object:
     // 9 ms in a 1M-object scene, too much for every second).
     if (scene_models_version_ != scene_version_) {
@@ -135,7 +135,7 @@ bool Document::reload_models() {
 
 Document::DiskEvent Document::check_disk() {
     if (reload_models()) return model_problem_.empty() ? DiskEvent::ModelsReloaded : DiskEvent::ModelUnreadable;
-    if (path_.empty() || pending_) return DiskEvent::None;  // not in the middle of a gesture
+    if (path_.empty() || held_) return DiskEvent::None;  // not in the middle of a gesture
     FileStamp st = FileStamp::of(path_);
     if (st == stamp_) return DiskEvent::None;
     stamp_ = st;

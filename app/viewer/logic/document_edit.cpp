@@ -34,7 +34,7 @@ void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::siz
     fix(l.append_at);
 }
 
-// The items of a pending edit that changed, as (index, value) pairs both ways. An item
+// The items of a held edit that changed, as (index, value) pairs both ways. An item
 // that came back to its value (or to -0 where it had 0: equal, but not what its text
 // reads) takes its value from before again, as the text holds it.
 template <class T>
@@ -62,21 +62,21 @@ std::string changed_name(std::size_t objects, std::size_t planes, std::size_t li
 
 }  // namespace
 
-void Document::open_edit() {
-    if (!pending_) {
+void Document::hold_edit() {
+    if (!held_) {
         saved_ = {};
-        pending_name_.clear();
-        pending_ = true;
+        held_name_.clear();
+        held_ = true;
     }
     ++scene_version_;
 }
 
 void Document::name_edit(const std::string& name) {
-    if (pending_ && pending_name_.empty()) pending_name_ = name;
+    if (held_ && held_name_.empty()) held_name_ = name;
 }
 
-std::string Document::pending_name() const {
-    if (!pending_name_.empty()) return pending_name_;
+std::string Document::held_name() const {
+    if (!held_name_.empty()) return held_name_;
     const std::size_t first = !saved_.objects.empty() ? saved_.objects[0].first
                               : !saved_.planes.empty() ? saved_.planes[0].first
                               : !saved_.lights.empty() ? saved_.lights[0].first
@@ -86,7 +86,7 @@ std::string Document::pending_name() const {
 }
 
 rt::Object& Document::edit_object(std::size_t i) {
-    open_edit();
+    hold_edit();
     rt::SceneDelta d;
     if (i < scene_.objects.size()) d.objects.push_back(std::uint32_t(i));
     changed(std::move(d));
@@ -97,7 +97,7 @@ rt::Object& Document::edit_object(std::size_t i) {
 }
 
 rt::Plane& Document::edit_plane(std::size_t i) {
-    open_edit();
+    hold_edit();
     rt::SceneDelta d;
     if (i < scene_.planes.size()) d.planes.push_back(std::uint32_t(i));
     changed(std::move(d));
@@ -108,7 +108,7 @@ rt::Plane& Document::edit_plane(std::size_t i) {
 }
 
 rt::Light& Document::edit_light(std::size_t i) {
-    open_edit();
+    hold_edit();
     rt::SceneDelta d;
     if (i < scene_.lights.size()) d.lights.push_back(std::uint32_t(i));
     changed(std::move(d));
@@ -119,13 +119,13 @@ rt::Light& Document::edit_light(std::size_t i) {
 }
 
 rt::Camera& Document::edit_camera() {
-    open_edit();
+    hold_edit();
     if (!saved_.whole && !saved_.camera) saved_.camera = scene_.camera;
     return scene_.camera;
 }
 
 rt::Scene& Document::edit() {
-    open_edit();
+    hold_edit();
     changed(rt::SceneDelta::all());
     if (!saved_.whole) saved_.whole = scene_before_edit();
     return scene_;
@@ -142,12 +142,12 @@ rt::Scene Document::scene_before_edit() const {
 }
 
 void Document::cancel_edit() {
-    if (!pending_) return;
-    pending_ = false;
+    if (!held_) return;
+    held_ = false;
     scene_ = scene_before_edit();
     rt::SceneDelta d = saved_.whole ? rt::SceneDelta::all() : items_of(saved_.objects, saved_.planes, saved_.lights);
     saved_ = {};
-    pending_name_.clear();
+    held_name_.clear();
     ++scene_version_;
     changed(std::move(d));
 }
@@ -162,12 +162,12 @@ bool Document::set_camera(const rt::Camera& camera) {
 }
 
 void Document::commit() {
-    if (!pending_) return;
+    if (!held_) return;
     flush_typing();
-    pending_ = false;
+    held_ = false;
     DocStep step;
-    step.name = std::move(pending_name_);
-    pending_name_.clear();
+    step.name = std::move(held_name_);
+    held_name_.clear();
     step.has_scene_before = step.has_scene_after = has_scene_;
     step.behind_before = behind_;
     bool wide = false;
@@ -397,14 +397,24 @@ rt::Scene Document::scene_before_edit_from(const DocStep& step) const {
     return s;
 }
 
-Document::HeldItems Document::held_items() const {
-    HeldItems h;
-    if (!pending_) return h;
-    h.whole = saved_.whole.has_value();
-    for (const auto& p : saved_.objects) h.objects.push_back(p.first);
-    for (const auto& p : saved_.planes) h.planes.push_back(p.first);
-    for (const auto& p : saved_.lights) h.lights.push_back(p.first);
+HeldEdit Document::held_edit() const {
+    HeldEdit h;
+    if (!held_ || saved_.whole || !has_scene_) return h;
+    for (const auto& p : saved_.objects) {
+        h.objects.push_back(p.first);
+        h.items.objects.push_back(scene_.objects[p.first]);
+    }
+    for (const auto& p : saved_.planes) {
+        h.planes.push_back(p.first);
+        h.items.planes.push_back(scene_.planes[p.first]);
+    }
+    for (const auto& p : saved_.lights) {
+        h.lights.push_back(p.first);
+        h.items.lights.push_back(scene_.lights[p.first]);
+    }
     h.camera = saved_.camera.has_value();
+    if (h.empty()) return {};
+    h.items.camera = scene_.camera;
     return h;
 }
 

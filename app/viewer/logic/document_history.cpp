@@ -191,8 +191,8 @@ bool Document::redo() {
 
 std::vector<std::string> Document::undo_names(std::size_t max) const {
     std::vector<std::string> out;
-    // As undo() goes: a pending edit is committed first (after the typing before it).
-    if (pending_ && out.size() < max) out.push_back(pending_name());
+    // As undo() goes: a held edit is committed first (after the typing before it).
+    if (held_ && out.size() < max) out.push_back(held_name());
     if (typing_base_ && *typing_base_ != editor_ && out.size() < max) out.push_back(kTypingName);
     for (std::size_t k = 0; out.size() < max; ++k) {
         const DocStep* s = history_.peek_undo(k);
@@ -203,8 +203,8 @@ std::vector<std::string> Document::undo_names(std::size_t max) const {
 }
 
 std::vector<std::string> Document::redo_names(std::size_t max) const {
-    // A pending edit or typing becomes a step of its own, which ends the redo branch.
-    if (pending_ || (typing_base_ && *typing_base_ != editor_)) return {};
+    // A held edit or typing becomes a step of its own, which ends the redo branch.
+    if (held_ || (typing_base_ && *typing_base_ != editor_)) return {};
     std::vector<std::string> out;
     for (std::size_t k = 0; k < max; ++k) {
         const DocStep* s = history_.peek_redo(k);

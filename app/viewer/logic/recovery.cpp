@@ -89,22 +89,6 @@ bool parse_held_file(const std::string& data, const std::string& doc, HeldEdit& 
 
 }  // namespace
 
-HeldEdit held_edit(const Document& doc) {
-    HeldEdit h;
-    const Document::HeldItems items = doc.held_items();
-    if (items.whole || items.empty() || !doc.has_scene()) return h;
-    const rt::Scene& s = doc.scene();
-    h.objects = items.objects;
-    h.planes = items.planes;
-    h.lights = items.lights;
-    h.camera = items.camera;
-    for (std::size_t i : h.objects) h.items.objects.push_back(s.objects[i]);
-    for (std::size_t i : h.planes) h.items.planes.push_back(s.planes[i]);
-    for (std::size_t i : h.lights) h.items.lights.push_back(s.lights[i]);
-    h.items.camera = s.camera;
-    return h;
-}
-
 std::string with_held_edit(const std::string& text, const HeldEdit& held) {
     // The models a mesh names are not read: only the text is patched.
     rt::ParseOptions o;

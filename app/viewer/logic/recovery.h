@@ -12,28 +12,12 @@
 #include <string>
 #include <vector>
 
+#include "document.h"
 #include "scene.h"
 #include "status.h"
 
 namespace rtview {
 
-class Document;
-
-// The items a held edit has changed so far, with their values now.
-struct HeldEdit {
-    std::vector<std::size_t> objects, planes, lights;  // indices in the scene
-    rt::Scene items;      // their values, in the same order; the scene camera
-    bool camera = false;  // the camera is one of them
-    bool empty() const { return objects.empty() && planes.empty() && lights.empty() && !camera; }
-    bool operator==(const HeldEdit& o) const {
-        return objects == o.objects && planes == o.planes && lights == o.lights && camera == o.camera &&
-               items == o.items;
-    }
-};
-
-// The held edit of `doc`, copying only the items it touched; empty when no edit is held
-// (or it spans the whole scene: edit()).
-HeldEdit held_edit(const Document& doc);
 // `text` with the held edit's items written into it (their blocks rewritten), as the
 // commit would have; `text` as it is when they do not fit it (it does not parse, or has
 // other items).

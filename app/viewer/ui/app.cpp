@@ -505,7 +505,7 @@ ScreenView ViewerApp::screen_view() const {
 // A panel edit (a slider drag) is one undo step: committed when no widget is held.
 void ViewerApp::end_edits() {
     Document& doc = editor_.doc();
-    if (!doc.editing()) return;
+    if (!doc.edit_held()) return;
     // The text editor being active does not hold the edit open (it is not part of the
     // edit, and may stay focused for a long time).
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
@@ -526,7 +526,7 @@ bool ViewerApp::render_settled() const {
 
 bool ViewerApp::ui_busy() const {
     const Document& doc = editor_.doc();
-    return nav_.dragging() || nav_input_.moving(ImGui::GetTime()) || doc.editing() || frames_ < 3 ||
+    return nav_.dragging() || nav_input_.moving(ImGui::GetTime()) || doc.edit_held() || frames_ < 3 ||
            move_.dragging() || move_.wants_frames() ||
            editor_.wants_frames() || panels_.wants_frames() || dialogs_.wants_frames() || !screenshot_request_.empty() ||
            render_.building() || tools_.busy();

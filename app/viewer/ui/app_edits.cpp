@@ -64,7 +64,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         status_.set("The scene text has unapplied changes: apply (Ctrl+Enter) or revert them first", true);
         return false;
     }
-    if (doc.editing()) {
+    if (doc.edit_held()) {
         // (The edit would be planned on the scene as dragged so far, but the text the
         // drag writes only when it ends.)
         status_.set("Finish the drag first", true);

@@ -124,7 +124,7 @@ void DocumentEditor::keep_recovery_copy() {
     const Document& doc = doc_;
     const std::uint64_t key = doc.text_version() * 0x9E3779B97F4A7C15ull + doc.typed();
     const bool modified = doc.modified();
-    HeldEdit held = held_edit(doc);
+    HeldEdit held = doc.held_edit();
     const bool text_due = modified && key != recovery_key_;
     if (!text_due && held == recovery_held_ && (modified || recovery_key_ == ~std::uint64_t(0))) return;
     std::optional<std::string> text;
