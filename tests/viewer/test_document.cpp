@@ -127,7 +127,7 @@ TEST_CASE("a panel edit that cannot be written into a broken draft is not made: 
     // Saving that text asks first; the answer names the error.
     const std::optional<std::string> problem = d.save_problem();
     REQUIRE(problem);
-    CHECK(problem->rfind("line 1:", 0) == 0);
+    CHECK(problem->rfind(d.name() + ":1:", 0) == 0);
     CHECK_FALSE(d.apply_parsing_draft());
     d.revert_text();  // drop the draft: edits are possible again
     CHECK(d.edit_blocker().empty());

@@ -122,7 +122,7 @@ rt::SceneDelta Document::changes_since(std::uint64_t version) const {
 
 bool Document::modified() const {
     // Hashing a big text is not free: once per change of the text, not per frame.
-    std::uint64_t key = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    std::uint64_t key = text_key();
     if (key != modified_key_) {
         modified_cache_ = editor_.size() != saved_size_ || text_hash(editor_) != saved_hash_;
         modified_key_ = key;

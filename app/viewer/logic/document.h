@@ -51,6 +51,10 @@ struct HeldEdit {
 };
 
 class Document {
+    static std::uint64_t text_key_of(std::uint64_t version, std::uint64_t typed) {
+        return version * 0x9E3779B97F4A7C15ull + typed;
+    }
+
 public:
     Document();
 
@@ -135,6 +139,9 @@ public:
     void note_typed() { ++typed_; }
     // Changes with every possible change of the editor text (with text_version()).
     std::uint64_t typed() const { return typed_; }
+    // One key for the editor text as it is now (text_version() and typed()): a cache of
+    // something computed from the text is valid while this stays the same.
+    std::uint64_t text_key() const { return text_key_of(text_version_, typed_); }
     // Parses the editor text. Errors: diagnostics() lists them, the scene and the text
     // stay as they are. Success: the scene becomes the text's (one undo step).
     bool apply_text();
@@ -295,7 +302,7 @@ private:
     // What layout_key_ must be for the text as it is (`ahead`: after that many more
     // versions): its version and the keys typed into it.
     std::uint64_t layout_key(std::uint64_t ahead = 0) const {
-        return (text_version_ + ahead) * 0x9E3779B97F4A7C15ull + typed_;
+        return text_key_of(text_version_ + ahead, typed_);
     }
     bool conflict_ = false;
     std::string conflict_text_;

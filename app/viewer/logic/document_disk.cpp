@@ -34,7 +34,7 @@ std::optional<std::string> Document::save_problem() const {
     const rt::ParseResult r = rt::parse_scene(editor_, parse_options(path_));
     for (const rt::Diagnostic& d : r.diagnostics)
         if (d.is_error())
-            return "line " + std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message;
+            return rt::format_diagnostic(name_, d);
     return std::nullopt;
 }
 
@@ -47,7 +47,7 @@ void Document::mark_saved(std::optional<std::uint64_t> hash) {
     saved_hash_ = hash ? *hash : text_hash(editor_);
     saved_size_ = editor_.size();
     // The text is the saved one now: no need to hash it again to know that.
-    modified_key_ = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    modified_key_ = text_key();
     modified_cache_ = false;
     // Revert of a text that never parsed goes back to the file: keep it (such files
     // are small; a scene that parses is not kept twice).
@@ -121,7 +121,7 @@ bool Document::reload_models() {
     if (!r.ok()) {
         std::string why;
         for (const rt::Diagnostic& d : r.diagnostics)
-            if (d.is_error() && why.empty()) why = "line " + std::to_string(d.line) + ": " + d.message;
+            if (d.is_error() && why.empty()) why = rt::format_diagnostic(name_, d);
         if (why == model_problem_) return false;
         model_problem_ = why;
         return true;

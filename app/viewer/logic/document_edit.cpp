@@ -367,7 +367,7 @@ bool Document::commit_generic(DocStep& step) {
 
 std::string Document::edit_blocker() const {
     if (!applied_ || !has_scene_) return {};
-    const std::uint64_t key = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    const std::uint64_t key = text_key();
     if (key != blocker_key_) {
         blocker_key_ = key;
         blocker_.clear();

@@ -74,10 +74,15 @@ Vec3 up_of(const rt::Scene& scene, const Placement& at) {
     return rt::length2(up) > 0 ? up : Vec3{0, 0, 1};
 }
 
-double scene_extent(const rt::Scene& scene) {
+double scene_extent(const rt::Scene& scene, const rt::World* world) {
     rt::Aabb b;
-    for (const rt::Object& o : scene.objects) grow(b, o);
-    for (const rt::Light& l : scene.lights) grow(b, l.position);
+    if (world) {
+        b = world->bounds();
+        if (!rt::finite(b.lo) || !rt::finite(b.hi)) b = rt::Aabb();
+    } else {
+        for (const rt::Object& o : scene.objects) grow(b, o);
+        for (const rt::Light& l : scene.lights) grow(b, l.position);
+    }
     if (b.lo.x <= b.hi.x) {
         double d = rt::length(b.hi - b.lo);
         if (d > 0 && std::isfinite(d)) return d;

@@ -11,10 +11,7 @@
 
 #include "scene.h"
 #include "viewport.h"
-
-namespace rt {
-class World;
-}
+#include "world.h"
 
 namespace rtview {
 
@@ -27,10 +24,11 @@ struct Placement {
     rt::Vec3 toward{0, 0, 0};
 };
 
-// The size of the scene: the diagonal of its objects' and lights' bounds, or the
+// The size of the scene: the diagonal of its objects' and lights' bounds (given the
+// scene's compiled `world`, its bounds, which need no pass over the objects), or the
 // camera's distance to its centre when there is nothing to bound. New items are
-// scaled from it.
-double scene_extent(const rt::Scene& scene);
+// scaled from it, the view's fly speed and the panels' drag speeds too.
+double scene_extent(const rt::Scene& scene, const rt::World* world = nullptr);
 // The size new objects get: the median size of the scene's objects (a sphere's
 // radius), or a twentieth of scene_extent when there are none.
 double typical_object_size(const rt::Scene& scene);

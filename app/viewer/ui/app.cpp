@@ -239,7 +239,7 @@ void ViewerApp::frame() {
                  move_.handle_mouse(doc, panels_.selection(), screen_view(), layout_.image, usable && !nav_.dragging(),
                                     status_))
             nav_layout.image = Rect{};  // the move handle has the pointer
-        NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, panels_.scene_extent());
+        NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, scene_extent(editor_.doc().scene(), render_.world()));
         if (r.clicked) select_at(r.x, r.y);
         handle_context_menu(usable);
         draw_context_menu();

@@ -122,7 +122,7 @@ void DocumentEditor::reloaded_status(const std::string& ok) {
 // the few items it changed, against the text last written (or the file as saved).
 void DocumentEditor::keep_recovery_copy() {
     const Document& doc = doc_;
-    const std::uint64_t key = doc.text_version() * 0x9E3779B97F4A7C15ull + doc.typed();
+    const std::uint64_t key = doc.text_key();
     const bool modified = doc.modified();
     HeldEdit held = doc.held_edit();
     const bool text_due = modified && key != recovery_key_;
