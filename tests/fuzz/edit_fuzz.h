@@ -306,11 +306,10 @@ private:
 };
 
 // ---------------------------------------------------------------------------------
-// The world the viewer renders, kept up to date from the document the way the viewer
-// keeps it (app/viewer/ui/render_controller.cpp, sync_world): refitted when one object
-// moved, recompiled reusing the BVH when the shapes stayed, compiled anew otherwise.
-// An incremental update of the world from the document's edits plugs in here: the
-// checks compare whatever this holds with a full compile of the text.
+// A world kept up to date from the document's edits, refitted when one object moved,
+// recompiled reusing the BVH when the shapes stayed, compiled anew otherwise (the
+// viewer itself goes through WorldSync and World::update, world_sync.h): the checks
+// compare whatever this holds with a full compile of the text.
 
 class ViewerWorld {
 public:

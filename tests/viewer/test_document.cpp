@@ -199,7 +199,7 @@ TEST_CASE("save writes the editor text atomically and clears the modified mark")
     CHECK_FALSE(d.modified());
     CHECK(slurp(p) == d.editor_text());
     CHECK(dir.files() == std::vector<std::string>{"scene.txt"});  // no temporary left
-    CHECK(d.file_camera().position == rt::Vec3{-2, 0, 3});          // R now resets to this
+    CHECK(parse_ok(slurp(p)).camera.position == rt::Vec3{-2, 0, 3});  // the file has the camera
     // A draft with errors is saved as typed: the user's text is what gets saved.
     d.editor_text() += "\nnot valid {";
     REQUIRE(d.save().ok());

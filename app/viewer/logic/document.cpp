@@ -77,7 +77,6 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
     text_log_.clear();
     text_log_bytes_ = 0;
     mark_saved(hash);
-    if (has_scene_) file_camera_ = scene_.camera;
     if (layout) {
         layout_ = std::move(layout);
         layout_key_ = layout_key();

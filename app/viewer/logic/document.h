@@ -90,8 +90,6 @@ public:
     // not known: too long ago, or not a version of this document's): what a compiled
     // world of that version needs to become this one (World::update).
     rt::SceneDelta changes_since(std::uint64_t version) const;
-    // The camera of the file as last loaded or saved.
-    const rt::Camera& file_camera() const { return file_camera_; }
 
     // --- panel edits -----------------------------------------------------------
     // A continuous edit (a slider drag) changes the scene on every frame and commit()
@@ -279,7 +277,6 @@ private:
     std::string saved_broken_text_;
     mutable std::uint64_t modified_key_ = ~std::uint64_t(0);  // (text_version_, typed_) the cache is for
     mutable bool modified_cache_ = false;
-    rt::Camera file_camera_;
     FileStamp stamp_;
     std::vector<rt::Diagnostic> diagnostics_;
     std::uint64_t scene_version_ = 1, content_version_ = 1, text_version_ = 1, typed_ = 0;

@@ -54,7 +54,6 @@ void Document::mark_saved(std::optional<std::uint64_t> hash) {
     saved_broken_text_ = has_scene_ ? std::string() : editor_;
     // No second parse of the saved text: it is the text of the current scene whenever
     // that has no unapplied draft.
-    if (has_scene_ && !editor_dirty()) file_camera_ = scene_.camera;
     stamp_ = FileStamp::of(path_);
     conflict_ = false;
 }

@@ -33,11 +33,10 @@ public:
     std::string file_for(const std::string& doc_path) const;
     std::string held_file_for(const std::string& doc_path) const;
 
-    // Call often (each idle tick). Writes when the text changed since the last write
-    // and at least `interval` seconds have passed; removes the file when the document
-    // is no longer modified. Fails, saying why, if a write failed.
-    rt::Status update(const std::string& doc_path, const std::string& text, bool modified, double now,
-                      double interval = 3.0);
+    // Call often (each idle tick). Writes when the text changed since the last write;
+    // removes the file when the document is no longer modified. Fails, saying why, if
+    // a write failed.
+    rt::Status update(const std::string& doc_path, const std::string& text, bool modified);
     // Writes the held edit's file for the text whose text_hash() is `base_hash` (the
     // copy update() wrote, or the document's file when the text is as saved); an empty
     // edit removes it.
@@ -55,7 +54,6 @@ private:
     std::string dir_;
     std::string last_path_;
     std::uint64_t last_hash_ = 0;  // of the text last written (not a second copy of it)
-    double last_write_ = -1e300;
     bool written_ = false;
     bool held_written_ = false;
 };

@@ -563,7 +563,7 @@ bool ViewerApp::working() const {
 bool ViewerApp::idle_tick() {
     last_disk_check_ = ImGui::GetTime();
     if (loader_.active()) return false;
-    return editor_.idle_tick(last_disk_check_);
+    return editor_.idle_tick();
 }
 
 bool ViewerApp::close_requested() {

@@ -47,12 +47,9 @@ rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
 namespace {
 // The item an "add" command names ("sphere", ..., "spotlight"), as in the format.
 std::optional<NewItem> new_item_kind(const std::string& name) {
-    static const std::pair<const char*, NewItem> kinds[] = {
-        {"sphere", NewItem::Sphere}, {"cylinder", NewItem::Cylinder}, {"tetrahedron", NewItem::Tetrahedron},
-        {"torus", NewItem::Torus},   {"plane", NewItem::Plane},       {"chess_plane", NewItem::ChessPlane},
-        {"lamp", NewItem::Lamp},     {"spotlight", NewItem::Spotlight}};
-    for (const auto& k : kinds)
-        if (name == k.first) return k.second;
+    for (NewItem k : {NewItem::Sphere, NewItem::Cylinder, NewItem::Tetrahedron, NewItem::Torus, NewItem::Plane,
+                      NewItem::ChessPlane, NewItem::Lamp, NewItem::Spotlight})
+        if (name == new_item_name(k)) return k;
     return std::nullopt;
 }
 }  // namespace

@@ -50,7 +50,7 @@ void DocumentEditor::settle_recovery_find() {
 void DocumentEditor::forget_earlier_copy() {
     // The copy of a document this editor held before (under another name, or another
     // file): its unsaved text was saved or let go by the user.
-    if (const rt::Status st = recovery_.update(doc_.path(), {}, false, 0); !st)
+    if (const rt::Status st = recovery_.update(doc_.path(), {}, false); !st)
         status_.set("cannot keep a recovery copy: " + st.message(), true);
 }
 
@@ -80,8 +80,7 @@ void DocumentEditor::tick(double now) {
     }
 }
 
-bool DocumentEditor::idle_tick(double now) {
-    (void)now;
+bool DocumentEditor::idle_tick() {
     // While an offer is pending (or being looked for) the old copy stays on disk untouched.
     const bool finding = recovery_find_.valid();
     if (!recovery_finding() && !recovery_offer_ && !recovery_busy()) keep_recovery_copy();
@@ -134,8 +133,8 @@ void DocumentEditor::keep_recovery_copy() {
     recovery_write_ = std::async(std::launch::async, [this, path = doc.path(), text = std::move(text), modified,
                                                       held = std::move(held), file_hash = doc.saved_hash()] {
         rt::Status st;
-        if (text) st = recovery_.update(path, *text, true, 0, 0);
-        else if (!modified) st = recovery_.update(path, {}, false, 0);  // removes the copy
+        if (text) st = recovery_.update(path, *text, true);
+        else if (!modified) st = recovery_.update(path, {}, false);  // removes the copy
         // The held edit belongs to the text just written, the one written before (the
         // text has not changed since), or the file (the text is as saved).
         const std::uint64_t base = text ? text_hash(*text) : modified ? recovery_.written_hash() : file_hash;
