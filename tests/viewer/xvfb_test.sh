@@ -103,7 +103,9 @@ xdotool key ctrl+e
 sleep 0.3
 xdotool key ctrl+Home
 xdotool type --delay 30 "zzbad "
-sleep 1.0   # the live check runs once typing pauses
+# The live check runs once typing pauses: its diagnostics show.
+has_errors() { [ "$(awk '$1 == "state" && $2 == "diagnostics" { n = $3 } END { print n + 0 }' "$LAYOUT")" -gt 0 ]; }
+wait_for "the live check's diagnostics" has_errors
 xdotool key ctrl+Return
 sleep 0.5
 shot error
@@ -116,7 +118,8 @@ kept=$("$TOOL" diff "$OUT/orbit.png" "$OUT/error.png" $IMAGE)
 
 step "Ctrl+S asks first, then writes exactly the editor text, errors and all"
 xdotool key ctrl+s
-sleep 0.5
+asks() { grep -q '^state button_save_anyway ' "$LAYOUT"; }
+wait_for "Ctrl+S on text with errors to ask first" asks
 read -r bx by <<< "$(awk '$1 == "state" && $2 == "button_save_anyway" { x = $3 + $5 / 2; y = $4 + $6 / 2 } END { print int(x), int(y) }' "$LAYOUT")"
 [ "$bx" -gt 0 ] || fail "Ctrl+S on text with errors did not ask first"
 xdotool mousemove "$bx" "$by" click 1
