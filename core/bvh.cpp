@@ -659,7 +659,7 @@ void build_tree(Bvh& bvh, const Boxes& boxes, int threads) {
     nodes.clear();
     nodes8.clear();
     items.clear();
-    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads <= 0) threads = process_pool().size();  // (the pool two_ways runs on)
     // The boxes' records made in two halves side by side, each half's from its own
     // first slot, so that the empty boxes need not be counted first (a pass of its own
     // over them all); only when the lower half had some is the upper one moved down.

@@ -168,7 +168,7 @@ public:
     std::shared_ptr<const BvhLinks> links;
 
     // Items with empty boxes are left out. At most BvhNode::kMaxItems items. Built on
-    // up to `threads` threads (0: all hardware threads); the tree is the same for any.
+    // up to `threads` threads (0: the process pool's); the tree is the same for any.
     void build(const std::vector<Aabb>& boxes, int threads = 0);
     void build(const Chunked<Aabb>& boxes, int threads = 0);
     // The wide nodes of a binary tree built elsewhere (triangles.h builds its own, in

@@ -197,13 +197,6 @@ private:
         owners_[c] = std::move(fresh);
         flat_ = owners_.size() == 1 ? table_[0] : nullptr;
     }
-    void drop_last() {
-        if (in_block(owners_.size() - 1)) --block_refs_;
-        owners_.pop_back();
-        table_.pop_back();
-        last_capacity_ = kChunk;
-        if (owners_.size() == 1) flat_ = table_[0];
-    }
     void reallocate_last(std::size_t capacity) {
         const std::size_t c = owners_.size() - 1;
         std::shared_ptr<T> fresh = allocate(capacity);

@@ -94,7 +94,7 @@ void put_chunk(std::string& out, const char* type, const std::string& data) {
 
 bool encode_png(const std::uint8_t* rgb, int width, int height, std::string& out, int threads) {
     const std::size_t raw = (std::size_t(width) * 3 + 1) * std::size_t(height);
-    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads <= 0) threads = process_pool().size();  // (the pool it runs on)
     // Strips of at least kStripBytes each, and each chunk well within 2^31 bytes (even
     // at two bytes out for every byte in).
     const std::size_t most = std::max<std::size_t>(1, raw / kStripBytes), least = raw / (std::size_t(1) << 29) + 1;

@@ -10,7 +10,7 @@
 namespace rt {
 
 // Appends the PNG file of the width x height picture `rgb` (3 bytes a pixel, top row
-// first) to `out`, in up to `threads` strips (0: one per hardware thread; the file's
+// first) to `out`, in up to `threads` strips (0: the process pool's threads; the file's
 // bytes depend on it) compressed on the process pool (parallel.h). False if out of
 // memory.
 bool encode_png(const std::uint8_t* rgb, int width, int height, std::string& out, int threads = 0);

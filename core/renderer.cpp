@@ -180,7 +180,7 @@ void accumulate_pixel(const World& world, const CameraBasis& camera, int x, int 
 }
 
 Renderer::Renderer(int threads) {
-    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads <= 0) threads = std::max(1, process_pool().workers());
     // A pool's size counts the caller of its loops: `threads` workers besides it.
     own_pool_ = std::make_unique<ThreadPool>(threads + 1);
     pool_ = own_pool_.get();

@@ -99,7 +99,7 @@ struct RenderTask;
 
 class Renderer {
 public:
-    // Renders with a pool of its own of `threads` workers (0: all hardware threads).
+    // Renders with a pool of its own of `threads` workers (0: as many as the process pool has).
     explicit Renderer(int threads = 0);
     // Renders on `pool`'s workers (at least one), shared with whatever else runs there;
     // the pool must outlive the renderer.

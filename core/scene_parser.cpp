@@ -1075,8 +1075,7 @@ ParseResult parse_scene(std::string_view text, const ParseOptions& options) {
     } catch (const std::bad_alloc&) {
         // Then the list grows as it goes.
     }
-    std::size_t threads = options.threads > 0 ? std::size_t(options.threads)
-                                              : std::max(1u, std::thread::hardware_concurrency());
+    std::size_t threads = options.threads > 0 ? std::size_t(options.threads) : std::size_t(process_pool().size());
     threads = std::min({threads, text.size() / std::max<std::size_t>(options.min_piece_bytes, 1), std::size_t(64)});
     std::vector<std::unique_ptr<Piece>> pieces;
     if (threads > 1) {

@@ -386,7 +386,7 @@ TriangleAccel TriangleAccel::build(const MeshData& m, int threads) {
     const std::size_t n = m.triangle_count();
     if (n == 0) return acc;
     if (n > ModelLimits::max_triangles) throw std::length_error("too many triangles for the BVH");
-    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads <= 0) threads = process_pool().size();  // (the pool two_ways runs on)
     // Pages of their own, given back before the blocks are made (pages.h).
     PageBuffer mem(n * sizeof(TRec));
     TRec* recs = reinterpret_cast<TRec*>(mem.data());

@@ -514,15 +514,19 @@ TEST_CASE("renderer: wait() in one thread returns when another cancels, even wit
     r.set_paused(true);  // workers stay idle: no tile will ever finish
     r.start(world, s);
     std::atomic<bool> returned{false};
+    std::atomic<pid_t> waiter_tid{0};
     std::thread waiter([&] {
+        waiter_tid = pid_t(::gettid());
         r.wait();
         returned = true;
     });
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    // The waiter asleep in wait() (it does nothing else that blocks).
+    rt_test::wait_until([&] { return waiter_tid != 0 && rt_test::thread_asleep(waiter_tid); }, "the waiter to block");
     CHECK_FALSE(returned.load());  // nothing is done yet
     r.cancel();
-    // A waiter that were never woken would hang here; give it far more than it needs.
-    for (int i = 0; i < 6000 && !returned; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    // A waiter that were never woken would not return: a minute is far more than it needs.
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!returned && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     CHECK(returned.load());
     r.set_paused(false);
     if (!returned) {

@@ -181,6 +181,29 @@ inline bool blocked_opening_fifo(pid_t pid) {
     return wchan == "wait_for_partner";
 }
 
+// Whether a thread of this process is asleep in poll() (a reader waiting for a FIFO's
+// writer, rt::read_file's strict mode).
+inline bool a_thread_polling() {
+    std::error_code ec;
+    for (const auto& task : std::filesystem::directory_iterator("/proc/self/task", ec)) {
+        std::ifstream in(task.path() / "wchan");
+        std::string wchan;
+        std::getline(in, wchan);
+        if (wchan.find("poll") != std::string::npos) return true;
+    }
+    return false;
+}
+
+// Whether thread `tid` of this process is asleep (state S in /proc: blocked, waiting
+// for something, not running nor ready to run).
+inline bool thread_asleep(pid_t tid) {
+    std::ifstream in("/proc/self/task/" + std::to_string(tid) + "/stat");
+    std::string stat;
+    std::getline(in, stat);
+    const std::size_t paren = stat.rfind(')');
+    return paren != std::string::npos && paren + 2 < stat.size() && stat[paren + 2] == 'S';
+}
+
 // Guards a call that returns at once when it works and never when it is broken (a
 // cancel that cannot reach a ray tree without end): if the guarded scope is still
 // running after `limit`, says `what` and ends the test program, which would otherwise

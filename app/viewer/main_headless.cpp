@@ -23,6 +23,7 @@
 #include "fonts.h"
 #include "host_common.h"
 #include "image_io.h"
+#include "parallel.h"
 #include "scene_parser.h"
 
 namespace {
@@ -48,6 +49,8 @@ int render_to_file(const rtview::Options& opt) {
     const std::string scene_path = opt.scene;
     if (rt::Status st = rtcli::check_output(program, opt.render, scene_path); !st) return rtcli::report(st);
     rtcli::install_signal_handlers(program);
+    // One pool for the whole render, parsing included: --threads sizes it.
+    rt::set_process_threads(opt.threads);
     rt::Scene scene;
     if (scene_path.empty()) {
         rt::ParseResult parsed = rt::parse_scene(rt::kDefaultScene);
@@ -63,7 +66,7 @@ int render_to_file(const rtview::Options& opt) {
     };
     if (rtcli::caught_signal()) return interrupted();
 
-    rtview::FinalRender render(opt.threads);
+    rtview::FinalRender render(rt::process_pool());
     const rt::RenderRequest request =
         rtview::final_render_request(opt.samples, opt.time_limit, opt.aa_threshold.value_or(-1));
     if (const rt::Status st = render.start(scene, opt.render, request); !st) {

@@ -306,11 +306,10 @@ private:
 };
 
 // ---------------------------------------------------------------------------------
-// The world the viewer renders, kept up to date from the document the way the viewer
-// keeps it (app/viewer/ui/render_controller.cpp, sync_world): refitted when one object
-// moved, recompiled reusing the BVH when the shapes stayed, compiled anew otherwise.
-// An incremental update of the world from the document's edits plugs in here: the
-// checks compare whatever this holds with a full compile of the text.
+// A world kept up to date from the document's edits, refitted when one object moved,
+// recompiled reusing the BVH when the shapes stayed, compiled anew otherwise (the
+// viewer itself goes through WorldSync and World::update, world_sync.h): the checks
+// compare whatever this holds with a full compile of the text.
 
 class ViewerWorld {
 public:
@@ -518,7 +517,7 @@ private:
         // A held edit (a slider held while the user presses Ctrl+Z, Ctrl+S...) ends in
         // the call that commits it first; the other steps come after a release.
         const bool commits_first = op == 8 || op == 11 || op == 12 || op == 13 || op == 14 || op == 16 || op >= 19;
-        if (doc_.editing()) {
+        if (doc_.edit_held()) {
             if (!commits_first || !c_.one_in(3)) {
                 end_edit();
                 check();
@@ -549,7 +548,7 @@ private:
     }
 
     void end_edit() {
-        if (!doc_.editing()) return;
+        if (!doc_.edit_held()) return;
         if (c_.one_in(8)) {
             log("cancel the held edit");
             doc_.cancel_edit();
@@ -758,7 +757,7 @@ private:
         if (!doc_.has_scene()) return;
         // While a drag holds an edit the viewer refuses: the edit is planned on the text
         // and scene as they are, and committing the held edit would change both.
-        const bool ui_allows = !doc_.editor_dirty() && !doc_.text_behind() && !doc_.editing();
+        const bool ui_allows = !doc_.editor_dirty() && !doc_.text_behind() && !doc_.edit_held();
         if (!ui_allows && !c_.one_in(6)) return;
         const rt::Scene before = doc_.scene();
         const std::string text = std::as_const(doc_).editor_text();
@@ -777,7 +776,9 @@ private:
             return;
         }
         if (!done) {
-            const rt::ParseResult r = rt::parse_scene(e->replacement.applied_to(text));
+            std::string edited = text;
+            e->replacement.apply(edited);
+            const rt::ParseResult r = rt::parse_scene(edited);
             std::string why;
             for (const rt::Diagnostic& d : r.diagnostics) why += "\n  " + rt::format_diagnostic("edited", d);
             broken(what + " made a text that does not parse:" + why);
@@ -1050,9 +1051,9 @@ private:
     void follow_text() {
         const Doc& d = doc_;
         if (d.text_version() == widget_version_) return;
-        std::vector<rtview::TextChange> changes;
+        std::vector<rtview::TextReplacement> changes;
         if (widget_version_ != 0 && d.text_changes_since(widget_version_, changes)) {
-            for (const rtview::TextChange& ch : changes) widget_.follow_replacement(ch.pos, ch.removed, ch.inserted);
+            for (const rtview::TextReplacement& ch : changes) widget_.follow_replacement(ch.offset, ch.length, ch.text);
         } else {
             widget_.set_text(d.editor_text());
         }
@@ -1076,7 +1077,7 @@ private:
     void check() {
         follow_world();
         check_text_widget();
-        if (doc_.editing()) {
+        if (doc_.edit_held()) {
             check_pending();
             return;
         }

@@ -127,7 +127,7 @@ TEST_CASE("a panel edit that cannot be written into a broken draft is not made: 
     // Saving that text asks first; the answer names the error.
     const std::optional<std::string> problem = d.save_problem();
     REQUIRE(problem);
-    CHECK(problem->rfind("line 1:", 0) == 0);
+    CHECK(problem->rfind(d.name() + ":1:", 0) == 0);
     CHECK_FALSE(d.apply_parsing_draft());
     d.revert_text();  // drop the draft: edits are possible again
     CHECK(d.edit_blocker().empty());
@@ -199,7 +199,7 @@ TEST_CASE("save writes the editor text atomically and clears the modified mark")
     CHECK_FALSE(d.modified());
     CHECK(slurp(p) == d.editor_text());
     CHECK(dir.files() == std::vector<std::string>{"scene.txt"});  // no temporary left
-    CHECK(d.file_camera().position == rt::Vec3{-2, 0, 3});          // R now resets to this
+    CHECK(parse_ok(slurp(p)).camera.position == rt::Vec3{-2, 0, 3});  // the file has the camera
     // A draft with errors is saved as typed: the user's text is what gets saved.
     d.editor_text() += "\nnot valid {";
     REQUIRE(d.save().ok());
@@ -566,7 +566,7 @@ TEST_CASE("a structural edit is refused while an edit is held, and changes nothi
     // Delete object 1: one replacement planned on the text as it is now.
     const std::size_t at = text.find("  sphere {"), end = text.find("  sphere {", at + 1);
     CHECK_FALSE(d.replace_text(at, end - at, ""));
-    CHECK(d.editing());
+    CHECK(d.edit_held());
     CHECK(d.editor_text() == text);
     CHECK(d.scene() == dragged);
     d.commit();

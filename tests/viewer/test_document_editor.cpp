@@ -26,10 +26,10 @@ const char* const kScene = "thing {\n  sphere { position 5 0 1 radius 1 }  // th
 // Ticks `ed` (as the viewer does each second) until `done` holds, polling up to a
 // minute: the writes run on another thread, and a tick while one is under way skips.
 template <class F>
-bool eventually(DocumentEditor& ed, double now, F done) {
+bool eventually(DocumentEditor& ed, F done) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
     for (;;) {
-        ed.idle_tick(now);
+        ed.idle_tick();
         if (done()) return true;
         if (std::chrono::steady_clock::now() > end) return false;
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
@@ -60,17 +60,17 @@ TEST_CASE("recovery in the viewer: a drag is kept every tick as its items, the t
             CAPTURE(tick);
             const double x = 7 + 0.25 * tick;
             std::get<rt::Sphere>(ed.doc().edit_object(1).shape).position.x = x;
-            CHECK(eventually(ed, tick, [&] { return found_x(disk, path) == x; }));
+            CHECK(eventually(ed, [&] { return found_x(disk, path) == x; }));
             CHECK_FALSE(fs::exists(disk.file_for(path)));  // no copy of the text
         }
         // Released: the text has the move; the next tick copies it, the held file goes.
         ed.doc().commit();
-        CHECK(eventually(ed, 4, [&] { return fs::exists(disk.file_for(path)) && !fs::exists(disk.held_file_for(path)); }));
+        CHECK(eventually(ed, [&] { return fs::exists(disk.file_for(path)) && !fs::exists(disk.held_file_for(path)); }));
         CHECK(disk.find(path) == ed.doc().editor_text());
         // Typed on: each tick writes what changed since the last.
         ed.doc().editor_text() += "// more\n";
         ed.doc().note_typed();
-        CHECK(eventually(ed, 5, [&] { return disk.find(path) == ed.doc().editor_text(); }));
+        CHECK(eventually(ed, [&] { return disk.find(path) == ed.doc().editor_text(); }));
         // Saved: no copy is left (one older than the file would be offered after a crash).
         REQUIRE(ed.doc().save().ok());
         ed.saved();
@@ -78,7 +78,7 @@ TEST_CASE("recovery in the viewer: a drag is kept every tick as its items, the t
         CHECK_FALSE(fs::exists(disk.held_file_for(path)));
         // A drag after the save, and the viewer is killed: its items are found again.
         std::get<rt::Sphere>(ed.doc().edit_object(0).shape).radius = 2;
-        CHECK(eventually(ed, 6, [&] { return fs::exists(disk.held_file_for(path)); }));
+        CHECK(eventually(ed, [&] { return fs::exists(disk.held_file_for(path)); }));
     }
     const std::optional<std::string> found = disk.find(path);
     REQUIRE(found);
@@ -88,7 +88,7 @@ TEST_CASE("recovery in the viewer: a drag is kept every tick as its items, the t
         DocumentEditor ed(true, status);
         REQUIRE(ed.doc().load_file(path).ok());
         ed.replaced();
-        CHECK(eventually(ed, 7, [&] { return ed.recovery_offered(); }));
+        CHECK(eventually(ed, [&] { return ed.recovery_offered(); }));
         CHECK(ed.recovered_text() == *found);
         CHECK(fs::exists(disk.held_file_for(path)));  // kept while on offer
     }

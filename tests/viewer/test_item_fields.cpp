@@ -67,7 +67,7 @@ std::string check_edit(const ItemRef& ref, const std::string& label, const Field
     INFO(label << ": " << r.status.message());
     REQUIRE(r.applied());
     CHECK(r.status.ok());
-    CHECK(doc.editing());
+    CHECK(doc.edit_held());
     CHECK(doc.scene() == want);  // live, before the commit
     doc.commit();
     const std::string edited = doc.editor_text();
@@ -328,7 +328,7 @@ TEST_CASE("item fields: a drag is one undo step") {
     CHECK(doc.editor_text() == kScene);
     // Setting a value the item already has is no edit at all.
     REQUIRE(set_field(doc, ref, f, number(0.8)).applied());
-    CHECK_FALSE(doc.editing());
+    CHECK_FALSE(doc.edit_held());
 }
 
 TEST_CASE("item fields: what the parser refuses is refused, with its message") {
@@ -361,7 +361,7 @@ TEST_CASE("item fields: what the parser refuses is refused, with its message") {
         FieldResult r = set_field(doc, c.ref, field(doc.scene(), c.ref, c.label), c.value);
         CHECK_FALSE(r.applied());
         CHECK(r.status.message() == want);
-        CHECK_FALSE(doc.editing());
+        CHECK_FALSE(doc.edit_held());
         doc.commit();
         CHECK(doc.editor_text() == text);
         CHECK_FALSE(doc.can_undo());

@@ -173,21 +173,21 @@ TEST_CASE("a FIFO is read as its writer writes; with no writer, Cancel ends the 
     // No writer yet: the loader waits (a read now would say "end of file", an empty
     // scene) and a cancel ends it.
     loader.start(fifo);
-    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    rt_test::wait_until(rt_test::a_thread_polling, "the loader to wait for the FIFO's writer");
     CHECK(loader.active());
     CHECK_FALSE(loader.poll());
     loader.cancel();
     CHECK_FALSE(loader.active());
     // A writer that comes late and writes in two pieces: the whole scene arrives.
     loader.start(fifo);
+    rt_test::wait_until(rt_test::a_thread_polling, "the loader to wait for the FIFO's writer again");
     std::thread writer([&] {
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
         std::FILE* f = std::fopen(fifo.c_str(), "w");
         REQUIRE(f);
         const std::string text = rt::kDefaultScene;
         std::fwrite(text.data(), 1, text.size() / 2, f);
         std::fflush(f);
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));  // (a pause between the pieces)
         std::fwrite(text.data() + text.size() / 2, 1, text.size() - text.size() / 2, f);
         std::fclose(f);
     });

@@ -20,8 +20,10 @@
 #include "scene_parser.h"
 #include "test_util.h"
 #include "triangles.h"
+#include "viewer_test_util.h"
 
 using namespace rtview;
+using rtview_test::applied;
 
 namespace {
 
@@ -107,7 +109,7 @@ TEST_CASE("models: Add model puts a mesh block on the surface picked, its size t
     const Placement on_floor{{1, 2, 0}, {0, 0, 1}, {0, 0, 0}};
     const std::optional<SceneEdit> e = add_model(rt::kDefaultScene, scene, kCube, *l.model, on_floor);
     REQUIRE(e);
-    const rt::ParseResult after = rt::parse_scene(e->replacement.applied_to(rt::kDefaultScene), o);
+    const rt::ParseResult after = rt::parse_scene(applied(e->replacement, rt::kDefaultScene), o);
     REQUIRE(after.ok());
     REQUIRE(after.scene.objects.size() == scene.objects.size() + 1);
     CHECK(e->select == SceneItem{SceneItem::Kind::Object, int(scene.objects.size())});
@@ -133,7 +135,7 @@ TEST_CASE("models: Add model puts a mesh block on the surface picked, its size t
     const Placement in_space{{3, -1, 2}, {0, 0, 0}, {0, 0, 0}};
     const std::optional<SceneEdit> e2 = add_model(rt::kDefaultScene, scene, kCube, *l.model, in_space);
     REQUIRE(e2);
-    const rt::ParseResult after2 = rt::parse_scene(e2->replacement.applied_to(rt::kDefaultScene), o);
+    const rt::ParseResult after2 = rt::parse_scene(applied(e2->replacement, rt::kDefaultScene), o);
     REQUIRE(after2.ok());
     const rt::Aabb b2 = placed_bounds(*mesh_of(after2.scene, scene.objects.size()));
     CHECK(std::fabs((b2.lo.z + b2.hi.z) / 2 - 2) < 1e-3 * size);

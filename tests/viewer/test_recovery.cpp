@@ -24,7 +24,7 @@ TEST_CASE("recovery: unsaved text survives into the next session for the same fi
     rt_test::TempDir dir;
     {
         Recovery r(dir.path.string());
-        CHECK(r.update("scene.txt", "thing { }", true, 10.0).ok());
+        CHECK(r.update("scene.txt", "thing { }", true).ok());
         // A "crash": the object goes away without discarding anything.
     }
     Recovery next(dir.path.string());
@@ -34,24 +34,23 @@ TEST_CASE("recovery: unsaved text survives into the next session for the same fi
     CHECK_FALSE(next.find("other.txt"));
 }
 
-TEST_CASE("recovery: writes at most every interval, and only changed text") {
+TEST_CASE("recovery: each update writes the text as it is now") {
     rt_test::TempDir dir;
     Recovery r(dir.path.string());
-    CHECK(r.update("s.txt", "one", true, 0.0, 3.0).ok());
-    CHECK(r.update("s.txt", "two", true, 1.0, 3.0).ok());  // too soon
+    CHECK(r.update("s.txt", "one", true).ok());
     CHECK(*Recovery(dir.path.string()).find("s.txt") == "one");
-    CHECK(r.update("s.txt", "two", true, 4.0, 3.0).ok());
+    CHECK(r.update("s.txt", "two", true).ok());
     CHECK(*Recovery(dir.path.string()).find("s.txt") == "two");
 }
 
 TEST_CASE("recovery: saving (no longer modified) or discarding removes the copy") {
     rt_test::TempDir dir;
     Recovery r(dir.path.string());
-    CHECK(r.update("s.txt", "draft", true, 0.0).ok());
+    CHECK(r.update("s.txt", "draft", true).ok());
     REQUIRE(r.find("s.txt"));
-    CHECK(r.update("s.txt", "draft", false, 10.0).ok());
+    CHECK(r.update("s.txt", "draft", false).ok());
     CHECK_FALSE(r.find("s.txt"));
-    CHECK(r.update("s.txt", "again", true, 20.0).ok());
+    CHECK(r.update("s.txt", "again", true).ok());
     REQUIRE(r.find("s.txt"));
     r.discard("s.txt");
     CHECK_FALSE(r.find("s.txt"));
@@ -61,23 +60,23 @@ TEST_CASE("recovery: saving (no longer modified) or discarding removes the copy"
 TEST_CASE("recovery: a document that takes another name (Save As, Open) leaves no copy under the old one") {
     rt_test::TempDir dir;
     Recovery r(dir.path.string());
-    CHECK(r.update("old.txt", "draft", true, 0.0).ok());
+    CHECK(r.update("old.txt", "draft", true).ok());
     REQUIRE(r.find("old.txt"));
     // Saved as new.txt: no longer modified, under its new name.
-    CHECK(r.update("new.txt", "draft", false, 10.0).ok());
+    CHECK(r.update("new.txt", "draft", false).ok());
     CHECK_FALSE(r.find("old.txt"));
     CHECK_FALSE(r.find("new.txt"));
     // Edited again and another file opened unmodified: the edit's copy goes too.
-    CHECK(r.update("new.txt", "draft 2", true, 20.0).ok());
+    CHECK(r.update("new.txt", "draft 2", true).ok());
     REQUIRE(r.find("new.txt"));
-    CHECK(r.update("other.txt", "other", false, 30.0).ok());
+    CHECK(r.update("other.txt", "other", false).ok());
     CHECK_FALSE(r.find("new.txt"));
     CHECK(fs::is_empty(dir.path));
 }
 
 TEST_CASE("recovery: a failed write says why and keeps nothing half-written") {
     Recovery r("/proc/no-such-place/recovery");
-    CHECK_FALSE(r.update("s.txt", "draft", true, 0.0).ok());
+    CHECK_FALSE(r.update("s.txt", "draft", true).ok());
     CHECK_FALSE(r.find("s.txt"));
 }
 
@@ -96,9 +95,9 @@ TEST_CASE("recovery: a held drag is kept as the items it changed, and read back 
     rt_test::put(path, kScene);
     Document doc;
     REQUIRE(doc.load_file(path).ok());
-    CHECK(held_edit(doc).empty());
+    CHECK(doc.held_edit().empty());
     std::get<rt::Sphere>(doc.edit_object(1).shape).position = {7.25, 2.5, 1};
-    const HeldEdit held = held_edit(doc);
+    const HeldEdit held = doc.held_edit();
     REQUIRE(held.objects == std::vector<std::size_t>{1});
     CHECK(held.items.objects.size() == 1);
     {
@@ -124,9 +123,9 @@ TEST_CASE("recovery: a held edit goes only into the text it was made on") {
     Document doc;
     doc.load_text(typed, path, "s.txt");
     std::get<rt::Sphere>(doc.edit_object(0).shape).radius = 1.5;
-    const HeldEdit held = held_edit(doc);
+    const HeldEdit held = doc.held_edit();
     Recovery r((dir / "rec").string());
-    REQUIRE(r.update(path, typed, true, 0, 0).ok());
+    REQUIRE(r.update(path, typed, true).ok());
     REQUIRE(r.update_held(path, held, r.written_hash()).ok());
     std::optional<std::string> found = Recovery((dir / "rec").string()).find(path);
     REQUIRE(found);
@@ -136,7 +135,7 @@ TEST_CASE("recovery: a held edit goes only into the text it was made on") {
     // again: it is not put into a text whose object 1 is another one.
     const std::string deleted = std::string(kScene).erase(std::string(kScene).find("  sphere"), 49);
     REQUIRE(parse_ok(deleted).objects.size() == 1);
-    REQUIRE(r.update(path, deleted, true, 10, 0).ok());
+    REQUIRE(r.update(path, deleted, true).ok());
     found = Recovery((dir / "rec").string()).find(path);
     REQUIRE(found);
     CHECK(*found == deleted);
@@ -163,7 +162,7 @@ TEST_CASE("recovery: a drag in the unsaved default scene, or in a new scene, is 
         doc.load_text(start, "", "untitled.txt");
         doc.edit_camera().angle_x = 50;
         Recovery r(dir.path.string());
-        REQUIRE(r.update_held("", held_edit(doc), doc.saved_hash()).ok());
+        REQUIRE(r.update_held("", doc.held_edit(), doc.saved_hash()).ok());
         const std::optional<std::string> found = Recovery(dir.path.string()).find("");
         REQUIRE(found);
         const rt::Scene scene = parse_ok(*found);

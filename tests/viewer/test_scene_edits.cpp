@@ -29,6 +29,7 @@ const std::string kScene = std::string(rtview_test::kDemoScene) + "after end { u
 const char* const kEmpty = "camera { position 0 0 0 centre 10 0 0 up 10 0 1 angle_x 60 angle_y 45 }\n"
                            "picture_size { x_max 32 y_max 24 }\nend\n";
 
+using rtview_test::applied;
 using rtview_test::parse_ok;
 
 // Applies the edit, checks the parse against `expected`, and that the inverse
@@ -107,7 +108,7 @@ TEST_CASE("scene edits: delete each object, plane and light") {
     }
     // The whole line went: no blank line where the glass ball was.
     auto e = delete_item(text, s, {SceneItem::Kind::Object, 0});
-    std::string t = e->replacement.applied_to(text);
+    std::string t = applied(e->replacement, text);
     CHECK(t.find("thing {\n  tetrahedron {") != std::string::npos);
     CHECK_FALSE(delete_item(text, s, {SceneItem::Kind::Object, 5}));
     CHECK_FALSE(delete_item(text, s, {SceneItem::Kind::Light, -1}));
@@ -212,7 +213,7 @@ TEST_CASE("scene edits: add every kind at a point, sized from the scene, also in
             CAPTURE(new_item_name(k));
             auto e = add_item(text, s, k, {p, {0, 0, 1}});
             REQUIRE(e);
-            std::string t = e->replacement.applied_to(text);
+            std::string t = applied(e->replacement, text);
             INFO(t);
             rt::Scene got = parse_ok(t);
             rt::Scene want = s;
@@ -282,7 +283,7 @@ TEST_CASE("scene edits: add every kind at a point, sized from the scene, also in
         CAPTURE(toward);
         auto e = add_item(kEmpty, s, NewItem::Plane, {{3, 0.5, 0}, {0, 0, 1}, toward});
         REQUIRE(e);
-        const rt::Plane pl = parse_ok(e->replacement.applied_to(kEmpty)).planes.back();
+        const rt::Plane pl = parse_ok(applied(e->replacement, kEmpty)).planes.back();
         const rt::Vec3 n = rt::normalize(rt::cross(pl.point[1] - pl.point[0], pl.point[2] - pl.point[0]));
         CHECK(n.z == doctest::Approx(0).epsilon(1e-3));
         CHECK(rt::dot(pl.point[3] - pl.point[0], toward) >= 0);
@@ -296,8 +297,8 @@ TEST_CASE("scene edits: add every kind at a point, sized from the scene, also in
     auto eb = add_item(big, parse_ok(big), NewItem::Sphere, {{50, 0, 0}});
     REQUIRE(es);
     REQUIRE(eb);
-    double rs = std::get<rt::Sphere>(parse_ok(es->replacement.applied_to(small)).objects[0].shape).radius;
-    double rb = std::get<rt::Sphere>(parse_ok(eb->replacement.applied_to(big)).objects[0].shape).radius;
+    double rs = std::get<rt::Sphere>(parse_ok(applied(es->replacement, small)).objects[0].shape).radius;
+    double rb = std::get<rt::Sphere>(parse_ok(applied(eb->replacement, big)).objects[0].shape).radius;
     CHECK(rb == doctest::Approx(10 * rs));
 }
 
@@ -347,7 +348,7 @@ TEST_CASE("scene edits: lamp -> spotlight -> lamp keeps the size; a spotlight wi
     // A spotlight that never was a lamp.
     auto e3 = switch_light_kind(text, s, 1);
     REQUIRE(e3);
-    rt::Scene got = parse_ok(e3->replacement.applied_to(text));
+    rt::Scene got = parse_ok(applied(e3->replacement, text));
     CHECK(got.lights[1].lamp);
     CHECK(got.lights[1].size > 0);
     CHECK(got.lights[1].size < scene_extent(s));
@@ -379,7 +380,7 @@ TEST_CASE("scene edits through the document: one undo step each, undo and redo r
         REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
         CHECK(doc.undo_depth() == depth + 1);
         texts.push_back(std::as_const(doc).editor_text());
-        CHECK(texts.back() == e->replacement.applied_to(texts[texts.size() - 2]));
+        CHECK(texts.back() == applied(e->replacement, texts[texts.size() - 2]));
         scenes.push_back(parse_ok(texts.back()));
         CHECK(doc.scene() == scenes.back());
         CHECK_FALSE(doc.editor_dirty());
@@ -447,7 +448,7 @@ TEST_CASE("scene edits: an item added to a scene with a far light is where it wa
         CAPTURE(new_item_name(k));
         const auto e = add_item(text, s, k, at);
         REQUIRE(e);
-        const rt::Scene got = parse_ok(e->replacement.applied_to(text));
+        const rt::Scene got = parse_ok(applied(e->replacement, text));
         if (got.objects.size() == 2)
             if (const auto* t = std::get_if<rt::Torus>(&got.objects[1].shape)) CHECK(t->direction == rt::Vec3{0, 0, 1});
         const auto where = item_anchor(got, e->select, {});
@@ -628,7 +629,7 @@ TEST_CASE("scene edits: moving each kind of item moves every point of it in the 
         // item moved.
         auto e = duplicate_item(text, s, m.item, kMove);
         REQUIRE(e);
-        const rt::Scene dup = parse_ok(e->replacement.applied_to(text));
+        const rt::Scene dup = parse_ok(applied(e->replacement, text));
         const std::size_t at = std::size_t(m.item.index) + 1;
         switch (m.item.kind) {
             case SceneItem::Kind::Object: CHECK(dup.objects.at(at) == want.objects[at - 1]); break;
@@ -674,7 +675,7 @@ TEST_CASE("scene edits: the menu's Add finds a clear spot; added objects keep th
         // (The normal as picks measure it: a hair off the axis.)
         auto e = add_item(t, cur, kind, {{0, y, 0}, {-1e-9, -1e-9, 1}, {-1, 0, 0}});
         REQUIRE(e);
-        t = e->replacement.applied_to(t);
+        t = applied(e->replacement, t);
         cur = parse_ok(t);
         CHECK(typical_object_size(cur) == doctest::Approx(1));
         y += 3;

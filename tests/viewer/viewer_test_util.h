@@ -1,5 +1,5 @@
 // Helpers the viewer's unit tests share (with tests/test_util.h, which they also use):
-// a demo scene with every kind of block, rendering a scene to the end, and parsing a
+// a text with a replacement made, a demo scene with every kind of block, rendering a scene to the end, and parsing a
 // viewer command line.
 #pragma once
 
@@ -12,10 +12,17 @@
 #include "renderer.h"
 #include "scene_parser.h"
 #include "test_util.h"
+#include "text_replacement.h"
 
 namespace rtview_test {
 
 using rt_test::parse_ok;
+
+// `s` with the replacement made in it.
+inline std::string applied(const rtview::TextReplacement& r, std::string s) {
+    r.apply(s);
+    return s;
+}
 
 // Every block kind, keys left out (torus direction, torus material), comments inside
 // blocks, blocks sharing lines.

@@ -47,6 +47,15 @@ fail() {
 step() { echo "== $*"; }
 shot() { import -window root "$OUT/$1.png"; }
 title() { xdotool getwindowname "$WID"; }
+# wait_for WHAT COMMAND...: runs COMMAND until it succeeds (every 50 ms, for at most
+# 60 s), or fails saying it waited in vain for WHAT. Waits for the event, not a time.
+wait_for() {
+    local what=$1
+    shift
+    for _ in $(seq 1 1200); do "$@" && return 0; sleep 0.05; done
+    fail "waited in vain for $what"
+}
+title_is() { [[ "$(title)" == "$1" ]]; }
 # The last value of a --print-layout line (the viewer prints the layout again when it
 # changes) in $LAYOUT: field NAME K is its K-th number, region NAME all four.
 LAYOUT=$OUT/layout.txt

@@ -85,13 +85,11 @@ cmp -s "$SCENE" "$ORIGINAL" || fail "navigating wrote the file"
 
 step "Ctrl+K sets the scene camera from the view; Ctrl+S saves the editor text"
 xdotool key ctrl+k
-sleep 0.5
-[[ "$(title)" == "scene.txt* - raytracer-view" ]] || fail "no '*' after setting the scene camera: '$(title)'"
+wait_for "a '*' after setting the scene camera" title_is "scene.txt* - raytracer-view"
 wait_stable set-camera
 [ "$("$TOOL" diff "$OUT/orbit.png" "$OUT/set-camera.png" $IMAGE)" = "0.000000" ] || fail "setting the scene camera changed the picture"
 xdotool key ctrl+s
-sleep 0.5
-[[ "$(title)" == "scene.txt - raytracer-view" ]] || fail "title still '$(title)' after Ctrl+S"
+wait_for "the '*' to go after Ctrl+S" title_is "scene.txt - raytracer-view"
 cmp -s "$SCENE" "$ORIGINAL" && fail "the saved file did not change"
 "$BIN/raytracer" --check "$SCENE" > /dev/null || fail "the saved scene does not parse"
 diff <(grep -v '^ *\(position\|centre\|up\) ' "$ORIGINAL") <(grep -v '^ *\(position\|centre\|up\) ' "$SCENE") \
@@ -105,7 +103,9 @@ xdotool key ctrl+e
 sleep 0.3
 xdotool key ctrl+Home
 xdotool type --delay 30 "zzbad "
-sleep 1.0   # the live check runs once typing pauses
+# The live check runs once typing pauses: its diagnostics show.
+has_errors() { [ "$(awk '$1 == "state" && $2 == "diagnostics" { n = $3 } END { print n + 0 }' "$LAYOUT")" -gt 0 ]; }
+wait_for "the live check's diagnostics" has_errors
 xdotool key ctrl+Return
 sleep 0.5
 shot error
@@ -118,12 +118,13 @@ kept=$("$TOOL" diff "$OUT/orbit.png" "$OUT/error.png" $IMAGE)
 
 step "Ctrl+S asks first, then writes exactly the editor text, errors and all"
 xdotool key ctrl+s
-sleep 0.5
+asks() { grep -q '^state button_save_anyway ' "$LAYOUT"; }
+wait_for "Ctrl+S on text with errors to ask first" asks
 read -r bx by <<< "$(awk '$1 == "state" && $2 == "button_save_anyway" { x = $3 + $5 / 2; y = $4 + $6 / 2 } END { print int(x), int(y) }' "$LAYOUT")"
 [ "$bx" -gt 0 ] || fail "Ctrl+S on text with errors did not ask first"
 xdotool mousemove "$bx" "$by" click 1
-sleep 0.5
-printf 'zzbad ' | cat - "$OUT/saved1.txt" | cmp -s - "$SCENE" || fail "the file is not the editor text"
+saved_with_error() { printf 'zzbad ' | cat - "$OUT/saved1.txt" | cmp -s - "$SCENE"; }
+wait_for "the file to be the editor text" saved_with_error
 
 step "clicking the error moves the cursor to it"
 read -r dx dy dw dh <<< "$DIAG"
@@ -133,8 +134,8 @@ xdotool type --delay 30 "//"
 xdotool key ctrl+Return
 sleep 0.3
 xdotool key ctrl+s
-sleep 0.5
-printf '//zzbad ' | cat - "$OUT/saved1.txt" | cmp -s - "$SCENE" || fail "'//' did not land at the error position"
+commented_out() { printf '//zzbad ' | cat - "$OUT/saved1.txt" | cmp -s - "$SCENE"; }
+wait_for "'//' to land at the error position (saved)" commented_out
 shot fixed
 [ "$("$TOOL" near "$OUT/fixed.png" $DIAG 255 107 107 40)" -lt 5 ] || fail "the error is still listed"
 xdotool mousemove $cx $cy   # keyboard focus follows the pointer without a window manager
@@ -146,8 +147,8 @@ xdotool mouseup 3
 sleep 0.5
 [[ "$(title)" == *"*"* ]] && fail "the pan modified the document"
 xdotool key ctrl+k   # a real edit, so that quitting asks
-sleep 0.3
-[[ "$(title)" == *"*"* ]] || fail "Ctrl+K did not modify the document"
+modified() { [[ "$(title)" == *"*"* ]]; }
+wait_for "Ctrl+K to modify the document" modified
 wait_stable panned
 xdotool key ctrl+q
 sleep 0.8
@@ -182,7 +183,8 @@ wait_stable cancelled
 [[ "$(title)" == "scene.txt - raytracer-view" ]] || fail "the pan marked the document modified: '$(title)'"
 sed 's/radius 1.3/radius 0.6/' "$SCENE" > "$OUT/edited.tmp"
 mv "$OUT/edited.tmp" "$SCENE"   # as editors save: a new file renamed over the old
-sleep 1.5
+reloaded() { grep -q '^state message Reloaded' "$LAYOUT"; }
+wait_for "the reload" reloaded
 wait_stable reloaded
 reload_change=$("$TOOL" diff "$OUT/cancelled.png" "$OUT/reloaded.png" $IMAGE)
 awk -v c="$reload_change" 'BEGIN { exit !(c > 0.01) }' || fail "the image did not change after the file changed ($reload_change)"
@@ -191,7 +193,7 @@ grep -q "radius 0.6" "$SCENE" || fail "test setup: the edit did not happen"
 
 step "after saving, Ctrl+Q quits"
 xdotool key ctrl+s
-sleep 0.5
+wait_for "the save" title_is "scene.txt - raytracer-view"
 xdotool key ctrl+q
 for _ in $(seq 1 30); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
 kill -0 "$VIEWER_PID" 2>/dev/null && fail "the viewer did not quit"

@@ -14,17 +14,13 @@
 #include "scene_parser.h"
 #include "scene_schema.h"
 #include "scene_writer.h"
+#include "text_replacement.h"
 
 namespace rtview {
 
 namespace {
 
 namespace sc = rt::schema;
-
-struct Rep {
-    std::size_t at, length;
-    std::string text;
-};
 
 std::string vec_text(const rt::Vec3& v) {
     return rt::format_number(v.x) + " " + rt::format_number(v.y) + " " + rt::format_number(v.z);
@@ -59,15 +55,15 @@ public:
     }
 
     std::string result() const {
-        std::vector<Rep> reps = reps_;
+        std::vector<TextReplacement> reps = reps_;
         // Insertions at one place keep the order they were made in.
-        std::stable_sort(reps.begin(), reps.end(), [](const Rep& a, const Rep& b) { return a.at < b.at; });
+        std::stable_sort(reps.begin(), reps.end(), [](const TextReplacement& a, const TextReplacement& b) { return a.offset < b.offset; });
         std::string out;
         std::size_t pos = 0;
-        for (const Rep& r : reps) {
-            out.append(text_.substr(pos, r.at - pos));
+        for (const TextReplacement& r : reps) {
+            out.append(text_.substr(pos, r.offset - pos));
             out += r.text;
-            pos = r.at + r.length;
+            pos = r.offset + r.length;
         }
         out.append(text_.substr(pos));
         return out;
@@ -239,7 +235,7 @@ private:
 
     std::string_view text_;
     std::vector<rt::Token> toks_;
-    std::vector<Rep> reps_;
+    std::vector<TextReplacement> reps_;
 };
 
 // The patched block parses to `after` (read as the only item of a small scene).

@@ -11,27 +11,22 @@
 
 #include "scene.h"
 #include "scene_delta.h"
+#include "text_replacement.h"
 
 namespace rtview {
-
-// A replacement made in a text, with what it replaced, so that an undo step can take it
-// back: [pos, pos + before.size()) held `before` and now holds `after`.
-struct UndoableReplacement {
-    std::size_t pos = 0;
-    std::string before, after;
-};
-
-// A change of the editor text made by the document (a panel edit written back, undo,
-// redo, revert): [pos, pos + removed) now holds `inserted`.
-struct TextChange {
-    std::size_t pos = 0, removed = 0;
-    std::string inserted;
-};
 
 // One undo step: what an edit changed, both ways.
 struct DocStep {
     std::string name;  // what the edit did, for the user: "Move sphere 3"
-    std::vector<UndoableReplacement> editor;  // applied in order going forward, in reverse going back
+    // The editor text's replacements, applied in order going forward; and each one's
+    // inverse, applied in reverse order going back.
+    std::vector<TextReplacement> editor, editor_back;
+    // `r`, made in `before` (the editor text before it), is part of the step.
+    void made(TextReplacement r, const std::string& before) {
+        if (r.empty()) return;
+        editor_back.push_back(r.inverse(before));
+        editor.push_back(std::move(r));
+    }
     // The applied text when it differed from the editor text (a draft), before and after.
     std::optional<std::string> applied_before, applied_after;
     // The scene: the items that changed (index, value), or, for wide changes, nothing:
@@ -46,9 +41,6 @@ struct DocStep {
     bool keep_applied = false;  // typing: the applied text is not part of the step
     std::size_t bytes() const;
 };
-
-// The one replacement that turns `a` into `b` (common prefix and suffix left out).
-UndoableReplacement diff_texts(const std::string& a, const std::string& b);
 
 // Changed items of two equally long lists, as (index, value) pairs both ways.
 template <class T>

@@ -47,9 +47,9 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
                            const std::string& name, std::optional<SceneLayout> layout,
                            std::optional<std::uint64_t> hash) {
     history_.clear();
-    pending_ = false;
+    held_ = false;
     saved_ = {};
-    pending_name_.clear();
+    held_name_.clear();
     last_step_name_.clear();
     typing_base_.reset();
     layout_.reset();
@@ -77,7 +77,6 @@ void Document::load_parsed(std::string text, rt::ParseResult parsed, const std::
     text_log_.clear();
     text_log_bytes_ = 0;
     mark_saved(hash);
-    if (has_scene_) file_camera_ = scene_.camera;
     if (layout) {
         layout_ = std::move(layout);
         layout_key_ = layout_key();
@@ -100,7 +99,7 @@ rt::Status Document::load_file(const std::string& path) {
 
 void Document::changed(rt::SceneDelta delta) {
     const std::uint64_t from = content_version_++;
-    // A pending edit changes its item every frame: one entry for all of them.
+    // A held edit changes its item every frame: one entry for all of them.
     if (!changes_.empty() && changes_.back().to == from && !delta.everything && !changes_.back().delta.everything &&
         changes_.back().delta.objects == delta.objects && changes_.back().delta.planes == delta.planes &&
         changes_.back().delta.lights == delta.lights) {
@@ -122,7 +121,7 @@ rt::SceneDelta Document::changes_since(std::uint64_t version) const {
 
 bool Document::modified() const {
     // Hashing a big text is not free: once per change of the text, not per frame.
-    std::uint64_t key = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    std::uint64_t key = text_key();
     if (key != modified_key_) {
         modified_cache_ = editor_.size() != saved_size_ || text_hash(editor_) != saved_hash_;
         modified_key_ = key;
@@ -149,7 +148,7 @@ void Document::flush_typing() {
     if (base == editor_) return;
     DocStep step;
     step.name = kTypingName;
-    step.editor.push_back(diff_texts(base, editor_));
+    step.made(diff_texts(base, editor_), base);
     step.keep_applied = true;
     step.has_scene_before = step.has_scene_after = has_scene_;
     step.behind_before = step.behind_after = behind_;
@@ -182,7 +181,7 @@ bool Document::replace_text(std::size_t pos, std::size_t length, const std::stri
     // The replacement was planned on the text and the scene as they are now; a held
     // edit (a drag) would rewrite the text when committed, and the replacement would
     // land on the wrong bytes.
-    if (pending_) return false;
+    if (held_) return false;
     flush_typing();  // text typed since the last step is a step of its own, first
     normalize_applied();
     if (applied_ || behind_ || pos > editor_.size() || length > editor_.size() - pos) return false;

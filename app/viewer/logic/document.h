@@ -38,7 +38,23 @@ struct FileStamp {
     static FileStamp of(const std::string& path);
 };
 
+// The items a held edit has changed so far, with their values now.
+struct HeldEdit {
+    std::vector<std::size_t> objects, planes, lights;  // indices in the scene
+    rt::Scene items;      // their values, in the same order; the scene camera
+    bool camera = false;  // the camera is one of them
+    bool empty() const { return objects.empty() && planes.empty() && lights.empty() && !camera; }
+    bool operator==(const HeldEdit& o) const {
+        return objects == o.objects && planes == o.planes && lights == o.lights && camera == o.camera &&
+               items == o.items;
+    }
+};
+
 class Document {
+    static std::uint64_t text_key_of(std::uint64_t version, std::uint64_t typed) {
+        return version * 0x9E3779B97F4A7C15ull + typed;
+    }
+
 public:
     Document();
 
@@ -74,8 +90,6 @@ public:
     // not known: too long ago, or not a version of this document's): what a compiled
     // world of that version needs to become this one (World::update).
     rt::SceneDelta changes_since(std::uint64_t version) const;
-    // The camera of the file as last loaded or saved.
-    const rt::Camera& file_camera() const { return file_camera_; }
 
     // --- panel edits -----------------------------------------------------------
     // A continuous edit (a slider drag) changes the scene on every frame and commit()
@@ -87,9 +101,9 @@ public:
     rt::Light& edit_light(std::size_t i);
     rt::Camera& edit_camera();
     rt::Scene& edit();
-    bool editing() const { return pending_; }
+    bool edit_held() const { return held_; }
     void commit();
-    // Drops a pending edit, restoring the scene as it was before it.
+    // Drops a held edit, restoring the scene as it was before it.
     void cancel_edit();
     // Why panel and handle edits cannot be made now (empty: they can): the editor
     // holds unapplied changes that do not parse, so an edit could not be written into
@@ -118,11 +132,14 @@ public:
     // The changes that take the editor text of text version `version` to this one, in
     // order: a widget holding that text applies them instead of taking the whole text
     // again. False when they are not kept (a load, or too many or too large since).
-    bool text_changes_since(std::uint64_t version, std::vector<TextChange>& out) const;
+    bool text_changes_since(std::uint64_t version, std::vector<TextReplacement>& out) const;
     // The editor text was typed into (call after a widget changed it).
     void note_typed() { ++typed_; }
     // Changes with every possible change of the editor text (with text_version()).
     std::uint64_t typed() const { return typed_; }
+    // One key for the editor text as it is now (text_version() and typed()): a cache of
+    // something computed from the text is valid while this stays the same.
+    std::uint64_t text_key() const { return text_key_of(text_version_, typed_); }
     // Parses the editor text. Errors: diagnostics() lists them, the scene and the text
     // stay as they are. Success: the scene becomes the text's (one undo step).
     bool apply_text();
@@ -132,7 +149,7 @@ public:
     // A structural edit of the text (add, duplicate, delete: scene_edits.h): replaces
     // `length` bytes at `pos` with `text` and applies the result, as one undo step
     // (called `name`) that stores the replacement. Only when the editor text is the scene's (no
-    // draft), no edit is held (editing()) and the result parses; else false and nothing changes.
+    // draft), no edit is held (edit_held()) and the result parses; else false and nothing changes.
     bool replace_text(std::size_t pos, std::size_t length, const std::string& text,
                       const std::string& name = "Edit the scene text");
     // Puts `text` in the editor as an unapplied draft (undoable): crash recovery.
@@ -150,12 +167,12 @@ public:
     void set_undo_budget(std::size_t bytes) { history_.set_budget(bytes); }
     bool undo();
     bool redo();
-    // Names the pending edit for the undo history ("Move sphere 3", "Edit radius of
+    // Names the held edit for the undo history ("Move sphere 3", "Edit radius of
     // sphere 1"); the first name given to an edit stays. An edit left unnamed is named
     // by what it changed ("Edit object 3", "Edit the scene camera").
     void name_edit(const std::string& name);
     // The names of up to `max` steps that undo() (redo()) would take back (do again) in
-    // turn, the next first: a pending edit and text typed since the last step count.
+    // turn, the next first: a held edit and text typed since the last step count.
     std::vector<std::string> undo_names(std::size_t max) const;
     std::vector<std::string> redo_names(std::size_t max) const;
     // The step the last successful undo() or redo() took back or did again.
@@ -172,15 +189,10 @@ public:
     rt::Status save_as(const std::string& path);
 
     // --- crash recovery --------------------------------------------------------
-    // The items a held edit (a drag) has touched so far, by index (their values now are
-    // in scene()): what a recovery copy keeps beside the text, which has not got them
-    // yet. Empty when no edit is held; `whole` for an edit() of the whole scene.
-    struct HeldItems {
-        std::vector<std::size_t> objects, planes, lights;
-        bool camera = false, whole = false;
-        bool empty() const { return objects.empty() && planes.empty() && lights.empty() && !camera && !whole; }
-    };
-    HeldItems held_items() const;
+    // The held edit (a drag): the items it has touched so far, with their values now
+    // (what a recovery copy keeps beside the text, which has not got them yet). Empty
+    // when no edit is held, or when it is an edit() of the whole scene.
+    HeldEdit held_edit() const;
     // text_hash() of the file as last loaded or saved.
     std::uint64_t saved_hash() const { return saved_hash_; }
 
@@ -206,14 +218,14 @@ public:
     void resolve_conflict_keep();    // keep ours; ask again only on the next change
 
 private:
-    struct Saved {  // an item as it was when a pending edit first touched it
+    struct Saved {  // an item as it was when a held edit first touched it
         std::vector<std::pair<std::size_t, rt::Object>> objects;
         std::vector<std::pair<std::size_t, rt::Plane>> planes;
         std::vector<std::pair<std::size_t, rt::Light>> lights;
         std::optional<rt::Camera> camera;
         std::optional<rt::Scene> whole;  // edit(): everything
     };
-    void open_edit();
+    void hold_edit();
     rt::Scene scene_before_edit() const;  // (a copy: only for the slow paths)
     rt::Scene scene_before_edit_from(const DocStep& step) const;
     bool reads_back(const DocStep& step, bool wide) const;
@@ -227,8 +239,8 @@ private:
     // `editor` null: the editor text stays; `scene` empty: the scene stays.
     void replace_state(const std::string* editor, std::optional<std::string> applied, std::optional<rt::Scene> scene,
                        bool behind, std::string name);
-    // The name of the pending edit: as given to name_edit(), else from what it touched.
-    std::string pending_name() const;
+    // The name of the held edit: as given to name_edit(), else from what it touched.
+    std::string held_name() const;
     void apply_step(const DocStep& s, bool forward);
     // The scene's content changed as `delta` says: a new content version, logged for
     // changes_since().
@@ -265,7 +277,6 @@ private:
     std::string saved_broken_text_;
     mutable std::uint64_t modified_key_ = ~std::uint64_t(0);  // (text_version_, typed_) the cache is for
     mutable bool modified_cache_ = false;
-    rt::Camera file_camera_;
     FileStamp stamp_;
     std::vector<rt::Diagnostic> diagnostics_;
     std::uint64_t scene_version_ = 1, content_version_ = 1, text_version_ = 1, typed_ = 0;
@@ -277,18 +288,18 @@ private:
     std::deque<Change> changes_;
     // Text versions (text_version_ - text_log_.size(), text_version_] as changes of the
     // one before, oldest first, within a budget (text_changes_since()).
-    std::deque<std::vector<TextChange>> text_log_;
+    std::deque<std::vector<TextReplacement>> text_log_;
     std::size_t text_log_bytes_ = 0;
-    bool pending_ = false;
+    bool held_ = false;
     Saved saved_;
-    std::string pending_name_;    // name_edit() of the pending edit
+    std::string held_name_;    // name_edit() of the held edit
     std::string last_step_name_;  // of the last undo() or redo()
     std::optional<SceneLayout> layout_;  // of editor_ when layout_key_ matches
     std::uint64_t layout_key_ = 0;
     // What layout_key_ must be for the text as it is (`ahead`: after that many more
     // versions): its version and the keys typed into it.
     std::uint64_t layout_key(std::uint64_t ahead = 0) const {
-        return (text_version_ + ahead) * 0x9E3779B97F4A7C15ull + typed_;
+        return text_key_of(text_version_ + ahead, typed_);
     }
     bool conflict_ = false;
     std::string conflict_text_;

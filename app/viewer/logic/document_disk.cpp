@@ -34,7 +34,7 @@ std::optional<std::string> Document::save_problem() const {
     const rt::ParseResult r = rt::parse_scene(editor_, parse_options(path_));
     for (const rt::Diagnostic& d : r.diagnostics)
         if (d.is_error())
-            return "line " + std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message;
+            return rt::format_diagnostic(name_, d);
     return std::nullopt;
 }
 
@@ -47,14 +47,13 @@ void Document::mark_saved(std::optional<std::uint64_t> hash) {
     saved_hash_ = hash ? *hash : text_hash(editor_);
     saved_size_ = editor_.size();
     // The text is the saved one now: no need to hash it again to know that.
-    modified_key_ = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    modified_key_ = text_key();
     modified_cache_ = false;
     // Revert of a text that never parsed goes back to the file: keep it (such files
     // are small; a scene that parses is not kept twice).
     saved_broken_text_ = has_scene_ ? std::string() : editor_;
     // No second parse of the saved text: it is the text of the current scene whenever
     // that has no unapplied draft.
-    if (has_scene_ && !editor_dirty()) file_camera_ = scene_.camera;
     stamp_ = FileStamp::of(path_);
     conflict_ = false;
 }
@@ -101,7 +100,7 @@ rt::ParseOptions Document::parse_options(const std::string& path) const {
 }
 
 bool Document::reload_models() {
-    if (!has_scene_ || pending_ || editor_dirty() || behind_) return false;
+    if (!has_scene_ || held_ || editor_dirty() || behind_) return false;
     // The scene's models, looked for once per scene version (a pass over every object:
     // 9 ms in a 1M-object scene, too much for every second).
     if (scene_models_version_ != scene_version_) {
@@ -121,7 +120,7 @@ bool Document::reload_models() {
     if (!r.ok()) {
         std::string why;
         for (const rt::Diagnostic& d : r.diagnostics)
-            if (d.is_error() && why.empty()) why = "line " + std::to_string(d.line) + ": " + d.message;
+            if (d.is_error() && why.empty()) why = rt::format_diagnostic(name_, d);
         if (why == model_problem_) return false;
         model_problem_ = why;
         return true;
@@ -135,7 +134,7 @@ bool Document::reload_models() {
 
 Document::DiskEvent Document::check_disk() {
     if (reload_models()) return model_problem_.empty() ? DiskEvent::ModelsReloaded : DiskEvent::ModelUnreadable;
-    if (path_.empty() || pending_) return DiskEvent::None;  // not in the middle of a gesture
+    if (path_.empty() || held_) return DiskEvent::None;  // not in the middle of a gesture
     FileStamp st = FileStamp::of(path_);
     if (st == stamp_) return DiskEvent::None;
     stamp_ = st;

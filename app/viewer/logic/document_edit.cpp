@@ -34,7 +34,7 @@ void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::siz
     fix(l.append_at);
 }
 
-// The items of a pending edit that changed, as (index, value) pairs both ways. An item
+// The items of a held edit that changed, as (index, value) pairs both ways. An item
 // that came back to its value (or to -0 where it had 0: equal, but not what its text
 // reads) takes its value from before again, as the text holds it.
 template <class T>
@@ -62,21 +62,21 @@ std::string changed_name(std::size_t objects, std::size_t planes, std::size_t li
 
 }  // namespace
 
-void Document::open_edit() {
-    if (!pending_) {
+void Document::hold_edit() {
+    if (!held_) {
         saved_ = {};
-        pending_name_.clear();
-        pending_ = true;
+        held_name_.clear();
+        held_ = true;
     }
     ++scene_version_;
 }
 
 void Document::name_edit(const std::string& name) {
-    if (pending_ && pending_name_.empty()) pending_name_ = name;
+    if (held_ && held_name_.empty()) held_name_ = name;
 }
 
-std::string Document::pending_name() const {
-    if (!pending_name_.empty()) return pending_name_;
+std::string Document::held_name() const {
+    if (!held_name_.empty()) return held_name_;
     const std::size_t first = !saved_.objects.empty() ? saved_.objects[0].first
                               : !saved_.planes.empty() ? saved_.planes[0].first
                               : !saved_.lights.empty() ? saved_.lights[0].first
@@ -86,7 +86,7 @@ std::string Document::pending_name() const {
 }
 
 rt::Object& Document::edit_object(std::size_t i) {
-    open_edit();
+    hold_edit();
     rt::SceneDelta d;
     if (i < scene_.objects.size()) d.objects.push_back(std::uint32_t(i));
     changed(std::move(d));
@@ -97,7 +97,7 @@ rt::Object& Document::edit_object(std::size_t i) {
 }
 
 rt::Plane& Document::edit_plane(std::size_t i) {
-    open_edit();
+    hold_edit();
     rt::SceneDelta d;
     if (i < scene_.planes.size()) d.planes.push_back(std::uint32_t(i));
     changed(std::move(d));
@@ -108,7 +108,7 @@ rt::Plane& Document::edit_plane(std::size_t i) {
 }
 
 rt::Light& Document::edit_light(std::size_t i) {
-    open_edit();
+    hold_edit();
     rt::SceneDelta d;
     if (i < scene_.lights.size()) d.lights.push_back(std::uint32_t(i));
     changed(std::move(d));
@@ -119,13 +119,13 @@ rt::Light& Document::edit_light(std::size_t i) {
 }
 
 rt::Camera& Document::edit_camera() {
-    open_edit();
+    hold_edit();
     if (!saved_.whole && !saved_.camera) saved_.camera = scene_.camera;
     return scene_.camera;
 }
 
 rt::Scene& Document::edit() {
-    open_edit();
+    hold_edit();
     changed(rt::SceneDelta::all());
     if (!saved_.whole) saved_.whole = scene_before_edit();
     return scene_;
@@ -142,12 +142,12 @@ rt::Scene Document::scene_before_edit() const {
 }
 
 void Document::cancel_edit() {
-    if (!pending_) return;
-    pending_ = false;
+    if (!held_) return;
+    held_ = false;
     scene_ = scene_before_edit();
     rt::SceneDelta d = saved_.whole ? rt::SceneDelta::all() : items_of(saved_.objects, saved_.planes, saved_.lights);
     saved_ = {};
-    pending_name_.clear();
+    held_name_.clear();
     ++scene_version_;
     changed(std::move(d));
 }
@@ -162,12 +162,12 @@ bool Document::set_camera(const rt::Camera& camera) {
 }
 
 void Document::commit() {
-    if (!pending_) return;
+    if (!held_) return;
     flush_typing();
-    pending_ = false;
+    held_ = false;
     DocStep step;
-    step.name = std::move(pending_name_);
-    pending_name_.clear();
+    step.name = std::move(held_name_);
+    held_name_.clear();
     step.has_scene_before = step.has_scene_after = has_scene_;
     step.behind_before = behind_;
     bool wide = false;
@@ -269,11 +269,7 @@ bool Document::commit_in_place(DocStep& step) {
     if (!l.ok || l.objects.size() != scene_.objects.size() || l.planes.size() != scene_.planes.size() ||
         l.lights.size() != scene_.lights.size())
         return false;
-    struct Rep {
-        TextSpan span;
-        std::string text;
-    };
-    std::vector<Rep> reps;
+    std::vector<TextReplacement> reps;
     rt::Scene one;  // carries a valid camera so the writer prints a normal scene
     one.camera = scene_.camera;
     // An item's block keeps its comments and layout when only its changed values can
@@ -281,7 +277,7 @@ bool Document::commit_in_place(DocStep& step) {
     auto add = [&](TextSpan span, ItemList kind, std::optional<std::string> patched = std::nullopt) {
         std::string t = patched ? std::move(*patched) : written_item(one, kind, line_indent(editor_, span.begin));
         if (t.empty()) return false;
-        reps.push_back({span, std::move(t)});
+        reps.push_back({span.begin, span.end - span.begin, std::move(t)});
         return true;
     };
     auto block = [&](TextSpan span) { return std::string_view(editor_).substr(span.begin, span.end - span.begin); };
@@ -314,16 +310,16 @@ bool Document::commit_in_place(DocStep& step) {
         } else {
             std::string t = written_item(one, ItemList::Camera, "");
             if (t.empty()) return false;
-            reps.push_back({{l.append_at, l.append_at}, t + "\n"});
+            reps.push_back({l.append_at, 0, t + "\n"});
         }
     }
     // Back to front, so every span still holds where the text was read.
-    std::sort(reps.begin(), reps.end(), [](const Rep& a, const Rep& b) { return a.span.begin > b.span.begin; });
-    for (Rep& r : reps) {
-        UndoableReplacement s{r.span.begin, editor_.substr(r.span.begin, r.span.end - r.span.begin), std::move(r.text)};
-        editor_.replace(s.pos, s.before.size(), s.after);
-        shift_layout(l, s.pos, s.before.size(), s.after.size());
-        step.editor.push_back(std::move(s));
+    std::sort(reps.begin(), reps.end(),
+              [](const TextReplacement& a, const TextReplacement& b) { return a.offset > b.offset; });
+    for (TextReplacement& r : reps) {
+        shift_layout(l, r.offset, r.length, r.text.size());
+        step.editor_back.push_back(r.apply(editor_));
+        step.editor.push_back(std::move(r));
     }
     // The text changes its version below: the layout stays valid for the new one.
     layout_key_ = layout_key(1);
@@ -339,9 +335,8 @@ bool Document::commit_generic(DocStep& step) {
     std::string new_applied = has_scene_ ? sync_scene_text(old_applied, before, scene_) : rt::write_scene(scene_);
     if (!applied_) {
         // No draft: the editor text is the applied text.
-        UndoableReplacement s = diff_texts(editor_, new_applied);
+        step.made(diff_texts(editor_, new_applied), editor_);
         editor_ = std::move(new_applied);
-        if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
         return true;
     }
     // The user has an unapplied draft: carry the edit into it only where that is
@@ -361,9 +356,8 @@ bool Document::commit_generic(DocStep& step) {
         changed(saved_.whole ? rt::SceneDelta::all() : items_of(step.objects_before, step.planes_before, step.lights_before));
         return false;
     }
-    UndoableReplacement s = diff_texts(editor_, *patched);
+    step.made(diff_texts(editor_, *patched), editor_);
     editor_ = std::move(*patched);
-    if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
     step.applied_before = *applied_;
     applied_ = std::move(new_applied);
     normalize_applied();
@@ -373,7 +367,7 @@ bool Document::commit_generic(DocStep& step) {
 
 std::string Document::edit_blocker() const {
     if (!applied_ || !has_scene_) return {};
-    const std::uint64_t key = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    const std::uint64_t key = text_key();
     if (key != blocker_key_) {
         blocker_key_ = key;
         blocker_.clear();
@@ -403,14 +397,24 @@ rt::Scene Document::scene_before_edit_from(const DocStep& step) const {
     return s;
 }
 
-Document::HeldItems Document::held_items() const {
-    HeldItems h;
-    if (!pending_) return h;
-    h.whole = saved_.whole.has_value();
-    for (const auto& p : saved_.objects) h.objects.push_back(p.first);
-    for (const auto& p : saved_.planes) h.planes.push_back(p.first);
-    for (const auto& p : saved_.lights) h.lights.push_back(p.first);
+HeldEdit Document::held_edit() const {
+    HeldEdit h;
+    if (!held_ || saved_.whole || !has_scene_) return h;
+    for (const auto& p : saved_.objects) {
+        h.objects.push_back(p.first);
+        h.items.objects.push_back(scene_.objects[p.first]);
+    }
+    for (const auto& p : saved_.planes) {
+        h.planes.push_back(p.first);
+        h.items.planes.push_back(scene_.planes[p.first]);
+    }
+    for (const auto& p : saved_.lights) {
+        h.lights.push_back(p.first);
+        h.items.lights.push_back(scene_.lights[p.first]);
+    }
     h.camera = saved_.camera.has_value();
+    if (h.empty()) return {};
+    h.items.camera = scene_.camera;
     return h;
 }
 

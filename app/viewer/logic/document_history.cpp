@@ -23,18 +23,10 @@ bool same_except_camera(const rt::Scene& a, const rt::Scene& b) {
 
 }  // namespace
 
-// The one replacement that turns `a` into `b` (common prefix and suffix left out).
-UndoableReplacement diff_texts(const std::string& a, const std::string& b) {
-    std::size_t p = 0, n = std::min(a.size(), b.size());
-    while (p < n && a[p] == b[p]) ++p;
-    std::size_t s = 0;
-    while (s < n - p && a[a.size() - 1 - s] == b[b.size() - 1 - s]) ++s;
-    return {p, a.substr(p, a.size() - p - s), b.substr(p, b.size() - p - s)};
-}
-
 std::size_t DocStep::bytes() const {
     std::size_t b = sizeof(DocStep) + name.size();
-    for (const UndoableReplacement& s : editor) b += sizeof(UndoableReplacement) + s.before.size() + s.after.size();
+    for (const auto* v : {&editor, &editor_back})
+        for (const TextReplacement& r : *v) b += sizeof(TextReplacement) + r.text.size();
     if (applied_before) b += applied_before->size();
     if (applied_after) b += applied_after->size();
     for (const auto& o : objects_before) b += object_bytes(o.second) + sizeof(std::size_t);
@@ -46,17 +38,12 @@ std::size_t DocStep::bytes() const {
 
 void Document::text_changed(const DocStep& s, bool forward) {
     ++text_version_;
-    std::vector<TextChange> changes;
-    if (forward) {
-        for (const UndoableReplacement& t : s.editor) changes.push_back({t.pos, t.before.size(), t.after});
-    } else {
-        for (auto it = s.editor.rbegin(); it != s.editor.rend(); ++it)
-            changes.push_back({it->pos, it->after.size(), it->before});
-    }
+    std::vector<TextReplacement> changes =
+        forward ? s.editor : std::vector<TextReplacement>(s.editor_back.rbegin(), s.editor_back.rend());
     // What a version's changes hold, as the log counts it in and out.
-    auto bytes_of = [](const std::vector<TextChange>& v) {
+    auto bytes_of = [](const std::vector<TextReplacement>& v) {
         std::size_t n = 0;
-        for (const TextChange& c : v) n += c.inserted.size() + sizeof(TextChange);
+        for (const TextReplacement& c : v) n += c.text.size() + sizeof(TextReplacement);
         return n;
     };
     // A widget that has not looked for this long takes the whole text again.
@@ -69,7 +56,7 @@ void Document::text_changed(const DocStep& s, bool forward) {
     }
 }
 
-bool Document::text_changes_since(std::uint64_t version, std::vector<TextChange>& out) const {
+bool Document::text_changes_since(std::uint64_t version, std::vector<TextReplacement>& out) const {
     out.clear();
     if (version > text_version_ || text_version_ - version > text_log_.size()) return false;
     for (std::size_t k = text_log_.size() - std::size_t(text_version_ - version); k < text_log_.size(); ++k)
@@ -95,7 +82,7 @@ void Document::replace_state(const std::string* editor, std::optional<std::strin
     step.applied_before = applied_;
     if (!applied_) applied_ = editor_;  // (replaced below; keeps the old text meanwhile)
     if (editor && *editor != editor_) {
-        step.editor.push_back(diff_texts(editor_, *editor));
+        step.made(diff_texts(editor_, *editor), editor_);
         editor_ = *editor;
     }
     step.has_scene_before = has_scene_;
@@ -143,9 +130,10 @@ void Document::apply_step(const DocStep& s, bool forward) {
     // before the step when they are one and the same now.
     if (s.keep_applied && !applied_) applied_ = editor_;
     if (forward) {
-        for (const UndoableReplacement& t : s.editor) editor_.replace(t.pos, t.before.size(), t.after);
+        for (const TextReplacement& r : s.editor) editor_.replace(r.offset, r.length, r.text);
     } else {
-        for (auto it = s.editor.rbegin(); it != s.editor.rend(); ++it) editor_.replace(it->pos, it->after.size(), it->before);
+        for (auto it = s.editor_back.rbegin(); it != s.editor_back.rend(); ++it)
+            editor_.replace(it->offset, it->length, it->text);
     }
     if (!s.keep_applied) applied_ = forward ? s.applied_after : s.applied_before;
     else normalize_applied();
@@ -203,8 +191,8 @@ bool Document::redo() {
 
 std::vector<std::string> Document::undo_names(std::size_t max) const {
     std::vector<std::string> out;
-    // As undo() goes: a pending edit is committed first (after the typing before it).
-    if (pending_ && out.size() < max) out.push_back(pending_name());
+    // As undo() goes: a held edit is committed first (after the typing before it).
+    if (held_ && out.size() < max) out.push_back(held_name());
     if (typing_base_ && *typing_base_ != editor_ && out.size() < max) out.push_back(kTypingName);
     for (std::size_t k = 0; out.size() < max; ++k) {
         const DocStep* s = history_.peek_undo(k);
@@ -215,8 +203,8 @@ std::vector<std::string> Document::undo_names(std::size_t max) const {
 }
 
 std::vector<std::string> Document::redo_names(std::size_t max) const {
-    // A pending edit or typing becomes a step of its own, which ends the redo branch.
-    if (pending_ || (typing_base_ && *typing_base_ != editor_)) return {};
+    // A held edit or typing becomes a step of its own, which ends the redo branch.
+    if (held_ || (typing_base_ && *typing_base_ != editor_)) return {};
     std::vector<std::string> out;
     for (std::size_t k = 0; k < max; ++k) {
         const DocStep* s = history_.peek_redo(k);

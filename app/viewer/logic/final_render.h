@@ -22,7 +22,7 @@ rt::RenderRequest final_render_request(int samples, double time_limit, double aa
 
 class FinalRender {
 public:
-    explicit FinalRender(int threads = 0);  // a pool of its own; 0: all hardware threads
+    explicit FinalRender(int threads = 0);  // a pool of its own; 0: as many as the process pool
     explicit FinalRender(rt::ThreadPool& pool);  // on a shared pool (see rt::Renderer)
     ~FinalRender();
     FinalRender(const FinalRender&) = delete;

@@ -308,7 +308,7 @@ FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const F
             if (!(one.lights[0] == doc.scene().lights[i])) doc.edit_light(i) = std::move(one.lights[0]);
             break;
     }
-    if (doc.editing()) doc.name_edit("Edit " + f.label + " of " + item_label(doc.scene(), ref));
+    if (doc.edit_held()) doc.name_edit("Edit " + f.label + " of " + item_label(doc.scene(), ref));
     return r;
 }
 

@@ -9,6 +9,7 @@
 
 #include "image_io.h"
 #include "parallel.h"
+#include "paths.h"
 #include "scene.h"
 #include "scene_edits.h"
 #include "status.h"
@@ -59,8 +60,7 @@ rt::Status model_scene_text(const std::string& path, rt::ModelStore& models, std
 
 bool apply_load(LoadResult& r, Document& doc, std::shared_ptr<const rt::World>& world) {
     if (r.status != LoadResult::Status::Ok) return false;
-    std::size_t slash = r.path.find_last_of('/');
-    std::string name = slash == std::string::npos ? r.path : r.path.substr(slash + 1);
+    const std::string name = base_name(r.path);
     world = std::move(r.world);
     if (r.new_scene) {
         // A scene of its own, unsaved: Save asks where (the name offered beside the model).

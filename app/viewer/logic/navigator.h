@@ -53,7 +53,6 @@ public:
     // The button went up: true if the gesture was a click (the caller selects).
     bool release();
     bool dragging() const { return gesture_ != Gesture::None; }
-    bool is_click() const { return gesture_ == Gesture::Click; }
     double press_x() const { return press_x_; }
     double press_y() const { return press_y_; }
     void cancel_gesture() { gesture_ = Gesture::None; }

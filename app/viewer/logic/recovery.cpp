@@ -89,22 +89,6 @@ bool parse_held_file(const std::string& data, const std::string& doc, HeldEdit& 
 
 }  // namespace
 
-HeldEdit held_edit(const Document& doc) {
-    HeldEdit h;
-    const Document::HeldItems items = doc.held_items();
-    if (items.whole || items.empty() || !doc.has_scene()) return h;
-    const rt::Scene& s = doc.scene();
-    h.objects = items.objects;
-    h.planes = items.planes;
-    h.lights = items.lights;
-    h.camera = items.camera;
-    for (std::size_t i : h.objects) h.items.objects.push_back(s.objects[i]);
-    for (std::size_t i : h.planes) h.items.planes.push_back(s.planes[i]);
-    for (std::size_t i : h.lights) h.items.lights.push_back(s.lights[i]);
-    h.items.camera = s.camera;
-    return h;
-}
-
 std::string with_held_edit(const std::string& text, const HeldEdit& held) {
     // The models a mesh names are not read: only the text is patched.
     rt::ParseOptions o;
@@ -131,8 +115,7 @@ std::string Recovery::held_file_for(const std::string& doc_path) const {
     return f.substr(0, f.size() - 4) + ".held";
 }
 
-rt::Status Recovery::update(const std::string& doc_path, const std::string& text, bool modified, double now,
-                            double interval) {
+rt::Status Recovery::update(const std::string& doc_path, const std::string& text, bool modified) {
     if (doc_path != last_path_) {
         // Another document (Save As, Open): what was unsaved in the last one has been
         // saved or let go by the user, so its copy would only raise a false alarm.
@@ -152,12 +135,10 @@ rt::Status Recovery::update(const std::string& doc_path, const std::string& text
     }
     std::uint64_t h = text_hash(text);
     if (written_ && h == last_hash_) return {};
-    if (now - last_write_ < interval) return {};
     std::error_code ec;
     fs::create_directories(dir_, ec);
     const rt::Status written =
         rt::write_file_atomic(file_for(doc_path), absolute(doc_path) + "\n" + text, rt::WhileWriting::NoName);
-    last_write_ = now;
     if (!written) return written;
     last_hash_ = h;
     written_ = true;

@@ -12,28 +12,12 @@
 #include <string>
 #include <vector>
 
+#include "document.h"
 #include "scene.h"
 #include "status.h"
 
 namespace rtview {
 
-class Document;
-
-// The items a held edit has changed so far, with their values now.
-struct HeldEdit {
-    std::vector<std::size_t> objects, planes, lights;  // indices in the scene
-    rt::Scene items;      // their values, in the same order; the scene camera
-    bool camera = false;  // the camera is one of them
-    bool empty() const { return objects.empty() && planes.empty() && lights.empty() && !camera; }
-    bool operator==(const HeldEdit& o) const {
-        return objects == o.objects && planes == o.planes && lights == o.lights && camera == o.camera &&
-               items == o.items;
-    }
-};
-
-// The held edit of `doc`, copying only the items it touched; empty when no edit is held
-// (or it spans the whole scene: edit()).
-HeldEdit held_edit(const Document& doc);
 // `text` with the held edit's items written into it (their blocks rewritten), as the
 // commit would have; `text` as it is when they do not fit it (it does not parse, or has
 // other items).
@@ -49,11 +33,10 @@ public:
     std::string file_for(const std::string& doc_path) const;
     std::string held_file_for(const std::string& doc_path) const;
 
-    // Call often (each idle tick). Writes when the text changed since the last write
-    // and at least `interval` seconds have passed; removes the file when the document
-    // is no longer modified. Fails, saying why, if a write failed.
-    rt::Status update(const std::string& doc_path, const std::string& text, bool modified, double now,
-                      double interval = 3.0);
+    // Call often (each idle tick). Writes when the text changed since the last write;
+    // removes the file when the document is no longer modified. Fails, saying why, if
+    // a write failed.
+    rt::Status update(const std::string& doc_path, const std::string& text, bool modified);
     // Writes the held edit's file for the text whose text_hash() is `base_hash` (the
     // copy update() wrote, or the document's file when the text is as saved); an empty
     // edit removes it.
@@ -71,7 +54,6 @@ private:
     std::string dir_;
     std::string last_path_;
     std::uint64_t last_hash_ = 0;  // of the text last written (not a second copy of it)
-    double last_write_ = -1e300;
     bool written_ = false;
     bool held_written_ = false;
 };

@@ -58,7 +58,7 @@ void paste_region_rgba8(const RegionPicture& reg, const DisplaySettings& s, int 
 }
 
 RegionRenderer::RegionRenderer(int threads) {
-    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads <= 0) threads = std::max(1, rt::process_pool().workers());
     own_pool_ = std::make_unique<rt::ThreadPool>(threads + 1);  // (the size counts a loop's caller)
     pool_ = own_pool_.get();
     max_runners_ = threads;

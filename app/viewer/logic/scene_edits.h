@@ -12,23 +12,11 @@
 #include <vector>
 
 #include "model.h"
+#include "placement.h"
 #include "scene.h"
+#include "text_replacement.h"
 
 namespace rtview {
-
-// Replace `length` bytes at `offset` with `text`: a replacement to make. Once made, the
-// document keeps it as an UndoableReplacement (document.h), which holds both texts; the
-// editor's buffer keeps its own as BufferEdit (text_buffer.h), in lines and columns.
-struct TextReplacement {
-    std::size_t offset = 0, length = 0;
-    std::string text;
-    // Applies it to `s` and returns the replacement that takes it back.
-    TextReplacement apply(std::string& s) const;
-    std::string applied_to(std::string s) const {
-        apply(s);
-        return s;
-    }
-};
 
 // A top-level item of a scene: scene.objects[index], planes[index] or lights[index].
 struct SceneItem {
@@ -59,23 +47,6 @@ struct SceneEdit {
 enum class NewItem { Sphere, Cylinder, Tetrahedron, Torus, Plane, ChessPlane, Lamp, Spotlight };
 const char* new_item_name(NewItem k);  // "sphere", ..., as in the format
 
-// Where a new item goes: a point on a surface with its normal, or a point in space
-// (normal zero; the camera's up then orients it). `toward`: the direction from the
-// point to the viewer (zero: to the scene camera), which a new plane faces.
-struct Placement {
-    rt::Vec3 point;
-    rt::Vec3 normal{0, 0, 0};
-    rt::Vec3 toward{0, 0, 0};
-};
-
-// The size of the scene: the diagonal of its objects' and lights' bounds, or the
-// camera's distance to its centre when there is nothing to bound. New items are
-// scaled from it.
-double scene_extent(const rt::Scene& scene);
-// The size new objects get: the median size of the scene's objects (a sphere's
-// radius), or a twentieth of scene_extent when there are none.
-double typical_object_size(const rt::Scene& scene);
-
 // All edits take the scene text and the scene it parses to (its items must match
 // the text's blocks one for one), and return nothing when the text's structure is
 // unclear or the item does not exist. The result is a plain block of the format, so
@@ -87,15 +58,6 @@ double typical_object_size(const rt::Scene& scene);
 // the surface's normal) and faces the viewer: a plane through the point with the
 // surface's own orientation would lie in a floor it was added to, and show nothing.
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at);
-// The menu's Add (no place pointed at) puts a new object where it is seen and stands
-// free: of `candidates` (best first), the index of the first where an object of
-// typical_object_size, standing as add_item() stands it, keeps clear of every object's
-// box (the ball around it, 1.5 times its size, meets none) and, given `seen`, that
-// says `seen(middle, reach)` of that ball; if `seen` says it of none, the first clear
-// one. nullopt: none is clear. (In a scene of more than
-// 133,000 objects only the first 20M / objects candidates are tried.)
-std::optional<std::size_t> first_clear(const rt::Scene& scene, const std::vector<Placement>& candidates,
-                                       const std::function<bool(const rt::Vec3&, double)>& seen = {});
 // A mesh of the model read from `file` (as the block names it): its size typical_object_size,
 // its box resting on the surface at the point (centred on a point in space), turned
 // so that the model's y axis (OBJ's and PLY's usual up) is the scene's up when that

@@ -300,10 +300,4 @@ rt::Scene carry_edit(const rt::Scene& base, const rt::Scene& old_scene, const rt
 
 std::size_t offset_of(std::string_view text, int line, int col) { return rt::offset_at(text, line, col); }
 
-void line_col_of(std::string_view text, std::size_t offset, int& line, int& col) {
-    const rt::LineCol lc = rt::line_col_at(text, offset);
-    line = lc.line;
-    col = lc.col;
-}
-
 }  // namespace rtview

@@ -78,9 +78,8 @@ enum class ItemList { Object, Plane, Light, Camera };
 // indented for a line that starts with `indent`; empty if the writer's text is unclear.
 std::string written_item(const rt::Scene& one, ItemList list, const std::string& indent);
 
-// 1-based line/column <-> byte offset, as the parser counts them (columns count bytes;
-// LF, CR LF and a lone CR each end a line).
+// A 1-based line/column as a byte offset, as the parser counts them (columns count
+// bytes; LF, CR LF and a lone CR each end a line).
 std::size_t offset_of(std::string_view text, int line, int col);
-void line_col_of(std::string_view text, std::size_t offset, int& line, int& col);
 
 }  // namespace rtview

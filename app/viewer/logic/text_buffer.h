@@ -1,8 +1,9 @@
 // The scene text editor's model, without GL or ImGui: the text as a vector of lines,
-// the cursor and selection, edits recorded for undo, find, go to line, and the
-// colouring of one line. A keystroke rewrites only the lines it changes; one that adds
-// or joins lines also moves the later lines' strings along the vector, and the offset
-// of a later line is counted again from the changed one when it is next asked for.
+// the cursor and selection, edits recorded for undo, find and go to line (the colouring
+// of one line: syntax_colours.h). A keystroke rewrites only the lines it changes; one
+// that adds or joins lines also moves the later lines' strings along the vector, and
+// the offset of a later line is counted again from the changed one when it is next
+// asked for.
 #pragma once
 
 #include <cstddef>
@@ -11,6 +12,8 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "syntax_colours.h"
 
 namespace rtview {
 
@@ -39,20 +42,6 @@ struct BufferEdit {
     TextPos cursor_after;                  // restored by redo
     std::size_t offset = 0;                // byte offset of `at` (in the edit log only)
 };
-
-// ---- colouring ----------------------------------------------------------------
-enum class TokenKind : unsigned char { Text, Section, Object, Key, Number, Comment, Brace };
-struct TokenSpan {
-    int begin = 0, end = 0;  // byte columns in the line, end exclusive
-    TokenKind kind = TokenKind::Text;
-};
-// Splits one line into coloured spans (spans may leave gaps: plain text). The
-// format's tokens never span lines (`//` ends at the line's end), so a line can be
-// coloured without looking at its neighbours, and only the visible lines need it.
-// The scene format's words, by kind; numbers as the parser reads them (whole tokens).
-void tokenise_scene_line(std::string_view line, std::vector<TokenSpan>& out);
-// Whether `token` is a whole number in the scene format ([+-]digits[.digits][e[+-]digits]).
-bool is_scene_number(std::string_view token);
 
 // The number typed into "go to line": its digits (anything else is skipped), at most
 // INT_MAX however many there are; 0 for none.

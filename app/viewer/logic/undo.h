@@ -48,7 +48,6 @@ public:
     bool can_undo() const { return !undo_.empty(); }
     bool can_redo() const { return !redo_.empty(); }
     std::size_t undo_size() const { return undo_.size(); }
-    std::size_t redo_size() const { return redo_.size(); }
     // Bytes held by all steps (undo and redo side).
     std::size_t bytes() const { return undo_bytes_ + redo_bytes_; }
     std::size_t budget() const { return budget_; }

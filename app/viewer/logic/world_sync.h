@@ -1,7 +1,7 @@
 // The compiled world that follows the document, and the policy of how: what changed
 // since the world's version (Document::changes_since) goes into it at once when the
 // world can take it in place (World::update: a move refits the BVH, a material or a
-// light rewrites its entry, in well under a millisecond whatever the scene's size);
+// light rewrites its entry);
 // when the lists changed, an object's structure changed or too much changed, the
 // scene is compiled anew on another thread while the last world stays on screen, and
 // what changed meanwhile goes into the new world as soon as it is there. A new tree's

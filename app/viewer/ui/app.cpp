@@ -239,7 +239,7 @@ void ViewerApp::frame() {
                  move_.handle_mouse(doc, panels_.selection(), screen_view(), layout_.image, usable && !nav_.dragging(),
                                     status_))
             nav_layout.image = Rect{};  // the move handle has the pointer
-        NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, panels_.scene_extent());
+        NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, scene_extent(editor_.doc().scene(), render_.world()));
         if (r.clicked) select_at(r.x, r.y);
         handle_context_menu(usable);
         draw_context_menu();
@@ -543,7 +543,7 @@ ScreenView ViewerApp::screen_view() const {
 // A panel edit (a slider drag) is one undo step: committed when no widget is held.
 void ViewerApp::end_edits() {
     Document& doc = editor_.doc();
-    if (!doc.editing()) return;
+    if (!doc.edit_held()) return;
     // The text editor being active does not hold the edit open (it is not part of the
     // edit, and may stay focused for a long time).
     bool widget_busy = ImGui::IsAnyItemActive() && (editor_.widget_id() == 0 || ImGui::GetActiveID() != editor_.widget_id());
@@ -564,7 +564,7 @@ bool ViewerApp::render_settled() const {
 
 bool ViewerApp::ui_busy() const {
     const Document& doc = editor_.doc();
-    return nav_.dragging() || nav_input_.moving(ImGui::GetTime()) || doc.editing() || frames_ < 3 ||
+    return nav_.dragging() || nav_input_.moving(ImGui::GetTime()) || doc.edit_held() || frames_ < 3 ||
            move_.dragging() || move_.wants_frames() ||
            editor_.wants_frames() || panels_.wants_frames() || dialogs_.wants_frames() || !screenshot_request_.empty() ||
            render_.building() || tools_.busy();
@@ -601,7 +601,7 @@ bool ViewerApp::working() const {
 bool ViewerApp::idle_tick() {
     last_disk_check_ = ImGui::GetTime();
     if (loader_.active()) return false;
-    return editor_.idle_tick(last_disk_check_);
+    return editor_.idle_tick();
 }
 
 bool ViewerApp::close_requested() {

@@ -135,11 +135,9 @@ private:
     // File > Add model's mesh block for the model at `path` (read through the
     // document's models); none, with the status saying why, if it cannot be read.
     std::optional<SceneEdit> model_edit(const std::string& path);
-    // What lies under the window point (px, py) seen by the view camera vc: the
-    // surface with its normal, or a point in the air at the distance vc looks at.
-    Placement placement_at(const rt::Camera& vc, double px, double py) const;
-    // Where an added item goes: at the point pointed at (right-click > Add here), else
-    // near the picture's centre (an object: where it stands clear of the others).
+    // Where an added item goes (placement.h): at the point pointed at (right-click >
+    // Add here), else near the picture's centre (an object: where it stands clear of
+    // the others).
     Placement new_item_placement(bool object);
     // How far Duplicate moves the copy.
     rt::Vec3 duplicate_offset(const rt::Scene& scene) const;

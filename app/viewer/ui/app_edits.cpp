@@ -20,73 +20,16 @@
 
 namespace rtview {
 
-Placement ViewerApp::placement_at(const rt::Camera& vc, double px, double py) const {
-    // On the surface under the point (its normal from two neighbouring picks), or in
-    // front of the camera at the distance it looks at.
-    const Rect& im = layout_.image;
-    Placement at;
-    const rt::World* w = render_.world();
-    rt::PickResult r0 = w ? pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py) : rt::PickResult{};
-    if (r0.hit && std::isfinite(r0.t)) {
-        at.point = r0.point;
-        rt::PickResult rx = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px + 2, py);
-        rt::PickResult ry = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py + 2);
-        bool same = rx.hit && ry.hit && rx.object == r0.object && ry.object == r0.object && rx.plane == r0.plane &&
-                    ry.plane == r0.plane;
-        if (same) {
-            rt::Vec3 n = rt::normalize(rt::cross(rx.point - r0.point, ry.point - r0.point));
-            if (rt::dot(n, vc.position - r0.point) < 0) n = -n;
-            at.normal = n;
-        }
-    } else {
-        rt::Ray ray = ray_at(vc, im, layout_.film_w, layout_.film_h, px, py);
-        at.point = ray.origin + ray.dir * rt::length(vc.centre - vc.position);
-    }
-    at.toward = vc.position - at.point;
-    return at;
-}
-
 Placement ViewerApp::new_item_placement(bool object) {
-    const Rect& im = layout_.image;
     const bool pointed = place_x_ >= 0;
-    const double px = pointed ? place_x_ : im.x + im.w / 2, py = pointed ? place_y_ : im.y + im.h / 2;
+    const std::pair<double, double> at{place_x_, place_y_};
     place_x_ = place_y_ = -1;
-    const rt::Camera vc = nav_.display_camera({im, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
-    const Placement centre = placement_at(vc, px, py);
+    const PictureView view{render_.world(),
+                           nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
+                           layout_.image, layout_.film_w, layout_.film_h};
     const Document& doc = editor_.doc();
-    const rt::Scene* scene = doc.has_scene() ? &doc.scene() : nullptr;
-    if (pointed || !object || !scene) return centre;
-    // From the menu, an object goes where it is seen and stands free: on a surface in
-    // the picture, nearest the point under its centre, where it meets no other object
-    // (in front of an object it would hide it, or stand inside it); in the air only
-    // where no surface has room.
-    std::vector<std::pair<double, Placement>> around;
-    const double step = std::max(1.0, im.w / 16.0);
-    for (int j = -5; j <= 5; ++j)
-        for (int i = -7; i <= 7; ++i) {
-            const double x = px + i * step, y = py + j * step;
-            if ((i == 0 && j == 0) || x < im.x || y < im.y || x >= im.x + im.w || y >= im.y + im.h) continue;
-            Placement at = placement_at(vc, x, y);
-            const double d = rt::length(at.point - centre.point);
-            if (std::isfinite(d)) around.push_back({rt::length2(at.normal) > 0 ? d : 1e300, at});
-        }
-    std::stable_sort(around.begin(), around.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::vector<Placement> candidates{centre};
-    for (auto& a : around) candidates.push_back(a.second);
-    // ... and the whole of it in the picture.
-    const ScreenView view(vc, im, layout_.film_w, layout_.film_h);
-    auto in_picture = [&](const rt::Vec3& middle, double reach) {
-        for (int axis = 0; axis < 3; ++axis)
-            for (double side : {-reach, reach}) {
-                rt::Vec3 q = middle;
-                (axis == 0 ? q.x : axis == 1 ? q.y : q.z) += side;
-                const std::optional<ScreenPoint> sp = view.project(q);
-                if (!sp || sp->x < im.x || sp->y < im.y || sp->x > im.x + im.w || sp->y > im.y + im.h) return false;
-            }
-        return true;
-    };
-    const std::optional<std::size_t> k = first_clear(*scene, candidates, in_picture);
-    return k ? candidates[*k] : centre;
+    return rtview::new_item_placement(view, doc.has_scene() ? &doc.scene() : nullptr, object,
+                                      pointed ? std::optional(at) : std::nullopt);
 }
 
 rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
@@ -104,12 +47,9 @@ rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
 namespace {
 // The item an "add" command names ("sphere", ..., "spotlight"), as in the format.
 std::optional<NewItem> new_item_kind(const std::string& name) {
-    static const std::pair<const char*, NewItem> kinds[] = {
-        {"sphere", NewItem::Sphere}, {"cylinder", NewItem::Cylinder}, {"tetrahedron", NewItem::Tetrahedron},
-        {"torus", NewItem::Torus},   {"plane", NewItem::Plane},       {"chess_plane", NewItem::ChessPlane},
-        {"lamp", NewItem::Lamp},     {"spotlight", NewItem::Spotlight}};
-    for (const auto& k : kinds)
-        if (name == k.first) return k.second;
+    for (NewItem k : {NewItem::Sphere, NewItem::Cylinder, NewItem::Tetrahedron, NewItem::Torus, NewItem::Plane,
+                      NewItem::ChessPlane, NewItem::Lamp, NewItem::Spotlight})
+        if (name == new_item_name(k)) return k;
     return std::nullopt;
 }
 }  // namespace
@@ -121,7 +61,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         status_.set("The scene text has unapplied changes: apply (Ctrl+Enter) or revert them first", true);
         return false;
     }
-    if (doc.editing()) {
+    if (doc.edit_held()) {
         // (The edit would be planned on the scene as dragged so far, but the text the
         // drag writes only when it ends.)
         status_.set("Finish the drag first", true);

@@ -54,7 +54,7 @@ void Panels::draw_camera_panel() {
         ImGui::TextDisabled("No scene yet.");
     } else if (open) {
         ImGui::BeginDisabled(!doc.has_scene());
-        float speed = float(scene_extent() * 0.002);
+        float speed = float(rtview::scene_extent(editor_.doc().scene(), render_.world()) * 0.002);
         // Room for the longest label at any font size (UI scale).
         float label_w = 0;
         for (const char* l : {"position", "up point", "angle x, y", "projection", "az, el, dist", "focus dist", "background"})

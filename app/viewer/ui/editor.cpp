@@ -50,7 +50,7 @@ void DocumentEditor::settle_recovery_find() {
 void DocumentEditor::forget_earlier_copy() {
     // The copy of a document this editor held before (under another name, or another
     // file): its unsaved text was saved or let go by the user.
-    if (const rt::Status st = recovery_.update(doc_.path(), {}, false, 0); !st)
+    if (const rt::Status st = recovery_.update(doc_.path(), {}, false); !st)
         status_.set("cannot keep a recovery copy: " + st.message(), true);
 }
 
@@ -80,8 +80,7 @@ void DocumentEditor::tick(double now) {
     }
 }
 
-bool DocumentEditor::idle_tick(double now) {
-    (void)now;
+bool DocumentEditor::idle_tick() {
     // While an offer is pending (or being looked for) the old copy stays on disk untouched.
     const bool finding = recovery_find_.valid();
     if (!recovery_finding() && !recovery_offer_ && !recovery_busy()) keep_recovery_copy();
@@ -122,9 +121,9 @@ void DocumentEditor::reloaded_status(const std::string& ok) {
 // the few items it changed, against the text last written (or the file as saved).
 void DocumentEditor::keep_recovery_copy() {
     const Document& doc = doc_;
-    const std::uint64_t key = doc.text_version() * 0x9E3779B97F4A7C15ull + doc.typed();
+    const std::uint64_t key = doc.text_key();
     const bool modified = doc.modified();
-    HeldEdit held = held_edit(doc);
+    HeldEdit held = doc.held_edit();
     const bool text_due = modified && key != recovery_key_;
     if (!text_due && held == recovery_held_ && (modified || recovery_key_ == ~std::uint64_t(0))) return;
     std::optional<std::string> text;
@@ -134,8 +133,8 @@ void DocumentEditor::keep_recovery_copy() {
     recovery_write_ = std::async(std::launch::async, [this, path = doc.path(), text = std::move(text), modified,
                                                       held = std::move(held), file_hash = doc.saved_hash()] {
         rt::Status st;
-        if (text) st = recovery_.update(path, *text, true, 0, 0);
-        else if (!modified) st = recovery_.update(path, {}, false, 0);  // removes the copy
+        if (text) st = recovery_.update(path, *text, true);
+        else if (!modified) st = recovery_.update(path, {}, false);  // removes the copy
         // The held edit belongs to the text just written, the one written before (the
         // text has not changed since), or the file (the text is as saved).
         const std::uint64_t base = text ? text_hash(*text) : modified ? recovery_.written_hash() : file_hash;
@@ -231,9 +230,9 @@ void DocumentEditor::draw_banners() {
 // carried the other way as the widget's edit log, one small replacement per edit.
 void DocumentEditor::sync_widget() {
     if (doc_.text_version() != seen_version_) {
-        std::vector<TextChange> changes;
+        std::vector<TextReplacement> changes;
         if (seen_version_ != 0 && doc_.text_changes_since(seen_version_, changes)) {
-            for (const TextChange& c : changes) widget_.buffer().follow_replacement(c.pos, c.removed, c.inserted);
+            for (const TextReplacement& c : changes) widget_.buffer().follow_replacement(c.offset, c.length, c.text);
         } else if (seen_version_ == 0) {
             widget_.start_over(std::as_const(doc_).editor_text());  // another document
         } else {

@@ -34,7 +34,7 @@ public:
     void tick(double now);
     // Once a second (idle or not): the recovery copy and the file on disk. True if the
     // document changed (a reload) or a message appeared.
-    bool idle_tick(double now);
+    bool idle_tick();
     // Quitting cleanly: the unsaved text is the user's decision, no recovery copy.
     void discard_recovery();
     // After Save As: no copy stays under the old name.

@@ -219,7 +219,6 @@ void ImageTools::start_region(const PixelRect& r) {
     PixelRect fr = scale_region(r, pic_w(), pic_h(), f_.film_w, f_.film_h);
     if (fr.empty()) return;
     region_rect_ = r;
-    region_film_rect_ = fr;
     region_world_ = f_.world;
     region_camera_ = f_.view_camera;
     region_samples_ = f_.max_samples;

@@ -188,7 +188,6 @@ private:
     RegionRenderer region_;
     bool region_error_said_ = false;  // its error went to the status bar
     PixelRect region_rect_;       // in picture pixels (drawn with the zoom)
-    PixelRect region_film_rect_;  // the same in film pixels (rendered)
     std::shared_ptr<const rt::World> region_world_;  // the document world it renders
     rt::Camera region_camera_;
     int region_samples_ = 0;

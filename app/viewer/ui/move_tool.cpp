@@ -99,7 +99,7 @@ bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView&
     }
     hover_ = HandlePart::None;
     std::optional<SceneItem> item = item_of_selection(sel);
-    if (!usable || !item || !doc.has_scene() || doc.editing()) return false;
+    if (!usable || !item || !doc.has_scene() || doc.edit_held()) return false;
     std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item, sel.path);
     if (!anchor) return false;
     HandleShape h = handle_shape(view, *anchor, kArrow * s);

@@ -51,7 +51,6 @@ public:
     // Still refining the outline: frames are needed.
     bool wants_frames() const { return refining_; }
     // Rays the last outline update traced (for --verbose and tests).
-    std::size_t last_rays() const { return last_rays_; }
 
 private:
     struct Drag {

@@ -54,15 +54,6 @@ void Panels::select_from_option(const std::string& spec) {
     scroll_to_selection_ = true;
 }
 
-double Panels::scene_extent() const {
-    if (const rt::World* w = render_.world()) {
-        rt::Aabb b = w->bounds();
-        if (!b.empty() && rt::finite(b.lo) && rt::finite(b.hi)) return std::max(rt::length(b.hi - b.lo), 1e-3);
-    }
-    const rt::Camera& c = editor_.doc().scene().camera;
-    return std::max(rt::length(c.centre - c.position), 1e-3);
-}
-
 // "object_3", "object_4_left", "plane_1", "light_2", "none": a selection in one word.
 std::string Panels::selection_name(const ItemRef& s) {
     if (s.none()) return "none";

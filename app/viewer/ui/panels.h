@@ -49,9 +49,6 @@ public:
     void clear_selection() { selection_ = {}; }
     // --select "object N" etc.
     void select_from_option(const std::string& spec);
-    // scene_extent() (scene_edits.h) from the world's bounds, which need no pass over
-    // the objects.
-    double scene_extent() const;
     // The status bar's height in a window `width` wide: at a large UI scale or in a
     // narrow window its text takes more than one row.
     float status_height(float width);

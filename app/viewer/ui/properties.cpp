@@ -167,7 +167,7 @@ void Panels::draw_fields(const ItemRef& ref) {
     const std::vector<Field> fields = item_fields(doc.scene(), ref);
     // Room for the longest label, whatever the UI scale.
     const float label_w = field_label_width();
-    const float size = float(scene_extent());
+    const float size = float(rtview::scene_extent(editor_.doc().scene(), render_.world()));
     // Dragging rounds to the digits shown: enough of them for a small scene.
     char vec_format[16];
     std::snprintf(vec_format, sizeof vec_format, "%%.%df", std::clamp(4 - int(std::floor(std::log10(size))), 3, 9));

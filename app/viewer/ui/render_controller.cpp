@@ -117,8 +117,9 @@ void RenderController::update(const rt::Camera& camera, int film_w, int film_h, 
         timing_change_ = true;
     }
     // The view is moving: this frame's picture is traced here and now (by this thread
-    // and the preview pool's, on the cores the render threads leave), and they wait (refining a view that the next frame replaces would only take the
-    // CPU the UI needs). A view that stopped for a moment counts as resting.
+    // and the workers of the one pool, whose render jobs are held meanwhile: refining
+    // a view that the next frame replaces would only take the CPU the UI needs). A
+    // view that stopped for a moment counts as resting.
     if (interactive_ && moving && seconds_since(last_change_) < kRestAfter) {
         if (!held_ && !paused_) {
             renderer_.set_paused(true);
@@ -208,7 +209,6 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h) {
     started_h_ = film_h;
     started_block_ = st.coarse_block;
     started_generation_ = renderer_.progress().generation;
-    started_at_ = std::chrono::steady_clock::now();
     measured_ = false;
     settings_changed_ = false;
     final_uploaded_ = false;

@@ -1,11 +1,10 @@
 // The render side of the viewer: owns the renderer, the compiled world, the preview
 // pacing and the film texture. Each frame it is told what to show (world from the
 // document, view camera, film size). While the view moves, the frame's picture is
-// traced right here, by the UI thread and a pool of as many more threads as the
-// renderer has less one (the render threads are held meanwhile), as coarse as the
-// measured cost of recent previews requires to fit the frame budget: a picture on
-// every frame whatever the render threads are doing. When the view rests, the
-// renderer refines it.
+// traced right here, by the UI thread and the workers of the one pool (the render is
+// held meanwhile), as coarse as the measured cost of recent previews requires to fit
+// the frame budget: a picture on every frame whatever the render is doing. When the
+// view rests, the renderer refines it.
 #pragma once
 
 #include <array>
@@ -125,7 +124,6 @@ private:
     int started_w_ = 0, started_h_ = 0;
     int started_block_ = 8;
     std::uint64_t started_generation_ = 0;
-    std::chrono::steady_clock::time_point started_at_{};
     bool measured_ = false;       // its first coarse pass went into the pacer
     bool held_ = false;           // paused after its preview while the view moves
     std::chrono::steady_clock::time_point last_change_{};
