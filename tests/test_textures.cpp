@@ -230,4 +230,8 @@ TEST_CASE("textures: a scene's materials naming one file share one decoded copy;
     CHECK(r.ok());
     CHECK(r.scene.objects[0].material.texture == "bad.png");
     CHECK_FALSE(r.scene.objects[0].material.texture_image);
+    // Nor when models are not read: text checks read no files.
+    o.read_textures = true;
+    o.read_models = false;
+    CHECK(parse_scene("thing { sphere { material { texture \"bad.png\" } } }\n" + tail, o).ok());
 }
