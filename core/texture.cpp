@@ -82,6 +82,42 @@ const std::array<float, 256>& srgb8() {
     return table;
 }
 
+// Whether every Huffman table of a JPEG's DHT segments holds at most 256 codes. The
+// stb_image of Debian 12 does not check that, and writes past its tables for one that
+// claims more (found by fuzz_texture): such files are refused before it sees them.
+// Only the segment structure is followed, to the entropy-coded data's markers; what
+// else is wrong is left to stb_image.
+bool jpeg_tables_ok(std::string_view b) {
+    const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(b[i]); };
+    std::size_t i = 2;  // past SOI
+    while (i + 4 <= b.size()) {
+        if (byte(i) != 0xff) {
+            ++i;  // entropy-coded data (or junk): look for the next marker
+            continue;
+        }
+        const unsigned m = byte(i + 1);
+        // Fill bytes, stuffed zeros and restart markers stand alone.
+        if (m == 0xff || m == 0x00 || (m >= 0xd0 && m <= 0xd8) || m == 0x01) {
+            i += m == 0xff ? 1 : 2;
+            continue;
+        }
+        if (m == 0xd9) return true;  // EOI
+        const std::size_t len = std::size_t(byte(i + 2)) << 8 | byte(i + 3);
+        if (len < 2) return true;
+        const std::size_t end = std::min(b.size(), i + 2 + len);
+        if (m == 0xc4) {
+            for (std::size_t t = i + 4; t + 17 <= end;) {
+                std::size_t n = 0;
+                for (std::size_t k = 0; k < 16; ++k) n += byte(t + 1 + k);
+                if (n > 256) return false;
+                t += 17 + n;
+            }
+        }
+        i = end;
+    }
+    return true;
+}
+
 bool too_large(long long w, long long h) {
     return w > TextureLimits::max_side || h > TextureLimits::max_side ||
            std::uint64_t(w) * std::uint64_t(h) > TextureLimits::max_texels;
@@ -107,7 +143,7 @@ bool image_size(std::string_view bytes, long long& w, long long& h) {
         if (too_large(w, h)) return true;
     }
     int iw = 0, ih = 0, comp = 0;
-    if (!(is_png(bytes) || is_jpeg(bytes)) ||
+    if (!(is_png(bytes) || (is_jpeg(bytes) && jpeg_tables_ok(bytes))) ||
         !stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &iw, &ih, &comp))
         return false;
     w = iw, h = ih;
@@ -127,6 +163,10 @@ std::shared_ptr<Texture> decode_texture(std::string_view bytes, std::string& err
     }
     if (bytes.size() > std::size_t(INT_MAX)) {
         error = "file too large";
+        return nullptr;
+    }
+    if (jpeg && !jpeg_tables_ok(bytes)) {
+        error = "not a readable JPEG image (a Huffman table of more than 256 codes)";
         return nullptr;
     }
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());

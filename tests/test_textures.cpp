@@ -152,6 +152,21 @@ TEST_CASE("textures: hostile bytes are refused with the reason, huge headers bef
     CHECK(refused(rt_test::png_header_only(16384, 16384)).find("16384 x 16384") != std::string::npos);
     // A JPEG start and nothing more.
     CHECK(refused("\xff\xd8\xff").find("JPEG") != std::string::npos);
+    // A Huffman table claiming 16 x 255 codes (stb_image would write past its tables):
+    // refused before stb_image reads it, by decode_texture and image_size alike.
+    std::string dht = std::string("\xff\xd8\xff\xc4\x00\x13\x00", 7) + std::string(16, '\xff');
+    CHECK(refused(dht).find("Huffman table") != std::string::npos);
+    long long w = 0, h = 0;
+    CHECK_FALSE(image_size(dht, w, h));
+    // The input fuzz_texture found it with.
+    const std::string found = rt_test::slurp(RT_SOURCE_DIR "/tests/fuzz/regressions/jpeg-huffman-over-256");
+    REQUIRE_FALSE(found.empty());
+    CHECK(refused(found).find("Huffman table") != std::string::npos);
+    // A table of exactly 256 codes (255 of 8 bits, 1 of 9) is not refused by that
+    // check: what else is wrong with the file is stb_image's to say.
+    dht = std::string("\xff\xd8\xff\xc4\x01\x13\x00", 7) + std::string(7, '\0') + "\xff\x01" +
+          std::string(7, '\0') + std::string(256, '\x05');
+    CHECK(refused(dht).find("Huffman table") == std::string::npos);
 }
 
 TEST_CASE("textures: special files are refused at once, never waited on") {
