@@ -104,16 +104,21 @@ bool jpeg_tables_ok(std::string_view b) {
         if (m == 0xd9) return true;  // EOI
         const std::size_t len = std::size_t(byte(i + 2)) << 8 | byte(i + 3);
         if (len < 2) return true;
-        const std::size_t end = std::min(b.size(), i + 2 + len);
         if (m == 0xc4) {
-            for (std::size_t t = i + 4; t + 17 <= end;) {
+            // As stb_image reads it: tables while the segment's length lasts, each
+            // one's 16 counts read even past the segment's end (0 past the file's).
+            long left = long(len) - 2;
+            std::size_t t = i + 4;
+            while (left > 0) {
                 std::size_t n = 0;
-                for (std::size_t k = 0; k < 16; ++k) n += byte(t + 1 + k);
+                for (std::size_t k = 1; k <= 16; ++k) n += t + k < b.size() ? byte(t + k) : 0;
                 if (n > 256) return false;
                 t += 17 + n;
+                left -= long(17 + n);
             }
+            if (left != 0) return true;  // stb_image stops at such a segment
         }
-        i = end;
+        i += 2 + len;
     }
     return true;
 }
