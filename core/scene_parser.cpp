@@ -648,8 +648,19 @@ private:
     // (reported at the item's name: `name_loc` gives its line and column).
     template <class T, class LocFn>
     void finish(const sc::Block<T>& b, T& item, const ItemState& st, std::size_t name_offset, LocFn name_loc) {
+        check_ranges(b, item, st, name_offset);
+        if (b.check)
+            if (sc::Problem p = b.check(item)) report(p, name_loc());
+    }
+
+    // The clamps and range rules of the item's numbers.
+    template <class T>
+    void check_ranges(const sc::Block<T>& b, T& item, const ItemState& st, std::size_t name_offset) {
         for (const sc::Key<T>& k : b.keys) {
             if (k.kind != sc::Kind::Number || k.range.rule == sc::Range::Rule::None) continue;
+            // An optional key left out keeps its default, which may stand for "not set"
+            // (focus_distance 0: the centre's distance).
+            if (k.optional && !(st.given & (1u << key_index(b, k)))) continue;
             double& v = k.access.number(item, 0);
             if (k.range.contains(v)) continue;
             if (k.range.rule == sc::Range::Rule::Clamp) {
@@ -659,8 +670,6 @@ private:
                 error_at(at != kNone ? at : name_offset, k.range.message);
             }
         }
-        if (b.check)
-            if (sc::Problem p = b.check(item)) report(p, name_loc());
     }
 
     // ---- sections ----------------------------------------------------------------
@@ -694,6 +703,8 @@ private:
                 if (!camera_seen_) camera_loc_ = loc_of(t.offset);
                 camera_seen_ = true;
                 read_block(sc::camera_block(), out_.scene.camera, camera_keys_);
+                // (Its rule across keys waits for the whole file: validate().)
+                check_ranges(sc::camera_block(), out_.scene.camera, camera_keys_, t.offset);
                 break;
             case sc::SectionKind::PictureSize:
                 if (!size_seen_) size_loc_ = loc_of(t.offset);

@@ -136,7 +136,7 @@ unsigned World::shadow_lanes(const ShadowRays4& q, const LightBuffer* lb, unsign
             // Nothing on the way and no blocker to try: cell_blocks() would find nothing.
             if (ctx.blocker[q.light] == 0 && (e == end || double(e->dmin) > q.r[k]) && lb->always.empty()) continue;
             const ShadowRay ray = q.ray(k);
-            blocked = blocker_blocks(ray, ctx) || cell_blocks(ray, *lb, e, end, c, ctx);
+            blocked = blocker_blocks(ray, ctx) || cell_blocks(ray, *lb, e, end, ray.r, c, ctx);
         } else {
             blocked = objects_block(q.ray(k), q.p1[k], c, ctx);
         }

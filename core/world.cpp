@@ -26,6 +26,8 @@ ShadeMaterial ShadeMaterial::from(const Material& m) {
     s.translusans = std::clamp(m.translusans, 0.0, 1.0);
     s.ior = std::max(1.0, m.refractive_index);
     s.colour = m.colour;
+    s.specular = m.specular;
+    s.shininess = m.shininess;
     Colour base = m.colour * s.translusans;
     for (int k = 0; k < 3; ++k) s.log_tint[k] = base[k] > 0 ? std::log(base[k]) : -kInf;
     s.texture = m.texture_image.get();

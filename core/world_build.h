@@ -18,6 +18,7 @@ struct World::Tallies {
     struct Materials {
         bool bounded = true;
         double cp = 0;
+        bool specular = false;  // some material of the chunk has a highlight (New: specular)
     };
     std::vector<Materials> materials;
     // Per chunk of geometry->object_bounds: the union of its boxes that are not empty.
@@ -62,6 +63,11 @@ void add_planes(World& w, const Scene& scene);
 // Adds `more` to w.textures (each texture once).
 void keep_textures(World& w, std::vector<std::shared_ptr<const Texture>> more);
 void add_lights(World& w, const Scene& scene);
+// A light as the tracer uses it.
+ShadeLight shade_light(const Light& l);
+// World::background, area_lights and highlights from the scene and w's tables (after
+// its tallies are made).
+void set_features(World& w, const Scene& scene);
 // The BVH of many glow discs: the previous world's if its discs are the same.
 void add_glow_bvh(World& w, const World* previous);
 // The camera's light buffer and the lights', or the previous world's where they serve.

@@ -425,8 +425,8 @@ def out_trailing_slash; case_out_trailing_slash() { newdir "$FUNCNAME"; run 10 "
 def out_missing_folder; case_out_missing_folder() { newdir "$FUNCNAME"; empty_scene 4000 4000 > "$D/s.txt"; run 10 "$RT" s.txt no/such/o.ppm; want_rc 2; want_err 'does not exist'; want_fast 1; clean_checks; }
 def out_folder_is_file; case_out_folder_is_file() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt old.ppm/o.ppm; want_rc 2; want_err 'Not a directory|not a folder'; clean_checks; }
 def out_is_scene; case_out_is_scene() { newdir "$FUNCNAME"; cp "$D/ok.txt" "$D/s.ppm"; run 10 "$RT" s.ppm s.ppm; want_rc 2; want_err 'scene file itself'; cmp -s "$D/s.ppm" "$D/ok.txt" || problem "scene changed"; clean_checks; }
-def out_bad_extension; case_out_bad_extension() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt o.jpg; want_rc 2; want_err '.ppm or .png'; clean_checks; }
-def out_dev_null; case_out_dev_null() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt /dev/null; want_rc 2; want_err '.ppm or .png'; clean_checks; }
+def out_bad_extension; case_out_bad_extension() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt o.jpg; want_rc 2; want_err '.pfm or .exr'; clean_checks; }
+def out_dev_null; case_out_dev_null() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt /dev/null; want_rc 2; want_err '.pfm or .exr'; clean_checks; }
 def out_dev_full_link; case_out_dev_full_link() { newdir "$FUNCNAME"; ln -s /dev/full "$D/full.ppm"; run 10 "$RT" ok.txt full.ppm; want_rc 2; want_err 'No space left'; [ -c /dev/full ] || problem "/dev/full replaced"; clean_checks; }
 def out_dev_null_link; case_out_dev_null_link() { newdir "$FUNCNAME"; ln -s /dev/null "$D/null.ppm"; run 10 "$RT" ok.txt null.ppm; want_rc 0; [ -c /dev/null ] || problem "/dev/null replaced"; clean_checks; }
 def out_fifo_sigterm; case_out_fifo_sigterm() { newdir "$FUNCNAME"; mkfifo "$D/o.ppm"; start "$RT" --quiet ok.txt o.ppm; signal_after 1 5 TERM; want_rc 143; want_fast 1; [ -p "$D/o.ppm" ] || problem "FIFO replaced"; clean_checks; }
@@ -586,10 +586,27 @@ def mpi_long_out_name; case_mpi_long_out_name() { need_mpi; [ -n "$SKIPPED" ] &&
 def mpi_options; case_mpi_options() { need_mpi; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"
     run 60 mpirun --oversubscribe -np 2 "$RT_MPI" --tile ' 16' ok.txt old.ppm; want_rc 2; want_err 'decimal'; clean_checks; }
 
+# --- the realism keys (New:): each bad value is an error at its place, nothing written.
+realism_case() {  # NAME SED-EXPRESSION ERROR-REGEX
+    newdir "$1"; printf '%s\n' "$SCENE_OK" | sed "$2" > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "$3"; clean_checks; }
+def light_radius_negative; case_light_radius_negative() { realism_case "$FUNCNAME" 's/size 0.2/size 0.2 radius -1/' 's.txt:3:[0-9]+: error: light radius must not be negative'; }
+def aperture_negative; case_aperture_negative() { realism_case "$FUNCNAME" 's/angle_y 46.8/angle_y 46.8 aperture -0.1/' 's.txt:4:[0-9]+: error: aperture must not be negative'; }
+def focus_zero; case_focus_zero() { realism_case "$FUNCNAME" 's/angle_y 46.8/angle_y 46.8 focus_distance 0/' 's.txt:4:[0-9]+: error: focus_distance must be greater than 0'; }
+def specular_negative; case_specular_negative() { realism_case "$FUNCNAME" 's/colour 0.9 0.2 0.15/colour 0.9 0.2 0.15 specular -0.5/' 's.txt:1:[0-9]+: error: specular must be 0..1'; }
+def shininess_huge; case_shininess_huge() { realism_case "$FUNCNAME" 's/colour 0.9 0.2 0.15/colour 0.9 0.2 0.15 specular 1 shininess 1e9/' 's.txt:1:[0-9]+: error: shininess must be 1..10000'; }
+def texture_scale_negative; case_texture_scale_negative() { realism_case "$FUNCNAME" 's/colour 0.6 0.6 0.6/colour 0.6 0.6 0.6 texture_scale -2/' 's.txt:2:[0-9]+: error: texture_scale must be greater than 0'; }
+def light_radius_nan; case_light_radius_nan() { realism_case "$FUNCNAME" 's/size 0.2/size 0.2 radius nan/' 's.txt:3:[0-9]+: error'; }
+def huge_radius_aperture; case_huge_radius_aperture() { newdir "$FUNCNAME"
+    # Legal but extreme: a light around everything, a lens wider than the scene: renders.
+    printf '%s\n' "$SCENE_OK" | sed 's/size 0.2/size 0.2 radius 1e12/; s/angle_y 46.8/angle_y 46.8 aperture 1e9 background 1e15 0 0/' > "$D/s.txt"
+    run 20 "$RT" --samples 4 s.txt out.ppm; want_rc 0; want_ppm out.ppm 16 12; }
+
 # --- run -----------------------------------------------------------------------------
 
 t_all=$(date +%s)
-for c in "${ORDER[@]}"; do run_case "$c"; done
+# ONLY=REGEX runs the cases whose names match (ONLY='radius|aperture').
+for c in "${ORDER[@]}"; do if [ -z "${ONLY:-}" ] || [[ "$c" =~ $ONLY ]]; then run_case "$c"; fi; done
 echo
 echo "hostile: $pass passed, $fail failed, $skip skipped ($(( $(date +%s) - t_all )) s; work folder $WORK)"
 if [ "$fail" -gt 0 ]; then
