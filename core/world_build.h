@@ -45,6 +45,8 @@ int light_buffer_cells(std::size_t objects);
 // Whether material m keeps radiance_bound's premises (no negative weight, no tint above
 // 1, a finite colour); cp grows to its colour's largest channel if it scatters.
 bool bounded_material(const ShadeMaterial& m, double& cp);
+// Whether a material (or its model file's) has a highlight (New: specular).
+bool has_highlight(const ShadeMaterial& m);
 // Chunk c of the materials' tally.
 World::Tallies::Materials tally_materials(const Chunked<ShadeMaterial>& materials, std::size_t c);
 // The union of the boxes of chunk c that are not empty.

@@ -62,6 +62,14 @@ double distance_to_objects(const Geometry& g, const Vec3& p) {
     return std::sqrt(best2);
 }
 
+bool has_highlight(const ShadeMaterial& m) {
+    if (m.specular > 0) return true;
+    if (m.file)
+        for (const ShadeMaterial& f : m.file->materials)
+            if (f.specular > 0) return true;
+    return false;
+}
+
 bool bounded_material(const ShadeMaterial& m, double& cp) {
     if (!(m.reflection >= 0 && m.refraction >= 0 && m.scattering >= 0)) return false;
     if (m.refraction > 0 && max3(m.log_tint) > 0) return false;  // a tint above 1
@@ -85,7 +93,7 @@ World::Tallies::Materials tally_materials(const Chunked<ShadeMaterial>& material
     const ShadeMaterial* m = materials.chunk(c);
     const std::size_t e = materials.chunk_size(c);
     for (std::size_t k = 0; k < e && t.bounded; ++k) t.bounded = bounded_material(m[k], t.cp);
-    for (std::size_t k = 0; k < e && !t.specular; ++k) t.specular = m[k].specular > 0;
+    for (std::size_t k = 0; k < e && !t.specular; ++k) t.specular = has_highlight(m[k]);
     return t;
 }
 
@@ -179,7 +187,7 @@ ObjectMaterials make_materials(const Scene& scene) {
                 made.textures.push_back(m.texture_image);
             out.push_back(ShadeMaterial::of(o));
             if (tally.bounded) tally.bounded = detail::bounded_material(out.back(), tally.cp);
-            tally.specular |= out.back().specular > 0;
+            tally.specular |= detail::has_highlight(out.back());
         }
         if (((i + 1) >> kShift) != (i >> kShift) || i + 1 == n) {
             made.tallies.push_back(tally);
@@ -261,7 +269,7 @@ void set_features(World& w, const Scene& scene) {
     }
     w.highlights = false;
     for (const World::Tallies::Materials& m : w.tallies->materials) w.highlights |= m.specular;
-    for (const ShadeMaterial& m : w.plane_mats) w.highlights |= m.specular > 0;
+    for (const ShadeMaterial& m : w.plane_mats) w.highlights |= has_highlight(m);
 }
 
 void add_lights(World& w, const Scene& scene) {
