@@ -87,8 +87,12 @@ const std::array<float, 256>& srgb8() {
 // claims more (found by fuzz_texture): such files are refused before it sees them.
 // Only the segment structure is followed, to the entropy-coded data's markers; what
 // else is wrong is left to stb_image.
+// Also refused: a scan using a Huffman table no DHT segment before it defined, which
+// stb_image would decode with tables of whatever its memory held.
 bool jpeg_tables_ok(std::string_view b) {
-    const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(b[i]); };
+    const auto byte = [&](std::size_t i) { return i < b.size() ? static_cast<unsigned char>(b[i]) : 0u; };
+    bool defined[2][4] = {};  // [DC, AC][table]
+    bool progressive = false;
     std::size_t i = 2;  // past SOI
     while (i + 4 <= b.size()) {
         if (byte(i) != 0xff) {
@@ -104,19 +108,37 @@ bool jpeg_tables_ok(std::string_view b) {
         if (m == 0xd9) return true;  // EOI
         const std::size_t len = std::size_t(byte(i + 2)) << 8 | byte(i + 3);
         if (len < 2) return true;
+        if (m == 0xc2) progressive = true;
         if (m == 0xc4) {
             // As stb_image reads it: tables while the segment's length lasts, each
             // one's 16 counts read even past the segment's end (0 past the file's).
             long left = long(len) - 2;
             std::size_t t = i + 4;
             while (left > 0) {
+                const unsigned q = byte(t);
+                if ((q >> 4) > 1 || (q & 15) > 3) return true;  // stb_image refuses it
                 std::size_t n = 0;
-                for (std::size_t k = 1; k <= 16; ++k) n += t + k < b.size() ? byte(t + k) : 0;
+                for (std::size_t k = 1; k <= 16; ++k) n += byte(t + k);
                 if (n > 256) return false;
+                defined[q >> 4][q & 15] = true;
                 t += 17 + n;
                 left -= long(17 + n);
             }
             if (left != 0) return true;  // stb_image stops at such a segment
+        }
+        if (m == 0xda) {
+            // The tables each component of the scan decodes with: baseline scans
+            // both; progressive ones the DC table in a first DC scan, the AC table
+            // in an AC scan.
+            const unsigned n = byte(i + 4);
+            const std::size_t after = i + 5 + 2 * std::size_t(n);
+            const unsigned ss = byte(after), ah = byte(after + 2) >> 4;
+            for (unsigned c = 0; c < n && c < 4; ++c) {
+                const unsigned t = byte(i + 6 + 2 * c), dc = t >> 4, ac = t & 15;
+                if (dc > 3 || ac > 3) return true;  // stb_image refuses it
+                const bool need_dc = !progressive || (ss == 0 && ah == 0), need_ac = !progressive || ss != 0;
+                if ((need_dc && !defined[0][dc]) || (need_ac && !defined[1][ac])) return false;
+            }
         }
         i += 2 + len;
     }
@@ -171,7 +193,8 @@ std::shared_ptr<Texture> decode_texture(std::string_view bytes, std::string& err
         return nullptr;
     }
     if (jpeg && !jpeg_tables_ok(bytes)) {
-        error = "not a readable JPEG image (a Huffman table of more than 256 codes)";
+        error = "not a readable JPEG image (a Huffman table of more than 256 codes, or a scan using one not "
+                "defined)";
         return nullptr;
     }
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
