@@ -145,6 +145,21 @@ bool jpeg_tables_ok(std::string_view b) {
     return true;
 }
 
+// Whether every chunk of a PNG up to IEND lies within the file. stb_image allocates
+// the room a data chunk claims (up to 2 GB) before it reads the chunk, so a few bytes
+// claiming a huge one are refused before it sees them (found by fuzz_texture).
+bool png_chunks_ok(std::string_view b) {
+    std::size_t i = 8;
+    while (i + 12 <= b.size()) {
+        std::uint64_t len = 0;
+        for (std::size_t k = 0; k < 4; ++k) len = len << 8 | static_cast<unsigned char>(b[i + k]);
+        if (len > b.size() - i - 12) return false;
+        if (b.compare(i + 4, 4, "IEND") == 0) return true;
+        i += 12 + std::size_t(len);
+    }
+    return true;  // no IEND: stb_image says what is missing
+}
+
 bool too_large(long long w, long long h) {
     return w > TextureLimits::max_side || h > TextureLimits::max_side ||
            std::uint64_t(w) * std::uint64_t(h) > TextureLimits::max_texels;
@@ -190,6 +205,10 @@ std::shared_ptr<Texture> decode_texture(std::string_view bytes, std::string& err
     }
     if (bytes.size() > std::size_t(INT_MAX)) {
         error = "file too large";
+        return nullptr;
+    }
+    if (png && !png_chunks_ok(bytes)) {
+        error = "not a readable PNG image (truncated: a chunk runs past the end of the file)";
         return nullptr;
     }
     if (jpeg && !jpeg_tables_ok(bytes)) {

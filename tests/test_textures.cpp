@@ -150,6 +150,10 @@ TEST_CASE("textures: hostile bytes are refused with the reason, huge headers bef
     CHECK(e.find("too large") != std::string::npos);
     // Within the side limit but over the texel limit.
     CHECK(refused(rt_test::png_header_only(16384, 16384)).find("16384 x 16384") != std::string::npos);
+    // A data chunk claiming 2 GB in a file of a few bytes (stb_image would allocate
+    // the 2 GB before reading): refused first.
+    std::string claim = good.substr(0, 33) + std::string("\x7f\xff\xff\xf0IDAT", 8) + "xxxx";
+    CHECK(refused(claim).find("a chunk runs past the end") != std::string::npos);
     // A JPEG start and nothing more.
     CHECK(refused("\xff\xd8\xff").find("JPEG") != std::string::npos);
     // A Huffman table claiming 16 x 255 codes (stb_image would write past its tables):
