@@ -891,7 +891,7 @@ private:
     void read_texture(Material& m, std::size_t at) {
         // Textures are read by the main reading only (a helper would read them again).
         if (piece_) throw Bail{};
-        if (!opt_.read_textures) return;
+        if (!opt_.read_textures || !opt_.read_models) return;
         const std::string path = resolve_model_path(opt_.base_dir, m.texture);
         auto it = textures_.find(path);
         if (it == textures_.end()) {

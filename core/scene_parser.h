@@ -73,7 +73,8 @@ struct ParseOptions {
     // many materials name it.
     TextureStore* textures = nullptr;
     // False: texture files are not read (the names are checked, texture_image stays
-    // null).
+    // null). Nor are they when read_models is false: callers that check a scene's
+    // text alone read no files at all.
     bool read_textures = true;
 };
 

@@ -82,6 +82,84 @@ const std::array<float, 256>& srgb8() {
     return table;
 }
 
+// Whether every Huffman table of a JPEG's DHT segments holds at most 256 codes. The
+// stb_image of Debian 12 does not check that, and writes past its tables for one that
+// claims more (found by fuzz_texture): such files are refused before it sees them.
+// Only the segment structure is followed, to the entropy-coded data's markers; what
+// else is wrong is left to stb_image.
+// Also refused: a scan using a Huffman table no DHT segment before it defined, which
+// stb_image would decode with tables of whatever its memory held.
+bool jpeg_tables_ok(std::string_view b) {
+    const auto byte = [&](std::size_t i) { return i < b.size() ? static_cast<unsigned char>(b[i]) : 0u; };
+    bool defined[2][4] = {};  // [DC, AC][table]
+    bool progressive = false;
+    std::size_t i = 2;  // past SOI
+    while (i + 4 <= b.size()) {
+        if (byte(i) != 0xff) {
+            ++i;  // entropy-coded data (or junk): look for the next marker
+            continue;
+        }
+        const unsigned m = byte(i + 1);
+        // Fill bytes, stuffed zeros and restart markers stand alone.
+        if (m == 0xff || m == 0x00 || (m >= 0xd0 && m <= 0xd8) || m == 0x01) {
+            i += m == 0xff ? 1 : 2;
+            continue;
+        }
+        if (m == 0xd9) return true;  // EOI
+        const std::size_t len = std::size_t(byte(i + 2)) << 8 | byte(i + 3);
+        if (len < 2) return true;
+        if (m == 0xc2) progressive = true;
+        if (m == 0xc4) {
+            // As stb_image reads it: tables while the segment's length lasts, each
+            // one's 16 counts read even past the segment's end (0 past the file's).
+            long left = long(len) - 2;
+            std::size_t t = i + 4;
+            while (left > 0) {
+                const unsigned q = byte(t);
+                if ((q >> 4) > 1 || (q & 15) > 3) return true;  // stb_image refuses it
+                std::size_t n = 0;
+                for (std::size_t k = 1; k <= 16; ++k) n += byte(t + k);
+                if (n > 256) return false;
+                defined[q >> 4][q & 15] = true;
+                t += 17 + n;
+                left -= long(17 + n);
+            }
+            if (left != 0) return true;  // stb_image stops at such a segment
+        }
+        if (m == 0xda) {
+            // The tables each component of the scan decodes with: baseline scans
+            // both; progressive ones the DC table in a first DC scan, the AC table
+            // in an AC scan.
+            const unsigned n = byte(i + 4);
+            const std::size_t after = i + 5 + 2 * std::size_t(n);
+            const unsigned ss = byte(after), ah = byte(after + 2) >> 4;
+            for (unsigned c = 0; c < n && c < 4; ++c) {
+                const unsigned t = byte(i + 6 + 2 * c), dc = t >> 4, ac = t & 15;
+                if (dc > 3 || ac > 3) return true;  // stb_image refuses it
+                const bool need_dc = !progressive || (ss == 0 && ah == 0), need_ac = !progressive || ss != 0;
+                if ((need_dc && !defined[0][dc]) || (need_ac && !defined[1][ac])) return false;
+            }
+        }
+        i += 2 + len;
+    }
+    return true;
+}
+
+// Whether every chunk of a PNG up to IEND lies within the file. stb_image allocates
+// the room a data chunk claims (up to 2 GB) before it reads the chunk, so a few bytes
+// claiming a huge one are refused before it sees them (found by fuzz_texture).
+bool png_chunks_ok(std::string_view b) {
+    std::size_t i = 8;
+    while (i + 12 <= b.size()) {
+        std::uint64_t len = 0;
+        for (std::size_t k = 0; k < 4; ++k) len = len << 8 | static_cast<unsigned char>(b[i + k]);
+        if (len > b.size() - i - 12) return false;
+        if (b.compare(i + 4, 4, "IEND") == 0) return true;
+        i += 12 + std::size_t(len);
+    }
+    return true;  // no IEND: stb_image says what is missing
+}
+
 bool too_large(long long w, long long h) {
     return w > TextureLimits::max_side || h > TextureLimits::max_side ||
            std::uint64_t(w) * std::uint64_t(h) > TextureLimits::max_texels;
@@ -107,7 +185,7 @@ bool image_size(std::string_view bytes, long long& w, long long& h) {
         if (too_large(w, h)) return true;
     }
     int iw = 0, ih = 0, comp = 0;
-    if (!(is_png(bytes) || is_jpeg(bytes)) ||
+    if (!(is_png(bytes) || (is_jpeg(bytes) && jpeg_tables_ok(bytes))) ||
         !stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &iw, &ih, &comp))
         return false;
     w = iw, h = ih;
@@ -127,6 +205,15 @@ std::shared_ptr<Texture> decode_texture(std::string_view bytes, std::string& err
     }
     if (bytes.size() > std::size_t(INT_MAX)) {
         error = "file too large";
+        return nullptr;
+    }
+    if (png && !png_chunks_ok(bytes)) {
+        error = "not a readable PNG image (truncated: a chunk runs past the end of the file)";
+        return nullptr;
+    }
+    if (jpeg && !jpeg_tables_ok(bytes)) {
+        error = "not a readable JPEG image (a Huffman table of more than 256 codes, or a scan using one not "
+                "defined)";
         return nullptr;
     }
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());

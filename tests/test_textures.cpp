@@ -150,8 +150,32 @@ TEST_CASE("textures: hostile bytes are refused with the reason, huge headers bef
     CHECK(e.find("too large") != std::string::npos);
     // Within the side limit but over the texel limit.
     CHECK(refused(rt_test::png_header_only(16384, 16384)).find("16384 x 16384") != std::string::npos);
+    // A data chunk claiming 2 GB in a file of a few bytes (stb_image would allocate
+    // the 2 GB before reading): refused first.
+    std::string claim = good.substr(0, 33) + std::string("\x7f\xff\xff\xf0IDAT", 8) + "xxxx";
+    CHECK(refused(claim).find("a chunk runs past the end") != std::string::npos);
     // A JPEG start and nothing more.
     CHECK(refused("\xff\xd8\xff").find("JPEG") != std::string::npos);
+    // A Huffman table claiming 16 x 255 codes (stb_image would write past its tables):
+    // refused before stb_image reads it, by decode_texture and image_size alike.
+    std::string dht = std::string("\xff\xd8\xff\xc4\x00\x13\x00", 7) + std::string(16, '\xff');
+    CHECK(refused(dht).find("Huffman table") != std::string::npos);
+    long long w = 0, h = 0;
+    CHECK_FALSE(image_size(dht, w, h));
+    // The inputs fuzz_texture found it with: one table of 1,900 codes; one whose
+    // segment ends within its counts, which stb_image reads on past the segment.
+    // And a scan using a table no DHT defined (stb_image decodes it with whatever
+    // its memory held: an assertion of its own fired, depending on earlier inputs).
+    for (const char* name : {"jpeg-huffman-over-256", "jpeg-huffman-past-segment", "jpeg-undefined-huffman-table"}) {
+        const std::string found = rt_test::slurp(std::string(RT_SOURCE_DIR "/tests/fuzz/regressions/") + name);
+        REQUIRE_FALSE(found.empty());
+        CHECK(refused(found).find("Huffman table") != std::string::npos);
+    }
+    // A table of exactly 256 codes (255 of 8 bits, 1 of 9) is not refused by that
+    // check: what else is wrong with the file is stb_image's to say.
+    dht = std::string("\xff\xd8\xff\xc4\x01\x13\x00", 7) + std::string(7, '\0') + "\xff\x01" +
+          std::string(7, '\0') + std::string(256, '\x05');
+    CHECK(refused(dht).find("Huffman table") == std::string::npos);
 }
 
 TEST_CASE("textures: special files are refused at once, never waited on") {
@@ -230,4 +254,8 @@ TEST_CASE("textures: a scene's materials naming one file share one decoded copy;
     CHECK(r.ok());
     CHECK(r.scene.objects[0].material.texture == "bad.png");
     CHECK_FALSE(r.scene.objects[0].material.texture_image);
+    // Nor when models are not read: text checks read no files.
+    o.read_textures = true;
+    o.read_models = false;
+    CHECK(parse_scene("thing { sphere { material { texture \"bad.png\" } } }\n" + tail, o).ok());
 }
