@@ -94,6 +94,26 @@ struct Torus {
     }
 };
 
+// New: a box with faces along the axes, between two opposite corners (which must
+// differ on every axis); a transform turns it.
+struct Box {
+    Vec3 corner1{0, 0, 0};
+    Vec3 corner2{1, 1, 1};
+    bool operator==(const Box& o) const { return corner1 == o.corner1 && corner2 == o.corner2; }
+};
+
+// New: a closed cone, or a cone cut straight across (a frustum): round end caps of
+// radius1 at end1 and radius2 at end2; a radius of 0 makes that end a point.
+struct Cone {
+    Vec3 end1{0, 0, 0};
+    Vec3 end2{0, 0, 1};
+    double radius1 = 1;
+    double radius2 = 0;
+    bool operator==(const Cone& o) const {
+        return end1 == o.end1 && end2 == o.end2 && radius1 == o.radius1 && radius2 == o.radius2;
+    }
+};
+
 class MeshModel;  // model.h
 
 // A model file's triangles placed in the scene: scaled (per axis), turned about x, then
@@ -126,7 +146,8 @@ struct Csg {
     bool operator==(const Csg& o) const;
 };
 
-using Shape = std::variant<Sphere, Tetrahedron, Cylinder, Torus, Csg, Mesh>;
+// (New shapes go at the end: the indices of the first six are relied on.)
+using Shape = std::variant<Sphere, Tetrahedron, Cylinder, Torus, Csg, Mesh, Box, Cone>;
 
 struct Object {
     Shape shape;

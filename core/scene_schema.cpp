@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <variant>
 
 #include "camera.h"
@@ -123,6 +124,39 @@ Block<Object> torus() {
             [](const Object& o) {
                 return length2(std::get<Torus>(o.shape).direction) == 0 ? error("torus direction must not be 0 0 0")
                                                                         : Problem{};
+            }};
+}
+
+Block<Object> box() {
+    return {"box",
+            {vec3_key<Object>("corner_1", [](Object& o, int) -> Vec3& { return shape<Box>(o).corner1; }),
+             vec3_key<Object>("corner_2", [](Object& o, int) -> Vec3& { return shape<Box>(o).corner2; }),
+             object_material()},
+            [] { return object_of(Box{}); },
+            [](const Object& o) {
+                const Box& b = std::get<Box>(o.shape);
+                if (b.corner1 == b.corner2) return error("box corner_1 and corner_2 are the same point");
+                if (b.corner1.x == b.corner2.x || b.corner1.y == b.corner2.y || b.corner1.z == b.corner2.z)
+                    return error("box is flat: corner_1 and corner_2 must differ in x, in y and in z");
+                return Problem{};
+            }};
+}
+
+Block<Object> cone() {
+    return {"cone",
+            {vec3_key<Object>("end_1", [](Object& o, int) -> Vec3& { return shape<Cone>(o).end1; }),
+             vec3_key<Object>("end_2", [](Object& o, int) -> Vec3& { return shape<Cone>(o).end2; }),
+             number_key<Object>("radius_1", [](Object& o, int) -> double& { return shape<Cone>(o).radius1; },
+                                not_negative("cone radius_1 must not be negative")),
+             number_key<Object>("radius_2", [](Object& o, int) -> double& { return shape<Cone>(o).radius2; },
+                                not_negative("cone radius_2 must not be negative")),
+             object_material()},
+            [] { return object_of(Cone{}); },
+            [](const Object& o) {
+                const Cone& c = std::get<Cone>(o.shape);
+                if (c.end1 == c.end2) return error("cone end_1 and end_2 are the same point");
+                if (c.radius1 == 0 && c.radius2 == 0) return error("cone radius_1 and radius_2 are both 0: it would be a line");
+                return Problem{};
             }};
 }
 
@@ -356,7 +390,8 @@ bool Choice::find(std::string_view word, int& value) const {
 }
 
 const std::vector<Block<Object>>& object_blocks() {
-    static const std::vector<Block<Object>> blocks = {sphere(), tetrahedron(), cylinder(), torus(), csg(), mesh()};
+    static const std::vector<Block<Object>> blocks = {sphere(), tetrahedron(), cylinder(), torus(), box(), cone(),
+                                                                 csg(),    mesh()};
     return blocks;
 }
 
@@ -366,8 +401,12 @@ const Block<Object>* object_block(std::string_view name) {
     return nullptr;
 }
 
-// The variant's alternatives are in the order of object_blocks().
-const Block<Object>& object_block(const Object& o) { return object_blocks()[o.shape.index()]; }
+// The block of each of the variant's alternatives (the solids first in the lists).
+const Block<Object>& object_block(const Object& o) {
+    static constexpr std::size_t kBlock[] = {0, 1, 2, 3, 6, 7, 4, 5};  // Csg, Mesh, Box, Cone
+    static_assert(std::size(kBlock) == std::variant_size_v<Shape>, "a block for each shape");
+    return object_blocks()[kBlock[o.shape.index()]];
+}
 
 const std::vector<Block<Plane>>& plane_blocks() {
     static const std::vector<Block<Plane>> blocks = {plane(), chess_plane()};

@@ -85,6 +85,90 @@ template <class Out>
     if (t0 <= t1) out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
 }
 
+// Faces: 2 k (+1 on the high side) for axis k.
+template <class Out>
+[[gnu::always_inline]] inline void box_spans(const BoxG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
+    double t0 = -kInf, t1 = kInf;
+    std::uint8_t f0 = 0, f1 = 0;
+    for (std::uint8_t k = 0; k < 3; ++k) {
+        if (d[k] == 0) {
+            if (o[k] < s.lo[k] || o[k] > s.hi[k]) return;
+            continue;
+        }
+        double ta = (s.lo[k] - o[k]) / d[k], tb = (s.hi[k] - o[k]) / d[k];
+        std::uint8_t fa = std::uint8_t(2 * k), fb = std::uint8_t(2 * k + 1);
+        if (ta > tb) std::swap(ta, tb), std::swap(fa, fb);
+        if (ta > t0) t0 = ta, f0 = fa;
+        if (tb < t1) t1 = tb, f1 = fb;
+    }
+    if (t0 <= t1) out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
+}
+
+// Faces as the cylinder's: 0 = cap at e1, 1 = cap at e2, 2 = side. Inside the double
+// cone through the side where A t^2 + 2 B t + C <= 0; between the caps only the
+// frustum's own nappe is (the apex is at a cap or beyond), and a frustum is convex:
+// one span at most.
+template <class Out>
+[[gnu::always_inline]] inline void cone_spans(const ConeG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
+    Vec3 w = o - s.e1;
+    double wa = dot(w, s.a), da = dot(d, s.a);
+    Vec3 wp = w - s.a * wa, dp = d - s.a * da;
+    double rw = s.r1 + s.k * wa;
+    double A = dot(dp, dp) - s.k * s.k * da * da, B = dot(wp, dp) - s.k * rw * da, C = dot(wp, wp) - rw * rw;
+    // The side's pieces: [p0, p1], and [p2, p3] when the line leaves and comes back.
+    double p0 = -kInf, p1 = kInf, p2 = kInf, p3 = kInf;
+    if (A == 0) {
+        if (B == 0) {
+            if (C > 0) return;
+        } else {
+            const double t = -C / (2 * B);
+            if (B > 0) p1 = t; else p0 = t;
+        }
+    } else {
+        double disc = B * B - A * C;
+        if (disc < 0) {
+            if (A > 0) return;  // (A < 0: inside along the whole line)
+        } else {
+            double q = std::sqrt(disc);
+            double kq = B >= 0 ? -(B + q) : -(B - q);
+            double ra = kq / A, rb = kq != 0 ? C / kq : 0.0;
+            if (kq == 0) ra = rb = 0;
+            if (ra > rb) std::swap(ra, rb);
+            if (A > 0) p0 = ra, p1 = rb;
+            else p1 = ra, p2 = rb;
+        }
+    }
+    // Between the caps: 0 <= wa + t da <= len.
+    double c0 = -kInf, c1 = kInf;
+    std::uint8_t fc0 = 0, fc1 = 1;
+    if (da == 0) {
+        if (wa < 0 || wa > s.len) return;
+    } else {
+        c0 = -wa / da, c1 = (s.len - wa) / da;
+        if (c0 > c1) std::swap(c0, c1), std::swap(fc0, fc1);
+    }
+    double t0, t1;
+    std::uint8_t f0, f1;
+    auto clip = [&](double a, double b, double& x, double& y, std::uint8_t& fx, std::uint8_t& fy) {
+        x = a, fx = 2, y = b, fy = 2;
+        if (c0 > x) x = c0, fx = fc0;
+        if (c1 < y) y = c1, fy = fc1;
+        return x <= y;
+    };
+    const bool first = clip(p0, p1, t0, t1, f0, f1);
+    double u0 = 0, u1 = 0;
+    std::uint8_t g0 = 0, g1 = 0;
+    const bool second = p2 != kInf && clip(p2, p3, u0, u1, g0, g1);
+    if (first && second) {  // (only by rounding, at an apex on a cap): the hull
+        t1 = u1, f1 = g1;
+    } else if (second) {
+        t0 = u0, t1 = u1, f0 = g0, f1 = g1;
+    } else if (!first) {
+        return;
+    }
+    out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
+}
+
 // The solid's own inside test, (R - rho)^2 + z^2 < r^2. The quartic's zero set also
 // holds the inner 'lemon' of a spindle torus (minor > major), which is no boundary
 // of the solid, so the pieces between roots are classified with this instead.
@@ -174,6 +258,8 @@ void Geometry::leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& ou
         case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, out); return;
         case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, out); return;
         case NodeKind::Torus: torus_spans(tori[node.index], n, o, d, out); return;
+        case NodeKind::Box: box_spans(boxes[node.index], n, o, d, out); return;
+        case NodeKind::Cone: cone_spans(cones[node.index], n, o, d, out); return;
         case NodeKind::Csg:
         case NodeKind::Mesh: return;
     }
@@ -186,6 +272,8 @@ inline void Geometry::one_span(const Node& node, std::uint32_t n, const Vec3& o,
         case NodeKind::Sphere: sphere_spans(spheres[node.index], n, o, d, out); return;
         case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, out); return;
         case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, out); return;
+        case NodeKind::Box: box_spans(boxes[node.index], n, o, d, out); return;
+        case NodeKind::Cone: cone_spans(cones[node.index], n, o, d, out); return;
         case NodeKind::Torus:
         case NodeKind::Csg:
         case NodeKind::Mesh: return;
@@ -223,6 +311,8 @@ void Geometry::spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<
         case NodeKind::Tetra:
         case NodeKind::Cylinder:
         case NodeKind::Torus:
+        case NodeKind::Box:
+        case NodeKind::Cone:
         case NodeKind::Mesh: leaf_spans(n, o, d, out); return;
         case NodeKind::Csg: {
             const CsgG& c = csgs[node.index];
@@ -258,6 +348,22 @@ Vec3 Geometry::normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const {
             double rl = length(ring);
             Vec3 q = rl > 0 ? l - ring * (s.R / rl) : Vec3{0, 0, l.z};
             return s.frame.to_world(normalize(q));
+        }
+        case NodeKind::Box: {
+            Vec3 n{0, 0, 0};
+            n[face >> 1 & 3] = face & 1 ? 1 : -1;
+            return n;
+        }
+        case NodeKind::Cone: {
+            const ConeG& s = cones[node.index];
+            if (face == 0) return -s.a;
+            if (face == 1) return s.a;
+            Vec3 w = p - s.e1;
+            Vec3 r = w - s.a * dot(w, s.a);
+            double rl = length(r);
+            // (At the apex itself, along the axis, away from the cone.)
+            if (!(rl > 0)) return s.k > 0 ? -s.a : s.a;
+            return normalize(r / rl - s.a * s.k);
         }
         case NodeKind::Csg:
         case NodeKind::Mesh: break;
@@ -355,6 +461,25 @@ Aabb Geometry::bounds(std::uint32_t n) const {
             b.hi = s.c + ext;
             return b;
         }
+        case NodeKind::Box: {
+            const BoxG& s = boxes[node.index];
+            Aabb b;
+            b.lo = s.lo;
+            b.hi = s.hi;
+            return b;
+        }
+        case NodeKind::Cone: {
+            const ConeG& s = cones[node.index];
+            Vec3 e2 = s.e1 + s.a * s.len;
+            Vec3 u{std::sqrt(std::max(0.0, 1 - s.a.x * s.a.x)), std::sqrt(std::max(0.0, 1 - s.a.y * s.a.y)),
+                   std::sqrt(std::max(0.0, 1 - s.a.z * s.a.z))};
+            Aabb b;
+            b.grow(s.e1 - u * s.r1);
+            b.grow(s.e1 + u * s.r1);
+            b.grow(e2 - u * s.r2);
+            b.grow(e2 + u * s.r2);
+            return b;
+        }
         case NodeKind::Mesh: {
             const MeshG& m = meshes[node.index];
             return m.model ? m.instance.world_bounds(m.model->bounds()) : Aabb();
@@ -408,7 +533,8 @@ bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, doub
                            SpanScratch& scratch) const {
     const std::uint32_t n = object_node[obj];
     const Node& node = nodes[n];
-    if (node.kind == NodeKind::Tetra || node.kind == NodeKind::Cylinder) {
+    if (node.kind == NodeKind::Tetra || node.kind == NodeKind::Cylinder || node.kind == NodeKind::Box ||
+        node.kind == NodeKind::Cone) {
         // One span at most: first_end()'s answer without its call and second lookup.
         OneSpan a;
         one_span(node, n, o, d, a);
@@ -539,6 +665,16 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
             } else if constexpr (std::is_same_v<T, Torus>) {
                 g.nodes.push_back({NodeKind::Torus, std::uint32_t(g.tori.size())});
                 g.tori.push_back({s.position, Frame::from_axis(s.direction), std::fabs(s.major), std::fabs(s.minor)});
+            } else if constexpr (std::is_same_v<T, Box>) {
+                g.nodes.push_back({NodeKind::Box, std::uint32_t(g.boxes.size())});
+                const Vec3 &a = s.corner1, &b = s.corner2;
+                g.boxes.push_back({{std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)},
+                                   {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}});
+            } else if constexpr (std::is_same_v<T, Cone>) {
+                Vec3 axis = s.end2 - s.end1;
+                const double len = length(axis), r1 = std::fabs(s.radius1), r2 = std::fabs(s.radius2);
+                g.nodes.push_back({NodeKind::Cone, std::uint32_t(g.cones.size())});
+                g.cones.push_back({s.end1, normalize(axis), len, r1, r2, (r2 - r1) / len});
             } else if constexpr (std::is_same_v<T, Mesh>) {
                 g.nodes.push_back({NodeKind::Mesh, std::uint32_t(g.meshes.size())});
                 g.meshes.push_back(mesh_g(s, obj.material));
@@ -560,7 +696,7 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
 
 // Adds the object's shapes, its CSG operands' included, to count[] by the variant's
 // index.
-void count_shapes(const Object& obj, std::size_t count[6]) {
+void count_shapes(const Object& obj, std::size_t count[std::variant_size_v<Shape>]) {
     ++count[obj.shape.index()];
     if (const Csg* c = std::get_if<Csg>(&obj.shape))
         for (const Object& o : c->operands) count_shapes(o, count);
@@ -601,7 +737,7 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
     g.sphere_prefix = std::uint32_t(i);
     if (i < n) {
         // Every shape, CSG operands too: each array is then made in one block.
-        std::size_t count[6] = {};
+        std::size_t count[std::variant_size_v<Shape>] = {};
         for (std::size_t j = i; j < n; ++j) count_shapes(objects[j], count);
         g.spheres.reserve(i + count[0]);
         g.tetras.reserve(count[1]);
@@ -609,7 +745,11 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
         g.tori.reserve(count[3]);
         g.csgs.reserve(count[4]);
         g.meshes.reserve(count[5]);
-        g.nodes.reserve(i + count[0] + count[1] + count[2] + count[3] + count[4] + count[5]);
+        g.boxes.reserve(count[6]);
+        g.cones.reserve(count[7]);
+        std::size_t nodes = i;
+        for (std::size_t c : count) nodes += c;
+        g.nodes.reserve(nodes);
         for (; i < n; ++i) add(objects[i]);
     }
     if (with_bvh) g.bvh.build(g.object_bounds);
@@ -620,10 +760,12 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
 bool same_shapes(const Geometry& a, const Geometry& b) {
     static_assert(sizeof(SphereG) == 5 * sizeof(double) && sizeof(TetraG) == 16 * sizeof(double) &&
                       sizeof(CylinderG) == 8 * sizeof(double) && sizeof(TorusG) == 14 * sizeof(double) &&
+                      sizeof(BoxG) == 6 * sizeof(double) && sizeof(ConeG) == 10 * sizeof(double) &&
                       sizeof(Aabb) == 6 * sizeof(double),
                   "shape records are plain doubles");
     if (!same_bits(a.spheres, b.spheres) || !same_bits(a.tetras, b.tetras) || !same_bits(a.cylinders, b.cylinders) ||
-        !same_bits(a.tori, b.tori) || !same_bits(a.object_node, b.object_node) ||
+        !same_bits(a.tori, b.tori) || !same_bits(a.boxes, b.boxes) || !same_bits(a.cones, b.cones) ||
+        !same_bits(a.object_node, b.object_node) ||
         !same_bits(a.object_bounds, b.object_bounds) || a.sphere_prefix != b.sphere_prefix)
         return false;
     if (a.meshes.size() != b.meshes.size()) return false;

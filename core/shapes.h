@@ -19,7 +19,7 @@ namespace rt {
 // 1.5e-5 world units: the original's surface tolerance.
 constexpr double kDelta = 1.5e-5;
 
-enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg, Mesh };
+enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg, Mesh, Box, Cone };
 
 struct SphereG {
     Vec3 c;
@@ -38,6 +38,16 @@ struct TorusG {
     Vec3 c;
     Frame frame;  // frame.w is the axis
     double R, r;
+};
+// Faces: 2 k + 0 the low side on axis k, 2 k + 1 the high side.
+struct BoxG {
+    Vec3 lo, hi;
+};
+// A frustum: radius r1 at e1, r1 + k z at z along the unit axis a, up to len (k: the
+// change of radius per unit of length). Faces as the cylinder's.
+struct ConeG {
+    Vec3 e1, a;
+    double len, r1, r2, k;
 };
 struct CsgG {
     CsgType type;
@@ -96,6 +106,8 @@ struct Geometry {
     Chunked<TetraG> tetras;
     Chunked<CylinderG> cylinders;
     Chunked<TorusG> tori;
+    Chunked<BoxG> boxes;
+    Chunked<ConeG> cones;
     Shared<CsgG> csgs;
     Shared<MeshG> meshes;  // instances of models (their triangles shared, not copied)
     Shared<Node> nodes;

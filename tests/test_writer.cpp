@@ -221,6 +221,11 @@ TEST_CASE("round trip: every object kind, with and without materials") {
     to.minor = 0.2;
     s.objects.push_back(with_material(to, material(0.4, 0, 0.6, 0, 1, {1, 0.8, 0.2})));
     s.objects.push_back(bare(Torus{}));  // the odd defaults (minor 2 > major 1)
+    s.objects.push_back(with_material(Box{{1, 2, 3}, {-0.5, 0.25, 7}}, material(0, 0, 1, 1, 1, {0.2, 0.9, 0.1})));
+    s.objects.push_back(bare(Box{}));
+    s.objects.push_back(with_material(Cone{{1, 2, 3}, {2, 3, 1}, 0, 0.75}, material(0, 0, 1, 1, 1, {1, 1, 0})));
+    s.objects.push_back(bare(Cone{{0, 0, 0}, {1, 0, 0}, 0.5, 0.25}));
+    s.objects.push_back(bare(Cone{}));
     // Values the parser clamps are stored clamped, so write what is stored.
     s.objects.push_back(with_material(sphere({0, 0, 0}, 1), material(0, 0, 1, 0, 1, {2, -1, 0})));
     // All-zero weights only warn.
@@ -357,7 +362,24 @@ struct RandomScene {
     }
 
     Shape leaf() {
-        switch (integer(0, 3)) {
+        switch (integer(0, 5)) {
+            case 4: {
+                Box b;
+                b.corner1 = vec(100);
+                for (int k = 0; k < 3; ++k)
+                    do b.corner2[k] = b.corner1[k] + (coin() ? 1 : -1) * positive(10);
+                    while (b.corner2[k] == b.corner1[k]);
+                return b;
+            }
+            case 5: {
+                Cone c;
+                c.end1 = vec(100);
+                do c.end2 = vec(100);
+                while (c.end2 == c.end1);
+                c.radius1 = coin() ? 0.0 : positive(10);
+                c.radius2 = c.radius1 == 0 || coin() ? positive(10) : 0.0;
+                return c;
+            }
             case 0: return sphere(vec(100), positive(10));
             case 1: {
                 // Corners of a well-shaped tetrahedron, jittered (the parser rejects flat ones).
@@ -564,7 +586,7 @@ TEST_CASE("round trip: every key the schema lists, changed one at a time, is wri
                    [](Scene& s) -> std::vector<Plane>& { return s.planes; });
     for (const auto& b : schema::light_blocks())
         check_item("light", std::string(b.name), b.make, b, [](Scene& s) -> std::vector<Light>& { return s.lights; });
-    CHECK(keys == 3 + 5 + 4 + 5 + 4 + 6 + (4 + 1) + (4 + 2) + 4 + 3);  // sphere ... mesh ... spotlight
+    CHECK(keys == 3 + 5 + 4 + 5 + 3 + 5 + 4 + 6 + (4 + 1) + (4 + 2) + 4 + 3);  // sphere ... box, cone ... spotlight
 
     // Camera, picture size and material keys through whole scenes.
     for (const auto& k : schema::camera_block().keys) {

@@ -215,7 +215,7 @@ private:
     std::string object(int depth) {
         std::vector<std::string> k;
         const rt::Vec3 p = point();
-        switch (c_.below(depth < 3 ? 5 : 4)) {
+        switch (c_.below(depth < 3 ? 7 : 6)) {
             case 0:
                 k = {"position " + vec(p), "radius " + num(c_.between(1, 20) / 10.0)};
                 maybe_material(k);
@@ -236,6 +236,19 @@ private:
                 if (c_.one_in(2)) k.push_back("direction " + vec({0, double(c_.between(0, 1)), 1}));
                 maybe_material(k);
                 return block("torus", std::move(k));
+            case 4:
+                k = {"corner_1 " + vec(p),
+                     "corner_2 " + vec(p + rt::Vec3{c_.between(1, 4) / 2.0, -c_.between(1, 4) / 2.0, c_.between(1, 4) / 2.0})};
+                maybe_material(k);
+                return block("box", std::move(k));
+            case 5: {
+                double r1 = c_.between(0, 10) / 10.0, r2 = c_.between(1, 10) / 10.0;
+                if (c_.one_in(2)) std::swap(r1, r2);  // either end may be the point
+                k = {"end_1 " + vec(p), "end_2 " + vec(p + rt::Vec3{0, c_.between(-2, 2) / 2.0, c_.between(1, 4) / 2.0}),
+                     "radius_1 " + num(r1), "radius_2 " + num(r2)};
+                maybe_material(k);
+                return block("cone", std::move(k));
+            }
             default:
                 k = {"type " + std::string(1, "UIC"[c_.below(3)]), "left { " + object(depth + 1) + " }",
                      "right { " + object(depth + 1) + " }"};

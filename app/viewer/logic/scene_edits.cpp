@@ -58,6 +58,12 @@ void grow(rt::Aabb& b, const rt::Object& o) {
             else if constexpr (std::is_same_v<T, rt::Cylinder>) {
                 grow(b, s.end1, std::fabs(s.radius));
                 grow(b, s.end2, std::fabs(s.radius));
+            } else if constexpr (std::is_same_v<T, rt::Cone>) {
+                grow(b, s.end1, std::fabs(s.radius1));
+                grow(b, s.end2, std::fabs(s.radius2));
+            } else if constexpr (std::is_same_v<T, rt::Box>) {
+                grow(b, s.corner1);
+                grow(b, s.corner2);
             } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
                 for (const Vec3& v : s.v) grow(b, v);
             } else if constexpr (std::is_same_v<T, rt::Torus>) {
@@ -270,9 +276,12 @@ void translate(rt::Object& o, Vec3 d) {
             using T = std::decay_t<decltype(s)>;
             if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus> || std::is_same_v<T, rt::Mesh>)
                 move_point(s.position, d);
-            else if constexpr (std::is_same_v<T, rt::Cylinder>) {
+            else if constexpr (std::is_same_v<T, rt::Cylinder> || std::is_same_v<T, rt::Cone>) {
                 move_point(s.end1, d);
                 move_point(s.end2, d);
+            } else if constexpr (std::is_same_v<T, rt::Box>) {
+                move_point(s.corner1, d);
+                move_point(s.corner2, d);
             } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
                 for (Vec3& v : s.v) move_point(v, d);
             } else {
