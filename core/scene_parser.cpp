@@ -643,6 +643,12 @@ private:
     template <class T, class LocFn>
     void finish(const sc::Block<T>& b, T& item, const ItemState& st, std::size_t name_offset, LocFn name_loc) {
         for (const sc::Key<T>& k : b.keys) {
+            if (k.kind == sc::Kind::Vec3 && k.range.rule == sc::Range::Rule::Error && (st.given & (1u << key_index(b, k)))) {
+                const Vec3 v = k.vec3(item, 0);
+                if (!(k.range.contains(v.x) && k.range.contains(v.y) && k.range.contains(v.z)))
+                    error_at(st.value_at[key_index(b, k)], k.range.message);
+                continue;
+            }
             if (k.kind != sc::Kind::Number || k.range.rule == sc::Range::Rule::None) continue;
             double& v = k.access.number(item, 0);
             if (k.range.contains(v)) continue;

@@ -69,6 +69,30 @@ Problem warning(std::string message) { return {Problem::Severity::Warning, std::
 
 // ---- objects ----------------------------------------------------------------------
 
+// New: the placement keys of every object (scene.h's Transform), after its own keys.
+// A mesh has its own rotation and scale (the same meaning), so it takes translate only.
+Key<Object> translate_key() {
+    Key<Object> k = optional(vec3_key<Object>("translate", [](Object& o, int) -> Vec3& { return o.transform.edit().translate; }));
+    k.access.vec3_read = [](const Object& o, int) -> const Vec3& { return o.transform.get().translate; };
+    return k;
+}
+
+Block<Object> placed(Block<Object> b) {
+    Key<Object> rotation =
+        optional(vec3_key<Object>("rotation", [](Object& o, int) -> Vec3& { return o.transform.edit().rotation; }));
+    rotation.access.vec3_read = [](const Object& o, int) -> const Vec3& { return o.transform.get().rotation; };
+    Key<Object> scale = optional(vec3_key<Object>("scale", [](Object& o, int) -> Vec3& { return o.transform.edit().scale; }));
+    scale.access.vec3_read = [](const Object& o, int) -> const Vec3& { return o.transform.get().scale; };
+    scale.one_or_three = true;
+    // Mirroring (a negative scale) is refused: it would turn the solids inside out.
+    scale.range = {Range::Rule::Error, 1e-9, 1e9, false,
+                   "scale must be 1e-9 .. 1e9 on every axis (0 and negative scales, mirrors, are refused)"};
+    b.keys.push_back(rotation);
+    b.keys.push_back(scale);
+    b.keys.push_back(translate_key());
+    return b;
+}
+
 Block<Object> sphere() {
     return {"sphere",
             {vec3_key<Object>("position", [](Object& o, int) -> Vec3& { return shape<Sphere>(o).position; }),
@@ -208,7 +232,7 @@ Block<Object> mesh() {
     return {"mesh",
             {file, vec3_key<Object>("position", [](Object& o, int) -> Vec3& { return shape<Mesh>(o).position; }),
              scale, vec3_key<Object>("rotation", [](Object& o, int) -> Vec3& { return shape<Mesh>(o).rotation; }),
-             smooth, object_material()},
+             smooth, object_material(), translate_key()},
             [] { return object_of(Mesh{}); },
             [](const Object& o) {
                 const Mesh& m = std::get<Mesh>(o.shape);
@@ -390,8 +414,9 @@ bool Choice::find(std::string_view word, int& value) const {
 }
 
 const std::vector<Block<Object>>& object_blocks() {
-    static const std::vector<Block<Object>> blocks = {sphere(), tetrahedron(), cylinder(), torus(), box(), cone(),
-                                                                 csg(),    mesh()};
+    static const std::vector<Block<Object>> blocks = {placed(sphere()), placed(tetrahedron()), placed(cylinder()),
+                                                                 placed(torus()),  placed(box()),         placed(cone()),
+                                                                 placed(csg()),    mesh()};
     return blocks;
 }
 

@@ -60,6 +60,9 @@ template <class T>
 struct Access {
     double& (*number)(T&, int i) = nullptr;
     Vec3& (*vec3)(T&, int i) = nullptr;
+    // Reading without writing, where `vec3` would change the item to give a reference
+    // (an object's transform is made on the first write); null: `vec3` reads too.
+    const Vec3& (*vec3_read)(const T&, int i) = nullptr;
     int& (*integer)(T&, int i) = nullptr;
     int (*get_choice)(const T&) = nullptr;
     void (*set_choice)(T&, int) = nullptr;
@@ -76,7 +79,8 @@ struct Key {
     Access<T> access;
     int count = 0;                  // > 0: the key takes an index 1..count first ("point 2 ...")
     const char* count_error = nullptr;
-    Range range{};                  // Number: a clamp or a rule; Integer: its bounds
+    Range range{};                  // Number: a clamp or a rule; Integer: its bounds; Vec3: a
+                                    // rule (Error) for each of the three numbers
     const Choice* choice = nullptr;  // Kind::Choice
     bool required = false;          // must be given (somewhere in the file)
     bool lead = false;              // the writer puts it before the other keys
@@ -88,7 +92,9 @@ struct Key {
 
     // Read access for const items (the accessors are shared with writing).
     double number(const T& t, int i = 0) const { return access.number(const_cast<T&>(t), i); }
-    Vec3 vec3(const T& t, int i = 0) const { return access.vec3(const_cast<T&>(t), i); }
+    Vec3 vec3(const T& t, int i = 0) const {
+        return access.vec3_read ? access.vec3_read(t, i) : access.vec3(const_cast<T&>(t), i);
+    }
     int integer(const T& t, int i = 0) const { return access.integer(const_cast<T&>(t), i); }
     const Material& material(const T& t, int i = 0) const { return access.material(const_cast<T&>(t), i); }
     bool has_material(const T& t, int i = 0) const { return access.has_material(const_cast<T&>(t), i); }

@@ -260,6 +260,22 @@ void Geometry::leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& ou
         case NodeKind::Torus: torus_spans(tori[node.index], n, o, d, out); return;
         case NodeKind::Box: box_spans(boxes[node.index], n, o, d, out); return;
         case NodeKind::Cone: cone_spans(cones[node.index], n, o, d, out); return;
+        case NodeKind::Xform: {
+            // The child's spans along the line taken into its space, where the direction
+            // is made unit again: t there is t here times that length.
+            const XformG& x = xforms[node.index];
+            Vec3 ld = x.inst.to_model(d);
+            const double len = length(ld);
+            ld = ld / len;
+            SmallSpans<2> s;
+            leaf_spans(x.child, x.inst.point_to_model(o), ld, s);
+            for (Span sp : s) {
+                sp.in.t /= len, sp.out.t /= len;
+                sp.in.node = sp.out.node = n;
+                out.push_back(sp);
+            }
+            return;
+        }
         case NodeKind::Csg:
         case NodeKind::Mesh: return;
     }
@@ -275,10 +291,15 @@ inline void Geometry::one_span(const Node& node, std::uint32_t n, const Vec3& o,
         case NodeKind::Box: box_spans(boxes[node.index], n, o, d, out); return;
         case NodeKind::Cone: cone_spans(cones[node.index], n, o, d, out); return;
         case NodeKind::Torus:
+        case NodeKind::Xform:
         case NodeKind::Csg:
         case NodeKind::Mesh: return;
     }
 }
+
+// Whether a node's solid gives at most one span (not a torus, which may give two; nor
+// a placed primitive, which may be a torus; nor a CSG).
+inline bool one_span_kind(NodeKind k) { return k != NodeKind::Torus && k != NodeKind::Xform && k != NodeKind::Csg; }
 
 // A CSG of two primitives (l, r: its operands' nodes) neither of them a torus: one span
 // a side, and no lists to walk.
@@ -295,7 +316,7 @@ inline void Geometry::single_csg_spans(const CsgG& c, const Node& l, const Node&
 template <class Out>
 void Geometry::simple_csg_spans(const CsgG& c, const Vec3& o, const Vec3& d, Out& out) const {
     const Node &l = nodes[c.left], &r = nodes[c.right];
-    if (l.kind != NodeKind::Torus && r.kind != NodeKind::Torus) return single_csg_spans(c, l, r, o, d, out);
+    if (one_span_kind(l.kind) && one_span_kind(r.kind)) return single_csg_spans(c, l, r, o, d, out);
     SmallSpans<2> a, b;
     leaf_spans(c.left, o, d, a);
     if (a.n == 0 && c.type != CsgType::Union) return;
@@ -313,6 +334,7 @@ void Geometry::spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<
         case NodeKind::Torus:
         case NodeKind::Box:
         case NodeKind::Cone:
+        case NodeKind::Xform:
         case NodeKind::Mesh: leaf_spans(n, o, d, out); return;
         case NodeKind::Csg: {
             const CsgG& c = csgs[node.index];
@@ -364,6 +386,10 @@ Vec3 Geometry::normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const {
             // (At the apex itself, along the axis, away from the cone.)
             if (!(rl > 0)) return s.k > 0 ? -s.a : s.a;
             return normalize(r / rl - s.a * s.k);
+        }
+        case NodeKind::Xform: {
+            const XformG& x = xforms[node.index];
+            return normalize(x.inst.normal_to_world(normal(x.child, face, x.inst.point_to_model(p))));
         }
         case NodeKind::Csg:
         case NodeKind::Mesh: break;
@@ -480,6 +506,26 @@ Aabb Geometry::bounds(std::uint32_t n) const {
             b.grow(e2 + u * s.r2);
             return b;
         }
+        case NodeKind::Xform: {
+            const XformG& x = xforms[node.index];
+            const Node& child = nodes[x.child];
+            if (child.kind != NodeKind::Sphere) return x.inst.world_bounds(bounds(x.child));
+            // An ellipsoid's box exactly: its centre placed, and on axis i the radius
+            // times the length of row i of the linear part.
+            const SphereG& sp = spheres[child.index];
+            const Vec3 c = x.inst.point_to_world(sp.c);
+            Vec3 ext;
+            for (int i = 0; i < 3; ++i)
+                ext[i] = sp.r * std::sqrt(x.inst.l[i][0] * x.inst.l[i][0] + x.inst.l[i][1] * x.inst.l[i][1] +
+                                          x.inst.l[i][2] * x.inst.l[i][2]);
+            double m = 0;
+            for (int i = 0; i < 3; ++i) m = std::max({m, std::fabs(c[i]) + ext[i]});
+            ext += Vec3{1, 1, 1} * (m * 1e-9 + 1e-300);
+            Aabb b;
+            b.lo = c - ext;
+            b.hi = c + ext;
+            return b;
+        }
         case NodeKind::Mesh: {
             const MeshG& m = meshes[node.index];
             return m.model ? m.instance.world_bounds(m.model->bounds()) : Aabb();
@@ -547,7 +593,7 @@ bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, doub
         // The common CSG (two operands of one span each) here, with a small frame.
         const CsgG& c = csgs[node.index];
         const Node &l = nodes[c.left], &r = nodes[c.right];
-        if (c.simple && l.kind != NodeKind::Torus && r.kind != NodeKind::Torus) {
+        if (c.simple && one_span_kind(l.kind) && one_span_kind(r.kind)) {
             OneSpan a, b;
             one_span(l, c.left, o, d, a);
             if (c.type != CsgType::Union) {
@@ -597,7 +643,7 @@ bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& ou
     const std::uint32_t n = object_node[obj];
     const Node& node = nodes[n];
     if (node.kind == NodeKind::Mesh) return mesh_hit(meshes[node.index], o, d, kDelta, out);
-    if (node.kind != NodeKind::Torus && node.kind != NodeKind::Csg) {
+    if (one_span_kind(node.kind)) {
         // One span at most, as in hit_general().
         OneSpan a;
         one_span(node, n, o, d, a);
@@ -623,9 +669,12 @@ std::size_t Geometry::model_bytes() const {
 
 namespace {
 
-MeshG mesh_g(const Mesh& s, const Material& material) {
+MeshG mesh_g(const Mesh& s, const Object& obj) {
+    const Material& material = obj.material;
     MeshG m;
-    m.instance = MeshInstance::make(s.position, s.scale, s.rotation);
+    // (A mesh's transform is its translate only: its rotation and scale are its own.)
+    m.instance = MeshInstance::make(obj.transform.set() ? s.position + obj.transform.get().translate : s.position,
+                                    s.scale, s.rotation);
     m.model = s.model;
     if (m.model) {
         m.accel = &m.model->accel();
@@ -636,8 +685,36 @@ MeshG mesh_g(const Mesh& s, const Material& material) {
     return m;
 }
 
-std::uint32_t add_node(Geometry& g, const Object& obj) {
+// a then b: the map p -> a(b(p)).
+MeshInstance compose(const MeshInstance& a, const MeshInstance& b) {
+    MeshInstance out;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            out.l[i][j] = a.l[i][0] * b.l[0][j] + a.l[i][1] * b.l[1][j] + a.l[i][2] * b.l[2][j];
+            out.m[i][j] = b.m[i][0] * a.m[0][j] + b.m[i][1] * a.m[1][j] + b.m[i][2] * a.m[2][j];
+        }
+    out.position = a.point_to_world(b.position);
+    return out;
+}
+
+// `placed`: the transform of the CSGs around obj, composed (null: none).
+std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* placed = nullptr) {
     std::uint32_t id = std::uint32_t(g.nodes.size());
+    MeshInstance own;
+    if (obj.transform.set() && !std::holds_alternative<Mesh>(obj.shape)) {
+        const Transform& t = obj.transform.get();
+        own = MeshInstance::make(t.translate, t.scale, t.rotation);
+        if (placed) own = compose(*placed, own);
+        placed = &own;
+    }
+    if (placed && !std::holds_alternative<Csg>(obj.shape) && !std::holds_alternative<Mesh>(obj.shape)) {
+        // The primitive, as written, in the node after this one.
+        g.nodes.push_back({NodeKind::Xform, std::uint32_t(g.xforms.size())});
+        XformG x;
+        x.inst = *placed;
+        x.child = id + 1;
+        g.xforms.push_back(x);
+    }
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
@@ -677,13 +754,13 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
                 g.cones.push_back({s.end1, normalize(axis), len, r1, r2, (r2 - r1) / len});
             } else if constexpr (std::is_same_v<T, Mesh>) {
                 g.nodes.push_back({NodeKind::Mesh, std::uint32_t(g.meshes.size())});
-                g.meshes.push_back(mesh_g(s, obj.material));
+                g.meshes.push_back(mesh_g(s, obj));
             } else {
                 g.nodes.push_back({NodeKind::Csg, std::uint32_t(g.csgs.size())});
                 std::uint32_t ci = std::uint32_t(g.csgs.size());
                 g.csgs.push_back({s.type, 0, 0});
-                std::uint32_t l = add_node(g, s.operands[0]);
-                std::uint32_t r = add_node(g, s.operands[1]);
+                std::uint32_t l = add_node(g, s.operands[0], placed);
+                std::uint32_t r = add_node(g, s.operands[1], placed);
                 CsgG& c = g.csgs.write(ci);
                 c.left = l;
                 c.right = r;
@@ -717,7 +794,9 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
                       std::is_same_v<std::variant_alternative_t<4, Shape>, Csg> &&
                       std::is_same_v<std::variant_alternative_t<5, Shape>, Mesh>,
                   "counted by the variant's index");
-    const bool sphere_first = n > 0 && objects[0].shape.index() == 0;
+    // (A sphere with a transform is no plain sphere: it ends the prefix.)
+    auto plain_sphere = [](const Object& o) { return o.shape.index() == 0 && !o.transform.set(); };
+    const bool sphere_first = n > 0 && plain_sphere(objects[0]);
     std::size_t i = 0;
     if (sphere_first) {
         g.spheres.reserve(n);
@@ -733,7 +812,7 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
         g.object_bounds.push_back(g.bounds(node));
     };
     // The leading spheres: node i = object i = sphere i (Geometry::sphere_prefix).
-    for (; i < n && objects[i].shape.index() == 0; ++i) add(objects[i]);
+    for (; i < n && plain_sphere(objects[i]); ++i) add(objects[i]);
     g.sphere_prefix = std::uint32_t(i);
     if (i < n) {
         // Every shape, CSG operands too: each array is then made in one block.
@@ -761,10 +840,12 @@ bool same_shapes(const Geometry& a, const Geometry& b) {
     static_assert(sizeof(SphereG) == 5 * sizeof(double) && sizeof(TetraG) == 16 * sizeof(double) &&
                       sizeof(CylinderG) == 8 * sizeof(double) && sizeof(TorusG) == 14 * sizeof(double) &&
                       sizeof(BoxG) == 6 * sizeof(double) && sizeof(ConeG) == 10 * sizeof(double) &&
+                      sizeof(XformG) == 22 * sizeof(double) &&
                       sizeof(Aabb) == 6 * sizeof(double),
                   "shape records are plain doubles");
     if (!same_bits(a.spheres, b.spheres) || !same_bits(a.tetras, b.tetras) || !same_bits(a.cylinders, b.cylinders) ||
         !same_bits(a.tori, b.tori) || !same_bits(a.boxes, b.boxes) || !same_bits(a.cones, b.cones) ||
+        !same_bits(a.xforms, b.xforms) ||
         !same_bits(a.object_node, b.object_node) ||
         !same_bits(a.object_bounds, b.object_bounds) || a.sphere_prefix != b.sphere_prefix)
         return false;

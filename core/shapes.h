@@ -19,7 +19,7 @@ namespace rt {
 // 1.5e-5 world units: the original's surface tolerance.
 constexpr double kDelta = 1.5e-5;
 
-enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg, Mesh, Box, Cone };
+enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg, Mesh, Box, Cone, Xform };
 
 struct SphereG {
     Vec3 c;
@@ -48,6 +48,15 @@ struct BoxG {
 struct ConeG {
     Vec3 e1, a;
     double len, r1, r2, k;
+};
+// A primitive placed by a transform (its own and its CSGs', composed): the child node,
+// always the next one, holds the shape as written; rays are taken into its space, so
+// the shape stays exact (a scaled sphere is an ellipsoid), normals back by the
+// inverse transpose. The span ends it reports name this node.
+struct XformG {
+    MeshInstance inst;  // object -> world (l, position) and world -> object (m)
+    std::uint32_t child = 0;
+    std::uint32_t unused = 0;  // (no padding of unknown bytes: records compare by memcmp)
 };
 struct CsgG {
     CsgType type;
@@ -108,6 +117,7 @@ struct Geometry {
     Chunked<TorusG> tori;
     Chunked<BoxG> boxes;
     Chunked<ConeG> cones;
+    Chunked<XformG> xforms;
     Shared<CsgG> csgs;
     Shared<MeshG> meshes;  // instances of models (their triangles shared, not copied)
     Shared<Node> nodes;

@@ -586,7 +586,8 @@ TEST_CASE("round trip: every key the schema lists, changed one at a time, is wri
                    [](Scene& s) -> std::vector<Plane>& { return s.planes; });
     for (const auto& b : schema::light_blocks())
         check_item("light", std::string(b.name), b.make, b, [](Scene& s) -> std::vector<Light>& { return s.lights; });
-    CHECK(keys == 3 + 5 + 4 + 5 + 3 + 5 + 4 + 6 + (4 + 1) + (4 + 2) + 4 + 3);  // sphere ... box, cone ... spotlight
+    // sphere ... box, cone, CSG (each with rotation, scale, translate), mesh (translate) ... spotlight
+    CHECK(keys == (3 + 5 + 4 + 5 + 3 + 5 + 4) + 7 * 3 + 6 + 1 + (4 + 1) + (4 + 2) + 4 + 3);
 
     // Camera, picture size and material keys through whole scenes.
     for (const auto& k : schema::camera_block().keys) {

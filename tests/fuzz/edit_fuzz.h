@@ -210,6 +210,11 @@ private:
     }
     void maybe_material(std::vector<std::string>& k) {
         if (c_.below(3)) k.push_back(material());
+        // Placement keys now and then (the same call for every object kind).
+        if (c_.one_in(5)) k.push_back("rotation " + vec({double(c_.between(-2, 2) * 45), 0, double(c_.between(0, 7) * 15)}));
+        if (c_.one_in(6)) k.push_back(c_.one_in(2) ? "scale " + num(c_.between(1, 8) / 4.0)
+                                                    : "scale " + vec({1, c_.between(1, 8) / 4.0, 0.5}));
+        if (c_.one_in(5)) k.push_back("translate " + vec({0, c_.between(-2, 2) / 2.0, c_.between(0, 2) / 2.0}));
     }
     rt::Vec3 point() { return {double(c_.between(-6, 12)), double(c_.between(-6, 6)), c_.between(0, 8) / 2.0}; }
     std::string object(int depth) {

@@ -66,6 +66,16 @@ inline void check_material(const rt::Material& m) {
 inline std::size_t check_object(const rt::Object& o, int csg_depth) {
     check_material(o.material);
     std::size_t count = 1;
+    if (o.transform.set()) {
+        const rt::Transform& t = o.transform.get();
+        check_vec(t.rotation, "rotation");
+        check_vec(t.scale, "scale");
+        check_vec(t.translate, "translate");
+        for (double f : {t.scale.x, t.scale.y, t.scale.z})
+            if (!(f >= 1e-9 && f <= 1e9)) fail("a scale outside 1e-9 .. 1e9 accepted");
+        if (std::holds_alternative<rt::Mesh>(o.shape) && (t.rotation != rt::Vec3{0, 0, 0} || t.scale != rt::Vec3{1, 1, 1}))
+            fail("a mesh with a transform's rotation or scale (its own keys hold them)");
+    }
     if (const auto* s = std::get_if<rt::Sphere>(&o.shape)) {
         check_vec(s->position, "sphere position");
         check_number(s->radius, "sphere radius");

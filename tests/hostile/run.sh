@@ -328,6 +328,33 @@ def camera_inside_sphere; case_camera_inside_sphere() { newdir "$FUNCNAME"; prin
 def csg_coincident; case_csg_coincident() { newdir "$FUNCNAME"
     { echo 'thing { constructive_solid_geometry { difference sphere { position 5 0 1 radius 1 } sphere { position 5 0 1 radius 1 } } }'; printf '%s\n' "$SCENE_OK" | tail -n +2; } > "$D/s.txt"
     run 10 "$RT" s.txt new.ppm; [ "$RC" = 0 ] && want_ppm new.ppm 16 12 || { want_rc 1; want_err 'error'; }; clean_checks; }
+# The scene with its first object replaced by THING (the lights, camera and size kept).
+with_thing() { printf 'thing { %s }\n' "$1"; printf '%s\n' "$SCENE_OK" | tail -n +2; }
+# Box, cone and transforms: each mistake an error naming it, nothing rendered.
+def box_equal_corners; case_box_equal_corners() { newdir "$FUNCNAME"; with_thing 'box { corner_1 5 0 1 corner_2 5 0 1 }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 's.txt:1:9: error: box corner_1 and corner_2 are the same point'; clean_checks; }
+def box_flat; case_box_flat() { newdir "$FUNCNAME"; with_thing 'box { corner_1 5 0 1 corner_2 6 1 1 }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'box is flat'; clean_checks; }
+def cone_both_radii_zero; case_cone_both_radii_zero() { newdir "$FUNCNAME"; with_thing 'cone { end_1 5 0 0 end_2 5 0 2 radius_1 0 radius_2 0 }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'radius_1 and radius_2 are both 0'; clean_checks; }
+def cone_point_and_huge_base; case_cone_point_and_huge_base() { newdir "$FUNCNAME"; with_thing 'cone { end_1 5 0 0 end_2 5 0 1e-9 radius_1 1e15 radius_2 0 } cone { end_1 5 0 0 end_2 1e15 0 0 radius_1 0 radius_2 1e-15 }' > "$D/s.txt"
+    run 10 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
+def scale_zero; case_scale_zero() { newdir "$FUNCNAME"; with_thing 'sphere { position 5 0 1 radius 1 scale 0 }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 's.txt:1:48: error: scale must be 1e-9 .. 1e9 on every axis'; clean_checks; }
+def scale_negative_axis; case_scale_negative_axis() { newdir "$FUNCNAME"; with_thing 'box { corner_1 0 0 0 corner_2 1 1 1 scale 1 -1 1 }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'mirrors, are refused'; clean_checks; }
+def rotation_nan; case_rotation_nan() { newdir "$FUNCNAME"; with_thing 'sphere { rotation nan 0 0 }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "expected 3 numbers after 'rotation', got 'nan'"; clean_checks; }
+def rotation_inf; case_rotation_inf() { newdir "$FUNCNAME"; with_thing 'sphere { rotation 0 1e400 0 }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'out of range'; clean_checks; }
+def transform_extremes; case_transform_extremes() { newdir "$FUNCNAME"
+    with_thing 'sphere { position 1e15 0 0 radius 1e15 scale 1e9 rotation 1e15 -1e15 7 translate -1e15 0 1e15 } box { corner_1 0 0 0 corner_2 1e-15 1e-15 1e-15 scale 1e-9 } cone { scale 1e-9 1e9 1 rotation 0 90 0 }' > "$D/s.txt"
+    run 10 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
+def transformed_csg_256_deep; case_transformed_csg_256_deep() { newdir "$FUNCNAME"
+    { printf 'thing { '; for _ in $(seq 256); do printf 'constructive_solid_geometry { type U rotation 1 2 3 scale 1.01 translate 0.01 0 0 left { '; done
+      printf 'box { corner_1 4 -1 0 corner_2 6 1 2 }'; for _ in $(seq 256); do printf ' } right { cone { end_1 5 0 0 end_2 5 0 1 } } }'; done
+      echo ' }'; printf '%s\n' "$SCENE_OK" | tail -n +2; } > "$D/s.txt"
+    run 20 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
 
 # --- special files ------------------------------------------------------------------
 
