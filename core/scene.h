@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -41,6 +42,9 @@ struct Material {
     double texture_scale = 1;
     std::string texture;
     std::shared_ptr<const Texture> texture_image;
+    // New: the named material (Scene::materials) this is a use of, its values copied
+    // here; -1: written out in place.
+    int named = -1;
 
     // An object with no material block at all: translusans 0 (scene-format §5).
     static Material object_default() {
@@ -52,7 +56,7 @@ struct Material {
         return reflection == o.reflection && refraction == o.refraction && scattering == o.scattering &&
                translusans == o.translusans && refractive_index == o.refractive_index && colour == o.colour &&
                specular == o.specular && shininess == o.shininess && texture == o.texture &&
-               texture_scale == o.texture_scale && texture_image == o.texture_image;
+               texture_scale == o.texture_scale && texture_image == o.texture_image && named == o.named;
     }
     bool operator!=(const Material& o) const { return !(*this == o); }
     // The same numbers bit for bit (-0 is not 0, NaNs as they are) and the same texture:
@@ -197,6 +201,7 @@ struct Object {
     bool has_material = false;  // whether the file gave a material block
     SourceLoc loc;
     TransformSlot transform{};  // New: rotation, scale, translate (a mesh: translate only)
+    std::uint16_t origin = 0;   // New: 0, or k: read from the file of Scene::includes[k - 1]
     bool operator==(const Object& o) const {
         return shape == o.shape && material == o.material && has_material == o.has_material &&
                transform == o.transform;
@@ -213,6 +218,7 @@ struct Plane {
     Material material2 = Material::object_default();  // `material 2` (chess only)
     bool has_material = false, has_material2 = false;
     SourceLoc loc;
+    std::uint16_t origin = 0;  // as Object::origin
     bool operator==(const Plane& o) const {
         for (int i = 0; i < 4; ++i)
             if (point[i] != o.point[i]) return false;
@@ -230,6 +236,7 @@ struct Light {
     // 2013 light.
     double radius = 0;
     SourceLoc loc;
+    std::uint16_t origin = 0;  // as Object::origin
     bool operator==(const Light& o) const {
         return lamp == o.lamp && position == o.position && colour == o.colour && size == o.size &&
                radius == o.radius;
@@ -258,7 +265,32 @@ struct Camera {
     }
 };
 
+// New: a material defined once by name (`define { material NAME { ... } }`) and used
+// by name anywhere a material block goes.
+struct NamedMaterial {
+    std::string name;
+    Material material;
+    std::uint16_t origin = 0;  // as Object::origin
+    SourceLoc loc;
+    bool operator==(const NamedMaterial& o) const { return name == o.name && material == o.material && origin == o.origin; }
+};
+
+// New: `include "FILE"` in the scene file itself (those of included files are theirs):
+// the file as written, and how many of the scene file's own items came before it, so
+// that the scene is written back in the same order.
+struct Include {
+    std::string file;
+    std::size_t objects = 0, planes = 0, lights = 0, materials = 0;  // before it, of origin 0
+    SourceLoc loc;
+    bool operator==(const Include& o) const {
+        return file == o.file && objects == o.objects && planes == o.planes && lights == o.lights &&
+               materials == o.materials;
+    }
+};
+
 struct Scene {
+    std::vector<NamedMaterial> materials;  // New: every file's definitions, in reading order
+    std::vector<Include> includes;         // New
     std::vector<Object> objects;
     std::vector<Plane> planes;
     std::vector<Light> lights;
@@ -268,7 +300,7 @@ struct Scene {
     SourceLoc camera_loc;
     bool operator==(const Scene& o) const {
         return objects == o.objects && planes == o.planes && lights == o.lights && camera == o.camera &&
-               width == o.width && height == o.height;
+               width == o.width && height == o.height && materials == o.materials && includes == o.includes;
     }
     bool operator!=(const Scene& o) const { return !(*this == o); }
 };
@@ -282,6 +314,8 @@ struct Limits {
     static constexpr std::size_t max_objects = 10'000'000;
     static constexpr std::size_t max_file_size = 256u << 20;  // bytes
     static constexpr std::size_t max_token_length = 256;
+    static constexpr int max_include_depth = 64;     // files including files
+    static constexpr std::size_t max_includes = 10'000;  // include lines in one scene file
 };
 
 }  // namespace rt

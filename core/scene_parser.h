@@ -21,6 +21,15 @@ struct Diagnostic {
     int line = 0;  // 1-based
     int col = 0;   // 1-based byte column
     std::string message;
+    // New: a problem in an included file: that file's path (as the including file names
+    // it, from the scene's folder), and where it was included, innermost first (file ""
+    // for the scene file itself, whose name the caller knows). Empty for the scene file.
+    struct Site {
+        std::string file;
+        int line = 0, col = 0;
+    };
+    std::string file{};
+    std::vector<Site> included_from{};
     bool is_error() const { return severity == Severity::Error; }
 };
 
@@ -71,7 +80,8 @@ struct ParseOptions {
 
 ParseResult parse_scene(std::string_view text, const ParseOptions& options = {});
 
-// "FILE:LINE:COL: error: MESSAGE"
+// "FILE:LINE:COL: error: MESSAGE", with " (included from FILE:LINE:COL, from ...)" for a
+// problem in an included file.
 std::string format_diagnostic(const std::string& file, const Diagnostic& d);
 
 }  // namespace rt

@@ -466,7 +466,9 @@ const Block<Scene>& picture_size_block() {
 }
 
 const std::vector<Section>& sections() {
-    static const std::vector<Section> s = {{"thing", SectionKind::Things, "object"},
+    static const std::vector<Section> s = {{"include", SectionKind::Include, nullptr},
+                                           {"define", SectionKind::Define, "definition"},
+                                           {"thing", SectionKind::Things, "object"},
                                            {"special_thing", SectionKind::Specials, "special thing"},
                                            {"light", SectionKind::Lights, "light"},
                                            {"camera", SectionKind::Camera, nullptr},

@@ -165,7 +165,7 @@ const Block<Camera>& camera_block();      // keys accumulate over all camera sec
 const Block<Scene>& picture_size_block();
 
 // ---- the sections ---------------------------------------------------------------
-enum class SectionKind { Things, Specials, Lights, Camera, PictureSize, End };
+enum class SectionKind { Things, Specials, Lights, Camera, PictureSize, End, Include, Define };
 struct Section {
     std::string_view name;
     SectionKind kind;
@@ -173,7 +173,7 @@ struct Section {
 };
 const std::vector<Section>& sections();  // in file order of a written scene
 const Section* find_section(std::string_view name);
-// "thing, special_thing, light, camera, picture_size or end"
+// "include, define, thing, special_thing, light, camera, picture_size or end"
 std::string section_list();
 
 // Names of a block list: "sphere, tetrahedron, ...".

@@ -61,6 +61,9 @@ namespace sc = schema;
 class Writer {
 public:
     std::string out;
+    // The scene whose named materials are written by name (null, or flattened: every
+    // material written out).
+    const Scene* scene = nullptr;
 
     void line(int depth, const std::string& text) {
         out.append(2 * std::size_t(depth), ' ');
@@ -149,6 +152,14 @@ public:
             // Only when the file had a block: has_material is part of the scene, and a
             // block-less item's default (translusans 0) differs from a block's (1).
             if (k.kind == sc::Kind::Material && !k.has_material(t, i)) continue;
+            if (k.kind == sc::Kind::Material && scene) {
+                const int named = k.material(t, i).named;
+                if (named >= 0 && std::size_t(named) < scene->materials.size()) {
+                    line(depth, std::string(k.name) + (k.count > 0 ? " " + std::to_string(i + 1) : "") + " " +
+                                    scene->materials[std::size_t(named)].name);
+                    continue;
+                }
+            }
             line(depth, simple_value(k, t, i));
         }
     }
@@ -238,11 +249,16 @@ std::string format_reference() {
         case sc::SectionKind::Camera: block(sc::camera_block(), ""); break;
         case sc::SectionKind::PictureSize: block(sc::picture_size_block(), ""); break;
         case sc::SectionKind::End: out += std::string(s.name) + "\n"; break;
+        case sc::SectionKind::Include: out += std::string(s.name) + " \"FILE.txt\"\n"; break;
+        case sc::SectionKind::Define: out += std::string(s.name) + " {\n  material NAME {...}\n}\n"; break;
         }
     }
     key_rules(sc::material_block(), required, rules);
     out += "\nmaterial {...} is " + block_line(sc::material_block()) + "\n";
-    out += "OBJECT is any one block of `thing` (a mesh excepted)\n\nKeys a block must have:\n";
+    out += "OBJECT is any one block of `thing` (a mesh excepted)\n";
+    out += "material NAME, where a material {...} goes, is the one defined as NAME before it\n";
+    out += "include \"FILE.txt\" reads that file's sections (all but camera and picture_size) there\n";
+    out += "\nKeys a block must have:\n";
     for (const std::string& r : required) out += "  " + r + "\n";
     out += "Values:\n";
     for (const std::string& r : rules) out += "  " + r + "\n";
@@ -257,35 +273,75 @@ std::string write_camera(const Camera& camera) {
     return w.out;
 }
 
-std::string write_scene(const Scene& scene) {
+std::string write_scene(const Scene& scene, bool flatten) {
     Writer w;
+    if (!flatten) w.scene = &scene;
     // Sections of items are left out when empty; camera and picture size always written.
-    auto items = [&w](const sc::Section& s, const auto& list, auto block_of) {
-        if (list.empty()) return;
-        w.line(0, std::string(s.name) + " {");
-        for (const auto& item : list) w.item(1, block_of(item), item);
-        w.line(0, "}");
+    // Unless flattened, only the scene file's own items are (the included ones are the
+    // included files'), split where each include stands among them.
+    auto items = [&w](const sc::Section& s, const auto& list, std::size_t from, std::size_t to, auto block_of, bool own) {
+        std::size_t k = 0;  // of the items written so far: the own ones, unless all
+        bool open = false;
+        for (const auto& item : list) {
+            if (own && item.origin != 0) continue;
+            if (k >= from && k < to) {
+                if (!open) w.line(0, std::string(s.name) + " {"), open = true;
+                w.item(1, block_of(item), item);
+            }
+            ++k;
+        }
+        if (open) w.line(0, "}");
     };
+    auto definitions = [&w, &scene, flatten](std::size_t from, std::size_t to) {
+        if (flatten) return;
+        std::size_t k = 0;
+        bool open = false;
+        for (const NamedMaterial& m : scene.materials) {
+            if (m.origin != 0) continue;
+            if (k >= from && k < to) {
+                if (!open) w.line(0, "define {"), open = true;
+                w.line(1, "material " + m.name + " " + write_material(m.material));
+            }
+            ++k;
+        }
+        if (open) w.line(0, "}");
+    };
+    const std::size_t all = std::size_t(-1);
+    const std::size_t parts = flatten ? 1 : scene.includes.size() + 1;
+    Include before;  // (counts) where the previous include stood
+    for (std::size_t p = 0; p < parts; ++p) {
+        const bool last = p + 1 == parts;
+        const Include& at = last ? Include{} : scene.includes[p];
+        const bool own = !flatten;
+        definitions(before.materials, last ? all : at.materials);
+        for (const sc::Section& s : sc::sections()) {
+            switch (s.kind) {
+            case sc::SectionKind::Things:
+                items(s, scene.objects, before.objects, last ? all : at.objects,
+                      [](const Object& o) -> const auto& { return sc::object_block(o); }, own);
+                break;
+            case sc::SectionKind::Specials:
+                items(s, scene.planes, before.planes, last ? all : at.planes,
+                      [](const Plane& pl) -> const auto& { return sc::plane_block(pl); }, own);
+                break;
+            case sc::SectionKind::Lights:
+                items(s, scene.lights, before.lights, last ? all : at.lights,
+                      [](const Light& l) -> const auto& { return sc::light_block(l); }, own);
+                break;
+            default: break;
+            }
+        }
+        if (!last) {
+            w.line(0, "include \"" + at.file + "\"");
+            before = at;
+        }
+    }
     for (const sc::Section& s : sc::sections()) {
         switch (s.kind) {
-        case sc::SectionKind::Things:
-            items(s, scene.objects, [](const Object& o) -> const auto& { return sc::object_block(o); });
-            break;
-        case sc::SectionKind::Specials:
-            items(s, scene.planes, [](const Plane& p) -> const auto& { return sc::plane_block(p); });
-            break;
-        case sc::SectionKind::Lights:
-            items(s, scene.lights, [](const Light& l) -> const auto& { return sc::light_block(l); });
-            break;
-        case sc::SectionKind::Camera:
-            w.item(0, sc::camera_block(), scene.camera);
-            break;
-        case sc::SectionKind::PictureSize:
-            w.item(0, sc::picture_size_block(), scene);
-            break;
-        case sc::SectionKind::End:
-            w.line(0, std::string(s.name));
-            break;
+        case sc::SectionKind::Camera: w.item(0, sc::camera_block(), scene.camera); break;
+        case sc::SectionKind::PictureSize: w.item(0, sc::picture_size_block(), scene); break;
+        case sc::SectionKind::End: w.line(0, std::string(s.name)); break;
+        default: break;
         }
     }
     return w.out;

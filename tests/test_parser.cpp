@@ -473,7 +473,7 @@ TEST_CASE("errors: an unknown key in each block names exactly that block's keys"
     }
     auto section = parse_with_camera("scenery { }");
     CHECK(first_error(section).message ==
-          "unknown section 'scenery' (expected thing, special_thing, light, camera, picture_size or end)");
+          "unknown section 'scenery' (expected include, define, thing, special_thing, light, camera, picture_size or end)");
     auto object = parse_with_camera("thing { cube { } }");
     CHECK(first_error(object).message ==
           "unknown object 'cube' (expected sphere, tetrahedron, cylinder, torus, box, cone, constructive_solid_geometry, mesh)");

@@ -710,7 +710,8 @@ TEST_CASE("format_reference: every block's line reads back as the block's defaul
     // Each section is named in file order, and each rule a value can break is there.
     std::size_t at = 0;
     for (const schema::Section& s : schema::sections()) {
-        const std::size_t next = ref.find("\n" + std::string(s.name) + (s.kind == schema::SectionKind::End ? "\n" : " {"), at);
+        const char* after = s.kind == schema::SectionKind::End ? "\n" : s.kind == schema::SectionKind::Include ? " \"" : " {";
+        const std::size_t next = ref.find("\n" + std::string(s.name) + after, at);
         CHECK_MESSAGE(next != std::string::npos, "section " << std::string(s.name));
         if (next != std::string::npos) at = next;
     }

@@ -193,6 +193,8 @@ rtargs::Table option_table(const Program& program, Options& o) {
                                       return rt::Status();
                                   }),
              flag("--print-scene", "print SCENE in normalised form to stdout; render nothing", o.print_scene),
+             flag("--flatten", "with --print-scene: named materials and included files\n"
+                               "written out in full, as one scene file", o.flatten),
              flag("--help-format", "print the scene format in brief (every block and key, its\n"
                                    "default and its rules) and exit", o.help_format, true),
              flag("--version", "print the version and exit", o.version, true),
@@ -335,10 +337,10 @@ rt::RenderSettings render_settings(const Options& o, int width, int height) {
     return rt::final_settings(o.render, width, height);
 }
 
-rt::Status print_scene(const Program& program, rt::Scene scene) {
+rt::Status print_scene(const Program& program, rt::Scene scene, bool flatten) {
     for (rt::Object& o : scene.objects) o.has_material = true;
     for (rt::Plane& p : scene.planes) p.has_material = p.has_material2 = true;
-    return print_to_stdout(program, rt::write_scene(scene));
+    return print_to_stdout(program, rt::write_scene(scene, flatten));
 }
 
 rt::Status print_to_stdout(const Program& program, const std::string& text) {
