@@ -153,8 +153,12 @@ public:
             // block-less item's default (translusans 0) differs from a block's (1).
             if (k.kind == sc::Kind::Material && !k.has_material(t, i)) continue;
             if (k.kind == sc::Kind::Material && scene) {
-                const int named = k.material(t, i).named;
-                if (named >= 0 && std::size_t(named) < scene->materials.size()) {
+                // By name while it holds the definition's values (an edited use is
+                // written out in full: the edit is not lost).
+                const Material& m = k.material(t, i);
+                const int named = m.named;
+                if (named >= 0 && std::size_t(named) < scene->materials.size() &&
+                    m.same_bits(scene->materials[std::size_t(named)].material)) {
                     line(depth, std::string(k.name) + (k.count > 0 ? " " + std::to_string(i + 1) : "") + " " +
                                     scene->materials[std::size_t(named)].name);
                     continue;

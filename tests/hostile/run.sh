@@ -355,6 +355,34 @@ def transformed_csg_256_deep; case_transformed_csg_256_deep() { newdir "$FUNCNAM
       printf 'box { corner_1 4 -1 0 corner_2 6 1 2 }'; for _ in $(seq 256); do printf ' } right { cone { end_1 5 0 0 end_2 5 0 1 } } }'; done
       echo ' }'; printf '%s\n' "$SCENE_OK" | tail -n +2; } > "$D/s.txt"
     run 20 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
+# Named materials and includes: each mistake an error at its place, nothing rendered.
+with_head() { printf '%s\n' "$1"; printf '%s\n' "$SCENE_OK"; }
+def material_used_before_defined; case_material_used_before_defined() { newdir "$FUNCNAME"; with_head 'thing { sphere { material gold } } define { material gold { } }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "s.txt:1:27: error: unknown material 'gold'"; clean_checks; }
+def material_defined_twice; case_material_defined_twice() { newdir "$FUNCNAME"; with_head 'define { material gold { } material gold { } }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "s.txt:1:37: error: material 'gold' is defined twice"; clean_checks; }
+def material_as_object; case_material_as_object() { newdir "$FUNCNAME"; with_head 'define { material gold { } } thing { gold { } }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "unknown object 'gold'"; clean_checks; }
+def include_missing; case_include_missing() { newdir "$FUNCNAME"; with_head 'include "nothing.txt"' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "s.txt:1:1: error: cannot include 'nothing.txt': No such file"; clean_checks; }
+def include_folder; case_include_folder() { newdir "$FUNCNAME"; mkdir "$D/sub"; with_head 'include "sub"' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'it is a folder'; clean_checks; }
+def include_dev_zero; case_include_dev_zero() { newdir "$FUNCNAME"; with_head 'include "/dev/zero"' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'not a regular file'; want_fast 2; clean_checks; }
+def include_fifo; case_include_fifo() { newdir "$FUNCNAME"; mkfifo "$D/pipe.txt"; with_head 'include "pipe.txt"' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'not a regular file'; want_fast 2; clean_checks; }
+def include_itself; case_include_itself() { newdir "$FUNCNAME"; with_head 'include "s.txt"' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'include cycle'; want_fast 2; clean_checks; }
+def include_cycle_of_three; case_include_cycle_of_three() { newdir "$FUNCNAME"
+    echo 'include "b.txt"' > "$D/a.txt"; echo 'include "c.txt"' > "$D/b.txt"; echo 'include "a.txt"' > "$D/c.txt"; with_head 'include "a.txt"' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'c.txt:1:1: error: include cycle: a.txt includes b.txt includes c.txt includes a.txt'; clean_checks; }
+def include_chain_65; case_include_chain_65() { newdir "$FUNCNAME"
+    for i in $(seq 65); do echo "include \"n$((i + 1)).txt\"" > "$D/n$i.txt"; done; echo 'thing { sphere { } }' > "$D/n66.txt"; with_head 'include "n1.txt"' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'includes nested too deeply \(limit 64 files\)'; clean_checks; }
+def include_10mb_nested_csg; case_include_10mb_nested_csg() { newdir "$FUNCNAME"
+    awk 'BEGIN { printf "thing {\n"; for (i = 0; i < 20000; i++) { printf "constructive_solid_geometry { type U rotation 0 0 %d left { ", i % 360; for (k = 0; k < 200; k++) printf "constructive_solid_geometry { left { "; printf "box { corner_1 4 -1 0 corner_2 6 1 2 }"; for (k = 0; k < 200; k++) printf " } right { sphere { position 5 0 1 radius 0.5 } } }"; printf " } right { cone { end_1 5 0 0 end_2 5 0 1 } } }\n"; if (i > 520) break } printf "}\n" }' > "$D/big.txt"
+    with_head 'include "big.txt"' > "$D/s.txt"
+    run 60 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
 
 # --- special files ------------------------------------------------------------------
 
