@@ -182,6 +182,15 @@ private:
 
 struct Object;
 
+// New: a placement of an object defined once by name (`define { object NAME { ... } }`):
+// the name as written, and the definition it names, shared by every placement (one
+// copy of its geometry, placed by the instance's own transform).
+struct Instance {
+    std::string object;
+    std::shared_ptr<const Object> defined;  // null until the name is resolved
+    bool operator==(const Instance& o) const;
+};
+
 enum class CsgType : char { Union = 'U', Intersection = 'I', Difference = 'C' };
 
 // Exactly two operands once parsed: operands[0] is `left`, operands[1] is `right`.
@@ -193,7 +202,7 @@ struct Csg {
 };
 
 // (New shapes go at the end: the indices of the first six are relied on.)
-using Shape = std::variant<Sphere, Tetrahedron, Cylinder, Torus, Csg, Mesh, Box, Cone>;
+using Shape = std::variant<Sphere, Tetrahedron, Cylinder, Torus, Csg, Mesh, Box, Cone, Instance>;
 
 struct Object {
     Shape shape;
@@ -209,6 +218,20 @@ struct Object {
 };
 
 inline bool Csg::operator==(const Csg& o) const { return type == o.type && operands == o.operands; }
+inline bool Instance::operator==(const Instance& o) const {
+    return object == o.object && (defined == o.defined || (defined && o.defined && *defined == *o.defined));
+}
+
+// New: an object defined once by name, to be placed by `instance` blocks.
+struct NamedObject {
+    std::string name;
+    std::shared_ptr<const Object> object;
+    std::uint16_t origin = 0;  // as Object::origin
+    SourceLoc loc;
+    bool operator==(const NamedObject& o) const {
+        return name == o.name && origin == o.origin && (object == o.object || (object && o.object && *object == *o.object));
+    }
+};
 
 // `plane` and `chess_plane` from special_thing.
 struct Plane {
@@ -280,16 +303,17 @@ struct NamedMaterial {
 // that the scene is written back in the same order.
 struct Include {
     std::string file;
-    std::size_t objects = 0, planes = 0, lights = 0, materials = 0;  // before it, of origin 0
+    std::size_t objects = 0, planes = 0, lights = 0, materials = 0, defined = 0;  // before it, of origin 0
     SourceLoc loc;
     bool operator==(const Include& o) const {
         return file == o.file && objects == o.objects && planes == o.planes && lights == o.lights &&
-               materials == o.materials;
+               materials == o.materials && defined == o.defined;
     }
 };
 
 struct Scene {
     std::vector<NamedMaterial> materials;  // New: every file's definitions, in reading order
+    std::vector<NamedObject> defined;      // New: every file's object definitions, in reading order
     std::vector<Include> includes;         // New
     std::vector<Object> objects;
     std::vector<Plane> planes;
@@ -300,7 +324,8 @@ struct Scene {
     SourceLoc camera_loc;
     bool operator==(const Scene& o) const {
         return objects == o.objects && planes == o.planes && lights == o.lights && camera == o.camera &&
-               width == o.width && height == o.height && materials == o.materials && includes == o.includes;
+               width == o.width && height == o.height && materials == o.materials && includes == o.includes &&
+               defined == o.defined;
     }
     bool operator!=(const Scene& o) const { return !(*this == o); }
 };

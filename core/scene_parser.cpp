@@ -705,21 +705,23 @@ private:
     // One item of a `define` section: `material NAME { ... }`.
     void definition() {
         const Token kind = lex_.next();
-        if (!sc::same_word(kind.text, "material")) {
-            error(kind, "unknown definition " + quote(kind.text) + " (expected material)");
+        const bool is_object = sc::same_word(kind.text, "object");
+        if (!sc::same_word(kind.text, "material") && !is_object) {
+            error(kind, "unknown definition " + quote(kind.text) + " (expected material or object)");
             skip_block();
             return;
         }
         const Token name = lex_.peek();
         if (!is_name(name.text)) {
-            if (name.eof()) fatal(name, "unexpected end of file: expected a name after 'material'");
-            error(name, "expected a name after 'material' (a letter or '_', then letters, digits and '_'), got " +
-                            got(name));
+            if (name.eof()) fatal(name, "unexpected end of file: expected a name after " + quote(kind.text));
+            error(name, "expected a name after " + quote(kind.text) +
+                            " (a letter or '_', then letters, digits and '_'), got " + got(name));
             if (!name.is('{') && !name.is('}')) lex_.next();
             skip_block();
             return;
         }
         lex_.next();
+        if (is_object) return object_definition(name);
         count_object(name);
         Material m;
         if (!material(name, m)) return;
@@ -731,11 +733,66 @@ private:
                             (first_file_of(it->second).empty() ? "" : " of " + first_file_of(it->second)) + ")");
             return;
         }
+        if (shared_->objects.count(key)) {
+            error(name, "the name " + quote(key) + " is already an object's");
+            return;
+        }
         shared_->materials.emplace(key, int(out_.scene.materials.size()));
         shared_->material_files.push_back(file_);
         out_.scene.materials.push_back({key, m, 0, loc_of(name.offset)});
     }
     const std::string& first_file_of(int index) const { return shared_->material_files[std::size_t(index)]; }
+
+    // `object NAME { OBJECT }` in a define section (after the name).
+    void object_definition(const Token& name) {
+        if (!open(name)) return;
+        const Token& first = lex_.peek();
+        const sc::Block<Object>* ob = sc::object_block(first.text);
+        if (!ob || is_mesh(*ob) || sc::same_word(ob->name, "instance")) {
+            error(first, !ob ? "expected one object in the definition of " + quote(name.text) + ", got " + got(first)
+                             : is_mesh(*ob) ? "a mesh cannot be defined as an object: mesh blocks already share their model"
+                                            : "an instance cannot be defined as an object: define the object itself");
+            skip_rest_of_block();
+            return;
+        }
+        auto obj = std::make_shared<Object>();
+        const bool ok = object(*obj);
+        const Token& close = lex_.peek();
+        if (!close.is('}')) {
+            error(close, "expected '}' after the object defined as " + quote(name.text) + " (it holds exactly one object), got " +
+                             got(close));
+            skip_rest_of_block();
+            return;
+        }
+        lex_.next();
+        if (!ok) return;
+        const std::string key(name.text);
+        if (shared_->objects.count(key) || shared_->materials.count(key)) {
+            error(name, (shared_->objects.count(key) ? "object " : "the name ") + quote(key) +
+                            (shared_->objects.count(key) ? " is defined twice" : " is already a material's"));
+            return;
+        }
+        shared_->objects.emplace(key, int(out_.scene.defined.size()));
+        out_.scene.defined.push_back({key, std::move(obj), 0, loc_of(name.offset)});
+    }
+
+    // An instance's object name, resolved; its material is the definition's unless it
+    // gives one.
+    bool resolve_instance(Object& obj, std::size_t at) {
+        Instance& in = std::get<Instance>(obj.shape);
+        auto it = shared_->objects.find(in.object);
+        if (it == shared_->objects.end()) {
+            error_at(at, shared_->materials.count(in.object)
+                             ? quote(in.object) + " is a material, not an object"
+                             : "unknown object " + quote(in.object) +
+                                   " (an object is defined before its first use: define { object " + in.object +
+                                   " { ... } })");
+            return false;
+        }
+        in.defined = out_.scene.defined[std::size_t(it->second)].object;
+        if (!obj.has_material) obj.material = in.defined->material;
+        return true;
+    }
 
     // `include "FILE"`: the file's definitions, things, planes and lights, read here.
     void include(const Token& kw) {
@@ -789,7 +846,7 @@ private:
         }
         Scene& scene = out_.scene;
         const std::size_t objects0 = scene.objects.size(), planes0 = scene.planes.size(), lights0 = scene.lights.size(),
-                          materials0 = scene.materials.size();
+                          materials0 = scene.materials.size(), defined0 = scene.defined.size();
         ParseOptions child_opt = opt_;
         child_opt.base_dir = folder_of(path);
         child_opt.progress = nullptr;
@@ -821,6 +878,7 @@ private:
         for (std::size_t k = planes0; k < scene.planes.size(); ++k) scene.planes[k].origin = origin;
         for (std::size_t k = lights0; k < scene.lights.size(); ++k) scene.lights[k].origin = origin;
         for (std::size_t k = materials0; k < scene.materials.size(); ++k) scene.materials[k].origin = origin;
+        for (std::size_t k = defined0; k < scene.defined.size(); ++k) scene.defined[k].origin = origin;
         Include inc;
         inc.file = name;
         inc.loc = at;
@@ -828,10 +886,12 @@ private:
         inc.planes = planes0 - included_.planes;
         inc.lights = lights0 - included_.lights;
         inc.materials = materials0 - included_.materials;
+        inc.defined = defined0 - included_.defined;
         included_.objects += scene.objects.size() - objects0;
         included_.planes += scene.planes.size() - planes0;
         included_.lights += scene.lights.size() - lights0;
         included_.materials += scene.materials.size() - materials0;
+        included_.defined += scene.defined.size() - defined0;
         scene.includes.push_back(std::move(inc));
     }
 
@@ -994,8 +1054,9 @@ private:
     }
 
     bool object_body(const sc::Block<Object>& b, const Token& t, Object& obj) {
-        // Models are read by the main reading only (a helper would read them again).
-        if (piece_ && is_mesh(b)) throw Bail{};
+        // Models are read by the main reading only (a helper would read them again), and
+        // only it knows the definitions.
+        if (piece_ && (is_mesh(b) || sc::same_word(b.name, "instance"))) throw Bail{};
         count_object(t);
         const bool nests = std::any_of(b.keys.begin(), b.keys.end(),
                                        [](const sc::Key<Object>& k) { return k.kind == sc::Kind::Operand; });
@@ -1012,6 +1073,10 @@ private:
         const int errors_before = errors_;
         read_block(b, obj, st);
         finish(b, obj, st, t.offset, [&] { return obj.loc; });
+        if (std::holds_alternative<Instance>(obj.shape) && errors_ == errors_before) {
+            const std::size_t at = st.value_at[key_index(b, *b.find("object"))];
+            if (!resolve_instance(obj, at != kNone ? at : t.offset)) st.bad = true;
+        }
         if (Mesh* m = std::get_if<Mesh>(&obj.shape); m && errors_ == errors_before) {
             const std::size_t at = st.value_at[key_index(b, *b.find("file"))];
             read_model(*m, at != kNone ? at : t.offset);
@@ -1065,6 +1130,13 @@ private:
             return true;
         }
         const sc::Block<Object>* ob = sc::object_block(first.text);
+        if (ob && sc::same_word(ob->name, "instance")) {
+            error(first, "an instance cannot be a CSG operand: define the whole CSG as an object and place that");
+            skip_rest_of_block();
+            st.bad = true;
+            st.given |= 1u << index;
+            return true;
+        }
         if (!ob || is_mesh(*ob)) {
             error(first, ob ? "a mesh cannot be a CSG operand: CSG combines solids (" + csg_operands() + ")"
                             : "unknown object " + got(first) + " in CSG " + side + " operand (expected " +
@@ -1096,7 +1168,7 @@ private:
     static std::string csg_operands() {
         std::string out;
         for (const sc::Block<Object>& b : sc::object_blocks())
-            if (!is_mesh(b)) out += (out.empty() ? "" : ", ") + std::string(b.name);
+            if (!is_mesh(b) && !sc::same_word(b.name, "instance")) out += (out.empty() ? "" : ", ") + std::string(b.name);
         return out;
     }
     static bool is_mesh(const sc::Block<Object>& b) { return sc::same_word(b.name, "mesh"); }
@@ -1131,6 +1203,7 @@ private:
     // What the reading of a scene file and of the files it includes share.
     struct Shared {
         std::map<std::string, int, std::less<>> materials;  // name -> index in Scene::materials
+        std::map<std::string, int, std::less<>> objects;    // name -> index in Scene::defined
         std::vector<std::string> material_files;  // the file of each definition ("": the scene's)
         std::vector<std::string> stack, stack_names;  // the included files being read (device:inode, name)
         std::string scene_id;  // the scene file's device:inode, when known

@@ -184,6 +184,19 @@ Block<Object> cone() {
             }};
 }
 
+Block<Object> instance() {
+    Key<Object> object{"object", Kind::File, {}};
+    object.access.text = [](Object& o, int) -> std::string& { return shape<Instance>(o).object; };
+    object.placeholder = "NAME";
+    object.bare = true;
+    object.lead = true;
+    return {"instance", {object, object_material()}, [] { return object_of(Instance{}); },
+            [](const Object& o) {
+                return std::get<Instance>(o.shape).object.empty() ? error("instance needs an 'object' (the name of a defined object)")
+                                                                   : Problem{};
+            }};
+}
+
 const Choice kCsgType{{{"U", int(CsgType::Union)}, {"I", int(CsgType::Intersection)}, {"C", int(CsgType::Difference)}},
                       -1,
                       "U, I or C",
@@ -416,7 +429,7 @@ bool Choice::find(std::string_view word, int& value) const {
 const std::vector<Block<Object>>& object_blocks() {
     static const std::vector<Block<Object>> blocks = {placed(sphere()), placed(tetrahedron()), placed(cylinder()),
                                                                  placed(torus()),  placed(box()),         placed(cone()),
-                                                                 placed(csg()),    mesh()};
+                                                                 placed(csg()),    mesh(),                placed(instance())};
     return blocks;
 }
 
@@ -428,7 +441,7 @@ const Block<Object>* object_block(std::string_view name) {
 
 // The block of each of the variant's alternatives (the solids first in the lists).
 const Block<Object>& object_block(const Object& o) {
-    static constexpr std::size_t kBlock[] = {0, 1, 2, 3, 6, 7, 4, 5};  // Csg, Mesh, Box, Cone
+    static constexpr std::size_t kBlock[] = {0, 1, 2, 3, 6, 7, 4, 5, 8};  // Csg, Mesh, Box, Cone, Instance
     static_assert(std::size(kBlock) == std::variant_size_v<Shape>, "a block for each shape");
     return object_blocks()[kBlock[o.shape.index()]];
 }

@@ -88,6 +88,7 @@ struct Key {
     bool optional = false;          // New: written only where it differs from its default, so
                                     // that a 2013 scene is written as it always was
     const char* placeholder = nullptr;  // File: the name the format reference shows
+    bool bare = false;              // File: a name, written without quotes
     const char* default_text = nullptr;  // a default that no value spells (the reference says it)
 
     // Read access for const items (the accessors are shared with writing).

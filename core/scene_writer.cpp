@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -112,7 +113,7 @@ public:
             const Vec3 v = k.vec3(t, i);
             return s + " " + (k.one_or_three && v.x == v.y && v.y == v.z ? num(v.x) : vec(v));
         }
-        case sc::Kind::File: return s + " \"" + k.text(t, i) + "\"";
+        case sc::Kind::File: return s + (k.bare ? " " + k.text(t, i) : " \"" + k.text(t, i) + "\"");
         case sc::Kind::Integer: return s + " " + std::to_string(k.integer(t, i));
         case sc::Kind::Choice: return s + " " + std::string(k.choice->word_for(k.access.get_choice(t)));
         case sc::Kind::Material: return s + " " + material_body(k.material(t, i));
@@ -188,6 +189,7 @@ std::string block_line(const sc::Block<T>& b) {
                 s += gap;
                 if (k.kind == sc::Kind::Material) s += std::string(k.name) + index + " {...}";
                 else if (k.kind == sc::Kind::Operand) s += std::string(k.name) + " { OBJECT }";
+                else if (k.kind == sc::Kind::File && k.bare) s += std::string(k.name) + " " + k.placeholder;
                 else if (k.kind == sc::Kind::File) s += std::string(k.name) + " \"" + k.placeholder + "\"";
                 else s += Writer::simple_value(k, item, i);
             }
@@ -277,6 +279,29 @@ std::string write_camera(const Camera& camera) {
     return w.out;
 }
 
+namespace {
+// An instance as an object of its own, for a flattened scene: its definition with the
+// instance's transform and material; a definition with a transform of its own goes
+// inside a CSG that carries the instance's (both operands the definition: the same
+// solid), so that the two apply in their order.
+Object expanded(const Object& o) {
+    const Instance& in = std::get<Instance>(o.shape);
+    Object out;
+    if (!in.defined->transform.set()) {
+        out = *in.defined;
+    } else {
+        Csg c;
+        c.type = CsgType::Intersection;
+        c.operands = {*in.defined, *in.defined};
+        out.shape = std::move(c);
+    }
+    out.material = o.material;
+    out.has_material = true;
+    out.transform = o.transform;
+    return out;
+}
+}  // namespace
+
 std::string write_scene(const Scene& scene, bool flatten) {
     Writer w;
     if (!flatten) w.scene = &scene;
@@ -290,13 +315,22 @@ std::string write_scene(const Scene& scene, bool flatten) {
             if (own && item.origin != 0) continue;
             if (k >= from && k < to) {
                 if (!open) w.line(0, std::string(s.name) + " {"), open = true;
-                w.item(1, block_of(item), item);
+                bool done = false;
+                if constexpr (std::is_same_v<std::decay_t<decltype(item)>, Object>) {
+                    if (!own && std::holds_alternative<Instance>(item.shape) && std::get<Instance>(item.shape).defined) {
+                        const Object x = expanded(item);
+                        w.item(1, block_of(x), x);
+                        done = true;
+                    }
+                }
+                if (!done) w.item(1, block_of(item), item);
             }
             ++k;
         }
         if (open) w.line(0, "}");
     };
-    auto definitions = [&w, &scene, flatten](std::size_t from, std::size_t to) {
+    auto definitions = [&w, &scene, flatten](std::size_t from, std::size_t to, std::size_t objects_from,
+                                             std::size_t objects_to) {
         if (flatten) return;
         std::size_t k = 0;
         bool open = false;
@@ -305,6 +339,17 @@ std::string write_scene(const Scene& scene, bool flatten) {
             if (k >= from && k < to) {
                 if (!open) w.line(0, "define {"), open = true;
                 w.line(1, "material " + m.name + " " + write_material(m.material));
+            }
+            ++k;
+        }
+        k = 0;
+        for (const NamedObject& d : scene.defined) {
+            if (d.origin != 0 || !d.object) continue;
+            if (k >= objects_from && k < objects_to) {
+                if (!open) w.line(0, "define {"), open = true;
+                w.line(1, "object " + d.name + " {");
+                w.item(2, sc::object_block(*d.object), *d.object);
+                w.line(1, "}");
             }
             ++k;
         }
@@ -317,7 +362,7 @@ std::string write_scene(const Scene& scene, bool flatten) {
         const bool last = p + 1 == parts;
         const Include& at = last ? Include{} : scene.includes[p];
         const bool own = !flatten;
-        definitions(before.materials, last ? all : at.materials);
+        definitions(before.materials, last ? all : at.materials, before.defined, last ? all : at.defined);
         for (const sc::Section& s : sc::sections()) {
             switch (s.kind) {
             case sc::SectionKind::Things:

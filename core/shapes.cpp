@@ -276,6 +276,7 @@ void Geometry::leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& ou
             }
             return;
         }
+        case NodeKind::Instance:  // (spans() has them: they are never operands)
         case NodeKind::Csg:
         case NodeKind::Mesh: return;
     }
@@ -292,6 +293,7 @@ inline void Geometry::one_span(const Node& node, std::uint32_t n, const Vec3& o,
         case NodeKind::Cone: cone_spans(cones[node.index], n, o, d, out); return;
         case NodeKind::Torus:
         case NodeKind::Xform:
+        case NodeKind::Instance:
         case NodeKind::Csg:
         case NodeKind::Mesh: return;
     }
@@ -299,7 +301,9 @@ inline void Geometry::one_span(const Node& node, std::uint32_t n, const Vec3& o,
 
 // Whether a node's solid gives at most one span (not a torus, which may give two; nor
 // a placed primitive, which may be a torus; nor a CSG).
-inline bool one_span_kind(NodeKind k) { return k != NodeKind::Torus && k != NodeKind::Xform && k != NodeKind::Csg; }
+inline bool one_span_kind(NodeKind k) {
+    return k != NodeKind::Torus && k != NodeKind::Xform && k != NodeKind::Csg && k != NodeKind::Instance;
+}
 
 // A CSG of two primitives (l, r: its operands' nodes) neither of them a torus: one span
 // a side, and no lists to walk.
@@ -336,6 +340,21 @@ void Geometry::spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<
         case NodeKind::Cone:
         case NodeKind::Xform:
         case NodeKind::Mesh: leaf_spans(n, o, d, out); return;
+        case NodeKind::Instance: {
+            // The definition's spans along the line in its space (t there is t here
+            // times the direction's length there).
+            const InstanceG& x = instances[node.index];
+            Vec3 ld = x.inst.to_model(d);
+            const double len = length(ld);
+            ld = ld / len;
+            std::vector<Span>& a = scratch.at(2 * depth);
+            spans(x.root, x.inst.point_to_model(o), ld, a, scratch, depth + 1);
+            for (Span sp : a) {
+                sp.in.t /= len, sp.out.t /= len;
+                out.push_back(sp);
+            }
+            return;
+        }
         case NodeKind::Csg: {
             const CsgG& c = csgs[node.index];
             std::vector<Span>& a = scratch.at(2 * depth);
@@ -391,6 +410,7 @@ Vec3 Geometry::normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const {
             const XformG& x = xforms[node.index];
             return normalize(x.inst.normal_to_world(normal(x.child, face, x.inst.point_to_model(p))));
         }
+        case NodeKind::Instance:
         case NodeKind::Csg:
         case NodeKind::Mesh: break;
     }
@@ -400,6 +420,11 @@ Vec3 Geometry::normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const {
 Vec3 Geometry::surface_normal(std::uint32_t obj, const SpanEnd& e, const Vec3& p) const {
     const Node& node = nodes[object_node[obj]];
     if (node.kind == NodeKind::Mesh) return mesh_normal(meshes[node.index], e, p);
+    if (node.kind == NodeKind::Instance) {
+        const InstanceG& x = instances[node.index];
+        Vec3 n = normalize(x.inst.normal_to_world(normal(e.node, e.face, x.inst.point_to_model(p))));
+        return e.flip ? -n : n;
+    }
     Vec3 n = normal(e.node, e.face, p);
     if (e.flip) n = -n;
     return n;
@@ -506,6 +531,10 @@ Aabb Geometry::bounds(std::uint32_t n) const {
             b.grow(e2 + u * s.r2);
             return b;
         }
+        case NodeKind::Instance: {
+            const InstanceG& x = instances[node.index];
+            return x.inst.world_bounds(bounds(x.root));
+        }
         case NodeKind::Xform: {
             const XformG& x = xforms[node.index];
             const Node& child = nodes[x.child];
@@ -562,9 +591,9 @@ template <class Sink>
 [[gnu::noinline]] bool Geometry::first_end(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, Sink&& sink) const {
     std::uint32_t n = object_node[obj];
     const Node& node = nodes[n];
-    if (node.kind != NodeKind::Csg) {
+    if (node.kind != NodeKind::Csg && node.kind != NodeKind::Instance) {
         leaf_spans(n, o, d, sink);
-    } else if (csgs[node.index].simple) {
+    } else if (node.kind == NodeKind::Csg && csgs[node.index].simple) {
         // Both operands primitives: no lists on the heap.
         simple_csg_spans(csgs[node.index], o, d, sink);
     } else {
@@ -697,9 +726,37 @@ MeshInstance compose(const MeshInstance& a, const MeshInstance& b) {
     return out;
 }
 
+// The root node of each definition built so far (each once, however many placements).
+using Definitions = std::vector<std::pair<const Object*, std::uint32_t>>;
+
 // `placed`: the transform of the CSGs around obj, composed (null: none).
-std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* placed = nullptr) {
+std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* placed = nullptr, Definitions* defs = nullptr) {
     std::uint32_t id = std::uint32_t(g.nodes.size());
+    if (const Instance* in = std::get_if<Instance>(&obj.shape)) {
+        const Transform& t = obj.transform.get();
+        InstanceG x;
+        x.inst = MeshInstance::make(t.translate, t.scale, t.rotation);
+        g.nodes.push_back({NodeKind::Instance, std::uint32_t(g.instances.size())});
+        g.instances.push_back(x);
+        if (!in->defined) {
+            // (Not resolved: nothing to show. A sphere of radius 0 is never hit.)
+            g.instances.write(g.instances.size() - 1).root = std::uint32_t(g.nodes.size());
+            g.nodes.push_back({NodeKind::Sphere, std::uint32_t(g.spheres.size())});
+            g.spheres.push_back({{0, 0, 0}, 0, 0});
+            return id;
+        }
+        std::uint32_t root = 0;
+        bool found = false;
+        if (defs)
+            for (const auto& d : *defs)
+                if (d.first == in->defined.get()) root = d.second, found = true;
+        if (!found) {
+            root = add_node(g, *in->defined, nullptr, defs);
+            if (defs) defs->push_back({in->defined.get(), root});
+        }
+        g.instances.write(g.instances.size() - 1).root = root;
+        return id;
+    }
     MeshInstance own;
     if (obj.transform.set() && !std::holds_alternative<Mesh>(obj.shape)) {
         const Transform& t = obj.transform.get();
@@ -755,6 +812,8 @@ std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* place
             } else if constexpr (std::is_same_v<T, Mesh>) {
                 g.nodes.push_back({NodeKind::Mesh, std::uint32_t(g.meshes.size())});
                 g.meshes.push_back(mesh_g(s, obj));
+            } else if constexpr (std::is_same_v<T, Instance>) {
+                // (handled above)
             } else {
                 g.nodes.push_back({NodeKind::Csg, std::uint32_t(g.csgs.size())});
                 std::uint32_t ci = std::uint32_t(g.csgs.size());
@@ -806,8 +865,9 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
     g.object_bounds.reserve(n);
     // Each object's box is made while its shape record is still in the cache (a pass
     // of its own would read a million spheres' records and nodes again).
-    auto add = [&g](const Object& obj) {
-        const std::uint32_t node = add_node(g, obj);
+    Definitions defs;
+    auto add = [&g, &defs](const Object& obj) {
+        const std::uint32_t node = add_node(g, obj, nullptr, &defs);
         g.object_node.push_back(node);
         g.object_bounds.push_back(g.bounds(node));
     };
@@ -840,12 +900,12 @@ bool same_shapes(const Geometry& a, const Geometry& b) {
     static_assert(sizeof(SphereG) == 5 * sizeof(double) && sizeof(TetraG) == 16 * sizeof(double) &&
                       sizeof(CylinderG) == 8 * sizeof(double) && sizeof(TorusG) == 14 * sizeof(double) &&
                       sizeof(BoxG) == 6 * sizeof(double) && sizeof(ConeG) == 10 * sizeof(double) &&
-                      sizeof(XformG) == 22 * sizeof(double) &&
+                      sizeof(XformG) == 22 * sizeof(double) && sizeof(InstanceG) == 22 * sizeof(double) &&
                       sizeof(Aabb) == 6 * sizeof(double),
                   "shape records are plain doubles");
     if (!same_bits(a.spheres, b.spheres) || !same_bits(a.tetras, b.tetras) || !same_bits(a.cylinders, b.cylinders) ||
         !same_bits(a.tori, b.tori) || !same_bits(a.boxes, b.boxes) || !same_bits(a.cones, b.cones) ||
-        !same_bits(a.xforms, b.xforms) ||
+        !same_bits(a.xforms, b.xforms) || !same_bits(a.instances, b.instances) ||
         !same_bits(a.object_node, b.object_node) ||
         !same_bits(a.object_bounds, b.object_bounds) || a.sphere_prefix != b.sphere_prefix)
         return false;

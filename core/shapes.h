@@ -19,7 +19,7 @@ namespace rt {
 // 1.5e-5 world units: the original's surface tolerance.
 constexpr double kDelta = 1.5e-5;
 
-enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg, Mesh, Box, Cone, Xform };
+enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg, Mesh, Box, Cone, Xform, Instance };
 
 struct SphereG {
     Vec3 c;
@@ -57,6 +57,15 @@ struct XformG {
     MeshInstance inst;  // object -> world (l, position) and world -> object (m)
     std::uint32_t child = 0;
     std::uint32_t unused = 0;  // (no padding of unknown bytes: records compare by memcmp)
+};
+// A placement of a defined object (a top-level object only): the definition's nodes,
+// built once for every placement in its own space from `root`, seen through `inst`.
+// The span ends it reports name the definition's nodes, so their normals are taken
+// back by the object's (Geometry::surface_normal).
+struct InstanceG {
+    MeshInstance inst;
+    std::uint32_t root = 0;
+    std::uint32_t unused = 0;
 };
 struct CsgG {
     CsgType type;
@@ -118,6 +127,7 @@ struct Geometry {
     Chunked<BoxG> boxes;
     Chunked<ConeG> cones;
     Chunked<XformG> xforms;
+    Chunked<InstanceG> instances;
     Shared<CsgG> csgs;
     Shared<MeshG> meshes;  // instances of models (their triangles shared, not copied)
     Shared<Node> nodes;

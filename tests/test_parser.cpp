@@ -476,5 +476,5 @@ TEST_CASE("errors: an unknown key in each block names exactly that block's keys"
           "unknown section 'scenery' (expected include, define, thing, special_thing, light, camera, picture_size or end)");
     auto object = parse_with_camera("thing { cube { } }");
     CHECK(first_error(object).message ==
-          "unknown object 'cube' (expected sphere, tetrahedron, cylinder, torus, box, cone, constructive_solid_geometry, mesh)");
+          "unknown object 'cube' (expected sphere, tetrahedron, cylinder, torus, box, cone, constructive_solid_geometry, mesh, instance)");
 }

@@ -94,12 +94,12 @@ TEST_CASE("named materials: use before definition, two definitions, bad names ar
           "2:19: material 'a' is defined twice (first at line 1, column 19)");
     CHECK(first_error("define { material 9lives { } }\n") ==
           "1:19: expected a name after 'material' (a letter or '_', then letters, digits and '_'), got '9lives'");
-    CHECK(first_error("define { sphere ball { } }\n") == "1:10: unknown definition 'sphere' (expected material)");
+    CHECK(first_error("define { sphere ball { } }\n") == "1:10: unknown definition 'sphere' (expected material or object)");
     CHECK(first_error("define { material m { colour 1 } }\n") == "1:32: expected 3 numbers after 'colour', got '}'");
     // A material name where an object belongs is no object.
     CHECK(first_error("define { material m { } }\nthing { m { } }\n") ==
           "2:9: unknown object 'm' (expected sphere, tetrahedron, cylinder, torus, box, cone, "
-          "constructive_solid_geometry, mesh)");
+          "constructive_solid_geometry, mesh, instance)");
     CHECK(first_error("define { material m { } }\nthing { sphere { material m } }\n") == "no error");
 }
 
@@ -199,4 +199,101 @@ TEST_CASE("include: missing files, folders, devices, itself, a cycle of three an
     const ParseResult ok = parse_in(dir, "include \"n1.txt\"\n" + kTail);
     CHECK_MESSAGE(ok.ok(), errors_of(ok));
     CHECK(ok.scene.objects.size() == 1);
+}
+
+#include "renderer.h"
+#include "shapes.h"
+#include "world.h"
+
+namespace {
+Image render_text(const std::string& text) {
+    Renderer r(2);
+    r.start(compile_world(parse_ok(text)), RenderSettings{});
+    r.wait();
+    return r.snapshot();
+}
+const std::string kLit = R"(
+special_thing { plane { material { colour 0.6 0.6 0.6 } point 1 0 0 0  point 2 1 0 0  point 3 0 1 0  point 4 0 0 1 } }
+light { lamp { position 2 3 6  colour 50 50 50  size 0.2 } }
+camera { position 0 -1 2.5  centre 5 0 0.8  up 5 0 1.8  angle_x 50  angle_y 40 }
+picture_size { x_max 96 y_max 72 }
+end
+)";
+const std::string kCsg =
+    "constructive_solid_geometry { type C left { box { corner_1 -0.5 -0.5 0 corner_2 0.5 0.5 1 } } "
+    "right { sphere { position 0.5 0.5 1 radius 0.45 scale 1 1 0.5 } } material { colour 0.9 0.5 0.2 } ";
+}  // namespace
+
+TEST_CASE("instances: a defined object placed twice renders as the two objects written out") {
+    const std::string placed = "define { object block { " + kCsg + "} } }\nthing {\n"
+                               " instance { object block  translate 5 -1 0 }\n"
+                               " instance { object block  rotation 0 0 90  scale 1.2  translate 5.5 1 0 }\n}\n";
+    const std::string written = "thing {\n " + kCsg + " translate 5 -1 0 }\n " + kCsg +
+                                " rotation 0 0 90  scale 1.2  translate 5.5 1 0 }\n}\n";
+    const Image a = render_text(placed + kLit), b = render_text(written + kLit);
+    REQUIRE(a.rgb.size() == b.rgb.size());
+    int differ = 0, lit = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); i += 3) {
+        double d = 0;
+        for (int c = 0; c < 3; ++c) d = std::max(d, double(std::fabs(a.rgb[i + c] - b.rgb[i + c])));
+        differ += d > 1e-4;
+        lit += a.rgb[i] > 0.3f && a.rgb[i + 2] < 0.3f;  // the orange blocks
+    }
+    CHECK(differ <= 3);
+    CHECK(lit > 300);
+    // Both placements share the definition's nodes: one copy, however many placements.
+    std::string many = "define { object block { " + kCsg + "} } }\nthing {\n";
+    for (int i = 0; i < 100; ++i) many += " instance { object block  translate " + std::to_string(i) + " 0 0 }\n";
+    const Geometry g = build_geometry(parse_ok(many + "}\n" + kLit));
+    CHECK(g.nodes.size() == 100 + 4);  // a placement each; once: the CSG, the box, the scaled sphere's placement and the sphere
+    CHECK(g.boxes.size() == 1);
+    CHECK(g.object_bounds[99].lo.x == doctest::Approx(99 - 0.5).epsilon(1e-9));
+}
+
+TEST_CASE("instances: written back by name, flattened as copies that render the same") {
+    const std::string text = "define { material m { colour 0.2 0.8 0.3 } object block { " + kCsg +
+                             "rotation 0 0 10 } } object ball { sphere { radius 0.5 } } }\nthing {\n"
+                             " instance { object block  translate 5 -1 0 }\n"
+                             " instance { object ball  material m  scale 1 1 2  translate 5 1 0.5 }\n}\n" + kLit;
+    const Scene s = parse_ok(text);
+    REQUIRE(s.defined.size() == 2);
+    const std::string back = write_scene(s);
+    CHECK(contains(back, "define {\n  material m {"));
+    CHECK(contains(back, "  object block {\n    constructive_solid_geometry {\n"));
+    CHECK(contains(back, "  instance {\n    object ball\n    material m\n    scale 1 1 2\n    translate 5 1 0.5\n  }\n"));
+    CHECK(parse_ok(back) == s);
+    const std::string flat = write_scene(s, true);
+    CHECK_FALSE(contains(flat, "instance"));
+    CHECK_FALSE(contains(flat, "define"));
+    const Image a = render_text(text), b = render_text(flat);
+    int differ = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) differ += std::fabs(a.rgb[i] - b.rgb[i]) > 1e-4f;
+    CHECK(differ <= 6);
+}
+
+TEST_CASE("instances: unknown names, a material's name, CSG operands, meshes and instances in definitions are errors") {
+    auto first_error = [](const std::string& body) {
+        const ParseResult r = parse_scene(body + kTail);
+        for (const Diagnostic& d : r.diagnostics)
+            if (d.is_error()) return std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message;
+        return std::string("no error");
+    };
+    CHECK(first_error("thing { instance { object chair } }\n") ==
+          "1:27: unknown object 'chair' (an object is defined before its first use: define { object chair { ... } })");
+    CHECK(first_error("define { material gold { } }\nthing { instance { object gold } }\n") ==
+          "2:27: 'gold' is a material, not an object");
+    CHECK(first_error("define { object a { sphere { } } }\nthing { constructive_solid_geometry { left { instance { object a } } "
+                      "right { sphere { } } } }\n") ==
+          "2:46: an instance cannot be a CSG operand: define the whole CSG as an object and place that");
+    CHECK(first_error("define { object m { mesh { file a.obj } } }\n") ==
+          "1:21: a mesh cannot be defined as an object: mesh blocks already share their model");
+    CHECK(first_error("define { object a { sphere { } } object b { instance { object a } } }\n") ==
+          "1:45: an instance cannot be defined as an object: define the object itself");
+    CHECK(first_error("define { object a { sphere { } } object a { box { } } }\n") == "1:41: object 'a' is defined twice");
+    CHECK(first_error("define { object a { sphere { } } material a { } }\n") == "1:43: the name 'a' is already an object's");
+    CHECK(first_error("define { object a { sphere { } sphere { } } }\n") ==
+          "1:32: expected '}' after the object defined as 'a' (it holds exactly one object), got 'sphere'");
+    CHECK(first_error("thing { instance { } }\n") == "1:9: instance needs an 'object' (the name of a defined object)");
+    CHECK(first_error("define { object a { sphere { radius 2 } } }\nthing { instance { object a scale 0 } }\n") ==
+          "2:35: scale must be 1e-9 .. 1e9 on every axis (0 and negative scales, mirrors, are refused)");
 }

@@ -237,6 +237,8 @@ inline void translate(rt::Object& o, const rt::Vec3& d) {
                 x.corner1 = x.corner1 + d, x.corner2 = x.corner2 + d;
             else if constexpr (std::is_same_v<T, rt::Tetrahedron>)
                 for (rt::Vec3& v : x.v) v = v + d;
+            else if constexpr (std::is_same_v<T, rt::Instance>)
+                o.transform.edit().translate = o.transform.get().translate + d;
             else
                 for (rt::Object& op : x.operands) translate(op, d);
         },

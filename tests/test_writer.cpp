@@ -564,7 +564,17 @@ TEST_CASE("round trip: every key the schema lists, changed one at a time, is wri
                     if (auto* m = std::get_if<Mesh>(&item.shape)) m->file = "models/a b.obj";  // none by default
                 }
                 change_key(k, item, i, 0.375);
-                Scene s = parse_ok(kCamera + "picture_size { x_max 4 y_max 4 }\nend\n");
+                // Two defined objects for an instance to name (its name changed: the other).
+                Scene s = parse_ok("define { object ball { sphere { radius 2 } } object crate { box { } } }\n" + kCamera +
+                                   "picture_size { x_max 4 y_max 4 }\nend\n");
+                if constexpr (std::is_same_v<decltype(item), Object>) {
+                    if (auto* in = std::get_if<Instance>(&item.shape)) {
+                        const int d = k.name == "object" ? 1 : 0;
+                        in->object = s.defined[std::size_t(d)].name;
+                        in->defined = s.defined[std::size_t(d)].object;
+                        if (!item.has_material) item.material = in->defined->material;
+                    }
+                }
                 get_list(s).push_back(item);
                 const std::string text = write_scene(s);
                 CHECK(text.find(section + " {") != std::string::npos);
@@ -587,7 +597,7 @@ TEST_CASE("round trip: every key the schema lists, changed one at a time, is wri
     for (const auto& b : schema::light_blocks())
         check_item("light", std::string(b.name), b.make, b, [](Scene& s) -> std::vector<Light>& { return s.lights; });
     // sphere ... box, cone, CSG (each with rotation, scale, translate), mesh (translate) ... spotlight
-    CHECK(keys == (3 + 5 + 4 + 5 + 3 + 5 + 4) + 7 * 3 + 6 + 1 + (4 + 1) + (4 + 2) + 4 + 3);
+    CHECK(keys == (3 + 5 + 4 + 5 + 3 + 5 + 4) + 7 * 3 + 6 + 1 + 2 + 3 + (4 + 1) + (4 + 2) + 4 + 3);  // (instance: 2 + 3)
 
     // Camera, picture size and material keys through whole scenes.
     for (const auto& k : schema::camera_block().keys) {
@@ -653,7 +663,9 @@ void blocks_read_back(const std::string& ref, const std::string& frame, const ch
                 const bool there = rt_test::contains(line, "  " + key) || rt_test::contains(line, "{ " + key);
                 CHECK_MESSAGE(there, "key " << key);
             }
-        const std::string text = std::string(section) + " {\n" + spelled(line, material) + "\n}\n" + frame;
+        // (An instance's line names an object, defined here.)
+        const std::string define = rt_test::contains(line, "object NAME") ? "define { object NAME { sphere { } } }\n" : "";
+        const std::string text = define + std::string(section) + " {\n" + spelled(line, material) + "\n}\n" + frame;
         const ParseResult r = parse_scene(text, rt_test::options_for(RT_SOURCE_DIR "/tests/models"));
         T want = b.make();
         for (const schema::Key<T>& k : b.keys)

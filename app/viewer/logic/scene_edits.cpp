@@ -64,6 +64,8 @@ void grow(rt::Aabb& b, const rt::Object& o) {
             } else if constexpr (std::is_same_v<T, rt::Box>) {
                 grow(b, s.corner1);
                 grow(b, s.corner2);
+            } else if constexpr (std::is_same_v<T, rt::Instance>) {
+                grow(b, o.transform.get().translate);
             } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
                 for (const Vec3& v : s.v) grow(b, v);
             } else if constexpr (std::is_same_v<T, rt::Torus>) {
@@ -282,6 +284,8 @@ void translate(rt::Object& o, Vec3 d) {
             } else if constexpr (std::is_same_v<T, rt::Box>) {
                 move_point(s.corner1, d);
                 move_point(s.corner2, d);
+            } else if constexpr (std::is_same_v<T, rt::Instance>) {
+                move_point(o.transform.edit().translate, d);
             } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
                 for (Vec3& v : s.v) move_point(v, d);
             } else {
