@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 
 #include "csg.h"
 #include "model.h"
@@ -726,8 +727,13 @@ MeshInstance compose(const MeshInstance& a, const MeshInstance& b) {
     return out;
 }
 
-// The root node of each definition built so far (each once, however many placements).
-using Definitions = std::vector<std::pair<const Object*, std::uint32_t>>;
+// Each definition built so far (each once, however many placements): its root node
+// and that node's box in the definition's own space.
+struct Definition {
+    std::uint32_t root;
+    Aabb box;
+};
+using Definitions = std::unordered_map<const Object*, Definition>;
 
 // `placed`: the transform of the CSGs around obj, composed (null: none).
 std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* placed = nullptr, Definitions* defs = nullptr) {
@@ -748,11 +754,10 @@ std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* place
         std::uint32_t root = 0;
         bool found = false;
         if (defs)
-            for (const auto& d : *defs)
-                if (d.first == in->defined.get()) root = d.second, found = true;
+            if (auto it = defs->find(in->defined.get()); it != defs->end()) root = it->second.root, found = true;
         if (!found) {
             root = add_node(g, *in->defined, nullptr, defs);
-            if (defs) defs->push_back({in->defined.get(), root});
+            if (defs) defs->emplace(in->defined.get(), Definition{root, g.bounds(root)});
         }
         g.instances.write(g.instances.size() - 1).root = root;
         return id;
@@ -869,6 +874,13 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
     auto add = [&g, &defs](const Object& obj) {
         const std::uint32_t node = add_node(g, obj, nullptr, &defs);
         g.object_node.push_back(node);
+        if (const Instance* in = std::get_if<Instance>(&obj.shape)) {
+            // (Its definition's box, made once: Geometry::bounds() without walking it again.)
+            if (auto it = defs.find(in->defined.get()); it != defs.end()) {
+                g.object_bounds.push_back(g.instances[g.nodes[node].index].inst.world_bounds(it->second.box));
+                return;
+            }
+        }
         g.object_bounds.push_back(g.bounds(node));
     };
     // The leading spheres: node i = object i = sphere i (Geometry::sphere_prefix).
