@@ -363,6 +363,15 @@ def material_defined_twice; case_material_defined_twice() { newdir "$FUNCNAME"; 
     run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "s.txt:1:37: error: material 'gold' is defined twice"; clean_checks; }
 def material_as_object; case_material_as_object() { newdir "$FUNCNAME"; with_head 'define { material gold { } } thing { gold { } }' > "$D/s.txt"
     run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "unknown object 'gold'"; clean_checks; }
+def instance_undefined; case_instance_undefined() { newdir "$FUNCNAME"; with_head 'thing { instance { object chair translate 5 0 0 } }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "s.txt:1:27: error: unknown object 'chair'"; clean_checks; }
+def instance_of_material; case_instance_of_material() { newdir "$FUNCNAME"; with_head 'define { material gold { } } thing { instance { object gold } }' > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "'gold' is a material, not an object"; clean_checks; }
+def instances_100k; case_instances_100k() { newdir "$FUNCNAME"
+    { echo 'define { object post { constructive_solid_geometry { left { cylinder { end_1 0 0 0 end_2 0 0 1 radius 0.1 } } right { cone { end_1 0 0 1 end_2 0 0 1.3 } } } } }'
+      awk 'BEGIN { print "thing {"; for (i = 0; i < 100000; i++) printf "instance { object post translate %d %d 0 scale 1 1 %d }\n", 5 + i % 300, i / 300 - 150, 1 + i % 3; print "}" }'
+      printf '%s\n' "$SCENE_OK" | tail -n +2; } > "$D/s.txt"
+    run 30 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; want_fast 10; clean_checks; }
 def include_missing; case_include_missing() { newdir "$FUNCNAME"; with_head 'include "nothing.txt"' > "$D/s.txt"
     run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "s.txt:1:1: error: cannot include 'nothing.txt': No such file"; clean_checks; }
 def include_folder; case_include_folder() { newdir "$FUNCNAME"; mkdir "$D/sub"; with_head 'include "sub"' > "$D/s.txt"
