@@ -127,6 +127,9 @@ public:
     Parser(std::string_view text, const ParseOptions& opt, ParseResult& out)
         : lex_(text), lines_(text), opt_(opt), out_(out) {
         if (opt_.progress) next_tick_ = 0;
+        struct stat st;
+        if (!opt_.scene_file.empty() && ::stat(opt_.scene_file.c_str(), &st) == 0)
+            own_shared_.scene_id = std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
     }
     // A helper reading `piece`.
     Parser(std::string_view text, const ParseOptions& opt, ParseResult& out, Piece& piece)
@@ -830,8 +833,8 @@ private:
         }
         const std::string id = std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
         if (std::find(shared_->stack.begin(), shared_->stack.end(), id) != shared_->stack.end() || id == shared_->scene_id) {
-            error_at(at, "include cycle: " + chain() + (chain().empty() ? "the scene" : "") + " includes " + shown +
-                             ", which is already being read");
+            error_at(at, "include cycle: " + (chain().empty() ? std::string("the scene") : chain()) + " includes " + shown +
+                             (id == shared_->scene_id ? ", the scene itself" : ", which is already being read"));
             return;
         }
         std::string text;
@@ -850,6 +853,7 @@ private:
         ParseOptions child_opt = opt_;
         child_opt.base_dir = folder_of(path);
         child_opt.progress = nullptr;
+        child_opt.scene_file.clear();  // (known already)
         Parser child(text, child_opt, out_);
         child.shared_ = shared_;
         child.file_ = shown;

@@ -70,6 +70,9 @@ struct ParseOptions {
     // The folder a mesh's `file` is relative to: the scene file's own ("" = the current
     // folder, for text that comes from no file).
     std::string base_dir;
+    // New: the scene file itself, when the text is read from one ("" = none): an include
+    // of it is then a cycle from the first include on.
+    std::string scene_file;
     // Where models are read and kept between parses (the viewer keeps one for its
     // document); null: read for this parse alone. Each file is read once per parse
     // however many meshes name it.

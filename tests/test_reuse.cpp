@@ -176,6 +176,14 @@ TEST_CASE("include: missing files, folders, devices, itself, a cycle of three an
     const std::string self = (dir / "self.txt").string();
     CHECK(error("include \"self.txt\"\n") == self + ":1:1: error: include cycle: " + self + " includes " + self +
                                                  ", which is already being read (included from scene.txt:1:1)\n");
+    // The scene file itself, when the parser knows it.
+    rt_test::put(dir / "scene.txt", "include \"scene.txt\"\n" + kTail);
+    ParseOptions named;
+    named.base_dir = dir.path.string();
+    named.scene_file = (dir / "scene.txt").string();
+    CHECK(errors_of(parse_scene(rt_test::slurp(dir / "scene.txt"), named)) ==
+          "scene.txt:1:1: error: include cycle: the scene includes " + (dir / "scene.txt").string() +
+              ", the scene itself\n");
     // A cycle of three: a -> b -> c -> a.
     rt_test::put(dir / "a.txt", "include \"b.txt\"\n");
     rt_test::put(dir / "b.txt", "include \"c.txt\"\n");

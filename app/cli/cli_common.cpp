@@ -255,6 +255,7 @@ rt::Status read_and_parse(const Program& program, const std::string& path, Text&
     rt::ParseOptions popts;
     popts.max_errors = kMaxShownDiagnostics;
     popts.base_dir = rt::folder_of(path);  // mesh files are named relative to the scene
+    popts.scene_file = path;              // (an include of the scene itself is a cycle)
     rt::ParseResult result = rt::parse_scene(view, popts);
     if (rt::Status st = result.status(path, kMaxShownDiagnostics); !st) return st;
     std::cerr << rt::diagnostics_report(path, result.diagnostics, kMaxShownDiagnostics);  // the warnings
