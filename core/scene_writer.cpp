@@ -256,7 +256,9 @@ std::string format_reference() {
         case sc::SectionKind::PictureSize: block(sc::picture_size_block(), ""); break;
         case sc::SectionKind::End: out += std::string(s.name) + "\n"; break;
         case sc::SectionKind::Include: out += std::string(s.name) + " \"FILE.txt\"\n"; break;
-        case sc::SectionKind::Define: out += std::string(s.name) + " {\n  material NAME {...}\n}\n"; break;
+        case sc::SectionKind::Define:
+            out += std::string(s.name) + " {\n  material NAME {...}\n  object NAME { OBJECT }\n}\n";
+            break;
         }
     }
     key_rules(sc::material_block(), required, rules);
