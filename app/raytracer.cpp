@@ -94,7 +94,7 @@ rt::Status settle_paths(const Options& opt, std::string& scene_path, std::string
     if (!opt.print_scene) {
         if (opt.positional.size() >= 2) {
             out_path = opt.positional[1];
-        } else if (!prompt("Output picture (.ppm or .png): ", out_path)) {
+        } else if (!prompt("Output picture (.ppm, .png, .pfm or .exr): ", out_path)) {
             return usage_error("no output file given");
         }
         if (out_path.empty()) return usage_error("no output file given");
@@ -106,13 +106,14 @@ rt::Status settle_paths(const Options& opt, std::string& scene_path, std::string
 struct Rendered {
     rt::RenderProgress progress;
     rt::ZeroedArray<std::uint8_t> pixels;
+    rt::Image film;  // for a float picture (.pfm, .exr): the film's values instead
     int width = 0, height = 0;
     int threads = 0;
 };
 
 // Phase 4: renders with the progress bar.
 rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene& scene, const Options& opt,
-           Rendered& out) {
+           bool floats, Rendered& out) {
     const rt::RenderSettings settings = render_settings(opt, scene.width, scene.height);
 
     rt::Renderer renderer(rt::process_pool());
@@ -130,7 +131,12 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
     out.threads = renderer.threads();
     // A render thread that ran out of memory ended the render: nothing is written.
     if (!out.progress.error.empty()) return failure(kProgram, out.progress.error, kExitUsage);
-    renderer.snapshot_rgb8(out.pixels, out.width, out.height);
+    if (floats) {
+        out.film = renderer.snapshot();
+        out.width = out.film.width, out.height = out.film.height;
+    } else {
+        renderer.snapshot_rgb8(out.pixels, out.width, out.height);
+    }
     if (out.width != scene.width || out.height != scene.height || out.progress.samples < 1)
         return failure(kProgram,
                        "internal error: the renderer returned a " + std::to_string(out.width) + "x" +
@@ -142,7 +148,9 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
 
 // Phase 5: writes OUT.
 rt::Status write_picture(const std::string& out_path, const Rendered& r) {
-    if (const rt::Status st = rt::write_rgb8(out_path, r.width, r.height, r.pixels.data(), r.pixels.size()); !st) {
+    const rt::Status st = r.film.rgb.empty() ? rt::write_rgb8(out_path, r.width, r.height, r.pixels.data(), r.pixels.size())
+                                             : rt::write_image(out_path, r.film);
+    if (!st) {
         if (caught_signal()) return interrupted();  // the temporary file is gone
         return failure(kProgram, "cannot write '" + rt::escape_text(out_path) + "': " + st.message(), kExitUsage);
     }
@@ -216,7 +224,8 @@ rt::Status run(int argc, char** argv) {
 
     const auto t_render0 = Clock::now();
     Rendered rendered;
-    if (rt::Status st = render(world, scene, opt, rendered); !st) return st;
+    if (rt::Status st = render(world, scene, opt, rt::is_float_format(rt::format_from_path(out_path)), rendered); !st)
+        return st;
     times.render = seconds_since(t_render0);
 
     const auto t_write0 = Clock::now();

@@ -37,6 +37,15 @@
 #                      converged picture (POV-Ray +A0.0 +AM1 +R6, ours --samples 256)
 #       --aa-refs DIR  keep the converged pictures in DIR and reuse them (they take
 #                      minutes to render; delete them when a renderer changes)
+#   -R, --realism      also the realism section (640x360): things-soft (things-like with
+#                      three sphere lights and a lens) against its POV-Ray twin (area
+#                      lights 5x5 adaptive 1 jitter circular orient, focal blur 20
+#                      samples, +A0.3): POV-Ray's time against ours at the fewest
+#                      samples per pixel whose RMSE is no worse, each against its own
+#                      converged picture (POV-Ray 17x17 adaptive 3, 255 blur samples,
+#                      +A0.0 +AM1 +R3; ours --samples 256; kept with --aa-refs); and at
+#                      1280x720, 1 sample, the soft shadows' cost: things-soft without
+#                      its lens against things-like (point lights), medians of --runs
 #   -q, --quick        160x90, 1 run, a smoke test of this script (used by CI)
 #   -h, --help         this text
 #
@@ -48,6 +57,7 @@ set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
 RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 EMBREE=1 MICRO=1 QUICK=0 GRID=0 AA=0 AA_REFS= MESH=0
+REALISM=0
 SCENES=()
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
@@ -65,6 +75,7 @@ while [ $# -gt 0 ]; do
         -g|--grid) need_value "$@"; GRID=$2; shift ;;
         -m|--mesh) need_value "$@"; MESH=$2; shift ;;
         -a|--aa) AA=1 ;;
+        -R|--realism) REALISM=1 ;;
         --aa-refs) need_value "$@"; AA_REFS=$2; shift ;;
         -q|--quick) QUICK=1 ;;
         -h|--help) usage; exit 0 ;;
@@ -367,6 +378,65 @@ aa_section() {
     done
 }
 [ $AA = 1 ] && aa_section
+
+# The realism section (-R): see the usage above.
+realism_section() {
+    local refs=${AA_REFS:-$OUT/aa-refs} s=things-soft t pwall pr n wall or found= W H point=() soft=()
+    RMSE_BIN=$(dirname "$BIN")/image_rmse
+    [ -x "$RMSE_BIN" ] || { echo "run.sh: no image_rmse next to $BIN; skipping the realism section" >&2; return; }
+    mkdir -p "$refs"
+    if [ $QUICK = 1 ]; then W=160 H=90; else W=640 H=360; fi
+    echo
+    echo "Realism: $s (three sphere lights, a lens) at ${W}x$H, $THREADS threads; POV-Ray's twin with area" \
+         "lights and focal blur at +A0.3 against ours at the fewest samples per pixel whose RMSE is no worse" \
+         "(each against its own converged picture); one run each, whole process, both writing PNG:"
+    echo
+    if [ $POV = 1 ]; then
+        local povref=$refs/$s-${W}x$H-pov.png ourref=$refs/$s-${W}x$H-ours256.ppm
+        [ -s "$povref" ] || (cd "$HERE/scenes" && povray -D +A0.0 +AM1 +R3 +W"$W" +H"$H" +WT"$THREADS" File_Gamma=1.0 \
+            Declare=AREA_N=17 Declare=AREA_ADAPT=3 Declare=BLUR_N=255 +I"$s.pov" +O"$povref" > "$OUT/$s-povref.log" 2>&1) ||
+            { echo "run.sh: povray failed on $s:" >&2; tail -20 "$OUT/$s-povref.log" >&2; exit 1; }
+        [ -s "$ourref" ] || "$BIN" --quiet --threads "$THREADS" --width "$W" --height "$H" --samples 256 \
+            "$HERE/scenes/$s.txt" "$ourref" || { echo "run.sh: our raytracer failed on $s" >&2; exit 1; }
+        t=$(cd "$HERE/scenes" && timed "$OUT/$s-pov.log" povray -D +A0.3 +W"$W" +H"$H" +WT"$THREADS" \
+            File_Gamma=1.0 +I"$s.pov" +O"$OUT/$s-pov.png") ||
+            { echo "run.sh: povray failed on $s:" >&2; tail -20 "$OUT/$s-pov.log" >&2; exit 1; }
+        read -r pwall _ <<< "$t"
+        pr=$("$RMSE_BIN" "$OUT/$s-pov.png" "$povref" | awk '{ print $2 }')
+        echo "| scene | POV-Ray +A0.3 (s) | its RMSE | ours: samples per pixel | ours (s) | our RMSE | POV/ours |"
+        echo "|---|---|---|---|---|---|---|"
+        for n in 1 2 3 4 6 8 12 16 24 32 48 64 96 128; do
+            t=$(timed "$OUT/$s-ours.log" "$BIN" --quiet --threads "$THREADS" --width "$W" --height "$H" --samples "$n" \
+                "$HERE/scenes/$s.txt" "$OUT/$s-ours.png") ||
+                { echo "run.sh: our raytracer failed on $s:" >&2; cat "$OUT/$s-ours.log" >&2; exit 1; }
+            read -r wall _ <<< "$t"
+            or=$("$RMSE_BIN" "$OUT/$s-ours.png" "$ourref" | awk '{ print $2 }')
+            awk -v a="$or" -v b="$pr" 'BEGIN { exit !(a <= b) }' && { found=1; break; }
+        done
+        [ -n "$found" ] || or="$or (worse)"
+        echo "| $s | $pwall | $pr | $n | $wall | $or | $(ratio "$pwall" "$wall") |"
+    fi
+    # The soft shadows' cost at one sample: sphere lights against the same points.
+    if [ $QUICK = 1 ]; then W=160 H=90; else W=1280 H=720; fi
+    sed '/aperture/d' "$HERE/scenes/$s.txt" > "$OUT/things-softonly.txt"
+    for _ in $(seq "$RUNS"); do
+        t=$(timed "$OUT/point.log" "$BIN" --quiet --threads "$THREADS" --width "$W" --height "$H" \
+            "$HERE/scenes/things-like.txt" "$OUT/point.ppm") || { cat "$OUT/point.log" >&2; exit 1; }
+        point+=("${t%% *}")
+        t=$(timed "$OUT/soft.log" "$BIN" --quiet --threads "$THREADS" --width "$W" --height "$H" \
+            "$OUT/things-softonly.txt" "$OUT/soft.ppm") || { cat "$OUT/soft.log" >&2; exit 1; }
+        soft+=("${t%% *}")
+    done
+    local pm sm
+    pm=$(median "${point[@]}") sm=$(median "${soft[@]}")
+    echo
+    echo "Soft shadows at 1 sample per pixel, ${W}x$H, $THREADS threads, medians of $RUNS whole runs:"
+    echo
+    echo "| things-like, point lights (s) | the same, sphere lights of radius 0.6 (s) | sphere / point |"
+    echo "|---|---|---|"
+    echo "| $pm | $sm | $(ratio "$sm" "$pm") |"
+}
+[ $REALISM = 1 ] && realism_section
 
 if [ $MICRO = 1 ]; then
     MB=$(dirname "$BIN")/renderer_bench

@@ -219,7 +219,10 @@ void refine_rect(const World& world, const CameraBasis& camera, int x0, int y0, 
                  const std::uint32_t* n0, const std::uint32_t* n1, float* sums, float* squares, RayStats& stats) {
     thread_local std::vector<Vec3> dirs;
     thread_local std::vector<Colour> colours;
+    thread_local std::vector<PixelSample> keys;
     dirs.clear();
+    keys.clear();
+    const bool sampled = world.sampled(camera);
     const std::size_t n = std::size_t(w) * std::size_t(h);
     for (std::size_t k = 0; k < n; ++k) {
         const int x = x0 + int(k % std::size_t(w)), y = y0 + int(k / std::size_t(w));
@@ -227,11 +230,12 @@ void refine_rect(const World& world, const CameraBasis& camera, int x0, int y0, 
             double dx, dy;
             sample_offset(x, y, int(s), dx, dy);
             dirs.push_back(normalize(camera.direction(x + dx, y + dy)));
+            if (sampled) keys.push_back({x, y, int(s)});
         }
     }
     if (dirs.empty()) return;
     colours.resize(dirs.size());
-    world.trace_units(camera.origin, dirs.data(), dirs.size(), stats, colours.data());
+    world.trace_samples(camera, dirs.data(), keys.data(), dirs.size(), stats, colours.data());
     const Colour* c = colours.data();
     for (std::size_t k = 0; k < n; ++k) {
         if (n1[k] <= n0[k]) continue;

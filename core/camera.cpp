@@ -38,7 +38,28 @@ CameraBasis CameraBasis::make(const Camera& cam, int width, int height, bool mir
     b.width = width < 1 ? 1 : width;
     b.height = height < 1 ? 1 : height;
     b.mirror = mirror;
+    b.lens = cam.aperture > 0 ? cam.aperture / 2 : 0;
+    b.focus = cam.focus_distance > 0 ? cam.focus_distance : length(cam.centre - cam.position);
     return b;
+}
+
+Ray CameraBasis::lens_ray(const Vec3& d, double u, double v) const {
+    // Shirley and Chiu's concentric map: strata of the square stay compact on the disc.
+    double a = 2 * u - 1, b = 2 * v - 1, r = 0, phi = 0;
+    constexpr double kQuarterPi = 0.78539816339744831;
+    if (a * a > b * b) {
+        r = a;
+        phi = kQuarterPi * (b / a);
+    } else if (b != 0) {
+        r = b;
+        phi = 2 * kQuarterPi - kQuarterPi * (a / b);
+    }
+    const Vec3 o = origin + (side * std::cos(phi) + up * std::sin(phi)) * (r * lens);
+    // Linear: the point of the focal plane on the pinhole ray; polar (whose rays may look
+    // sideways or back): the point at the focus distance.
+    const double along = dot(d, forward);
+    const double t = projection == Projection::Linear && along > 1e-6 ? focus / along : focus;
+    return {o, normalize(origin + d * t - o)};
 }
 
 namespace {

@@ -14,6 +14,10 @@ struct CameraBasis {
     Projection projection = Projection::Linear;
     int width = 1, height = 1;
     bool mirror = false;
+    // New: depth of field. The lens is a disc of radius `lens` (half the camera's
+    // aperture; 0: the 2013 pinhole) across side and up; the plane `focus` along
+    // forward is sharp (polar: the sphere of that radius).
+    double lens = 0, focus = 1;
 
     [[nodiscard]] static CameraBasis make(const Camera& cam, int width, int height, bool mirror);
 
@@ -24,6 +28,10 @@ struct CameraBasis {
     // with what the row's pixels share (its vertical term) worked out once.
     void unit_directions(int i0, int step, int count, double j, Vec3* out) const;
     [[nodiscard]] Ray ray(double i, double j) const { return {origin, normalize(direction(i, j))}; }
+    // The ray through the lens point (u, v) of [0, 1)^2 (concentric disc mapping) for the
+    // pinhole ray's unit direction d: from that point of the lens to where the pinhole
+    // ray meets the plane in focus.
+    [[nodiscard]] Ray lens_ray(const Vec3& d, double u, double v) const;
 };
 
 // The original's degree factor.

@@ -277,6 +277,8 @@ ImageFormat format_from_path(const std::string& path) {
     const std::string ext = lower_extension(path);
     if (ext == ".ppm") return ImageFormat::Ppm;
     if (ext == ".png") return ImageFormat::Png;
+    if (ext == ".pfm") return ImageFormat::Pfm;
+    if (ext == ".exr") return ImageFormat::Exr;
     return ImageFormat::Unknown;
 }
 
@@ -287,7 +289,14 @@ std::vector<std::uint8_t> to_rgb8(const Image& img) {
 }
 
 Status write_image(const std::string& path, const Image& img) {
-    return write_rgb8(path, img.width, img.height, to_rgb8(img));
+    const ImageFormat f = format_from_path(path);
+    if (!is_float_format(f)) return write_rgb8(path, img.width, img.height, to_rgb8(img));
+    if (img.width < 1 || img.height < 1 || img.rgb.size() != std::size_t(img.width) * std::size_t(img.height) * 3)
+        return io_error("internal error: the image data does not match its size");
+    if (f == ImageFormat::Pfm) return write_file_atomic(path, encode_pfm(img));
+    std::string exr;
+    if (const Status st = encode_exr(img, exr); !st) return st;
+    return write_file_atomic(path, exr);
 }
 
 Status write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
@@ -306,10 +315,14 @@ Status write_rgb8(const std::string& path, int width, int height, const std::uin
             if (!encode_png(rgb, width, height, png)) return io_error("PNG encoding failed");
             return write_file_atomic(path, png);
         }
+        case ImageFormat::Pfm:
+        case ImageFormat::Exr:
+            // Bytes have lost the floats: callers with a film write it (write_image).
+            return io_error("internal error: .pfm and .exr are written from the film's floats");
         case ImageFormat::Unknown:
             break;
     }
-    return io_error("unknown image format: the file name must end in .ppm or .png");
+    return io_error("unknown image format: the file name must end in .ppm, .png, .pfm or .exr");
 }
 
 Status write_file_atomic(const std::string& path, const std::string& data, WhileWriting how) {

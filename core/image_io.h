@@ -19,14 +19,20 @@
 
 namespace rt {
 
-enum class ImageFormat { Unknown, Ppm, Png };
+enum class ImageFormat { Unknown, Ppm, Png, Pfm, Exr };
+// .pfm and .exr hold floats (New:): the film's linear values, written by write_image.
+inline bool is_float_format(ImageFormat f) { return f == ImageFormat::Pfm || f == ImageFormat::Exr; }
 ImageFormat format_from_path(const std::string& path);
 
 // 8-bit RGB bytes of an image, with the original's rounding.
 std::vector<std::uint8_t> to_rgb8(const Image& img);
 
-// Success, or why not (exit code kExitUsage: an I/O error).
+// Success, or why not (exit code kExitUsage: an I/O error). By the path's extension:
+// PPM and PNG with the original's byte rounding, PFM and EXR with the floats.
 Status write_image(const std::string& path, const Image& img);
+// The encoded files (image_float.cpp).
+std::string encode_pfm(const Image& img);
+Status encode_exr(const Image& img, std::string& out);
 Status write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
 Status write_rgb8(const std::string& path, int width, int height, const std::uint8_t* rgb, std::size_t size);
 // How the new file exists while it is written: under a temporary name beside the target

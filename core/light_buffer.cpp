@@ -142,7 +142,7 @@ void fill_cells(LightBuffer& lb, std::vector<CellRange>& ranges, int n) {
 namespace {
 
 template <class Boxes>
-LightBuffer build_light_buffer(const Boxes& boxes, const Vec3& light, int n) {
+LightBuffer build_light_buffer(const Boxes& boxes, const Vec3& light, int n, double pad) {
     using Entry = LightBuffer::Entry;
     LightBuffer lb;
     lb.position = light;
@@ -161,6 +161,7 @@ LightBuffer build_light_buffer(const Boxes& boxes, const Vec3& light, int n) {
         ++objects;
         if (!(norm_inf(b.lo) < 1e30 && norm_inf(b.hi) < 1e30)) return lb;
         Vec3 lo = b.lo - light, hi = b.hi - light;
+        if (pad > 0) lo -= Vec3{pad, pad, pad}, hi += Vec3{pad, pad, pad};
         float df;
         double dmin = origin_distance(lo, hi, df);
         double scale = std::max({norm_inf(b.lo), norm_inf(b.hi), norm_inf(light)});
@@ -196,12 +197,12 @@ LightBuffer build_light_buffer(const Boxes& boxes, const Vec3& light, int n) {
 
 }  // namespace
 
-LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light, int n) {
-    return build_light_buffer(boxes, light, n);
+LightBuffer LightBuffer::build(const std::vector<Aabb>& boxes, const Vec3& light, int n, double pad) {
+    return build_light_buffer(boxes, light, n, pad);
 }
 
-LightBuffer LightBuffer::build(const Chunked<Aabb>& boxes, const Vec3& light, int n) {
-    return build_light_buffer(boxes, light, n);
+LightBuffer LightBuffer::build(const Chunked<Aabb>& boxes, const Vec3& light, int n, double pad) {
+    return build_light_buffer(boxes, light, n, pad);
 }
 
 }  // namespace rt

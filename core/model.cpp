@@ -16,6 +16,7 @@
 #include "image_io.h"
 #include "model_readers.h"
 #include "pages.h"
+#include "texture.h"
 #include "triangles.h"
 
 namespace rt {
@@ -24,7 +25,8 @@ namespace {
 
 // The whole file, if it is a regular file within the size limit: in pages of its own,
 // handed back once the reader is done (a 10M-triangle model's text is ~200 MB).
-bool read_file(const std::string& path, PageBuffer& out, ModelError& error) {
+bool read_file(const std::string& path, PageBuffer& out, ModelError& error, const char* what = "a model file",
+               const char* kind = "models") {
     // Non-blocking: a FIFO must not stop the open (it is refused below).
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
     if (fd < 0) {
@@ -41,11 +43,12 @@ bool read_file(const std::string& path, PageBuffer& out, ModelError& error) {
         return false;
     }
     if (S_ISDIR(st.st_mode)) {
-        error.message = "is a folder, not a model file";
+        error.message = std::string("is a folder, not ") + what;
         return false;
     }
     if (!S_ISREG(st.st_mode)) {
-        error.message = "is not a regular file (a device, pipe or socket); models are read from files";
+        error.message = std::string("is not a regular file (a device, pipe or socket); ") +
+                        kind + " are read from files";
         return false;
     }
     if (std::uint64_t(st.st_size) > ModelLimits::max_file_size) {
@@ -70,6 +73,113 @@ bool read_file(const std::string& path, PageBuffer& out, ModelError& error) {
     return true;
 }
 
+// A path as an OBJ or MTL file writes it, relative to `folder`: backslashes read as
+// slashes (files written on Windows), a leading "./" dropped.
+std::string file_in(const std::string& folder, std::string name) {
+    std::replace(name.begin(), name.end(), '\\', '/');
+    while (name.size() > 2 && name[0] == '.' && name[1] == '/') name.erase(0, 2);
+    return resolve_model_path(folder, name);
+}
+
+// An MTL file's material, with where it came from.
+struct FoundMaterial {
+    MtlMaterial m;
+    std::string lib;       // the MTL file, as the OBJ names it
+    std::string tex_path;  // map_Kd resolved ("" if none)
+};
+
+// The OBJ's `mtllib` files read into `found` (a missing one is a warning in
+// out.warnings); false with `error` set for a file that cannot be read as MTL or whose
+// map_Kd names the MTL or OBJ file itself.
+bool read_libraries(const std::string& obj_path, MeshData& out, ModelError& error, std::vector<FoundMaterial>& found) {
+    const std::string folder = folder_of(obj_path);
+    for (const std::string& lib : out.material_libs) {
+        const std::string path = file_in(folder, lib);
+        if (path == obj_path) {
+            error.message = "mtllib " + lib + " names the model file itself";
+            return false;
+        }
+        PageBuffer file;
+        ModelError e;
+        if (!read_file(path, file, e, "a material file", "material files")) {
+            out.warnings.push_back({0, "material file " + lib + ": " + e.message + "; the mesh's own colour is used"});
+            continue;
+        }
+        const std::string_view text(file.data(), file.size());
+        if (Status st = check_encoding(text); !st.ok()) {
+            error.message = lib + ": " + st.message();
+            return false;
+        }
+        std::vector<MtlMaterial> mats;
+        if (!read_mtl(text, mats, e)) {
+            error.message = lib + ":" + std::to_string(e.line) + ": " + e.message;
+            return false;
+        }
+        for (MtlMaterial& m : mats) {
+            std::string tex;
+            if (!m.texture.empty()) {
+                tex = file_in(folder_of(path), m.texture);
+                if (tex == path || tex == obj_path) {
+                    error.message = lib + ":" + std::to_string(m.texture_line) + ": map_Kd " + m.texture + " names the " +
+                                    (tex == path ? "material" : "model") + " file itself";
+                    return false;
+                }
+            }
+            found.push_back({std::move(m), lib, std::move(tex)});
+        }
+    }
+    return true;
+}
+
+// The OBJ's `mtllib` files read and its `usemtl` names found in them: out.materials in
+// the order of out.material_names (the first definition of a name counts), with their
+// textures, and the triangles renumbered (names no file defines: the mesh's own
+// material, with a warning). A missing MTL file is a warning; a file that cannot be
+// read as MTL, or a map_Kd that cannot be read, an error.
+bool read_materials(const std::string& obj_path, MeshData& out, ModelError& error, TextureStore& textures) {
+    std::vector<FoundMaterial> found;
+    if (!read_libraries(obj_path, out, error, found)) return false;
+    std::vector<std::uint16_t> index(out.material_names.size(), MeshData::kNoMaterial);
+    int unknown = 0;
+    std::vector<const Texture*> held;  // the textures read, each counted once
+    std::uint64_t texels = 0;
+    for (std::size_t i = 0; i < out.material_names.size(); ++i) {
+        const std::string& name = out.material_names[i];
+        auto it = std::find_if(found.begin(), found.end(), [&](const FoundMaterial& f) { return f.m.name == name; });
+        if (it == found.end()) {
+            if (!found.empty() && ++unknown <= 5)
+                out.warnings.push_back({0, "usemtl " + name + ": no such material in the MTL files; the mesh's own "
+                                           "colour is used"});
+            continue;
+        }
+        Material m = it->m.material;
+        if (!it->tex_path.empty()) {
+            TextureStore::Loaded l = textures.load(it->tex_path);
+            const std::string at = it->lib + ":" + std::to_string(it->m.texture_line) + ": ";
+            if (!l.texture) {
+                error.message = at + "map_Kd " + it->m.texture + ": " + l.error;
+                return false;
+            }
+            if (std::find(held.begin(), held.end(), l.texture.get()) == held.end()) {
+                held.push_back(l.texture.get());
+                texels += std::uint64_t(l.texture->width()) * std::uint64_t(l.texture->height());
+                if (texels > TextureLimits::max_scene_texels) {
+                    error.message = at + "the model's textures hold more than " +
+                                    std::to_string(TextureLimits::max_scene_texels) + " pixels in all";
+                    return false;
+                }
+            }
+            m.texture = it->m.texture;
+            m.texture_image = std::move(l.texture);
+        }
+        index[i] = std::uint16_t(out.materials.size());
+        out.materials.push_back(std::move(m));
+    }
+    for (std::uint16_t& t : out.triangle_material)
+        if (t < index.size()) t = index[t];
+    return true;
+}
+
 }  // namespace
 
 bool is_model_file(const std::string& path) {
@@ -77,7 +187,7 @@ bool is_model_file(const std::string& path) {
     return ext == ".obj" || ext == ".ply";
 }
 
-bool read_model(const std::string& path, MeshData& out, ModelError& error) {
+bool read_model(const std::string& path, MeshData& out, ModelError& error, TextureStore* textures) {
     out = MeshData();
     error = ModelError();
     const std::string ext = lower_extension(path);
@@ -93,7 +203,15 @@ bool read_model(const std::string& path, MeshData& out, ModelError& error) {
             error.message = s.message();
             return false;
         }
-        return read_obj(text, out, error);
+        if (!read_obj(text, out, error)) return false;
+        if (out.material_libs.empty() && out.material_names.empty()) return true;
+        TextureStore own;
+        if (!read_materials(path, out, error, textures ? *textures : own)) return false;
+        if (out.materials.empty()) {
+            out.triangle_material.clear();
+            out.triangle_material.shrink_to_fit();
+        }
+        return true;
     }
     return read_ply(text, out, error);
 }
@@ -137,7 +255,14 @@ const std::vector<float>& MeshModel::vertex_normals() const {
     return normals_;
 }
 
+bool MeshModel::textures_unchanged() const {
+    for (const Material& m : data_.materials)
+        if (m.texture_image && !m.texture_image->unchanged_on_disk()) return false;
+    return true;
+}
+
 bool MeshModel::unchanged_on_disk() const {
+    if (!textures_unchanged()) return false;
     if (stamp_[2] < 0) return true;
     struct stat st;
     if (::stat(path_.c_str(), &st) != 0) return true;  // gone: keep what was read
@@ -146,7 +271,7 @@ bool MeshModel::unchanged_on_disk() const {
            std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec == stamp_[3];
 }
 
-ModelStore::Loaded ModelStore::load(const std::string& path) {
+ModelStore::Loaded ModelStore::load(const std::string& path, TextureStore* textures) {
     Loaded result;
     struct stat st;
     FileId id;
@@ -161,14 +286,15 @@ ModelStore::Loaded ModelStore::load(const std::string& path) {
                 result.error = it->second.error;
                 return result;
             }
-            if ((result.model = it->second.model.lock())) return result;
+            // (A model's textures changed on disk: the model is read again with them.)
+            if ((result.model = it->second.model.lock()) && result.model->textures_unchanged()) return result;
         }
     }
     // Read outside the lock: another thread may read another file meanwhile.
     MeshData data;
     Entry e;
     e.id = id;
-    if (read_model(path, data, result.error)) {
+    if (read_model(path, data, result.error, textures)) {
         auto model = std::make_shared<MeshModel>(path, std::move(data));
         const std::int64_t stamp[4] = {std::int64_t(id.dev), std::int64_t(id.ino), id.size, id.mtime_ns};
         std::copy(stamp, stamp + 4, model->stamp_);

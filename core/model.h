@@ -13,10 +13,13 @@
 #include <vector>
 
 #include "math.h"
+#include "scene.h"
 
 namespace rt {
 
 struct TriangleAccel;  // triangles.h
+struct ModelShading;   // world.h
+class TextureStore;    // texture.h
 
 struct ModelLimits {
     static constexpr std::uint64_t max_file_size = std::uint64_t(1) << 30;  // bytes (a 10M-triangle OBJ is ~0.5 GB)
@@ -29,21 +32,39 @@ struct ModelLimits {
     static constexpr double max_coordinate = 1e15;         // as the scene's numbers
 };
 
+// What went wrong reading a model: the message, and the file's line it concerns (0:
+// the file as a whole, or a binary file).
+struct ModelError {
+    long line = 0;
+    std::string message;
+};
+
 // A model file's content: vertices (with normals if the file gives them) and
 // triangles, polygons already cut into triangles.
 struct MeshData {
     std::vector<float> positions;          // x y z per vertex
     std::vector<float> normals;            // x y z per vertex, or empty
     std::vector<std::uint32_t> triangles;  // three vertex indices per triangle
+    // New: texture coordinates u v per triangle corner (6 a triangle), or empty.
+    std::vector<float> corner_uv;
+    // New: linear r g b per vertex (PLY's red green blue, decoded from sRGB), or empty.
+    std::vector<float> colours;
+    // New: the file's materials (OBJ's MTL files), and per triangle the index of its
+    // material, kNoMaterial for the mesh's own (empty: every triangle the mesh's own).
+    static constexpr std::uint16_t kNoMaterial = 0xffff;
+    static constexpr std::size_t max_materials = 0xfff0;
+    std::vector<Material> materials;
+    std::vector<std::uint16_t> triangle_material;
+    // OBJ: the `mtllib` files named (as written) and the `usemtl` names in the order
+    // first met, which triangle_material counts until read_model() has found them in
+    // the files (then materials holds them in that order; the names not found are
+    // kNoMaterial).
+    std::vector<std::string> material_libs;
+    std::vector<std::string> material_names;
+    // New: what the reading found amiss but could do without (a missing MTL file).
+    std::vector<ModelError> warnings;
     std::size_t vertex_count() const { return positions.size() / 3; }
     std::size_t triangle_count() const { return triangles.size() / 3; }
-};
-
-// What went wrong reading a model: the message, and the file's line it concerns (0:
-// the file as a whole, or a binary file).
-struct ModelError {
-    long line = 0;
-    std::string message;
 };
 
 // One model file's triangles, shared by every mesh block (and every world) that names
@@ -58,11 +79,16 @@ public:
     // Whether the file is still the one read (same size, modification time and inode);
     // always true for a model made from data rather than read by a ModelStore.
     bool unchanged_on_disk() const;
+    // Whether the textures of its materials are (New:; part of unchanged_on_disk()).
+    bool textures_unchanged() const;
     // Built once, on the first call from any thread (the others wait for it).
     const TriangleAccel& accel() const;
     // Unit normals per vertex (x y z each): the file's own, else the sum of the
     // vertex's triangles' normals weighted by their areas. Made on the first call.
     const std::vector<float>& vertex_normals() const;
+    // New: the file's materials and vertex colours as shading uses them; null when
+    // the file has neither (world.cpp). Made on the first call.
+    const ModelShading* shading() const;
 
 private:
     friend class ModelStore;
@@ -73,13 +99,17 @@ private:
     mutable std::once_flag built_, normals_made_;
     mutable std::unique_ptr<TriangleAccel> accel_;
     mutable std::vector<float> normals_;
+    mutable std::once_flag shading_made_;
+    mutable std::shared_ptr<const ModelShading> shading_;
 };
 
 // Whether read_model reads a file of this name: .obj or .ply, any case.
 bool is_model_file(const std::string& path);
 // Reads an .obj or .ply file (chosen by the name's extension, any case). False with
 // `error` set if the file cannot be read or is not a model the limits allow.
-bool read_model(const std::string& path, MeshData& out, ModelError& error);
+// An OBJ's MTL files are read too (relative to the OBJ's folder), their map_Kd
+// textures through `textures` (null: a store of this call's own).
+bool read_model(const std::string& path, MeshData& out, ModelError& error, TextureStore* textures = nullptr);
 
 // The models read so far, by resolved path. A file is read again only when it changed
 // on disk (its size, modification time or inode), so that parsing the same scene
@@ -91,7 +121,7 @@ public:
         std::shared_ptr<const MeshModel> model;  // null on error
         ModelError error;
     };
-    Loaded load(const std::string& path);
+    Loaded load(const std::string& path, TextureStore* textures = nullptr);
 
 private:
     struct FileId {

@@ -64,6 +64,12 @@ struct ObjReader {
     std::vector<std::int32_t> corner_normal;    // per triangle corner: its vn index, or -1
     std::vector<std::uint32_t> polygons;        // n, then n vertex indices, per polygon of n > 3
     std::vector<std::int32_t> polygon_normals;  // the same corners' vn indices
+    std::vector<float> uvs;                     // the file's vt (u v), in order
+    std::vector<std::int32_t> corner_uv;        // per triangle corner: its vt index, or -1
+    std::vector<std::int32_t> polygon_uvs;      // per polygon corner: its vt index, or -1
+    std::vector<std::uint16_t> polygon_material;  // per polygon of n > 3: its usemtl's index
+    std::uint16_t material = MeshData::kNoMaterial;  // the last usemtl's index in out.material_names
+    bool any_uv = false;
     std::size_t triangles = 0;                  // what the faces so far will be cut into
     std::int64_t max_index = -1;                // the largest positive vertex index (0-based)
 
@@ -125,6 +131,34 @@ struct ObjReader {
         normals.push_back(x), normals.push_back(y), normals.push_back(z);
     }
 
+    void texcoord(float u, float v) {
+        if (failed) return;
+        if (uvs.size() / 2 >= ModelLimits::max_vertices)
+            return fail("too many texture coordinates (limit " + std::to_string(ModelLimits::max_vertices) + ")");
+        uvs.push_back(std::isfinite(u) ? u : 0.0f), uvs.push_back(std::isfinite(v) ? v : 0.0f);
+    }
+
+    // `usemtl NAME`: the faces after it are of that material (names are numbered as
+    // first met; read_model finds them in the MTL files).
+    void use_material(const char* name) {
+        if (failed) return;
+        const std::string n = trimmed(name);
+        std::vector<std::string>& names = out.material_names;
+        auto it = std::find(names.begin(), names.end(), n);
+        if (it == names.end()) {
+            if (names.size() >= MeshData::max_materials)
+                return fail("too many materials (limit " + std::to_string(MeshData::max_materials) + ")");
+            it = names.insert(names.end(), n);
+        }
+        material = std::uint16_t(it - names.begin());
+    }
+    static std::string trimmed(std::string_view s) {
+        while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r' || s.back() == '\n'))
+            s.remove_suffix(1);
+        while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+        return std::string(s.substr(0, 4096));
+    }
+
     // A face's vertex index (1-based, or negative: back from the last vertex) made 0-based.
     bool resolve(int index, std::size_t count, const char* what, std::int64_t& out_index) {
         if (index == 0) {
@@ -154,26 +188,36 @@ struct ObjReader {
         for (char c : current_line())
             if ((digits = c >= '0' && c <= '9' ? digits + 1 : 0) > 9) return fail("a face index is out of range");
         std::uint32_t v[3];
-        std::int32_t vn[3];
+        std::int32_t vn[3], vt[3];
         const bool polygon = n > 3;
-        if (polygon) polygons.push_back(std::uint32_t(n));
+        if (polygon) polygons.push_back(std::uint32_t(n)), polygon_material.push_back(material);
         for (int k = 0; k < n; ++k) {
-            std::int64_t vi, ni = -1;
+            std::int64_t vi, ni = -1, ti = -1;
             if (!resolve(idx[k].vertex_index, out.positions.size() / 3, "vertex", vi)) return;
             if (idx[k].normal_index != 0 && !resolve(idx[k].normal_index, normals.size() / 3, "normal", ni)) return;
+            if (idx[k].texcoord_index != 0) {
+                if (!resolve(idx[k].texcoord_index, uvs.size() / 2, "texture coordinate", ti)) return;
+                if (ti >= std::int64_t(uvs.size() / 2))
+                    return fail("texture coordinate index " + std::to_string(idx[k].texcoord_index) + " out of range (" +
+                                std::to_string(uvs.size() / 2) + " before it)");
+                any_uv = true;
+            }
             max_index = std::max(max_index, vi);
             if (vi >= std::int64_t(ModelLimits::max_vertices))
                 return fail("vertex index " + std::to_string(idx[k].vertex_index) + " out of range");
             if (polygon) {
                 polygons.push_back(std::uint32_t(vi));
                 polygon_normals.push_back(std::int32_t(ni));
+                polygon_uvs.push_back(std::int32_t(ti));
             } else {
-                v[k] = std::uint32_t(vi), vn[k] = std::int32_t(ni);
+                v[k] = std::uint32_t(vi), vn[k] = std::int32_t(ni), vt[k] = std::int32_t(ti);
             }
         }
         if (!polygon) {
             out.triangles.insert(out.triangles.end(), v, v + 3);
             corner_normal.insert(corner_normal.end(), vn, vn + 3);
+            corner_uv.insert(corner_uv.end(), vt, vt + 3);
+            out.triangle_material.push_back(material);
         }
     }
 
@@ -216,20 +260,24 @@ bool ObjReader::report_index_range() {
 
 void ObjReader::cut_polygons() {
     std::vector<std::uint32_t> cut;
-    std::size_t corner = 0;
+    std::size_t corner = 0, polygon = 0;
     for (std::size_t p = 0; p < polygons.size();) {
         const std::size_t n = polygons[p++];
         cut.clear();
         triangulate(out.positions, &polygons[p], n, cut);
         out.triangles.insert(out.triangles.end(), cut.begin(), cut.end());
-        // Each triangle's corners take the normal indices of the polygon corners they are.
+        // Each triangle's corners take the normal and texture indices of the polygon
+        // corners they are, and the polygon's material.
         for (std::uint32_t v : cut) {
             std::size_t k = 0;
             while (k < n && polygons[p + k] != v) ++k;
             corner_normal.push_back(k < n ? polygon_normals[corner + k] : -1);
+            corner_uv.push_back(k < n ? polygon_uvs[corner + k] : -1);
         }
+        out.triangle_material.insert(out.triangle_material.end(), cut.size() / 3, polygon_material[polygon]);
         p += n;
         corner += n;
+        ++polygon;
     }
 }
 
@@ -265,6 +313,15 @@ bool ObjReader::finish() {
     for (std::int32_t n : corner_normal) all = all && n >= 0 && std::size_t(n) < normals.size() / 3;
     for (float x : normals) all = all && std::isfinite(x);
     if (all) split_by_normals();
+    if (any_uv) {
+        out.corner_uv.assign(2 * corner_uv.size(), 0.0f);
+        for (std::size_t c = 0; c < corner_uv.size(); ++c)
+            if (corner_uv[c] >= 0) {
+                out.corner_uv[2 * c] = uvs[2 * std::size_t(corner_uv[c])];
+                out.corner_uv[2 * c + 1] = uvs[2 * std::size_t(corner_uv[c]) + 1];
+            }
+    }
+    if (out.material_names.empty()) out.triangle_material.clear();
     return check_mesh(out, error);
 }
 
@@ -282,8 +339,24 @@ bool read_obj(std::string_view text, MeshData& out, ModelError& error) {
         static_cast<ObjReader*>(u)->normal(x, y, z);
     };
     cb.index_cb = [](void* u, tinyobj::index_t* idx, int n) { static_cast<ObjReader*>(u)->face(idx, n); };
+    cb.texcoord_cb = [](void* u, tinyobj::real_t x, tinyobj::real_t y, tinyobj::real_t) {
+        static_cast<ObjReader*>(u)->texcoord(x, y);
+    };
+    cb.usemtl_cb = [](void* u, const char* name, int) { static_cast<ObjReader*>(u)->use_material(name); };
+    // The `mtllib` names only: read_model reads the files (the bytes here may come from
+    // no file at all).
+    struct Libraries : tinyobj::MaterialReader {
+        std::vector<std::string>* names;
+        explicit Libraries(std::vector<std::string>* n) : names(n) {}
+        bool operator()(const std::string& name, std::vector<tinyobj::material_t>*, std::map<std::string, int>*,
+                        std::string*, std::string*) override {
+            if (names->size() < 64 && std::find(names->begin(), names->end(), name) == names->end())
+                names->push_back(name.substr(0, 4096));
+            return false;
+        }
+    } libraries(&out.material_libs);
     std::string warn, err;
-    tinyobj::LoadObjWithCallback(in, cb, &r, nullptr, &warn, &err);
+    tinyobj::LoadObjWithCallback(in, cb, &r, &libraries, &warn, &err);
     return r.finish();
 }
 

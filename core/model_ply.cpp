@@ -11,6 +11,7 @@
 #include <string>
 
 #include "model_readers.h"
+#include "texture.h"
 
 namespace rt {
 
@@ -297,6 +298,7 @@ struct PlyReader {
         return true;
     }
 
+    std::vector<float> vertex_uv;  // u v per vertex, when the file gives them
     bool vertices(const Element& e);
     bool faces(const Element& e, std::size_t list);
     std::uint64_t fast_vertices(const Element& e, const int slot[6], bool normals);
@@ -371,21 +373,36 @@ bool PlyReader::vertices(const Element& e) {
     if (e.count > ModelLimits::max_vertices)
         return fail("too many vertices (" + std::to_string(e.count) + ", limit " +
                         std::to_string(ModelLimits::max_vertices) + ")", 0, "vertex");
-    int slot[6] = {-1, -1, -1, -1, -1, -1};  // x y z nx ny nz: which property
+    // x y z nx ny nz, then (New:) texture coordinates and colours: which property.
+    int slot[11] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
     static constexpr const char* names[6] = {"x", "y", "z", "nx", "ny", "nz"};
-    for (std::size_t i = 0; i < e.props.size(); ++i)
+    static constexpr const char* extra[][5] = {{"u", "s", "texture_u", "texture_s", nullptr},
+                                               {"v", "t", "texture_v", "texture_t", nullptr},
+                                               {"red", "r", "diffuse_red", nullptr, nullptr},
+                                               {"green", "g", "diffuse_green", nullptr, nullptr},
+                                               {"blue", "b", "diffuse_blue", nullptr, nullptr}};
+    for (std::size_t i = 0; i < e.props.size(); ++i) {
+        if (e.props[i].list) continue;
         for (int k = 0; k < 6; ++k)
-            if (e.props[i].name == names[k] && !e.props[i].list) slot[k] = int(i);
+            if (e.props[i].name == names[k]) slot[k] = int(i);
+        for (int k = 0; k < 5; ++k)
+            for (const char* const* n = extra[k]; *n; ++n)
+                if (e.props[i].name == *n && slot[6 + k] < 0) slot[6 + k] = int(i);
+    }
     if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0) {
         error.message = "the vertex element has no x, y and z properties";
         return false;
     }
     const bool normals = slot[3] >= 0 && slot[4] >= 0 && slot[5] >= 0;
+    const bool uvs = slot[6] >= 0 && slot[7] >= 0;
+    const bool colours = slot[8] >= 0 && slot[9] >= 0 && slot[10] >= 0;
     out.positions.reserve(3 * e.count);
     if (normals) out.normals.reserve(3 * e.count);
+    if (uvs) vertex_uv.reserve(2 * e.count);
+    if (colours) out.colours.reserve(3 * e.count);
     std::vector<double> rec(e.props.size());
     std::string bad;
-    for (std::uint64_t r = fast_vertices(e, slot, normals); r < e.count; ++r) {
+    for (std::uint64_t r = uvs || colours ? 0 : fast_vertices(e, slot, normals); r < e.count; ++r) {
         for (std::size_t i = 0; i < e.props.size(); ++i) {
             double n = 1;
             const Property& p = e.props[i];
@@ -402,6 +419,22 @@ bool PlyReader::vertices(const Element& e) {
         }
         if (normals)
             for (int k = 3; k < 6; ++k) out.normals.push_back(float(rec[std::size_t(slot[k])]));
+        if (uvs)
+            for (int k = 6; k < 8; ++k) {
+                const double v = rec[std::size_t(slot[k])];
+                vertex_uv.push_back(std::isfinite(v) ? float(v) : 0.0f);
+            }
+        if (colours)
+            for (int k = 8; k < 11; ++k) {
+                // Integers count from 0 to their type's largest; floats are 0..1. Both are
+                // display (sRGB) values.
+                const Type t = e.props[std::size_t(slot[k])].type;
+                const double top = t == Type::UInt8 || t == Type::Int8 ? 255
+                                   : t == Type::UInt16 || t == Type::Int16 ? 65535
+                                   : t == Type::Float32 || t == Type::Float64 ? 1 : 4294967295.0;
+                const double v = rec[std::size_t(slot[k])] / top;
+                out.colours.push_back(float(srgb_to_linear(std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 0.0)));
+            }
     }
     for (float n : out.normals)
         if (!std::isfinite(n)) return out.normals.clear(), true;  // unusable: computed instead
@@ -456,7 +489,7 @@ bool PlyReader::faces(const Element& e, std::size_t list) {
 bool read_ply(std::string_view bytes, MeshData& out, ModelError& error) {
     Header h;
     if (!read_header(bytes, h, error)) return false;
-    PlyReader r{h, Body(bytes, h), out, error, {}};
+    PlyReader r{h, Body(bytes, h), out, error, {}, {}};
     bool vertices_read = false;
     for (const Element& e : h.elements) {
         if (!r.fits(e)) return false;
@@ -477,6 +510,14 @@ bool read_ply(std::string_view bytes, MeshData& out, ModelError& error) {
             ok = r.skip_element(e);
         }
         if (!ok) return false;
+    }
+    // Texture coordinates per corner, as shading takes them.
+    if (!r.vertex_uv.empty() && r.vertex_uv.size() == 2 * (out.positions.size() / 3)) {
+        out.corner_uv.resize(2 * out.triangles.size());
+        for (std::size_t c = 0; c < out.triangles.size(); ++c) {
+            out.corner_uv[2 * c] = r.vertex_uv[2 * std::size_t(out.triangles[c])];
+            out.corner_uv[2 * c + 1] = r.vertex_uv[2 * std::size_t(out.triangles[c]) + 1];
+        }
     }
     return check_mesh(out, error);
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -18,6 +19,19 @@ bool read_obj(std::string_view text, MeshData& out, ModelError& error);
 // (and nx, ny, nz) and the face element's vertex_indices list; other elements and
 // properties are skipped.
 bool read_ply(std::string_view bytes, MeshData& out, ModelError& error);
+
+// One material of a Wavefront MTL file, mapped to the scene's Material
+// (docs/scene-format.md, "Models with their materials"); `texture` is map_Kd as written
+// (backslashes made slashes), `texture_line` its line.
+struct MtlMaterial {
+    std::string name;
+    Material material;
+    std::string texture;
+    long texture_line = 0;
+};
+// Wavefront MTL: newmtl, Kd, Ks, Ns, d, Tr, Ni and map_Kd (other statements are
+// passed over). False with `error` set (and its line) at a malformed value.
+bool read_mtl(std::string_view text, std::vector<MtlMaterial>& out, ModelError& error);
 
 // Cuts the polygon of `n` vertex indices into n - 2 triangles appended to `out`: by
 // ear clipping in the plane the polygon faces (so concave polygons come out right),

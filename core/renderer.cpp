@@ -163,10 +163,18 @@ void sample_offset(int x, int y, int s, double& dx, double& dy) {
 
 void accumulate_pixel(const World& world, const CameraBasis& camera, int x, int y, int s0, int s1, float acc[3],
                       RayStats& stats) {
+    const bool sampled = world.sampled(camera);
     for (int s = s0; s < s1; ++s) {
         double dx, dy;
         sample_offset(x, y, s, dx, dy);
-        Colour c = world.trace_camera(camera, x + dx, y + dy, stats);
+        Colour c;
+        if (sampled) {
+            const Vec3 d = normalize(camera.direction(x + dx, y + dy));
+            const PixelSample key{x, y, s};
+            world.trace_samples(camera, &d, &key, 1, stats, &c);
+        } else {
+            c = world.trace_camera(camera, x + dx, y + dy, stats);
+        }
         acc[0] += float(c.x), acc[1] += float(c.y), acc[2] += float(c.z);
     }
 }
@@ -503,9 +511,16 @@ void first_samples(const RenderTask& task, const Film& film, int y, int step, Ra
     // many, and a resize back up would zero what is written next.)
     thread_local std::vector<Vec3> dirs;
     thread_local std::vector<Colour> colours;
+    thread_local std::vector<PixelSample> keys;
     const std::size_t n = row_count(task, step);
     if (dirs.size() < n) dirs.resize(n), colours.resize(n);
     const World& world = *task.world;
+    // Sample 0 of each pixel traced (its key read only where the world samples).
+    const bool sampled = world.sampled(task.camera);
+    if (sampled && keys.size() < n) keys.resize(n);
+    auto trace = [&](std::size_t m) {
+        world.trace_samples(task.camera, dirs.data(), keys.data(), m, stats, colours.data());
+    };
     const int mask = task.reuse - 1;
     constexpr float zero = kSums ? 0.0f : -0.0f;  // (-0.0f + v is v, bit for bit)
     auto put = [](const Colour& c, float* o) {
@@ -515,7 +530,9 @@ void first_samples(const RenderTask& task, const Film& film, int y, int step, Ra
     // divisions overlap, where one at a time each would wait for the last.
     if (task.reuse == 0 || (y & mask) != 0) {
         task.camera.unit_directions(task.x0, step, int(n), y, dirs.data());
-        world.trace_units(task.camera.origin, dirs.data(), n, stats, colours.data());
+        if (sampled)
+            for (std::size_t k = 0; k < n; ++k) keys[k] = {task.x0 + int(k) * step, y, 0};
+        trace(n);
         for (std::size_t k = 0; k < n; ++k) put(colours[k], out + 3 * k);
         return;
     }
@@ -527,17 +544,22 @@ void first_samples(const RenderTask& task, const Film& film, int y, int step, Ra
         // pixel from the first; the others are made at a stride of two.)
         m = n / 2;
         task.camera.unit_directions(task.x0 + step, 2 * step, int(m), y, dirs.data());
+        if (sampled)
+            for (std::size_t k = 0; k < m; ++k) keys[k] = {task.x0 + step + int(k) * 2 * step, y, 0};
     } else {
         for (std::size_t k = 0; k < n; ++k) {
             const int x = task.x0 + int(k) * step;
-            if ((x & mask) != 0) task.camera.unit_directions(x, step, 1, y, &dirs[m++]);
+            if ((x & mask) != 0) {
+                if (sampled) keys[m] = {x, y, 0};
+                task.camera.unit_directions(x, step, 1, y, &dirs[m++]);
+            }
         }
     }
     // The corners' colours were written a pass ago and have left the caches: they are
     // fetched while the others are traced.
     const float* corners = film.preview.data() + film.preview_index(task.x0, y);
     prefetch<false>(corners, film.preview.data() + film.preview_index(task.x0 + int(n - 1) * step, y) + 3);
-    world.trace_units(task.camera.origin, dirs.data(), m, stats, colours.data());
+    trace(m);
     const Colour* c = colours.data();
     if (usual) {
         // Corner, traced, corner, ...: the corners lie 3 step floats apart in the preview

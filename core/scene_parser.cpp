@@ -31,6 +31,7 @@
 #include <memory>
 #include <mutex>
 #include <new>
+#include <set>
 #include <thread>
 #include <type_traits>
 
@@ -648,8 +649,13 @@ private:
         const sc::Block<Material>& b = sc::material_block();
         Material m = b.make();
         ItemState st;
+        const int errors_before = errors_;
         read_block(b, m, st);
         finish(b, m, st, key.offset, [&] { return loc_of(key.offset); });
+        if (!m.texture.empty() && errors_ == errors_before) {
+            const std::size_t at = st.value_at[key_index(b, *b.find("texture"))];
+            read_texture(m, at != kNone ? at : key.offset);
+        }
         out = m;
         return true;
     }
@@ -658,6 +664,14 @@ private:
     // (reported at the item's name: `name_loc` gives its line and column).
     template <class T, class LocFn>
     void finish(const sc::Block<T>& b, T& item, const ItemState& st, std::size_t name_offset, LocFn name_loc) {
+        check_ranges(b, item, st, name_offset);
+        if (b.check)
+            if (sc::Problem p = b.check(item)) report(p, name_loc());
+    }
+
+    // The clamps and range rules of the item's numbers.
+    template <class T>
+    void check_ranges(const sc::Block<T>& b, T& item, const ItemState& st, std::size_t name_offset) {
         for (const sc::Key<T>& k : b.keys) {
             if (k.kind == sc::Kind::Vec3 && k.range.rule == sc::Range::Rule::Error && (st.given & (1u << key_index(b, k)))) {
                 const Vec3 v = k.vec3(item, 0);
@@ -666,6 +680,9 @@ private:
                 continue;
             }
             if (k.kind != sc::Kind::Number || k.range.rule == sc::Range::Rule::None) continue;
+            // An optional key left out keeps its default, which may stand for "not set"
+            // (focus_distance 0: the centre's distance).
+            if (k.optional && !(st.given & (1u << key_index(b, k)))) continue;
             double& v = k.access.number(item, 0);
             if (k.range.contains(v)) continue;
             if (k.range.rule == sc::Range::Rule::Clamp) {
@@ -675,8 +692,6 @@ private:
                 error_at(at != kNone ? at : name_offset, k.range.message);
             }
         }
-        if (b.check)
-            if (sc::Problem p = b.check(item)) report(p, name_loc());
     }
 
     // ---- names, definitions, includes ---------------------------------------------
@@ -942,6 +957,8 @@ private:
                 if (!camera_seen_) camera_loc_ = loc_of(t.offset);
                 camera_seen_ = true;
                 read_block(sc::camera_block(), out_.scene.camera, camera_keys_);
+                // (Its rule across keys waits for the whole file: validate().)
+                check_ranges(sc::camera_block(), out_.scene.camera, camera_keys_, t.offset);
                 break;
             case sc::SectionKind::PictureSize:
                 if (!included_from_.empty()) {
@@ -1104,7 +1121,9 @@ private:
                 error_at(at, "too many model files (limit " + std::to_string(ModelLimits::max_files) + ")");
                 return;
             }
-            it = models_.emplace(path, (opt_.models ? *opt_.models : own_models_).load(path)).first;
+            it = models_.emplace(path, (opt_.models ? *opt_.models : own_models_)
+                                           .load(path, opt_.textures ? opt_.textures : &own_textures_))
+                     .first;
             if (const MeshModel* model = it->second.model.get()) triangles_ += model->data().triangle_count();
             if (triangles_ > ModelLimits::max_triangles) {
                 error_at(at, "the scene's models hold more than " + std::to_string(ModelLimits::max_triangles) +
@@ -1119,7 +1138,52 @@ private:
             error_at(at, m.file + (l.error.line > 0 ? ":" + std::to_string(l.error.line) : "") + ": " + l.error.message);
             return;
         }
+        for (const Material& mm : l.model->data().materials)
+            if (mm.texture_image && !count_texels(*mm.texture_image)) {
+                error_at(at, m.file + ": the scene's textures hold more than " +
+                                 std::to_string(TextureLimits::max_scene_texels) + " pixels in all");
+                return;
+            }
         m.model = l.model;
+        for (const ModelError& w : l.model->data().warnings)
+            report(Diagnostic::Severity::Warning, loc_of(at),
+                   m.file + (w.line > 0 ? ":" + std::to_string(w.line) : "") + ": " + w.message);
+    }
+
+    // The texture a material names, decoded once per parse however many materials name
+    // it; its errors are reported at the file name.
+    void read_texture(Material& m, std::size_t at) {
+        // Textures are read by the main reading only (a helper would read them again).
+        if (piece_) throw Bail{};
+        if (!opt_.read_textures) return;
+        const std::string path = resolve_model_path(opt_.base_dir, m.texture);
+        auto it = textures_.find(path);
+        if (it == textures_.end()) {
+            if (textures_.size() >= TextureLimits::max_files) {
+                error_at(at, "too many texture files (limit " + std::to_string(TextureLimits::max_files) + ")");
+                return;
+            }
+            it = textures_.emplace(path, (opt_.textures ? *opt_.textures : own_textures_).load(path)).first;
+        }
+        const TextureStore::Loaded& l = it->second;
+        if (!l.texture) {
+            error_at(at, m.texture + ": " + l.error);
+            return;
+        }
+        if (!count_texels(*l.texture)) {
+            error_at(at, "the scene's textures hold more than " + std::to_string(TextureLimits::max_scene_texels) +
+                             " pixels in all");
+            it->second = {nullptr, "(over the scene's limit of texture pixels)"};
+            return;
+        }
+        m.texture_image = l.texture;
+    }
+    // Counts a texture's pixels toward the scene's limit (each texture once); false
+    // once over it.
+    bool count_texels(const Texture& t) {
+        if (!counted_textures_.insert(&t).second) return true;
+        texels_ += std::uint64_t(t.width()) * std::uint64_t(t.height());
+        return texels_ <= TextureLimits::max_scene_texels;
     }
 
     // A CSG's `left { OBJECT }` or `right { OBJECT }` (after its name).
@@ -1235,6 +1299,10 @@ private:
     std::size_t populated_ = 0;  // objects.size() at which populate_ahead is next called
     std::map<std::string, ModelStore::Loaded> models_;  // by resolved path
     ModelStore own_models_;  // when the options give no store
+    std::map<std::string, TextureStore::Loaded> textures_;  // by resolved path
+    TextureStore own_textures_;  // when the options give no store
+    std::set<const Texture*> counted_textures_;  // those counted in texels_
+    std::uint64_t texels_ = 0;  // of the textures read, toward the scene's limit
     std::size_t triangles_ = 0;  // in the models read
     bool camera_seen_ = false, size_seen_ = false;
     ItemState camera_keys_, size_keys_;  // keys accumulate over repeated sections

@@ -13,6 +13,7 @@
 #include "model.h"
 #include "scene.h"
 #include "status.h"
+#include "texture.h"
 
 namespace rt {
 
@@ -79,6 +80,13 @@ struct ParseOptions {
     ModelStore* models = nullptr;
     // False: mesh files are not read (their blocks are checked, their `model` stays null).
     bool read_models = true;
+    // New: where the materials' textures are decoded and kept between parses, as
+    // `models` (null: for this parse alone); each file is read once per parse however
+    // many materials name it.
+    TextureStore* textures = nullptr;
+    // False: texture files are not read (the names are checked, texture_image stays
+    // null).
+    bool read_textures = true;
 };
 
 ParseResult parse_scene(std::string_view text, const ParseOptions& options = {});

@@ -193,6 +193,78 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
     return Colour{sum.x, sum.y, sum.z};
 }
 
+namespace {
+// A point of the sphere (c, radius) seen from p, d away from c (> radius): uniform over
+// the cone of directions the sphere fills, by the sample (u, v); the nearer point
+// where that direction meets the sphere.
+Vec3 sphere_point(const Vec3& p, const Vec3& c, double radius, double d, double u, double v) {
+    const Vec3 w = (c - p) * (1 / d);
+    const double s2 = (radius * radius) / (d * d);
+    // 1 - cos(theta_max), without the cancellation of 1 - sqrt(1 - s2) for small lights.
+    const double one_minus = s2 / (1 + std::sqrt(1 - s2));
+    const double cos_t = 1 - u * one_minus;
+    const double sin_t = std::sqrt(std::max(0.0, 1 - cos_t * cos_t));
+    const double phi = 2 * 3.14159265358979323846 * v;
+    // An orthonormal frame around w (Duff et al. 2017).
+    const double sign = std::copysign(1.0, w.z);
+    const double a = -1 / (sign + w.z), b = w.x * w.y * a;
+    const Vec3 t1{1 + sign * w.x * w.x * a, sign * b, -sign * w.x};
+    const Vec3 t2{b, sign + w.y * w.y * a, -w.y};
+    const Vec3 dir = w * cos_t + t1 * (sin_t * std::cos(phi)) + t2 * (sin_t * std::sin(phi));
+    // Where the ray p + t dir enters the sphere (it does: dir lies in the cone).
+    const double along = d * cos_t;
+    const double t = along - std::sqrt(std::max(0.0, radius * radius - d * d * (sin_t * sin_t)));
+    return p + dir * t;
+}
+}  // namespace
+
+Colour World::direct_sampled(const Vec3& p, const Vec3& n, const Vec3& d, const ShadeMaterial& m, const Colour& cp,
+                             Colour& highlight, Ctx& ctx) const {
+    Colour sum;
+    if (ctx.stats->stopped) return sum;
+    if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
+    const double p1 = LightBuffer::norm1(p);
+    for (std::size_t li = 0; li < lights.size(); ++li) {
+        const ShadeLight& light = lights[li];
+        // The 2013 terms (docs/rendering.md §3) at the light's centre: its strength, the
+        // unshadowed tenth; then the shadow ray and the cosine toward the light's point
+        // that this sample takes (the centre for a point light, or from inside one).
+        Vec3 vc = light.position - p;
+        double rc2 = dot(vc, vc);
+        Colour e = rc2 > 0 ? light.colour * (1 / rc2) : Colour{1, 1, 1};
+        sum += mul(e, cp) * 0.1;
+        Vec3 v = vc;
+        double reach = std::sqrt(rc2);
+        if (light.radius > 0) {
+            double u1, u2;
+            ctx.sampler.next(u1, u2);  // taken whether used or not: the dimensions stay in step
+            if (reach > light.radius) {
+                v = sphere_point(p, light.position, light.radius, reach, u1, u2) - p;
+                reach += light.radius;  // blockers lie within this of the centre (light_buffer.cpp)
+            }
+        }
+        double vn = dot(v, n);
+        if (!(vn > 0)) continue;
+        double r = length(v), inv_r = 1 / r;
+        Vec3 vh = v * inv_r;
+        const ShadowRay s{p + vh * kDelta, v, vh, r, r - 10 * kDelta, li};
+        ++ctx.stats->rays;
+        Colour sh{1, 1, 1};
+        const bool blocked = light.radius > 0 ? objects_block_toward(s, p1, vc, reach, sh, ctx)
+                                              : objects_block(s, p1, sh, ctx);
+        if (blocked || (glow_bvh ? others_block<true>(s) : others_block<false>(s))) continue;
+        sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
+        if (m.specular > 0) {
+            // Blinn-Phong: the normal against the half vector of the light and the eye.
+            const Vec3 h = vh - d;
+            const double hl = length(h);
+            const double nh = hl > 0 ? dot(n, h) / hl : 0;
+            if (nh > 0) highlight += mul(e, sh) * (m.specular * std::pow(nh, m.shininess));
+        }
+    }
+    return sum;
+}
+
 // objects_block() where the light buffer cannot serve: through the BVH.
 bool World::objects_block_bvh(const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const {
     // (The box test takes v and r: its inverse direction r / v is then one division
@@ -263,7 +335,16 @@ Colour World::shade(const Vec3& o, const Vec3& d, int depth, double weight, Ctx&
     Colour out;
     if (!shade_surface(o, d, depth, weight, ctx, s, out)) return out;
     const ShadeMaterial* m = s.m;
-    const Colour lit = m->scattering > 0 ? direct(s.p, s.n, m->colour, ctx) : Colour{};
+    if (__builtin_expect(area_lights || m->specular > 0, 0)) {
+        // The New: terms: sphere lights sampled, highlights.
+        Colour highlight;
+        const Colour lit =
+            m->scattering > 0 || m->specular > 0 ? direct_sampled(s.p, s.n, d, *m, s.cp, highlight, ctx) : Colour{};
+        const Colour mirror =
+            m->reflection > 0 ? shade(s.p, reflect(d, s.n), depth + 2, weight * m->reflection, ctx) : Colour{};
+        return combine(s, lit, mirror) + highlight;
+    }
+    const Colour lit = m->scattering > 0 ? direct(s.p, s.n, s.cp, ctx) : Colour{};
     const Colour mirror =
         m->reflection > 0 ? shade(s.p, reflect(d, s.n), depth + 2, weight * m->reflection, ctx) : Colour{};
     return combine(s, lit, mirror);
@@ -293,6 +374,7 @@ Colour World::trace_from(const Vec3& origin, const Vec3& d, int depth, RayStats&
     if (stats.stopped) return {};
     ctx.budget = omit_weight;
     ctx.cutoff = omit_weight * Ctx::kShare;
+    ctx.sampler = PathSampler();  // (a ray of no pixel sample: the same points every time)
     return finite_colour(shade(origin, d, depth, 1.0, ctx));
 }
 
@@ -300,7 +382,7 @@ void World::trace_units(const Vec3& origin, const Vec3* unit_dirs, std::size_t n
     Ctx& ctx = thread_ctx();
     ctx.stats = &stats;
 #if RT_HAVE_AVX2_KERNELS
-    if (glows.empty() && avx2_active()) return trace_units4(origin, unit_dirs, n, ctx, out);
+    if (glows.empty() && !scalar_only() && avx2_active()) return trace_units4(origin, unit_dirs, n, ctx, out);
 #endif
     for (std::size_t i = 0; i < n; ++i) {
         if (stats.stopped) {
@@ -310,7 +392,32 @@ void World::trace_units(const Vec3& origin, const Vec3* unit_dirs, std::size_t n
         // Each ray's tree starts with the whole budget, as in trace_from().
         ctx.budget = omit_weight;
         ctx.cutoff = omit_weight * Ctx::kShare;
+        ctx.sampler = PathSampler();
         out[i] = finite_colour(shade(origin, unit_dirs[i], 0, 1.0, ctx));
+    }
+}
+
+void World::trace_samples(const CameraBasis& cam, const Vec3* unit_dirs, const PixelSample* keys, std::size_t n,
+                          RayStats& stats, Colour* out) const {
+    if (!sampled(cam)) return trace_units(cam.origin, unit_dirs, n, stats, out);
+    Ctx& ctx = thread_ctx();
+    ctx.stats = &stats;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (stats.stopped) {
+            std::fill(out + i, out + n, Colour{});
+            return;
+        }
+        ctx.budget = omit_weight;
+        ctx.cutoff = omit_weight * Ctx::kShare;
+        ctx.sampler = PathSampler(keys[i]);
+        Vec3 o = cam.origin, d = unit_dirs[i];
+        if (cam.lens > 0) {
+            double u, v;
+            ctx.sampler.next(u, v);
+            const Ray r = cam.lens_ray(d, u, v);
+            o = r.origin, d = r.dir;
+        }
+        out[i] = finite_colour(shade(o, d, 0, 1.0, ctx));
     }
 }
 

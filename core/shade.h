@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "shapes.h"
+#include "texture_map.h"
 #include "world.h"
 
 namespace rt {
@@ -81,6 +82,8 @@ struct World::Ctx {
     double budget = 0;
     double cutoff = 0;
     static constexpr double kShare = 1.0 / 4096;
+    // The points of this camera ray's lens and sphere-light samples (sampler.h).
+    PathSampler sampler;
     void leave_out(double weight) {
         budget -= weight;
         cutoff = budget * kShare;
@@ -119,6 +122,7 @@ struct World::Surface {
     Vec3 p, n;
     const ShadeMaterial* m = nullptr;
     Colour refr;
+    Colour cp;  // the surface's colour at p: m->colour, times its texture's texel there
 };
 
 // A shadow ray toward one light: it leaves p a little toward the light, along the unit
@@ -229,8 +233,10 @@ inline void World::unblocked(const ShadowRay& s, const ShadowSearch& found, Colo
 // entries [e, end): only the objects the light sees in this direction, nearer than p.
 // An opaque object on the way blocks the light whatever else lies there, so the objects
 // may be tested in any order, stopping at the first such one.
+// `reach`: how far from the light a blocker may be (s.r; a sphere light's, see
+// objects_block_toward()).
 inline bool World::cell_blocks(const ShadowRay& s, const LightBuffer& lb, const LightBuffer::Entry* e,
-                               const LightBuffer::Entry* end, Colour& sh, Ctx& ctx) const {
+                               const LightBuffer::Entry* end, double reach, Colour& sh, Ctx& ctx) const {
     const Geometry& g = *geometry;
     ShadowSearch found;
     // Spheres of the prefix are tested here, as Geometry::hit() would (the same
@@ -238,7 +244,7 @@ inline bool World::cell_blocks(const ShadowRay& s, const LightBuffer& lb, const 
     const std::uint32_t prefix = g.sphere_prefix;
     const SphereG* const flat = g.spheres.flat();
     SphereG* const* const table = g.spheres.table();
-    for (; e != end && !(double(e->dmin) > s.r); ++e) {
+    for (; e != end && !(double(e->dmin) > reach); ++e) {
         const std::uint32_t obj = e->obj;
         if (obj < prefix) {
             const SphereG& sp = flat ? flat[obj] : table[obj >> Chunked<SphereG>::kShift][obj & Chunked<SphereG>::kMask];
@@ -254,7 +260,7 @@ inline bool World::cell_blocks(const ShadowRay& s, const LightBuffer& lb, const 
         }
     }
     for (const LightBuffer::Entry& a : lb.always)
-        if (!(double(a.dmin) > s.r) && shadow_test(a.obj, s, found, ctx)) return true;
+        if (!(double(a.dmin) > reach) && shadow_test(a.obj, s, found, ctx)) return true;
     unblocked(s, found, sh, ctx);
     return false;
 }
@@ -262,12 +268,20 @@ inline bool World::cell_blocks(const ShadowRay& s, const LightBuffer& lb, const 
 // Whether an opaque object lies on the shadow ray; if none, `sh` takes the tint of the
 // refractive ones on it. p1: |p|_1 of the ray's start.
 inline bool World::objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const {
+    return objects_block_toward(s, p1, s.v, s.r, sh, ctx);
+}
+
+// objects_block() for a ray toward a point of a sphere light: its light buffer's boxes
+// are grown by the radius, so the cell toward the centre (`toward`, from p) holds every
+// object on the ray, each within `reach` (the centre's distance from p) of the centre.
+inline bool World::objects_block_toward(const ShadowRay& s, double p1, const Vec3& toward, double reach, Colour& sh,
+                                        Ctx& ctx) const {
     if (blocker_blocks(s, ctx)) return true;
     const LightBuffer* lb = light_buffers ? &(*light_buffers)[s.light] : nullptr;
-    if (lb && lb->usable(p1, s.r)) {
+    if (lb && lb->usable(p1, reach)) {
         const LightBuffer::Entry *e, *end;
-        lb->cell_toward(s.v, e, end);
-        return cell_blocks(s, *lb, e, end, sh, ctx);
+        lb->cell_toward(toward, e, end);
+        return cell_blocks(s, *lb, e, end, reach, sh, ctx);
     }
     ShadowSearch found;
     if (objects_block_bvh(s, found, ctx)) return true;
@@ -289,7 +303,10 @@ inline bool World::shade_surface(const Vec3& o, const Vec3& d, int depth, double
     }
     if (__builtin_expect(++ctx.stats->rays >= ctx.stats->next_poll, 0)) poll(*ctx.stats, ctx.cutoff, ctx.budget);
     HitRec h;
-    if (!nearest(o, d, ctx, h)) return false;
+    if (!nearest(o, d, ctx, h)) {
+        out = background;
+        return false;
+    }
     const Vec3 p = o + d * h.t;
     s.p = p;
     if (h.kind == HitRec::Glow) {
@@ -305,10 +322,15 @@ inline bool World::shade_surface(const Vec3& o, const Vec3& d, int depth, double
     if (h.kind == HitRec::Object) {
         m = &materials[h.index];
         n = geometry->surface_normal(h.index, h.end, p);
+        s.cp = m->colour;
+        if (__builtin_expect(m->texture != nullptr || m->file != nullptr, 0))
+            object_look(*geometry, h.index, h.end, p, m, s.cp);
     } else {
         const PlaneShape& pl = planes[h.index];
         m = &plane_mats[2 * h.index + pl.cell(p)];
         n = pl.n;
+        s.cp = m->colour;
+        if (__builtin_expect(m->texture != nullptr, 0)) s.cp = plane_look(pl, *m, p);
     }
     s.m = m;
     s.refr = {};

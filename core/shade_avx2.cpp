@@ -136,7 +136,7 @@ unsigned World::shadow_lanes(const ShadowRays4& q, const LightBuffer* lb, unsign
             // Nothing on the way and no blocker to try: cell_blocks() would find nothing.
             if (ctx.blocker[q.light] == 0 && (e == end || double(e->dmin) > q.r[k]) && lb->always.empty()) continue;
             const ShadowRay ray = q.ray(k);
-            blocked = blocker_blocks(ray, ctx) || cell_blocks(ray, *lb, e, end, c, ctx);
+            blocked = blocker_blocks(ray, ctx) || cell_blocks(ray, *lb, e, end, ray.r, c, ctx);
         } else {
             blocked = objects_block(q.ray(k), q.p1[k], c, ctx);
         }
@@ -157,7 +157,7 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], unsigned live, Colour out
     const Vec3 *pp[4], *nn[4], *cc[4];
     for (int k = 0; k < 4; ++k) {
         const Surface& q = s[(live >> k) & 1 ? k : first];
-        pp[k] = &q.p, nn[k] = &q.n, cc[k] = &q.m->colour;
+        pp[k] = &q.p, nn[k] = &q.n, cc[k] = &q.cp;
     }
     const V3 p = gather(pp), n = gather(nn), cp = gather(cc);
     const __m256d sign = splat(-0.0), zero = _mm256_setzero_pd(), one = splat(1.0);
@@ -255,7 +255,7 @@ void World::shade4(const Vec3 o[4], const Vec3 d[4], unsigned live, int depth, c
             direct4(s, scatters, lit, ctx);
         } else {  // one lane: the scalar loop costs less
             const int k = __builtin_ctz(scatters);
-            lit[k] = direct(s[k].p, s[k].n, s[k].m->colour, ctx);
+            lit[k] = direct(s[k].p, s[k].n, s[k].cp, ctx);
         }
     } else if (scatters) {
         std::fill(lit, lit + 4, Colour{});  // (thrown away: the trace has stopped)

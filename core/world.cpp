@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "model.h"
 #include "shade.h"
 #include "shapes.h"
 #include "world_build.h"
@@ -25,9 +26,37 @@ ShadeMaterial ShadeMaterial::from(const Material& m) {
     s.translusans = std::clamp(m.translusans, 0.0, 1.0);
     s.ior = std::max(1.0, m.refractive_index);
     s.colour = m.colour;
+    s.specular = m.specular;
+    s.shininess = m.shininess;
     Colour base = m.colour * s.translusans;
     for (int k = 0; k < 3; ++k) s.log_tint[k] = base[k] > 0 ? std::log(base[k]) : -kInf;
+    s.texture = m.texture_image.get();
+    s.texture_scale = m.texture_scale > 0 ? m.texture_scale : 1;
     return s;
+}
+
+ShadeMaterial ShadeMaterial::of(const Object& o) {
+    ShadeMaterial s = from(o.material);
+    if (const Mesh* mesh = std::get_if<Mesh>(&o.shape); mesh && mesh->model && !o.has_material) {
+        s.file = mesh->model->shading();
+        // Light refracted through a face the file makes transparent crosses the model
+        // unabsorbed (MTL's dissolve says how much is seen through, not a tint); the
+        // object's own material would absorb all of it (translusans 0).
+        if (s.file) s.log_tint = {};
+    }
+    return s;
+}
+
+const ModelShading* MeshModel::shading() const {
+    std::call_once(shading_made_, [this] {
+        const MeshData& d = data_;
+        if (d.materials.empty() && d.colours.empty()) return;
+        auto made = std::make_shared<ModelShading>();
+        for (const Material& m : d.materials) made->materials.push_back(ShadeMaterial::from(m));
+        made->vertex_colours = !d.colours.empty() && d.colours.size() == d.positions.size();
+        shading_ = std::move(made);
+    });
+    return shading_.get();
 }
 
 PlaneShape PlaneShape::from(const Plane& p) {
@@ -45,6 +74,14 @@ PlaneShape PlaneShape::from(const Plane& p) {
         q.inv_row[0] = cross(e2, e3) / det;
         q.inv_row[1] = cross(e3, e1) / det;
         q.inv_row[2] = cross(e1, e2) / det;
+    }
+    // p - p1 = a e1 + b e2 (+ off the plane) by the plane's 2 x 2 system; its rows
+    // times the axes' lengths give scene units along each.
+    const double g11 = dot(e1, e1), g12 = dot(e1, e2), g22 = dot(e2, e2);
+    const double g = g11 * g22 - g12 * g12;
+    if (g > 0) {
+        q.uv_row[0] = (e1 * g22 - e2 * g12) * (std::sqrt(g11) / g);
+        q.uv_row[1] = (e2 * g11 - e1 * g12) * (std::sqrt(g22) / g);
     }
     return q;
 }

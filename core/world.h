@@ -14,6 +14,7 @@
 #include "camera.h"
 #include "chunked.h"
 #include "math.h"
+#include "sampler.h"
 #include "scene.h"
 #include "scene_delta.h"
 
@@ -21,6 +22,8 @@ namespace rt {
 
 struct Geometry;  // primitives + BVH (shapes.h, bvh.h)
 class Bvh;
+
+struct ModelShading;
 
 // Material as the tracer uses it: weights normalised to sum 1 (or all 0).
 struct ShadeMaterial {
@@ -30,7 +33,26 @@ struct ShadeMaterial {
     // log(colour * translusans) per channel (-inf where that is 0): light crossing a
     // length s of the material keeps exp(s * log_tint) of itself.
     Colour log_tint;
+    // New: the lights' highlight (Blinn-Phong), added on top of the terms above.
+    double specular = 0, shininess = 50;
+    // New: the image multiplied into `colour` (null: none, the 2013 look; the scene's
+    // Material holds it, and World::textures keeps it alive) and the scene units per
+    // repeat of the mappings that have no scale of their own.
+    const Texture* texture = nullptr;
+    double texture_scale = 1;
+    // New: a mesh drawn with its model file's own materials or vertex colours (no
+    // material block overrides them): what the file gives, made once per model.
+    const ModelShading* file = nullptr;
     static ShadeMaterial from(const Material& m);
+    // The material of object `o` as shading uses it (a mesh's with its file's).
+    static ShadeMaterial of(const Object& o);
+};
+
+// A model file's materials as shading uses them (MeshModel::shading()): per entry of
+// MeshData::materials, and whether its vertices' colours colour it.
+struct ModelShading {
+    std::vector<ShadeMaterial> materials;
+    bool vertex_colours = false;
 };
 
 // An infinite plane, two-sided for hits, one-sided for shading (normal toward point 4).
@@ -41,6 +63,9 @@ struct PlaneShape {
     bool chess = false;
     bool singular = true;  // point 4 in the plane: every cell is material 1
     Vec3 inv_row[3];       // cell coordinates of p - p1
+    // New: texture coordinates of p - p1 in scene units: along point 1 -> 2 and, in
+    // the plane, along point 1 -> 3 (the axes as they are, not made square).
+    Vec3 uv_row[2];
     static PlaneShape from(const Plane& p);
     // 0 for material 1, 1 for material 2.
     int cell(const Vec3& p) const;
@@ -50,6 +75,7 @@ struct ShadeLight {
     Vec3 position;
     Colour colour;
     double glow = 0;  // glow-sphere radius; 0 = none
+    double radius = 0;  // New: a sphere light of this radius (soft shadows); 0 = a point
 };
 
 // The objects a point light sees in each direction, for its shadow rays (a "light
@@ -71,8 +97,10 @@ struct LightBuffer {
     std::vector<std::uint32_t> start;   // per cell, its first entry; 6 n n + 1 of them
     std::vector<Entry> entries;
     std::vector<Entry> always;          // objects around or next to the light: every ray's
-    static LightBuffer build(const std::vector<Aabb>& boxes, const Vec3& light, int n);
-    static LightBuffer build(const Chunked<Aabb>& boxes, const Vec3& light, int n);
+    // pad > 0: every box grown by it (a sphere light of that radius: a shadow ray from
+    // any point of it to p meets only objects of the cell toward p, within its reach).
+    static LightBuffer build(const std::vector<Aabb>& boxes, const Vec3& light, int n, double pad = 0);
+    static LightBuffer build(const Chunked<Aabb>& boxes, const Vec3& light, int n, double pad = 0);
     // Whether a shadow ray from p (r from the light) may use the buffer: the rounding
     // of its points stays within the cells' padding.
     bool usable(const Vec3& p, double r) const { return usable(norm1(p), r); }
@@ -179,10 +207,22 @@ public:
     // Glow discs of many lamps in a BVH of their own (null when a loop over them is
     // cheaper): a ray then tests the few discs near it, not every lamp.
     std::shared_ptr<const Bvh> glow_bvh;
+    // New: every texture the materials above point to (a model's own are kept by its
+    // model, which the geometry holds).
+    std::vector<std::shared_ptr<const Texture>> textures;
     // Per light (same index), its light buffer; null or n == 0: shadow rays walk the BVH.
     std::shared_ptr<const std::vector<LightBuffer>> light_buffers;
     // The same around the camera's position, for the rays that leave from it; null if none.
     std::shared_ptr<const LightBuffer> camera_buffer;
+    // New: the colour of rays that meet nothing (the camera's `background`), and what
+    // the scene uses of the realism keys: sphere lights, highlights. Any of them takes
+    // the scalar path (the packets know only the 2013 terms); sphere lights and a lens
+    // need each ray's pixel sample (trace_samples).
+    Colour background;
+    bool area_lights = false, highlights = false;
+    bool scalar_only() const { return area_lights || highlights || !(background == Colour{}); }
+    // Whether camera rays through `cam` need their pixel samples (trace_samples).
+    bool sampled(const CameraBasis& cam) const { return area_lights || cam.lens > 0; }
 
     // Colour seen along the original's camera ray through pixel (i, j).
     Colour trace_camera(const CameraBasis& cam, double i, double j, RayStats& stats) const;
@@ -195,6 +235,12 @@ public:
     // same colours, for callers that trace a row in one go (the per-ray set-up is done
     // once). Once `stats` has stopped, the remaining colours are black.
     void trace_units(const Vec3& origin, const Vec3* unit_dirs, std::size_t n, RayStats& stats, Colour* out) const;
+    // The camera rays of n pixel samples, unit_dirs[k] being the pinhole direction of
+    // keys[k]: through a point of the lens and with points on the sphere lights chosen
+    // by the sample (sampler.h), so that a sample's colour depends on nothing else.
+    // Where sampled(cam) is false, trace_units(cam.origin, ...) (keys are not read).
+    void trace_samples(const CameraBasis& cam, const Vec3* unit_dirs, const PixelSample* keys, std::size_t n,
+                       RayStats& stats, Colour* out) const;
     // Bounds of all bounded objects (and lamps); empty if there are none. Kept up to
     // date by compile_world() and update(): no pass over the objects.
     Aabb bounds() const;
@@ -242,6 +288,10 @@ private:
     unsigned shadow_lanes(const ShadowRays4& q, const LightBuffer* lb, unsigned in_cell, const std::int32_t* cell,
                           unsigned lit, double (&sh)[3][4], Ctx& ctx) const;
     Colour direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
+    // direct() with the New: terms: sphere lights sampled, and the highlight (seen along
+    // d) added to `highlight`.
+    Colour direct_sampled(const Vec3& p, const Vec3& n, const Vec3& d, const ShadeMaterial& m, const Colour& cp,
+                          Colour& highlight, Ctx& ctx) const;
     template <bool kGlowBvh>
     Colour direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
     struct ShadowRay;
@@ -251,8 +301,10 @@ private:
     bool met(std::uint32_t obj, double t, const ShadowRay& s, ShadowSearch& found, Ctx& ctx) const;
     [[gnu::always_inline]] bool objects_block(const ShadowRay& s, double p1, Colour& sh, Ctx& ctx) const;
     bool blocker_blocks(const ShadowRay& s, Ctx& ctx) const;
+    [[gnu::always_inline]] bool objects_block_toward(const ShadowRay& s, double p1, const Vec3& toward, double reach,
+                                                     Colour& sh, Ctx& ctx) const;
     [[gnu::always_inline]] bool cell_blocks(const ShadowRay& s, const LightBuffer& lb, const LightBuffer::Entry* e,
-                                            const LightBuffer::Entry* end, Colour& sh, Ctx& ctx) const;
+                                            const LightBuffer::Entry* end, double reach, Colour& sh, Ctx& ctx) const;
     [[gnu::always_inline]] void unblocked(const ShadowRay& s, const ShadowSearch& found, Colour& sh, Ctx& ctx) const;
     [[gnu::noinline]] Colour found_tint(const ShadowRay& s, const ShadowSearch& found, const Colour& sh,
                                         Ctx& ctx) const;

@@ -18,6 +18,7 @@ struct World::Tallies {
     struct Materials {
         bool bounded = true;
         double cp = 0;
+        bool specular = false;  // some material of the chunk has a highlight (New: specular)
     };
     std::vector<Materials> materials;
     // Per chunk of geometry->object_bounds: the union of its boxes that are not empty.
@@ -44,6 +45,8 @@ int light_buffer_cells(std::size_t objects);
 // Whether material m keeps radiance_bound's premises (no negative weight, no tint above
 // 1, a finite colour); cp grows to its colour's largest channel if it scatters.
 bool bounded_material(const ShadeMaterial& m, double& cp);
+// Whether a material (or its model file's) has a highlight (New: specular).
+bool has_highlight(const ShadeMaterial& m);
 // Chunk c of the materials' tally.
 World::Tallies::Materials tally_materials(const Chunked<ShadeMaterial>& materials, std::size_t c);
 // The union of the boxes of chunk c that are not empty.
@@ -59,7 +62,14 @@ void set_ray_tree_bound(World& w);
 // The planes' and lights' tables of `scene` in w (which holds none yet), and which
 // lights have glow discs.
 void add_planes(World& w, const Scene& scene);
+// Adds `more` to w.textures (each texture once).
+void keep_textures(World& w, std::vector<std::shared_ptr<const Texture>> more);
 void add_lights(World& w, const Scene& scene);
+// A light as the tracer uses it.
+ShadeLight shade_light(const Light& l);
+// World::background, area_lights and highlights from the scene and w's tables (after
+// its tallies are made).
+void set_features(World& w, const Scene& scene);
 // The BVH of many glow discs: the previous world's if its discs are the same.
 void add_glow_bvh(World& w, const World* previous);
 // The camera's light buffer and the lights', or the previous world's where they serve.

@@ -62,19 +62,38 @@ double distance_to_objects(const Geometry& g, const Vec3& p) {
     return std::sqrt(best2);
 }
 
+bool has_highlight(const ShadeMaterial& m) {
+    if (m.specular > 0) return true;
+    if (m.file)
+        for (const ShadeMaterial& f : m.file->materials)
+            if (f.specular > 0) return true;
+    return false;
+}
+
 bool bounded_material(const ShadeMaterial& m, double& cp) {
     if (!(m.reflection >= 0 && m.refraction >= 0 && m.scattering >= 0)) return false;
     if (m.refraction > 0 && max3(m.log_tint) > 0) return false;  // a tint above 1
     double c = max3(cabs(m.colour));
     if (!std::isfinite(c)) return false;
+    // A texel is at most 1, so a texture never brightens the colour.
     if (m.scattering > 0) cp = std::max(cp, c);
+    // A highlight adds at most specular times a light's strength, whatever scatters.
+    if (m.specular > 0) cp = std::max(cp, (m.scattering > 0 ? c : 0.0) + m.specular);
+    if (m.file) {
+        for (const ShadeMaterial& f : m.file->materials)
+            if (!bounded_material(f, cp)) return false;
+        // Vertex colours: linear values of 8 or 16-bit channels, or floats as written.
+        if (m.file->vertex_colours) return false;
+    }
     return true;
 }
 
 World::Tallies::Materials tally_materials(const Chunked<ShadeMaterial>& materials, std::size_t c) {
     World::Tallies::Materials t;
     const ShadeMaterial* m = materials.chunk(c);
-    for (std::size_t k = 0, e = materials.chunk_size(c); k < e && t.bounded; ++k) t.bounded = bounded_material(m[k], t.cp);
+    const std::size_t e = materials.chunk_size(c);
+    for (std::size_t k = 0; k < e && t.bounded; ++k) t.bounded = bounded_material(m[k], t.cp);
+    for (std::size_t k = 0; k < e && !t.specular; ++k) t.specular = has_highlight(m[k]);
     return t;
 }
 
@@ -131,7 +150,7 @@ double radiance_bound(const World& w) {
         if (!(r > 0)) return inf;
         direct += c / (r * r);
     }
-    return std::max(glow, cp * direct);
+    return std::max({glow, max3(cabs(w.background)), cp * direct});
 }
 
 // The objects' shading materials (made on a thread of their own for a big scene) and
@@ -139,6 +158,7 @@ double radiance_bound(const World& w) {
 struct ObjectMaterials {
     Chunked<ShadeMaterial> list;
     std::vector<World::Tallies::Materials> tallies;
+    std::vector<std::shared_ptr<const Texture>> textures;  // those the materials name
 };
 
 ObjectMaterials make_materials(const Scene& scene) {
@@ -153,15 +173,21 @@ ObjectMaterials make_materials(const Scene& scene) {
         // to either of the last two objects' in its chunk is copied, saving its three
         // logarithms and its check, which gives the same answer (and the same tally as
         // tally_materials(), which checks every one).
-        const Material& m = scene.objects[i].material;
-        std::size_t k = 1;
+        // (A mesh's shading material depends on its model too.)
+        const Object& o = scene.objects[i];
+        const Material& m = o.material;
+        const bool mesh = std::holds_alternative<Mesh>(o.shape);
+        std::size_t k = mesh ? 3 : 1;
         for (; k <= 2 && k <= i && (i - k) >> kShift == i >> kShift; ++k)
             if (m.same_bits(scene.objects[i - k].material)) break;
         if (k <= 2 && k <= i && (i - k) >> kShift == i >> kShift) {
             out.push_back(out[i - k]);
         } else {
-            out.push_back(ShadeMaterial::from(m));
+            if (m.texture_image && (made.textures.empty() || made.textures.back() != m.texture_image))
+                made.textures.push_back(m.texture_image);
+            out.push_back(ShadeMaterial::of(o));
             if (tally.bounded) tally.bounded = detail::bounded_material(out.back(), tally.cp);
+            tally.specular |= detail::has_highlight(out.back());
         }
         if (((i + 1) >> kShift) != (i >> kShift) || i + 1 == n) {
             made.tallies.push_back(tally);
@@ -209,7 +235,20 @@ std::shared_ptr<const World> compile_world(const Scene& scene, std::shared_ptr<c
 
 namespace detail {
 
+void keep_textures(World& w, std::vector<std::shared_ptr<const Texture>> more) {
+    if (more.empty()) return;
+    more.insert(more.end(), w.textures.begin(), w.textures.end());
+    std::sort(more.begin(), more.end());
+    more.erase(std::unique(more.begin(), more.end()), more.end());
+    w.textures = std::move(more);
+}
+
 void add_planes(World& w, const Scene& scene) {
+    std::vector<std::shared_ptr<const Texture>> textures;
+    for (const Plane& p : scene.planes)
+        for (const Material* m : {&p.material, &p.material2})
+            if (m->texture_image) textures.push_back(m->texture_image);
+    keep_textures(w, std::move(textures));
     for (const Plane& p : scene.planes) {
         w.planes.push_back(PlaneShape::from(p));
         w.plane_mats.push_back(ShadeMaterial::from(p.material));
@@ -217,11 +256,27 @@ void add_planes(World& w, const Scene& scene) {
     }
 }
 
+ShadeLight shade_light(const Light& l) {
+    return {l.position, l.colour, l.lamp && l.size > 0 ? l.size : 0.0, l.radius > 0 ? l.radius : 0.0};
+}
+
+void set_features(World& w, const Scene& scene) {
+    w.background = scene.camera.background;
+    w.area_lights = false;
+    for (std::size_t c = 0; c < w.lights.chunk_count() && !w.area_lights; ++c) {
+        const ShadeLight* l = w.lights.chunk(c);
+        for (std::size_t k = 0, e = w.lights.chunk_size(c); k < e; ++k) w.area_lights |= l[k].radius > 0;
+    }
+    w.highlights = false;
+    for (const World::Tallies::Materials& m : w.tallies->materials) w.highlights |= m.specular;
+    for (const ShadeMaterial& m : w.plane_mats) w.highlights |= has_highlight(m);
+}
+
 void add_lights(World& w, const Scene& scene) {
     w.lights.reserve(scene.lights.size());
     for (const Light& l : scene.lights) {
         if (l.lamp && l.size > 0) w.glows.push_back(std::uint32_t(w.lights.size()));
-        w.lights.push_back({l.position, l.colour, l.lamp && l.size > 0 ? l.size : 0.0});
+        w.lights.push_back(shade_light(l));
     }
 }
 
@@ -257,9 +312,9 @@ namespace {
 // threads (a big scene's take tens of milliseconds each; a small one's, microseconds
 // on this thread).
 std::vector<LightBuffer> build_light_buffers(const Chunked<Aabb>& boxes, const std::vector<Vec3>& todo,
-                                             int cells_n) {
+                                             const std::vector<double>& pads, int cells_n) {
     std::vector<LightBuffer> made(todo.size());
-    auto one = [&](std::size_t i) { made[i] = LightBuffer::build(boxes, todo[i], cells_n); };
+    auto one = [&](std::size_t i) { made[i] = LightBuffer::build(boxes, todo[i], cells_n, pads[i]); };
     if (boxes.size() < 4096) {
         for (std::size_t i = 0; i < todo.size(); ++i) one(i);
     } else {
@@ -285,6 +340,7 @@ void add_light_buffers(World& w, const Scene& scene, const World* previous) {
     // The buffers to make: the camera's (index 0) and the lights' (1 + light), unless
     // the previous world's serve.
     std::vector<Vec3> todo;
+    std::vector<double> pads;  // each buffer's padding: a sphere light's radius
     std::shared_ptr<const LightBuffer> camera_buffer;
     if (small) {
         // Camera rays all leave from one point too: the same buffer around it serves them.
@@ -292,7 +348,7 @@ void add_light_buffers(World& w, const Scene& scene, const World* previous) {
             previous->camera_buffer->position == scene.camera.position)
             camera_buffer = previous->camera_buffer;
         else
-            todo.push_back(scene.camera.position);
+            todo.push_back(scene.camera.position), pads.push_back(0);
     }
     bool lights_too = small && !w.lights.empty() &&
                       (w.lights.size() + 1) * 6 * std::size_t(cells_n) * std::size_t(cells_n) <= kLightBufferMaxCells;
@@ -300,16 +356,17 @@ void add_light_buffers(World& w, const Scene& scene, const World* previous) {
         bool same = previous && previous->light_buffers && previous->geometry == w.geometry &&
                     previous->lights.size() == w.lights.size();
         for (std::size_t k = 0; same && k < w.lights.size(); ++k)
-            same = w.lights[k].position == previous->lights[k].position;
+            same = w.lights[k].position == previous->lights[k].position &&
+                   w.lights[k].radius == previous->lights[k].radius;
         if (same) {
             w.light_buffers = previous->light_buffers;
             lights_too = false;
         } else {
-            for (const ShadeLight& l : w.lights) todo.push_back(l.position);
+            for (const ShadeLight& l : w.lights) todo.push_back(l.position), pads.push_back(l.radius);
         }
     }
     if (!todo.empty()) {
-        std::vector<LightBuffer> made = build_light_buffers(boxes, todo, cells_n);
+        std::vector<LightBuffer> made = build_light_buffers(boxes, todo, pads, cells_n);
         std::size_t k = 0;
         if (small && !camera_buffer) camera_buffer = std::make_shared<const LightBuffer>(std::move(made[k++]));
         if (lights_too) w.light_buffers = std::make_shared<const std::vector<LightBuffer>>(
@@ -338,6 +395,7 @@ std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<co
     auto w = std::make_shared<World>();
     w->geometry = std::move(geometry);
     w->materials = std::move(materials.list);
+    detail::keep_textures(*w, std::move(materials.textures));
     detail::add_planes(*w, scene);
     detail::add_lights(*w, scene);
     detail::add_glow_bvh(*w, previous);
@@ -349,8 +407,10 @@ std::shared_ptr<const World> finish_world(const Scene& scene, std::shared_ptr<co
     for (std::size_t c = 0; c < boxes.chunk_count(); ++c) tallies->boxes.push_back(detail::tally_boxes(boxes, c));
     detail::tally_lights(*tallies, *w);
     w->tallies = std::move(tallies);
+    w->background = scene.camera.background;  // (before the bound, which counts it)
     detail::set_ray_tree_bound(*w);
     w->camera = scene.camera;
+    detail::set_features(*w, scene);
     w->width = scene.width;
     w->height = scene.height;
     if (previous) w->options = previous->options;

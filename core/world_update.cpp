@@ -34,14 +34,19 @@ bool find_moved(const Geometry& g, const Scene& scene, const std::vector<std::ui
 // chunks written.
 std::vector<std::size_t> update_materials(World& w, const Scene& scene, const std::vector<std::uint32_t>& changed) {
     std::vector<std::size_t> chunks;
+    std::vector<std::shared_ptr<const Texture>> textures;
     for (std::uint32_t i : changed) {
-        const ShadeMaterial m = ShadeMaterial::from(scene.objects[i].material);
-        static_assert(sizeof(ShadeMaterial) == 11 * sizeof(double), "shading materials compare as bytes");
+        const ShadeMaterial m = ShadeMaterial::of(scene.objects[i]);
+        if (scene.objects[i].material.texture_image) textures.push_back(scene.objects[i].material.texture_image);
+        static_assert(sizeof(ShadeMaterial) == 13 * sizeof(double) + 3 * 8, "shading materials compare as bytes");
         if (std::memcmp(&m, &w.materials[i], sizeof m) == 0) continue;
         w.materials.write(i) = m;
         const std::size_t c = i >> Chunked<ShadeMaterial>::kShift;
         if (chunks.empty() || chunks.back() != c) chunks.push_back(c);
     }
+    // The world keeps what it may point to (the textures it held too: other objects
+    // may still name them).
+    detail::keep_textures(w, std::move(textures));
     return chunks;
 }
 
@@ -59,9 +64,10 @@ bool update_lights(World& w, const Scene& scene, const std::vector<std::uint32_t
     for (std::uint32_t i : changed) {
         if (i >= scene.lights.size()) continue;
         const Light& l = scene.lights[i];
-        const ShadeLight s{l.position, l.colour, l.lamp && l.size > 0 ? l.size : 0.0};
+        const ShadeLight s = detail::shade_light(l);
         const ShadeLight& was = w.lights[i];
-        if (was.position == s.position && was.colour == s.colour && was.glow == s.glow) continue;
+        if (was.position == s.position && was.colour == s.colour && was.glow == s.glow && was.radius == s.radius)
+            continue;
         w.lights.write(i) = s;
         any = true;
     }
@@ -115,8 +121,12 @@ std::shared_ptr<const World> update_world(const World& previous, const Scene& sc
         add_light_buffers(*w, scene, &previous);
     if (geometry_changed || lights_changed) tally_lights(*tallies, *w);
     w->tallies = std::move(tallies);
-    if (geometry_changed || lights_changed || planes_changed || !material_chunks.empty()) set_ray_tree_bound(*w);
+    w->background = scene.camera.background;
+    if (geometry_changed || lights_changed || planes_changed || !material_chunks.empty() ||
+        !(w->background == previous.background))
+        set_ray_tree_bound(*w);
     w->camera = scene.camera;
+    set_features(*w, scene);
     w->width = scene.width;
     w->height = scene.height;
     return w;

@@ -68,10 +68,22 @@ shrink() {  # IN OUT
     if [ "$(stat -c %s "$2")" -ge "$(stat -c %s "$1")" ]; then cp "$1" "$2"; fi
 }
 
+# Scenes with sphere lights or a lens (New: radius, aperture) need many samples for
+# their penumbrae and blur: SAMPLED_SAMPLES (default 64) instead of the given count.
+samples_for() {  # SCENE SAMPLES
+    if "$RAYTRACER" --print-scene "$1" |
+        awk '/^light \{/ { l = 1 } /^camera \{/ { l = 0 } (l && /^ *radius /) || /^ *aperture / { f = 1 } END { exit !f }'; then
+        echo "${SAMPLED_SAMPLES:-64}"
+    else
+        echo "$2"
+    fi
+}
+
 render() {  # SCENE OUT WIDTH SAMPLES
-    local h
+    local h n
     h=$(height_for "$1" "$3") || die "$1: cannot read its picture_size"
-    "$RAYTRACER" "$1" "$tmp/render.png" --width "$3" --height "$h" --samples "$4" --quiet ||
+    n=$(samples_for "$1" "$4")
+    "$RAYTRACER" "$1" "$tmp/render.png" --width "$3" --height "$h" --samples "$n" --quiet ||
         die "$1: raytracer failed"
     check_image "$tmp/render.png" "$3" "$h"
     shrink "$tmp/render.png" "$tmp/small.png"
@@ -93,8 +105,9 @@ awk -v dir="$tmp/blocks" '
 ' "$docs/scene-format.md"
 
 mkdir -p "$docs/img" "$tmp/examples" "$tmp/check"
-# The examples' models are named as from scenes/, where they are.
+# The examples' models and textures are named as from scenes/, where they are.
 ln -s "$root/scenes/models" "$tmp/examples/models"
+ln -s "$root/scenes/textures" "$tmp/examples/textures"
 thumbs=()
 for block in "$tmp"/blocks/*.scene.*; do
     [ -e "$block" ] || die "no \`\`\`scene blocks found in scene-format.md"

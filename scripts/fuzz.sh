@@ -8,7 +8,7 @@
 # exit non-zero; turn each into a regression test (tests/test_fuzz_regressions.cpp).
 # Environment: BUILD_DIR (default build-fuzz), JOBS (build jobs, default 2),
 # FUZZ_EXTRA (more libFuzzer flags), FUZZ_TARGETS (default: the scene parser's two, the
-# model readers' two and fuzz_edits; fuzz_edits plays user edits through the viewer's
+# model readers' two, the texture decoder's, the MTL reader's and fuzz_edits; fuzz_edits plays user edits through the viewer's
 # document, so the viewer's logic is configured too).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,7 +17,7 @@ SECONDS_EACH=${1:-60}
 case "$SECONDS_EACH" in ''|*[!0-9]*) echo "usage: $0 [SECONDS]" >&2; exit 2;; esac
 BUILD_DIR=${BUILD_DIR:-build-fuzz}
 JOBS=${JOBS:-2}
-TARGETS=${FUZZ_TARGETS:-fuzz_parser fuzz_roundtrip fuzz_obj fuzz_ply fuzz_edits}
+TARGETS=${FUZZ_TARGETS:-fuzz_parser fuzz_roundtrip fuzz_obj fuzz_ply fuzz_texture fuzz_mtl fuzz_edits}
 
 run() { echo "+ $*" >&2; "$@"; }
 
@@ -41,7 +41,7 @@ mkdir -p "$SEEDS" "$WORK/artifacts"
 shopt -s nullglob
 SEED_FILES=()
 for f in scenes/*.txt bench/scenes/*.txt tests/test_parser.cpp tests/test_writer.cpp tests/test_limits.cpp \
-         tests/test_fuzz_regressions.cpp tests/fuzz/regressions/* tests/models/*; do
+         tests/test_fuzz_regressions.cpp tests/fuzz/regressions/* tests/models/* tests/textures/* scenes/textures/*; do
     [ -f "$f" ] && SEED_FILES+=("$f")
 done
 run "$BUILD_DIR/bin/fuzz_seed_corpus" "$SEEDS" "${SEED_FILES[@]}"

@@ -52,6 +52,8 @@ std::string broken_invariant(std::string_view text, int low_max_errors) {
     try {
         rtfuzz::check_parse(text, low_max_errors);
         rtfuzz::check_roundtrip(text);
+        rtfuzz::check_texture(text);
+        rtfuzz::check_mtl(text);
     } catch (const rtfuzz::Broken& b) {
         return b.what;
     }

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <fstream>
@@ -23,6 +24,8 @@
 #include <vector>
 
 #include <zlib.h>
+
+#include <ImfRgbaFile.h>
 
 #include "image_io.h"
 #include "png.h"
@@ -641,4 +644,54 @@ TEST_CASE("an interrupted write (interrupt_writes, as from a signal handler) rem
     CHECK(dir.files() == std::vector<std::string>{"out.ppm"});
     REQUIRE(write_file_atomic(dir / "out.ppm", "after").ok());  // and writes work again after the reset
     CHECK(slurp(dir / "out.ppm") == "after");
+}
+
+TEST_CASE("float pictures: .pfm and .exr hold the film's values unclamped, the bytes' rounding left out") {
+    Image img;
+    img.width = 3;
+    img.height = 2;
+    // Below 0, inside, above 1, and the non-finite values pixels never show.
+    img.rgb = {-0.25f, 0.0f, 0.5f, 1.0f, 2.5f, 1000.0f, 0.125f, 0.75f, 3.0f,
+               std::nanf(""), INFINITY, -INFINITY, 0.3f, 0.6f, 0.9f, 7.0f, 0.01f, 42.0f};
+    TempDir dir;
+    const std::string pfm = (dir.path / "a.pfm").string(), exr = (dir.path / "a.exr").string();
+    REQUIRE(format_from_path(pfm) == ImageFormat::Pfm);
+    REQUIRE(format_from_path("X.EXR") == ImageFormat::Exr);
+    REQUIRE(write_image(pfm, img).ok());
+    // PFM: the header, then rows bottom first, little-endian floats.
+    const std::string bytes = slurp(pfm);
+    const std::string header = "PF\n3 2\n-1.0\n";
+    REQUIRE(bytes.size() == header.size() + 18 * sizeof(float));
+    CHECK(bytes.compare(0, header.size(), header) == 0);
+    auto value = [&](int x, int y, int c) {
+        float v;
+        std::memcpy(&v, &bytes[header.size() + sizeof(float) * (3 * std::size_t((1 - y) * 3 + x) + std::size_t(c))], sizeof v);
+        return v;
+    };
+    CHECK(value(0, 0, 0) == -0.25f);
+    CHECK(value(1, 0, 2) == 1000.0f);
+    CHECK(value(2, 0, 2) == 3.0f);
+    CHECK(value(0, 1, 0) == 0.0f);   // NaN as a pixel shows it: 0
+    CHECK(value(0, 1, 1) == 1e30f);  // +inf: 1e30
+    CHECK(value(0, 1, 2) == 0.0f);   // -inf: 0
+    CHECK(value(2, 1, 2) == 42.0f);
+    // EXR, read back through OpenEXR: half floats of the same values.
+    REQUIRE(write_image(exr, img).ok());
+    Imf::RgbaInputFile in(exr.c_str());
+    const Imath::Box2i dw = in.dataWindow();
+    REQUIRE(dw.max.x - dw.min.x + 1 == 3);
+    REQUIRE(dw.max.y - dw.min.y + 1 == 2);
+    std::vector<Imf::Rgba> px(6);
+    in.setFrameBuffer(px.data() - dw.min.x - dw.min.y * 3, 1, 3);
+    in.readPixels(dw.min.y, dw.max.y);
+    CHECK(float(px[0].r) == -0.25f);
+    CHECK(float(px[1].b) == 1000.0f);
+    CHECK(float(px[2].b) == 3.0f);
+    CHECK(float(px[4].r) == doctest::Approx(0.3f).epsilon(1e-3));
+    CHECK(float(px[5].b) == 42.0f);
+    CHECK(float(px[3].g) == 65504.0f);  // +inf: the largest half
+    // A byte format from the same film rounds as ever.
+    const std::string ppm = (dir.path / "a.ppm").string();
+    REQUIRE(write_image(ppm, img).ok());
+    CHECK(slurp(ppm).substr(slurp(ppm).size() - 18, 3) == std::string("\0\0\x7f", 3));
 }

@@ -66,9 +66,11 @@ inline void put(const fs::path& p, const std::string& data) {
 // parses, as in one viewer session.
 inline rt::ParseOptions options_for(const std::string& folder) {
     static rt::ModelStore store;
+    static rt::TextureStore textures;
     rt::ParseOptions o;
     o.base_dir = folder;
     o.models = &store;
+    o.textures = &textures;
     return o;
 }
 #ifdef RT_SOURCE_DIR

@@ -318,7 +318,7 @@ rt::Status writable_output(const std::string& out, const std::string& scene_path
 
 rt::Status check_output(const Program& program, const std::string& out, const std::string& scene_path) {
     if (rt::format_from_path(out) == rt::ImageFormat::Unknown)
-        return usage_error(program, "cannot write '" + rt::escape_text(out) + "': the output must end in .ppm or .png");
+        return usage_error(program, "cannot write '" + rt::escape_text(out) + "': the output must end in .ppm, .png, .pfm or .exr");
     if (const rt::Status st = writable_output(out, scene_path); !st)
         return failure(program, "cannot write '" + rt::escape_text(out) + "': " + st.message(), st.exit_code());
     return {};

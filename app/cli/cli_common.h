@@ -76,7 +76,7 @@ rt::Status load_scene(const Program& program, const std::string& path, rt::Scene
 // (unless --quiet).
 rt::Status check_scene(const Program& program, const Options& o);
 
-// Before a long render: success if OUT can be written as a picture (a .ppm or .png
+// Before a long render: success if OUT can be written as a picture (a .ppm, .png, .pfm or .exr
 // name that rt::check_writable accepts, not the scene file itself); else why, with
 // the system's error (kExitUsage).
 rt::Status check_output(const Program& program, const std::string& out, const std::string& scene_path);

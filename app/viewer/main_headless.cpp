@@ -95,7 +95,7 @@ int render_to_file(const rtview::Options& opt) {
 // Before rendering, as raytracer does: a render must not end in "cannot write".
 // Returns 0 if the outputs can be written, else says why and returns 2.
 int check_outputs(const rtview::Options& opt) {
-    if (rt::format_from_path(opt.screenshot) == rt::ImageFormat::Unknown) {
+    if (const rt::ImageFormat f = rt::format_from_path(opt.screenshot); f == rt::ImageFormat::Unknown || rt::is_float_format(f)) {
         std::fprintf(stderr, "raytracer-view-headless: cannot write %s: the name must end in .png or .ppm\n",
                      opt.screenshot.c_str());
         return 2;

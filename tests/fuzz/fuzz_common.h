@@ -18,6 +18,7 @@
 #include "scene.h"
 #include "scene_parser.h"
 #include "scene_writer.h"
+#include "texture.h"
 #include "triangles.h"
 
 namespace rtfuzz {
@@ -227,6 +228,7 @@ inline void check_parse(std::string_view text, int low_max_errors) {
     rt::ParseOptions one_go;
     one_go.threads = 1;
     one_go.read_models = false;  // the text alone (the model readers have targets of their own)
+    one_go.read_textures = false;
     const rt::ParseResult r = rt::parse_scene(text, one_go);
     check_diagnostics(text, r);
     if (r.ok()) check_scene(r.scene);
@@ -243,6 +245,7 @@ inline void check_parse(std::string_view text, int low_max_errors) {
 inline void check_roundtrip(std::string_view text) {
     rt::ParseOptions o;
     o.read_models = false;
+    o.read_textures = false;
     const rt::ParseResult r = rt::parse_scene(text, o);
     if (!r.ok()) return;
     const std::string text2 = rt::write_scene(r.scene);
@@ -272,6 +275,14 @@ inline void check_model(std::string_view bytes, bool (*read)(std::string_view, r
     if (m.triangles.empty() || m.triangles.size() % 3 != 0 || m.positions.size() % 3 != 0)
         fail("a model without whole triangles or vertices accepted");
     if (!m.normals.empty() && m.normals.size() != m.positions.size()) fail("normals not one per vertex");
+    if (!m.colours.empty() && m.colours.size() != m.positions.size()) fail("colours not one per vertex");
+    if (!m.corner_uv.empty() && m.corner_uv.size() != 2 * m.triangles.size()) fail("texture coordinates not one per corner");
+    for (float x : m.corner_uv)
+        if (!std::isfinite(x)) fail("a texture coordinate not finite");
+    for (float x : m.colours)
+        if (!(x >= 0 && x <= 1)) fail("a vertex colour outside 0..1");
+    if (!m.triangle_material.empty() && m.triangle_material.size() != m.triangle_count())
+        fail("materials not one per triangle");
     if (m.triangle_count() > rt::ModelLimits::max_triangles || m.vertex_count() > rt::ModelLimits::max_vertices)
         fail("a model over the limits accepted");
     for (std::uint32_t v : m.triangles)
@@ -288,6 +299,64 @@ inline void check_model(std::string_view bytes, bool (*read)(std::string_view, r
         if (acc.nearest(rt::TriRay::make(c - d * 1e3, d), 0, HUGE_VAL, h) && h.slot >= acc.ids.size())
             fail("a hit outside the triangles");
         (void)acc.any(rt::TriRay::make(c, d), 0, HUGE_VAL, t);
+    }
+}
+
+// The texture decoder's promises for any bytes: an error with a message, or an image
+// within the limits whose texels are linear values in 0..1 and whose samples are too.
+inline void check_texture(std::string_view bytes) {
+    // A few bytes can claim an image of a quarter million pixels or more (a zlib stream of
+    // zeros): decoding it takes longer than the fuzzer's time limit, so such headers
+    // are only checked for being refused over the limits (the unit tests decode big
+    // images whole).
+    long long w = 0, h = 0;
+    if (rt::image_size(bytes, w, h) && std::uint64_t(w) * std::uint64_t(h) > (1u << 18)) {
+        if (w > rt::TextureLimits::max_side || h > rt::TextureLimits::max_side ||
+            std::uint64_t(w) * std::uint64_t(h) > rt::TextureLimits::max_texels) {
+            std::string error;
+            if (rt::decode_texture(bytes, error)) fail("an image over the limits accepted");
+        }
+        return;
+    }
+    std::string error;
+    const std::shared_ptr<rt::Texture> t = rt::decode_texture(bytes, error);
+    if (!t) {
+        if (error.empty()) fail("an image refused without a message");
+        return;
+    }
+    if (t->width() < 1 || t->height() < 1 || t->width() > rt::TextureLimits::max_side ||
+        t->height() > rt::TextureLimits::max_side ||
+        std::uint64_t(t->width()) * std::uint64_t(t->height()) > rt::TextureLimits::max_texels)
+        fail("an image over the limits accepted");
+    auto in_range = [](const rt::Colour& c) {
+        return c.x >= 0 && c.x <= 1 && c.y >= 0 && c.y <= 1 && c.z >= 0 && c.z <= 1;
+    };
+    for (long k = 0; k < 64; ++k)
+        if (!in_range(t->texel(k * 7919, k * 104729))) fail("a texel outside 0..1");
+    for (double u : {-1e300, -2.5, 0.0, 0.3, 1.0, 1e15, double(NAN)})
+        if (!in_range(t->sample(u, 1 - u))) fail("a sample outside 0..1");
+}
+
+// The MTL reader's promises: an error with a message at a line, or materials within
+// the ranges the scene format keeps (as a material block's clamps would leave them).
+inline void check_mtl(std::string_view bytes) {
+    std::vector<rt::MtlMaterial> out;
+    rt::ModelError e;
+    if (!rt::read_mtl(bytes, out, e)) {
+        if (e.message.empty()) fail("an MTL refused without a message");
+        if (e.line < 1) fail("an MTL error without its line");
+        return;
+    }
+    if (out.size() > rt::MeshData::max_materials) fail("too many MTL materials accepted");
+    for (const rt::MtlMaterial& m : out) {
+        check_material(m.material);
+        if (!(m.material.specular >= 0 && m.material.specular <= 1)) fail("specular outside 0..1");
+        if (!(m.material.shininess >= 1 && m.material.shininess <= 10000)) fail("shininess outside 1..10000");
+        if (!(m.material.refraction >= 0 && m.material.refraction <= 1)) fail("refraction outside 0..1");
+        if (!(m.material.refractive_index >= 1)) fail("refractive_index below 1");
+        if (m.texture.size() > 4096) fail("a texture name too long");
+        for (char c : m.texture)
+            if (static_cast<unsigned char>(c) < 0x20 || c == '\\') fail("a control character or backslash in a texture name");
     }
 }
 

@@ -417,6 +417,56 @@ def scene_unreadable; case_scene_unreadable() { need_root; [ -n "$SKIPPED" ] && 
     run 10 "${AS_NOBODY[@]}" "$RT" ok.txt new.ppm; want_rc 2; want_err 'Permission denied'; clean_checks; }
 def scene_latin1_name; case_scene_latin1_name() { newdir "$FUNCNAME"; run 10 "$RT" "$(printf 'no\xe9\x1b[1m.txt')" old.ppm; want_rc 2; want_clean_text; clean_checks; }
 
+# --- textures and model materials ---------------------------------------------------
+# A texture file must give its error at its name in the scene (nothing written) or a
+# correct picture; never a hang (FIFO, /dev/zero) or an allocation of what a header
+# claims.
+
+SRC=$(cd "$(dirname "$0")/../.." && pwd)
+# The good scene with its sphere textured by FILE.
+tex_scene() { printf '%s\n' "${SCENE_OK/colour 0.9 0.2 0.15 /colour 0.9 0.2 0.15 texture \"$1\" }"; }
+# A texture case that must be refused: the reason in stderr at the file name's place.
+tex_refused() {  # REASON
+    run 10 "$RT" s.txt new.ppm; want_rc 1; want_err "s.txt:1:[0-9]+: error: .*$1"; want_fast 3
+    [ -e "$D/new.ppm" ] && problem "new.ppm written"; clean_checks; }
+# A texture case that must render.
+tex_renders() { run 20 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
+def tex_truncated; case_tex_truncated() { newdir "$FUNCNAME"; head -c 120 "$SRC/scenes/textures/uv-grid.png" > "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_refused 't.png: '; }
+def tex_empty; case_tex_empty() { newdir "$FUNCNAME"; : > "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_refused 'empty'; }
+def tex_folder; case_tex_folder() { newdir "$FUNCNAME"; mkdir "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_refused 'is a folder'; }
+def tex_dev_zero; case_tex_dev_zero() { newdir "$FUNCNAME"; tex_scene /dev/zero > "$D/s.txt"; tex_refused 'not a regular file'; }
+def tex_fifo; case_tex_fifo() { newdir "$FUNCNAME"; mkfifo "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_refused 'not a regular file'; }
+def tex_not_image; case_tex_not_image() { newdir "$FUNCNAME"; printf '%s\n' "$SCENE_OK" > "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_refused 'not a PNG or JPEG'; }
+def tex_missing; case_tex_missing() { newdir "$FUNCNAME"; tex_scene nosuch.png > "$D/s.txt"; tex_refused 'No such file'; }
+def tex_huge_header; case_tex_huge_header() { newdir "$FUNCNAME"
+    # A PNG header claiming 100000 x 100000 pixels (30 GB of texels), and nothing after it.
+    printf '\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00\x00\x00\x00\x00' > "$D/t.png"
+    tex_scene t.png > "$D/s.txt"; tex_refused '100000 x 100000 pixels is too large'; }
+def tex_huge_jpeg; case_tex_huge_jpeg() { newdir "$FUNCNAME"; need_no_sanitizer; [ -n "$SKIPPED" ] && return
+    # A JPEG header claiming 65000 x 65000 under a 1 GB address space: refused by its size.
+    printf '\xff\xd8\xff\xc0\x00\x11\x08\xfd\xe8\xfd\xe8\x03\x01\x22\x00\x02\x11\x01\x03\x11\x01\xff\xd9' > "$D/t.jpg"
+    tex_scene t.jpg > "$D/s.txt"; run 10 bash -c "ulimit -v 1000000; exec '$RT' s.txt new.ppm"; want_rc 1; want_err '65000 x 65000'
+    [ -e "$D/new.ppm" ] && problem "new.ppm written"; clean_checks; }
+def tex_png16; case_tex_png16() { newdir "$FUNCNAME"; convert -size 8x8 xc:'rgb(200,100,50)' -depth 16 PNG48:"$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_renders; }
+def tex_grey; case_tex_grey() { newdir "$FUNCNAME"; convert -size 8x8 xc:'gray(40%)' -define png:color-type=0 -depth 8 "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_renders; }
+def tex_grey_alpha; case_tex_grey_alpha() { newdir "$FUNCNAME"; convert -size 8x8 xc:'graya(40%,0.5)' -define png:color-type=4 -depth 8 "$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_renders; }
+def tex_alpha; case_tex_alpha() { newdir "$FUNCNAME"; convert -size 8x8 xc:'rgba(200,100,50,0.3)' PNG32:"$D/t.png"; tex_scene t.png > "$D/s.txt"; tex_renders; }
+def tex_cmyk_jpeg; case_tex_cmyk_jpeg() { newdir "$FUNCNAME"; cp "$SRC/tests/textures/cmyk.jpg" "$D/t.jpg"; tex_scene t.jpg > "$D/s.txt"; tex_renders; }
+def tex_progressive_jpeg; case_tex_progressive_jpeg() { newdir "$FUNCNAME"; cp "$SRC/tests/textures/progressive.jpg" "$D/t.jpg"; tex_scene t.jpg > "$D/s.txt"; tex_renders; }
+# An OBJ naming an MTL file: its scene is the good one with this mesh added.
+mtl_case() {  # MTL_TEXT (written to m.mtl unless empty)
+    printf 'mtllib m.mtl\nv 4 -1 0\nv 4 1 0\nv 4 0 2\nusemtl a\nf 1 2 3\n' > "$D/m.obj"
+    [ -n "$1" ] && printf '%s\n' "$1" > "$D/m.mtl"
+    { echo 'thing { mesh { file "m.obj" } }'; printf '%s\n' "$SCENE_OK" | tail -n +2; } > "$D/s.txt"; }
+def mtl_missing; case_mtl_missing() { newdir "$FUNCNAME"; mtl_case ''
+    run 10 "$RT" s.txt new.ppm; want_rc 0; want_err 's.txt:1:21: warning: m.obj: material file m.mtl: No such file'; want_ppm new.ppm 16 12; clean_checks; }
+def mtl_names_itself; case_mtl_names_itself() { newdir "$FUNCNAME"; mtl_case 'newmtl a
+map_Kd m.mtl'; run 10 "$RT" s.txt new.ppm; want_rc 1; want_err 'map_Kd m.mtl names the material file itself'; [ -e "$D/new.ppm" ] && problem "new.ppm written"; clean_checks; }
+def mtl_missing_texture; case_mtl_missing_texture() { newdir "$FUNCNAME"; mtl_case 'newmtl a
+map_Kd gone.png'; run 10 "$RT" s.txt new.ppm; want_rc 1; want_err 'm.mtl:2: map_Kd gone.png: No such file'; [ -e "$D/new.ppm" ] && problem "new.ppm written"; clean_checks; }
+def mtl_fifo_texture; case_mtl_fifo_texture() { newdir "$FUNCNAME"; mkfifo "$D/p.png"; mtl_case 'newmtl a
+map_Kd p.png'; run 10 "$RT" s.txt new.ppm; want_rc 1; want_err 'not a regular file'; want_fast 3; clean_checks; }
+
 # --- output edge cases -------------------------------------------------------------
 
 def out_name_248; case_out_name_248() { newdir "$FUNCNAME"; local n; n=$(printf 'o%.0s' $(seq 244)).ppm; run 10 "$RT" ok.txt "$n"; want_rc 0; want_ppm "$n" 16 12; clean_checks; }
@@ -439,8 +489,8 @@ def out_trailing_slash; case_out_trailing_slash() { newdir "$FUNCNAME"; run 10 "
 def out_missing_folder; case_out_missing_folder() { newdir "$FUNCNAME"; empty_scene 4000 4000 > "$D/s.txt"; run 10 "$RT" s.txt no/such/o.ppm; want_rc 2; want_err 'does not exist'; want_fast 1; clean_checks; }
 def out_folder_is_file; case_out_folder_is_file() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt old.ppm/o.ppm; want_rc 2; want_err 'Not a directory|not a folder'; clean_checks; }
 def out_is_scene; case_out_is_scene() { newdir "$FUNCNAME"; cp "$D/ok.txt" "$D/s.ppm"; run 10 "$RT" s.ppm s.ppm; want_rc 2; want_err 'scene file itself'; cmp -s "$D/s.ppm" "$D/ok.txt" || problem "scene changed"; clean_checks; }
-def out_bad_extension; case_out_bad_extension() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt o.jpg; want_rc 2; want_err '.ppm or .png'; clean_checks; }
-def out_dev_null; case_out_dev_null() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt /dev/null; want_rc 2; want_err '.ppm or .png'; clean_checks; }
+def out_bad_extension; case_out_bad_extension() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt o.jpg; want_rc 2; want_err '.pfm or .exr'; clean_checks; }
+def out_dev_null; case_out_dev_null() { newdir "$FUNCNAME"; run 10 "$RT" ok.txt /dev/null; want_rc 2; want_err '.pfm or .exr'; clean_checks; }
 def out_dev_full_link; case_out_dev_full_link() { newdir "$FUNCNAME"; ln -s /dev/full "$D/full.ppm"; run 10 "$RT" ok.txt full.ppm; want_rc 2; want_err 'No space left'; [ -c /dev/full ] || problem "/dev/full replaced"; clean_checks; }
 def out_dev_null_link; case_out_dev_null_link() { newdir "$FUNCNAME"; ln -s /dev/null "$D/null.ppm"; run 10 "$RT" ok.txt null.ppm; want_rc 0; [ -c /dev/null ] || problem "/dev/null replaced"; clean_checks; }
 def out_fifo_sigterm; case_out_fifo_sigterm() { newdir "$FUNCNAME"; mkfifo "$D/o.ppm"; start "$RT" --quiet ok.txt o.ppm; signal_after 1 5 TERM; want_rc 143; want_fast 1; [ -p "$D/o.ppm" ] || problem "FIFO replaced"; clean_checks; }
@@ -600,10 +650,27 @@ def mpi_long_out_name; case_mpi_long_out_name() { need_mpi; [ -n "$SKIPPED" ] &&
 def mpi_options; case_mpi_options() { need_mpi; [ -n "$SKIPPED" ] && return; newdir "$FUNCNAME"
     run 60 mpirun --oversubscribe -np 2 "$RT_MPI" --tile ' 16' ok.txt old.ppm; want_rc 2; want_err 'decimal'; clean_checks; }
 
+# --- the realism keys (New:): each bad value is an error at its place, nothing written.
+realism_case() {  # NAME SED-EXPRESSION ERROR-REGEX
+    newdir "$1"; printf '%s\n' "$SCENE_OK" | sed "$2" > "$D/s.txt"
+    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "$3"; clean_checks; }
+def light_radius_negative; case_light_radius_negative() { realism_case "$FUNCNAME" 's/size 0.2/size 0.2 radius -1/' 's.txt:3:[0-9]+: error: light radius must not be negative'; }
+def aperture_negative; case_aperture_negative() { realism_case "$FUNCNAME" 's/angle_y 46.8/angle_y 46.8 aperture -0.1/' 's.txt:4:[0-9]+: error: aperture must not be negative'; }
+def focus_zero; case_focus_zero() { realism_case "$FUNCNAME" 's/angle_y 46.8/angle_y 46.8 focus_distance 0/' 's.txt:4:[0-9]+: error: focus_distance must be greater than 0'; }
+def specular_negative; case_specular_negative() { realism_case "$FUNCNAME" 's/colour 0.9 0.2 0.15/colour 0.9 0.2 0.15 specular -0.5/' 's.txt:1:[0-9]+: error: specular must be 0..1'; }
+def shininess_huge; case_shininess_huge() { realism_case "$FUNCNAME" 's/colour 0.9 0.2 0.15/colour 0.9 0.2 0.15 specular 1 shininess 1e9/' 's.txt:1:[0-9]+: error: shininess must be 1..10000'; }
+def texture_scale_negative; case_texture_scale_negative() { realism_case "$FUNCNAME" 's/colour 0.6 0.6 0.6/colour 0.6 0.6 0.6 texture_scale -2/' 's.txt:2:[0-9]+: error: texture_scale must be greater than 0'; }
+def light_radius_nan; case_light_radius_nan() { realism_case "$FUNCNAME" 's/size 0.2/size 0.2 radius nan/' 's.txt:3:[0-9]+: error'; }
+def huge_radius_aperture; case_huge_radius_aperture() { newdir "$FUNCNAME"
+    # Legal but extreme: a light around everything, a lens wider than the scene: renders.
+    printf '%s\n' "$SCENE_OK" | sed 's/size 0.2/size 0.2 radius 1e12/; s/angle_y 46.8/angle_y 46.8 aperture 1e9 background 1e15 0 0/' > "$D/s.txt"
+    run 20 "$RT" --samples 4 s.txt out.ppm; want_rc 0; want_ppm out.ppm 16 12; }
+
 # --- run -----------------------------------------------------------------------------
 
 t_all=$(date +%s)
-for c in "${ORDER[@]}"; do run_case "$c"; done
+# ONLY=REGEX runs the cases whose names match (ONLY='radius|aperture').
+for c in "${ORDER[@]}"; do if [ -z "${ONLY:-}" ] || [[ "$c" =~ $ONLY ]]; then run_case "$c"; fi; done
 echo
 echo "hostile: $pass passed, $fail failed, $skip skipped ($(( $(date +%s) - t_all )) s; work folder $WORK)"
 if [ "$fail" -gt 0 ]; then

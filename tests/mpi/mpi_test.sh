@@ -61,12 +61,13 @@ identical)
     [ $# -eq 0 ] || { shift; mpi_only=("$@"); }
     set -- "${common[@]}"
     [ -x "$RT_BIN" ] || fail "no raytracer at $RT_BIN"
-    "$RT_BIN" "$scene" "$TMP/single.ppm" --quiet "$@" || fail "raytracer failed"
-    mpirun_np "$np" "$RT_MPI_BIN" "$scene" "$TMP/mpi.ppm" --quiet --stats "$@" "${mpi_only[@]}" 2> "$TMP/log" ||
+    ext=${OUT_EXT:-ppm}  # pfm or exr: the films' floats compared
+    "$RT_BIN" "$scene" "$TMP/single.$ext" --quiet "$@" || fail "raytracer failed"
+    mpirun_np "$np" "$RT_MPI_BIN" "$scene" "$TMP/mpi.$ext" --quiet --stats "$@" "${mpi_only[@]}" 2> "$TMP/log" ||
         { cat "$TMP/log" >&2; fail "raytracer-mpi failed"; }
     cat "$TMP/log"
-    cmp "$TMP/single.ppm" "$TMP/mpi.ppm" || fail "$* on $np ranks: the pictures differ"
-    echo "ok: $(basename "$scene") $* ${mpi_only[*]} on $np ranks is bit-identical ($(stat -c %s "$TMP/mpi.ppm") bytes)"
+    cmp "$TMP/single.$ext" "$TMP/mpi.$ext" || fail "$* on $np ranks: the pictures differ"
+    echo "ok: $(basename "$scene") $* ${mpi_only[*]} on $np ranks is bit-identical ($(stat -c %s "$TMP/mpi.$ext") bytes, .$ext)"
     ;;
 parse-error)
     # One error: a word where a number belongs.

@@ -205,3 +205,27 @@ TEST_CASE("Set scene camera from view is one undo step and round-trips through t
     REQUIRE(d.redo());
     CHECK(d.scene().camera == view);
 }
+
+TEST_CASE("Focus here: the distance along the line of sight, written into the camera as one undo step") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    rt::Camera cam = d.scene().camera;
+    const rt::Vec3 f = rt::normalize(cam.centre - cam.position);
+    // A point 3 units ahead and 2 to the side: its focus distance is 3.
+    rt::Vec3 side = rt::normalize(rt::cross(f, rt::Vec3{0, 0, 1}));
+    const rt::Vec3 p = cam.position + f * 3 + side * 2;
+    CHECK(focus_distance_to(cam, p) == doctest::Approx(3));
+    CHECK(focus_distance_to(cam, cam.position - f) < 0);  // behind: refused by the caller
+    const std::size_t depth = d.undo_depth();
+    cam.focus_distance = focus_distance_to(cam, p);
+    REQUIRE(d.set_camera(cam));
+    CHECK(d.undo_depth() == depth + 1);
+    CHECK(d.editor_text().find("focus_distance 3") != std::string::npos);
+    // The text reads back to the same camera.
+    rt::ParseResult r = rt::parse_scene(d.editor_text());
+    REQUIRE(r.ok());
+    CHECK(r.scene.camera.focus_distance == cam.focus_distance);
+    d.undo();
+    CHECK(d.editor_text().find("focus_distance") == std::string::npos);
+    CHECK(d.scene().camera.focus_distance == 0);
+}

@@ -18,6 +18,7 @@
 #include "scene.h"
 #include "scene_delta.h"
 #include "scene_parser.h"
+#include "doc_step.h"
 #include "scene_text.h"
 #include "status.h"
 #include "undo.h"
@@ -35,39 +36,6 @@ struct FileStamp {
     }
     bool operator!=(const FileStamp& o) const { return !(*this == o); }
     static FileStamp of(const std::string& path);
-};
-
-// A replacement made in a text, with what it replaced, so that an undo step can take it
-// back: [pos, pos + before.size()) held `before` and now holds `after`.
-struct UndoableReplacement {
-    std::size_t pos = 0;
-    std::string before, after;
-};
-
-// A change of the editor text made by the document (a panel edit written back, undo,
-// redo, revert): [pos, pos + removed) now holds `inserted`.
-struct TextChange {
-    std::size_t pos = 0, removed = 0;
-    std::string inserted;
-};
-
-// One undo step: what an edit changed, both ways.
-struct DocStep {
-    std::string name;  // what the edit did, for the user: "Move sphere 3"
-    std::vector<UndoableReplacement> editor;  // applied in order going forward, in reverse going back
-    // The applied text when it differed from the editor text (a draft), before and after.
-    std::optional<std::string> applied_before, applied_after;
-    // The scene: the items that changed (index, value), or, for wide changes, nothing:
-    // the scene is parsed again from the applied text.
-    bool reparse = false;
-    std::vector<std::pair<std::size_t, rt::Object>> objects_before, objects_after;
-    std::vector<std::pair<std::size_t, rt::Plane>> planes_before, planes_after;
-    std::vector<std::pair<std::size_t, rt::Light>> lights_before, lights_after;
-    std::optional<rt::Camera> camera_before, camera_after;
-    bool has_scene_before = false, has_scene_after = false;
-    bool behind_before = false, behind_after = false;
-    bool keep_applied = false;  // typing: the applied text is not part of the step
-    std::size_t bytes() const;
 };
 
 class Document {

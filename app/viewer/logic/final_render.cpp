@@ -31,7 +31,7 @@ rt::Status FinalRender::start(const rt::Scene& scene, const std::string& out_pat
                               const rt::World* previous) {
     cancel();
     if (rt::format_from_path(out_path) == rt::ImageFormat::Unknown)
-        return usage("'" + out_path + "': the name must end in .png or .ppm");
+        return usage("'" + out_path + "': the name must end in .png, .ppm, .pfm or .exr");
     if (scene.width < 1 || scene.height < 1) return usage("the scene has no picture size");
     std::shared_ptr<const rt::World> world = rt::compile_world(scene, previous);
     settings_ = rt::final_settings(request, scene.width, scene.height);
@@ -67,6 +67,14 @@ rt::Status FinalRender::write() {
     if (!p.error.empty()) {
         active_ = false;
         return usage(p.error);
+    }
+    if (rt::is_float_format(rt::format_from_path(out_))) {
+        // The film's floats (New: .pfm, .exr), as raytracer writes them.
+        const rt::Image img = renderer_.snapshot();
+        active_ = false;
+        if (img.width != width_ || img.height != height_ || p.samples < 1)
+            return usage("the renderer returned an incomplete picture");
+        return rt::write_image(out_, img);
     }
     rt::ZeroedArray<std::uint8_t> pixels;
     int w = 0, h = 0;

@@ -1,4 +1,4 @@
-// How the window is divided and what size of picture it renders: the film of the
+// How the window is divided and what size of picture it renders (Layout, each frame): the film of the
 // picture frame (the scene's picture_size, whatever the window), the sidebar's width
 // (the user's, within what leaves the picture room) and status text flowed into rows
 // without breaking a number. Pure arithmetic: unit-tested.
@@ -10,7 +10,24 @@
 #include <string_view>
 #include <vector>
 
+#include "options.h"
+#include "viewport.h"
+
 namespace rtview {
+
+// Where everything is this frame (ImGui logical coordinates) and the film it implies.
+struct Layout {
+    float menu_h = 0, status_h = 0, sidebar_w = 0;
+    bool sidebar_hidden = false;  // Tab: the picture alone
+    float fb_scale = 1;
+    Rect area;   // all space for the image
+    Rect image;  // where the film is drawn (letterboxed in picture mode; zoomed by the picture tools)
+    Rect fit_image;  // where it is drawn unzoomed
+    int film_w = 1, film_h = 1;  // the picture rendered: picture_size in the picture frame, else the area's
+    FitMode fit = FitMode::Picture;
+    // Rectangles of some panels, for --print-layout.
+    Rect camera_panel, editor, diagnostics, outline;
+};
 
 // The most pixels the viewer renders as one film (a larger picture_size would take
 // gigabytes): "Render to file" makes pictures of any size.

@@ -9,6 +9,12 @@
 
 namespace rtview {
 
+double focus_distance_to(const rt::Camera& camera, const rt::Vec3& point) {
+    const rt::Vec3 f = camera.centre - camera.position;
+    if (!(rt::length2(f) > 0)) return 0;
+    return rt::dot(point - camera.position, rt::normalize(f));
+}
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;

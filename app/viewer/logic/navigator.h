@@ -22,6 +22,10 @@ struct ViewGeometry {
 // far from the objects would leave the objects small). Empty if there is neither.
 rt::Aabb frame_target(const rt::World& world);
 
+// The distance from the camera to `point` along its line of sight (a focus_distance
+// that makes the point sharp); not positive for a point beside or behind the camera.
+double focus_distance_to(const rt::Camera& camera, const rt::Vec3& point);
+
 class Navigator {
 public:
     // Follows the document's camera: when the scene camera differs from the one last

@@ -93,10 +93,15 @@ PreviewResult trace_preview(const rt::World& world, const rt::Camera& camera, in
         // has them): the same rays, the same colours as one at a time.
         thread_local std::vector<rt::Vec3> dirs;
         thread_local std::vector<rt::Colour> colours;
+        thread_local std::vector<rt::PixelSample> keys;
         dirs.resize(std::size_t(w));
         colours.resize(std::size_t(w));
         basis.unit_directions(0, b, w, double(by * b), dirs.data());
-        world.trace_units(basis.origin, dirs.data(), std::size_t(w), stats, colours.data());
+        if (world.sampled(basis)) {
+            keys.resize(std::size_t(w));
+            for (int x = 0; x < w; ++x) keys[std::size_t(x)] = {x * b, by * b, 0};
+        }
+        world.trace_samples(basis, dirs.data(), keys.data(), std::size_t(w), stats, colours.data());
         if (stats.stopped) {
             stopped = true;
             return;

@@ -1,5 +1,6 @@
-// ViewerApp: the frame loop over the viewer's parts, keyboard shortcuts, the layout
-// and the commands menus, panels, dialogs and keys ask for (see app.h).
+// ViewerApp: the frame loop over the viewer's parts, loading, keyboard shortcuts, the
+// layout and the host interface (see app.h). Its commands: app_commands.cpp;
+// structural edits: app_edits.cpp; --print-layout: app_probe.cpp.
 #include "app.h"
 
 #include <imgui.h>
@@ -15,34 +16,24 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
-#include <filesystem>
 #include <optional>
 #include <utility>
 
 #include "default_scene.h"
+#include "image_io.h"
 #include "imgui_common.h"
 #include "layout.h"
-#include "new_scene.h"
-#include "image_io.h"
 #include "scene_edits.h"
 #include "scene_writer.h"
 #include "diagnostic_text.h"
 #include "number_field.h"
+#include "paths.h"
 #include "probe.h"
+#include "status_notes.h"
 
 namespace rtview {
 
 namespace {
-
-std::string stem_of(const std::string& name) {
-    std::size_t dot = name.find_last_of('.');
-    return dot == std::string::npos || dot == 0 ? name : name.substr(0, dot);
-}
-
-std::string base_name(const std::string& path) {
-    std::size_t slash = path.find_last_of('/');
-    return slash == std::string::npos ? path : path.substr(slash + 1);
-}
 
 // Program start, near enough: for --verbose timings.
 const auto g_start = std::chrono::steady_clock::now();
@@ -52,17 +43,6 @@ std::string megabytes(std::uint64_t b) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.1f", double(b) / (1 << 20));
     return buf;
-}
-
-// What the status bar adds about a scene without lights: everything in it is black.
-std::string light_note(const Document& doc) {
-    if (!doc.has_scene() || !doc.scene().lights.empty()) return {};
-    return "; the scene has no lights, so it renders black: add a lamp (right-click the picture > Add here > lamp)";
-}
-
-// What the status bar adds when the recent-files list could not be saved.
-std::string recent_note(const rt::Status& recent) {
-    return recent ? std::string() : "; recent files not saved: " + recent.message();
 }
 
 // The process's pool, with the render threads asked for (0: one per hardware thread)
@@ -187,8 +167,7 @@ void ViewerApp::poll_loader() {
                      path.c_str(), since_start(), times.read, times.parse, times.build, times.compile, times.scan);
 }
 
-// ---------------------------------------------------------------------------------
-// Frame
+// --- Frame
 
 // What the status bar says while a file loads in the background.
 LoadStatus ViewerApp::load_status() const {
@@ -294,75 +273,6 @@ void ViewerApp::frame() {
     again_ = visible_key() != key_before;
 }
 
-void ViewerApp::probe_frame() {
-    if (!opt_.print_layout) return;
-    const Document& doc = editor_.doc();
-    probe("title", doc.title());
-    probe("load", loader_.active() ? "loading" : doc.has_scene() ? "ready" : "no scene");
-    probe("message", (status_.error() ? "error: " : "") + status_.text());
-    std::string popups;
-    for (const ImGuiPopupData& p : GImGui->OpenPopupStack)
-        if (p.Window) popups += (popups.empty() ? "" : "|") + std::string(p.Window->Name);
-    probe("popups", popups.empty() ? "none" : popups);
-    probe("readout", tools_.readout_line().empty() ? "none" : tools_.readout_line());
-    {
-        const ImGuiIO& io = ImGui::GetIO();
-        char pointer[96];
-        std::snprintf(pointer, sizeof pointer, "%.0f %.0f%s%s", io.MousePos.x, io.MousePos.y,
-                      io.WantCaptureMouse ? " ui" : "", ImGui::IsAnyMouseDown() ? " down" : "");
-        probe("pointer", pointer);
-    }
-    const rt::RenderProgress p = render_.progress();
-    // What another program would paste, once something was copied.
-    if (!tools_.copied().empty()) {
-        const char* clip = ImGui::GetClipboardText();
-        probe("clipboard", clip ? clip : "");
-    }
-    // The picture rendered (not its place on the screen), and how far it has come.
-    probe("film", std::to_string(p.width) + "x" + std::to_string(p.height) + " " + std::to_string(p.samples) +
-                      " spp generation " + std::to_string(p.generation));
-    probe("render", std::to_string(p.samples) + " " + (p.done ? "done" : p.running ? "running" : "idle"));
-    // As raytracer's options would ask for this render (scripts render its twin).
-    probe("render_settings", "--samples " + std::to_string(render_.max_samples()) +
-                                 (render_.aa_threshold() >= 0 ? " --aa-threshold " + rt::format_number(render_.aa_threshold())
-                                                               : std::string()));
-    probe("diagnostics", std::to_string(doc.diagnostics().size()) +
-                             (doc.diagnostics().empty() ? "" : " " + doc.diagnostics().front().message));
-    probe("text", std::string(doc.editor_dirty() ? "unapplied" : "applied") + (doc.text_behind() ? " behind" : ""));
-}
-
-std::uint64_t ViewerApp::visible_key() const {
-    std::uint64_t h = 1469598103934665603ull;
-    auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
-    auto mix_text = [&mix](const std::string& s) { mix(text_hash(s)); };
-    const Document& doc = editor_.doc();
-    mix_text(status_.text());
-    mix(status_.error());
-    mix(doc.text_version());
-    mix(doc.typed());
-    mix(doc.scene_version());
-    mix(doc.has_scene());
-    const auto& diags = doc.diagnostics();
-    mix(diags.size());
-    for (std::size_t k = 0; k < diags.size() && k < 32; ++k) {
-        mix(std::uint64_t(diags[k].line) << 32 | std::uint32_t(diags[k].col));
-        mix_text(diags[k].message);
-    }
-    mix(loader_.active());
-    if (loader_.active()) mix(std::uint64_t(loader_.progress().stage));
-    mix(tools_.busy());
-    mix(tools_.final_render_running());
-    mix_text(tools_.readout_line());
-    // A zoom key changes where the picture is after this frame's layout was made.
-    const Rect zoomed = tools_.image_rect();
-    for (double v : {zoomed.x, zoomed.y, zoomed.w, zoomed.h}) mix(std::uint64_t(std::llround(v * 16)));
-    const rt::RenderProgress p = render_.progress();
-    mix(p.generation);
-    mix(std::uint64_t(p.samples));
-    mix(p.done);
-    mix(render_.paused());
-    return h;
-}
 
 void ViewerApp::update_render(double now) {
     Document& doc = editor_.doc();
@@ -506,8 +416,7 @@ ImageFrame ViewerApp::image_frame(double now) {
     return f;
 }
 
-// ---------------------------------------------------------------------------------
-// Keyboard
+// --- Keyboard
 
 bool ViewerApp::close_menus_for_keys() {
     ImGuiContext& g = *GImGui;
@@ -588,6 +497,44 @@ void ViewerApp::select_at(double px, double py) {
     panels_.select(s);
 }
 
+void ViewerApp::focus_at(double px, double py) {
+    const rt::World* w = render_.world();
+    Document& doc = editor_.doc();
+    if (!w || !doc.has_scene()) return;
+    if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
+        status_.set(blocked, true);
+        return;
+    }
+    const rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
+    const rt::PickResult r = pick_at(*w, vc, layout_.image, layout_.film_w, layout_.film_h, px, py);
+    if (!r.hit) {
+        status_.set("Nothing under the cursor to focus on", true);
+        return;
+    }
+    const rt::Camera view = nav_.camera();
+    const bool moved = nav_.differs_from(doc.scene().camera);
+    rt::Camera cam = doc.scene().camera;
+    const double d = focus_distance_to(cam, r.point), dv = focus_distance_to(view, r.point);
+    if (!(d > 0)) {
+        status_.set("That point is behind the scene camera: focus not changed", true);
+        return;
+    }
+    cam.focus_distance = d;
+    if (!doc.set_camera(cam)) return;
+    if (moved && dv > 0) {
+        // The view stays where it was (a scene camera edit would take it back), with
+        // the same focus.
+        nav_.follow(doc.scene().camera);
+        rt::Camera v = view;
+        v.focus_distance = dv;
+        nav_.set(v);
+    }
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "Focus distance %.4g%s (Ctrl+Z undoes)", d,
+                  cam.aperture > 0 ? "" : "; set the camera's aperture to see the blur");
+    status_.set(msg);
+}
+
 ScreenView ViewerApp::screen_view() const {
     return ScreenView(nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
                       layout_.image, layout_.film_w, layout_.film_h);
@@ -609,509 +556,7 @@ void ViewerApp::orbit_degrees(double degrees) {
     nav_.orbit_degrees(degrees);
 }
 
-// ---------------------------------------------------------------------------------
-// Commands
-
-bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
-    Document& doc = editor_.doc();
-    auto ask_first = [&](Command cmd) {
-        if (confirmed || !doc.modified()) return false;
-        dialogs_.ask_unsaved(cmd, arg);
-        return true;
-    };
-    switch (c) {
-        case Command::OpenDialog: dialogs_.show(Dialogs::Kind::Open); return true;
-        case Command::Open:
-            if (ask_first(c)) return true;
-            start_load(arg);
-            return true;
-        case Command::OpenDefault:
-            if (ask_first(c)) return true;
-            loader_.cancel();
-            doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
-            after_document_replaced();
-            status_.set("Opened the built-in default scene");
-            return true;
-        case Command::NewScene:
-            if (ask_first(c)) return true;
-            loader_.cancel();
-            doc.load_text(kNewScene, "", kNewSceneName);
-            after_document_replaced();
-            // A new scene is written by hand: the text, ready for typing.
-            panels_.show_tab(Panels::Text);
-            editor_.focus();
-            status_.set(std::string("New scene ") + kNewSceneName + ": Ctrl+Enter applies the text, Ctrl+S saves it");
-            return true;
-        case Command::CancelLoad: return cancel_load();
-        case Command::Save: return do_save(confirmed);
-        case Command::SaveAsDialog: dialogs_.show(Dialogs::Kind::SaveAs, doc.path().empty() ? doc.name() : doc.path()); return true;
-        case Command::SaveAs: return do_save_as(arg, confirmed);
-        case Command::SaveImageDialog: dialogs_.show(Dialogs::Kind::SaveImage, default_image_name()); return true;
-        case Command::SaveImage: do_save_image(arg); return true;
-        case Command::Screenshot: screenshot_request_ = arg; return true;
-        case Command::Quit:
-            if (ask_first(c)) return true;
-            // Quitting is the user's decision about unsaved text: no recovery copy.
-            editor_.discard_recovery();
-            host_.quit();
-            return true;
-        case Command::Undo:
-        case Command::Redo: return undo_redo(c == Command::Undo, arg.empty() ? 1 : std::atoi(arg.c_str()));
-        case Command::EditText:
-            panels_.show_tab(Panels::Text);
-            editor_.focus();
-            return true;
-        case Command::ApplyText: editor_.apply(); return true;
-        case Command::RevertText: doc.revert_text(); return true;
-        case Command::FrameScene:
-        case Command::ResetView:
-        case Command::SetSceneCamera:
-        case Command::CopyCamera:
-        case Command::TogglePause:
-        case Command::FitWindow:
-        case Command::FitPicture: return view_command(c);
-        case Command::Help: dialogs_.show(Dialogs::Kind::Help); return true;
-        case Command::FormatHelp: dialogs_.show(Dialogs::Kind::Format); return true;
-        case Command::AddItem:
-        case Command::Duplicate:
-        case Command::Delete:
-        case Command::SwitchLight:
-        case Command::MakeCsg:
-        case Command::AddModel: return scene_edit(arg, c);
-        case Command::AddModelDialog:
-            // The model goes where the menu was opened (or in the middle): kept for the
-            // dialog's answer, so a dialog cancelled leaves no point for the next Add.
-            model_place_x_ = std::exchange(place_x_, -1);
-            model_place_y_ = std::exchange(place_y_, -1);
-            dialogs_.show(Dialogs::Kind::AddModel, rt::folder_of(doc.path()));
-            return true;
-    }
-    return false;
-}
-
-bool ViewerApp::undo_redo(bool undo, int steps) {
-    Document& doc = editor_.doc();
-    int done = 0;
-    while (done < std::max(steps, 1) && (undo ? doc.undo() : doc.redo())) ++done;
-    if (done == 0) return false;
-    // Say what was taken back or done again: "Undid: Move sphere 3".
-    const std::string& last = doc.last_step_name();
-    const std::string what =
-        done == 1 ? ": " + last : " " + std::to_string(done) + " steps, " + (undo ? "back to before " : "up to ") + last;
-    status_.set(std::string(undo ? "Undid" : "Redid") + what + (undo ? " (Ctrl+Y redoes)" : " (Ctrl+Z undoes)"));
-    return true;
-}
-
-bool ViewerApp::cancel_load() {
-    if (!loader_.active()) return false;
-    loader_.cancel();
-    Document& doc = editor_.doc();
-    if (!doc.has_scene() && doc.editor_text().empty() && doc.path().empty()) {
-        // The start-up file was cancelled: there is no old scene to keep showing.
-        doc.load_text(rt::kDefaultScene, "", rt::kDefaultSceneName);
-        after_document_replaced();
-    }
-    status_.set("Cancelled opening; showing " + doc.name());
-    return true;
-}
-
-bool ViewerApp::view_command(Command c) {
-    Document& doc = editor_.doc();
-    switch (c) {
-        case Command::FrameScene:
-            if (render_.world())
-                nav_.frame(frame_target(*render_.world()),
-                           {layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
-            return true;
-        case Command::ResetView:
-            if (doc.has_scene()) nav_.reset(doc.scene().camera);
-            return true;
-        case Command::SetSceneCamera:
-            if (!doc.has_scene() || !nav_.has_view()) return false;
-            if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
-                status_.set(blocked, true);
-                return false;
-            }
-            if (doc.set_camera(nav_.camera())) status_.set("The scene camera is now the view (Ctrl+Z undoes)");
-            return true;
-        case Command::CopyCamera:
-            ImGui::SetClipboardText(rt::write_camera(nav_.camera()).c_str());
-            status_.set("Copied the view's camera block to the clipboard");
-            return true;
-        case Command::TogglePause:
-            render_.set_paused(!render_.paused());
-            status_.set(render_.paused() ? "Paused (Space resumes)" : "Resumed");
-            return true;
-        case Command::FitWindow:
-            layout_.fit = FitMode::Window;
-            status_.set("Fill the window: the picture's sides may differ from the scene's");
-            return true;
-        case Command::FitPicture:
-            layout_.fit = FitMode::Picture;
-            status_.set("Picture frame: exactly the scene's picture");
-            return true;
-        default: return false;
-    }
-}
-
-// ---------------------------------------------------------------------------------
-// Structural edits: one text replacement each (scene_edits.h), applied by the document
-// as one undo step. The text must be the scene's: a draft is applied or reverted first.
-
-Placement ViewerApp::placement_at(const rt::Camera& vc, double px, double py) const {
-    // On the surface under the point (its normal from two neighbouring picks), or in
-    // front of the camera at the distance it looks at.
-    const Rect& im = layout_.image;
-    Placement at;
-    const rt::World* w = render_.world();
-    rt::PickResult r0 = w ? pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py) : rt::PickResult{};
-    if (r0.hit && std::isfinite(r0.t)) {
-        at.point = r0.point;
-        rt::PickResult rx = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px + 2, py);
-        rt::PickResult ry = pick_at(*w, vc, im, layout_.film_w, layout_.film_h, px, py + 2);
-        bool same = rx.hit && ry.hit && rx.object == r0.object && ry.object == r0.object && rx.plane == r0.plane &&
-                    ry.plane == r0.plane;
-        if (same) {
-            rt::Vec3 n = rt::normalize(rt::cross(rx.point - r0.point, ry.point - r0.point));
-            if (rt::dot(n, vc.position - r0.point) < 0) n = -n;
-            at.normal = n;
-        }
-    } else {
-        rt::Ray ray = ray_at(vc, im, layout_.film_w, layout_.film_h, px, py);
-        at.point = ray.origin + ray.dir * rt::length(vc.centre - vc.position);
-    }
-    at.toward = vc.position - at.point;
-    return at;
-}
-
-Placement ViewerApp::new_item_placement(bool object) {
-    const Rect& im = layout_.image;
-    const bool pointed = place_x_ >= 0;
-    const double px = pointed ? place_x_ : im.x + im.w / 2, py = pointed ? place_y_ : im.y + im.h / 2;
-    place_x_ = place_y_ = -1;
-    const rt::Camera vc = nav_.display_camera({im, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
-    const Placement centre = placement_at(vc, px, py);
-    const Document& doc = editor_.doc();
-    const rt::Scene* scene = doc.has_scene() ? &doc.scene() : nullptr;
-    if (pointed || !object || !scene) return centre;
-    // From the menu, an object goes where it is seen and stands free: on a surface in
-    // the picture, nearest the point under its centre, where it meets no other object
-    // (in front of an object it would hide it, or stand inside it); in the air only
-    // where no surface has room.
-    std::vector<std::pair<double, Placement>> around;
-    const double step = std::max(1.0, im.w / 16.0);
-    for (int j = -5; j <= 5; ++j)
-        for (int i = -7; i <= 7; ++i) {
-            const double x = px + i * step, y = py + j * step;
-            if ((i == 0 && j == 0) || x < im.x || y < im.y || x >= im.x + im.w || y >= im.y + im.h) continue;
-            Placement at = placement_at(vc, x, y);
-            const double d = rt::length(at.point - centre.point);
-            if (std::isfinite(d)) around.push_back({rt::length2(at.normal) > 0 ? d : 1e300, at});
-        }
-    std::stable_sort(around.begin(), around.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::vector<Placement> candidates{centre};
-    for (auto& a : around) candidates.push_back(a.second);
-    // ... and the whole of it in the picture.
-    const ScreenView view(vc, im, layout_.film_w, layout_.film_h);
-    auto in_picture = [&](const rt::Vec3& middle, double reach) {
-        for (int axis = 0; axis < 3; ++axis)
-            for (double side : {-reach, reach}) {
-                rt::Vec3 q = middle;
-                (axis == 0 ? q.x : axis == 1 ? q.y : q.z) += side;
-                const std::optional<ScreenPoint> sp = view.project(q);
-                if (!sp || sp->x < im.x || sp->y < im.y || sp->x > im.x + im.w || sp->y > im.y + im.h) return false;
-            }
-        return true;
-    };
-    const std::optional<std::size_t> k = first_clear(*scene, candidates, in_picture);
-    return k ? candidates[*k] : centre;
-}
-
-rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
-    // One object-width to the right in the view, so that the copy is seen (a round
-    // step: the copy's numbers stay as short as the original's).
-    rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
-    rt::Vec3 right = rt::normalize(rt::cross(vc.centre - vc.position, nav_.world_up()));
-    double step = 2.5 * typical_object_size(scene);
-    double q = std::pow(10.0, std::floor(std::log10(step > 0 ? step : 1.0)) - 1);
-    rt::Vec3 off = right * step;
-    off = {std::round(off.x / q) * q, std::round(off.y / q) * q, std::round(off.z / q) * q};
-    return rt::finite(off) ? off : rt::Vec3{};
-}
-
-namespace {
-// The item an "add" command names ("sphere", ..., "spotlight"), as in the format.
-std::optional<NewItem> new_item_kind(const std::string& name) {
-    static const std::pair<const char*, NewItem> kinds[] = {
-        {"sphere", NewItem::Sphere}, {"cylinder", NewItem::Cylinder}, {"tetrahedron", NewItem::Tetrahedron},
-        {"torus", NewItem::Torus},   {"plane", NewItem::Plane},       {"chess_plane", NewItem::ChessPlane},
-        {"lamp", NewItem::Lamp},     {"spotlight", NewItem::Spotlight}};
-    for (const auto& k : kinds)
-        if (name == k.first) return k.second;
-    return std::nullopt;
-}
-}  // namespace
-
-bool ViewerApp::scene_edit(const std::string& arg, Command c) {
-    Document& doc = editor_.doc();
-    if (!doc.has_scene() || loader_.active()) return false;
-    if (doc.editor_dirty() || doc.text_behind()) {
-        status_.set("The scene text has unapplied changes: apply (Ctrl+Enter) or revert them first", true);
-        return false;
-    }
-    if (doc.editing()) {
-        // (The edit would be planned on the scene as dragged so far, but the text the
-        // drag writes only when it ends.)
-        status_.set("Finish the drag first", true);
-        return false;
-    }
-    const std::string& text = std::as_const(doc).editor_text();
-    const rt::Scene& scene = doc.scene();
-    std::optional<SceneEdit> e;
-    std::string done, name;  // the status bar's message; the undo step's name
-    std::optional<SceneItem> sel = item_of_selection(panels_.selection());
-    const std::string label = sel ? item_label(scene, ItemRef{*sel, {}}) : std::string();
-    switch (c) {
-        case Command::AddItem: {
-            const std::optional<NewItem> kind = new_item_kind(arg);
-            if (!kind) return false;
-            e = add_item(text, scene, *kind, new_item_placement(*kind <= NewItem::Torus));
-            done = std::string("Added a ") + arg;
-            name = std::string("Add a ") + arg;
-            break;
-        }
-        case Command::AddModel:
-            if (!(e = model_edit(arg))) return false;
-            done = "Added " + base_name(arg);
-            name = "Add model " + base_name(arg);
-            break;
-        case Command::Duplicate: {
-            if (!sel) return false;
-            e = duplicate_item(text, scene, *sel, duplicate_offset(scene));
-            done = "Duplicated";
-            name = "Duplicate " + label;
-            break;
-        }
-        case Command::Delete: {
-            if (!sel) return false;
-            const ItemRef& ref = panels_.selection();
-            const bool operand = !ref.path.empty();  // its CSG becomes the other operand
-            e = operand ? delete_operand(text, scene, sel->index, ref.path) : delete_item(text, scene, *sel);
-            done = operand ? "Deleted the operand: its CSG is the other operand now" : "Deleted";
-            name = "Delete " + (operand ? item_label(scene, ref) : label);
-            break;
-        }
-        case Command::SwitchLight:
-            if (!sel || sel->kind != SceneItem::Kind::Light) return false;
-            e = switch_light_kind(text, scene, sel->index);
-            done = scene.lights[std::size_t(sel->index)].lamp ? "The lamp is a spotlight now (its size is kept)"
-                                                              : "The spotlight is a lamp now";
-            name = "Make " + label + (scene.lights[std::size_t(sel->index)].lamp ? " a spotlight" : " a lamp");
-            break;
-        case Command::MakeCsg: {
-            char type = arg.empty() ? 'U' : arg[0];
-            int other = arg.size() > 2 ? std::atoi(arg.c_str() + 2) : -1;
-            if (!sel || sel->kind != SceneItem::Kind::Object || (type != 'U' && type != 'I' && type != 'C')) return false;
-            e = make_csg(text, scene, sel->index, other, rt::CsgType(type));
-            done = "Made a CSG of the two objects";
-            name = "Make a CSG of objects " + std::to_string(sel->index + 1) + " and " + std::to_string(other + 1);
-            break;
-        }
-        default: return false;
-    }
-    if (!e || !doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, name)) {
-        status_.set("Cannot do that to this scene text", true);
-        return false;
-    }
-    panels_.select({e->select, {}});
-    status_.set(done + " (Ctrl+Z undoes)" + light_note(doc));
-    return true;
-}
-
-std::optional<SceneEdit> ViewerApp::model_edit(const std::string& path) {
-    Document& doc = editor_.doc();
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::path file = fs::absolute(path, ec).lexically_normal();
-    const rt::ModelStore::Loaded l = doc.models().load(file.string());
-    if (!l.model) {
-        const std::string line = l.error.line > 0 ? ":" + std::to_string(l.error.line) : "";
-        status_.set("Cannot add " + path + line + ": " + l.error.message, true);
-        return std::nullopt;
-    }
-    // Named from the scene's folder when it is in it (the scene and its models then
-    // move together), else by its absolute path.
-    std::string name = file.string();
-    if (!doc.path().empty()) {
-        const fs::path rel = file.lexically_relative(fs::absolute(rt::folder_of(doc.path()), ec).lexically_normal());
-        if (!rel.empty() && *rel.begin() != "..") name = rel.string();
-    }
-    place_x_ = std::exchange(model_place_x_, -1);
-    place_y_ = std::exchange(model_place_y_, -1);
-    std::optional<SceneEdit> e = add_model(std::as_const(doc).editor_text(), doc.scene(), name, *l.model, new_item_placement(true));
-    if (!e) status_.set("Cannot add a mesh to this scene text", true);
-    return e;
-}
-
-void ViewerApp::handle_context_menu(bool usable) {
-    ImGuiIO& io = ImGui::GetIO();
-    double mx = io.MousePos.x, my = io.MousePos.y;
-    if (usable && ImGui::IsMouseClicked(1) && !io.WantCaptureMouse && layout_.image.contains(mx, my)) {
-        rclick_armed_ = true;
-        rclick_x_ = mx;
-        rclick_y_ = my;
-    }
-    if (rclick_armed_ && !ImGui::IsMouseDown(1)) {
-        rclick_armed_ = false;
-        // A right drag pans; only a click (the pointer stayed put) opens the menu.
-        if (std::hypot(mx - rclick_x_, my - rclick_y_) < 4 && usable) {
-            menu_prev_selection_ = panels_.selection();
-            menu_readout_ = tools_.readout_line();  // the menu takes the hover away
-            select_at(rclick_x_, rclick_y_);
-            ImGui::OpenPopup("image_menu");
-        }
-    }
-}
-
-void ViewerApp::draw_context_menu() {
-    if (!ImGui::BeginPopup("image_menu")) return;
-    const ItemRef& sel = panels_.selection();
-    const rt::Scene& scene = editor_.doc().scene();
-    // (probe_item: where the rows are, for scripts that click them)
-    if (ImGui::BeginMenu("Add here")) {
-        static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
-        for (const char* k : kinds) {
-            const bool chosen = ImGui::MenuItem(k);
-            probe_item(std::string("menu:") + k);
-            if (chosen) {
-                place_x_ = rclick_x_;
-                place_y_ = rclick_y_;
-                run(Command::AddItem, k);
-            }
-        }
-        const bool model = ImGui::MenuItem("model...");
-        probe_item("menu:model");
-        if (model) {
-            place_x_ = rclick_x_;
-            place_y_ = rclick_y_;
-            run(Command::AddModelDialog);
-        }
-        ImGui::EndMenu();
-    }
-    probe_item("menu:Add here");
-    bool has = !sel.none();
-    if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) run(Command::Duplicate);
-    if (ImGui::MenuItem("Delete", "Del", false, has)) run(Command::Delete);
-    if (sel.is(SceneItem::Kind::Light) && std::size_t(sel.item.index) < scene.lights.size()) {
-        bool lamp = scene.lights[std::size_t(sel.item.index)].lamp;
-        const char* label = lamp ? "Make it a spotlight" : "Make it a lamp";
-        const bool chosen = ImGui::MenuItem(label);
-        probe_item(std::string("menu:") + label);
-        if (chosen) run(Command::SwitchLight);
-    }
-    const ItemRef& prev = menu_prev_selection_;
-    if (sel.is(SceneItem::Kind::Object) && prev.is(SceneItem::Kind::Object) && prev.item.index != sel.item.index &&
-        std::size_t(prev.item.index) < scene.objects.size()) {
-        std::string label = "CSG of object " + std::to_string(prev.item.index + 1) + " and this one";
-        if (ImGui::BeginMenu(label.c_str())) {
-            std::string other = " " + std::to_string(sel.item.index);
-            auto csg = [&](const char* type) {
-                panels_.select(prev);  // the left operand
-                run(Command::MakeCsg, type + other);
-            };
-            if (ImGui::MenuItem("union")) csg("U");
-            if (ImGui::MenuItem("intersection")) csg("I");
-            if (ImGui::MenuItem("difference (first minus this)")) csg("C");
-            ImGui::EndMenu();
-        }
-    }
-    ImGui::Separator();
-    // The pixel's readout, as the status line showed it.
-    if (ImGui::MenuItem("Copy pixel", "Ctrl+C", false, !menu_readout_.empty())) tools_.copy_pixel(menu_readout_);
-    ImGui::EndPopup();
-}
-
-std::string ViewerApp::default_image_name() const {
-    const Document& doc = editor_.doc();
-    return stem_of(doc.path().empty() ? doc.name() : doc.path()) + ".png";
-}
-
-// Before a save: a draft that parses is applied (the file will be the scene shown);
-// text that does not parse is saved only once the user has said so (false: asked).
-bool ViewerApp::ready_to_save(Command c, const std::string& arg, bool confirmed) {
-    Document& doc = editor_.doc();
-    doc.commit();
-    if (doc.apply_parsing_draft()) status_.set("Applied the scene text");
-    if (confirmed) return true;
-    if (std::optional<std::string> problem = doc.save_problem()) {
-        dialogs_.ask_save_with_errors(*problem, c, arg);
-        return false;
-    }
-    return true;
-}
-
-bool ViewerApp::do_save(bool confirmed) {
-    Document& doc = editor_.doc();
-    if (doc.path().empty()) {
-        dialogs_.show(Dialogs::Kind::SaveAs, doc.name());
-        return false;
-    }
-    if (!ready_to_save(Command::Save, {}, confirmed)) return false;
-    const rt::Status st = doc.save();
-    if (st) editor_.saved();
-    if (st) status_.set("Saved " + doc.path());
-    else status_.set("Save failed: " + st.message(), true);
-    return st.ok();
-}
-
-bool ViewerApp::do_save_as(const std::string& path, bool confirmed) {
-    Document& doc = editor_.doc();
-    if (!ready_to_save(Command::SaveAs, path, confirmed)) return false;
-    if (rt::Status st = doc.save_as(path); !st) {
-        status_.set("Save failed: " + st.message(), true);
-        return false;
-    }
-    editor_.saved_as();
-    const rt::Status recent = remember_recent(path);
-    status_.set("Saved " + doc.path() + recent_note(recent), !recent);
-    return true;
-}
-
-rt::Status ViewerApp::remember_recent(const std::string& path) {
-    if (!interactive_) return {};
-    return editor_.recent().add(path);
-}
-
-// The film as rendered so far: in the picture frame the scene's picture at its
-// picture_size (zoom and pan only place it on the screen), else the window's.
-void ViewerApp::do_save_image(const std::string& path) {
-    const rt::RenderProgress p = render_.progress();
-    rt::Image img = render_.snapshot();
-    if (img.width < 1) {
-        status_.set("There is no image to save yet", true);
-        return;
-    }
-    if (rt::format_from_path(path) == rt::ImageFormat::Unknown) {
-        status_.set("Image names must end in .png or .ppm", true);
-        return;
-    }
-    const rt::Status st = rt::write_image(path, img);
-    if (!st) {
-        status_.set("Cannot write " + path + ": " + st.message(), true);
-        return;
-    }
-    std::string what = std::to_string(img.width) + "x" + std::to_string(img.height) + ", " + std::to_string(p.samples) +
-                       (p.done ? "" : " of " + std::to_string(render_.max_samples())) + " samples per pixel";
-    const Document& doc = editor_.doc();
-    if (layout_.fit == FitMode::Window) what += ", the window's picture (View > Picture frame saves picture_size)";
-    else if (doc.has_scene() && (img.width != doc.scene().width || img.height != doc.scene().height))
-        what += ", smaller than picture_size " + std::to_string(doc.scene().width) + "x" +
-                std::to_string(doc.scene().height) + " (Render to file makes it)";
-    status_.set("Wrote " + path + " (" + what + ")");
-}
-
-// ---------------------------------------------------------------------------------
-// Host interface
+// --- Host interface
 
 bool ViewerApp::render_settled() const {
     return editor_.doc().has_scene() && render_.settled(layout_.film_w, layout_.film_h);
@@ -1188,52 +633,6 @@ rt::Status ViewerApp::write_view_scene(const std::string& path) const {
     s.width = layout_.film_w;
     s.height = layout_.film_h;
     return rt::write_file_atomic(path, rt::write_scene(s));
-}
-
-std::string ViewerApp::layout_text() const {
-    float fb = layout_.fb_scale;
-    auto px = [fb](const Rect& r) {
-        char buf[96];
-        std::snprintf(buf, sizeof buf, "%ld %ld %ld %ld", std::lround(r.x * fb), std::lround(r.y * fb),
-                      std::lround(r.w * fb), std::lround(r.h * fb));
-        return std::string(buf);
-    };
-    ImGuiIO& io = ImGui::GetIO();
-    const Layout& l = layout_;
-    Rect window{0, 0, io.DisplaySize.x, io.DisplaySize.y};
-    Rect sidebar{window.w - l.sidebar_w, l.menu_h, l.sidebar_w, window.h - l.menu_h};
-    Rect bar{0, window.h - l.status_h, l.area.w, l.status_h};
-    Panels::Tab tab = panels_.current_tab();
-    std::string s;
-    s += "window " + px(window) + "\n";
-    s += "area " + px(l.area) + "\n";
-    s += "image " + px(l.image) + "\n";
-    s += "film " + std::to_string(l.film_w) + " " + std::to_string(l.film_h) + "\n";
-    s += "sidebar " + px(sidebar) + "\n";
-    s += "camera " + px(l.camera_panel) + "\n";
-    s += "outline " + px(tab == Panels::Objects ? l.outline : Rect{}) + "\n";
-    s += "editor " + px(tab == Panels::Text ? l.editor : Rect{}) + "\n";
-    s += "diagnostics " + px(tab == Panels::Text ? l.diagnostics : Rect{}) + "\n";
-    s += "status " + px(bar) + "\n";
-    // Where the move handle of the selection sits (its anchor) and what it moves
-    // ("object 3", 1-based as in the outline), for tests that drag it.
-    const Document& doc = editor_.doc();
-    std::optional<SceneItem> item = item_of_selection(panels_.selection());
-    std::optional<rt::Vec3> anchor;
-    const std::vector<int>& path = panels_.selection().path;
-    if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item, path);
-    std::optional<ScreenPoint> at;
-    if (anchor) at = screen_view().project(*anchor);
-    if (at) {
-        const char* kind = item->kind == SceneItem::Kind::Object ? "object" : item->kind == SceneItem::Kind::Plane ? "plane" : "light";
-        s += "handle " + std::to_string(std::lround(at->x * fb)) + " " + std::to_string(std::lround(at->y * fb)) + " " +
-             kind + " " + std::to_string(item->index + 1);
-        for (int k : path) s += k == 0 ? " left" : " right";  // an operand: "object 4 left"
-        s += "\n";
-    }
-    else s += "handle none\n";
-    for (const auto& [key, value] : probes()) s += "state " + key + " " + value + "\n";
-    return s;
 }
 
 }  // namespace rtview

@@ -27,7 +27,9 @@
 #include "render_controller.h"
 #include "scene_edits.h"
 #include "status.h"
-#include "shared.h"
+#include "commands.h"
+#include "layout.h"
+#include "status_line.h"
 
 namespace rtview {
 
@@ -124,6 +126,8 @@ private:
     void after_document_replaced();
     void start_load(const std::string& path);
     void select_at(double px, double py);
+    // The scene camera's focus_distance set to the surface under (px, py) (one undo step).
+    void focus_at(double px, double py);
     // The view the picture is rendered through, as the move tool projects with it.
     ScreenView screen_view() const;
     // Structural edits and the image's context menu.

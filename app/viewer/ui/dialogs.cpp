@@ -92,7 +92,7 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         ImGui::EndPopup();
     }
     if (begin(Kind::SaveImage)) {
-        ImGui::TextDisabled("The picture as rendered so far (%s); .png or .ppm.", image_mode);
+        ImGui::TextDisabled("The picture as rendered so far (%s); .png or .ppm, or .pfm or .exr for the unclamped floats.", image_mode);
         const FileDialog::Result r = file_.draw("Save");
         if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
         if (r == FileDialog::Result::Go) commands_.run(Command::SaveImage, file_.path());

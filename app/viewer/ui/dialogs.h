@@ -7,7 +7,7 @@
 
 #include "file_dialog.h"
 #include "recent_files.h"
-#include "shared.h"
+#include "commands.h"
 
 namespace rtview {
 

@@ -13,7 +13,8 @@
 #include "document.h"
 #include "recent_files.h"
 #include "recovery.h"
-#include "shared.h"
+#include "layout.h"
+#include "status_line.h"
 #include "text_editor.h"
 
 namespace rtview {

@@ -79,8 +79,9 @@ std::vector<std::uint8_t> read_framebuffer(int width, int height) {
 }
 
 rt::Status save_framebuffer(const std::string& path, int width, int height) {
-    if (rt::format_from_path(path) == rt::ImageFormat::Unknown)
-        return rt::Status::error("'" + path + "': use a .png or .ppm name", rt::kExitUsage);
+    const rt::ImageFormat f = rt::format_from_path(path);
+    if (f == rt::ImageFormat::Unknown || rt::is_float_format(f))
+        return rt::Status::error("'" + path + "': a screenshot is a .png or .ppm", rt::kExitUsage);
     return rt::write_rgb8(path, width, height, read_framebuffer(width, height));
 }
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <ctime>
 #include <algorithm>
 #include <memory>
 #include <string>
@@ -27,6 +28,9 @@
 struct ImDrawList;
 
 namespace rtview {
+
+// "14:03:27": a time of day as the picture tools label snapshots.
+std::string clock_time(std::time_t t);
 
 // What the picture tools need from the app each frame.
 struct ImageFrame {

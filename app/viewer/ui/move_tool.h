@@ -19,7 +19,8 @@
 #include "move_handle.h"
 #include "object_ids.h"
 #include "render_controller.h"
-#include "shared.h"
+#include "status_line.h"
+#include "scene_edits.h"
 
 struct ImDrawList;
 

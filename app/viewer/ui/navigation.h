@@ -4,7 +4,7 @@
 #pragma once
 
 #include "navigator.h"
-#include "shared.h"
+#include "layout.h"
 #include "world.h"
 
 namespace rtview {

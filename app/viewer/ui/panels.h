@@ -13,7 +13,9 @@
 #include "item_fields.h"
 #include "navigator.h"
 #include "render_controller.h"
-#include "shared.h"
+#include "commands.h"
+#include "layout.h"
+#include "status_line.h"
 
 namespace rtview {
 
@@ -60,6 +62,7 @@ private:
     void draw_sidebar_edge();
     void draw_undo_items();
     void draw_camera_panel();
+    bool draw_lens_fields(rt::Camera& cam, float speed);
     void draw_scene_camera_fields(float speed);
     void draw_objects_tab();
     void draw_outline();

@@ -1,44 +1,10 @@
-// What the parts of the viewer share: the frame's layout, the status line and
-// the commands that menus, panels, dialogs and keys ask the app to run
-// (so that no part reaches into another's state).
+// The commands that menus, panels, dialogs and keys ask the app to run (so that no
+// part reaches into another's state).
 #pragma once
 
 #include <string>
-#include <vector>
-
-#include "options.h"
-#include "scene_edits.h"
-#include "viewport.h"
 
 namespace rtview {
-
-// Where everything is this frame (ImGui logical coordinates) and the film it implies.
-struct Layout {
-    float menu_h = 0, status_h = 0, sidebar_w = 0;
-    bool sidebar_hidden = false;  // Tab: the picture alone
-    float fb_scale = 1;
-    Rect area;   // all space for the image
-    Rect image;  // where the film is drawn (letterboxed in picture mode; zoomed by the picture tools)
-    Rect fit_image;  // where it is drawn unzoomed
-    int film_w = 1, film_h = 1;  // the picture rendered: picture_size in the picture frame, else the area's
-    FitMode fit = FitMode::Picture;
-    // Rectangles of some panels, for --print-layout.
-    Rect camera_panel, editor, diagnostics, outline;
-};
-
-class StatusLine {
-public:
-    void set(const std::string& text, bool error = false) {
-        text_ = text;
-        error_ = error;
-    }
-    const std::string& text() const { return text_; }
-    bool error() const { return error_; }
-
-private:
-    std::string text_;
-    bool error_ = false;
-};
 
 enum class Command {
     OpenDialog,      // ask for a path

@@ -1,0 +1,168 @@
+// The document and its file (see document.h): saving, noticing changes other
+// programs make, reloading the text or the models it names.
+#include "document.h"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <utility>
+
+#include "block_patch.h"
+#include "image_io.h"
+#include "paths.h"
+#include "scene_text.h"
+#include "scene_writer.h"
+#include "snapshots.h"
+
+namespace rtview {
+
+FileStamp FileStamp::of(const std::string& path) {
+    FileStamp s;
+    struct stat st {};
+    if (path.empty() || ::stat(path.c_str(), &st) != 0) return s;
+    s.exists = true;
+    s.mtime_ns = std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
+    s.size = std::int64_t(st.st_size);
+    // Editors that save by rename give a new inode even within one mtime tick.
+    s.inode = std::uint64_t(st.st_ino);
+    return s;
+}
+
+std::optional<std::string> Document::save_problem() const {
+    if (has_scene_ && !applied_ && !behind_) return std::nullopt;  // the text is the scene's own
+    if (has_scene_ && applied_ && *applied_ == editor_ && !behind_) return std::nullopt;
+    const rt::ParseResult r = rt::parse_scene(editor_, parse_options(path_));
+    for (const rt::Diagnostic& d : r.diagnostics)
+        if (d.is_error())
+            return "line " + std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message;
+    return std::nullopt;
+}
+
+bool Document::apply_parsing_draft() {
+    if (!applied_ || *applied_ == editor_ || !rt::parse_scene(editor_, parse_options(path_)).ok()) return false;
+    return apply_text();
+}
+
+void Document::mark_saved(std::optional<std::uint64_t> hash) {
+    saved_hash_ = hash ? *hash : text_hash(editor_);
+    saved_size_ = editor_.size();
+    // The text is the saved one now: no need to hash it again to know that.
+    modified_key_ = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    modified_cache_ = false;
+    // Revert of a text that never parsed goes back to the file: keep it (such files
+    // are small; a scene that parses is not kept twice).
+    saved_broken_text_ = has_scene_ ? std::string() : editor_;
+    // No second parse of the saved text: it is the text of the current scene whenever
+    // that has no unapplied draft.
+    if (has_scene_ && !editor_dirty()) file_camera_ = scene_.camera;
+    stamp_ = FileStamp::of(path_);
+    conflict_ = false;
+}
+
+rt::Status Document::save() {
+    commit();
+    if (path_.empty()) return rt::Status::error("the scene has no file name yet: use Save As", rt::kExitUsage);
+    // No name until the file is complete: a viewer killed while saving (SIGKILL: no
+    // handler runs) leaves no partial file behind.
+    if (rt::Status st = rt::write_file_atomic(path_, editor_, rt::WhileWriting::NoName); !st) return st;
+    mark_saved();
+    return {};
+}
+
+rt::Status Document::save_as(const std::string& path) {
+    commit();
+    if (path.empty()) return rt::Status::error("no file name given", rt::kExitUsage);
+    if (rt::Status st = rt::write_file_atomic(path, editor_, rt::WhileWriting::NoName); !st) return st;
+    path_ = path;
+    name_ = base_name(path);
+    mark_saved();
+    return {};
+}
+
+void Document::reload_text(const std::string& text) {
+    flush_typing();
+    rt::ParseResult r = rt::parse_scene(text, parse_options(path_));
+    diagnostics_ = r.diagnostics;
+    if (r.ok()) {
+        replace_state(&text, std::nullopt, std::move(r.scene), false, "Reload from disk");
+    } else {
+        // Show the new text with its errors; the last good scene keeps rendering.
+        std::string applied = has_scene_ ? applied_text() : std::string();
+        replace_state(&text, std::move(applied), std::nullopt, behind_, "Reload from disk");
+    }
+    mark_saved();
+}
+
+rt::ParseOptions Document::parse_options(const std::string& path) const {
+    rt::ParseOptions o;
+    o.base_dir = rt::folder_of(path);  // mesh files are named from the scene's folder
+    o.models = models_.get();
+    return o;
+}
+
+bool Document::reload_models() {
+    if (!has_scene_ || pending_ || editor_dirty() || behind_) return false;
+    // The scene's models, looked for once per scene version (a pass over every object:
+    // 9 ms in a 1M-object scene, too much for every second).
+    if (scene_models_version_ != scene_version_) {
+        scene_models_.clear();
+        for (const rt::Object& o : scene_.objects)
+            if (const rt::Mesh* m = std::get_if<rt::Mesh>(&o.shape); m && m->model)
+                if (std::find(scene_models_.begin(), scene_models_.end(), m->model) == scene_models_.end())
+                    scene_models_.push_back(m->model);
+        scene_models_version_ = scene_version_;
+    }
+    bool changed = false;
+    for (const auto& m : scene_models_) changed = changed || !m->unchanged_on_disk();
+    if (!changed) return false;
+    // The text is the same: only the scene's models are new (no undo step). A model
+    // that no longer reads leaves the scene as it was, and is said once.
+    rt::ParseResult r = rt::parse_scene(editor_, parse_options(path_));
+    if (!r.ok()) {
+        std::string why;
+        for (const rt::Diagnostic& d : r.diagnostics)
+            if (d.is_error() && why.empty()) why = "line " + std::to_string(d.line) + ": " + d.message;
+        if (why == model_problem_) return false;
+        model_problem_ = why;
+        return true;
+    }
+    model_problem_.clear();
+    scene_.objects = std::move(r.scene.objects);
+    ++scene_version_;
+    this->changed(rt::SceneDelta::all());  // a model's triangles: the world is compiled anew
+    return true;
+}
+
+Document::DiskEvent Document::check_disk() {
+    if (reload_models()) return model_problem_.empty() ? DiskEvent::ModelsReloaded : DiskEvent::ModelUnreadable;
+    if (path_.empty() || pending_) return DiskEvent::None;  // not in the middle of a gesture
+    FileStamp st = FileStamp::of(path_);
+    if (st == stamp_) return DiskEvent::None;
+    stamp_ = st;
+    if (!st.exists) return DiskEvent::Removed;
+    std::string text;
+    if (!rt::read_file(path_, text, rt::Limits::max_file_size).ok()) return DiskEvent::None;
+    if (text.size() == saved_size_ && text_hash(text) == saved_hash_) return DiskEvent::None;  // touched, or our own save
+    if (!modified()) {
+        reload_text(text);
+        return DiskEvent::Reloaded;
+    }
+    conflict_ = true;
+    conflict_text_ = std::move(text);
+    return DiskEvent::Conflict;
+}
+
+void Document::resolve_conflict_reload() {
+    if (!conflict_) return;
+    conflict_ = false;
+    std::string text = std::move(conflict_text_);
+    conflict_text_.clear();
+    reload_text(text);
+}
+
+void Document::resolve_conflict_keep() {
+    conflict_ = false;
+    conflict_text_.clear();
+}
+
+}  // namespace rtview

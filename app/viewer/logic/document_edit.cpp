@@ -1,0 +1,417 @@
+// The document's held edit (see document.h): a panel or handle edit changes the scene
+// on every frame; its commit writes the text once and makes one undo step.
+#include "document.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "block_patch.h"
+#include "image_io.h"
+#include "paths.h"
+#include "scene_text.h"
+#include "scene_writer.h"
+#include "snapshots.h"
+
+namespace rtview {
+
+namespace {
+
+// The layout after [pos, pos + old_len) of the text became new_len bytes long: spans
+// after it move, the span that was it (if any) takes the new length.
+void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::size_t new_len) {
+    auto fix = [&](std::size_t& x) {
+        if (x >= pos + old_len) x = x - old_len + new_len;
+    };
+    for (auto* v : {&l.objects, &l.planes, &l.lights, &l.cameras})
+        for (TextSpan& t : *v) {
+            if (t.begin == pos && t.end == pos + old_len) {
+                t.end = pos + new_len;
+                continue;
+            }
+            fix(t.begin);
+            fix(t.end);
+        }
+    fix(l.append_at);
+}
+
+// The items of a pending edit that changed, as (index, value) pairs both ways. An item
+// that came back to its value (or to -0 where it had 0: equal, but not what its text
+// reads) takes its value from before again, as the text holds it.
+template <class T>
+void diff_saved(const std::vector<std::pair<std::size_t, T>>& saved, std::vector<T>& now,
+                std::vector<std::pair<std::size_t, T>>& before, std::vector<std::pair<std::size_t, T>>& after) {
+    for (const auto& p : saved) {
+        if (p.second == now[p.first]) {
+            now[p.first] = p.second;
+            continue;
+        }
+        before.push_back(p);
+        after.push_back({p.first, now[p.first]});
+    }
+}
+
+// "Edit object 3", "Edit the scene camera": a step named by what it changed.
+std::string changed_name(std::size_t objects, std::size_t planes, std::size_t lights, bool camera, bool wide,
+                         std::size_t first) {
+    const std::size_t items = objects + planes + lights;
+    if (wide || items > 1) return "Edit the scene";
+    if (items == 0) return camera ? "Edit the scene camera" : "Edit the scene";
+    const char* kind = objects ? "object " : planes ? "plane " : "light ";
+    return std::string("Edit ") + kind + std::to_string(first + 1);
+}
+
+}  // namespace
+
+void Document::open_edit() {
+    if (!pending_) {
+        saved_ = {};
+        pending_name_.clear();
+        pending_ = true;
+    }
+    ++scene_version_;
+}
+
+void Document::name_edit(const std::string& name) {
+    if (pending_ && pending_name_.empty()) pending_name_ = name;
+}
+
+std::string Document::pending_name() const {
+    if (!pending_name_.empty()) return pending_name_;
+    const std::size_t first = !saved_.objects.empty() ? saved_.objects[0].first
+                              : !saved_.planes.empty() ? saved_.planes[0].first
+                              : !saved_.lights.empty() ? saved_.lights[0].first
+                                                       : 0;
+    return changed_name(saved_.objects.size(), saved_.planes.size(), saved_.lights.size(), saved_.camera.has_value(),
+                        saved_.whole.has_value(), first);
+}
+
+rt::Object& Document::edit_object(std::size_t i) {
+    open_edit();
+    rt::SceneDelta d;
+    if (i < scene_.objects.size()) d.objects.push_back(std::uint32_t(i));
+    changed(std::move(d));
+    auto& v = saved_.objects;
+    if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
+        v.push_back({i, scene_.objects.at(i)});
+    return scene_.objects.at(i);
+}
+
+rt::Plane& Document::edit_plane(std::size_t i) {
+    open_edit();
+    rt::SceneDelta d;
+    if (i < scene_.planes.size()) d.planes.push_back(std::uint32_t(i));
+    changed(std::move(d));
+    auto& v = saved_.planes;
+    if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
+        v.push_back({i, scene_.planes.at(i)});
+    return scene_.planes.at(i);
+}
+
+rt::Light& Document::edit_light(std::size_t i) {
+    open_edit();
+    rt::SceneDelta d;
+    if (i < scene_.lights.size()) d.lights.push_back(std::uint32_t(i));
+    changed(std::move(d));
+    auto& v = saved_.lights;
+    if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
+        v.push_back({i, scene_.lights.at(i)});
+    return scene_.lights.at(i);
+}
+
+rt::Camera& Document::edit_camera() {
+    open_edit();
+    if (!saved_.whole && !saved_.camera) saved_.camera = scene_.camera;
+    return scene_.camera;
+}
+
+rt::Scene& Document::edit() {
+    open_edit();
+    changed(rt::SceneDelta::all());
+    if (!saved_.whole) saved_.whole = scene_before_edit();
+    return scene_;
+}
+
+rt::Scene Document::scene_before_edit() const {
+    if (saved_.whole) return *saved_.whole;
+    rt::Scene s = scene_;
+    for (const auto& p : saved_.objects) s.objects[p.first] = p.second;
+    for (const auto& p : saved_.planes) s.planes[p.first] = p.second;
+    for (const auto& p : saved_.lights) s.lights[p.first] = p.second;
+    if (saved_.camera) s.camera = *saved_.camera;
+    return s;
+}
+
+void Document::cancel_edit() {
+    if (!pending_) return;
+    pending_ = false;
+    scene_ = scene_before_edit();
+    rt::SceneDelta d = saved_.whole ? rt::SceneDelta::all() : items_of(saved_.objects, saved_.planes, saved_.lights);
+    saved_ = {};
+    pending_name_.clear();
+    ++scene_version_;
+    changed(std::move(d));
+}
+
+bool Document::set_camera(const rt::Camera& camera) {
+    if (!has_scene_ || camera == scene_.camera) return false;
+    commit();
+    edit_camera() = camera;
+    name_edit("Set the scene camera from the view");
+    commit();
+    return true;
+}
+
+void Document::commit() {
+    if (!pending_) return;
+    flush_typing();
+    pending_ = false;
+    DocStep step;
+    step.name = std::move(pending_name_);
+    pending_name_.clear();
+    step.has_scene_before = step.has_scene_after = has_scene_;
+    step.behind_before = behind_;
+    bool wide = false;
+    if (saved_.whole) {
+        const rt::Scene& b = *saved_.whole;
+        if (b.objects.size() != scene_.objects.size() || b.planes.size() != scene_.planes.size() ||
+            b.lights.size() != scene_.lights.size() || b.width != scene_.width || b.height != scene_.height ||
+            !diff_items(b.objects, scene_.objects, step.objects_before, step.objects_after, kMaxStepItems) ||
+            !diff_items(b.planes, scene_.planes, step.planes_before, step.planes_after, kMaxStepItems) ||
+            !diff_items(b.lights, scene_.lights, step.lights_before, step.lights_after, kMaxStepItems)) {
+            wide = true;
+        }
+        if (!(b.camera == scene_.camera)) {
+            step.camera_before = b.camera;
+            step.camera_after = scene_.camera;
+        }
+        if (wide) {
+            step.reparse = true;
+            step.objects_before.clear(), step.objects_after.clear();
+            step.planes_before.clear(), step.planes_after.clear();
+            step.lights_before.clear(), step.lights_after.clear();
+        }
+    } else {
+        diff_saved(saved_.objects, scene_.objects, step.objects_before, step.objects_after);
+        diff_saved(saved_.planes, scene_.planes, step.planes_before, step.planes_after);
+        diff_saved(saved_.lights, scene_.lights, step.lights_before, step.lights_after);
+        if (saved_.camera && !(*saved_.camera == scene_.camera)) {
+            step.camera_before = saved_.camera;
+            step.camera_after = scene_.camera;
+        } else if (saved_.camera) {
+            scene_.camera = *saved_.camera;
+        }
+    }
+    bool changed = wide || !step.objects_before.empty() || !step.planes_before.empty() || !step.lights_before.empty() ||
+                   step.camera_before.has_value();
+    if (!changed) {
+        saved_ = {};
+        return;
+    }
+    if (step.name.empty()) {
+        const std::size_t first = !step.objects_after.empty() ? step.objects_after[0].first
+                                  : !step.planes_after.empty() ? step.planes_after[0].first
+                                  : !step.lights_after.empty() ? step.lights_after[0].first
+                                                               : 0;
+        step.name = changed_name(step.objects_after.size(), step.planes_after.size(), step.lights_after.size(),
+                                 step.camera_before.has_value(), wide, first);
+    }
+    if (!reads_back(step, wide)) {
+        // Written as it is, the text would not parse: the edit does not happen.
+        scene_ = scene_before_edit_from(step);
+        saved_ = {};
+        ++scene_version_;
+        this->changed(rt::SceneDelta::all());
+        refusal_ = "The edit was undone: the scene text cannot hold it (a number past the format's limit of "
+                   "1e15, or a shape the format refuses)";
+        return;
+    }
+    normalize_applied();
+    if ((applied_ || wide || !commit_in_place(step)) && !commit_generic(step)) {
+        saved_ = {};
+        refusal_ = "The edit was undone: it cannot be written into the scene text's unapplied changes "
+                   "(apply or revert them first)";
+        return;
+    }
+    saved_ = {};
+    step.behind_after = behind_;
+    if (!step.editor.empty()) text_changed(step, true);
+    record(std::move(step));
+}
+
+// Whether the items a step changed, written as the text will hold them, read back as
+// they are: every number within the format's range, every shape one the parser takes
+// (a drag far out, or a move's rounding of a tiny tetrahedron, could make either
+// false). Only the changed items are written and read (all of them for a wide edit).
+bool Document::reads_back(const DocStep& step, bool wide) const {
+    rt::Scene changed;
+    if (wide) {
+        changed = scene_;
+    } else {
+        changed.camera = scene_.camera;
+        for (const auto& p : step.objects_after) changed.objects.push_back(p.second);
+        for (const auto& p : step.planes_after) changed.planes.push_back(p.second);
+        for (const auto& p : step.lights_after) changed.lights.push_back(p.second);
+    }
+    return text_holds(changed);
+}
+
+// The fast path: no draft, so the editor text is the scene's text; each changed item's
+// block is rewritten where it stands. Nothing else of the text is touched or parsed.
+bool Document::commit_in_place(DocStep& step) {
+    // The layout of the text is scanned once and then kept up to date through the
+    // document's own replacements: an edit costs its block, not a pass over the text.
+    const std::uint64_t key = layout_key();
+    if (!layout_ || layout_key_ != key) {
+        layout_ = scan_layout(editor_, has_scene_ ? scene_.objects.size() : 0);
+        layout_key_ = key;
+    }
+    SceneLayout& l = *layout_;
+    if (!l.ok || l.objects.size() != scene_.objects.size() || l.planes.size() != scene_.planes.size() ||
+        l.lights.size() != scene_.lights.size())
+        return false;
+    struct Rep {
+        TextSpan span;
+        std::string text;
+    };
+    std::vector<Rep> reps;
+    rt::Scene one;  // carries a valid camera so the writer prints a normal scene
+    one.camera = scene_.camera;
+    // An item's block keeps its comments and layout when only its changed values can
+    // be replaced (block_patch.h); else the writer's block replaces it.
+    auto add = [&](TextSpan span, ItemList kind, std::optional<std::string> patched = std::nullopt) {
+        std::string t = patched ? std::move(*patched) : written_item(one, kind, line_indent(editor_, span.begin));
+        if (t.empty()) return false;
+        reps.push_back({span, std::move(t)});
+        return true;
+    };
+    auto block = [&](TextSpan span) { return std::string_view(editor_).substr(span.begin, span.end - span.begin); };
+    for (std::size_t k = 0; k < step.objects_after.size(); ++k) {
+        const auto& p = step.objects_after[k];
+        one.objects = {p.second};
+        if (!add(l.objects[p.first], ItemList::Object, patch_block(block(l.objects[p.first]), step.objects_before[k].second, p.second)))
+            return false;
+    }
+    one.objects.clear();
+    for (std::size_t k = 0; k < step.planes_after.size(); ++k) {
+        const auto& p = step.planes_after[k];
+        one.planes = {p.second};
+        if (!add(l.planes[p.first], ItemList::Plane, patch_block(block(l.planes[p.first]), step.planes_before[k].second, p.second)))
+            return false;
+    }
+    one.planes.clear();
+    for (std::size_t k = 0; k < step.lights_after.size(); ++k) {
+        const auto& p = step.lights_after[k];
+        one.lights = {p.second};
+        if (!add(l.lights[p.first], ItemList::Light, patch_block(block(l.lights[p.first]), step.lights_before[k].second, p.second)))
+            return false;
+    }
+    one.lights.clear();
+    if (step.camera_after) {
+        // Camera keys accumulate over all camera sections, so one complete block in
+        // place of the last section gives exactly the new camera.
+        if (!l.cameras.empty()) {
+            if (!add(l.cameras.back(), ItemList::Camera)) return false;
+        } else {
+            std::string t = written_item(one, ItemList::Camera, "");
+            if (t.empty()) return false;
+            reps.push_back({{l.append_at, l.append_at}, t + "\n"});
+        }
+    }
+    // Back to front, so every span still holds where the text was read.
+    std::sort(reps.begin(), reps.end(), [](const Rep& a, const Rep& b) { return a.span.begin > b.span.begin; });
+    for (Rep& r : reps) {
+        UndoableReplacement s{r.span.begin, editor_.substr(r.span.begin, r.span.end - r.span.begin), std::move(r.text)};
+        editor_.replace(s.pos, s.before.size(), s.after);
+        shift_layout(l, s.pos, s.before.size(), s.after.size());
+        step.editor.push_back(std::move(s));
+    }
+    // The text changes its version below: the layout stays valid for the new one.
+    layout_key_ = layout_key(1);
+    return true;
+}
+
+// Drafts and wide edits: the text is synchronised the careful way (this copies the
+// scene once; panels do not come here for documents without a draft). False, with
+// the edit undone, when there is a draft the edit cannot be written into in full.
+bool Document::commit_generic(DocStep& step) {
+    rt::Scene before = scene_before_edit_from(step);
+    const std::string old_applied = applied_text();
+    std::string new_applied = has_scene_ ? sync_scene_text(old_applied, before, scene_) : rt::write_scene(scene_);
+    if (!applied_) {
+        // No draft: the editor text is the applied text.
+        UndoableReplacement s = diff_texts(editor_, new_applied);
+        editor_ = std::move(new_applied);
+        if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
+        return true;
+    }
+    // The user has an unapplied draft: carry the edit into it only where that is
+    // unambiguous (the draft parses and has the same items); never overwrite it. An
+    // edit that cannot be carried is not made: the text the user saves and the scene
+    // the panels show would disagree.
+    rt::ParseResult draft = rt::parse_scene(editor_, parse_options(path_));
+    std::optional<std::string> patched;
+    if (draft.ok()) {
+        bool complete = false;
+        rt::Scene target = carry_edit(draft.scene, before, scene_, &complete);
+        if (complete) patched = patch_scene_text(editor_, draft.scene, target);
+    }
+    if (!patched) {
+        scene_ = std::move(before);
+        ++scene_version_;
+        changed(saved_.whole ? rt::SceneDelta::all() : items_of(step.objects_before, step.planes_before, step.lights_before));
+        return false;
+    }
+    UndoableReplacement s = diff_texts(editor_, *patched);
+    editor_ = std::move(*patched);
+    if (!s.before.empty() || !s.after.empty()) step.editor.push_back(std::move(s));
+    step.applied_before = *applied_;
+    applied_ = std::move(new_applied);
+    normalize_applied();
+    step.applied_after = applied_;
+    return true;
+}
+
+std::string Document::edit_blocker() const {
+    if (!applied_ || !has_scene_) return {};
+    const std::uint64_t key = text_version_ * 0x9E3779B97F4A7C15ull + typed_;
+    if (key != blocker_key_) {
+        blocker_key_ = key;
+        blocker_.clear();
+        if (*applied_ != editor_) {
+            const rt::ParseResult draft = rt::parse_scene(editor_, parse_options(path_));
+            if (!draft.ok())
+                blocker_ = "The scene text has unapplied changes with errors: fix them (Ctrl+Enter applies) "
+                           "or revert them before editing here";
+        }
+    }
+    return blocker_;
+}
+
+std::string Document::take_refusal() {
+    std::string r = std::move(refusal_);
+    refusal_.clear();
+    return r;
+}
+
+rt::Scene Document::scene_before_edit_from(const DocStep& step) const {
+    if (saved_.whole) return *saved_.whole;
+    rt::Scene s = scene_;
+    for (const auto& p : step.objects_before) s.objects[p.first] = p.second;
+    for (const auto& p : step.planes_before) s.planes[p.first] = p.second;
+    for (const auto& p : step.lights_before) s.lights[p.first] = p.second;
+    if (step.camera_before) s.camera = *step.camera_before;
+    return s;
+}
+
+Document::HeldItems Document::held_items() const {
+    HeldItems h;
+    if (!pending_) return h;
+    h.whole = saved_.whole.has_value();
+    for (const auto& p : saved_.objects) h.objects.push_back(p.first);
+    for (const auto& p : saved_.planes) h.planes.push_back(p.first);
+    for (const auto& p : saved_.lights) h.lights.push_back(p.first);
+    h.camera = saved_.camera.has_value();
+    return h;
+}
+
+}  // namespace rtview

@@ -1,0 +1,229 @@
+// The document's undo history (see document.h): steps recorded, undone and redone,
+// whole-text changes as steps, and the log of text changes a text widget follows.
+#include "document.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "block_patch.h"
+#include "image_io.h"
+#include "paths.h"
+#include "scene_text.h"
+#include "scene_writer.h"
+#include "snapshots.h"
+
+namespace rtview {
+
+namespace {
+
+bool same_except_camera(const rt::Scene& a, const rt::Scene& b) {
+    return a.objects == b.objects && a.planes == b.planes && a.lights == b.lights && a.width == b.width &&
+           a.height == b.height;
+}
+
+}  // namespace
+
+// The one replacement that turns `a` into `b` (common prefix and suffix left out).
+UndoableReplacement diff_texts(const std::string& a, const std::string& b) {
+    std::size_t p = 0, n = std::min(a.size(), b.size());
+    while (p < n && a[p] == b[p]) ++p;
+    std::size_t s = 0;
+    while (s < n - p && a[a.size() - 1 - s] == b[b.size() - 1 - s]) ++s;
+    return {p, a.substr(p, a.size() - p - s), b.substr(p, b.size() - p - s)};
+}
+
+std::size_t DocStep::bytes() const {
+    std::size_t b = sizeof(DocStep) + name.size();
+    for (const UndoableReplacement& s : editor) b += sizeof(UndoableReplacement) + s.before.size() + s.after.size();
+    if (applied_before) b += applied_before->size();
+    if (applied_after) b += applied_after->size();
+    for (const auto& o : objects_before) b += object_bytes(o.second) + sizeof(std::size_t);
+    for (const auto& o : objects_after) b += object_bytes(o.second) + sizeof(std::size_t);
+    b += (planes_before.size() + planes_after.size()) * (sizeof(rt::Plane) + sizeof(std::size_t));
+    b += (lights_before.size() + lights_after.size()) * (sizeof(rt::Light) + sizeof(std::size_t));
+    return b;
+}
+
+void Document::text_changed(const DocStep& s, bool forward) {
+    ++text_version_;
+    std::vector<TextChange> changes;
+    if (forward) {
+        for (const UndoableReplacement& t : s.editor) changes.push_back({t.pos, t.before.size(), t.after});
+    } else {
+        for (auto it = s.editor.rbegin(); it != s.editor.rend(); ++it)
+            changes.push_back({it->pos, it->after.size(), it->before});
+    }
+    // What a version's changes hold, as the log counts it in and out.
+    auto bytes_of = [](const std::vector<TextChange>& v) {
+        std::size_t n = 0;
+        for (const TextChange& c : v) n += c.inserted.size() + sizeof(TextChange);
+        return n;
+    };
+    // A widget that has not looked for this long takes the whole text again.
+    constexpr std::size_t kMaxVersions = 256, kMaxBytes = std::size_t(4) << 20;
+    text_log_bytes_ += bytes_of(changes);
+    text_log_.push_back(std::move(changes));
+    while (text_log_.size() > kMaxVersions || (text_log_bytes_ > kMaxBytes && !text_log_.empty())) {
+        text_log_bytes_ -= bytes_of(text_log_.front());
+        text_log_.pop_front();
+    }
+}
+
+bool Document::text_changes_since(std::uint64_t version, std::vector<TextChange>& out) const {
+    out.clear();
+    if (version > text_version_ || text_version_ - version > text_log_.size()) return false;
+    for (std::size_t k = text_log_.size() - std::size_t(text_version_ - version); k < text_log_.size(); ++k)
+        out.insert(out.end(), text_log_[k].begin(), text_log_[k].end());
+    return true;
+}
+
+void Document::record(DocStep step) {
+    typing_base_.reset();
+    std::size_t bytes = step.bytes();
+    history_.push(std::move(step), bytes);
+}
+
+// --- Whole-text changes
+
+void Document::replace_state(const std::string* editor, std::optional<std::string> applied,
+                             std::optional<rt::Scene> scene, bool behind, std::string name) {
+    DocStep step;
+    step.name = std::move(name);
+    // The state before, as it was: the applied text is "the editor text" only if it
+    // was equal to the editor text before that changes.
+    normalize_applied();
+    step.applied_before = applied_;
+    if (!applied_) applied_ = editor_;  // (replaced below; keeps the old text meanwhile)
+    if (editor && *editor != editor_) {
+        step.editor.push_back(diff_texts(editor_, *editor));
+        editor_ = *editor;
+    }
+    step.has_scene_before = has_scene_;
+    step.behind_before = behind_;
+    bool content_changed = false, scene_changed = false;
+    if (scene) {
+        bool same_counts = has_scene_ && scene->objects.size() == scene_.objects.size() &&
+                           scene->planes.size() == scene_.planes.size() &&
+                           scene->lights.size() == scene_.lights.size() && scene->width == scene_.width &&
+                           scene->height == scene_.height;
+        bool small = same_counts &&
+                     diff_items(scene_.objects, scene->objects, step.objects_before, step.objects_after, kMaxStepItems) &&
+                     diff_items(scene_.planes, scene->planes, step.planes_before, step.planes_after, kMaxStepItems) &&
+                     diff_items(scene_.lights, scene->lights, step.lights_before, step.lights_after, kMaxStepItems);
+        if (!small) {
+            step.reparse = true;
+            step.objects_before.clear(), step.objects_after.clear();
+            step.planes_before.clear(), step.planes_after.clear();
+            step.lights_before.clear(), step.lights_after.clear();
+        }
+        if (!has_scene_ || !(scene->camera == scene_.camera)) {
+            step.camera_before = scene_.camera;
+            step.camera_after = scene->camera;
+        }
+        scene_changed = !has_scene_ || !(*scene == scene_);
+        content_changed = !has_scene_ || !same_except_camera(*scene, scene_);
+        scene_ = std::move(*scene);
+        has_scene_ = true;
+    }
+    applied_ = std::move(applied);
+    normalize_applied();
+    behind_ = behind;
+    step.applied_after = applied_;
+    step.has_scene_after = has_scene_;
+    step.behind_after = behind_;
+    if (scene_changed) ++scene_version_;
+    if (content_changed)
+        changed(step.reparse ? rt::SceneDelta::all() : items_of(step.objects_after, step.planes_after, step.lights_after));
+    if (!step.editor.empty()) text_changed(step, true);
+    record(std::move(step));
+}
+
+void Document::apply_step(const DocStep& s, bool forward) {
+    // A typing step leaves the applied text alone: it is the editor text as it is
+    // before the step when they are one and the same now.
+    if (s.keep_applied && !applied_) applied_ = editor_;
+    if (forward) {
+        for (const UndoableReplacement& t : s.editor) editor_.replace(t.pos, t.before.size(), t.after);
+    } else {
+        for (auto it = s.editor.rbegin(); it != s.editor.rend(); ++it) editor_.replace(it->pos, it->after.size(), it->before);
+    }
+    if (!s.keep_applied) applied_ = forward ? s.applied_after : s.applied_before;
+    else normalize_applied();
+    has_scene_ = forward ? s.has_scene_after : s.has_scene_before;
+    if (s.reparse) {
+        if (has_scene_) {
+            rt::ParseResult r = rt::parse_scene(applied_text(), parse_options(path_));
+            scene_ = std::move(r.scene);
+        }
+    } else {
+        for (const auto& p : forward ? s.objects_after : s.objects_before) restore_object(p.first, p.second);
+        for (const auto& p : forward ? s.planes_after : s.planes_before) scene_.planes[p.first] = p.second;
+        for (const auto& p : forward ? s.lights_after : s.lights_before) scene_.lights[p.first] = p.second;
+    }
+    if (s.camera_before) scene_.camera = forward ? *s.camera_after : *s.camera_before;
+    behind_ = forward ? s.behind_after : s.behind_before;
+    ++scene_version_;
+    if (s.reparse || s.has_scene_before != s.has_scene_after)
+        changed(rt::SceneDelta::all());
+    else if (!s.objects_before.empty() || !s.planes_before.empty() || !s.lights_before.empty())
+        changed(items_of(s.objects_before, s.planes_before, s.lights_before));
+    if (!s.editor.empty() || s.applied_before != s.applied_after) text_changed(s, forward);
+    typing_base_.reset();
+    diagnostics_ = editor_dirty() ? rt::parse_scene(editor_, parse_options(path_)).diagnostics : std::vector<rt::Diagnostic>{};
+}
+
+void Document::restore_object(std::size_t i, const rt::Object& o) {
+    rt::Object& slot = scene_.objects[i];
+    slot = o;
+    // The step holds the model as it was when the step was made; a file read again
+    // since (it changed on disk) is shown as it is now, as everywhere else.
+    if (rt::Mesh* m = std::get_if<rt::Mesh>(&slot.shape); m && m->model && !m->model->unchanged_on_disk())
+        if (rt::ModelStore::Loaded l = models_->load(m->model->path()); l.model) m->model = std::move(l.model);
+}
+
+bool Document::undo() {
+    commit();
+    flush_typing();
+    const DocStep* s = history_.undo();
+    if (!s) return false;
+    apply_step(*s, false);
+    last_step_name_ = s->name;
+    return true;
+}
+
+bool Document::redo() {
+    commit();
+    flush_typing();
+    const DocStep* s = history_.redo();
+    if (!s) return false;
+    apply_step(*s, true);
+    last_step_name_ = s->name;
+    return true;
+}
+
+std::vector<std::string> Document::undo_names(std::size_t max) const {
+    std::vector<std::string> out;
+    // As undo() goes: a pending edit is committed first (after the typing before it).
+    if (pending_ && out.size() < max) out.push_back(pending_name());
+    if (typing_base_ && *typing_base_ != editor_ && out.size() < max) out.push_back(kTypingName);
+    for (std::size_t k = 0; out.size() < max; ++k) {
+        const DocStep* s = history_.peek_undo(k);
+        if (!s) break;
+        out.push_back(s->name);
+    }
+    return out;
+}
+
+std::vector<std::string> Document::redo_names(std::size_t max) const {
+    // A pending edit or typing becomes a step of its own, which ends the redo branch.
+    if (pending_ || (typing_base_ && *typing_base_ != editor_)) return {};
+    std::vector<std::string> out;
+    for (std::size_t k = 0; k < max; ++k) {
+        const DocStep* s = history_.peek_redo(k);
+        if (!s) break;
+        out.push_back(s->name);
+    }
+    return out;
+}
+
+}  // namespace rtview

@@ -1,0 +1,360 @@
+// The selected item's properties: its fields from the schema, a light's colour and
+// the material editor (see panels.h).
+#include "panels.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+#include "camera_control.h"
+#include "item_fields.h"
+#include "imgui_common.h"
+#include "number_field.h"
+#include "layout.h"
+#include "panel_widgets.h"
+#include "probe.h"
+#include "scene_schema.h"
+#include "readout.h"
+#include "render_request.h"
+#include "scene_text.h"
+#include "scene_writer.h"
+#include "shown_numbers.h"
+
+namespace rtview {
+
+namespace {
+
+// The keys of a material block, from the schema: weights as 0..1 sliders (values
+// above 1 are legal, the renderer normalises them: Ctrl+click to type one), clamped
+// keys within their clamp, colours with a picker. Labels are the format's key names.
+bool material_editor(const char* id, rt::Material& m) {
+    namespace sc = rt::schema;
+    ImGui::PushID(id);
+    bool changed = false;
+    for (const sc::Key<rt::Material>& k : sc::material_block().keys) {
+        const std::string label(k.name);
+        if (k.kind == sc::Kind::Vec3) {
+            // The three numbers (typed whole, or dragged), and a swatch with a picker.
+            rt::Vec3& c = k.access.vec3(m, 0);
+            float col[3] = {float(c.x), float(c.y), float(c.z)};
+            if (ImGui::ColorEdit3(("##pick" + label).c_str(), col,
+                                  ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_NoInputs)) {
+                // The channels as the picker shows them (three decimals); the others
+                // as they were, not as a float holds them.
+                c = {from_widget(c.x, col[0], 3), from_widget(c.y, col[1], 3), from_widget(c.z, col[2], 3)};
+                changed = true;
+            }
+            ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);
+            ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - ImGui::GetStyle().ItemInnerSpacing.x);
+            changed |= drag_vec3(label.c_str(), c, 0.005f);
+            probe_item(std::string("field_") + id + "_" + label);  // for scripts: "field_material_colour"
+            continue;
+        }
+        if (k.kind != sc::Kind::Number) continue;
+        double& v = k.access.number(m, 0);
+        if (k.range.rule == sc::Range::Rule::Error) {
+            // A range the parser enforces (specular 0..1, shininess 1..10000, texture_scale
+            // > 0): a slider over a short one, else a drag; typed values kept inside.
+            const double lo = k.range.min, hi = k.range.max;
+            const double lo_field = k.range.min_open ? lo + 1e-3 : lo;
+            NumberFieldSpec spec;
+            spec.slider = hi - lo <= 1;
+            spec.min = &lo_field;
+            spec.max = hi < 1e300 ? &hi : nullptr;
+            spec.speed = spec.slider ? 1 : float(std::max(0.01, 0.005 * std::max(1.0, std::fabs(v))));
+            spec.clamp_typed = true;
+            changed |= number_field(label.c_str(), &v, spec);
+            probe_item(std::string("field_") + id + "_" + label);
+            continue;
+        }
+        const bool clamped = k.range.rule == sc::Range::Rule::Clamp;
+        const double lo = clamped ? k.range.min : 0;
+        const double hi = clamped && k.range.max <= lo + 1 ? k.range.max : lo + (clamped ? 2 : 1);
+        NumberFieldSpec spec;
+        spec.slider = true;
+        spec.min = &lo;
+        spec.max = &hi;
+        spec.clamp_typed = clamped && k.range.max <= lo + 1;
+        changed |= number_field(label.c_str(), &v, spec);
+        if (clamped && v < k.range.min) v = k.range.min;
+    }
+    double sum = m.reflection + m.refraction + m.scattering;
+    if (sum != 0)
+        ImGui::TextWrapped("used as: reflection %.2f, refraction %.2f, scattering %.2f", m.reflection / sum,
+                           m.refraction / sum, m.scattering / sum);
+    else
+        wrapped_coloured(kWarnColour, "all weights 0: the surface renders black");
+    ImGui::PopID();
+    return changed;
+}
+
+}  // namespace
+
+void Panels::draw_properties() {
+    if (!editor_.doc().has_scene()) return;
+    const rt::Scene& s = editor_.doc().scene();
+    if (!(field_message_.selection == selection_)) field_message_ = {};
+    if (selection_.none()) {
+        wrapped_hint("Click an object in the image or in the list above.");
+        return;
+    }
+    const ItemRef ref = selection_;
+    const char* block = item_block_name(s, ref);
+    if (!block) return;
+    // "Object 5: constructive_solid_geometry", "Object 5, left, right: sphere".
+    std::string title;
+    switch (selection_.item.kind) {
+        case SceneItem::Kind::Object: title = "Object " + std::to_string(selection_.item.index + 1); break;
+        case SceneItem::Kind::Plane: title = "Plane " + std::to_string(selection_.item.index + 1); break;
+        case SceneItem::Kind::Light: title = "Light " + std::to_string(selection_.item.index + 1); break;
+    }
+    for (int k : selection_.path) title += k == 0 ? ", left" : ", right";
+    title += std::string(": ") + block;
+    ImGui::TextWrapped("%s", title.c_str());
+    rt::SourceLoc loc;
+    if (selection_.is(SceneItem::Kind::Object)) {
+        if (const rt::Object* o = resolve(s, selection_)) loc = o->loc;
+    } else if (selection_.is(SceneItem::Kind::Plane)) {
+        loc = s.planes[std::size_t(selection_.item.index)].loc;
+    } else {
+        loc = s.lights[std::size_t(selection_.item.index)].loc;
+    }
+    if (loc.line > 0 && ImGui::SmallButton("show in text"))
+        editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), loc.line, loc.col)));
+    if (!selection_.path.empty()) {
+        if (loc.line > 0) same_line_if_fits("select the parent");
+        const bool parent = ImGui::SmallButton("select the parent");
+        probe_item("button_select_the_parent");
+        if (parent) {
+            selection_.path.pop_back();
+            return;
+        }
+        wrapped_hint("A CSG operand: its shape counts; its colour and finish are the whole CSG's material (select "
+                     "the parent to edit it).");
+    }
+    if (selection_.is(SceneItem::Kind::Light)) {
+        // The block's kind: switching keeps the lamp's size for switching back.
+        const bool lamp = s.lights[std::size_t(selection_.item.index)].lamp;
+        if (ImGui::SmallButton(lamp ? "make it a spotlight" : "make it a lamp")) commands_.run(Command::SwitchLight);
+        const char* what = lamp ? "(point light and glow)" : "(point light)";
+        same_line_if_fits(what);
+        ImGui::TextDisabled("%s", what);
+    }
+    ImGui::Separator();
+    // Nothing here may change the scene while the text holds changes it could not be
+    // written into: Save writes that text.
+    const std::string blocked = editor_.doc().edit_blocker();
+    if (!blocked.empty()) {
+        wrapped_coloured(kWarnColour, blocked);
+        probe("edits", "blocked");
+    }
+    ImGui::BeginDisabled(!blocked.empty());
+    draw_fields(ref);
+    ImGui::EndDisabled();
+}
+
+// One widget per key of the selected item's block, from the schema (item_fields.h):
+// what the panel offers is what the format has. A change goes through set_field, so the
+// parser's ranges apply; a refused value leaves the item as it was and says why.
+void Panels::draw_fields(const ItemRef& ref) {
+    Document& doc = editor_.doc();
+    const std::vector<Field> fields = item_fields(doc.scene(), ref);
+    // Room for the longest label, whatever the UI scale.
+    const float label_w = field_label_width();
+    const float size = float(scene_extent());
+    // Dragging rounds to the digits shown: enough of them for a small scene.
+    char vec_format[16];
+    std::snprintf(vec_format, sizeof vec_format, "%%.%df", std::clamp(4 - int(std::floor(std::log10(size))), 3, 9));
+    int operand = 0;
+    std::string shown;  // the fields drawn, for scripts (probe.h)
+    for (const Field& f : fields) {
+        std::optional<FieldValue> cur = field_value(doc.scene(), ref, f);
+        if (!cur) continue;
+        shown += (shown.empty() ? "" : ",") + f.label;
+        FieldValue v = *cur;
+        ImGui::PushID(f.label.c_str());
+        ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
+        const bool changed = draw_field(ref, f, v, size, vec_format, operand);
+        ImGui::PopItemWidth();
+        {
+            // Where the field is, for scripts that click on it, and its value as the
+            // text will hold it (a drag's value before it reaches the text).
+            std::string key = "field_" + f.label;
+            std::replace(key.begin(), key.end(), ' ', '_');
+            probe_item(key);
+            if (f.kind == rt::schema::Kind::Number) probe("value_" + f.label, rt::format_number(cur->number));
+            else if (f.kind == rt::schema::Kind::Vec3)
+                probe("value_" + f.label, rt::format_number(cur->vec.x) + " " + rt::format_number(cur->vec.y) + " " +
+                                              rt::format_number(cur->vec.z));
+        }
+        if (std::string refused; take_number_refusal(refused)) field_message_ = {selection_, f.label, refused, true};
+        if (changed) {
+            const FieldResult r = set_field(doc, ref, f, v);
+            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true};
+            // (A material's own warning is shown by its editor already.)
+            else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
+            else if (field_message_.field == f.label) field_message_ = {};
+        }
+        if (field_message_.field == f.label && !field_message_.text.empty()) {
+            wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+            probe("field_message", f.label + ": " + field_message_.text);
+        }
+        ImGui::PopID();
+    }
+    probe("fields", shown);
+}
+
+// The widget of one field of the kind the schema gives it, editing `v`; true if it
+// changed. `size`: the scene's extent (drag speeds); `operand` counts a CSG's operands.
+bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float size, const char* vec_format,
+                        int& operand) {
+    namespace sc = rt::schema;
+    bool changed = false;
+    switch (f.kind) {
+        case sc::Kind::Number: {
+            NumberFieldSpec spec;
+            spec.speed = std::max(float(std::fabs(v.number)) * 0.005f, size * 0.0005f);
+            spec.format = "%.6g";
+            changed = number_field(f.label.c_str(), &v.number, spec);
+            break;
+        }
+        case sc::Kind::Vec3: {
+            if (ref.item.kind == SceneItem::Kind::Light && f.key == "colour") {
+                changed = light_colour_editor(v.vec);
+                break;
+            }
+            changed = drag_vec3(f.label.c_str(), v.vec, size * 0.002f, vec_format);
+            break;
+        }
+        case sc::Kind::Integer: {
+            NumberFieldSpec spec;
+            spec.format = "%.0f";
+            changed = number_field(f.label.c_str(), &v.number, spec);
+            break;
+        }
+        case sc::Kind::Choice: {
+            const std::string now(f.choice->word_for(v.choice));
+            if (ImGui::BeginCombo(f.label.c_str(), choice_label(f.key, now).c_str())) {
+                std::vector<int> seen;
+                for (const sc::Choice::Word& w : f.choice->words) {
+                    if (std::find(seen.begin(), seen.end(), w.value) != seen.end()) continue;
+                    seen.push_back(w.value);
+                    if (ImGui::Selectable(choice_label(f.key, w.word).c_str(), w.value == v.choice) && w.value != v.choice) {
+                        v.choice = w.value;
+                        changed = true;
+                    }
+                }
+                ImGui::EndCombo();
+            }
+            break;
+        }
+        case sc::Kind::Material: {
+            ImGui::Separator();
+            ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
+            changed = material_editor(f.label.c_str(), v.material);
+            break;
+        }
+        case sc::Kind::File:
+            // The model is read with the scene: a new name is typed in the scene text.
+            ImGui::TextWrapped("%s: %s", f.label.c_str(), v.text.c_str());
+            break;
+        case sc::Kind::Operand: {
+            // A CSG's operands: select one to edit its keys (also in the outline).
+            const int side = operand++;
+            std::string b = f.label + ": " + (v.operand ? sc::object_block(*v.operand).name.data() : "-");
+            if (v.operand && ImGui::Button((b + " (edit)").c_str())) {
+                selection_.path.push_back(side);
+                scroll_to_selection_ = true;
+            }
+            break;
+        }
+    }
+    return changed;
+}
+
+// A light's colour is an intensity (often >> 1 because of the 1/r^2 fall-off): its three
+// numbers, and the same as a tint and a strength.
+bool Panels::light_colour_editor(rt::Vec3& colour) {
+    char shown[128];  // what the field shows, for scripts (probe.h)
+    std::snprintf(shown, sizeof shown, "%.3f %.3f %.3f", colour.x, colour.y, colour.z);
+    probe("light_colour", shown);
+    bool changed = drag_vec3("colour", colour, float(std::max({colour.x, colour.y, colour.z, 1.0}) * 0.005));
+    double intensity = std::max({colour.x, colour.y, colour.z, 0.0});
+    rt::Vec3 tint = intensity > 0 ? colour / intensity : rt::Vec3{1, 1, 1};
+    float col[3] = {float(tint.x), float(tint.y), float(tint.z)};
+    bool tinted = false;
+    if (ImGui::ColorEdit3("tint", col, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_NoInputs)) {
+        tint = {col[0], col[1], col[2]};
+        if (intensity == 0) intensity = 1;
+        tinted = true;
+    }
+    ImGui::SameLine();
+    const double zero = 0;
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 6);
+    NumberFieldSpec spec;
+    spec.speed = float(std::max(intensity * 0.005, 0.01));
+    spec.min = &zero;
+    spec.format = "%.2f";
+    if (number_field("intensity", &intensity, spec)) tinted = true;
+    probe_item("field_intensity");
+    if (tinted) {
+        // As the colour field shows it: tint * intensity has noise in its last digits.
+        const rt::Vec3 c = tint * intensity;
+        colour = {as_shown(c.x, 3), as_shown(c.y, 3), as_shown(c.z, 3)};
+        changed = true;
+    }
+    return changed;
+}
+
+// "U (union)" for the CSG types; other words as they are.
+std::string Panels::choice_label(std::string_view key, std::string_view word) {
+    if (key == "type") {
+        if (word == "U") return "U (union)";
+        if (word == "I") return "I (intersection)";
+        if (word == "C") return "C (difference: left minus right)";
+    }
+    return std::string(word);
+}
+
+// The narrowest sidebar in which the property fields keep their labels whole and
+// three numbers of a point stay readable.
+float Panels::min_sidebar_width() {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    const float number = ImGui::CalcTextSize("-00.000").x + 2 * st.FramePadding.x;
+    const float fields = field_label_width() + st.ItemInnerSpacing.x + 2 + 3 * number + 2 * st.ItemInnerSpacing.x;
+    // The sidebar's padding, and its and the properties' scroll bars.
+    return std::ceil(fields + 2 * st.WindowPadding.x + 2 * st.ScrollbarSize);
+}
+
+// The widest label the property fields use, at the current font: every key of every
+// block (and of the material block), so the layout does not jump between selections.
+float Panels::field_label_width() {
+    namespace sc = rt::schema;
+    const float font = ImGui::GetFontSize();
+    if (label_w_font_ == font) return label_w_;
+    float w = 0;
+    auto measure = [&w](std::string_view name, int count) {
+        std::string l(name);
+        if (count > 0) l += " " + std::to_string(count);
+        w = std::max(w, ImGui::CalcTextSize(l.c_str()).x);
+    };
+    for (const auto& b : sc::object_blocks())
+        for (const auto& k : b.keys) measure(k.name, k.count);
+    for (const auto& b : sc::plane_blocks())
+        for (const auto& k : b.keys) measure(k.name, k.count);
+    for (const auto& b : sc::light_blocks())
+        for (const auto& k : b.keys) measure(k.name, k.count);
+    for (const auto& k : sc::material_block().keys) measure(k.name, k.count);
+    measure("intensity", 0);
+    label_w_ = w;
+    label_w_font_ = font;
+    return w;
+}
+
+}  // namespace rtview

@@ -1,0 +1,90 @@
+// The random numbers of a pixel's samples (docs/rendering.md §11): for the lens and the
+// sphere lights (the New: `aperture` and `radius` keys). Sample s of pixel (x, y) takes its points from an
+// Owen-scrambled Sobol sequence, shuffled and scrambled per pixel and per dimension
+// (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020): the samples of one pixel
+// are stratified over the lens disc and over each light, neighbouring pixels use
+// unrelated patterns, and every point depends only on (x, y, s, dimension), never on
+// the thread, the tile order or the MPI rank that traces it.
+#pragma once
+
+#include <cstdint>
+
+namespace rt {
+
+// Which sample of which pixel a camera ray is.
+struct PixelSample {
+    int x = 0, y = 0;
+    int s = 0;
+};
+
+namespace sampling {
+
+inline std::uint32_t reverse_bits(std::uint32_t v) {
+    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    v = ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
+    v = ((v >> 8) & 0x00FF00FFu) | ((v & 0x00FF00FFu) << 8);
+    return (v >> 16) | (v << 16);
+}
+
+// Laine and Karras' hash: a permutation of x whose low bits depend only on low bits.
+inline std::uint32_t lk_permutation(std::uint32_t x, std::uint32_t seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+// Owen scrambling of a 32-bit fraction: each bit flipped by a hash of the bits above it.
+inline std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
+    return reverse_bits(lk_permutation(reverse_bits(x), seed));
+}
+
+inline std::uint32_t hash(std::uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+inline std::uint32_t combine(std::uint32_t seed, std::uint32_t v) { return hash(seed ^ (v + 0x9e3779b9u + (seed << 6))); }
+
+// The first two Sobol dimensions of index i, as 32-bit fractions.
+inline std::uint32_t sobol0(std::uint32_t i) { return reverse_bits(i); }
+inline std::uint32_t sobol1(std::uint32_t i) {
+    std::uint32_t r = 0;
+    for (std::uint32_t v = 1u << 31; i != 0; i >>= 1, v ^= v >> 1)
+        if (i & 1) r ^= v;
+    return r;
+}
+
+inline double fraction(std::uint32_t v) { return double(v) * (1.0 / 4294967296.0); }
+
+}  // namespace sampling
+
+// The 2D points of one camera ray's path: next() gives dimension 0, 1, 2, ... in turn
+// (the lens first, then one per sphere light met on the path, in the tracer's order).
+class PathSampler {
+public:
+    PathSampler() = default;
+    explicit PathSampler(const PixelSample& p)
+        : pixel_(sampling::hash(std::uint32_t(p.x) * 0x8da6b343u ^ sampling::hash(std::uint32_t(p.y) + 0x68e31da4u))),
+          index_(std::uint32_t(p.s)) {}
+    // A point of [0, 1)^2.
+    void next(double& u, double& v) {
+        using namespace sampling;
+        const std::uint32_t seed = combine(pixel_, dim_++);
+        const std::uint32_t i = owen_scramble(index_, combine(seed, 0x51ed270bu));
+        u = fraction(owen_scramble(sobol0(i), combine(seed, 1)));
+        v = fraction(owen_scramble(sobol1(i), combine(seed, 2)));
+    }
+
+private:
+    std::uint32_t pixel_ = 0, index_ = 0, dim_ = 0;
+};
+
+}  // namespace rt

@@ -1,0 +1,268 @@
+// Texture files (see texture.h). Only PNG and JPEG are let through to stb_image (by
+// their signatures: its other formats, TGA above all, would take almost any bytes),
+// and only after stbi_info has read the header and the size it claims is within the
+// limits, so a hostile header cannot make it allocate.
+#include "texture.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <stb/stb_image.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <new>
+
+namespace rt {
+
+double srgb_to_linear(double v) {
+    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
+
+Texture::Texture(int width, int height, std::vector<float> rgb, std::string path)
+    : width_(std::max(width, 1)), height_(std::max(height, 1)), rgb_(std::move(rgb)), path_(std::move(path)) {
+    rgb_.resize(std::size_t(width_) * std::size_t(height_) * 3, 0.0f);
+}
+
+Colour Texture::texel(long x, long y) const {
+    x %= width_;
+    y %= height_;
+    if (x < 0) x += width_;
+    if (y < 0) y += height_;
+    const float* p = &rgb_[3 * (std::size_t(y) * std::size_t(width_) + std::size_t(x))];
+    return {p[0], p[1], p[2]};
+}
+
+Colour Texture::sample(double u, double v) const {
+    if (!std::isfinite(u)) u = 0;
+    if (!std::isfinite(v)) v = 0;
+    // Into [0, 1) first, so that the texel coordinates below stay small.
+    u -= std::floor(u);
+    v -= std::floor(v);
+    const double x = u * width_ - 0.5, y = (1 - v) * height_ - 0.5;
+    const double fx = std::floor(x), fy = std::floor(y);
+    const double ax = x - fx, ay = y - fy;
+    const long x0 = long(fx), y0 = long(fy);
+    const Colour c00 = texel(x0, y0), c10 = texel(x0 + 1, y0), c01 = texel(x0, y0 + 1), c11 = texel(x0 + 1, y0 + 1);
+    return (c00 * (1 - ax) + c10 * ax) * (1 - ay) + (c01 * (1 - ax) + c11 * ax) * ay;
+}
+
+bool Texture::unchanged_on_disk() const {
+    if (stamp_[2] < 0) return true;
+    struct stat st;
+    if (::stat(path_.c_str(), &st) != 0) return true;  // gone: keep what was read
+    return std::int64_t(st.st_dev) == stamp_[0] && std::int64_t(st.st_ino) == stamp_[1] &&
+           std::int64_t(st.st_size) == stamp_[2] &&
+           std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec == stamp_[3];
+}
+
+namespace {
+
+bool is_png(std::string_view b) { return b.size() >= 8 && std::memcmp(b.data(), "\x89PNG\r\n\x1a\n", 8) == 0; }
+bool is_jpeg(std::string_view b) {
+    return b.size() >= 3 && std::memcmp(b.data(), "\xff\xd8\xff", 3) == 0;
+}
+
+std::string reason() {
+    const char* r = stbi_failure_reason();
+    return r ? r : "unknown";
+}
+
+const std::array<float, 256>& srgb8() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int i = 0; i < 256; ++i) t[std::size_t(i)] = float(srgb_to_linear(i / 255.0));
+        return t;
+    }();
+    return table;
+}
+
+bool too_large(long long w, long long h) {
+    return w > TextureLimits::max_side || h > TextureLimits::max_side ||
+           std::uint64_t(w) * std::uint64_t(h) > TextureLimits::max_texels;
+}
+
+struct StbFree {
+    void operator()(void* p) const { stbi_image_free(p); }
+};
+
+}  // namespace
+
+bool image_size(std::string_view bytes, long long& w, long long& h) {
+    w = h = 0;
+    if (bytes.size() > std::size_t(INT_MAX)) return false;
+    // A PNG's size is read here first: stb refuses big ones without saying the size.
+    if (is_png(bytes) && bytes.size() >= 24 && bytes.compare(12, 4, "IHDR") == 0) {
+        auto be32 = [&](std::size_t at) {
+            std::uint32_t v = 0;
+            for (std::size_t k = 0; k < 4; ++k) v = v << 8 | static_cast<unsigned char>(bytes[at + k]);
+            return v;
+        };
+        w = be32(16), h = be32(20);
+        if (too_large(w, h)) return true;
+    }
+    int iw = 0, ih = 0, comp = 0;
+    if (!(is_png(bytes) || is_jpeg(bytes)) ||
+        !stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &iw, &ih, &comp))
+        return false;
+    w = iw, h = ih;
+    return true;
+}
+
+std::shared_ptr<Texture> decode_texture(std::string_view bytes, std::string& error) {
+    error.clear();
+    if (bytes.empty()) {
+        error = "the file is empty, not an image";
+        return nullptr;
+    }
+    const bool png = is_png(bytes), jpeg = is_jpeg(bytes);
+    if (!png && !jpeg) {
+        error = "not a PNG or JPEG image";
+        return nullptr;
+    }
+    if (bytes.size() > std::size_t(INT_MAX)) {
+        error = "file too large";
+        return nullptr;
+    }
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int len = int(bytes.size());
+    const char* kind = png ? "PNG" : "JPEG";
+    long long w = 0, h = 0;
+    if (!image_size(bytes, w, h)) {
+        error = std::string("not a readable ") + kind + " image (" + reason() + ")";
+        return nullptr;
+    }
+    if (w <= 0 || h <= 0 || too_large(w, h)) {
+        error = "image of " + std::to_string(w) + " x " + std::to_string(h) + " pixels is too large (limit " +
+                std::to_string(TextureLimits::max_side) + " pixels a side, " +
+                std::to_string(TextureLimits::max_texels) + " pixels in all)";
+        return nullptr;
+    }
+    const std::size_t n = std::size_t(w) * std::size_t(h);
+    std::vector<float> rgb;
+    try {
+        rgb.resize(3 * n);
+        int x = 0, y = 0, c = 0;
+        if (stbi_is_16_bit_from_memory(data, len)) {
+            std::unique_ptr<stbi_us, StbFree> p(stbi_load_16_from_memory(data, len, &x, &y, &c, 3));
+            if (!p || x != w || y != h) {
+                error = std::string("the ") + kind + " image cannot be decoded (" + (p ? "size changed" : reason()) + ")";
+                return nullptr;
+            }
+            for (std::size_t i = 0; i < 3 * n; ++i) rgb[i] = float(srgb_to_linear(p.get()[i] / 65535.0));
+        } else {
+            std::unique_ptr<stbi_uc, StbFree> p(stbi_load_from_memory(data, len, &x, &y, &c, 3));
+            if (!p || x != w || y != h) {
+                error = std::string("the ") + kind + " image cannot be decoded (" + (p ? "size changed" : reason()) + ")";
+                return nullptr;
+            }
+            const std::array<float, 256>& t = srgb8();
+            for (std::size_t i = 0; i < 3 * n; ++i) rgb[i] = t[p.get()[i]];
+        }
+    } catch (const std::bad_alloc&) {
+        error = "not enough memory for an image of " + std::to_string(w) + " x " + std::to_string(h) + " pixels";
+        return nullptr;
+    }
+    return std::make_shared<Texture>(w, h, std::move(rgb));
+}
+
+std::shared_ptr<Texture> read_texture(const std::string& path, std::string& error) {
+    // Non-blocking: a FIFO must not stop the open (it is refused below).
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+    if (fd < 0) {
+        error = std::strerror(errno);
+        return nullptr;
+    }
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat st;
+    if (::fstat(fd, &st) != 0) {
+        error = std::strerror(errno);
+        return nullptr;
+    }
+    if (S_ISDIR(st.st_mode)) {
+        error = "is a folder, not an image file";
+        return nullptr;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        error = "is not a regular file (a device, pipe or socket); textures are read from files";
+        return nullptr;
+    }
+    if (std::uint64_t(st.st_size) > TextureLimits::max_file_size) {
+        error = "file too large (" + std::to_string(st.st_size) + " bytes, limit " +
+                std::to_string(TextureLimits::max_file_size) + ")";
+        return nullptr;
+    }
+    std::string bytes;
+    try {
+        bytes.resize(std::size_t(st.st_size));
+    } catch (const std::bad_alloc&) {
+        error = "not enough memory to read it";
+        return nullptr;
+    }
+    std::size_t got = 0;
+    while (got < bytes.size()) {
+        const ssize_t r = ::read(fd, &bytes[got], bytes.size() - got);
+        if (r < 0 && errno == EINTR) continue;
+        if (r < 0) {
+            error = std::strerror(errno);
+            return nullptr;
+        }
+        if (r == 0) break;  // shrank while being read: what is there is the file
+        got += std::size_t(r);
+    }
+    bytes.resize(got);
+    std::shared_ptr<Texture> t = decode_texture(bytes, error);
+    if (t) {
+        t->path_ = path;
+        const std::int64_t stamp[4] = {std::int64_t(st.st_dev), std::int64_t(st.st_ino), std::int64_t(st.st_size),
+                                       std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec};
+        std::copy(stamp, stamp + 4, t->stamp_);
+    }
+    return t;
+}
+
+TextureStore::Loaded TextureStore::load(const std::string& path) {
+    Loaded result;
+    struct stat st;
+    FileId id;
+    if (::stat(path.c_str(), &st) == 0)
+        id = {std::uint64_t(st.st_dev), std::uint64_t(st.st_ino), std::int64_t(st.st_size),
+              std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec};
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = entries_.find(path);
+        if (it != entries_.end() && id.size >= 0 && it->second.id == id) {
+            if (it->second.failed) {
+                result.error = it->second.error;
+                return result;
+            }
+            if ((result.texture = it->second.texture.lock())) return result;
+        }
+    }
+    // Decoded outside the lock: another thread may read another file meanwhile.
+    Entry e;
+    e.id = id;
+    if (std::shared_ptr<Texture> t = read_texture(path, result.error)) {
+        e.texture = t;
+        result.texture = std::move(t);
+    } else {
+        e.failed = true;
+        e.error = result.error;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto it = entries_.begin(); it != entries_.end();)
+        it = !it->second.failed && it->second.texture.expired() ? entries_.erase(it) : std::next(it);
+    // A FIFO or device is never kept: its stat says nothing of what it would give.
+    if (id.size >= 0 && S_ISREG(st.st_mode)) entries_[path] = std::move(e);
+    return result;
+}
+
+}  // namespace rt
