@@ -79,6 +79,7 @@ using Clock = std::chrono::steady_clock;
 // Phase 1: the scene and output paths, from the command line or asked for.
 rt::Status settle_paths(const Options& opt, std::string& scene_path, std::string& out_path) {
     if (opt.positional.size() > 2) return usage_error("too many arguments");
+    if (opt.flatten && !opt.print_scene) return usage_error("--flatten goes with --print-scene");
     if (opt.print_scene && opt.positional.size() != 1)
         return usage_error("--print-scene takes exactly one scene file and no output");
 
@@ -215,7 +216,7 @@ rt::Status run(int argc, char** argv) {
     if (opt.width) scene.width = *opt.width;
     if (opt.height) scene.height = *opt.height;
     times.parse = seconds_since(t_start);
-    if (opt.print_scene) return print_scene(kProgram, std::move(scene));
+    if (opt.print_scene) return print_scene(kProgram, std::move(scene), opt.flatten);
 
     const auto t_compile0 = Clock::now();
     const std::shared_ptr<const rt::World> world = build_world(scene, opt.render.max_depth);

@@ -165,6 +165,22 @@ ObjectRecords compare_object(const Geometry& g, std::uint32_t obj, const Geometr
             case NodeKind::Tetra: same = same && same_record(g.tetras[to.index], one.tetras[from.index]); break;
             case NodeKind::Cylinder: same = same && same_record(g.cylinders[to.index], one.cylinders[from.index]); break;
             case NodeKind::Torus: same = same && same_record(g.tori[to.index], one.tori[from.index]); break;
+            case NodeKind::Box: same = same && same_record(g.boxes[to.index], one.boxes[from.index]); break;
+            case NodeKind::Cone: same = same && same_record(g.cones[to.index], one.cones[from.index]); break;
+            case NodeKind::Instance: {
+                // (A definition built with an earlier placement is outside this one's
+                // nodes: such a placement is compiled anew.)
+                const InstanceG &a = g.instances[to.index], &b = one.instances[from.index];
+                if (a.root < first || a.root - first != b.root) return ObjectRecords::OtherStructure;
+                same = same && same_record(a.inst, b.inst);
+                break;
+            }
+            case NodeKind::Xform: {
+                const XformG &a = g.xforms[to.index], &b = one.xforms[from.index];
+                if (a.child - first != b.child) return ObjectRecords::OtherStructure;
+                same = same && same_record(a.inst, b.inst);
+                break;
+            }
             case NodeKind::Mesh: {
                 // A moved, rescaled or re-read mesh is compiled anew (its instance's
                 // transform and the model's tree are built together); unchanged, it stays.
@@ -196,6 +212,10 @@ void replace_object(Geometry& g, std::uint32_t obj, const Geometry& one) {
             case NodeKind::Tetra: g.tetras.write(to.index) = one.tetras[from.index]; break;
             case NodeKind::Cylinder: g.cylinders.write(to.index) = one.cylinders[from.index]; break;
             case NodeKind::Torus: g.tori.write(to.index) = one.tori[from.index]; break;
+            case NodeKind::Box: g.boxes.write(to.index) = one.boxes[from.index]; break;
+            case NodeKind::Cone: g.cones.write(to.index) = one.cones[from.index]; break;
+            case NodeKind::Xform: g.xforms.write(to.index).inst = one.xforms[from.index].inst; break;
+            case NodeKind::Instance: g.instances.write(to.index).inst = one.instances[from.index].inst; break;
             case NodeKind::Mesh: g.meshes.write(to.index) = one.meshes[from.index]; break;
             case NodeKind::Csg: break;  // the same structure: compare_object() said so
         }

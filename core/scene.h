@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -41,6 +42,9 @@ struct Material {
     double texture_scale = 1;
     std::string texture;
     std::shared_ptr<const Texture> texture_image;
+    // New: the named material (Scene::materials) this is a use of, its values copied
+    // here; -1: written out in place.
+    int named = -1;
 
     // An object with no material block at all: translusans 0 (scene-format §5).
     static Material object_default() {
@@ -52,7 +56,7 @@ struct Material {
         return reflection == o.reflection && refraction == o.refraction && scattering == o.scattering &&
                translusans == o.translusans && refractive_index == o.refractive_index && colour == o.colour &&
                specular == o.specular && shininess == o.shininess && texture == o.texture &&
-               texture_scale == o.texture_scale && texture_image == o.texture_image;
+               texture_scale == o.texture_scale && texture_image == o.texture_image && named == o.named;
     }
     bool operator!=(const Material& o) const { return !(*this == o); }
     // The same numbers bit for bit (-0 is not 0, NaNs as they are) and the same texture:
@@ -94,6 +98,26 @@ struct Torus {
     }
 };
 
+// New: a box with faces along the axes, between two opposite corners (which must
+// differ on every axis); a transform turns it.
+struct Box {
+    Vec3 corner1{0, 0, 0};
+    Vec3 corner2{1, 1, 1};
+    bool operator==(const Box& o) const { return corner1 == o.corner1 && corner2 == o.corner2; }
+};
+
+// New: a closed cone, or a cone cut straight across (a frustum): round end caps of
+// radius1 at end1 and radius2 at end2; a radius of 0 makes that end a point.
+struct Cone {
+    Vec3 end1{0, 0, 0};
+    Vec3 end2{0, 0, 1};
+    double radius1 = 1;
+    double radius2 = 0;
+    bool operator==(const Cone& o) const {
+        return end1 == o.end1 && end2 == o.end2 && radius1 == o.radius1 && radius2 == o.radius2;
+    }
+};
+
 class MeshModel;  // model.h
 
 // A model file's triangles placed in the scene: scaled (per axis), turned about x, then
@@ -114,7 +138,58 @@ struct Mesh {
     }
 };
 
+// New: where an object is placed. Its shape is scaled (per axis, about the origin),
+// turned about x, then y, then z (degrees), then moved by `translate`: the order a
+// mesh's own keys use. A CSG's applies to the whole, after its operands' own.
+struct Transform {
+    Vec3 rotation{0, 0, 0};
+    Vec3 scale{1, 1, 1};
+    Vec3 translate{0, 0, 0};
+    bool operator==(const Transform& o) const {
+        return rotation == o.rotation && scale == o.scale && translate == o.translate;
+    }
+    bool operator!=(const Transform& o) const { return !(*this == o); }
+    bool identity() const { return *this == Transform{}; }
+};
+
+// An object's Transform, kept apart: most objects have none, and a big scene holds
+// millions of objects (8 bytes each instead of 72). Copies copy the value; an absent
+// one reads as the identity.
+class TransformSlot {
+public:
+    TransformSlot() = default;
+    TransformSlot(const TransformSlot& o) : p_(o.p_ ? std::make_unique<Transform>(*o.p_) : nullptr) {}
+    TransformSlot(TransformSlot&&) noexcept = default;
+    TransformSlot& operator=(const TransformSlot& o) {
+        if (this != &o) p_ = o.p_ ? std::make_unique<Transform>(*o.p_) : nullptr;
+        return *this;
+    }
+    TransformSlot& operator=(TransformSlot&&) noexcept = default;
+
+    const Transform& get() const { return p_ ? *p_ : identity_; }
+    Transform& edit() {
+        if (!p_) p_ = std::make_unique<Transform>();
+        return *p_;
+    }
+    // Whether it moves anything (a transform written at its defaults does not).
+    bool set() const { return p_ && !p_->identity(); }
+    bool operator==(const TransformSlot& o) const { return get() == o.get(); }
+
+private:
+    std::unique_ptr<Transform> p_;
+    static inline const Transform identity_{};
+};
+
 struct Object;
+
+// New: a placement of an object defined once by name (`define { object NAME { ... } }`):
+// the name as written, and the definition it names, shared by every placement (one
+// copy of its geometry, placed by the instance's own transform).
+struct Instance {
+    std::string object;
+    std::shared_ptr<const Object> defined;  // null until the name is resolved
+    bool operator==(const Instance& o) const;
+};
 
 enum class CsgType : char { Union = 'U', Intersection = 'I', Difference = 'C' };
 
@@ -126,19 +201,37 @@ struct Csg {
     bool operator==(const Csg& o) const;
 };
 
-using Shape = std::variant<Sphere, Tetrahedron, Cylinder, Torus, Csg, Mesh>;
+// (New shapes go at the end: the indices of the first six are relied on.)
+using Shape = std::variant<Sphere, Tetrahedron, Cylinder, Torus, Csg, Mesh, Box, Cone, Instance>;
 
 struct Object {
     Shape shape;
     Material material = Material::object_default();
     bool has_material = false;  // whether the file gave a material block
     SourceLoc loc;
+    TransformSlot transform{};  // New: rotation, scale, translate (a mesh: translate only)
+    std::uint16_t origin = 0;   // New: 0, or k: read from the file of Scene::includes[k - 1]
     bool operator==(const Object& o) const {
-        return shape == o.shape && material == o.material && has_material == o.has_material;
+        return shape == o.shape && material == o.material && has_material == o.has_material &&
+               transform == o.transform;
     }
 };
 
 inline bool Csg::operator==(const Csg& o) const { return type == o.type && operands == o.operands; }
+inline bool Instance::operator==(const Instance& o) const {
+    return object == o.object && (defined == o.defined || (defined && o.defined && *defined == *o.defined));
+}
+
+// New: an object defined once by name, to be placed by `instance` blocks.
+struct NamedObject {
+    std::string name;
+    std::shared_ptr<const Object> object;
+    std::uint16_t origin = 0;  // as Object::origin
+    SourceLoc loc;
+    bool operator==(const NamedObject& o) const {
+        return name == o.name && origin == o.origin && (object == o.object || (object && o.object && *object == *o.object));
+    }
+};
 
 // `plane` and `chess_plane` from special_thing.
 struct Plane {
@@ -148,6 +241,7 @@ struct Plane {
     Material material2 = Material::object_default();  // `material 2` (chess only)
     bool has_material = false, has_material2 = false;
     SourceLoc loc;
+    std::uint16_t origin = 0;  // as Object::origin
     bool operator==(const Plane& o) const {
         for (int i = 0; i < 4; ++i)
             if (point[i] != o.point[i]) return false;
@@ -165,6 +259,7 @@ struct Light {
     // 2013 light.
     double radius = 0;
     SourceLoc loc;
+    std::uint16_t origin = 0;  // as Object::origin
     bool operator==(const Light& o) const {
         return lamp == o.lamp && position == o.position && colour == o.colour && size == o.size &&
                radius == o.radius;
@@ -193,7 +288,33 @@ struct Camera {
     }
 };
 
+// New: a material defined once by name (`define { material NAME { ... } }`) and used
+// by name anywhere a material block goes.
+struct NamedMaterial {
+    std::string name;
+    Material material;
+    std::uint16_t origin = 0;  // as Object::origin
+    SourceLoc loc;
+    bool operator==(const NamedMaterial& o) const { return name == o.name && material == o.material && origin == o.origin; }
+};
+
+// New: `include "FILE"` in the scene file itself (those of included files are theirs):
+// the file as written, and how many of the scene file's own items came before it, so
+// that the scene is written back in the same order.
+struct Include {
+    std::string file;
+    std::size_t objects = 0, planes = 0, lights = 0, materials = 0, defined = 0;  // before it, of origin 0
+    SourceLoc loc;
+    bool operator==(const Include& o) const {
+        return file == o.file && objects == o.objects && planes == o.planes && lights == o.lights &&
+               materials == o.materials && defined == o.defined;
+    }
+};
+
 struct Scene {
+    std::vector<NamedMaterial> materials;  // New: every file's definitions, in reading order
+    std::vector<NamedObject> defined;      // New: every file's object definitions, in reading order
+    std::vector<Include> includes;         // New
     std::vector<Object> objects;
     std::vector<Plane> planes;
     std::vector<Light> lights;
@@ -203,7 +324,8 @@ struct Scene {
     SourceLoc camera_loc;
     bool operator==(const Scene& o) const {
         return objects == o.objects && planes == o.planes && lights == o.lights && camera == o.camera &&
-               width == o.width && height == o.height;
+               width == o.width && height == o.height && materials == o.materials && includes == o.includes &&
+               defined == o.defined;
     }
     bool operator!=(const Scene& o) const { return !(*this == o); }
 };
@@ -217,6 +339,8 @@ struct Limits {
     static constexpr std::size_t max_objects = 10'000'000;
     static constexpr std::size_t max_file_size = 256u << 20;  // bytes
     static constexpr std::size_t max_token_length = 256;
+    static constexpr int max_include_depth = 64;     // files including files
+    static constexpr std::size_t max_includes = 10'000;  // include lines in one scene file
 };
 
 }  // namespace rt

@@ -14,7 +14,10 @@
 // cannot depend on the guesses or on timing; only the speed does.
 #include "scene_parser.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -33,6 +36,7 @@
 #include <type_traits>
 
 #include "diagnostic_text.h"
+#include "image_io.h"
 #include "pages.h"
 #include "parallel.h"
 #include "scene_lexer.h"
@@ -124,6 +128,9 @@ public:
     Parser(std::string_view text, const ParseOptions& opt, ParseResult& out)
         : lex_(text), lines_(text), opt_(opt), out_(out) {
         if (opt_.progress) next_tick_ = 0;
+        struct stat st;
+        if (!opt_.scene_file.empty() && ::stat(opt_.scene_file.c_str(), &st) == 0)
+            own_shared_.scene_id = std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
     }
     // A helper reading `piece`.
     Parser(std::string_view text, const ParseOptions& opt, ParseResult& out, Piece& piece)
@@ -144,9 +151,13 @@ public:
             throw;
         }
         end_pieces();
-        std::stable_sort(out_.diagnostics.begin(), out_.diagnostics.end(), [](const Diagnostic& a, const Diagnostic& b) {
-            return a.line != b.line ? a.line < b.line : a.col < b.col;
-        });
+        // In the scene file's order: an included file's problems where it was included.
+        auto place = [](const Diagnostic& d) {
+            return d.included_from.empty() ? std::make_pair(d.line, d.col)
+                                           : std::make_pair(d.included_from.back().line, d.included_from.back().col);
+        };
+        std::stable_sort(out_.diagnostics.begin(), out_.diagnostics.end(),
+                         [&](const Diagnostic& a, const Diagnostic& b) { return place(a) < place(b); });
     }
 
     // The helper's work: thing items from piece_->start up to the first diagnostic,
@@ -297,7 +308,7 @@ private:
     }
     void report(Diagnostic::Severity severity, SourceLoc at, std::string msg) {
         if (piece_) throw Bail{};
-        out_.diagnostics.push_back({severity, at.line, at.col, std::move(msg)});
+        out_.diagnostics.push_back({severity, at.line, at.col, std::move(msg), file_, included_from_});
         if (severity == Diagnostic::Severity::Error && ++errors_ >= opt_.max_errors) throw Stop{};
     }
     void error_at(SourceLoc at, std::string msg) { report(Diagnostic::Severity::Error, at, std::move(msg)); }
@@ -436,7 +447,12 @@ private:
             return choice(k, name, item, st, index);
         case sc::Kind::Material: {
             Material m;
-            if (!material(name, m)) return false;
+            const Token v = lex_.peek();
+            if (is_name(v.text)) {
+                if (!named_material(v, m)) return false;
+            } else if (!material(name, m)) {
+                return false;
+            }
             k.access.material(item, i) = m;
             k.access.has_material(item, i) = true;
             break;
@@ -657,6 +673,12 @@ private:
     template <class T>
     void check_ranges(const sc::Block<T>& b, T& item, const ItemState& st, std::size_t name_offset) {
         for (const sc::Key<T>& k : b.keys) {
+            if (k.kind == sc::Kind::Vec3 && k.range.rule == sc::Range::Rule::Error && (st.given & (1u << key_index(b, k)))) {
+                const Vec3 v = k.vec3(item, 0);
+                if (!(k.range.contains(v.x) && k.range.contains(v.y) && k.range.contains(v.z)))
+                    error_at(st.value_at[key_index(b, k)], k.range.message);
+                continue;
+            }
             if (k.kind != sc::Kind::Number || k.range.rule == sc::Range::Rule::None) continue;
             // An optional key left out keeps its default, which may stand for "not set"
             // (focus_distance 0: the centre's distance).
@@ -672,12 +694,233 @@ private:
         }
     }
 
+    // ---- names, definitions, includes ---------------------------------------------
+    // A name: a letter or '_' first, then letters, digits and '_' (never a number).
+    static bool is_name(std::string_view w) {
+        auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
+        if (w.empty() || w.size() > 64 || !letter(w[0])) return false;
+        for (char c : w)
+            if (!letter(c) && !(c >= '0' && c <= '9')) return false;
+        return true;
+    }
+
+    // `material NAME` where a material block goes: the definition's values, and its index.
+    bool named_material(const Token& v, Material& out) {
+        if (piece_) throw Bail{};  // (the definitions are the main reading's)
+        lex_.next();
+        auto it = shared_->materials.find(std::string(v.text));
+        if (it == shared_->materials.end()) {
+            error(v, "unknown material " + quote(v.text) +
+                         " (a named material is defined before its first use: define { material " +
+                         std::string(v.text) + " { ... } })");
+            return false;
+        }
+        out = out_.scene.materials[std::size_t(it->second)].material;
+        out.named = it->second;
+        return true;
+    }
+
+    // One item of a `define` section: `material NAME { ... }`.
+    void definition() {
+        const Token kind = lex_.next();
+        const bool is_object = sc::same_word(kind.text, "object");
+        if (!sc::same_word(kind.text, "material") && !is_object) {
+            error(kind, "unknown definition " + quote(kind.text) + " (expected material or object)");
+            skip_block();
+            return;
+        }
+        const Token name = lex_.peek();
+        if (!is_name(name.text)) {
+            if (name.eof()) fatal(name, "unexpected end of file: expected a name after " + quote(kind.text));
+            error(name, "expected a name after " + quote(kind.text) +
+                            " (a letter or '_', then letters, digits and '_'), got " + got(name));
+            if (!name.is('{') && !name.is('}')) lex_.next();
+            skip_block();
+            return;
+        }
+        lex_.next();
+        if (is_object) return object_definition(name);
+        count_object(name);
+        Material m;
+        if (!material(name, m)) return;
+        const std::string key(name.text);
+        if (auto it = shared_->materials.find(key); it != shared_->materials.end()) {
+            const NamedMaterial& first = out_.scene.materials[std::size_t(it->second)];
+            error(name, "material " + quote(key) + " is defined twice (first at line " + std::to_string(first.loc.line) +
+                            ", column " + std::to_string(first.loc.col) +
+                            (first_file_of(it->second).empty() ? "" : " of " + first_file_of(it->second)) + ")");
+            return;
+        }
+        if (shared_->objects.count(key)) {
+            error(name, "the name " + quote(key) + " is already an object's");
+            return;
+        }
+        shared_->materials.emplace(key, int(out_.scene.materials.size()));
+        shared_->material_files.push_back(file_);
+        out_.scene.materials.push_back({key, m, 0, loc_of(name.offset)});
+    }
+    const std::string& first_file_of(int index) const { return shared_->material_files[std::size_t(index)]; }
+
+    // `object NAME { OBJECT }` in a define section (after the name).
+    void object_definition(const Token& name) {
+        if (!open(name)) return;
+        const Token& first = lex_.peek();
+        const sc::Block<Object>* ob = sc::object_block(first.text);
+        if (!ob || is_mesh(*ob) || sc::same_word(ob->name, "instance")) {
+            error(first, !ob ? "expected one object in the definition of " + quote(name.text) + ", got " + got(first)
+                             : is_mesh(*ob) ? "a mesh cannot be defined as an object: mesh blocks already share their model"
+                                            : "an instance cannot be defined as an object: define the object itself");
+            skip_rest_of_block();
+            return;
+        }
+        auto obj = std::make_shared<Object>();
+        const bool ok = object(*obj);
+        const Token& close = lex_.peek();
+        if (!close.is('}')) {
+            error(close, "expected '}' after the object defined as " + quote(name.text) + " (it holds exactly one object), got " +
+                             got(close));
+            skip_rest_of_block();
+            return;
+        }
+        lex_.next();
+        if (!ok) return;
+        const std::string key(name.text);
+        if (shared_->objects.count(key) || shared_->materials.count(key)) {
+            error(name, (shared_->objects.count(key) ? "object " : "the name ") + quote(key) +
+                            (shared_->objects.count(key) ? " is defined twice" : " is already a material's"));
+            return;
+        }
+        shared_->objects.emplace(key, int(out_.scene.defined.size()));
+        out_.scene.defined.push_back({key, std::move(obj), 0, loc_of(name.offset)});
+    }
+
+    // An instance's object name, resolved; its material is the definition's unless it
+    // gives one.
+    bool resolve_instance(Object& obj, std::size_t at) {
+        Instance& in = std::get<Instance>(obj.shape);
+        auto it = shared_->objects.find(in.object);
+        if (it == shared_->objects.end()) {
+            error_at(at, shared_->materials.count(in.object)
+                             ? quote(in.object) + " is a material, not an object"
+                             : "unknown object " + quote(in.object) +
+                                   " (an object is defined before its first use: define { object " + in.object +
+                                   " { ... } })");
+            return false;
+        }
+        in.defined = out_.scene.defined[std::size_t(it->second)].object;
+        if (!obj.has_material) obj.material = in.defined->material;
+        return true;
+    }
+
+    // `include "FILE"`: the file's definitions, things, planes and lights, read here.
+    void include(const Token& kw) {
+        std::string name;
+        if (!file_name(kw, name)) return;
+        const SourceLoc at = loc_of(kw.offset);
+        const std::string path = resolve_model_path(opt_.base_dir, name);
+        const std::string shown = path;
+        auto chain = [&] {
+            std::string c;
+            for (const std::string& f : shared_->stack_names) c += (c.empty() ? "" : " includes ") + f;
+            return c;
+        };
+        if (int(shared_->stack.size()) >= Limits::max_include_depth) {
+            error_at(at, "includes nested too deeply (limit " + std::to_string(Limits::max_include_depth) +
+                             " files): " + chain() + " includes " + shown);
+            return;
+        }
+        if (included_from_.empty() && ++includes_ > Limits::max_includes) {
+            error_at(at, "too many includes (limit " + std::to_string(Limits::max_includes) + ")");
+            return;
+        }
+        struct stat st;
+        if (::stat(path.c_str(), &st) != 0) {
+            error_at(at, "cannot include " + quote(name) + ": " + std::strerror(errno));
+            return;
+        }
+        if (S_ISDIR(st.st_mode)) {
+            error_at(at, "cannot include " + quote(name) + ": it is a folder, not a scene file");
+            return;
+        }
+        if (!S_ISREG(st.st_mode)) {
+            error_at(at, "cannot include " + quote(name) + ": not a regular file (a device, pipe or socket)");
+            return;
+        }
+        const std::string id = std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+        if (std::find(shared_->stack.begin(), shared_->stack.end(), id) != shared_->stack.end() || id == shared_->scene_id) {
+            error_at(at, "include cycle: " + (chain().empty() ? std::string("the scene") : chain()) + " includes " + shown +
+                             (id == shared_->scene_id ? ", the scene itself" : ", which is already being read"));
+            return;
+        }
+        std::string text;
+        ReadControl control;
+        control.strict = true;
+        const Status read = read_file(path, text, Limits::max_file_size, &control);
+        if (!read.ok()) {
+            std::string why = read.message();
+            while (!why.empty() && why.back() == '\n') why.pop_back();
+            error_at(at, "cannot include " + quote(name) + ": " + why);
+            return;
+        }
+        Scene& scene = out_.scene;
+        const std::size_t objects0 = scene.objects.size(), planes0 = scene.planes.size(), lights0 = scene.lights.size(),
+                          materials0 = scene.materials.size(), defined0 = scene.defined.size();
+        ParseOptions child_opt = opt_;
+        child_opt.base_dir = folder_of(path);
+        child_opt.progress = nullptr;
+        child_opt.scene_file.clear();  // (known already)
+        Parser child(text, child_opt, out_);
+        child.shared_ = shared_;
+        child.file_ = shown;
+        child.included_from_.push_back({file_, at.line, at.col});
+        child.included_from_.insert(child.included_from_.end(), included_from_.begin(), included_from_.end());
+        child.errors_ = errors_;
+        child.objects_ = objects_;
+        shared_->stack.push_back(id);
+        shared_->stack_names.push_back(shown);
+        struct Back {
+            Parser& p;
+            Parser& child;
+            ~Back() {
+                p.errors_ = child.errors_;
+                p.objects_ = child.objects_;
+                p.shared_->stack.pop_back();
+                p.shared_->stack_names.pop_back();
+            }
+        } back{*this, child};
+        child.parse_top();
+        if (!included_from_.empty()) return;
+        // In the scene file: what this include brought is marked as its, and the
+        // include kept where it stands among the file's own items.
+        const auto origin = std::uint16_t(scene.includes.size() + 1);
+        for (std::size_t k = objects0; k < scene.objects.size(); ++k) scene.objects[k].origin = origin;
+        for (std::size_t k = planes0; k < scene.planes.size(); ++k) scene.planes[k].origin = origin;
+        for (std::size_t k = lights0; k < scene.lights.size(); ++k) scene.lights[k].origin = origin;
+        for (std::size_t k = materials0; k < scene.materials.size(); ++k) scene.materials[k].origin = origin;
+        for (std::size_t k = defined0; k < scene.defined.size(); ++k) scene.defined[k].origin = origin;
+        Include inc;
+        inc.file = name;
+        inc.loc = at;
+        inc.objects = objects0 - included_.objects;
+        inc.planes = planes0 - included_.planes;
+        inc.lights = lights0 - included_.lights;
+        inc.materials = materials0 - included_.materials;
+        inc.defined = defined0 - included_.defined;
+        included_.objects += scene.objects.size() - objects0;
+        included_.planes += scene.planes.size() - planes0;
+        included_.lights += scene.lights.size() - lights0;
+        included_.materials += scene.materials.size() - materials0;
+        included_.defined += scene.defined.size() - defined0;
+        scene.includes.push_back(std::move(inc));
+    }
+
     // ---- sections ----------------------------------------------------------------
     void parse_top() {
         for (;;) {
             tick(lex_.peek().offset);
             Token t = lex_.next();
             if (t.eof()) {
+                if (!included_from_.empty()) return;  // an included file needs no `end`
                 error(t, "missing 'end' at the end of the scene");
                 return;
             }
@@ -689,6 +932,12 @@ private:
             switch (s->kind) {
             case sc::SectionKind::End:
                 return;
+            case sc::SectionKind::Include:
+                include(t);
+                break;
+            case sc::SectionKind::Define:
+                if (open(t)) section_items(*s, [&] { definition(); });
+                break;
             case sc::SectionKind::Things:
                 if (open(t)) section_items(*s, [&] { thing_item(); }, true);
                 break;
@@ -699,6 +948,11 @@ private:
                 if (open(t)) section_items(*s, [&] { item(*s, sc::light_blocks(), out_.scene.lights); });
                 break;
             case sc::SectionKind::Camera:
+                if (!included_from_.empty()) {
+                    error(t, "'camera' belongs in the scene file itself, not in an included file");
+                    skip_block();
+                    break;
+                }
                 if (!open(t)) break;
                 if (!camera_seen_) camera_loc_ = loc_of(t.offset);
                 camera_seen_ = true;
@@ -707,6 +961,11 @@ private:
                 check_ranges(sc::camera_block(), out_.scene.camera, camera_keys_, t.offset);
                 break;
             case sc::SectionKind::PictureSize:
+                if (!included_from_.empty()) {
+                    error(t, "'picture_size' belongs in the scene file itself, not in an included file");
+                    skip_block();
+                    break;
+                }
                 if (!size_seen_) size_loc_ = loc_of(t.offset);
                 size_seen_ = true;
                 if (open(t)) read_block(sc::picture_size_block(), out_.scene, size_keys_);
@@ -816,8 +1075,9 @@ private:
     }
 
     bool object_body(const sc::Block<Object>& b, const Token& t, Object& obj) {
-        // Models are read by the main reading only (a helper would read them again).
-        if (piece_ && is_mesh(b)) throw Bail{};
+        // Models are read by the main reading only (a helper would read them again), and
+        // only it knows the definitions.
+        if (piece_ && (is_mesh(b) || sc::same_word(b.name, "instance"))) throw Bail{};
         count_object(t);
         const bool nests = std::any_of(b.keys.begin(), b.keys.end(),
                                        [](const sc::Key<Object>& k) { return k.kind == sc::Kind::Operand; });
@@ -834,6 +1094,10 @@ private:
         const int errors_before = errors_;
         read_block(b, obj, st);
         finish(b, obj, st, t.offset, [&] { return obj.loc; });
+        if (std::holds_alternative<Instance>(obj.shape) && errors_ == errors_before) {
+            const std::size_t at = st.value_at[key_index(b, *b.find("object"))];
+            if (!resolve_instance(obj, at != kNone ? at : t.offset)) st.bad = true;
+        }
         if (Mesh* m = std::get_if<Mesh>(&obj.shape); m && errors_ == errors_before) {
             const std::size_t at = st.value_at[key_index(b, *b.find("file"))];
             read_model(*m, at != kNone ? at : t.offset);
@@ -934,6 +1198,13 @@ private:
             return true;
         }
         const sc::Block<Object>* ob = sc::object_block(first.text);
+        if (ob && sc::same_word(ob->name, "instance")) {
+            error(first, "an instance cannot be a CSG operand: define the whole CSG as an object and place that");
+            skip_rest_of_block();
+            st.bad = true;
+            st.given |= 1u << index;
+            return true;
+        }
         if (!ob || is_mesh(*ob)) {
             error(first, ob ? "a mesh cannot be a CSG operand: CSG combines solids (" + csg_operands() + ")"
                             : "unknown object " + got(first) + " in CSG " + side + " operand (expected " +
@@ -965,7 +1236,7 @@ private:
     static std::string csg_operands() {
         std::string out;
         for (const sc::Block<Object>& b : sc::object_blocks())
-            if (!is_mesh(b)) out += (out.empty() ? "" : ", ") + std::string(b.name);
+            if (!is_mesh(b) && !sc::same_word(b.name, "instance")) out += (out.empty() ? "" : ", ") + std::string(b.name);
         return out;
     }
     static bool is_mesh(const sc::Block<Object>& b) { return sc::same_word(b.name, "mesh"); }
@@ -997,9 +1268,24 @@ private:
             if (sc::Problem p = b.check(item)) report(p, at);
     }
 
+    // What the reading of a scene file and of the files it includes share.
+    struct Shared {
+        std::map<std::string, int, std::less<>> materials;  // name -> index in Scene::materials
+        std::map<std::string, int, std::less<>> objects;    // name -> index in Scene::defined
+        std::vector<std::string> material_files;  // the file of each definition ("": the scene's)
+        std::vector<std::string> stack, stack_names;  // the included files being read (device:inode, name)
+        std::string scene_id;  // the scene file's device:inode, when known
+    };
+
     SceneLexer lex_;
     LineMap lines_;
     const ParseOptions& opt_;
+    Shared own_shared_;
+    Shared* shared_ = &own_shared_;
+    std::string file_;  // "" for the scene file; else the included file, as diagnostics name it
+    std::vector<Diagnostic::Site> included_from_;  // where this file was included, innermost first
+    std::size_t includes_ = 0;  // include lines read in the scene file
+    Include included_;  // (counts only) items brought in by the includes so far
     ParseResult& out_;
     Piece* piece_ = nullptr;  // set in a helper
     std::vector<Piece*> pieces_;  // the helpers' pieces, in file order
@@ -1125,8 +1411,14 @@ Status ParseResult::status(const std::string& file, int max_shown) const {
 }
 
 std::string format_diagnostic(const std::string& file, const Diagnostic& d) {
-    return file + ":" + std::to_string(d.line) + ":" + std::to_string(d.col) + ": " +
-           (d.is_error() ? "error: " : "warning: ") + d.message;
+    std::string out = (d.file.empty() ? file : d.file) + ":" + std::to_string(d.line) + ":" + std::to_string(d.col) + ": " +
+                      (d.is_error() ? "error: " : "warning: ") + d.message;
+    for (std::size_t k = 0; k < d.included_from.size(); ++k) {
+        const Diagnostic::Site& at = d.included_from[k];
+        out += (k == 0 ? " (included from " : ", from ") + (at.file.empty() ? file : at.file) + ":" +
+               std::to_string(at.line) + ":" + std::to_string(at.col);
+    }
+    return d.included_from.empty() ? out : out + ")";
 }
 
 }  // namespace rt

@@ -22,6 +22,15 @@ struct Diagnostic {
     int line = 0;  // 1-based
     int col = 0;   // 1-based byte column
     std::string message;
+    // New: a problem in an included file: that file's path (as the including file names
+    // it, from the scene's folder), and where it was included, innermost first (file ""
+    // for the scene file itself, whose name the caller knows). Empty for the scene file.
+    struct Site {
+        std::string file;
+        int line = 0, col = 0;
+    };
+    std::string file{};
+    std::vector<Site> included_from{};
     bool is_error() const { return severity == Severity::Error; }
 };
 
@@ -62,6 +71,9 @@ struct ParseOptions {
     // The folder a mesh's `file` is relative to: the scene file's own ("" = the current
     // folder, for text that comes from no file).
     std::string base_dir;
+    // New: the scene file itself, when the text is read from one ("" = none): an include
+    // of it is then a cycle from the first include on.
+    std::string scene_file;
     // Where models are read and kept between parses (the viewer keeps one for its
     // document); null: read for this parse alone. Each file is read once per parse
     // however many meshes name it.
@@ -80,7 +92,8 @@ struct ParseOptions {
 
 ParseResult parse_scene(std::string_view text, const ParseOptions& options = {});
 
-// "FILE:LINE:COL: error: MESSAGE"
+// "FILE:LINE:COL: error: MESSAGE", with " (included from FILE:LINE:COL, from ...)" for a
+// problem in an included file.
 std::string format_diagnostic(const std::string& file, const Diagnostic& d);
 
 }  // namespace rt

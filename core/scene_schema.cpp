@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <variant>
 
 #include "camera.h"
@@ -68,6 +69,30 @@ Problem warning(std::string message) { return {Problem::Severity::Warning, std::
 
 // ---- objects ----------------------------------------------------------------------
 
+// New: the placement keys of every object (scene.h's Transform), after its own keys.
+// A mesh has its own rotation and scale (the same meaning), so it takes translate only.
+Key<Object> translate_key() {
+    Key<Object> k = optional(vec3_key<Object>("translate", [](Object& o, int) -> Vec3& { return o.transform.edit().translate; }));
+    k.access.vec3_read = [](const Object& o, int) -> const Vec3& { return o.transform.get().translate; };
+    return k;
+}
+
+Block<Object> placed(Block<Object> b) {
+    Key<Object> rotation =
+        optional(vec3_key<Object>("rotation", [](Object& o, int) -> Vec3& { return o.transform.edit().rotation; }));
+    rotation.access.vec3_read = [](const Object& o, int) -> const Vec3& { return o.transform.get().rotation; };
+    Key<Object> scale = optional(vec3_key<Object>("scale", [](Object& o, int) -> Vec3& { return o.transform.edit().scale; }));
+    scale.access.vec3_read = [](const Object& o, int) -> const Vec3& { return o.transform.get().scale; };
+    scale.one_or_three = true;
+    // Mirroring (a negative scale) is refused: it would turn the solids inside out.
+    scale.range = {Range::Rule::Error, 1e-9, 1e9, false,
+                   "scale must be 1e-9 .. 1e9 on every axis (0 and negative scales, mirrors, are refused)"};
+    b.keys.push_back(rotation);
+    b.keys.push_back(scale);
+    b.keys.push_back(translate_key());
+    return b;
+}
+
 Block<Object> sphere() {
     return {"sphere",
             {vec3_key<Object>("position", [](Object& o, int) -> Vec3& { return shape<Sphere>(o).position; }),
@@ -126,6 +151,52 @@ Block<Object> torus() {
             }};
 }
 
+Block<Object> box() {
+    return {"box",
+            {vec3_key<Object>("corner_1", [](Object& o, int) -> Vec3& { return shape<Box>(o).corner1; }),
+             vec3_key<Object>("corner_2", [](Object& o, int) -> Vec3& { return shape<Box>(o).corner2; }),
+             object_material()},
+            [] { return object_of(Box{}); },
+            [](const Object& o) {
+                const Box& b = std::get<Box>(o.shape);
+                if (b.corner1 == b.corner2) return error("box corner_1 and corner_2 are the same point");
+                if (b.corner1.x == b.corner2.x || b.corner1.y == b.corner2.y || b.corner1.z == b.corner2.z)
+                    return error("box is flat: corner_1 and corner_2 must differ in x, in y and in z");
+                return Problem{};
+            }};
+}
+
+Block<Object> cone() {
+    return {"cone",
+            {vec3_key<Object>("end_1", [](Object& o, int) -> Vec3& { return shape<Cone>(o).end1; }),
+             vec3_key<Object>("end_2", [](Object& o, int) -> Vec3& { return shape<Cone>(o).end2; }),
+             number_key<Object>("radius_1", [](Object& o, int) -> double& { return shape<Cone>(o).radius1; },
+                                not_negative("cone radius_1 must not be negative")),
+             number_key<Object>("radius_2", [](Object& o, int) -> double& { return shape<Cone>(o).radius2; },
+                                not_negative("cone radius_2 must not be negative")),
+             object_material()},
+            [] { return object_of(Cone{}); },
+            [](const Object& o) {
+                const Cone& c = std::get<Cone>(o.shape);
+                if (c.end1 == c.end2) return error("cone end_1 and end_2 are the same point");
+                if (c.radius1 == 0 && c.radius2 == 0) return error("cone radius_1 and radius_2 are both 0: it would be a line");
+                return Problem{};
+            }};
+}
+
+Block<Object> instance() {
+    Key<Object> object{"object", Kind::File, {}};
+    object.access.text = [](Object& o, int) -> std::string& { return shape<Instance>(o).object; };
+    object.placeholder = "NAME";
+    object.bare = true;
+    object.lead = true;
+    return {"instance", {object, object_material()}, [] { return object_of(Instance{}); },
+            [](const Object& o) {
+                return std::get<Instance>(o.shape).object.empty() ? error("instance needs an 'object' (the name of a defined object)")
+                                                                   : Problem{};
+            }};
+}
+
 const Choice kCsgType{{{"U", int(CsgType::Union)}, {"I", int(CsgType::Intersection)}, {"C", int(CsgType::Difference)}},
                       -1,
                       "U, I or C",
@@ -174,7 +245,7 @@ Block<Object> mesh() {
     return {"mesh",
             {file, vec3_key<Object>("position", [](Object& o, int) -> Vec3& { return shape<Mesh>(o).position; }),
              scale, vec3_key<Object>("rotation", [](Object& o, int) -> Vec3& { return shape<Mesh>(o).rotation; }),
-             smooth, object_material()},
+             smooth, object_material(), translate_key()},
             [] { return object_of(Mesh{}); },
             [](const Object& o) {
                 const Mesh& m = std::get<Mesh>(o.shape);
@@ -356,7 +427,9 @@ bool Choice::find(std::string_view word, int& value) const {
 }
 
 const std::vector<Block<Object>>& object_blocks() {
-    static const std::vector<Block<Object>> blocks = {sphere(), tetrahedron(), cylinder(), torus(), csg(), mesh()};
+    static const std::vector<Block<Object>> blocks = {placed(sphere()), placed(tetrahedron()), placed(cylinder()),
+                                                                 placed(torus()),  placed(box()),         placed(cone()),
+                                                                 placed(csg()),    mesh(),                placed(instance())};
     return blocks;
 }
 
@@ -366,8 +439,12 @@ const Block<Object>* object_block(std::string_view name) {
     return nullptr;
 }
 
-// The variant's alternatives are in the order of object_blocks().
-const Block<Object>& object_block(const Object& o) { return object_blocks()[o.shape.index()]; }
+// The block of each of the variant's alternatives (the solids first in the lists).
+const Block<Object>& object_block(const Object& o) {
+    static constexpr std::size_t kBlock[] = {0, 1, 2, 3, 6, 7, 4, 5, 8};  // Csg, Mesh, Box, Cone, Instance
+    static_assert(std::size(kBlock) == std::variant_size_v<Shape>, "a block for each shape");
+    return object_blocks()[kBlock[o.shape.index()]];
+}
 
 const std::vector<Block<Plane>>& plane_blocks() {
     static const std::vector<Block<Plane>> blocks = {plane(), chess_plane()};
@@ -402,7 +479,9 @@ const Block<Scene>& picture_size_block() {
 }
 
 const std::vector<Section>& sections() {
-    static const std::vector<Section> s = {{"thing", SectionKind::Things, "object"},
+    static const std::vector<Section> s = {{"include", SectionKind::Include, nullptr},
+                                           {"define", SectionKind::Define, "definition"},
+                                           {"thing", SectionKind::Things, "object"},
                                            {"special_thing", SectionKind::Specials, "special thing"},
                                            {"light", SectionKind::Lights, "light"},
                                            {"camera", SectionKind::Camera, nullptr},

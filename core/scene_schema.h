@@ -60,6 +60,9 @@ template <class T>
 struct Access {
     double& (*number)(T&, int i) = nullptr;
     Vec3& (*vec3)(T&, int i) = nullptr;
+    // Reading without writing, where `vec3` would change the item to give a reference
+    // (an object's transform is made on the first write); null: `vec3` reads too.
+    const Vec3& (*vec3_read)(const T&, int i) = nullptr;
     int& (*integer)(T&, int i) = nullptr;
     int (*get_choice)(const T&) = nullptr;
     void (*set_choice)(T&, int) = nullptr;
@@ -76,7 +79,8 @@ struct Key {
     Access<T> access;
     int count = 0;                  // > 0: the key takes an index 1..count first ("point 2 ...")
     const char* count_error = nullptr;
-    Range range{};                  // Number: a clamp or a rule; Integer: its bounds
+    Range range{};                  // Number: a clamp or a rule; Integer: its bounds; Vec3: a
+                                    // rule (Error) for each of the three numbers
     const Choice* choice = nullptr;  // Kind::Choice
     bool required = false;          // must be given (somewhere in the file)
     bool lead = false;              // the writer puts it before the other keys
@@ -84,11 +88,14 @@ struct Key {
     bool optional = false;          // New: written only where it differs from its default, so
                                     // that a 2013 scene is written as it always was
     const char* placeholder = nullptr;  // File: the name the format reference shows
+    bool bare = false;              // File: a name, written without quotes
     const char* default_text = nullptr;  // a default that no value spells (the reference says it)
 
     // Read access for const items (the accessors are shared with writing).
     double number(const T& t, int i = 0) const { return access.number(const_cast<T&>(t), i); }
-    Vec3 vec3(const T& t, int i = 0) const { return access.vec3(const_cast<T&>(t), i); }
+    Vec3 vec3(const T& t, int i = 0) const {
+        return access.vec3_read ? access.vec3_read(t, i) : access.vec3(const_cast<T&>(t), i);
+    }
     int integer(const T& t, int i = 0) const { return access.integer(const_cast<T&>(t), i); }
     const Material& material(const T& t, int i = 0) const { return access.material(const_cast<T&>(t), i); }
     bool has_material(const T& t, int i = 0) const { return access.has_material(const_cast<T&>(t), i); }
@@ -159,7 +166,7 @@ const Block<Camera>& camera_block();      // keys accumulate over all camera sec
 const Block<Scene>& picture_size_block();
 
 // ---- the sections ---------------------------------------------------------------
-enum class SectionKind { Things, Specials, Lights, Camera, PictureSize, End };
+enum class SectionKind { Things, Specials, Lights, Camera, PictureSize, End, Include, Define };
 struct Section {
     std::string_view name;
     SectionKind kind;
@@ -167,7 +174,7 @@ struct Section {
 };
 const std::vector<Section>& sections();  // in file order of a written scene
 const Section* find_section(std::string_view name);
-// "thing, special_thing, light, camera, picture_size or end"
+// "include, define, thing, special_thing, light, camera, picture_size or end"
 std::string section_list();
 
 // Names of a block list: "sphere, tetrahedron, ...".

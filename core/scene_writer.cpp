@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -61,6 +62,9 @@ namespace sc = schema;
 class Writer {
 public:
     std::string out;
+    // The scene whose named materials are written by name (null, or flattened: every
+    // material written out).
+    const Scene* scene = nullptr;
 
     void line(int depth, const std::string& text) {
         out.append(2 * std::size_t(depth), ' ');
@@ -109,7 +113,7 @@ public:
             const Vec3 v = k.vec3(t, i);
             return s + " " + (k.one_or_three && v.x == v.y && v.y == v.z ? num(v.x) : vec(v));
         }
-        case sc::Kind::File: return s + " \"" + k.text(t, i) + "\"";
+        case sc::Kind::File: return s + (k.bare ? " " + k.text(t, i) : " \"" + k.text(t, i) + "\"");
         case sc::Kind::Integer: return s + " " + std::to_string(k.integer(t, i));
         case sc::Kind::Choice: return s + " " + std::string(k.choice->word_for(k.access.get_choice(t)));
         case sc::Kind::Material: return s + " " + material_body(k.material(t, i));
@@ -149,6 +153,18 @@ public:
             // Only when the file had a block: has_material is part of the scene, and a
             // block-less item's default (translusans 0) differs from a block's (1).
             if (k.kind == sc::Kind::Material && !k.has_material(t, i)) continue;
+            if (k.kind == sc::Kind::Material && scene) {
+                // By name while it holds the definition's values (an edited use is
+                // written out in full: the edit is not lost).
+                const Material& m = k.material(t, i);
+                const int named = m.named;
+                if (named >= 0 && std::size_t(named) < scene->materials.size() &&
+                    m.same_bits(scene->materials[std::size_t(named)].material)) {
+                    line(depth, std::string(k.name) + (k.count > 0 ? " " + std::to_string(i + 1) : "") + " " +
+                                    scene->materials[std::size_t(named)].name);
+                    continue;
+                }
+            }
             line(depth, simple_value(k, t, i));
         }
     }
@@ -173,6 +189,7 @@ std::string block_line(const sc::Block<T>& b) {
                 s += gap;
                 if (k.kind == sc::Kind::Material) s += std::string(k.name) + index + " {...}";
                 else if (k.kind == sc::Kind::Operand) s += std::string(k.name) + " { OBJECT }";
+                else if (k.kind == sc::Kind::File && k.bare) s += std::string(k.name) + " " + k.placeholder;
                 else if (k.kind == sc::Kind::File) s += std::string(k.name) + " \"" + k.placeholder + "\"";
                 else s += Writer::simple_value(k, item, i);
             }
@@ -238,11 +255,18 @@ std::string format_reference() {
         case sc::SectionKind::Camera: block(sc::camera_block(), ""); break;
         case sc::SectionKind::PictureSize: block(sc::picture_size_block(), ""); break;
         case sc::SectionKind::End: out += std::string(s.name) + "\n"; break;
+        case sc::SectionKind::Include: out += std::string(s.name) + " \"FILE.txt\"\n"; break;
+        case sc::SectionKind::Define:
+            out += std::string(s.name) + " {\n  material NAME {...}\n  object NAME { OBJECT }\n}\n";
+            break;
         }
     }
     key_rules(sc::material_block(), required, rules);
     out += "\nmaterial {...} is " + block_line(sc::material_block()) + "\n";
-    out += "OBJECT is any one block of `thing` (a mesh excepted)\n\nKeys a block must have:\n";
+    out += "OBJECT is any one block of `thing` (a mesh excepted)\n";
+    out += "material NAME, where a material {...} goes, is the one defined as NAME before it\n";
+    out += "include \"FILE.txt\" reads that file's sections (all but camera and picture_size) there\n";
+    out += "\nKeys a block must have:\n";
     for (const std::string& r : required) out += "  " + r + "\n";
     out += "Values:\n";
     for (const std::string& r : rules) out += "  " + r + "\n";
@@ -257,35 +281,118 @@ std::string write_camera(const Camera& camera) {
     return w.out;
 }
 
-std::string write_scene(const Scene& scene) {
+namespace {
+// An instance as an object of its own, for a flattened scene: its definition with the
+// instance's transform and material; a definition with a transform of its own goes
+// inside a CSG that carries the instance's (both operands the definition: the same
+// solid), so that the two apply in their order.
+Object expanded(const Object& o) {
+    const Instance& in = std::get<Instance>(o.shape);
+    Object out;
+    if (!in.defined->transform.set()) {
+        out = *in.defined;
+    } else {
+        Csg c;
+        c.type = CsgType::Intersection;
+        c.operands = {*in.defined, *in.defined};
+        out.shape = std::move(c);
+    }
+    out.material = o.material;
+    out.has_material = true;
+    out.transform = o.transform;
+    return out;
+}
+}  // namespace
+
+std::string write_scene(const Scene& scene, bool flatten) {
     Writer w;
+    if (!flatten) w.scene = &scene;
     // Sections of items are left out when empty; camera and picture size always written.
-    auto items = [&w](const sc::Section& s, const auto& list, auto block_of) {
-        if (list.empty()) return;
-        w.line(0, std::string(s.name) + " {");
-        for (const auto& item : list) w.item(1, block_of(item), item);
-        w.line(0, "}");
+    // Unless flattened, only the scene file's own items are (the included ones are the
+    // included files'), split where each include stands among them.
+    auto items = [&w](const sc::Section& s, const auto& list, std::size_t from, std::size_t to, auto block_of, bool own) {
+        std::size_t k = 0;  // of the items written so far: the own ones, unless all
+        bool open = false;
+        for (const auto& item : list) {
+            if (own && item.origin != 0) continue;
+            if (k >= from && k < to) {
+                if (!open) w.line(0, std::string(s.name) + " {"), open = true;
+                bool done = false;
+                if constexpr (std::is_same_v<std::decay_t<decltype(item)>, Object>) {
+                    if (!own && std::holds_alternative<Instance>(item.shape) && std::get<Instance>(item.shape).defined) {
+                        const Object x = expanded(item);
+                        w.item(1, block_of(x), x);
+                        done = true;
+                    }
+                }
+                if (!done) w.item(1, block_of(item), item);
+            }
+            ++k;
+        }
+        if (open) w.line(0, "}");
     };
+    auto definitions = [&w, &scene, flatten](std::size_t from, std::size_t to, std::size_t objects_from,
+                                             std::size_t objects_to) {
+        if (flatten) return;
+        std::size_t k = 0;
+        bool open = false;
+        for (const NamedMaterial& m : scene.materials) {
+            if (m.origin != 0) continue;
+            if (k >= from && k < to) {
+                if (!open) w.line(0, "define {"), open = true;
+                w.line(1, "material " + m.name + " " + write_material(m.material));
+            }
+            ++k;
+        }
+        k = 0;
+        for (const NamedObject& d : scene.defined) {
+            if (d.origin != 0 || !d.object) continue;
+            if (k >= objects_from && k < objects_to) {
+                if (!open) w.line(0, "define {"), open = true;
+                w.line(1, "object " + d.name + " {");
+                w.item(2, sc::object_block(*d.object), *d.object);
+                w.line(1, "}");
+            }
+            ++k;
+        }
+        if (open) w.line(0, "}");
+    };
+    const std::size_t all = std::size_t(-1);
+    const std::size_t parts = flatten ? 1 : scene.includes.size() + 1;
+    Include before;  // (counts) where the previous include stood
+    for (std::size_t p = 0; p < parts; ++p) {
+        const bool last = p + 1 == parts;
+        const Include& at = last ? Include{} : scene.includes[p];
+        const bool own = !flatten;
+        definitions(before.materials, last ? all : at.materials, before.defined, last ? all : at.defined);
+        for (const sc::Section& s : sc::sections()) {
+            switch (s.kind) {
+            case sc::SectionKind::Things:
+                items(s, scene.objects, before.objects, last ? all : at.objects,
+                      [](const Object& o) -> const auto& { return sc::object_block(o); }, own);
+                break;
+            case sc::SectionKind::Specials:
+                items(s, scene.planes, before.planes, last ? all : at.planes,
+                      [](const Plane& pl) -> const auto& { return sc::plane_block(pl); }, own);
+                break;
+            case sc::SectionKind::Lights:
+                items(s, scene.lights, before.lights, last ? all : at.lights,
+                      [](const Light& l) -> const auto& { return sc::light_block(l); }, own);
+                break;
+            default: break;
+            }
+        }
+        if (!last) {
+            w.line(0, "include \"" + at.file + "\"");
+            before = at;
+        }
+    }
     for (const sc::Section& s : sc::sections()) {
         switch (s.kind) {
-        case sc::SectionKind::Things:
-            items(s, scene.objects, [](const Object& o) -> const auto& { return sc::object_block(o); });
-            break;
-        case sc::SectionKind::Specials:
-            items(s, scene.planes, [](const Plane& p) -> const auto& { return sc::plane_block(p); });
-            break;
-        case sc::SectionKind::Lights:
-            items(s, scene.lights, [](const Light& l) -> const auto& { return sc::light_block(l); });
-            break;
-        case sc::SectionKind::Camera:
-            w.item(0, sc::camera_block(), scene.camera);
-            break;
-        case sc::SectionKind::PictureSize:
-            w.item(0, sc::picture_size_block(), scene);
-            break;
-        case sc::SectionKind::End:
-            w.line(0, std::string(s.name));
-            break;
+        case sc::SectionKind::Camera: w.item(0, sc::camera_block(), scene.camera); break;
+        case sc::SectionKind::PictureSize: w.item(0, sc::picture_size_block(), scene); break;
+        case sc::SectionKind::End: w.line(0, std::string(s.name)); break;
+        default: break;
         }
     }
     return w.out;

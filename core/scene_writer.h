@@ -8,7 +8,10 @@
 
 namespace rt {
 
-std::string write_scene(const Scene& scene);
+// New: named materials are written by name, an included file's items as the
+// `include` line that brought them; `flatten`: every item and material written out in
+// full, as if there were neither (what the renderer sees).
+std::string write_scene(const Scene& scene, bool flatten = false);
 // One `camera { ... }` block (for the viewer's "copy camera" button).
 std::string write_camera(const Camera& camera);
 // A material block's `{ ... }` as write_scene prints it (the New: keys only when set).

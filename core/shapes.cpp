@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 
 #include "csg.h"
 #include "model.h"
@@ -83,6 +84,90 @@ template <class Out>
         if (tb < t1) t1 = tb, f1 = fb;
     }
     if (t0 <= t1) out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
+}
+
+// Faces: 2 k (+1 on the high side) for axis k.
+template <class Out>
+[[gnu::always_inline]] inline void box_spans(const BoxG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
+    double t0 = -kInf, t1 = kInf;
+    std::uint8_t f0 = 0, f1 = 0;
+    for (std::uint8_t k = 0; k < 3; ++k) {
+        if (d[k] == 0) {
+            if (o[k] < s.lo[k] || o[k] > s.hi[k]) return;
+            continue;
+        }
+        double ta = (s.lo[k] - o[k]) / d[k], tb = (s.hi[k] - o[k]) / d[k];
+        std::uint8_t fa = std::uint8_t(2 * k), fb = std::uint8_t(2 * k + 1);
+        if (ta > tb) std::swap(ta, tb), std::swap(fa, fb);
+        if (ta > t0) t0 = ta, f0 = fa;
+        if (tb < t1) t1 = tb, f1 = fb;
+    }
+    if (t0 <= t1) out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
+}
+
+// Faces as the cylinder's: 0 = cap at e1, 1 = cap at e2, 2 = side. Inside the double
+// cone through the side where A t^2 + 2 B t + C <= 0; between the caps only the
+// frustum's own nappe is (the apex is at a cap or beyond), and a frustum is convex:
+// one span at most.
+template <class Out>
+[[gnu::always_inline]] inline void cone_spans(const ConeG& s, std::uint32_t node, const Vec3& o, const Vec3& d, Out& out) {
+    Vec3 w = o - s.e1;
+    double wa = dot(w, s.a), da = dot(d, s.a);
+    Vec3 wp = w - s.a * wa, dp = d - s.a * da;
+    double rw = s.r1 + s.k * wa;
+    double A = dot(dp, dp) - s.k * s.k * da * da, B = dot(wp, dp) - s.k * rw * da, C = dot(wp, wp) - rw * rw;
+    // The side's pieces: [p0, p1], and [p2, p3] when the line leaves and comes back.
+    double p0 = -kInf, p1 = kInf, p2 = kInf, p3 = kInf;
+    if (A == 0) {
+        if (B == 0) {
+            if (C > 0) return;
+        } else {
+            const double t = -C / (2 * B);
+            if (B > 0) p1 = t; else p0 = t;
+        }
+    } else {
+        double disc = B * B - A * C;
+        if (disc < 0) {
+            if (A > 0) return;  // (A < 0: inside along the whole line)
+        } else {
+            double q = std::sqrt(disc);
+            double kq = B >= 0 ? -(B + q) : -(B - q);
+            double ra = kq / A, rb = kq != 0 ? C / kq : 0.0;
+            if (kq == 0) ra = rb = 0;
+            if (ra > rb) std::swap(ra, rb);
+            if (A > 0) p0 = ra, p1 = rb;
+            else p1 = ra, p2 = rb;
+        }
+    }
+    // Between the caps: 0 <= wa + t da <= len.
+    double c0 = -kInf, c1 = kInf;
+    std::uint8_t fc0 = 0, fc1 = 1;
+    if (da == 0) {
+        if (wa < 0 || wa > s.len) return;
+    } else {
+        c0 = -wa / da, c1 = (s.len - wa) / da;
+        if (c0 > c1) std::swap(c0, c1), std::swap(fc0, fc1);
+    }
+    double t0, t1;
+    std::uint8_t f0, f1;
+    auto clip = [&](double a, double b, double& x, double& y, std::uint8_t& fx, std::uint8_t& fy) {
+        x = a, fx = 2, y = b, fy = 2;
+        if (c0 > x) x = c0, fx = fc0;
+        if (c1 < y) y = c1, fy = fc1;
+        return x <= y;
+    };
+    const bool first = clip(p0, p1, t0, t1, f0, f1);
+    double u0 = 0, u1 = 0;
+    std::uint8_t g0 = 0, g1 = 0;
+    const bool second = p2 != kInf && clip(p2, p3, u0, u1, g0, g1);
+    if (first && second) {  // (only by rounding, at an apex on a cap): the hull
+        t1 = u1, f1 = g1;
+    } else if (second) {
+        t0 = u0, t1 = u1, f0 = g0, f1 = g1;
+    } else if (!first) {
+        return;
+    }
+    out.push_back({{t0, node, f0, false}, {t1, node, f1, false}});
 }
 
 // The solid's own inside test, (R - rho)^2 + z^2 < r^2. The quartic's zero set also
@@ -174,6 +259,25 @@ void Geometry::leaf_spans(std::uint32_t n, const Vec3& o, const Vec3& d, Out& ou
         case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, out); return;
         case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, out); return;
         case NodeKind::Torus: torus_spans(tori[node.index], n, o, d, out); return;
+        case NodeKind::Box: box_spans(boxes[node.index], n, o, d, out); return;
+        case NodeKind::Cone: cone_spans(cones[node.index], n, o, d, out); return;
+        case NodeKind::Xform: {
+            // The child's spans along the line taken into its space, where the direction
+            // is made unit again: t there is t here times that length.
+            const XformG& x = xforms[node.index];
+            Vec3 ld = x.inst.to_model(d);
+            const double len = length(ld);
+            ld = ld / len;
+            SmallSpans<2> s;
+            leaf_spans(x.child, x.inst.point_to_model(o), ld, s);
+            for (Span sp : s) {
+                sp.in.t /= len, sp.out.t /= len;
+                sp.in.node = sp.out.node = n;
+                out.push_back(sp);
+            }
+            return;
+        }
+        case NodeKind::Instance:  // (spans() has them: they are never operands)
         case NodeKind::Csg:
         case NodeKind::Mesh: return;
     }
@@ -186,10 +290,20 @@ inline void Geometry::one_span(const Node& node, std::uint32_t n, const Vec3& o,
         case NodeKind::Sphere: sphere_spans(spheres[node.index], n, o, d, out); return;
         case NodeKind::Tetra: tetra_spans(tetras[node.index], n, o, d, out); return;
         case NodeKind::Cylinder: cylinder_spans(cylinders[node.index], n, o, d, out); return;
+        case NodeKind::Box: box_spans(boxes[node.index], n, o, d, out); return;
+        case NodeKind::Cone: cone_spans(cones[node.index], n, o, d, out); return;
         case NodeKind::Torus:
+        case NodeKind::Xform:
+        case NodeKind::Instance:
         case NodeKind::Csg:
         case NodeKind::Mesh: return;
     }
+}
+
+// Whether a node's solid gives at most one span (not a torus, which may give two; nor
+// a placed primitive, which may be a torus; nor a CSG).
+inline bool one_span_kind(NodeKind k) {
+    return k != NodeKind::Torus && k != NodeKind::Xform && k != NodeKind::Csg && k != NodeKind::Instance;
 }
 
 // A CSG of two primitives (l, r: its operands' nodes) neither of them a torus: one span
@@ -207,7 +321,7 @@ inline void Geometry::single_csg_spans(const CsgG& c, const Node& l, const Node&
 template <class Out>
 void Geometry::simple_csg_spans(const CsgG& c, const Vec3& o, const Vec3& d, Out& out) const {
     const Node &l = nodes[c.left], &r = nodes[c.right];
-    if (l.kind != NodeKind::Torus && r.kind != NodeKind::Torus) return single_csg_spans(c, l, r, o, d, out);
+    if (one_span_kind(l.kind) && one_span_kind(r.kind)) return single_csg_spans(c, l, r, o, d, out);
     SmallSpans<2> a, b;
     leaf_spans(c.left, o, d, a);
     if (a.n == 0 && c.type != CsgType::Union) return;
@@ -223,7 +337,25 @@ void Geometry::spans(std::uint32_t n, const Vec3& o, const Vec3& d, std::vector<
         case NodeKind::Tetra:
         case NodeKind::Cylinder:
         case NodeKind::Torus:
+        case NodeKind::Box:
+        case NodeKind::Cone:
+        case NodeKind::Xform:
         case NodeKind::Mesh: leaf_spans(n, o, d, out); return;
+        case NodeKind::Instance: {
+            // The definition's spans along the line in its space (t there is t here
+            // times the direction's length there).
+            const InstanceG& x = instances[node.index];
+            Vec3 ld = x.inst.to_model(d);
+            const double len = length(ld);
+            ld = ld / len;
+            std::vector<Span>& a = scratch.at(2 * depth);
+            spans(x.root, x.inst.point_to_model(o), ld, a, scratch, depth + 1);
+            for (Span sp : a) {
+                sp.in.t /= len, sp.out.t /= len;
+                out.push_back(sp);
+            }
+            return;
+        }
         case NodeKind::Csg: {
             const CsgG& c = csgs[node.index];
             std::vector<Span>& a = scratch.at(2 * depth);
@@ -259,6 +391,27 @@ Vec3 Geometry::normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const {
             Vec3 q = rl > 0 ? l - ring * (s.R / rl) : Vec3{0, 0, l.z};
             return s.frame.to_world(normalize(q));
         }
+        case NodeKind::Box: {
+            Vec3 n{0, 0, 0};
+            n[face >> 1 & 3] = face & 1 ? 1 : -1;
+            return n;
+        }
+        case NodeKind::Cone: {
+            const ConeG& s = cones[node.index];
+            if (face == 0) return -s.a;
+            if (face == 1) return s.a;
+            Vec3 w = p - s.e1;
+            Vec3 r = w - s.a * dot(w, s.a);
+            double rl = length(r);
+            // (At the apex itself, along the axis, away from the cone.)
+            if (!(rl > 0)) return s.k > 0 ? -s.a : s.a;
+            return normalize(r / rl - s.a * s.k);
+        }
+        case NodeKind::Xform: {
+            const XformG& x = xforms[node.index];
+            return normalize(x.inst.normal_to_world(normal(x.child, face, x.inst.point_to_model(p))));
+        }
+        case NodeKind::Instance:
         case NodeKind::Csg:
         case NodeKind::Mesh: break;
     }
@@ -268,6 +421,11 @@ Vec3 Geometry::normal(std::uint32_t n, std::uint8_t face, const Vec3& p) const {
 Vec3 Geometry::surface_normal(std::uint32_t obj, const SpanEnd& e, const Vec3& p) const {
     const Node& node = nodes[object_node[obj]];
     if (node.kind == NodeKind::Mesh) return mesh_normal(meshes[node.index], e, p);
+    if (node.kind == NodeKind::Instance) {
+        const InstanceG& x = instances[node.index];
+        Vec3 n = normalize(x.inst.normal_to_world(normal(e.node, e.face, x.inst.point_to_model(p))));
+        return e.flip ? -n : n;
+    }
     Vec3 n = normal(e.node, e.face, p);
     if (e.flip) n = -n;
     return n;
@@ -355,6 +513,49 @@ Aabb Geometry::bounds(std::uint32_t n) const {
             b.hi = s.c + ext;
             return b;
         }
+        case NodeKind::Box: {
+            const BoxG& s = boxes[node.index];
+            Aabb b;
+            b.lo = s.lo;
+            b.hi = s.hi;
+            return b;
+        }
+        case NodeKind::Cone: {
+            const ConeG& s = cones[node.index];
+            Vec3 e2 = s.e1 + s.a * s.len;
+            Vec3 u{std::sqrt(std::max(0.0, 1 - s.a.x * s.a.x)), std::sqrt(std::max(0.0, 1 - s.a.y * s.a.y)),
+                   std::sqrt(std::max(0.0, 1 - s.a.z * s.a.z))};
+            Aabb b;
+            b.grow(s.e1 - u * s.r1);
+            b.grow(s.e1 + u * s.r1);
+            b.grow(e2 - u * s.r2);
+            b.grow(e2 + u * s.r2);
+            return b;
+        }
+        case NodeKind::Instance: {
+            const InstanceG& x = instances[node.index];
+            return x.inst.world_bounds(bounds(x.root));
+        }
+        case NodeKind::Xform: {
+            const XformG& x = xforms[node.index];
+            const Node& child = nodes[x.child];
+            if (child.kind != NodeKind::Sphere) return x.inst.world_bounds(bounds(x.child));
+            // An ellipsoid's box exactly: its centre placed, and on axis i the radius
+            // times the length of row i of the linear part.
+            const SphereG& sp = spheres[child.index];
+            const Vec3 c = x.inst.point_to_world(sp.c);
+            Vec3 ext;
+            for (int i = 0; i < 3; ++i)
+                ext[i] = sp.r * std::sqrt(x.inst.l[i][0] * x.inst.l[i][0] + x.inst.l[i][1] * x.inst.l[i][1] +
+                                          x.inst.l[i][2] * x.inst.l[i][2]);
+            double m = 0;
+            for (int i = 0; i < 3; ++i) m = std::max({m, std::fabs(c[i]) + ext[i]});
+            ext += Vec3{1, 1, 1} * (m * 1e-9 + 1e-300);
+            Aabb b;
+            b.lo = c - ext;
+            b.hi = c + ext;
+            return b;
+        }
         case NodeKind::Mesh: {
             const MeshG& m = meshes[node.index];
             return m.model ? m.instance.world_bounds(m.model->bounds()) : Aabb();
@@ -391,9 +592,9 @@ template <class Sink>
 [[gnu::noinline]] bool Geometry::first_end(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanScratch& scratch, Sink&& sink) const {
     std::uint32_t n = object_node[obj];
     const Node& node = nodes[n];
-    if (node.kind != NodeKind::Csg) {
+    if (node.kind != NodeKind::Csg && node.kind != NodeKind::Instance) {
         leaf_spans(n, o, d, sink);
-    } else if (csgs[node.index].simple) {
+    } else if (node.kind == NodeKind::Csg && csgs[node.index].simple) {
         // Both operands primitives: no lists on the heap.
         simple_csg_spans(csgs[node.index], o, d, sink);
     } else {
@@ -408,7 +609,8 @@ bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, doub
                            SpanScratch& scratch) const {
     const std::uint32_t n = object_node[obj];
     const Node& node = nodes[n];
-    if (node.kind == NodeKind::Tetra || node.kind == NodeKind::Cylinder) {
+    if (node.kind == NodeKind::Tetra || node.kind == NodeKind::Cylinder || node.kind == NodeKind::Box ||
+        node.kind == NodeKind::Cone) {
         // One span at most: first_end()'s answer without its call and second lookup.
         OneSpan a;
         one_span(node, n, o, d, a);
@@ -421,7 +623,7 @@ bool Geometry::hit_general(std::uint32_t obj, const Vec3& o, const Vec3& d, doub
         // The common CSG (two operands of one span each) here, with a small frame.
         const CsgG& c = csgs[node.index];
         const Node &l = nodes[c.left], &r = nodes[c.right];
-        if (c.simple && l.kind != NodeKind::Torus && r.kind != NodeKind::Torus) {
+        if (c.simple && one_span_kind(l.kind) && one_span_kind(r.kind)) {
             OneSpan a, b;
             one_span(l, c.left, o, d, a);
             if (c.type != CsgType::Union) {
@@ -471,7 +673,7 @@ bool Geometry::exit(std::uint32_t obj, const Vec3& o, const Vec3& d, SpanEnd& ou
     const std::uint32_t n = object_node[obj];
     const Node& node = nodes[n];
     if (node.kind == NodeKind::Mesh) return mesh_hit(meshes[node.index], o, d, kDelta, out);
-    if (node.kind != NodeKind::Torus && node.kind != NodeKind::Csg) {
+    if (one_span_kind(node.kind)) {
         // One span at most, as in hit_general().
         OneSpan a;
         one_span(node, n, o, d, a);
@@ -497,9 +699,12 @@ std::size_t Geometry::model_bytes() const {
 
 namespace {
 
-MeshG mesh_g(const Mesh& s, const Material& material) {
+MeshG mesh_g(const Mesh& s, const Object& obj) {
+    const Material& material = obj.material;
     MeshG m;
-    m.instance = MeshInstance::make(s.position, s.scale, s.rotation);
+    // (A mesh's transform is its translate only: its rotation and scale are its own.)
+    m.instance = MeshInstance::make(obj.transform.set() ? s.position + obj.transform.get().translate : s.position,
+                                    s.scale, s.rotation);
     m.model = s.model;
     if (m.model) {
         m.accel = &m.model->accel();
@@ -510,8 +715,68 @@ MeshG mesh_g(const Mesh& s, const Material& material) {
     return m;
 }
 
-std::uint32_t add_node(Geometry& g, const Object& obj) {
+// a then b: the map p -> a(b(p)).
+MeshInstance compose(const MeshInstance& a, const MeshInstance& b) {
+    MeshInstance out;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            out.l[i][j] = a.l[i][0] * b.l[0][j] + a.l[i][1] * b.l[1][j] + a.l[i][2] * b.l[2][j];
+            out.m[i][j] = b.m[i][0] * a.m[0][j] + b.m[i][1] * a.m[1][j] + b.m[i][2] * a.m[2][j];
+        }
+    out.position = a.point_to_world(b.position);
+    return out;
+}
+
+// Each definition built so far (each once, however many placements): its root node
+// and that node's box in the definition's own space.
+struct Definition {
+    std::uint32_t root;
+    Aabb box;
+};
+using Definitions = std::unordered_map<const Object*, Definition>;
+
+// `placed`: the transform of the CSGs around obj, composed (null: none).
+std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* placed = nullptr, Definitions* defs = nullptr) {
     std::uint32_t id = std::uint32_t(g.nodes.size());
+    if (const Instance* in = std::get_if<Instance>(&obj.shape)) {
+        const Transform& t = obj.transform.get();
+        InstanceG x;
+        x.inst = MeshInstance::make(t.translate, t.scale, t.rotation);
+        g.nodes.push_back({NodeKind::Instance, std::uint32_t(g.instances.size())});
+        g.instances.push_back(x);
+        if (!in->defined) {
+            // (Not resolved: nothing to show. A sphere of radius 0 is never hit.)
+            g.instances.write(g.instances.size() - 1).root = std::uint32_t(g.nodes.size());
+            g.nodes.push_back({NodeKind::Sphere, std::uint32_t(g.spheres.size())});
+            g.spheres.push_back({{0, 0, 0}, 0, 0});
+            return id;
+        }
+        std::uint32_t root = 0;
+        bool found = false;
+        if (defs)
+            if (auto it = defs->find(in->defined.get()); it != defs->end()) root = it->second.root, found = true;
+        if (!found) {
+            root = add_node(g, *in->defined, nullptr, defs);
+            if (defs) defs->emplace(in->defined.get(), Definition{root, g.bounds(root)});
+        }
+        g.instances.write(g.instances.size() - 1).root = root;
+        return id;
+    }
+    MeshInstance own;
+    if (obj.transform.set() && !std::holds_alternative<Mesh>(obj.shape)) {
+        const Transform& t = obj.transform.get();
+        own = MeshInstance::make(t.translate, t.scale, t.rotation);
+        if (placed) own = compose(*placed, own);
+        placed = &own;
+    }
+    if (placed && !std::holds_alternative<Csg>(obj.shape) && !std::holds_alternative<Mesh>(obj.shape)) {
+        // The primitive, as written, in the node after this one.
+        g.nodes.push_back({NodeKind::Xform, std::uint32_t(g.xforms.size())});
+        XformG x;
+        x.inst = *placed;
+        x.child = id + 1;
+        g.xforms.push_back(x);
+    }
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
@@ -539,15 +804,27 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
             } else if constexpr (std::is_same_v<T, Torus>) {
                 g.nodes.push_back({NodeKind::Torus, std::uint32_t(g.tori.size())});
                 g.tori.push_back({s.position, Frame::from_axis(s.direction), std::fabs(s.major), std::fabs(s.minor)});
+            } else if constexpr (std::is_same_v<T, Box>) {
+                g.nodes.push_back({NodeKind::Box, std::uint32_t(g.boxes.size())});
+                const Vec3 &a = s.corner1, &b = s.corner2;
+                g.boxes.push_back({{std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)},
+                                   {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}});
+            } else if constexpr (std::is_same_v<T, Cone>) {
+                Vec3 axis = s.end2 - s.end1;
+                const double len = length(axis), r1 = std::fabs(s.radius1), r2 = std::fabs(s.radius2);
+                g.nodes.push_back({NodeKind::Cone, std::uint32_t(g.cones.size())});
+                g.cones.push_back({s.end1, normalize(axis), len, r1, r2, (r2 - r1) / len});
             } else if constexpr (std::is_same_v<T, Mesh>) {
                 g.nodes.push_back({NodeKind::Mesh, std::uint32_t(g.meshes.size())});
-                g.meshes.push_back(mesh_g(s, obj.material));
+                g.meshes.push_back(mesh_g(s, obj));
+            } else if constexpr (std::is_same_v<T, Instance>) {
+                // (handled above)
             } else {
                 g.nodes.push_back({NodeKind::Csg, std::uint32_t(g.csgs.size())});
                 std::uint32_t ci = std::uint32_t(g.csgs.size());
                 g.csgs.push_back({s.type, 0, 0});
-                std::uint32_t l = add_node(g, s.operands[0]);
-                std::uint32_t r = add_node(g, s.operands[1]);
+                std::uint32_t l = add_node(g, s.operands[0], placed);
+                std::uint32_t r = add_node(g, s.operands[1], placed);
                 CsgG& c = g.csgs.write(ci);
                 c.left = l;
                 c.right = r;
@@ -560,7 +837,7 @@ std::uint32_t add_node(Geometry& g, const Object& obj) {
 
 // Adds the object's shapes, its CSG operands' included, to count[] by the variant's
 // index.
-void count_shapes(const Object& obj, std::size_t count[6]) {
+void count_shapes(const Object& obj, std::size_t count[std::variant_size_v<Shape>]) {
     ++count[obj.shape.index()];
     if (const Csg* c = std::get_if<Csg>(&obj.shape))
         for (const Object& o : c->operands) count_shapes(o, count);
@@ -581,7 +858,9 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
                       std::is_same_v<std::variant_alternative_t<4, Shape>, Csg> &&
                       std::is_same_v<std::variant_alternative_t<5, Shape>, Mesh>,
                   "counted by the variant's index");
-    const bool sphere_first = n > 0 && objects[0].shape.index() == 0;
+    // (A sphere with a transform is no plain sphere: it ends the prefix.)
+    auto plain_sphere = [](const Object& o) { return o.shape.index() == 0 && !o.transform.set(); };
+    const bool sphere_first = n > 0 && plain_sphere(objects[0]);
     std::size_t i = 0;
     if (sphere_first) {
         g.spheres.reserve(n);
@@ -591,17 +870,25 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
     g.object_bounds.reserve(n);
     // Each object's box is made while its shape record is still in the cache (a pass
     // of its own would read a million spheres' records and nodes again).
-    auto add = [&g](const Object& obj) {
-        const std::uint32_t node = add_node(g, obj);
+    Definitions defs;
+    auto add = [&g, &defs](const Object& obj) {
+        const std::uint32_t node = add_node(g, obj, nullptr, &defs);
         g.object_node.push_back(node);
+        if (const Instance* in = std::get_if<Instance>(&obj.shape)) {
+            // (Its definition's box, made once: Geometry::bounds() without walking it again.)
+            if (auto it = defs.find(in->defined.get()); it != defs.end()) {
+                g.object_bounds.push_back(g.instances[g.nodes[node].index].inst.world_bounds(it->second.box));
+                return;
+            }
+        }
         g.object_bounds.push_back(g.bounds(node));
     };
     // The leading spheres: node i = object i = sphere i (Geometry::sphere_prefix).
-    for (; i < n && objects[i].shape.index() == 0; ++i) add(objects[i]);
+    for (; i < n && plain_sphere(objects[i]); ++i) add(objects[i]);
     g.sphere_prefix = std::uint32_t(i);
     if (i < n) {
         // Every shape, CSG operands too: each array is then made in one block.
-        std::size_t count[6] = {};
+        std::size_t count[std::variant_size_v<Shape>] = {};
         for (std::size_t j = i; j < n; ++j) count_shapes(objects[j], count);
         g.spheres.reserve(i + count[0]);
         g.tetras.reserve(count[1]);
@@ -609,7 +896,11 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
         g.tori.reserve(count[3]);
         g.csgs.reserve(count[4]);
         g.meshes.reserve(count[5]);
-        g.nodes.reserve(i + count[0] + count[1] + count[2] + count[3] + count[4] + count[5]);
+        g.boxes.reserve(count[6]);
+        g.cones.reserve(count[7]);
+        std::size_t nodes = i;
+        for (std::size_t c : count) nodes += c;
+        g.nodes.reserve(nodes);
         for (; i < n; ++i) add(objects[i]);
     }
     if (with_bvh) g.bvh.build(g.object_bounds);
@@ -620,10 +911,14 @@ Geometry build_geometry(const Scene& scene, bool with_bvh) {
 bool same_shapes(const Geometry& a, const Geometry& b) {
     static_assert(sizeof(SphereG) == 5 * sizeof(double) && sizeof(TetraG) == 16 * sizeof(double) &&
                       sizeof(CylinderG) == 8 * sizeof(double) && sizeof(TorusG) == 14 * sizeof(double) &&
+                      sizeof(BoxG) == 6 * sizeof(double) && sizeof(ConeG) == 10 * sizeof(double) &&
+                      sizeof(XformG) == 22 * sizeof(double) && sizeof(InstanceG) == 22 * sizeof(double) &&
                       sizeof(Aabb) == 6 * sizeof(double),
                   "shape records are plain doubles");
     if (!same_bits(a.spheres, b.spheres) || !same_bits(a.tetras, b.tetras) || !same_bits(a.cylinders, b.cylinders) ||
-        !same_bits(a.tori, b.tori) || !same_bits(a.object_node, b.object_node) ||
+        !same_bits(a.tori, b.tori) || !same_bits(a.boxes, b.boxes) || !same_bits(a.cones, b.cones) ||
+        !same_bits(a.xforms, b.xforms) || !same_bits(a.instances, b.instances) ||
+        !same_bits(a.object_node, b.object_node) ||
         !same_bits(a.object_bounds, b.object_bounds) || a.sphere_prefix != b.sphere_prefix)
         return false;
     if (a.meshes.size() != b.meshes.size()) return false;

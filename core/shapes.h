@@ -19,7 +19,7 @@ namespace rt {
 // 1.5e-5 world units: the original's surface tolerance.
 constexpr double kDelta = 1.5e-5;
 
-enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg, Mesh };
+enum class NodeKind : std::uint8_t { Sphere, Tetra, Cylinder, Torus, Csg, Mesh, Box, Cone, Xform, Instance };
 
 struct SphereG {
     Vec3 c;
@@ -38,6 +38,34 @@ struct TorusG {
     Vec3 c;
     Frame frame;  // frame.w is the axis
     double R, r;
+};
+// Faces: 2 k + 0 the low side on axis k, 2 k + 1 the high side.
+struct BoxG {
+    Vec3 lo, hi;
+};
+// A frustum: radius r1 at e1, r1 + k z at z along the unit axis a, up to len (k: the
+// change of radius per unit of length). Faces as the cylinder's.
+struct ConeG {
+    Vec3 e1, a;
+    double len, r1, r2, k;
+};
+// A primitive placed by a transform (its own and its CSGs', composed): the child node,
+// always the next one, holds the shape as written; rays are taken into its space, so
+// the shape stays exact (a scaled sphere is an ellipsoid), normals back by the
+// inverse transpose. The span ends it reports name this node.
+struct XformG {
+    MeshInstance inst;  // object -> world (l, position) and world -> object (m)
+    std::uint32_t child = 0;
+    std::uint32_t unused = 0;  // (no padding of unknown bytes: records compare by memcmp)
+};
+// A placement of a defined object (a top-level object only): the definition's nodes,
+// built once for every placement in its own space from `root`, seen through `inst`.
+// The span ends it reports name the definition's nodes, so their normals are taken
+// back by the object's (Geometry::surface_normal).
+struct InstanceG {
+    MeshInstance inst;
+    std::uint32_t root = 0;
+    std::uint32_t unused = 0;
 };
 struct CsgG {
     CsgType type;
@@ -96,6 +124,10 @@ struct Geometry {
     Chunked<TetraG> tetras;
     Chunked<CylinderG> cylinders;
     Chunked<TorusG> tori;
+    Chunked<BoxG> boxes;
+    Chunked<ConeG> cones;
+    Chunked<XformG> xforms;
+    Chunked<InstanceG> instances;
     Shared<CsgG> csgs;
     Shared<MeshG> meshes;  // instances of models (their triangles shared, not copied)
     Shared<Node> nodes;

@@ -53,6 +53,29 @@ Uv primitive_uv(const Geometry& g, std::uint32_t n, std::uint8_t face, const Vec
             const double ring = std::sqrt(l.x * l.x + l.y * l.y);
             return {turn(l.y, l.x), turn(l.z, ring - s.R)};
         }
+        case NodeKind::Box: {
+            // Each face by the two axes along it, in scene units per repeat.
+            const int k = (face >> 1) % 3, a = (k + 1) % 3, b = (k + 2) % 3;
+            return {p[a] / scale, p[b] / scale};
+        }
+        case NodeKind::Cone: {
+            // As the cylinder: round the axis, and along it (or out from it on the caps).
+            const ConeG& s = g.cones[node.index];
+            const Frame f = Frame::from_axis(s.a);
+            const Vec3 w = p - s.e1;
+            const double h = dot(w, s.a);
+            const Vec3 radial = w - s.a * h;
+            const double u = turn(dot(radial, f.v), dot(radial, f.u));
+            const double cap = face == 0 ? s.r1 : s.r2;
+            if (face == 0 || face == 1) return {u, cap > 0 ? length(radial) / cap : 0.0};
+            return {u, s.len > 0 ? h / s.len : 0.0};
+        }
+        case NodeKind::Xform: {
+            // The shape's own coordinates, where it is as written.
+            const XformG& x = g.xforms[node.index];
+            return primitive_uv(g, x.child, face, x.inst.point_to_model(p), scale);
+        }
+        case NodeKind::Instance:
         case NodeKind::Csg:
         case NodeKind::Mesh: break;
     }
@@ -126,7 +149,9 @@ void object_look(const Geometry& g, std::uint32_t obj, const SpanEnd& e, const V
     }
     cp = m->colour;
     if (!m->texture) return;
-    const Uv uv = primitive_uv(g, e.node, e.face, p, m->texture_scale);
+    // A placement of a defined object: its nodes are the definition's, in its space.
+    const Vec3 q = top.kind == NodeKind::Instance ? g.instances[top.index].inst.point_to_model(p) : p;
+    const Uv uv = primitive_uv(g, e.node, e.face, q, m->texture_scale);
     cp = mul(cp, m->texture->sample(uv.u, uv.v));
 }
 

@@ -97,6 +97,8 @@ struct Box {
         return x * y + y * z + z * x;
     }
 };
+// (Its name outside this file's namespace, where rt::Box, the scene's box, is seen too.)
+using BuildBox = Box;
 
 struct Bins {
     Box box[3][kBins];
@@ -394,7 +396,7 @@ TriangleAccel TriangleAccel::build(const MeshData& m, int threads) {
     TriBuilder builder{recs, spare};
     // The records and their bounds, a half on each of two threads (the bounds' union
     // is the same either way).
-    Box b, cb, half_b, half_cb;
+    BuildBox b, cb, half_b, half_cb;
     const std::size_t mid = n / 2;
     two_ways(threads > 1 && n >= kParallelItems, [&](int part) {
         const std::size_t begin = part ? mid : 0, end = part ? n : mid;

@@ -380,6 +380,40 @@ TEST_CASE("cli: --print-scene prints a normalised scene that reads back the same
     CHECK(read_all(dir / "a.ppm") == read_all(dir / "b.ppm"));
 }
 
+TEST_CASE("cli: --print-scene keeps includes, names and transforms; --flatten writes one whole scene") {
+    TempDir dir;
+    std::filesystem::create_directories(dir / "scenes" / "lib");
+    write_all(dir / "scenes" / "lib" / "parts.txt",
+              "define { material brass { colour 0.9 0.7 0.3 } }\n"
+              "thing { box { material brass corner_1 4 -1 0 corner_2 5 0 1 rotation 0 0 10 } }\n");
+    write_all(dir / "scenes" / "scene.txt",
+              "include \"lib/parts.txt\"\n"
+              "thing { sphere { material brass position 0 0 0 radius 0.5 scale 1 1 2 translate 5 1 1 } }\n"
+              "light { lamp { position 2 3 6 colour 50 50 50 size 0.2 } }\n"
+              "camera { position 0 0 1 centre 5 0 1 up 5 0 2 angle_x 60 angle_y 45 }\n"
+              "picture_size { x_max 32 y_max 24 }\nend\n");
+    Result printed = dir.run("--print-scene scenes/scene.txt");
+    REQUIRE(printed.status == 0);
+    CHECK(printed.out.rfind("include \"lib/parts.txt\"\nthing {\n  sphere {\n    material brass\n", 0) == 0);
+    CHECK(contains(printed.out, "    scale 1 1 2\n    translate 5 1 1\n"));
+    CHECK_FALSE(contains(printed.out, "box"));
+    Result flat = dir.run("--print-scene --flatten scenes/scene.txt");
+    REQUIRE(flat.status == 0);
+    CHECK_FALSE(contains(flat.out, "include"));
+    CHECK_FALSE(contains(flat.out, "brass"));
+    CHECK(contains(flat.out, "    rotation 0 0 10\n"));
+    // Both read back (the first from beside the scene, for its include), and all three
+    // render the same picture.
+    write_all(dir / "scenes" / "printed.txt", printed.out);
+    write_all(dir / "flat.txt", flat.out);
+    REQUIRE(dir.run("scenes/scene.txt a.ppm").status == 0);
+    REQUIRE(dir.run("scenes/printed.txt b.ppm").status == 0);
+    REQUIRE(dir.run("flat.txt c.ppm").status == 0);
+    CHECK(read_all(dir / "a.ppm") == read_all(dir / "b.ppm"));
+    CHECK(read_all(dir / "a.ppm") == read_all(dir / "c.ppm"));
+    CHECK(dir.run("--flatten scenes/scene.txt x.ppm").status == 2);
+}
+
 TEST_CASE("cli: --help-format prints the format's reference to stdout, exit 0, with no scene") {
     TempDir dir;
     Result r = dir.run("--help-format");

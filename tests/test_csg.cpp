@@ -33,7 +33,7 @@ using rt_test::Prim;
 // Primitives near the origin, so that operands overlap.
 Prim random_prim(Rng& rng) {
     Prim p;
-    p.kind = Prim::Kind(int(rng.uni() * 4) % 4);
+    p.kind = Prim::Kind(int(rng.uni() * 6) % 6);
     switch (p.kind) {
         case Prim::Sph:
             p.c = rng.in_ball(1);
@@ -58,6 +58,16 @@ Prim random_prim(Rng& rng) {
             p.axis = rng.unit();
             p.R = rng.uni(0.5, 1.3);
             p.r = rng.uni(0.15, 0.8) * p.R;
+            break;
+        case Prim::Bx:
+            p.e1 = rng.in_ball(1.2);
+            for (int k = 0; k < 3; ++k) p.e2[k] = p.e1[k] + (rng.uni() < 0.5 ? -1 : 1) * rng.uni(0.3, 2);
+            break;
+        case Prim::Con:
+            p.e1 = rng.in_ball(1.2);
+            p.e2 = p.e1 + rng.unit() * rng.uni(0.4, 2.5);
+            p.r = rng.uni() < 0.3 ? 0.0 : rng.uni(0.15, 1.1);
+            p.r2 = p.r == 0 || rng.uni() < 0.4 ? rng.uni(0.15, 1.1) : 0.0;
             break;
     }
     return p;

@@ -723,8 +723,8 @@ TEST_CASE("mesh: block errors, file names with and without quotes, and no mesh i
     CHECK(first_error("mesh { file \"\" }") == "the file name is empty");
     CHECK(first_error("mesh { file { } }") == "expected a file name in double quotes after 'file', got '{'");
     CHECK(first_error("constructive_solid_geometry { left { mesh { file a.obj } } right { sphere { } } }") ==
-          "a mesh cannot be a CSG operand: CSG combines solids (sphere, tetrahedron, cylinder, torus, "
-          "constructive_solid_geometry)");
+          "a mesh cannot be a CSG operand: CSG combines solids (sphere, tetrahedron, cylinder, torus, box, "
+          "cone, constructive_solid_geometry)");
     ParseResult r = parse_scene("thing { mesh { file \"my models/a b.obj\" scale 2 } mesh { file c.ply scale 1 2 3 } }\n" + tail, o);
     REQUIRE(r.ok());
     CHECK(std::get<Mesh>(r.scene.objects[0].shape).file == "my models/a b.obj");

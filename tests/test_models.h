@@ -25,11 +25,12 @@ namespace rt_test {
 // distance, for the tetrahedron and cylinder the largest signed distance to a
 // bounding plane or tube.
 struct Prim {
-    enum Kind { Sph, Tet, Cyl, Tor } kind = Sph;
+    enum Kind { Sph, Tet, Cyl, Tor, Bx, Con } kind = Sph;
     rt::Vec3 c;              // sphere centre, torus centre
     double r = 1;            // sphere radius, cylinder radius, torus minor
     rt::Vec3 v[4];           // tetrahedron corners
-    rt::Vec3 e1, e2;         // cylinder ends
+    rt::Vec3 e1, e2;         // cylinder and cone ends, box corners
+    double r2 = 0;           // cone radius at e2 (r: at e1)
     rt::Vec3 axis{0, 0, 1};  // torus axis (any length: the format normalises it)
     double R = 1;            // torus major
 
@@ -43,6 +44,8 @@ struct Prim {
             }
             case Cyl: return rt::Cylinder{e1, e2, r};
             case Tor: return rt::Torus{c, axis, R, r};
+            case Bx: return rt::Box{e1, e2};
+            case Con: return rt::Cone{e1, e2, r, r2};
         }
         return rt::Sphere{};
     }
@@ -107,6 +110,24 @@ struct Prim {
                 out[0] = std::sqrt((R - rho) * (R - rho) + l.z * l.z) - r;
                 return 1;
             }
+            case Bx:
+                // Per axis: the distance outside the slab between the corners (< 0 inside).
+                for (int k = 0; k < 3; ++k)
+                    out[k] = std::fabs(p[k] - (e1[k] + e2[k]) / 2) - std::fabs(e2[k] - e1[k]) / 2;
+                return 3;
+            case Con: {
+                // Caps as the cylinder's; the side: how far beyond the radius at that
+                // height, measured square to the slanted side.
+                rt::Vec3 a = rt::normalize(e2 - e1);
+                double len = length(e2 - e1);
+                double s = dot(p - e1, a);
+                double radial = length((p - e1) - a * s);
+                double k = (r2 - r) / len;
+                out[0] = -s;
+                out[1] = s - len;
+                out[2] = (radial - (r + k * s)) / std::sqrt(1 + k * k);
+                return 3;
+            }
         }
         return 0;
     }
@@ -155,6 +176,11 @@ struct Prim {
                 radius = std::sqrt(length2(e2 - e1) / 4 + r * r);
                 return;
             case Tor: centre = c, radius = R + r; return;
+            case Bx: centre = (e1 + e2) / 2, radius = length(e2 - e1) / 2; return;
+            case Con:
+                centre = (e1 + e2) / 2;
+                radius = std::sqrt(length2(e2 - e1) / 4 + std::max(r, r2) * std::max(r, r2));
+                return;
         }
     }
 };

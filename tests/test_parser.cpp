@@ -437,14 +437,14 @@ TEST_CASE("errors: an unknown key in each block names exactly that block's keys"
         const char* message;
     };
     const Case cases[] = {
-        {"thing { sphere { bogus 1 } }", "unknown key 'bogus' in sphere (expected position, radius, material)"},
+        {"thing { sphere { bogus 1 } }", "unknown key 'bogus' in sphere (expected position, radius, material, rotation, scale, translate)"},
         {"thing { tetrahedron { vect2 1 0 0 vect3 0 1 0 vect4 0 0 1 bogus 1 } }",
-         "unknown key 'bogus' in tetrahedron (expected vect1, vect2, vect3, vect4, material)"},
-        {"thing { cylinder { bogus 1 } }", "unknown key 'bogus' in cylinder (expected end_1, end_2, radius, material)"},
+         "unknown key 'bogus' in tetrahedron (expected vect1, vect2, vect3, vect4, material, rotation, scale, translate)"},
+        {"thing { cylinder { bogus 1 } }", "unknown key 'bogus' in cylinder (expected end_1, end_2, radius, material, rotation, scale, translate)"},
         {"thing { torus { bogus 1 } }",
-         "unknown key 'bogus' in torus (expected position, direction, major, minor, material)"},
+         "unknown key 'bogus' in torus (expected position, direction, major, minor, material, rotation, scale, translate)"},
         {"thing { constructive_solid_geometry { left { sphere { } } right { sphere { } } bogus 1 } }",
-         "unknown key 'bogus' in constructive_solid_geometry (expected left, right, type, material)"},
+         "unknown key 'bogus' in constructive_solid_geometry (expected left, right, type, material, rotation, scale, translate)"},
         {"thing { sphere { material { bogus 1 } } }",
          "unknown key 'bogus' in material (expected reflection, refraction, scattering, translusans, "
          "refractive_index, colour, specular, shininess, texture, texture_scale)"},
@@ -456,7 +456,7 @@ TEST_CASE("errors: an unknown key in each block names exactly that block's keys"
          "unknown key 'bogus' in camera (expected position, centre, up, projection, angle_x, angle_y, aperture, focus_distance, background)"},
         {"picture_size { bogus 1 }", "unknown key 'bogus' in picture_size (expected x_max, y_max)"},
         // A key of another block is just as unknown: none is taken for a default.
-        {"thing { sphere { major 1 } }", "unknown key 'major' in sphere (expected position, radius, material)"},
+        {"thing { sphere { major 1 } }", "unknown key 'major' in sphere (expected position, radius, material, rotation, scale, translate)"},
         {"light { spotlight { size 1 } }", "unknown key 'size' in spotlight (expected position, colour, radius)"},
         {"special_thing { plane { radius 1 } }", "unknown key 'radius' in plane (expected point, material)"},
         {"picture_size { position 1 }", "unknown key 'position' in picture_size (expected x_max, y_max)"},
@@ -473,8 +473,8 @@ TEST_CASE("errors: an unknown key in each block names exactly that block's keys"
     }
     auto section = parse_with_camera("scenery { }");
     CHECK(first_error(section).message ==
-          "unknown section 'scenery' (expected thing, special_thing, light, camera, picture_size or end)");
+          "unknown section 'scenery' (expected include, define, thing, special_thing, light, camera, picture_size or end)");
     auto object = parse_with_camera("thing { cube { } }");
     CHECK(first_error(object).message ==
-          "unknown object 'cube' (expected sphere, tetrahedron, cylinder, torus, constructive_solid_geometry, mesh)");
+          "unknown object 'cube' (expected sphere, tetrahedron, cylinder, torus, box, cone, constructive_solid_geometry, mesh, instance)");
 }

@@ -68,8 +68,33 @@ Model random_torus(Rng& rng) {
     return m;
 }
 
+Model random_box(Rng& rng) {
+    Model m;
+    m.kind = Model::Bx;
+    m.e1 = {rng.uni(-2, 2), rng.uni(-2, 2), rng.uni(-2, 2)};
+    // Corners in any order, each side at least 0.2.
+    for (int k = 0; k < 3; ++k) m.e2[k] = m.e1[k] + (rng.uni() < 0.5 ? -1 : 1) * rng.uni(0.2, 2.5);
+    return m;
+}
+
+// Cones pointed at either end, and frustums.
+Model random_cone(Rng& rng) {
+    Model m;
+    m.kind = Model::Con;
+    m.e1 = {rng.uni(-2, 2), rng.uni(-2, 2), rng.uni(-2, 2)};
+    m.e2 = m.e1 + rng.unit() * rng.uni(0.3, 3);
+    m.r = rng.uni(0.1, 1.5);
+    m.r2 = rng.uni(0.1, 1.5);
+    const double pick = rng.uni();
+    if (pick < 0.3) m.r2 = 0;
+    else if (pick < 0.6) m.r = 0;
+    return m;
+}
+
 Model random_model(Rng& rng, int kind) {
     switch (kind) {
+        case Model::Bx: return random_box(rng);
+        case Model::Con: return random_cone(rng);
         case Model::Sph: return random_sphere(rng);
         case Model::Tet: return random_tetra(rng);
         case Model::Cyl: return random_cylinder(rng);
@@ -126,14 +151,14 @@ void check_spans_against_model(const Model& m, const Compiled& cg, const Line& l
 }
 
 const char* kind_name(int kind) {
-    static const char* names[] = {"sphere", "tetrahedron", "cylinder", "torus"};
+    static const char* names[] = {"sphere", "tetrahedron", "cylinder", "torus", "box", "cone"};
     return names[kind];
 }
 
 }  // namespace
 
 TEST_CASE("shape: spans of random rays against random primitives agree with point membership") {
-    for (int kind = Model::Sph; kind <= Model::Tor; ++kind) {
+    for (int kind = Model::Sph; kind <= Model::Con; ++kind) {
         CAPTURE(kind_name(kind));
         Rng rng(1234u + unsigned(kind));
         Failures f;
@@ -154,7 +179,7 @@ TEST_CASE("shape: spans of random rays against random primitives agree with poin
 }
 
 TEST_CASE("shape: hit from outside is the first span entry, exit from inside the first span end") {
-    for (int kind = Model::Sph; kind <= Model::Tor; ++kind) {
+    for (int kind = Model::Sph; kind <= Model::Con; ++kind) {
         CAPTURE(kind_name(kind));
         Rng rng(777u + unsigned(kind));
         Failures f;
@@ -467,4 +492,102 @@ TEST_CASE("shape: spindle torus (minor > major, the format default) is solid ins
     bool hit = cg.g.hit(0, {0, 0, -5}, {0, 0, 1}, 0, e, scratch);
     CHECK(hit);
     if (hit) CHECK(e.t == doctest::Approx(5 - std::sqrt(3.0)).epsilon(1e-9));
+}
+
+namespace {
+// The spans of one object along o + t d (d made unit here).
+std::vector<Span> spans_of(const Shape& shape, const Vec3& o, const Vec3& d, rt_test::CompiledObject*& keep) {
+    Object obj;
+    obj.shape = shape;
+    keep = new rt_test::CompiledObject(obj);
+    std::vector<Span> out;
+    SpanScratch scratch;
+    keep->g.spans(keep->node, o, normalize(d), out, scratch);
+    return out;
+}
+bool near(const Vec3& a, const Vec3& b, double tol = 1e-12) { return length(a - b) <= tol; }
+}  // namespace
+
+TEST_CASE("shape: box spans and normals at hand-computed points, corners in any order") {
+    rt_test::CompiledObject* c = nullptr;
+    for (const Box& box : {Box{{1, 2, 3}, {3, 5, 4}}, Box{{3, 5, 4}, {1, 2, 3}}, Box{{1, 5, 3}, {3, 2, 4}}}) {
+        auto s = spans_of(box, {0, 3, 3.5}, {1, 0, 0}, c);
+        REQUIRE(s.size() == 1);
+        CHECK(s[0].in.t == 1);
+        CHECK(s[0].out.t == 3);
+        CHECK(near(c->g.normal(s[0].in.node, s[0].in.face, {1, 3, 3.5}), {-1, 0, 0}));
+        CHECK(near(c->g.normal(s[0].out.node, s[0].out.face, {3, 3, 3.5}), {1, 0, 0}));
+        delete c;
+        s = spans_of(box, {2, 3.5, 10}, {0, 0, -1}, c);
+        REQUIRE(s.size() == 1);
+        CHECK(s[0].in.t == 6);
+        CHECK(s[0].out.t == 7);
+        CHECK(near(c->g.normal(s[0].in.node, s[0].in.face, {2, 3.5, 4}), {0, 0, 1}));
+        // Bounds are the box itself.
+        const Aabb b = c->g.bounds(c->node);
+        CHECK(b.lo == Vec3{1, 2, 3});
+        CHECK(b.hi == Vec3{3, 5, 4});
+        delete c;
+        // A line beside it misses; one along a face's plane, outside, too.
+        CHECK(spans_of(box, {0, 6, 3.5}, {1, 0, 0}, c).empty());
+        delete c;
+        // Diagonal: enters through x = 1 at y = 3 (t = sqrt 2), leaves through y = 5 at x = 3.
+        s = spans_of(box, {0, 2, 3.5}, {1, 1, 0}, c);
+        REQUIRE(s.size() == 1);
+        CHECK(s[0].in.t == doctest::Approx(std::sqrt(2.0)).epsilon(1e-14));
+        CHECK(s[0].out.t == doctest::Approx(3 * std::sqrt(2.0)).epsilon(1e-14));
+        delete c;
+    }
+}
+
+TEST_CASE("shape: cone and frustum spans and normals at hand-computed points") {
+    rt_test::CompiledObject* c = nullptr;
+    // Radius 1 at the origin to a point at z = 2: radius 0.5 at z = 1.
+    const Cone cone{{0, 0, 0}, {0, 0, 2}, 1, 0};
+    auto s = spans_of(cone, {-5, 0, 1}, {1, 0, 0}, c);
+    REQUIRE(s.size() == 1);
+    CHECK(s[0].in.t == doctest::Approx(4.5).epsilon(1e-14));
+    CHECK(s[0].out.t == doctest::Approx(5.5).epsilon(1e-14));
+    CHECK(near(c->g.normal(s[0].in.node, s[0].in.face, {-0.5, 0, 1}), Vec3{-1, 0, 0.5} / std::sqrt(1.25), 1e-14));
+    const Aabb b = c->g.bounds(c->node);
+    CHECK(near(b.lo, {-1, -1, 0}));
+    CHECK(near(b.hi, {1, 1, 2}));
+    delete c;
+    // Down at x = 0.25: the side where the radius is 0.25 (z = 1.5), out through the base.
+    s = spans_of(cone, {0.25, 0, 10}, {0, 0, -1}, c);
+    REQUIRE(s.size() == 1);
+    CHECK(s[0].in.t == doctest::Approx(8.5).epsilon(1e-14));
+    CHECK(s[0].out.t == 10);
+    CHECK(near(c->g.normal(s[0].out.node, s[0].out.face, {0.25, 0, 0}), {0, 0, -1}));
+    delete c;
+    // Above the tip: the mirror image of the cone past its point is not part of it.
+    CHECK(spans_of(cone, {-5, 0, 3}, {1, 0, 0}, c).empty());
+    delete c;
+    CHECK(spans_of(cone, {0.5, 0, 10}, {0, 0, -1}, c).size() == 1);  // (through the base's edge region)
+    delete c;
+    // Along the axis, point first: enters at the tip, leaves through the base.
+    s = spans_of(cone, {0, 0, 5}, {0, 0, -1}, c);
+    REQUIRE(s.size() == 1);
+    CHECK(s[0].in.t == doctest::Approx(3).epsilon(1e-14));
+    CHECK(s[0].out.t == 5);
+    delete c;
+    // A frustum, radius 1 at z 0 to 0.5 at z 2, along its axis: cap to cap.
+    const Cone frustum{{0, 0, 0}, {0, 0, 2}, 1, 0.5};
+    s = spans_of(frustum, {0, 0, -3}, {0, 0, 1}, c);
+    REQUIRE(s.size() == 1);
+    CHECK(s[0].in.t == 3);
+    CHECK(s[0].out.t == 5);
+    CHECK(near(c->g.normal(s[0].in.node, s[0].in.face, {0, 0, 0}), {0, 0, -1}));
+    CHECK(near(c->g.normal(s[0].out.node, s[0].out.face, {0, 0, 2}), {0, 0, 1}));
+    delete c;
+    // Across at z = 1 (radius 0.75), and a cone whose point is at end_1.
+    s = spans_of(frustum, {0, -4, 1}, {0, 1, 0}, c);
+    REQUIRE(s.size() == 1);
+    CHECK(s[0].in.t == doctest::Approx(3.25).epsilon(1e-14));
+    CHECK(s[0].out.t == doctest::Approx(4.75).epsilon(1e-14));
+    delete c;
+    s = spans_of(Cone{{0, 0, 2}, {0, 0, 0}, 0, 1}, {-5, 0, 1}, {1, 0, 0}, c);
+    REQUIRE(s.size() == 1);
+    CHECK(s[0].in.t == doctest::Approx(4.5).epsilon(1e-14));
+    delete c;
 }

@@ -256,9 +256,14 @@ inline void translate(rt::Object& o, const rt::Vec3& d) {
             using T = std::decay_t<decltype(x)>;
             if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus> || std::is_same_v<T, rt::Mesh>)
                 x.position = x.position + d;
-            else if constexpr (std::is_same_v<T, rt::Cylinder>) x.end1 = x.end1 + d, x.end2 = x.end2 + d;
+            else if constexpr (std::is_same_v<T, rt::Cylinder> || std::is_same_v<T, rt::Cone>)
+                x.end1 = x.end1 + d, x.end2 = x.end2 + d;
+            else if constexpr (std::is_same_v<T, rt::Box>)
+                x.corner1 = x.corner1 + d, x.corner2 = x.corner2 + d;
             else if constexpr (std::is_same_v<T, rt::Tetrahedron>)
                 for (rt::Vec3& v : x.v) v = v + d;
+            else if constexpr (std::is_same_v<T, rt::Instance>)
+                o.transform.edit().translate = o.transform.get().translate + d;
             else
                 for (rt::Object& op : x.operands) translate(op, d);
         },

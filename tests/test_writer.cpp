@@ -241,6 +241,11 @@ TEST_CASE("round trip: every object kind, with and without materials") {
     to.minor = 0.2;
     s.objects.push_back(with_material(to, material(0.4, 0, 0.6, 0, 1, {1, 0.8, 0.2})));
     s.objects.push_back(bare(Torus{}));  // the odd defaults (minor 2 > major 1)
+    s.objects.push_back(with_material(Box{{1, 2, 3}, {-0.5, 0.25, 7}}, material(0, 0, 1, 1, 1, {0.2, 0.9, 0.1})));
+    s.objects.push_back(bare(Box{}));
+    s.objects.push_back(with_material(Cone{{1, 2, 3}, {2, 3, 1}, 0, 0.75}, material(0, 0, 1, 1, 1, {1, 1, 0})));
+    s.objects.push_back(bare(Cone{{0, 0, 0}, {1, 0, 0}, 0.5, 0.25}));
+    s.objects.push_back(bare(Cone{}));
     // Values the parser clamps are stored clamped, so write what is stored.
     s.objects.push_back(with_material(sphere({0, 0, 0}, 1), material(0, 0, 1, 0, 1, {2, -1, 0})));
     // All-zero weights only warn.
@@ -377,7 +382,24 @@ struct RandomScene {
     }
 
     Shape leaf() {
-        switch (integer(0, 3)) {
+        switch (integer(0, 5)) {
+            case 4: {
+                Box b;
+                b.corner1 = vec(100);
+                for (int k = 0; k < 3; ++k)
+                    do b.corner2[k] = b.corner1[k] + (coin() ? 1 : -1) * positive(10);
+                    while (b.corner2[k] == b.corner1[k]);
+                return b;
+            }
+            case 5: {
+                Cone c;
+                c.end1 = vec(100);
+                do c.end2 = vec(100);
+                while (c.end2 == c.end1);
+                c.radius1 = coin() ? 0.0 : positive(10);
+                c.radius2 = c.radius1 == 0 || coin() ? positive(10) : 0.0;
+                return c;
+            }
             case 0: return sphere(vec(100), positive(10));
             case 1: {
                 // Corners of a well-shaped tetrahedron, jittered (the parser rejects flat ones).
@@ -562,7 +584,17 @@ TEST_CASE("round trip: every key the schema lists, changed one at a time, is wri
                     if (auto* m = std::get_if<Mesh>(&item.shape)) m->file = "models/a b.obj";  // none by default
                 }
                 change_key(k, item, i, 0.375);
-                Scene s = parse_ok(kCamera + "picture_size { x_max 4 y_max 4 }\nend\n");
+                // Two defined objects for an instance to name (its name changed: the other).
+                Scene s = parse_ok("define { object ball { sphere { radius 2 } } object crate { box { } } }\n" + kCamera +
+                                   "picture_size { x_max 4 y_max 4 }\nend\n");
+                if constexpr (std::is_same_v<decltype(item), Object>) {
+                    if (auto* in = std::get_if<Instance>(&item.shape)) {
+                        const int d = k.name == "object" ? 1 : 0;
+                        in->object = s.defined[std::size_t(d)].name;
+                        in->defined = s.defined[std::size_t(d)].object;
+                        if (!item.has_material) item.material = in->defined->material;
+                    }
+                }
                 get_list(s).push_back(item);
                 const std::string text = write_scene(s);
                 CHECK(text.find(section + " {") != std::string::npos);
@@ -585,7 +617,8 @@ TEST_CASE("round trip: every key the schema lists, changed one at a time, is wri
                    [](Scene& s) -> std::vector<Plane>& { return s.planes; });
     for (const auto& b : schema::light_blocks())
         check_item("light", std::string(b.name), b.make, b, [](Scene& s) -> std::vector<Light>& { return s.lights; });
-    CHECK(keys == 3 + 5 + 4 + 5 + 4 + 6 + (4 + 1) + (4 + 2) + 4 + 3);  // sphere ... mesh ... spotlight
+    // sphere ... box, cone, CSG (each with rotation, scale, translate), mesh (translate) ... spotlight
+    CHECK(keys == (3 + 5 + 4 + 5 + 3 + 5 + 4) + 7 * 3 + 6 + 1 + 2 + 3 + (4 + 1) + (4 + 2) + 4 + 3);  // (instance: 2 + 3)
 
     // Camera, picture size and material keys through whole scenes.
     for (const auto& k : schema::camera_block().keys) {
@@ -651,7 +684,9 @@ void blocks_read_back(const std::string& ref, const std::string& frame, const ch
                 const bool there = rt_test::contains(line, "  " + key) || rt_test::contains(line, "{ " + key);
                 CHECK_MESSAGE(there, "key " << key);
             }
-        const std::string text = std::string(section) + " {\n" + spelled(line, material) + "\n}\n" + frame;
+        // (An instance's line names an object, defined here.)
+        const std::string define = rt_test::contains(line, "object NAME") ? "define { object NAME { sphere { } } }\n" : "";
+        const std::string text = define + std::string(section) + " {\n" + spelled(line, material) + "\n}\n" + frame;
         const ParseResult r = parse_scene(text, rt_test::options_for(RT_SOURCE_DIR "/tests/models"));
         T want = b.make();
         for (const schema::Key<T>& k : b.keys)
@@ -708,7 +743,8 @@ TEST_CASE("format_reference: every block's line reads back as the block's defaul
     // Each section is named in file order, and each rule a value can break is there.
     std::size_t at = 0;
     for (const schema::Section& s : schema::sections()) {
-        const std::size_t next = ref.find("\n" + std::string(s.name) + (s.kind == schema::SectionKind::End ? "\n" : " {"), at);
+        const char* after = s.kind == schema::SectionKind::End ? "\n" : s.kind == schema::SectionKind::Include ? " \"" : " {";
+        const std::size_t next = ref.find("\n" + std::string(s.name) + after, at);
         CHECK_MESSAGE(next != std::string::npos, "section " << std::string(s.name));
         if (next != std::string::npos) at = next;
     }

@@ -193,6 +193,8 @@ rtargs::Table option_table(const Program& program, Options& o) {
                                       return rt::Status();
                                   }),
              flag("--print-scene", "print SCENE in normalised form to stdout; render nothing", o.print_scene),
+             flag("--flatten", "with --print-scene: named materials and included files\n"
+                               "written out in full, as one scene file", o.flatten),
              flag("--help-format", "print the scene format in brief (every block and key, its\n"
                                    "default and its rules) and exit", o.help_format, true),
              flag("--version", "print the version and exit", o.version, true),
@@ -253,6 +255,7 @@ rt::Status read_and_parse(const Program& program, const std::string& path, Text&
     rt::ParseOptions popts;
     popts.max_errors = kMaxShownDiagnostics;
     popts.base_dir = rt::folder_of(path);  // mesh files are named relative to the scene
+    popts.scene_file = path;              // (an include of the scene itself is a cycle)
     rt::ParseResult result = rt::parse_scene(view, popts);
     if (rt::Status st = result.status(path, kMaxShownDiagnostics); !st) return st;
     std::cerr << rt::diagnostics_report(path, result.diagnostics, kMaxShownDiagnostics);  // the warnings
@@ -335,10 +338,10 @@ rt::RenderSettings render_settings(const Options& o, int width, int height) {
     return rt::final_settings(o.render, width, height);
 }
 
-rt::Status print_scene(const Program& program, rt::Scene scene) {
+rt::Status print_scene(const Program& program, rt::Scene scene, bool flatten) {
     for (rt::Object& o : scene.objects) o.has_material = true;
     for (rt::Plane& p : scene.planes) p.has_material = p.has_material2 = true;
-    return print_to_stdout(program, rt::write_scene(scene));
+    return print_to_stdout(program, rt::write_scene(scene, flatten));
 }
 
 rt::Status print_to_stdout(const Program& program, const std::string& text) {

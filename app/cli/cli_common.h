@@ -44,6 +44,7 @@ struct Options {
     // --samples, --time-limit, --aa-threshold, --threads, --max-depth, --tile, --mirror
     rt::RenderRequest render;
     bool quiet = false, stats = false, print_scene = false;
+    bool flatten = false;  // --print-scene --flatten
     bool help = false, version = false, help_format = false;  // printed by print_help_or_version
     std::optional<std::string> check;
     std::vector<std::string> positional;
@@ -92,7 +93,7 @@ rt::RenderSettings render_settings(const Options& o, int width, int height);
 // --print-scene: writes the scene in normalised form, every default written out,
 // including the material an object or plane gets without a material block. Both
 // programs print through here, so their outputs agree.
-rt::Status print_scene(const Program& program, rt::Scene scene);
+rt::Status print_scene(const Program& program, rt::Scene scene, bool flatten = false);
 
 // Writes `text` to stdout and flushes it; a failure says why (a full disk, a closed
 // stdout), kExitUsage.

@@ -157,6 +157,13 @@ public:
 
     std::string scene() {
         std::vector<std::string> sections;
+        // Now and then definitions first: a named material and object the things may use.
+        std::string define;
+        if (kDefinitions && c_.one_in(3)) {
+            define = "define {\n  material gold " + material("").substr(1) + "\n";
+            defined_ = true;
+            define += "  object post { " + object(1) + " }\n}\n";
+        }
         const int things = c_.between(0, 2);
         for (int k = 0; k < things; ++k) sections.push_back(section("thing", objects()));
         if (c_.below(3)) sections.push_back(section("special_thing", planes()));
@@ -165,6 +172,7 @@ public:
         if (!c_.one_in(24)) sections.push_back(picture_size());
         for (std::size_t i = sections.size(); i > 1; --i) std::swap(sections[i - 1], sections[c_.below(unsigned(i))]);
         std::string out = c_.one_in(3) ? "// a scene\n" : "";
+        out += define;
         for (const std::string& s : sections) out += s;
         out += "end\n";
         if (c_.one_in(6)) out += c_.one_in(2) ? "after the end { thing {\n" : "camera { }\n";
@@ -209,13 +217,19 @@ private:
         return block(name, std::move(k));
     }
     void maybe_material(std::vector<std::string>& k) {
-        if (c_.below(3)) k.push_back(material());
+        if (defined_ && c_.one_in(4)) k.push_back("material gold");
+        else if (c_.below(3)) k.push_back(material());
+        // Placement keys now and then (the same call for every object kind).
+        if (c_.one_in(5)) k.push_back("rotation " + vec({double(c_.between(-2, 2) * 45), 0, double(c_.between(0, 7) * 15)}));
+        if (c_.one_in(6)) k.push_back(c_.one_in(2) ? "scale " + num(c_.between(1, 8) / 4.0)
+                                                    : "scale " + vec({1, c_.between(1, 8) / 4.0, 0.5}));
+        if (c_.one_in(5)) k.push_back("translate " + vec({0, c_.between(-2, 2) / 2.0, c_.between(0, 2) / 2.0}));
     }
     rt::Vec3 point() { return {double(c_.between(-6, 12)), double(c_.between(-6, 6)), c_.between(0, 8) / 2.0}; }
     std::string object(int depth) {
         std::vector<std::string> k;
         const rt::Vec3 p = point();
-        switch (c_.below(depth < 3 ? 5 : 4)) {
+        switch (c_.below(depth < 3 ? 7 : 6)) {
             case 0:
                 k = {"position " + vec(p), "radius " + num(c_.between(1, 20) / 10.0)};
                 maybe_material(k);
@@ -236,6 +250,19 @@ private:
                 if (c_.one_in(2)) k.push_back("direction " + vec({0, double(c_.between(0, 1)), 1}));
                 maybe_material(k);
                 return block("torus", std::move(k));
+            case 4:
+                k = {"corner_1 " + vec(p),
+                     "corner_2 " + vec(p + rt::Vec3{c_.between(1, 4) / 2.0, -c_.between(1, 4) / 2.0, c_.between(1, 4) / 2.0})};
+                maybe_material(k);
+                return block("box", std::move(k));
+            case 5: {
+                double r1 = c_.between(0, 10) / 10.0, r2 = c_.between(1, 10) / 10.0;
+                if (c_.one_in(2)) std::swap(r1, r2);  // either end may be the point
+                k = {"end_1 " + vec(p), "end_2 " + vec(p + rt::Vec3{0, c_.between(-2, 2) / 2.0, c_.between(1, 4) / 2.0}),
+                     "radius_1 " + num(r1), "radius_2 " + num(r2)};
+                maybe_material(k);
+                return block("cone", std::move(k));
+            }
             default:
                 k = {"type " + std::string(1, "UIC"[c_.below(3)]), "left { " + object(depth + 1) + " }",
                      "right { " + object(depth + 1) + " }"};
@@ -245,7 +272,15 @@ private:
     }
     std::vector<std::string> objects() {
         std::vector<std::string> out(std::size_t(c_.between(0, 5)));
-        for (std::string& o : out) o = object(0);
+        for (std::string& o : out) {
+            if (defined_ && kInstances && c_.one_in(4)) {
+                std::vector<std::string> k = {"object post"};
+                maybe_material(k);
+                o = block("instance", std::move(k));
+                continue;
+            }
+            o = object(0);
+        }
         return out;
     }
     std::vector<std::string> planes() {
@@ -303,6 +338,13 @@ private:
     }
 
     Choices& c_;
+    bool defined_ = false;  // the scene defines material gold and object post
+    // Instances are left out until the viewer's document knows them (a CSG made of an
+    // instance, which the format refuses, is still offered).
+    static constexpr bool kInstances = false;
+    // So are definitions: with them the viewer's undo history can reach a state the user
+    // never saw (found by this fuzzer; the document does not know named materials yet).
+    static constexpr bool kDefinitions = false;
 };
 
 // ---------------------------------------------------------------------------------

@@ -67,6 +67,16 @@ inline void check_material(const rt::Material& m) {
 inline std::size_t check_object(const rt::Object& o, int csg_depth) {
     check_material(o.material);
     std::size_t count = 1;
+    if (o.transform.set()) {
+        const rt::Transform& t = o.transform.get();
+        check_vec(t.rotation, "rotation");
+        check_vec(t.scale, "scale");
+        check_vec(t.translate, "translate");
+        for (double f : {t.scale.x, t.scale.y, t.scale.z})
+            if (!(f >= 1e-9 && f <= 1e9)) fail("a scale outside 1e-9 .. 1e9 accepted");
+        if (std::holds_alternative<rt::Mesh>(o.shape) && (t.rotation != rt::Vec3{0, 0, 0} || t.scale != rt::Vec3{1, 1, 1}))
+            fail("a mesh with a transform's rotation or scale (its own keys hold them)");
+    }
     if (const auto* s = std::get_if<rt::Sphere>(&o.shape)) {
         check_vec(s->position, "sphere position");
         check_number(s->radius, "sphere radius");
@@ -86,6 +96,19 @@ inline std::size_t check_object(const rt::Object& o, int csg_depth) {
         check_number(tor->minor, "torus minor");
         if (!(tor->minor > 0) || tor->major < 0) fail("torus with bad radii accepted");
         if (tor->direction == rt::Vec3{0, 0, 0}) fail("torus with direction 0 0 0 accepted");
+    } else if (const auto* b = std::get_if<rt::Box>(&o.shape)) {
+        check_vec(b->corner1, "box corner_1");
+        check_vec(b->corner2, "box corner_2");
+        if (b->corner1.x == b->corner2.x || b->corner1.y == b->corner2.y || b->corner1.z == b->corner2.z)
+            fail("flat box accepted");
+    } else if (const auto* cn = std::get_if<rt::Cone>(&o.shape)) {
+        check_vec(cn->end1, "cone end_1");
+        check_vec(cn->end2, "cone end_2");
+        check_number(cn->radius1, "cone radius_1");
+        check_number(cn->radius2, "cone radius_2");
+        if (cn->radius1 < 0 || cn->radius2 < 0 || (cn->radius1 == 0 && cn->radius2 == 0))
+            fail("cone with bad radii accepted");
+        if (cn->end1 == cn->end2) fail("cone with end_1 == end_2 accepted");
     } else if (const auto* g = std::get_if<rt::Csg>(&o.shape)) {
         if (csg_depth >= rt::Limits::max_csg_depth) fail("CSG nested deeper than the limit accepted");
         if (g->operands.size() != 2) fail("CSG without exactly two operands accepted");

@@ -39,6 +39,11 @@ const char* const kBodies[] = {
     "thing { mesh { file \"models/cube.obj\" position 1 2 3 scale 2 rotation 0 90 45 smooth 1 "
     "material { colour 1 0 0 } } mesh { file plain.ply scale 1 2 0.5 } }",
     "thing { constructive_solid_geometry { left { mesh { file \"a b.obj\" } } right { sphere { } } } }",
+    "thing { box { corner_1 0 0 0 corner_2 1 2 3 material { colour 0 1 0 } } cone { end_1 0 0 0 end_2 0 0 2 "
+    "radius_1 1 radius_2 0.25 } }",
+    "thing { constructive_solid_geometry { type C left { box { corner_1 -1 -1 -1 corner_2 1 1 1 rotation 0 0 45 } } "
+    "right { cone { radius_1 0 radius_2 0.5 scale 2 1 1 } } rotation 10 20 30 scale 1.5 translate 1 2 3 } "
+    "sphere { scale 1 2 3 } mesh { file a.obj translate 1 0 0 } }",
     "// comment\nthing { // after brace\n sphere { radius 1 } // trailing\n}",
     "thing{sphere{radius 1}}",
     // warnings
@@ -62,6 +67,23 @@ const char* const kBodies[] = {
     "thing { torus { major -1 } }",
     "thing { torus { direction 0 0 0 } }",
     "thing { tetrahedron { } }",
+    "define { material gold { colour 1 0.8 0 } object post { cylinder { end_1 0 0 0 end_2 0 0 1 radius 0.1 } } }\n"
+    "thing { instance { object post material gold rotation 0 0 45 translate 1 2 0 } sphere { material gold } }",
+    "thing { sphere { material gold } }",
+    "define { material a { } material a { } }",
+    "define { object a { sphere { } } }\nthing { instance { object b } instance { } }",
+    "define { material gold { } }\nthing { instance { object gold } }",
+    "include \"nothing.txt\"\n",
+    "include \"/dev/zero\"\n",
+    "thing { box { corner_1 1 1 1 corner_2 1 1 1 } }",
+    "thing { box { corner_1 0 0 0 corner_2 1 1 0 } }",
+    "thing { cone { radius_1 0 radius_2 0 } }",
+    "thing { cone { end_1 1 1 1 end_2 1 1 1 } }",
+    "thing { cone { radius_1 -1 } }",
+    "thing { sphere { scale 0 } }",
+    "thing { sphere { scale 1 -1 1 } }",
+    "thing { torus { rotation nan 0 0 } }",
+    "thing { torus { translate 1 2 } }",
     "thing { constructive_solid_geometry { type X left { sphere { } } right { sphere { } } } }",
     "thing { constructive_solid_geometry { left { sphere { } } } }",
     "thing { constructive_solid_geometry { right { sphere { } } } }",

@@ -114,14 +114,15 @@ TEST_CASE("item fields: the keys of every block, from the schema") {
         for (const Field& f : item_fields(s, r)) out += (out.empty() ? "" : ",") + f.label;
         return out;
     };
-    CHECK(labels(obj(0)) == "position,radius,material");
-    CHECK(labels(obj(1)) == "vect1,vect2,vect3,vect4,material");
-    CHECK(labels(obj(2)) == "end_1,end_2,radius,material");
-    CHECK(labels(obj(3)) == "position,direction,major,minor,material");
-    CHECK(labels(obj(4)) == "type,left,right,material");
+    // (Every object's placement keys, rotation, scale and translate, come last but the material.)
+    CHECK(labels(obj(0)) == "position,radius,rotation,scale,translate,material");
+    CHECK(labels(obj(1)) == "vect1,vect2,vect3,vect4,rotation,scale,translate,material");
+    CHECK(labels(obj(2)) == "end_1,end_2,radius,rotation,scale,translate,material");
+    CHECK(labels(obj(3)) == "position,direction,major,minor,rotation,scale,translate,material");
+    CHECK(labels(obj(4)) == "type,left,right,rotation,scale,translate,material");
     // An operand's material is not rendered (the CSG's is): it is not offered.
-    CHECK(labels(obj(4, {0})) == "position,radius");
-    CHECK(labels(obj(4, {1})) == "position,radius");
+    CHECK(labels(obj(4, {0})) == "position,radius,rotation,scale,translate");
+    CHECK(labels(obj(4, {1})) == "position,radius,rotation,scale,translate");
     CHECK(labels(plane(0)) == "point 1,point 2,point 3,point 4,material 1,material 2");
     CHECK(labels(plane(1)) == "point 1,point 2,point 3,point 4,material");
     CHECK(labels(light(0)) == "position,colour,size,radius");

@@ -32,6 +32,14 @@ void grow(rt::Aabb& b, const rt::Object& o) {
             else if constexpr (std::is_same_v<T, rt::Cylinder>) {
                 grow(b, s.end1, std::fabs(s.radius));
                 grow(b, s.end2, std::fabs(s.radius));
+            } else if constexpr (std::is_same_v<T, rt::Cone>) {
+                grow(b, s.end1, std::fabs(s.radius1));
+                grow(b, s.end2, std::fabs(s.radius2));
+            } else if constexpr (std::is_same_v<T, rt::Box>) {
+                grow(b, s.corner1);
+                grow(b, s.corner2);
+            } else if constexpr (std::is_same_v<T, rt::Instance>) {
+                grow(b, o.transform.get().translate);
             } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
                 for (const Vec3& v : s.v) grow(b, v);
             } else if constexpr (std::is_same_v<T, rt::Torus>) {

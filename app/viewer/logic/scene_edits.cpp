@@ -194,9 +194,14 @@ void translate(rt::Object& o, Vec3 d) {
             using T = std::decay_t<decltype(s)>;
             if constexpr (std::is_same_v<T, rt::Sphere> || std::is_same_v<T, rt::Torus> || std::is_same_v<T, rt::Mesh>)
                 move_point(s.position, d);
-            else if constexpr (std::is_same_v<T, rt::Cylinder>) {
+            else if constexpr (std::is_same_v<T, rt::Cylinder> || std::is_same_v<T, rt::Cone>) {
                 move_point(s.end1, d);
                 move_point(s.end2, d);
+            } else if constexpr (std::is_same_v<T, rt::Box>) {
+                move_point(s.corner1, d);
+                move_point(s.corner2, d);
+            } else if constexpr (std::is_same_v<T, rt::Instance>) {
+                move_point(o.transform.edit().translate, d);
             } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
                 for (Vec3& v : s.v) move_point(v, d);
             } else {
