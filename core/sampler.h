@@ -20,11 +20,10 @@ struct PixelSample {
 namespace sampling {
 
 inline std::uint32_t reverse_bits(std::uint32_t v) {
+    v = __builtin_bswap32(v);  // the bytes reversed, then the bits within each
     v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
     v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
-    v = ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
-    v = ((v >> 8) & 0x00FF00FFu) | ((v & 0x00FF00FFu) << 8);
-    return (v >> 16) | (v << 16);
+    return ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
 }
 
 // Laine and Karras' hash: a permutation of x whose low bits depend only on low bits.
@@ -55,11 +54,24 @@ inline std::uint32_t combine(std::uint32_t seed, std::uint32_t v) { return hash(
 
 // The first two Sobol dimensions of index i, as 32-bit fractions.
 inline std::uint32_t sobol0(std::uint32_t i) { return reverse_bits(i); }
-inline std::uint32_t sobol1(std::uint32_t i) {
+// Sobol dimension 1 is linear over GF(2) in the index's bits: the sum (xor) of one
+// column per set bit, here a byte of the index at a time from four tables of 256.
+inline std::uint32_t sobol1_slow(std::uint32_t i) {
     std::uint32_t r = 0;
     for (std::uint32_t v = 1u << 31; i != 0; i >>= 1, v ^= v >> 1)
         if (i & 1) r ^= v;
     return r;
+}
+struct Sobol1Tables {
+    std::uint32_t t[4][256];
+    Sobol1Tables() {
+        for (int b = 0; b < 4; ++b)
+            for (std::uint32_t k = 0; k < 256; ++k) t[b][k] = sobol1_slow(k << (8 * b));
+    }
+};
+inline std::uint32_t sobol1(std::uint32_t i) {
+    static const Sobol1Tables tables;
+    return tables.t[0][i & 255] ^ tables.t[1][(i >> 8) & 255] ^ tables.t[2][(i >> 16) & 255] ^ tables.t[3][i >> 24];
 }
 
 inline double fraction(std::uint32_t v) { return double(v) * (1.0 / 4294967296.0); }
@@ -74,13 +86,15 @@ public:
     explicit PathSampler(const PixelSample& p)
         : pixel_(sampling::hash(std::uint32_t(p.x) * 0x8da6b343u ^ sampling::hash(std::uint32_t(p.y) + 0x68e31da4u))),
           index_(std::uint32_t(p.s)) {}
-    // A point of [0, 1)^2.
+    // A point of [0, 1)^2: Sobol dimensions 0 and 1 of the shuffled index, each
+    // Owen-scrambled. (Sobol dimension 0 is the bit reversal of the index, so its
+    // scramble needs no reversal of its own: reverse(lk(reverse(reverse(i)))).)
     void next(double& u, double& v) {
         using namespace sampling;
-        const std::uint32_t seed = combine(pixel_, dim_++);
-        const std::uint32_t i = owen_scramble(index_, combine(seed, 0x51ed270bu));
-        u = fraction(owen_scramble(sobol0(i), combine(seed, 1)));
-        v = fraction(owen_scramble(sobol1(i), combine(seed, 2)));
+        const std::uint32_t seed = hash(pixel_ ^ (dim_++ * 0x9e3779b9u));  // one hash a dimension
+        const std::uint32_t i = reverse_bits(lk_permutation(reverse_bits(index_), seed));  // shuffled
+        u = fraction(reverse_bits(lk_permutation(i, seed ^ 0xa511e9b3u)));
+        v = fraction(owen_scramble(sobol1(i), seed ^ 0x63d83595u));
     }
 
 private:
