@@ -813,6 +813,44 @@ private:
     }
 
     // `include "FILE"`: the file's definitions, things, planes and lights, read here.
+    // An include's file: a regular file not already being read (its id: device and
+    // inode). False, with the error, otherwise.
+    template <class Chain>
+    bool include_target(const std::string& name, const std::string& path, SourceLoc at, Chain chain, std::string& id) {
+        const std::string& shown = path;
+        struct stat st;
+        if (::stat(path.c_str(), &st) != 0) {
+            error_at(at, "cannot include " + quote(name) + ": " + std::strerror(errno));
+            return false;
+        }
+        if (S_ISDIR(st.st_mode)) {
+            error_at(at, "cannot include " + quote(name) + ": it is a folder, not a scene file");
+            return false;
+        }
+        if (!S_ISREG(st.st_mode)) {
+            error_at(at, "cannot include " + quote(name) + ": not a regular file (a device, pipe or socket)");
+            return false;
+        }
+        id = std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+        if (std::find(shared_->stack.begin(), shared_->stack.end(), id) != shared_->stack.end() || id == shared_->scene_id) {
+            error_at(at, "include cycle: " + (chain().empty() ? std::string("the scene") : chain()) + " includes " + shown +
+                             (id == shared_->scene_id ? ", the scene itself" : ", which is already being read"));
+            return false;
+        }
+        return true;
+    }
+
+    // The items from the given counts on came from include number `origin`.
+    void mark_origin(std::uint16_t origin, std::size_t objects0, std::size_t planes0, std::size_t lights0,
+                     std::size_t materials0, std::size_t defined0) {
+        Scene& scene = out_.scene;
+        for (std::size_t k = objects0; k < scene.objects.size(); ++k) scene.objects[k].origin = origin;
+        for (std::size_t k = planes0; k < scene.planes.size(); ++k) scene.planes[k].origin = origin;
+        for (std::size_t k = lights0; k < scene.lights.size(); ++k) scene.lights[k].origin = origin;
+        for (std::size_t k = materials0; k < scene.materials.size(); ++k) scene.materials[k].origin = origin;
+        for (std::size_t k = defined0; k < scene.defined.size(); ++k) scene.defined[k].origin = origin;
+    }
+
     void include(const Token& kw) {
         std::string name;
         if (!file_name(kw, name)) return;
@@ -833,25 +871,8 @@ private:
             error_at(at, "too many includes (limit " + std::to_string(Limits::max_includes) + ")");
             return;
         }
-        struct stat st;
-        if (::stat(path.c_str(), &st) != 0) {
-            error_at(at, "cannot include " + quote(name) + ": " + std::strerror(errno));
-            return;
-        }
-        if (S_ISDIR(st.st_mode)) {
-            error_at(at, "cannot include " + quote(name) + ": it is a folder, not a scene file");
-            return;
-        }
-        if (!S_ISREG(st.st_mode)) {
-            error_at(at, "cannot include " + quote(name) + ": not a regular file (a device, pipe or socket)");
-            return;
-        }
-        const std::string id = std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
-        if (std::find(shared_->stack.begin(), shared_->stack.end(), id) != shared_->stack.end() || id == shared_->scene_id) {
-            error_at(at, "include cycle: " + (chain().empty() ? std::string("the scene") : chain()) + " includes " + shown +
-                             (id == shared_->scene_id ? ", the scene itself" : ", which is already being read"));
-            return;
-        }
+        std::string id;
+        if (!include_target(name, path, at, chain, id)) return;
         std::string text;
         ReadControl control;
         control.strict = true;
@@ -892,12 +913,7 @@ private:
         if (!included_from_.empty()) return;
         // In the scene file: what this include brought is marked as its, and the
         // include kept where it stands among the file's own items.
-        const auto origin = std::uint16_t(scene.includes.size() + 1);
-        for (std::size_t k = objects0; k < scene.objects.size(); ++k) scene.objects[k].origin = origin;
-        for (std::size_t k = planes0; k < scene.planes.size(); ++k) scene.planes[k].origin = origin;
-        for (std::size_t k = lights0; k < scene.lights.size(); ++k) scene.lights[k].origin = origin;
-        for (std::size_t k = materials0; k < scene.materials.size(); ++k) scene.materials[k].origin = origin;
-        for (std::size_t k = defined0; k < scene.defined.size(); ++k) scene.defined[k].origin = origin;
+        mark_origin(std::uint16_t(scene.includes.size() + 1), objects0, planes0, lights0, materials0, defined0);
         Include inc;
         inc.file = name;
         inc.loc = at;

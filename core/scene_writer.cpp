@@ -304,6 +304,36 @@ Object expanded(const Object& o) {
 }
 }  // namespace
 
+namespace {
+// The scene file's own named materials [from, to) and named objects [objects_from,
+// objects_to) (counted among its own), in a `define` section if there are any.
+void write_definitions(Writer& w, const Scene& scene, std::size_t from, std::size_t to, std::size_t objects_from,
+                       std::size_t objects_to) {
+    std::size_t k = 0;
+    bool open = false;
+    for (const NamedMaterial& m : scene.materials) {
+        if (m.origin != 0) continue;
+        if (k >= from && k < to) {
+            if (!open) w.line(0, "define {"), open = true;
+            w.line(1, "material " + m.name + " " + write_material(m.material));
+        }
+        ++k;
+    }
+    k = 0;
+    for (const NamedObject& d : scene.defined) {
+        if (d.origin != 0 || !d.object) continue;
+        if (k >= objects_from && k < objects_to) {
+            if (!open) w.line(0, "define {"), open = true;
+            w.line(1, "object " + d.name + " {");
+            w.item(2, sc::object_block(*d.object), *d.object);
+            w.line(1, "}");
+        }
+        ++k;
+    }
+    if (open) w.line(0, "}");
+}
+}  // namespace
+
 std::string write_scene(const Scene& scene, bool flatten) {
     Writer w;
     if (!flatten) w.scene = &scene;
@@ -331,32 +361,6 @@ std::string write_scene(const Scene& scene, bool flatten) {
         }
         if (open) w.line(0, "}");
     };
-    auto definitions = [&w, &scene, flatten](std::size_t from, std::size_t to, std::size_t objects_from,
-                                             std::size_t objects_to) {
-        if (flatten) return;
-        std::size_t k = 0;
-        bool open = false;
-        for (const NamedMaterial& m : scene.materials) {
-            if (m.origin != 0) continue;
-            if (k >= from && k < to) {
-                if (!open) w.line(0, "define {"), open = true;
-                w.line(1, "material " + m.name + " " + write_material(m.material));
-            }
-            ++k;
-        }
-        k = 0;
-        for (const NamedObject& d : scene.defined) {
-            if (d.origin != 0 || !d.object) continue;
-            if (k >= objects_from && k < objects_to) {
-                if (!open) w.line(0, "define {"), open = true;
-                w.line(1, "object " + d.name + " {");
-                w.item(2, sc::object_block(*d.object), *d.object);
-                w.line(1, "}");
-            }
-            ++k;
-        }
-        if (open) w.line(0, "}");
-    };
     const std::size_t all = std::size_t(-1);
     const std::size_t parts = flatten ? 1 : scene.includes.size() + 1;
     Include before;  // (counts) where the previous include stood
@@ -364,7 +368,8 @@ std::string write_scene(const Scene& scene, bool flatten) {
         const bool last = p + 1 == parts;
         const Include& at = last ? Include{} : scene.includes[p];
         const bool own = !flatten;
-        definitions(before.materials, last ? all : at.materials, before.defined, last ? all : at.defined);
+        if (!flatten)
+            write_definitions(w, scene, before.materials, last ? all : at.materials, before.defined, last ? all : at.defined);
         for (const sc::Section& s : sc::sections()) {
             switch (s.kind) {
             case sc::SectionKind::Things:

@@ -469,28 +469,49 @@ Vec3 Geometry::mesh_normal(const MeshG& m, const SpanEnd& e, const Vec3& p) cons
     return e.flip ? -n : n;
 }
 
+namespace {
+// A tetrahedron's corners recovered from its face planes (corner i is opposite face
+// i+1), boxed with a little room.
+Aabb tetra_bounds(const TetraG& t) {
+    Aabb b;
+    for (int skip = 0; skip < 4; ++skip) {
+        int f[3], k = 0;
+        for (int i = 0; i < 4; ++i)
+            if (i != skip) f[k++] = i;
+        Vec3 n0 = t.n[f[0]], n1 = t.n[f[1]], n2 = t.n[f[2]];
+        double det = dot(n0, cross(n1, n2));
+        Vec3 p = (cross(n1, n2) * -t.d[f[0]] + cross(n2, n0) * -t.d[f[1]] + cross(n0, n1) * -t.d[f[2]]) / det;
+        b.grow(p);
+    }
+    Vec3 pad = (b.hi - b.lo) * 1e-9 + Vec3{1e-9, 1e-9, 1e-9};
+    b.lo -= pad;
+    b.hi += pad;
+    return b;
+}
+
+// A transformed sphere's (an ellipsoid's) box exactly: its centre placed, and on axis
+// i the radius times the length of row i of the linear part.
+Aabb ellipsoid_bounds(const XformG& x, const SphereG& sp) {
+    const Vec3 c = x.inst.point_to_world(sp.c);
+    Vec3 ext;
+    for (int i = 0; i < 3; ++i)
+        ext[i] = sp.r * std::sqrt(x.inst.l[i][0] * x.inst.l[i][0] + x.inst.l[i][1] * x.inst.l[i][1] +
+                                  x.inst.l[i][2] * x.inst.l[i][2]);
+    double m = 0;
+    for (int i = 0; i < 3; ++i) m = std::max({m, std::fabs(c[i]) + ext[i]});
+    ext += Vec3{1, 1, 1} * (m * 1e-9 + 1e-300);
+    Aabb b;
+    b.lo = c - ext;
+    b.hi = c + ext;
+    return b;
+}
+}  // namespace
+
 Aabb Geometry::bounds(std::uint32_t n) const {
     const Node& node = nodes[n];
     switch (node.kind) {
         case NodeKind::Sphere: return sphere_bounds(spheres[node.index]);
-        case NodeKind::Tetra: {
-            // Recover the corners from the face planes: corner i is opposite face i+1.
-            Aabb b;
-            const TetraG& t = tetras[node.index];
-            for (int skip = 0; skip < 4; ++skip) {
-                int f[3], k = 0;
-                for (int i = 0; i < 4; ++i)
-                    if (i != skip) f[k++] = i;
-                Vec3 n0 = t.n[f[0]], n1 = t.n[f[1]], n2 = t.n[f[2]];
-                double det = dot(n0, cross(n1, n2));
-                Vec3 p = (cross(n1, n2) * -t.d[f[0]] + cross(n2, n0) * -t.d[f[1]] + cross(n0, n1) * -t.d[f[2]]) / det;
-                b.grow(p);
-            }
-            Vec3 pad = (b.hi - b.lo) * 1e-9 + Vec3{1e-9, 1e-9, 1e-9};
-            b.lo -= pad;
-            b.hi += pad;
-            return b;
-        }
+        case NodeKind::Tetra: return tetra_bounds(tetras[node.index]);
         case NodeKind::Cylinder: {
             const CylinderG& s = cylinders[node.index];
             Vec3 e2 = s.e1 + s.a * s.len;
@@ -540,21 +561,7 @@ Aabb Geometry::bounds(std::uint32_t n) const {
             const XformG& x = xforms[node.index];
             const Node& child = nodes[x.child];
             if (child.kind != NodeKind::Sphere) return x.inst.world_bounds(bounds(x.child));
-            // An ellipsoid's box exactly: its centre placed, and on axis i the radius
-            // times the length of row i of the linear part.
-            const SphereG& sp = spheres[child.index];
-            const Vec3 c = x.inst.point_to_world(sp.c);
-            Vec3 ext;
-            for (int i = 0; i < 3; ++i)
-                ext[i] = sp.r * std::sqrt(x.inst.l[i][0] * x.inst.l[i][0] + x.inst.l[i][1] * x.inst.l[i][1] +
-                                          x.inst.l[i][2] * x.inst.l[i][2]);
-            double m = 0;
-            for (int i = 0; i < 3; ++i) m = std::max({m, std::fabs(c[i]) + ext[i]});
-            ext += Vec3{1, 1, 1} * (m * 1e-9 + 1e-300);
-            Aabb b;
-            b.lo = c - ext;
-            b.hi = c + ext;
-            return b;
+            return ellipsoid_bounds(x, spheres[child.index]);
         }
         case NodeKind::Mesh: {
             const MeshG& m = meshes[node.index];
@@ -735,33 +742,58 @@ struct Definition {
 };
 using Definitions = std::unordered_map<const Object*, Definition>;
 
-// `placed`: the transform of the CSGs around obj, composed (null: none).
-std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* placed = nullptr, Definitions* defs = nullptr) {
+std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* placed = nullptr,
+                       Definitions* defs = nullptr);
+
+// An instance's node: its transform, over its definition's root (built once per
+// definition, whatever the number of placements).
+std::uint32_t add_instance(Geometry& g, const Object& obj, const Instance& placed_def, Definitions* defs) {
+    const Instance* in = &placed_def;
     std::uint32_t id = std::uint32_t(g.nodes.size());
-    if (const Instance* in = std::get_if<Instance>(&obj.shape)) {
-        const Transform& t = obj.transform.get();
-        InstanceG x;
-        x.inst = MeshInstance::make(t.translate, t.scale, t.rotation);
-        g.nodes.push_back({NodeKind::Instance, std::uint32_t(g.instances.size())});
-        g.instances.push_back(x);
-        if (!in->defined) {
-            // (Not resolved: nothing to show. A sphere of radius 0 is never hit.)
-            g.instances.write(g.instances.size() - 1).root = std::uint32_t(g.nodes.size());
-            g.nodes.push_back({NodeKind::Sphere, std::uint32_t(g.spheres.size())});
-            g.spheres.push_back({{0, 0, 0}, 0, 0});
-            return id;
-        }
-        std::uint32_t root = 0;
-        bool found = false;
-        if (defs)
-            if (auto it = defs->find(in->defined.get()); it != defs->end()) root = it->second.root, found = true;
-        if (!found) {
-            root = add_node(g, *in->defined, nullptr, defs);
-            if (defs) defs->emplace(in->defined.get(), Definition{root, g.bounds(root)});
-        }
-        g.instances.write(g.instances.size() - 1).root = root;
+    const Transform& t = obj.transform.get();
+    InstanceG x;
+    x.inst = MeshInstance::make(t.translate, t.scale, t.rotation);
+    g.nodes.push_back({NodeKind::Instance, std::uint32_t(g.instances.size())});
+    g.instances.push_back(x);
+    if (!in->defined) {
+        // (Not resolved: nothing to show. A sphere of radius 0 is never hit.)
+        g.instances.write(g.instances.size() - 1).root = std::uint32_t(g.nodes.size());
+        g.nodes.push_back({NodeKind::Sphere, std::uint32_t(g.spheres.size())});
+        g.spheres.push_back({{0, 0, 0}, 0, 0});
         return id;
     }
+    std::uint32_t root = 0;
+    bool found = false;
+    if (defs)
+        if (auto it = defs->find(in->defined.get()); it != defs->end()) root = it->second.root, found = true;
+    if (!found) {
+        root = add_node(g, *in->defined, nullptr, defs);
+        if (defs) defs->emplace(in->defined.get(), Definition{root, g.bounds(root)});
+    }
+    g.instances.write(g.instances.size() - 1).root = root;
+    return id;
+}
+
+// A tetrahedron's face planes, each normal pointing away from the opposite corner.
+TetraG tetra_g(const Tetrahedron& s) {
+    TetraG t;
+    for (int i = 0; i < 4; ++i) {
+        const Vec3& a = s.v[i];
+        const Vec3& b = s.v[(i + 1) % 4];
+        const Vec3& c = s.v[(i + 2) % 4];
+        const Vec3& opp = s.v[(i + 3) % 4];
+        Vec3 n = normalize(cross(b - a, c - a));
+        if (dot(n, opp - a) > 0) n = -n;
+        t.n[i] = n;
+        t.d[i] = -dot(n, a);
+    }
+    return t;
+}
+
+// `placed`: the transform of the CSGs around obj, composed (null: none).
+std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* placed, Definitions* defs) {
+    std::uint32_t id = std::uint32_t(g.nodes.size());
+    if (const Instance* in = std::get_if<Instance>(&obj.shape)) return add_instance(g, obj, *in, defs);
     MeshInstance own;
     if (obj.transform.set() && !std::holds_alternative<Mesh>(obj.shape)) {
         const Transform& t = obj.transform.get();
@@ -784,19 +816,8 @@ std::uint32_t add_node(Geometry& g, const Object& obj, const MeshInstance* place
                 g.nodes.push_back({NodeKind::Sphere, std::uint32_t(g.spheres.size())});
                 g.spheres.push_back({s.position, s.radius, s.radius * s.radius});
             } else if constexpr (std::is_same_v<T, Tetrahedron>) {
-                TetraG t;
-                for (int i = 0; i < 4; ++i) {
-                    const Vec3& a = s.v[i];
-                    const Vec3& b = s.v[(i + 1) % 4];
-                    const Vec3& c = s.v[(i + 2) % 4];
-                    const Vec3& opp = s.v[(i + 3) % 4];
-                    Vec3 n = normalize(cross(b - a, c - a));
-                    if (dot(n, opp - a) > 0) n = -n;
-                    t.n[i] = n;
-                    t.d[i] = -dot(n, a);
-                }
                 g.nodes.push_back({NodeKind::Tetra, std::uint32_t(g.tetras.size())});
-                g.tetras.push_back(t);
+                g.tetras.push_back(tetra_g(s));
             } else if constexpr (std::is_same_v<T, Cylinder>) {
                 Vec3 axis = s.end2 - s.end1;
                 g.nodes.push_back({NodeKind::Cylinder, std::uint32_t(g.cylinders.size())});

@@ -180,7 +180,16 @@ void Panels::draw_scene_camera_fields(float speed) {
         cam.projection = proj ? rt::Projection::Polar : rt::Projection::Linear;
         changed = true;
     }
-    changed |= draw_lens_fields(cam, speed);
+    // The New: keys in a section of their own, closed until a scene uses them: the
+    // sidebar keeps its room for the outline and the text.
+    const bool used = cam.aperture > 0 || cam.focus_distance > 0 || !(cam.background == rt::Colour{});
+    ImGui::SetNextItemOpen(used, ImGuiCond_Once);
+    const bool lens_open = ImGui::TreeNodeEx("Lens and background", ImGuiTreeNodeFlags_SpanAvailWidth);
+    probe_item("camera_lens_section");
+    if (lens_open) {
+        changed |= draw_lens_fields(cam, speed);
+        ImGui::TreePop();
+    }
     ImGui::EndDisabled();
     if (blocked) changed = false;
     if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;
