@@ -169,16 +169,19 @@ TEST_CASE("a FIFO is read as its writer writes; with no writer, Cancel ends the 
     rt_test::TempDir dir;
     const std::string fifo = (dir / "pipe.txt").string();
     REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
-    SceneLoader loader;
-    // No writer yet: the loader waits (a read now would say "end of file", an empty
-    // scene) and a cancel ends it.
-    loader.start(fifo);
-    rt_test::wait_until(rt_test::a_thread_polling, "the loader to wait for the FIFO's writer");
-    CHECK(loader.active());
-    CHECK_FALSE(loader.poll());
-    loader.cancel();
-    CHECK_FALSE(loader.active());
+    {
+        SceneLoader first;
+        // No writer yet: the loader waits (a read now would say "end of file", an empty
+        // scene) and a cancel ends it.
+        first.start(fifo);
+        rt_test::wait_until(rt_test::a_thread_polling, "the loader to wait for the FIFO's writer");
+        CHECK(first.active());
+        CHECK_FALSE(first.poll());
+        first.cancel();
+        CHECK_FALSE(first.active());
+    }  // (its thread joined: it no longer waits on the FIFO, where it could take the writer's first piece)
     // A writer that comes late and writes in two pieces: the whole scene arrives.
+    SceneLoader loader;
     loader.start(fifo);
     rt_test::wait_until(rt_test::a_thread_polling, "the loader to wait for the FIFO's writer again");
     std::thread writer([&] {
