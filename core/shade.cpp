@@ -204,13 +204,14 @@ Vec3 sphere_point(const Vec3& p, const Vec3& c, double radius, double d, double 
     const double one_minus = s2 / (1 + std::sqrt(1 - s2));
     const double cos_t = 1 - u * one_minus;
     const double sin_t = std::sqrt(std::max(0.0, 1 - cos_t * cos_t));
-    const double phi = 2 * 3.14159265358979323846 * v;
+    double cos_phi, sin_phi;
+    sampling::cos_sin_turn(v, cos_phi, sin_phi);
     // An orthonormal frame around w (Duff et al. 2017).
     const double sign = std::copysign(1.0, w.z);
     const double a = -1 / (sign + w.z), b = w.x * w.y * a;
     const Vec3 t1{1 + sign * w.x * w.x * a, sign * b, -sign * w.x};
     const Vec3 t2{b, sign + w.y * w.y * a, -w.y};
-    const Vec3 dir = w * cos_t + t1 * (sin_t * std::cos(phi)) + t2 * (sin_t * std::sin(phi));
+    const Vec3 dir = w * cos_t + t1 * (sin_t * cos_phi) + t2 * (sin_t * sin_phi);
     // Where the ray p + t dir enters the sphere (it does: dir lies in the cone).
     const double along = d * cos_t;
     const double t = along - std::sqrt(std::max(0.0, radius * radius - d * d * (sin_t * sin_t)));
@@ -382,7 +383,11 @@ void World::trace_units(const Vec3& origin, const Vec3* unit_dirs, std::size_t n
     Ctx& ctx = thread_ctx();
     ctx.stats = &stats;
 #if RT_HAVE_AVX2_KERNELS
-    if (glows.empty() && !scalar_only() && avx2_active()) return trace_units4(origin, unit_dirs, n, ctx, out);
+    if (glows.empty() && avx2_active()) {
+        CameraBasis cam;
+        cam.origin = origin;
+        return trace_units4(cam, unit_dirs, nullptr, n, ctx, out);
+    }
 #endif
     for (std::size_t i = 0; i < n; ++i) {
         if (stats.stopped) {
@@ -402,6 +407,9 @@ void World::trace_samples(const CameraBasis& cam, const Vec3* unit_dirs, const P
     if (!sampled(cam)) return trace_units(cam.origin, unit_dirs, n, stats, out);
     Ctx& ctx = thread_ctx();
     ctx.stats = &stats;
+#if RT_HAVE_AVX2_KERNELS
+    if (glows.empty() && avx2_active()) return trace_units4(cam, unit_dirs, keys, n, ctx, out);
+#endif
     for (std::size_t i = 0; i < n; ++i) {
         if (stats.stopped) {
             std::fill(out + i, out + n, Colour{});

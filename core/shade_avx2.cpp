@@ -78,6 +78,51 @@ RT_TARGET_AVX2 unsigned planes_block4(const World& w, const V3& o, const V3& vh,
     return blocked;
 }
 
+// sampling::cos_sin_turn() for four angles: the same operations, so the same bits.
+RT_TARGET_AVX2 void cos_sin_turn4(__m256d v, __m256d& c, __m256d& s) {
+    const __m256d q = _mm256_round_pd(mul(v, splat(4)), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+    const __m256d x = mul(sub(v, mul(q, splat(0.25))), splat(sampling::kTwoPi)), x2 = mul(x, x);
+    __m256d ps = splat(sampling::kTurnSin[6]), pc = splat(sampling::kTurnCos[7]);
+    for (int i = 5; i >= 0; --i) ps = add(splat(sampling::kTurnSin[i]), mul(x2, ps));
+    for (int i = 6; i >= 0; --i) pc = add(splat(sampling::kTurnCos[i]), mul(x2, pc));
+    const __m256d sx = mul(x, ps);
+    // The quarter turn's number, 0-3, in each lane's 64 bits.
+    const __m256i quarter =
+        _mm256_and_si256(_mm256_cvtepi32_epi64(_mm256_cvttpd_epi32(q)), _mm256_set1_epi64x(3));
+    auto is = [&](long long k) RT_TARGET_AVX2 {
+        return _mm256_castsi256_pd(_mm256_cmpeq_epi64(quarter, _mm256_set1_epi64x(k)));
+    };
+    const __m256d odd = _mm256_or_pd(is(1), is(3)), sign = splat(-0.0);
+    c = _mm256_xor_pd(_mm256_blendv_pd(pc, sx, odd), _mm256_and_pd(sign, _mm256_or_pd(is(1), is(2))));
+    s = _mm256_xor_pd(_mm256_blendv_pd(sx, pc, odd), _mm256_and_pd(sign, _mm256_or_pd(is(2), is(3))));
+}
+
+// sphere_point() (shade.cpp) minus p for four points p at distances d from the centre
+// c, by the samples (u, v): the same operations, so the same bits.
+RT_TARGET_AVX2 V3 sphere_offset4(const V3& p, const Vec3& c, double radius, __m256d d, __m256d u, __m256d v) {
+    const __m256d one = splat(1.0), zero = _mm256_setzero_pd(), inv_d = _mm256_div_pd(one, d);
+    const V3 w{mul(sub(splat(c.x), p.x), inv_d), mul(sub(splat(c.y), p.y), inv_d), mul(sub(splat(c.z), p.z), inv_d)};
+    const __m256d rr = splat(radius * radius), dd = mul(d, d);
+    const __m256d s2 = _mm256_div_pd(rr, dd);
+    const __m256d one_minus = _mm256_div_pd(s2, add(one, _mm256_sqrt_pd(sub(one, s2))));
+    const __m256d cos_t = sub(one, mul(u, one_minus));
+    const __m256d sin_t = _mm256_sqrt_pd(_mm256_max_pd(sub(one, mul(cos_t, cos_t)), zero));
+    __m256d cos_phi, sin_phi;
+    cos_sin_turn4(v, cos_phi, sin_phi);
+    const __m256d sign = _mm256_or_pd(_mm256_and_pd(w.z, splat(-0.0)), one);  // copysign(1, w.z)
+    const __m256d a = _mm256_div_pd(splat(-1.0), add(sign, w.z)), b = mul(mul(w.x, w.y), a);
+    const V3 t1{add(one, mul(mul(mul(sign, w.x), w.x), a)), mul(sign, b), mul(_mm256_xor_pd(sign, splat(-0.0)), w.x)};
+    const V3 t2{b, add(sign, mul(mul(w.y, w.y), a)), _mm256_xor_pd(w.y, splat(-0.0))};
+    const __m256d sc = mul(sin_t, cos_phi), ss = mul(sin_t, sin_phi);
+    const V3 dir{add(add(mul(w.x, cos_t), mul(t1.x, sc)), mul(t2.x, ss)),
+                 add(add(mul(w.y, cos_t), mul(t1.y, sc)), mul(t2.y, ss)),
+                 add(add(mul(w.z, cos_t), mul(t1.z, sc)), mul(t2.z, ss))};
+    const __m256d along = mul(d, cos_t);
+    const __m256d t = sub(along, _mm256_sqrt_pd(_mm256_max_pd(sub(rr, mul(dd, mul(sin_t, sin_t))), zero)));
+    // (p + dir t) - p, as the scalar code forms the point and then v.
+    return {sub(add(p.x, mul(dir.x, t)), p.x), sub(add(p.y, mul(dir.y, t)), p.y), sub(add(p.z, mul(dir.z, t)), p.z)};
+}
+
 // LightBuffer::cell_toward() for four vectors toward the light: each lane's cell, as
 // the offset of its first entry's index in lb.start (the same cell, bit for bit).
 RT_TARGET_AVX2 void cells_toward4(const LightBuffer& lb, const V3& v, std::int32_t cell[4]) {
@@ -105,9 +150,11 @@ RT_TARGET_AVX2 void cells_toward4(const LightBuffer& lb, const V3& v, std::int32
 }  // namespace
 
 // Four shadow rays toward one light (see ShadowRay), lane by lane, with |p|_1 of their
-// starts.
+// starts, and how far from the light's centre (toward: from the start) a blocker may
+// lie: objects_block_toward()'s reach, the ray's length r for a point light.
 struct World::ShadowRays4 {
     alignas(32) double ox[4], oy[4], oz[4], vx[4], vy[4], vz[4], hx[4], hy[4], hz[4], r[4], limit[4], p1[4];
+    alignas(32) double reach[4], tx[4], ty[4], tz[4];
     std::size_t light;
     RT_TARGET_AVX2 void store(const V3& o, const V3& v, const V3& vh, __m256d rr, __m256d lim, __m256d q1, std::size_t li) {
         _mm256_store_pd(ox, o.x), _mm256_store_pd(oy, o.y), _mm256_store_pd(oz, o.z);
@@ -115,6 +162,9 @@ struct World::ShadowRays4 {
         _mm256_store_pd(hx, vh.x), _mm256_store_pd(hy, vh.y), _mm256_store_pd(hz, vh.z);
         _mm256_store_pd(r, rr), _mm256_store_pd(limit, lim), _mm256_store_pd(p1, q1);
         light = li;
+    }
+    RT_TARGET_AVX2 void store_toward(const V3& t, __m256d far) {
+        _mm256_store_pd(tx, t.x), _mm256_store_pd(ty, t.y), _mm256_store_pd(tz, t.z), _mm256_store_pd(reach, far);
     }
     ShadowRay ray(int k) const {
         return {{ox[k], oy[k], oz[k]}, {vx[k], vy[k], vz[k]}, {hx[k], hy[k], hz[k]}, r[k], limit[k], light};
@@ -134,11 +184,11 @@ unsigned World::shadow_lanes(const ShadowRays4& q, const LightBuffer* lb, unsign
             const std::uint32_t* s = lb->start.data() + cell[k];
             const LightBuffer::Entry *e = lb->entries.data() + s[0], *end = lb->entries.data() + s[1];
             // Nothing on the way and no blocker to try: cell_blocks() would find nothing.
-            if (ctx.blocker[q.light] == 0 && (e == end || double(e->dmin) > q.r[k]) && lb->always.empty()) continue;
+            if (ctx.blocker[q.light] == 0 && (e == end || double(e->dmin) > q.reach[k]) && lb->always.empty()) continue;
             const ShadowRay ray = q.ray(k);
-            blocked = blocker_blocks(ray, ctx) || cell_blocks(ray, *lb, e, end, ray.r, c, ctx);
+            blocked = blocker_blocks(ray, ctx) || cell_blocks(ray, *lb, e, end, q.reach[k], c, ctx);
         } else {
-            blocked = objects_block(q.ray(k), q.p1[k], c, ctx);
+            blocked = objects_block_toward(q.ray(k), q.p1[k], {q.tx[k], q.ty[k], q.tz[k]}, q.reach[k], c, ctx);
         }
         if (blocked)
             lit &= ~(1u << k);
@@ -148,16 +198,35 @@ unsigned World::shadow_lanes(const ShadowRays4& q, const LightBuffer* lb, unsign
     return lit;
 }
 
-// direct_lights() for the lanes `live` of four surfaces (a scene without glow discs):
-// each lane does its operations in its order, so gets its bits; the set-up, the planes
-// and the sums are done for the four at once, the objects' tests lane by lane.
-RT_TARGET_AVX2 void World::direct4(const Surface s[4], unsigned live, Colour out[4], Ctx& ctx) const {
+// Four rays' tree budgets (see Ctx), kept apart while their trees are traced together,
+// and their paths' samplers.
+struct World::Budgets {
+    double budget[4], cutoff[4];
+    PathSampler sampler[4];
+    // Ctx takes lane k's budget (unless the trace has stopped: its budget stays spent)
+    // and sampler.
+    void enter(Ctx& ctx, int k) const {
+        if (!ctx.stats->stopped) ctx.budget = budget[k], ctx.cutoff = cutoff[k];
+        ctx.sampler = sampler[k];
+    }
+    void leave(const Ctx& ctx, int k) { budget[k] = ctx.budget, cutoff[k] = ctx.cutoff, sampler[k] = ctx.sampler; }
+};
+
+// direct_sampled() (direct() where no light is a sphere and no lane has a highlight)
+// for the lanes `live` of four surfaces seen along d (a scene without glow discs):
+// each lane does its operations in its order, so gets its bits; the set-up, the sphere
+// lights' points, the planes and the sums are done for the four at once, the objects'
+// tests lane by lane. A lane's highlight is added to highlight[k].
+RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned live, Colour out[4],
+                                   Colour highlight[4], Budgets& b, Ctx& ctx) const {
     if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
     const int first = __builtin_ctz(live);  // the other lanes copy it, harmlessly
     const Vec3 *pp[4], *nn[4], *cc[4];
+    unsigned shiny = 0;  // the lanes with a highlight
     for (int k = 0; k < 4; ++k) {
         const Surface& q = s[(live >> k) & 1 ? k : first];
         pp[k] = &q.p, nn[k] = &q.n, cc[k] = &q.cp;
+        if ((live >> k) & 1 && q.m->specular > 0) shiny |= 1u << k;
     }
     const V3 p = gather(pp), n = gather(nn), cp = gather(cc);
     const __m256d sign = splat(-0.0), zero = _mm256_setzero_pd(), one = splat(1.0);
@@ -165,20 +234,40 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], unsigned live, Colour out
     V3 sum{zero, zero, zero};
     for (std::size_t li = 0; li < lights.size(); ++li) {
         const ShadeLight& light = lights[li];
-        const V3 v{sub(splat(light.position.x), p.x), sub(splat(light.position.y), p.y),
-                   sub(splat(light.position.z), p.z)};
-        const __m256d r2 = dot(v, v), inv_r2 = _mm256_div_pd(one, r2);
+        const V3 vc{sub(splat(light.position.x), p.x), sub(splat(light.position.y), p.y),
+                    sub(splat(light.position.z), p.z)};
+        const __m256d r2 = dot(vc, vc), inv_r2 = _mm256_div_pd(one, r2);
         const __m256d positive = _mm256_cmp_pd(r2, zero, _CMP_GT_OQ);
         const V3 e{_mm256_blendv_pd(one, mul(splat(light.colour.x), inv_r2), positive),
                    _mm256_blendv_pd(one, mul(splat(light.colour.y), inv_r2), positive),
                    _mm256_blendv_pd(one, mul(splat(light.colour.z), inv_r2), positive)};
         const V3 ec{mul(e.x, cp.x), mul(e.y, cp.y), mul(e.z, cp.z)};
         sum = {add(sum.x, mul(ec.x, splat(0.1))), add(sum.y, mul(ec.y, splat(0.1))), add(sum.z, mul(ec.z, splat(0.1)))};
+        // The ray toward the light's centre, or toward this sample's point of a sphere
+        // light (from outside it), whose blockers lie within `reach` of the centre.
+        V3 v = vc;
+        __m256d reach = zero, outside = zero;
+        if (light.radius > 0) {
+            alignas(32) double u1[4] = {}, u2[4] = {};
+            for (unsigned m = live; m; m &= m - 1) {  // taken whether used or not, as there
+                const int k = __builtin_ctz(m);
+                b.sampler[k].next(u1[k], u2[k]);
+            }
+            const __m256d dc = _mm256_sqrt_pd(r2);
+            outside = _mm256_cmp_pd(dc, splat(light.radius), _CMP_GT_OQ);
+            if (lanes(outside) & live) {
+                const V3 q = sphere_offset4(p, light.position, light.radius, dc, _mm256_load_pd(u1), _mm256_load_pd(u2));
+                v = {_mm256_blendv_pd(vc.x, q.x, outside), _mm256_blendv_pd(vc.y, q.y, outside),
+                     _mm256_blendv_pd(vc.z, q.z, outside)};
+            }
+            reach = _mm256_blendv_pd(dc, add(dc, splat(light.radius)), outside);
+        }
         const __m256d vn = dot(v, n);
         unsigned lit = lanes(_mm256_cmp_pd(vn, zero, _CMP_GT_OQ)) & live;
         if (!lit) continue;
         ctx.stats->rays += unsigned(__builtin_popcount(lit));
-        const __m256d r = _mm256_sqrt_pd(r2), inv_r = _mm256_div_pd(one, r);
+        const __m256d r = _mm256_sqrt_pd(dot(v, v)), inv_r = _mm256_div_pd(one, r);
+        if (!(light.radius > 0)) reach = r;
         const V3 vh = scaled(v, inv_r);
         const V3 o{add(p.x, mul(vh.x, splat(kDelta))), add(p.y, mul(vh.y, splat(kDelta))),
                    add(p.z, mul(vh.z, splat(kDelta)))};
@@ -188,12 +277,13 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], unsigned live, Colour out
         // The objects, lane by lane, each lane's cell found for the four at once.
         ShadowRays4 rays;
         rays.store(o, v, vh, r, limit, p1, li);
+        rays.store_toward(vc, reach);
         const LightBuffer* lb = light_buffers ? &(*light_buffers)[li] : nullptr;
         unsigned in_cell = 0;  // the lanes that LightBuffer::usable() lets use it
         alignas(16) std::int32_t cell[4];
         if (lb && lb->n > 0) {
-            in_cell = lanes(_mm256_cmp_pd(add(add(p1, splat(lb->position1)), r), splat(lb->reach), _CMP_LE_OQ)) & lit;
-            if (in_cell) cells_toward4(*lb, v, cell);
+            in_cell = lanes(_mm256_cmp_pd(add(add(p1, splat(lb->position1)), reach), splat(lb->reach), _CMP_LE_OQ)) & lit;
+            if (in_cell) cells_toward4(*lb, vc, cell);
         }
         alignas(32) double shade[3][4] = {{1, 1, 1, 1}, {1, 1, 1, 1}, {1, 1, 1, 1}};
         lit = shadow_lanes(rays, lb, in_cell, cell, lit, shade, ctx);
@@ -204,10 +294,23 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], unsigned live, Colour out
         const __m256d use = _mm256_castsi256_pd(_mm256_cmpgt_epi64(bits, _mm256_setzero_si256()));
         sum = {_mm256_blendv_pd(sum.x, add(sum.x, term.x), use), _mm256_blendv_pd(sum.y, add(sum.y, term.y), use),
                _mm256_blendv_pd(sum.z, add(sum.z, term.z), use)};
+        if (lit & shiny) {  // direct_sampled()'s highlights, lane by lane its operations
+            const Lanes3 ee(e), hh(vh);
+            for (unsigned m = lit & shiny; m; m &= m - 1) {
+                const int k = __builtin_ctz(m);
+                const Vec3 h = hh[k] - d[k];
+                const double hl = length(h);
+                const double nh = hl > 0 ? dot(s[k].n, h) / hl : 0;
+                if (nh > 0)
+                    highlight[k] += mul(ee[k], Colour{shade[0][k], shade[1][k], shade[2][k]}) *
+                                    (s[k].m->specular * std::pow(nh, s[k].m->shininess));
+            }
+        }
     }
     const Lanes3 res(sum);
     for (int k = 0; k < 4; ++k) out[k] = res[k];
 }
+
 
 // Four values left unset (Vec3 and Surface set theirs to zero), for the lanes of a
 // packet, each set before it is read.
@@ -217,15 +320,6 @@ union Uninit4 {
     Uninit4() {}
 };
 
-// Four rays' tree budgets (see Ctx), kept apart while their trees are traced together.
-struct World::Budgets {
-    double budget[4], cutoff[4];
-    // Ctx takes lane k's budget (unless the trace has stopped: its budget stays spent).
-    void enter(Ctx& ctx, int k) const {
-        if (!ctx.stats->stopped) ctx.budget = budget[k], ctx.cutoff = cutoff[k];
-    }
-    void leave(const Ctx& ctx, int k) { budget[k] = ctx.budget, cutoff[k] = ctx.cutoff; }
-};
 
 // shade() for the lanes `live` of four rays at one depth, on the AVX2 path: each ray is
 // shaded as shade() shades it, but the four points' direct light is found together
@@ -237,25 +331,36 @@ void World::shade4(const Vec3 o[4], const Vec3 d[4], unsigned live, int depth, c
     constexpr int kPacketDepth = 8;  // deeper, a lane at a time (the stack stays small)
     Uninit4<Surface> surfaces;
     Surface* const s = surfaces.v;
-    unsigned pending = 0, scatters = 0, mirrors = 0;
+    // scatters: the lanes whose direct light is found; fresh: those that shade() shades
+    // with the New: terms (direct_sampled(), and a highlight added).
+    unsigned pending = 0, scatters = 0, mirrors = 0, fresh = 0;
     for (unsigned m = live; m; m &= m - 1) {
         const int k = __builtin_ctz(m);
         b.enter(ctx, k);
         if (shade_surface(o[k], d[k], depth, weight[k], ctx, s[k], out[k])) {
             pending |= 1u << k;
-            if (s[k].m->scattering > 0) scatters |= 1u << k;
+            const bool shiny = s[k].m->specular > 0;
+            if (area_lights || shiny) fresh |= 1u << k;
+            if (s[k].m->scattering > 0 || shiny) scatters |= 1u << k;
             if (s[k].m->reflection > 0) mirrors |= 1u << k;
         }
         b.leave(ctx, k);
     }
     Uninit4<Colour> lits, mirrors_;
     Colour *const lit = lits.v, *const mirror = mirrors_.v;
+    Colour highlight[4];
     if (scatters && !ctx.stats->stopped) {
         if (scatters & (scatters - 1)) {
-            direct4(s, scatters, lit, ctx);
+            direct4(s, d, scatters, lit, highlight, b, ctx);
         } else {  // one lane: the scalar loop costs less
             const int k = __builtin_ctz(scatters);
-            lit[k] = direct(s[k].p, s[k].n, s[k].cp, ctx);
+            if ((fresh >> k) & 1) {
+                b.enter(ctx, k);
+                lit[k] = direct_sampled(s[k].p, s[k].n, d[k], *s[k].m, s[k].cp, highlight[k], ctx);
+                b.leave(ctx, k);
+            } else {
+                lit[k] = direct(s[k].p, s[k].n, s[k].cp, ctx);
+            }
         }
     } else if (scatters) {
         std::fill(lit, lit + 4, Colour{});  // (thrown away: the trace has stopped)
@@ -282,12 +387,16 @@ void World::shade4(const Vec3 o[4], const Vec3 d[4], unsigned live, int depth, c
     for (unsigned m = pending; m; m &= m - 1) {
         const int k = __builtin_ctz(m);
         out[k] = combine(s[k], lit[k], mirror[k]);
+        if ((fresh >> k) & 1) out[k] = out[k] + highlight[k];
     }
 }
 
-// trace_units() on the AVX2 path: shade4() on four camera rays at a time.
-void World::trace_units4(const Vec3& origin, const Vec3* dirs, std::size_t n, Ctx& ctx, Colour* out) const {
-    const Vec3 o[4] = {origin, origin, origin, origin};
+// trace_units() on the AVX2 path: shade4() on four camera rays at a time. With keys,
+// trace_samples(): each ray takes its sample's sampler and its point of the lens.
+void World::trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSample* keys, std::size_t n, Ctx& ctx,
+                         Colour* out) const {
+    Vec3 o[4] = {cam.origin, cam.origin, cam.origin, cam.origin};
+    Vec3 lens_dirs[4];
     const double weight[4] = {1, 1, 1, 1};
     for (std::size_t i0 = 0; i0 < n; i0 += 4) {
         if (ctx.stats->stopped) return std::fill(out + i0, out + n, Colour{});
@@ -296,7 +405,21 @@ void World::trace_units4(const Vec3& origin, const Vec3* dirs, std::size_t n, Ct
         Budgets b;
         std::fill(b.budget, b.budget + 4, omit_weight);
         std::fill(b.cutoff, b.cutoff + 4, omit_weight * Ctx::kShare);
-        shade4(o, dirs + i0, (1u << count) - 1, 0, weight, b, out + i0, ctx);
+        const Vec3* d = dirs + i0;
+        if (keys) {
+            for (unsigned k = 0; k < count; ++k) {
+                b.sampler[k] = PathSampler(keys[i0 + k]);
+                lens_dirs[k] = d[k];
+                if (cam.lens > 0) {
+                    double u, v;
+                    b.sampler[k].next(u, v);
+                    const Ray r = cam.lens_ray(d[k], u, v);
+                    o[k] = r.origin, lens_dirs[k] = r.dir;
+                }
+            }
+            d = lens_dirs;
+        }
+        shade4(o, d, (1u << count) - 1, 0, weight, b, out + i0, ctx);
         // Stopped inside these four: they and the rest are black, as in trace_units().
         if (ctx.stats->stopped) return std::fill(out + i0, out + n, Colour{});
         for (unsigned k = 0; k < count; ++k) out[i0 + k] = finite_colour(out[i0 + k]);

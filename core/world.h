@@ -215,12 +215,10 @@ public:
     // The same around the camera's position, for the rays that leave from it; null if none.
     std::shared_ptr<const LightBuffer> camera_buffer;
     // New: the colour of rays that meet nothing (the camera's `background`), and what
-    // the scene uses of the realism keys: sphere lights, highlights. Any of them takes
-    // the scalar path (the packets know only the 2013 terms); sphere lights and a lens
-    // need each ray's pixel sample (trace_samples).
+    // the scene uses of the realism keys: sphere lights, highlights. Sphere lights and a
+    // lens need each ray's pixel sample (trace_samples).
     Colour background;
     bool area_lights = false, highlights = false;
-    bool scalar_only() const { return area_lights || highlights || !(background == Colour{}); }
     // Whether camera rays through `cam` need their pixel samples (trace_samples).
     bool sampled(const CameraBasis& cam) const { return area_lights || cam.lens > 0; }
 
@@ -281,10 +279,12 @@ private:
     // lane the same operations, so the same bits.
     struct Budgets;
     struct ShadowRays4;
-    void trace_units4(const Vec3& origin, const Vec3* dirs, std::size_t n, Ctx& ctx, Colour* out) const;
+    void trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSample* keys, std::size_t n, Ctx& ctx,
+                      Colour* out) const;
     void shade4(const Vec3 o[4], const Vec3 d[4], unsigned live, int depth, const double weight[4], Budgets& b,
                 Colour out[4], Ctx& ctx) const;
-    void direct4(const Surface s[4], unsigned live, Colour out[4], Ctx& ctx) const;
+    void direct4(const Surface s[4], const Vec3 d[4], unsigned live, Colour out[4], Colour highlight[4], Budgets& b,
+                 Ctx& ctx) const;
     unsigned shadow_lanes(const ShadowRays4& q, const LightBuffer* lb, unsigned in_cell, const std::int32_t* cell,
                           unsigned lit, double (&sh)[3][4], Ctx& ctx) const;
     Colour direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;

@@ -304,3 +304,24 @@ TEST_CASE("sampler: Sobol dimension 1 from byte tables equals the bit-by-bit sum
     CHECK(sampling::sobol1(2) == 0xC0000000u);
     CHECK(sampling::sobol1(3) == 0x40000000u);
 }
+
+TEST_CASE("sampler: cos_sin_turn matches std::cos and std::sin of 2 pi v over the whole turn") {
+    double worst = 0;
+    for (int k = 0; k <= 100000; ++k) {
+        const double v = k / 100000.0, phi = 2 * M_PI * v;
+        double c, s;
+        sampling::cos_sin_turn(v, c, s);
+        worst = std::max({worst, std::abs(c - std::cos(phi)), std::abs(s - std::sin(phi))});
+    }
+    CHECK(worst < 1e-13);
+    // The quarter turns exactly, signs included.
+    double c, s;
+    sampling::cos_sin_turn(0.25, c, s);
+    CHECK(c == 0.0);
+    CHECK(s == 1.0);
+    sampling::cos_sin_turn(0.5, c, s);
+    CHECK(c == -1.0);
+    CHECK(s == 0.0);
+    sampling::cos_sin_turn(0.75, c, s);
+    CHECK(s == -1.0);
+}
