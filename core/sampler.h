@@ -56,24 +56,25 @@ inline std::uint32_t combine(std::uint32_t seed, std::uint32_t v) { return hash(
 // The first two Sobol dimensions of index i, as 32-bit fractions.
 inline std::uint32_t sobol0(std::uint32_t i) { return reverse_bits(i); }
 // Sobol dimension 1 is linear over GF(2) in the index's bits: the sum (xor) of one
-// column per set bit, here a byte of the index at a time from four tables of 256.
+// column per set bit, column k being (I + S)^k of the top bit (S: a shift right).
 inline std::uint32_t sobol1_slow(std::uint32_t i) {
     std::uint32_t r = 0;
     for (std::uint32_t v = 1u << 31; i != 0; i >>= 1, v ^= v >> 1)
         if (i & 1) r ^= v;
     return r;
 }
-struct Sobol1Tables {
-    std::uint32_t t[4][256];
-    Sobol1Tables() {
-        for (int b = 0; b < 4; ++b)
-            for (std::uint32_t k = 0; k < 256; ++k) t[b][k] = sobol1_slow(k << (8 * b));
-    }
-};
-inline std::uint32_t sobol1(std::uint32_t i) {
-    static const Sobol1Tables tables;
-    return tables.t[0][i & 255] ^ tables.t[1][(i >> 8) & 255] ^ tables.t[2][(i >> 16) & 255] ^ tables.t[3][i >> 24];
+// The same, bit-reversed: bit j is the sum of the index's bits k whose binomial C(k, j)
+// is odd, i.e. (Lucas) whose bit set holds j's: the superset sum over the five bits of
+// a bit's number, one shift a bit.
+inline std::uint32_t sobol1_reversed(std::uint32_t i) {
+    i ^= (i >> 1) & 0x55555555u;
+    i ^= (i >> 2) & 0x33333333u;
+    i ^= (i >> 4) & 0x0F0F0F0Fu;
+    i ^= (i >> 8) & 0x00FF00FFu;
+    i ^= (i >> 16) & 0x0000FFFFu;
+    return i;
 }
+inline std::uint32_t sobol1(std::uint32_t i) { return reverse_bits(sobol1_reversed(i)); }
 
 inline double fraction(std::uint32_t v) { return double(v) * (1.0 / 4294967296.0); }
 
@@ -110,20 +111,28 @@ public:
     PathSampler() = default;
     explicit PathSampler(const PixelSample& p)
         : pixel_(sampling::hash(std::uint32_t(p.x) * 0x8da6b343u ^ sampling::hash(std::uint32_t(p.y) + 0x68e31da4u))),
-          index_(std::uint32_t(p.s)) {}
+          rindex_(sampling::reverse_bits(std::uint32_t(p.s))) {}
     // A point of [0, 1)^2: Sobol dimensions 0 and 1 of the shuffled index, each
     // Owen-scrambled. (Sobol dimension 0 is the bit reversal of the index, so its
-    // scramble needs no reversal of its own: reverse(lk(reverse(reverse(i)))).)
+    // scramble needs no reversal of its own: reverse(lk(reverse(reverse(i)))); the
+    // scramble of dimension 1 starts from its reversal, sobol1_reversed().)
     void next(double& u, double& v) {
         using namespace sampling;
-        const std::uint32_t seed = hash(pixel_ ^ (dim_++ * 0x9e3779b9u));  // one hash a dimension
-        const std::uint32_t i = reverse_bits(lk_permutation(reverse_bits(index_), seed));  // shuffled
-        u = fraction(reverse_bits(lk_permutation(i, seed ^ 0xa511e9b3u)));
-        v = fraction(owen_scramble(sobol1(i), seed ^ 0x63d83595u));
+        const std::uint32_t seed = take_seed();
+        const std::uint32_t i = reverse_bits(lk_permutation(rindex_, seed));  // shuffled
+        u = fraction(reverse_bits(lk_permutation(i, seed ^ kSeedU)));
+        v = fraction(reverse_bits(lk_permutation(sobol1_reversed(i), seed ^ kSeedV)));
     }
+    // next()'s parts, for the AVX2 path that draws four samplers' points at once: the
+    // next dimension's seed (one hash a dimension) or what it hashes, the reversed
+    // sample number.
+    std::uint32_t take_seed() { return sampling::hash(take_key()); }
+    std::uint32_t take_key() { return pixel_ ^ (dim_++ * 0x9e3779b9u); }  // what the seed hashes
+    std::uint32_t reversed_index() const { return rindex_; }
+    static constexpr std::uint32_t kSeedU = 0xa511e9b3u, kSeedV = 0x63d83595u;
 
 private:
-    std::uint32_t pixel_ = 0, index_ = 0, dim_ = 0;
+    std::uint32_t pixel_ = 0, rindex_ = 0, dim_ = 0;
 };
 
 }  // namespace rt

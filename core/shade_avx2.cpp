@@ -78,6 +78,58 @@ RT_TARGET_AVX2 unsigned planes_block4(const World& w, const V3& o, const V3& vh,
     return blocked;
 }
 
+// The sampler's integer steps (sampler.h) on four 32-bit lanes: the same integers.
+RT_TARGET_AVX2 inline __m128i reverse_bits4(__m128i v) {
+    const __m128i nibble = _mm_setr_epi8(0x0, 0x8, 0x4, 0xC, 0x2, 0xA, 0x6, 0xE, 0x1, 0x9, 0x5, 0xD, 0x3, 0xB, 0x7, 0xF);
+    const __m128i low = _mm_set1_epi8(0x0F);
+    const __m128i lo = _mm_and_si128(v, low), hi = _mm_and_si128(_mm_srli_epi16(v, 4), low);
+    // Each byte's bits reversed (its nibbles, each reversed, swapped), then the bytes.
+    const __m128i r = _mm_or_si128(_mm_slli_epi16(_mm_shuffle_epi8(nibble, lo), 4), _mm_shuffle_epi8(nibble, hi));
+    return _mm_shuffle_epi8(r, _mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12));
+}
+RT_TARGET_AVX2 inline __m128i times(__m128i x, std::uint32_t c) { return _mm_mullo_epi32(x, _mm_set1_epi32(int(c))); }
+RT_TARGET_AVX2 inline __m128i lk_permutation4(__m128i x, __m128i seed) {
+    x = _mm_add_epi32(x, seed);
+    x = _mm_xor_si128(x, times(x, 0x6c50b47cu));
+    x = _mm_xor_si128(x, times(x, 0xb82f1e52u));
+    x = _mm_xor_si128(x, times(x, 0xc7afe638u));
+    return _mm_xor_si128(x, times(x, 0x8d22f6e6u));
+}
+RT_TARGET_AVX2 inline __m128i hash4(__m128i x) {
+    x = _mm_xor_si128(x, _mm_srli_epi32(x, 16));
+    x = times(x, 0x7feb352du);
+    x = _mm_xor_si128(x, _mm_srli_epi32(x, 15));
+    x = times(x, 0x846ca68bu);
+    return _mm_xor_si128(x, _mm_srli_epi32(x, 16));
+}
+RT_TARGET_AVX2 inline __m128i sobol1_reversed4(__m128i i) {
+    auto step = [&](int shift, std::uint32_t mask) RT_TARGET_AVX2 {
+        i = _mm_xor_si128(i, _mm_and_si128(_mm_srli_epi32(i, shift), _mm_set1_epi32(int(mask))));
+    };
+    step(1, 0x55555555u), step(2, 0x33333333u), step(4, 0x0F0F0F0Fu), step(8, 0x00FF00FFu), step(16, 0x0000FFFFu);
+    return i;
+}
+// sampling::fraction() of four lanes.
+RT_TARGET_AVX2 inline __m256d fraction4(__m128i v) {
+    const __m256d signed_ = _mm256_cvtepi32_pd(_mm_xor_si128(v, _mm_set1_epi32(int(0x80000000u))));
+    return mul(add(signed_, splat(2147483648.0)), splat(1.0 / 4294967296.0));
+}
+// PathSampler::next() of the samplers of the lanes `live` (the others' points are
+// made up): the same points.
+RT_TARGET_AVX2 void next4(PathSampler (&s)[4], unsigned live, __m256d& u, __m256d& v) {
+    alignas(16) std::uint32_t key[4] = {}, rindex[4] = {};
+    for (unsigned m = live; m; m &= m - 1) {
+        const int k = __builtin_ctz(m);
+        key[k] = s[k].take_key(), rindex[k] = s[k].reversed_index();
+    }
+    const __m128i seed = hash4(_mm_load_si128(reinterpret_cast<const __m128i*>(key)));
+    const __m128i i = reverse_bits4(lk_permutation4(_mm_load_si128(reinterpret_cast<const __m128i*>(rindex)), seed));
+    const __m128i su = _mm_xor_si128(seed, _mm_set1_epi32(int(PathSampler::kSeedU)));
+    const __m128i sv = _mm_xor_si128(seed, _mm_set1_epi32(int(PathSampler::kSeedV)));
+    u = fraction4(reverse_bits4(lk_permutation4(i, su)));
+    v = fraction4(reverse_bits4(lk_permutation4(sobol1_reversed4(i), sv)));
+}
+
 // sampling::cos_sin_turn() for four angles: the same operations, so the same bits.
 RT_TARGET_AVX2 void cos_sin_turn4(__m256d v, __m256d& c, __m256d& s) {
     const __m256d q = _mm256_round_pd(mul(v, splat(4)), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
@@ -246,17 +298,13 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
         // The ray toward the light's centre, or toward this sample's point of a sphere
         // light (from outside it), whose blockers lie within `reach` of the centre.
         V3 v = vc;
-        __m256d reach = zero, outside = zero;
+        __m256d reach = zero;
         if (light.radius > 0) {
-            alignas(32) double u1[4] = {}, u2[4] = {};
-            for (unsigned m = live; m; m &= m - 1) {  // taken whether used or not, as there
-                const int k = __builtin_ctz(m);
-                b.sampler[k].next(u1[k], u2[k]);
-            }
-            const __m256d dc = _mm256_sqrt_pd(r2);
-            outside = _mm256_cmp_pd(dc, splat(light.radius), _CMP_GT_OQ);
+            __m256d u1, u2;
+            next4(b.sampler, live, u1, u2);  // taken whether used or not, as there
+            const __m256d dc = _mm256_sqrt_pd(r2), outside = _mm256_cmp_pd(dc, splat(light.radius), _CMP_GT_OQ);
             if (lanes(outside) & live) {
-                const V3 q = sphere_offset4(p, light.position, light.radius, dc, _mm256_load_pd(u1), _mm256_load_pd(u2));
+                const V3 q = sphere_offset4(p, light.position, light.radius, dc, u1, u2);
                 v = {_mm256_blendv_pd(vc.x, q.x, outside), _mm256_blendv_pd(vc.y, q.y, outside),
                      _mm256_blendv_pd(vc.z, q.z, outside)};
             }

@@ -292,12 +292,13 @@ TEST_CASE("sampler: the points of one pixel are stratified (one in each of 16 ce
     }
 }
 
-TEST_CASE("sampler: Sobol dimension 1 from byte tables equals the bit-by-bit sum of its columns") {
+TEST_CASE("sampler: Sobol dimension 1 by the superset sum equals the bit-by-bit sum of its columns") {
     std::uint32_t x = 12345;
     for (int k = 0; k < 20000; ++k) {
         x = x * 1664525u + 1013904223u;
         CHECK(sampling::sobol1(x) == sampling::sobol1_slow(x));
     }
+    CHECK(sampling::sobol1(0xFFFFFFFFu) == sampling::sobol1_slow(0xFFFFFFFFu));
     for (std::uint32_t i = 0; i < 64; ++i) CHECK(sampling::sobol1(i) == sampling::sobol1_slow(i));
     // The first points: 1/2, then 3/4 and 1/4 (the Pascal matrix's columns).
     CHECK(sampling::sobol1(1) == 0x80000000u);
