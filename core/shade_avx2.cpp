@@ -78,33 +78,36 @@ RT_TARGET_AVX2 unsigned planes_block4(const World& w, const V3& o, const V3& vh,
     return blocked;
 }
 
-// The sampler's integer steps (sampler.h) on four 32-bit lanes: the same integers.
-RT_TARGET_AVX2 inline __m128i reverse_bits4(__m128i v) {
-    const __m128i nibble = _mm_setr_epi8(0x0, 0x8, 0x4, 0xC, 0x2, 0xA, 0x6, 0xE, 0x1, 0x9, 0x5, 0xD, 0x3, 0xB, 0x7, 0xF);
-    const __m128i low = _mm_set1_epi8(0x0F);
-    const __m128i lo = _mm_and_si128(v, low), hi = _mm_and_si128(_mm_srli_epi16(v, 4), low);
+// The sampler's integer steps (sampler.h) on eight 32-bit lanes: the same integers.
+using I8 = __m256i;
+RT_TARGET_AVX2 inline I8 reverse_bits8(I8 v) {
+    const I8 nibble = _mm256_setr_epi8(0x0, 0x8, 0x4, 0xC, 0x2, 0xA, 0x6, 0xE, 0x1, 0x9, 0x5, 0xD, 0x3, 0xB, 0x7, 0xF,
+                                       0x0, 0x8, 0x4, 0xC, 0x2, 0xA, 0x6, 0xE, 0x1, 0x9, 0x5, 0xD, 0x3, 0xB, 0x7, 0xF);
+    const I8 low = _mm256_set1_epi8(0x0F);
+    const I8 lo = _mm256_and_si256(v, low), hi = _mm256_and_si256(_mm256_srli_epi16(v, 4), low);
     // Each byte's bits reversed (its nibbles, each reversed, swapped), then the bytes.
-    const __m128i r = _mm_or_si128(_mm_slli_epi16(_mm_shuffle_epi8(nibble, lo), 4), _mm_shuffle_epi8(nibble, hi));
-    return _mm_shuffle_epi8(r, _mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12));
+    const I8 r = _mm256_or_si256(_mm256_slli_epi16(_mm256_shuffle_epi8(nibble, lo), 4), _mm256_shuffle_epi8(nibble, hi));
+    return _mm256_shuffle_epi8(r, _mm256_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3, 2, 1, 0, 7,
+                                                   6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12));
 }
-RT_TARGET_AVX2 inline __m128i times(__m128i x, std::uint32_t c) { return _mm_mullo_epi32(x, _mm_set1_epi32(int(c))); }
-RT_TARGET_AVX2 inline __m128i lk_permutation4(__m128i x, __m128i seed) {
-    x = _mm_add_epi32(x, seed);
-    x = _mm_xor_si128(x, times(x, 0x6c50b47cu));
-    x = _mm_xor_si128(x, times(x, 0xb82f1e52u));
-    x = _mm_xor_si128(x, times(x, 0xc7afe638u));
-    return _mm_xor_si128(x, times(x, 0x8d22f6e6u));
+RT_TARGET_AVX2 inline I8 times(I8 x, std::uint32_t c) { return _mm256_mullo_epi32(x, _mm256_set1_epi32(int(c))); }
+RT_TARGET_AVX2 inline I8 lk_permutation8(I8 x, I8 seed) {
+    x = _mm256_add_epi32(x, seed);
+    x = _mm256_xor_si256(x, times(x, 0x6c50b47cu));
+    x = _mm256_xor_si256(x, times(x, 0xb82f1e52u));
+    x = _mm256_xor_si256(x, times(x, 0xc7afe638u));
+    return _mm256_xor_si256(x, times(x, 0x8d22f6e6u));
 }
-RT_TARGET_AVX2 inline __m128i hash4(__m128i x) {
-    x = _mm_xor_si128(x, _mm_srli_epi32(x, 16));
+RT_TARGET_AVX2 inline I8 hash8(I8 x) {
+    x = _mm256_xor_si256(x, _mm256_srli_epi32(x, 16));
     x = times(x, 0x7feb352du);
-    x = _mm_xor_si128(x, _mm_srli_epi32(x, 15));
+    x = _mm256_xor_si256(x, _mm256_srli_epi32(x, 15));
     x = times(x, 0x846ca68bu);
-    return _mm_xor_si128(x, _mm_srli_epi32(x, 16));
+    return _mm256_xor_si256(x, _mm256_srli_epi32(x, 16));
 }
-RT_TARGET_AVX2 inline __m128i sobol1_reversed4(__m128i i) {
+RT_TARGET_AVX2 inline I8 sobol1_reversed8(I8 i) {
     auto step = [&](int shift, std::uint32_t mask) RT_TARGET_AVX2 {
-        i = _mm_xor_si128(i, _mm_and_si128(_mm_srli_epi32(i, shift), _mm_set1_epi32(int(mask))));
+        i = _mm256_xor_si256(i, _mm256_and_si256(_mm256_srli_epi32(i, shift), _mm256_set1_epi32(int(mask))));
     };
     step(1, 0x55555555u), step(2, 0x33333333u), step(4, 0x0F0F0F0Fu), step(8, 0x00FF00FFu), step(16, 0x0000FFFFu);
     return i;
@@ -114,21 +117,41 @@ RT_TARGET_AVX2 inline __m256d fraction4(__m128i v) {
     const __m256d signed_ = _mm256_cvtepi32_pd(_mm_xor_si128(v, _mm_set1_epi32(int(0x80000000u))));
     return mul(add(signed_, splat(2147483648.0)), splat(1.0 / 4294967296.0));
 }
-// PathSampler::next() of the samplers of the lanes `live` (the others' points are
-// made up): the same points.
-RT_TARGET_AVX2 void next4(PathSampler (&s)[4], unsigned live, __m256d& u, __m256d& v) {
-    alignas(16) std::uint32_t key[4] = {}, rindex[4] = {};
-    for (unsigned m = live; m; m &= m - 1) {
-        const int k = __builtin_ctz(m);
-        key[k] = s[k].take_key(), rindex[k] = s[k].reversed_index();
+
+// The points of the next few sphere lights for the samplers of four lanes: each lane's
+// next dimensions, in the lights' order, as PathSampler::next() draws them (the same
+// points). Drawn four lights at a time, two lights to a vector: the chains of
+// multiplications of a light's four points are long, and overlap this way.
+struct LightSamples4 {
+    static constexpr int kMax = 4;
+    __m256d u[kMax], v[kMax];
+    int count = 0, used = 0;
+    // Draws for the sphere lights from `first` on, up to kMax of them, for the lanes
+    // `live` (the others' points are made up).
+    RT_TARGET_AVX2 void draw(const Chunked<ShadeLight>& lights, std::size_t first, PathSampler (&s)[4], unsigned live) {
+        alignas(32) std::uint32_t key[kMax][4] = {}, rindex[4] = {};
+        count = used = 0;
+        for (std::size_t j = first; j < lights.size() && count < kMax; ++j) {
+            if (!(lights[j].radius > 0)) continue;
+            for (unsigned m = live; m; m &= m - 1) {
+                const int k = __builtin_ctz(m);
+                key[count][k] = s[k].take_key(), rindex[k] = s[k].reversed_index();
+            }
+            ++count;
+        }
+        const I8 index = _mm256_broadcastsi128_si256(_mm_load_si128(reinterpret_cast<const __m128i*>(rindex)));
+        for (int pair = 0; pair < count; pair += 2) {
+            const I8 seed = hash8(_mm256_load_si256(reinterpret_cast<const I8*>(key[pair])));
+            const I8 i = reverse_bits8(lk_permutation8(index, seed));
+            const I8 su = _mm256_xor_si256(seed, _mm256_set1_epi32(int(PathSampler::kSeedU)));
+            const I8 sv = _mm256_xor_si256(seed, _mm256_set1_epi32(int(PathSampler::kSeedV)));
+            const I8 uu = reverse_bits8(lk_permutation8(i, su));
+            const I8 vv = reverse_bits8(lk_permutation8(sobol1_reversed8(i), sv));
+            u[pair] = fraction4(_mm256_castsi256_si128(uu)), v[pair] = fraction4(_mm256_castsi256_si128(vv));
+            u[pair + 1] = fraction4(_mm256_extracti128_si256(uu, 1)), v[pair + 1] = fraction4(_mm256_extracti128_si256(vv, 1));
+        }
     }
-    const __m128i seed = hash4(_mm_load_si128(reinterpret_cast<const __m128i*>(key)));
-    const __m128i i = reverse_bits4(lk_permutation4(_mm_load_si128(reinterpret_cast<const __m128i*>(rindex)), seed));
-    const __m128i su = _mm_xor_si128(seed, _mm_set1_epi32(int(PathSampler::kSeedU)));
-    const __m128i sv = _mm_xor_si128(seed, _mm_set1_epi32(int(PathSampler::kSeedV)));
-    u = fraction4(reverse_bits4(lk_permutation4(i, su)));
-    v = fraction4(reverse_bits4(lk_permutation4(sobol1_reversed4(i), sv)));
-}
+};
 
 // sampling::cos_sin_turn() for four angles: the same operations, so the same bits.
 RT_TARGET_AVX2 void cos_sin_turn4(__m256d v, __m256d& c, __m256d& s) {
@@ -173,6 +196,36 @@ RT_TARGET_AVX2 V3 sphere_offset4(const V3& p, const Vec3& c, double radius, __m2
     const __m256d t = sub(along, _mm256_sqrt_pd(_mm256_max_pd(sub(rr, mul(dd, mul(sin_t, sin_t))), zero)));
     // (p + dir t) - p, as the scalar code forms the point and then v.
     return {sub(add(p.x, mul(dir.x, t)), p.x), sub(add(p.y, mul(dir.y, t)), p.y), sub(add(p.z, mul(dir.z, t)), p.z)};
+}
+
+// direct_sampled()'s vector toward the sphere light's point chosen by (u, v) from four
+// points p, vc from p to the light's centre (r2 = |vc|^2): vc itself for a point inside
+// the light. `reach`: how far from the centre blockers may lie (the centre's distance,
+// plus the radius from outside).
+RT_TARGET_AVX2 V3 toward_sphere4(const V3& p, const V3& vc, __m256d r2, const ShadeLight& light, __m256d u, __m256d v,
+                                 unsigned live, __m256d& reach) {
+    const __m256d dc = _mm256_sqrt_pd(r2), outside = _mm256_cmp_pd(dc, splat(light.radius), _CMP_GT_OQ);
+    reach = _mm256_blendv_pd(dc, add(dc, splat(light.radius)), outside);
+    if (!(lanes(outside) & live)) return vc;
+    const V3 q = sphere_offset4(p, light.position, light.radius, dc, u, v);
+    return {_mm256_blendv_pd(vc.x, q.x, outside), _mm256_blendv_pd(vc.y, q.y, outside),
+            _mm256_blendv_pd(vc.z, q.z, outside)};
+}
+
+// direct_sampled()'s highlights for the lanes `lit` (normals n, materials m, seen
+// along d) that a light of strength e reaches along vh, tinted sh: lane by lane, its
+// operations.
+RT_TARGET_AVX2 void highlights4(const Vec3* const n[4], const ShadeMaterial* const m[4], const Vec3 d[4], const V3& e,
+                                const V3& vh, const double (&sh)[3][4], unsigned lit, Colour highlight[4]) {
+    const Lanes3 ee(e), hh(vh);
+    for (; lit; lit &= lit - 1) {
+        const int k = __builtin_ctz(lit);
+        const Vec3 h = hh[k] - d[k];
+        const double hl = length(h);
+        const double nh = hl > 0 ? dot(*n[k], h) / hl : 0;
+        if (nh > 0)
+            highlight[k] += mul(ee[k], Colour{sh[0][k], sh[1][k], sh[2][k]}) * (m[k]->specular * std::pow(nh, m[k]->shininess));
+    }
 }
 
 // LightBuffer::cell_toward() for four vectors toward the light: each lane's cell, as
@@ -274,16 +327,18 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
     if (ctx.blocker.size() < lights.size()) ctx.blocker.resize(lights.size());
     const int first = __builtin_ctz(live);  // the other lanes copy it, harmlessly
     const Vec3 *pp[4], *nn[4], *cc[4];
+    const ShadeMaterial* mats[4];
     unsigned shiny = 0;  // the lanes with a highlight
     for (int k = 0; k < 4; ++k) {
         const Surface& q = s[(live >> k) & 1 ? k : first];
-        pp[k] = &q.p, nn[k] = &q.n, cc[k] = &q.cp;
+        pp[k] = &q.p, nn[k] = &q.n, cc[k] = &q.cp, mats[k] = q.m;
         if ((live >> k) & 1 && q.m->specular > 0) shiny |= 1u << k;
     }
     const V3 p = gather(pp), n = gather(nn), cp = gather(cc);
     const __m256d sign = splat(-0.0), zero = _mm256_setzero_pd(), one = splat(1.0);
     const __m256d p1 = add(add(_mm256_andnot_pd(sign, p.x), _mm256_andnot_pd(sign, p.y)), _mm256_andnot_pd(sign, p.z));
     V3 sum{zero, zero, zero};
+    LightSamples4 drawn;
     for (std::size_t li = 0; li < lights.size(); ++li) {
         const ShadeLight& light = lights[li];
         const V3 vc{sub(splat(light.position.x), p.x), sub(splat(light.position.y), p.y),
@@ -300,15 +355,9 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
         V3 v = vc;
         __m256d reach = zero;
         if (light.radius > 0) {
-            __m256d u1, u2;
-            next4(b.sampler, live, u1, u2);  // taken whether used or not, as there
-            const __m256d dc = _mm256_sqrt_pd(r2), outside = _mm256_cmp_pd(dc, splat(light.radius), _CMP_GT_OQ);
-            if (lanes(outside) & live) {
-                const V3 q = sphere_offset4(p, light.position, light.radius, dc, u1, u2);
-                v = {_mm256_blendv_pd(vc.x, q.x, outside), _mm256_blendv_pd(vc.y, q.y, outside),
-                     _mm256_blendv_pd(vc.z, q.z, outside)};
-            }
-            reach = _mm256_blendv_pd(dc, add(dc, splat(light.radius)), outside);
+            if (drawn.used == drawn.count) drawn.draw(lights, li, b.sampler, live);
+            v = toward_sphere4(p, vc, r2, light, drawn.u[drawn.used], drawn.v[drawn.used], live, reach);
+            ++drawn.used;
         }
         const __m256d vn = dot(v, n);
         unsigned lit = lanes(_mm256_cmp_pd(vn, zero, _CMP_GT_OQ)) & live;
@@ -342,18 +391,7 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
         const __m256d use = _mm256_castsi256_pd(_mm256_cmpgt_epi64(bits, _mm256_setzero_si256()));
         sum = {_mm256_blendv_pd(sum.x, add(sum.x, term.x), use), _mm256_blendv_pd(sum.y, add(sum.y, term.y), use),
                _mm256_blendv_pd(sum.z, add(sum.z, term.z), use)};
-        if (lit & shiny) {  // direct_sampled()'s highlights, lane by lane its operations
-            const Lanes3 ee(e), hh(vh);
-            for (unsigned m = lit & shiny; m; m &= m - 1) {
-                const int k = __builtin_ctz(m);
-                const Vec3 h = hh[k] - d[k];
-                const double hl = length(h);
-                const double nh = hl > 0 ? dot(s[k].n, h) / hl : 0;
-                if (nh > 0)
-                    highlight[k] += mul(ee[k], Colour{shade[0][k], shade[1][k], shade[2][k]}) *
-                                    (s[k].m->specular * std::pow(nh, s[k].m->shininess));
-            }
-        }
+        if (lit & shiny) highlights4(nn, mats, d, e, vh, shade, lit & shiny, highlight);
     }
     const Lanes3 res(sum);
     for (int k = 0; k < 4; ++k) out[k] = res[k];
