@@ -1,6 +1,8 @@
 // The pool behind parallel_for (see parallel.h).
 #include "parallel.h"
 
+#include <sched.h>
+
 #include <algorithm>
 
 namespace rt {
@@ -115,9 +117,19 @@ std::mutex process_mutex;
 int process_workers = 0;  // asked for (0: one per hardware thread); under process_mutex
 std::atomic<ThreadPool*> process{nullptr};
 
-int workers_for(int asked) { return asked > 0 ? asked : int(std::max(1u, std::thread::hardware_concurrency())); }
+int workers_for(int asked) { return asked > 0 ? asked : hardware_threads(); }
 
 }  // namespace
+
+int hardware_threads() {
+#ifdef CPU_COUNT
+    // The processors this process may run on (a container or taskset may allow fewer
+    // than the machine has).
+    cpu_set_t set;
+    if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
+#endif
+    return int(std::max(1u, std::thread::hardware_concurrency()));
+}
 
 ThreadPool& process_pool() {
     if (ThreadPool* p = process.load(std::memory_order_acquire)) return *p;

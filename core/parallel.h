@@ -82,6 +82,10 @@ ThreadPool& process_pool();
 // only before the pool's first use; returns whether the pool has (or will have) that
 // many workers.
 bool set_process_threads(int workers);
+// The hardware threads this process may use (its CPU affinity: mpirun binds each rank
+// to its cores, and more threads than that only queue for them): the default number
+// of workers.
+int hardware_threads();
 
 // f(0) on the caller's thread and, when `two`, f(1) at the same time on a thread of
 // process_pool() (or after f(0) on the caller's, when none is free); else f(0) then f(1). An exception from either is rethrown here once both

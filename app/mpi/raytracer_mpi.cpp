@@ -64,7 +64,7 @@ rt::Status front_end(int argc, char** argv, Front& f, rt::Scene& scene) {
     install_signal_handlers();
     // The pool the reading, the build and the render share (its threads started after
     // the handlers, so that they block the signals too).
-    rt::set_process_threads(opt.render.threads > 0 ? opt.render.threads : default_threads());
+    rt::set_process_threads(opt.render.threads > 0 ? opt.render.threads : rt::hardware_threads());
     f.t_start = Clock::now();
     if (rt::Status st = load_scene(f.scene_path, f.text, scene); !st) return st;
     if (opt.width) scene.width = *opt.width;
@@ -391,7 +391,7 @@ int run(int argc, char** argv) {
     times.bcast = seconds_since(t_bcast0);
     const auto t_compile0 = Clock::now();
     // (Rank 0 set it from the same count before reading the scene.)
-    rt::set_process_threads(job.threads > 0 ? job.threads : default_threads());
+    rt::set_process_threads(job.threads > 0 ? job.threads : rt::hardware_threads());
     Built built;
     const rt::Status built_ok = build_rank(text, models, textures, job, built);
     times.compile = seconds_since(t_compile0);

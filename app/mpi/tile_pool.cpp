@@ -3,10 +3,8 @@
 // inside it has checked out.
 #include "tile_pool.h"
 
-#include <sched.h>
 
 #include <algorithm>
-#include <thread>
 
 #include "adaptive.h"
 #include "renderer.h"
@@ -34,14 +32,6 @@ std::vector<Tile> make_tiles(int width, int height, int side) {
         return ax * ax + ay * ay < bx * bx + by * by;
     });
     return tiles;
-}
-
-int default_threads() {
-#ifdef CPU_COUNT
-    cpu_set_t set;
-    if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
-#endif
-    return int(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 TilePool::TilePool(const rt::World& world, const rt::CameraBasis& camera, rt::ThreadPool& pool)

@@ -28,10 +28,6 @@ struct Tile {
 // travels as its index.
 std::vector<Tile> make_tiles(int width, int height, int side);
 
-// CPUs this process may run on: mpirun binds ranks (Open MPI: each rank to one core
-// when it starts 2 or fewer), and more threads than that only queue for them.
-int default_threads();
-
 // Renders queued tiles on the workers of a thread pool (rt::ThreadPool). All of them
 // work on the oldest tile that still has pixels to hand out, then go straight on to
 // the next queued one: a thread never waits for the caller between tiles (on a busy
