@@ -22,23 +22,10 @@ using rt_test::brute_nearest;
 
 namespace {
 
-Shape random_primitive_shape(Rng& rng, const Vec3& c, double s) {
-    switch (rng.index(4)) {
-        case 0: return Sphere{c, s};
-        case 1: {
-            Tetrahedron t;
-            for (Vec3& v : t.v) v = c + rng.in_ball(2 * s);
-            return t;
-        }
-        case 2: return Cylinder{c - rng.unit() * s, c + rng.unit() * s, 0.4 * s};
-        default: return Torus{c, rng.unit(), s, 0.3 * s};
-    }
-}
-
 Object random_primitive(Rng& rng, const Vec3& c, double s) {
     // (Built whole: assigning a shape to a default object trips a false
     // -Wfree-nonheap-object in GCC 12's variant.)
-    return Object{random_primitive_shape(rng, c, s), Material::object_default(), false, SourceLoc{}};
+    return Object{rt_test::random_primitive_shape(rng, c, s), Material::object_default(), false, SourceLoc{}};
 }
 
 Scene random_scene(Rng& rng, std::size_t n, double size) {

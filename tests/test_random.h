@@ -11,6 +11,7 @@
 #include <string>
 
 #include "math.h"
+#include "scene.h"
 
 namespace rt_test {
 
@@ -39,6 +40,20 @@ inline std::string fmt(const rt::Vec3& v) {
     char buf[128];
     std::snprintf(buf, sizeof buf, "(%.17g, %.17g, %.17g)", v.x, v.y, v.z);
     return buf;
+}
+
+// A sphere, tetrahedron, cylinder or torus of size about s around c.
+inline rt::Shape random_primitive_shape(Rng& rng, const rt::Vec3& c, double s) {
+    switch (rng.index(4)) {
+        case 0: return rt::Sphere{c, s};
+        case 1: {
+            rt::Tetrahedron t;
+            for (rt::Vec3& v : t.v) v = c + rng.in_ball(2 * s);
+            return t;
+        }
+        case 2: return rt::Cylinder{c - rng.unit() * s, c + rng.unit() * s, 0.4 * s};
+        default: return rt::Torus{c, rng.unit(), s, 0.3 * s};
+    }
 }
 
 }  // namespace rt_test

@@ -38,26 +38,13 @@ Material random_material(Rng& rng) {
     return m;
 }
 
-Shape random_primitive(Rng& rng, const Vec3& c, double s) {
-    switch (rng.index(4)) {
-        case 0: return Sphere{c, s};
-        case 1: {
-            Tetrahedron t;
-            for (Vec3& v : t.v) v = c + rng.in_ball(2 * s);
-            return t;
-        }
-        case 2: return Cylinder{c - rng.unit() * s, c + rng.unit() * s, 0.4 * s};
-        default: return Torus{c, rng.unit(), s, 0.3 * s};
-    }
-}
-
 Object random_object(Rng& rng, const Vec3& c, double s) {
-    Object o{random_primitive(rng, c, s), random_material(rng), true, SourceLoc{}};
+    Object o{rt_test::random_primitive_shape(rng, c, s), random_material(rng), true, SourceLoc{}};
     if (rng.uni() < 0.15) {
         Csg csg;
         csg.type = rng.uni() < 0.5 ? CsgType::Union : rng.uni() < 0.5 ? CsgType::Difference : CsgType::Intersection;
-        csg.operands = {Object{random_primitive(rng, c, s), Material::object_default(), false, SourceLoc{}},
-                        Object{random_primitive(rng, c + rng.in_ball(s), s), Material::object_default(), false, SourceLoc{}}};
+        csg.operands = {Object{rt_test::random_primitive_shape(rng, c, s), Material::object_default(), false, SourceLoc{}},
+                        Object{rt_test::random_primitive_shape(rng, c + rng.in_ball(s), s), Material::object_default(), false, SourceLoc{}}};
         o.shape = csg;
     }
     return o;
