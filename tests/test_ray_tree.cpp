@@ -75,6 +75,16 @@ const char* kGlass = "reflection 0.3 refraction 0.6 scattering 0.1";
 
 Vec3 centre_ray(const World& w) { return normalize(w.camera.centre - w.camera.position); }
 
+// Traces the endless world's centre ray on the injected clock, its stop flag raised at
+// the poll numbered flag_at and its deadline at the poll numbered deadline_at, under a
+// watchdog (a trace that never stops fails the test).
+void trace_endless(const World& world, RayStats& stats, std::atomic<bool>& stop, int flag_at, int deadline_at) {
+    PollClock::use(stats, stop, flag_at);
+    stats.stop.deadline = PollClock::at(deadline_at);
+    rt_test::Watchdog dog("a trace without end did not stop");
+    world.trace(world.camera.position, centre_ray(world), 0, stats);
+}
+
 }  // namespace
 
 TEST_CASE("ray tree: a trace of any depth stops within kPollRays rays of its stop flag") {
@@ -83,12 +93,7 @@ TEST_CASE("ray tree: a trace of any depth stops within kPollRays rays of its sto
     RayStats stats;
     // The flag goes up at the 100th poll, 400,000 rays into the tree; the deadline,
     // at the 1,000th, would end the trace if the flag did not.
-    PollClock::use(stats, stop, 100);
-    stats.stop.deadline = PollClock::at(1000);
-    {
-        rt_test::Watchdog dog("a trace without end did not stop");
-        world->trace(world->camera.position, centre_ray(*world), 0, stats);
-    }
+    trace_endless(*world, stats, stop, 100, 1000);
     CHECK(stats.stopped);
     CHECK(PollClock::reads == 100);  // the next poll saw the flag (and read no clock)
     CAPTURE(stats.rays);
@@ -108,12 +113,7 @@ TEST_CASE("ray tree: a trace stops at the first poll at or past its deadline") {
     // The clock reads 1 ms at the first poll, 300 ms at the 300th: the deadline. The
     // flag, at the 1,000th read, ends the trace if a wrong comparison lets the deadline
     // pass; a deadline never looked at leaves it to the watchdog.
-    PollClock::use(stats, stop, 1000);
-    stats.stop.deadline = PollClock::at(300);
-    {
-        rt_test::Watchdog dog("a trace without end did not stop at its deadline");
-        world->trace(world->camera.position, centre_ray(*world), 0, stats);
-    }
+    trace_endless(*world, stats, stop, 1000, 300);
     CHECK(stats.stopped);
     CHECK(PollClock::reads == 300);
     CAPTURE(stats.rays);
