@@ -17,6 +17,7 @@
 #include "scene_parser.h"
 #include "simd.h"
 #include "test_util.h"
+#include "test_world_compare.h"
 #include "world.h"
 
 using namespace rt;
@@ -178,16 +179,7 @@ TEST_CASE("depth of field: a sphere at the focus distance is as sharp as with a 
     auto render = [&](const std::string& aperture) {
         std::string text = base;
         text.replace(text.find("APERTURE"), 8, aperture);
-        auto world = compile_world(parse_ok(text));
-        Renderer r(2);
-        RenderSettings st;
-        st.width = world->width;
-        st.height = world->height;
-        st.max_samples = 64;
-        st.coarse = false;
-        r.start(world, st);
-        r.wait();
-        return r.snapshot();
+        return rt_test::render(compile_world(parse_ok(text)), 64);
     };
     const Image pin = render(""), lens = render("aperture 0.3");
     // Edge of the far sphere (in focus), near its left rim on the middle row; the near

@@ -65,12 +65,13 @@ inline void check_same_world(const World& got, const World& want) {
     CHECK((got.width == want.width && got.height == want.height));
 }
 
-inline Image render(const std::shared_ptr<const World>& world) {
+// The world's whole picture at `samples` per pixel, on two threads.
+inline Image render(const std::shared_ptr<const World>& world, int samples = 2) {
     Renderer r(2);
     RenderSettings st;
     st.width = world->width;
     st.height = world->height;
-    st.max_samples = 2;
+    st.max_samples = samples;
     st.coarse = false;
     r.start(world, st);
     r.wait();
