@@ -128,3 +128,37 @@ end)";
     CHECK(h == 21);
     std::remove(out.c_str());
 }
+
+TEST_CASE("a final render's summary says the samples a pixel got: uniform, or adaptive's most and average") {
+    // A dark sphere's sharp rim on a grey wall: with adaptive sampling the rim's pixels
+    // take more samples and the flat ones stop at the first, so the most (8) lies above
+    // the average, which lies above 1.
+    const char* text = R"(
+thing { sphere { material { colour 0 0 0 } position 10 0 1 radius 1.5 } }
+special_thing { plane { material { colour 0.8 0.8 0.8 } point 1 14 0 0 point 2 14 1 0 point 3 14 0 1 point 4 0 0 0 } }
+light { spotlight { position 0 0 1 colour 200 200 200 } }
+camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }
+picture_size { x_max 40 y_max 30 }
+end)";
+    rt::ParseResult r = rt::parse_scene(text);
+    REQUIRE(r.ok());
+    const std::string out = "test_final_render_summary.ppm";
+    {
+        FinalRender fr(2);
+        REQUIRE(fr.start(r.scene, out, final_render_request(4, 0)).ok());
+        while (!fr.wait_for(1)) {
+        }
+        CHECK(fr.summary().rfind("40x30, 4 samples per pixel, ", 0) == 0);
+    }
+    FinalRender fr(2);
+    REQUIRE(fr.start(r.scene, out, final_render_request(8, 0, 0.05)).ok());
+    while (!fr.wait_for(1)) {
+    }
+    const std::string s = fr.summary();
+    CAPTURE(s);
+    REQUIRE(s.rfind("40x30, adaptive: up to 8 samples per pixel, ", 0) == 0);
+    const double mean = std::stod(s.substr(s.find("per pixel, ") + 11));
+    CHECK(mean > 1.0);
+    CHECK(mean < 8.0);
+    std::remove(out.c_str());
+}

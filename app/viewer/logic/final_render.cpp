@@ -4,6 +4,8 @@
 #include "final_render.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <vector>
 
 #include "image_io.h"
 
@@ -58,6 +60,26 @@ double FinalRender::fraction() const {
     double f = rt::progress_fraction(p, settings_.max_samples);
     if (settings_.time_limit > 0) f = std::max(f, p.elapsed / settings_.time_limit);
     return std::clamp(f, 0.0, 1.0);
+}
+
+std::string FinalRender::summary() const {
+    const rt::RenderProgress p = renderer_.progress();
+    char buf[200];
+    if (p.refining < 0) {
+        std::snprintf(buf, sizeof buf, "%dx%d, %d samples per pixel, %.1f s", p.width, p.height, p.samples, p.elapsed);
+        return buf;
+    }
+    // Adaptive: the pixels got from one sample to max_samples each.
+    std::vector<std::uint32_t> counts;
+    int w = 0, h = 0;
+    renderer_.sample_counts(counts, w, h);
+    std::uint64_t sum = 0;
+    std::uint32_t most = 0;
+    for (std::uint32_t c : counts) sum += c, most = std::max(most, c);
+    const double mean = counts.empty() ? 0.0 : double(sum) / double(counts.size());
+    std::snprintf(buf, sizeof buf, "%dx%d, adaptive: up to %u samples per pixel, %.1f on average, %.1f s", p.width,
+                  p.height, unsigned(most), mean, p.elapsed);
+    return buf;
 }
 
 rt::Status FinalRender::write() {

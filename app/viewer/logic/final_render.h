@@ -44,6 +44,9 @@ public:
     // Once done(): writes the picture atomically (PNG or PPM by the name) and ends
     // the render. On failure the target is untouched.
     rt::Status write();
+    // What the finished render gave, for the message after it is written: "WxH, N
+    // samples per pixel, T s"; adaptive, the most a pixel got and the average.
+    std::string summary() const;
     // Blocks until done (for the headless binary). False if cancelled meanwhile.
     bool wait_for(double seconds) { return renderer_.wait_for(seconds); }
 

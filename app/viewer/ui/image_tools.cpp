@@ -329,15 +329,12 @@ void ImageTools::update() {
     update_readout();
 
     if (final_.active() && final_.done()) {
-        rt::RenderProgress p = final_.progress();
+        const std::string what = final_.summary();
         const rt::Status written = final_.write();
         if (written) {
-            char buf[160];
-            std::snprintf(buf, sizeof buf, "%dx%d, %d samples per pixel, %.1f s", p.width, p.height, p.samples,
-                          p.elapsed);
             render_result_ = RenderResult::Saved;
-            render_result_text_ = buf;
-            message("Saved to " + render_path_ + " (" + buf + ")");
+            render_result_text_ = what;
+            message("Saved to " + render_path_ + " (" + what + ")");
         } else {
             render_result_ = RenderResult::Failed;
             render_result_text_ = written.message();
