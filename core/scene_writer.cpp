@@ -234,9 +234,10 @@ std::string format_reference() {
     std::string optional;
     for (const sc::Section& s : sc::sections())
         if (s.item_noun) add_listed(optional, s.name);
-    std::string out = "The scene format: the sections in this order (" + optional +
-                      " may be left out),\n`end` closing the file. Every block with each of its keys at its "
-                      "default;\n`//` starts a comment.\n\n";
+    std::string out = "The scene format: sections in any order, any number of times (" + optional +
+                      "\nmay be left out; a name is defined before its first use), `end` closing the file. Every\n"
+                      "block with each of its keys at its default, but the keys a block must have (listed\n"
+                      "below), which show an example value; `//` starts a comment.\n\n";
     std::vector<std::string> required, rules;
     auto block = [&](const auto& b, const char* indent) {
         out += indent + block_line(b) + "\n";
