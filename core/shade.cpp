@@ -383,7 +383,7 @@ void World::trace_units(const Vec3& origin, const Vec3* unit_dirs, std::size_t n
     Ctx& ctx = thread_ctx();
     ctx.stats = &stats;
 #if RT_HAVE_AVX2_KERNELS
-    if (glows.empty() && avx2_active()) {
+    if (avx2_active()) {
         CameraBasis cam;
         cam.origin = origin;
         return trace_units4(cam, unit_dirs, nullptr, n, ctx, out);
@@ -408,7 +408,7 @@ void World::trace_samples(const CameraBasis& cam, const Vec3* unit_dirs, const P
     Ctx& ctx = thread_ctx();
     ctx.stats = &stats;
 #if RT_HAVE_AVX2_KERNELS
-    if (glows.empty() && avx2_active()) return trace_units4(cam, unit_dirs, keys, n, ctx, out);
+    if (avx2_active()) return trace_units4(cam, unit_dirs, keys, n, ctx, out);
 #endif
     for (std::size_t i = 0; i < n; ++i) {
         if (stats.stopped) {

@@ -303,6 +303,30 @@ unsigned World::shadow_lanes(const ShadowRays4& q, const LightBuffer* lb, unsign
     return lit;
 }
 
+// The lanes (of `live`) whose shadow ray a glow disc blocks: others_block()'s glow
+// part, lane by lane.
+unsigned World::glows_block4(const ShadowRays4& q, unsigned live) const {
+    unsigned blocked = 0;
+    for (unsigned m = live; m; m &= m - 1) {
+        const int k = __builtin_ctz(m);
+        const Vec3 o{q.ox[k], q.oy[k], q.oz[k]}, vh{q.hx[k], q.hy[k], q.hz[k]};
+        bool hit = false;
+        if (glow_bvh) {
+            hit = glow_blocks(o, vh, q.limit[k]);
+        } else {
+            for (std::uint32_t i : glows) {
+                double t;
+                if (glow_hit(lights[i], o, vh, t) && t > 0 && t < q.limit[k]) {
+                    hit = true;
+                    break;
+                }
+            }
+        }
+        if (hit) blocked |= 1u << k;
+    }
+    return blocked;
+}
+
 // Four rays' tree budgets (see Ctx), kept apart while their trees are traced together,
 // and their paths' samplers.
 struct World::Budgets {
@@ -318,7 +342,7 @@ struct World::Budgets {
 };
 
 // direct_sampled() (direct() where no light is a sphere and no lane has a highlight)
-// for the lanes `live` of four surfaces seen along d (a scene without glow discs):
+// for the lanes `live` of four surfaces seen along d:
 // each lane does its operations in its order, so gets its bits; the set-up, the sphere
 // lights' points, the planes and the sums are done for the four at once, the objects'
 // tests lane by lane. A lane's highlight is added to highlight[k].
@@ -375,6 +399,7 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
         ShadowRays4 rays;
         rays.store(o, v, vh, r, limit, p1, li);
         rays.store_toward(vc, reach);
+        if (!glows.empty() && !(lit &= ~glows_block4(rays, lit))) continue;
         const LightBuffer* lb = light_buffers ? &(*light_buffers)[li] : nullptr;
         unsigned in_cell = 0;  // the lanes that LightBuffer::usable() lets use it
         alignas(16) std::int32_t cell[4];

@@ -285,6 +285,7 @@ private:
                 Colour out[4], Ctx& ctx) const;
     void direct4(const Surface s[4], const Vec3 d[4], unsigned live, Colour out[4], Colour highlight[4], Budgets& b,
                  Ctx& ctx) const;
+    unsigned glows_block4(const ShadowRays4& q, unsigned live) const;
     unsigned shadow_lanes(const ShadowRays4& q, const LightBuffer* lb, unsigned in_cell, const std::int32_t* cell,
                           unsigned lit, double (&sh)[3][4], Ctx& ctx) const;
     Colour direct(const Vec3& p, const Vec3& n, const Colour& cp, Ctx& ctx) const;
