@@ -40,14 +40,23 @@ TEST_CASE("the sidebar leaves the picture most of the window at a large UI scale
     CHECK(sidebar_width(3000, 1, 400, 0) == 470);
 }
 
-TEST_CASE("a width the user dragged is kept, in units of the UI scale, within limits") {
-    CHECK(sidebar_width(1280, 1, 400, 300) == 300);
-    CHECK(sidebar_width(1280, 2, 738, 300) == 600);  // the same sidebar at twice the scale
-    // Never so narrow that it is gone (Tab hides it) nor so wide the picture is.
-    CHECK(sidebar_width(1280, 1, 400, 10) == sidebar_min_width(1280, 1));
-    CHECK(sidebar_width(1280, 1, 400, 5000) == sidebar_max_width(1280, 1));
-    CHECK(sidebar_max_width(1280, 1) <= 1280 * 0.75f);
+TEST_CASE("a width the user dragged is kept as a share of the window, within limits") {
+    CHECK(sidebar_width(1280, 1, 400, 0.25) == 320);
+    CHECK(sidebar_width(1280, 2, 738, 0.25) == 320);  // the UI scale does not change the share
+    // Chosen at 2560 wide, the same share at 1280 (an absolute width took 75 % there).
+    CHECK(sidebar_width(2560, 2, 738, 0.3) == 768);
+    CHECK(sidebar_width(1280, 2, 738, 0.3) == 384);
+    // A drag's width comes back whole from its share.
+    for (float w = 200; w <= 700; w += 1) CHECK(sidebar_width(1280, 1, 400, w / 1280) == w);
+    // Never so narrow that it is gone (Tab hides it) nor so wide the picture is: the
+    // picture keeps 40 % of the window.
+    CHECK(sidebar_width(1280, 1, 400, 0.01) == sidebar_min_width(1280, 1));
+    CHECK(sidebar_width(1280, 1, 400, 0.95) == sidebar_max_width(1280, 1));
+    CHECK(sidebar_max_width(1280, 1) <= 1280 * 0.6f);
     CHECK(sidebar_min_width(1280, 1) >= 100);
+    // A small window at 2x (640 wide): the picture keeps most of it.
+    CHECK(sidebar_width(640, 2, 738, 0) <= 640 * 0.4f);
+    CHECK(sidebar_width(640, 2, 738, 0.9) <= 640 * 0.6f);
     // A tiny window still gives both some room.
     CHECK(sidebar_min_width(200, 3) <= sidebar_max_width(200, 3));
     CHECK(sidebar_width(200, 3, 900, 0) <= 200);

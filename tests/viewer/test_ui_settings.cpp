@@ -58,38 +58,51 @@ TEST_CASE("the UI scale is saved beside the recent files and read back") {
     CHECK(all.find("theme dark") != std::string::npos);
 }
 
-TEST_CASE("the sidebar's width is kept in the settings, beside the UI scale") {
+TEST_CASE("the sidebar's width is kept in the settings as a share of the window, beside the UI scale") {
     TempDir dir;
     std::string file = (dir.path / "settings.txt").string();
     {
         UiSettings s(file);
-        CHECK(s.sidebar_width() == 0);  // none yet: the layout chooses
+        CHECK(s.sidebar_share() == 0);  // none yet: the layout chooses
         CHECK(s.set_ui_scale(2).ok());
-        CHECK(s.set_sidebar_width(250.4, false).ok());  // while dragging: not yet written
-        CHECK(s.sidebar_width() == 250);
+        CHECK(s.set_sidebar_share(0.3125, false).ok());  // while dragging: not yet written
+        CHECK(s.sidebar_share() == 0.3125);
     }
-    CHECK(UiSettings(file).sidebar_width() == 0);
+    CHECK(UiSettings(file).sidebar_share() == 0);
     {
         UiSettings s(file);
-        CHECK(s.set_sidebar_width(250.4).ok());  // released
+        CHECK(s.set_sidebar_share(0.3125).ok());  // released
     }
     UiSettings s(file);
-    CHECK(s.sidebar_width() == 250);
+    CHECK(s.sidebar_share() == 0.3125);
     CHECK(s.ui_scale() == 2);
-    // Nonsense is ignored, on reading and on setting.
-    CHECK(s.set_sidebar_width(-3).ok());
-    CHECK(s.set_sidebar_width(std::nan("")).ok());
-    CHECK(s.sidebar_width() == 250);
+    // Nonsense is ignored, on reading and on setting; shares are kept within limits.
+    CHECK(s.set_sidebar_share(-3).ok());
+    CHECK(s.set_sidebar_share(std::nan("")).ok());
+    CHECK(s.sidebar_share() == 0.3125);
+    CHECK(s.set_sidebar_share(7).ok());
+    CHECK(s.sidebar_share() == UiSettings::kMaxSidebarShare);
     {
         std::ofstream out(file);
-        out << "sidebar_width -7\nui_scale 1.5\n";
+        out << "sidebar_share -7\nui_scale 1.5\n";
     }
-    CHECK(UiSettings(file).sidebar_width() == 0);
+    CHECK(UiSettings(file).sidebar_share() == 0);
     {
         std::ofstream out(file);
-        out << "sidebar_width 1e300\n";
+        out << "sidebar_share 1e300\n";
     }
-    CHECK(UiSettings(file).sidebar_width() == UiSettings::kMaxSidebarWidth);
+    CHECK(UiSettings(file).sidebar_share() == UiSettings::kMaxSidebarShare);
+    // An absolute width of earlier versions is dropped: the layout chooses.
+    {
+        std::ofstream out(file);
+        out << "sidebar_width 940\nui_scale 2\n";
+    }
+    UiSettings old(file);
+    CHECK(old.sidebar_share() == 0);
+    CHECK(old.set_ui_scale(2).ok());
+    std::ifstream in(file);
+    const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    CHECK(all.find("sidebar_width") == std::string::npos);
 }
 
 TEST_CASE("the UI font is found under a data folder's fonts/") {

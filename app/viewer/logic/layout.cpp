@@ -17,12 +17,12 @@ void picture_film_size(int pic_w, int pic_h, int& film_w, int& film_h) {
 }
 
 float sidebar_min_width(float window_w, float scale) {
-    return std::floor(std::min(160 * scale, window_w * 0.5f));
+    return std::floor(std::min(160 * scale, window_w * 0.35f));
 }
 
 float sidebar_max_width(float window_w, float scale) {
-    // The picture keeps a quarter of the window, and at least a small picture's width.
-    const float picture = std::max(window_w * 0.25f, 160 * scale);
+    // The picture keeps 40 % of the window, and at least a small picture's width.
+    const float picture = std::max(window_w * 0.4f, 160 * scale);
     return std::floor(std::max(sidebar_min_width(window_w, scale), window_w - picture));
 }
 
@@ -30,7 +30,7 @@ float sidebar_width(float window_w, float scale, float content_min, double wante
     const float lo = sidebar_min_width(window_w, scale), hi = sidebar_max_width(window_w, scale);
     float w;
     if (wanted > 0 && std::isfinite(wanted)) {
-        w = float(wanted) * scale;
+        w = std::round(float(wanted) * window_w);
     } else {
         // A third of the window, as wide as the fields need while the picture keeps
         // most of it (at a large UI scale in a small window they scroll instead).

@@ -38,11 +38,11 @@ constexpr std::int64_t kMaxFilmPixels = std::int64_t(4096) * 4096;
 // smaller). Zoom and pan only place this film on the screen.
 void picture_film_size(int pic_w, int pic_h, int& film_w, int& film_h);
 
-// The sidebar's width in a window `window_w` wide at UI scale `scale`:
-// `wanted` (window units at scale 1, as the user dragged it; <= 0: none yet) or else
-// a third of the window, widened to `content_min` (the panels' fields whole) where
-// that leaves the picture most of the window. Never narrower than a few words nor so
-// wide that the picture has no room.
+// The sidebar's width in a window `window_w` wide at UI scale `scale`: the share
+// `wanted` of the window (as the user dragged it; <= 0: none yet) or else a third of
+// the window, widened to `content_min` (the panels' fields whole) where that leaves
+// the picture most of the window. Never narrower than a few words nor so wide that
+// the picture has less than 40 % of the window.
 float sidebar_width(float window_w, float scale, float content_min, double wanted);
 // The limits sidebar_width() keeps to (a drag of the edge stops there).
 float sidebar_min_width(float window_w, float scale);

@@ -40,7 +40,7 @@ UiSettings::UiSettings(std::string file) : file_(file.empty() ? default_path() :
 
 void UiSettings::load() {
     ui_scale_ = 1;
-    sidebar_width_ = 0;
+    sidebar_share_ = 0;
     other_lines_.clear();
     if (file_.empty()) return;
     std::string text;
@@ -53,8 +53,11 @@ void UiSettings::load() {
         double v = 0;
         if (words >> key && key == "ui_scale") {
             if (words >> v && std::isfinite(v)) ui_scale_ = std::clamp(v, kMinScale, kMaxScale);
+        } else if (key == "sidebar_share") {
+            if (words >> v && std::isfinite(v) && v > 0)
+                sidebar_share_ = std::clamp(v, kMinSidebarShare, kMaxSidebarShare);
         } else if (key == "sidebar_width") {
-            if (words >> v && std::isfinite(v) && v > 0) sidebar_width_ = std::min(v, kMaxSidebarWidth);
+            // (An absolute width of earlier versions: dropped, the layout chooses.)
         } else if (!line.empty()) {
             other_lines_.push_back(line);
         }
@@ -64,7 +67,7 @@ void UiSettings::load() {
 rt::Status UiSettings::save() const {
     std::ostringstream out;
     out << "ui_scale " << ui_scale_ << "\n";
-    if (sidebar_width_ > 0) out << "sidebar_width " << sidebar_width_ << "\n";
+    if (sidebar_share_ > 0) out << "sidebar_share " << sidebar_share_ << "\n";
     for (const std::string& l : other_lines_) out << l << "\n";
     return save_config_file(file_, out.str());
 }
@@ -75,9 +78,9 @@ rt::Status UiSettings::set_ui_scale(double scale) {
     return save();
 }
 
-rt::Status UiSettings::set_sidebar_width(double width, bool keep) {
-    if (!std::isfinite(width) || width <= 0) return {};
-    sidebar_width_ = std::min(std::round(width), kMaxSidebarWidth);
+rt::Status UiSettings::set_sidebar_share(double share, bool keep) {
+    if (!std::isfinite(share) || share <= 0) return {};
+    sidebar_share_ = std::clamp(share, kMinSidebarShare, kMaxSidebarShare);
     return keep ? save() : rt::Status{};
 }
 

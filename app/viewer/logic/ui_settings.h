@@ -13,7 +13,7 @@ namespace rtview {
 class UiSettings {
 public:
     static constexpr double kMinScale = 0.75, kMaxScale = 3;
-    static constexpr double kMaxSidebarWidth = 16384;  // window units: no screen is wider
+    static constexpr double kMinSidebarShare = 0.05, kMaxSidebarShare = 0.95;
 
     // `file` empty: settings.txt beside the recent-files list (memory only if there is
     // no config directory).
@@ -23,18 +23,20 @@ public:
     double ui_scale() const { return ui_scale_; }
     // Sets (clamped) and saves; success, or why saving failed.
     rt::Status set_ui_scale(double scale);
-    // The sidebar's width as the user dragged it, in window units at UI scale 1 (so
-    // that it grows with the UI scale); 0: none yet (the layout's own choice).
-    double sidebar_width() const { return sidebar_width_; }
-    // Sets it (rounded), and saves unless `keep` is false (while the edge is dragged).
-    rt::Status set_sidebar_width(double width, bool keep = true);
+    // The sidebar's width as the user dragged it, as a share of the window's (so that
+    // a width chosen in a large window suits a small one); 0: none yet (the layout's
+    // own choice).
+    double sidebar_share() const { return sidebar_share_; }
+    // Sets it (clamped to kMinSidebarShare..kMaxSidebarShare), and saves unless `keep`
+    // is false (while the edge is dragged).
+    rt::Status set_sidebar_share(double share, bool keep = true);
     void load();
 
 private:
     rt::Status save() const;
     std::string file_;
     double ui_scale_ = 1;
-    double sidebar_width_ = 0;
+    double sidebar_share_ = 0;
     std::vector<std::string> other_lines_;  // settings this version does not know: kept
 };
 

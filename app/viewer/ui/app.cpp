@@ -362,7 +362,7 @@ void ViewerApp::update_layout() {
     // Wide enough for the property fields' labels and numbers at this UI scale, unless
     // the user chose a width (dragging its edge) or hid it (Tab).
     const float content = std::max(320 * s, panels_.min_sidebar_width());
-    l.sidebar_w = l.sidebar_hidden ? 0.f : sidebar_width(W, float(tools_.ui_scale()), content, tools_.settings().sidebar_width());
+    l.sidebar_w = l.sidebar_hidden ? 0.f : sidebar_width(W, float(tools_.ui_scale()), content, tools_.settings().sidebar_share());
     l.status_h = std::max(l.status_h, panels_.status_height(W - l.sidebar_w));
     l.area = {0, double(l.menu_h), std::max(1.0, double(W - l.sidebar_w)), std::max(1.0, double(H - l.menu_h - l.status_h))};
     const Document& doc = editor_.doc();

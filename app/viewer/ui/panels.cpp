@@ -130,10 +130,10 @@ void Panels::draw_sidebar_edge() {
         }
         if (active) {
             const float w = std::clamp(W - io.MousePos.x - edge_grab_, sidebar_min_width(W, ui), sidebar_max_width(W, ui));
-            (void)tools_.settings().set_sidebar_width(w / ui, false);  // saved on release
+            (void)tools_.settings().set_sidebar_share(w / W, false);  // saved on release
         }
         if (ImGui::IsItemDeactivated())
-            if (rt::Status st = tools_.settings().set_sidebar_width(layout_.sidebar_w / ui); !st)
+            if (rt::Status st = tools_.settings().set_sidebar_share(layout_.sidebar_w / W); !st)
                 status_.set("The sidebar's width was not saved: " + st.message(), true);
     }
     ImGui::End();

@@ -80,7 +80,7 @@ step "quit and start again: the sidebar keeps its width"
 key ctrl+q
 for _ in $(seq 1 50); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
 kill -0 "$VIEWER_PID" 2>/dev/null && fail "Ctrl+Q did not close the window"
-grep -q '^sidebar_width ' "$XDG_CONFIG_HOME/raytracer-view/settings.txt" ||
+grep -q '^sidebar_share ' "$XDG_CONFIG_HOME/raytracer-view/settings.txt" ||
     fail "settings.txt does not keep the sidebar's width: $(cat "$XDG_CONFIG_HOME/raytracer-view/settings.txt")"
 start_viewer "$SCENES/default.txt" --samples 16 --aa-threshold off
 idle 1
