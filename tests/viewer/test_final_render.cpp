@@ -162,3 +162,21 @@ end)";
     CHECK(mean < 8.0);
     std::remove(out.c_str());
 }
+
+TEST_CASE("the time left goes by the last seconds' pace, not the pace since the start") {
+    TimeLeft t;
+    CHECK(t.seconds() < 0);  // nothing to go by
+    // 1 % a second for 90 s, then 0.5 % a second (adaptive passes slow down).
+    for (int s = 0; s <= 90; ++s) t.add(s, s * 0.01);
+    CHECK(t.seconds() == doctest::Approx(10).epsilon(1e-6));
+    for (int s = 1; s <= 10; ++s) t.add(90 + s, 0.9 + s * 0.005);
+    // 5 % left at 0.5 % a second: 10 s (the pace since the start says 5.5 s).
+    CHECK(t.seconds() == doctest::Approx(10).epsilon(1e-6));
+    // The same time again or a step back changes nothing; no progress: not known.
+    t.add(100, 0.95);
+    CHECK(t.seconds() == doctest::Approx(10).epsilon(1e-6));
+    TimeLeft stuck;
+    stuck.add(0, 0.5);
+    stuck.add(3, 0.5);
+    CHECK(stuck.seconds() < 0);
+}

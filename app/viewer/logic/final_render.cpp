@@ -41,6 +41,7 @@ rt::Status FinalRender::start(const rt::Scene& scene, const std::string& out_pat
     height_ = scene.height;
     out_ = out_path;
     renderer_.start(world, settings_);
+    time_left_.clear();
     active_ = true;
     return {};
 }
@@ -60,6 +61,28 @@ double FinalRender::fraction() const {
     double f = rt::progress_fraction(p, settings_.max_samples);
     if (settings_.time_limit > 0) f = std::max(f, p.elapsed / settings_.time_limit);
     return std::clamp(f, 0.0, 1.0);
+}
+
+void TimeLeft::add(double elapsed, double fraction) {
+    if (!points_.empty() && elapsed <= points_.back().first) return;
+    points_.emplace_back(elapsed, fraction);
+    // Keep the points of the last kWindow seconds, and one before them.
+    while (points_.size() > 2 && points_[1].first <= elapsed - kWindow) points_.pop_front();
+}
+
+double TimeLeft::seconds() const {
+    if (points_.size() < 2) return -1;
+    const auto& [t1, f1] = points_.back();
+    // From the oldest point kept (kWindow ago, or the start) to now.
+    const auto& [t0, f0] = points_.front();
+    if (t1 - t0 < 0.5 || f1 < 0.02 || !(f1 > f0)) return -1;
+    return (1 - f1) * (t1 - t0) / (f1 - f0);
+}
+
+double FinalRender::time_left() {
+    if (!active_) return -1;
+    time_left_.add(renderer_.progress().elapsed, fraction());
+    return time_left_.seconds();
 }
 
 std::string FinalRender::summary() const {

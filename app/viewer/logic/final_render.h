@@ -4,6 +4,7 @@
 // window's "Render to file..." and by `raytracer-view --headless SCENE --render OUT`.
 #pragma once
 
+#include <deque>
 #include <memory>
 #include <string>
 
@@ -19,6 +20,21 @@ namespace rtview {
 // command line's `--samples samples --time-limit time_limit --aa-threshold
 // aa_threshold`; rt::final_settings makes of it what `raytracer` renders.
 rt::RenderRequest final_render_request(int samples, double time_limit, double aa_threshold = -1);
+
+// The time a render will still take, from its progress over the last few seconds (a
+// render's pace changes: adaptive passes slow down as they near the end, so the pace
+// since the start promises too little). add() its elapsed time and fraction done as
+// it goes; seconds() < 0 until there is a pace to go by.
+class TimeLeft {
+public:
+    static constexpr double kWindow = 5;  // seconds of progress the pace is taken over
+    void add(double elapsed, double fraction);
+    double seconds() const;
+    void clear() { points_.clear(); }
+
+private:
+    std::deque<std::pair<double, double>> points_;  // (elapsed, fraction), oldest first
+};
 
 class FinalRender {
 public:
@@ -39,6 +55,9 @@ public:
     bool done() const;
     // 0..1, as the command line's progress bar counts it.
     double fraction() const;
+    // Seconds still to go (TimeLeft), < 0 while unknown; call it as the progress is
+    // shown (each call adds a point).
+    double time_left();
     rt::RenderProgress progress() const { return renderer_.progress(); }
     const std::string& out_path() const { return out_; }
     // Once done(): writes the picture atomically (PNG or PPM by the name) and ends
@@ -56,6 +75,7 @@ private:
     std::string out_;
     int width_ = 0, height_ = 0;
     bool active_ = false;
+    TimeLeft time_left_;
 };
 
 }  // namespace rtview

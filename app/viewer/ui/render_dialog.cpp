@@ -67,9 +67,9 @@ void ImageTools::draw_render_progress() {
     char buf[96];
     std::snprintf(buf, sizeof buf, "%d%%  %.1f s", int(f * 100), p.elapsed);
     ImGui::ProgressBar(float(f), ImVec2(fs * 24, 0), buf);
-    // From the rate so far, once there is one to go by.
-    if (f > 0.02 && p.elapsed > 0.5)
-        ImGui::Text("about %s left", format_duration(p.elapsed * (1 - f) / f).c_str());
+    // From the pace of the last few seconds, once there is one to go by.
+    if (const double left = final_.time_left(); left >= 0)
+        ImGui::Text("about %s left", format_duration(left).c_str());
     else
         ImGui::TextDisabled("estimating the time left...");
     probe("render_dialog", "rendering " + std::to_string(int(f * 100)) + "%");
