@@ -1109,7 +1109,17 @@ private:
     void thing_item(const sc::Block<Object>* known = nullptr) {
         std::vector<Object>& objects = out_.scene.objects;
         if (objects.size() >= populated_) populate_ahead(objects);
-        if (!object(objects.emplace_back(), known)) objects.pop_back();
+        if (!known) {
+            if (!object(objects.emplace_back())) objects.pop_back();
+            return;
+        }
+        // The block's defaults made right in their place (the conversion's result
+        // initialises the new element itself), not made apart and moved in.
+        struct Made {
+            const sc::Block<Object>* b;
+            operator Object() const { return b->make(); }
+        };
+        if (!object(objects.emplace_back(Made{known}), known, true)) objects.pop_back();
     }
     // The first-touch faults of the next objects' pages, taken in one call for a few
     // MB of them: cheaper than one fault at a time as the objects are written.
@@ -1125,10 +1135,11 @@ private:
     }
 
     // Reads one object (its name is the next token). False if it was unusable.
-    bool object(Object& obj, const sc::Block<Object>* known = nullptr) {
+    // `made`: obj already holds known's defaults.
+    bool object(Object& obj, const sc::Block<Object>* known = nullptr, bool made = false) {
         const Token t = lex_.next();
         obj.loc = loc_of(t.offset);
-        if (const sc::Block<Object>* b = known ? known : sc::object_block(t.text)) return object_body(*b, t, obj);
+        if (const sc::Block<Object>* b = known ? known : sc::object_block(t.text)) return object_body(*b, t, obj, made);
         if (t.is('{') || t.is('}')) {
             error(t, "expected an object name (" + sc::names_of(sc::object_blocks()) + "), got " + got(t));
             if (t.is('{')) skip_to_close(1);  // we already consumed its '{'
@@ -1139,7 +1150,7 @@ private:
         return false;
     }
 
-    bool object_body(const sc::Block<Object>& b, const Token& t, Object& obj) {
+    bool object_body(const sc::Block<Object>& b, const Token& t, Object& obj, bool made = false) {
         // Models are read by the main reading only (a helper would read them again), and
         // only it knows the definitions.
         if (piece_ && (is_mesh(b) || sc::same_word(b.name, "instance"))) throw Bail{};
@@ -1152,9 +1163,11 @@ private:
             return false;
         }
         if (!open(t)) return false;
-        const SourceLoc loc = obj.loc;
-        obj = b.make();
-        obj.loc = loc;
+        if (!made) {
+            const SourceLoc loc = obj.loc;
+            obj = b.make();
+            obj.loc = loc;
+        }
         ItemState st;
         const int errors_before = errors_;
         read_block(b, obj, st);
