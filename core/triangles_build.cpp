@@ -39,7 +39,7 @@ constexpr double kNodeCost = 1.0;      // a node's test, in blocks' tests
 constexpr int kMaxSahDepth = 64;
 constexpr std::uint32_t kParallelItems = 16384;     // subtrees built on another thread
 constexpr std::uint32_t kParallelBinItems = 1u << 16;  // nodes binned in two halves
-constexpr std::uint32_t kRunBins = 64;  // nodes binned a run of one bin at a time
+constexpr std::uint32_t kRunBins = 8192;  // nodes binned a run of one bin at a time (smaller: shorter runs)
 
 // Four floats: one SSE2 register, or plain floats where there is none.
 #if defined(__SSE2__)
