@@ -111,10 +111,14 @@ struct Piece {
     std::atomic<bool> claimed{false};
     std::mutex mutex;
     std::condition_variable finished;
+    // Under mutex: the objects read so far without a diagnostic, handed over in chunks
+    // of whole items as the helper goes (ParseOptions::chunk_objects each, the last
+    // one shorter), so that the main reading can move them while the helper reads on.
+    std::vector<std::vector<Object>> chunks;
+    std::size_t taken = 0;  // (the main reading's) objects of `chunks` it has moved
     bool done = false;  // under mutex; then the fields below are the helper's result
-    // The items read without a diagnostic: `objects`, which the limit counts as
-    // `counted` (CSG operands too), end where the token at `end` starts.
-    std::vector<Object> objects;
+    // The items read without a diagnostic, which the limit counts as `counted` (CSG
+    // operands too), end where the token at `end` starts.
     std::size_t counted = 0;
     std::size_t end = 0;
     // The helper's line map, which has scanned past the main reading's: handed on.
@@ -166,8 +170,10 @@ public:
         Piece& p = *piece_;
         if (p.claimed.exchange(true)) return;  // the main reading got there first
         std::vector<Object>& objects = out_.scene.objects;
-        std::size_t kept = 0, counted = 0, end = p.start;
+        std::size_t kept = 0, handed = 0, counted = 0, end = p.start;
+        const std::size_t chunk = std::max<std::size_t>(opt_.chunk_objects, 1);
         try {
+            objects.reserve(chunk);
             for (;;) {
                 const Token& t = lex_.peek();
                 const sc::Block<Object>* b = sc::object_block(t.text);  // (then not a section)
@@ -180,16 +186,24 @@ public:
                 counted = objects_;
                 end = lex_.peek().offset;
                 p.at.store(end, std::memory_order_relaxed);
-                p.made.store(kept, std::memory_order_relaxed);
+                p.made.store(handed + kept, std::memory_order_relaxed);
+                if (kept >= chunk) {
+                    std::vector<Object> full;
+                    full.swap(objects);
+                    hand_over(p, std::move(full));
+                    handed += kept;
+                    kept = 0;
+                    objects.reserve(chunk);
+                }
             }
         } catch (...) {
             // Bail, Stop, or no memory: the main reading does the rest itself.
         }
         objects.erase(objects.begin() + std::ptrdiff_t(kept), objects.end());
-        if (p.quit.load(std::memory_order_relaxed)) std::vector<Object>().swap(objects);
         std::lock_guard<std::mutex> lock(p.mutex);
+        if (!objects.empty() && !p.quit.load(std::memory_order_relaxed)) p.chunks.push_back(std::move(objects));
+        if (p.quit.load(std::memory_order_relaxed)) std::vector<std::vector<Object>>().swap(p.chunks);
         p.lines = std::move(lines_);
-        p.objects = std::move(objects);
         p.counted = counted;
         p.end = end;
         p.done = true;
@@ -198,6 +212,16 @@ public:
 
 private:
     // ---- pieces and progress -----------------------------------------------------
+    // A helper's chunk of whole items, for the main reading to take.
+    static void hand_over(Piece& p, std::vector<Object>&& chunk) {
+        {
+            std::lock_guard<std::mutex> lock(p.mutex);
+            if (p.quit.load(std::memory_order_relaxed)) return;  // (then freed here)
+            p.chunks.push_back(std::move(chunk));
+        }
+        p.finished.notify_all();
+    }
+
     // At an item boundary of a thing section: takes the pieces that start right here
     // (one may end where the next starts), and lets go of those already passed.
     void take_pieces() {
@@ -214,28 +238,8 @@ private:
                 ++next_piece_;
                 continue;
             }
-            wait_for(p);
+            take(p);
             ++next_piece_;
-            // The sequential reading would count the same objects one by one; if one of
-            // them went over the limit, it reports that itself.
-            if (p.end == p.start || objects_ + p.counted > Limits::max_objects) continue;
-            std::vector<Object>& objects = out_.scene.objects;
-            if (objects.capacity() - objects.size() < p.objects.size())
-                objects.reserve(objects.size() + std::max(objects.size(), p.objects.size()));
-            // Fresh pages for the moved objects: their faults are taken on two threads.
-            populate_pages_on_two_threads(
-                    reinterpret_cast<const void*>(std::uintptr_t(objects.data()) + objects.size() * sizeof(Object)),
-                    p.objects.size() * sizeof(Object));
-            const int first_line = loc_of(p.start).line;
-            for (Object& o : p.objects) {
-                to_true_lines(o, first_line);
-                objects.push_back(std::move(o));
-            }
-            out_.objects_read_ahead += p.objects.size();
-            std::vector<Object>().swap(p.objects);
-            objects_ += p.counted;
-            lex_.seek(p.end);
-            lines_.rebase(std::move(p.lines), first_line);
         }
         next_start_ = kNone;
     }
@@ -256,18 +260,63 @@ private:
         p.done = true;
     }
 
-    // Waits for the helper of `p` to end (at once when none has begun).
-    void wait_for(Piece& p) {
-        keep_from_helper(p);
-        std::unique_lock<std::mutex> lock(p.mutex);
-        while (!p.done) {
-            if (opt_.progress) {
-                lock.unlock();
-                on_tick(lex_.peek().offset);
-                lock.lock();
-                if (p.done) break;
+    // The objects of `p`, which starts right here, from its helper: each chunk moved in
+    // as soon as the helper hands it over (its objects hot in the cache, and the move
+    // beside the helper's reading rather than after it), up to the helper's end. If the
+    // sequential reading would have stopped at the limit of objects inside the piece,
+    // they are let go again and the main reading reads the piece itself, to report it.
+    void take(Piece& p) {
+        keep_from_helper(p);  // (done at once, with nothing, when no helper has begun)
+        std::vector<Object>& objects = out_.scene.objects;
+        const std::size_t size0 = objects.size();
+        const int first_line = loc_of(p.start).line;
+        std::vector<std::vector<Object>> got;
+        for (bool done = false; !done;) {
+            {
+                std::unique_lock<std::mutex> lock(p.mutex);
+                while (p.chunks.empty() && !p.done) {
+                    if (opt_.progress) {
+                        lock.unlock();
+                        on_tick(lex_.peek().offset);
+                        lock.lock();
+                        if (!p.chunks.empty() || p.done) break;
+                    }
+                    p.finished.wait_for(lock, std::chrono::milliseconds(20));
+                }
+                got.swap(p.chunks);
+                done = p.done;
             }
-            p.finished.wait_for(lock, std::chrono::milliseconds(20));
+            for (std::vector<Object>& chunk : got) {
+                append(chunk, first_line);
+                p.taken += chunk.size();
+                std::vector<Object>().swap(chunk);  // (freed while its memory is hot)
+            }
+            got.clear();
+        }
+        // The sequential reading would count the same objects one by one; if one of
+        // them went over the limit, it reports that itself.
+        if (p.end == p.start || objects_ + p.counted > Limits::max_objects) {
+            objects.erase(objects.begin() + std::ptrdiff_t(size0), objects.end());
+            return;
+        }
+        out_.objects_read_ahead += objects.size() - size0;
+        objects_ += p.counted;
+        lex_.seek(p.end);
+        lines_.rebase(std::move(p.lines), first_line);
+    }
+
+    // Moves a helper's chunk of objects to the end of the scene's, each with its true
+    // line.
+    void append(std::vector<Object>& chunk, int first_line) {
+        std::vector<Object>& objects = out_.scene.objects;
+        if (objects.capacity() - objects.size() < chunk.size())
+            objects.reserve(objects.size() + std::max(objects.size(), chunk.size()));
+        // The first-touch faults of the objects' new place taken in one call.
+        populate_pages(reinterpret_cast<const void*>(std::uintptr_t(objects.data()) + objects.size() * sizeof(Object)),
+                       chunk.size() * sizeof(Object));
+        for (Object& o : chunk) {
+            to_true_lines(o, first_line);
+            objects.push_back(std::move(o));
         }
     }
 
@@ -294,7 +343,7 @@ private:
             const Piece& p = *pieces_[k];
             if (p.quit.load(std::memory_order_relaxed)) continue;
             bytes += p.at.load(std::memory_order_relaxed) - std::min(p.start, p.at.load(std::memory_order_relaxed));
-            objects += p.made.load(std::memory_order_relaxed);
+            objects += p.made.load(std::memory_order_relaxed) - p.taken;
         }
         bytes = std::max(std::min(bytes, lex_.text().size()), bytes_shown_);
         bytes_shown_ = bytes;
@@ -1060,7 +1109,17 @@ private:
     void thing_item(const sc::Block<Object>* known = nullptr) {
         std::vector<Object>& objects = out_.scene.objects;
         if (objects.size() >= populated_) populate_ahead(objects);
-        if (!object(objects.emplace_back(), known)) objects.pop_back();
+        if (!known) {
+            if (!object(objects.emplace_back())) objects.pop_back();
+            return;
+        }
+        // The block's defaults made right in their place (the conversion's result
+        // initialises the new element itself), not made apart and moved in.
+        struct Made {
+            const sc::Block<Object>* b;
+            operator Object() const { return b->make(); }
+        };
+        if (!object(objects.emplace_back(Made{known}), known, true)) objects.pop_back();
     }
     // The first-touch faults of the next objects' pages, taken in one call for a few
     // MB of them: cheaper than one fault at a time as the objects are written.
@@ -1076,10 +1135,11 @@ private:
     }
 
     // Reads one object (its name is the next token). False if it was unusable.
-    bool object(Object& obj, const sc::Block<Object>* known = nullptr) {
+    // `made`: obj already holds known's defaults.
+    bool object(Object& obj, const sc::Block<Object>* known = nullptr, bool made = false) {
         const Token t = lex_.next();
         obj.loc = loc_of(t.offset);
-        if (const sc::Block<Object>* b = known ? known : sc::object_block(t.text)) return object_body(*b, t, obj);
+        if (const sc::Block<Object>* b = known ? known : sc::object_block(t.text)) return object_body(*b, t, obj, made);
         if (t.is('{') || t.is('}')) {
             error(t, "expected an object name (" + sc::names_of(sc::object_blocks()) + "), got " + got(t));
             if (t.is('{')) skip_to_close(1);  // we already consumed its '{'
@@ -1090,7 +1150,7 @@ private:
         return false;
     }
 
-    bool object_body(const sc::Block<Object>& b, const Token& t, Object& obj) {
+    bool object_body(const sc::Block<Object>& b, const Token& t, Object& obj, bool made = false) {
         // Models are read by the main reading only (a helper would read them again), and
         // only it knows the definitions.
         if (piece_ && (is_mesh(b) || sc::same_word(b.name, "instance"))) throw Bail{};
@@ -1103,9 +1163,11 @@ private:
             return false;
         }
         if (!open(t)) return false;
-        const SourceLoc loc = obj.loc;
-        obj = b.make();
-        obj.loc = loc;
+        if (!made) {
+            const SourceLoc loc = obj.loc;
+            obj = b.make();
+            obj.loc = loc;
+        }
         ItemState st;
         const int errors_before = errors_;
         read_block(b, obj, st);
@@ -1409,10 +1471,6 @@ ParseResult parse_scene(std::string_view text, const ParseOptions& options) {
         Piece* piece = pieces[std::size_t(k - 1)].get();
         if (piece->claimed.load()) return;
         ParseResult helper_out;
-        try {
-            helper_out.scene.objects.reserve((std::min(piece->stop_at, text.size()) - piece->start) / 64);
-        } catch (const std::bad_alloc&) {
-        }
         Parser(text, options, helper_out, *piece).run_piece();
     });
     return result;

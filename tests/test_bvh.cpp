@@ -109,6 +109,103 @@ TEST_CASE("bvh: nearest hit through the BVH with pruning equals trying every sph
     }
 }
 
+namespace {
+// Whether every box of the 4-wide tree lies inside the box its parent keeps for it,
+// and each leaf's items inside the leaf's box (leaf_ok(slot, box[6]): lo x y z, hi x
+// y z). The count of boxes and items that do not.
+template <class LeafOk>
+int boxes_nested(const Chunked<BvhNode>& nodes, LeafOk leaf_ok) {
+    struct At {
+        std::uint32_t node;
+        float box[6];
+    };
+    std::vector<At> stack{{0, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF, HUGE_VALF, HUGE_VALF, HUGE_VALF}}};
+    int bad = 0;
+    while (!stack.empty()) {
+        const At at = stack.back();
+        stack.pop_back();
+        const BvhNode& n = nodes[at.node];
+        for (int i = 0; i < 4; ++i) {
+            const std::uint32_t c = n.child[i];
+            if (c == BvhNode::kEmpty) continue;
+            At child{c, {n.b[0][i], n.b[1][i], n.b[2][i], n.b[3][i], n.b[4][i], n.b[5][i]}};
+            for (int k = 0; k < 3; ++k)
+                bad += !(child.box[k] >= at.box[k] && child.box[3 + k] <= at.box[3 + k]);
+            if (!BvhNode::is_leaf(c)) {
+                stack.push_back(child);
+                continue;
+            }
+            for (std::uint32_t s = BvhNode::leaf_first(c); s < BvhNode::leaf_first(c) + BvhNode::leaf_count(c); ++s)
+                bad += !leaf_ok(s, child.box);
+        }
+    }
+    return bad;
+}
+}  // namespace
+
+// The same big nodes' bins must hold every item: each item's box lies inside its
+// leaf's float box, and each node's boxes inside its parent's, for boxes listed in
+// rows (long runs of the same bins) and in random order.
+TEST_CASE("bvh: a big tree's boxes nest and hold their items, its items in order or not") {
+    std::vector<Aabb> rows, random;
+    for (int j = 0; j < 150; ++j)
+        for (int i = 0; i < 150; ++i) {
+            Aabb b;
+            b.lo = {i - 75.4, j - 75.4, 0.0};
+            b.hi = {i - 74.6, j - 74.6, 0.8 + 1e-4 * (j * 150 + i)};  // each taller than the last
+            rows.push_back(b);
+        }
+    Rng rng(808);
+    for (int i = 0; i < 20000; ++i) {
+        Aabb b;
+        b.lo = {rng.uni(-50, 50), rng.uni(-50, 50), rng.uni(-50, 50)};
+        b.hi = b.lo + Vec3{rng.uni(0, 3), rng.uni(0, 3), rng.uni(0, 3)};
+        random.push_back(b);
+    }
+    for (const std::vector<Aabb>* boxes : {&rows, &random}) {
+        for (int threads : {1, 2}) {
+            Bvh bvh;
+            bvh.build(*boxes, threads);
+            REQUIRE(bvh.items.size() == boxes->size());
+            const int bad = boxes_nested(bvh.nodes, [&](std::uint32_t s, const float* box) {
+                const Aabb& b = (*boxes)[bvh.items[s]];
+                for (int k = 0; k < 3; ++k)
+                    if (!(box[k] <= b.lo[k] && b.hi[k] <= box[3 + k])) return false;
+                return true;
+            });
+            CHECK(bad == 0);
+        }
+    }
+}
+
+// Big nodes (8192+ items) are binned a run of items with the same bins at a time:
+// items listed in order (a grid's rows, sorted by x) make long runs, random ones short.
+TEST_CASE("bvh: a big scene's nearest hits equal trying every sphere, its items in order or not") {
+    for (bool sorted : {false, true}) {
+        CAPTURE(sorted);
+        Rng rng(sorted ? 4711u : 4712u);
+        Scene scene = random_spheres(rng, 20000);
+        if (sorted)
+            std::stable_sort(scene.objects.begin(), scene.objects.end(), [](const Object& a, const Object& b) {
+                return std::get<Sphere>(a.shape).position.x < std::get<Sphere>(b.shape).position.x;
+            });
+        Geometry g = build_geometry(scene);
+        Failures f;
+        int hits = 0;
+        const int rays = 2000;
+        for (int k = 0; k < rays; ++k) {
+            Vec3 o, d;
+            random_ray(rng, scene, o, d);
+            Hit a = bvh_nearest(g, o, d), b = brute_nearest(g, o, d);
+            hits += b.hit;
+            if (a.hit != b.hit || a.obj != b.obj || a.t != b.t)
+                f.add("bvh and brute force differ: o=" + fmt(o) + " d=" + fmt(d));
+        }
+        CHECK_MESSAGE(f.count == 0, f.first);
+        CHECK(hits > rays / 3);
+    }
+}
+
 TEST_CASE("bvh: any-hit below a distance, stopping at the first hit, agrees with brute-force occlusion") {
     for (std::size_t n : {1u, 2u, 10u, 1000u}) {
         CAPTURE(n);

@@ -483,6 +483,106 @@ TEST_CASE("triangles: the watertight test finds the plain test's hits and distan
     CHECK(compared > 19000);
 }
 
+namespace {
+// Whether every box of the 4-wide tree lies inside the box its parent keeps for it,
+// and each leaf's items inside the leaf's box (leaf_ok(slot, box[6]): lo x y z, hi x
+// y z). The count of boxes and items that do not.
+template <class LeafOk>
+int boxes_nested(const Chunked<BvhNode>& nodes, LeafOk leaf_ok) {
+    struct At {
+        std::uint32_t node;
+        float box[6];
+    };
+    std::vector<At> stack{{0, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF, HUGE_VALF, HUGE_VALF, HUGE_VALF}}};
+    int bad = 0;
+    while (!stack.empty()) {
+        const At at = stack.back();
+        stack.pop_back();
+        const BvhNode& n = nodes[at.node];
+        for (int i = 0; i < 4; ++i) {
+            const std::uint32_t c = n.child[i];
+            if (c == BvhNode::kEmpty) continue;
+            At child{c, {n.b[0][i], n.b[1][i], n.b[2][i], n.b[3][i], n.b[4][i], n.b[5][i]}};
+            for (int k = 0; k < 3; ++k)
+                bad += !(child.box[k] >= at.box[k] && child.box[3 + k] <= at.box[3 + k]);
+            if (!BvhNode::is_leaf(c)) {
+                stack.push_back(child);
+                continue;
+            }
+            for (std::uint32_t s = BvhNode::leaf_first(c); s < BvhNode::leaf_first(c) + BvhNode::leaf_count(c); ++s)
+                bad += !leaf_ok(s, child.box);
+        }
+    }
+    return bad;
+}
+}  // namespace
+
+// Big nodes (8192+ triangles) are binned a run of triangles with the same bin at a
+// time: a closed sphere of 20480 triangles and a height field of 20000 listed row by
+// row (long runs) give the plain test's nearest triangle and distance for every ray
+// whose nearest hit is clear of edges and of other triangles' distances.
+TEST_CASE("triangles: big models' trees give the nearest hits of trying every triangle") {
+    MeshData field;
+    const int n = 100;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            for (const double c : {i * 0.1 - 5, j * 0.1 - 5, 0.3 * std::sin(i * 0.37) * std::cos(j * 0.23)})
+                field.positions.push_back(float(c));
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1), d = c + 1;
+            for (const std::uint32_t v : {a, b, d, a, d, c}) field.triangles.push_back(v);
+        }
+    for (const MeshData& m : {icosphere(5), field}) {
+        REQUIRE(m.triangle_count() >= 20000);
+        const TriangleAccel acc = TriangleAccel::build(m);
+        // Every triangle inside its leaf's box, every box inside its parent's: the
+        // bins held all the triangles. (A block's unused lanes are zero.)
+        const int bad = boxes_nested(acc.bvh.nodes, [&](std::uint32_t s, const float* box) {
+            const TriBlock& b = acc.blocks[s / 4];
+            bool unused = true;
+            for (int r = 0; r < 9; ++r) unused = unused && b.v[r][s % 4] == 0;
+            if (unused) return true;
+            for (int k = 0; k < 3; ++k)
+                for (int a = 0; a < 3; ++a)
+                    if (!(box[a] <= b.v[3 * k + a][s % 4] && b.v[3 * k + a][s % 4] <= box[3 + a])) return false;
+            return true;
+        });
+        CHECK(bad == 0);
+        rt_test::Rng rng(99);
+        int compared = 0, hits = 0;
+        for (int r = 0; r < 250; ++r) {
+            const Vec3 o{rng.uni(-6, 6), rng.uni(-6, 6), rng.uni(1.5, 4)};
+            const Vec3 d = Vec3{rng.uni(-1.2, 1.2), rng.uni(-1.2, 1.2), rng.uni(-0.5, 0.5)} - o;
+            long double best = HUGE_VALL, second = HUGE_VALL, best_margin = 0;
+            std::uint32_t best_id = 0;
+            for (std::uint32_t t = 0; t < m.triangle_count(); ++t) {
+                Vec3 v[3];
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t i = m.triangles[3 * std::size_t(t) + std::size_t(k)];
+                    v[k] = {m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]};
+                }
+                long double t_hit = 0, margin = 0;
+                if (!plain_hit(o, d, v, t_hit, margin) || t_hit <= 0) continue;
+                if (t_hit < best) second = best, best = t_hit, best_id = t, best_margin = margin;
+                else if (t_hit < second) second = t_hit;
+            }
+            if (best < HUGE_VALL && (best_margin < 1e-6 || second - best < 1e-6)) continue;  // an edge, or a near tie
+            ++compared;
+            TriHit h;
+            const bool hit = acc.nearest(TriRay::make(o, d), 0, HUGE_VAL, h);
+            CHECK(hit == (best < HUGE_VALL));
+            if (hit && best < HUGE_VALL) {
+                ++hits;
+                CHECK(acc.ids[h.slot] == best_id);
+                CHECK(std::fabs(h.t - double(best)) <= 1e-9 * (1 + double(best)));
+            }
+        }
+        CHECK(compared > 200);
+        CHECK(hits > 150);
+    }
+}
+
 // Found by fuzz_ply: centres a few denormals apart made the binned build's scale
 // infinite, and 0 * inf a NaN bin number (undefined behaviour: the sanitizer build of
 // these tests reports it). Every triangle must still be found.

@@ -130,10 +130,11 @@ ParseResult in_one_go(const std::string& text, int max_errors = 20) {
     return parse_scene(text, o);
 }
 
-ParseResult in_pieces(const std::string& text, int threads, int max_errors = 20) {
+ParseResult in_pieces(const std::string& text, int threads, int max_errors = 20, std::size_t chunk = 4096) {
     ParseOptions o;
     o.threads = threads;
     o.min_piece_bytes = 1;
+    o.chunk_objects = chunk;
     o.max_errors = max_errors;
     return parse_scene(text, o);
 }
@@ -149,7 +150,8 @@ TEST_CASE("pieces: valid scenes read in pieces equal the one-go reading, and pie
         REQUIRE(one.ok());
         CHECK(one.objects_read_ahead == 0);
         for (int threads : {2, 3, 5}) {
-            const ParseResult many = in_pieces(text, threads);
+            // Helpers hand their objects over one by one, a few at a time, or at their end.
+            const ParseResult many = in_pieces(text, threads, 20, threads == 2 ? 1 : threads == 3 ? 3 : 4096);
             same_result(one, many);
             ahead += many.objects_read_ahead;
             objects += many.scene.objects.size();
@@ -171,7 +173,7 @@ TEST_CASE("pieces: scenes with errors, warnings and random edits give the same r
         const int max_errors = round % 3 == 0 ? 1 : 20;
         const ParseResult one = in_one_go(text, max_errors);
         with_errors += !one.ok();
-        const ParseResult many = in_pieces(text, 2 + round % 4, max_errors);
+        const ParseResult many = in_pieces(text, 2 + round % 4, max_errors, 1 + round % 5);
         INFO("round ", round, "\n", text);
         same_result(one, many);
         ahead += many.objects_read_ahead;
@@ -196,6 +198,39 @@ TEST_CASE("pieces: a big generated file takes its pieces with the default size")
     // The last object's line: 5 lines per sphere after the `thing {` line.
     CHECK(many.scene.objects.back().loc.line == 2 + 5 * 119999);
     CHECK(std::get<Sphere>(many.scene.objects.back().shape).position.x == 119999);
+}
+
+// A big file cut short anywhere (as a file still being written, or truncated, is read):
+// the pieces stop where the text does, the helpers' chunks taken so far stay exactly
+// those the one-go reading makes, and the diagnostic at the end is the same.
+TEST_CASE("pieces: a big file cut at any point gives the one-go reading's result and message") {
+    std::string text = "thing {\n";
+    for (int i = 0; i < 6000; ++i)
+        text += "\tsphere {\n\t\tmaterial { scattering 1 colour 0.25 0.25 0.55 }\n\t\tposition " + std::to_string(i) +
+                " 0.5 0.4\n\t\tradius 0.4\n\t}\n";
+    text += "}\ncamera { position 0 0 10 centre 0 0 0 up 0 1 10 angle_x 60 angle_y 45 }\n"
+            "picture_size { x_max 64 y_max 48 }\nend\n";
+    Rng rng(4242);
+    std::size_t ahead = 0;
+    for (int round = 0; round < 40; ++round) {
+        const std::string cut = text.substr(0, round == 0 ? text.size() : rng.index(text.size()));
+        const ParseResult one = in_one_go(cut);
+        INFO("cut at ", cut.size());
+        if (round == 0) CHECK(one.ok());
+        for (int threads : {2, 4}) {
+            const ParseResult many = in_pieces(cut, threads, 20, 1 + std::size_t(round % 3) * 50);
+            same_result(one, many);
+            ahead += many.objects_read_ahead;
+        }
+        if (!one.ok()) {
+            // The one message of a file cut inside its thing section (or after it).
+            REQUIRE(!one.diagnostics.empty());
+            const std::string& m = one.diagnostics.back().message;
+            CHECK((m.find("unexpected end of file") == 0 || m.find("missing") != std::string::npos ||
+                   m.find("the scene has no") == 0));
+        }
+    }
+    CHECK(ahead > 0);
 }
 
 TEST_CASE("progress: bytes rise to the text's size, objects to their count; false cancels soon") {
