@@ -25,6 +25,7 @@ const char* title_of(Dialogs::Kind k) {
         case Dialogs::Kind::SaveAs: return "Save scene as";
         case Dialogs::Kind::SaveImage: return "Save image";
         case Dialogs::Kind::AddModel: return "Add model";
+        case Dialogs::Kind::Texture: return "Choose texture";
         case Dialogs::Kind::Help: return "Mouse and keys";
         case Dialogs::Kind::Format: return "Scene format";
         case Dialogs::Kind::None: break;
@@ -51,6 +52,9 @@ void Dialogs::start_browser() {
             file_.start(FileDialog::Mode::Open, {".txt", ".obj", ".ply"}, "Scenes (*.txt), models (*.obj, *.ply)", path_);
             break;
         case Kind::AddModel: file_.start(FileDialog::Mode::Open, {".obj", ".ply"}, "Models (*.obj, *.ply)", path_); break;
+        case Kind::Texture:
+            file_.start(FileDialog::Mode::Open, {".png", ".jpg", ".jpeg"}, "Images (*.png, *.jpg, *.jpeg)", path_);
+            break;
         case Kind::SaveAs: file_.start(FileDialog::Mode::Save, {".txt"}, "Scenes (*.txt)", path_); break;
         case Kind::SaveImage: file_.start(FileDialog::Mode::Save, {".png", ".ppm"}, "Images (*.png, *.ppm)", path_); break;
         default: break;
@@ -102,6 +106,12 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         const FileDialog::Result r = file_.draw("Add");
         if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
         if (r == FileDialog::Result::Go) commands_.run(Command::AddModel, file_.path());
+        ImGui::EndPopup();
+    }
+    if (begin(Kind::Texture)) {
+        const FileDialog::Result r = file_.draw("Choose");
+        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+        if (r == FileDialog::Result::Go) commands_.run(Command::SetTexture, file_.path());
         ImGui::EndPopup();
     }
     if (begin(Kind::Help)) {

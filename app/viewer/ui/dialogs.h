@@ -13,7 +13,7 @@ namespace rtview {
 
 class Dialogs {
 public:
-    enum class Kind { None, Unsaved, SaveErrors, Open, SaveAs, SaveImage, AddModel, Help, Format };
+    enum class Kind { None, Unsaved, SaveErrors, Open, SaveAs, SaveImage, AddModel, Texture, Help, Format };
 
     Dialogs(Commands& commands, const RecentFiles& recent) : commands_(commands), recent_(recent) {}
 
