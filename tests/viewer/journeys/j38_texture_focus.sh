@@ -3,8 +3,8 @@
 # opens an OBJ whose MTL file gives its faces a colour with a highlight and a texture,
 # saves the new scene, adds a lamp and drags its radius (a sphere light: soft
 # shadows), chooses a texture for the floor through the file browser (first a file
-# that is no image), focuses on the model with the picture's menu, opens the lens,
-# and renders to a file.
+# that is no image), types names into the texture field and undoes, focuses on the
+# model with the picture's menu, opens the lens, and renders to a file.
 # Checks: the picture shows the MTL's colours (raytracer's render of the saved text);
 # the radius is in the saved text; the file that is no image gets the texture
 # reader's message under the field and the scene keeps its floor; the chosen texture
@@ -116,6 +116,23 @@ wait_state message "^Texture $OUT/textures/floor.png set" 5
 wait_state value_material_1_texture "^textures/floor.png$" 5
 save
 grep -q 'texture "textures/floor.png"' "$SCENE" || fail "the floor's texture is not in the saved text: $(grep -n texture "$SCENE")"
+
+step "type names into the texture field: one of no file, then none; undo"
+click_item field_material_1_texture
+key ctrl+a
+type_text "textures/none.png"
+key Return
+wait_state field_message "^material 1: textures/none.png: " 5
+wait_state value_material_1_texture "^textures/floor.png$" 2
+click_item field_material_1_texture
+key ctrl+a BackSpace Return
+wait_state value_material_1_texture "^$" 5
+save
+grep -q 'texture' "$SCENE" && fail "the texture is still in the saved text: $(grep -n texture "$SCENE")"
+key ctrl+z
+wait_state value_material_1_texture "^textures/floor.png$" 5
+save
+grep -q 'texture "textures/floor.png"' "$SCENE" || fail "undo did not bring the texture back: $(grep -n texture "$SCENE")"
 select_nothing
 picture_agrees 4-textured
 
