@@ -91,10 +91,7 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             dialogs_.show(Dialogs::Kind::AddModel, rt::folder_of(doc.path()));
             return true;
         case Command::TextureDialog: dialogs_.show(Dialogs::Kind::Texture, arg); return true;
-        case Command::SetTexture:
-            if (!panels_.set_texture(arg)) return false;
-            status_.set("Texture " + arg + " set (Ctrl+Z undoes)");
-            return true;
+        case Command::SetTexture: return panels_.set_texture(arg);
     }
     return false;
 }

@@ -61,6 +61,14 @@ void Dialogs::start_browser() {
     }
 }
 
+void Dialogs::draw_chooser(Kind k, const char* button, Command c) {
+    if (!begin(k)) return;
+    const FileDialog::Result r = file_.draw(button);
+    if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+    if (r == FileDialog::Result::Go) commands_.run(c, file_.path());
+    ImGui::EndPopup();
+}
+
 void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image_mode) {
     start_browser();
     if (request_ != Kind::None) ImGui::OpenPopup(title_of(request_));
@@ -102,18 +110,8 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         if (r == FileDialog::Result::Go) commands_.run(Command::SaveImage, file_.path());
         ImGui::EndPopup();
     }
-    if (begin(Kind::AddModel)) {
-        const FileDialog::Result r = file_.draw("Add");
-        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
-        if (r == FileDialog::Result::Go) commands_.run(Command::AddModel, file_.path());
-        ImGui::EndPopup();
-    }
-    if (begin(Kind::Texture)) {
-        const FileDialog::Result r = file_.draw("Choose");
-        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
-        if (r == FileDialog::Result::Go) commands_.run(Command::SetTexture, file_.path());
-        ImGui::EndPopup();
-    }
+    draw_chooser(Kind::AddModel, "Add", Command::AddModel);
+    draw_chooser(Kind::Texture, "Choose", Command::SetTexture);
     if (begin(Kind::Help)) {
         std::string help = help_text(false);
         std::size_t at = help.find("Mouse and keys");

@@ -33,11 +33,41 @@ namespace rtview {
 
 namespace {
 
+// A material's texture: the name as the scene text has it (relative to the scene's
+// folder), typed (Enter) or chosen with the file browser (`browse`: its button was
+// pressed); an empty one takes the texture away.
+bool texture_field(const char* id, const rt::schema::Key<rt::Material>& k, rt::Material& m, bool& browse) {
+    const std::string label(k.name);
+    std::string& name = k.access.text(m, 0);
+    std::string typed = name;
+    bool changed = false;
+    const float gap = ImGui::GetStyle().ItemInnerSpacing.x;
+    const float button_w = ImGui::CalcTextSize("...").x + 2 * ImGui::GetStyle().FramePadding.x;
+    ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - button_w - gap);
+    if (ImGui::InputTextWithHint(("##" + label).c_str(), k.default_text ? k.default_text : "", &typed,
+                                 ImGuiInputTextFlags_EnterReturnsTrue) &&
+        typed != name) {
+        name = typed;
+        changed = true;
+    }
+    // For scripts: "field_material_1_texture", "button_material_1_texture_browse".
+    std::string key = std::string(id) + "_" + label;
+    std::replace(key.begin(), key.end(), ' ', '_');
+    probe_item("field_" + key);
+    probe("value_" + key, name);
+    ImGui::SameLine(0, gap);
+    if (ImGui::Button(("...##browse_" + label).c_str())) browse = true;
+    probe_item("button_" + key + "_browse");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Choose the %s file", label.c_str());
+    ImGui::SameLine(0, gap);
+    ImGui::TextUnformatted(label.c_str());
+    return changed;
+}
+
 // The keys of a material block, from the schema: weights as 0..1 sliders (values
 // above 1 are legal, the renderer normalises them: Ctrl+click to type one), clamped
-// keys within their clamp, colours with a picker, the texture's file name typed (Enter)
-// or chosen with the file browser (`browse`: its button was pressed). Labels are the
-// format's key names.
+// keys within their clamp, colours with a picker, the texture's file name
+// (texture_field). Labels are the format's key names.
 bool material_editor(const char* id, rt::Material& m, bool& browse) {
     namespace sc = rt::schema;
     ImGui::PushID(id);
@@ -45,30 +75,7 @@ bool material_editor(const char* id, rt::Material& m, bool& browse) {
     for (const sc::Key<rt::Material>& k : sc::material_block().keys) {
         const std::string label(k.name);
         if (k.kind == sc::Kind::File) {
-            // The name as the scene text has it (relative to the scene's folder); an
-            // empty one takes the texture away.
-            std::string& name = k.access.text(m, 0);
-            std::string typed = name;
-            const float gap = ImGui::GetStyle().ItemInnerSpacing.x;
-            const float button_w = ImGui::CalcTextSize("...").x + 2 * ImGui::GetStyle().FramePadding.x;
-            ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - button_w - gap);
-            if (ImGui::InputTextWithHint(("##" + label).c_str(), k.default_text ? k.default_text : "", &typed,
-                                         ImGuiInputTextFlags_EnterReturnsTrue) &&
-                typed != name) {
-                name = typed;
-                changed = true;
-            }
-            // For scripts: "field_material_1_texture", "button_material_1_texture_browse".
-            std::string key = std::string(id) + "_" + label;
-            std::replace(key.begin(), key.end(), ' ', '_');
-            probe_item("field_" + key);
-            probe("value_" + key, name);
-            ImGui::SameLine(0, gap);
-            if (ImGui::Button(("...##browse_" + label).c_str())) browse = true;
-            probe_item("button_" + key + "_browse");
-            if (ImGui::IsItemHovered()) ImGui::SetTooltip("Choose the %s file", label.c_str());
-            ImGui::SameLine(0, gap);
-            ImGui::TextUnformatted(label.c_str());
+            changed |= texture_field(id, k, m, browse);
             continue;
         }
         if (k.kind == sc::Kind::Vec3) {
@@ -335,9 +342,13 @@ bool Panels::set_texture(const std::string& path) {
         v->material.texture = scene_file_name(path, doc.path());
         const FieldResult r = set_field(doc, ref, f, *v);
         doc.commit();  // one undo step
-        if (!r.status) field_message_ = {ref, f.label, r.status.message(), true};
-        else if (field_message_.field == f.label) field_message_ = {};
-        return r.applied();
+        if (!r.status) {
+            field_message_ = {ref, f.label, r.status.message(), true};
+            return false;
+        }
+        if (field_message_.field == f.label) field_message_ = {};
+        status_.set("Texture " + path + " set (Ctrl+Z undoes)");
+        return true;
     }
     status_.set("The item whose texture was to be set is gone", true);
     return false;

@@ -110,7 +110,7 @@ wait_state field_message "^material 1: textures/notes.png: " 5
 echo "said: $(state field_message)"
 shot 3-not-an-image
 save
-grep -q 'texture' "$SCENE" && fail "a file that is no image was written into the scene: $(grep -n texture "$SCENE")"
+grep -q 'texture "' "$SCENE" && fail "a file that is no image was written into the scene: $(grep -n texture "$SCENE")"
 choose_texture "$OUT/textures/floor.png"
 wait_state message "^Texture $OUT/textures/floor.png set" 5
 wait_state value_material_1_texture "^textures/floor.png$" 5
@@ -128,7 +128,7 @@ click_item field_material_1_texture
 key ctrl+a BackSpace Return
 wait_state value_material_1_texture "^$" 5
 save
-grep -q 'texture' "$SCENE" && fail "the texture is still in the saved text: $(grep -n texture "$SCENE")"
+grep -q 'texture "' "$SCENE" && fail "the texture is still in the saved text: $(grep -n texture "$SCENE")"
 key ctrl+z
 wait_state value_material_1_texture "^textures/floor.png$" 5
 save
