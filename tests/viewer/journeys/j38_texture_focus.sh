@@ -3,12 +3,14 @@
 # opens an OBJ whose MTL file gives its faces a colour with a highlight and a texture,
 # saves the new scene, adds a lamp and drags its radius (a sphere light: soft
 # shadows), chooses a texture for the floor through the file browser (first a file
-# that is no image), types names into the texture field and undoes, focuses on the
-# model with the picture's menu, opens the lens, and renders to a file.
+# that is no image), types names into the texture field and undoes, lets another
+# program replace the texture file, focuses on the model with the picture's menu,
+# opens the lens, and renders to a file.
 # Checks: the picture shows the MTL's colours (raytracer's render of the saved text);
 # the radius is in the saved text; the file that is no image gets the texture
 # reader's message under the field and the scene keeps its floor; the chosen texture
-# is named from the scene's folder and is one undo step; the focus distance is the
+# is named from the scene's folder and is one undo step; the replaced file is read
+# again and the picture follows it; the focus distance is the
 # model's; the rendered file equals raytracer's render of the saved scene, byte for
 # byte.
 # Usage: j38_texture_focus.sh BIN_DIR OUT_DIR
@@ -136,6 +138,14 @@ grep -q 'texture "textures/floor.png"' "$SCENE" || fail "undo did not bring the 
 select_nothing
 picture_agrees 4-textured
 
+step "another program replaces the floor's texture file: read again"
+cp "$SCENES/textures/uv-grid.png" "$OUT/textures/floor.png"
+wait_state message "^Read the scene's models and textures again" 10
+picture_agrees 5-reloaded
+changed=$("$TOOL" diff "$OUT/4-textured-shown.png" "$OUT/5-reloaded-shown.png" $IMAGE)
+echo "fraction of the picture changed: $changed"
+awk -v f="$changed" 'BEGIN { exit !(f > 0.05) }' || fail "only $changed of the picture changed: the new texture is not shown"
+
 step "right-click the model: Focus here; open the lens"
 click $((ix + iw / 2)) $((iy + ih / 2)) 3
 click_item "menu:Focus_here"
@@ -149,7 +159,7 @@ idle 0.5
 save
 grep -Eq "aperture 0.08" "$SCENE" || fail "the aperture is not in the saved text: $(grep -n aperture "$SCENE")"
 wait_state render "done" 60
-shot 5-focused
+shot 6-focused
 
 step "Render to file: the file equals raytracer's render of the saved scene"
 key ctrl+r
