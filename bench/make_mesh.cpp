@@ -2,8 +2,12 @@
 // a few waves), closed, every vertex shared by its neighbours, made of latitude rings
 // so that any triangle count near 4 k^2 can be asked for (k = 500: exactly 1,000,000).
 // Formats: OBJ, binary PLY (little- or big-endian), ASCII PLY; with --pov, the
-// POV-Ray mesh2 twin of the same triangles (an #include-able object named Blob).
-//   make_mesh TRIANGLES OUT.(obj|ply) [--ascii] [--big-endian] [--pov OUT.inc]
+// POV-Ray mesh2 twin of the same triangles (an #include-able object named Blob); with
+// --uv, texture coordinates per vertex (longitude and latitude: PLY `u v`, OBJ `vt`);
+// with --texture, also an N x N PNG image to map on it (a pattern of stripes and rings
+// in many colours, so that neighbouring texels differ).
+//   make_mesh TRIANGLES OUT.(obj|ply) [--ascii] [--big-endian] [--pov OUT.inc] [--uv]
+//             [--texture N OUT.png]
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -12,11 +16,15 @@
 #include <string>
 #include <vector>
 
+#include "png.h"
+
 namespace {
 
 struct Mesh {
     std::vector<float> v;           // x y z per vertex
+    std::vector<float> uv;          // u v per vertex
     std::vector<std::uint32_t> f;   // 3 per triangle
+    bool with_uv = false;           // written with the vertices
 };
 
 // Rings 1..m-1 of k vertices each between the poles; 2 k (m - 1) triangles.
@@ -32,6 +40,8 @@ Mesh make_ball(long m, long k) {
         mesh.v.push_back(float(r * std::sin(theta) * std::cos(phi)));
         mesh.v.push_back(float(r * std::sin(theta) * std::sin(phi)));
         mesh.v.push_back(float(r * std::cos(theta)));
+        mesh.uv.push_back(float(phi / (2 * pi)));
+        mesh.uv.push_back(float(1 - theta / pi));
     };
     mesh.v.reserve(std::size_t(3 * ((m - 1) * k + 2)));
     add(0, 0);
@@ -57,8 +67,15 @@ Mesh make_ball(long m, long k) {
 bool write_obj(const Mesh& m, FILE* out) {
     std::fprintf(out, "# bumpy ball, %zu vertices, %zu triangles (bench/make_mesh)\n", m.v.size() / 3, m.f.size() / 3);
     for (std::size_t i = 0; i < m.v.size(); i += 3) std::fprintf(out, "v %.7g %.7g %.7g\n", m.v[i], m.v[i + 1], m.v[i + 2]);
-    for (std::size_t i = 0; i < m.f.size(); i += 3)
-        std::fprintf(out, "f %u %u %u\n", m.f[i] + 1, m.f[i + 1] + 1, m.f[i + 2] + 1);
+    if (m.with_uv)
+        for (std::size_t i = 0; i < m.uv.size(); i += 2) std::fprintf(out, "vt %.7g %.7g\n", m.uv[i], m.uv[i + 1]);
+    for (std::size_t i = 0; i < m.f.size(); i += 3) {
+        if (m.with_uv)
+            std::fprintf(out, "f %u/%u %u/%u %u/%u\n", m.f[i] + 1, m.f[i] + 1, m.f[i + 1] + 1, m.f[i + 1] + 1, m.f[i + 2] + 1,
+                         m.f[i + 2] + 1);
+        else
+            std::fprintf(out, "f %u %u %u\n", m.f[i] + 1, m.f[i + 1] + 1, m.f[i + 2] + 1);
+    }
     return !std::ferror(out);
 }
 
@@ -74,13 +91,21 @@ void put(FILE* out, T value, bool big) {
 bool write_ply(const Mesh& m, FILE* out, bool ascii, bool big) {
     std::fprintf(out, "ply\nformat %s 1.0\ncomment bumpy ball (bench/make_mesh)\nelement vertex %zu\n",
                  ascii ? "ascii" : big ? "binary_big_endian" : "binary_little_endian", m.v.size() / 3);
-    std::fprintf(out, "property float x\nproperty float y\nproperty float z\nelement face %zu\n", m.f.size() / 3);
-    std::fprintf(out, "property list uchar int vertex_indices\nend_header\n");
+    std::fprintf(out, "property float x\nproperty float y\nproperty float z\n");
+    if (m.with_uv) std::fprintf(out, "property float u\nproperty float v\n");
+    std::fprintf(out, "element face %zu\nproperty list uchar int vertex_indices\nend_header\n", m.f.size() / 3);
     if (ascii) {
-        for (std::size_t i = 0; i < m.v.size(); i += 3) std::fprintf(out, "%.7g %.7g %.7g\n", m.v[i], m.v[i + 1], m.v[i + 2]);
+        for (std::size_t i = 0; i < m.v.size(); i += 3) {
+            std::fprintf(out, "%.7g %.7g %.7g", m.v[i], m.v[i + 1], m.v[i + 2]);
+            if (m.with_uv) std::fprintf(out, " %.7g %.7g", m.uv[i / 3 * 2], m.uv[i / 3 * 2 + 1]);
+            std::fprintf(out, "\n");
+        }
         for (std::size_t i = 0; i < m.f.size(); i += 3) std::fprintf(out, "3 %u %u %u\n", m.f[i], m.f[i + 1], m.f[i + 2]);
     } else {
-        for (float x : m.v) put(out, x, big);
+        for (std::size_t i = 0; i < m.v.size(); i += 3) {
+            for (int c = 0; c < 3; ++c) put(out, m.v[i + std::size_t(c)], big);
+            if (m.with_uv) put(out, m.uv[i / 3 * 2], big), put(out, m.uv[i / 3 * 2 + 1], big);
+        }
         for (std::size_t i = 0; i < m.f.size(); i += 3) {
             put(out, std::uint8_t(3), big);
             for (int k = 0; k < 3; ++k) put(out, std::int32_t(m.f[i + std::size_t(k)]), big);
@@ -113,6 +138,32 @@ bool write_file(const std::string& path, bool (*write)(const Mesh&, FILE*, bool,
     return ok;
 }
 
+// An n x n picture of stripes and rings in many colours, as a PNG file.
+bool write_texture(long n, const std::string& path) {
+    std::vector<std::uint8_t> rgb(std::size_t(n) * std::size_t(n) * 3);
+    for (long y = 0; y < n; ++y)
+        for (long x = 0; x < n; ++x) {
+            const double u = double(x) / double(n), v = double(y) / double(n);
+            const double a = std::sin(40 * u + 3 * std::sin(9 * v)), b = std::cos(57 * v - 2 * std::cos(7 * u));
+            const double r = std::sin(150 * std::hypot(u - 0.5, v - 0.3));
+            std::uint8_t* p = &rgb[3 * (std::size_t(y) * std::size_t(n) + std::size_t(x))];
+            p[0] = std::uint8_t(127.5 + 127 * a);
+            p[1] = std::uint8_t(127.5 + 127 * b);
+            p[2] = std::uint8_t(127.5 + 127 * r);
+        }
+    std::string png;
+    if (!rt::encode_png(rgb.data(), int(n), int(n), png)) return false;
+    FILE* out = std::fopen(path.c_str(), "wb");
+    if (!out) {
+        std::perror(path.c_str());
+        return false;
+    }
+    bool ok = std::fwrite(png.data(), 1, png.size(), out) == png.size();
+    ok = std::fclose(out) == 0 && ok;
+    if (!ok) std::fprintf(stderr, "make_mesh: cannot write %s\n", path.c_str());
+    return ok;
+}
+
 bool ends_with(const std::string& s, const char* tail) {
     const std::size_t n = std::strlen(tail);
     return s.size() >= n && s.compare(s.size() - n, n, tail) == 0;
@@ -122,17 +173,25 @@ bool ends_with(const std::string& s, const char* tail) {
 
 int main(int argc, char** argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: make_mesh TRIANGLES OUT.(obj|ply) [--ascii] [--big-endian] [--pov OUT.inc]\n");
+        std::fprintf(stderr, "usage: make_mesh TRIANGLES OUT.(obj|ply) [--ascii] [--big-endian] [--pov OUT.inc] [--uv]"
+                             " [--texture N OUT.png]\n");
         return 2;
     }
     const double wanted = std::atof(argv[1]);
     const std::string path = argv[2];
-    bool ascii = false, big = false;
-    std::string pov;
+    bool ascii = false, big = false, uv = false;
+    std::string pov, texture;
+    long texture_size = 0;
     for (int i = 3; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--ascii")) ascii = true;
         else if (!std::strcmp(argv[i], "--big-endian")) big = true;
         else if (!std::strcmp(argv[i], "--pov") && i + 1 < argc) pov = argv[++i];
+        else if (!std::strcmp(argv[i], "--uv")) uv = true;
+        else if (!std::strcmp(argv[i], "--texture") && i + 2 < argc && std::atol(argv[i + 1]) > 0 &&
+                 std::atol(argv[i + 1]) <= 16384) {
+            texture_size = std::atol(argv[++i]);
+            texture = argv[++i];
+        }
         else {
             std::fprintf(stderr, "make_mesh: unknown option %s\n", argv[i]);
             return 2;
@@ -140,7 +199,8 @@ int main(int argc, char** argv) {
     }
     // 2 k (m - 1) triangles with k = 2 (m - 1): 4 (m - 1)^2.
     const long half = std::lround(std::sqrt(std::max(wanted, 8.0) / 4));
-    const Mesh mesh = make_ball(half + 1, 2 * half);
+    Mesh mesh = make_ball(half + 1, 2 * half);
+    mesh.with_uv = uv;
     bool ok;
     if (ends_with(path, ".obj"))
         ok = write_file(path, [](const Mesh& m, FILE* f, bool, bool) { return write_obj(m, f); }, mesh, false, false);
@@ -152,6 +212,7 @@ int main(int argc, char** argv) {
     }
     if (ok && !pov.empty())
         ok = write_file(pov, [](const Mesh& m, FILE* f, bool, bool) { return write_pov(m, f); }, mesh, false, false);
+    if (ok && !texture.empty()) ok = write_texture(texture_size, texture);
     if (ok) std::printf("%zu vertices, %zu triangles\n", mesh.v.size() / 3, mesh.f.size() / 3);
     return ok ? 0 : 1;
 }

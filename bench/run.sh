@@ -48,6 +48,11 @@
 #                      --aa-threshold whose RMSE is no worse); and at
 #                      1280x720, 1 sample, the soft shadows' cost: things-soft without
 #                      its lens against things-like (point lights), medians of --runs
+#   -T, --textured N   also a textured bumpy ball of N triangles (1000000 for issue 38's
+#                      table) with texture coordinates, at 1920x1080 and 1 sample: its
+#                      material with a 4096x4096 texture (generated, never committed)
+#                      and highlights (specular 0.5) against the same mesh and material
+#                      without them, whole run and render phase, medians of --runs
 #   -q, --quick        160x90, 1 run, a smoke test of this script (used by CI)
 #   -h, --help         this text
 #
@@ -59,7 +64,7 @@ set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
 RUNS=3 THREADS=2 BIN=$ROOT/build/bin/raytracer OUT= SCALING=0 POV=1 EMBREE=1 MICRO=1 QUICK=0 GRID=0 AA=0 AA_REFS= MESH=0
-REALISM=0
+REALISM=0 TEXTURED=0
 SCENES=()
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
@@ -78,6 +83,7 @@ while [ $# -gt 0 ]; do
         -m|--mesh) need_value "$@"; MESH=$2; shift ;;
         -a|--aa) AA=1 ;;
         -R|--realism) REALISM=1 ;;
+        -T|--textured) need_value "$@"; TEXTURED=$2; shift ;;
         --aa-refs) need_value "$@"; AA_REFS=$2; shift ;;
         -q|--quick) QUICK=1 ;;
         -h|--help) usage; exit 0 ;;
@@ -92,6 +98,7 @@ done
 [[ $GRID =~ ^[0-9]+$ ]] && { [ "$GRID" = 0 ] || [ "$GRID" -ge 2 ]; } ||
     { echo "run.sh: --grid must be an integer of at least 2" >&2; exit 2; }
 [[ $MESH =~ ^[0-9]+$ ]] || { echo "run.sh: --mesh must be a number of triangles" >&2; exit 2; }
+[[ $TEXTURED =~ ^[0-9]+$ ]] || { echo "run.sh: --textured must be a number of triangles" >&2; exit 2; }
 [ -x "$BIN" ] || { echo "run.sh: no raytracer binary at $BIN (build first, or pass -b)" >&2; exit 2; }
 for s in "${SCENES[@]}"; do
     [ -f "$HERE/scenes/$s.txt" ] || { echo "run.sh: unknown scene '$s' (no bench/scenes/$s.txt)" >&2; exit 2; }
@@ -316,6 +323,54 @@ mesh_section() {
     rm -f "$M.ply" "$M.obj" "$M.inc"
 }
 [ "$MESH" != 0 ] && mesh_section
+
+# The textured mesh (-T): the cost of a big texture and highlights at one sample. Both
+# scenes read the same PLY file (with its texture coordinates), so that the two differ
+# only in the material; each run of one is right after a run of the other.
+textured_section() {
+    local M=$OUT/texmesh$TEXTURED W=1920 H=1080 size=4096 t
+    [ $QUICK = 1 ] && W=160 H=90 size=256
+    "${MAKE_MESH:-$(dirname "$BIN")/make_mesh}" "$TEXTURED" "$M.ply" --uv --texture "$size" "$M.png" > /dev/null ||
+        { echo "run.sh: make_mesh could not write the textured mesh" >&2; exit 1; }
+    scene() {  # FILE MATERIAL
+        cat > "$1" <<SCENE
+// texmesh$TEXTURED -- a bumpy ball of about $TEXTURED triangles with texture coordinates (bench/run.sh -T)
+thing { mesh { file "texmesh$TEXTURED.ply" position 0 0 1.2 material { scattering 1 colour 0.9 0.9 0.9 $2 } } }
+special_thing {
+  plane { material { scattering 1 colour 0.6 0.6 0.6 } point 1 0 0 0  point 2 1 0 0  point 3 0 1 0  point 4 0 0 1 }
+}
+light {
+  spotlight { colour 60 60 57 position -4 -6 8 }
+  spotlight { colour 20 21 25 position 5 3 6 }
+}
+camera { position 0 -4.2 2.4 centre 0 0 1 up 0 0 2 projection 2 angle_x 60 angle_y 35.9834 }
+picture_size { x_max $W y_max $H }
+end
+SCENE
+    }
+    scene "$M-plain.txt" ""
+    scene "$M-tex.txt" "texture \"texmesh$TEXTURED.png\" specular 0.5 shininess 60"
+    local pw=() pr=() tw=() tr=()
+    for _ in $(seq "$RUNS"); do
+        t=$(timed "$M-plain.log" "$BIN" --quiet --stats --threads "$THREADS" "$M-plain.txt" "$M-plain.ppm") ||
+            { echo "run.sh: our raytracer failed on the plain mesh:" >&2; cat "$M-plain.log" >&2; exit 1; }
+        pw+=("${t%% *}") pr+=("$(render_time "$M-plain.log")")
+        t=$(timed "$M-tex.log" "$BIN" --quiet --stats --threads "$THREADS" "$M-tex.txt" "$M-tex.ppm") ||
+            { echo "run.sh: our raytracer failed on the textured mesh:" >&2; cat "$M-tex.log" >&2; exit 1; }
+        tw+=("${t%% *}") tr+=("$(render_time "$M-tex.log")")
+    done
+    local pwm prm twm trm
+    pwm=$(median "${pw[@]}") prm=$(median "${pr[@]}") twm=$(median "${tw[@]}") trm=$(median "${tr[@]}")
+    echo
+    echo "Textured bumpy ball of about $TEXTURED triangles, ${W}x$H, 1 sample per pixel, $THREADS threads, medians of" \
+         "$RUNS: a ${size}x$size texture and highlights (specular 0.5) against the same mesh and material without them:"
+    echo
+    echo "| without: whole (s) | render (s) | with texture + highlights: whole (s) | render (s) | with / without, whole | render |"
+    echo "|---|---|---|---|---|---|"
+    echo "| $pwm | $prm | $twm | $trm | $(ratio "$twm" "$pwm") | $(ratio "$trm" "$prm") |"
+    rm -f "$M.ply" "$M.png"
+}
+[ "$TEXTURED" != 0 ] && textured_section
 
 # The anti-aliasing section: POV-Ray's usual anti-aliasing against ours at the same
 # quality. Quality is the RMSE against each program's own converged picture.

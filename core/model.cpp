@@ -261,27 +261,15 @@ bool MeshModel::textures_unchanged() const {
     return true;
 }
 
-bool MeshModel::unchanged_on_disk() const {
-    if (!textures_unchanged()) return false;
-    if (stamp_[2] < 0) return true;
-    struct stat st;
-    if (::stat(path_.c_str(), &st) != 0) return true;  // gone: keep what was read
-    return std::int64_t(st.st_dev) == stamp_[0] && std::int64_t(st.st_ino) == stamp_[1] &&
-           std::int64_t(st.st_size) == stamp_[2] &&
-           std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec == stamp_[3];
-}
+bool MeshModel::unchanged_on_disk() const { return textures_unchanged() && FileId::unchanged(path_, id_); }
 
 ModelStore::Loaded ModelStore::load(const std::string& path, TextureStore* textures) {
     Loaded result;
-    struct stat st;
-    FileId id;
-    if (::stat(path.c_str(), &st) == 0)
-        id = {std::uint64_t(st.st_dev), std::uint64_t(st.st_ino), std::int64_t(st.st_size),
-              std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec};
+    const FileId id = FileId::of(path);
     {
         std::lock_guard<std::mutex> lock(mutex_);
         auto it = entries_.find(path);
-        if (it != entries_.end() && id.size >= 0 && it->second.id == id) {
+        if (it != entries_.end() && id.known() && it->second.id == id) {
             if (it->second.failed) {
                 result.error = it->second.error;
                 return result;
@@ -294,10 +282,9 @@ ModelStore::Loaded ModelStore::load(const std::string& path, TextureStore* textu
     MeshData data;
     Entry e;
     e.id = id;
-    if (read_model(path, data, result.error, textures)) {
+    if (read_model(path, data, result.error, textures ? textures : &textures_)) {
         auto model = std::make_shared<MeshModel>(path, std::move(data));
-        const std::int64_t stamp[4] = {std::int64_t(id.dev), std::int64_t(id.ino), id.size, id.mtime_ns};
-        std::copy(stamp, stamp + 4, model->stamp_);
+        model->id_ = id;
         e.model = model;
         result.model = std::move(model);
     } else {
@@ -308,7 +295,7 @@ ModelStore::Loaded ModelStore::load(const std::string& path, TextureStore* textu
     // Entries of models nobody holds any more are dropped as the store is used.
     for (auto it = entries_.begin(); it != entries_.end();)
         it = !it->second.failed && it->second.model.expired() ? entries_.erase(it) : std::next(it);
-    if (id.size >= 0) entries_[path] = std::move(e);
+    if (id.known()) entries_[path] = std::move(e);
     return result;
 }
 

@@ -12,14 +12,15 @@
 #include <string>
 #include <vector>
 
+#include "file_id.h"
 #include "math.h"
 #include "scene.h"
+#include "texture.h"
 
 namespace rt {
 
 struct TriangleAccel;  // triangles.h
 struct ModelShading;   // world.h
-class TextureStore;    // texture.h
 
 struct ModelLimits {
     static constexpr std::uint64_t max_file_size = std::uint64_t(1) << 30;  // bytes (a 10M-triangle OBJ is ~0.5 GB)
@@ -94,7 +95,7 @@ private:
     friend class ModelStore;
     std::string path_;
     MeshData data_;
-    std::int64_t stamp_[4] = {0, 0, -1, 0};  // dev, inode, size, mtime (ns) as read; size -1: none
+    FileId id_;  // of the file as read (unknown: made from data)
     Aabb bounds_;
     mutable std::once_flag built_, normals_made_;
     mutable std::unique_ptr<TriangleAccel> accel_;
@@ -121,16 +122,13 @@ public:
         std::shared_ptr<const MeshModel> model;  // null on error
         ModelError error;
     };
+    // The models' MTL textures are read through `textures` (null: textures()).
     Loaded load(const std::string& path, TextureStore* textures = nullptr);
+    // New: the store's textures, one decoded copy per file for the models read here and
+    // (ParseOptions::models) the materials of the scenes parsed with it.
+    TextureStore& textures() { return textures_; }
 
 private:
-    struct FileId {
-        std::uint64_t dev = 0, ino = 0;
-        std::int64_t size = -1, mtime_ns = 0;
-        bool operator==(const FileId& o) const {
-            return dev == o.dev && ino == o.ino && size == o.size && mtime_ns == o.mtime_ns;
-        }
-    };
     struct Entry {
         FileId id;
         std::weak_ptr<const MeshModel> model;
@@ -139,6 +137,7 @@ private:
     };
     std::mutex mutex_;
     std::map<std::string, Entry> entries_;
+    TextureStore textures_;
 };
 
 // `file` as named in a scene, relative to `base_dir` unless absolute ("" = the current

@@ -1200,7 +1200,7 @@ private:
                 return;
             }
             it = models_.emplace(path, (opt_.models ? *opt_.models : own_models_)
-                                           .load(path, opt_.textures ? opt_.textures : &own_textures_))
+                                           .load(path, &texture_store()))
                      .first;
             if (const MeshModel* model = it->second.model.get()) triangles_ += model->data().triangle_count();
             if (triangles_ > ModelLimits::max_triangles) {
@@ -1241,7 +1241,7 @@ private:
                 error_at(at, "too many texture files (limit " + std::to_string(TextureLimits::max_files) + ")");
                 return;
             }
-            it = textures_.emplace(path, (opt_.textures ? *opt_.textures : own_textures_).load(path)).first;
+            it = textures_.emplace(path, texture_store().load(path)).first;
         }
         const TextureStore::Loaded& l = it->second;
         if (!l.texture) {
@@ -1255,6 +1255,9 @@ private:
             return;
         }
         m.texture_image = l.texture;
+    }
+    TextureStore& texture_store() {
+        return opt_.textures ? *opt_.textures : opt_.models ? opt_.models->textures() : own_textures_;
     }
     // Counts a texture's pixels toward the scene's limit (each texture once); false
     // once over it.

@@ -84,8 +84,8 @@ struct ParseOptions {
     // False: mesh files are not read (their blocks are checked, their `model` stays null).
     bool read_models = true;
     // New: where the materials' textures are decoded and kept between parses, as
-    // `models` (null: for this parse alone); each file is read once per parse however
-    // many materials name it.
+    // `models` (null: the textures() of `models` when that is given, else for this parse
+    // alone); each file is read once per parse however many materials name it.
     TextureStore* textures = nullptr;
     // False: texture files are not read (the names are checked, texture_image stays
     // null). Nor are they when read_models is false: callers that check a scene's

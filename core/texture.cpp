@@ -52,14 +52,7 @@ Colour Texture::sample(double u, double v) const {
     return (c00 * (1 - ax) + c10 * ax) * (1 - ay) + (c01 * (1 - ax) + c11 * ax) * ay;
 }
 
-bool Texture::unchanged_on_disk() const {
-    if (stamp_[2] < 0) return true;
-    struct stat st;
-    if (::stat(path_.c_str(), &st) != 0) return true;  // gone: keep what was read
-    return std::int64_t(st.st_dev) == stamp_[0] && std::int64_t(st.st_ino) == stamp_[1] &&
-           std::int64_t(st.st_size) == stamp_[2] &&
-           std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec == stamp_[3];
-}
+bool Texture::unchanged_on_disk() const { return FileId::unchanged(path_, id_); }
 
 namespace {
 
@@ -309,24 +302,19 @@ std::shared_ptr<Texture> read_texture(const std::string& path, std::string& erro
     std::shared_ptr<Texture> t = decode_texture(bytes, error);
     if (t) {
         t->path_ = path;
-        const std::int64_t stamp[4] = {std::int64_t(st.st_dev), std::int64_t(st.st_ino), std::int64_t(st.st_size),
-                                       std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec};
-        std::copy(stamp, stamp + 4, t->stamp_);
+        t->id_ = FileId::of(st);
     }
     return t;
 }
 
 TextureStore::Loaded TextureStore::load(const std::string& path) {
     Loaded result;
-    struct stat st;
-    FileId id;
-    if (::stat(path.c_str(), &st) == 0)
-        id = {std::uint64_t(st.st_dev), std::uint64_t(st.st_ino), std::int64_t(st.st_size),
-              std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec};
+    struct stat st {};
+    const FileId id = ::stat(path.c_str(), &st) == 0 ? FileId::of(st) : FileId{};
     {
         std::lock_guard<std::mutex> lock(mutex_);
         auto it = entries_.find(path);
-        if (it != entries_.end() && id.size >= 0 && it->second.id == id) {
+        if (it != entries_.end() && id.known() && it->second.id == id) {
             if (it->second.failed) {
                 result.error = it->second.error;
                 return result;
@@ -338,6 +326,7 @@ TextureStore::Loaded TextureStore::load(const std::string& path) {
     Entry e;
     e.id = id;
     if (std::shared_ptr<Texture> t = read_texture(path, result.error)) {
+        e.id = t->file_id();  // the version decoded, should the file have changed since the stat
         e.texture = t;
         result.texture = std::move(t);
     } else {
@@ -348,7 +337,7 @@ TextureStore::Loaded TextureStore::load(const std::string& path) {
     for (auto it = entries_.begin(); it != entries_.end();)
         it = !it->second.failed && it->second.texture.expired() ? entries_.erase(it) : std::next(it);
     // A FIFO or device is never kept: its stat says nothing of what it would give.
-    if (id.size >= 0 && S_ISREG(st.st_mode)) entries_[path] = std::move(e);
+    if (id.known() && S_ISREG(st.st_mode)) entries_[path] = std::move(e);
     return result;
 }
 

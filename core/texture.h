@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "file_id.h"
 #include "math.h"
 
 namespace rt {
@@ -46,6 +47,8 @@ public:
     // Whether the file is still the one read (size, modification time, inode); always
     // true for a texture made from data.
     bool unchanged_on_disk() const;
+    // The file's identity as read (unknown for a texture made from data).
+    const FileId& file_id() const { return id_; }
     std::size_t memory_bytes() const { return rgb_.size() * sizeof(float); }
     // The texels, 3 floats each, rows from the top (to send a texture elsewhere).
     const std::vector<float>& texels() const { return rgb_; }
@@ -55,7 +58,7 @@ private:
     int width_, height_;
     std::vector<float> rgb_;
     std::string path_;
-    std::int64_t stamp_[4] = {0, 0, -1, 0};  // dev, inode, size, mtime (ns); size -1: none
+    FileId id_;  // of the file as read
 };
 
 // The image file's bytes decoded (PNG or JPEG; 8 or 16 bits; grey, grey+alpha, RGB,
@@ -80,13 +83,6 @@ public:
     Loaded load(const std::string& path);
 
 private:
-    struct FileId {
-        std::uint64_t dev = 0, ino = 0;
-        std::int64_t size = -1, mtime_ns = 0;
-        bool operator==(const FileId& o) const {
-            return dev == o.dev && ino == o.ino && size == o.size && mtime_ns == o.mtime_ns;
-        }
-    };
     struct Entry {
         FileId id;
         std::weak_ptr<const Texture> texture;

@@ -90,6 +90,32 @@ TEST_CASE("models: a model opened on its own is a scene that frames it on a floo
     CHECK(s.lights[0].position.y > 1);
 }
 
+TEST_CASE("models: a model opened on its own keeps the materials of its MTL file") {
+    rt_test::TempDir dir;
+    write(dir / "m.mtl", "newmtl red\nKd 0.8 0.1 0.1\n");
+    write(dir / "m.obj", "mtllib m.mtl\nusemtl red\n" + tetra_obj(1));
+    write(dir / "plain.obj", tetra_obj(1));
+    rt::ModelStore store;
+    rt::ParseOptions o;
+    o.models = &store;
+    for (const char* name : {"m.obj", "plain.obj"}) {
+        const std::string path = (dir / name).string();
+        const rt::ModelStore::Loaded l = store.load(path);
+        REQUIRE(l.model);
+        const rt::ParseResult r = rt::parse_scene(model_scene(path, *l.model), o);
+        REQUIRE(r.ok());
+        const rt::Object& obj = r.scene.objects.at(0);
+        CAPTURE(name);
+        // With an MTL file no material block (it would override the file's); without,
+        // a colour of the scene's own.
+        CHECK(obj.has_material == (std::string(name) == "plain.obj"));
+        if (std::string(name) == "m.obj") {
+            REQUIRE(mesh_of(r.scene, 0)->model->data().materials.size() == 1);
+            CHECK(mesh_of(r.scene, 0)->model->data().materials[0].colour.x == doctest::Approx(0.8));
+        }
+    }
+}
+
 TEST_CASE("models: the outline and the readout name a mesh") {
     CHECK(std::string(shape_name(rt::Shape{rt::Mesh{}})) == "mesh");
     CHECK(std::string(shape_name(rt::Shape{rt::Csg{}})) == "CSG union");

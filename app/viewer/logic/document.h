@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "file_id.h"
 #include "model.h"
 #include "scene.h"
 #include "scene_delta.h"
@@ -24,19 +25,6 @@
 #include "undo.h"
 
 namespace rtview {
-
-// Identity of a file version on disk, to notice changes made by other programs.
-struct FileStamp {
-    bool exists = false;
-    std::int64_t mtime_ns = 0;
-    std::int64_t size = 0;
-    std::uint64_t inode = 0;
-    bool operator==(const FileStamp& o) const {
-        return exists == o.exists && mtime_ns == o.mtime_ns && size == o.size && inode == o.inode;
-    }
-    bool operator!=(const FileStamp& o) const { return !(*this == o); }
-    static FileStamp of(const std::string& path);
-};
 
 // The items a held edit has changed so far, with their values now.
 struct HeldEdit {
@@ -200,12 +188,18 @@ public:
     enum class DiskEvent { None, Reloaded, Conflict, Removed, ModelsReloaded, ModelUnreadable };
     // Call now and then (the viewer: once a second). Reloads by itself when there
     // are no unsaved edits (looking around is not an edit: the view camera lives
-    // outside the document); reports a conflict otherwise. A model file a mesh names
-    // that changed is read again (the text stays: ModelsReloaded); if it no longer
-    // reads, the scene keeps the model as it was (ModelUnreadable, model_problem()).
+    // outside the document); reports a conflict otherwise. A model file a mesh names,
+    // or a texture file a material names, that changed is read again (the text stays:
+    // ModelsReloaded); if it no longer reads, the scene keeps the model or texture as
+    // it was (ModelUnreadable, model_problem()).
     // The models read for this document's scenes, kept between parses (and shared
-    // with the loader, which reads them in the background).
+    // with the loader, which reads them in the background), and with them the
+    // textures: one decoded copy per file (models().textures()).
     rt::ModelStore& models() const { return *models_; }
+    // The texture a material of this document names as `file` (as written: relative to
+    // the scene file's folder), through the document's store: null, with `error` the
+    // texture reader's message, if it cannot be read.
+    std::shared_ptr<const rt::Texture> load_texture(const std::string& file, std::string& error) const;
     // Reads models through `store` from now on (one a load begun before the document
     // existed reads into).
     void share_models(std::shared_ptr<rt::ModelStore> store) { models_ = std::move(store); }
@@ -248,9 +242,13 @@ private:
     void normalize_applied();
     void mark_saved(std::optional<std::uint64_t> hash = std::nullopt);
     void reload_text(const std::string& text);
-    // The scene's models read again if one changed on disk; true if the scene changed.
+    // The scene's models and textures read again if one changed on disk; true if the
+    // scene changed.
     bool reload_models();
     void restore_object(std::size_t i, const rt::Object& o);  // an undo step's object, with today's model
+    void restore_plane(std::size_t i, const rt::Plane& p);    // and textures
+    // The material's texture as it is on disk now, if the file changed since it was read.
+    void refresh_texture(rt::Material& m) const;
     // The editor text changed by `s` (forward: as made or redone; else undone): a new
     // text version, whose changes text_changes_since() gives.
     void text_changed(const DocStep& s, bool forward);
@@ -260,6 +258,7 @@ private:
     std::string model_problem_;      // why a changed model did not read, once said
     // The distinct models scene_ holds, as of scene version scene_models_version_.
     std::vector<std::shared_ptr<const rt::MeshModel>> scene_models_;
+    std::vector<std::shared_ptr<const rt::Texture>> scene_textures_;  // and textures (of its materials)
     std::uint64_t scene_models_version_ = 0;
     std::string editor_;
     std::optional<std::string> applied_;  // only while it differs from editor_ (or may)
@@ -277,7 +276,7 @@ private:
     std::string saved_broken_text_;
     mutable std::uint64_t modified_key_ = ~std::uint64_t(0);  // (text_version_, typed_) the cache is for
     mutable bool modified_cache_ = false;
-    FileStamp stamp_;
+    rt::FileId stamp_;  // the file as last loaded or saved: to notice changes other programs make
     std::vector<rt::Diagnostic> diagnostics_;
     std::uint64_t scene_version_ = 1, content_version_ = 1, text_version_ = 1, typed_ = 0;
     // What changed from content version `from` to `to`, oldest first (changes_since()).

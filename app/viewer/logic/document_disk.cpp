@@ -2,9 +2,8 @@
 // programs make, reloading the text or the models it names.
 #include "document.h"
 
-#include <sys/stat.h>
-
 #include <algorithm>
+#include <unordered_set>
 #include <utility>
 
 #include "block_patch.h"
@@ -16,16 +15,55 @@
 
 namespace rtview {
 
-FileStamp FileStamp::of(const std::string& path) {
-    FileStamp s;
-    struct stat st {};
-    if (path.empty() || ::stat(path.c_str(), &st) != 0) return s;
-    s.exists = true;
-    s.mtime_ns = std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
-    s.size = std::int64_t(st.st_size);
-    // Editors that save by rename give a new inode even within one mtime tick.
-    s.inode = std::uint64_t(st.st_ino);
-    return s;
+namespace {
+
+// The distinct models and textures a scene holds (textures of the models' own MTL
+// materials are the models' to watch).
+class SceneFiles {
+public:
+    void material(const rt::Material& m) {
+        if (m.texture_image && textures_seen_.insert(m.texture_image.get()).second) textures.push_back(m.texture_image);
+    }
+    void object(const rt::Object& o) {
+        material(o.material);
+        if (const rt::Mesh* m = std::get_if<rt::Mesh>(&o.shape); m && m->model)
+            if (models_seen_.insert(m->model.get()).second) models.push_back(m->model);
+        if (const rt::Csg* g = std::get_if<rt::Csg>(&o.shape))
+            for (const rt::Object& k : g->operands) object(k);
+    }
+    void scene(const rt::Scene& s) {
+        for (const rt::NamedMaterial& m : s.materials) material(m.material);
+        for (const rt::NamedObject& d : s.defined)
+            if (d.object) object(*d.object);
+        for (const rt::Object& o : s.objects) object(o);
+        for (const rt::Plane& p : s.planes) {
+            material(p.material);
+            material(p.material2);
+        }
+    }
+    std::vector<std::shared_ptr<const rt::MeshModel>> models;
+    std::vector<std::shared_ptr<const rt::Texture>> textures;
+
+private:
+    std::unordered_set<const void*> models_seen_, textures_seen_;
+};
+
+}  // namespace
+
+std::shared_ptr<const rt::Texture> Document::load_texture(const std::string& file, std::string& error) const {
+    if (file.empty()) {
+        error = "no file name given";
+        return nullptr;
+    }
+    rt::TextureStore::Loaded l = models_->textures().load(rt::resolve_model_path(rt::folder_of(path_), file));
+    error = l.error;
+    return l.texture;
+}
+
+void Document::refresh_texture(rt::Material& m) const {
+    if (!m.texture_image || m.texture_image->unchanged_on_disk()) return;
+    if (rt::TextureStore::Loaded l = models_->textures().load(m.texture_image->path()); l.texture)
+        m.texture_image = std::move(l.texture);
 }
 
 std::optional<std::string> Document::save_problem() const {
@@ -54,7 +92,7 @@ void Document::mark_saved(std::optional<std::uint64_t> hash) {
     saved_broken_text_ = has_scene_ ? std::string() : editor_;
     // No second parse of the saved text: it is the text of the current scene whenever
     // that has no unapplied draft.
-    stamp_ = FileStamp::of(path_);
+    stamp_ = rt::FileId::of(path_);
     conflict_ = false;
 }
 
@@ -104,18 +142,18 @@ bool Document::reload_models() {
     // The scene's models, looked for once per scene version (a pass over every object:
     // 9 ms in a 1M-object scene, too much for every second).
     if (scene_models_version_ != scene_version_) {
-        scene_models_.clear();
-        for (const rt::Object& o : scene_.objects)
-            if (const rt::Mesh* m = std::get_if<rt::Mesh>(&o.shape); m && m->model)
-                if (std::find(scene_models_.begin(), scene_models_.end(), m->model) == scene_models_.end())
-                    scene_models_.push_back(m->model);
+        SceneFiles files;
+        files.scene(scene_);
+        scene_models_ = std::move(files.models);
+        scene_textures_ = std::move(files.textures);
         scene_models_version_ = scene_version_;
     }
     bool changed = false;
     for (const auto& m : scene_models_) changed = changed || !m->unchanged_on_disk();
+    for (const auto& t : scene_textures_) changed = changed || !t->unchanged_on_disk();
     if (!changed) return false;
-    // The text is the same: only the scene's models are new (no undo step). A model
-    // that no longer reads leaves the scene as it was, and is said once.
+    // The text is the same: only the scene's models and textures are new (no undo
+    // step). A file that no longer reads leaves the scene as it was, and is said once.
     rt::ParseResult r = rt::parse_scene(editor_, parse_options(path_));
     if (!r.ok()) {
         std::string why;
@@ -126,7 +164,10 @@ bool Document::reload_models() {
         return true;
     }
     model_problem_.clear();
+    scene_.materials = std::move(r.scene.materials);
+    scene_.defined = std::move(r.scene.defined);
     scene_.objects = std::move(r.scene.objects);
+    scene_.planes = std::move(r.scene.planes);
     ++scene_version_;
     this->changed(rt::SceneDelta::all());  // a model's triangles: the world is compiled anew
     return true;
@@ -135,10 +176,10 @@ bool Document::reload_models() {
 Document::DiskEvent Document::check_disk() {
     if (reload_models()) return model_problem_.empty() ? DiskEvent::ModelsReloaded : DiskEvent::ModelUnreadable;
     if (path_.empty() || held_) return DiskEvent::None;  // not in the middle of a gesture
-    FileStamp st = FileStamp::of(path_);
+    const rt::FileId st = rt::FileId::of(path_);
     if (st == stamp_) return DiskEvent::None;
     stamp_ = st;
-    if (!st.exists) return DiskEvent::Removed;
+    if (!st.known()) return DiskEvent::Removed;
     std::string text;
     if (!rt::read_file(path_, text, rt::Limits::max_file_size).ok()) return DiskEvent::None;
     if (text.size() == saved_size_ && text_hash(text) == saved_hash_) return DiskEvent::None;  // touched, or our own save

@@ -145,7 +145,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
         }
     } else {
         for (const auto& p : forward ? s.objects_after : s.objects_before) restore_object(p.first, p.second);
-        for (const auto& p : forward ? s.planes_after : s.planes_before) scene_.planes[p.first] = p.second;
+        for (const auto& p : forward ? s.planes_after : s.planes_before) restore_plane(p.first, p.second);
         for (const auto& p : forward ? s.lights_after : s.lights_before) scene_.lights[p.first] = p.second;
     }
     if (s.camera_before) scene_.camera = forward ? *s.camera_after : *s.camera_before;
@@ -167,6 +167,14 @@ void Document::restore_object(std::size_t i, const rt::Object& o) {
     // since (it changed on disk) is shown as it is now, as everywhere else.
     if (rt::Mesh* m = std::get_if<rt::Mesh>(&slot.shape); m && m->model && !m->model->unchanged_on_disk())
         if (rt::ModelStore::Loaded l = models_->load(m->model->path()); l.model) m->model = std::move(l.model);
+    refresh_texture(slot.material);
+}
+
+void Document::restore_plane(std::size_t i, const rt::Plane& p) {
+    rt::Plane& slot = scene_.planes[i];
+    slot = p;
+    refresh_texture(slot.material);
+    refresh_texture(slot.material2);
 }
 
 bool Document::undo() {

@@ -207,7 +207,31 @@ FieldResult assign(const sc::Block<T>& b, T& item, const Field& f, const FieldVa
     return r;
 }
 
+// The material field `f` of the item `ref` names, or null.
+rt::Material* material_at(rt::Scene& scene, const ItemRef& ref, const Field& f) {
+    rt::Material* m = nullptr;
+    if (f.kind != sc::Kind::Material || f.key_number < 0) return nullptr;
+    visit_item(scene, ref, [&](const auto& b, auto& item) {
+        if (std::size_t(f.key_number) >= b.keys.size()) return;
+        const auto& k = b.keys[std::size_t(f.key_number)];
+        if (k.name == f.key && k.kind == sc::Kind::Material && f.index >= 0 && f.index < std::max(k.count, 1))
+            m = &k.access.material(item, f.index);
+    });
+    return m;
+}
+
 }  // namespace
+
+rt::Status check_file_name(std::string_view name) {
+    // As the parser words it (file_name in scene_parser.cpp).
+    if (name.empty()) return refused("the file name is empty");
+    if (name.size() > 4096) return refused("file name too long (" + std::to_string(name.size()) + " characters, limit 4096)");
+    for (char c : name)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f || c == '"')
+            return refused("the file name '" + std::string(name) + "'" +
+                           (c == '"' ? " holds a double quote" : " holds a control character"));
+    return {};
+}
 
 rt::Status parse_typed_number(std::string_view text, double& v) {
     const std::size_t b = text.find_first_not_of(" \t"), e = text.find_last_not_of(" \t");
@@ -297,6 +321,25 @@ FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const F
     local.item.index = 0;
     r = set_field(one, local, f, v);
     if (!r.applied()) return r;
+    // A material's texture named anew is read now, through the document's store: a file
+    // that does not read is refused with the reader's message, as the parser words it.
+    if (rt::Material* now = material_at(one, local, f)) {
+        const rt::Material* before = material_at(const_cast<rt::Scene&>(doc.scene()), ref, f);
+        if (before && before->texture != now->texture) {
+            if (now->texture.empty()) {
+                now->texture_image.reset();
+            } else {
+                if (r.status = check_file_name(now->texture); !r.status) return r;
+                std::string error;
+                now->texture_image = doc.load_texture(now->texture, error);
+                if (!now->texture_image) {
+                    r.status = refused(now->texture + ": " + error);
+                    r.warning.clear();
+                    return r;
+                }
+            }
+        }
+    }
     switch (ref.item.kind) {
         case SceneItem::Kind::Object:
             if (!(one.objects[0] == doc.scene().objects[i])) doc.edit_object(i) = std::move(one.objects[0]);

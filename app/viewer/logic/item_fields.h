@@ -68,9 +68,14 @@ struct FieldResult {
 FieldResult set_field(rt::Scene& scene, const ItemRef& ref, const Field& f, const FieldValue& v);
 // The same, as a pending edit of the document (Document::commit ends it: a whole slider
 // drag is one undo step and one rewrite of the item's block), named "Edit radius of
-// sphere 1". Nothing is touched when the value is refused or unchanged.
+// sphere 1". Nothing is touched when the value is refused or unchanged. A material's
+// texture given a new name is read (Document::load_texture): refused, with the
+// reader's message, if it cannot be.
 FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const FieldValue& v);
 
+// A file name the format can hold (a texture's, a mesh's), with the parser's message
+// for one it cannot: empty, too long, or holding a double quote or control character.
+rt::Status check_file_name(std::string_view name);
 // A number outside the format's range fails, with the parser's message for it.
 rt::Status check_number(double v);
 // A number typed into a field, read as the parser reads a number token (spaces

@@ -382,8 +382,12 @@ std::string model_scene(const std::string& file, const rt::MeshModel& model) {
     m.smooth = model.data().normals.empty() ? 0 : 1;  // the file's own normals say it is curved
     rt::Object o;
     o.shape = m;
-    o.material.colour = {0.8, 0.72, 0.6};
-    o.has_material = true;
+    // A model with materials of its own (an MTL file's, a PLY's vertex colours) shows
+    // them: a material block would take their place.
+    if (model.data().materials.empty() && model.data().colours.empty()) {
+        o.material.colour = {0.8, 0.72, 0.6};
+        o.has_material = true;
+    }
     s.objects.push_back(o);
     // Cells about a fifth of the model wide, the floor at its lowest point.
     rt::Plane floor;

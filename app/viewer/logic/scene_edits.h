@@ -65,8 +65,9 @@ std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scen
 std::optional<SceneEdit> add_model(const std::string& text, const rt::Scene& scene, const std::string& file,
                                    const rt::MeshModel& model, const Placement& at);
 // A new scene that shows the model read from `file` (written as it is, best
-// absolute): the model as the file has it (y up), on a chess floor under its lowest
-// point, lit by a lamp and framed by the camera.
+// absolute): the model as the file has it (y up, its own materials where it has them,
+// else one colour), on a chess floor under its lowest point, lit by a lamp and framed
+// by the camera.
 std::string model_scene(const std::string& file, const rt::MeshModel& model);
 
 // A copy right after the original. With a zero offset the original's text is copied

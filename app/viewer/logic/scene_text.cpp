@@ -252,19 +252,91 @@ std::optional<std::string> patch_scene_items(const std::string& text, const rt::
     return p.empty() ? text : p.result();
 }
 
+namespace {
+
+// What the text holds of an object: its blocks, without what the files they name gave
+// (a mesh's model, a material's texture: the stores' business, and no part of the text).
+// False if there was nothing to take away.
+bool strip_files(rt::Object& o);
+
+bool strip_files(rt::Material& m) {
+    if (!m.texture_image) return false;
+    m.texture_image = nullptr;
+    return true;
+}
+
+bool strip_files(rt::Object& o) {
+    bool any = strip_files(o.material);
+    if (rt::Mesh* m = std::get_if<rt::Mesh>(&o.shape); m && m->model) {
+        m->model = nullptr;
+        any = true;
+    } else if (rt::Csg* g = std::get_if<rt::Csg>(&o.shape)) {
+        for (rt::Object& k : g->operands) any = strip_files(k) || any;
+    } else if (rt::Instance* in = std::get_if<rt::Instance>(&o.shape); in && in->defined) {
+        rt::Object copy = *in->defined;
+        if (strip_files(copy)) {
+            in->defined = std::make_shared<const rt::Object>(std::move(copy));
+            any = true;
+        }
+    }
+    return any;
+}
+
+// False if the scene holds nothing read from other files.
+bool strip_files(rt::Scene& s) {
+    bool any = false;
+    for (rt::NamedMaterial& m : s.materials) any = strip_files(m.material) || any;
+    for (rt::NamedObject& d : s.defined) {
+        if (!d.object) continue;
+        rt::Object copy = *d.object;
+        if (strip_files(copy)) {
+            d.object = std::make_shared<const rt::Object>(std::move(copy));
+            any = true;
+        }
+    }
+    for (rt::Object& o : s.objects) any = strip_files(o) || any;
+    for (rt::Plane& p : s.planes) {
+        any = strip_files(p.material) || any;
+        any = strip_files(p.material2) || any;
+    }
+    return any;
+}
+
+// Whether the scene holds anything read from other files (without copying it).
+bool holds_files(const rt::Object& o) {
+    if (o.material.texture_image) return true;
+    if (const rt::Mesh* m = std::get_if<rt::Mesh>(&o.shape)) return m->model != nullptr;
+    if (const rt::Csg* g = std::get_if<rt::Csg>(&o.shape))
+        return std::any_of(g->operands.begin(), g->operands.end(), [](const rt::Object& k) { return holds_files(k); });
+    if (const rt::Instance* in = std::get_if<rt::Instance>(&o.shape)) return in->defined && holds_files(*in->defined);
+    return false;
+}
+
+bool holds_files(const rt::Scene& s) {
+    for (const rt::NamedMaterial& m : s.materials)
+        if (m.material.texture_image) return true;
+    for (const rt::NamedObject& d : s.defined)
+        if (d.object && holds_files(*d.object)) return true;
+    for (const rt::Object& o : s.objects)
+        if (holds_files(o)) return true;
+    for (const rt::Plane& p : s.planes)
+        if (p.material.texture_image || p.material2.texture_image) return true;
+    return false;
+}
+
+}  // namespace
+
 bool text_holds(const rt::Scene& s) {
-    // Mesh files are not read: what the text holds of a mesh is its block (which model
-    // the file gives is the model store's business, and no part of the text).
+    // Mesh and texture files are not read: what the text holds of a mesh is its block
+    // (which model the file gives is the model store's business, and no part of the
+    // text), of a texture its name.
     rt::ParseOptions o;
     o.read_models = false;
     const rt::ParseResult r = rt::parse_scene(rt::write_scene(s), o);
     if (!r.ok()) return false;
-    bool meshes = false;
-    for (const rt::Object& obj : s.objects) meshes = meshes || std::holds_alternative<rt::Mesh>(obj.shape);
-    if (!meshes) return r.scene == s;
+    if (!holds_files(s)) return r.scene == s;
     rt::Scene without = s;
-    for (rt::Object& obj : without.objects)
-        if (rt::Mesh* m = std::get_if<rt::Mesh>(&obj.shape)) m->model = nullptr;
+    strip_files(without);
     return r.scene == without;
 }
 

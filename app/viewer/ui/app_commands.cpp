@@ -90,6 +90,8 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             model_place_y_ = std::exchange(place_y_, -1);
             dialogs_.show(Dialogs::Kind::AddModel, rt::folder_of(doc.path()));
             return true;
+        case Command::TextureDialog: dialogs_.show(Dialogs::Kind::Texture, arg); return true;
+        case Command::SetTexture: return panels_.set_texture(arg);
     }
     return false;
 }

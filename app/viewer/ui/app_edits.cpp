@@ -141,13 +141,8 @@ std::optional<SceneEdit> ViewerApp::model_edit(const std::string& path) {
         status_.set("Cannot add " + path + line + ": " + l.error.message, true);
         return std::nullopt;
     }
-    // Named from the scene's folder when it is in it (the scene and its models then
-    // move together), else by its absolute path.
-    std::string name = file.string();
-    if (!doc.path().empty()) {
-        const fs::path rel = file.lexically_relative(fs::absolute(rt::folder_of(doc.path()), ec).lexically_normal());
-        if (!rel.empty() && *rel.begin() != "..") name = rel.string();
-    }
+    // Named from the scene's folder when it is in it, else by its absolute path.
+    const std::string name = scene_file_name(file.string(), doc.path());
     place_x_ = std::exchange(model_place_x_, -1);
     place_y_ = std::exchange(model_place_y_, -1);
     std::optional<SceneEdit> e = add_model(std::as_const(doc).editor_text(), doc.scene(), name, *l.model, new_item_placement(true));

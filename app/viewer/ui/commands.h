@@ -41,6 +41,8 @@ enum class Command {
     MakeCsg,         // arg: "U", "I" or "C" and an object number: "U 3" (the selection is left)
     AddModelDialog,  // ask for a model file (.obj, .ply) to add
     AddModel,        // arg: the model file's path; a mesh block where AddItem puts a new object
+    TextureDialog,   // ask for a material's texture file (arg: where the browser starts)
+    SetTexture,      // arg: the texture file's path, for the material that asked (Panels::set_texture)
 };
 
 class Commands {

@@ -25,6 +25,7 @@ const char* title_of(Dialogs::Kind k) {
         case Dialogs::Kind::SaveAs: return "Save scene as";
         case Dialogs::Kind::SaveImage: return "Save image";
         case Dialogs::Kind::AddModel: return "Add model";
+        case Dialogs::Kind::Texture: return "Choose texture";
         case Dialogs::Kind::Help: return "Mouse and keys";
         case Dialogs::Kind::Format: return "Scene format";
         case Dialogs::Kind::None: break;
@@ -51,10 +52,21 @@ void Dialogs::start_browser() {
             file_.start(FileDialog::Mode::Open, {".txt", ".obj", ".ply"}, "Scenes (*.txt), models (*.obj, *.ply)", path_);
             break;
         case Kind::AddModel: file_.start(FileDialog::Mode::Open, {".obj", ".ply"}, "Models (*.obj, *.ply)", path_); break;
+        case Kind::Texture:
+            file_.start(FileDialog::Mode::Open, {".png", ".jpg", ".jpeg"}, "Images (*.png, *.jpg, *.jpeg)", path_);
+            break;
         case Kind::SaveAs: file_.start(FileDialog::Mode::Save, {".txt"}, "Scenes (*.txt)", path_); break;
         case Kind::SaveImage: file_.start(FileDialog::Mode::Save, {".png", ".ppm"}, "Images (*.png, *.ppm)", path_); break;
         default: break;
     }
+}
+
+void Dialogs::draw_chooser(Kind k, const char* button, Command c) {
+    if (!begin(k)) return;
+    const FileDialog::Result r = file_.draw(button);
+    if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
+    if (r == FileDialog::Result::Go) commands_.run(c, file_.path());
+    ImGui::EndPopup();
 }
 
 void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image_mode) {
@@ -98,12 +110,8 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         if (r == FileDialog::Result::Go) commands_.run(Command::SaveImage, file_.path());
         ImGui::EndPopup();
     }
-    if (begin(Kind::AddModel)) {
-        const FileDialog::Result r = file_.draw("Add");
-        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
-        if (r == FileDialog::Result::Go) commands_.run(Command::AddModel, file_.path());
-        ImGui::EndPopup();
-    }
+    draw_chooser(Kind::AddModel, "Add", Command::AddModel);
+    draw_chooser(Kind::Texture, "Choose", Command::SetTexture);
     if (begin(Kind::Help)) {
         std::string help = help_text(false);
         std::size_t at = help.find("Mouse and keys");

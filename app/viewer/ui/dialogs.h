@@ -13,7 +13,7 @@ namespace rtview {
 
 class Dialogs {
 public:
-    enum class Kind { None, Unsaved, SaveErrors, Open, SaveAs, SaveImage, AddModel, Help, Format };
+    enum class Kind { None, Unsaved, SaveErrors, Open, SaveAs, SaveImage, AddModel, Texture, Help, Format };
 
     Dialogs(Commands& commands, const RecentFiles& recent) : commands_(commands), recent_(recent) {}
 
@@ -47,6 +47,8 @@ private:
     bool begin(Kind k);
     void draw_unsaved(const std::string& doc_name, bool has_path);
     void draw_save_errors();
+    // A dialog that chooses a file (Add model, a texture): `c` runs with its path.
+    void draw_chooser(Kind k, const char* button, Command c);
     // Open, Save As and Save Image browse for their file: the browser starts when
     // one of them is asked for.
     void start_browser();

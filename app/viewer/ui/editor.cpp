@@ -92,9 +92,10 @@ bool DocumentEditor::idle_tick() {
         case Document::DiskEvent::Removed:
             status_.set(doc_.name() + " was removed on disk; Save writes it again", true);
             break;
-        case Document::DiskEvent::ModelsReloaded: status_.set("Read the scene's models again (changed on disk)"); break;
+        case Document::DiskEvent::ModelsReloaded: status_.set("Read the scene's models and textures again (changed on disk)"); break;
         case Document::DiskEvent::ModelUnreadable:
-            status_.set("A model changed on disk and no longer reads (" + doc_.model_problem() + "); the scene keeps it as it was",
+            status_.set("A model or texture changed on disk and no longer reads (" + doc_.model_problem() +
+                            "); the scene keeps it as it was",
                         true);
             break;
     }

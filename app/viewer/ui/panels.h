@@ -54,6 +54,10 @@ public:
     float status_height(float width);
     float min_sidebar_width();
     static std::string selection_name(const ItemRef& s);
+    // The file browser's answer for a material's texture (Command::SetTexture): the
+    // material whose browse button asked gets `path`, named from the scene's folder (one
+    // undo step); a file that does not read leaves it as it was, the reason under it.
+    bool set_texture(const std::string& path);
 
 private:
     void draw_sidebar_edge();
@@ -90,6 +94,11 @@ private:
         std::string field, text;
         bool error = false;
     } field_message_;
+    // The material field whose texture the file browser is choosing.
+    struct TextureTarget {
+        ItemRef ref;
+        std::string field;
+    } texture_target_;
     float label_w_ = 0, label_w_font_ = 0;  // field_label_width() at that font size
     // Shown status text that needed more room than the usual contents: for how long.
     struct StatusMore {

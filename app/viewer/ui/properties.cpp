@@ -3,6 +3,7 @@
 #include "panels.h"
 
 #include <imgui.h>
+#include <imgui_stdlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,8 @@
 #include "imgui_common.h"
 #include "number_field.h"
 #include "layout.h"
+#include "model.h"
+#include "paths.h"
 #include "panel_widgets.h"
 #include "probe.h"
 #include "scene_schema.h"
@@ -30,15 +33,51 @@ namespace rtview {
 
 namespace {
 
+// A material's texture: the name as the scene text has it (relative to the scene's
+// folder), typed (Enter) or chosen with the file browser (`browse`: its button was
+// pressed); an empty one takes the texture away.
+bool texture_field(const char* id, const rt::schema::Key<rt::Material>& k, rt::Material& m, bool& browse) {
+    const std::string label(k.name);
+    std::string& name = k.access.text(m, 0);
+    std::string typed = name;
+    bool changed = false;
+    const float gap = ImGui::GetStyle().ItemInnerSpacing.x;
+    const float button_w = ImGui::CalcTextSize("...").x + 2 * ImGui::GetStyle().FramePadding.x;
+    ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - button_w - gap);
+    if (ImGui::InputTextWithHint(("##" + label).c_str(), k.default_text ? k.default_text : "", &typed,
+                                 ImGuiInputTextFlags_EnterReturnsTrue) &&
+        typed != name) {
+        name = typed;
+        changed = true;
+    }
+    // For scripts: "field_material_1_texture", "button_material_1_texture_browse".
+    std::string key = std::string(id) + "_" + label;
+    std::replace(key.begin(), key.end(), ' ', '_');
+    probe_item("field_" + key);
+    probe("value_" + key, name);
+    ImGui::SameLine(0, gap);
+    if (ImGui::Button(("...##browse_" + label).c_str())) browse = true;
+    probe_item("button_" + key + "_browse");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Choose the %s file", label.c_str());
+    ImGui::SameLine(0, gap);
+    ImGui::TextUnformatted(label.c_str());
+    return changed;
+}
+
 // The keys of a material block, from the schema: weights as 0..1 sliders (values
 // above 1 are legal, the renderer normalises them: Ctrl+click to type one), clamped
-// keys within their clamp, colours with a picker. Labels are the format's key names.
-bool material_editor(const char* id, rt::Material& m) {
+// keys within their clamp, colours with a picker, the texture's file name
+// (texture_field). Labels are the format's key names.
+bool material_editor(const char* id, rt::Material& m, bool& browse) {
     namespace sc = rt::schema;
     ImGui::PushID(id);
     bool changed = false;
     for (const sc::Key<rt::Material>& k : sc::material_block().keys) {
         const std::string label(k.name);
+        if (k.kind == sc::Kind::File) {
+            changed |= texture_field(id, k, m, browse);
+            continue;
+        }
         if (k.kind == sc::Kind::Vec3) {
             // The three numbers (typed whole, or dragged), and a swatch with a picker.
             rt::Vec3& c = k.access.vec3(m, 0);
@@ -257,7 +296,17 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
         case sc::Kind::Material: {
             ImGui::Separator();
             ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
-            changed = material_editor(f.label.c_str(), v.material);
+            bool browse = false;
+            changed = material_editor(f.label.c_str(), v.material, browse);
+            if (browse) {
+                // The browser starts at the texture's file, else in the scene's folder;
+                // its answer comes back as set_texture().
+                texture_target_ = {ref, f.label};
+                const rt::Material& now = v.material;
+                commands_.run(Command::TextureDialog, now.texture_image && !now.texture_image->path().empty()
+                                                          ? now.texture_image->path()
+                                                          : rt::folder_of(editor_.doc().path()));
+            }
             break;
         }
         case sc::Kind::File:
@@ -276,6 +325,33 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
         }
     }
     return changed;
+}
+
+bool Panels::set_texture(const std::string& path) {
+    Document& doc = editor_.doc();
+    const ItemRef ref = texture_target_.ref;
+    if (!doc.has_scene() || texture_target_.field.empty()) return false;
+    if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
+        status_.set(blocked, true);
+        return false;
+    }
+    for (const Field& f : item_fields(doc.scene(), ref)) {
+        if (f.label != texture_target_.field || f.kind != rt::schema::Kind::Material) continue;
+        std::optional<FieldValue> v = field_value(doc.scene(), ref, f);
+        if (!v) break;
+        v->material.texture = scene_file_name(path, doc.path());
+        const FieldResult r = set_field(doc, ref, f, *v);
+        doc.commit();  // one undo step
+        if (!r.status) {
+            field_message_ = {ref, f.label, r.status.message(), true};
+            return false;
+        }
+        if (field_message_.field == f.label) field_message_ = {};
+        status_.set("Texture " + path + " set (Ctrl+Z undoes)");
+        return true;
+    }
+    status_.set("The item whose texture was to be set is gone", true);
+    return false;
 }
 
 // A light's colour is an intensity (often >> 1 because of the 1/r^2 fall-off): its three

@@ -82,7 +82,7 @@ picture_agrees 2-added
 
 step "the model file changes on disk: read again"
 cp "$(dirname "$MODELS")/../tests/models/cube.obj" "$OUT/models/bunny.obj"
-wait_state message "^Read the scene's models again" 10
+wait_state message "^Read the scene's models and textures again" 10
 wait_state render "done" 60
 picture_agrees 3-reloaded
 changed=$("$TOOL" diff "$OUT/2-added-shown.png" "$OUT/3-reloaded-shown.png" $IMAGE)
