@@ -157,6 +157,12 @@ TEST_CASE("a file that does not parse opens with its text and errors, and no sce
     CHECK(d.has_errors());
     CHECK_FALSE(d.modified());
     CHECK(d.editor_text() == "thing { sphere { radius x } }");
+    // The file as it is: no changes of the user's until they type.
+    CHECK_FALSE(d.unapplied());
+    d.editor_text() += " ";
+    d.note_typed();
+    CHECK(d.unapplied());
+    CHECK(d.modified());
 }
 
 TEST_CASE("revert without a scene goes back to the file's text, never to an empty one") {

@@ -124,6 +124,9 @@ public:
     // The text the scene was made from.
     const std::string& applied_text() const { return applied_ ? *applied_ : editor_; }
     bool editor_dirty() const { return applied_ && *applied_ != editor_; }
+    // What the user is told: the editor holds changes of theirs that are not applied.
+    // A file opened with errors (no scene yet) is not that until it is typed into.
+    bool unapplied() const { return editor_dirty() && (has_scene_ || modified()); }
     // Panel edits since the draft was typed are not in the editor text.
     bool text_behind() const { return behind_; }
     // Increases when editor_text() is replaced by the document (undo, reload, panel
