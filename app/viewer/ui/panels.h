@@ -89,6 +89,7 @@ private:
         ItemRef selection;
         std::string field, text;
         bool error = false;
+        std::string sub;  // a key inside the field (a material's) that the message is about
     } field_message_;
     float label_w_ = 0, label_w_font_ = 0;  // field_label_width() at that font size
     // Shown status text that needed more room than the usual contents: for how long.

@@ -33,7 +33,13 @@ namespace {
 // The keys of a material block, from the schema: weights as 0..1 sliders (values
 // above 1 are legal, the renderer normalises them: Ctrl+click to type one), clamped
 // keys within their clamp, colours with a picker. Labels are the format's key names.
-bool material_editor(const char* id, rt::Material& m) {
+// `note_key`: the key whose field shows `note` under it (a typed value refused or
+// brought into range), in red if `note_error`.
+bool material_editor(const char* id, rt::Material& m, const std::string& note_key = {}, const std::string& note = {},
+                     bool note_error = false) {
+    auto show_note = [&](const std::string& key) {
+        if (!note.empty() && key == note_key) wrapped_coloured(note_error ? kErrorColour : kWarnColour, note);
+    };
     namespace sc = rt::schema;
     ImGui::PushID(id);
     bool changed = false;
@@ -71,6 +77,8 @@ bool material_editor(const char* id, rt::Material& m) {
             spec.clamp_typed = true;
             changed |= number_field(label.c_str(), &v, spec);
             probe_item(std::string("field_") + id + "_" + label);
+            probe(std::string("value_") + id + "_" + label, rt::format_number(v));
+            show_note(label);
             continue;
         }
         const bool clamped = k.range.rule == sc::Range::Rule::Clamp;
@@ -81,8 +89,13 @@ bool material_editor(const char* id, rt::Material& m) {
         spec.min = &lo;
         spec.max = &hi;
         spec.clamp_typed = clamped && k.range.max <= lo + 1;
+        // A typed value under the format's least (a refractive index below 1) is
+        // raised to it, as the parser would, and the field says so.
+        spec.least = clamped ? &k.range.min : nullptr;
         changed |= number_field(label.c_str(), &v, spec);
-        if (clamped && v < k.range.min) v = k.range.min;
+        probe_item(std::string("field_") + id + "_" + label);
+        probe(std::string("value_") + id + "_" + label, rt::format_number(v));
+        show_note(label);
     }
     double sum = m.reflection + m.refraction + m.scattering;
     if (sum != 0)
@@ -193,16 +206,23 @@ void Panels::draw_fields(const ItemRef& ref) {
                 probe("value_" + f.label, rt::format_number(cur->vec.x) + " " + rt::format_number(cur->vec.y) + " " +
                                               rt::format_number(cur->vec.z));
         }
-        if (std::string refused; take_number_refusal(refused)) field_message_ = {selection_, f.label, refused, true};
+        bool error = true, noted = false;
+        if (std::string refused, label; take_number_refusal(refused, &error, &label)) {
+            // (A material's own keys are typed into inside the "material" field.)
+            const bool inner = !label.empty() && label != f.label;
+            if (inner && refused.compare(0, label.size() + 1, label + " ") != 0) refused = label + ": " + refused;
+            field_message_ = {selection_, f.label, refused, error, inner ? label : std::string()};
+            noted = !error;
+        }
         if (changed) {
             const FieldResult r = set_field(doc, ref, f, v);
-            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true};
+            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true, {}};
             // (A material's own warning is shown by its editor already.)
-            else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
-            else if (field_message_.field == f.label) field_message_ = {};
+            else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false, {}};
+            else if (field_message_.field == f.label && (field_message_.error || !noted)) field_message_ = {};
         }
         if (field_message_.field == f.label && !field_message_.text.empty()) {
-            wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+            if (field_message_.sub.empty()) wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
             probe("field_message", f.label + ": " + field_message_.text);
         }
         ImGui::PopID();
@@ -257,7 +277,10 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
         case sc::Kind::Material: {
             ImGui::Separator();
             ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
-            changed = material_editor(f.label.c_str(), v.material);
+            // A message about one of its keys shows under that key's field.
+            const bool note = field_message_.field == f.label && !field_message_.sub.empty();
+            changed = material_editor(f.label.c_str(), v.material, note ? field_message_.sub : std::string(),
+                                      note ? field_message_.text : std::string(), field_message_.error);
             break;
         }
         case sc::Kind::File:
