@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <optional>
 #include <utility>
 
@@ -143,6 +144,11 @@ void ViewerApp::poll_loader() {
     std::shared_ptr<const rt::World> world;
     if (!apply_load(*r, doc, world)) return;  // cancelled: the old scene stays
     if (world) render_.adopt_world(std::move(world), doc.content_version());
+    {
+        std::error_code ec;
+        const std::filesystem::path p = std::filesystem::absolute(path, ec);
+        if (!ec) last_folder_ = p.parent_path().string();
+    }
     const rt::Status recent = remember_recent(path);
     if (path == opt_.scene)  // at most 20, as raytracer prints them
         std::fputs(rt::diagnostics_report(path, doc.diagnostics(), 20).c_str(), stderr);
@@ -220,6 +226,9 @@ void ViewerApp::frame() {
     panels_.draw_menu_bar();
     panels_.draw_sidebar();
     if (const int passed = editor_.take_passed_undo()) run(passed > 0 ? Command::Undo : Command::Redo);
+    // A document from the list of earlier sessions' copies: opened, its copy then offered.
+    if (std::optional<std::string> path = editor_.take_open_request())
+        run(path->empty() ? Command::OpenDefault : Command::Open, *path);
     panels_.draw_status_bar(load_status());
     const std::string image_kind = std::string(layout_.fit == FitMode::Window ? "the window's picture, " : "the scene's picture, ") +
                                    std::to_string(layout_.film_w) + "x" + std::to_string(layout_.film_h);

@@ -61,6 +61,7 @@ private:
     std::string pending_arg_;
     std::string save_problem_, save_arg_;
     Command save_command_ = Command::Save;
+    std::string refusal_;  // shown in the Save As dialog shown again after a failed save
 };
 
 }  // namespace rtview
