@@ -140,6 +140,7 @@ void ViewerApp::poll_loader() {
     Document& doc = editor_.doc();
     std::string path = r->path;
     bool ok = r->parsed.ok();
+    const bool model = r->new_scene;
     const LoadResult::Times times = r->times;
     std::shared_ptr<const rt::World> world;
     if (!apply_load(*r, doc, world)) return;  // cancelled: the old scene stays
@@ -163,7 +164,9 @@ void ViewerApp::poll_loader() {
         selected_ = true;
         panels_.select_from_option(opt_.select);
     }
-    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + light_note(doc) +
+    // (A model opens as a new scene named after it: the file opened is the model.)
+    const std::string opened = model ? base_name(path) + " as the new scene " + doc.name() : doc.name();
+    status_.set((ok ? "Opened " + opened : "Opened " + opened + " (it has errors)") + light_note(doc) +
                     recent_note(recent),
                 !ok || !recent);
     if (opt_.verbose)
@@ -630,8 +633,12 @@ void ViewerApp::after_render(int fb_width, int fb_height) {
     std::string path = screenshot_request_;
     screenshot_request_.clear();
     const rt::Status st = save_framebuffer(path, fb_width, fb_height);
+    // (The full path: the working folder is not shown anywhere.)
+    std::error_code ec;
+    const std::filesystem::path full = std::filesystem::absolute(path, ec);
+    if (!ec) path = full.lexically_normal().string();
     if (st) status_.set("Wrote screenshot " + path);
-    else status_.set("Screenshot failed: " + st.message(), true);
+    else status_.set("Cannot write the screenshot " + path + ": " + st.message(), true);
 }
 
 rt::Status ViewerApp::write_view_scene(const std::string& path) const {

@@ -100,6 +100,8 @@ void DocumentEditor::claim_document() {
 
 void DocumentEditor::tick(double now) {
     recovery_finding();
+    // "The scene text has errors" once it has none (fixed, reverted, undone).
+    if (status_.cause() == StatusLine::Cause::TextErrors && !doc_.has_errors()) status_.clear_if(StatusLine::Cause::TextErrors);
     if (check_due_ >= 0 && now >= check_due_) {
         doc_.check_text();
         check_due_ = -1;
@@ -218,7 +220,8 @@ void DocumentEditor::focus(int cursor) {
 
 void DocumentEditor::apply() {
     bool ok = doc_.apply_text();
-    status_.set(ok ? "Applied the scene text" : "The scene text has errors; still showing the last good scene", !ok);
+    if (ok) status_.set("Applied the scene text");
+    else status_.set("The scene text has errors; still showing the last good scene", true, StatusLine::Cause::TextErrors);
 }
 
 // The copies of other documents that sessions which did not close left behind: each
@@ -388,7 +391,9 @@ void DocumentEditor::draw_text_toolbar() {
     ImGui::EndDisabled();
     same_line_if_fits("Revert");
     ImGui::BeginDisabled(!doc_.unapplied() && !doc_.text_behind());
-    if (ImGui::Button("Revert")) doc_.revert_text();
+    const bool revert = ImGui::Button("Revert");
+    probe_item("button_revert");
+    if (revert) doc_.revert_text();
     ImGui::EndDisabled();
     // (A file opened with errors is the file as it is, not changes of the user's.)
     const bool unapplied = doc_.unapplied();

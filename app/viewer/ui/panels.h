@@ -4,6 +4,7 @@
 // the navigator (the view) and Commands.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -90,6 +91,9 @@ private:
         std::string field, text;
         bool error = false;
         std::string sub;  // a key inside the field (a material's) that the message is about
+        // The field's value the message is about: once the value changes otherwise (the
+        // text, an undo), the message has gone stale and goes.
+        std::optional<FieldValue> value;
     } field_message_;
     float label_w_ = 0, label_w_font_ = 0;  // field_label_width() at that font size
     // Shown status text that needed more room than the usual contents: for how long.

@@ -107,6 +107,12 @@ bool material_editor(const char* id, rt::Material& m, const std::string& note_ke
     return changed;
 }
 
+// Whether two values of a field are the same (what a message about the field is about).
+bool same_value(const FieldValue& a, const FieldValue& b) {
+    return a.number == b.number && a.vec == b.vec && a.choice == b.choice && a.material == b.material &&
+           a.has_material == b.has_material && a.operand == b.operand && a.text == b.text;
+}
+
 }  // namespace
 
 void Panels::draw_properties() {
@@ -191,6 +197,11 @@ void Panels::draw_fields(const ItemRef& ref) {
         if (!cur) continue;
         shown += (shown.empty() ? "" : ",") + f.label;
         FieldValue v = *cur;
+        if (field_message_.field == f.label) {
+            // (A message set with an edit is about the value the edit left: the next frame's.)
+            if (!field_message_.value) field_message_.value = *cur;
+            else if (!same_value(*field_message_.value, *cur)) field_message_ = {};
+        }
         ImGui::PushID(f.label.c_str());
         ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
         const bool changed = draw_field(ref, f, v, size, vec_format, operand);
@@ -211,15 +222,16 @@ void Panels::draw_fields(const ItemRef& ref) {
             // (A material's own keys are typed into inside the "material" field.)
             const bool inner = !label.empty() && label != f.label;
             if (inner && refused.compare(0, label.size() + 1, label + " ") != 0) refused = label + ": " + refused;
-            field_message_ = {selection_, f.label, refused, error, inner ? label : std::string()};
+            field_message_ = {selection_, f.label, refused, error, inner ? label : std::string(), *cur};
             noted = !error;
         }
         if (changed) {
             const FieldResult r = set_field(doc, ref, f, v);
-            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true, {}};
+            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true, {}, *cur};
             // (A material's own warning is shown by its editor already.)
-            else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false, {}};
+            else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false, {}, {}};
             else if (field_message_.field == f.label && (field_message_.error || !noted)) field_message_ = {};
+            else if (field_message_.field == f.label) field_message_.value.reset();  // about the value set
         }
         if (field_message_.field == f.label && !field_message_.text.empty()) {
             if (field_message_.sub.empty()) wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
