@@ -33,6 +33,20 @@ namespace {
 // The keys of a material block, from the schema: weights as 0..1 sliders (values
 // above 1 are legal, the renderer normalises them: Ctrl+click to type one), clamped
 // keys within their clamp, colours with a picker. Labels are the format's key names.
+// The format's weights are 0 or more; the parser takes a negative one as written, so
+// the panel says so.
+void negative_weights_note(const char* id, const rt::Material& m) {
+    std::string negative;
+    for (const auto& [name, w] : {std::pair<const char*, double>{"reflection", m.reflection},
+                                  {"refraction", m.refraction}, {"scattering", m.scattering}})
+        if (w < 0) negative += (negative.empty() ? "" : ", ") + std::string(name);
+    if (negative.empty()) return;
+    const std::string text = negative + (negative.find(',') == std::string::npos ? " is" : " are") +
+                             " negative: weights are 0 or more (the picture is not what the format means)";
+    wrapped_coloured(kWarnColour, text);
+    probe(std::string("weights_") + id, text);
+}
+
 // `note_key`: the key whose field shows `note` under it (a typed value refused or
 // brought into range), in red if `note_error`.
 bool material_editor(const char* id, rt::Material& m, const std::string& note_key = {}, const std::string& note = {},
@@ -96,6 +110,7 @@ bool material_editor(const char* id, rt::Material& m, const std::string& note_ke
         probe_item(std::string("field_") + id + "_" + label);
         probe(std::string("value_") + id + "_" + label, rt::format_number(v));
         show_note(label);
+        if (label == "scattering") negative_weights_note(id, m);  // under the three weights
     }
     double sum = m.reflection + m.refraction + m.scattering;
     if (sum != 0)

@@ -7,7 +7,7 @@
 # takes the value under the pointer), Escape changes nothing, "abc" gets the parser's
 # message and changes nothing; 0.5 (below the format's least refractive index) is one
 # undo step to 1 with a note saying so, never a step through the value under the
-# pointer, and one undo goes back to 1.5.
+# pointer, and one undo goes back to 1.5. A negative reflection is warned about.
 # Usage: j39_slider_typing.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -72,4 +72,14 @@ key ctrl+z
 wait_state value_material_refractive_index '^1\.5$' 5
 wait_state undo_depth '^0$' 5
 wait_state title '^default.txt - raytracer-view$' 5
+
+step "reflection -0.5: taken as typed, and the panel says weights are 0 or more"
+[ -z "$(state weights_material)" ] || fail "a warning with no negative weight: $(state weights_material)"
+ctrl_click reflection 0.5
+key minus
+type_text 0.5
+key Return
+wait_state value_material_reflection '^-0\.5$' 5
+wait_state weights_material "^reflection is negative: weights are 0 or more" 5
+shot 4-negative-weight
 echo PASS
