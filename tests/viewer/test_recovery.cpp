@@ -234,3 +234,29 @@ TEST_CASE("recovery: the copies of ended sessions are listed with file, time and
     CHECK_FALSE(fs::exists(list[0].file));
     CHECK(start.orphans("open.txt").empty());
 }
+
+TEST_CASE("recovery: viewers showing the unsaved default scene side by side keep a copy each") {
+    rt_test::TempDir dir;
+    std::optional<Recovery> a(std::in_place, dir.path.string()), b(std::in_place, dir.path.string());
+    REQUIRE(a->claim("") == 0);
+    REQUIRE(b->claim("") == 0);  // not blocked: a slot of its own
+    CHECK(a->file_for("") != b->file_for(""));
+    REQUIRE(a->update("", "A's scene", true).ok());
+    REQUIRE(b->update("", "B's scene", true).ok());
+    CHECK(*a->find("") == "A's scene");
+    CHECK(*b->find("") == "B's scene");
+    // A ends: the next viewer on the default scene takes its slot and is offered its text;
+    // B's copy is B's while B runs, and an orphan once it ends.
+    a.reset();
+    Recovery c(dir.path.string());
+    REQUIRE(c.claim("") == 0);
+    CHECK(*c.find("") == "A's scene");
+    CHECK(c.orphans("").empty());
+    b.reset();
+    const std::vector<Recovery::Orphan> left = c.orphans("");
+    REQUIRE(left.size() == 1);
+    CHECK(left[0].doc_path.empty());
+    CHECK(*c.read_orphan(left[0]) == "B's scene");
+    CHECK(c.discard_orphan(left[0]));
+    CHECK(c.orphans("").empty());
+}

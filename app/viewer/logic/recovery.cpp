@@ -168,13 +168,26 @@ long Recovery::claim(const std::string& doc_path) {
     blocked_pid_ = 0;
     std::error_code ec;
     fs::create_directories(dir_, ec);
-    const std::string lock = lock_file_for(doc_path);
-    bool held = false;
-    const int fd = try_lock(lock, true, held);
+    // Several viewers may each show an unsaved default scene: each takes the first slot
+    // no live viewer holds (a copy of its own); a file has one slot.
+    const int slots = doc_path.empty() ? kDefaultSceneSlots : 1;
+    int fd = -1;
+    long first_pid = 0;
+    for (slot_ = 0; slot_ < slots; ++slot_) {
+        const std::string lock = lock_file_for(doc_path);
+        bool held = false;
+        fd = try_lock(lock, true, held);
+        if (fd >= 0) break;
+        if (!held) {
+            slot_ = 0;
+            return 0;  // no lock to be had (a read-only folder): copies as before
+        }
+        if (slot_ == 0) first_pid = lock_pid(lock);
+    }
     if (fd < 0) {
-        if (!held) return 0;  // no lock to be had (a read-only folder): copies as before
+        slot_ = 0;
         blocked_path_ = doc_path;
-        blocked_pid_ = lock_pid(lock);
+        blocked_pid_ = first_pid;
         return blocked_pid_;
     }
     lock_fd_ = fd;
@@ -193,6 +206,14 @@ void Recovery::release() {
     ::close(lock_fd_);
     lock_fd_ = -1;
     lock_path_.clear();
+}
+
+std::optional<std::string> Recovery::read_orphan(const Orphan& o) const {
+    std::string data;
+    if (!rt::read_file(o.file, data, kMaxRecoveryBytes).ok()) return std::nullopt;
+    const std::size_t nl = data.find('\n');
+    if (nl == std::string::npos || data.compare(0, nl, absolute(o.doc_path)) != 0) return std::nullopt;
+    return data.substr(nl + 1);
 }
 
 std::vector<Recovery::Orphan> Recovery::orphans(const std::string& except) const {
@@ -244,7 +265,9 @@ bool Recovery::discard_orphan(const Orphan& o) {
 
 std::string Recovery::file_for(const std::string& doc_path) const {
     std::uint64_t h = 1469598103934665603ull;  // FNV-1a
-    for (unsigned char c : absolute(doc_path)) h = (h ^ c) * 1099511628211ull;
+    // The unsaved default scene of the viewer in slot k > 0 (see claim()) has a name of its own.
+    const std::string key = absolute(doc_path) + (doc_path.empty() && slot_ > 0 ? " #" + std::to_string(slot_) : "");
+    for (unsigned char c : key) h = (h ^ c) * 1099511628211ull;
     char name[32];
     std::snprintf(name, sizeof name, "%016llx.txt", static_cast<unsigned long long>(h));
     return dir_ + "/" + name;

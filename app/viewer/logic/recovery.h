@@ -58,6 +58,11 @@ public:
     std::vector<Orphan> orphans(const std::string& except = {}) const;
     // Removes an orphan's files, unless a viewer has taken its lock since (false).
     bool discard_orphan(const Orphan& o);
+    // An orphan's text (a copy of another slot's default scene, which find() does not
+    // read): nothing if it is gone or not a copy.
+    std::optional<std::string> read_orphan(const Orphan& o) const;
+    // How many viewers may keep copies of an unsaved default scene side by side.
+    static constexpr int kDefaultSceneSlots = 16;
 
     // The recovery file for a document path ("" for the unsaved default scene), and the
     // held edit's file beside it.
@@ -85,6 +90,7 @@ private:
     std::string lock_file_for(const std::string& doc_path) const;
     std::string dir_;
     int lock_fd_ = -1;          // the lock held, on lock_path_'s copy
+    int slot_ = 0;              // the default scene's slot claimed (its copy's name)
     std::string lock_path_;
     std::string blocked_path_;  // claim() found this document's lock held...
     long blocked_pid_ = 0;      // ...by this process

@@ -68,14 +68,17 @@ void DocumentEditor::replaced() {
         if (recovery_find_.valid()) recovery_find_.wait();  // an earlier document's: no longer wanted
         if (!offered) forget_earlier_copy();
         recovered_text_.clear();
+        // The copy now on offer (this document's, or the one chosen) leaves the list.
+        const std::string chosen = pending_orphan_ ? pending_orphan_->file : std::string();
         claim_document();
         if (!orphans_looked_) {
             // At start: what sessions that did not close left of other documents.
             orphans_looked_ = true;
             orphans_ = recovery_.orphans(doc_.path());
         } else {
+            const std::string own = recovery_.file_for(doc_.path());
             orphans_.erase(std::remove_if(orphans_.begin(), orphans_.end(),
-                                          [this](const Recovery::Orphan& o) { return o.doc_path == absolute_path(doc_.path()); }),
+                                          [&](const Recovery::Orphan& o) { return o.file == own || o.file == chosen; }),
                            orphans_.end());
         }
     }
@@ -95,7 +98,16 @@ void DocumentEditor::claim_document() {
         return;
     }
     recovery_key_ = ~std::uint64_t(0);  // (nothing of this one's is on disk yet)
-    recovery_find_ = std::async(std::launch::async, [this, path = doc_.path()] { return recovery_.find(path); });
+    offered_orphan_.reset();
+    if (pending_orphan_ && pending_orphan_->doc_path == absolute_path(doc_.path()) &&
+        pending_orphan_->file != recovery_.file_for(doc_.path())) {
+        // The default scene another viewer (ended) kept under a slot of its own.
+        offered_orphan_ = pending_orphan_;
+        recovery_find_ = std::async(std::launch::async, [this, o = *pending_orphan_] { return recovery_.read_orphan(o); });
+    } else {
+        recovery_find_ = std::async(std::launch::async, [this, path = doc_.path()] { return recovery_.find(path); });
+    }
+    pending_orphan_.reset();
 }
 
 void DocumentEditor::tick(double now) {
@@ -254,6 +266,7 @@ void DocumentEditor::draw_orphans() {
         ImGui::PopID();
         if (open) {
             open_request_ = o.doc_path;
+            pending_orphan_ = o;
             break;
         }
         if (drop) {
@@ -289,6 +302,9 @@ void DocumentEditor::draw_banners() {
             doc_.restore_draft(recovered_text_);
             recovered_text_.clear();
             recovery_offer_ = false;
+            // (Another slot's copy: its text is this viewer's now, kept in its own copy.)
+            if (offered_orphan_) recovery_.discard_orphan(*offered_orphan_);
+            offered_orphan_.reset();
             want_tab_ = true;
             status_.set("Restored the unsaved text into the editor (Ctrl+Enter applies it, Ctrl+Z undoes)");
         }
@@ -296,7 +312,9 @@ void DocumentEditor::draw_banners() {
         if (ImGui::Button("Discard it")) {
             if (recovery_write_.valid()) recovery_write_.wait();
             recovery_busy();
-            recovery_.discard(doc_.path());
+            if (offered_orphan_) recovery_.discard_orphan(*offered_orphan_);
+            else recovery_.discard(doc_.path());
+            offered_orphan_.reset();
             recovered_text_.clear();
             recovery_offer_ = false;
         }

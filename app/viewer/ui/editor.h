@@ -106,6 +106,9 @@ private:
     std::vector<Recovery::Orphan> orphans_;
     bool orphans_looked_ = false;
     std::optional<std::string> open_request_;
+    // The copy chosen with "Open it", until its document is open, and then while it is
+    // on offer when it is not the one find() reads (another viewer's default scene).
+    std::optional<Recovery::Orphan> pending_orphan_, offered_orphan_;
     void draw_orphans();
 
     TextEditor widget_;
