@@ -89,20 +89,7 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         ImGui::EndPopup();
     }
     if (begin(Kind::SaveAs)) {
-        const FileDialog::Result r = file_.draw("Save");
-        if (r == FileDialog::Result::Cancel) {
-            ImGui::CloseCurrentPopup();
-            has_pending_ = false;
-        } else if (r == FileDialog::Result::Go) {
-            if (commands_.run(Command::SaveAs, file_.path())) {
-                ImGui::CloseCurrentPopup();
-                run_pending();
-            } else if (request_ != Kind::None) {
-                ImGui::CloseCurrentPopup();  // another question (the text has errors) takes over
-            } else {
-                file_.refuse(commands_.failure());  // the path stays, to be corrected
-            }
-        }
+        draw_save_as();
         ImGui::EndPopup();
     }
     if (begin(Kind::SaveImage)) {
@@ -176,6 +163,24 @@ void Dialogs::draw_save_errors() {
     if (ImGui::Button("Cancel") || escape_pressed()) {
         ImGui::CloseCurrentPopup();
         has_pending_ = false;
+    }
+}
+
+// Save As: a save that fails leaves the dialog open with the path as typed and why.
+void Dialogs::draw_save_as() {
+    const FileDialog::Result r = file_.draw("Save");
+    if (r == FileDialog::Result::Cancel) {
+        ImGui::CloseCurrentPopup();
+        has_pending_ = false;
+    } else if (r == FileDialog::Result::Go) {
+        if (commands_.run(Command::SaveAs, file_.path())) {
+            ImGui::CloseCurrentPopup();
+            run_pending();
+        } else if (request_ != Kind::None) {
+            ImGui::CloseCurrentPopup();  // another question (the text has errors) takes over
+        } else {
+            file_.refuse(commands_.failure());  // the path stays, to be corrected
+        }
     }
 }
 

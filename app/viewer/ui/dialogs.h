@@ -47,6 +47,7 @@ private:
     bool begin(Kind k);
     void draw_unsaved(const std::string& doc_name, bool has_path);
     void draw_save_errors();
+    void draw_save_as();
     // Open, Save As and Save Image browse for their file: the browser starts when
     // one of them is asked for.
     void start_browser();

@@ -125,9 +125,10 @@ bool DocumentEditor::idle_tick() {
     const bool finding = recovery_find_.valid();
     // The other viewer closed (or died): the document is this one's now, and what that
     // one left is offered.
-    if (held_elsewhere_ != 0 && !recovery_finding() && !recovery_busy()) {
-        claim_document();
-        if (held_elsewhere_ == 0) return true;
+    if (held_elsewhere_ != 0 && !recovery_finding() && !recovery_busy() && recovery_.claim(doc_.path()) == 0) {
+        claim_document();  // (the lock is held now: this looks for the copy)
+        status_.set("The other viewer closed " + doc_.name() + ": its recovery copy is kept here now");
+        return true;
     }
     if (!recovery_finding() && !recovery_offer_ && !recovery_busy()) keep_recovery_copy();
     if (finding && recovery_offer_) return true;  // the banner shows it

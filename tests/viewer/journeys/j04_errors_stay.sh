@@ -24,7 +24,7 @@ key ctrl+a
 type_text "$OUT/no/such/folder/x.txt"
 key Return
 # (The dialog stays, with the path, to be corrected: Escape gives up.)
-wait_state browser_message "Cannot save" 5
+wait_state browser_message "Cannot save" 30
 key Escape
 wait_state popups "^none$"
 rest_on_picture 5

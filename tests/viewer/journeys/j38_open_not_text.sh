@@ -26,8 +26,10 @@ open_file() {
     wait_state browser_field "^active$"
     key ctrl+a
     type_text "$1"
+    # (Typed keys may wait in the queue on a loaded machine: the whole path first.)
+    wait_state browser "^open $1$" 30
     key Return
-    wait_state popups "^none$"
+    wait_state popups "^none$" 30
 }
 unchanged() {
     wait_state title "^default.txt - raytracer-view$" 1

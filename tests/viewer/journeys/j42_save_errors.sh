@@ -31,8 +31,10 @@ step "a folder that does not exist: the dialog stays, naming the path and why"
 bad=$OUT/no/such/folder/cube.txt
 key ctrl+a
 type_text "$bad"
+# (Typed keys may wait in the queue on a loaded machine: the whole path first.)
+wait_state browser "^save $bad$" 30
 key Return
-wait_state browser_message "^Cannot save $bad: No such file or directory$" 5
+wait_state browser_message "^Cannot save $bad: No such file or directory$" 30
 idle 0.5
 wait_state popups "Save scene as" 1
 wait_state browser "^save $bad$" 1
@@ -42,8 +44,9 @@ shot 1-save-refused
 step "the path corrected: saved"
 key ctrl+a
 type_text "$OUT/models/cube.txt"
+wait_state browser "^save $OUT/models/cube.txt$" 30
 key Return
-wait_state popups "^none$" 5
+wait_state popups "^none$" 30
 wait_state title "^cube.txt - raytracer-view$" 5
 [ -s "$OUT/models/cube.txt" ] || fail "cube.txt was not written"
 

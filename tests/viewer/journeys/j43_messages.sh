@@ -54,6 +54,7 @@ wait_state popups "Open scene or model"
 wait_state browser_field "^active$"
 key ctrl+a
 type_text "$OUT/cube_ascii.ply"
+wait_state browser "^open $OUT/cube_ascii.ply$" 30
 key Return
 wait_state message "^Opened cube_ascii.ply as the new scene cube_ascii.txt" 30
 echo PASS
