@@ -245,6 +245,23 @@ TEST_CASE("an outside change reloads by itself when there are no unsaved edits")
     CHECK(d.check_disk() == Document::DiskEvent::None);
 }
 
+TEST_CASE("a file that becomes no scene text on disk is not read in: the scene and its text stay") {
+    TempDir dir;
+    std::string p = (dir / "s.txt").string();
+    spit(p, rt::kDefaultScene);
+    Document d;
+    REQUIRE(d.load_file(p).ok());
+    const rt::Scene scene = d.scene();
+    spit(p, std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10));
+    bump_mtime(p, 5);
+    CHECK(d.check_disk() == Document::DiskEvent::NotText);
+    CHECK(d.disk_problem() == "not a scene text: a NUL byte at byte 8 (a binary file?)");
+    CHECK(d.editor_text() == rt::kDefaultScene);
+    CHECK(d.scene() == scene);
+    CHECK_FALSE(d.can_undo());
+    CHECK(d.check_disk() == Document::DiskEvent::None);  // said once
+}
+
 TEST_CASE("a camera edit is a real edit: an outside change is then a conflict") {
     TempDir dir;
     std::string p = (dir / "s.txt").string();

@@ -140,6 +140,9 @@ bool DocumentEditor::idle_tick() {
             status_.set(doc_.name() + " was removed on disk; Save writes it again", true);
             break;
         case Document::DiskEvent::ModelsReloaded: status_.set("Read the scene's models again (changed on disk)"); break;
+        case Document::DiskEvent::NotText:
+            status_.set(doc_.path() + " changed on disk and is " + doc_.disk_problem() + "; the scene and its text stay", true);
+            break;
         case Document::DiskEvent::ModelUnreadable:
             status_.set("A model changed on disk and no longer reads (" + doc_.model_problem() + "); the scene keeps it as it was",
                         true);

@@ -1,7 +1,8 @@
 #!/bin/bash
 # Journey: opening a file that is not a scene. With the default scene shown the user
-# opens 50 MB of random bytes, then random bytes with no NUL among them, then a scene
-# with an ordinary error (a misspelt key).
+# opens 50 MB of random bytes; another program writes random bytes over the open scene
+# file; the user opens random bytes with no NUL among them, then a scene with an
+# ordinary error (a misspelt key).
 # Checks: the binary files are refused with a message naming the file and why; the
 # title, the scene (its objects, the picture) and the text stay as they were, and
 # nothing is marked as changed. The scene with an error opens as text with its error
@@ -46,6 +47,11 @@ wait_state status_bar "Cannot open $OUT/random.bin: not a scene text: a NUL byte
 unchanged
 wait_state render "done" 30
 shot 1-binary-refused
+
+step "the scene file overwritten on disk with random bytes: not read in, the scene stays"
+head -c 100000 /dev/urandom > "$SCENE"
+wait_state status_bar "$SCENE changed on disk and is not a scene text: a NUL byte at byte [0-9]+ \(a binary file\?\); the scene and its text stay" 30
+unchanged
 
 step "random bytes with no NUL: refused as not UTF-8 text"
 open_file "$OUT/noise.txt"
