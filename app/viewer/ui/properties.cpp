@@ -33,6 +33,15 @@ namespace {
 // The keys of a material block, from the schema: weights as 0..1 sliders (values
 // above 1 are legal, the renderer normalises them: Ctrl+click to type one), clamped
 // keys within their clamp, colours with a picker. Labels are the format's key names.
+// A message for a typed value just came: once drawn, it is scrolled into sight if the
+// panel's edge cuts it off (the field typed into may be the last one showing).
+bool g_new_message = false;
+void scroll_to_new_message() {
+    if (!g_new_message) return;
+    g_new_message = false;
+    if (ImGui::GetItemRectMax().y > ImGui::GetWindowPos().y + ImGui::GetWindowHeight()) ImGui::SetScrollHereY(1.0f);
+}
+
 // The format's weights are 0 or more; the parser takes a negative one as written, so
 // the panel says so.
 void negative_weights_note(const char* id, const rt::Material& m) {
@@ -52,7 +61,9 @@ void negative_weights_note(const char* id, const rt::Material& m) {
 bool material_editor(const char* id, rt::Material& m, const std::string& note_key = {}, const std::string& note = {},
                      bool note_error = false) {
     auto show_note = [&](const std::string& key) {
-        if (!note.empty() && key == note_key) wrapped_coloured(note_error ? kErrorColour : kWarnColour, note);
+        if (note.empty() || key != note_key) return;
+        wrapped_coloured(note_error ? kErrorColour : kWarnColour, note);
+        scroll_to_new_message();
     };
     namespace sc = rt::schema;
     ImGui::PushID(id);
@@ -239,6 +250,7 @@ void Panels::draw_fields(const ItemRef& ref) {
             if (inner && refused.compare(0, label.size() + 1, label + " ") != 0) refused = label + ": " + refused;
             field_message_ = {selection_, f.label, refused, error, inner ? label : std::string(), *cur};
             noted = !error;
+            g_new_message = true;
         }
         if (changed) {
             const FieldResult r = set_field(doc, ref, f, v);
@@ -249,7 +261,10 @@ void Panels::draw_fields(const ItemRef& ref) {
             else if (field_message_.field == f.label) field_message_.value.reset();  // about the value set
         }
         if (field_message_.field == f.label && !field_message_.text.empty()) {
-            if (field_message_.sub.empty()) wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+            if (field_message_.sub.empty()) {
+                wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+                scroll_to_new_message();
+            }
             probe("field_message", f.label + ": " + field_message_.text);
         }
         ImGui::PopID();
