@@ -61,13 +61,18 @@ void triangulate(const std::vector<float>& positions, const std::uint32_t* poly,
     for (std::size_t k = 0; k < n; ++k) idx[k] = k;
     if (n > kMaxEarClipping) return fan(poly, idx.data(), n, out);
     const std::vector<P2> p = project(positions, poly, n);
+    auto same = [&](std::size_t q, std::size_t r) {
+        return q == r || poly[q] == poly[r] || (p[q].u == p[r].u && p[q].v == p[r].v);
+    };
     std::size_t left = n, miss = 0;
     for (std::size_t i = 0; left > 3;) {
         const std::size_t a = idx[(i + left - 1) % left], b = idx[i % left], c = idx[(i + 1) % left];
         bool ear = cross2(p[a], p[b], p[c]) > 0;
         for (std::size_t k = 0; ear && k < left; ++k) {
+            // A corner of the ear met again (a keyhole polygon walks its slit twice,
+            // naming the same vertices, or vertices at the same place) does not block it.
             const std::size_t q = idx[k];
-            ear = q == a || q == b || q == c || !inside(p[a], p[b], p[c], p[q]);
+            ear = same(q, a) || same(q, b) || same(q, c) || !inside(p[a], p[b], p[c], p[q]);
         }
         if (ear) {
             out.push_back(poly[a]);

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -305,6 +306,196 @@ TEST_CASE("models: polygons are cut into triangles that cover them, concave ones
     const MeshData c = read_ok((dir / "c.obj").string());
     CHECK(c.triangle_count() == 6);
     CHECK(area(c) == doctest::Approx(7.5 - 2 * 0.5));  // the box less its notch
+}
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A polygon's area by the shoelace formula in 3D (half the length of its vector area):
+// independent of any cutting into triangles. A keyhole's slit, walked there and back,
+// adds nothing; its inner ring, walked the other way round, is taken off.
+double polygon_area(const std::vector<float>& pos, const std::vector<std::uint32_t>& poly) {
+    Vec3 sum;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+        const float* a = &pos[3 * poly[k]];
+        const float* b = &pos[3 * poly[(k + 1) % poly.size()]];
+        sum += cross(Vec3{a[0], a[1], a[2]}, Vec3{b[0], b[1], b[2]});
+    }
+    return 0.5 * length(sum);
+}
+
+// The triangles' areas: signed along `normal` (overlaps and flipped triangles cancel),
+// and summed whole (they do not).
+struct CutArea {
+    double signed_area = 0, whole = 0;
+};
+CutArea cut_area(const std::vector<float>& pos, const std::vector<std::uint32_t>& tris, const Vec3& normal) {
+    CutArea r;
+    for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+        Vec3 p[3];
+        for (int k = 0; k < 3; ++k) {
+            const float* v = &pos[3 * tris[t + std::size_t(k)]];
+            p[k] = {v[0], v[1], v[2]};
+        }
+        const Vec3 c = cross(p[1] - p[0], p[2] - p[0]);
+        r.signed_area += 0.5 * dot(c, normal);
+        r.whole += 0.5 * length(c);
+    }
+    return r;
+}
+
+// The unit normal of a polygon's vector area.
+Vec3 polygon_normal(const std::vector<float>& pos, const std::vector<std::uint32_t>& poly) {
+    Vec3 sum;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+        const float* a = &pos[3 * poly[k]];
+        const float* b = &pos[3 * poly[(k + 1) % poly.size()]];
+        sum += cross(Vec3{a[0], a[1], a[2]}, Vec3{b[0], b[1], b[2]});
+    }
+    return normalize(sum);
+}
+
+// Cuts `poly` and checks that the triangles cover it exactly: n - 2 of them, their
+// areas summing to the shoelace area with none overlapping or turned over.
+void check_cut(const std::vector<float>& pos, const std::vector<std::uint32_t>& poly) {
+    std::vector<std::uint32_t> tris;
+    triangulate(pos, poly.data(), poly.size(), tris);
+    REQUIRE(tris.size() == 3 * (poly.size() - 2));
+    const double want = polygon_area(pos, poly);
+    const CutArea got = cut_area(pos, tris, polygon_normal(pos, poly));
+    CHECK(got.signed_area == doctest::Approx(want).epsilon(1e-5));
+    CHECK(got.whole == doctest::Approx(want).epsilon(1e-5));
+}
+
+// 2D points (u, v) placed on a tilted plane in 3D, as a model's positions.
+std::vector<float> on_tilted_plane(const std::vector<std::pair<double, double>>& uv) {
+    const Vec3 origin{0.5, -2, 3}, eu = normalize(Vec3{1, 2, 0.5}), n = normalize(cross(eu, Vec3{0, 0.3, 1}));
+    const Vec3 ev = cross(n, eu);
+    std::vector<float> pos;
+    for (const auto& [u, v] : uv) {
+        const Vec3 p = origin + eu * u + ev * v;
+        pos.insert(pos.end(), {float(p.x), float(p.y), float(p.z)});
+    }
+    return pos;
+}
+
+}  // namespace
+
+TEST_CASE("models: a keyhole polygon (a ring walked around its hole by a slit) keeps its hole") {
+    // Outer square 4 x 4 counter-clockwise, the slit from (0, 0) to (1, 1), the inner
+    // 2 x 2 square clockwise, the slit back: area 16 - 4.
+    const std::vector<float> pos =
+        on_tilted_plane({{0, 0}, {4, 0}, {4, 4}, {0, 4}, {1, 1}, {1, 3}, {3, 3}, {3, 1}});
+    const std::vector<std::uint32_t> poly = {0, 1, 2, 3, 0, 4, 5, 6, 7, 4};
+    CHECK(polygon_area(pos, poly) == doctest::Approx(12.0).epsilon(1e-5));
+    check_cut(pos, poly);
+    // The same with the slit's ends as vertices of their own at the same places.
+    std::vector<float> twice = pos;
+    twice.insert(twice.end(), pos.begin(), pos.begin() + 3);
+    twice.insert(twice.end(), pos.begin() + 12, pos.begin() + 15);
+    check_cut(twice, {0, 1, 2, 3, 8, 4, 5, 6, 7, 9});
+}
+
+TEST_CASE("models: concave_polygon.obj (assimp's test model) shows its keyhole") {
+    const std::string path = "/usr/share/assimp/models/OBJ/concave_polygon.obj";
+    if (access(path.c_str(), R_OK) != 0) {
+        MESSAGE("skipped: " << path << " is not installed (assimp-testmodels)");
+        return;
+    }
+    // The face as the file gives it, read here line by line (not by the reader).
+    std::vector<float> pos;
+    std::vector<std::uint32_t> poly;
+    {
+        const std::string text = rt_test::slurp(path);
+        std::size_t at = 0;
+        while (at < text.size()) {
+            std::size_t end = text.find('\n', at);
+            if (end == std::string::npos) end = text.size();
+            const std::string line = text.substr(at, end - at);
+            at = end + 1;
+            if (line.rfind("v ", 0) == 0) {
+                float x, y, z;
+                REQUIRE(std::sscanf(line.c_str(), "v %f %f %f", &x, &y, &z) == 3);
+                pos.insert(pos.end(), {x, y, z});
+            } else if (line.rfind("f ", 0) == 0) {
+                for (std::size_t k = 2; k < line.size();) {
+                    poly.push_back(std::uint32_t(std::stoul(line.substr(k))) - 1);
+                    k = line.find(' ', k);
+                    if (k == std::string::npos) break;
+                    ++k;
+                }
+            }
+        }
+    }
+    REQUIRE(poly.size() == 66);
+    check_cut(pos, poly);
+    // The keyhole's area is 0.2455 (in the file's units), a seventh of the disc it is
+    // cut from (the extent in z is the disc's diameter), which a fan would fill.
+    CHECK(polygon_area(pos, poly) == doctest::Approx(0.24550).epsilon(1e-3));
+    float lo = 1e9f, hi = -1e9f;
+    for (std::size_t i = 2; i < pos.size(); i += 3) lo = std::min(lo, pos[i]), hi = std::max(hi, pos[i]);
+    const double disc = kPi * 0.25 * double(hi - lo) * double(hi - lo);
+    CHECK(polygon_area(pos, poly) / disc == doctest::Approx(0.142).epsilon(0.02));
+    // And the reader cuts it so (one face: the same area).
+    const MeshData m = read_ok(path);
+    CHECK(m.triangle_count() == 64);
+    CHECK(area(m) == doctest::Approx(polygon_area(pos, poly)).epsilon(1e-5));
+}
+
+TEST_CASE("models: random star-shaped polygons are cut into triangles that cover them exactly") {
+    rt_test::Rng rng(2041);
+    for (int round = 0; round < 200; ++round) {
+        CAPTURE(round);
+        // Corners at rising angles, one in each of n equal slices (so no gap between
+        // them reaches half a turn and the centre is inside: a simple polygon), at
+        // random distances from the centre: concave wherever a corner comes nearer
+        // than its neighbours.
+        const int n = 4 + int(rng.uni() * 40);
+        std::vector<std::pair<double, double>> uv;
+        for (int k = 0; k < n; ++k) {
+            const double a = (k + 0.9 * rng.uni()) * 2 * kPi / n;
+            const double r = 0.2 + rng.uni();
+            uv.push_back({r * std::cos(a), r * std::sin(a)});
+        }
+        std::vector<std::uint32_t> poly(static_cast<std::size_t>(n));
+        for (int k = 0; k < n; ++k) poly[std::size_t(k)] = std::uint32_t(round % 2 ? n - 1 - k : k);  // either way round
+        check_cut(on_tilted_plane(uv), poly);
+    }
+}
+
+TEST_CASE("models: a convex polygon is cut as it always was: every picture of a model stays the same") {
+    // A convex pentagon: the ear at the first corner, then at the next, then the
+    // three corners left (4 0 1, 4 1 2, 2 3 4).
+    const std::vector<float> pos = on_tilted_plane({{0, 0}, {2, 0}, {3, 1.5}, {1, 3}, {-1, 1.5}});
+    std::vector<std::uint32_t> tris;
+    triangulate(pos, std::vector<std::uint32_t>{0, 1, 2, 3, 4}.data(), 5, tris);
+    CHECK(tris == std::vector<std::uint32_t>{4, 0, 1, 4, 1, 2, 2, 3, 4});
+}
+
+TEST_CASE("models: degenerate and self-crossing polygons give n - 2 triangles and end") {
+    auto cut = [](const std::vector<float>& pos, const std::vector<std::uint32_t>& poly) {
+        std::vector<std::uint32_t> tris;
+        triangulate(pos, poly.data(), poly.size(), tris);
+        CHECK(tris.size() == 3 * (poly.size() - 2));
+        for (std::uint32_t v : tris) CHECK(std::find(poly.begin(), poly.end(), v) != poly.end());
+    };
+    // All on a line; all at one point; a bow tie; a pentagram; corners repeated.
+    cut(on_tilted_plane({{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {5, 0}}), {0, 1, 2, 3, 4, 5});
+    cut(on_tilted_plane({{1, 1}, {1, 1}, {1, 1}, {1, 1}}), {0, 1, 2, 3});
+    cut(on_tilted_plane({{0, 0}, {1, 1}, {1, 0}, {0, 1}}), {0, 1, 2, 3});
+    std::vector<std::pair<double, double>> star;
+    for (int k = 0; k < 5; ++k) star.push_back({std::cos(k * 4 * kPi / 5), std::sin(k * 4 * kPi / 5)});
+    cut(on_tilted_plane(star), {0, 1, 2, 3, 4});
+    cut(on_tilted_plane({{0, 0}, {1, 0}, {1, 1}}), {0, 1, 1, 2, 2, 0, 0});
+    // A square with a corner in the middle of each side (collinear corners): covered.
+    check_cut(on_tilted_plane({{0, 0}, {1, 0}, {2, 0}, {2, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}}), {0, 1, 2, 3, 4, 5, 6, 7});
+    // Past the ear clipping's size: a fan, at once.
+    std::vector<std::pair<double, double>> many;
+    for (int k = 0; k < 2000; ++k) many.push_back({std::cos(k * 2 * kPi / 2000), std::sin(k * 2 * kPi / 2000)});
+    std::vector<std::uint32_t> all(2000);
+    for (std::uint32_t k = 0; k < 2000; ++k) all[k] = k;
+    cut(on_tilted_plane(many), all);
 }
 
 TEST_CASE("models: every malformed file gets its message, with the line where it has lines") {

@@ -157,6 +157,12 @@ TEST_CASE("a file that does not parse opens with its text and errors, and no sce
     CHECK(d.has_errors());
     CHECK_FALSE(d.modified());
     CHECK(d.editor_text() == "thing { sphere { radius x } }");
+    // The file as it is: no changes of the user's until they type.
+    CHECK_FALSE(d.unapplied());
+    d.editor_text() += " ";
+    d.note_typed();
+    CHECK(d.unapplied());
+    CHECK(d.modified());
 }
 
 TEST_CASE("revert without a scene goes back to the file's text, never to an empty one") {
@@ -237,6 +243,23 @@ TEST_CASE("an outside change reloads by itself when there are no unsaved edits")
     CHECK(d.editor_text() == other);
     CHECK_FALSE(d.modified());
     CHECK(d.check_disk() == Document::DiskEvent::None);
+}
+
+TEST_CASE("a file that becomes no scene text on disk is not read in: the scene and its text stay") {
+    TempDir dir;
+    std::string p = (dir / "s.txt").string();
+    spit(p, rt::kDefaultScene);
+    Document d;
+    REQUIRE(d.load_file(p).ok());
+    const rt::Scene scene = d.scene();
+    spit(p, std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10));
+    bump_mtime(p, 5);
+    CHECK(d.check_disk() == Document::DiskEvent::NotText);
+    CHECK(d.disk_problem() == "not a scene text: a NUL byte at byte 8 (a binary file?)");
+    CHECK(d.editor_text() == rt::kDefaultScene);
+    CHECK(d.scene() == scene);
+    CHECK_FALSE(d.can_undo());
+    CHECK(d.check_disk() == Document::DiskEvent::None);  // said once
 }
 
 TEST_CASE("a camera edit is a real edit: an outside change is then a conflict") {

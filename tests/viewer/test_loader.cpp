@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -214,6 +215,41 @@ TEST_CASE("a folder is no scene: the load says so and the scene stays") {
     CHECK(r->error == "a folder, not a scene file");
     std::shared_ptr<const rt::World> world;
     CHECK_FALSE(apply_load(*r, d, world));
+    before.check_same(d);
+}
+
+TEST_CASE("a binary file is no scene: the load says why, and the scene and text stay") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const DocSnapshot before(d);
+    SceneLoader loader;
+    // Random bytes (a fixed seed): a NUL among the first hundred or so.
+    std::string bytes(200000, '\0');
+    std::uint64_t x = 88172645463325252ull;
+    for (char& c : bytes) {
+        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+        c = char(x >> 56);
+    }
+    const std::size_t nul = bytes.find('\0');
+    REQUIRE(nul != std::string::npos);
+    TempFile binary(bytes);
+    loader.start(binary.path);
+    std::optional<LoadResult> r = loader.wait();
+    REQUIRE(r);
+    CHECK(r->status == LoadResult::Status::Failed);
+    CHECK(r->error == "not a scene text: a NUL byte at byte " + std::to_string(nul + 1) + " (a binary file?)");
+    std::shared_ptr<const rt::World> world;
+    CHECK_FALSE(apply_load(*r, d, world));
+    before.check_same(d);
+    CHECK_FALSE(d.modified());
+    // The same bytes without their NULs: refused as not UTF-8.
+    bytes.erase(std::remove(bytes.begin(), bytes.end(), '\0'), bytes.end());
+    TempFile noise(bytes);
+    loader.start(noise.path);
+    r = loader.wait();
+    REQUIRE(r);
+    CHECK(r->status == LoadResult::Status::Failed);
+    CHECK(r->error.find("bytes are not UTF-8 text") != std::string::npos);
     before.check_same(d);
 }
 

@@ -2,6 +2,7 @@
 // session for the same file only, and gone once the text is saved or discarded.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
@@ -169,4 +170,93 @@ TEST_CASE("recovery: a drag in the unsaved default scene, or in a new scene, is 
         CHECK(scene.camera.angle_x == 50);
         CHECK(scene.objects == parse_ok(start).objects);  // the text the drag was made in
     }
+}
+
+TEST_CASE("recovery: a live viewer's lock keeps its copy from a second viewer, until it ends") {
+    rt_test::TempDir dir;
+    std::optional<Recovery> a(std::in_place, dir.path.string());
+    REQUIRE(a->claim("s.txt") == 0);
+    REQUIRE(a->update("s.txt", "A's draft", true).ok());
+    const std::string copy = a->file_for("s.txt");
+    // B opens the same file: the lock is taken, and says by whom.
+    Recovery b(dir.path.string());
+    CHECK(b.claim("s.txt") == long(getpid()));
+    CHECK(b.blocked("s.txt"));
+    CHECK_FALSE(b.find("s.txt"));  // not offered as an earlier session's
+    b.discard("s.txt");            // and never removed...
+    CHECK(b.update("s.txt", "B's draft", true).ok());  // ...nor overwritten
+    CHECK(b.update("s.txt", "B's draft", false).ok());
+    REQUIRE(fs::exists(copy));
+    CHECK(*Recovery(dir.path.string()).find("s.txt") == "A's draft");
+    // Another file is B's own.
+    CHECK(b.claim("t.txt") == 0);
+    CHECK_FALSE(b.blocked("s.txt"));
+    CHECK(b.claim("s.txt") == long(getpid()));
+    // A ends (the lock goes with it): B takes the file, and A's text is on offer.
+    a.reset();
+    CHECK(b.claim("s.txt") == 0);
+    CHECK_FALSE(b.blocked("s.txt"));
+    REQUIRE(b.find("s.txt"));
+    CHECK(*b.find("s.txt") == "A's draft");
+}
+
+TEST_CASE("recovery: the copies of ended sessions are listed with file, time and size; live ones are not") {
+    rt_test::TempDir dir;
+    Recovery live(dir.path.string());
+    REQUIRE(live.claim("live.txt") == 0);
+    REQUIRE(live.update("live.txt", "live text", true).ok());
+    for (const char* doc : {"ended.txt", ""}) {  // "": the default scene, unsaved
+        Recovery ended(dir.path.string());
+        REQUIRE(ended.claim(doc) == 0);
+        REQUIRE(ended.update(doc, *doc ? "12345" : "1234567", true).ok());
+        // (Ends without discarding: a crash.)
+    }
+    Recovery start(dir.path.string());
+    REQUIRE(start.claim("open.txt") == 0);
+    REQUIRE(start.update("open.txt", "mine", true).ok());
+    std::vector<Recovery::Orphan> list = start.orphans("open.txt");
+    REQUIRE(list.size() == 2);
+    std::sort(list.begin(), list.end(), [](const auto& x, const auto& y) { return x.doc_path < y.doc_path; });
+    CHECK(list[0].doc_path.empty());
+    CHECK(list[0].bytes == 7);
+    CHECK(list[1].doc_path == absolute_path("ended.txt"));
+    CHECK(list[1].bytes == 5);
+    CHECK(list[1].file == start.file_for("ended.txt"));
+    CHECK(list[1].mtime > 0);
+    // The document a viewer has open is not listed (its copy is offered on its own).
+    CHECK(start.orphans("ended.txt").size() == 1);
+    // Discarding one removes its files; one a viewer has opened since stays.
+    Recovery other(dir.path.string());
+    REQUIRE(other.claim("ended.txt") == 0);
+    CHECK_FALSE(start.discard_orphan(list[1]));
+    CHECK(fs::exists(list[1].file));
+    CHECK(start.discard_orphan(list[0]));
+    CHECK_FALSE(fs::exists(list[0].file));
+    CHECK(start.orphans("open.txt").empty());
+}
+
+TEST_CASE("recovery: viewers showing the unsaved default scene side by side keep a copy each") {
+    rt_test::TempDir dir;
+    std::optional<Recovery> a(std::in_place, dir.path.string()), b(std::in_place, dir.path.string());
+    REQUIRE(a->claim("") == 0);
+    REQUIRE(b->claim("") == 0);  // not blocked: a slot of its own
+    CHECK(a->file_for("") != b->file_for(""));
+    REQUIRE(a->update("", "A's scene", true).ok());
+    REQUIRE(b->update("", "B's scene", true).ok());
+    CHECK(*a->find("") == "A's scene");
+    CHECK(*b->find("") == "B's scene");
+    // A ends: the next viewer on the default scene takes its slot and is offered its text;
+    // B's copy is B's while B runs, and an orphan once it ends.
+    a.reset();
+    Recovery c(dir.path.string());
+    REQUIRE(c.claim("") == 0);
+    CHECK(*c.find("") == "A's scene");
+    CHECK(c.orphans("").empty());
+    b.reset();
+    const std::vector<Recovery::Orphan> left = c.orphans("");
+    REQUIRE(left.size() == 1);
+    CHECK(left[0].doc_path.empty());
+    CHECK(*c.read_orphan(left[0]) == "B's scene");
+    CHECK(c.discard_orphan(left[0]));
+    CHECK(c.orphans("").empty());
 }

@@ -246,3 +246,23 @@ TEST_CASE("diagnostic positions point at the offending token") {
     const rt::Diagnostic& d = r.diagnostics.front();
     CHECK(t.substr(offset_of(t, d.line, d.col), 7) == "positio");
 }
+
+TEST_CASE("scene text or not: NUL bytes and much that is not UTF-8 are refused, a few foreign bytes pass") {
+    CHECK(not_scene_text(rt::kDefaultScene).empty());
+    CHECK(not_scene_text("").empty());
+    // UTF-8 of every length, at the text's end too.
+    CHECK(not_scene_text("// \xc3\xa6\xc3\xb8\xc3\xa5 \xe2\x82\xac \xf0\x9f\x98\x80\nend\n\xe2\x82\xac").empty());
+    CHECK(not_scene_text(std::string("end\n\0", 5)) == "not a scene text: a NUL byte at byte 5 (a binary file?)");
+    // A comment in Latin-1 ("blå kule"): a few bytes, well under 1 %.
+    std::string latin = "// bl\xe5 kule\n" + std::string(rt::kDefaultScene);
+    CHECK(not_scene_text(latin).empty());
+    // kMaxForeignBytes of them in a short text still pass; one more is refused.
+    std::string few = "// " + std::string(kMaxForeignBytes, '\xe5') + "\nend\n";
+    CHECK(not_scene_text(few).empty());
+    few.insert(3, "\xff");
+    CHECK(not_scene_text(few) == "not a scene text: 17 of its 25 bytes are not UTF-8 text, the first at byte 4 (a binary file?)");
+    // Overlong forms, surrogates, lone continuation and truncated sequences are foreign.
+    std::string bad;
+    for (int i = 0; i < 5; ++i) bad += "\xc0\xaf \xed\xa0\x80 \x80 \xe2\x82";
+    CHECK_FALSE(not_scene_text(bad).empty());
+}

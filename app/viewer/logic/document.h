@@ -112,6 +112,9 @@ public:
     // The text the scene was made from.
     const std::string& applied_text() const { return applied_ ? *applied_ : editor_; }
     bool editor_dirty() const { return applied_ && *applied_ != editor_; }
+    // What the user is told: the editor holds changes of theirs that are not applied.
+    // A file opened with errors (no scene yet) is not that until it is typed into.
+    bool unapplied() const { return editor_dirty() && (has_scene_ || modified()); }
     // Panel edits since the draft was typed are not in the editor text.
     bool text_behind() const { return behind_; }
     // Increases when editor_text() is replaced by the document (undo, reload, panel
@@ -185,13 +188,15 @@ public:
     std::uint64_t saved_hash() const { return saved_hash_; }
 
     // --- the file on disk ------------------------------------------------------
-    enum class DiskEvent { None, Reloaded, Conflict, Removed, ModelsReloaded, ModelUnreadable };
+    enum class DiskEvent { None, Reloaded, Conflict, Removed, ModelsReloaded, ModelUnreadable, NotText };
     // Call now and then (the viewer: once a second). Reloads by itself when there
     // are no unsaved edits (looking around is not an edit: the view camera lives
     // outside the document); reports a conflict otherwise. A model file a mesh names,
     // or a texture file a material names, that changed is read again (the text stays:
     // ModelsReloaded); if it no longer reads, the scene keeps the model or texture as
-    // it was (ModelUnreadable, model_problem()).
+    // it was (ModelUnreadable, model_problem()). A file that became no scene text at
+    // all (not_scene_text(): a binary written over it) is not read in: the document
+    // stays (NotText, disk_problem()).
     // The models read for this document's scenes, kept between parses (and shared
     // with the loader, which reads them in the background), and with them the
     // textures: one decoded copy per file (models().textures()).
@@ -207,6 +212,7 @@ public:
     rt::ParseOptions parse_options(const std::string& path) const;
     DiskEvent check_disk();
     const std::string& model_problem() const { return model_problem_; }
+    const std::string& disk_problem() const { return disk_problem_; }
     bool disk_conflict() const { return conflict_; }
     void resolve_conflict_reload();  // take the disk version (undoable)
     void resolve_conflict_keep();    // keep ours; ask again only on the next change
@@ -256,6 +262,7 @@ private:
     // A cache: reading through it changes no state, and copies of the document share it.
     std::shared_ptr<rt::ModelStore> models_ = std::make_shared<rt::ModelStore>();
     std::string model_problem_;      // why a changed model did not read, once said
+    std::string disk_problem_;       // why the file on disk was not read in (NotText)
     // The distinct models scene_ holds, as of scene version scene_models_version_.
     std::vector<std::shared_ptr<const rt::MeshModel>> scene_models_;
     std::vector<std::shared_ptr<const rt::Texture>> scene_textures_;  // and textures (of its materials)

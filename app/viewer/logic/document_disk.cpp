@@ -183,6 +183,10 @@ Document::DiskEvent Document::check_disk() {
     std::string text;
     if (!rt::read_file(path_, text, rt::Limits::max_file_size).ok()) return DiskEvent::None;
     if (text.size() == saved_size_ && text_hash(text) == saved_hash_) return DiskEvent::None;  // touched, or our own save
+    if (std::string why = not_scene_text(text); !why.empty()) {
+        disk_problem_ = std::move(why);
+        return DiskEvent::NotText;
+    }
     if (!modified()) {
         reload_text(text);
         return DiskEvent::Reloaded;

@@ -12,6 +12,7 @@
 #include "paths.h"
 #include "scene.h"
 #include "scene_edits.h"
+#include "scene_text.h"
 #include "status.h"
 
 namespace rtview {
@@ -117,11 +118,18 @@ void SceneLoader::run(std::shared_ptr<Job> job) {
         job->progress.total = t;
     });
     r.times.read = lap();
+    // A file that is no text at all (a binary opened by mistake) is refused: the
+    // scene and the editor keep what they have.
+    std::string not_text = read && !r.new_scene && !job->cancel ? not_scene_text(r.text) : std::string();
     if (job->cancel) {
         r.status = LoadResult::Status::Cancelled;
     } else if (!read) {
         r.status = LoadResult::Status::Failed;
         r.error = read.message();
+    } else if (!not_text.empty()) {
+        r.status = LoadResult::Status::Failed;
+        r.error = std::move(not_text);
+        r.text = std::string();
     } else {
         {
             std::lock_guard<std::mutex> lock(job->mutex);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "document.h"
+#include "recent_files.h"  // absolute_path: "" stays "" (the unsaved default scene)
 #include "scene.h"
 #include "status.h"
 
@@ -27,6 +28,41 @@ class Recovery {
 public:
     // `dir` empty: $XDG_STATE_HOME/raytracer-view/recovery, or ~/.local/state/...
     explicit Recovery(std::string dir = {});
+    ~Recovery();  // release()
+    Recovery(const Recovery&) = delete;
+    Recovery& operator=(const Recovery&) = delete;
+
+    // --- which viewer has a document open ------------------------------------------
+    // Takes the lock of `doc_path`'s copy for this viewer, letting go of the one held
+    // before: an flock on a file beside the copy (its name with ".lock"), which the
+    // system lets go of when the process ends, however it ends. Returns 0 when taken
+    // (or already held); else the pid of the live viewer holding it (-1: it does not
+    // say). While another viewer holds it, this object never writes, removes or finds
+    // that document's copy: it is the other viewer's, not an earlier session's.
+    long claim(const std::string& doc_path);
+    // Lets go of the lock held (its file is removed): the document is closed cleanly.
+    void release();
+    // The document whose lock another live viewer holds (claim() failed), and its pid.
+    bool blocked(const std::string& doc_path) const { return blocked_pid_ != 0 && doc_path == blocked_path_; }
+    long blocked_pid() const { return blocked_pid_; }
+
+    // A copy left by a session that ended without closing: no live viewer holds its lock.
+    struct Orphan {
+        std::string doc_path;  // as the copy names it (absolute; "" for the default scene)
+        std::string file;      // the copy
+        std::int64_t mtime = 0;  // seconds since the epoch, when it was last written
+        std::uint64_t bytes = 0; // the text's size
+    };
+    // Every such copy in the folder, newest first, but the one of `except` (the
+    // document this viewer has open: its copy is offered on its own).
+    std::vector<Orphan> orphans(const std::string& except = {}) const;
+    // Removes an orphan's files, unless a viewer has taken its lock since (false).
+    bool discard_orphan(const Orphan& o);
+    // An orphan's text (a copy of another slot's default scene, which find() does not
+    // read): nothing if it is gone or not a copy.
+    std::optional<std::string> read_orphan(const Orphan& o) const;
+    // How many viewers may keep copies of an unsaved default scene side by side.
+    static constexpr int kDefaultSceneSlots = 16;
 
     // The recovery file for a document path ("" for the unsaved default scene), and the
     // held edit's file beside it.
@@ -51,7 +87,13 @@ public:
     const std::string& dir() const { return dir_; }
 
 private:
+    std::string lock_file_for(const std::string& doc_path) const;
     std::string dir_;
+    int lock_fd_ = -1;          // the lock held, on lock_path_'s copy
+    int slot_ = 0;              // the default scene's slot claimed (its copy's name)
+    std::string lock_path_;
+    std::string blocked_path_;  // claim() found this document's lock held...
+    long blocked_pid_ = 0;      // ...by this process
     std::string last_path_;
     std::uint64_t last_hash_ = 0;  // of the text last written (not a second copy of it)
     bool written_ = false;

@@ -4,6 +4,7 @@
 #include "scene_text.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 
 #include "block_patch.h"
@@ -371,5 +372,60 @@ rt::Scene carry_edit(const rt::Scene& base, const rt::Scene& old_scene, const rt
 }
 
 std::size_t offset_of(std::string_view text, int line, int col) { return rt::offset_at(text, line, col); }
+
+namespace {
+
+// The length of the UTF-8 sequence at text[i] (a lead byte and its continuation
+// bytes, no overlong forms, no surrogates, at most U+10FFFF), or 0 if it is none.
+std::size_t utf8_length(std::string_view text, std::size_t i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    std::size_t n = 0;
+    unsigned char lo = 0x80, hi = 0xBF;  // the second byte's range
+    if (c >= 0xC2 && c <= 0xDF) n = 2;
+    else if (c >= 0xE0 && c <= 0xEF) n = 3, lo = c == 0xE0 ? 0xA0 : 0x80, hi = c == 0xED ? 0x9F : 0xBF;
+    else if (c >= 0xF0 && c <= 0xF4) n = 4, lo = c == 0xF0 ? 0x90 : 0x80, hi = c == 0xF4 ? 0x8F : 0xBF;
+    else return 0;
+    if (i + n > text.size()) return 0;
+    for (std::size_t k = 1; k < n; ++k) {
+        const unsigned char b = static_cast<unsigned char>(text[i + k]);
+        if (k == 1 ? (b < lo || b > hi) : (b < 0x80 || b > 0xBF)) return 0;
+    }
+    return n;
+}
+
+}  // namespace
+
+std::string not_scene_text(std::string_view text) {
+    if (const void* nul = std::memchr(text.data(), 0, text.size()))
+        return "not a scene text: a NUL byte at byte " +
+               std::to_string(static_cast<const char*>(nul) - text.data() + 1) + " (a binary file?)";
+    std::size_t foreign = 0, first = 0;
+    const std::size_t n = text.size();
+    for (std::size_t i = 0; i < n;) {
+        // Eight ASCII bytes at a time (most of any scene).
+        if (i + 8 <= n) {
+            std::uint64_t w;
+            std::memcpy(&w, text.data() + i, 8);
+            if (!(w & 0x8080808080808080ull)) {
+                i += 8;
+                continue;
+            }
+        }
+        if (static_cast<unsigned char>(text[i]) < 0x80) {
+            ++i;
+            continue;
+        }
+        if (const std::size_t len = utf8_length(text, i)) {
+            i += len;
+            continue;
+        }
+        if (foreign++ == 0) first = i;
+        ++i;
+    }
+    if (foreign > kMaxForeignBytes && foreign * 100 > n)
+        return "not a scene text: " + std::to_string(foreign) + " of its " + std::to_string(n) +
+               " bytes are not UTF-8 text, the first at byte " + std::to_string(first + 1) + " (a binary file?)";
+    return {};
+}
 
 }  // namespace rtview

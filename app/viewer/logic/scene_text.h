@@ -82,4 +82,11 @@ std::string written_item(const rt::Scene& one, ItemList list, const std::string&
 // bytes; LF, CR LF and a lone CR each end a line).
 std::size_t offset_of(std::string_view text, int line, int col);
 
+// Why `text` is not a scene text at all (empty: it may be one, errors or not): a NUL
+// byte, or bytes that are not UTF-8 in more than kMaxForeignBytes places and in more
+// than one byte in 100 (a comment in Latin-1 passes; a binary file does not). Such a
+// file is refused at Open: it would fill the editor with noise and replace the scene.
+constexpr std::size_t kMaxForeignBytes = 16;
+std::string not_scene_text(std::string_view text);
+
 }  // namespace rtview

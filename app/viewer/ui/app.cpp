@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <optional>
 #include <utility>
 
@@ -139,10 +140,16 @@ void ViewerApp::poll_loader() {
     Document& doc = editor_.doc();
     std::string path = r->path;
     bool ok = r->parsed.ok();
+    const bool model = r->new_scene;
     const LoadResult::Times times = r->times;
     std::shared_ptr<const rt::World> world;
     if (!apply_load(*r, doc, world)) return;  // cancelled: the old scene stays
     if (world) render_.adopt_world(std::move(world), doc.content_version());
+    {
+        std::error_code ec;
+        const std::filesystem::path p = std::filesystem::absolute(path, ec);
+        if (!ec) last_folder_ = p.parent_path().string();
+    }
     const rt::Status recent = remember_recent(path);
     if (path == opt_.scene)  // at most 20, as raytracer prints them
         std::fputs(rt::diagnostics_report(path, doc.diagnostics(), 20).c_str(), stderr);
@@ -157,7 +164,9 @@ void ViewerApp::poll_loader() {
         selected_ = true;
         panels_.select_from_option(opt_.select);
     }
-    status_.set((ok ? "Opened " + doc.name() : "Opened " + doc.name() + " (it has errors)") + light_note(doc) +
+    // (A model opens as a new scene named after it: the file opened is the model.)
+    const std::string opened = model ? base_name(path) + " as the new scene " + doc.name() : doc.name();
+    status_.set((ok ? "Opened " + opened : "Opened " + opened + " (it has errors)") + light_note(doc) +
                     recent_note(recent),
                 !ok || !recent);
     if (opt_.verbose)
@@ -220,6 +229,9 @@ void ViewerApp::frame() {
     panels_.draw_menu_bar();
     panels_.draw_sidebar();
     if (const int passed = editor_.take_passed_undo()) run(passed > 0 ? Command::Undo : Command::Redo);
+    // A document from the list of earlier sessions' copies: opened, its copy then offered.
+    if (std::optional<std::string> path = editor_.take_open_request())
+        run(path->empty() ? Command::OpenDefault : Command::Open, *path);
     panels_.draw_status_bar(load_status());
     const std::string image_kind = std::string(layout_.fit == FitMode::Window ? "the window's picture, " : "the scene's picture, ") +
                                    std::to_string(layout_.film_w) + "x" + std::to_string(layout_.film_h);
@@ -621,8 +633,12 @@ void ViewerApp::after_render(int fb_width, int fb_height) {
     std::string path = screenshot_request_;
     screenshot_request_.clear();
     const rt::Status st = save_framebuffer(path, fb_width, fb_height);
+    // (The full path: the working folder is not shown anywhere.)
+    std::error_code ec;
+    const std::filesystem::path full = std::filesystem::absolute(path, ec);
+    if (!ec) path = full.lexically_normal().string();
     if (st) status_.set("Wrote screenshot " + path);
-    else status_.set("Screenshot failed: " + st.message(), true);
+    else status_.set("Cannot write the screenshot " + path + ": " + st.message(), true);
 }
 
 rt::Status ViewerApp::write_view_scene(const std::string& path) const {

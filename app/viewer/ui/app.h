@@ -100,6 +100,7 @@ public:
 
 private:
     bool run(Command c, const std::string& arg = {}, bool confirmed = false) override;
+    std::string failure() const override { return failure_; }
 
     bool ui_busy() const;
     // A digest of what the frame shows that other threads or late parts of a frame
@@ -195,6 +196,9 @@ private:
     std::uint64_t render_error_shown_ = 0;  // the render generation whose error was shown
     bool again_ = false;  // the last frame changed visible_key(): draw one more
     bool esc_closed_menu_ = false;  // this frame's Escape closed a menu
+    std::string failure_;  // why the last save failed (Commands::failure)
+    std::string last_folder_;  // of the last file opened or saved (Save As of an unsaved scene starts there)
+    std::string save_as_start() const;
 };
 
 }  // namespace rtview

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include "default_scene.h"
@@ -49,7 +50,7 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
             return true;
         case Command::CancelLoad: return cancel_load();
         case Command::Save: return do_save(confirmed);
-        case Command::SaveAsDialog: dialogs_.show(Dialogs::Kind::SaveAs, doc.path().empty() ? doc.name() : doc.path()); return true;
+        case Command::SaveAsDialog: dialogs_.show(Dialogs::Kind::SaveAs, save_as_start()); return true;
         case Command::SaveAs: return do_save_as(arg, confirmed);
         case Command::SaveImageDialog: dialogs_.show(Dialogs::Kind::SaveImage, default_image_name()); return true;
         case Command::SaveImage: do_save_image(arg); return true;
@@ -180,28 +181,46 @@ bool ViewerApp::ready_to_save(Command c, const std::string& arg, bool confirmed)
     return true;
 }
 
+// Where Save As starts: the scene's own file (as an absolute path: its folder is shown,
+// whatever the working folder), else its name in the folder of the last scene that had
+// one (a model opened as a scene: the model's).
+std::string ViewerApp::save_as_start() const {
+    const Document& doc = editor_.doc();
+    std::error_code ec;
+    if (!doc.path().empty()) {
+        const std::filesystem::path p = std::filesystem::absolute(doc.path(), ec);
+        return ec ? doc.path() : p.lexically_normal().string();
+    }
+    if (!last_folder_.empty()) return (std::filesystem::path(last_folder_) / doc.name()).string();
+    return doc.name();
+}
+
 bool ViewerApp::do_save(bool confirmed) {
     Document& doc = editor_.doc();
     if (doc.path().empty()) {
         dialogs_.show(Dialogs::Kind::SaveAs, doc.name());
         return false;
     }
+    failure_.clear();
     if (!ready_to_save(Command::Save, {}, confirmed)) return false;
     const rt::Status st = doc.save();
     if (st) editor_.saved();
     if (st) status_.set("Saved " + doc.path());
-    else status_.set("Save failed: " + st.message(), true);
+    else status_.set(failure_ = "Cannot save " + doc.path() + ": " + st.message(), true);
     return st.ok();
 }
 
 bool ViewerApp::do_save_as(const std::string& path, bool confirmed) {
     Document& doc = editor_.doc();
+    failure_.clear();
     if (!ready_to_save(Command::SaveAs, path, confirmed)) return false;
     if (rt::Status st = doc.save_as(path); !st) {
-        status_.set("Save failed: " + st.message(), true);
+        status_.set(failure_ = "Cannot save " + path + ": " + st.message(), true);
         return false;
     }
     editor_.saved_as();
+    std::error_code ec;
+    if (const std::filesystem::path p = std::filesystem::absolute(path, ec); !ec) last_folder_ = p.parent_path().string();
     const rt::Status recent = remember_recent(path);
     status_.set("Saved " + doc.path() + recent_note(recent), !recent);
     return true;

@@ -50,7 +50,14 @@ void ViewerApp::probe_frame() {
                                                                : std::string()));
     probe("diagnostics", std::to_string(doc.diagnostics().size()) +
                              (doc.diagnostics().empty() ? "" : " " + doc.diagnostics().front().message));
-    probe("text", std::string(doc.editor_dirty() ? "unapplied" : "applied") + (doc.text_behind() ? " behind" : ""));
+    // What the scene and the text hold (a refused Open leaves both alone).
+    probe("scene_size", doc.has_scene() ? std::to_string(doc.scene().objects.size()) + " objects " +
+                                              std::to_string(doc.scene().planes.size()) + " planes " +
+                                              std::to_string(doc.scene().lights.size()) + " lights"
+                                        : std::string("none"));
+    probe("editor_bytes", std::to_string(doc.editor_text().size()));
+    probe("undo_depth", std::to_string(doc.undo_depth()) + (doc.edit_held() ? " held" : ""));
+    probe("text", std::string(doc.unapplied() ? "unapplied" : doc.has_scene() ? "applied" : "no scene") + (doc.text_behind() ? " behind" : ""));
 }
 
 std::uint64_t ViewerApp::visible_key() const {

@@ -194,7 +194,8 @@ void Panels::draw_scene_camera_fields(float speed) {
     if (blocked) changed = false;
     if (changed && !rt::camera_problem(cam)) editor_.doc().edit_camera() = cam;
     else if (changed) status_.set(std::string("Camera not changed: ") + rt::camera_problem(cam), true);
-    if (std::string refused; take_number_refusal(refused)) status_.set(refused, true);
+    bool error = true;
+    if (std::string refused; take_number_refusal(refused, &error)) status_.set(refused, error);
 }
 
 }  // namespace rtview

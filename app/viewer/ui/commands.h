@@ -52,6 +52,9 @@ public:
     // the user already chose to drop unsaved edits (Quit, Open, OpenDefault, NewScene), or to
     // save text that does not parse (Save, SaveAs).
     virtual bool run(Command c, const std::string& arg = {}, bool confirmed = false) = 0;
+    // Why the last run() that returned false failed (the path and the reason), if it
+    // failed rather than asked the user something first.
+    virtual std::string failure() const { return {}; }
 };
 
 }  // namespace rtview

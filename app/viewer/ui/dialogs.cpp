@@ -55,7 +55,11 @@ void Dialogs::start_browser() {
         case Kind::Texture:
             file_.start(FileDialog::Mode::Open, {".png", ".jpg", ".jpeg"}, "Images (*.png, *.jpg, *.jpeg)", path_);
             break;
-        case Kind::SaveAs: file_.start(FileDialog::Mode::Save, {".txt"}, "Scenes (*.txt)", path_); break;
+        case Kind::SaveAs:
+            file_.start(FileDialog::Mode::Save, {".txt"}, "Scenes (*.txt)", path_);
+            if (!refusal_.empty()) file_.refuse(refusal_);
+            refusal_.clear();
+            break;
         case Kind::SaveImage: file_.start(FileDialog::Mode::Save, {".png", ".ppm"}, "Images (*.png, *.ppm)", path_); break;
         default: break;
     }
@@ -97,10 +101,7 @@ void Dialogs::draw(const std::string& doc_name, bool has_path, const char* image
         ImGui::EndPopup();
     }
     if (begin(Kind::SaveAs)) {
-        const FileDialog::Result r = file_.draw("Save");
-        if (r != FileDialog::Result::None) ImGui::CloseCurrentPopup();
-        if (r == FileDialog::Result::Cancel) has_pending_ = false;
-        else if (r == FileDialog::Result::Go && commands_.run(Command::SaveAs, file_.path())) run_pending();
+        draw_save_as();
         ImGui::EndPopup();
     }
     if (begin(Kind::SaveImage)) {
@@ -156,13 +157,38 @@ void Dialogs::draw_save_errors() {
     probe_item("button_save_anyway");
     if (save) {
         ImGui::CloseCurrentPopup();
-        if (commands_.run(save_command_, save_arg_, true)) run_pending();
-        else has_pending_ = false;
+        if (commands_.run(save_command_, save_arg_, true)) {
+            run_pending();
+        } else if (save_command_ == Command::SaveAs) {
+            // Back to the path as typed, with why it could not be written.
+            show(Kind::SaveAs, save_arg_);
+            refusal_ = commands_.failure();
+        } else {
+            has_pending_ = false;
+        }
     }
     ImGui::SameLine();
     if (ImGui::Button("Cancel") || escape_pressed()) {
         ImGui::CloseCurrentPopup();
         has_pending_ = false;
+    }
+}
+
+// Save As: a save that fails leaves the dialog open with the path as typed and why.
+void Dialogs::draw_save_as() {
+    const FileDialog::Result r = file_.draw("Save");
+    if (r == FileDialog::Result::Cancel) {
+        ImGui::CloseCurrentPopup();
+        has_pending_ = false;
+    } else if (r == FileDialog::Result::Go) {
+        if (commands_.run(Command::SaveAs, file_.path())) {
+            ImGui::CloseCurrentPopup();
+            run_pending();
+        } else if (request_ != Kind::None) {
+            ImGui::CloseCurrentPopup();  // another question (the text has errors) takes over
+        } else {
+            file_.refuse(commands_.failure());  // the path stays, to be corrected
+        }
     }
 }
 

@@ -49,6 +49,7 @@ private:
     void draw_save_errors();
     // A dialog that chooses a file (Add model, a texture): `c` runs with its path.
     void draw_chooser(Kind k, const char* button, Command c);
+    void draw_save_as();
     // Open, Save As and Save Image browse for their file: the browser starts when
     // one of them is asked for.
     void start_browser();
@@ -63,6 +64,7 @@ private:
     std::string pending_arg_;
     std::string save_problem_, save_arg_;
     Command save_command_ = Command::Save;
+    std::string refusal_;  // shown in the Save As dialog shown again after a failed save
 };
 
 }  // namespace rtview

@@ -4,6 +4,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <ctime>
 #include <utility>
 #include <vector>
 
@@ -67,13 +68,52 @@ void DocumentEditor::replaced() {
         if (recovery_find_.valid()) recovery_find_.wait();  // an earlier document's: no longer wanted
         if (!offered) forget_earlier_copy();
         recovered_text_.clear();
-        recovery_find_ = std::async(std::launch::async, [this, path = doc_.path()] { return recovery_.find(path); });
+        // The copy now on offer (this document's, or the one chosen) leaves the list.
+        const std::string chosen = pending_orphan_ ? pending_orphan_->file : std::string();
+        claim_document();
+        if (!orphans_looked_) {
+            // At start: what sessions that did not close left of other documents.
+            orphans_looked_ = true;
+            orphans_ = recovery_.orphans(doc_.path());
+        } else {
+            const std::string own = recovery_.file_for(doc_.path());
+            orphans_.erase(std::remove_if(orphans_.begin(), orphans_.end(),
+                                          [&](const Recovery::Orphan& o) { return o.file == own || o.file == chosen; }),
+                           orphans_.end());
+        }
     }
     if (!doc_.has_scene() || doc_.has_errors()) want_tab_ = true;  // show the errors
 }
 
+// The document's lock: while another live viewer holds it, that viewer's copy is
+// neither offered nor touched here (and this one keeps none); else an earlier
+// session's copy is looked for (off the UI thread).
+void DocumentEditor::claim_document() {
+    const long pid = recovery_.claim(doc_.path());
+    held_elsewhere_ = pid;
+    if (pid != 0) {
+        status_.set("Another viewer (pid " + std::to_string(pid) + ") has " + doc_.name() +
+                        " open: its unsaved text stays its own, and no recovery copy is kept here until it closes",
+                    true);
+        return;
+    }
+    recovery_key_ = ~std::uint64_t(0);  // (nothing of this one's is on disk yet)
+    offered_orphan_.reset();
+    if (pending_orphan_ && pending_orphan_->doc_path == absolute_path(doc_.path()) &&
+        pending_orphan_->file != recovery_.file_for(doc_.path())) {
+        // The default scene another viewer (ended) kept under a slot of its own.
+        offered_orphan_ = pending_orphan_;
+        recovery_find_ = std::async(std::launch::async, [this, o = *pending_orphan_] { return recovery_.read_orphan(o); });
+    } else {
+        recovery_find_ = std::async(std::launch::async, [this, path = doc_.path()] { return recovery_.find(path); });
+    }
+    pending_orphan_.reset();
+}
+
 void DocumentEditor::tick(double now) {
     recovery_finding();
+    // "The scene text has errors" once it has none (fixed, reverted, undone).
+    if (status_.cause() == StatusLine::Cause::TextErrors && !doc_.has_errors()) status_.clear_if(StatusLine::Cause::TextErrors);
     if (check_due_ >= 0 && now >= check_due_) {
         doc_.check_text();
         check_due_ = -1;
@@ -83,6 +123,13 @@ void DocumentEditor::tick(double now) {
 bool DocumentEditor::idle_tick() {
     // While an offer is pending (or being looked for) the old copy stays on disk untouched.
     const bool finding = recovery_find_.valid();
+    // The other viewer closed (or died): the document is this one's now, and what that
+    // one left is offered.
+    if (held_elsewhere_ != 0 && !recovery_finding() && !recovery_busy() && recovery_.claim(doc_.path()) == 0) {
+        claim_document();  // (the lock is held now: this looks for the copy)
+        status_.set("The other viewer closed " + doc_.name() + ": its recovery copy is kept here now");
+        return true;
+    }
     if (!recovery_finding() && !recovery_offer_ && !recovery_busy()) keep_recovery_copy();
     if (finding && recovery_offer_) return true;  // the banner shows it
     switch (doc_.check_disk()) {
@@ -93,6 +140,9 @@ bool DocumentEditor::idle_tick() {
             status_.set(doc_.name() + " was removed on disk; Save writes it again", true);
             break;
         case Document::DiskEvent::ModelsReloaded: status_.set("Read the scene's models and textures again (changed on disk)"); break;
+        case Document::DiskEvent::NotText:
+            status_.set(doc_.path() + " changed on disk and is " + doc_.disk_problem() + "; the scene and its text stay", true);
+            break;
         case Document::DiskEvent::ModelUnreadable:
             status_.set("A model or texture changed on disk and no longer reads (" + doc_.model_problem() +
                             "); the scene keeps it as it was",
@@ -161,6 +211,7 @@ void DocumentEditor::discard_recovery() {
     if (recovery_offer_) return;  // the earlier session's text stays on offer
     forget_earlier_copy();
     recovery_.discard(doc_.path());
+    recovery_.release();
 }
 
 void DocumentEditor::saved_as() {
@@ -168,6 +219,14 @@ void DocumentEditor::saved_as() {
     if (recovery_write_.valid()) recovery_write_.wait();
     recovery_busy();
     if (!recovery_offer_) forget_earlier_copy();
+    // The lock goes with the name (a copy another session left under it is not this
+    // document's text: it stays for that file's next opening... unless it is this one's).
+    if (!recovery_offer_) {
+        const long pid = recovery_.claim(doc_.path());
+        held_elsewhere_ = pid;
+        if (pid != 0)
+            status_.set("Saved; another viewer (pid " + std::to_string(pid) + ") has " + doc_.name() + " open", true);
+    }
 }
 
 void DocumentEditor::focus(int cursor) {
@@ -178,10 +237,64 @@ void DocumentEditor::focus(int cursor) {
 
 void DocumentEditor::apply() {
     bool ok = doc_.apply_text();
-    status_.set(ok ? "Applied the scene text" : "The scene text has errors; still showing the last good scene", !ok);
+    if (ok) status_.set("Applied the scene text");
+    else status_.set("The scene text has errors; still showing the last good scene", true, StatusLine::Cause::TextErrors);
+}
+
+// The copies of other documents that sessions which did not close left behind: each
+// with its file, time and size, to open (its copy is then offered) or to discard.
+void DocumentEditor::draw_orphans() {
+    std::string shown;
+    for (const Recovery::Orphan& o : orphans_)
+        shown += (shown.empty() ? "" : "|") + (o.doc_path.empty() ? std::string("(default scene)") : o.doc_path);
+    probe("orphans", shown.empty() ? "none" : shown);
+    if (orphans_.empty()) return;
+    ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
+    ImGui::TextWrapped("Unsaved text from %s that did not close normally was kept:",
+                       orphans_.size() == 1 ? "an earlier session" : "earlier sessions");
+    ImGui::PopStyleColor();
+    for (std::size_t k = 0; k < orphans_.size() && k < 8; ++k) {
+        const Recovery::Orphan& o = orphans_[k];
+        ImGui::PushID(int(k));
+        char when[32] = "";
+        const std::time_t t = std::time_t(o.mtime);
+        if (std::tm tm {}; localtime_r(&t, &tm)) std::strftime(when, sizeof when, "%Y-%m-%d %H:%M", &tm);
+        const std::string name = o.doc_path.empty() ? "the default scene" : o.doc_path;
+        const std::string size = o.bytes < 10240 ? std::to_string(o.bytes) + " bytes"
+                                                 : std::to_string((o.bytes + 512) / 1024) + " KB";
+        ImGui::TextWrapped("%s, %s, %s", name.c_str(), when, size.c_str());
+        const bool open = ImGui::SmallButton("Open it");
+        probe_item("button_open_orphan_" + std::to_string(k + 1));
+        ImGui::SameLine();
+        const bool drop = ImGui::SmallButton("Discard");
+        probe_item("button_discard_orphan_" + std::to_string(k + 1));
+        ImGui::PopID();
+        if (open) {
+            open_request_ = o.doc_path;
+            pending_orphan_ = o;
+            break;
+        }
+        if (drop) {
+            if (!recovery_.discard_orphan(o)) status_.set(name + ": another viewer has it open now", true);
+            orphans_.erase(orphans_.begin() + std::ptrdiff_t(k));
+            break;
+        }
+    }
+    if (orphans_.size() > 8) ImGui::TextDisabled("and %zu more", orphans_.size() - 8);
+    if (ImGui::SmallButton("Not now")) orphans_.clear();
+    ImGui::Separator();
 }
 
 void DocumentEditor::draw_banners() {
+    draw_orphans();
+    probe("held_elsewhere", std::to_string(held_elsewhere_));
+    if (held_elsewhere_ != 0) {
+        ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
+        ImGui::TextWrapped("Another viewer (pid %ld) has this file open: no recovery copy is kept here until it closes.",
+                           held_elsewhere_);
+        ImGui::PopStyleColor();
+        ImGui::Separator();
+    }
     probe("banner", recovery_offer_ ? "recovery" : doc_.disk_conflict() ? "conflict" : "none");
     if (recovery_offer_) {
         ImGui::PushStyleColor(ImGuiCol_Text, kWarnColour);
@@ -194,6 +307,9 @@ void DocumentEditor::draw_banners() {
             doc_.restore_draft(recovered_text_);
             recovered_text_.clear();
             recovery_offer_ = false;
+            // (Another slot's copy: its text is this viewer's now, kept in its own copy.)
+            if (offered_orphan_) recovery_.discard_orphan(*offered_orphan_);
+            offered_orphan_.reset();
             want_tab_ = true;
             status_.set("Restored the unsaved text into the editor (Ctrl+Enter applies it, Ctrl+Z undoes)");
         }
@@ -201,7 +317,9 @@ void DocumentEditor::draw_banners() {
         if (ImGui::Button("Discard it")) {
             if (recovery_write_.valid()) recovery_write_.wait();
             recovery_busy();
-            recovery_.discard(doc_.path());
+            if (offered_orphan_) recovery_.discard_orphan(*offered_orphan_);
+            else recovery_.discard(doc_.path());
+            offered_orphan_.reset();
             recovered_text_.clear();
             recovery_offer_ = false;
         }
@@ -295,12 +413,16 @@ void DocumentEditor::draw_text_toolbar() {
     if (ImGui::Button("Apply (Ctrl+Enter)")) apply();
     ImGui::EndDisabled();
     same_line_if_fits("Revert");
-    ImGui::BeginDisabled(!doc_.editor_dirty() && !doc_.text_behind());
-    if (ImGui::Button("Revert")) doc_.revert_text();
+    ImGui::BeginDisabled(!doc_.unapplied() && !doc_.text_behind());
+    const bool revert = ImGui::Button("Revert");
+    probe_item("button_revert");
+    if (revert) doc_.revert_text();
     ImGui::EndDisabled();
-    const char* state = doc_.editor_dirty() ? "unapplied changes" : "text = scene";
+    // (A file opened with errors is the file as it is, not changes of the user's.)
+    const bool unapplied = doc_.unapplied();
+    const char* state = unapplied ? "unapplied changes" : doc_.has_scene() ? "text = scene" : "no scene yet: fix the errors";
     same_line_if_fits(state);
-    ImGui::TextColored(doc_.editor_dirty() ? kWarnColour : kOkColour, "%s", state);
+    ImGui::TextColored(unapplied || !doc_.has_scene() ? kWarnColour : kOkColour, "%s", state);
     same_line_if_fits("wrap", ImGui::GetFrameHeight() + ImGui::GetStyle().ItemInnerSpacing.x);
     bool wrap = widget_.wrap();
     if (ImGui::Checkbox("wrap", &wrap)) widget_.set_wrap(wrap);

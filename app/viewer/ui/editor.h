@@ -47,6 +47,13 @@ public:
     // that text. Looked for after replaced() off the UI thread: a later tick shows it.
     bool recovery_offered() const { return recovery_offer_; }
     const std::string& recovered_text() const { return recovered_text_; }
+    // A document the user chose to open from the list of earlier sessions' copies (its
+    // path; "" for the default scene), once.
+    std::optional<std::string> take_open_request() {
+        std::optional<std::string> r = std::move(open_request_);
+        open_request_.reset();
+        return r;
+    }
 
     // The editor: show it focused, with the cursor at a byte offset (or where it was).
     void focus(int cursor = -1);
@@ -91,6 +98,18 @@ private:
     void settle_recovery_find();   // waits for the read and takes it in
     bool recovery_offer_ = false;  // a previous session's unsaved text is waiting
     std::string recovered_text_;
+    // Another live viewer has this document open (its pid; 0: none): its copy is its own.
+    long held_elsewhere_ = 0;
+    void claim_document();         // takes the document's lock, then looks for a copy
+    // Copies of other documents left by sessions that ended without closing, found at
+    // start (the list offers to open them), and the one chosen.
+    std::vector<Recovery::Orphan> orphans_;
+    bool orphans_looked_ = false;
+    std::optional<std::string> open_request_;
+    // The copy chosen with "Open it", until its document is open, and then while it is
+    // on offer when it is not the one find() reads (another viewer's default scene).
+    std::optional<Recovery::Orphan> pending_orphan_, offered_orphan_;
+    void draw_orphans();
 
     TextEditor widget_;
     std::vector<rt::Diagnostic> marked_;  // the diagnostics the widget's gutter shows

@@ -174,7 +174,15 @@ FileDialog::Result FileDialog::draw(const char* button) {
     draw_folder_row();
     draw_entries(result);
     if (draw_name_field()) result = choose(typed_);
-    if (!message_.empty()) ImGui::TextColored(kErrorColour, "%s", message_.c_str());
+    if (!message_.empty()) {
+        // (Wrapped at the entries' width: a long path would widen the dialog.)
+        ImGui::PushStyleColor(ImGuiCol_Text, kErrorColour);
+        ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetFontSize() * 36);
+        ImGui::TextWrapped("%s", message_.c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::PopStyleColor();
+    }
+    probe("browser_message", message_.empty() ? "none" : message_);
     if (!confirm_replace_.empty() && browser_->resolve(typed_) == confirm_replace_) {
         probe("browser_confirm", confirm_replace_);
         ImGui::TextColored(ImVec4(1.0f, 0.80f, 0.35f, 1.0f), "%s exists: %s again (or Enter) replaces it.",

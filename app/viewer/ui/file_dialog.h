@@ -23,6 +23,13 @@ public:
     // (the caller closes it).
     Result draw(const char* button);
     const std::string& path() const { return chosen_; }
+    // The chosen path could not be used (`message` says why): the dialog stays, with
+    // the path as typed, and shows the message.
+    void refuse(const std::string& message) {
+        message_ = message;
+        confirm_replace_.clear();
+        focus_field_ = true;
+    }
 
 private:
     void draw_folder_row();

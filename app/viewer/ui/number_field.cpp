@@ -24,7 +24,17 @@ struct Typing {
     int frames = 0;        // frames since typing began (the text field takes a frame to activate)
     bool had_focus = false;
     std::string refusal;   // the last refused text's message, until taken
+    bool refusal_error = true;  // else a note
+    std::string refusal_label;  // the field's label
 } g_typing;
+
+// The message when a typed value is brought into the field's range.
+std::string range_note(const char* label, double typed, double now, double old, const std::string& range) {
+    const char* end = ImGui::FindRenderedTextEnd(label);
+    std::string text = std::string(label, end) + (end == label ? "" : " ");
+    text += rt::format_number(typed) + " is " + range + ": ";
+    return text + (now == old ? "it stays " : "set to ") + rt::format_number(now);
+}
 
 bool starts_typing() {
     const ImGuiIO& io = ImGui::GetIO();
@@ -47,14 +57,25 @@ bool typed_field(const char* label, double* v, const NumberFieldSpec& spec) {
     const bool left = (t.had_focus && !active) || (!t.had_focus && t.frames > 3);
     if (!enter && !left && !escape) return false;
     const std::string text = t.text;
-    t = Typing{0, {}, 0, false, t.refusal};
+    t = Typing{0, {}, 0, false, t.refusal, t.refusal_error, t.refusal_label};
     if (escape) return false;
     double x = 0;
     if (const rt::Status st = parse_typed_number(text, x); !st) {
         t.refusal = st.message();
+        t.refusal_error = true;
+        t.refusal_label = label;
         return false;
     }
-    if (spec.clamp_typed && spec.min && spec.max) x = std::clamp(x, *spec.min, *spec.max);
+    auto note = [&](double now, const std::string& range) {
+        t.refusal = range_note(label, x, now, *v, range);
+        t.refusal_error = false;
+        t.refusal_label = label;
+        x = now;
+    };
+    if (spec.clamp_typed && spec.min && spec.max && (x < *spec.min || x > *spec.max))
+        note(std::clamp(x, *spec.min, *spec.max),
+             "outside " + rt::format_number(*spec.min) + ".." + rt::format_number(*spec.max));
+    if (spec.least && x < *spec.least) note(*spec.least, "below the least value, " + rt::format_number(*spec.least));
     if (x == *v) return false;
     *v = x;
     return true;
@@ -71,13 +92,20 @@ bool number_field(const char* label, double* v, const NumberFieldSpec& spec) {
         return changed;
     }
     const ImGuiSliderFlags flags = ImGuiSliderFlags_NoInput | (spec.clamp_typed ? ImGuiSliderFlags_AlwaysClamp : 0);
-    const bool changed = spec.slider && spec.min && spec.max
+    // A slider takes the value under the pointer in the frame it is clicked (1.86's
+    // SliderBehavior, even with NoInput): a Ctrl+click that opens the text field must
+    // not have moved it, so the value as it was is kept for that case.
+    const double before = *v;
+    bool changed = spec.slider && spec.min && spec.max
                              ? ImGui::SliderScalar(label, ImGuiDataType_Double, v, spec.min, spec.max, spec.format, flags)
                              : ImGui::DragScalar(label, ImGuiDataType_Double, v, spec.speed, spec.min, spec.max,
                                                  spec.format, flags);
     if (starts_typing()) {
         ImGui::ClearActiveID();  // the click is the typing's, not the start of a drag
-        g_typing = Typing{id, rt::format_number(*v), 0, false, g_typing.refusal};
+        *v = before;
+        changed = false;
+        g_typing = Typing{id, rt::format_number(*v), 0, false, g_typing.refusal, g_typing.refusal_error,
+                          g_typing.refusal_label};
     } else if (ImGui::IsItemHovered() && !ImGui::IsItemActive()) {
         ImGui::SetTooltip(spec.slider ? "Drag, or Ctrl+click to type a value" : "Drag, or Ctrl+click (double-click) to type a value");
     }
@@ -109,10 +137,12 @@ bool number_fields(const char* label, double* v, int n, const NumberFieldSpec& s
 
 bool number_typing() { return g_typing.id != 0; }
 
-bool take_number_refusal(std::string& message) {
+bool take_number_refusal(std::string& message, bool* error, std::string* label) {
     if (g_typing.refusal.empty()) return false;
     message = std::move(g_typing.refusal);
     g_typing.refusal.clear();
+    if (error) *error = g_typing.refusal_error;
+    if (label) *label = std::string(g_typing.refusal_label.c_str(), ImGui::FindRenderedTextEnd(g_typing.refusal_label.c_str()));
     return true;
 }
 

@@ -14,7 +14,8 @@ struct NumberFieldSpec {
     const double* max = nullptr;
     const char* format = "%.3f";
     bool slider = false;            // a slider between min and max, else a drag
-    bool clamp_typed = false;       // typed values are clamped into [min, max]
+    bool clamp_typed = false;       // typed values are clamped into [min, max] (with a note)
+    const double* least = nullptr;  // typed values below it become it (with a note)
 };
 
 // One number, labelled; true when *v changed this frame.
@@ -23,7 +24,9 @@ bool number_field(const char* label, double* v, const NumberFieldSpec& spec);
 bool number_fields(const char* label, double* v, int n, const NumberFieldSpec& spec);
 // Whether a field is being typed into (its value is not yet applied).
 bool number_typing();
-// The message for typed text that was refused since the last call, if any.
-bool take_number_refusal(std::string& message);
+// The message for typed text that was refused since the last call, if any (`error`
+// false: a note, as for a value brought into the field's range); `label`: the label of
+// the field it was typed into.
+bool take_number_refusal(std::string& message, bool* error = nullptr, std::string* label = nullptr);
 
 }  // namespace rtview

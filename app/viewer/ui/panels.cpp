@@ -87,6 +87,7 @@ void Panels::draw_sidebar() {
             std::string label = names[t];
             if (t == Text && (doc.editor_dirty() || doc.has_errors()))
                 label += doc.has_errors() ? " (errors)" : " (unapplied)";
+            if (t == Text) probe("text_tab", label);
             label += "###tab" + std::to_string(t);  // stable ID while the label changes
             const bool shown = ImGui::BeginTabItem(label.c_str(), nullptr, tf);
             probe_item(std::string("tab_") + names[t]);

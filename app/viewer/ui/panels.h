@@ -4,6 +4,7 @@
 // the navigator (the view) and Commands.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -93,6 +94,10 @@ private:
         ItemRef selection;
         std::string field, text;
         bool error = false;
+        std::string sub;  // a key inside the field (a material's) that the message is about
+        // The field's value the message is about: once the value changes otherwise (the
+        // text, an undo), the message has gone stale and goes.
+        std::optional<FieldValue> value;
     } field_message_;
     // The material field whose texture the file browser is choosing.
     struct TextureTarget {

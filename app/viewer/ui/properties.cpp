@@ -68,7 +68,39 @@ bool texture_field(const char* id, const rt::schema::Key<rt::Material>& k, rt::M
 // above 1 are legal, the renderer normalises them: Ctrl+click to type one), clamped
 // keys within their clamp, colours with a picker, the texture's file name
 // (texture_field). Labels are the format's key names.
-bool material_editor(const char* id, rt::Material& m, bool& browse) {
+// A message for a typed value just came: once drawn, it is scrolled into sight if the
+// panel's edge cuts it off (the field typed into may be the last one showing).
+bool g_new_message = false;
+void scroll_to_new_message() {
+    if (!g_new_message) return;
+    g_new_message = false;
+    if (ImGui::GetItemRectMax().y > ImGui::GetWindowPos().y + ImGui::GetWindowHeight()) ImGui::SetScrollHereY(1.0f);
+}
+
+// The format's weights are 0 or more; the parser takes a negative one as written, so
+// the panel says so.
+void negative_weights_note(const char* id, const rt::Material& m) {
+    std::string negative;
+    for (const auto& [name, w] : {std::pair<const char*, double>{"reflection", m.reflection},
+                                  {"refraction", m.refraction}, {"scattering", m.scattering}})
+        if (w < 0) negative += (negative.empty() ? "" : ", ") + std::string(name);
+    if (negative.empty()) return;
+    const std::string text = negative + (negative.find(',') == std::string::npos ? " is" : " are") +
+                             " negative: weights are 0 or more (the picture is not what the format means)";
+    wrapped_coloured(kWarnColour, text);
+    probe(std::string("weights_") + id, text);
+}
+
+// `note_key`: the key whose field shows `note` under it (a typed value refused or
+// brought into range), in red if `note_error`. `browse`: the texture's browse button
+// was pressed.
+bool material_editor(const char* id, rt::Material& m, bool& browse, const std::string& note_key = {},
+                     const std::string& note = {}, bool note_error = false) {
+    auto show_note = [&](const std::string& key) {
+        if (note.empty() || key != note_key) return;
+        wrapped_coloured(note_error ? kErrorColour : kWarnColour, note);
+        scroll_to_new_message();
+    };
     namespace sc = rt::schema;
     ImGui::PushID(id);
     bool changed = false;
@@ -110,6 +142,8 @@ bool material_editor(const char* id, rt::Material& m, bool& browse) {
             spec.clamp_typed = true;
             changed |= number_field(label.c_str(), &v, spec);
             probe_item(std::string("field_") + id + "_" + label);
+            probe(std::string("value_") + id + "_" + label, rt::format_number(v));
+            show_note(label);
             continue;
         }
         const bool clamped = k.range.rule == sc::Range::Rule::Clamp;
@@ -120,8 +154,14 @@ bool material_editor(const char* id, rt::Material& m, bool& browse) {
         spec.min = &lo;
         spec.max = &hi;
         spec.clamp_typed = clamped && k.range.max <= lo + 1;
+        // A typed value under the format's least (a refractive index below 1) is
+        // raised to it, as the parser would, and the field says so.
+        spec.least = clamped ? &k.range.min : nullptr;
         changed |= number_field(label.c_str(), &v, spec);
-        if (clamped && v < k.range.min) v = k.range.min;
+        probe_item(std::string("field_") + id + "_" + label);
+        probe(std::string("value_") + id + "_" + label, rt::format_number(v));
+        show_note(label);
+        if (label == "scattering") negative_weights_note(id, m);  // under the three weights
     }
     double sum = m.reflection + m.refraction + m.scattering;
     if (sum != 0)
@@ -131,6 +171,12 @@ bool material_editor(const char* id, rt::Material& m, bool& browse) {
         wrapped_coloured(kWarnColour, "all weights 0: the surface renders black");
     ImGui::PopID();
     return changed;
+}
+
+// Whether two values of a field are the same (what a message about the field is about).
+bool same_value(const FieldValue& a, const FieldValue& b) {
+    return a.number == b.number && a.vec == b.vec && a.choice == b.choice && a.material == b.material &&
+           a.has_material == b.has_material && a.operand == b.operand && a.text == b.text;
 }
 
 }  // namespace
@@ -217,6 +263,11 @@ void Panels::draw_fields(const ItemRef& ref) {
         if (!cur) continue;
         shown += (shown.empty() ? "" : ",") + f.label;
         FieldValue v = *cur;
+        if (field_message_.field == f.label) {
+            // (A message set with an edit is about the value the edit left: the next frame's.)
+            if (!field_message_.value) field_message_.value = *cur;
+            else if (!same_value(*field_message_.value, *cur)) field_message_ = {};
+        }
         ImGui::PushID(f.label.c_str());
         ImGui::PushItemWidth(-(label_w + ImGui::GetStyle().ItemInnerSpacing.x + 2));
         const bool changed = draw_field(ref, f, v, size, vec_format, operand);
@@ -232,16 +283,28 @@ void Panels::draw_fields(const ItemRef& ref) {
                 probe("value_" + f.label, rt::format_number(cur->vec.x) + " " + rt::format_number(cur->vec.y) + " " +
                                               rt::format_number(cur->vec.z));
         }
-        if (std::string refused; take_number_refusal(refused)) field_message_ = {selection_, f.label, refused, true};
+        bool error = true, noted = false;
+        if (std::string refused, label; take_number_refusal(refused, &error, &label)) {
+            // (A material's own keys are typed into inside the "material" field.)
+            const bool inner = !label.empty() && label != f.label;
+            if (inner && refused.compare(0, label.size() + 1, label + " ") != 0) refused = label + ": " + refused;
+            field_message_ = {selection_, f.label, refused, error, inner ? label : std::string(), *cur};
+            noted = !error;
+            g_new_message = true;
+        }
         if (changed) {
             const FieldResult r = set_field(doc, ref, f, v);
-            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true};
+            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true, {}, *cur};
             // (A material's own warning is shown by its editor already.)
-            else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false};
-            else if (field_message_.field == f.label) field_message_ = {};
+            else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false, {}, {}};
+            else if (field_message_.field == f.label && (field_message_.error || !noted)) field_message_ = {};
+            else if (field_message_.field == f.label) field_message_.value.reset();  // about the value set
         }
         if (field_message_.field == f.label && !field_message_.text.empty()) {
-            wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+            if (field_message_.sub.empty()) {
+                wrapped_coloured(field_message_.error ? kErrorColour : kWarnColour, field_message_.text);
+                scroll_to_new_message();
+            }
             probe("field_message", f.label + ": " + field_message_.text);
         }
         ImGui::PopID();
@@ -297,7 +360,10 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
             ImGui::Separator();
             ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
             bool browse = false;
-            changed = material_editor(f.label.c_str(), v.material, browse);
+            // A message about one of its keys shows under that key's field.
+            const bool note = field_message_.field == f.label && !field_message_.sub.empty();
+            changed = material_editor(f.label.c_str(), v.material, browse, note ? field_message_.sub : std::string(),
+                                      note ? field_message_.text : std::string(), field_message_.error);
             if (browse) {
                 // The browser starts at the texture's file, else in the scene's folder;
                 // its answer comes back as set_texture().

@@ -183,7 +183,7 @@ void Panels::draw_status_bar(const LoadStatus& load) {
                               render_.last_preview_block());
             const char* shown = render_.showing_preview() ? preview : state;
             // Over the picture: the readout of the pixel under the cursor instead of the
-            // statistics and the last message.
+            // statistics; the last message stays beside it (a screenshot's path, an error).
             char line[512];
             const char* unit = p.refining >= 0 ? "" : "spp  ";  // (an adaptive bar counts pixels)
             if (!tools_.readout_line().empty())
@@ -191,8 +191,7 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             else
                 std::snprintf(line, sizeof line, "%s%.2f Mrays/s  %.1f s  %s  |  %s", unit, rate / 1e6, elapsed, shown,
                               layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
-            // An error stays beside the readout: it must be read, not hidden by a hover.
-            status_text(line, tools_.readout_line().empty() || status_.error());
+            status_text(line, true);
         }
     }
     ImGui::End();
@@ -200,15 +199,16 @@ void Panels::draw_status_bar(const LoadStatus& load) {
 }
 
 // The rows below the first that the status bar's usual contents need in a window
-// `width` wide: the statistics with the message (the current one, and one of the usual
-// length, so that the next message rarely changes the bar's height), or a readout.
+// `width` wide: the statistics, or a readout, with the message (the current one, and one
+// of the usual length, so that the next message rarely changes the bar's height).
 float Panels::usual_status_extra(float width) const {
     const float left = kStatusPadding.x, right = width - kStatusPadding.x, x = status_text_x();
     StatusLine typical;
     typical.set("The scene camera is now the view (Ctrl+Z undoes)");
     return std::max({flow_status(with_message(status_, usual_stats()), x, left, right, false),
                      flow_status(with_message(typical, usual_stats()), x, left, right, false),
-                     flow_status(usual_readout(), x, left, right, false)});
+                     flow_status(with_message(status_, usual_readout()), x, left, right, false),
+                     flow_status(with_message(typical, usual_readout()), x, left, right, false)});
 }
 
 // The status bar's height in a window `width` wide: what its usual contents need

@@ -8,7 +8,7 @@
 . "$(dirname "$0")/lib.sh" "$@"
 
 RECOVERY=$XDG_STATE_HOME/raytracer-view/recovery
-copies() { find "$RECOVERY" -type f 2>/dev/null | wc -l; }
+copies() { find "$RECOVERY" -type f ! -name '*.lock' 2>/dev/null | wc -l; }
 
 step "type into a.txt and wait for the recovery copy"
 cp "$SCENES/default.txt" "$OUT/a.txt"

@@ -23,14 +23,17 @@ wait_state browser_field "^active$"
 key ctrl+a
 type_text "$OUT/no/such/folder/x.txt"
 key Return
+# (The dialog stays, with the path, to be corrected: Escape gives up.)
+wait_state browser_message "Cannot save" 30
+key Escape
 wait_state popups "^none$"
 rest_on_picture 5
 idle 2
-wait_state status_bar "Save failed" 1
+wait_state status_bar "Cannot save $OUT/no/such/folder/x.txt" 1
 wait_state readout "spp" 1
 rest_on_picture -40
 idle 1
-wait_state status_bar "Save failed" 1
+wait_state status_bar "Cannot save $OUT/no/such/folder/x.txt" 1
 shot 1-save-failed
 
 open_file() {

@@ -92,6 +92,7 @@ picture_agrees saved
 
 step "an error typed again, then Ctrl+Q: Save, Save it anyway: the text is saved and the window closes"
 key ctrl+e
+wait_state editor_grid "." 10
 read -r x y <<< "$(editor_xy 6 15 0.9)"
 click "$x" "$y"
 wait_state editor_cursor "^6 [0-9]+ focused$"
