@@ -409,7 +409,7 @@ bool Panels::set_texture(const std::string& path) {
         const FieldResult r = set_field(doc, ref, f, *v);
         doc.commit();  // one undo step
         if (!r.status) {
-            field_message_ = {ref, f.label, r.status.message(), true};
+            field_message_ = {ref, f.label, r.status.message(), true, {}, {}};
             return false;
         }
         if (field_message_.field == f.label) field_message_ = {};

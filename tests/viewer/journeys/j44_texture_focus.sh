@@ -13,7 +13,7 @@
 # again and the picture follows it; the focus distance is the
 # model's; the rendered file equals raytracer's render of the saved scene, byte for
 # byte.
-# Usage: j38_texture_focus.sh BIN_DIR OUT_DIR
+# Usage: j44_texture_focus.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
 # A pyramid: two faces of an MTL colour with a highlight, two textured.
