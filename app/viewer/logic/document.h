@@ -197,12 +197,17 @@ public:
     std::uint64_t saved_hash() const { return saved_hash_; }
 
     // --- the file on disk ------------------------------------------------------
-    enum class DiskEvent { None, Reloaded, Conflict, Removed, ModelsReloaded, ModelUnreadable };
+    enum class DiskEvent { None, Reloaded, Conflict, Removed, ModelsReloaded, ModelUnreadable, IncludesReloaded, IncludeUnreadable };
     // Call now and then (the viewer: once a second). Reloads by itself when there
     // are no unsaved edits (looking around is not an edit: the view camera lives
     // outside the document); reports a conflict otherwise. A model file a mesh names
     // that changed is read again (the text stays: ModelsReloaded); if it no longer
     // reads, the scene keeps the model as it was (ModelUnreadable, model_problem()).
+    // So is a file the scene includes (IncludesReloaded; IncludeUnreadable, with
+    // model_problem() saying why), whether or not the scene file has unsaved edits (they
+    // are in its own text, which stays), once no draft or gesture is pending. When the
+    // number of items changed, the undo history is dropped (its steps name items by
+    // their place in the scene).
     // The models read for this document's scenes, kept between parses (and shared
     // with the loader, which reads them in the background).
     rt::ModelStore& models() const { return *models_; }
@@ -229,6 +234,9 @@ private:
     rt::Scene scene_before_edit() const;  // (a copy: only for the slow paths)
     rt::Scene scene_before_edit_from(const DocStep& step) const;
     bool reads_back(const DocStep& step, bool wide) const;
+    // Why the step cannot be written into this file's text (it changes an item read from
+    // an included file); empty if it can.
+    std::string included_edit(const DocStep& step, bool wide) const;
     bool commit_in_place(DocStep& step);
     bool commit_generic(DocStep& step);
     void record(DocStep step);
@@ -250,6 +258,9 @@ private:
     void reload_text(const std::string& text);
     // The scene's models read again if one changed on disk; true if the scene changed.
     bool reload_models();
+    // The same for the files the scene includes (check_disk()).
+    bool reload_includes();
+    std::vector<FileStamp> include_tried_;  // the included files as a failed reload found them
     void restore_object(std::size_t i, const rt::Object& o);  // an undo step's object, with today's model
     // The editor text changed by `s` (forward: as made or redone; else undone): a new
     // text version, whose changes text_changes_since() gives.

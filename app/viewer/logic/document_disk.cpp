@@ -132,8 +132,43 @@ bool Document::reload_models() {
     return true;
 }
 
+bool Document::reload_includes() {
+    if (!has_scene_ || held_ || editor_dirty() || behind_ || scene_.files_read.empty()) return false;
+    std::vector<FileStamp> now;
+    bool changed = false;
+    for (const rt::FileRead& f : scene_.files_read) {
+        now.push_back(FileStamp::of(f.path));
+        const FileStamp& st = now.back();
+        changed = changed || !st.exists || st.mtime_ns != f.mtime_ns || st.size != f.size || st.inode != f.inode;
+    }
+    if (!changed || now == include_tried_) return false;
+    // The scene file's text is the scene's (no draft): read with the files as they are now.
+    rt::ParseResult r = rt::parse_scene(editor_, parse_options(path_));
+    if (!r.ok()) {
+        include_tried_ = std::move(now);
+        model_problem_.clear();
+        for (const rt::Diagnostic& d : r.diagnostics)
+            if (d.is_error() && model_problem_.empty()) model_problem_ = rt::format_diagnostic(name_, d);
+        if (model_problem_.empty()) model_problem_ = "the reading was cancelled";
+        return true;
+    }
+    include_tried_.clear();
+    model_problem_.clear();
+    // The steps of the undo history name items by their place in the scene: with items
+    // come or gone before the scene file's own, they would name the wrong ones.
+    if (r.scene.objects.size() != scene_.objects.size() || r.scene.planes.size() != scene_.planes.size() ||
+        r.scene.lights.size() != scene_.lights.size())
+        history_.clear();
+    scene_ = std::move(r.scene);
+    layout_.reset();
+    ++scene_version_;
+    this->changed(rt::SceneDelta::all());
+    return true;
+}
+
 Document::DiskEvent Document::check_disk() {
     if (reload_models()) return model_problem_.empty() ? DiskEvent::ModelsReloaded : DiskEvent::ModelUnreadable;
+    if (reload_includes()) return model_problem_.empty() ? DiskEvent::IncludesReloaded : DiskEvent::IncludeUnreadable;
     if (path_.empty() || held_) return DiskEvent::None;  // not in the middle of a gesture
     FileStamp st = FileStamp::of(path_);
     if (st == stamp_) return DiskEvent::None;

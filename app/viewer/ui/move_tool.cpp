@@ -9,6 +9,7 @@
 #include "item_fields.h"
 #include "pacing.h"
 #include "scene_edits.h"
+#include "scene_text.h"
 
 namespace rtview {
 
@@ -30,6 +31,13 @@ ImU32 axis_colour(int k, bool hot) {
 }
 
 }  // namespace
+
+bool included(const rt::Scene& scene, const SceneItem& item) {
+    const ItemList list = item.kind == SceneItem::Kind::Object  ? ItemList::Object
+                          : item.kind == SceneItem::Kind::Plane ? ItemList::Plane
+                                                                : ItemList::Light;
+    return item.index >= 0 && included_file(scene, list, std::size_t(item.index)) != nullptr;
+}
 
 std::optional<SceneItem> item_of_selection(const ItemRef& s) {
     if (s.none()) return std::nullopt;
@@ -99,7 +107,7 @@ bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView&
     }
     hover_ = HandlePart::None;
     std::optional<SceneItem> item = item_of_selection(sel);
-    if (!usable || !item || !doc.has_scene() || doc.edit_held()) return false;
+    if (!usable || !item || !doc.has_scene() || doc.edit_held() || included(doc.scene(), *item)) return false;
     std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item, sel.path);
     if (!anchor) return false;
     HandleShape h = handle_shape(view, *anchor, kArrow * s);
@@ -205,7 +213,7 @@ void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const Ren
 bool MoveTool::over_handle(const Document& doc, const ItemRef& sel, const ScreenView& view, double x,
                            double y) const {
     std::optional<SceneItem> item = item_of_selection(sel);
-    if (!item || !doc.has_scene()) return false;
+    if (!item || !doc.has_scene() || included(doc.scene(), *item)) return false;
     std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item, sel.path);
     if (!anchor) return false;
     const double s = ImGui::GetFontSize() / 13.0;
@@ -258,7 +266,7 @@ void MoveTool::draw(const Document& doc, const ItemRef& sel, const ScreenView& v
     std::optional<SceneItem> item = item_of_selection(sel);
     std::optional<rt::Vec3> anchor;
     if (drag_) anchor = drag_->drag.anchor() + drag_->last;
-    else if (item) anchor = item_anchor(doc.scene(), *item, sel.path);
+    else if (item && !included(doc.scene(), *item)) anchor = item_anchor(doc.scene(), *item, sel.path);
     if (anchor) {
         HandleShape h = handle_shape(view, *anchor, kArrow * s);
         if (h.visible) {

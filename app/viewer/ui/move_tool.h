@@ -96,5 +96,7 @@ private:
 
 // The document item a selection edits (a CSG operand: its top-level object).
 std::optional<SceneItem> item_of_selection(const ItemRef& s);
+// Whether the item was read from an included file (it has no handle: read only).
+bool included(const rt::Scene& scene, const SceneItem& item);
 
 }  // namespace rtview
