@@ -101,3 +101,147 @@ TEST_CASE("framing: the scene's size and F's box follow the transforms") {
     CHECK(scene_extent(in) == doctest::Approx(std::sqrt(3.0) * 4).epsilon(1e-6));
     CHECK(near(*item_anchor(in, kFirst), {2, 2, 12}, 1e-6));
 }
+
+// ---- turn and size handles ------------------------------------------------------
+
+#include "transform_handle.h"
+
+namespace {
+
+// Looking straight down -z from (0 0 10), y up on screen: x to the right, y up. A film
+// of 801 x 801 in an image of 801 x 801: the anchor (0 0 0) is at film coordinate
+// 400.5, drawn at that texel's centre (viewport.h): window (401, 401).
+ScreenView top_view() {
+    rt::Camera c;
+    c.position = {0, 0, 10};
+    c.centre = {0, 0, 0};
+    c.up = {0, 1, 0};
+    c.angle_x = 60;
+    c.angle_y = 60;
+    return ScreenView(c, Rect{0, 0, 801, 801}, 801, 801);
+}
+
+}  // namespace
+
+TEST_CASE("turn: rotations as written and back") {
+    for (Vec3 v : {Vec3{0, 0, 90}, Vec3{10, 20, 30}, Vec3{-45, 30, 170}, Vec3{90, 0, 0}, Vec3{0, -60, 0}})
+        CHECK(near(rotation_degrees(rotation_matrix(v)), v, 1e-6));
+    // Rz(90) takes x to y; Rx(90) takes y to z.
+    CHECK(near(rotation_matrix({0, 0, 90}) * Vec3{1, 0, 0}, {0, 1, 0}));
+    CHECK(near(rotation_matrix({90, 0, 0}) * Vec3{0, 1, 0}, {0, 0, 1}));
+    // About the diagonal by 120 degrees: x -> y -> z -> x.
+    const Vec3 d = rt::normalize(Vec3{1, 1, 1});
+    CHECK(near(axis_rotation(d, 120) * Vec3{1, 0, 0}, {0, 1, 0}, 1e-12));
+    CHECK(near(axis_rotation({0, 0, 1}, 90) * Vec3{1, 0, 0}, {0, 1, 0}));
+}
+
+TEST_CASE("turn: a thing turns about its handle's point, writing rotation and translate only") {
+    // The box [0,2]^3 turned 90 degrees about z through its centre (1 1 1): translate
+    // = Rz(90) (0 - (1 1 1)) + (1 1 1) = (1 -1 -1) + (1 1 1) = (2 0 0); its corner
+    // (2 0 0) goes to Rz(90)(2 0 0) + (2 0 0) = (2 2 0).
+    rt::Scene s = scene_of("box { corner_1 0 0 0 corner_2 2 2 2 }\n");
+    rt::Object o = s.objects[0];
+    const Vec3 a = *item_anchor(s, kFirst);
+    CHECK(near(a, {1, 1, 1}));
+    turn_object(o, {0, 0, 1}, 90, a);
+    CHECK(std::get<rt::Box>(o.shape).corner1 == Vec3{0, 0, 0});  // the shape's keys stay
+    CHECK(std::get<rt::Box>(o.shape).corner2 == Vec3{2, 2, 2});
+    CHECK(o.transform.get().rotation == Vec3{0, 0, 90});
+    CHECK(o.transform.get().translate == Vec3{2, 0, 0});
+    CHECK(o.transform.get().scale == Vec3{1, 1, 1});
+    CHECK(near(own_placement(o).point_to_world({2, 0, 0}), {2, 2, 0}));
+    s.objects[0] = o;
+    CHECK(near(*item_anchor(s, kFirst), {1, 1, 1}, 1e-9));
+    // Two more quarter turns about x on top: Rx(180) Rz(90), written back as angles
+    // that give the same matrix.
+    turn_object(o, {1, 0, 0}, 180, a);
+    const Mat3 want = rotation_matrix({180, 0, 0}) * rotation_matrix({0, 0, 90});
+    const Mat3 got = rotation_matrix(o.transform.get().rotation);
+    for (int i = 0; i < 3; ++i) CHECK(near(got.column(i), want.column(i), 1e-9));
+    s.objects[0] = o;
+    CHECK(near(*item_anchor(s, kFirst), {1, 1, 1}, 1e-9));
+
+    // A cylinder's ends stay as written: the turn goes into its transform.
+    s = scene_of("cylinder { end_1 0 0 0 end_2 0 0 2 radius 0.5 }\n");
+    o = s.objects[0];
+    turn_object(o, {1, 0, 0}, 90, {0, 0, 1});
+    CHECK(std::get<rt::Cylinder>(o.shape).end2 == Vec3{0, 0, 2});
+    CHECK(o.transform.get().rotation == Vec3{90, 0, 0});
+    // The top end (0 0 2) turns about x through (0 0 1): to (0 -1 1).
+    CHECK(near(own_placement(o).point_to_world({0, 0, 2}), {0, -1, 1}));
+}
+
+TEST_CASE("size: a thing sizes about its handle's point along its own axes") {
+    // A unit sphere at (1 0 0) doubled about its centre: scale 2, translate (1 0 0) -
+    // 2 (1 0 0) = (-1 0 0); its centre stays at 2 (1 0 0) + (-1 0 0) = (1 0 0), and the
+    // ray from (-10 0 0) along +x meets it at x = 1 - 2 = -1: 9 from the eye.
+    rt::Scene s = scene_of("sphere { position 1 0 0 radius 1 }\n");
+    rt::Object o = s.objects[0];
+    size_object(o, {2, 2, 2}, {1, 0, 0});
+    CHECK(std::get<rt::Sphere>(o.shape).position == Vec3{1, 0, 0});
+    CHECK(std::get<rt::Sphere>(o.shape).radius == 1);
+    CHECK(o.transform.get().scale == Vec3{2, 2, 2});
+    CHECK(o.transform.get().translate == Vec3{-1, 0, 0});
+    s.objects[0] = o;
+    CHECK(near(*item_anchor(s, kFirst), {1, 0, 0}));
+    const rt::PickResult hit = rt::pick(*rt::compile_world(s), rt::Ray{{-10, 0, 0}, {1, 0, 0}});
+    REQUIRE(hit.hit);
+    CHECK(hit.t == doctest::Approx(9));
+    // Along its own x, which a turn of 90 about z points along the world's y: the
+    // sphere becomes 3 long in y, 1 in x.
+    o = scene_of("sphere { position 0 0 0 radius 1 rotation 0 0 90 }\n").objects[0];
+    size_object(o, {3, 1, 1}, {0, 0, 0});
+    CHECK(o.transform.get().scale == Vec3{3, 1, 1});
+    s.objects[0] = o;
+    const rt::Aabb b = frame_target(*rt::compile_world(s));
+    CHECK(b.hi.y == doctest::Approx(3).epsilon(1e-6));
+    CHECK(b.hi.x == doctest::Approx(1).epsilon(1e-6));
+}
+
+TEST_CASE("turn and size drags: angles and factors from the pointer, snapped with Shift") {
+    const ScreenView v = top_view();
+    const TurnShape t = turn_shape(v, {0, 0, 0}, 90);
+    REQUIRE(t.visible);
+    CHECK(t.origin.x == doctest::Approx(401));
+    CHECK(t.origin.y == doctest::Approx(401));
+    // From above, the z ring is a circle of 90 about the middle; the x ring (in the y z
+    // plane) an upright line through it, the y ring a level one.
+    const double r45 = 90 * std::sqrt(0.5);
+    CHECK(hit_turn(t, 401 + r45, 401 - r45, 4) == HandlePart::Z);
+    CHECK(hit_turn(t, 401, 401 - 60, 4) == HandlePart::X);
+    CHECK(hit_turn(t, 401 - 60, 401, 4) == HandlePart::Y);
+    CHECK(hit_turn(t, 401 + 112.5, 401, 4) == HandlePart::Plane);
+    CHECK(hit_turn(t, 401 + 150, 401 + 150, 4) == HandlePart::None);
+
+    // z points at the eye: a counter-clockwise drag on screen from +x to +y is +90.
+    TurnDrag d(HandlePart::Z, {0, 0, 0}, v, 401 + 90, 401);
+    CHECK(d.axis() == Vec3{0, 0, 1});
+    CHECK(d.degrees(401, 401 - 90, false) == doctest::Approx(90));
+    const double c80 = 90 * std::cos(80 * 3.14159265358979 / 180), s80 = 90 * std::sin(80 * 3.14159265358979 / 180);
+    CHECK(d.degrees(401 + c80, 401 - s80, false) == doctest::Approx(80));
+    CHECK(d.degrees(401 + c80, 401 - s80, true) == 75);
+    // On round past 180 it keeps counting: to -x (180), then -y (270).
+    CHECK(d.degrees(401 - 90, 401 - 1, true) == 180);
+    CHECK(d.degrees(401, 401 + 90, true) == 270);
+    // The view circle turns about the axis towards the eye: here +z, the same way.
+    TurnDrag w(HandlePart::Plane, {0, 0, 0}, v, 401 + 112.5, 401);
+    CHECK(near(w.axis(), {0, 0, 1}, 1e-9));
+    CHECK(w.degrees(401, 401 - 112.5, true) == 90);
+
+    // Size: the x box at 90 to the right; dragged to 180, twice as long.
+    const SizeShape z = size_shape(v, {0, 0, 0}, Mat3{}, 90);
+    REQUIRE(z.axis_shown[0]);
+    CHECK_FALSE(z.axis_shown[2]);  // z points at the eye
+    CHECK(z.tip[0].x == doctest::Approx(401 + 90));
+    CHECK(z.tip[1].y == doctest::Approx(401 - 90));  // y up on screen
+    CHECK(hit_size(z, 401 + 90, 401, 4) == HandlePart::X);
+    CHECK(hit_size(z, 401, 401, 4) == HandlePart::Plane);
+    SizeDrag sx(HandlePart::X, z, 90, 401 + 90, 401);
+    CHECK(sx.factors(401 + 180, 401, false) == Vec3{2, 1, 1});
+    CHECK(sx.factors(401 + 175, 401, false).x == doctest::Approx(1.94));
+    CHECK(sx.factors(401 + 175, 401, true).x == doctest::Approx(1.9));
+    CHECK(sx.factors(401 - 300, 401, false).x == 0.01);  // never through 0
+    SizeDrag all(HandlePart::Plane, z, 90, 401, 401);
+    CHECK(all.factors(401 + 90, 401, true) == Vec3{2, 2, 2});
+    CHECK(all.factors(401 + 45, 401 + 45, true) == Vec3{1, 1, 1});  // right and down: no change
+}
