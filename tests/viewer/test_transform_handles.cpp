@@ -245,3 +245,15 @@ TEST_CASE("turn and size drags: angles and factors from the pointer, snapped wit
     CHECK(all.factors(401 + 90, 401, true) == Vec3{2, 2, 2});
     CHECK(all.factors(401 + 45, 401 + 45, true) == Vec3{1, 1, 1});  // right and down: no change
 }
+
+TEST_CASE("turn: the translate written is the one a person would write") {
+    // The default scene's tetrahedron, its middle (10.75 -3.1 0.9) kept by a quarter
+    // turn about z: translate (10.75 -3.1 0.9) - (3.1 10.75 0.9) = (7.65 -13.85 0).
+    rt::Scene s = scene_of("tetrahedron { vect1 10 -4 0  vect2 11.5 -3 0  vect3 10.2 -2.2 0  vect4 10.6 -3 1.8 }\n");
+    rt::Object o = s.objects[0];
+    const Vec3 a = *item_anchor(s, kFirst);
+    CHECK(near(a, {10.75, -3.1, 0.9}, 1e-12));
+    turn_object(o, {0, 0, 1}, 90, a);
+    CHECK(o.transform.get().translate == Vec3{7.65, -13.85, 0});
+    CHECK(o.transform.get().rotation == Vec3{0, 0, 90});
+}

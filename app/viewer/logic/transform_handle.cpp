@@ -27,8 +27,17 @@ double tidy(double v) {
     return back + 0.0;
 }
 
-// `v` on a grid of `q` (noise far below what the scene shows gone), tidied.
-double on_grid(double v, double q) { return q > 0 && std::isfinite(v / q) ? tidy(std::round(v / q) * q) : tidy(v); }
+// `v` on a grid of the power of ten at or below `q` (noise far below what the scene
+// shows gone: 7.6499999999 is 7.65), tidied.
+double on_grid(double v, double q) {
+    if (!(q > 0) || !std::isfinite(q)) return tidy(v);
+    const double e = std::floor(std::log10(q));
+    // Divided by an exact power of ten, so that the grid's multiples are the doubles
+    // nearest them.
+    const double p = std::pow(10.0, -e);
+    const double r = std::round(v * p) / p;
+    return std::isfinite(r) ? tidy(r) : tidy(v);
+}
 
 double distance_to_segment(double px, double py, ScreenPoint a, ScreenPoint b) {
     double dx = b.x - a.x, dy = b.y - a.y;
