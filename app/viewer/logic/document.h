@@ -204,8 +204,8 @@ public:
     // that changed is read again (the text stays: ModelsReloaded); if it no longer
     // reads, the scene keeps the model as it was (ModelUnreadable, model_problem()).
     // So is a file the scene includes (IncludesReloaded; IncludeUnreadable, with
-    // model_problem() saying why), whether or not the scene file has unsaved edits (they
-    // are in its own text, which stays), once no draft or gesture is pending. When the
+    // model_problem() saying why), whether or not the scene file has unsaved edits or a
+    // draft (they are in its own text, which stays), once no gesture is held. When the
     // number of items changed, the undo history is dropped (its steps name items by
     // their place in the scene).
     // The models read for this document's scenes, kept between parses (and shared
@@ -260,6 +260,8 @@ private:
     bool reload_models();
     // The same for the files the scene includes (check_disk()).
     bool reload_includes();
+    // check_disk() for the scene file itself.
+    DiskEvent check_scene_file();
     std::vector<FileStamp> include_tried_;  // the included files as a failed reload found them
     void restore_object(std::size_t i, const rt::Object& o);  // an undo step's object, with today's model
     // The editor text changed by `s` (forward: as made or redone; else undone): a new
