@@ -10,6 +10,8 @@
 #include <string>
 
 #include "document.h"
+#include "scene_edits.h"
+#include "scene_writer.h"
 #include "scene_parser.h"
 #include "scene_text.h"
 #include "viewer_test_util.h"
@@ -206,4 +208,52 @@ TEST_CASE("includes: a file included by an included file is watched too") {
     put(inner, "thing { sphere { position 2 2 2 radius 1.5 } }\n", 5);
     CHECK(d.check_disk() == Document::DiskEvent::IncludesReloaded);
     CHECK(radius_of(d.scene(), 0) == 1.5);
+}
+
+TEST_CASE("includes: structural edits work on own items, refuse included ones, and select the right item") {
+    TempDir dir;
+    put((dir / "lib.txt").string(), kLib, 0);
+    put((dir / "main.txt").string(), kMain, 0);
+    Document d;
+    REQUIRE(d.load_file((dir / "main.txt").string()).ok());
+    const std::string text = d.editor_text();
+    const rt::Scene s = d.scene();
+    // Objects: lib's sphere and box (0, 1), the own sphere (2).
+    CHECK_FALSE(delete_item(text, s, {SceneItem::Kind::Object, 0}));
+    CHECK_FALSE(duplicate_item(text, s, {SceneItem::Kind::Object, 1}));
+    CHECK_FALSE(switch_light_kind(text, s, 0));
+    CHECK_FALSE(make_csg(text, s, 2, 0, rt::CsgType::Union));
+    // The own sphere duplicated: the copy right after it, object 4 of the scene.
+    auto e = duplicate_item(text, s, {SceneItem::Kind::Object, 2});
+    REQUIRE(e);
+    CHECK(e->select.index == 3);
+    REQUIRE(d.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
+    REQUIRE(d.scene().objects.size() == 4);
+    CHECK(d.scene().objects[3].origin == 0);
+    CHECK(radius_of(d.scene(), 3) == 0.5);
+    // Deleted again: only the file's own block goes (the copy took the line's comment
+    // with it, as it does in any scene); the included items are as they were.
+    e = delete_item(d.editor_text(), d.scene(), {SceneItem::Kind::Object, 3});
+    REQUIRE(e);
+    REQUIRE(d.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
+    CHECK(d.scene() == s);
+    CHECK(d.editor_text().rfind("include \"lib.txt\"\n", 0) == 0);
+    // The own lamp switched to a spotlight.
+    e = switch_light_kind(d.editor_text(), d.scene(), 1);
+    REQUIRE(e);
+    REQUIRE(d.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text));
+    CHECK_FALSE(d.scene().lights[1].lamp);
+    CHECK(d.scene().lights[0].lamp);
+}
+
+TEST_CASE("a CSG is not offered of a mesh or an instance: the format refuses them as operands") {
+    const rt::Scene s = rt_test::parse_ok(
+        "define { object cube { box { corner_1 0 0 0 corner_2 1 1 1 } } }\n"
+        "thing { sphere { position 0 0 0 radius 1 } instance { object cube translate 3 0 0 } sphere { position 6 0 0 "
+        "radius 1 } }\ncamera { position -5 0 0 centre 0 0 0 up 0 0 1 angle_x 60 angle_y 45 }\n"
+        "picture_size { x_max 8 y_max 8 }\nend\n");
+    const std::string text = rt::write_scene(s);
+    CHECK_FALSE(make_csg(text, s, 0, 1, rt::CsgType::Union));
+    CHECK_FALSE(make_csg(text, s, 1, 2, rt::CsgType::Union));
+    CHECK(make_csg(text, s, 0, 2, rt::CsgType::Union));
 }

@@ -556,6 +556,12 @@ std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scen
     const auto block_a = l ? block_of(*l, scene, SceneItem::Kind::Object, a) : std::nullopt;
     const auto block_b = l ? block_of(*l, scene, SceneItem::Kind::Object, b) : std::nullopt;
     if (!block_a || !block_b || a == b) return std::nullopt;
+    // The format's operands are solids: no mesh, no instance (a whole CSG is defined and
+    // placed instead).
+    for (int k : {a, b}) {
+        const rt::Shape& sh = scene.objects[std::size_t(k)].shape;
+        if (std::holds_alternative<rt::Mesh>(sh) || std::holds_alternative<rt::Instance>(sh)) return std::nullopt;
+    }
     rt::Csg csg;
     csg.type = type;
     csg.operands = {scene.objects[std::size_t(a)], scene.objects[std::size_t(b)]};

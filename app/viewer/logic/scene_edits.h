@@ -82,7 +82,8 @@ std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& s
 std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene& scene, int index,
                                         const std::vector<int>& path);
 // Objects a and b (top level, a != b) become one CSG `left a, right b` at a's place,
-// with a's material (only the CSG's own material is rendered).
+// with a's material (only the CSG's own material is rendered). Nothing for a mesh or an
+// instance (the format refuses them as operands).
 std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scene, int a, int b, rt::CsgType type);
 // lamp <-> spotlight. A spotlight has no size, so the lamp's size is kept in the
 // block as a comment (`// lamp size S`) from which switching back restores it.
