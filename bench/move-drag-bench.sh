@@ -43,7 +43,8 @@ run() {
         # Select an object left of the middle, then grab the handle's view-plane square.
         for k in $(seq 0 9); do
             xdotool mousemove $((ix + iw * 37 / 100 + k * 3)) $((iy + ih * 55 / 100 + k * 2)) click 1
-            sleep 1
+            # (Up to 5 s for the frame that shows the selection: the machine may be busy.)
+            for _ in $(seq 1 50); do [ "$(field handle 3)" = object ] && break; sleep 0.1; done
             x=$(field handle 1) y=$(field handle 2)
             [ "$(field handle 3)" = object ] && break
         done

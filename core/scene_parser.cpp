@@ -840,6 +840,13 @@ private:
         return true;
     }
 
+    // An included file, as it was before it was read (a change while reading shows as
+    // one later): Scene::files_read.
+    void note_read(const std::string& path, const struct stat& st) {
+        out_.scene.files_read.push_back({path, std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
+                                         std::int64_t(st.st_size), std::uint64_t(st.st_ino)});
+    }
+
     // The items from the given counts on came from include number `origin`.
     void mark_origin(std::uint16_t origin, std::size_t objects0, std::size_t planes0, std::size_t lights0,
                      std::size_t materials0, std::size_t defined0) {
@@ -885,9 +892,7 @@ private:
             return;
         }
         Scene& scene = out_.scene;
-        // As it was before it was read: a change while reading shows as one later.
-        scene.files_read.push_back({path, std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
-                                    std::int64_t(st.st_size), std::uint64_t(st.st_ino)});
+        note_read(path, st);
         const std::size_t objects0 = scene.objects.size(), planes0 = scene.planes.size(), lights0 = scene.lights.size(),
                           materials0 = scene.materials.size(), defined0 = scene.defined.size();
         ParseOptions child_opt = opt_;

@@ -215,23 +215,18 @@ void Document::commit() {
         step.name = changed_name(step.objects_after.size(), step.planes_after.size(), step.lights_after.size(),
                                  step.camera_before.has_value(), wide, first);
     }
-    if (std::string why = included_edit(step, wide); !why.empty()) {
-        // The item is not in this file's text: Save could not keep the edit.
+    // An item an include brought is not in this file's text (Save could not keep the
+    // edit); written as it is, the text would not parse: the edit does not happen.
+    std::string why = included_edit(step, wide);
+    if (why.empty() && !reads_back(step, wide))
+        why = "the scene text cannot hold it (a number past the format's limit of 1e15, or a shape the format "
+              "refuses)";
+    if (!why.empty()) {
         scene_ = scene_before_edit_from(step);
         saved_ = {};
         ++scene_version_;
         this->changed(rt::SceneDelta::all());
         refusal_ = "The edit was undone: " + why;
-        return;
-    }
-    if (!reads_back(step, wide)) {
-        // Written as it is, the text would not parse: the edit does not happen.
-        scene_ = scene_before_edit_from(step);
-        saved_ = {};
-        ++scene_version_;
-        this->changed(rt::SceneDelta::all());
-        refusal_ = "The edit was undone: the scene text cannot hold it (a number past the format's limit of "
-                   "1e15, or a shape the format refuses)";
         return;
     }
     normalize_applied();
