@@ -104,7 +104,11 @@ void MoveTool::apply_size(Document& doc, const rt::Vec3& factors) {
 // (Shift snaps); released, one undo step.
 bool MoveTool::drag_turn_or_size(Document& doc, double mx, double my, StatusLine& status) {
     Drag& g = *drag_;
-    const bool snap = ImGui::GetIO().KeyShift;
+    // Shift as it was while the button was held: a release seen in the same frame as
+    // Shift's (a busy frame) keeps the snapping the drag had.
+    const bool held = ImGui::IsMouseDown(0);
+    if (held) g.snapping = ImGui::GetIO().KeyShift;
+    const bool snap = g.snapping;
     const bool turn = g.mode == HandleMode::Turn;
     // (Also on the frame of the release: a pointer moved and let go between two
     // frames ends where it was let go.)
@@ -115,7 +119,7 @@ bool MoveTool::drag_turn_or_size(Document& doc, double mx, double my, StatusLine
         const rt::Vec3 f = g.size->factors(mx, my, snap);
         if (!(f == g.factors) && rt::finite(f)) apply_size(doc, f);
     }
-    if (ImGui::IsMouseDown(0)) return true;
+    if (held) return true;
     const bool changed = turn ? g.degrees != 0 : !(g.factors == rt::Vec3{1, 1, 1});
     if (changed) doc.commit();
     else doc.cancel_edit();

@@ -77,6 +77,7 @@ private:
         std::optional<SizeDrag> size;
         double degrees = 0;                  // turn: as applied
         rt::Vec3 factors{1, 1, 1};           // size: as applied
+        bool snapping = false;               // Shift, as the last frame with the button held saw it
     };
     void apply(Document& doc, const rt::Vec3& d);
     // Turn and size: the object from how it was at the press.
