@@ -7,7 +7,8 @@
 # 1,000,000-sphere grid of bench/make-grid.sh 1000, say); the object dragged is the one
 # left of the picture's middle (DRAG_EVENTS=each: a process per event, as before, whose
 # loop takes ~40 % of two cores itself). Three drags each: an orbit, the move handle, and the
-# red channel of the object's material colour in the panel (a material edit a frame).
+# red channel of the object's material colour in the panel (a material edit a frame);
+# and the turn (Y, its z ring) and size (U, its middle box) handles. MODES picks some.
 #   bench/move-drag-bench.sh [BIN_DIR] [DISPLAY_NUMBER]
 #   SCENES="scenes/default.txt /tmp/grid1m.txt" RUNS=3 bench/move-drag-bench.sh
 set -euo pipefail
@@ -23,7 +24,7 @@ field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$O
 # state KEY: the last value the viewer printed for probe KEY ("x y w h" for a widget).
 state() { awk -v k="$1" '$1 == "state" && $2 == k { sub("^state " k " ?", ""); v = $0 } END { print v }' "$OUT/layout.txt"; }
 
-# run SCENE MODE: one 2 s drag (MODE orbit, move or colour); prints the pictures counted
+# run SCENE MODE: one 2 s drag (MODE orbit, move, turn, size or colour); prints the pictures counted
 # on screen and the pictures the viewer made.
 run() {
     local scene=$1 mode=$2
@@ -42,11 +43,19 @@ run() {
         # Select an object left of the middle, then grab the handle's view-plane square.
         for k in $(seq 0 9); do
             xdotool mousemove $((ix + iw * 37 / 100 + k * 3)) $((iy + ih * 55 / 100 + k * 2)) click 1
-            sleep 1
+            # (Up to 5 s for the frame that shows the selection: the machine may be busy.)
+            for _ in $(seq 1 50); do [ "$(field handle 3)" = object ] && break; sleep 0.1; done
             x=$(field handle 1) y=$(field handle 2)
             [ "$(field handle 3)" = object ] && break
         done
         [ "$x" != none ] || { echo "no handle" >&2; exit 1; }
+    fi
+    if [ "$mode" = turn ] || [ "$mode" = size ]; then
+        # The turn handle (Y): grabbed on its z ring; the size handle (U): its middle box.
+        xdotool key "$([ "$mode" = turn ] && echo y || echo u)"
+        for _ in $(seq 1 50); do [ "$(state handle_mode)" = "$mode" ] && break; sleep 0.1; done
+        [ "$(state handle_mode)" = "$mode" ] || { echo "no $mode handle" >&2; exit 1; }
+        if [ "$mode" = turn ]; then read -r x y <<< "$(state turn_ring_z)"; fi
     fi
     if [ "$mode" = colour ]; then
         # The colour is below the sliders: scroll the properties (under the outline)
@@ -82,7 +91,7 @@ run() {
 
 echo "move-drag bench, $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores, load average before: $(load)"
 for scene in ${SCENES:-"$HERE/../scenes/default.txt" "$HERE/scenes/spheres-10k.txt"}; do
-    for mode in orbit move colour; do
+    for mode in ${MODES:-orbit move turn size colour}; do
         rates=() made=()
         for _ in $(seq 1 "$RUNS"); do
             read -r c m <<< "$(run "$scene" $mode)"

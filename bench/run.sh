@@ -3,7 +3,7 @@
 # bench/scenes/ and prints a markdown table: the median wall-clock and CPU time of
 # several runs of the whole process (parse, render, write), for both programs.
 #
-#   bench/run.sh [OPTIONS] [SCENE...]      (default: all four scenes)
+#   bench/run.sh [OPTIONS] [SCENE...]      (default: all five scenes)
 #
 #   -r, --runs N       runs per measurement (default 3); the median is reported
 #   -t, --threads N    threads for both renderers (default 2)
@@ -56,7 +56,7 @@
 #   -q, --quick        160x90, 1 run, a smoke test of this script (used by CI)
 #   -h, --help         this text
 #
-# Scenes: things-like spheres-10k csg-400 glass-stack. Each renders at the size in its
+# Scenes: things-like spheres-10k csg-400 glass-stack placed. Each renders at the size in its
 # .txt file (1920x1080 or 1280x720). POV-Ray runs as in bench/README.md:
 #   povray -D -A +W<width> +H<height> +WT<threads> File_Gamma=1.0 +INAME.pov +Oout.png
 set -euo pipefail
@@ -92,7 +92,7 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-[ ${#SCENES[@]} -gt 0 ] || SCENES=(things-like spheres-10k csg-400 glass-stack)
+[ ${#SCENES[@]} -gt 0 ] || SCENES=(things-like spheres-10k csg-400 glass-stack placed)
 [[ $RUNS =~ ^[1-9][0-9]*$ ]] || { echo "run.sh: --runs must be a positive integer" >&2; exit 2; }
 [[ $THREADS =~ ^[1-9][0-9]*$ ]] || { echo "run.sh: --threads must be a positive integer" >&2; exit 2; }
 [[ $GRID =~ ^[0-9]+$ ]] && { [ "$GRID" = 0 ] || [ "$GRID" -ge 2 ]; } ||

@@ -311,7 +311,16 @@ struct Include {
     }
 };
 
+// New: a file an include read (at any depth), as it was when read, so that a program
+// showing the scene can notice that it changed (not part of the scene's value).
+struct FileRead {
+    std::string path;  // as opened
+    std::int64_t mtime_ns = 0, size = 0;
+    std::uint64_t inode = 0;
+};
+
 struct Scene {
+    std::vector<FileRead> files_read;      // New: by includes, in reading order
     std::vector<NamedMaterial> materials;  // New: every file's definitions, in reading order
     std::vector<NamedObject> defined;      // New: every file's object definitions, in reading order
     std::vector<Include> includes;         // New

@@ -865,9 +865,9 @@ private:
     // An include's file: a regular file not already being read (its id: device and
     // inode). False, with the error, otherwise.
     template <class Chain>
-    bool include_target(const std::string& name, const std::string& path, SourceLoc at, Chain chain, std::string& id) {
+    bool include_target(const std::string& name, const std::string& path, SourceLoc at, Chain chain, std::string& id,
+                        struct stat& st) {
         const std::string& shown = path;
-        struct stat st;
         if (::stat(path.c_str(), &st) != 0) {
             error_at(at, "cannot include " + quote(name) + ": " + std::strerror(errno));
             return false;
@@ -887,6 +887,13 @@ private:
             return false;
         }
         return true;
+    }
+
+    // An included file, as it was before it was read (a change while reading shows as
+    // one later): Scene::files_read.
+    void note_read(const std::string& path, const struct stat& st) {
+        out_.scene.files_read.push_back({path, std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
+                                         std::int64_t(st.st_size), std::uint64_t(st.st_ino)});
     }
 
     // The items from the given counts on came from include number `origin`.
@@ -921,7 +928,8 @@ private:
             return;
         }
         std::string id;
-        if (!include_target(name, path, at, chain, id)) return;
+        struct stat st {};
+        if (!include_target(name, path, at, chain, id, st)) return;
         std::string text;
         ReadControl control;
         control.strict = true;
@@ -933,6 +941,7 @@ private:
             return;
         }
         Scene& scene = out_.scene;
+        note_read(path, st);
         const std::size_t objects0 = scene.objects.size(), planes0 = scene.planes.size(), lights0 = scene.lights.size(),
                           materials0 = scene.materials.size(), defined0 = scene.defined.size();
         ParseOptions child_opt = opt_;

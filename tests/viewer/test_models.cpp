@@ -119,6 +119,12 @@ TEST_CASE("models: a model opened on its own keeps the materials of its MTL file
 TEST_CASE("models: the outline and the readout name a mesh") {
     CHECK(std::string(shape_name(rt::Shape{rt::Mesh{}})) == "mesh");
     CHECK(std::string(shape_name(rt::Shape{rt::Csg{}})) == "CSG union");
+    // The shapes after the first six by their own names (a box in the outline ended
+    // the program: its index fell into the CSG's branch).
+    CHECK(std::string(shape_name(rt::Shape{rt::Box{}})) == "box");
+    CHECK(std::string(shape_name(rt::Shape{rt::Cone{}})) == "cone");
+    CHECK(std::string(shape_name(rt::Shape{rt::Instance{}})) == "instance");
+    CHECK(std::string(shape_name(rt::Shape{rt::Torus{}})) == "torus");
 }
 
 TEST_CASE("models: Add model puts a mesh block on the surface picked, its size the scene's typical size") {

@@ -188,7 +188,9 @@ public:
     std::uint64_t saved_hash() const { return saved_hash_; }
 
     // --- the file on disk ------------------------------------------------------
-    enum class DiskEvent { None, Reloaded, Conflict, Removed, ModelsReloaded, ModelUnreadable, NotText };
+    enum class DiskEvent {
+        None, Reloaded, Conflict, Removed, ModelsReloaded, ModelUnreadable, NotText, IncludesReloaded, IncludeUnreadable
+    };
     // Call now and then (the viewer: once a second). Reloads by itself when there
     // are no unsaved edits (looking around is not an edit: the view camera lives
     // outside the document); reports a conflict otherwise. A model file a mesh names,
@@ -196,7 +198,11 @@ public:
     // ModelsReloaded); if it no longer reads, the scene keeps the model or texture as
     // it was (ModelUnreadable, model_problem()). A file that became no scene text at
     // all (not_scene_text(): a binary written over it) is not read in: the document
-    // stays (NotText, disk_problem()).
+    // stays (NotText, disk_problem()). So is a file the scene includes read again
+    // (IncludesReloaded; IncludeUnreadable, with model_problem() saying why), whether
+    // or not the scene file has unsaved edits or a draft (they are in its own text,
+    // which stays), once no gesture is held. When the number of items changed, the
+    // undo history is dropped (its steps name items by their place in the scene).
     // The models read for this document's scenes, kept between parses (and shared
     // with the loader, which reads them in the background), and with them the
     // textures: one decoded copy per file (models().textures()).
@@ -229,6 +235,9 @@ private:
     rt::Scene scene_before_edit() const;  // (a copy: only for the slow paths)
     rt::Scene scene_before_edit_from(const DocStep& step) const;
     bool reads_back(const DocStep& step, bool wide) const;
+    // Why the step cannot be written into this file's text (it changes an item read from
+    // an included file); empty if it can.
+    std::string included_edit(const DocStep& step, bool wide) const;
     bool commit_in_place(DocStep& step);
     bool commit_generic(DocStep& step);
     void record(DocStep step);
@@ -251,6 +260,11 @@ private:
     // The scene's models and textures read again if one changed on disk; true if the
     // scene changed.
     bool reload_models();
+    // The same for the files the scene includes (check_disk()).
+    bool reload_includes();
+    // check_disk() for the scene file itself.
+    DiskEvent check_scene_file();
+    std::vector<FileStamp> include_tried_;  // the included files as a failed reload found them
     void restore_object(std::size_t i, const rt::Object& o);  // an undo step's object, with today's model
     void restore_plane(std::size_t i, const rt::Plane& p);    // and textures
     // The material's texture as it is on disk now, if the file changed since it was read.

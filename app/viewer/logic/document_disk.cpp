@@ -173,8 +173,51 @@ bool Document::reload_models() {
     return true;
 }
 
+bool Document::reload_includes() {
+    if (!has_scene_ || held_ || scene_.files_read.empty()) return false;
+    std::vector<FileStamp> now;
+    bool changed = false;
+    for (const rt::FileRead& f : scene_.files_read) {
+        now.push_back(FileStamp::of(f.path));
+        const FileStamp& st = now.back();
+        changed = changed || !st.exists || st.mtime_ns != f.mtime_ns || st.size != f.size || st.inode != f.inode;
+    }
+    if (!changed || now == include_tried_) return false;
+    // The scene's own text (a draft stays a draft), read with the files as they are now.
+    rt::ParseResult r = rt::parse_scene(applied_text(), parse_options(path_));
+    if (!r.ok()) {
+        include_tried_ = std::move(now);
+        model_problem_.clear();
+        for (const rt::Diagnostic& d : r.diagnostics)
+            if (d.is_error() && model_problem_.empty()) model_problem_ = rt::format_diagnostic(name_, d);
+        if (model_problem_.empty()) model_problem_ = "the reading was cancelled";
+        return true;
+    }
+    include_tried_.clear();
+    model_problem_.clear();
+    // The steps of the undo history name items by their place in the scene: with items
+    // come or gone before the scene file's own, they would name the wrong ones.
+    if (r.scene.objects.size() != scene_.objects.size() || r.scene.planes.size() != scene_.planes.size() ||
+        r.scene.lights.size() != scene_.lights.size()) {
+        flush_typing();  // (typing since the last step is a step too: gone with the rest)
+        history_.clear();
+    }
+    scene_ = std::move(r.scene);
+    layout_.reset();
+    ++scene_version_;
+    this->changed(rt::SceneDelta::all());
+    return true;
+}
+
 Document::DiskEvent Document::check_disk() {
     if (reload_models()) return model_problem_.empty() ? DiskEvent::ModelsReloaded : DiskEvent::ModelUnreadable;
+    // The scene file first: reloaded, it reads its includes as they are anyway.
+    if (const DiskEvent e = check_scene_file(); e != DiskEvent::None) return e;
+    if (reload_includes()) return model_problem_.empty() ? DiskEvent::IncludesReloaded : DiskEvent::IncludeUnreadable;
+    return DiskEvent::None;
+}
+
+Document::DiskEvent Document::check_scene_file() {
     if (path_.empty() || held_) return DiskEvent::None;  // not in the middle of a gesture
     const rt::FileId st = rt::FileId::of(path_);
     if (st == stamp_) return DiskEvent::None;

@@ -215,14 +215,18 @@ void Document::commit() {
         step.name = changed_name(step.objects_after.size(), step.planes_after.size(), step.lights_after.size(),
                                  step.camera_before.has_value(), wide, first);
     }
-    if (!reads_back(step, wide)) {
-        // Written as it is, the text would not parse: the edit does not happen.
+    // An item an include brought is not in this file's text (Save could not keep the
+    // edit); written as it is, the text would not parse: the edit does not happen.
+    std::string why = included_edit(step, wide);
+    if (why.empty() && !reads_back(step, wide))
+        why = "the scene text cannot hold it (a number past the format's limit of 1e15, or a shape the format "
+              "refuses)";
+    if (!why.empty()) {
         scene_ = scene_before_edit_from(step);
         saved_ = {};
         ++scene_version_;
         this->changed(rt::SceneDelta::all());
-        refusal_ = "The edit was undone: the scene text cannot hold it (a number past the format's limit of "
-                   "1e15, or a shape the format refuses)";
+        refusal_ = "The edit was undone: " + why;
         return;
     }
     normalize_applied();
@@ -236,6 +240,51 @@ void Document::commit() {
     step.behind_after = behind_;
     if (!step.editor.empty()) text_changed(step, true);
     record(std::move(step));
+}
+
+namespace {
+
+// The items of `v` read from included files, in order.
+template <class T>
+std::vector<const T*> included_items(const std::vector<T>& v) {
+    std::vector<const T*> out;
+    for (const T& x : v)
+        if (x.origin != 0) out.push_back(&x);
+    return out;
+}
+
+template <class T>
+bool same_included(const std::vector<T>& a, const std::vector<T>& b) {
+    const std::vector<const T*> x = included_items(a), y = included_items(b);
+    if (x.size() != y.size()) return false;
+    for (std::size_t k = 0; k < x.size(); ++k)
+        if (!(*x[k] == *y[k]) || x[k]->origin != y[k]->origin) return false;
+    return true;
+}
+
+}  // namespace
+
+std::string Document::included_edit(const DocStep& step, bool wide) const {
+    if (scene_.includes.empty()) return {};
+    auto said = [this](const char* what, std::size_t i, ItemList list) {
+        const rt::Include* inc = included_file(scene_, list, i);
+        return std::string(what) + " " + std::to_string(i + 1) + " comes from the included file \"" +
+               (inc ? inc->file : std::string("?")) + "\": open that file to edit it";
+    };
+    if (wide) {
+        const rt::Scene& b = *saved_.whole;
+        if (!same_included(b.objects, scene_.objects) || !same_included(b.planes, scene_.planes) ||
+            !same_included(b.lights, scene_.lights))
+            return "it changes items that come from included files: open those files to edit them";
+        return {};
+    }
+    for (const auto& p : step.objects_before)
+        if (p.second.origin != 0) return said("object", p.first, ItemList::Object);
+    for (const auto& p : step.planes_before)
+        if (p.second.origin != 0) return said("plane", p.first, ItemList::Plane);
+    for (const auto& p : step.lights_before)
+        if (p.second.origin != 0) return said("light", p.first, ItemList::Light);
+    return {};
 }
 
 // Whether the items a step changed, written as the text will hold them, read back as
@@ -266,9 +315,15 @@ bool Document::commit_in_place(DocStep& step) {
         layout_key_ = key;
     }
     SceneLayout& l = *layout_;
-    if (!l.ok || l.objects.size() != scene_.objects.size() || l.planes.size() != scene_.planes.size() ||
-        l.lights.size() != scene_.lights.size())
-        return false;
+    // The text's blocks are the scene file's own items (those of included files are not
+    // in it): an item's block is found by its place among them.
+    if (!layout_matches(l, scene_)) return false;
+    auto span_of = [&](ItemList kind, std::size_t i) -> std::optional<TextSpan> {
+        const std::optional<std::size_t> own = own_index(scene_, kind, i);
+        const std::vector<TextSpan>& v = kind == ItemList::Object ? l.objects : kind == ItemList::Plane ? l.planes : l.lights;
+        if (!own || *own >= v.size()) return std::nullopt;
+        return v[*own];
+    };
     std::vector<TextReplacement> reps;
     rt::Scene one;  // carries a valid camera so the writer prints a normal scene
     one.camera = scene_.camera;
@@ -284,21 +339,24 @@ bool Document::commit_in_place(DocStep& step) {
     for (std::size_t k = 0; k < step.objects_after.size(); ++k) {
         const auto& p = step.objects_after[k];
         one.objects = {p.second};
-        if (!add(l.objects[p.first], ItemList::Object, patch_block(block(l.objects[p.first]), step.objects_before[k].second, p.second)))
+        const std::optional<TextSpan> span = span_of(ItemList::Object, p.first);
+        if (!span || !add(*span, ItemList::Object, patch_block(block(*span), step.objects_before[k].second, p.second)))
             return false;
     }
     one.objects.clear();
     for (std::size_t k = 0; k < step.planes_after.size(); ++k) {
         const auto& p = step.planes_after[k];
         one.planes = {p.second};
-        if (!add(l.planes[p.first], ItemList::Plane, patch_block(block(l.planes[p.first]), step.planes_before[k].second, p.second)))
+        const std::optional<TextSpan> span = span_of(ItemList::Plane, p.first);
+        if (!span || !add(*span, ItemList::Plane, patch_block(block(*span), step.planes_before[k].second, p.second)))
             return false;
     }
     one.planes.clear();
     for (std::size_t k = 0; k < step.lights_after.size(); ++k) {
         const auto& p = step.lights_after[k];
         one.lights = {p.second};
-        if (!add(l.lights[p.first], ItemList::Light, patch_block(block(l.lights[p.first]), step.lights_before[k].second, p.second)))
+        const std::optional<TextSpan> span = span_of(ItemList::Light, p.first);
+        if (!span || !add(*span, ItemList::Light, patch_block(block(*span), step.lights_before[k].second, p.second)))
             return false;
     }
     one.lights.clear();
@@ -332,7 +390,8 @@ bool Document::commit_in_place(DocStep& step) {
 bool Document::commit_generic(DocStep& step) {
     rt::Scene before = scene_before_edit_from(step);
     const std::string old_applied = applied_text();
-    std::string new_applied = has_scene_ ? sync_scene_text(old_applied, before, scene_) : rt::write_scene(scene_);
+    const rt::ParseOptions options = parse_options(path_);
+    std::string new_applied = has_scene_ ? sync_scene_text(old_applied, before, scene_, &options) : rt::write_scene(scene_);
     if (!applied_) {
         // No draft: the editor text is the applied text.
         step.made(diff_texts(editor_, new_applied), editor_);
@@ -348,7 +407,7 @@ bool Document::commit_generic(DocStep& step) {
     if (draft.ok()) {
         bool complete = false;
         rt::Scene target = carry_edit(draft.scene, before, scene_, &complete);
-        if (complete) patched = patch_scene_text(editor_, draft.scene, target);
+        if (complete) patched = patch_scene_text(editor_, draft.scene, target, &options);
     }
     if (!patched) {
         scene_ = std::move(before);

@@ -228,14 +228,23 @@ std::optional<rt::Vec3> item_anchor(const rt::Scene& scene, const SceneItem& ite
             if (i >= scene.objects.size()) return std::nullopt;
             const rt::Object* o = operand_of(scene.objects[i], path);
             if (!o) return std::nullopt;
+            // The point in the frame the shape is written in, then placed by its own
+            // transform and those of the CSGs above it.
             const rt::Shape& s = o->shape;
-            if (const auto* sp = std::get_if<rt::Sphere>(&s)) return sp->position;
-            if (const auto* t = std::get_if<rt::Torus>(&s)) return t->position;
-            rt::Scene one;
-            one.objects.assign(1, *o);
-            rt::Aabb b = rt::build_geometry(one, false).object_bounds[0];
-            if (b.empty()) return std::nullopt;
-            return b.centre();
+            rt::Vec3 local;
+            if (const auto* sp = std::get_if<rt::Sphere>(&s)) {
+                local = sp->position;
+            } else if (const auto* t = std::get_if<rt::Torus>(&s)) {
+                local = t->position;
+            } else {
+                rt::Scene one;
+                one.objects.assign(1, *o);
+                if (!std::holds_alternative<rt::Mesh>(s)) one.objects[0].transform = {};
+                rt::Aabb b = rt::build_geometry(one, false).object_bounds[0];
+                if (b.empty()) return std::nullopt;
+                local = b.centre();
+            }
+            return parent_placement(scene.objects[i], path).point_to_world(own_placement(*o).point_to_world(local));
         }
     }
     return std::nullopt;

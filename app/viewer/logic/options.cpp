@@ -144,6 +144,11 @@ rtargs::Table option_table(Options& o) {
              "select 'object N', 'plane N' or 'light N' (1-based); 'object N\n"
              "left right' selects a CSG operand below object N",
              o.select),
+        text("--handle", "MODE", "the selection's handle: move (default), turn or size (G, Y, U)", o.handle,
+             [](const std::string& v) {
+                 return v == "move" || v == "turn" || v == "size" ? rt::Status()
+                                                                  : usage("--handle must be move, turn or size");
+             }),
         text("--view-scene", "FILE",
              "write the scene exactly as the image area shows it\n"
              "(view camera, picture size = image area): `raytracer FILE`\n"
@@ -206,6 +211,12 @@ std::string help_text(bool headless_binary) {
              "  drag the handle      move the selection (its outline shows it): an arrow moves\n"
              "                       along x/y/z, the square in the view plane; Shift snaps to\n"
              "                       a grid scaled to the scene, Esc cancels; one undo step\n"
+             "  G / Y / U            the handle moves / turns / sizes the selected object:\n"
+             "                       Y: a ring turns about x/y/z, the outer circle about the\n"
+             "                       view (Shift: 15 degrees); U: a box sizes along the\n"
+             "                       object's own axis, the middle one all three (Shift:\n"
+             "                       tenths); they write rotation/scale/translate, never the\n"
+             "                       shape's own numbers\n"
              "  W A S D / Q E        fly (shift: faster)     F  frame the objects\n"
              "  R                    reset the view to the scene camera\n"
              "  Esc                  close a menu; cancel opening a file (the old scene stays)\n"

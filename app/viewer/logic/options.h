@@ -29,6 +29,7 @@ struct Options {
     FitMode fit = FitMode::Picture;
     std::string tab;          // sidebar tab to open with: objects, text or render
     std::string select;       // "object N [left|right ...]", "plane N" or "light N" (1-based), for screenshots
+    std::string handle;       // the selection's handle to start with: move (default), turn or size
     bool print_layout = false;
     std::string view_scene;   // write the scene exactly as the image region shows it
     bool verbose = false;

@@ -24,7 +24,10 @@ void grow(rt::Aabb& b, Vec3 p, double r = 0) {
     b.hi = rt::vmax(b.hi, p + Vec3{r, r, r});
 }
 
-void grow(rt::Aabb& b, const rt::Object& o) {
+void grow(rt::Aabb& b, const rt::Object& o);
+
+// The box of an object's shape as written, in the frame of its own transform.
+void grow_shape(rt::Aabb& b, const rt::Object& o) {
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
@@ -39,7 +42,8 @@ void grow(rt::Aabb& b, const rt::Object& o) {
                 grow(b, s.corner1);
                 grow(b, s.corner2);
             } else if constexpr (std::is_same_v<T, rt::Instance>) {
-                grow(b, o.transform.get().translate);
+                if (s.defined) grow(b, *s.defined);  // the definition, with its own transform
+                else grow(b, Vec3{0, 0, 0});
             } else if constexpr (std::is_same_v<T, rt::Tetrahedron>) {
                 for (const Vec3& v : s.v) grow(b, v);
             } else if constexpr (std::is_same_v<T, rt::Torus>) {
@@ -59,6 +63,19 @@ void grow(rt::Aabb& b, const rt::Object& o) {
             }
         },
         o.shape);
+}
+
+// The box of an object where its transform puts it (a mesh's keys place it itself).
+void grow(rt::Aabb& b, const rt::Object& o) {
+    if (!o.transform.set() && !std::holds_alternative<rt::Instance>(o.shape)) return grow_shape(b, o);
+    if (std::holds_alternative<rt::Mesh>(o.shape)) return grow_shape(b, o);
+    rt::Aabb local;
+    grow_shape(local, o);
+    if (local.lo.x > local.hi.x) return;
+    const rt::Transform& t = o.transform.get();
+    const rt::Aabb w = rt::MeshInstance::make(t.translate, t.scale, t.rotation).world_bounds(local);
+    grow(b, w.lo);
+    grow(b, w.hi);
 }
 
 }  // namespace

@@ -3,27 +3,37 @@
 
 #include <cmath>
 #include <cstdio>
+#include <type_traits>
+#include <variant>
 
 #include "camera.h"
 
 namespace rtview {
 
 const char* shape_name(const rt::Shape& s) {
-    switch (s.index()) {
-        case 0: return "sphere";
-        case 1: return "tetrahedron";
-        case 2: return "cylinder";
-        case 3: return "torus";
-        case 5: return "mesh";
-        default: {
-            switch (std::get<rt::Csg>(s).type) {
-                case rt::CsgType::Union: return "CSG union";
-                case rt::CsgType::Intersection: return "CSG intersection";
-                case rt::CsgType::Difference: return "CSG difference";
-            }
-            return "CSG";
+    if (const rt::Csg* c = std::get_if<rt::Csg>(&s)) {
+        switch (c->type) {
+            case rt::CsgType::Union: return "CSG union";
+            case rt::CsgType::Intersection: return "CSG intersection";
+            case rt::CsgType::Difference: return "CSG difference";
         }
+        return "CSG";
     }
+    // (Every shape by its own type: a new one cannot fall into another's name.)
+    return std::visit(
+        [](const auto& v) -> const char* {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, rt::Sphere>) return "sphere";
+            else if constexpr (std::is_same_v<T, rt::Tetrahedron>) return "tetrahedron";
+            else if constexpr (std::is_same_v<T, rt::Cylinder>) return "cylinder";
+            else if constexpr (std::is_same_v<T, rt::Torus>) return "torus";
+            else if constexpr (std::is_same_v<T, rt::Mesh>) return "mesh";
+            else if constexpr (std::is_same_v<T, rt::Box>) return "box";
+            else if constexpr (std::is_same_v<T, rt::Cone>) return "cone";
+            else if constexpr (std::is_same_v<T, rt::Instance>) return "instance";
+            else return "CSG";
+        },
+        s);
 }
 
 rt::PickResult pick_pixel(const rt::World& world, const rt::Camera& view_camera, int pic_w, int pic_h, int x, int y) {

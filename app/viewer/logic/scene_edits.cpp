@@ -72,13 +72,34 @@ std::size_t count_of(const rt::Scene& s, SceneItem::Kind k) {
     return k == SceneItem::Kind::Object ? s.objects.size() : k == SceneItem::Kind::Plane ? s.planes.size() : s.lights.size();
 }
 
-// The layout, if it matches the scene item for item.
+// The layout, if it matches the scene's own items (those of the file itself, not of
+// its includes) one for one.
 std::optional<SceneLayout> layout_of(const std::string& text, const rt::Scene& scene) {
     SceneLayout l = scan_layout(text);
-    if (!l.ok || l.objects.size() != scene.objects.size() || l.planes.size() != scene.planes.size() ||
-        l.lights.size() != scene.lights.size())
-        return std::nullopt;
+    if (!layout_matches(l, scene)) return std::nullopt;
     return l;
+}
+
+// The block of a scene item in the text, and its place among the own items; nothing
+// for an item read from an included file (it has no block here) or out of range.
+std::optional<std::pair<TextSpan, std::size_t>> block_of(const SceneLayout& l, const rt::Scene& scene,
+                                                          SceneItem::Kind kind, int index) {
+    if (index < 0) return std::nullopt;
+    const std::optional<std::size_t> own = own_index(scene, list_of(kind), std::size_t(index));
+    const std::vector<TextSpan>& spans = spans_of(l, kind);
+    if (!own || *own >= spans.size()) return std::nullopt;
+    return std::make_pair(spans[*own], *own);
+}
+
+// Where a block inserted after the last own block of `kind` lands in the scene's list:
+// after the last own item, or at the end (a new section goes before `end`, after
+// every include).
+int appended_index(const rt::Scene& scene, SceneItem::Kind kind) {
+    const std::size_t n = count_of(scene, kind);
+    if (scene.includes.empty()) return int(n);
+    for (std::size_t k = n; k-- > 0;)
+        if (own_index(scene, list_of(kind), k)) return int(k + 1);
+    return int(n);
 }
 
 // Text for a new block of `kind`: after the last block of that kind (on its own line,
@@ -189,6 +210,11 @@ void move_point(Vec3& p, Vec3 d) {
 }  // namespace
 
 void translate(rt::Object& o, Vec3 d) {
+    if (std::holds_alternative<rt::Instance>(o.shape) ||
+        (o.transform.set() && !std::holds_alternative<rt::Mesh>(o.shape))) {
+        move_point(o.transform.edit().translate, d);
+        return;
+    }
     std::visit(
         [&](auto& s) {
             using T = std::decay_t<decltype(s)>;
@@ -232,10 +258,41 @@ rt::Object* operand_of(rt::Object& top, const std::vector<int>& path) {
 }
 
 bool translate_operand(rt::Object& top, const std::vector<int>& path, Vec3 d) {
-    rt::Object* o = operand_of(top, path);
-    if (!o) return false;
-    translate(*o, d);
+    if (!operand_of(top, path)) return false;
+    // The world's move in the frame the operand is written in.
+    if (!path.empty()) d = parent_placement(top, path).to_model(d);
+    translate(*operand_of(top, path), d);
     return true;
+}
+
+rt::MeshInstance compose(const rt::MeshInstance& a, const rt::MeshInstance& b) {
+    rt::MeshInstance out;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            out.l[i][j] = a.l[i][0] * b.l[0][j] + a.l[i][1] * b.l[1][j] + a.l[i][2] * b.l[2][j];
+            out.m[i][j] = b.m[i][0] * a.m[0][j] + b.m[i][1] * a.m[1][j] + b.m[i][2] * a.m[2][j];
+        }
+    out.position = a.point_to_world(b.position);
+    return out;
+}
+
+rt::MeshInstance own_placement(const rt::Object& o) {
+    if (!o.transform.set() || std::holds_alternative<rt::Mesh>(o.shape))
+        return rt::MeshInstance::make({0, 0, 0}, {1, 1, 1}, {0, 0, 0});
+    const rt::Transform& t = o.transform.get();
+    return rt::MeshInstance::make(t.translate, t.scale, t.rotation);
+}
+
+rt::MeshInstance parent_placement(const rt::Object& top, const std::vector<int>& path) {
+    rt::MeshInstance p = rt::MeshInstance::make({0, 0, 0}, {1, 1, 1}, {0, 0, 0});
+    const rt::Object* o = &top;
+    for (int k : path) {
+        p = compose(p, own_placement(*o));
+        const auto* g = std::get_if<rt::Csg>(&o->shape);
+        if (!g || k < 0 || std::size_t(k) >= g->operands.size()) break;
+        o = &g->operands[std::size_t(k)];
+    }
+    return p;
 }
 
 namespace {
@@ -332,7 +389,7 @@ std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scen
         if (!text_holds(one)) continue;
         SceneEdit e;
         e.replacement = insert_block(text, *l, where, one);
-        e.select = {where, int(count_of(scene, where))};
+        e.select = {where, appended_index(scene, where)};
         return e;
     }
     return std::nullopt;  // no block the format takes fits there (numbers past 1e15)
@@ -366,7 +423,7 @@ std::optional<SceneEdit> add_model(const std::string& text, const rt::Scene& sce
     one.objects.push_back(o);
     SceneEdit e;
     e.replacement = insert_block(text, *l, SceneItem::Kind::Object, one);
-    e.select = {SceneItem::Kind::Object, int(scene.objects.size())};
+    e.select = {SceneItem::Kind::Object, appended_index(scene, SceneItem::Kind::Object)};
     return e;
 }
 
@@ -430,8 +487,9 @@ std::string model_scene(const std::string& file, const rt::MeshModel& model) {
 
 std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene& scene, SceneItem item, Vec3 offset) {
     auto l = layout_of(text, scene);
-    if (!l || item.index < 0 || std::size_t(item.index) >= count_of(scene, item.kind)) return std::nullopt;
-    const TextSpan s = spans_of(*l, item.kind)[std::size_t(item.index)];
+    const auto block = l ? block_of(*l, scene, item.kind, item.index) : std::nullopt;
+    if (!block) return std::nullopt;
+    const TextSpan s = block->first;
     SceneEdit e;
     e.select = {item.kind, item.index + 1};
     if (offset == Vec3{0, 0, 0}) {
@@ -453,14 +511,15 @@ std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene
     }
     // (Rounding the moved copy's numbers can merge a tiny shape's corners far out.)
     if (!text_holds(one)) return std::nullopt;
-    e.replacement = insert_block(text, *l, item.kind, one, std::size_t(item.index));
+    e.replacement = insert_block(text, *l, item.kind, one, block->second);
     return e;
 }
 
 std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& scene, SceneItem item) {
     auto l = layout_of(text, scene);
-    if (!l || item.index < 0 || std::size_t(item.index) >= count_of(scene, item.kind)) return std::nullopt;
-    TextSpan d = deletion_span(text, spans_of(*l, item.kind)[std::size_t(item.index)]);
+    const auto block = l ? block_of(*l, scene, item.kind, item.index) : std::nullopt;
+    if (!block) return std::nullopt;
+    TextSpan d = deletion_span(text, block->first);
     SceneEdit e;
     e.replacement = {d.begin, d.end - d.begin, {}};
     // Select the neighbour that takes its place, if any.
@@ -472,7 +531,8 @@ std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& s
 std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene& scene, int index,
                                         const std::vector<int>& path) {
     auto l = layout_of(text, scene);
-    if (!l || path.empty() || index < 0 || std::size_t(index) >= scene.objects.size()) return std::nullopt;
+    const auto block = l ? block_of(*l, scene, SceneItem::Kind::Object, index) : std::nullopt;
+    if (!block || path.empty()) return std::nullopt;
     const int side = path.back();
     if (side != 0 && side != 1) return std::nullopt;
     rt::Object top = scene.objects[std::size_t(index)];
@@ -488,7 +548,7 @@ std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene
     rt::Scene one;
     one.camera = scene.camera;
     one.objects.push_back(std::move(top));
-    const TextSpan s = l->objects[std::size_t(index)];
+    const TextSpan s = block->first;
     SceneEdit e;
     e.replacement = {s.begin, s.end - s.begin, written_block(one, SceneItem::Kind::Object, line_indent(text, s.begin))};
     e.select = {SceneItem::Kind::Object, index};
@@ -497,8 +557,15 @@ std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene
 
 std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scene, int a, int b, rt::CsgType type) {
     auto l = layout_of(text, scene);
-    const int n = int(scene.objects.size());
-    if (!l || a == b || a < 0 || b < 0 || a >= n || b >= n) return std::nullopt;
+    const auto block_a = l ? block_of(*l, scene, SceneItem::Kind::Object, a) : std::nullopt;
+    const auto block_b = l ? block_of(*l, scene, SceneItem::Kind::Object, b) : std::nullopt;
+    if (!block_a || !block_b || a == b) return std::nullopt;
+    // The format's operands are solids: no mesh, no instance (a whole CSG is defined and
+    // placed instead).
+    for (int k : {a, b}) {
+        const rt::Shape& sh = scene.objects[std::size_t(k)].shape;
+        if (std::holds_alternative<rt::Mesh>(sh) || std::holds_alternative<rt::Instance>(sh)) return std::nullopt;
+    }
     rt::Csg csg;
     csg.type = type;
     csg.operands = {scene.objects[std::size_t(a)], scene.objects[std::size_t(b)]};
@@ -510,7 +577,7 @@ std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scen
     one.camera = scene.camera;
     one.objects.push_back(std::move(o));
 
-    const TextSpan sa = l->objects[std::size_t(a)], sb = l->objects[std::size_t(b)];
+    const TextSpan sa = block_a->first, sb = block_b->first;
     std::string indent = line_indent(text, sa.begin);
     TextSpan db = deletion_span(text, sb);
     // The CSG replaces a's block; b's block goes. Both at once: one replacement.
@@ -523,8 +590,9 @@ std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scen
 
 std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Scene& scene, int light) {
     auto l = layout_of(text, scene);
-    if (!l || light < 0 || std::size_t(light) >= scene.lights.size()) return std::nullopt;
-    const TextSpan s = l->lights[std::size_t(light)];
+    const auto at = l ? block_of(*l, scene, SceneItem::Kind::Light, light) : std::nullopt;
+    if (!at) return std::nullopt;
+    const TextSpan s = at->first;
     const std::string old_block = text.substr(s.begin, s.end - s.begin);
     rt::Light li = scene.lights[std::size_t(light)];
     rt::Scene one;

@@ -15,6 +15,7 @@
 #include "placement.h"
 #include "scene.h"
 #include "text_replacement.h"
+#include "triangles.h"
 
 namespace rtview {
 
@@ -82,7 +83,8 @@ std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& s
 std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene& scene, int index,
                                         const std::vector<int>& path);
 // Objects a and b (top level, a != b) become one CSG `left a, right b` at a's place,
-// with a's material (only the CSG's own material is rendered).
+// with a's material (only the CSG's own material is rendered). Nothing for a mesh or an
+// instance (the format refuses them as operands).
 std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scene, int a, int b, rt::CsgType type);
 // lamp <-> spotlight. A spotlight has no size, so the lamp's size is kept in the
 // block as a comment (`// lamp size S`) from which switching back restores it.
@@ -90,7 +92,11 @@ std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Sc
 
 // Moves every point of an item (for duplicate with an offset, and the move tool),
 // rounding each coordinate to 12 significant digits so that float noise of the sum
-// (2.07 - 2.5 = -0.43000000000000016) does not reach the text.
+// (2.07 - 2.5 = -0.43000000000000016) does not reach the text. `d` is in the frame the
+// object is written in (the world for a top-level one). An object with a transform
+// (`rotation`, `scale` or `translate`; an instance always) moves by its `translate`,
+// which applies last: moving its shape's own points would move it by the transform
+// of `d`. Others move their points, so a user's numbers stay theirs.
 void translate(rt::Object& o, rt::Vec3 d);
 void translate(rt::Plane& p, rt::Vec3 d);
 void translate(rt::Light& l, rt::Vec3 d);
@@ -99,7 +105,18 @@ void translate(rt::Light& l, rt::Vec3 d);
 // itself for an empty path), or null when there is none.
 const rt::Object* operand_of(const rt::Object& top, const std::vector<int>& path);
 rt::Object* operand_of(rt::Object& top, const std::vector<int>& path);
-// Moves only that operand (the rest of the CSG stays); false if there is none.
+// Moves only that operand (the rest of the CSG stays) by `d` in the world, whatever the
+// transforms of the CSGs above it; false if there is none.
 bool translate_operand(rt::Object& top, const std::vector<int>& path, rt::Vec3 d);
+
+// New: an object's own transform as a map from the frame its shape is written in to the
+// one the object is written in (the identity when it has none, and for a mesh, whose
+// keys place it).
+rt::MeshInstance own_placement(const rt::Object& o);
+// The map from the frame the operand `path` names below `top` is written in to the
+// world: the transforms of the CSGs above it, composed (the identity for `top` itself).
+rt::MeshInstance parent_placement(const rt::Object& top, const std::vector<int>& path);
+// a then b: the map p -> a(b(p)).
+rt::MeshInstance compose(const rt::MeshInstance& a, const rt::MeshInstance& b);
 
 }  // namespace rtview

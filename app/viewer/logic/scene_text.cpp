@@ -23,6 +23,17 @@ class Scanner {
 public:
     explicit Scanner(std::string_view t) : lex_(t) {}
     rt::Token next() { return lex_.next(); }
+    // Past a file name in double quotes (spaces allowed in it, as the parser reads it)
+    // that starts at token `t`; false if it has no closing quote on its line.
+    bool skip_quoted(const rt::Token& t) {
+        const std::string_view text = lex_.text();
+        if (t.text.empty() || t.text[0] != '"') return false;
+        std::size_t end = t.offset + 1;
+        while (end < text.size() && text[end] != '"' && text[end] != '\n' && text[end] != '\r') ++end;
+        if (end >= text.size() || text[end] != '"') return false;
+        lex_.seek(end + 1);
+        return true;
+    }
     // After a `{` has been read: consumes up to and including its matching `}`.
     // Returns the offset just past it, or npos at end of text.
     std::size_t skip_block() {
@@ -106,6 +117,13 @@ SceneLayout scan_layout(std::string_view text, std::size_t objects) {
         }
         const rt::schema::Section* section = rt::schema::find_section(k.text);
         if (!section) return l;  // not a section: unclear
+        if (section->kind == rt::schema::SectionKind::Include) {
+            // `include "FILE"`: its items are the other file's, with no block here.
+            const rt::Token name = sc.next();
+            if (name.eof() || name.is('{') || name.is('}')) return l;
+            if (name.text[0] == '"' && !sc.skip_quoted(name)) return l;
+            continue;
+        }
         std::vector<TextSpan>* items = nullptr;
         if (section->kind == rt::schema::SectionKind::Things) items = &l.objects;
         else if (section->kind == rt::schema::SectionKind::Specials) items = &l.planes;
@@ -198,32 +216,100 @@ private:
     std::vector<Replacement> reps_;
 };
 
-bool same_counts(const SceneLayout& l, const rt::Scene& s) {
-    return l.ok && l.objects.size() == s.objects.size() && l.planes.size() == s.planes.size() &&
-           l.lights.size() == s.lights.size();
+template <class T>
+std::optional<std::size_t> own_index_in(const std::vector<T>& v, std::size_t i) {
+    if (i >= v.size() || v[i].origin != 0) return std::nullopt;
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < i; ++k) n += v[k].origin == 0;
+    return n;
+}
+
+template <class T>
+std::size_t own_count_in(const std::vector<T>& v) {
+    std::size_t n = 0;
+    for (const T& x : v) n += x.origin == 0;
+    return n;
 }
 
 }  // namespace
 
-std::optional<std::string> patch_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to) {
+std::optional<std::size_t> own_index(const rt::Scene& s, ItemList list, std::size_t i) {
+    const std::size_t size = list == ItemList::Object  ? s.objects.size()
+                             : list == ItemList::Plane ? s.planes.size()
+                             : list == ItemList::Light ? s.lights.size()
+                                                       : 0;
+    if (i >= size) return std::nullopt;
+    if (s.includes.empty()) return i;  // every item is the file's own
+    switch (list) {
+        case ItemList::Object: return own_index_in(s.objects, i);
+        case ItemList::Plane: return own_index_in(s.planes, i);
+        case ItemList::Light: return own_index_in(s.lights, i);
+        case ItemList::Camera: break;
+    }
+    return std::nullopt;
+}
+
+std::size_t own_count(const rt::Scene& s, ItemList list) {
+    const bool all = s.includes.empty();
+    switch (list) {
+        case ItemList::Object: return all ? s.objects.size() : own_count_in(s.objects);
+        case ItemList::Plane: return all ? s.planes.size() : own_count_in(s.planes);
+        case ItemList::Light: return all ? s.lights.size() : own_count_in(s.lights);
+        case ItemList::Camera: break;
+    }
+    return 0;
+}
+
+const rt::Include* included_file(const rt::Scene& s, ItemList list, std::size_t i) {
+    std::uint16_t origin = 0;
+    if (list == ItemList::Object && i < s.objects.size()) origin = s.objects[i].origin;
+    if (list == ItemList::Plane && i < s.planes.size()) origin = s.planes[i].origin;
+    if (list == ItemList::Light && i < s.lights.size()) origin = s.lights[i].origin;
+    if (origin == 0 || origin > s.includes.size()) return nullptr;
+    return &s.includes[origin - 1u];
+}
+
+bool layout_matches(const SceneLayout& l, const rt::Scene& s) {
+    return l.ok && l.objects.size() == own_count(s, ItemList::Object) &&
+           l.planes.size() == own_count(s, ItemList::Plane) && l.lights.size() == own_count(s, ItemList::Light);
+}
+
+namespace {
+
+// The edit of list `v` from `from` to `to` item by item: own items through `p` at
+// their blocks; false if an included one changed (it has no block here).
+template <class T>
+bool patch_list(Patcher& p, const std::vector<T>& from, const std::vector<T>& to) {
+    std::size_t own = 0;
+    for (std::size_t k = 0; k < to.size(); ++k) {
+        if (from[k].origin != 0 || to[k].origin != 0) {
+            if (!(from[k] == to[k]) || from[k].origin != to[k].origin) return false;
+            continue;
+        }
+        if (!p.item(own++, from[k], to[k])) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+std::optional<std::string> patch_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to,
+                                            const rt::ParseOptions* options) {
     if (from.objects.size() != to.objects.size() || from.planes.size() != to.planes.size() ||
         from.lights.size() != to.lights.size())
         return std::nullopt;
     const SceneLayout l = scan_layout(text);
-    if (!same_counts(l, from)) return std::nullopt;
+    if (!layout_matches(l, from)) return std::nullopt;
     // Panels never change the picture size; a change there is left to the writer.
     if (from.width != to.width || from.height != to.height) return std::nullopt;
     Patcher p(text, l, to.camera);
-    for (std::size_t k = 0; k < to.objects.size(); ++k)
-        if (!p.item(k, from.objects[k], to.objects[k])) return std::nullopt;
-    for (std::size_t k = 0; k < to.planes.size(); ++k)
-        if (!p.item(k, from.planes[k], to.planes[k])) return std::nullopt;
-    for (std::size_t k = 0; k < to.lights.size(); ++k)
-        if (!p.item(k, from.lights[k], to.lights[k])) return std::nullopt;
+    if (!patch_list(p, from.objects, to.objects) || !patch_list(p, from.planes, to.planes) ||
+        !patch_list(p, from.lights, to.lights))
+        return std::nullopt;
     if (!(from.camera == to.camera) && !p.camera(to.camera)) return std::nullopt;
     if (p.empty()) return text;
     std::string out = p.result();
-    rt::ParseResult check = rt::parse_scene(out);
+    rt::ParseResult check = options ? rt::parse_scene(out, *options) : rt::parse_scene(out);
     if (!check.ok() || check.scene != to) return std::nullopt;
     return out;
 }
@@ -234,20 +320,24 @@ std::optional<std::string> patch_scene_items(const std::string& text, const rt::
         at.lights.size() != values.lights.size())
         return std::nullopt;
     const SceneLayout l = scan_layout(text, from.objects.size());
-    if (!same_counts(l, from)) return std::nullopt;
+    if (!layout_matches(l, from)) return std::nullopt;
     // What the changed items read back as is all that is checked: the rest of the text
     // is not touched (as a panel edit's commit in the document does).
     rt::Scene changed = values;
     if (!at.camera) changed.camera = from.camera;
     if (!text_holds(changed)) return std::nullopt;
     Patcher p(text, l, changed.camera);
-    auto each = [&p](const auto& list, const std::vector<std::size_t>& indices, const auto& now) {
-        for (std::size_t k = 0; k < indices.size(); ++k)
-            if (indices[k] >= list.size() || !p.item(indices[k], list[indices[k]], now[k])) return false;
+    // An item read from an included file has no block here: such an edit is not made.
+    auto each = [&p, &from](ItemList kind, const auto& list, const std::vector<std::size_t>& indices, const auto& now) {
+        for (std::size_t k = 0; k < indices.size(); ++k) {
+            const std::optional<std::size_t> own = own_index(from, kind, indices[k]);
+            if (!own || !p.item(*own, list[indices[k]], now[k])) return false;
+        }
         return true;
     };
-    if (!each(from.objects, at.objects, values.objects) || !each(from.planes, at.planes, values.planes) ||
-        !each(from.lights, at.lights, values.lights))
+    if (!each(ItemList::Object, from.objects, at.objects, values.objects) ||
+        !each(ItemList::Plane, from.planes, at.planes, values.planes) ||
+        !each(ItemList::Light, from.lights, at.lights, values.lights))
         return std::nullopt;
     if (at.camera && !(from.camera == values.camera) && !p.camera(values.camera)) return std::nullopt;
     return p.empty() ? text : p.result();
@@ -341,8 +431,9 @@ bool text_holds(const rt::Scene& s) {
     return r.scene == without;
 }
 
-std::string sync_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to) {
-    if (auto patched = patch_scene_text(text, from, to)) return *patched;
+std::string sync_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to,
+                            const rt::ParseOptions* options) {
+    if (auto patched = patch_scene_text(text, from, to, options)) return *patched;
     return rt::write_scene(to);
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "scene.h"
+#include "scene_parser.h"
 
 namespace rtview {
 
@@ -35,7 +36,11 @@ SceneLayout scan_layout(std::string_view text, std::size_t objects = 0);
 // `text` must parse to `from`. Returns `text` with the items that differ between
 // `from` and `to` rewritten, or nothing if the edit cannot be done in place (the
 // number of items changed, the layout is unclear, or the check parse disagrees).
-std::optional<std::string> patch_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to);
+// Items read from included files are not in the text: an edit that changes one cannot
+// be done (nothing). `options`: how to parse the result for its check (base_dir for the
+// includes); null: as text of no file.
+std::optional<std::string> patch_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to,
+                                            const rt::ParseOptions* options = nullptr);
 
 // Positions in a scene's item lists, and whether the camera is meant.
 struct ItemIndices {
@@ -59,7 +64,10 @@ bool text_holds(const rt::Scene& s);
 
 // patch_scene_text, falling back to write_scene(to). Returns text parsing to `to` for
 // every `to` that text_holds().
-std::string sync_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to);
+// An edit of an item read from an included file cannot be written into the text: the
+// caller refuses those first (Document::commit).
+std::string sync_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to,
+                            const rt::ParseOptions* options = nullptr);
 
 // `base` with the items that differ between `old_scene` and `new_scene` taken from
 // `new_scene`. Item lists carry over only where all three have the same length;
@@ -77,6 +85,18 @@ enum class ItemList { Object, Plane, Light, Camera };
 // The only item of `one` in `list` as the writer prints it, its lines after the first
 // indented for a line that starts with `indent`; empty if the writer's text is unclear.
 std::string written_item(const rt::Scene& one, ItemList list, const std::string& indent);
+
+// The scene file's own items are those of origin 0; items read from an included file
+// have no block in the scene's text. own_index: an item's place among its list's own
+// items (the index of its block in scan_layout's list), or nothing for an included one
+// or one out of range. own_count: how many own items the list has. included_file: the
+// file (as the scene's `include` line names it) an item was read from, or null for an
+// own item. Scenes without includes cost nothing more here.
+std::optional<std::size_t> own_index(const rt::Scene& s, ItemList list, std::size_t i);
+std::size_t own_count(const rt::Scene& s, ItemList list);
+const rt::Include* included_file(const rt::Scene& s, ItemList list, std::size_t i);
+// Whether the layout has one block for each own item of `s`.
+bool layout_matches(const SceneLayout& l, const rt::Scene& s);
 
 // A 1-based line/column as a byte offset, as the parser counts them (columns count
 // bytes; LF, CR LF and a lone CR each end a line).

@@ -73,6 +73,8 @@ ViewerApp::ViewerApp(const Options& options, Host& host, bool interactive)
     render_.clock = &since_start;
     // A finished load is taken in the next frame, not when the host next looks.
     loader_.set_on_finished([&host] { host.wake(); });
+    if (opt_.handle == "turn") move_.set_mode(HandleMode::Turn);
+    else if (opt_.handle == "size") move_.set_mode(HandleMode::Size);
     if (opt_.tab == "text") panels_.show_tab(Panels::Text);
     else if (opt_.tab == "render") panels_.show_tab(Panels::Render);
     else panels_.show_tab(Panels::Objects);
@@ -482,6 +484,17 @@ void ViewerApp::handle_shortcuts() {
         if (imgui_key_pressed(ImGuiKey_Space)) run(Command::TogglePause);
         if (key_pressed(keys::kF)) run(Command::FrameScene);
         if (key_pressed(keys::kR)) run(Command::ResetView);
+        // The handle: move, turn, size (Blender's G/R/S; R and S are the view's here).
+        const int handle_keys[3] = {keys::kG, keys::kY, keys::kU};
+        for (int k = 0; k < 3; ++k)
+            if (key_pressed(handle_keys[k]) && !move_.dragging()) {
+                move_.set_mode(HandleMode(k));
+                status_.set(k == 0   ? "Move handle (G): arrows along x/y/z, the square in the view plane"
+                            : k == 1 ? "Turn handle (Y): a ring turns about its axis, the outer circle about the view; "
+                                       "Shift snaps to 15 degrees"
+                                     : "Size handle (U): a box sizes along the object's own axis, the middle one all "
+                                       "three; Shift snaps to tenths");
+            }
         // The picture alone, as Tab hides the panels of image editors.
         if (imgui_key_pressed(ImGuiKey_Tab) && !io.KeyShift && !ImGui::IsAnyItemActive()) {
             layout_.sidebar_hidden = !layout_.sidebar_hidden;

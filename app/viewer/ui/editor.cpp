@@ -148,6 +148,14 @@ bool DocumentEditor::idle_tick() {
                             "); the scene keeps it as it was",
                         true);
             break;
+        case Document::DiskEvent::IncludesReloaded:
+            status_.set("Read the included files again (changed on disk)");
+            break;
+        case Document::DiskEvent::IncludeUnreadable:
+            status_.set("An included file changed on disk and no longer reads (" + doc_.model_problem() +
+                            "); the scene keeps it as it was",
+                        true);
+            break;
     }
     return true;
 }

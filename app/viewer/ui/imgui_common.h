@@ -9,7 +9,7 @@ namespace rtview {
 
 namespace keys {
 constexpr int kA = 'A', kB = 'B', kC = 'C', kD = 'D', kE = 'E', kF = 'F', kK = 'K', kN = 'N', kO = 'O', kP = 'P', kQ = 'Q',
-              kR = 'R', kS = 'S', kT = 'T', kW = 'W';
+              kR = 'R', kS = 'S', kT = 'T', kW = 'W', kG = 'G', kY = 'Y', kU = 'U';
 constexpr int k0 = 48, k1 = 49, kMinus = 45, kEqual = 61;
 constexpr int kKp0 = 320, kKp1 = 321, kKpSubtract = 333, kKpAdd = 334, kF12 = 301;
 }  // namespace keys

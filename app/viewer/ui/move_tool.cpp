@@ -8,7 +8,9 @@
 
 #include "item_fields.h"
 #include "pacing.h"
+#include "probe.h"
 #include "scene_edits.h"
+#include "scene_text.h"
 
 namespace rtview {
 
@@ -30,6 +32,13 @@ ImU32 axis_colour(int k, bool hot) {
 }
 
 }  // namespace
+
+bool included(const rt::Scene& scene, const SceneItem& item) {
+    const ItemList list = item.kind == SceneItem::Kind::Object  ? ItemList::Object
+                          : item.kind == SceneItem::Kind::Plane ? ItemList::Plane
+                                                                : ItemList::Light;
+    return item.index >= 0 && included_file(scene, list, std::size_t(item.index)) != nullptr;
+}
 
 std::optional<SceneItem> item_of_selection(const ItemRef& s) {
     if (s.none()) return std::nullopt;
@@ -65,6 +74,68 @@ void MoveTool::apply(Document& doc, const rt::Vec3& d) {
     g.last = d;
 }
 
+HandleMode MoveTool::mode_for(const Document& doc, const ItemRef& sel) const {
+    if (mode_ == HandleMode::Move || !sel.is(SceneItem::Kind::Object) || !sel.path.empty() || !doc.has_scene())
+        return HandleMode::Move;
+    return mode_;
+}
+
+void MoveTool::apply_turn(Document& doc, double degrees) {
+    Drag& g = *drag_;
+    rt::Object o = g.object;
+    turn_object(o, g.turn->axis(), degrees, g.pivot);
+    doc.edit_object(std::size_t(g.item.index)) = std::move(o);
+    if (g.name.empty()) g.name = "Turn " + item_label(doc.scene(), ItemRef{g.item, {}});
+    doc.name_edit(g.name);
+    g.degrees = degrees;
+}
+
+void MoveTool::apply_size(Document& doc, const rt::Vec3& factors) {
+    Drag& g = *drag_;
+    rt::Object o = g.object;
+    size_object(o, factors, g.pivot);
+    doc.edit_object(std::size_t(g.item.index)) = std::move(o);
+    if (g.name.empty()) g.name = "Size " + item_label(doc.scene(), ItemRef{g.item, {}});
+    doc.name_edit(g.name);
+    g.factors = factors;
+}
+
+// A turn or size drag after its press: the object from how it was then, every frame
+// (Shift snaps); released, one undo step.
+bool MoveTool::drag_turn_or_size(Document& doc, double mx, double my, StatusLine& status) {
+    Drag& g = *drag_;
+    // Shift as it was while the button was held: a release seen in the same frame as
+    // Shift's (a busy frame) keeps the snapping the drag had.
+    const bool held = ImGui::IsMouseDown(0);
+    if (held) g.snapping = ImGui::GetIO().KeyShift;
+    const bool snap = g.snapping;
+    const bool turn = g.mode == HandleMode::Turn;
+    // (Also on the frame of the release: a pointer moved and let go between two
+    // frames ends where it was let go.)
+    if (turn) {
+        const double d = g.turn->degrees(mx, my, snap);
+        if (d != g.degrees && std::isfinite(d)) apply_turn(doc, d);
+    } else {
+        const rt::Vec3 f = g.size->factors(mx, my, snap);
+        if (!(f == g.factors) && rt::finite(f)) apply_size(doc, f);
+    }
+    if (held) return true;
+    const bool changed = turn ? g.degrees != 0 : !(g.factors == rt::Vec3{1, 1, 1});
+    if (changed) doc.commit();
+    else doc.cancel_edit();
+    if (changed) {
+        char buf[160];
+        const char* axis = g.turn && g.turn->part() != HandlePart::Plane
+                               ? (g.turn->part() == HandlePart::X ? "x" : g.turn->part() == HandlePart::Y ? "y" : "z")
+                               : "the view axis";
+        if (turn) std::snprintf(buf, sizeof buf, "Turned by %.6g degrees about %s (Ctrl+Z undoes)", g.degrees, axis);
+        else std::snprintf(buf, sizeof buf, "Sized by %.6g %.6g %.6g (Ctrl+Z undoes)", g.factors.x, g.factors.y, g.factors.z);
+        status.set(buf);
+    }
+    drag_.reset();
+    return true;
+}
+
 bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView& view, const Rect& image, bool usable,
                             StatusLine& status) {
     ImGuiIO& io = ImGui::GetIO();
@@ -73,10 +144,12 @@ bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView&
     if (drag_) {
         if (!usable || !doc.has_scene() || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
             doc.cancel_edit();
+            const HandleMode m = drag_->mode;
             drag_.reset();
-            status.set("Move cancelled");
+            status.set(m == HandleMode::Move ? "Move cancelled" : m == HandleMode::Turn ? "Turn cancelled" : "Size cancelled");
             return true;
         }
+        if (drag_->mode != HandleMode::Move) return drag_turn_or_size(doc, mx, my, status);
         if (ImGui::IsMouseDown(0)) {
             // Shift: the grid. Else a hundredth of its step, far below a pixel at
             // the scene's scale, so the text gets short numbers (-0.2636, not
@@ -99,21 +172,36 @@ bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView&
     }
     hover_ = HandlePart::None;
     std::optional<SceneItem> item = item_of_selection(sel);
-    if (!usable || !item || !doc.has_scene() || doc.edit_held()) return false;
+    if (!usable || !item || !doc.has_scene() || doc.edit_held() || included(doc.scene(), *item)) return false;
     std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item, sel.path);
     if (!anchor) return false;
-    HandleShape h = handle_shape(view, *anchor, kArrow * s);
+    const HandleMode mode = mode_for(doc, sel);
+    const std::size_t i = std::size_t(item->index);
+    // A press is taken where the pointer was before it: on a busy frame the pointer may
+    // have moved on by the time the frame sees the press (a turn would start from the
+    // wrong angle, a size from the wrong length).
+    if (ImGui::IsMouseClicked(0) && before_press_) mx = before_press_->x, my = before_press_->y;
+    before_press_.reset();
+    if (!ImGui::IsMouseDown(0)) before_press_ = ScreenPoint{mx, my};
     bool over = !io.WantCaptureMouse && image.contains(mx, my);
-    hover_ = over ? hit_handle(h, mx, my, kTolerance * s) : HandlePart::None;
+    if (!over) hover_ = HandlePart::None;
+    else if (mode == HandleMode::Turn) hover_ = hit_turn(turn_shape(view, *anchor, kArrow * s), mx, my, kTolerance * s);
+    else if (mode == HandleMode::Size)
+        hover_ = hit_size(size_shape(view, *anchor, object_axes(doc.scene().objects[i]), kArrow * s), mx, my, kTolerance * s);
+    else hover_ = hit_handle(handle_shape(view, *anchor, kArrow * s), mx, my, kTolerance * s);
     if (hover_ == HandlePart::None || !ImGui::IsMouseClicked(0)) return hover_ != HandlePart::None && ImGui::IsMouseDown(0);
     if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
         status.set(blocked, true);
         return true;
     }
     const rt::Scene& scene = doc.scene();
-    std::size_t i = std::size_t(item->index);
-    drag_.emplace(*item, sel.path, MoveDrag(hover_, *anchor, view, mx, my));
+    drag_.emplace(*item, sel.path, MoveDrag(mode == HandleMode::Move ? hover_ : HandlePart::None, *anchor, view, mx, my));
     drag_->snap = snap_step(scene_extent(scene));
+    drag_->mode = mode;
+    drag_->pivot = *anchor;
+    if (mode == HandleMode::Turn) drag_->turn.emplace(hover_, *anchor, view, mx, my);
+    if (mode == HandleMode::Size)
+        drag_->size.emplace(hover_, size_shape(view, *anchor, object_axes(scene.objects[i]), kArrow * s), kArrow * s, mx, my);
     if (item->kind == SceneItem::Kind::Object) drag_->object = scene.objects[i];
     else if (item->kind == SceneItem::Kind::Plane) drag_->plane = scene.planes[i];
     else drag_->light = scene.lights[i];
@@ -205,10 +293,17 @@ void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const Ren
 bool MoveTool::over_handle(const Document& doc, const ItemRef& sel, const ScreenView& view, double x,
                            double y) const {
     std::optional<SceneItem> item = item_of_selection(sel);
-    if (!item || !doc.has_scene()) return false;
+    if (!item || !doc.has_scene() || included(doc.scene(), *item)) return false;
     std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item, sel.path);
     if (!anchor) return false;
     const double s = ImGui::GetFontSize() / 13.0;
+    switch (mode_for(doc, sel)) {
+        case HandleMode::Turn: return hit_turn(turn_shape(view, *anchor, kArrow * s), x, y, kTolerance * s) != HandlePart::None;
+        case HandleMode::Size:
+            return hit_size(size_shape(view, *anchor, object_axes(doc.scene().objects[std::size_t(item->index)]), kArrow * s),
+                            x, y, kTolerance * s) != HandlePart::None;
+        case HandleMode::Move: break;
+    }
     return hit_handle(handle_shape(view, *anchor, kArrow * s), x, y, kTolerance * s) != HandlePart::None;
 }
 
@@ -257,8 +352,17 @@ void MoveTool::draw(const Document& doc, const ItemRef& sel, const ScreenView& v
     }
     std::optional<SceneItem> item = item_of_selection(sel);
     std::optional<rt::Vec3> anchor;
-    if (drag_) anchor = drag_->drag.anchor() + drag_->last;
-    else if (item) anchor = item_anchor(doc.scene(), *item, sel.path);
+    const HandleMode mode = drag_ ? drag_->mode : mode_for(doc, sel);
+    probe("handle_mode", handle_mode_name(mode));
+    if (drag_) anchor = mode == HandleMode::Move ? drag_->drag.anchor() + drag_->last : drag_->pivot;
+    else if (item && !included(doc.scene(), *item)) anchor = item_anchor(doc.scene(), *item, sel.path);
+    if (anchor && mode != HandleMode::Move && item && std::size_t(item->index) < doc.scene().objects.size()) {
+        const HandlePart active = drag_ ? (drag_->turn ? drag_->turn->part() : drag_->size->part()) : hover_;
+        if (mode == HandleMode::Turn) draw_turn(dl, turn_shape(view, *anchor, kArrow * s), active, s);
+        else draw_size(dl, size_shape(view, *anchor, object_axes(doc.scene().objects[std::size_t(item->index)]), kArrow * s),
+                       active, s);
+        anchor.reset();
+    }
     if (anchor) {
         HandleShape h = handle_shape(view, *anchor, kArrow * s);
         if (h.visible) {
@@ -287,6 +391,52 @@ void MoveTool::draw(const Document& doc, const ItemRef& sel, const ScreenView& v
         }
     }
     dl->PopClipRect();
+}
+
+// Three rings in the axes' colours and a wider circle about the view axis; the
+// active one bright. Points for scripts: where each ring is grabbed (probe.h).
+void MoveTool::draw_turn(ImDrawList* dl, const TurnShape& h, HandlePart active, float s) const {
+    if (!h.visible) return;
+    const ImVec2 o(float(h.origin.x), float(h.origin.y));
+    const bool view_hot = active == HandlePart::Plane;
+    dl->AddCircle(o, float(h.view_radius), IM_COL32(0, 0, 0, 150), 64, 4.5f * s);
+    dl->AddCircle(o, float(h.view_radius), view_hot ? IM_COL32(255, 230, 60, 255) : IM_COL32(235, 235, 235, 230), 64,
+                  2.2f * s);
+    for (int k = 0; k < 3; ++k) {
+        const std::vector<ScreenPoint>& ring = h.ring[k];
+        if (ring.size() < 3) continue;
+        std::vector<ImVec2> pts;
+        pts.reserve(ring.size());
+        for (const ScreenPoint& p : ring) pts.emplace_back(float(p.x), float(p.y));
+        const bool hot = active == HandlePart(int(HandlePart::X) + k);
+        dl->AddPolyline(pts.data(), int(pts.size()), IM_COL32(0, 0, 0, 150), ImDrawFlags_Closed, 4.5f * s);
+        dl->AddPolyline(pts.data(), int(pts.size()), axis_colour(k, hot), ImDrawFlags_Closed, 2.5f * s);
+        // (An eighth of the way round: clear of the other rings seen from most sides.)
+        const ScreenPoint& at = ring[ring.size() / 8];
+        probe(std::string("turn_ring_") + "xyz"[k], std::to_string(std::lround(at.x)) + " " + std::to_string(std::lround(at.y)));
+    }
+    probe("turn_view_ring", std::to_string(std::lround(h.origin.x + h.view_radius)) + " " + std::to_string(std::lround(h.origin.y)));
+}
+
+// A line to a box on each of the object's axes, and a box in the middle for all three.
+void MoveTool::draw_size(ImDrawList* dl, const SizeShape& h, HandlePart active, float s) const {
+    if (!h.visible) return;
+    const ImVec2 o(float(h.origin.x), float(h.origin.y));
+    const float q = float(h.box);
+    for (int k = 0; k < 3; ++k) {
+        if (!h.axis_shown[k]) continue;
+        const bool hot = active == HandlePart(int(HandlePart::X) + k);
+        const ImVec2 t(float(h.tip[k].x), float(h.tip[k].y));
+        dl->AddLine(o, t, IM_COL32(0, 0, 0, 150), 5 * s);
+        dl->AddLine(o, t, axis_colour(k, hot), 3 * s);
+        dl->AddRectFilled(ImVec2(t.x - q, t.y - q), ImVec2(t.x + q, t.y + q), axis_colour(k, hot));
+        dl->AddRect(ImVec2(t.x - q, t.y - q), ImVec2(t.x + q, t.y + q), IM_COL32(0, 0, 0, 200), 0, 0, 1.5f * s);
+        probe(std::string("size_box_") + "xyz"[k], std::to_string(std::lround(t.x)) + " " + std::to_string(std::lround(t.y)));
+    }
+    const bool hot = active == HandlePart::Plane;
+    dl->AddRectFilled(ImVec2(o.x - q, o.y - q), ImVec2(o.x + q, o.y + q),
+                      hot ? IM_COL32(255, 230, 60, 220) : IM_COL32(240, 240, 240, 200));
+    dl->AddRect(ImVec2(o.x - q, o.y - q), ImVec2(o.x + q, o.y + q), IM_COL32(0, 0, 0, 200), 0, 0, 1.5f * s);
 }
 
 }  // namespace rtview

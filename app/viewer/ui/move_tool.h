@@ -17,6 +17,7 @@
 
 #include "document.h"
 #include "move_handle.h"
+#include "transform_handle.h"
 #include "object_ids.h"
 #include "render_controller.h"
 #include "status_line.h"
@@ -34,6 +35,12 @@ public:
     bool handle_mouse(Document& doc, const ItemRef& sel, const ScreenView& view, const Rect& image, bool usable,
                       StatusLine& status);
     bool dragging() const { return drag_.has_value(); }
+    // What the handle does (G, Y, U); turning and sizing are for whole objects: a
+    // plane, a light or a CSG operand keeps the move handle.
+    void set_mode(HandleMode m) { mode_ = m; }
+    HandleMode mode() const { return mode_; }
+    // The mode the handle has for this selection.
+    HandleMode mode_for(const Document& doc, const ItemRef& sel) const;
 
     // The outline's id buffer for this frame's picture: at the preview's block while
     // the view moves, refined toward single pixels (within a time budget per frame)
@@ -64,8 +71,23 @@ private:
         double snap = 1;
         rt::Vec3 last{0, 0, 0};
         std::string name;  // the undo step's: "Move sphere 3"
+        HandleMode mode = HandleMode::Move;
+        rt::Vec3 pivot{0, 0, 0};             // turn and size: the point that stays
+        std::optional<TurnDrag> turn;
+        std::optional<SizeDrag> size;
+        double degrees = 0;                  // turn: as applied
+        rt::Vec3 factors{1, 1, 1};           // size: as applied
+        bool snapping = false;               // Shift, as the last frame with the button held saw it
     };
     void apply(Document& doc, const rt::Vec3& d);
+    // Turn and size: the object from how it was at the press.
+    void apply_turn(Document& doc, double degrees);
+    void apply_size(Document& doc, const rt::Vec3& factors);
+    bool drag_turn_or_size(Document& doc, double mx, double my, StatusLine& status);
+    void draw_turn(ImDrawList* dl, const TurnShape& h, HandlePart active, float s) const;
+    void draw_size(ImDrawList* dl, const SizeShape& h, HandlePart active, float s) const;
+    HandleMode mode_ = HandleMode::Move;
+    std::optional<ScreenPoint> before_press_;  // the pointer in the last frame without a button down
 
     void draw_light_markers(ImDrawList* dl, float scale) const;
 
@@ -96,5 +118,7 @@ private:
 
 // The document item a selection edits (a CSG operand: its top-level object).
 std::optional<SceneItem> item_of_selection(const ItemRef& s);
+// Whether the item was read from an included file (it has no handle: read only).
+bool included(const rt::Scene& scene, const SceneItem& item);
 
 }  // namespace rtview

@@ -41,6 +41,9 @@ std::string shape_summary(const rt::Shape& s) {
     if (auto* c = std::get_if<rt::Cylinder>(&s)) return fmt_vec(c->end1) + " .. " + fmt_vec(c->end2);
     if (auto* t = std::get_if<rt::Tetrahedron>(&s)) return "vect1 " + fmt_vec(t->v[0]);
     if (auto* m = std::get_if<rt::Mesh>(&s)) return m->file.substr(m->file.find_last_of('/') + 1) + " at " + fmt_vec(m->position);
+    if (auto* b = std::get_if<rt::Box>(&s)) return fmt_vec(b->corner1) + " .. " + fmt_vec(b->corner2);
+    if (auto* c = std::get_if<rt::Cone>(&s)) return fmt_vec(c->end1) + " .. " + fmt_vec(c->end2);
+    if (auto* in = std::get_if<rt::Instance>(&s)) return "of " + in->object;
     return {};
 }
 
@@ -124,6 +127,8 @@ void Panels::draw_outline() {
             std::vector<int> path;
             ImGui::PushID(k);
             std::string label = std::to_string(k + 1) + "  " + shape_name(o.shape) + "  " + shape_summary(o.shape);
+            // Read from an included file: shown, edited there (the properties say so).
+            if (const rt::Include* inc = included_file(s, ItemList::Object, std::size_t(k))) label += "  [" + inc->file + "]";
             draw_object_node(o, k, path, label);
             ImGui::PopID();
             if (k > 2000 && !scroll_to_selection_) {

@@ -210,6 +210,20 @@ void Panels::draw_properties() {
     } else {
         loc = s.lights[std::size_t(selection_.item.index)].loc;
     }
+    // An item an include brought has no block in this file's text: shown, not edited
+    // here (Save could not keep the edit).
+    const ItemList list = selection_.item.kind == SceneItem::Kind::Object  ? ItemList::Object
+                          : selection_.item.kind == SceneItem::Kind::Plane ? ItemList::Plane
+                                                                           : ItemList::Light;
+    const rt::Include* included = included_file(s, list, std::size_t(selection_.item.index));
+    if (included) {
+        wrapped_coloured(kWarnColour, "From the included file \"" + included->file +
+                                          "\" (read only here: open that file to edit it).");
+        probe("included_from", included->file);
+        if (included->loc.line > 0 && ImGui::SmallButton("show the include"))
+            editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), included->loc.line, included->loc.col)));
+        loc = {};  // (a place in the other file)
+    }
     if (loc.line > 0 && ImGui::SmallButton("show in text"))
         editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), loc.line, loc.col)));
     if (!selection_.path.empty()) {
@@ -239,7 +253,7 @@ void Panels::draw_properties() {
         wrapped_coloured(kWarnColour, blocked);
         probe("edits", "blocked");
     }
-    ImGui::BeginDisabled(!blocked.empty());
+    ImGui::BeginDisabled(!blocked.empty() || included);
     draw_fields(ref);
     ImGui::EndDisabled();
 }
