@@ -12,6 +12,7 @@
 #include <variant>
 #include <vector>
 
+#include "file_id.h"
 #include "math.h"
 
 namespace rt {
@@ -315,8 +316,7 @@ struct Include {
 // showing the scene can notice that it changed (not part of the scene's value).
 struct FileRead {
     std::string path;  // as opened
-    std::int64_t mtime_ns = 0, size = 0;
-    std::uint64_t inode = 0;
+    FileId id;         // the version read
 };
 
 struct Scene {

@@ -892,8 +892,7 @@ private:
     // An included file, as it was before it was read (a change while reading shows as
     // one later): Scene::files_read.
     void note_read(const std::string& path, const struct stat& st) {
-        out_.scene.files_read.push_back({path, std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
-                                         std::int64_t(st.st_size), std::uint64_t(st.st_ino)});
+        out_.scene.files_read.push_back({path, FileId::of(st)});
     }
 
     // The items from the given counts on came from include number `origin`.

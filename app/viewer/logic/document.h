@@ -264,7 +264,7 @@ private:
     bool reload_includes();
     // check_disk() for the scene file itself.
     DiskEvent check_scene_file();
-    std::vector<FileStamp> include_tried_;  // the included files as a failed reload found them
+    std::vector<rt::FileId> include_tried_;  // the included files as a failed reload found them
     void restore_object(std::size_t i, const rt::Object& o);  // an undo step's object, with today's model
     void restore_plane(std::size_t i, const rt::Plane& p);    // and textures
     // The material's texture as it is on disk now, if the file changed since it was read.

@@ -175,12 +175,11 @@ bool Document::reload_models() {
 
 bool Document::reload_includes() {
     if (!has_scene_ || held_ || scene_.files_read.empty()) return false;
-    std::vector<FileStamp> now;
+    std::vector<rt::FileId> now;
     bool changed = false;
     for (const rt::FileRead& f : scene_.files_read) {
-        now.push_back(FileStamp::of(f.path));
-        const FileStamp& st = now.back();
-        changed = changed || !st.exists || st.mtime_ns != f.mtime_ns || st.size != f.size || st.inode != f.inode;
+        now.push_back(rt::FileId::of(f.path));
+        changed = changed || now.back() != f.id;  // (a file gone is unknown: changed too)
     }
     if (!changed || now == include_tried_) return false;
     // The scene's own text (a draft stays a draft), read with the files as they are now.
