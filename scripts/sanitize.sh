@@ -53,17 +53,17 @@ if [ "$WHAT" != tsan ]; then
         "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-Og -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-Og -g1 -DNDEBUG"
     run cmake --build build-asan -j"$JOBS"
     stage "ctest under ASan+UBSan"
-    # viewer_xvfb and viewer_xvfb_move drive the real window through the system's libGL, Mesa and X
-    # libraries, which leak a few hundred bytes at exit from modules already unloaded
+    # viewer_xvfb, viewer_xvfb_move and viewer_xvfb_turn drive the real window through
+    # the system's libGL, Mesa and X libraries, which leak a few hundred bytes at exit from modules already unloaded
     # (so no suppression can name them), and it takes minutes under ASan. The same
     # viewer code runs in viewer_logic and viewer_headless. SANITIZE_XVFB=1 runs it
     # too, with leak checking off.
     # The user journeys (journey_*) drive the same window through the same libraries:
     # they run in the plain build (the README's test command).
-    run ctest --test-dir build-asan --output-on-failure -j"$JOBS" --timeout 600 -E '^(viewer_xvfb(_move)?|journey_.*)$' || status=1
+    run ctest --test-dir build-asan --output-on-failure -j"$JOBS" --timeout 600 -E '^(viewer_xvfb(_move|_turn)?|journey_.*)$' || status=1
     if [ "${SANITIZE_XVFB:-0}" = 1 ]; then
         ASAN_OPTIONS=${ASAN_OPTIONS/detect_leaks=1/detect_leaks=0} \
-            run ctest --test-dir build-asan --output-on-failure --timeout 600 -R '^viewer_xvfb(_move)?$' || status=1
+            run ctest --test-dir build-asan --output-on-failure --timeout 600 -R '^viewer_xvfb(_move|_turn)?$' || status=1
     fi
 fi
 
