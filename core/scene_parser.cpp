@@ -1004,6 +1004,10 @@ private:
             }
             switch (s->kind) {
             case sc::SectionKind::End:
+                // The 2013 program stopped reading here too; New: say so.
+                if (const Token rest = lex_.peek(); !rest.eof())
+                    report(Diagnostic::Severity::Warning, loc_of(rest.offset),
+                           "text after 'end' is not read (the scene ends at 'end')");
                 return;
             case sc::SectionKind::Include:
                 include(t);

@@ -226,6 +226,18 @@ TEST_CASE("lexical: braces are tokens, // comments anywhere, text after end igno
     REQUIRE(r.scene.objects.size() == 2);
     CHECK(std::get<Sphere>(r.scene.objects[0].shape).radius == 2);
     CHECK(std::get<Sphere>(r.scene.objects[1].shape).position == Vec3{1, 2, 3});
+    // New: a warning says so, at the first word after it; comments and blanks alone
+    // after `end` are no text.
+    REQUIRE(r.diagnostics.size() == 1);
+    CHECK_FALSE(r.diagnostics[0].is_error());
+    CHECK(r.diagnostics[0].line == 6);
+    CHECK(r.diagnostics[0].col == 5);
+    CHECK(r.diagnostics[0].message == "text after 'end' is not read (the scene ends at 'end')");
+    auto quiet = parse_scene(
+        "camera{position 0 0 0 centre 1 0 0 up 1 0 1 angle_x 60 angle_y 45}\npicture_size { x_max 3 y_max 2 }\n"
+        "end // the end\n\n  \n");
+    REQUIRE(quiet.ok());
+    CHECK(quiet.diagnostics.empty());
 }
 
 TEST_CASE("numbers: the accepted syntax") {
