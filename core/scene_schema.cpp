@@ -342,7 +342,16 @@ Block<Material> material() {
                              positive("texture_scale must be greater than 0")))},
             [] { return Material{}; },
             [](const Material& m) {
-                if (m.reflection + m.refraction + m.scattering != 0) return Problem{};
+                if (m.reflection + m.refraction + m.scattering != 0) {
+                    // Read as written, as the 2013 program did; the format means 0 or more.
+                    std::string negative;
+                    for (const auto& [name, w] : {std::pair<const char*, double>{"reflection", m.reflection},
+                                                  {"refraction", m.refraction}, {"scattering", m.scattering}})
+                        if (w < 0) negative += (negative.empty() ? "" : ", ") + std::string(name);
+                    if (negative.empty()) return Problem{};
+                    return warning("material " + negative + (negative.find(',') == std::string::npos ? " is" : " are") +
+                                   " negative: weights are 0 or more (the picture is not what the format means)");
+                }
                 return warning(m.reflection == 0 && m.refraction == 0
                                    ? "material weights reflection, refraction and scattering are all 0: the "
                                      "surface renders black"

@@ -252,6 +252,23 @@ TEST_CASE("cli: warnings are printed and do not stop the render") {
     CHECK(fs::exists(dir / "out.ppm"));
 }
 
+TEST_CASE("cli: --check warns of negative weights, which it reads as written") {
+    TempDir dir;
+    std::string text = kScene;
+    const std::string from = "material { colour 1 0.2 0.2 }";
+    text.replace(text.find(from), from.size(), "material { reflection -0.5 refraction -1 scattering 2 colour 1 0.2 0.2 }");
+    write_all(dir / "scene.txt", text);
+    Result r = dir.run("--check scene.txt");
+    CHECK(r.status == 0);
+    CHECK_MESSAGE(contains(r.err, "warning: material reflection, refraction are negative: weights are 0 or more"),
+                  r.err);
+    // 0 and positive weights say nothing.
+    write_all(dir / "plain.txt", kScene);
+    Result plain = dir.run("--check plain.txt");
+    CHECK(plain.status == 0);
+    CHECK_MESSAGE(!contains(plain.err, "warning"), plain.err);
+}
+
 TEST_CASE("cli: usage and I/O errors exit 2 and write nothing") {
     TempDir dir;
     write_all(dir / "scene.txt", kScene);
