@@ -3,6 +3,7 @@
 #include "panels.h"
 
 #include <imgui.h>
+#include <imgui_stdlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -65,6 +66,10 @@ void Panels::draw_objects_tab() {
     float h = std::max(ImGui::GetTextLineHeightWithSpacing() * 7, ImGui::GetContentRegionAvail().y * 0.45f);
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
+    // A filter over the objects: a number or words of their rows.
+    ImGui::SetNextItemWidth(-1);
+    ImGui::InputTextWithHint("##outline_filter", "filter objects: a number or a name", &outline_filter_text_);
+    probe_item("field_outline_filter");
     // Long labels scroll sideways instead of being cut at the edge.
     if (ImGui::BeginChild("outline", ImVec2(0, h), true, ImGuiWindowFlags_HorizontalScrollbar)) draw_outline();
     ImGui::EndChild();
@@ -100,6 +105,44 @@ void Panels::draw_object_node(const rt::Object& obj, int top, std::vector<int>& 
     }
 }
 
+// The objects' rows: all of them, or those the filter finds (up to 2,000 rows: a long
+// list says how many more there are).
+void Panels::draw_outline_objects(const rt::Scene& s) {
+    auto label_of = [&](std::size_t k) {
+        const rt::Object& o = s.objects[k];
+        std::string label = std::to_string(k + 1) + "  " + shape_name(o.shape) + "  " + shape_summary(o.shape);
+        // Read from an included file: shown, edited there (the properties say so).
+        if (const rt::Include* inc = included_file(s, ItemList::Object, k)) label += "  [" + inc->file + "]";
+        return label;
+    };
+    outline_filter_.set(outline_filter_text_, editor_.doc().scene_version(), s.objects.size());
+    const bool filtered = outline_filter_.active();
+    std::string heading = "Objects (" + std::to_string(s.objects.size()) + ")";
+    if (filtered) {
+        // A few milliseconds of the frame: a million labels are read over a few seconds.
+        outline_filter_.scan(0.004, label_of);
+        heading += ", " + std::to_string(outline_filter_.matches().size()) + " matching";
+        if (!outline_filter_.done()) heading += " (searching, " + std::to_string(int(outline_filter_.fraction() * 100)) + " %)";
+        probe("outline_filter", std::to_string(outline_filter_.matches().size()) + (outline_filter_.done() ? " done" : " searching"));
+    }
+    ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+    if (!ImGui::TreeNode("objects", "%s", heading.c_str())) return;
+    const std::size_t n = filtered ? outline_filter_.matches().size() : s.objects.size();
+    for (std::size_t r = 0; r < n; ++r) {
+        const std::size_t k = filtered ? outline_filter_.matches()[r] : r;
+        std::vector<int> path;
+        ImGui::PushID(int(k));
+        draw_object_node(s.objects[k], int(k), path, label_of(k));
+        ImGui::PopID();
+        if (r > 2000 && !scroll_to_selection_ && r + 1 < n) {
+            ImGui::TextDisabled(filtered ? "... %d more matching" : "... %d more (select them in the image, or filter)",
+                                int(n - r - 1));
+            break;
+        }
+    }
+    ImGui::TreePop();
+}
+
 void Panels::draw_outline() {
     if (!editor_.doc().has_scene()) {
         ImGui::TextDisabled(editor_.doc().has_errors() ? "No scene yet: fix the errors in the Text tab."
@@ -119,25 +162,7 @@ void Panels::draw_outline() {
             scroll_to_selection_ = false;
         }
     };
-    ImGui::SetNextItemOpen(true, ImGuiCond_Once);
-    if (ImGui::TreeNode("objects", "Objects (%d)", int(s.objects.size()))) {
-        // Clip long lists: only visible rows cost anything (scenes may hold many objects).
-        for (int k = 0; k < int(s.objects.size()); ++k) {
-            const rt::Object& o = s.objects[std::size_t(k)];
-            std::vector<int> path;
-            ImGui::PushID(k);
-            std::string label = std::to_string(k + 1) + "  " + shape_name(o.shape) + "  " + shape_summary(o.shape);
-            // Read from an included file: shown, edited there (the properties say so).
-            if (const rt::Include* inc = included_file(s, ItemList::Object, std::size_t(k))) label += "  [" + inc->file + "]";
-            draw_object_node(o, k, path, label);
-            ImGui::PopID();
-            if (k > 2000 && !scroll_to_selection_) {
-                ImGui::TextDisabled("... %d more (select them in the image)", int(s.objects.size()) - k - 1);
-                break;
-            }
-        }
-        ImGui::TreePop();
-    }
+    draw_outline_objects(s);
     ImGui::SetNextItemOpen(true, ImGuiCond_Once);
     if (ImGui::TreeNode("planes", "Planes (%d)", int(s.planes.size()))) {
         for (int k = 0; k < int(s.planes.size()); ++k) {

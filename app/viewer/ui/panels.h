@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "outline_filter.h"
 #include "editor.h"
 #include "image_tools.h"
 #include "item_fields.h"
@@ -113,6 +114,10 @@ private:
     } status_more_;
     float edge_grab_ = 0;  // where on the sidebar's edge the drag began
     bool scroll_to_selection_ = false;
+    // The outline's filter: the text typed, and the objects it finds.
+    std::string outline_filter_text_;
+    OutlineFilter outline_filter_;
+    void draw_outline_objects(const rt::Scene& s);
     int want_tab_ = -1;  // select this tab on the next frame
     int current_tab_ = 0;
 };
