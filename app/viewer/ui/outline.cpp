@@ -66,10 +66,12 @@ void Panels::draw_objects_tab() {
     float h = std::max(ImGui::GetTextLineHeightWithSpacing() * 7, ImGui::GetContentRegionAvail().y * 0.45f);
     ImVec2 top = ImGui::GetCursorScreenPos();
     float width = ImGui::GetContentRegionAvail().x;
-    // A filter over the objects: a number or words of their rows.
+    // A filter over the objects: a number or words of their rows (its row taken from
+    // the outline's height, so that the properties below stay where they were).
     ImGui::SetNextItemWidth(-1);
     ImGui::InputTextWithHint("##outline_filter", "filter objects: a number or a name", &outline_filter_text_);
     probe_item("field_outline_filter");
+    h = std::max(ImGui::GetTextLineHeightWithSpacing() * 6, h - ImGui::GetFrameHeightWithSpacing());
     // Long labels scroll sideways instead of being cut at the edge.
     if (ImGui::BeginChild("outline", ImVec2(0, h), true, ImGuiWindowFlags_HorizontalScrollbar)) draw_outline();
     ImGui::EndChild();
