@@ -126,6 +126,8 @@ void Panels::draw_outline_objects(const rt::Scene& s) {
         heading += ", " + std::to_string(outline_filter_.matches().size()) + " matching";
         if (!outline_filter_.done()) heading += " (searching, " + std::to_string(int(outline_filter_.fraction() * 100)) + " %)";
         probe("outline_filter", std::to_string(outline_filter_.matches().size()) + (outline_filter_.done() ? " done" : " searching"));
+    } else {
+        probe("outline_filter", "off");
     }
     ImGui::SetNextItemOpen(true, ImGuiCond_Once);
     if (!ImGui::TreeNode("objects", "%s", heading.c_str())) return;

@@ -41,7 +41,7 @@ key ctrl+a BackSpace
 type_text "SPHERE"
 wait_state outline_filter "^3000 done$" 10
 key ctrl+a BackSpace
-wait_state outline_object_1 '^-?[0-9]+ -?[0-9]+ [0-9]+ [0-9]+$' 5
-[ -z "$(state outline_filter)" ] || fail "the filter still says '$(state outline_filter)' once emptied"
+wait_state outline_filter "^off$" 5
+wait_state outline_object_2 '^-?[0-9]+ -?[0-9]+ [0-9]+ [0-9]+$' 5
 shot 4-all-again
 echo PASS
