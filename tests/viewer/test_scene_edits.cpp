@@ -241,7 +241,15 @@ TEST_CASE("scene edits: add every kind at a point, sized from the scene, also in
                 CHECK(l.lamp == (k == NewItem::Lamp));
                 CHECK(l.position.z > 0);  // above the surface
                 CHECK(dist({l.position.x, l.position.y, 0}, p) < 1e-9);
-                if (!s.lights.empty()) CHECK(l.colour == s.lights.back().colour);
+                if (!s.lights.empty()) {
+                    // As bright at the clicked point as the last light is there (1/r^2),
+                    // to three digits: not a copy of a far light's colour.
+                    const rt::Light& last = s.lights.back();
+                    const double k = rt::length2(l.position - p) / rt::length2(last.position - p);
+                    CHECK(l.colour.x == doctest::Approx(last.colour.x * k).epsilon(0.006));
+                    CHECK(l.colour.y == doctest::Approx(last.colour.y * k).epsilon(0.006));
+                    CHECK(l.colour.z == doctest::Approx(last.colour.z * k).epsilon(0.006));
+                }
                 want.lights.push_back(l);
             } else {
                 REQUIRE(got.objects.size() == s.objects.size() + 1);

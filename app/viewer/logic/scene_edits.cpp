@@ -170,8 +170,23 @@ Vec3 upright_facing(const Vec3& up, const Vec3& toward, const Vec3& fallback) {
     return rt::normalize(n);
 }
 
-rt::Colour new_light_colour(const rt::Scene& scene, double extent) {
-    if (!scene.lights.empty()) return scene.lights.back().colour;
+// A new light's colour at `position`, lighting the point `at`: as bright there as the
+// last light is (light falls off as 1/r^2, so a lamp put near a surface gets less than
+// one far above the scene: a copy of its colour would burn the surface white), to three
+// digits.
+rt::Colour new_light_colour(const rt::Scene& scene, double extent, const Vec3& at, const Vec3& position) {
+    if (!scene.lights.empty()) {
+        const rt::Light& last = scene.lights.back();
+        const double far = rt::length2(last.position - at), near = rt::length2(position - at);
+        if (!(far > 0) || !(near > 0) || !std::isfinite(far) || !std::isfinite(near)) return last.colour;
+        auto three_digits = [](double v) {
+            if (!(v > 0) || !std::isfinite(v)) return v;
+            const double p = std::pow(10.0, std::floor(std::log10(v)) - 2);
+            return std::round(v / p) * p;
+        };
+        const double k = near / far;
+        return {three_digits(last.colour.x * k), three_digits(last.colour.y * k), three_digits(last.colour.z * k)};
+    }
     // Light falls off as 1/r^2: about 1 at half the scene's size.
     double c = nice_size(std::max(1.0, 0.25 * extent * extent));
     return {c, c, c};
@@ -361,7 +376,7 @@ void new_item(const rt::Scene& scene, NewItem kind, const Placement& at, double 
         li.lamp = kind == NewItem::Lamp;
         // Off the surface, so it lights it rather than sitting inside it.
         li.position = rp(p + up * (4 * r));
-        li.colour = new_light_colour(scene, extent);
+        li.colour = new_light_colour(scene, extent, p, li.position);
         li.size = li.lamp ? nice_size(r / 2) : 1;
         one.lights.push_back(li);
         where = SceneItem::Kind::Light;
