@@ -380,31 +380,20 @@ Colour World::trace_from(const Vec3& origin, const Vec3& d, int depth, RayStats&
 }
 
 void World::trace_units(const Vec3& origin, const Vec3* unit_dirs, std::size_t n, RayStats& stats, Colour* out) const {
-    Ctx& ctx = thread_ctx();
-    ctx.stats = &stats;
-#if RT_HAVE_AVX2_KERNELS
-    if (avx2_active()) {
-        CameraBasis cam;
-        cam.origin = origin;
-        return trace_units4(cam, unit_dirs, nullptr, n, ctx, out);
-    }
-#endif
-    for (std::size_t i = 0; i < n; ++i) {
-        if (stats.stopped) {
-            std::fill(out + i, out + n, Colour{});
-            return;
-        }
-        // Each ray's tree starts with the whole budget, as in trace_from().
-        ctx.budget = omit_weight;
-        ctx.cutoff = omit_weight * Ctx::kShare;
-        ctx.sampler = PathSampler();
-        out[i] = finite_colour(shade(origin, unit_dirs[i], 0, 1.0, ctx));
-    }
+    CameraBasis cam;
+    cam.origin = origin;
+    trace_rays(cam, unit_dirs, nullptr, n, stats, out);
 }
 
 void World::trace_samples(const CameraBasis& cam, const Vec3* unit_dirs, const PixelSample* keys, std::size_t n,
                           RayStats& stats, Colour* out) const {
-    if (!sampled(cam)) return trace_units(cam.origin, unit_dirs, n, stats, out);
+    trace_rays(cam, unit_dirs, sampled(cam) ? keys : nullptr, n, stats, out);
+}
+
+// Camera rays from cam.origin along unit_dirs, each with its sample's sampler and point
+// of the lens where keys are given, else the same points for every ray.
+void World::trace_rays(const CameraBasis& cam, const Vec3* unit_dirs, const PixelSample* keys, std::size_t n,
+                       RayStats& stats, Colour* out) const {
     Ctx& ctx = thread_ctx();
     ctx.stats = &stats;
 #if RT_HAVE_AVX2_KERNELS
@@ -415,11 +404,12 @@ void World::trace_samples(const CameraBasis& cam, const Vec3* unit_dirs, const P
             std::fill(out + i, out + n, Colour{});
             return;
         }
+        // Each ray's tree starts with the whole budget, as in trace_from().
         ctx.budget = omit_weight;
         ctx.cutoff = omit_weight * Ctx::kShare;
-        ctx.sampler = PathSampler(keys[i]);
+        ctx.sampler = keys ? PathSampler(keys[i]) : PathSampler();
         Vec3 o = cam.origin, d = unit_dirs[i];
-        if (cam.lens > 0) {
+        if (keys && cam.lens > 0) {
             double u, v;
             ctx.sampler.next(u, v);
             const Ray r = cam.lens_ray(d, u, v);

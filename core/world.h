@@ -267,6 +267,8 @@ public:
 
 private:
     Colour trace_from(const Vec3& origin, const Vec3& unit_dir, int depth, RayStats& stats) const;
+    void trace_rays(const CameraBasis& cam, const Vec3* unit_dirs, const PixelSample* keys, std::size_t n,
+                    RayStats& stats, Colour* out) const;
     bool nearest(const Vec3& o, const Vec3& d, Ctx& ctx, HitRec& h) const;
     Colour shade(const Vec3& o, const Vec3& d, int depth, double weight, Ctx& ctx) const;
     // shade() in two halves around the direct light, so that packets can share them.
