@@ -436,9 +436,28 @@ aa_section() {
 }
 [ $AA = 1 ] && aa_section
 
+# Ours on $s at ${W}x$H with each setting in turn (raytracer's options, as words)
+# until its RMSE against $ourref is no worse than POV-Ray's ($pr): the setting, the
+# run's wall time and the RMSE (marked "(worse)" if no setting got there) in
+# RUN_SETTING, RUN_WALL and RUN_RMSE.
+fewest_matching() {
+    local setting t
+    for setting in "$@"; do
+        # shellcheck disable=SC2086  # the setting is a list of options
+        t=$(timed "$OUT/$s-ours.log" "$BIN" --quiet --threads "$THREADS" --width "$W" --height "$H" $setting \
+            "$HERE/scenes/$s.txt" "$OUT/$s-ours.png") ||
+            { echo "run.sh: our raytracer failed on $s:" >&2; cat "$OUT/$s-ours.log" >&2; exit 1; }
+        read -r RUN_WALL _ <<< "$t"
+        RUN_RMSE=$("$RMSE_BIN" "$OUT/$s-ours.png" "$ourref" | awk '{ print $2 }')
+        RUN_SETTING=$setting
+        awk -v a="$RUN_RMSE" -v b="$pr" 'BEGIN { exit !(a <= b) }' && return 0
+    done
+    RUN_RMSE="$RUN_RMSE (worse)"
+}
+
 # The realism section (-R): see the usage above.
 realism_section() {
-    local refs=${AA_REFS:-$OUT/aa-refs} s=things-soft t pwall pr n wall or found= W H point=() soft=()
+    local refs=${AA_REFS:-$OUT/aa-refs} s=things-soft t pwall pr W H point=() soft=()
     RMSE_BIN=$(dirname "$BIN")/image_rmse
     [ -x "$RMSE_BIN" ] || { echo "run.sh: no image_rmse next to $BIN; skipping the realism section" >&2; return; }
     mkdir -p "$refs"
@@ -462,29 +481,13 @@ realism_section() {
         pr=$("$RMSE_BIN" "$OUT/$s-pov.png" "$povref" | awk '{ print $2 }')
         echo "| scene | POV-Ray +A0.3 (s) | its RMSE | ours: samples per pixel | ours (s) | our RMSE | POV/ours |"
         echo "|---|---|---|---|---|---|---|"
-        for n in 1 2 3 4 6 8 12 16 24 32 48 64 96 128; do
-            t=$(timed "$OUT/$s-ours.log" "$BIN" --quiet --threads "$THREADS" --width "$W" --height "$H" --samples "$n" \
-                "$HERE/scenes/$s.txt" "$OUT/$s-ours.png") ||
-                { echo "run.sh: our raytracer failed on $s:" >&2; cat "$OUT/$s-ours.log" >&2; exit 1; }
-            read -r wall _ <<< "$t"
-            or=$("$RMSE_BIN" "$OUT/$s-ours.png" "$ourref" | awk '{ print $2 }')
-            awk -v a="$or" -v b="$pr" 'BEGIN { exit !(a <= b) }' && { found=1; break; }
-        done
-        [ -n "$found" ] || or="$or (worse)"
-        echo "| $s | $pwall | $pr | $n | $wall | $or | $(ratio "$pwall" "$wall") |"
+        fewest_matching "--samples "{1,2,3,4,6,8,12,16,24,32,48,64,96,128}
+        echo "| $s | $pwall | $pr | ${RUN_SETTING#--samples } | $RUN_WALL | $RUN_RMSE | $(ratio "$pwall" "$RUN_WALL") |"
         # Adaptive: up to 64 samples where a pixel's samples still spread or it differs
         # from a neighbour by T; the largest T (fewest samples) whose RMSE is no worse.
-        found=
-        for at in 0.04 0.03 0.02 0.015 0.012 0.01 0.008 0.006 0.004; do
-            t=$(timed "$OUT/$s-ours.log" "$BIN" --quiet --threads "$THREADS" --width "$W" --height "$H" --samples 64 \
-                --aa-threshold "$at" "$HERE/scenes/$s.txt" "$OUT/$s-ours-aa.png") ||
-                { echo "run.sh: our raytracer failed on $s:" >&2; cat "$OUT/$s-ours.log" >&2; exit 1; }
-            read -r wall _ <<< "$t"
-            or=$("$RMSE_BIN" "$OUT/$s-ours-aa.png" "$ourref" | awk '{ print $2 }')
-            awk -v a="$or" -v b="$pr" 'BEGIN { exit !(a <= b) }' && { found=1; break; }
-        done
-        [ -n "$found" ] || or="$or (worse)"
-        echo "| $s | $pwall | $pr | adaptive, at most 64, --aa-threshold $at | $wall | $or | $(ratio "$pwall" "$wall") |"
+        fewest_matching "--samples 64 --aa-threshold "{0.04,0.03,0.02,0.015,0.012,0.01,0.008,0.006,0.004}
+        echo "| $s | $pwall | $pr | adaptive, at most 64, ${RUN_SETTING#--samples 64 } | $RUN_WALL | $RUN_RMSE |" \
+             "$(ratio "$pwall" "$RUN_WALL") |"
     fi
     # The soft shadows' cost at one sample: sphere lights against the same points.
     if [ $QUICK = 1 ]; then W=160 H=90; else W=1280 H=720; fi
