@@ -21,6 +21,19 @@ double turn(double y, double x) {
     return a < 0 ? a + 1 : a;
 }
 
+// Where p lies about the axis from e1 along the unit a: the turn round it (from the
+// axis frame's u toward its v), the height along it, the distance out from it.
+struct AboutAxis {
+    double turn, height, out;
+};
+AboutAxis about_axis(const Vec3& p, const Vec3& e1, const Vec3& a) {
+    const Frame f = Frame::from_axis(a);
+    const Vec3 w = p - e1;
+    const double h = dot(w, a);
+    const Vec3 radial = w - a * h;
+    return {turn(dot(radial, f.v), dot(radial, f.u)), h, length(radial)};
+}
+
 }  // namespace
 
 Uv primitive_uv(const Geometry& g, std::uint32_t n, std::uint8_t face, const Vec3& p, double scale) {
@@ -39,13 +52,9 @@ Uv primitive_uv(const Geometry& g, std::uint32_t n, std::uint8_t face, const Vec
         }
         case NodeKind::Cylinder: {
             const CylinderG& s = g.cylinders[node.index];
-            const Frame f = Frame::from_axis(s.a);
-            const Vec3 w = p - s.e1;
-            const double h = dot(w, s.a);
-            const Vec3 radial = w - s.a * h;
-            const double u = turn(dot(radial, f.v), dot(radial, f.u));
-            if (face == 0 || face == 1) return {u, s.r > 0 ? length(radial) / s.r : 0.0};
-            return {u, s.len > 0 ? h / s.len : 0.0};
+            const AboutAxis at = about_axis(p, s.e1, s.a);
+            if (face == 0 || face == 1) return {at.turn, s.r > 0 ? at.out / s.r : 0.0};
+            return {at.turn, s.len > 0 ? at.height / s.len : 0.0};
         }
         case NodeKind::Torus: {
             const TorusG& s = g.tori[node.index];
@@ -61,14 +70,10 @@ Uv primitive_uv(const Geometry& g, std::uint32_t n, std::uint8_t face, const Vec
         case NodeKind::Cone: {
             // As the cylinder: round the axis, and along it (or out from it on the caps).
             const ConeG& s = g.cones[node.index];
-            const Frame f = Frame::from_axis(s.a);
-            const Vec3 w = p - s.e1;
-            const double h = dot(w, s.a);
-            const Vec3 radial = w - s.a * h;
-            const double u = turn(dot(radial, f.v), dot(radial, f.u));
+            const AboutAxis at = about_axis(p, s.e1, s.a);
             const double cap = face == 0 ? s.r1 : s.r2;
-            if (face == 0 || face == 1) return {u, cap > 0 ? length(radial) / cap : 0.0};
-            return {u, s.len > 0 ? h / s.len : 0.0};
+            if (face == 0 || face == 1) return {at.turn, cap > 0 ? at.out / cap : 0.0};
+            return {at.turn, s.len > 0 ? at.height / s.len : 0.0};
         }
         case NodeKind::Xform: {
             // The shape's own coordinates, where it is as written.
