@@ -131,6 +131,21 @@ TEST_CASE("texture map: cylinders by angle and height, caps by angle and distanc
     check_look(p, *t, 0, 0.5);
 }
 
+TEST_CASE("texture map: cones as cylinders, by angle and height, the base by distance from the axis") {
+    const auto t = probe_texture();
+    Scene s;
+    // Along z, radius 2 at z = 0 narrowing to a point at z = 4.
+    s.objects.push_back(textured(Cone{{0, 0, 0}, {0, 0, 4}, 2, 0}, t));
+    // +y at a quarter of the height (the radius there 1.5): angle 90 degrees, height 1/4.
+    Probe p = probe(s, {0, 6, 1}, {0, 1.5, 1});
+    check_uv(p.uv, 0.25, 0.25);
+    check_look(p, *t, 0.25, 0.25);
+    // The base, half way out along +x: angle 0, distance 1/2 of its radius.
+    p = probe(s, {1, 0, -5}, {1, 0, 0});
+    check_uv(p.uv, 0, 0.5);
+    check_look(p, *t, 0, 0.5);
+}
+
 TEST_CASE("texture map: tori by the angle about their axis and the angle about the tube") {
     const auto t = probe_texture();
     Scene s;
