@@ -13,6 +13,13 @@ ThreadPool::ThreadPool(int threads) {
 
 ThreadPool::~ThreadPool() {
     {
+        // Jobs set aside end first: one may be running a loop on the workers.
+        std::lock_guard<std::mutex> lock(aside_mutex_);
+        aside_quit_ = true;
+    }
+    aside_wake_.notify_all();
+    for (std::thread& t : aside_threads_) t.join();
+    {
         std::lock_guard<std::mutex> lock(mutex_);
         quit_ = true;
     }
@@ -70,6 +77,38 @@ void ThreadPool::post(std::function<void()> fn) {
         tasks_.push_back(std::move(fn));
     }
     wake_.notify_one();
+}
+
+void ThreadPool::start_aside(std::function<void()> fn) {
+    std::lock_guard<std::mutex> lock(aside_mutex_);
+    aside_jobs_.push_back(std::move(fn));
+    // Every job starts at once: an idle thread takes it, or a new one.
+    if (aside_idle_ >= int(aside_jobs_.size()))
+        aside_wake_.notify_one();
+    else
+        aside_threads_.emplace_back([this] { work_aside(); });
+}
+
+void ThreadPool::work_aside() {
+    std::unique_lock<std::mutex> lock(aside_mutex_);
+    for (;;) {
+        ++aside_idle_;
+        aside_wake_.wait(lock, [&] { return aside_quit_ || !aside_jobs_.empty(); });
+        --aside_idle_;
+        // The queue is emptied before quitting: a Job's holder waits for its job.
+        if (aside_jobs_.empty()) return;
+        std::function<void()> job = std::move(aside_jobs_.front());
+        aside_jobs_.pop_front();
+        lock.unlock();
+        job();
+        job = nullptr;  // what it holds goes before the next wait
+        lock.lock();
+    }
+}
+
+int ThreadPool::aside_threads() const {
+    std::lock_guard<std::mutex> lock(aside_mutex_);
+    return int(aside_threads_.size());
 }
 
 void ThreadPool::parallel_for(int n, const std::function<void(int)>& fn) {

@@ -6,16 +6,50 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <exception>
 #include <functional>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 namespace rt {
+
+// The result of a job run aside (ThreadPool::aside), as std::async's future: waiting
+// for it, polling it, taking its value. Whoever holds one waits for the job to end
+// before letting it go (destroyed or assigned over), so a job never outlives what it
+// uses of its owner.
+template <class T>
+class Job {
+public:
+    Job() = default;
+    explicit Job(std::future<T> f) : f_(std::move(f)) {}
+    Job(Job&&) = default;
+    Job& operator=(Job&& other) {
+        if (this != &other) {
+            if (f_.valid()) f_.wait();
+            f_ = std::move(other.f_);
+        }
+        return *this;
+    }
+    ~Job() {
+        if (f_.valid()) f_.wait();
+    }
+    bool valid() const { return f_.valid(); }
+    // Ended (its value or exception is there to take). Needs valid().
+    bool ready() const { return f_.wait_for(std::chrono::seconds(0)) == std::future_status::ready; }
+    void wait() const { f_.wait(); }
+    // Its value (or exception): once; valid() is false afterwards.
+    T get() { return f_.get(); }
+
+private:
+    std::future<T> f_;
+};
 
 class ThreadPool {
 public:
@@ -46,6 +80,40 @@ public:
     // waits for it before the pool goes.
     void post(std::function<void()> fn);
 
+    // Runs fn() at once on a thread of the pool's set aside for jobs that last (a
+    // scene's load, a world's build, a recovery copy's write): such a job may itself
+    // run loops on the pool and wait for them, so it never holds a worker that loops
+    // and posted tasks need, and it never waits behind them. A thread is made when
+    // every one set aside is busy, and kept for the next job. Its value (or exception)
+    // comes through the Job. The pool ends after every such job has ended.
+    template <class F>
+    auto aside(F&& fn) -> Job<decltype(fn())> {
+        using R = decltype(fn());
+        auto promise = std::make_shared<std::promise<R>>();
+        Job<R> job(promise->get_future());
+        // The function (and all it holds) goes before its value arrives: whoever takes
+        // the value finds nothing of it kept alive by the job.
+        start_aside([promise, f = std::make_shared<std::decay_t<F>>(std::forward<F>(fn))]() mutable {
+            try {
+                if constexpr (std::is_void_v<R>) {
+                    (*f)();
+                    f.reset();
+                    promise->set_value();
+                } else {
+                    R value = (*f)();
+                    f.reset();
+                    promise->set_value(std::move(value));
+                }
+            } catch (...) {
+                f.reset();
+                promise->set_exception(std::current_exception());
+            }
+        });
+        return job;
+    }
+    // The threads made for aside() so far (busy or idle).
+    int aside_threads() const;
+
 private:
     // One loop: every thread that joins it holds it, so a worker that wakes late
     // finds its items all taken instead of taking another loop's.
@@ -61,6 +129,8 @@ private:
         }
     };
     void work();
+    void work_aside();
+    void start_aside(std::function<void()> fn);
     void run_items(Loop& loop);
     // The latest begun loop with items left, or null (under mutex_).
     Loop* loop_with_items() const;
@@ -71,6 +141,14 @@ private:
     std::vector<Loop*> loops_;  // begun, their callers not yet done taking items (under mutex_)
     std::deque<std::function<void()>> tasks_;  // posted, not yet started (under mutex_)
     bool quit_ = false;
+
+    // aside(): its own threads, queue and lock, apart from the loops' and tasks'.
+    mutable std::mutex aside_mutex_;
+    std::condition_variable aside_wake_;
+    std::vector<std::thread> aside_threads_;
+    std::deque<std::function<void()>> aside_jobs_;  // not yet started (under aside_mutex_)
+    int aside_idle_ = 0;                            // aside threads waiting for a job
+    bool aside_quit_ = false;
 };
 
 // The pool the process shares: loading, BVH builds, image writing and renders run

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <new>
 #include <set>
@@ -349,5 +350,82 @@ TEST_CASE("two_ways runs both parts on the process pool, and either part's throw
                                                   if (part == bad) throw std::runtime_error("part " + std::to_string(part));
                                               }),
                                  ("part " + std::to_string(bad)).c_str(), std::runtime_error);
+    }
+}
+
+TEST_CASE("a job set aside starts at once, even while every worker is held by posted tasks") {
+    ThreadPool pool(2);  // one worker
+    std::mutex m;
+    std::condition_variable cv;
+    bool release = false;
+    pool.post([&] {
+        std::unique_lock<std::mutex> lock(m);
+        cv.wait(lock, [&] { return release; });
+    });
+    // The worker is held: a posted task would wait; the job set aside does not. And it
+    // may run a loop on the pool (its own thread takes every item).
+    rt::Job<int> job = pool.aside([&pool] {
+        std::atomic<int> sum{0};
+        pool.parallel_for(100, [&](int i) { sum += i; });
+        return sum.load();
+    });
+    CHECK(job.get() == 4950);
+    CHECK_FALSE(job.valid());
+    {
+        std::lock_guard<std::mutex> lock(m);
+        release = true;
+    }
+    cv.notify_all();
+}
+
+TEST_CASE("jobs set aside: their values and throws arrive; their threads are kept for the next") {
+    ThreadPool pool(2);
+    for (int i = 0; i < 20; ++i) {
+        rt::Job<int> job = pool.aside([i] { return i * i; });
+        CHECK(job.get() == i * i);
+    }
+    // One after another: the threads are kept (a job's value can arrive before its
+    // thread is back to wait for the next, so it may have taken a second one).
+    CHECK(pool.aside_threads() <= 3);
+    rt::Job<void> bad = pool.aside([] { throw std::runtime_error("no"); });
+    CHECK_THROWS_AS(bad.get(), std::runtime_error);
+    // Two at once get two threads: the second does not wait behind the first.
+    std::atomic<bool> second_ran{false};
+    rt::Job<void> first = pool.aside([&] {
+        while (!second_ran.load()) std::this_thread::yield();
+    });
+    rt::Job<void> second = pool.aside([&] { second_ran = true; });
+    first.wait();
+    CHECK(second.ready());
+    CHECK(pool.aside_threads() >= 2);
+}
+
+TEST_CASE("a Job let go waits for its job, as std::async's future does") {
+    ThreadPool pool(1);
+    std::atomic<bool> done{false};
+    {
+        rt::Job<void> job = pool.aside([&] {
+            std::this_thread::yield();
+            done = true;
+        });
+    }
+    CHECK(done.load());
+    done = false;
+    rt::Job<void> job = pool.aside([&] { done = true; });
+    job = pool.aside([] {});  // assigned over: the first has ended by then
+    CHECK(done.load());
+    job.wait();
+    CHECK(job.ready());
+}
+
+TEST_CASE("what a job set aside holds is gone by the time its value arrives") {
+    ThreadPool pool(1);
+    for (int k = 0; k < 50; ++k) {
+        auto held = std::make_shared<int>(k);
+        std::weak_ptr<int> seen = held;
+        rt::Job<int> job = pool.aside([held = std::move(held)] { return *held + 1; });
+        job.wait();
+        CHECK(seen.expired());
+        CHECK(job.get() == k + 1);
     }
 }

@@ -185,7 +185,7 @@ void SceneLoader::start(const std::string& path, bool compile, rt::ModelStore* m
     job_->progress.path = path;
     job_->progress.stage = Stage::Reading;
     job_->on_finished = on_finished_;
-    thread_ = std::thread(&SceneLoader::run, job_);
+    thread_ = rt::process_pool().aside([job = job_] { run(job); });
 }
 
 void SceneLoader::take_over(SceneLoader& other) {
@@ -215,7 +215,7 @@ void SceneLoader::cancel() {
 void SceneLoader::reap(bool wait_all) {
     for (auto it = retired_.begin(); it != retired_.end();) {
         if (wait_all || it->first->finished) {
-            it->second.join();
+            it->second.wait();
             it = retired_.erase(it);
         } else {
             ++it;
@@ -234,7 +234,7 @@ SceneLoader::Progress SceneLoader::progress() const {
 std::optional<LoadResult> SceneLoader::poll() {
     reap(false);
     if (!job_ || !job_->finished) return std::nullopt;
-    thread_.join();
+    thread_.wait();
     LoadResult r = std::move(job_->result);
     job_ = nullptr;
     return r;
@@ -242,7 +242,7 @@ std::optional<LoadResult> SceneLoader::poll() {
 
 std::optional<LoadResult> SceneLoader::wait() {
     if (!job_) return std::nullopt;
-    thread_.join();
+    thread_.wait();
     LoadResult r = std::move(job_->result);
     job_ = nullptr;
     return r;

@@ -11,10 +11,10 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "document.h"
+#include "parallel.h"
 #include "scene_parser.h"
 #include "world.h"
 
@@ -100,9 +100,9 @@ private:
     void reap(bool wait_all);
 
     std::shared_ptr<Job> job_;
-    std::thread thread_;
+    rt::Job<void> thread_;
     std::function<void()> on_finished_;
-    std::vector<std::pair<std::shared_ptr<Job>, std::thread>> retired_;  // cancelled, still finishing a stage
+    std::vector<std::pair<std::shared_ptr<Job>, rt::Job<void>>> retired_;  // cancelled, still finishing a stage
 };
 
 }  // namespace rtview

@@ -15,14 +15,9 @@ namespace rtview {
 namespace {
 
 template <class T>
-bool ready(const std::future<T>& f) {
-    return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
-}
-
-template <class T>
-void reap_ready(std::vector<std::future<T>>& v) {
+void reap_ready(std::vector<rt::Job<T>>& v) {
     for (auto it = v.begin(); it != v.end();) {
-        if (ready(*it)) it = v.erase(it);
+        if (it->ready()) it = v.erase(it);
         else ++it;
     }
 }
@@ -69,19 +64,19 @@ void WorldSync::prepare_links() {
     if (!world_ || !world_->geometry || world_->geometry->bvh.links || world_->geometry->object_bounds.size() == 0)
         return;
     links_geometry_ = world_->geometry;
-    links_build_ = std::async(std::launch::async, [g = links_geometry_] {
+    links_build_ = rt::process_pool().aside([g = links_geometry_] {
         return std::make_shared<const rt::BvhLinks>(g->bvh, g->object_bounds.size());
     });
 }
 
 std::shared_ptr<const rt::BvhLinks> WorldSync::current_links() {
-    if (links_build_.valid() && ready(links_build_)) links_ = links_build_.get();
+    if (links_build_.valid() && links_build_.ready()) links_ = links_build_.get();
     // A world updated from the one they were made for has its tree's own links then.
     return world_ && world_->geometry == links_geometry_ ? links_ : nullptr;
 }
 
 bool WorldSync::take_build() {
-    if (!build_.valid() || !ready(build_)) return false;
+    if (!build_.valid() || !build_.ready()) return false;
     world_ = build_.get();
     version_ = build_version_;
     return true;
@@ -106,7 +101,7 @@ WorldSync::Step WorldSync::sync(const Document& doc) {
     // One build at a time: what changes meanwhile goes into its world once it is there.
     if (build_.valid()) return step;
     build_version_ = doc.content_version();
-    build_ = std::async(std::launch::async, [scene = doc.scene()] { return rt::compile_world(scene, nullptr); });
+    build_ = rt::process_pool().aside([scene = doc.scene()] { return rt::compile_world(scene, nullptr); });
     return Step::Building;
 }
 

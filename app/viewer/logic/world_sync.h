@@ -10,12 +10,12 @@
 #pragma once
 
 #include <cstdint>
-#include <future>
 #include <memory>
 #include <vector>
 
 #include "bvh_update.h"
 #include "document.h"
+#include "parallel.h"
 #include "world.h"
 
 namespace rtview {
@@ -85,17 +85,17 @@ private:
 
     std::shared_ptr<const rt::World> world_;
     std::uint64_t version_ = 0;
-    std::future<std::shared_ptr<const rt::World>> build_;
+    rt::Job<std::shared_ptr<const rt::World>> build_;
     std::uint64_t build_version_ = 0;
-    std::vector<std::future<std::shared_ptr<const rt::World>>> dropped_;  // still finishing
+    std::vector<rt::Job<std::shared_ptr<const rt::World>>> dropped_;  // still finishing
     std::weak_ptr<const rt::World> replaced_;  // by adopt(), until it is gone
     bool return_pending_ = false;
     // The links of links_geometry_'s tree: made (links_) or being made (links_build_).
     std::shared_ptr<const rt::Geometry> links_geometry_;
     std::shared_ptr<const rt::BvhLinks> links_;
-    std::future<std::shared_ptr<const rt::BvhLinks>> links_build_;
+    rt::Job<std::shared_ptr<const rt::BvhLinks>> links_build_;
     bool links_waiting_ = false;  // for start_links()
-    std::vector<std::future<std::shared_ptr<const rt::BvhLinks>>> dropped_links_;
+    std::vector<rt::Job<std::shared_ptr<const rt::BvhLinks>>> dropped_links_;
 };
 
 }  // namespace rtview

@@ -26,7 +26,7 @@ DocumentEditor::~DocumentEditor() {
 
 bool DocumentEditor::recovery_busy() {
     if (!recovery_write_.valid()) return false;
-    if (recovery_write_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return true;
+    if (!recovery_write_.ready()) return true;
     if (const rt::Status st = recovery_write_.get(); !st)
         status_.set("cannot keep a recovery copy: " + st.message(), true);
     return false;
@@ -34,7 +34,7 @@ bool DocumentEditor::recovery_busy() {
 
 bool DocumentEditor::recovery_finding() {
     if (!recovery_find_.valid()) return false;
-    if (recovery_find_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return true;
+    if (!recovery_find_.ready()) return true;
     settle_recovery_find();
     return false;
 }
@@ -103,9 +103,9 @@ void DocumentEditor::claim_document() {
         pending_orphan_->file != recovery_.file_for(doc_.path())) {
         // The default scene another viewer (ended) kept under a slot of its own.
         offered_orphan_ = pending_orphan_;
-        recovery_find_ = std::async(std::launch::async, [this, o = *pending_orphan_] { return recovery_.read_orphan(o); });
+        recovery_find_ = rt::process_pool().aside([this, o = *pending_orphan_] { return recovery_.read_orphan(o); });
     } else {
-        recovery_find_ = std::async(std::launch::async, [this, path = doc_.path()] { return recovery_.find(path); });
+        recovery_find_ = rt::process_pool().aside([this, path = doc_.path()] { return recovery_.find(path); });
     }
     pending_orphan_.reset();
 }
@@ -189,8 +189,8 @@ void DocumentEditor::keep_recovery_copy() {
     if (text_due) text = doc.editor_text();
     recovery_key_ = modified ? key : ~std::uint64_t(0);
     recovery_held_ = held;
-    recovery_write_ = std::async(std::launch::async, [this, path = doc.path(), text = std::move(text), modified,
-                                                      held = std::move(held), file_hash = doc.saved_hash()] {
+    recovery_write_ = rt::process_pool().aside([this, path = doc.path(), text = std::move(text), modified,
+                                                 held = std::move(held), file_hash = doc.saved_hash()] {
         rt::Status st;
         if (text) st = recovery_.update(path, *text, true);
         else if (!modified) st = recovery_.update(path, {}, false);  // removes the copy

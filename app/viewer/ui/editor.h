@@ -5,12 +5,12 @@
 #pragma once
 
 #include <cstdint>
-#include <future>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "document.h"
+#include "parallel.h"
 #include "recent_files.h"
 #include "recovery.h"
 #include "layout.h"
@@ -85,7 +85,7 @@ private:
     Document doc_;
     RecentFiles recent_;
     Recovery recovery_;            // touched by one thread at a time: see recovery_busy()
-    std::future<rt::Status> recovery_write_;  // a copy being written off the UI thread
+    rt::Job<rt::Status> recovery_write_;  // a copy being written off the UI thread
     std::uint64_t recovery_key_ = ~std::uint64_t(0);  // text state last handed to it
     HeldEdit recovery_held_;       // the held edit last handed to it
     bool recovery_busy();          // a write is under way (collects a finished one)
@@ -93,7 +93,7 @@ private:
     void forget_earlier_copy();    // removes a copy kept under an earlier name
     // An earlier session's copy being read (and a held edit written into it: a pass
     // over a big scene's text) off the UI thread; recovery_ is left alone until then.
-    std::future<std::optional<std::string>> recovery_find_;
+    rt::Job<std::optional<std::string>> recovery_find_;
     bool recovery_finding();       // the read is under way (takes in a finished one)
     void settle_recovery_find();   // waits for the read and takes it in
     bool recovery_offer_ = false;  // a previous session's unsaved text is waiting
