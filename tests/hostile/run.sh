@@ -330,23 +330,19 @@ def csg_coincident; case_csg_coincident() { newdir "$FUNCNAME"
     run 10 "$RT" s.txt new.ppm; [ "$RC" = 0 ] && want_ppm new.ppm 16 12 || { want_rc 1; want_err 'error'; }; clean_checks; }
 # The scene with its first object replaced by THING (the lights, camera and size kept).
 with_thing() { printf 'thing { %s }\n' "$1"; printf '%s\n' "$SCENE_OK" | tail -n +2; }
+# refused ERROR MAKER ARGS...: the scene MAKER ARGS writes is refused with ERROR, and the
+# old output stays; renders MAKER ARGS...: it renders.
+refused() { local err=$1; shift; "$@" > "$D/s.txt"; run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "$err"; clean_checks; }
+renders() { "$@" > "$D/s.txt"; run 10 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
 # Box, cone and transforms: each mistake an error naming it, nothing rendered.
-def box_equal_corners; case_box_equal_corners() { newdir "$FUNCNAME"; with_thing 'box { corner_1 5 0 1 corner_2 5 0 1 }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 's.txt:1:9: error: box corner_1 and corner_2 are the same point'; clean_checks; }
-def box_flat; case_box_flat() { newdir "$FUNCNAME"; with_thing 'box { corner_1 5 0 1 corner_2 6 1 1 }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'box is flat'; clean_checks; }
-def cone_both_radii_zero; case_cone_both_radii_zero() { newdir "$FUNCNAME"; with_thing 'cone { end_1 5 0 0 end_2 5 0 2 radius_1 0 radius_2 0 }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'radius_1 and radius_2 are both 0'; clean_checks; }
-def cone_point_and_huge_base; case_cone_point_and_huge_base() { newdir "$FUNCNAME"; with_thing 'cone { end_1 5 0 0 end_2 5 0 1e-9 radius_1 1e15 radius_2 0 } cone { end_1 5 0 0 end_2 1e15 0 0 radius_1 0 radius_2 1e-15 }' > "$D/s.txt"
-    run 10 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
-def scale_zero; case_scale_zero() { newdir "$FUNCNAME"; with_thing 'sphere { position 5 0 1 radius 1 scale 0 }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 's.txt:1:48: error: scale must be 1e-9 .. 1e9 on every axis'; clean_checks; }
-def scale_negative_axis; case_scale_negative_axis() { newdir "$FUNCNAME"; with_thing 'box { corner_1 0 0 0 corner_2 1 1 1 scale 1 -1 1 }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'mirrors, are refused'; clean_checks; }
-def rotation_nan; case_rotation_nan() { newdir "$FUNCNAME"; with_thing 'sphere { rotation nan 0 0 }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "expected 3 numbers after 'rotation', got 'nan'"; clean_checks; }
-def rotation_inf; case_rotation_inf() { newdir "$FUNCNAME"; with_thing 'sphere { rotation 0 1e400 0 }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'out of range'; clean_checks; }
+def box_equal_corners; case_box_equal_corners() { newdir "$FUNCNAME"; refused 's.txt:1:9: error: box corner_1 and corner_2 are the same point' with_thing 'box { corner_1 5 0 1 corner_2 5 0 1 }'; }
+def box_flat; case_box_flat() { newdir "$FUNCNAME"; refused 'box is flat' with_thing 'box { corner_1 5 0 1 corner_2 6 1 1 }'; }
+def cone_both_radii_zero; case_cone_both_radii_zero() { newdir "$FUNCNAME"; refused 'radius_1 and radius_2 are both 0' with_thing 'cone { end_1 5 0 0 end_2 5 0 2 radius_1 0 radius_2 0 }'; }
+def cone_point_and_huge_base; case_cone_point_and_huge_base() { newdir "$FUNCNAME"; renders with_thing 'cone { end_1 5 0 0 end_2 5 0 1e-9 radius_1 1e15 radius_2 0 } cone { end_1 5 0 0 end_2 1e15 0 0 radius_1 0 radius_2 1e-15 }'; }
+def scale_zero; case_scale_zero() { newdir "$FUNCNAME"; refused 's.txt:1:48: error: scale must be 1e-9 .. 1e9 on every axis' with_thing 'sphere { position 5 0 1 radius 1 scale 0 }'; }
+def scale_negative_axis; case_scale_negative_axis() { newdir "$FUNCNAME"; refused 'mirrors, are refused' with_thing 'box { corner_1 0 0 0 corner_2 1 1 1 scale 1 -1 1 }'; }
+def rotation_nan; case_rotation_nan() { newdir "$FUNCNAME"; refused "expected 3 numbers after 'rotation', got 'nan'" with_thing 'sphere { rotation nan 0 0 }'; }
+def rotation_inf; case_rotation_inf() { newdir "$FUNCNAME"; refused 'out of range' with_thing 'sphere { rotation 0 1e400 0 }'; }
 def transform_extremes; case_transform_extremes() { newdir "$FUNCNAME"
     with_thing 'sphere { position 1e15 0 0 radius 1e15 scale 1e9 rotation 1e15 -1e15 7 translate -1e15 0 1e15 } box { corner_1 0 0 0 corner_2 1e-15 1e-15 1e-15 scale 1e-9 } cone { scale 1e-9 1e9 1 rotation 0 90 0 }' > "$D/s.txt"
     run 10 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
@@ -357,23 +353,17 @@ def transformed_csg_256_deep; case_transformed_csg_256_deep() { newdir "$FUNCNAM
     run 20 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; clean_checks; }
 # Named materials and includes: each mistake an error at its place, nothing rendered.
 with_head() { printf '%s\n' "$1"; printf '%s\n' "$SCENE_OK"; }
-def material_used_before_defined; case_material_used_before_defined() { newdir "$FUNCNAME"; with_head 'thing { sphere { material gold } } define { material gold { } }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "s.txt:1:27: error: unknown material 'gold'"; clean_checks; }
-def material_defined_twice; case_material_defined_twice() { newdir "$FUNCNAME"; with_head 'define { material gold { } material gold { } }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "s.txt:1:37: error: material 'gold' is defined twice"; clean_checks; }
-def material_as_object; case_material_as_object() { newdir "$FUNCNAME"; with_head 'define { material gold { } } thing { gold { } }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "unknown object 'gold'"; clean_checks; }
-def instance_undefined; case_instance_undefined() { newdir "$FUNCNAME"; with_head 'thing { instance { object chair translate 5 0 0 } }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "s.txt:1:27: error: unknown object 'chair'"; clean_checks; }
-def instance_of_material; case_instance_of_material() { newdir "$FUNCNAME"; with_head 'define { material gold { } } thing { instance { object gold } }' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "'gold' is a material, not an object"; clean_checks; }
+def material_used_before_defined; case_material_used_before_defined() { newdir "$FUNCNAME"; refused "s.txt:1:27: error: unknown material 'gold'" with_head 'thing { sphere { material gold } } define { material gold { } }'; }
+def material_defined_twice; case_material_defined_twice() { newdir "$FUNCNAME"; refused "s.txt:1:37: error: material 'gold' is defined twice" with_head 'define { material gold { } material gold { } }'; }
+def material_as_object; case_material_as_object() { newdir "$FUNCNAME"; refused "unknown object 'gold'" with_head 'define { material gold { } } thing { gold { } }'; }
+def instance_undefined; case_instance_undefined() { newdir "$FUNCNAME"; refused "s.txt:1:27: error: unknown object 'chair'" with_head 'thing { instance { object chair translate 5 0 0 } }'; }
+def instance_of_material; case_instance_of_material() { newdir "$FUNCNAME"; refused "'gold' is a material, not an object" with_head 'define { material gold { } } thing { instance { object gold } }'; }
 def instances_100k; case_instances_100k() { newdir "$FUNCNAME"
     { echo 'define { object post { constructive_solid_geometry { left { cylinder { end_1 0 0 0 end_2 0 0 1 radius 0.1 } } right { cone { end_1 0 0 1 end_2 0 0 1.3 } } } } }'
       awk 'BEGIN { print "thing {"; for (i = 0; i < 100000; i++) printf "instance { object post translate %d %d 0 scale 1 1 %d }\n", 5 + i % 300, i / 300 - 150, 1 + i % 3; print "}" }'
       printf '%s\n' "$SCENE_OK" | tail -n +2; } > "$D/s.txt"
     run 30 "$RT" s.txt new.ppm; want_rc 0; want_ppm new.ppm 16 12; want_fast 10; clean_checks; }
-def include_missing; case_include_missing() { newdir "$FUNCNAME"; with_head 'include "nothing.txt"' > "$D/s.txt"
-    run 10 "$RT" s.txt old.ppm; want_rc 1; want_err "s.txt:1:1: error: cannot include 'nothing.txt': No such file"; clean_checks; }
+def include_missing; case_include_missing() { newdir "$FUNCNAME"; refused "s.txt:1:1: error: cannot include 'nothing.txt': No such file" with_head 'include "nothing.txt"'; }
 def include_folder; case_include_folder() { newdir "$FUNCNAME"; mkdir "$D/sub"; with_head 'include "sub"' > "$D/s.txt"
     run 10 "$RT" s.txt old.ppm; want_rc 1; want_err 'it is a folder'; clean_checks; }
 def include_dev_zero; case_include_dev_zero() { newdir "$FUNCNAME"; with_head 'include "/dev/zero"' > "$D/s.txt"
