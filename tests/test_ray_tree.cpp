@@ -373,18 +373,33 @@ picture_size { x_max 24 y_max 18 }
 end
 )";
 }
+
+// The lamp room's world, and a copy that tests every glow disc one by one (no BVH).
+struct GlowWorlds {
+    std::shared_ptr<const World> world, looped;
+    explicit GlowWorlds(int lamps) {
+        auto w = compile_world(parse_ok(lamp_room(lamps)));
+        REQUIRE(w->glow_bvh.get() != nullptr);
+        auto l = std::make_shared<World>(*w);
+        l->glow_bvh.reset();
+        world = w;
+        looped = l;
+    }
+};
+
+RenderSettings straight(int width, int height) {
+    RenderSettings s;
+    s.coarse = false;
+    s.width = width;
+    s.height = height;
+    return s;
+}
 }  // namespace
 
 TEST_CASE("ray tree: glow discs through their BVH give the same picture as one by one") {
-    auto world = compile_world(parse_ok(lamp_room(100)));
-    REQUIRE(world->glow_bvh.get() != nullptr);
-    auto looped = std::make_shared<World>(*world);
-    looped->glow_bvh.reset();
-    RenderSettings s;
-    s.coarse = false;
+    const auto [world, looped] = GlowWorlds(100);
+    RenderSettings s = straight(16, 12);
     s.max_samples = 2;
-    s.width = 16;
-    s.height = 12;
     Renderer r(2);
     r.start(world, s);
     r.wait();
@@ -414,14 +429,8 @@ TEST_CASE("ray tree: the cost of lamps grows with lamps + lights, not their prod
     // every disc instead (the product) costs 30 times as much CPU at 5,000 lamps. CPU
     // time, of two renders on the same machine at the same moment: neither the load
     // nor a sanitizer's slowness changes their ratio much.
-    auto world = compile_world(parse_ok(lamp_room(5000)));
-    REQUIRE(world->glow_bvh.get() != nullptr);
-    auto looped = std::make_shared<World>(*world);
-    looped->glow_bvh.reset();
-    RenderSettings s;
-    s.coarse = false;
-    s.width = 8;
-    s.height = 6;
+    const auto [world, looped] = GlowWorlds(5000);
+    const RenderSettings s = straight(8, 6);
     Renderer r(2);
     auto cpu_of = [&](const std::shared_ptr<const World>& w) {
         const double cpu0 = workers_cpu_seconds();

@@ -155,38 +155,51 @@ const char* kind_name(int kind) {
     return names[kind];
 }
 
+// For each primitive kind: `shapes` random primitives of that kind (seeded by `seed` and
+// the kind), compiled, each given to shape(model, compiled, rng); then kind_done().
+template <class Shape, class Done>
+void each_random_primitive(unsigned seed, int shapes, Shape shape, Done kind_done) {
+    for (int kind = Model::Sph; kind <= Model::Con; ++kind) {
+        CAPTURE(kind_name(kind));
+        Rng rng(seed + unsigned(kind));
+        for (int inst = 0; inst < shapes; ++inst) {
+            Model m = random_model(rng, kind);
+            Compiled cg(m);
+            shape(m, cg, rng);
+        }
+        kind_done();
+    }
+}
+
 }  // namespace
 
 TEST_CASE("shape: spans of random rays against random primitives agree with point membership") {
-    for (int kind = Model::Sph; kind <= Model::Con; ++kind) {
-        CAPTURE(kind_name(kind));
-        Rng rng(1234u + unsigned(kind));
-        Failures f;
-        int inside_samples = 0, rays = 0;
-        for (int inst = 0; inst < 150; ++inst) {
-            Model m = random_model(rng, kind);
-            Compiled cg(m);
+    Failures f;
+    int inside_samples = 0, rays = 0;
+    each_random_primitive(
+        1234u, 150,
+        [&](const Model& m, Compiled& cg, Rng& rng) {
             for (int k = 0; k < 8; ++k) {
                 Line l = random_line(rng, m, k % 3 == 2);
                 check_spans_against_model(m, cg, l, rng, f, inside_samples);
                 ++rays;
             }
-        }
-        CHECK_MESSAGE(f.count == 0, f.first);
-        // The property is only worth something if many samples were inside.
-        CHECK(inside_samples > rays * 5);
-    }
+        },
+        [&] {
+            CHECK_MESSAGE(f.count == 0, f.first);
+            // The property is only worth something if many samples were inside.
+            CHECK(inside_samples > rays * 5);
+            f = Failures();
+            inside_samples = rays = 0;
+        });
 }
 
 TEST_CASE("shape: hit from outside is the first span entry, exit from inside the first span end") {
-    for (int kind = Model::Sph; kind <= Model::Con; ++kind) {
-        CAPTURE(kind_name(kind));
-        Rng rng(777u + unsigned(kind));
-        Failures f;
-        int hits = 0, exits = 0;
-        for (int inst = 0; inst < 100; ++inst) {
-            Model m = random_model(rng, kind);
-            Compiled cg(m);
+    Failures f;
+    int hits = 0, exits = 0;
+    each_random_primitive(
+        777u, 100,
+        [&](const Model& m, Compiled& cg, Rng& rng) {
             SpanScratch scratch;
             for (int k = 0; k < 6; ++k) {
                 bool from_inside = k % 2 == 1;
@@ -219,11 +232,14 @@ TEST_CASE("shape: hit from outside is the first span entry, exit from inside the
                     exits += ex;
                 }
             }
-        }
-        CHECK_MESSAGE(f.count == 0, f.first);
-        CHECK(hits > 50);
-        CHECK(exits > 50);
-    }
+        },
+        [&] {
+            CHECK_MESSAGE(f.count == 0, f.first);
+            CHECK(hits > 50);
+            CHECK(exits > 50);
+            f = Failures();
+            hits = exits = 0;
+        });
 }
 
 TEST_CASE("shape: ray through a sphere's centre from outside hits at distance |o - c| - radius") {

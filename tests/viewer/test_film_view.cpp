@@ -14,14 +14,7 @@ using namespace rtview;
 
 namespace {
 
-const char* kScene = R"(
-thing { sphere { material { colour 1 0.2 0.2 } position 10 0 1 radius 1 }
-        sphere { position 12 2.5 1.5 radius 1.5 } }
-special_thing { chess_plane { point 1 0 0 0 point 2 1 0 0 point 3 0 1 0 point 4 0 0 5 } }
-light { lamp { position 4 -3 4 colour 30 30 30 size 0.3 } }
-camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }
-picture_size { x_max 64 y_max 48 }
-end)";
+const std::string kScene = rtview_test::two_spheres(64, 48);
 
 }  // namespace
 

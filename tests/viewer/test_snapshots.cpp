@@ -21,14 +21,7 @@ rt::Image flat(int w, int h, float v) {
     return img;
 }
 
-const char* kScene = R"(
-thing { sphere { material { colour 1 0 0 } position 10 0 1 radius 1 }
-        sphere { position 10 3 1 radius 1 } }
-special_thing { plane { point 1 0 0 0 point 2 1 0 0 point 3 0 1 0 point 4 0 0 5 } }
-light { spotlight { position 0 5 5 colour 40 40 40 } }
-camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }
-picture_size { x_max 48 y_max 36 }
-end)";
+const std::string kScene = rtview_test::two_spheres(48, 36);
 
 }  // namespace
 

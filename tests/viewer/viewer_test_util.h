@@ -64,6 +64,18 @@ end
 )";
 
 // Renders `scene` on two threads to `samples` samples per pixel, to the end.
+// Two spheres (one red) over a chess plane, lit by a lamp with its glow disc: a
+// picture of width x height.
+inline std::string two_spheres(int width, int height) {
+    return std::string(R"(
+thing { sphere { material { colour 1 0.2 0.2 } position 10 0 1 radius 1 }
+        sphere { position 12 2.5 1.5 radius 1.5 } }
+special_thing { chess_plane { point 1 0 0 0 point 2 1 0 0 point 3 0 1 0 point 4 0 0 5 } }
+light { lamp { position 4 -3 4 colour 30 30 30 size 0.3 } }
+camera { position 0 0 1 centre 10 0 1 up 10 0 2 angle_x 60 angle_y 45 }
+)") + "picture_size { x_max " + std::to_string(width) + " y_max " + std::to_string(height) + " }\nend\n";
+}
+
 inline void render_to_end(rt::Renderer& renderer, const rt::Scene& scene, int samples) {
     rt::RenderSettings st;
     st.max_samples = samples;

@@ -33,14 +33,7 @@ choose_model() {
 }
 
 step "raytracer-view models/bunny.obj: a new scene called bunny.txt"
-(cd "$OUT" && exec "$BIN/raytracer-view" models/bunny.obj --size "$SCREEN" --print-layout --samples 4 \
-    > "$LAYOUT" 2> "$OUT/viewer.err") &
-VIEWER_PID=$!
-WID=$(timeout 30 xdotool search --sync --name "bunny" | head -1) || fail "no window appeared"
-wait_state title "^bunny.txt - raytracer-view$" 30
-wait_state load "^ready$" 60
-image_region
-wait_state render "done" 60
+open_model models/bunny.obj bunny.txt --samples 4
 wait_stable 0-opened
 
 step "Save As bunny.txt in the folder above the model's"

@@ -51,14 +51,7 @@ cp "$SCENES/textures/beach-ball.png" "$OUT/textures/floor.png"
 printf 'this is no image\n' > "$OUT/textures/notes.png"
 
 step "raytracer-view model/pyramid.obj; Save As scene.txt"
-(cd "$OUT" && exec "$BIN/raytracer-view" model/pyramid.obj --size "$SCREEN" --print-layout --samples 2 \
-    > "$LAYOUT" 2> "$OUT/viewer.err") &
-VIEWER_PID=$!
-WID=$(timeout 30 xdotool search --sync --name "pyramid" | head -1) || fail "no window appeared"
-wait_state title "^pyramid.txt - raytracer-view$" 30
-wait_state load "^ready$" 60
-image_region
-wait_state render "done" 60
+open_model model/pyramid.obj pyramid.txt --samples 2
 key ctrl+shift+s
 wait_state popups "Save scene as"
 wait_state browser_field "^active$"

@@ -123,6 +123,20 @@ start_viewer() {
     image_region
 }
 
+# open_model FILE TITLE [ARGS...]: the window on FILE (a model, relative to $OUT), which
+# opens as a new scene TITLE; returns once it is loaded and rendered.
+open_model() {
+    local file=$1 title=$2
+    shift 2
+    (cd "$OUT" && exec "$BIN/raytracer-view" "$file" --size "$SCREEN" --print-layout "$@" > "$LAYOUT" 2> "$OUT/viewer.err") &
+    VIEWER_PID=$!
+    WID=$(timeout 30 xdotool search --sync --name "${title%.txt}" | head -1) || fail "no window appeared"
+    wait_state title "^$title - raytracer-view$" 30
+    wait_state load "^ready$" 60
+    image_region
+    wait_state render "done" 60
+}
+
 # $IMAGE ("x y w h") and ix iy iw ih: where the last frame drew the picture.
 image_region() {
     IMAGE=$(region image)
