@@ -34,6 +34,14 @@ std::string errors_of(const ParseResult& r) {
     return out;
 }
 
+// The first error of `body` followed by the usual camera and lights: "line:col: message".
+std::string first_error(const std::string& body) {
+    const ParseResult r = parse_scene(body + kTail);
+    for (const Diagnostic& d : r.diagnostics)
+        if (d.is_error()) return std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message;
+    return "no error";
+}
+
 }  // namespace
 
 TEST_CASE("named materials: defined once, used by name by objects, operands and planes") {
@@ -78,29 +86,6 @@ TEST_CASE("named materials: defined once, used by name by objects, operands and 
     CHECK(f.objects[0].material.named == -1);
     CHECK(f.objects[0].material.same_bits(s.objects[0].material));
     CHECK(f.planes[0].material2.same_bits(s.planes[0].material2));
-}
-
-TEST_CASE("named materials: use before definition, two definitions, bad names are errors at the name") {
-    auto first_error = [](const std::string& body) {
-        const ParseResult r = parse_scene(body + kTail);
-        for (const Diagnostic& d : r.diagnostics)
-            if (d.is_error()) return std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message;
-        return std::string("no error");
-    };
-    CHECK(first_error("thing { sphere { material glass } }\ndefine { material glass { } }\n") ==
-          "1:27: unknown material 'glass' (a named material is defined before its first use: define { material "
-          "glass { ... } })");
-    CHECK(first_error("define { material a { } }\ndefine { material a { colour 1 1 1 } }\n") ==
-          "2:19: material 'a' is defined twice (first at line 1, column 19)");
-    CHECK(first_error("define { material 9lives { } }\n") ==
-          "1:19: expected a name after 'material' (a letter or '_', then letters, digits and '_'), got '9lives'");
-    CHECK(first_error("define { sphere ball { } }\n") == "1:10: unknown definition 'sphere' (expected material or object)");
-    CHECK(first_error("define { material m { colour 1 } }\n") == "1:32: expected 3 numbers after 'colour', got '}'");
-    // A material name where an object belongs is no object.
-    CHECK(first_error("define { material m { } }\nthing { m { } }\n") ==
-          "2:9: unknown object 'm' (expected sphere, tetrahedron, cylinder, torus, box, cone, "
-          "constructive_solid_geometry, mesh, instance)");
-    CHECK(first_error("define { material m { } }\nthing { sphere { material m } }\n") == "no error");
 }
 
 TEST_CASE("include: another file's sections, read where the include stands, relative to the including file") {
@@ -279,29 +264,53 @@ TEST_CASE("instances: written back by name, flattened as copies that render the 
     CHECK(differ <= 6);
 }
 
-TEST_CASE("instances: unknown names, a material's name, CSG operands, meshes and instances in definitions are errors") {
-    auto first_error = [](const std::string& body) {
-        const ParseResult r = parse_scene(body + kTail);
-        for (const Diagnostic& d : r.diagnostics)
-            if (d.is_error()) return std::to_string(d.line) + ":" + std::to_string(d.col) + ": " + d.message;
-        return std::string("no error");
+TEST_CASE("named materials and instances: each mistake an error at the name") {
+    // Each scene text with its first error (or "no error").
+    const std::pair<const char*, const char*> cases[] = {
+        // Named materials: use before definition, two definitions, bad names.
+        {"thing { sphere { material glass } }\ndefine { material glass { } }\n",
+         "1:27: unknown material 'glass' (a named material is defined before its first use: define { material "
+         "glass { ... } })"},
+        {"define { material a { } }\ndefine { material a { colour 1 1 1 } }\n",
+         "2:19: material 'a' is defined twice (first at line 1, column 19)"},
+        {"define { material 9lives { } }\n",
+         "1:19: expected a name after 'material' (a letter or '_', then letters, digits and '_'), got '9lives'"},
+        {"define { sphere ball { } }\n",
+         "1:10: unknown definition 'sphere' (expected material or object)"},
+        {"define { material m { colour 1 } }\n",
+         "1:32: expected 3 numbers after 'colour', got '}'"},
+        // A material name where an object belongs is no object.
+        {"define { material m { } }\nthing { m { } }\n",
+         "2:9: unknown object 'm' (expected sphere, tetrahedron, cylinder, torus, box, cone, "
+         "constructive_solid_geometry, mesh, instance)"},
+        {"define { material m { } }\nthing { sphere { material m } }\n",
+         "no error"},
+        // Instances: unknown names, a material's name, CSG operands, meshes and instances in
+        // definitions.
+        {"thing { instance { object chair } }\n",
+         "1:27: unknown object 'chair' (an object is defined before its first use: define { object chair { ... } })"},
+        {"define { material gold { } }\nthing { instance { object gold } }\n",
+         "2:27: 'gold' is a material, not an object"},
+        {"define { object a { sphere { } } }\nthing { constructive_solid_geometry { left { instance { object a } } "
+         "right { sphere { } } } }\n",
+         "2:46: an instance cannot be a CSG operand: define the whole CSG as an object and place that"},
+        {"define { object m { mesh { file a.obj } } }\n",
+         "1:21: a mesh cannot be defined as an object: mesh blocks already share their model"},
+        {"define { object a { sphere { } } object b { instance { object a } } }\n",
+         "1:45: an instance cannot be defined as an object: define the object itself"},
+        {"define { object a { sphere { } } object a { box { } } }\n",
+         "1:41: object 'a' is defined twice"},
+        {"define { object a { sphere { } } material a { } }\n",
+         "1:43: the name 'a' is already an object's"},
+        {"define { object a { sphere { } sphere { } } }\n",
+         "1:32: expected '}' after the object defined as 'a' (it holds exactly one object), got 'sphere'"},
+        {"thing { instance { } }\n",
+         "1:9: instance needs an 'object' (the name of a defined object)"},
+        {"define { object a { sphere { radius 2 } } }\nthing { instance { object a scale 0 } }\n",
+         "2:35: scale must be 1e-9 .. 1e9 on every axis (0 and negative scales, mirrors, are refused)"},
     };
-    CHECK(first_error("thing { instance { object chair } }\n") ==
-          "1:27: unknown object 'chair' (an object is defined before its first use: define { object chair { ... } })");
-    CHECK(first_error("define { material gold { } }\nthing { instance { object gold } }\n") ==
-          "2:27: 'gold' is a material, not an object");
-    CHECK(first_error("define { object a { sphere { } } }\nthing { constructive_solid_geometry { left { instance { object a } } "
-                      "right { sphere { } } } }\n") ==
-          "2:46: an instance cannot be a CSG operand: define the whole CSG as an object and place that");
-    CHECK(first_error("define { object m { mesh { file a.obj } } }\n") ==
-          "1:21: a mesh cannot be defined as an object: mesh blocks already share their model");
-    CHECK(first_error("define { object a { sphere { } } object b { instance { object a } } }\n") ==
-          "1:45: an instance cannot be defined as an object: define the object itself");
-    CHECK(first_error("define { object a { sphere { } } object a { box { } } }\n") == "1:41: object 'a' is defined twice");
-    CHECK(first_error("define { object a { sphere { } } material a { } }\n") == "1:43: the name 'a' is already an object's");
-    CHECK(first_error("define { object a { sphere { } sphere { } } }\n") ==
-          "1:32: expected '}' after the object defined as 'a' (it holds exactly one object), got 'sphere'");
-    CHECK(first_error("thing { instance { } }\n") == "1:9: instance needs an 'object' (the name of a defined object)");
-    CHECK(first_error("define { object a { sphere { radius 2 } } }\nthing { instance { object a scale 0 } }\n") ==
-          "2:35: scale must be 1e-9 .. 1e9 on every axis (0 and negative scales, mirrors, are refused)");
+    for (const auto& [text, error] : cases) {
+        CAPTURE(text);
+        CHECK(first_error(text) == error);
+    }
 }
