@@ -86,6 +86,17 @@ void check_uv(const Uv& got, double u, double v) {
 }
 
 // The colour the material gives at (u, v): its colour times the texel there.
+void check_look(const Probe& p, const Texture& t, double u, double v);
+
+// The point seen from `from` toward `at` has texture coordinates (u, v) and shows the
+// texel there.
+Probe check_at(const Scene& s, const Texture& t, const Vec3& from, const Vec3& at, double u, double v) {
+    const Probe p = probe(s, from, at);
+    check_uv(p.uv, u, v);
+    check_look(p, t, u, v);
+    return p;
+}
+
 void check_look(const Probe& p, const Texture& t, double u, double v) {
     const Colour want = mul(Colour{0.5, 1, 0.25}, t.sample(u, v));
     CHECK(p.cp.x == doctest::Approx(want.x).epsilon(1e-9));
@@ -100,19 +111,15 @@ TEST_CASE("texture map: spheres by longitude about z from +x and latitude") {
     Scene s;
     s.objects.push_back(textured(Sphere{{1, 2, 3}, 2}, t));
     // Due +y of the centre: longitude 90 degrees, on the equator.
-    Probe p = probe(s, {1, 10, 3}, {1, 4, 3});
-    check_uv(p.uv, 0.25, 0.5);
-    check_look(p, *t, 0.25, 0.5);
+    check_at(s, *t, {1, 10, 3}, {1, 4, 3}, 0.25, 0.5);
     // 45 degrees up toward +x: longitude 0, latitude 45 degrees.
     const Vec3 q = Vec3{1, 2, 3} + Vec3{1, 0, 1} * (2 / std::sqrt(2.0));
-    p = probe(s, Vec3{1, 2, 3} + Vec3{1, 0, 1} * 5, q);
+    Probe p = probe(s, Vec3{1, 2, 3} + Vec3{1, 0, 1} * 5, q);
     check_uv(p.uv, 0, 0.75);
     // Toward -x -y (longitude 225 degrees), 30 degrees below the equator.
     const double lat = -kPi / 6, lon = 5 * kPi / 4;
     const Vec3 dir{std::cos(lat) * std::cos(lon), std::cos(lat) * std::sin(lon), std::sin(lat)};
-    p = probe(s, Vec3{1, 2, 3} + dir * 6, Vec3{1, 2, 3} + dir * 2);
-    check_uv(p.uv, 0.625, 1.0 / 3);
-    check_look(p, *t, 0.625, 1.0 / 3);
+    check_at(s, *t, Vec3{1, 2, 3} + dir * 6, Vec3{1, 2, 3} + dir * 2, 0.625, 1.0 / 3);
 }
 
 TEST_CASE("texture map: cylinders by angle and height, caps by angle and distance from the axis") {
@@ -120,15 +127,11 @@ TEST_CASE("texture map: cylinders by angle and height, caps by angle and distanc
     Scene s;
     // Along z: the angle is measured from +x toward +y (the frame about z).
     s.objects.push_back(textured(Cylinder{{0, 0, 0}, {0, 0, 4}, 1}, t));
-    Probe p = probe(s, {0, 5, 1}, {0, 1, 1});
-    check_uv(p.uv, 0.25, 0.25);
-    check_look(p, *t, 0.25, 0.25);
-    p = probe(s, {-5, 0, 3}, {-1, 0, 3});
+    check_at(s, *t, {0, 5, 1}, {0, 1, 1}, 0.25, 0.25);
+    Probe p = probe(s, {-5, 0, 3}, {-1, 0, 3});
     check_uv(p.uv, 0.5, 0.75);
     // The cap at end_2, half way out along +x: angle 0, distance 1/2.
-    p = probe(s, {0.5, 0, 9}, {0.5, 0, 4});
-    check_uv(p.uv, 0, 0.5);
-    check_look(p, *t, 0, 0.5);
+    check_at(s, *t, {0.5, 0, 9}, {0.5, 0, 4}, 0, 0.5);
 }
 
 TEST_CASE("texture map: cones as cylinders, by angle and height, the base by distance from the axis") {
@@ -137,13 +140,9 @@ TEST_CASE("texture map: cones as cylinders, by angle and height, the base by dis
     // Along z, radius 2 at z = 0 narrowing to a point at z = 4.
     s.objects.push_back(textured(Cone{{0, 0, 0}, {0, 0, 4}, 2, 0}, t));
     // +y at a quarter of the height (the radius there 1.5): angle 90 degrees, height 1/4.
-    Probe p = probe(s, {0, 6, 1}, {0, 1.5, 1});
-    check_uv(p.uv, 0.25, 0.25);
-    check_look(p, *t, 0.25, 0.25);
+    check_at(s, *t, {0, 6, 1}, {0, 1.5, 1}, 0.25, 0.25);
     // The base, half way out along +x: angle 0, distance 1/2 of its radius.
-    p = probe(s, {1, 0, -5}, {1, 0, 0});
-    check_uv(p.uv, 0, 0.5);
-    check_look(p, *t, 0, 0.5);
+    check_at(s, *t, {1, 0, -5}, {1, 0, 0}, 0, 0.5);
 }
 
 TEST_CASE("texture map: tori by the angle about their axis and the angle about the tube") {
@@ -151,13 +150,9 @@ TEST_CASE("texture map: tori by the angle about their axis and the angle about t
     Scene s;
     s.objects.push_back(textured(Torus{{0, 0, 0}, {0, 0, 1}, 2, 0.5}, t));
     // Outermost point at +y: axis angle 90 degrees, tube angle 0.
-    Probe p = probe(s, {0, 9, 0}, {0, 2.5, 0});
-    check_uv(p.uv, 0.25, 0);
-    check_look(p, *t, 0.25, 0);
+    check_at(s, *t, {0, 9, 0}, {0, 2.5, 0}, 0.25, 0);
     // Top of the tube at -x: axis angle 180 degrees, tube angle 90 degrees.
-    p = probe(s, {-2, 0, 7}, {-2, 0, 0.5});
-    check_uv(p.uv, 0.5, 0.25);
-    check_look(p, *t, 0.5, 0.25);
+    check_at(s, *t, {-2, 0, 7}, {-2, 0, 0.5}, 0.5, 0.25);
 }
 
 TEST_CASE("texture map: a tetrahedron's faces by their own plane, in scene units over texture_scale") {
@@ -165,9 +160,7 @@ TEST_CASE("texture map: a tetrahedron's faces by their own plane, in scene units
     Scene s;
     // The face on z = 0 faces -z; its frame about (0, 0, -1) has axes +x and -y.
     s.objects.push_back(textured(Tetrahedron{{{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 0, 2}}}, t, 0.5));
-    Probe p = probe(s, {0.3, 0.2, -4}, {0.3, 0.2, 0});
-    check_uv(p.uv, 0.6, -0.4);
-    check_look(p, *t, 0.6, -0.4);
+    check_at(s, *t, {0.3, 0.2, -4}, {0.3, 0.2, 0}, 0.6, -0.4);
     // Along the face the coordinates change by distance / scale, whatever the face.
     const Probe a = probe(s, {0.2, -4, 0.2}, {0.2, 0, 0.2}), b = probe(s, {0.7, -4, 0.5}, {0.7, 0, 0.5});
     const double du = b.uv.u - a.uv.u, dv = b.uv.v - a.uv.v;
@@ -185,11 +178,9 @@ TEST_CASE("texture map: CSG takes the mapping of the primitive hit, with the CSG
     c.operands = {left, right};
     s.objects.push_back(textured(c, t));
     // Down the hole the cylinder's wall is hit: angle 90 degrees (+y), height 3 of 6.
-    Probe p = probe(s, {0, 0.5, 0}, {0, 1, 0});  // from inside the hole, outward
-    check_uv(p.uv, 0.25, 0.5);
-    check_look(p, *t, 0.25, 0.5);
+    check_at(s, *t, {0, 0.5, 0}, {0, 1, 0}, 0.25, 0.5);  // from inside the hole, outward
     // Outside, the sphere: due -y on the equator.
-    p = probe(s, {0, -9, 0}, {0, -2, 0});
+    Probe p = probe(s, {0, -9, 0}, {0, -2, 0});
     check_uv(p.uv, 0.75, 0.5);
 }
 
