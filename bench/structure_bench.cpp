@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
         rtview::Placement at;
         at.point = {0.25, 0.5, 0.0};
         at.normal = {0, 0, 1};
-        measure("Add sphere", [&] { return rtview::add_item(std::as_const(doc).editor_text(), doc.scene(), rtview::NewItem::Sphere, at, doc.layout()); },
+        measure("Add sphere", [&] { return rtview::add_item(std::as_const(doc).editor_text(), doc.scene(), rtview::NewItem::Sphere, at, doc.layout(), sync.world().get()); },
                 apply);
         measure("Undo (the add)", none, undo);
         measure("Redo (the add)", none, redo);

@@ -268,6 +268,9 @@ private:
     // (as made) or back: the text's replacement at `pos` of `removed` by `inserted` is made.
     void apply_splice(const SplicedItem& s, bool forward, std::size_t pos, std::string_view removed,
                       std::string_view inserted, bool layout_valid);
+    // The layout kept in step with the text through `reps` (made in order), when each
+    // replaces one whole block (an undo or redo of a panel edit); else dropped (false).
+    bool follow_layout(const std::vector<TextReplacement>& reps);
     // The name of the held edit: as given to name_edit(), else from what it touched.
     std::string held_name() const;
     void apply_step(const DocStep& s, bool forward);

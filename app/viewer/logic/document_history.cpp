@@ -156,6 +156,9 @@ void Document::apply_step(const DocStep& s, bool forward) {
             scene_ = std::move(r.scene);
         }
     } else {
+        if (layout_valid && !s.keep_applied && !s.applied_before && !s.applied_after && !s.editor.empty())
+            follow_layout(forward ? s.editor
+                                  : std::vector<TextReplacement>(s.editor_back.rbegin(), s.editor_back.rend()));
         for (const auto& p : forward ? s.objects_after : s.objects_before) restore_object(p.first, p.second);
         for (const auto& p : forward ? s.planes_after : s.planes_before) restore_plane(p.first, p.second);
         for (const auto& p : forward ? s.lights_after : s.lights_before) scene_.lights[p.first] = p.second;

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <utility>
 
+#include "parallel.h"
 #include "scene_writer.h"
 
 namespace rtview {
@@ -158,6 +159,27 @@ void move_positions(SceneLayout& l, std::size_t pos, std::size_t old_len, std::s
 
 }  // namespace
 
+bool Document::follow_layout(const std::vector<TextReplacement>& reps) {
+    if (!layout_) return false;
+    for (const TextReplacement& r : reps) {
+        // Only a replacement of one whole block (a panel edit's) keeps the layout's shape.
+        TextSpan* hit = nullptr;
+        for (auto* v : {&layout_->objects, &layout_->planes, &layout_->lights, &layout_->cameras}) {
+            auto it = std::lower_bound(v->begin(), v->end(), r.offset,
+                                       [](const TextSpan& t, std::size_t x) { return t.begin < x; });
+            if (it != v->end() && it->begin == r.offset && it->end == r.offset + r.length) hit = &*it;
+        }
+        if (!hit || r.length == 0) {
+            layout_.reset();
+            return false;
+        }
+        move_positions(*layout_, r.offset, r.length, r.text.size());
+        hit->end = r.offset + r.text.size();
+    }
+    layout_key_ = layout_key(1);
+    return true;
+}
+
 const SceneLayout* Document::layout() {
     const std::uint64_t key = layout_key();
     if (!layout_ || layout_key_ != key) {
@@ -296,19 +318,34 @@ void Document::apply_splice(const SplicedItem& s, bool forward, std::size_t pos,
     // them (a million objects' list is hundreds of MB: each pass costs).
     bool objects_shifted = false;
     if (s.list == ItemList::Object && (insert || remove)) {
+        // In two halves at once where a worker is free: each half's one element that
+        // the other half overwrites is set aside first.
         std::vector<rt::Object>& v = scene_.objects;
+        const bool two = v.size() - i > (std::size_t(1) << 16);
         if (remove) {
-            for (std::size_t k = i; k + 1 < v.size(); ++k) {
-                v[k] = std::move(v[k + 1]);
-                shift(v[k]);
-            }
+            // v[k] = v[k + 1] for k in [i, n - 1); split at m.
+            const std::size_t n = v.size(), m = i + (n - 1 - i) / 2;
+            rt::Object saved = std::move(v[m]);
+            rt::two_ways(two, [&](int part) {
+                const std::size_t from = part == 0 ? i : m, to = part == 0 ? m : n - 1;
+                for (std::size_t k = from; k < to; ++k) {
+                    v[k] = std::move(k + 1 == m ? saved : v[k + 1]);
+                    shift(v[k]);
+                }
+            });
             v.pop_back();
         } else {
+            // v[k] = v[k - 1] for k in (i, n]; split at m.
             v.emplace_back();
-            for (std::size_t k = v.size() - 1; k > i; --k) {
-                v[k] = std::move(v[k - 1]);
-                shift(v[k]);
-            }
+            const std::size_t n = v.size() - 1, m = i + (n - i) / 2;
+            rt::Object saved = std::move(v[m]);
+            rt::two_ways(two, [&](int part) {
+                const std::size_t top = part == 0 ? m : n, bottom = part == 0 ? i : m;
+                for (std::size_t k = top; k > bottom; --k) {
+                    v[k] = std::move(k - 1 == m && part == 1 ? saved : v[k - 1]);
+                    shift(v[k]);
+                }
+            });
             v[i] = value.objects.at(0);
         }
         objects_shifted = true;

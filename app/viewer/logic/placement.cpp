@@ -149,9 +149,9 @@ std::optional<std::size_t> first_clear(const rt::Scene& scene, const std::vector
         if (b.lo.x <= b.hi.x) boxes.push_back(b);
     }
     const double r = nice_size(typical_object_size(scene)), reach = 1.5 * r;
-    // At most ~20M box tests (a menu click, not a wait): in a million-object scene the
-    // first 20 candidates.
-    constexpr std::size_t kMaxTests = 20'000'000;
+    // At most ~4M box tests (a menu click, not a wait): in a million-object scene the
+    // first 4 candidates.
+    constexpr std::size_t kMaxTests = 4'000'000;
     const std::size_t per_candidate = std::max<std::size_t>(1, boxes.size());
     const std::size_t tried = std::min(candidates.size(), std::max<std::size_t>(1, kMaxTests / per_candidate));
     std::optional<std::size_t> unseen;  // the first clear one that `seen` refused

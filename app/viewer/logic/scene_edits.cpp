@@ -395,7 +395,7 @@ void new_item(const rt::Scene& scene, NewItem kind, const Placement& at, double 
 }  // namespace
 
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at,
-                                  const SceneLayout* layout) {
+                                  const SceneLayout* layout, const rt::World* world) {
     std::optional<SceneLayout> scanned;
     const SceneLayout* l = layout_of(text, scene, layout, scanned);
     if (!l || !rt::finite(at.point)) return std::nullopt;
@@ -404,7 +404,7 @@ std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scen
     // far from the point, or merge its corners: then a tenth of the item's own size,
     // and if that still merges corners (far out, where doubles are coarse), a
     // thousandth of it.
-    const double extent = scene_extent(scene), r = nice_size(typical_object_size(scene));
+    const double extent = scene_extent(scene, world), r = nice_size(typical_object_size(scene));
     for (double scale : {std::min(extent, 100 * r), std::min(extent, r)}) {
         rt::Scene one;
         SceneItem::Kind where;

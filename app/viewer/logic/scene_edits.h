@@ -17,6 +17,7 @@
 #include "scene_text.h"
 #include "text_replacement.h"
 #include "triangles.h"
+#include "world.h"
 
 namespace rtview {
 
@@ -63,8 +64,10 @@ const char* new_item_name(NewItem k);  // "sphere", ..., as in the format
 // Objects and lights rest on the surface; a plane stands upright on it (it contains
 // the surface's normal) and faces the viewer: a plane through the point with the
 // surface's own orientation would lie in a floor it was added to, and show nothing.
+// `world`, if given, is the scene's compiled world: its bounds give the scene's size
+// without a pass over the objects.
 std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at,
-                                  const SceneLayout* layout = nullptr);
+                                  const SceneLayout* layout = nullptr, const rt::World* world = nullptr);
 // A mesh of the model read from `file` (as the block names it): its size typical_object_size,
 // its box resting on the surface at the point (centred on a point in space), turned
 // so that the model's y axis (OBJ's and PLY's usual up) is the scene's up when that

@@ -107,7 +107,11 @@ WorldSync::Step WorldSync::sync(const Document& doc) {
     if (build_.valid()) return step;
     if (!copy_on(doc)) return Step::Building;
     build_version_ = copy_->version;
-    build_ = std::async(std::launch::async, [scene = std::move(copy_->scene)] { return rt::compile_world(scene, nullptr); });
+    // (The copy is let go of on the compile's thread: freeing a million objects takes a while.)
+    build_ = std::async(std::launch::async, [scene = std::move(copy_->scene)]() mutable {
+        const rt::Scene s = std::move(scene);
+        return rt::compile_world(s, nullptr);
+    });
     copy_.reset();
     return Step::Building;
 }

@@ -207,6 +207,7 @@ LoadStatus ViewerApp::load_status() const {
 }
 
 void ViewerApp::frame() {
+    frame_timing_begin();
     ++frames_;
     double now = ImGui::GetTime();
     Document& doc = editor_.doc();
@@ -285,6 +286,7 @@ void ViewerApp::frame() {
     probe_frame();
     publish_outputs();
     again_ = visible_key() != key_before;
+    frame_timing_end();
 }
 
 
@@ -584,7 +586,8 @@ void ViewerApp::orbit_degrees(double degrees) {
 // --- Host interface
 
 bool ViewerApp::render_settled() const {
-    return editor_.doc().has_scene() && render_.settled(layout_.film_w, layout_.film_h);
+    return editor_.doc().has_scene() && render_.settled(layout_.film_w, layout_.film_h) &&
+           render_.picture_current(editor_.doc().content_version());
 }
 
 bool ViewerApp::ui_busy() const {

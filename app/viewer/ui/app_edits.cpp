@@ -80,7 +80,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         case Command::AddItem: {
             const std::optional<NewItem> kind = new_item_kind(arg);
             if (!kind) return false;
-            e = add_item(text, scene, *kind, new_item_placement(*kind <= NewItem::Torus), layout);
+            e = add_item(text, scene, *kind, new_item_placement(*kind <= NewItem::Torus), layout, render_.world());
             done = std::string("Added a ") + arg;
             name = std::string("Add a ") + arg;
             break;
