@@ -129,7 +129,7 @@ private:
     void frame_timing_end();
     static constexpr double kSlowFrame = 0.050;
     double frame_cpu0_ = 0, slowest_frame_ = 0;
-    long slow_frames_ = 0;
+    long slow_frames_ = 0, very_slow_frames_ = 0;  // over kSlowFrame, over twice that
     LoadStatus load_status() const;
     void after_document_replaced();
     void start_load(const std::string& path);

@@ -35,6 +35,7 @@ void ViewerApp::frame_timing_end() {
     slowest_frame_ = std::max(slowest_frame_, took);
     if (took <= kSlowFrame) return;
     ++slow_frames_;
+    if (took > 2 * kSlowFrame) ++very_slow_frames_;
     if (opt_.verbose)
         std::fprintf(stderr, "raytracer-view: slow frame %d: %.1f ms of UI-thread CPU\n", frames_, took * 1000);
 }
@@ -43,6 +44,7 @@ void ViewerApp::probe_frame() {
     if (!opt_.print_layout) return;
     // (Of the frames before this one.)
     probe("slow_frames", std::to_string(slow_frames_));
+    probe("very_slow_frames", std::to_string(very_slow_frames_));
     probe("slowest_frame_ms", std::to_string(int(slowest_frame_ * 1000)));
     const Document& doc = editor_.doc();
     probe("title", doc.title());
