@@ -130,19 +130,18 @@ bool WorldSync::copy_on(const Document& doc) {
         }
     }
     if (!copy_) {
-        // All but the objects at once (they are few), the objects by shares.
+        // The objects by shares.
         copy_.emplace();
-        rt::Scene& s = copy_->scene;
-        s.files_read = from.files_read;
-        s.materials = from.materials;
-        s.defined = from.defined;
-        s.includes = from.includes;
-        s.objects.reserve(from.objects.size());
+        copy_->scene.objects.reserve(from.objects.size());
         copy_->total = from.objects.size();
         copy_->version = doc.content_version();
     }
-    // (Planes, lights, the camera and the size: copied whole each time, being few.)
+    // (All but the objects: copied whole each time, being few.)
     rt::Scene& s = copy_->scene;
+    s.files_read = from.files_read;
+    s.materials = from.materials;
+    s.defined = from.defined;
+    s.includes = from.includes;
     s.planes = from.planes;
     s.lights = from.lights;
     s.camera = from.camera;
