@@ -148,9 +148,10 @@ bool WorldSync::copy_on(const Document& doc) {
     s.width = from.width;
     s.height = from.height;
     s.camera_loc = from.camera_loc;
-    // About 10 ms of copying a sync, checked every few thousand objects.
+    // About copy_budget_ of copying a sync, checked every few thousand objects.
     constexpr std::size_t kShare = 4096;
-    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(10);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                              std::chrono::duration<double>(copy_budget_));
     while (copy_->objects < from.objects.size()) {
         const std::size_t end = std::min(from.objects.size(), copy_->objects + kShare);
         s.objects.insert(s.objects.end(), from.objects.begin() + std::ptrdiff_t(copy_->objects),
