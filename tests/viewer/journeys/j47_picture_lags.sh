@@ -4,9 +4,9 @@
 # that (Ctrl+Z), then opens another grid of 202,500 spheres (Ctrl+O).
 # Checks, frame by frame as the viewer drew them: while the panels show the edited (or
 # newly opened) scene and the picture is still the render of the scene before (the
-# film's render generation has not changed yet), the status bar never says "settled"
-# or "done", and it does say "updating the picture..."; then the picture catches up
-# ("current") and the status bar settles.
+# film's render generation has not changed yet, or its new render has not finished),
+# the status bar never says "settled" or "done", and it does say "updating the
+# picture..."; then the picture catches up ("current") and the status bar settles.
 # Usage: j47_picture_lags.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -30,9 +30,11 @@ frames_since() {
         $1 == "state" && $2 == "scene_size" { s = $3 }
         $1 == "state" && $2 == "film" { g = $NF }
         $1 == "state" && $2 == "status_bar" { st = $0 }
+        $1 == "state" && $2 == "render" { r = $0 }
         $1 == "end-layout" {
             if (st ~ /updating the picture/) updating = 1
-            if (s == size && g == gen && st ~ /settled|done/) { stale = st }
+            # The old film, or a render that has not finished, under a status of "done".
+            if (s == size && (g == gen || r !~ / done$/) && st ~ /settled|done/) { stale = st " (" r ")" }
         }
         END {
             if (stale != "") print "stale: " stale
