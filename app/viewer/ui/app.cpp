@@ -515,6 +515,12 @@ void ViewerApp::select_at(double px, double py) {
         panels_.select({{SceneItem::Kind::Light, light}, {}});
         return;
     }
+    // The world of the scene before an edit (the new one still compiles) numbers the
+    // objects as that scene did: what it would pick is another object of this one.
+    if (render_.world_version() != editor_.doc().content_version()) {
+        status_.set("The picture is being updated to the edited scene: click again once it shows it");
+        return;
+    }
     rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     rt::PickResult r = pick_at(*w, vc, layout_.image, layout_.film_w, layout_.film_h, px, py);
     ItemRef s;

@@ -72,6 +72,8 @@ public:
     const rt::World* world() const { return sync_.world().get(); }
     const std::shared_ptr<const rt::World>& world_ptr() const { return sync_.world(); }
     bool building() const { return sync_.building(); }
+    // The document's content version the world is compiled from.
+    std::uint64_t world_version() const { return sync_.version(); }
     bool started() const { return started_world_ != nullptr; }
     // All requested samples are in and the texture shows the final film of this size.
     bool settled(int film_w, int film_h) const;
