@@ -252,6 +252,36 @@ TEST_CASE("world sync: random document edits keep the world equal to a full comp
     MESSAGE(updated << " updates in place, " << built << " compiles in the background");
 }
 
+TEST_CASE("world sync: a scene copied for a compile over several frames takes the edits made meanwhile") {
+    Rng rng(14);
+    Document doc;
+    doc.load_text(random_scene_text(rng, 20000), "", "t.txt");
+    WorldSync sync;
+    sync.set_copy_budget(0);  // one share of 4,096 objects a sync
+    sync.finish(doc);
+    std::optional<SceneEdit> e =
+        delete_item(std::as_const(doc).editor_text(), doc.scene(), {SceneItem::Kind::Object, 100}, doc.layout());
+    REQUIRE(e);
+    REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, "d", &*e->splice));
+    CHECK(sync.sync(doc) == WorldSync::Step::Building);  // (copying: 4,096 of 19,999)
+    CHECK(sync.building());
+    // An object already copied and one not yet, changed in place while the copy goes on.
+    doc.edit_object(10).material.colour = {0.1, 0.9, 0.1};
+    doc.commit();
+    CHECK(sync.sync(doc) == WorldSync::Step::Building);
+    doc.edit_object(19000).material.colour = {0.9, 0.1, 0.1};
+    doc.commit();
+    int syncs = 2;
+    while (sync.copying()) {
+        sync.sync(doc);
+        ++syncs;
+    }
+    CHECK(syncs >= 5);
+    sync.finish(doc);
+    REQUIRE(sync.version() == doc.content_version());
+    rt_test::check_same_world(*sync.world(), *rt::compile_world(doc.scene()));
+}
+
 TEST_CASE("world sync: a frame with nothing changed does nothing, and the world stays the same") {
     Rng rng(12);
     Document doc;

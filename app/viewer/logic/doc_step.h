@@ -11,9 +11,34 @@
 
 #include "scene.h"
 #include "scene_delta.h"
+#include "scene_text.h"
 #include "text_replacement.h"
 
 namespace rtview {
+
+// A structural edit made without parsing the whole text (Document::replace_text with
+// an ItemSplice): one item of one list inserted, removed or replaced, with its value as
+// it was and as it is (the only item of its list in `before`, `after`), where its block
+// is in the text, and the place of the text's replacement as the parser counts lines
+// and columns (the same before and after it: the text before it does not change).
+struct SplicedItem {
+    ItemSplice::Op op = ItemSplice::Op::Insert;
+    ItemList list = ItemList::Object;
+    std::size_t index = 0;
+    rt::Scene before, after;
+    TextSpan block_before, block_after;
+    rt::SourceLoc at;
+};
+
+// What a spliced item changes in the scene: the length of a list (the world is compiled
+// anew), or one item in place.
+inline rt::SceneDelta splice_delta(const SplicedItem& s) {
+    if (s.op != ItemSplice::Op::Replace) return rt::SceneDelta::all();
+    rt::SceneDelta d;
+    (s.list == ItemList::Object ? d.objects : s.list == ItemList::Plane ? d.planes : d.lights)
+        .push_back(std::uint32_t(s.index));
+    return d;
+}
 
 // One undo step: what an edit changed, both ways.
 struct DocStep {
@@ -39,6 +64,9 @@ struct DocStep {
     bool has_scene_before = false, has_scene_after = false;
     bool behind_before = false, behind_after = false;
     bool keep_applied = false;  // typing: the applied text is not part of the step
+    // A structural edit of one item, spliced into the scene rather than parsed again
+    // (with `editor` its one replacement).
+    std::optional<SplicedItem> spliced;
     std::size_t bytes() const;
 };
 

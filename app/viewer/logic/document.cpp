@@ -177,7 +177,8 @@ bool Document::apply_text() {
     return true;
 }
 
-bool Document::replace_text(std::size_t pos, std::size_t length, const std::string& text, const std::string& name) {
+bool Document::replace_text(std::size_t pos, std::size_t length, const std::string& text, const std::string& name,
+                            const ItemSplice* splice) {
     // The replacement was planned on the text and the scene as they are now; a held
     // edit (a drag) would rewrite the text when committed, and the replacement would
     // land on the wrong bytes.
@@ -185,6 +186,7 @@ bool Document::replace_text(std::size_t pos, std::size_t length, const std::stri
     flush_typing();  // text typed since the last step is a step of its own, first
     normalize_applied();
     if (applied_ || behind_ || pos > editor_.size() || length > editor_.size() - pos) return false;
+    if (splice && splice_text(pos, length, text, name, *splice)) return true;
     std::string edited = editor_;
     edited.replace(pos, length, text);
     rt::ParseResult r = rt::parse_scene(edited, parse_options(path_));

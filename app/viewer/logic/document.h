@@ -141,8 +141,20 @@ public:
     // `length` bytes at `pos` with `text` and applies the result, as one undo step
     // (called `name`) that stores the replacement. Only when the editor text is the scene's (no
     // draft), no edit is held (edit_held()) and the result parses; else false and nothing changes.
+    // `splice`, if given, says what the replacement does to the scene (one item inserted,
+    // removed or replaced: scene_edits.h): then only the new block is parsed, and the
+    // scene, the layout and, on undo and redo, both again are changed in place, so the
+    // edit costs its block rather than the whole text (the result is the same as a
+    // parse of the whole text; where that cannot be known cheaply, it is parsed).
     bool replace_text(std::size_t pos, std::size_t length, const std::string& text,
-                      const std::string& name = "Edit the scene text");
+                      const std::string& name = "Edit the scene text", const ItemSplice* splice = nullptr);
+    // Where the items of the editor text are (scan_layout), kept up to date through the
+    // document's own edits: scanned again only after other changes. Null when the text's
+    // structure is unclear.
+    const SceneLayout* layout();
+    // How many edits, undos and redos so far were made by splicing one item (for tests
+    // and benchmarks: the rest parsed the whole text).
+    std::uint64_t spliced_count() const { return spliced_count_; }
     // Puts `text` in the editor as an unapplied draft (undoable): crash recovery.
     void restore_draft(const std::string& text);
     // Re-parses the draft to refresh diagnostics() without applying it (live check).
@@ -248,6 +260,17 @@ private:
     // `editor` null: the editor text stays; `scene` empty: the scene stays.
     void replace_state(const std::string* editor, std::optional<std::string> applied, std::optional<rt::Scene> scene,
                        bool behind, std::string name);
+    // replace_text() of one item's block without parsing the whole text; false (nothing
+    // changed) when it cannot be done that way (document_splice.cpp).
+    bool splice_text(std::size_t pos, std::size_t length, const std::string& text, const std::string& name,
+                     const ItemSplice& splice);
+    // The scene and (when `layout_valid`) the layout changed as the splice says, forward
+    // (as made) or back: the text's replacement at `pos` of `removed` by `inserted` is made.
+    void apply_splice(const SplicedItem& s, bool forward, std::size_t pos, std::string_view removed,
+                      std::string_view inserted, bool layout_valid);
+    // The layout kept in step with the text through `reps` (made in order), when each
+    // replaces one whole block (an undo or redo of a panel edit); else dropped (false).
+    bool follow_layout(const std::vector<TextReplacement>& reps);
     // The name of the held edit: as given to name_edit(), else from what it touched.
     std::string held_name() const;
     void apply_step(const DocStep& s, bool forward);
@@ -321,6 +344,7 @@ private:
     std::uint64_t layout_key(std::uint64_t ahead = 0) const {
         return text_key_of(text_version_ + ahead, typed_);
     }
+    std::uint64_t spliced_count_ = 0;
     bool conflict_ = false;
     std::string conflict_text_;
     std::string refusal_;

@@ -28,6 +28,11 @@ std::size_t DocStep::bytes() const {
     for (const auto* v : {&editor, &editor_back})
         for (const TextReplacement& r : *v) b += sizeof(TextReplacement) + r.text.size();
     if (applied_before) b += applied_before->size();
+    if (spliced) {
+        b += sizeof(SplicedItem);
+        for (const rt::Scene* sc : {&spliced->before, &spliced->after})
+            for (const rt::Object& o : sc->objects) b += object_bytes(o);
+    }
     if (applied_after) b += applied_after->size();
     for (const auto& o : objects_before) b += object_bytes(o.second) + sizeof(std::size_t);
     for (const auto& o : objects_after) b += object_bytes(o.second) + sizeof(std::size_t);
@@ -126,6 +131,8 @@ void Document::replace_state(const std::string* editor, std::optional<std::strin
 }
 
 void Document::apply_step(const DocStep& s, bool forward) {
+    // (A spliced step keeps the layout in step with the text, as it was made.)
+    const bool layout_valid = layout_ && layout_key_ == layout_key();
     // A typing step leaves the applied text alone: it is the editor text as it is
     // before the step when they are one and the same now.
     if (s.keep_applied && !applied_) applied_ = editor_;
@@ -138,12 +145,20 @@ void Document::apply_step(const DocStep& s, bool forward) {
     if (!s.keep_applied) applied_ = forward ? s.applied_after : s.applied_before;
     else normalize_applied();
     has_scene_ = forward ? s.has_scene_after : s.has_scene_before;
-    if (s.reparse) {
+    if (s.spliced && s.editor.size() == 1 && s.editor_back.size() == 1) {
+        const TextReplacement& r = s.editor[0];
+        const TextReplacement& back = s.editor_back[0];
+        apply_splice(*s.spliced, forward, r.offset, forward ? back.text : r.text, forward ? r.text : back.text,
+                     layout_valid);
+    } else if (s.reparse) {
         if (has_scene_) {
             rt::ParseResult r = rt::parse_scene(applied_text(), parse_options(path_));
             scene_ = std::move(r.scene);
         }
     } else {
+        if (layout_valid && !s.keep_applied && !s.applied_before && !s.applied_after && !s.editor.empty())
+            follow_layout(forward ? s.editor
+                                  : std::vector<TextReplacement>(s.editor_back.rbegin(), s.editor_back.rend()));
         for (const auto& p : forward ? s.objects_after : s.objects_before) restore_object(p.first, p.second);
         for (const auto& p : forward ? s.planes_after : s.planes_before) restore_plane(p.first, p.second);
         for (const auto& p : forward ? s.lights_after : s.lights_before) scene_.lights[p.first] = p.second;
@@ -153,6 +168,8 @@ void Document::apply_step(const DocStep& s, bool forward) {
     ++scene_version_;
     if (s.reparse || s.has_scene_before != s.has_scene_after)
         changed(rt::SceneDelta::all());
+    else if (s.spliced)
+        changed(splice_delta(*s.spliced));
     else if (!s.objects_before.empty() || !s.planes_before.empty() || !s.lights_before.empty())
         changed(items_of(s.objects_before, s.planes_before, s.lights_before));
     if (!s.editor.empty() || s.applied_before != s.applied_after) text_changed(s, forward);

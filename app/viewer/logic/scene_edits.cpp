@@ -74,10 +74,15 @@ std::size_t count_of(const rt::Scene& s, SceneItem::Kind k) {
 
 // The layout, if it matches the scene's own items (those of the file itself, not of
 // its includes) one for one.
-std::optional<SceneLayout> layout_of(const std::string& text, const rt::Scene& scene) {
-    SceneLayout l = scan_layout(text);
-    if (!layout_matches(l, scene)) return std::nullopt;
-    return l;
+// The layout to plan on: `given` (the document keeps it up to date) or one scanned
+// into `own`; null when it does not match the scene's items one for one.
+const SceneLayout* layout_of(const std::string& text, const rt::Scene& scene, const SceneLayout* given,
+                             std::optional<SceneLayout>& own) {
+    if (!given) {
+        own = scan_layout(text);
+        given = &*own;
+    }
+    return layout_matches(*given, scene) ? given : nullptr;
 }
 
 // The block of a scene item in the text, and its place among the own items; nothing
@@ -105,8 +110,9 @@ int appended_index(const rt::Scene& scene, SceneItem::Kind kind) {
 // Text for a new block of `kind`: after the last block of that kind (on its own line,
 // with that block's indentation), or in a new section before `end`.
 TextReplacement insert_block(const std::string& text, const SceneLayout& l, SceneItem::Kind kind,
-                             const rt::Scene& one, std::size_t after_index = std::size_t(-1)) {
+                             const rt::Scene& one, std::size_t after_index = std::size_t(-1), bool* new_section = nullptr) {
     const std::vector<TextSpan>& spans = spans_of(l, kind);
+    if (new_section) *new_section = spans.empty();
     if (!spans.empty()) {
         TextSpan s = spans[std::min(after_index, spans.size() - 1)];
         std::string indent = line_indent(text, s.begin);
@@ -314,10 +320,10 @@ namespace {
 
 // The new item's block (in `one`) at `at`, with coordinates rounded to a thousandth of
 // `scale`; `where` says which list it is in.
-void new_item(const rt::Scene& scene, NewItem kind, const Placement& at, double scale, rt::Scene& one,
-              SceneItem::Kind& where) {
-    const double extent = scene_extent(scene);
-    const double r = nice_size(typical_object_size(scene));
+// `extent` and `r`: scene_extent(scene) and nice_size(typical_object_size(scene)),
+// passes over every object, found once by the caller.
+void new_item(const rt::Scene& scene, NewItem kind, const Placement& at, double scale, double extent, double r,
+              rt::Scene& one, SceneItem::Kind& where) {
     const Vec3 up = up_of(scene, at);
     const rt::Frame f = rt::Frame::from_axis(up);
     const Vec3 p = at.point;
@@ -388,31 +394,37 @@ void new_item(const rt::Scene& scene, NewItem kind, const Placement& at, double 
 
 }  // namespace
 
-std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at) {
-    auto l = layout_of(text, scene);
+std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at,
+                                  const SceneLayout* layout, const rt::World* world) {
+    std::optional<SceneLayout> scanned;
+    const SceneLayout* l = layout_of(text, scene, layout, scanned);
     if (!l || !rt::finite(at.point)) return std::nullopt;
     // Coordinates rounded to a thousandth of the scene's size keep the text short. In a
     // scene much bigger than its objects (a light far away) that would move the item
     // far from the point, or merge its corners: then a tenth of the item's own size,
     // and if that still merges corners (far out, where doubles are coarse), a
     // thousandth of it.
-    const double extent = scene_extent(scene), r = nice_size(typical_object_size(scene));
+    const double extent = scene_extent(scene, world), r = nice_size(typical_object_size(scene));
     for (double scale : {std::min(extent, 100 * r), std::min(extent, r)}) {
         rt::Scene one;
         SceneItem::Kind where;
-        new_item(scene, kind, at, scale, one, where);
+        new_item(scene, kind, at, scale, extent, r, one, where);
         if (!text_holds(one)) continue;
         SceneEdit e;
-        e.replacement = insert_block(text, *l, where, one);
+        bool section = false;
+        e.replacement = insert_block(text, *l, where, one, std::size_t(-1), &section);
         e.select = {where, appended_index(scene, where)};
+        if (scene.includes.empty())
+            e.splice = ItemSplice{ItemSplice::Op::Insert, list_of(where), std::size_t(e.select.index), section};
         return e;
     }
     return std::nullopt;  // no block the format takes fits there (numbers past 1e15)
 }
 
 std::optional<SceneEdit> add_model(const std::string& text, const rt::Scene& scene, const std::string& file,
-                                   const rt::MeshModel& model, const Placement& at) {
-    auto l = layout_of(text, scene);
+                                   const rt::MeshModel& model, const Placement& at, const SceneLayout* layout) {
+    std::optional<SceneLayout> scanned;
+    const SceneLayout* l = layout_of(text, scene, layout, scanned);
     const rt::Aabb mb = model.bounds();
     if (!l || !rt::finite(at.point) || mb.empty()) return std::nullopt;
     const double extent = scene_extent(scene);
@@ -437,8 +449,11 @@ std::optional<SceneEdit> add_model(const std::string& text, const rt::Scene& sce
     o.shape = m;
     one.objects.push_back(o);
     SceneEdit e;
-    e.replacement = insert_block(text, *l, SceneItem::Kind::Object, one);
+    bool section = false;
+    e.replacement = insert_block(text, *l, SceneItem::Kind::Object, one, std::size_t(-1), &section);
     e.select = {SceneItem::Kind::Object, appended_index(scene, SceneItem::Kind::Object)};
+    if (scene.includes.empty())
+        e.splice = ItemSplice{ItemSplice::Op::Insert, ItemList::Object, std::size_t(e.select.index), section};
     return e;
 }
 
@@ -500,13 +515,16 @@ std::string model_scene(const std::string& file, const rt::MeshModel& model) {
     return "// A model opened on its own: a floor under it, a lamp and a camera around it.\n" + rt::write_scene(s);
 }
 
-std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene& scene, SceneItem item, Vec3 offset) {
-    auto l = layout_of(text, scene);
+std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene& scene, SceneItem item, Vec3 offset,
+                                        const SceneLayout* layout) {
+    std::optional<SceneLayout> scanned;
+    const SceneLayout* l = layout_of(text, scene, layout, scanned);
     const auto block = l ? block_of(*l, scene, item.kind, item.index) : std::nullopt;
     if (!block) return std::nullopt;
     const TextSpan s = block->first;
     SceneEdit e;
     e.select = {item.kind, item.index + 1};
+    if (scene.includes.empty()) e.splice = ItemSplice{ItemSplice::Op::Insert, list_of(item.kind), std::size_t(item.index) + 1};
     if (offset == Vec3{0, 0, 0}) {
         std::string indent = line_indent(text, s.begin);
         e.replacement = {s.end, 0, "\n" + indent + text.substr(s.begin, s.end - s.begin)};
@@ -530,8 +548,10 @@ std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene
     return e;
 }
 
-std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& scene, SceneItem item) {
-    auto l = layout_of(text, scene);
+std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& scene, SceneItem item,
+                                     const SceneLayout* layout) {
+    std::optional<SceneLayout> scanned;
+    const SceneLayout* l = layout_of(text, scene, layout, scanned);
     const auto block = l ? block_of(*l, scene, item.kind, item.index) : std::nullopt;
     if (!block) return std::nullopt;
     TextSpan d = deletion_span(text, block->first);
@@ -540,12 +560,14 @@ std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& s
     // Select the neighbour that takes its place, if any.
     int n = int(count_of(scene, item.kind)) - 1;
     e.select = {item.kind, n == 0 ? -1 : std::min(item.index, n - 1)};
+    if (scene.includes.empty()) e.splice = ItemSplice{ItemSplice::Op::Remove, list_of(item.kind), std::size_t(item.index)};
     return e;
 }
 
 std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene& scene, int index,
-                                        const std::vector<int>& path) {
-    auto l = layout_of(text, scene);
+                                        const std::vector<int>& path, const SceneLayout* layout) {
+    std::optional<SceneLayout> scanned;
+    const SceneLayout* l = layout_of(text, scene, layout, scanned);
     const auto block = l ? block_of(*l, scene, SceneItem::Kind::Object, index) : std::nullopt;
     if (!block || path.empty()) return std::nullopt;
     const int side = path.back();
@@ -567,11 +589,13 @@ std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene
     SceneEdit e;
     e.replacement = {s.begin, s.end - s.begin, written_block(one, SceneItem::Kind::Object, line_indent(text, s.begin))};
     e.select = {SceneItem::Kind::Object, index};
+    if (scene.includes.empty()) e.splice = ItemSplice{ItemSplice::Op::Replace, ItemList::Object, std::size_t(index)};
     return e;
 }
 
 std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scene, int a, int b, rt::CsgType type) {
-    auto l = layout_of(text, scene);
+    std::optional<SceneLayout> scanned;
+    const SceneLayout* l = layout_of(text, scene, nullptr, scanned);
     const auto block_a = l ? block_of(*l, scene, SceneItem::Kind::Object, a) : std::nullopt;
     const auto block_b = l ? block_of(*l, scene, SceneItem::Kind::Object, b) : std::nullopt;
     if (!block_a || !block_b || a == b) return std::nullopt;
@@ -603,8 +627,10 @@ std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scen
     return e;
 }
 
-std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Scene& scene, int light) {
-    auto l = layout_of(text, scene);
+std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Scene& scene, int light,
+                                           const SceneLayout* layout) {
+    std::optional<SceneLayout> scanned;
+    const SceneLayout* l = layout_of(text, scene, layout, scanned);
     const auto at = l ? block_of(*l, scene, SceneItem::Kind::Light, light) : std::nullopt;
     if (!at) return std::nullopt;
     const TextSpan s = at->first;
@@ -631,6 +657,7 @@ std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Sc
     SceneEdit e;
     e.replacement = {s.begin, s.end - s.begin, block};
     e.select = {SceneItem::Kind::Light, light};
+    if (scene.includes.empty()) e.splice = ItemSplice{ItemSplice::Op::Replace, ItemList::Light, std::size_t(light)};
     return e;
 }
 

@@ -14,8 +14,10 @@
 #include "model.h"
 #include "placement.h"
 #include "scene.h"
+#include "scene_text.h"
 #include "text_replacement.h"
 #include "triangles.h"
+#include "world.h"
 
 namespace rtview {
 
@@ -42,6 +44,9 @@ struct ItemRef {
 struct SceneEdit {
     TextReplacement replacement;
     SceneItem select;  // what to select afterwards: the new item, or -1 when none
+    // What the replacement does to the scene's lists, when it is one item inserted,
+    // removed or replaced: the document then parses only the new block.
+    std::optional<ItemSplice> splice;
 };
 
 // (The objects first, up to Torus.)
@@ -51,20 +56,24 @@ const char* new_item_name(NewItem k);  // "sphere", ..., as in the format
 // All edits take the scene text and the scene it parses to (its items must match
 // the text's blocks one for one), and return nothing when the text's structure is
 // unclear or the item does not exist. The result is a plain block of the format, so
-// applying it and parsing gives the scene with the edit made.
+// applying it and parsing gives the scene with the edit made. `layout`, if given, is
+// scan_layout(text) (Document::layout()): the text is then not scanned again.
 
 // A new item with a size from typical_object_size: objects after the last object (or in a
 // new `thing` section), planes after the last plane, lights after the last light.
 // Objects and lights rest on the surface; a plane stands upright on it (it contains
 // the surface's normal) and faces the viewer: a plane through the point with the
 // surface's own orientation would lie in a floor it was added to, and show nothing.
-std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at);
+// `world`, if given, is the scene's compiled world: its bounds give the scene's size
+// without a pass over the objects.
+std::optional<SceneEdit> add_item(const std::string& text, const rt::Scene& scene, NewItem kind, const Placement& at,
+                                  const SceneLayout* layout = nullptr, const rt::World* world = nullptr);
 // A mesh of the model read from `file` (as the block names it): its size typical_object_size,
 // its box resting on the surface at the point (centred on a point in space), turned
 // so that the model's y axis (OBJ's and PLY's usual up) is the scene's up when that
 // is z.
 std::optional<SceneEdit> add_model(const std::string& text, const rt::Scene& scene, const std::string& file,
-                                   const rt::MeshModel& model, const Placement& at);
+                                   const rt::MeshModel& model, const Placement& at, const SceneLayout* layout = nullptr);
 // A new scene that shows the model read from `file` (written as it is, best
 // absolute): the model as the file has it (y up, its own materials where it has them,
 // else one colour), on a chess floor under its lowest point, lit by a lamp and framed
@@ -74,21 +83,23 @@ std::string model_scene(const std::string& file, const rt::MeshModel& model);
 // A copy right after the original. With a zero offset the original's text is copied
 // as it is (comments included); otherwise the copy is written moved by `offset`.
 std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene& scene, SceneItem item,
-                                        rt::Vec3 offset = {0, 0, 0});
+                                        rt::Vec3 offset = {0, 0, 0}, const SceneLayout* layout = nullptr);
 // Removes the item's block, with its line when the line holds nothing else.
-std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& scene, SceneItem item);
+std::optional<SceneEdit> delete_item(const std::string& text, const rt::Scene& scene, SceneItem item,
+                                     const SceneLayout* layout = nullptr);
 // Removes the CSG operand `path` names below object `index`: its CSG becomes the other
 // operand (a whole CSG when that is one). When the CSG was the object itself, the
 // object keeps its material, the one that was rendered; the object stays selected.
 std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene& scene, int index,
-                                        const std::vector<int>& path);
+                                        const std::vector<int>& path, const SceneLayout* layout = nullptr);
 // Objects a and b (top level, a != b) become one CSG `left a, right b` at a's place,
 // with a's material (only the CSG's own material is rendered). Nothing for a mesh or an
 // instance (the format refuses them as operands).
 std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scene, int a, int b, rt::CsgType type);
 // lamp <-> spotlight. A spotlight has no size, so the lamp's size is kept in the
 // block as a comment (`// lamp size S`) from which switching back restores it.
-std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Scene& scene, int light);
+std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Scene& scene, int light,
+                                           const SceneLayout* layout = nullptr);
 
 // Moves every point of an item (for duplicate with an offset, and the move tool),
 // rounding each coordinate to 12 significant digits so that float noise of the sum

@@ -86,6 +86,21 @@ enum class ItemList { Object, Plane, Light, Camera };
 // indented for a line that starts with `indent`; empty if the writer's text is unclear.
 std::string written_item(const rt::Scene& one, ItemList list, const std::string& indent);
 
+// What a structural edit's replacement does to the scene's lists, as the edit that
+// planned it knows (scene_edits.h): the document then parses only the block it
+// brings (Document::replace_text) instead of the whole text. Insert: the replacement
+// inserts one item's block that becomes item `index` of `list`; inside a section
+// right after the block of item index - 1 of that list, or (`section`) as a section
+// of its own at SceneLayout::append_at. Remove: it removes item `index`'s block (with
+// blanks, its line, a comment after it). Replace: it replaces that block by another.
+struct ItemSplice {
+    enum class Op { Insert, Remove, Replace };
+    Op op = Op::Insert;
+    ItemList list = ItemList::Object;
+    std::size_t index = 0;
+    bool section = false;
+};
+
 // The scene file's own items are those of origin 0; items read from an included file
 // have no block in the scene's text. own_index: an item's place among its list's own
 // items (the index of its block in scan_layout's list), or nothing for an included one

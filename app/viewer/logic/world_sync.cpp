@@ -100,14 +100,67 @@ WorldSync::Step WorldSync::sync(const Document& doc) {
     }
     // One build at a time: what changes meanwhile goes into its world once it is there.
     if (build_.valid()) return step;
-    build_version_ = doc.content_version();
-    build_ = rt::process_pool().aside([scene = doc.scene()] { return rt::compile_world(scene, nullptr); });
+    if (!copy_on(doc)) return Step::Building;
+    build_version_ = copy_->version;
+    // (The copy is let go of on the compile's thread: freeing a million objects takes a while.)
+    build_ = rt::process_pool().aside([scene = std::move(copy_->scene)]() mutable {
+        const rt::Scene s = std::move(scene);
+        return rt::compile_world(s, nullptr);
+    });
+    copy_.reset();
     return Step::Building;
+}
+
+bool WorldSync::copy_on(const Document& doc) {
+    const rt::Scene& from = doc.scene();
+    if (copy_ && copy_->version != doc.content_version()) {
+        // The document changed while it was copied: its changed items again, or all of it.
+        const rt::SceneDelta d = doc.changes_since(copy_->version);
+        if (d.everything || from.objects.size() != copy_->total) {
+            copy_.reset();
+        } else {
+            for (std::uint32_t i : d.objects)
+                if (i < copy_->objects) copy_->scene.objects[i] = from.objects[i];
+            copy_->version = doc.content_version();
+        }
+    }
+    if (!copy_) {
+        // The objects by shares.
+        copy_.emplace();
+        copy_->scene.objects.reserve(from.objects.size());
+        copy_->total = from.objects.size();
+        copy_->version = doc.content_version();
+    }
+    // (All but the objects: copied whole each time, being few.)
+    rt::Scene& s = copy_->scene;
+    s.files_read = from.files_read;
+    s.materials = from.materials;
+    s.defined = from.defined;
+    s.includes = from.includes;
+    s.planes = from.planes;
+    s.lights = from.lights;
+    s.camera = from.camera;
+    s.width = from.width;
+    s.height = from.height;
+    s.camera_loc = from.camera_loc;
+    // About copy_budget_ of copying a sync, checked every few thousand objects.
+    constexpr std::size_t kShare = 4096;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                              std::chrono::duration<double>(copy_budget_));
+    while (copy_->objects < from.objects.size()) {
+        const std::size_t end = std::min(from.objects.size(), copy_->objects + kShare);
+        s.objects.insert(s.objects.end(), from.objects.begin() + std::ptrdiff_t(copy_->objects),
+                         from.objects.begin() + std::ptrdiff_t(end));
+        copy_->objects = end;
+        if (std::chrono::steady_clock::now() > until) break;
+    }
+    return copy_->objects == from.objects.size();
 }
 
 void WorldSync::adopt(std::shared_ptr<const rt::World> world, std::uint64_t version) {
     if (build_.valid()) dropped_.push_back(std::move(build_));
     build_ = {};
+    copy_.reset();
     if (world_ && world_ != world) {
         replaced_ = world_;
         return_pending_ = true;
@@ -121,8 +174,8 @@ void WorldSync::adopt(std::shared_ptr<const rt::World> world, std::uint64_t vers
 WorldSync::Step WorldSync::finish(const Document& doc) {
     start_links();
     Step step = sync(doc);
-    while (build_.valid()) {
-        build_.wait();
+    while (building()) {
+        if (build_.valid()) build_.wait();
         step = sync(doc);
     }
     if (links_build_.valid()) links_build_.wait();

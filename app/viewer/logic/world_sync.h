@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "bvh_update.h"
@@ -62,10 +63,18 @@ public:
     // the links are done, then syncs (headless runs, tests).
     Step finish(const Document& doc);
 
+    // The time a sync() may spend copying the scene for a compile (about 10 ms; 0: one
+    // share of 4,096 objects a sync, for tests).
+    void set_copy_budget(double seconds) { copy_budget_ = seconds; }
+
     const std::shared_ptr<const rt::World>& world() const { return world_; }
     // The content version of the document the world is compiled from.
     std::uint64_t version() const { return version_; }
-    bool building() const { return build_.valid(); }
+    // A compile is under way: its scene being copied (a share per sync()) or its world
+    // being built.
+    bool building() const { return build_.valid() || copy_.has_value(); }
+    // The scene is being copied for a compile (the first part of building()).
+    bool copying() const { return copy_.has_value(); }
     // The parent links made in the background for the tree of the world last built or
     // adopted; null until they are there.
     const std::shared_ptr<const rt::BvhLinks>& links() const { return links_; }
@@ -82,6 +91,21 @@ private:
     void drop_links();
     // Takes the links once made; the links that go with the world's tree, or null.
     std::shared_ptr<const rt::BvhLinks> current_links();
+
+    // The scene a compile is to start from, copied from the document's a share per
+    // sync() so that no frame spends long on it (a million objects take most of a
+    // second): items changed meanwhile are copied again, a change of the lists starts
+    // it over.
+    struct Copy {
+        rt::Scene scene;
+        std::size_t objects = 0;  // copied so far, of `total`
+        std::size_t total = 0;
+        std::uint64_t version = 0;
+    };
+    // Copies on while it takes less than the budget; true once the copy is complete.
+    bool copy_on(const Document& doc);
+    std::optional<Copy> copy_;
+    double copy_budget_ = 0.010;
 
     std::shared_ptr<const rt::World> world_;
     std::uint64_t version_ = 0;

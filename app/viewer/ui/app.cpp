@@ -207,6 +207,7 @@ LoadStatus ViewerApp::load_status() const {
 }
 
 void ViewerApp::frame() {
+    frame_timing_begin();
     ++frames_;
     double now = ImGui::GetTime();
     Document& doc = editor_.doc();
@@ -285,6 +286,7 @@ void ViewerApp::frame() {
     probe_frame();
     publish_outputs();
     again_ = visible_key() != key_before;
+    frame_timing_end();
 }
 
 
@@ -513,6 +515,12 @@ void ViewerApp::select_at(double px, double py) {
         panels_.select({{SceneItem::Kind::Light, light}, {}});
         return;
     }
+    // The world of the scene before an edit (the new one still compiles) numbers the
+    // objects as that scene did: what it would pick is another object of this one.
+    if (render_.world_version() != editor_.doc().content_version()) {
+        status_.set("The picture is being updated to the edited scene: click again once it shows it");
+        return;
+    }
     rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
     rt::PickResult r = pick_at(*w, vc, layout_.image, layout_.film_w, layout_.film_h, px, py);
     ItemRef s;
@@ -584,7 +592,8 @@ void ViewerApp::orbit_degrees(double degrees) {
 // --- Host interface
 
 bool ViewerApp::render_settled() const {
-    return editor_.doc().has_scene() && render_.settled(layout_.film_w, layout_.film_h);
+    return editor_.doc().has_scene() && render_.settled(layout_.film_w, layout_.film_h) &&
+           render_.picture_current(editor_.doc().content_version());
 }
 
 bool ViewerApp::ui_busy() const {

@@ -123,6 +123,13 @@ private:
     void publish_outputs();
     // --print-layout: what the frame showed, in words (probe.h).
     void probe_frame();
+    // The UI thread's CPU time of each frame(): a frame over kSlowFrame counts as slow
+    // (said with --verbose, counted for --print-layout's "slow_frames").
+    void frame_timing_begin();
+    void frame_timing_end();
+    static constexpr double kSlowFrame = 0.050;
+    double frame_cpu0_ = 0, slowest_frame_ = 0;
+    long slow_frames_ = 0, very_slow_frames_ = 0;  // over kSlowFrame, over twice that
     LoadStatus load_status() const;
     void after_document_replaced();
     void start_load(const std::string& path);

@@ -67,6 +67,9 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         status_.set("Finish the drag first", true);
         return false;
     }
+    // The text's layout as the document keeps it: an edit of a big scene does not scan
+    // the whole text again.
+    const SceneLayout* layout = doc.layout();
     const std::string& text = std::as_const(doc).editor_text();
     const rt::Scene& scene = doc.scene();
     std::optional<SceneEdit> e;
@@ -77,7 +80,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         case Command::AddItem: {
             const std::optional<NewItem> kind = new_item_kind(arg);
             if (!kind) return false;
-            e = add_item(text, scene, *kind, new_item_placement(*kind <= NewItem::Torus));
+            e = add_item(text, scene, *kind, new_item_placement(*kind <= NewItem::Torus), layout, render_.world());
             done = std::string("Added a ") + arg;
             name = std::string("Add a ") + arg;
             break;
@@ -89,7 +92,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             break;
         case Command::Duplicate: {
             if (!sel) return false;
-            e = duplicate_item(text, scene, *sel, duplicate_offset(scene));
+            e = duplicate_item(text, scene, *sel, duplicate_offset(scene), layout);
             done = "Duplicated";
             name = "Duplicate " + label;
             break;
@@ -98,14 +101,14 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
             if (!sel) return false;
             const ItemRef& ref = panels_.selection();
             const bool operand = !ref.path.empty();  // its CSG becomes the other operand
-            e = operand ? delete_operand(text, scene, sel->index, ref.path) : delete_item(text, scene, *sel);
+            e = operand ? delete_operand(text, scene, sel->index, ref.path, layout) : delete_item(text, scene, *sel, layout);
             done = operand ? "Deleted the operand: its CSG is the other operand now" : "Deleted";
             name = "Delete " + (operand ? item_label(scene, ref) : label);
             break;
         }
         case Command::SwitchLight:
             if (!sel || sel->kind != SceneItem::Kind::Light) return false;
-            e = switch_light_kind(text, scene, sel->index);
+            e = switch_light_kind(text, scene, sel->index, layout);
             done = scene.lights[std::size_t(sel->index)].lamp ? "The lamp is a spotlight now (its size is kept)"
                                                               : "The spotlight is a lamp now";
             name = "Make " + label + (scene.lights[std::size_t(sel->index)].lamp ? " a spotlight" : " a lamp");
@@ -121,7 +124,8 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         }
         default: return false;
     }
-    if (!e || !doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, name)) {
+    if (!e || !doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, name,
+                                e->splice ? &*e->splice : nullptr)) {
         status_.set("Cannot do that to this scene text", true);
         return false;
     }
@@ -145,7 +149,9 @@ std::optional<SceneEdit> ViewerApp::model_edit(const std::string& path) {
     const std::string name = scene_file_name(file.string(), doc.path());
     place_x_ = std::exchange(model_place_x_, -1);
     place_y_ = std::exchange(model_place_y_, -1);
-    std::optional<SceneEdit> e = add_model(std::as_const(doc).editor_text(), doc.scene(), name, *l.model, new_item_placement(true));
+    const SceneLayout* layout = doc.layout();
+    std::optional<SceneEdit> e =
+        add_model(std::as_const(doc).editor_text(), doc.scene(), name, *l.model, new_item_placement(true), layout);
     if (!e) status_.set("Cannot add a mesh to this scene text", true);
     return e;
 }

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <ctime>
+#include <algorithm>
 #include <optional>
 
 #include "diagnostic_text.h"
@@ -16,8 +18,34 @@
 
 namespace rtview {
 
+namespace {
+
+double thread_cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+}  // namespace
+
+void ViewerApp::frame_timing_begin() { frame_cpu0_ = thread_cpu_seconds(); }
+
+void ViewerApp::frame_timing_end() {
+    const double took = thread_cpu_seconds() - frame_cpu0_;
+    slowest_frame_ = std::max(slowest_frame_, took);
+    if (took <= kSlowFrame) return;
+    ++slow_frames_;
+    if (took > 2 * kSlowFrame) ++very_slow_frames_;
+    if (opt_.verbose)
+        std::fprintf(stderr, "raytracer-view: slow frame %d: %.1f ms of UI-thread CPU\n", frames_, took * 1000);
+}
+
 void ViewerApp::probe_frame() {
     if (!opt_.print_layout) return;
+    // (Of the frames before this one.)
+    probe("slow_frames", std::to_string(slow_frames_));
+    probe("very_slow_frames", std::to_string(very_slow_frames_));
+    probe("slowest_frame_ms", std::to_string(int(slowest_frame_ * 1000)));
     const Document& doc = editor_.doc();
     probe("title", doc.title());
     probe("load", loader_.active() ? "loading" : doc.has_scene() ? "ready" : "no scene");
@@ -44,6 +72,9 @@ void ViewerApp::probe_frame() {
     probe("film", std::to_string(p.width) + "x" + std::to_string(p.height) + " " + std::to_string(p.samples) +
                       " spp generation " + std::to_string(p.generation));
     probe("render", std::to_string(p.samples) + " " + (p.done ? "done" : p.running ? "running" : "idle"));
+    // Whether the picture is of the scene the panels show (its world compiled, its
+    // render on the screen), or of an older one while that one is made.
+    probe("picture", !doc.has_scene() ? "none" : render_.picture_current(doc.content_version()) ? "current" : "updating");
     // As raytracer's options would ask for this render (scripts render its twin).
     probe("render_settings", "--samples " + std::to_string(render_.max_samples()) +
                                  (render_.aa_threshold() >= 0 ? " --aa-threshold " + rt::format_number(render_.aa_threshold())

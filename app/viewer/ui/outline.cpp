@@ -132,15 +132,38 @@ void Panels::draw_outline_objects(const rt::Scene& s) {
     ImGui::SetNextItemOpen(true, ImGuiCond_Once);
     if (!ImGui::TreeNode("objects", "%s", heading.c_str())) return;
     const std::size_t n = filtered ? outline_filter_.matches().size() : s.objects.size();
-    for (std::size_t r = 0; r < n; ++r) {
+    auto row = [&](std::size_t r) {
         const std::size_t k = filtered ? outline_filter_.matches()[r] : r;
         std::vector<int> path;
         ImGui::PushID(int(k));
         draw_object_node(s.objects[k], int(k), path, label_of(k));
         ImGui::PopID();
-        if (r > 2000 && !scroll_to_selection_ && r + 1 < n) {
+    };
+    auto more = [&](std::size_t count) {
+        if (count > 0)
             ImGui::TextDisabled(filtered ? "... %d more matching" : "... %d more (select them in the image, or filter)",
-                                int(n - r - 1));
+                                int(count));
+    };
+    // The selected object's row among them (n if none): shown past the first rows too,
+    // without the rows between (a hundred thousand rows would hold up the frame).
+    std::size_t selected = n;
+    if (selection_.is(SceneItem::Kind::Object)) {
+        const std::size_t k = std::size_t(selection_.item.index);
+        if (!filtered) selected = k < n ? k : n;
+        else if (auto it = std::lower_bound(outline_filter_.matches().begin(), outline_filter_.matches().end(), k);
+                 it != outline_filter_.matches().end() && *it == k)
+            selected = std::size_t(it - outline_filter_.matches().begin());
+    }
+    for (std::size_t r = 0; r < n; ++r) {
+        row(r);
+        if (r > 2000 && r + 1 < n) {
+            if (selected > r && selected < n) {
+                more(selected - r - 1);
+                row(selected);
+                more(n - selected - 1);
+            } else {
+                more(n - r - 1);
+            }
             break;
         }
     }

@@ -231,6 +231,7 @@ void RenderController::upload() {
         bool has_picture = before.coarse_level > 0 || before.samples > 0;
         if (has_picture && before.generation == started_generation_) {
             showing_preview_ = false;
+            picture_generation_ = before.generation;
             // An adopted world's links (for its first move) once its picture is up.
             sync_.start_links();
             if (verbose && clock && !first_picture_reported_) {
@@ -275,6 +276,11 @@ bool RenderController::settled(int film_w, int film_h) const {
     if (!started_world_ || sync_.building()) return false;
     rt::RenderProgress p = renderer_.progress();
     return p.done && final_uploaded_ && p.width == film_w && p.height == film_h;
+}
+
+bool RenderController::picture_current(std::uint64_t version) const {
+    return world() && !sync_.building() && sync_.version() == version && started_world_ == world_ptr() &&
+           picture_generation_ == started_generation_ && renderer_.progress().generation == started_generation_;
 }
 
 bool RenderController::busy() const {

@@ -72,9 +72,16 @@ public:
     const rt::World* world() const { return sync_.world().get(); }
     const std::shared_ptr<const rt::World>& world_ptr() const { return sync_.world(); }
     bool building() const { return sync_.building(); }
+    // The document's content version the world is compiled from.
+    std::uint64_t world_version() const { return sync_.version(); }
     bool started() const { return started_world_ != nullptr; }
     // All requested samples are in and the texture shows the final film of this size.
     bool settled(int film_w, int film_h) const;
+    // The picture on screen is of the document's content version `version`: the world
+    // is compiled from it (not an older one kept on screen while it compiles) and the
+    // render on that world has put its first pixels on the screen. Until then the
+    // render's progress ("settled", "done") is another picture's.
+    bool picture_current(std::uint64_t version) const;
     // Work is under way that needs display-rate frames.
     bool busy() const;
     // A view change is waiting for its first preview: poll faster than the display.
@@ -155,6 +162,7 @@ private:
     const RegionRenderer* region_ = nullptr;
     bool yield_ = false;
     std::uint64_t done_generation_ = ~std::uint64_t(0);
+    std::uint64_t picture_generation_ = ~std::uint64_t(0);  // the render whose pixels are on screen
     double done_elapsed_ = 0;
     bool final_uploaded_ = false;
     bool first_picture_reported_ = false;

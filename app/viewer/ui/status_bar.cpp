@@ -166,6 +166,14 @@ void Panels::draw_status_bar(const LoadStatus& load) {
                 std::snprintf(buf, sizeof buf, "moving");
                 frac = 0;
             }
+            // The picture is still the scene as it was (its world compiles, or its new
+            // render has not reached the screen): never "settled" or "done" over it.
+            const Document& doc = editor_.doc();
+            const bool stale = doc.has_scene() && !render_.showing_preview() && !render_.picture_current(doc.content_version());
+            if (stale) {
+                std::snprintf(buf, sizeof buf, "updating");
+                frac = 0;
+            }
             // As wide as its longest usual text (up to 100M pixels refining), at any UI scale.
             const float bar_w = std::max(ImGui::GetFontSize() * 8,
                                          ImGui::CalcTextSize("99999k px refining").x + ImGui::GetStyle().FramePadding.x * 4);
@@ -181,7 +189,7 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             if (render_.showing_preview())
                 std::snprintf(preview, sizeof preview, "preview %dx%d", render_.last_preview_block(),
                               render_.last_preview_block());
-            const char* shown = render_.showing_preview() ? preview : state;
+            const char* shown = render_.showing_preview() ? preview : stale ? "updating the picture..." : state;
             // Over the picture: the readout of the pixel under the cursor instead of the
             // statistics; the last message stays beside it (a screenshot's path, an error).
             char line[512];

@@ -1,0 +1,393 @@
+// The document's structural edits made in place (see Document::replace_text): the block
+// an edit brings is parsed on its own, the scene's list and the text's layout take it
+// (or lose an item) where the edit says, and every source position after the edit
+// moves as the text did. Undo and redo do the same backwards and forwards, so an Add,
+// Duplicate or Delete costs its block and a pass over the lists, not a parse of the
+// whole text, whatever the scene's size.
+#include "document.h"
+
+#include <algorithm>
+#include <string_view>
+#include <utility>
+
+#include "parallel.h"
+#include "scene_writer.h"
+
+namespace rtview {
+
+namespace {
+
+// The line and column (the parser's: LF, CR LF and a lone CR end a line; columns count
+// bytes from 1) after `text`, which starts at `at`.
+rt::SourceLoc advance(rt::SourceLoc at, std::string_view text) {
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (c == '\n' || c == '\r') {
+            if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
+            ++at.line;
+            at.col = 1;
+        } else {
+            ++at.col;
+        }
+    }
+    return at;
+}
+
+// The line and column of byte `target` of `text`, from those of byte `anchor` (only
+// the text between them, and the start of target's line, is read).
+rt::SourceLoc loc_at(std::string_view text, std::size_t anchor, rt::SourceLoc anchor_loc, std::size_t target) {
+    if (target >= anchor) return advance(anchor_loc, text.substr(anchor, target - anchor));
+    std::size_t start = target;
+    while (start > 0 && text[start - 1] != '\n' && text[start - 1] != '\r') --start;
+    const rt::SourceLoc from_start = advance({1, 1}, text.substr(start, anchor - start));
+    return {anchor_loc.line - (from_start.line - 1), int(target - start) + 1};
+}
+
+bool before(const rt::SourceLoc& a, const rt::SourceLoc& b) {
+    return a.line < b.line || (a.line == b.line && a.col < b.col);
+}
+
+// Where the source positions after a replacement go: those from the end of the text
+// it removed on move to the end of the text it inserted.
+struct LocShift {
+    rt::SourceLoc old_end, new_end;
+    bool none() const { return old_end.line == new_end.line && old_end.col == new_end.col; }
+    void operator()(rt::SourceLoc& l) const {
+        if (l.line <= 0 || before(l, old_end)) return;
+        if (l.line == old_end.line) {
+            l.col = new_end.col + (l.col - old_end.col);
+            l.line = new_end.line;
+        } else {
+            l.line += new_end.line - old_end.line;
+        }
+    }
+    void operator()(rt::Object& o) const {
+        (*this)(o.loc);
+        if (rt::Csg* g = std::get_if<rt::Csg>(&o.shape))
+            for (rt::Object& k : g->operands) (*this)(k);
+    }
+};
+
+// A source position of the block parsed on its own (after `prefix` bytes on its first
+// line) as one of the text, the block's text starting at `at`.
+struct LocMap {
+    rt::SourceLoc at;
+    std::size_t prefix = 0;
+    void operator()(rt::SourceLoc& l) const {
+        if (l.line <= 0) return;
+        if (l.line == 1) l = {at.line, at.col + l.col - 1 - int(prefix)};
+        else l.line = at.line + l.line - 1;
+    }
+    void operator()(rt::Object& o) const {
+        (*this)(o.loc);
+        if (rt::Csg* g = std::get_if<rt::Csg>(&o.shape))
+            for (rt::Object& k : g->operands) (*this)(k);
+    }
+};
+
+std::vector<TextSpan>& spans_of(SceneLayout& l, ItemList list) {
+    return list == ItemList::Object ? l.objects : list == ItemList::Plane ? l.planes : l.lights;
+}
+const std::vector<TextSpan>& spans_of(const SceneLayout& l, ItemList list) {
+    return list == ItemList::Object ? l.objects : list == ItemList::Plane ? l.planes : l.lights;
+}
+
+std::size_t count_of(const rt::Scene& s, ItemList list) {
+    return list == ItemList::Object ? s.objects.size() : list == ItemList::Plane ? s.planes.size() : s.lights.size();
+}
+
+rt::SourceLoc loc_of(const rt::Scene& s, ItemList list, std::size_t i) {
+    return list == ItemList::Object ? s.objects[i].loc : list == ItemList::Plane ? s.planes[i].loc : s.lights[i].loc;
+}
+
+const char* section_of(ItemList list) {
+    return list == ItemList::Object ? "thing" : list == ItemList::Plane ? "special_thing" : "light";
+}
+
+// Whether [from, to) of `text` is nothing but blanks and line ends.
+bool blank_only(std::string_view text, std::size_t from, std::size_t to) {
+    for (std::size_t i = from; i < to; ++i)
+        if (text[i] != ' ' && text[i] != '\t' && text[i] != '\r' && text[i] != '\n') return false;
+    return true;
+}
+
+// Whether [from, to) of `text` is what may follow a removed block on its line: blanks,
+// then perhaps a // comment to the line's end, then perhaps that line end.
+bool tail_only(std::string_view text, std::size_t from, std::size_t to) {
+    std::size_t i = from;
+    while (i < to && (text[i] == ' ' || text[i] == '\t')) ++i;
+    if (i + 1 < to && text[i] == '/' && text[i + 1] == '/')
+        while (i < to && text[i] != '\n' && text[i] != '\r') ++i;
+    if (i < to && text[i] == '\r') ++i;
+    if (i < to && text[i] == '\n') ++i;
+    return i == to;
+}
+
+// Whether a span of any list but `list` (or of `list` but its `index`) starts within
+// [from, to): the replacement would take more than the one block.
+bool other_block_within(const SceneLayout& l, ItemList list, std::size_t index, std::size_t from, std::size_t to) {
+    for (ItemList k : {ItemList::Object, ItemList::Plane, ItemList::Light}) {
+        const std::vector<TextSpan>& v = spans_of(l, k);
+        auto it = std::lower_bound(v.begin(), v.end(), from, [](const TextSpan& s, std::size_t x) { return s.begin < x; });
+        for (; it != v.end() && it->begin < to; ++it)
+            if (k != list || std::size_t(it - v.begin()) != index) return true;
+        // (A span reaching into the range from before it.)
+        if (it != v.begin() && std::prev(it)->end > from && (k != list || std::size_t(std::prev(it) - v.begin()) != index))
+            return true;
+    }
+    return false;
+}
+
+// Positions of the layout after [pos, pos + old_len) became new_len bytes: those after
+// it move; at pos itself, an insertion goes after a block's end and before a block's
+// start (and before `end`).
+void move_positions(SceneLayout& l, std::size_t pos, std::size_t old_len, std::size_t new_len) {
+    if (old_len == new_len) return;
+    auto fix = [&](std::size_t& x, bool start) {
+        if (x > pos + old_len || (x == pos + old_len && (old_len > 0 || start))) x = x - old_len + new_len;
+    };
+    for (auto* v : {&l.objects, &l.planes, &l.lights, &l.cameras}) {
+        // (Spans are in order and apart: those ending before pos stay.)
+        auto it = std::partition_point(v->begin(), v->end(), [&](const TextSpan& t) { return t.end < pos; });
+        for (; it != v->end(); ++it) {
+            fix(it->begin, true);
+            fix(it->end, false);
+        }
+    }
+    fix(l.append_at, true);
+}
+
+}  // namespace
+
+bool Document::follow_layout(const std::vector<TextReplacement>& reps) {
+    if (!layout_) return false;
+    for (const TextReplacement& r : reps) {
+        // Only a replacement of one whole block (a panel edit's) keeps the layout's shape.
+        TextSpan* hit = nullptr;
+        for (auto* v : {&layout_->objects, &layout_->planes, &layout_->lights, &layout_->cameras}) {
+            auto it = std::lower_bound(v->begin(), v->end(), r.offset,
+                                       [](const TextSpan& t, std::size_t x) { return t.begin < x; });
+            if (it != v->end() && it->begin == r.offset && it->end == r.offset + r.length) hit = &*it;
+        }
+        if (!hit || r.length == 0) {
+            layout_.reset();
+            return false;
+        }
+        move_positions(*layout_, r.offset, r.length, r.text.size());
+        hit->end = r.offset + r.text.size();
+    }
+    layout_key_ = layout_key(1);
+    return true;
+}
+
+const SceneLayout* Document::layout() {
+    const std::uint64_t key = layout_key();
+    if (!layout_ || layout_key_ != key) {
+        layout_ = scan_layout(editor_, has_scene_ ? scene_.objects.size() : 0);
+        layout_key_ = key;
+    }
+    return layout_->ok ? &*layout_ : nullptr;
+}
+
+bool Document::splice_text(std::size_t pos, std::size_t length, const std::string& text, const std::string& name,
+                           const ItemSplice& sp) {
+    // Positions of warnings, and items an include brings, would need more than this.
+    if (!has_scene_ || applied_ || !scene_.includes.empty() || !diagnostics_.empty() || sp.list == ItemList::Camera)
+        return false;
+    const SceneLayout* l = layout();
+    if (!l || !layout_matches(*l, scene_)) return false;
+    const std::vector<TextSpan>& spans = spans_of(*l, sp.list);
+    const std::size_t n = spans.size();
+    if (n != count_of(scene_, sp.list)) return false;
+    // The replacement must be what the splice says, and a place whose line and column
+    // are known (an item's) must be near it.
+    std::size_t anchor = 0;
+    rt::SourceLoc anchor_loc{1, 1};
+    switch (sp.op) {
+        case ItemSplice::Op::Insert:
+            if (length != 0 || sp.index > n) return false;
+            if (sp.section) {
+                if (n != 0 || pos != l->append_at) return false;
+                // From the last block before it, whichever list it is in.
+                for (ItemList k : {ItemList::Object, ItemList::Plane, ItemList::Light}) {
+                    const std::vector<TextSpan>& v = spans_of(*l, k);
+                    if (!v.empty() && v.back().begin >= anchor && v.back().begin <= pos) {
+                        anchor = v.back().begin;
+                        anchor_loc = loc_of(scene_, k, v.size() - 1);
+                    }
+                }
+            } else {
+                if (sp.index == 0 || pos != spans[sp.index - 1].end) return false;
+                anchor = spans[sp.index - 1].begin;
+                anchor_loc = loc_of(scene_, sp.list, sp.index - 1);
+            }
+            break;
+        case ItemSplice::Op::Remove: {
+            if (sp.index >= n || !text.empty()) return false;
+            const TextSpan b = spans[sp.index];
+            if (pos > b.begin || pos + length < b.end || !blank_only(editor_, pos, b.begin) ||
+                !tail_only(editor_, b.end, pos + length) || other_block_within(*l, sp.list, sp.index, pos, pos + length))
+                return false;
+            anchor = b.begin;
+            anchor_loc = loc_of(scene_, sp.list, sp.index);
+            break;
+        }
+        case ItemSplice::Op::Replace:
+            if (sp.index >= n || pos != spans[sp.index].begin || length != spans[sp.index].end - pos) return false;
+            anchor = pos;
+            anchor_loc = loc_of(scene_, sp.list, sp.index);
+            break;
+    }
+    if (anchor_loc.line <= 0) return false;
+    SplicedItem s;
+    s.op = sp.op;
+    s.list = sp.list;
+    s.index = sp.index;
+    s.at = loc_at(editor_, anchor, anchor_loc, pos);
+    // A definition after the place would need its position moved in every instance
+    // that shares it: those texts are parsed whole.
+    for (const rt::NamedObject& d : scene_.defined)
+        if (!before(d.loc, s.at)) return false;
+    const rt::SourceLoc removed_end = advance(s.at, std::string_view(editor_).substr(pos, length));
+    for (const rt::NamedMaterial& m : scene_.materials)
+        if (!before(m.loc, s.at) && before(m.loc, removed_end)) return false;
+    if (sp.op != ItemSplice::Op::Insert) {
+        s.block_before = spans[sp.index];
+        if (sp.list == ItemList::Object) s.before.objects.push_back(scene_.objects[sp.index]);
+        else if (sp.list == ItemList::Plane) s.before.planes.push_back(scene_.planes[sp.index]);
+        else s.before.lights.push_back(scene_.lights[sp.index]);
+    }
+    if (sp.op != ItemSplice::Op::Remove) {
+        // The new block read on its own: inside a section of its list (unless it is one),
+        // with the scene's camera and size so that it is a whole scene. It must read as
+        // exactly one item of that list with no word from the parser (a name defined
+        // elsewhere in the text, say, does not: the whole text is parsed then).
+        const std::string prefix = sp.section ? std::string() : std::string(section_of(sp.list)) + " { ";
+        rt::Scene frame;
+        frame.camera = scene_.camera;
+        frame.width = scene_.width;
+        frame.height = scene_.height;
+        const std::string block_text = prefix + text + (sp.section ? "\n" : "\n}\n") + rt::write_scene(frame);
+        rt::ParseOptions options = parse_options(path_);
+        rt::ParseResult r = rt::parse_scene(block_text, options);
+        if (!r.ok() || !r.diagnostics.empty() || !r.scene.materials.empty() || !r.scene.defined.empty() ||
+            !r.scene.includes.empty() || count_of(r.scene, sp.list) != 1 ||
+            r.scene.objects.size() + r.scene.planes.size() + r.scene.lights.size() != 1)
+            return false;
+        const SceneLayout bl = scan_layout(block_text);
+        const std::vector<TextSpan>& bs = spans_of(bl, sp.list);
+        if (!bl.ok || bs.size() != 1 || bs[0].begin < prefix.size() || bs[0].end > prefix.size() + text.size())
+            return false;
+        s.block_after = {pos + bs[0].begin - prefix.size(), pos + bs[0].end - prefix.size()};
+        const LocMap map{s.at, prefix.size()};
+        for (rt::Object& o : r.scene.objects) map(o);
+        for (rt::Plane& p : r.scene.planes) map(p.loc);
+        for (rt::Light& li : r.scene.lights) map(li.loc);
+        s.after.objects = std::move(r.scene.objects);
+        s.after.planes = std::move(r.scene.planes);
+        s.after.lights = std::move(r.scene.lights);
+    }
+    DocStep step;
+    step.name = name;
+    step.has_scene_before = step.has_scene_after = true;
+    step.made({pos, length, text}, editor_);
+    if (step.editor.size() != 1) return false;
+    const std::string removed = editor_.substr(pos, length);
+    editor_.replace(pos, length, text);
+    apply_splice(s, true, pos, removed, text, true);
+    step.spliced = std::move(s);
+    ++scene_version_;
+    changed(splice_delta(*step.spliced));
+    text_changed(step, true);
+    record(std::move(step));
+    return true;
+}
+
+void Document::apply_splice(const SplicedItem& s, bool forward, std::size_t pos, std::string_view removed,
+                            std::string_view inserted, bool layout_valid) {
+    using Op = ItemSplice::Op;
+    ++spliced_count_;
+    // Forward an insertion inserts, back it removes; a removal the other way round.
+    const bool insert = (s.op == Op::Insert) == forward && s.op != Op::Replace;
+    const bool remove = (s.op == Op::Remove) == forward && s.op != Op::Replace;
+    const rt::Scene& value = forward ? s.after : s.before;
+    const TextSpan block = forward ? s.block_after : s.block_before;
+    const std::size_t i = s.index;
+    const LocShift shift{advance(s.at, removed), advance(s.at, inserted)};
+    // The objects after the place move in the list and in the text in one pass over
+    // them (a million objects' list is hundreds of MB: each pass costs).
+    bool objects_shifted = false;
+    if (s.list == ItemList::Object && (insert || remove)) {
+        // In two halves at once where a worker is free: each half's one element that
+        // the other half overwrites is set aside first.
+        std::vector<rt::Object>& v = scene_.objects;
+        const bool two = v.size() - i > (std::size_t(1) << 16);
+        if (remove) {
+            // v[k] = v[k + 1] for k in [i, n - 1); split at m.
+            const std::size_t n = v.size(), m = i + (n - 1 - i) / 2;
+            rt::Object saved = std::move(v[m]);
+            rt::two_ways(two, [&](int part) {
+                const std::size_t from = part == 0 ? i : m, to = part == 0 ? m : n - 1;
+                for (std::size_t k = from; k < to; ++k) {
+                    v[k] = std::move(k + 1 == m ? saved : v[k + 1]);
+                    shift(v[k]);
+                }
+            });
+            v.pop_back();
+        } else {
+            // v[k] = v[k - 1] for k in (i, n]; split at m.
+            v.emplace_back();
+            const std::size_t n = v.size() - 1, m = i + (n - i) / 2;
+            rt::Object saved = std::move(v[m]);
+            rt::two_ways(two, [&](int part) {
+                const std::size_t top = part == 0 ? m : n, bottom = part == 0 ? i : m;
+                for (std::size_t k = top; k > bottom; --k) {
+                    v[k] = std::move(k - 1 == m && part == 1 ? saved : v[k - 1]);
+                    shift(v[k]);
+                }
+            });
+            v[i] = value.objects.at(0);
+        }
+        objects_shifted = true;
+    } else if (remove) {
+        if (s.list == ItemList::Plane) scene_.planes.erase(scene_.planes.begin() + std::ptrdiff_t(i));
+        else scene_.lights.erase(scene_.lights.begin() + std::ptrdiff_t(i));
+    }
+    if (!shift.none()) {
+        // Each list is in the order of the text (a scene without includes): only the
+        // items from the first one after the replacement on move.
+        auto from = [&](auto& v) {
+            return std::partition_point(v.begin(), v.end(), [&](const auto& x) { return before(x.loc, shift.old_end); });
+        };
+        if (!objects_shifted)
+            for (auto it = from(scene_.objects); it != scene_.objects.end(); ++it) shift(*it);
+        for (auto it = from(scene_.planes); it != scene_.planes.end(); ++it) shift(it->loc);
+        for (auto it = from(scene_.lights); it != scene_.lights.end(); ++it) shift(it->loc);
+        for (rt::NamedMaterial& m : scene_.materials) shift(m.loc);
+        for (rt::NamedObject& d : scene_.defined) shift(d.loc);
+        shift(scene_.camera_loc);
+    }
+    if (insert) {
+        if (s.list == ItemList::Object) {
+            // (Inserted above.)
+        } else if (s.list == ItemList::Plane) scene_.planes.insert(scene_.planes.begin() + std::ptrdiff_t(i), value.planes.at(0));
+        else scene_.lights.insert(scene_.lights.begin() + std::ptrdiff_t(i), value.lights.at(0));
+    } else if (!remove) {
+        if (s.list == ItemList::Object) restore_object(i, value.objects.at(0));
+        else if (s.list == ItemList::Plane) restore_plane(i, value.planes.at(0));
+        else scene_.lights[i] = value.lights.at(0);
+    }
+    if (!layout_valid || !layout_) {
+        layout_.reset();
+        return;
+    }
+    std::vector<TextSpan>& spans = spans_of(*layout_, s.list);
+    if (remove) spans.erase(spans.begin() + std::ptrdiff_t(i));
+    move_positions(*layout_, pos, removed.size(), inserted.size());
+    if (insert) spans.insert(spans.begin() + std::ptrdiff_t(i), block);
+    else if (!remove) spans[i] = block;
+    // The text changes its version next (text_changed): the layout is that version's.
+    layout_key_ = layout_key(1);
+}
+
+}  // namespace rtview

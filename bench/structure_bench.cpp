@@ -1,0 +1,125 @@
+// structure_bench: what a structural edit (Add, Duplicate, Delete) and its undo and redo
+// cost the viewer in a big scene, on the path the window takes, without a window: the
+// edit planned on the text (scene_edits.h), made by the document (one undo step), the
+// world's sync() on the UI thread, and the time until the world is the document's
+// again (the picture shows the edit). Each on the UI thread must stay under 50 ms.
+//
+//   structure_bench SCENE.txt [--rounds N]
+//   bench/make-grid.sh 1000 /tmp/g1000.txt && structure_bench /tmp/g1000.txt   (1,000,000 spheres)
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "document.h"
+#include "loader.h"
+#include "scene_edits.h"
+#include "world_sync.h"
+
+namespace {
+
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+double timed(const std::function<void()>& f) {
+    const double t0 = now();
+    f();
+    return now() - t0;
+}
+
+struct Row {
+    std::string what;
+    double plan = 0, doc = 0, sync = 0, picture = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: structure_bench SCENE.txt [--rounds N]\n");
+        return 2;
+    }
+    int rounds = 2;
+    for (int i = 2; i + 1 < argc; ++i)
+        if (!std::strcmp(argv[i], "--rounds")) rounds = std::max(1, std::atoi(argv[++i]));
+    rtview::Document doc;
+    rtview::WorldSync sync;
+    {
+        rtview::SceneLoader loader;
+        loader.start(argv[1]);
+        std::optional<rtview::LoadResult> r = loader.wait();
+        std::shared_ptr<const rt::World> world;
+        if (!r || !rtview::apply_load(*r, doc, world) || !world || doc.scene().objects.empty()) {
+            std::fprintf(stderr, "structure_bench: %s does not load or has no objects\n", argv[1]);
+            return 1;
+        }
+        sync.adopt(std::move(world), doc.content_version());
+        sync.finish(doc);
+    }
+    const std::size_t n = doc.scene().objects.size();
+    std::printf("%s: %zu objects\n\n", argv[1], n);
+    std::vector<Row> rows;
+    // One operation: `plan` makes the edit (may be empty), `act` makes the document do
+    // it; then the world's sync() as the frame calls it, and the wait until the world
+    // is the document's.
+    auto measure = [&](const char* what, const std::function<std::optional<rtview::SceneEdit>()>& plan,
+                       const std::function<bool(const std::optional<rtview::SceneEdit>&)>& act) {
+        Row r;
+        r.what = what;
+        const double t0 = now();
+        std::optional<rtview::SceneEdit> e;
+        r.plan = timed([&] { e = plan(); });
+        bool ok = false;
+        r.doc = timed([&] { ok = act(e); });
+        if (!ok) std::fprintf(stderr, "structure_bench: %s did not happen\n", what);
+        r.sync = timed([&] { sync.sync(doc); });
+        while (sync.version() != doc.content_version()) {
+            sync.finish(doc);
+        }
+        r.picture = now() - t0;
+        rows.push_back(r);
+    };
+    auto none = [] { return std::optional<rtview::SceneEdit>(); };
+    auto apply = [&](const std::optional<rtview::SceneEdit>& e) {
+        return e && doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, "edit",
+                                     e->splice ? &*e->splice : nullptr);
+    };
+    auto undo = [&](const std::optional<rtview::SceneEdit>&) { return doc.undo(); };
+    auto redo = [&](const std::optional<rtview::SceneEdit>&) { return doc.redo(); };
+    const std::size_t mid = n / 2 + 7;
+    for (int k = 0; k < rounds; ++k) {
+        rtview::Placement at;
+        at.point = {0.25, 0.5, 0.0};
+        at.normal = {0, 0, 1};
+        measure("Add sphere", [&] { return rtview::add_item(std::as_const(doc).editor_text(), doc.scene(), rtview::NewItem::Sphere, at, doc.layout(), sync.world().get()); },
+                apply);
+        measure("Undo (the add)", none, undo);
+        measure("Redo (the add)", none, redo);
+        measure("Duplicate (an object in the middle)", [&] {
+            return rtview::duplicate_item(std::as_const(doc).editor_text(), doc.scene(), {rtview::SceneItem::Kind::Object, int(mid)},
+                                          rt::Vec3{2.5, 0, 0}, doc.layout());
+        }, apply);
+        measure("Undo (the duplicate)", none, undo);
+        measure("Redo (the duplicate)", none, redo);
+        measure("Delete (an object in the middle)", [&] {
+            return rtview::delete_item(std::as_const(doc).editor_text(), doc.scene(), {rtview::SceneItem::Kind::Object, int(mid + 3)},
+                                       doc.layout());
+        }, apply);
+        measure("Undo (the delete)", none, undo);
+        measure("Redo (the delete)", none, redo);
+    }
+    std::printf("| %-38s | %9s | %9s | %9s | %10s |\n|---|---:|---:|---:|---:|\n", "operation (ms)", "plan",
+                "document", "sync", "to picture");
+    for (const Row& r : rows)
+        std::printf("| %-38s | %9.1f | %9.1f | %9.1f | %10.1f |\n", r.what.c_str(), r.plan * 1e3, r.doc * 1e3,
+                    r.sync * 1e3, r.picture * 1e3);
+    std::printf("\n%zu objects at the end (%zu at the start plus %d); %llu of the %zu operations spliced\n",
+                doc.scene().objects.size(), n, 2 * rounds, static_cast<unsigned long long>(doc.spliced_count()),
+                rows.size());
+    return 0;
+}
