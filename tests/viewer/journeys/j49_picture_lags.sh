@@ -7,7 +7,7 @@
 # film's render generation has not changed yet, or its new render has not finished),
 # the status bar never says "settled" or "done", and it does say "updating the
 # picture..."; then the picture catches up ("current") and the status bar settles.
-# Usage: j47_picture_lags.sh BIN_DIR OUT_DIR
+# Usage: j49_picture_lags.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
 step "make and open a grid of 250,000 spheres, sphere 125,001 selected"

@@ -8,7 +8,7 @@
 # was; each of these used to parse the whole text on the UI thread, seconds); the
 # panels show each edit within 1.5 s of the key (it was 2-4 s); the picture catches up
 # with each ("current").
-# Usage: j46_big_edits.sh BIN_DIR OUT_DIR
+# Usage: j48_big_edits.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
 step "make and open a grid of 250,000 spheres, sphere 125,001 selected"
