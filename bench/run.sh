@@ -15,8 +15,9 @@
 #   -P, --no-pov       skip POV-Ray
 #   -E, --no-embree    skip the Embree reference (build/bin/embree_ref, built where
 #                      Embree 3 is installed): for spheres-10k and things-like it
-#                      traces the same camera, shadow and mirror rays without shading,
-#                      and Embree's best time over ours is printed
+#                      traces the same camera, shadow and mirror rays without shading
+#                      (single rays, packets of 8 and of 16, all with Embree's coherent
+#                      flag), and Embree's best of the three over ours is printed
 #   -M, --no-micro     skip renderer_bench (preview and cancel latency, BVH build)
 #   -g, --grid N       also an N x N sphere grid (bench/make-grid.sh; 1000 gives a
 #                      million spheres, a ~100 MB file), generated into the output
@@ -213,9 +214,10 @@ if [ $EMBREE = 1 ] && [ -x "$ER" ]; then
             { echo "run.sh: embree_ref failed on $s:" >&2; cat "$OUT/$s-embree.log" >&2; exit 1; }
         best=$(sed -n 's/^best \([0-9.]*\)$/\1/p' "$OUT/$s-embree.log")
         single=$(sed -n 's/^ *single rays: *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
-        packets=$(sed -n 's/^ *packets of 8: *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
-        echo "- $s, Embree $THREADS threads, traversal only (camera, shadow, mirror rays): single rays" \
-             "$single s, packets of 8 $packets s; Embree best / ours: $(ratio "$best" "${OURS[$s]}") (our whole" \
+        packets=$(sed -n 's/^ *packets of 8 ([0-9x]*): *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
+        packets16=$(sed -n 's/^ *packets of 16 ([0-9x]*): *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
+        echo "- $s, Embree $THREADS threads, coherent flag, traversal only (camera, shadow, mirror rays): single rays" \
+             "$single s, packets of 8 $packets s, of 16 $packets16 s; Embree best / ours: $(ratio "$best" "${OURS[$s]}") (our whole" \
              "process ${OURS[$s]} s), $(ratio "$best" "${RENDER[$s]}") (our render phase ${RENDER[$s]} s)"
     done
 elif [ $EMBREE = 1 ]; then
