@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "triangles.h"
+
 namespace rt {
 
 #if RT_HAVE_AVX2_KERNELS
@@ -502,6 +504,30 @@ void World::shade4(const Vec3 o[4], const Vec3 d[4], unsigned live, int depth, c
     }
 }
 
+namespace {
+// Camera rays from one origin meet a scene's few meshes as packets: before the next
+// TriangleAccel::kPacket rays of a row are shaded, each mesh's nearest triangle for
+// each of them is found by one packet walk (TriangleAccel::prepare), with the very
+// operands mesh_hit() will ask with (the ray in the mesh's space, tmin kDelta), and
+// mesh_hit() then takes the answers kept. A ray that does not ask (its cell of the
+// camera buffer lacks the mesh, a plane is nearer) leaves its answer unused.
+void prepare_meshes(const Geometry& g, const Vec3& o, const Vec3* d, int n) {
+    TriangleAccel::forget_prepared();
+    if (g.meshes.empty() || g.meshes.size() > std::size_t(TriangleAccel::kPrepared)) return;
+    TriRay r[TriangleAccel::kPacket];
+    for (const MeshG& m : g.meshes) {
+        if (!m.accel) continue;
+        const Vec3 om = m.instance.point_to_model(o);
+        for (int i = 0; i < n; ++i) r[i] = TriRay::make(om, m.instance.to_model(d[i]));
+        m.accel->prepare(r, n, kDelta, HUGE_VAL);
+    }
+}
+// Drops the kept answers however trace_units4() ends: no later walk may take them.
+struct Prepared {
+    ~Prepared() { TriangleAccel::forget_prepared(); }
+};
+}  // namespace
+
 // trace_units() on the AVX2 path: shade4() on four camera rays at a time. With keys,
 // trace_samples(): each ray takes its sample's sampler and its point of the lens.
 void World::trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSample* keys, std::size_t n, Ctx& ctx,
@@ -509,8 +535,14 @@ void World::trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSa
     Vec3 o[4] = {cam.origin, cam.origin, cam.origin, cam.origin};
     Vec3 lens_dirs[4];
     const double weight[4] = {1, 1, 1, 1};
+    const Geometry& g = *geometry;
+    // Packets where the rays share the camera's origin (no lens) and the scene has meshes.
+    const bool packets = !(keys && cam.lens > 0) && !g.meshes.empty();
+    const Prepared forget;
     for (std::size_t i0 = 0; i0 < n; i0 += 4) {
         if (ctx.stats->stopped) return std::fill(out + i0, out + n, Colour{});
+        if (packets && i0 % TriangleAccel::kPacket == 0)
+            prepare_meshes(g, cam.origin, dirs + i0, int(std::min<std::size_t>(TriangleAccel::kPacket, n - i0)));
         const unsigned count = unsigned(std::min<std::size_t>(4, n - i0));
         // Each ray's tree starts with the whole budget, as in trace_from().
         Budgets b;
