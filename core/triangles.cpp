@@ -366,8 +366,9 @@ struct Frustum {
                                                           double tmax, TriHit* hits, bool* found) {
     constexpr int P = TriangleAccel::kPacket;
     Wide8::Ray br[P];
-    alignas(32) float ftmax[P];
-    std::fill(ftmax + n, ftmax + P, -INFINITY);  // (no ray: never the greatest)
+    static_assert(P <= 32, "a packet's rays are the bits of a 32-bit mask");
+    alignas(32) float ftmax[32];
+    std::fill(ftmax + n, ftmax + 32, -INFINITY);  // (no ray: never the greatest)
     for (int i = 0; i < n; ++i) {
         br[i] = Wide8::ray(rays[i].o, rays[i].d, 1.0);
         hits[i] = {tmax, 0};
