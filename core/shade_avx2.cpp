@@ -511,15 +511,51 @@ namespace {
 // operands mesh_hit() will ask with (the ray in the mesh's space, tmin kDelta), and
 // mesh_hit() then takes the answers kept. A ray that does not ask (its cell of the
 // camera buffer lacks the mesh, a plane is nearer) leaves its answer unused.
-void prepare_meshes(const Geometry& g, const Vec3& o, const Vec3* d, int n) {
+//
+// The shadow rays of those hits toward each point light, likewise, for an opaque mesh:
+// where a ray's nearest hit is on the mesh and the triangle faces the light, its shadow
+// ray is made as direct4() will make it (p = o + d t, v = light - p, r = |v|, the start
+// p + kDelta v / r and the limit r - 10 kDelta: the same operations, so the same bits),
+// and their any() answers are found as one packet (TriangleAccel::prepare_any). A
+// guess that differs from the ray direct4() makes (a plane nearer, a smooth normal on
+// the other side) is never asked for and costs only its walk.
+void prepare_meshes(const Geometry& g, const Chunked<ShadeLight>& lights, const Vec3& o, const Vec3* d, int n) {
     TriangleAccel::forget_prepared();
     if (g.meshes.empty() || g.meshes.size() > std::size_t(TriangleAccel::kPrepared)) return;
     TriRay r[TriangleAccel::kPacket];
+    TriHit hits[TriangleAccel::kPacket];
+    bool found[TriangleAccel::kPacket];
+    Vec3 p[TriangleAccel::kPacket], n_out[TriangleAccel::kPacket];
+    double limit[TriangleAccel::kPacket];
     for (const MeshG& m : g.meshes) {
         if (!m.accel) continue;
         const Vec3 om = m.instance.point_to_model(o);
         for (int i = 0; i < n; ++i) r[i] = TriRay::make(om, m.instance.to_model(d[i]));
-        m.accel->prepare(r, n, kDelta, HUGE_VAL);
+        if (!m.accel->prepare(r, n, kDelta, HUGE_VAL, hits, found) || !m.opaque) continue;
+        for (int i = 0; i < n; ++i) {
+            if (!found[i]) continue;
+            p[i] = o + d[i] * hits[i].t;
+            Vec3 c[3];
+            m.accel->corners(hits[i].slot, c);
+            n_out[i] = m.instance.normal_to_world(cross(c[1] - c[0], c[2] - c[0]));
+            if (dot(n_out[i], d[i]) > 0) n_out[i] = -n_out[i];
+        }
+        for (std::size_t li = 0; li < lights.size(); ++li) {
+            const ShadeLight& l = lights[li];
+            if (l.radius > 0) continue;
+            int k = 0;
+            for (int i = 0; i < n; ++i) {
+                if (!found[i]) continue;
+                const Vec3 v{l.position.x - p[i].x, l.position.y - p[i].y, l.position.z - p[i].z};
+                if (!(dot(v, n_out[i]) > 0)) continue;
+                const double rr = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z), inv = 1.0 / rr;
+                const Vec3 vh{v.x * inv, v.y * inv, v.z * inv};
+                const Vec3 so{p[i].x + vh.x * kDelta, p[i].y + vh.y * kDelta, p[i].z + vh.z * kDelta};
+                r[k] = TriRay::make(m.instance.point_to_model(so), m.instance.to_model(vh));
+                limit[k++] = rr - 10 * kDelta;
+            }
+            if (k > 1) m.accel->prepare_any(r, k, 0.0, limit);
+        }
     }
 }
 // Drops the kept answers however trace_units4() ends: no later walk may take them.
@@ -542,7 +578,7 @@ void World::trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSa
     for (std::size_t i0 = 0; i0 < n; i0 += 4) {
         if (ctx.stats->stopped) return std::fill(out + i0, out + n, Colour{});
         if (packets && i0 % TriangleAccel::kPacket == 0)
-            prepare_meshes(g, cam.origin, dirs + i0, int(std::min<std::size_t>(TriangleAccel::kPacket, n - i0)));
+            prepare_meshes(g, lights, cam.origin, dirs + i0, int(std::min<std::size_t>(TriangleAccel::kPacket, n - i0)));
         const unsigned count = unsigned(std::min<std::size_t>(4, n - i0));
         // Each ray's tree starts with the whole budget, as in trace_from().
         Budgets b;

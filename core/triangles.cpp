@@ -473,6 +473,112 @@ struct Frustum {
         found[i] = fi;
     }
 }
+
+// any() for n rays at once: a stack of subtrees with the rays still unblocked that
+// enter them (per-ray box tests as in the single-ray any-hit walk, each ray with its
+// own tmax), and, where the rays share the signs of their directions, a frustum test
+// over the packet first: bounds of every ray's slab distances from the least and
+// greatest origin and inverse direction per axis (rounded sums and products are
+// monotonic in each operand). Whether a ray is blocked does not depend on the order of
+// the leaves; the t of the hit found may.
+[[gnu::flatten]] RT_TARGET_AVX2 void any_packet_avx2(const TriangleAccel& a, const TriRay* rays, int n, double tmin,
+                                                      const double* tmax, bool* hit, double* t) {
+    constexpr int P = TriangleAccel::kPacket;
+    Wide8::Ray br[P];
+    float ft[P];
+    float packet_tmax = 0;
+    for (int i = 0; i < n; ++i) {
+        br[i] = Wide8::ray(rays[i].o, rays[i].d, 1.0);
+        ft[i] = Bvh::widen(tmax[i]);
+        packet_tmax = std::max(packet_tmax, ft[i]);
+        hit[i] = false;
+    }
+    bool frustum = n > 0;
+    for (int i = 1; i < n && frustum; ++i) frustum = br[i].rows == br[0].rows;
+    __m256 olo[3], ohi[3], lo[3], hi[3], pad = _mm256_setzero_ps();
+    if (frustum) {
+        pad = br[0].pad;
+        for (int k = 0; k < 3; ++k) olo[k] = ohi[k] = br[0].o[k], lo[k] = hi[k] = br[0].inv[k];
+        for (int i = 1; i < n; ++i) {
+            pad = _mm256_max_ps(pad, br[i].pad);
+            for (int k = 0; k < 3; ++k) {
+                olo[k] = _mm256_min_ps(olo[k], br[i].o[k]), ohi[k] = _mm256_max_ps(ohi[k], br[i].o[k]);
+                lo[k] = _mm256_min_ps(lo[k], br[i].inv[k]), hi[k] = _mm256_max_ps(hi[k], br[i].inv[k]);
+            }
+        }
+    }
+    const std::int32_t* rows = br[0].rows;
+    const BvhNode8* flat = a.bvh.nodes8.flat();
+    BvhNode8* const* table = a.bvh.nodes8.table();
+    auto node = [&](std::uint32_t ref) -> const BvhNode8& {
+        return flat ? flat[ref] : table[ref >> Chunked<BvhNode8>::kShift][ref & Chunked<BvhNode8>::kMask];
+    };
+    struct Entry {
+        std::uint32_t ref, rays;
+    };
+    constexpr int kStack = 1024;
+    Entry stack[kStack];
+    int sp = 0;
+    std::uint32_t open = n == 32 ? ~0u : (1u << n) - 1;  // the rays not yet blocked
+    stack[sp++] = {0, open};
+    std::uint32_t overflow = 0;
+    const __m256i one = _mm256_set1_epi32(1);
+    while (sp > 0 && open) {
+        const Entry e = stack[--sp];
+        const std::uint32_t live = e.rays & open;
+        if (!live) continue;
+        const BvhNode8& nd = node(e.ref);
+        unsigned reach = 0xffu;
+        if (frustum) {
+            __m256 near = _mm256_setzero_ps(), far = _mm256_set1_ps(INFINITY);
+            for (int k = 0; k < 3; ++k) {
+                const __m256 bn = Wide8::row(nd, rows[k]), bf = Wide8::row(nd, rows[3 + k]);
+                const __m256 n0 = _mm256_sub_ps(bn, ohi[k]), n1 = _mm256_sub_ps(bn, olo[k]);
+                const __m256 f0 = _mm256_sub_ps(bf, ohi[k]), f1 = _mm256_sub_ps(bf, olo[k]);
+                near = _mm256_max_ps(near, _mm256_min_ps(_mm256_min_ps(_mm256_mul_ps(n0, lo[k]), _mm256_mul_ps(n0, hi[k])),
+                                                         _mm256_min_ps(_mm256_mul_ps(n1, lo[k]), _mm256_mul_ps(n1, hi[k]))));
+                far = _mm256_min_ps(far, _mm256_max_ps(_mm256_max_ps(_mm256_mul_ps(f0, lo[k]), _mm256_mul_ps(f0, hi[k])),
+                                                       _mm256_max_ps(_mm256_mul_ps(f1, lo[k]), _mm256_mul_ps(f1, hi[k]))));
+            }
+            const __m256 t0 = _mm256_max_ps(_mm256_sub_ps(near, pad), _mm256_setzero_ps());
+            const __m256 t1 = _mm256_min_ps(_mm256_add_ps(far, pad), _mm256_set1_ps(packet_tmax));
+            reach = ~unsigned(_mm256_movemask_ps(_mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(1.000001f)), _CMP_GT_OQ))) & 0xffu;
+            if (!reach) continue;
+        }
+        unsigned leaves = 0;
+        for (int c = 0; c < 8; ++c) leaves |= unsigned(BvhNode::is_leaf(nd.child[c])) << c;
+        const __m256 inner = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+            _mm256_and_si256(_mm256_set1_epi32(int(reach & ~leaves)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
+            _mm256_setzero_si256()));
+        __m256i who = _mm256_setzero_si256();
+        for (std::uint32_t m = live; m; m &= m - 1) {
+            const int i = __builtin_ctz(m);
+            const BoxTest b = box_test(nd, br[i], ft[i]);
+            who = _mm256_or_si256(who, _mm256_and_si256(_mm256_castps_si256(_mm256_and_ps(b.in, inner)), _mm256_slli_epi32(one, i)));
+            for (unsigned lm = unsigned(_mm256_movemask_ps(b.in)) & reach & leaves; lm; lm &= lm - 1) {
+                const std::uint32_t ref = nd.child[__builtin_ctz(lm)];
+                const TriLanes q(rays[i]);
+                if (AnyLeafAvx2{{a, rays[i], tmin, tmax[i], t[i]}, q}(BvhNode::leaf_first(ref), BvhNode::leaf_count(ref))) {
+                    hit[i] = true;
+                    open &= ~(1u << i);
+                    break;
+                }
+            }
+        }
+        alignas(32) std::uint32_t rays_in[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(rays_in), who);
+        for (int c = 0; c < 8; ++c) {
+            if (!(rays_in[c] & open)) continue;
+            if (sp < kStack) stack[sp++] = {nd.child[c], rays_in[c]};
+            else overflow |= rays_in[c];
+        }
+    }
+    for (std::uint32_t m = overflow & open; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        const TriLanes q(rays[i]);
+        hit[i] = a.bvh.occluded_leaves8(rays[i].o, rays[i].d, 1.0, tmax[i], AnyLeafAvx2{{a, rays[i], tmin, tmax[i], t[i]}, q});
+    }
+}
 #endif
 
 }  // namespace
@@ -504,22 +610,57 @@ void TriangleAccel::nearest_packet(const TriRay* rays, int n, double tmin, doubl
     for (int i = 0; i < n; ++i) found[i] = nearest(rays[i], tmin, tmax, hits[i]);
 }
 
-void TriangleAccel::prepare(const TriRay* rays, int n, double tmin, double tmax) const {
-    if (n <= 0 || n > kPacket || prepared_count >= kPrepared) return;
+bool TriangleAccel::prepare(const TriRay* rays, int n, double tmin, double tmax, TriHit* hits, bool* found) const {
+    if (n <= 0 || n > kPacket || prepared_count >= kPrepared) return false;
     for (int i = 1; i < n; ++i)
-        if (!same(rays[i].o, rays[0].o)) return;
+        if (!same(rays[i].o, rays[0].o)) return false;
     Prepared& p = prepared[prepared_count];
     p.accel = nullptr;  // (not yet: nearest_packet() below must walk)
     nearest_packet(rays, n, tmin, tmax, p.hit, p.found);
+    if (hits) std::copy(p.hit, p.hit + n, hits), std::copy(p.found, p.found + n, found);
     p.n = n, p.next = 0, p.tmin = tmin, p.tmax = tmax, p.o = rays[0].o;
     for (int i = 0; i < n; ++i) p.d[i] = rays[i].d;
     p.accel = this;
     ++prepared_count;
+    return true;
+}
+
+// What prepare_any() keeps: per ray its origin, direction and tmax, and the answer.
+struct PreparedAny {
+    const TriangleAccel* accel;
+    int n, next;
+    double tmin;
+    Vec3 o[TriangleAccel::kPacket], d[TriangleAccel::kPacket];
+    double tmax[TriangleAccel::kPacket], t[TriangleAccel::kPacket];
+    bool hit[TriangleAccel::kPacket];
+};
+thread_local PreparedAny prepared_any[TriangleAccel::kPreparedAny];
+thread_local int prepared_any_count;
+
+void TriangleAccel::any_packet(const TriRay* rays, int n, double tmin, const double* tmax, bool* hit,
+                               double* t) const {
+#if RT_HAVE_AVX2_KERNELS
+    if (n > 1 && avx2_active() && !bvh.nodes8.empty()) return any_packet_avx2(*this, rays, n, tmin, tmax, hit, t);
+#endif
+    for (int i = 0; i < n; ++i) hit[i] = any(rays[i], tmin, tmax[i], t[i]);
+}
+
+void TriangleAccel::prepare_any(const TriRay* rays, int n, double tmin, const double* tmax) const {
+    if (n <= 0 || n > kPacket || prepared_any_count >= kPreparedAny) return;
+    PreparedAny& p = prepared_any[prepared_any_count];
+    p.accel = nullptr;  // (not yet: any_packet() below must walk)
+    any_packet(rays, n, tmin, tmax, p.hit, p.t);
+    p.n = n, p.next = 0, p.tmin = tmin;
+    for (int i = 0; i < n; ++i) p.o[i] = rays[i].o, p.d[i] = rays[i].d, p.tmax[i] = tmax[i];
+    p.accel = this;
+    ++prepared_any_count;
 }
 
 void TriangleAccel::forget_prepared() {
     for (int k = 0; k < prepared_count; ++k) prepared[k].accel = nullptr;
     prepared_count = 0;
+    for (int k = 0; k < prepared_any_count; ++k) prepared_any[k].accel = nullptr;
+    prepared_any_count = 0;
 }
 
 bool TriangleAccel::nearest(const TriRay& r, double tmin, double tmax, TriHit& hit) const {
@@ -543,6 +684,16 @@ bool TriangleAccel::nearest(const TriRay& r, double tmin, double tmax, TriHit& h
 }
 
 bool TriangleAccel::any(const TriRay& r, double tmin, double tmax, double& found) const {
+    for (int k = 0; k < prepared_any_count; ++k) {
+        PreparedAny& p = prepared_any[k];
+        if (p.accel != this || tmin != p.tmin) continue;
+        for (int i = p.next; i < p.n; ++i)
+            if (r.o.x == p.o[i].x && same(r.o, p.o[i]) && same(r.d, p.d[i]) && tmax == p.tmax[i]) {
+                p.next = i + 1;
+                if (p.hit[i]) found = p.t[i];
+                return p.hit[i];
+            }
+    }
 #if RT_HAVE_AVX2_KERNELS
     if (avx2_active() && !bvh.nodes8.empty()) return any_avx2(*this, r, tmin, tmax, found);
 #endif

@@ -296,3 +296,109 @@ TEST_CASE("packets: prepared answers are taken for exactly the rays prepared, an
     CHECK(a.nearest(rays[19], 1e-9, HUGE_VAL, h) == fe[19]);
     CHECK(same_bits(h.t, expect[19].t));
 }
+
+namespace {
+// Whether any slot's watertight test puts a triangle on the segment tmin < t < tmax.
+bool brute_any(const TriangleAccel& a, const TriRay& r, double tmin, double tmax) {
+    for (std::size_t b = 0; b < a.blocks.size(); ++b)
+        for (int l = 0; l < 4; ++l) {
+            const std::uint32_t slot = std::uint32_t(4 * b + l);
+            if (slot >= a.ids.size() || !used(a, slot)) continue;
+            const double t = rt::tri_intersect(r, a.blocks[b], l);
+            if (t > tmin && t < tmax) return true;
+        }
+    return false;
+}
+
+// any_packet() against any() and brute force, ray by ray; returns how many are blocked.
+int check_any_packet(const TriangleAccel& a, const std::vector<TriRay>& rays, const std::vector<double>& tmax) {
+    const int n = int(rays.size());
+    bool hit[TriangleAccel::kPacket];
+    double t[TriangleAccel::kPacket];
+    a.any_packet(rays.data(), n, 0.0, tmax.data(), hit, t);
+    int blocked = 0;
+    for (int i = 0; i < n; ++i) {
+        double t1 = -1;
+        const bool one = a.any(rays[i], 0.0, tmax[i], t1);
+        INFO("ray " << i << " of " << n << ": o " << rt_test::fmt(rays[i].o) << " d " << rt_test::fmt(rays[i].d));
+        CHECK(hit[i] == one);
+        CHECK(one == brute_any(a, rays[i], 0.0, tmax[i]));
+        if (hit[i]) {
+            // A triangle really lies there (not necessarily the one any() met first).
+            CHECK(t[i] > 0.0);
+            CHECK(t[i] < tmax[i]);
+        }
+        blocked += hit[i];
+    }
+    return blocked;
+}
+}  // namespace
+
+TEST_CASE("packets: shadow-like packets (points of the surface toward one light) blocked as any() says") {
+    const rt::MeshData m = terrain(24, 0, 41);
+    const TriangleAccel a = TriangleAccel::build(m, 1);
+    rt_test::Rng rng(43);
+    int blocked = 0, total = 0;
+    for (int p = 0; p < 60; ++p) {
+        // A light low over the terrain (long shadows), the packet's points on a patch of
+        // it: each ray from a point just off the surface to just short of the light.
+        const Vec3 light{rng.uni(-20, 44), rng.uni(-20, 44), rng.uni(0.5, 4)};
+        const double cx = rng.uni(2, 22), cy = rng.uni(2, 22), size = rng.uni(0.2, 4);
+        const int n = 1 + int(rng.index(TriangleAccel::kPacket));
+        std::vector<TriRay> rays;
+        std::vector<double> tmax;
+        for (int i = 0; i < n; ++i) {
+            // The surface point under (x, y): the terrain's first hit from above.
+            const TriRay down = TriRay::make(Vec3{cx + rng.uni(0, size), cy + rng.uni(0, size), 10}, Vec3{0, 0, -1});
+            TriHit h;
+            if (!a.nearest(down, 0.0, HUGE_VAL, h)) continue;
+            const Vec3 q = down.o + down.d * h.t;
+            const Vec3 v = light - q;
+            const double r = length(v);
+            const Vec3 vh = v / r;
+            rays.push_back(TriRay::make(q + vh * 1.5e-5, vh));
+            tmax.push_back(r - 1.5e-4);
+        }
+        if (rays.empty()) continue;
+        blocked += check_any_packet(a, rays, tmax);
+        total += int(rays.size());
+    }
+    // Both answers were met often: the walks were really compared.
+    CHECK(blocked > total / 10);
+    CHECK(blocked < total * 9 / 10);
+}
+
+TEST_CASE("packets: any_packet on scattered rays, rays through shared edges, and prepared answers") {
+    const rt::MeshData m = terrain(16, 0, 47);
+    const TriangleAccel a = TriangleAccel::build(m, 1);
+    rt_test::Rng rng(53);
+    for (int p = 0; p < 60; ++p) {
+        const int n = 2 + int(rng.index(TriangleAccel::kPacket - 1));
+        std::vector<TriRay> rays;
+        std::vector<double> tmax;
+        for (int i = 0; i < n; ++i) {
+            const Vec3 o{rng.uni(-4, 20), rng.uni(-4, 20), rng.uni(-2, 6)};
+            Vec3 aim{rng.uni(0, 16), rng.uni(0, 16), rng.uni(-0.5, 0.5)};
+            if (i % 3 == 0) {  // a point of a shared edge (a cell's diagonal) inside the terrain
+                const int cx = 1 + int(rng.index(14)), cy = 1 + int(rng.index(14));
+                const std::uint32_t t0 = 2 * std::uint32_t(cy * 16 + cx);
+                const Vec3 v0 = vertex(m, m.triangles[3 * t0]), v2 = vertex(m, m.triangles[3 * t0 + 2]);
+                aim = v0 + (v2 - v0) * rng.uni(0, 1);
+            }
+            rays.push_back(TriRay::make(o, aim - o));
+            tmax.push_back(p % 2 ? 1.0 : rng.uni(0.2, 1.5));  // the aim at t = 1: before, on or past it
+        }
+        check_any_packet(a, rays, tmax);
+        // Prepared: any() takes the packet's answers for those very rays, in order.
+        bool hit[TriangleAccel::kPacket];
+        double t[TriangleAccel::kPacket];
+        a.any_packet(rays.data(), n, 0.0, tmax.data(), hit, t);
+        a.prepare_any(rays.data(), n, 0.0, tmax.data());
+        for (int i = 0; i < n; i += 2) {
+            double ti = -1;
+            CHECK(a.any(rays[i], 0.0, tmax[i], ti) == hit[i]);
+            if (hit[i]) CHECK(same_bits(ti, t[i]));
+        }
+        TriangleAccel::forget_prepared();
+    }
+}
