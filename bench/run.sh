@@ -15,8 +15,9 @@
 #   -P, --no-pov       skip POV-Ray
 #   -E, --no-embree    skip the Embree reference (build/bin/embree_ref, built where
 #                      Embree 3 is installed): for spheres-10k and things-like it
-#                      traces the same camera, shadow and mirror rays without shading,
-#                      and Embree's best time over ours is printed
+#                      traces the same camera, shadow and mirror rays without shading
+#                      (single rays, packets of 8 and of 16, all with Embree's coherent
+#                      flag), and Embree's best of the three over ours is printed
 #   -M, --no-micro     skip renderer_bench (preview and cancel latency, BVH build)
 #   -g, --grid N       also an N x N sphere grid (bench/make-grid.sh; 1000 gives a
 #                      million spheres, a ~100 MB file), generated into the output
@@ -155,7 +156,7 @@ echo
 echo "| scene | resolution | ours (s) | POV-Ray (s) | POV/ours | our rays/s | ours CPU (s) | POV-Ray CPU (s) |"
 echo "|---|---|---|---|---|---|---|---|"
 
-declare -A OURS ONE RENDER ONE_RENDER
+declare -A OURS OURS_CPU ONE RENDER ONE_RENDER
 for s in "${SCENES[@]}"; do
     if [ $QUICK = 1 ]; then W=160 H=90; else W=$(picture_size "$s" x_max) H=$(picture_size "$s" y_max); fi
     ours=() ours_cpu=() pov=() pov_cpu=() rps=() render=() one=() one_render=()
@@ -180,7 +181,7 @@ for s in "${SCENES[@]}"; do
     if [ "$hdr" != "P6 $W $H" ]; then
         echo "run.sh: $s.ppm is not a ${W}x$H PPM" >&2; exit 1
     fi
-    OURS[$s]=$(median "${ours[@]}")
+    OURS[$s]=$(median "${ours[@]}") OURS_CPU[$s]=$(median "${ours_cpu[@]}")
     p=n/a pc=n/a
     if [ $POV = 1 ]; then p=$(median "${pov[@]}") pc=$(median "${pov_cpu[@]}"); fi
     echo "| $s | ${W}x$H | ${OURS[$s]} | $p | $(ratio "$p" "${OURS[$s]}") | $(millions "$(median "${rps[@]}")") |" \
@@ -212,11 +213,15 @@ if [ $EMBREE = 1 ] && [ -x "$ER" ]; then
         "$ER" "$HERE/scenes/$s.txt" --threads "$THREADS" --repeats "$RUNS" "${size[@]}" > "$OUT/$s-embree.log" 2>&1 ||
             { echo "run.sh: embree_ref failed on $s:" >&2; cat "$OUT/$s-embree.log" >&2; exit 1; }
         best=$(sed -n 's/^best \([0-9.]*\)$/\1/p' "$OUT/$s-embree.log")
+        best_cpu=$(sed -n 's/^best_cpu \([0-9.]*\)$/\1/p' "$OUT/$s-embree.log")
         single=$(sed -n 's/^ *single rays: *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
-        packets=$(sed -n 's/^ *packets of 8: *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
-        echo "- $s, Embree $THREADS threads, traversal only (camera, shadow, mirror rays): single rays" \
-             "$single s, packets of 8 $packets s; Embree best / ours: $(ratio "$best" "${OURS[$s]}") (our whole" \
-             "process ${OURS[$s]} s), $(ratio "$best" "${RENDER[$s]}") (our render phase ${RENDER[$s]} s)"
+        packets=$(sed -n 's/^ *packets of 8 ([0-9x]*): *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
+        packets16=$(sed -n 's/^ *packets of 16 ([0-9x]*): *\([0-9.]*\) s.*/\1/p' "$OUT/$s-embree.log")
+        echo "- $s, Embree $THREADS threads, coherent flag, traversal only (camera, shadow, mirror rays): single rays" \
+             "$single s, packets of 8 $packets s, of 16 $packets16 s; Embree best / ours: $(ratio "$best" "${OURS[$s]}") (our whole" \
+             "process ${OURS[$s]} s), $(ratio "$best" "${RENDER[$s]}") (our render phase ${RENDER[$s]} s);" \
+             "by processor time (steadier on a loaded machine): Embree best $best_cpu s / our whole process" \
+             "${OURS_CPU[$s]} s = $(ratio "$best_cpu" "${OURS_CPU[$s]}")"
     done
 elif [ $EMBREE = 1 ]; then
     echo "run.sh: no embree_ref next to $BIN (Embree 3 not installed?); skipping Embree" >&2
@@ -274,17 +279,24 @@ fi
 mesh_section() {
     local M=$OUT/mesh$MESH t wall kb e_best=n/a
     MAKE_MESH=${MAKE_MESH:-$(dirname "$BIN")/make_mesh} "$HERE/make-mesh.sh" "$MESH" "$M" --pov
-    local walls=() reads=() renders=() writes=() rss=() objreads=() pov=() embree=()
+    local walls=() reads=() renders=() writes=() rss=() objreads=() pov=() embree=() cpus=() small_cpus=() embree_cpu=()
+    local cpu small
     for _ in $(seq "$RUNS"); do
         if [ -x /usr/bin/time ]; then
-            t=$( { /usr/bin/time -f '%e %M' "$BIN" --quiet --stats --threads "$THREADS" "$M.txt" "$M.ppm" \
+            t=$( { /usr/bin/time -f '%e %M %U %S' "$BIN" --quiet --stats --threads "$THREADS" "$M.txt" "$M.ppm" \
                      2> "$M-ours.log" > /dev/null; } 2>&1; tail -1 "$M-ours.log")
+            t=$(awk '{ printf "%s %s %.3f\n", $1, $2, $3 + $4 }' <<< "$t")
         else
-            t="$(timed "$M-ours.log" "$BIN" --quiet --stats --threads "$THREADS" "$M.txt" "$M.ppm" | cut -d' ' -f1) n/a"
+            t=$(timed "$M-ours.log" "$BIN" --quiet --stats --threads "$THREADS" "$M.txt" "$M.ppm" | awk '{ print $1, "n/a", $2 }')
         fi
         grep -q '^time:' "$M-ours.log" || { echo "run.sh: our raytracer failed on the mesh:" >&2; cat "$M-ours.log" >&2; exit 1; }
-        read -r wall kb <<< "$t"
-        walls+=("$wall") rss+=("$kb")
+        read -r wall kb cpu <<< "$t"
+        walls+=("$wall") rss+=("$kb") cpus+=("$cpu")
+        # The same run at 8x8: its processor time is the reading and the build, so the
+        # difference is the render's (steadier than its wall time on a loaded machine).
+        small=$(timed "$M-small.log" "$BIN" --quiet --threads "$THREADS" --width 8 --height 8 "$M.txt" "$M-small.ppm") ||
+            { echo "run.sh: our raytracer failed on the mesh at 8x8:" >&2; cat "$M-small.log" >&2; exit 1; }
+        small_cpus+=("$(cut -d' ' -f2 <<< "$small")")
         reads+=("$(awk '/^time:/ { for (i = 1; i < NF; ++i) { if ($i == "parse") p = $(i + 1); if ($i == "compile") c = $(i + 1) } print p + c }' "$M-ours.log")")
         renders+=("$(render_time "$M-ours.log")")
         writes+=("$(sed -n 's/.*write \([0-9.]*\) s.*/\1/p' "$M-ours.log")")
@@ -302,6 +314,7 @@ mesh_section() {
             "$(dirname "$BIN")/embree_ref" "$M.txt" --threads "$THREADS" --repeats 1 > "$M-embree.log" 2>&1 ||
                 { echo "run.sh: embree_ref failed on the mesh:" >&2; cat "$M-embree.log" >&2; exit 1; }
             embree+=("$(sed -n 's/^best \([0-9.]*\)$/\1/p' "$M-embree.log")")
+            embree_cpu+=("$(sed -n 's/^best_cpu \([0-9.]*\)$/\1/p' "$M-embree.log")")
         fi
     done
     kb=n/a
@@ -310,16 +323,20 @@ mesh_section() {
     mem=$(awk -v k="$kb" 'BEGIN { if (k == "n/a") print k; else printf "%.0f MB", k * 1024 / 1e6 }')
     pw=n/a
     [ $POV = 1 ] && pw=$(median "${pov[@]}")
-    [ ${#embree[@]} -gt 0 ] && e_best=$(median "${embree[@]}")
+    local e_cpu=n/a render_cpu
+    [ ${#embree[@]} -gt 0 ] && e_best=$(median "${embree[@]}") && e_cpu=$(median "${embree_cpu[@]}")
+    render_cpu=$(awk -v a="$(median "${cpus[@]}")" -v b="$(median "${small_cpus[@]}")" \
+        'BEGIN { if (a == "n/a" || b == "n/a") print "n/a"; else printf "%.3f\n", a - b }')
     echo
     echo "Bumpy ball of about $MESH triangles (bench/make-mesh.sh), 1920x1080, 1 sample per pixel, $THREADS threads, medians of $RUNS:"
     echo
-    echo "| ours whole (s) | PLY read + BVH (s) | OBJ read + BVH (s) | render (s) | write (s) | ours peak memory | POV-Ray whole (s) | POV/ours | Embree best (s) | Embree best / our render | Embree best / ours whole |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|"
+    echo "| ours whole (s) | PLY read + BVH (s) | OBJ read + BVH (s) | render (s) | write (s) | ours peak memory | POV-Ray whole (s) | POV/ours | Embree best (s) | Embree best / our render | Embree best / ours whole | render processor time (s): Embree best / ours |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
     local ow
     ow=$(median "${walls[@]}")
     echo "| $ow | $(median "${reads[@]}") | $(median "${objreads[@]}") | $(median "${renders[@]}") | $(median "${writes[@]}") |" \
-         "$mem | $pw | $(ratio "$pw" "$ow") | $e_best | $(ratio "$e_best" "$(median "${renders[@]}")") | $(ratio "$e_best" "$ow") |"
+         "$mem | $pw | $(ratio "$pw" "$ow") | $e_best | $(ratio "$e_best" "$(median "${renders[@]}")") | $(ratio "$e_best" "$ow") |" \
+         "$e_cpu / $render_cpu = $(ratio "$e_cpu" "$render_cpu") |"
     rm -f "$M.ply" "$M.obj" "$M.inc"
 }
 [ "$MESH" != 0 ] && mesh_section

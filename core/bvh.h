@@ -294,9 +294,14 @@ private:
         static const Chunked<Node>& tree(const Bvh& b) { return b.nodes; }
         static unsigned enter(const Node& n, const Ray& r, float tmax, float t[4]) { return Bvh::enter(n, r, tmax, t); }
     };
+public:
+    // The float bound a walk tests boxes against for a double tmax (a little beyond it).
+    static float widen(double t) { return t == HUGE_VAL ? INFINITY : float(t * (1 + 1e-6) + 1e-6); }
+
 #if RT_HAVE_AVX2_KERNELS
     // Which of an 8-wide node's children the ray enters within [0, tmax], with their
-    // entry distances: BvhNode's test, lane for lane the same float operations.
+    // entry distances: BvhNode's test, lane for lane the same float operations. (Public
+    // for the packet walks of triangles.cpp, which test each ray of a packet with it.)
     struct Wide8 {
         static constexpr int kWidth = 8, kStack = 512;
         using Node = BvhNode8;
@@ -349,7 +354,10 @@ private:
             return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(1.000001f)), _CMP_LE_OS)));
         }
     };
+#endif
 
+private:
+#if RT_HAVE_AVX2_KERNELS
     // The AVX2 entry points: the walks inlined here, where 8-wide instructions may be
     // used, so that Wide8's test is inlined into them.
     template <class Fn>
@@ -368,8 +376,6 @@ private:
     [[gnu::noinline]] bool occluded4(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn& fn) const {
         return occluded_walk<Wide4>(BvhRay::make(origin, dir, len), widen(tmax), fn);
     }
-
-    static float widen(double t) { return t == HUGE_VAL ? INFINITY : float(t * (1 + 1e-6) + 1e-6); }
 
     template <class F>
     struct Leaves {

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "triangles.h"
+
 namespace rt {
 
 #if RT_HAVE_AVX2_KERNELS
@@ -502,6 +504,117 @@ void World::shade4(const Vec3 o[4], const Vec3 d[4], unsigned live, int depth, c
     }
 }
 
+namespace {
+// Camera rays from one origin meet a scene's few meshes as packets: before the next
+// TriangleAccel::kPacket rays of a row are shaded, each mesh's nearest triangle for
+// each of them is found by one packet walk (TriangleAccel::prepare), with the very
+// operands mesh_hit() will ask with (the ray in the mesh's space, tmin kDelta), and
+// mesh_hit() then takes the answers kept. A ray that does not ask (its cell of the
+// camera buffer lacks the mesh, a plane is nearer) leaves its answer unused.
+//
+// The shadow rays of those hits toward each point light, likewise, for an opaque mesh:
+// where a ray's nearest hit is on the mesh (its triangle's normal turned toward the
+// ray) or on a nearer plane, and that faces the light, its shadow ray is made as
+// direct4() will make it (p = o + d t, v = light - p, r = |v|, the start p + kDelta v / r
+// and the limit r - 10 kDelta: the same operations, so the same bits), and if it passes
+// near the mesh, the answers of all of them are found as one packet
+// (TriangleAccel::prepare_any). A guess that differs from the ray direct4() makes
+// (another object nearer, a smooth normal on the other side) is never asked for and
+// costs only its walk.
+void prepare_meshes(const World& w, const Vec3& o, const Vec3* d, int n) {
+    TriangleAccel::forget_prepared();
+    const Geometry& g = *w.geometry;
+    if (g.meshes.empty() || g.meshes.size() > std::size_t(TriangleAccel::kPrepared)) return;
+    constexpr int P = TriangleAccel::kPacket;
+    // The nearest plane of each ray, as World::nearest() finds it (no glows: a disc
+    // might be nearer, and then no guess is made for the plane).
+    double plane_t[P];
+    int plane[P];
+    for (int i = 0; i < n; ++i) {
+        plane_t[i] = HUGE_VAL, plane[i] = -1;
+        if (!w.glows.empty()) continue;
+        for (std::size_t k = 0; k < w.planes.size(); ++k) {
+            const PlaneShape& pl = w.planes[k];
+            const double dn = dot(pl.n, d[i]);
+            if (dn == 0) continue;
+            const double t = -(dot(pl.n, o) + pl.D) / dn;
+            if (t > kDelta && t < plane_t[i]) plane_t[i] = t, plane[i] = int(k);
+        }
+    }
+    TriRay r[P];
+    TriHit hits[P];
+    bool found[P];
+    Vec3 p[P], n_out[P];
+    bool point[P];
+    double limit[P];
+    for (const MeshG& m : g.meshes) {
+        if (!m.accel) continue;
+        const Vec3 om = m.instance.point_to_model(o);
+        for (int i = 0; i < n; ++i) r[i] = TriRay::make(om, m.instance.to_model(d[i]));
+        // (Shadow packets only on the 8-wide tree: a model read while the SSE2 path was
+        // chosen has none, and its shadow rays are walked alone.)
+        if (!m.accel->prepare(r, n, kDelta, HUGE_VAL, hits, found) || !m.opaque || m.accel->bvh.nodes8.empty()) continue;
+        // The point each ray's shading will light, where it can be told: the mesh's
+        // triangle (its normal turned toward the ray) or, nearer, a plane.
+        for (int i = 0; i < n; ++i) {
+            point[i] = false;
+            if (plane[i] >= 0 && (!found[i] || plane_t[i] <= hits[i].t)) {
+                const PlaneShape& pl = w.planes[std::size_t(plane[i])];
+                if (w.plane_mats[2 * std::size_t(plane[i])].refraction != 0 ||
+                    w.plane_mats[2 * std::size_t(plane[i]) + 1].refraction != 0)
+                    continue;
+                p[i] = o + d[i] * plane_t[i];
+                n_out[i] = pl.n;
+                point[i] = true;
+            } else if (found[i]) {
+                p[i] = o + d[i] * hits[i].t;
+                Vec3 c[3];
+                m.accel->corners(hits[i].slot, c);
+                n_out[i] = m.instance.normal_to_world(cross(c[1] - c[0], c[2] - c[0]));
+                if (dot(n_out[i], d[i]) > 0) n_out[i] = -n_out[i];
+                point[i] = true;
+            }
+        }
+        // A sphere around the mesh (world space), for the shadow rays from elsewhere
+        // that cannot reach it at all: left out here, they are only walked alone later.
+        const BvhNode8& root = m.accel->bvh.nodes8[0];
+        Aabb box;
+        for (int c = 0; c < 8; ++c) {
+            if (root.child[c] == BvhNode::kEmpty) continue;
+            box.grow(Vec3{root.b[0][c], root.b[1][c], root.b[2][c]});
+            box.grow(Vec3{root.b[3][c], root.b[4][c], root.b[5][c]});
+        }
+        const Aabb wb = m.instance.world_bounds(box);
+        const Vec3 centre = (wb.lo + wb.hi) * 0.5;
+        const double reach2 = length2(wb.hi - centre) * 1.01 + 1e-9;
+        for (std::size_t li = 0; li < w.lights.size(); ++li) {
+            const ShadeLight& l = w.lights[li];
+            if (l.radius > 0) continue;
+            int k = 0;
+            for (int i = 0; i < n; ++i) {
+                if (!point[i]) continue;
+                const Vec3 v{l.position.x - p[i].x, l.position.y - p[i].y, l.position.z - p[i].z};
+                if (!(dot(v, n_out[i]) > 0)) continue;
+                const Vec3 c = centre - p[i];
+                const double vv = dot(v, v), cv = dot(c, v);
+                const double d2 = cv <= 0 ? length2(c) : cv >= vv ? length2(centre - l.position) : length2(c) - cv * cv / vv;
+                if (d2 > reach2) continue;
+                const double rr = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z), inv = 1.0 / rr;
+                const Vec3 vh{v.x * inv, v.y * inv, v.z * inv};
+                const Vec3 so{p[i].x + vh.x * kDelta, p[i].y + vh.y * kDelta, p[i].z + vh.z * kDelta};
+                r[k] = TriRay::make(m.instance.point_to_model(so), m.instance.to_model(vh));
+                limit[k++] = rr - 10 * kDelta;
+            }
+            if (k > 1) m.accel->prepare_any(r, k, 0.0, limit);
+        }
+    }
+}
+// Drops the kept answers however trace_units4() ends: no later walk may take them.
+struct Prepared {
+    ~Prepared() { TriangleAccel::forget_prepared(); }
+};
+}  // namespace
+
 // trace_units() on the AVX2 path: shade4() on four camera rays at a time. With keys,
 // trace_samples(): each ray takes its sample's sampler and its point of the lens.
 void World::trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSample* keys, std::size_t n, Ctx& ctx,
@@ -509,8 +622,14 @@ void World::trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSa
     Vec3 o[4] = {cam.origin, cam.origin, cam.origin, cam.origin};
     Vec3 lens_dirs[4];
     const double weight[4] = {1, 1, 1, 1};
+    const Geometry& g = *geometry;
+    // Packets where the rays share the camera's origin (no lens) and the scene has meshes.
+    const bool packets = !(keys && cam.lens > 0) && !g.meshes.empty();
+    const Prepared forget;
     for (std::size_t i0 = 0; i0 < n; i0 += 4) {
         if (ctx.stats->stopped) return std::fill(out + i0, out + n, Colour{});
+        if (packets && i0 % TriangleAccel::kPacket == 0)
+            prepare_meshes(*this, cam.origin, dirs + i0, int(std::min<std::size_t>(TriangleAccel::kPacket, n - i0)));
         const unsigned count = unsigned(std::min<std::size_t>(4, n - i0));
         // Each ray's tree starts with the whole budget, as in trace_from().
         Budgets b;

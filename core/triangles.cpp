@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "simd.h"
@@ -309,11 +310,370 @@ struct AnyLeafAvx2 : AnyLeaf<Avx2Lanes> {
     const TriLanes q(r);
     return a.bvh.occluded_leaves8(r.o, r.d, 1.0, tmax, AnyLeafAvx2{{a, r, tmin, tmax, found}, q});
 }
+
+// ---- packets -----------------------------------------------------------------------
+// The packet walk of nearest_packet(): a stack of subtrees, each with the rays (a bit
+// each) whose box tests let them into it. At an inner node every such ray takes the
+// single-ray walk's box test of the eight children (BoxTest: Wide8::enter's float
+// operations, lane for lane); a child is pushed with the rays that enter it, nearest
+// first by the least entry distance among them. Where the rays share an origin and
+// the signs of their directions, a frustum test comes first (Frustum): it bounds every
+// ray's entry and exit distances from the least and greatest inverse direction per
+// axis, and a child it rules out is ruled out for each ray of the packet.
+using Wide8 = Bvh::Wide8;
+
+// Wide8::enter() as vectors: the lanes' entry distances and the lanes entered.
+struct BoxTest {
+    __m256 t0, in;
+};
+[[gnu::always_inline]] RT_TARGET_AVX2 inline BoxTest box_test(const BvhNode8& n, const Wide8::Ray& r, float tmax) {
+    const __m256 x0 = _mm256_mul_ps(_mm256_sub_ps(Wide8::row(n, r.rows[0]), r.o[0]), r.inv[0]);
+    const __m256 y0 = _mm256_mul_ps(_mm256_sub_ps(Wide8::row(n, r.rows[1]), r.o[1]), r.inv[1]);
+    const __m256 z0 = _mm256_mul_ps(_mm256_sub_ps(Wide8::row(n, r.rows[2]), r.o[2]), r.inv[2]);
+    const __m256 x1 = _mm256_mul_ps(_mm256_sub_ps(Wide8::row(n, r.rows[3]), r.o[0]), r.inv[0]);
+    const __m256 y1 = _mm256_mul_ps(_mm256_sub_ps(Wide8::row(n, r.rows[4]), r.o[1]), r.inv[1]);
+    const __m256 z1 = _mm256_mul_ps(_mm256_sub_ps(Wide8::row(n, r.rows[5]), r.o[2]), r.inv[2]);
+    const __m256 t0 = _mm256_max_ps(_mm256_sub_ps(_mm256_max_ps(_mm256_max_ps(x0, y0), z0), r.pad), _mm256_setzero_ps());
+    const __m256 t1 = _mm256_min_ps(_mm256_add_ps(_mm256_min_ps(_mm256_min_ps(x1, y1), z1), r.pad), _mm256_set1_ps(tmax));
+    return {t0, _mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(1.000001f)), _CMP_LE_OS)};
+}
+
+// The packet's frustum: its rays' common origin and row offsets (the same signs), per
+// axis the least and greatest inverse direction, the greatest pad. Products are
+// monotonic in each factor once rounded, so (b - o) * lo and (b - o) * hi bound every
+// ray's (b - o) * inv, and every later step of box_test() keeps such bounds: the lanes
+// frustum_test() rules out, box_test() rules out for each ray (with tmax at least its).
+struct Frustum {
+    __m256 o[3], lo[3], hi[3], pad;
+    const std::int32_t* rows;
+};
+[[gnu::always_inline]] RT_TARGET_AVX2 inline unsigned frustum_test(const BvhNode8& n, const Frustum& f, float tmax) {
+    __m256 near = _mm256_setzero_ps(), far = _mm256_set1_ps(INFINITY);
+    for (int a = 0; a < 3; ++a) {
+        const __m256 bn = _mm256_sub_ps(Wide8::row(n, f.rows[a]), f.o[a]);
+        const __m256 bf = _mm256_sub_ps(Wide8::row(n, f.rows[3 + a]), f.o[a]);
+        near = _mm256_max_ps(near, _mm256_min_ps(_mm256_mul_ps(bn, f.lo[a]), _mm256_mul_ps(bn, f.hi[a])));
+        far = _mm256_min_ps(far, _mm256_max_ps(_mm256_mul_ps(bf, f.lo[a]), _mm256_mul_ps(bf, f.hi[a])));
+    }
+    const __m256 t0 = _mm256_max_ps(_mm256_sub_ps(near, f.pad), _mm256_setzero_ps());
+    const __m256 t1 = _mm256_min_ps(_mm256_add_ps(far, f.pad), _mm256_set1_ps(tmax));
+    // (Not "<=" negated: a NaN bound must keep the lane.)
+    return ~unsigned(_mm256_movemask_ps(_mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(1.000001f)), _CMP_GT_OQ))) &
+           0xffu;
+}
+
+[[gnu::flatten]] RT_TARGET_AVX2 void nearest_packet_avx2(const TriangleAccel& a, const TriRay* rays, int n, double tmin,
+                                                          double tmax, TriHit* hits, bool* found) {
+    constexpr int P = TriangleAccel::kPacket;
+    Wide8::Ray br[P];
+    static_assert(P <= 32, "a packet's rays are the bits of a 32-bit mask");
+    alignas(32) float ftmax[32];
+    std::fill(ftmax + n, ftmax + 32, -INFINITY);  // (no ray: never the greatest)
+    for (int i = 0; i < n; ++i) {
+        br[i] = Wide8::ray(rays[i].o, rays[i].d, 1.0);
+        hits[i] = {tmax, 0};
+        found[i] = false;
+        ftmax[i] = Bvh::widen(tmax);
+    }
+    // The frustum, where the rays share an origin (bit for bit) and their signs.
+    bool frustum = n > 0;
+    for (int i = 1; i < n && frustum; ++i)
+        frustum = br[i].rows == br[0].rows && std::memcmp(&rays[i].o, &rays[0].o, sizeof(Vec3)) == 0;
+    Frustum f;
+    if (frustum) {
+        f.rows = br[0].rows;
+        f.pad = br[0].pad;
+        for (int k = 0; k < 3; ++k) f.o[k] = br[0].o[k], f.lo[k] = f.hi[k] = br[0].inv[k];
+        for (int i = 1; i < n; ++i) {
+            f.pad = _mm256_max_ps(f.pad, br[i].pad);
+            for (int k = 0; k < 3; ++k) f.lo[k] = _mm256_min_ps(f.lo[k], br[i].inv[k]), f.hi[k] = _mm256_max_ps(f.hi[k], br[i].inv[k]);
+        }
+    }
+    float packet_tmax = Bvh::widen(tmax);  // the greatest ftmax
+    const BvhNode8* flat = a.bvh.nodes8.flat();
+    BvhNode8* const* table = a.bvh.nodes8.table();
+    auto node = [&](std::uint32_t ref) -> const BvhNode8& {
+        return flat ? flat[ref] : table[ref >> Chunked<BvhNode8>::kShift][ref & Chunked<BvhNode8>::kMask];
+    };
+    struct Entry {
+        std::uint32_t ref, rays;
+        float t;
+    };
+    constexpr int kStack = 1024;
+    Entry stack[kStack];
+    int sp = 0;
+    stack[sp++] = {0, n == 32 ? ~0u : (1u << n) - 1, 0.f};
+    std::uint32_t overflow = 0;  // rays left to the single-ray walk (a stack too shallow)
+    const __m256i one = _mm256_set1_epi32(1);
+    while (sp > 0) {
+        const Entry e = stack[--sp];
+        if (e.t > packet_tmax) continue;
+        if (BvhNode::is_leaf(e.ref)) {
+            const std::uint32_t first = BvhNode::leaf_first(e.ref), count = BvhNode::leaf_count(e.ref);
+            for (std::uint32_t m = e.rays; m; m &= m - 1) {
+                const int i = __builtin_ctz(m);
+                if (e.t > ftmax[i]) continue;
+                const TriLanes q(rays[i]);
+                bool fi = found[i];
+                const double before = hits[i].t;
+                NearestLeafAvx2{{a, rays[i], tmin, hits[i], fi}, q}(first, count, 0.0);
+                found[i] = fi;
+                if (hits[i].t != before) {
+                    ftmax[i] = Bvh::widen(hits[i].t);
+                    __m256 mx = _mm256_max_ps(_mm256_load_ps(ftmax), _mm256_load_ps(ftmax + 8));
+                    mx = _mm256_max_ps(mx, _mm256_max_ps(_mm256_load_ps(ftmax + 16), _mm256_load_ps(ftmax + 24)));
+                    const __m128 h = _mm_max_ps(_mm256_castps256_ps128(mx), _mm256_extractf128_ps(mx, 1));
+                    const __m128 h2 = _mm_max_ps(h, _mm_movehl_ps(h, h));
+                    packet_tmax = _mm_cvtss_f32(_mm_max_ss(h2, _mm_movehdup_ps(h2)));
+                }
+            }
+            continue;
+        }
+        const BvhNode8& nd = node(e.ref);
+        const unsigned reach = frustum ? frustum_test(nd, f, packet_tmax) : 0xffu;
+        if (reach == 0) continue;
+        const __m256 allowed = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+            _mm256_and_si256(_mm256_set1_epi32(int(reach)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
+            _mm256_setzero_si256()));
+        __m256i who = _mm256_setzero_si256();  // per child, the rays entering it
+        __m256 near = _mm256_set1_ps(INFINITY);  // per child, their least entry distance
+        for (std::uint32_t m = e.rays; m; m &= m - 1) {
+            const int i = __builtin_ctz(m);
+            const BoxTest b = box_test(nd, br[i], ftmax[i]);
+            const __m256 in = _mm256_and_ps(b.in, allowed);
+            who = _mm256_or_si256(who, _mm256_and_si256(_mm256_castps_si256(in), _mm256_slli_epi32(one, i)));
+            near = _mm256_min_ps(near, _mm256_blendv_ps(_mm256_set1_ps(INFINITY), b.t0, in));
+        }
+        alignas(32) std::uint32_t rays_in[8];
+        alignas(32) float t_in[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(rays_in), who);
+        _mm256_store_ps(t_in, near);
+        // Pushed farthest first, so that the nearest comes up next.
+        Entry kids[8];
+        int k = 0;
+        for (int c = 0; c < 8; ++c) {
+            if (!rays_in[c]) continue;
+            Entry x{nd.child[c], rays_in[c], t_in[c]};
+            int j = k++;
+            for (; j > 0 && kids[j - 1].t < x.t; --j) kids[j] = kids[j - 1];
+            kids[j] = x;
+        }
+        for (int j = 0; j < k; ++j) {
+            if (sp < kStack) stack[sp++] = kids[j];
+            else overflow |= kids[j].rays;
+        }
+    }
+    // The rays a subtree was left out for: walked alone, from the nearest hit found so
+    // far (a leaf seen twice changes nothing: its nearest is kept, ties to the lower slot).
+    for (std::uint32_t m = overflow; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        const TriLanes q(rays[i]);
+        bool fi = found[i];
+        a.bvh.traverse_nearest_leaves8(rays[i].o, rays[i].d, hits[i].t, NearestLeafAvx2{{a, rays[i], tmin, hits[i], fi}, q});
+        found[i] = fi;
+    }
+}
+
+// any() for n rays at once: a stack of subtrees with the rays still unblocked that
+// enter them (per-ray box tests as in the single-ray any-hit walk, each ray with its
+// own tmax), and, where the rays share the signs of their directions, a frustum test
+// over the packet first: bounds of every ray's slab distances from the least and
+// greatest origin and inverse direction per axis (rounded sums and products are
+// monotonic in each operand). Whether a ray is blocked does not depend on the order of
+// the leaves; the t of the hit found may.
+[[gnu::flatten]] RT_TARGET_AVX2 void any_packet_avx2(const TriangleAccel& a, const TriRay* rays, int n, double tmin,
+                                                      const double* tmax, bool* hit, double* t) {
+    constexpr int P = TriangleAccel::kPacket;
+    Wide8::Ray br[P];
+    float ft[P];
+    float packet_tmax = 0;
+    for (int i = 0; i < n; ++i) {
+        br[i] = Wide8::ray(rays[i].o, rays[i].d, 1.0);
+        ft[i] = Bvh::widen(tmax[i]);
+        packet_tmax = std::max(packet_tmax, ft[i]);
+        hit[i] = false;
+    }
+    bool frustum = n > 0;
+    for (int i = 1; i < n && frustum; ++i) frustum = br[i].rows == br[0].rows;
+    __m256 olo[3], ohi[3], lo[3], hi[3], pad = _mm256_setzero_ps();
+    if (frustum) {
+        pad = br[0].pad;
+        for (int k = 0; k < 3; ++k) olo[k] = ohi[k] = br[0].o[k], lo[k] = hi[k] = br[0].inv[k];
+        for (int i = 1; i < n; ++i) {
+            pad = _mm256_max_ps(pad, br[i].pad);
+            for (int k = 0; k < 3; ++k) {
+                olo[k] = _mm256_min_ps(olo[k], br[i].o[k]), ohi[k] = _mm256_max_ps(ohi[k], br[i].o[k]);
+                lo[k] = _mm256_min_ps(lo[k], br[i].inv[k]), hi[k] = _mm256_max_ps(hi[k], br[i].inv[k]);
+            }
+        }
+    }
+    const std::int32_t* rows = br[0].rows;
+    const BvhNode8* flat = a.bvh.nodes8.flat();
+    BvhNode8* const* table = a.bvh.nodes8.table();
+    auto node = [&](std::uint32_t ref) -> const BvhNode8& {
+        return flat ? flat[ref] : table[ref >> Chunked<BvhNode8>::kShift][ref & Chunked<BvhNode8>::kMask];
+    };
+    struct Entry {
+        std::uint32_t ref, rays;
+    };
+    constexpr int kStack = 1024;
+    Entry stack[kStack];
+    int sp = 0;
+    std::uint32_t open = n == 32 ? ~0u : (1u << n) - 1;  // the rays not yet blocked
+    stack[sp++] = {0, open};
+    std::uint32_t overflow = 0;
+    const __m256i one = _mm256_set1_epi32(1);
+    while (sp > 0 && open) {
+        const Entry e = stack[--sp];
+        const std::uint32_t live = e.rays & open;
+        if (!live) continue;
+        const BvhNode8& nd = node(e.ref);
+        unsigned reach = 0xffu;
+        if (frustum) {
+            __m256 near = _mm256_setzero_ps(), far = _mm256_set1_ps(INFINITY);
+            for (int k = 0; k < 3; ++k) {
+                const __m256 bn = Wide8::row(nd, rows[k]), bf = Wide8::row(nd, rows[3 + k]);
+                const __m256 n0 = _mm256_sub_ps(bn, ohi[k]), n1 = _mm256_sub_ps(bn, olo[k]);
+                const __m256 f0 = _mm256_sub_ps(bf, ohi[k]), f1 = _mm256_sub_ps(bf, olo[k]);
+                near = _mm256_max_ps(near, _mm256_min_ps(_mm256_min_ps(_mm256_mul_ps(n0, lo[k]), _mm256_mul_ps(n0, hi[k])),
+                                                         _mm256_min_ps(_mm256_mul_ps(n1, lo[k]), _mm256_mul_ps(n1, hi[k]))));
+                far = _mm256_min_ps(far, _mm256_max_ps(_mm256_max_ps(_mm256_mul_ps(f0, lo[k]), _mm256_mul_ps(f0, hi[k])),
+                                                       _mm256_max_ps(_mm256_mul_ps(f1, lo[k]), _mm256_mul_ps(f1, hi[k]))));
+            }
+            const __m256 t0 = _mm256_max_ps(_mm256_sub_ps(near, pad), _mm256_setzero_ps());
+            const __m256 t1 = _mm256_min_ps(_mm256_add_ps(far, pad), _mm256_set1_ps(packet_tmax));
+            reach = ~unsigned(_mm256_movemask_ps(_mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(1.000001f)), _CMP_GT_OQ))) & 0xffu;
+            if (!reach) continue;
+        }
+        unsigned leaves = 0;
+        for (int c = 0; c < 8; ++c) leaves |= unsigned(BvhNode::is_leaf(nd.child[c])) << c;
+        const __m256 inner = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+            _mm256_and_si256(_mm256_set1_epi32(int(reach & ~leaves)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
+            _mm256_setzero_si256()));
+        __m256i who = _mm256_setzero_si256();
+        for (std::uint32_t m = live; m; m &= m - 1) {
+            const int i = __builtin_ctz(m);
+            const BoxTest b = box_test(nd, br[i], ft[i]);
+            who = _mm256_or_si256(who, _mm256_and_si256(_mm256_castps_si256(_mm256_and_ps(b.in, inner)), _mm256_slli_epi32(one, i)));
+            for (unsigned lm = unsigned(_mm256_movemask_ps(b.in)) & reach & leaves; lm; lm &= lm - 1) {
+                const std::uint32_t ref = nd.child[__builtin_ctz(lm)];
+                const TriLanes q(rays[i]);
+                if (AnyLeafAvx2{{a, rays[i], tmin, tmax[i], t[i]}, q}(BvhNode::leaf_first(ref), BvhNode::leaf_count(ref))) {
+                    hit[i] = true;
+                    open &= ~(1u << i);
+                    break;
+                }
+            }
+        }
+        alignas(32) std::uint32_t rays_in[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(rays_in), who);
+        for (int c = 0; c < 8; ++c) {
+            if (!(rays_in[c] & open)) continue;
+            if (sp < kStack) stack[sp++] = {nd.child[c], rays_in[c]};
+            else overflow |= rays_in[c];
+        }
+    }
+    for (std::uint32_t m = overflow & open; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        const TriLanes q(rays[i]);
+        hit[i] = a.bvh.occluded_leaves8(rays[i].o, rays[i].d, 1.0, tmax[i], AnyLeafAvx2{{a, rays[i], tmin, tmax[i], t[i]}, q});
+    }
+}
 #endif
 
 }  // namespace
 
+namespace {
+// What prepare() keeps for one accel on this thread: the rays (their common origin and
+// each direction), the bounds asked for and the answers; `next` is where the rays
+// not yet asked for begin. Plain data, so that the thread's copy needs no set-up.
+struct Prepared {
+    const TriangleAccel* accel;
+    int n, next;
+    double tmin, tmax;
+    Vec3 o;
+    Vec3 d[TriangleAccel::kPacket];
+    TriHit hit[TriangleAccel::kPacket];
+    bool found[TriangleAccel::kPacket];
+};
+thread_local Prepared prepared[TriangleAccel::kPrepared];
+thread_local int prepared_count;
+
+bool same(const Vec3& a, const Vec3& b) { return std::memcmp(&a, &b, sizeof(Vec3)) == 0; }
+}  // namespace
+
+void TriangleAccel::nearest_packet(const TriRay* rays, int n, double tmin, double tmax, TriHit* hits,
+                                   bool* found) const {
+#if RT_HAVE_AVX2_KERNELS
+    if (n > 1 && avx2_active() && !bvh.nodes8.empty()) return nearest_packet_avx2(*this, rays, n, tmin, tmax, hits, found);
+#endif
+    for (int i = 0; i < n; ++i) found[i] = nearest(rays[i], tmin, tmax, hits[i]);
+}
+
+bool TriangleAccel::prepare(const TriRay* rays, int n, double tmin, double tmax, TriHit* hits, bool* found) const {
+    if (n <= 0 || n > kPacket || prepared_count >= kPrepared) return false;
+    for (int i = 1; i < n; ++i)
+        if (!same(rays[i].o, rays[0].o)) return false;
+    Prepared& p = prepared[prepared_count];
+    p.accel = nullptr;  // (not yet: nearest_packet() below must walk)
+    nearest_packet(rays, n, tmin, tmax, p.hit, p.found);
+    if (hits) std::copy(p.hit, p.hit + n, hits), std::copy(p.found, p.found + n, found);
+    p.n = n, p.next = 0, p.tmin = tmin, p.tmax = tmax, p.o = rays[0].o;
+    for (int i = 0; i < n; ++i) p.d[i] = rays[i].d;
+    p.accel = this;
+    ++prepared_count;
+    return true;
+}
+
+// What prepare_any() keeps: per ray its origin, direction and tmax, and the answer.
+struct PreparedAny {
+    const TriangleAccel* accel;
+    int n, next;
+    double tmin;
+    Vec3 o[TriangleAccel::kPacket], d[TriangleAccel::kPacket];
+    double tmax[TriangleAccel::kPacket], t[TriangleAccel::kPacket];
+    bool hit[TriangleAccel::kPacket];
+};
+thread_local PreparedAny prepared_any[TriangleAccel::kPreparedAny];
+thread_local int prepared_any_count;
+
+void TriangleAccel::any_packet(const TriRay* rays, int n, double tmin, const double* tmax, bool* hit,
+                               double* t) const {
+#if RT_HAVE_AVX2_KERNELS
+    if (n > 1 && avx2_active() && !bvh.nodes8.empty()) return any_packet_avx2(*this, rays, n, tmin, tmax, hit, t);
+#endif
+    for (int i = 0; i < n; ++i) hit[i] = any(rays[i], tmin, tmax[i], t[i]);
+}
+
+void TriangleAccel::prepare_any(const TriRay* rays, int n, double tmin, const double* tmax) const {
+    if (n <= 0 || n > kPacket || prepared_any_count >= kPreparedAny) return;
+    PreparedAny& p = prepared_any[prepared_any_count];
+    p.accel = nullptr;  // (not yet: any_packet() below must walk)
+    any_packet(rays, n, tmin, tmax, p.hit, p.t);
+    p.n = n, p.next = 0, p.tmin = tmin;
+    for (int i = 0; i < n; ++i) p.o[i] = rays[i].o, p.d[i] = rays[i].d, p.tmax[i] = tmax[i];
+    p.accel = this;
+    ++prepared_any_count;
+}
+
+void TriangleAccel::forget_prepared() {
+    for (int k = 0; k < prepared_count; ++k) prepared[k].accel = nullptr;
+    prepared_count = 0;
+    for (int k = 0; k < prepared_any_count; ++k) prepared_any[k].accel = nullptr;
+    prepared_any_count = 0;
+}
+
 bool TriangleAccel::nearest(const TriRay& r, double tmin, double tmax, TriHit& hit) const {
+    for (int k = 0; k < prepared_count; ++k) {
+        Prepared& p = prepared[k];
+        if (p.accel != this || !same(r.o, p.o) || tmin != p.tmin || tmax != p.tmax) continue;
+        for (int i = p.next; i < p.n; ++i)
+            if (same(r.d, p.d[i])) {
+                p.next = i + 1;
+                hit = p.hit[i];
+                return p.found[i];
+            }
+    }
     hit = {tmax, 0};
 #if RT_HAVE_AVX2_KERNELS
     if (avx2_active() && !bvh.nodes8.empty()) return nearest_avx2(*this, r, tmin, hit);
@@ -324,6 +684,16 @@ bool TriangleAccel::nearest(const TriRay& r, double tmin, double tmax, TriHit& h
 }
 
 bool TriangleAccel::any(const TriRay& r, double tmin, double tmax, double& found) const {
+    for (int k = 0; k < prepared_any_count; ++k) {
+        PreparedAny& p = prepared_any[k];
+        if (p.accel != this || tmin != p.tmin) continue;
+        for (int i = p.next; i < p.n; ++i)
+            if (r.o.x == p.o[i].x && same(r.o, p.o[i]) && same(r.d, p.d[i]) && tmax == p.tmax[i]) {
+                p.next = i + 1;
+                if (p.hit[i]) found = p.t[i];
+                return p.hit[i];
+            }
+    }
 #if RT_HAVE_AVX2_KERNELS
     if (avx2_active() && !bvh.nodes8.empty()) return any_avx2(*this, r, tmin, tmax, found);
 #endif

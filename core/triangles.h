@@ -52,6 +52,38 @@ struct TriangleAccel {
     // Whether a triangle lies on it with tmin < t < tmax (t: the first one found).
     bool any(const TriRay& r, double tmin, double tmax, double& t) const;
 
+    // nearest() for n rays (n <= kPacket) at once: hits[i] and found[i] are what
+    // nearest(rays[i], tmin, tmax, ...) gives, bit for bit. On the AVX2 path the rays
+    // walk the 8-wide tree together: a node is fetched once for all of them, and where
+    // they share an origin (camera rays) a frustum test of the node's eight boxes against
+    // the whole packet skips the children no ray of it can enter before any ray is
+    // tested. Each ray then takes the children its own box test (the single-ray walk's)
+    // lets through, and its own nearest hit, ties to the lower slot, so that the order
+    // of the leaves cannot change an answer.
+    static constexpr int kPacket = 32;
+    void nearest_packet(const TriRay* rays, int n, double tmin, double tmax, TriHit* hits, bool* found) const;
+    // nearest_packet() for rays whose nearest() this thread asks next (camera rays about
+    // to be shaded, in order): their answers are kept, and nearest() on exactly one of
+    // these rays (the same origin, direction, tmin and tmax, bit for bit) returns the
+    // kept answer instead of walking. forget_prepared() drops what is kept (before the
+    // accel may go away). Up to kPrepared accels at once per thread; more are not kept.
+    // (With hits and found given, the answers are copied there too; false if nothing
+    // was prepared: too many rays or accels, or rays of different origins.)
+    static constexpr int kPrepared = 4;
+    bool prepare(const TriRay* rays, int n, double tmin, double tmax, TriHit* hits = nullptr,
+                 bool* found = nullptr) const;
+    static void forget_prepared();
+
+    // any() for n rays (n <= kPacket) at once, each with its own tmax: hit[i] is what
+    // any(rays[i], tmin, tmax[i], t[i]) returns, and t[i] is set where it is true (a
+    // hit on the segment, not necessarily the one any() would meet first). The rays
+    // walk the 8-wide tree together as in nearest_packet(), their origins may differ.
+    void any_packet(const TriRay* rays, int n, double tmin, const double* tmax, bool* hit, double* t) const;
+    // prepare() for any(): shadow rays about to be asked of an opaque mesh (whose
+    // callers read only whether a ray is blocked). Dropped by forget_prepared().
+    static constexpr int kPreparedAny = 8;
+    void prepare_any(const TriRay* rays, int n, double tmin, const double* tmax) const;
+
     // The triangle's corners in the model's space.
     void corners(std::uint32_t slot, Vec3 c[3]) const;
     std::size_t memory_bytes() const;
