@@ -145,6 +145,7 @@ public:
         next_start_ = pieces_.empty() ? kNone : pieces_.front()->start;
         try {
             parse_top();
+            finish_textures();
             if (errors_ == 0) validate();
         } catch (const Stop&) {
             // Too many errors: what was collected is the result.
@@ -967,6 +968,9 @@ private:
             }
         } back{*this, child};
         child.parse_top();
+        // The included file's textures are waited for with the scene's.
+        decoding_.insert(decoding_.end(), child.decoding_.begin(), child.decoding_.end());
+        models_read_.insert(models_read_.end(), child.models_read_.begin(), child.models_read_.end());
         if (!included_from_.empty()) return;
         // In the scene file: what this include brought is marked as its, and the
         // include kept where it stands among the file's own items.
@@ -1214,7 +1218,10 @@ private:
             it = models_.emplace(path, (opt_.models ? *opt_.models : own_models_)
                                            .load(path, &texture_store()))
                      .first;
-            if (const MeshModel* model = it->second.model.get()) triangles_ += model->data().triangle_count();
+            if (const MeshModel* model = it->second.model.get()) {
+                triangles_ += model->data().triangle_count();
+                models_read_.push_back(it->second.model);
+            }
             if (triangles_ > ModelLimits::max_triangles) {
                 error_at(at, "the scene's models hold more than " + std::to_string(ModelLimits::max_triangles) +
                                  " triangles in all");
@@ -1253,7 +1260,10 @@ private:
                 error_at(at, "too many texture files (limit " + std::to_string(TextureLimits::max_files) + ")");
                 return;
             }
-            it = textures_.emplace(path, texture_store().load(path)).first;
+            // Decoded on the pool while the reading goes on; waited for at the end.
+            it = textures_.emplace(path, texture_store().load(path, /*later=*/true)).first;
+            if (it->second.texture)
+                decoding_.push_back({it->second.texture, m.texture, loc_of(at), file_, included_from_});
         }
         const TextureStore::Loaded& l = it->second;
         if (!l.texture) {
@@ -1267,6 +1277,24 @@ private:
             return;
         }
         m.texture_image = l.texture;
+    }
+    // The textures still being decoded waited for, and those that could not be
+    // reported at their first use. Meanwhile, the models' trees are built on this
+    // thread: they would be next (compiling the scene), and the decoding has a core.
+    void finish_textures() {
+        bool waiting = false;
+        for (const Decoding& d : decoding_) waiting = waiting || !d.texture->decoded();
+        if (waiting)
+            for (const std::shared_ptr<const MeshModel>& model : models_read_) model->accel();
+        models_read_.clear();
+        for (const Decoding& d : decoding_)
+            if (const std::string e = d.texture->wait(); !e.empty()) {
+                // Where the texture was named (maybe in an included file), as report() says it.
+                out_.diagnostics.push_back(
+                    {Diagnostic::Severity::Error, d.loc.line, d.loc.col, d.name + ": " + e, d.file, d.included_from});
+                if (++errors_ >= opt_.max_errors) throw Stop{};
+            }
+        decoding_.clear();
     }
     TextureStore& texture_store() {
         return opt_.textures ? *opt_.textures : opt_.models ? opt_.models->textures() : own_textures_;
@@ -1393,6 +1421,15 @@ private:
     std::map<std::string, ModelStore::Loaded> models_;  // by resolved path
     ModelStore own_models_;  // when the options give no store
     std::map<std::string, TextureStore::Loaded> textures_;  // by resolved path
+    struct Decoding {
+        std::shared_ptr<const Texture> texture;
+        std::string name;        // as the scene names it
+        SourceLoc loc;           // its first use, in file (included from included_from)
+        std::string file;
+        std::vector<Diagnostic::Site> included_from;
+    };
+    std::vector<Decoding> decoding_;  // textures read `later`, not yet waited for (included files' too)
+    std::vector<std::shared_ptr<const MeshModel>> models_read_;  // (included files' too)
     TextureStore own_textures_;  // when the options give no store
     std::set<const Texture*> counted_textures_;  // those counted in texels_
     std::uint64_t texels_ = 0;  // of the textures read, toward the scene's limit

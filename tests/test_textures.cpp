@@ -63,6 +63,74 @@ TEST_CASE("textures: 8-bit RGB PNG texels are the file's values decoded from sRG
     check_colour(t->texel(-1, 2), t->texel(1, 0));
 }
 
+TEST_CASE("textures: 8-bit texels are kept as bytes, read through a table of exactly the floats of the formula") {
+    // Every level in each channel: a 256 x 1 image, red rising, green falling, blue
+    // the level times 7 (mod 256).
+    std::vector<unsigned char> rgb;
+    for (int i = 0; i < 256; ++i) rgb.push_back((unsigned char)i), rgb.push_back((unsigned char)(255 - i)),
+                                  rgb.push_back((unsigned char)(i * 7 % 256));
+    const auto t = decode_ok(rt_test::png_rgb8(256, 1, rgb));
+    REQUIRE(t->srgb8() != nullptr);
+    CHECK(t->memory_bytes() == 256 * 3);  // a byte a channel, not a float
+    const std::vector<float> f = t->texels();
+    REQUIRE(f.size() == 256 * 3);
+    for (int i = 0; i < 256; ++i) {
+        INFO(i);
+        // The very float that decoding into floats stored: the formula's value, rounded once.
+        const Colour c = t->texel(i, 0);
+        CHECK(c.x == double(float(lin(i))));
+        CHECK(c.y == double(float(lin(255 - i))));
+        CHECK(c.z == double(float(lin(i * 7 % 256))));
+        CHECK(Texture::srgb8_table()[i] == float(lin(i)));
+        CHECK(f[3 * std::size_t(i)] == float(lin(i)));
+        CHECK(f[3 * std::size_t(i) + 2] == float(lin(i * 7 % 256)));
+    }
+    // The same texels as floats give the same samples, bit for bit, everywhere.
+    const Texture floats(256, 1, f);
+    CHECK(floats.srgb8() == nullptr);
+    CHECK(floats.memory_bytes() == 256 * 3 * sizeof(float));
+    for (double u = -1.3; u < 2; u += 0.0137) {
+        const Colour a = t->sample(u, 0.5), b = floats.sample(u, 0.5);
+        CHECK(a.x == b.x);
+        CHECK(a.y == b.y);
+        CHECK(a.z == b.z);
+    }
+    // Made from bytes: the same texels; missing bytes read black.
+    const Texture bytes(256, 2, std::vector<std::uint8_t>(rgb.begin(), rgb.end()));
+    for (int i = 0; i < 256; i += 5) {
+        CHECK(bytes.texel(i, 0).x == t->texel(i, 0).x);
+        CHECK(bytes.texel(i, 0).y == t->texel(i, 0).y);
+        CHECK(bytes.texel(i, 1).x == 0);
+        CHECK(bytes.texel(i, 1).z == 0);
+    }
+    // A 16-bit image keeps floats (its levels are too many for a table of 256).
+    const auto deep = decode_ok(rt_test::png_raw(1, 1, 16, 2, {0xff, 0xff, 0x80, 0x00, 0x00, 0x00}));
+    CHECK(deep->srgb8() == nullptr);
+    CHECK(deep->memory_bytes() == 3 * sizeof(float));
+}
+
+TEST_CASE("textures: samples wrap at every edge as texel() does") {
+    // 3 x 2 of distinct bytes: each sample near an edge is the bilinear mix of the four
+    // texels around it, found through texel()'s general wrapping.
+    std::vector<unsigned char> rgb;
+    for (int i = 0; i < 18; ++i) rgb.push_back((unsigned char)(i * 14 + 3));
+    const auto t = decode_ok(rt_test::png_rgb8(3, 2, rgb));
+    for (double u : {0.0, 0.01, 1.0 / 6, 0.5, 0.99, 0.999999, 1.0, -1e-300, 5.2, -7.9})
+        for (double v : {0.0, 0.01, 0.25, 0.74, 0.99, 1.0, -1e-300, -3.6}) {
+            INFO(u << " " << v);
+            const double uu = u - std::floor(u), vv = v - std::floor(v);
+            const double x = uu * 3 - 0.5, y = (1 - vv) * 2 - 0.5, fx = std::floor(x), fy = std::floor(y);
+            const double ax = x - fx, ay = y - fy;
+            const long x0 = long(fx), y0 = long(fy);
+            const Colour want = (t->texel(x0, y0) * (1 - ax) + t->texel(x0 + 1, y0) * ax) * (1 - ay) +
+                                (t->texel(x0, y0 + 1) * (1 - ax) + t->texel(x0 + 1, y0 + 1) * ax) * ay;
+            const Colour got = t->sample(u, v);
+            CHECK(got.x == want.x);
+            CHECK(got.y == want.y);
+            CHECK(got.z == want.z);
+        }
+}
+
 TEST_CASE("textures: samples are bilinear between texel centres and repeat") {
     // 2 x 1: black, then 255 (linear 1). v does not matter in a one-row image.
     const auto t = decode_ok(rt_test::png_rgb8(2, 1, {0, 0, 0, 255, 255, 255}));
