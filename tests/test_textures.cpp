@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "parallel.h"
 #include "scene_parser.h"
 #include "texture.h"
 #include "test_util.h"
@@ -326,4 +327,107 @@ TEST_CASE("textures: a scene's materials naming one file share one decoded copy;
     o.read_textures = true;
     o.read_models = false;
     CHECK(parse_scene("thing { sphere { material { texture \"bad.png\" } } }\n" + tail, o).ok());
+}
+
+namespace {
+
+// A PNG whose structure and header are sound but whose compressed data is not: only
+// decoding it finds that out.
+std::string png_bad_data() {
+    std::string png = rt_test::png_rgb8(4, 4, std::vector<unsigned char>(48, 77));
+    const std::size_t idat = png.find("IDAT");
+    REQUIRE(idat != std::string::npos);
+    png[idat + 4] = '\x78', png[idat + 5] = '\x00';  // a zlib header whose check bits are wrong
+    return png;
+}
+
+}  // namespace
+
+TEST_CASE("textures: read later, decoded on the pool: the same texels, and a late failure said by wait()") {
+    TempDir dir("rt-tex-later");
+    std::vector<unsigned char> rgb;
+    for (int i = 0; i < 64 * 48 * 3; ++i) rgb.push_back((unsigned char)(i * 31 % 256));
+    put(dir / "big.png", rt_test::png_rgb8(64, 48, rgb));
+    put(dir / "bad-data.png", png_bad_data());
+    std::string error;
+    const auto now = read_texture((dir / "big.png").string(), error);
+    REQUIRE(now);
+    for (int round = 0; round < 20; ++round) {
+        const auto later = read_texture((dir / "big.png").string(), error, true);
+        REQUIRE(later);
+        // The size at once, from the header.
+        CHECK(later->width() == 64);
+        CHECK(later->height() == 48);
+        // Waited for by several threads at once (or, on odd rounds, first read by a
+        // sample, which waits itself): each finds the same texels.
+        std::vector<std::string> said(3);
+        if (round % 2) CHECK(later->sample(0.3, 0.6).x == now->sample(0.3, 0.6).x);
+        process_pool().parallel_for(3, [&](int k) { said[std::size_t(k)] = later->wait(); });
+        for (const std::string& e : said) CHECK(e.empty());
+        CHECK(later->decoded());
+        CHECK(later->texels() == now->texels());
+        CHECK(later->memory_bytes() == now->memory_bytes());
+        CHECK(later->file_id() == now->file_id());
+    }
+    // Sound on the outside, bad inside: read, then refused by wait(); reads black.
+    const auto bad = read_texture((dir / "bad-data.png").string(), error, true);
+    REQUIRE(bad);
+    const std::string e = bad->wait();
+    CHECK(e.find("cannot be decoded") != std::string::npos);
+    CHECK(bad->wait() == e);
+    CHECK(bad->texel(1, 1).x == 0);
+    CHECK(bad->sample(0.5, 0.5).y == 0);
+    CHECK(bad->texels().empty());
+    // Read now, the same file is refused at once with the same reason.
+    CHECK_FALSE(read_texture((dir / "bad-data.png").string(), error));
+    CHECK(error == e);
+    // Through the store: a `later` load hands out the texture; a plain one waits and
+    // gives the failure as its error.
+    TextureStore store;
+    const TextureStore::Loaded l = store.load((dir / "bad-data.png").string(), true);
+    REQUIRE(l.texture);
+    const TextureStore::Loaded plain = store.load((dir / "bad-data.png").string());
+    CHECK_FALSE(plain.texture);
+    CHECK(plain.error == e);
+}
+
+TEST_CASE("textures: the scene's textures decode while it is read; a late failure is an error at the file name") {
+    TempDir dir("rt-tex-late");
+    put(dir / "wood.png", rt_test::png_rgb8(2, 2, std::vector<unsigned char>(12, 200)));
+    put(dir / "bad-data.png", png_bad_data());
+    put(dir / "part.txt", "\nthing { sphere { material {\n  texture \"bad-data.png\" } } }\n");
+    ParseOptions o;
+    o.base_dir = dir.path.string();
+    const std::string tail =
+        "light { lamp { position 0 0 5 colour 1 1 1 } }\n"
+        "camera { position 0 -5 1 centre 0 0 0 up 0 0 1 angle_x 40 angle_y 30 }\n"
+        "picture_size { x_max 8 y_max 6 }\nend\n";
+    {
+        const ParseResult r = parse_scene("thing { sphere { material { texture \"wood.png\" } } }\n" + tail, o);
+        REQUIRE(r.ok());
+        const auto& t = r.scene.objects[0].material.texture_image;
+        REQUIRE(t);
+        CHECK(t->decoded());  // the parse has waited
+        CHECK(t->texel(1, 1).x == double(float(lin(200))));
+    }
+    auto errors = [&](const std::string& text) {
+        const ParseResult r = parse_scene(text + tail, o);
+        std::string out;
+        for (const Diagnostic& d : r.diagnostics)
+            if (d.is_error()) out += format_diagnostic("s.txt", d) + "\n";
+        return out;
+    };
+    const std::string why = [&] {
+        std::string e;
+        read_texture((dir / "bad-data.png").string(), e);
+        return e;
+    }();
+    REQUIRE_FALSE(why.empty());
+    // In the scene file, in the order of the file with the other errors.
+    CHECK(errors("thing { sphere { material { texture \"bad-data.png\" } } }\n"
+                 "thing { sphere { radius -1 } }\n") ==
+          "s.txt:1:37: error: bad-data.png: " + why + "\ns.txt:2:25: error: sphere radius must be greater than 0\n");
+    // In an included file: there, with the include.
+    CHECK(errors("include \"part.txt\"\n") ==
+          (dir / "part.txt").string() + ":3:11: error: bad-data.png: " + why + " (included from s.txt:1:1)\n");
 }
