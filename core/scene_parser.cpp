@@ -1284,7 +1284,7 @@ private:
     void finish_textures() {
         bool waiting = false;
         for (const Decoding& d : decoding_) waiting = waiting || !d.texture->decoded();
-        if (waiting)
+        if (waiting && errors_ == 0)  // (a scene with errors is never compiled)
             for (const std::shared_ptr<const MeshModel>& model : models_read_) model->accel();
         models_read_.clear();
         for (const Decoding& d : decoding_)
