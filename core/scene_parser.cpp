@@ -968,9 +968,6 @@ private:
             }
         } back{*this, child};
         child.parse_top();
-        // The included file's textures are waited for with the scene's.
-        decoding_.insert(decoding_.end(), child.decoding_.begin(), child.decoding_.end());
-        models_read_.insert(models_read_.end(), child.models_read_.begin(), child.models_read_.end());
         if (!included_from_.empty()) return;
         // In the scene file: what this include brought is marked as its, and the
         // include kept where it stands among the file's own items.
@@ -1220,7 +1217,7 @@ private:
                      .first;
             if (const MeshModel* model = it->second.model.get()) {
                 triangles_ += model->data().triangle_count();
-                models_read_.push_back(it->second.model);
+                shared_->models_read.push_back(it->second.model);
             }
             if (triangles_ > ModelLimits::max_triangles) {
                 error_at(at, "the scene's models hold more than " + std::to_string(ModelLimits::max_triangles) +
@@ -1263,7 +1260,7 @@ private:
             // Decoded on the pool while the reading goes on; waited for at the end.
             it = textures_.emplace(path, texture_store().load(path, /*later=*/true)).first;
             if (it->second.texture)
-                decoding_.push_back({it->second.texture, m.texture, loc_of(at), file_, included_from_});
+                shared_->decoding.push_back({it->second.texture, m.texture, loc_of(at), file_, included_from_});
         }
         const TextureStore::Loaded& l = it->second;
         if (!l.texture) {
@@ -1278,23 +1275,24 @@ private:
         }
         m.texture_image = l.texture;
     }
-    // The textures still being decoded waited for, and those that could not be
-    // reported at their first use. Meanwhile, the models' trees are built on this
+    // The textures still being decoded (the included files' too) waited for, and those
+    // that could not be reported at their first use. Meanwhile, the models' trees are built on this
     // thread: they would be next (compiling the scene), and the decoding has a core.
     void finish_textures() {
+        std::vector<Decoding> decoding;
+        decoding.swap(shared_->decoding);
         bool waiting = false;
-        for (const Decoding& d : decoding_) waiting = waiting || !d.texture->decoded();
+        for (const Decoding& d : decoding) waiting = waiting || !d.texture->decoded();
         if (waiting && errors_ == 0)  // (a scene with errors is never compiled)
-            for (const std::shared_ptr<const MeshModel>& model : models_read_) model->accel();
-        models_read_.clear();
-        for (const Decoding& d : decoding_)
+            for (const std::shared_ptr<const MeshModel>& model : shared_->models_read) model->accel();
+        shared_->models_read.clear();
+        for (const Decoding& d : decoding)
             if (const std::string e = d.texture->wait(); !e.empty()) {
                 // Where the texture was named (maybe in an included file), as report() says it.
                 out_.diagnostics.push_back(
                     {Diagnostic::Severity::Error, d.loc.line, d.loc.col, d.name + ": " + e, d.file, d.included_from});
                 if (++errors_ >= opt_.max_errors) throw Stop{};
             }
-        decoding_.clear();
     }
     TextureStore& texture_store() {
         return opt_.textures ? *opt_.textures : opt_.models ? opt_.models->textures() : own_textures_;
@@ -1389,6 +1387,13 @@ private:
             if (sc::Problem p = b.check(item)) report(p, at);
     }
 
+    struct Decoding {
+        std::shared_ptr<const Texture> texture;
+        std::string name;  // as the scene names it
+        SourceLoc loc;     // its first use, in file (included from included_from)
+        std::string file;
+        std::vector<Diagnostic::Site> included_from;
+    };
     // What the reading of a scene file and of the files it includes share.
     struct Shared {
         std::map<std::string, int, std::less<>> materials;  // name -> index in Scene::materials
@@ -1396,6 +1401,8 @@ private:
         std::vector<std::string> material_files;  // the file of each definition ("": the scene's)
         std::vector<std::string> stack, stack_names;  // the included files being read (device:inode, name)
         std::string scene_id;  // the scene file's device:inode, when known
+        std::vector<Decoding> decoding;  // textures read `later`, not yet waited for
+        std::vector<std::shared_ptr<const MeshModel>> models_read;
     };
 
     SceneLexer lex_;
@@ -1421,15 +1428,6 @@ private:
     std::map<std::string, ModelStore::Loaded> models_;  // by resolved path
     ModelStore own_models_;  // when the options give no store
     std::map<std::string, TextureStore::Loaded> textures_;  // by resolved path
-    struct Decoding {
-        std::shared_ptr<const Texture> texture;
-        std::string name;        // as the scene names it
-        SourceLoc loc;           // its first use, in file (included from included_from)
-        std::string file;
-        std::vector<Diagnostic::Site> included_from;
-    };
-    std::vector<Decoding> decoding_;  // textures read `later`, not yet waited for (included files' too)
-    std::vector<std::shared_ptr<const MeshModel>> models_read_;  // (included files' too)
     TextureStore own_textures_;  // when the options give no store
     std::set<const Texture*> counted_textures_;  // those counted in texels_
     std::uint64_t texels_ = 0;  // of the textures read, toward the scene's limit
