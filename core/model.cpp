@@ -142,6 +142,7 @@ bool read_materials(const std::string& obj_path, MeshData& out, ModelError& erro
     std::vector<std::uint16_t> index(out.material_names.size(), MeshData::kNoMaterial);
     int unknown = 0;
     std::vector<const Texture*> held;  // the textures read, each counted once
+    std::vector<std::pair<const Texture*, std::string>> decoding;  // and where each was named
     std::uint64_t texels = 0;
     for (std::size_t i = 0; i < out.material_names.size(); ++i) {
         const std::string& name = out.material_names[i];
@@ -154,7 +155,8 @@ bool read_materials(const std::string& obj_path, MeshData& out, ModelError& erro
         }
         Material m = it->m.material;
         if (!it->tex_path.empty()) {
-            TextureStore::Loaded l = textures.load(it->tex_path);
+            // Decoded on the pool, all of the model's textures at once: waited for below.
+            TextureStore::Loaded l = textures.load(it->tex_path, /*later=*/true);
             const std::string at = it->lib + ":" + std::to_string(it->m.texture_line) + ": ";
             if (!l.texture) {
                 error.message = at + "map_Kd " + it->m.texture + ": " + l.error;
@@ -171,10 +173,16 @@ bool read_materials(const std::string& obj_path, MeshData& out, ModelError& erro
             }
             m.texture = it->m.texture;
             m.texture_image = std::move(l.texture);
+            decoding.push_back({m.texture_image.get(), at + "map_Kd " + it->m.texture + ": "});
         }
         index[i] = std::uint16_t(out.materials.size());
         out.materials.push_back(std::move(m));
     }
+    for (const auto& [texture, at] : decoding)
+        if (const std::string e = texture->wait(); !e.empty()) {
+            error.message = at + e;
+            return false;
+        }
     for (std::uint16_t& t : out.triangle_material)
         if (t < index.size()) t = index[t];
     return true;

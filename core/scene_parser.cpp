@@ -145,6 +145,7 @@ public:
         next_start_ = pieces_.empty() ? kNone : pieces_.front()->start;
         try {
             parse_top();
+            finish_textures();
             if (errors_ == 0) validate();
         } catch (const Stop&) {
             // Too many errors: what was collected is the result.
@@ -1214,7 +1215,10 @@ private:
             it = models_.emplace(path, (opt_.models ? *opt_.models : own_models_)
                                            .load(path, &texture_store()))
                      .first;
-            if (const MeshModel* model = it->second.model.get()) triangles_ += model->data().triangle_count();
+            if (const MeshModel* model = it->second.model.get()) {
+                triangles_ += model->data().triangle_count();
+                shared_->models_read.push_back(it->second.model);
+            }
             if (triangles_ > ModelLimits::max_triangles) {
                 error_at(at, "the scene's models hold more than " + std::to_string(ModelLimits::max_triangles) +
                                  " triangles in all");
@@ -1253,7 +1257,10 @@ private:
                 error_at(at, "too many texture files (limit " + std::to_string(TextureLimits::max_files) + ")");
                 return;
             }
-            it = textures_.emplace(path, texture_store().load(path)).first;
+            // Decoded on the pool while the reading goes on; waited for at the end.
+            it = textures_.emplace(path, texture_store().load(path, /*later=*/true)).first;
+            if (it->second.texture)
+                shared_->decoding.push_back({it->second.texture, m.texture, loc_of(at), file_, included_from_});
         }
         const TextureStore::Loaded& l = it->second;
         if (!l.texture) {
@@ -1267,6 +1274,25 @@ private:
             return;
         }
         m.texture_image = l.texture;
+    }
+    // The textures still being decoded (the included files' too) waited for, and those
+    // that could not be reported at their first use. Meanwhile, the models' trees are built on this
+    // thread: they would be next (compiling the scene), and the decoding has a core.
+    void finish_textures() {
+        std::vector<Decoding> decoding;
+        decoding.swap(shared_->decoding);
+        bool waiting = false;
+        for (const Decoding& d : decoding) waiting = waiting || !d.texture->decoded();
+        if (waiting && errors_ == 0)  // (a scene with errors is never compiled)
+            for (const std::shared_ptr<const MeshModel>& model : shared_->models_read) model->accel();
+        shared_->models_read.clear();
+        for (const Decoding& d : decoding)
+            if (const std::string e = d.texture->wait(); !e.empty()) {
+                // Where the texture was named (maybe in an included file), as report() says it.
+                out_.diagnostics.push_back(
+                    {Diagnostic::Severity::Error, d.loc.line, d.loc.col, d.name + ": " + e, d.file, d.included_from});
+                if (++errors_ >= opt_.max_errors) throw Stop{};
+            }
     }
     TextureStore& texture_store() {
         return opt_.textures ? *opt_.textures : opt_.models ? opt_.models->textures() : own_textures_;
@@ -1361,6 +1387,13 @@ private:
             if (sc::Problem p = b.check(item)) report(p, at);
     }
 
+    struct Decoding {
+        std::shared_ptr<const Texture> texture;
+        std::string name;  // as the scene names it
+        SourceLoc loc;     // its first use, in file (included from included_from)
+        std::string file;
+        std::vector<Diagnostic::Site> included_from;
+    };
     // What the reading of a scene file and of the files it includes share.
     struct Shared {
         std::map<std::string, int, std::less<>> materials;  // name -> index in Scene::materials
@@ -1368,6 +1401,8 @@ private:
         std::vector<std::string> material_files;  // the file of each definition ("": the scene's)
         std::vector<std::string> stack, stack_names;  // the included files being read (device:inode, name)
         std::string scene_id;  // the scene file's device:inode, when known
+        std::vector<Decoding> decoding;  // textures read `later`, not yet waited for
+        std::vector<std::shared_ptr<const MeshModel>> models_read;
     };
 
     SceneLexer lex_;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "parallel.h"
 #include "scene_parser.h"
 #include "texture.h"
 #include "test_util.h"
@@ -61,6 +62,74 @@ TEST_CASE("textures: 8-bit RGB PNG texels are the file's values decoded from sRG
     check_colour(t->texel(1, 1), {lin(64), lin(128), lin(192)});
     // Wrapping.
     check_colour(t->texel(-1, 2), t->texel(1, 0));
+}
+
+TEST_CASE("textures: 8-bit texels are kept as bytes, read through a table of exactly the floats of the formula") {
+    // Every level in each channel: a 256 x 1 image, red rising, green falling, blue
+    // the level times 7 (mod 256).
+    std::vector<unsigned char> rgb;
+    for (int i = 0; i < 256; ++i) rgb.push_back((unsigned char)i), rgb.push_back((unsigned char)(255 - i)),
+                                  rgb.push_back((unsigned char)(i * 7 % 256));
+    const auto t = decode_ok(rt_test::png_rgb8(256, 1, rgb));
+    REQUIRE(t->srgb8() != nullptr);
+    CHECK(t->memory_bytes() == 256 * 3);  // a byte a channel, not a float
+    const std::vector<float> f = t->texels();
+    REQUIRE(f.size() == 256 * 3);
+    for (int i = 0; i < 256; ++i) {
+        INFO(i);
+        // The very float that decoding into floats stored: the formula's value, rounded once.
+        const Colour c = t->texel(i, 0);
+        CHECK(c.x == double(float(lin(i))));
+        CHECK(c.y == double(float(lin(255 - i))));
+        CHECK(c.z == double(float(lin(i * 7 % 256))));
+        CHECK(Texture::srgb8_table()[i] == float(lin(i)));
+        CHECK(f[3 * std::size_t(i)] == float(lin(i)));
+        CHECK(f[3 * std::size_t(i) + 2] == float(lin(i * 7 % 256)));
+    }
+    // The same texels as floats give the same samples, bit for bit, everywhere.
+    const Texture floats(256, 1, f);
+    CHECK(floats.srgb8() == nullptr);
+    CHECK(floats.memory_bytes() == 256 * 3 * sizeof(float));
+    for (double u = -1.3; u < 2; u += 0.0137) {
+        const Colour a = t->sample(u, 0.5), b = floats.sample(u, 0.5);
+        CHECK(a.x == b.x);
+        CHECK(a.y == b.y);
+        CHECK(a.z == b.z);
+    }
+    // Made from bytes: the same texels; missing bytes read black.
+    const Texture bytes(256, 2, std::vector<std::uint8_t>(rgb.begin(), rgb.end()));
+    for (int i = 0; i < 256; i += 5) {
+        CHECK(bytes.texel(i, 0).x == t->texel(i, 0).x);
+        CHECK(bytes.texel(i, 0).y == t->texel(i, 0).y);
+        CHECK(bytes.texel(i, 1).x == 0);
+        CHECK(bytes.texel(i, 1).z == 0);
+    }
+    // A 16-bit image keeps floats (its levels are too many for a table of 256).
+    const auto deep = decode_ok(rt_test::png_raw(1, 1, 16, 2, {0xff, 0xff, 0x80, 0x00, 0x00, 0x00}));
+    CHECK(deep->srgb8() == nullptr);
+    CHECK(deep->memory_bytes() == 3 * sizeof(float));
+}
+
+TEST_CASE("textures: samples wrap at every edge as texel() does") {
+    // 3 x 2 of distinct bytes: each sample near an edge is the bilinear mix of the four
+    // texels around it, found through texel()'s general wrapping.
+    std::vector<unsigned char> rgb;
+    for (int i = 0; i < 18; ++i) rgb.push_back((unsigned char)(i * 14 + 3));
+    const auto t = decode_ok(rt_test::png_rgb8(3, 2, rgb));
+    for (double u : {0.0, 0.01, 1.0 / 6, 0.5, 0.99, 0.999999, 1.0, -1e-300, 5.2, -7.9})
+        for (double v : {0.0, 0.01, 0.25, 0.74, 0.99, 1.0, -1e-300, -3.6}) {
+            INFO(u << " " << v);
+            const double uu = u - std::floor(u), vv = v - std::floor(v);
+            const double x = uu * 3 - 0.5, y = (1 - vv) * 2 - 0.5, fx = std::floor(x), fy = std::floor(y);
+            const double ax = x - fx, ay = y - fy;
+            const long x0 = long(fx), y0 = long(fy);
+            const Colour want = (t->texel(x0, y0) * (1 - ax) + t->texel(x0 + 1, y0) * ax) * (1 - ay) +
+                                (t->texel(x0, y0 + 1) * (1 - ax) + t->texel(x0 + 1, y0 + 1) * ax) * ay;
+            const Colour got = t->sample(u, v);
+            CHECK(got.x == want.x);
+            CHECK(got.y == want.y);
+            CHECK(got.z == want.z);
+        }
 }
 
 TEST_CASE("textures: samples are bilinear between texel centres and repeat") {
@@ -258,4 +327,107 @@ TEST_CASE("textures: a scene's materials naming one file share one decoded copy;
     o.read_textures = true;
     o.read_models = false;
     CHECK(parse_scene("thing { sphere { material { texture \"bad.png\" } } }\n" + tail, o).ok());
+}
+
+namespace {
+
+// A PNG whose structure and header are sound but whose compressed data is not: only
+// decoding it finds that out.
+std::string png_bad_data() {
+    std::string png = rt_test::png_rgb8(4, 4, std::vector<unsigned char>(48, 77));
+    const std::size_t idat = png.find("IDAT");
+    REQUIRE(idat != std::string::npos);
+    png[idat + 4] = '\x78', png[idat + 5] = '\x00';  // a zlib header whose check bits are wrong
+    return png;
+}
+
+}  // namespace
+
+TEST_CASE("textures: read later, decoded on the pool: the same texels, and a late failure said by wait()") {
+    TempDir dir("rt-tex-later");
+    std::vector<unsigned char> rgb;
+    for (int i = 0; i < 64 * 48 * 3; ++i) rgb.push_back((unsigned char)(i * 31 % 256));
+    put(dir / "big.png", rt_test::png_rgb8(64, 48, rgb));
+    put(dir / "bad-data.png", png_bad_data());
+    std::string error;
+    const auto now = read_texture((dir / "big.png").string(), error);
+    REQUIRE(now);
+    for (int round = 0; round < 20; ++round) {
+        const auto later = read_texture((dir / "big.png").string(), error, true);
+        REQUIRE(later);
+        // The size at once, from the header.
+        CHECK(later->width() == 64);
+        CHECK(later->height() == 48);
+        // Waited for by several threads at once (or, on odd rounds, first read by a
+        // sample, which waits itself): each finds the same texels.
+        std::vector<std::string> said(3);
+        if (round % 2) CHECK(later->sample(0.3, 0.6).x == now->sample(0.3, 0.6).x);
+        process_pool().parallel_for(3, [&](int k) { said[std::size_t(k)] = later->wait(); });
+        for (const std::string& e : said) CHECK(e.empty());
+        CHECK(later->decoded());
+        CHECK(later->texels() == now->texels());
+        CHECK(later->memory_bytes() == now->memory_bytes());
+        CHECK(later->file_id() == now->file_id());
+    }
+    // Sound on the outside, bad inside: read, then refused by wait(); reads black.
+    const auto bad = read_texture((dir / "bad-data.png").string(), error, true);
+    REQUIRE(bad);
+    const std::string e = bad->wait();
+    CHECK(e.find("cannot be decoded") != std::string::npos);
+    CHECK(bad->wait() == e);
+    CHECK(bad->texel(1, 1).x == 0);
+    CHECK(bad->sample(0.5, 0.5).y == 0);
+    CHECK(bad->texels().empty());
+    // Read now, the same file is refused at once with the same reason.
+    CHECK_FALSE(read_texture((dir / "bad-data.png").string(), error));
+    CHECK(error == e);
+    // Through the store: a `later` load hands out the texture; a plain one waits and
+    // gives the failure as its error.
+    TextureStore store;
+    const TextureStore::Loaded l = store.load((dir / "bad-data.png").string(), true);
+    REQUIRE(l.texture);
+    const TextureStore::Loaded plain = store.load((dir / "bad-data.png").string());
+    CHECK_FALSE(plain.texture);
+    CHECK(plain.error == e);
+}
+
+TEST_CASE("textures: the scene's textures decode while it is read; a late failure is an error at the file name") {
+    TempDir dir("rt-tex-late");
+    put(dir / "wood.png", rt_test::png_rgb8(2, 2, std::vector<unsigned char>(12, 200)));
+    put(dir / "bad-data.png", png_bad_data());
+    put(dir / "part.txt", "\nthing { sphere { material {\n  texture \"bad-data.png\" } } }\n");
+    ParseOptions o;
+    o.base_dir = dir.path.string();
+    const std::string tail =
+        "light { lamp { position 0 0 5 colour 1 1 1 } }\n"
+        "camera { position 0 -5 1 centre 0 0 0 up 0 0 1 angle_x 40 angle_y 30 }\n"
+        "picture_size { x_max 8 y_max 6 }\nend\n";
+    {
+        const ParseResult r = parse_scene("thing { sphere { material { texture \"wood.png\" } } }\n" + tail, o);
+        REQUIRE(r.ok());
+        const auto& t = r.scene.objects[0].material.texture_image;
+        REQUIRE(t);
+        CHECK(t->decoded());  // the parse has waited
+        CHECK(t->texel(1, 1).x == double(float(lin(200))));
+    }
+    auto errors = [&](const std::string& text) {
+        const ParseResult r = parse_scene(text + tail, o);
+        std::string out;
+        for (const Diagnostic& d : r.diagnostics)
+            if (d.is_error()) out += format_diagnostic("s.txt", d) + "\n";
+        return out;
+    };
+    const std::string why = [&] {
+        std::string e;
+        read_texture((dir / "bad-data.png").string(), e);
+        return e;
+    }();
+    REQUIRE_FALSE(why.empty());
+    // In the scene file, in the order of the file with the other errors.
+    CHECK(errors("thing { sphere { material { texture \"bad-data.png\" } } }\n"
+                 "thing { sphere { radius -1 } }\n") ==
+          "s.txt:1:37: error: bad-data.png: " + why + "\ns.txt:2:25: error: sphere radius must be greater than 0\n");
+    // In an included file: there, with the include.
+    CHECK(errors("include \"part.txt\"\n") ==
+          (dir / "part.txt").string() + ":3:11: error: bad-data.png: " + why + " (included from s.txt:1:1)\n");
 }
