@@ -2,8 +2,14 @@
 #include "parallel.h"
 
 #include <sched.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cerrno>
 
 #include <algorithm>
+#include <memory>
 
 namespace rt {
 
@@ -115,6 +121,7 @@ namespace {
 
 std::mutex process_mutex;
 int process_workers = 0;  // asked for (0: one per hardware thread); under process_mutex
+std::atomic<int> process_worker_nice{0};
 std::atomic<ThreadPool*> process{nullptr};
 
 int workers_for(int asked) { return asked > 0 ? asked : hardware_threads(); }
@@ -138,10 +145,26 @@ ThreadPool& process_pool() {
     if (!p) {
         // Never deleted: a thread still in a loop when the process exits keeps it.
         p = new ThreadPool(workers_for(process_workers) + 1);
+        if (const int nice = process_worker_nice.load(); nice > 0) {
+            // Each worker lowers its own priority (a thread's nice value is its own on Linux).
+            auto left = std::make_shared<std::atomic<int>>(p->workers());
+            for (int i = p->workers(); i > 0; --i)
+                p->post([nice, left] {
+                    errno = 0;
+                    const int now = getpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)));
+                    if (errno == 0) setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), std::min(19, now + nice));
+                    // Each worker takes one: none returns before all have begun.
+                    left->fetch_sub(1);
+                    while (left->load() > 0) std::this_thread::yield();
+                });
+            while (left->load() > 0) std::this_thread::yield();
+        }
         process.store(p, std::memory_order_release);
     }
     return *p;
 }
+
+void set_process_worker_nice(int nice) { process_worker_nice.store(std::max(0, nice)); }
 
 bool set_process_threads(int workers) {
     std::lock_guard<std::mutex> lock(process_mutex);

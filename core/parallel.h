@@ -82,6 +82,10 @@ ThreadPool& process_pool();
 // only before the pool's first use; returns whether the pool has (or will have) that
 // many workers.
 bool set_process_threads(int workers);
+// The process pool's workers run `nice` steps below the threads that start them (a
+// window's UI thread keeps its frames while they render; 0: the same). Takes effect
+// only before the pool's first use, as set_process_threads.
+void set_process_worker_nice(int nice);
 // The hardware threads this process may use (its CPU affinity: mpirun binds each rank
 // to its cores, and more threads than that only queue for them): the default number
 // of workers.

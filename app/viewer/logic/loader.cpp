@@ -1,7 +1,12 @@
 // Background scene loading (see loader.h).
 #include "loader.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -96,6 +101,12 @@ SceneLoader::~SceneLoader() {
 }
 
 void SceneLoader::run(std::shared_ptr<Job> job) {
+    // Reading and parsing make way for the window's UI thread, as the pool's workers
+    // do (rt::set_process_worker_nice): the window and the load's progress show at once.
+    errno = 0;
+    const pid_t self = pid_t(syscall(SYS_gettid));
+    const int nice = getpriority(PRIO_PROCESS, self);
+    if (errno == 0) setpriority(PRIO_PROCESS, self, std::min(19, nice + 10));
     auto stage = [&](Stage s) {
         std::lock_guard<std::mutex> lock(job->mutex);
         job->progress.stage = s;

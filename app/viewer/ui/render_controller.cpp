@@ -215,17 +215,36 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h) {
 }
 
 bool RenderController::has_new_picture() const {
-    return started_world_ && (signature(renderer_.progress()) != uploaded_sig_ || view_.pending());
+    return started_world_ && (signature(renderer_.progress()) != uploaded_sig_ || view_.pending() || !dirt_.empty());
 }
 
 void RenderController::upload() {
+    const auto t0 = std::chrono::steady_clock::now();
+    struct Timed {
+        const std::chrono::steady_clock::time_point t0;
+        double& out;
+        ~Timed() { out = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } timed{t0, upload_seconds_};
     rt::RenderProgress before = renderer_.progress();
     uploaded_sig_ = signature(before);
     std::array<int, 4> changed{};
     // With the default display settings and no region these are the renderer's own
     // tile-incremental bytes (see FilmView).
-    if (view_.update(renderer_, display_, region_, ImGui::GetTime(), changed))
-        film_.upload(view_.rgba(), view_.width(), view_.height(), changed);
+    if (view_.update(renderer_, display_, region_, ImGui::GetTime(), changed)) {
+        const int w = view_.width(), h = view_.height();
+        if (!film_.valid() || film_.width() != w || film_.height() != h) {
+            // A new size: the texture is made with all of it, once.
+            film_.upload(view_.rgba(), w, h, {0, 0, w, h});
+            dirt_.reset(w, h);
+            dirt_.take(std::int64_t(w) * h);
+        } else {
+            dirt_.add(changed);
+        }
+    }
+    // What changed goes to the texture a bounded number of pixels a frame (a whole
+    // large film at once would hold up the frame that sends it).
+    for (const TextureDirt::Box& band : dirt_.take(kUploadBudget))
+        film_.upload(view_.rgba(), view_.width(), view_.height(), band);
     if (view_.film_changed()) {
         int w = view_.width(), h = view_.height();
         bool has_picture = before.coarse_level > 0 || before.samples > 0;
@@ -250,7 +269,8 @@ void RenderController::upload() {
     }
     // The snapshot was taken after `before`: if the render was already done then, the
     // texture now holds the final film.
-    if (before.done && started_world_ && before.generation == started_generation_) final_uploaded_ = true;
+    if (before.done && started_world_ && before.generation == started_generation_ && dirt_.empty())
+        final_uploaded_ = true;
 }
 
 void RenderController::draw(const Rect& image, float fb_scale) {
