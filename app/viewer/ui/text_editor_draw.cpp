@@ -126,7 +126,7 @@ bool TextEditor::draw(const char* id, const ImVec2& size_arg) {
         probe("editor_grid", grid);
         probe("editor_cursor", std::to_string(f.cur.line + 1) + " " + std::to_string(f.cur.col + 1) +
                                    (focused_ ? " focused" : ""));
-        probe("editor_bar", find_open_   ? "find " + find_field_.line(0)
+        probe("editor_bar", find_open_   ? "find " + find_field_.line(0) + (find_status_.empty() ? "" : " (" + find_status_ + ")")
                             : goto_open_ ? "goto " + goto_field_.line(0)
                                          : std::string("none"));
     }

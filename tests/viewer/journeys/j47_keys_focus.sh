@@ -2,13 +2,14 @@
 # Journey: keys go to what was last clicked, with the Text tab in front. The user
 # shows the Text tab and, with the pointer on the picture, presses W W W A A Q F R;
 # clicks into the text and types, then clicks the picture and presses W; rests the
-# pointer on the text (no click) and presses Ctrl+F, types "sphere", Escape; presses
+# pointer on the text (no click) and presses Ctrl+F, types "sphere", Enter twice,
+# Escape; presses
 # Ctrl+G and types 1.
 # Checks: the picture's keys never reach the text (it stays as applied, with no caret:
 # not focused) until the text is clicked; a click on the picture takes the keys from
 # the text again; Ctrl+F and Ctrl+G work with the Text tab in front whether or not the
 # text was clicked, and what follows goes into their field (the 1 for Go to line does
-# not zoom the picture to 1:1).
+# not zoom the picture to 1:1); Find says which match of how many ("2 of 5").
 # Usage: j47_keys_focus.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
@@ -50,6 +51,13 @@ key ctrl+f
 wait_state editor_bar "^find" 5
 type_text "sphere"
 wait_state editor_bar "^find sphere$" 5
+step "Enter finds the next match and counts them all: 'k of N'"
+n=$(grep -oi sphere "$SCENE" | wc -l)
+key Return
+wait_state editor_bar "^find sphere \\([0-9]+ of $n\\)$" 5
+k1=$(state editor_bar | sed -E 's/.*\(([0-9]+) of.*/\1/')
+key Return
+wait_state editor_bar "^find sphere \\($(( k1 % n + 1 )) of $n\\)$" 5
 shot 3-find
 key Escape
 key ctrl+g
