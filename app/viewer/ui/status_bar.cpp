@@ -149,7 +149,7 @@ float Panels::status_height(float) {
 // The status bar's text right of the button and the progress bar, then the last message
 // (`show_message`), on one row: when they do not fit, the message keeps two fifths
 // of it, the statistics or readout lose whole groups from their end, and each part cut
-// ends in "..."; hovering the text shows all of it.
+// ends in "..." (a message with a path has it in the middle); hovering shows all of it.
 void Panels::status_text(const std::string& text, bool show_message) {
     std::vector<StatusPiece> pieces;
     add_status_line(pieces, text);
@@ -172,8 +172,10 @@ void Panels::status_text(const std::string& text, bool show_message) {
     if (stats_w + said_w > room) {
         const float said_room = said.empty() ? 0 : std::min(said_w, std::max(room * 0.4f, room - stats_w));
         shown_stats = elide_pieces(parts, room - said_room, measure);
-        // (In its middle: a path's file name stays.)
-        if (!said.empty()) shown_said = elide_middle(said, room - measure(shown_stats), measure);
+        // A path's file name stays (cut in the middle), a sentence's start.
+        if (!said.empty())
+            shown_said = said.find('/') != std::string::npos ? elide_middle(said, room - measure(shown_stats), measure)
+                                                             : elide_end(said, room - measure(shown_stats), measure);
     }
     static const ImVec4 grey(0.75f, 0.75f, 0.75f, 1);
     ImGui::BeginGroup();
