@@ -76,7 +76,8 @@ private:
     static std::string choice_label(std::string_view key, std::string_view word);
     float field_label_width();
     void draw_render_tab();
-    void status_text(const std::string& text, bool show_message);
+    // `message_share`: the part of a row too narrow for both that the message keeps.
+    void status_text(const std::string& text, bool show_message, float message_share = 0.4f);
 
     Commands& commands_;
     DocumentEditor& editor_;

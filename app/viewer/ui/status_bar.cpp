@@ -58,9 +58,9 @@ void add_status_line(std::vector<StatusPiece>& pieces, const std::string& text) 
 // The status bar's window padding (unscaled, as its one row always had).
 const ImVec2 kStatusPadding(6, 4);
 
-// The progress bar's width at most: a third of what is left beside the button, so a
+// The progress bar's width at most: two fifths of what is left beside the button, so a
 // narrow bar (a small window at a large UI scale) still shows some text.
-float narrow_share(float avail) { return std::max(ImGui::GetFontSize() * 3, avail / 3); }
+float narrow_share(float avail) { return std::max(ImGui::GetFontSize() * 3, avail * 0.4f); }
 
 }  // namespace
 
@@ -104,12 +104,15 @@ void Panels::draw_status_bar(const LoadStatus& load) {
                 frac = 0;
             }
             // As wide as its longest usual text (up to 100M pixels refining), at any UI
-            // scale; in a narrow bar, a share of it that leaves the text room.
-            const float bar_w = std::min(std::max(ImGui::GetFontSize() * 8, ImGui::CalcTextSize("99999k px refining").x +
-                                                                               ImGui::GetStyle().FramePadding.x * 4),
-                                         narrow_share(ImGui::GetContentRegionAvail().x));
-            // A label the bar cannot hold whole gives way to the percentage.
-            if (ImGui::CalcTextSize(buf).x + 2 * ImGui::GetStyle().FramePadding.x > bar_w)
+            // scale, so it keeps its width; in a narrow bar, as wide as this label, within
+            // a share that leaves the text room, and the percentage if not even that.
+            const float pad = ImGui::GetStyle().FramePadding.x;
+            const float usual = std::max(ImGui::GetFontSize() * 8, ImGui::CalcTextSize("99999k px refining").x + pad * 4);
+            const float share = narrow_share(ImGui::GetContentRegionAvail().x);
+            const float bar_w = usual <= share ? usual
+                                               : std::min(share, std::max(ImGui::GetFontSize() * 3,
+                                                                          ImGui::CalcTextSize(buf).x + pad * 4));
+            if (ImGui::CalcTextSize(buf).x + 2 * pad > bar_w)
                 std::snprintf(buf, sizeof buf, "%d%%", int(std::floor(frac * 100)));
             ImGui::ProgressBar(float(frac), ImVec2(bar_w, 0), buf);
             ImGui::SameLine();
@@ -133,7 +136,8 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             else
                 std::snprintf(line, sizeof line, "%.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
                               layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
-            status_text(line, true);
+            // Over the picture the readout is what the user looks for: the message gets less.
+            status_text(line, true, tools_.readout_line().empty() ? 0.4f : 0.25f);
         }
     }
     ImGui::End();
@@ -147,10 +151,10 @@ float Panels::status_height(float) {
 }
 
 // The status bar's text right of the button and the progress bar, then the last message
-// (`show_message`), on one row: when they do not fit, the message keeps two fifths
-// of it, the statistics or readout lose whole groups from their end, and each part cut
+// (`show_message`), on one row: when they do not fit, the message keeps its share of
+// it, the statistics or readout lose whole groups from their end, and each part cut
 // ends in "..." (a message with a path has it in the middle); hovering shows all of it.
-void Panels::status_text(const std::string& text, bool show_message) {
+void Panels::status_text(const std::string& text, bool show_message, float message_share) {
     std::vector<StatusPiece> pieces;
     add_status_line(pieces, text);
     std::vector<std::pair<std::string, std::string>> parts;
@@ -170,7 +174,7 @@ void Panels::status_text(const std::string& text, bool show_message) {
     const float stats_w = measure(stats), said_w = said.empty() ? 0 : measure(said);
     std::string shown_stats = stats, shown_said = said;
     if (stats_w + said_w > room) {
-        const float said_room = said.empty() ? 0 : std::min(said_w, std::max(room * 0.4f, room - stats_w));
+        const float said_room = said.empty() ? 0 : std::min(said_w, std::max(room * message_share, room - stats_w));
         shown_stats = elide_pieces(parts, room - said_room, measure);
         // A path's file name stays (cut in the middle), a sentence's start.
         if (!said.empty())
