@@ -248,7 +248,16 @@ void RenderController::upload() {
     if (view_.film_changed()) {
         int w = view_.width(), h = view_.height();
         bool has_picture = before.coarse_level > 0 || before.samples > 0;
-        if (has_picture && before.generation == started_generation_) {
+        if (has_picture && before.generation == started_generation_) picture_due_ = true;
+        if (timing_change_ && has_picture && before.generation == started_generation_ && w == started_w_ &&
+            h == started_h_)
+            first_image_after_change("renderer", before.first_coarse_time, w, h, started_block_);
+    }
+    // The render's picture replaces the moving view's preview once the texture has all
+    // of it (not half of it over the last picture before the move).
+    if (picture_due_ && dirt_.empty()) {
+        picture_due_ = false;
+        if (before.generation == started_generation_) {
             showing_preview_ = false;
             // An adopted world's links (for its first move) once its picture is up.
             sync_.start_links();
@@ -257,9 +266,6 @@ void RenderController::upload() {
                 first_picture_reported_ = true;
             }
         }
-        if (timing_change_ && has_picture && before.generation == started_generation_ && w == started_w_ &&
-            h == started_h_)
-            first_image_after_change("renderer", before.first_coarse_time, w, h, started_block_);
     }
     // RenderProgress::elapsed keeps counting after the render is done; the status bar
     // wants the time the render took, so keep the value seen when it finished.

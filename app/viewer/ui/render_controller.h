@@ -157,6 +157,7 @@ private:
     // frames, a 2560x1600 one in four.
     static constexpr std::int64_t kUploadBudget = std::int64_t(1) << 20;
     TextureDirt dirt_;  // what of the film the texture does not have yet
+    bool picture_due_ = false;  // the render has a picture; it shows once the texture has it all
     DisplaySettings display_;
     const RegionRenderer* region_ = nullptr;
     bool yield_ = false;
