@@ -100,13 +100,20 @@ SceneLoader::~SceneLoader() {
     reap(true);
 }
 
-void SceneLoader::run(std::shared_ptr<Job> job) {
-    // Reading and parsing make way for the window's UI thread, as the pool's workers
-    // do (rt::set_process_worker_nice): the window and the load's progress show at once.
+namespace {
+
+// Reading and parsing make way for the window's UI thread, as the pool's workers do
+// (rt::set_process_worker_nice): the window and the load's progress show at once.
+void lower_this_thread() {
     errno = 0;
     const pid_t self = pid_t(syscall(SYS_gettid));
     const int nice = getpriority(PRIO_PROCESS, self);
     if (errno == 0) setpriority(PRIO_PROCESS, self, std::min(19, nice + 10));
+}
+
+}  // namespace
+
+void SceneLoader::run(std::shared_ptr<Job> job) {
     auto stage = [&](Stage s) {
         std::lock_guard<std::mutex> lock(job->mutex);
         job->progress.stage = s;
@@ -196,7 +203,10 @@ void SceneLoader::start(const std::string& path, bool compile, rt::ModelStore* m
     job_->progress.path = path;
     job_->progress.stage = Stage::Reading;
     job_->on_finished = on_finished_;
-    thread_ = std::thread(&SceneLoader::run, job_);
+    thread_ = std::thread([job = job_] {
+        lower_this_thread();
+        run(job);
+    });
 }
 
 void SceneLoader::take_over(SceneLoader& other) {
