@@ -2,12 +2,32 @@
 #include "parallel.h"
 
 #include <sched.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cerrno>
 
 #include <algorithm>
+#include <memory>
 
 namespace rt {
 
-ThreadPool::ThreadPool(int threads) {
+namespace {
+
+// The calling thread's priority, `steps` below what it was (a thread's nice value is
+// its own on Linux).
+void lower_this_thread(int steps) {
+    if (steps <= 0) return;
+    errno = 0;
+    const pid_t self = pid_t(syscall(SYS_gettid));
+    const int now = getpriority(PRIO_PROCESS, self);
+    if (errno == 0) setpriority(PRIO_PROCESS, self, std::min(19, now + steps));
+}
+
+}  // namespace
+
+ThreadPool::ThreadPool(int threads, int nice) : nice_(nice) {
     for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { work(); });
 }
 
@@ -48,6 +68,7 @@ ThreadPool::Loop* ThreadPool::loop_with_items() const {
 }
 
 void ThreadPool::work() {
+    lower_this_thread(nice_);
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
         Loop* loop = nullptr;
@@ -90,6 +111,7 @@ void ThreadPool::start_aside(std::function<void()> fn) {
 }
 
 void ThreadPool::work_aside() {
+    lower_this_thread(nice_);
     std::unique_lock<std::mutex> lock(aside_mutex_);
     for (;;) {
         ++aside_idle_;
@@ -154,6 +176,7 @@ namespace {
 
 std::mutex process_mutex;
 int process_workers = 0;  // asked for (0: one per hardware thread); under process_mutex
+std::atomic<int> process_worker_nice{0};
 std::atomic<ThreadPool*> process{nullptr};
 
 int workers_for(int asked) { return asked > 0 ? asked : hardware_threads(); }
@@ -176,11 +199,13 @@ ThreadPool& process_pool() {
     ThreadPool* p = process.load(std::memory_order_relaxed);
     if (!p) {
         // Never deleted: a thread still in a loop when the process exits keeps it.
-        p = new ThreadPool(workers_for(process_workers) + 1);
+        p = new ThreadPool(workers_for(process_workers) + 1, process_worker_nice.load());
         process.store(p, std::memory_order_release);
     }
     return *p;
 }
+
+void set_process_worker_nice(int nice) { process_worker_nice.store(std::max(0, nice)); }
 
 bool set_process_threads(int workers) {
     std::lock_guard<std::mutex> lock(process_mutex);

@@ -53,8 +53,9 @@ private:
 
 class ThreadPool {
 public:
-    // `threads` counts the caller: threads - 1 are started (at least none).
-    explicit ThreadPool(int threads);
+    // `threads` counts the caller: threads - 1 are started (at least none). The pool's
+    // threads run `nice` steps below the thread that makes the pool (0: the same).
+    explicit ThreadPool(int threads, int nice = 0);
     ~ThreadPool();
     ThreadPool(const ThreadPool&) = delete;
     ThreadPool& operator=(const ThreadPool&) = delete;
@@ -141,6 +142,7 @@ private:
     std::vector<Loop*> loops_;  // begun, their callers not yet done taking items (under mutex_)
     std::deque<std::function<void()>> tasks_;  // posted, not yet started (under mutex_)
     bool quit_ = false;
+    int nice_ = 0;
 
     // aside(): its own threads, queue and lock, apart from the loops' and tasks'.
     mutable std::mutex aside_mutex_;
@@ -160,6 +162,11 @@ ThreadPool& process_pool();
 // only before the pool's first use; returns whether the pool has (or will have) that
 // many workers.
 bool set_process_threads(int workers);
+// The process pool's threads (its workers and those for aside()) run `nice` steps
+// below the thread that first uses it (a window's UI thread keeps its frames while
+// they render and load; 0: the same). Takes effect only before the pool's first use,
+// as set_process_threads.
+void set_process_worker_nice(int nice);
 // The hardware threads this process may use (its CPU affinity: mpirun binds each rank
 // to its cores, and more threads than that only queue for them): the default number
 // of workers.

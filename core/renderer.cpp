@@ -866,6 +866,14 @@ int Renderer::sample_count(int x, int y) const {
     return int(film_.count[std::size_t(y) * film_.width + x]);
 }
 
+bool Renderer::pixel(int x, int y, int width, int height, Colour& c) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (film_.width != width || film_.height != height || x < 0 || y < 0 || x >= width || y >= height) return false;
+    const Colour p = film_.pixel(x, y, std::size_t(y) * film_.width + x);
+    c = Colour(float(p.x), float(p.y), float(p.z));  // as the float image of snapshot() holds it
+    return true;
+}
+
 void Renderer::sample_counts(std::vector<std::uint32_t>& out, int& width, int& height) const {
     std::lock_guard<std::mutex> lock(mutex_);
     width = film_.width;

@@ -142,6 +142,9 @@ public:
     // The film's per-pixel sample counts, top row first; one pixel's (0 outside the film).
     void sample_counts(std::vector<std::uint32_t>& out, int& width, int& height) const;
     int sample_count(int x, int y) const;
+    // One pixel of the film (its resolved colour, as snapshot() has it) while the film
+    // is width x height: no copy of the whole film. False outside it or at another size.
+    bool pixel(int x, int y, int width, int height, Colour& c) const;
     int threads() const { return max_runners_; }
     // The pool it renders on (for other work alongside, such as a preview's loops).
     ThreadPool& pool() const { return *pool_; }

@@ -74,8 +74,22 @@ double g_pointer_x = 0, g_pointer_y = 0;
 double g_last_press_time = -1e9, g_last_press_x = 0, g_last_press_y = 0;
 bool g_double_click = false;  // the press this frame takes is the second of a double-click
 
+// A key that types a character (no Ctrl, Alt or Super): in a text field only its
+// character matters, not whether a frame saw the key down.
+bool typing_key(const InputEvent& e) {
+    if (e.kind != InputEvent::Kind::Key || (e.mods & (GLFW_MOD_CONTROL | GLFW_MOD_ALT | GLFW_MOD_SUPER))) return false;
+    return (e.key >= GLFW_KEY_SPACE && e.key <= GLFW_KEY_GRAVE_ACCENT) || e.key == GLFW_KEY_WORLD_1 ||
+           e.key == GLFW_KEY_WORLD_2 || (e.key >= GLFW_KEY_KP_0 && e.key <= GLFW_KEY_KP_ADD);
+}
+
 bool must_wait(const InputEvent& e) {
     if (!g_waiting.empty()) return true;  // never overtake an earlier event
+    // Typing into a text field: its characters and their keys all go into one frame
+    // (ImGui queues characters), so text arrives as fast as it is typed however slow
+    // the frames are; keys that move the focus (Enter, Tab, a Ctrl shortcut) still
+    // wait for their frame, and the characters after them for the next.
+    if (ImGui::GetIO().WantTextInput && (typing_key(e) || e.kind == InputEvent::Kind::Char))
+        return e.kind == InputEvent::Kind::Char && g_frame_has_press;
     switch (e.kind) {
         // Characters after a key press (Enter, Tab, Ctrl+E) go to where that key put
         // the focus, which takes effect in the next frame.
@@ -91,8 +105,9 @@ bool must_wait(const InputEvent& e) {
 }
 
 void deliver(GLFWwindow* w, const InputEvent& e) {
-    if (e.action == GLFW_PRESS) g_frame_has_press = true;
-    if (e.action == GLFW_RELEASE) g_frame_has_release = true;
+    const bool typed = ImGui::GetIO().WantTextInput && typing_key(e);
+    if (e.action == GLFW_PRESS && !typed) g_frame_has_press = true;
+    if (e.action == GLFW_RELEASE && !typed) g_frame_has_release = true;
     switch (e.kind) {
         case InputEvent::Kind::Char:
             g_frame_has_chars = true;
@@ -252,6 +267,33 @@ float content_scale(GLFWwindow* window) {
     return scale > 0.5f ? scale : 1;
 }
 
+double wall_clock() {
+    timespec t{};
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
+}
+
+// --verbose: where a frame's wall time goes, said every few seconds: the UI (ImGui and
+// the app, the film's texture upload included), the GL drawing to the end of the
+// rasteriser's work (glFinish), and the swap.
+struct FrameTimes {
+    double start = -1, ui = 0, draw = 0, swap = 0, upload = 0, max_frame = 0;
+    long frames = 0;
+    void add(double t0, double t1, double t2, double t3, double upload_s) {
+        if (start < 0) start = t0;
+        ui += t1 - t0, draw += t2 - t1, swap += t3 - t2, upload += upload_s;
+        max_frame = std::max(max_frame, t3 - t0);
+        ++frames;
+        if (t3 - start < 3) return;
+        const double n = double(frames), ms = 1000 / n;
+        std::fprintf(stderr,
+                     "raytracer-view: %.1f frames/s; a frame's ms: UI %.1f (texture upload %.1f), drawing %.1f, swap %.1f; "
+                     "longest %.0f ms\n",
+                     n / (t3 - start), ui * ms, upload * ms, draw * ms, swap * ms, max_frame * 1000);
+        *this = FrameTimes{};
+    }
+};
+
 double thread_cpu() {
     timespec t{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
@@ -266,6 +308,7 @@ void event_loop(GLFWwindow* window, rtview::ViewerApp& app, const rtview::Option
     bool was_working = false;
     long frames = 0;
     double frame_cpu = 0;  // UI thread CPU seconds spent drawing frames (--verbose)
+    FrameTimes times;
     while (!glfwWindowShouldClose(window)) {
         // While settling after input, ImGui needs its next frames promptly (a
         // click is seen released, a focus request lands one frame later).
@@ -292,14 +335,19 @@ void event_loop(GLFWwindow* window, rtview::ViewerApp& app, const rtview::Option
         if (settle > 0) --settle;
 
         double cpu0 = thread_cpu();
+        const double t0 = opt.verbose ? wall_clock() : 0;
         ImGui_ImplOpenGL2_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         pointer_from_events();
         int fw, fh;
         glfwGetFramebufferSize(window, &fw, &fh);
-        rtview::app_frame(app, fw, fh);
+        double t1 = 0;
+        rtview::app_frame(app, fw, fh, true, opt.verbose ? &t1 : nullptr);
+        if (opt.verbose) glFinish();
+        const double t2 = opt.verbose ? wall_clock() : 0;
         app.after_render(fw, fh);
         glfwSwapBuffers(window);
+        if (opt.verbose) times.add(t0, t1, t2, wall_clock(), app.last_upload_seconds());
         next_frame_input(window);
         if (app.take_ui_scale_change()) {
             // Between frames: a new font atlas at the new size, and its texture.
@@ -323,6 +371,10 @@ int run(int argc, char** argv) {
     if (!rtview::fits_in_memory("raytracer-view", opt, false)) return 2;
     // The start-up file loads while the window opens and the fonts are made (a file
     // that cannot be read is left to the app, which says why).
+    // The render and loading threads make way for the UI thread and the GL
+    // rasteriser's: frames (typing, menus, the picture's progress) keep their rate
+    // while every processor renders.
+    rt::set_process_worker_nice(10);
     rtview::EarlyLoad early;
     if (!opt.scene.empty() && ::access(opt.scene.c_str(), R_OK) == 0) {
         rt::set_process_threads(opt.threads);

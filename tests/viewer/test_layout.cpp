@@ -92,3 +92,54 @@ TEST_CASE("a word wider than a row is cut, as there is no space to break at") {
     // Narrower than one character: one character a row, never an endless loop.
     CHECK(wrap_words("abc", 0.5f, chars).size() == 3);
 }
+
+TEST_CASE("one line of status text: cut at its end with '...', never wider than the bar") {
+    const std::string text = "Wrote screenshot /home/u/raytracer-view-20261207.png";
+    CHECK(elide_end(text, 100, chars) == text);
+    CHECK(elide_end(text, float(text.size()), chars) == text);
+    const std::string cut = elide_end(text, 20, chars);
+    CHECK(cut == "Wrote screenshot...");  // the space before the dots goes
+    CHECK(chars(cut) <= 20);
+    CHECK(elide_end(text, 2, chars).empty());  // not even "..." fits
+    CHECK(elide_end(text, 3, chars) == "...");
+    // Cut inside a word: back to the word's start; a number is never cut.
+    CHECK(elide_end(text, 25, chars) == "Wrote screenshot...");
+    CHECK(elide_end("5.21 Mrays/s", 7, chars) == "5.21...");
+    CHECK(elide_end("5.21 Mrays/s", 6, chars) == "...");
+    CHECK(elide_end("raytracer-view", 8, chars) == "raytr...");
+    // Never inside a character of two bytes: "é" is 2 bytes, counted as 2 units here.
+    const std::string accents = "\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9";
+    const std::string a = elide_end(accents, 7, chars);
+    CHECK(a == "\xc3\xa9\xc3\xa9...");
+    for (std::size_t w = 3; w < 12; ++w) {
+        const std::string e = elide_end(accents, float(w), chars);
+        CHECK(chars(e) <= float(w));
+        CHECK((e.size() < 3 || e.compare(e.size() - 3, 3, "...") == 0 || e == accents));
+        // Only whole characters before the dots: an even number of bytes.
+        if (e != accents && !e.empty()) CHECK((e.size() - 3) % 2 == 0);
+    }
+}
+
+TEST_CASE("a readout's groups are kept whole or left out, the line ends in '...'") {
+    const std::vector<std::pair<std::string, std::string>> pieces = {
+        {"", "x 354 y 332"}, {"   ", "RGB 0.927 0.900 0.899"}, {"   ", "48 spp"}};
+    CHECK(elide_pieces(pieces, 100, chars) == "x 354 y 332   RGB 0.927 0.900 0.899   48 spp");
+    CHECK(elide_pieces(pieces, 40, chars) == "x 354 y 332   RGB 0.927 0.900 0.899...");
+    CHECK(elide_pieces(pieces, 30, chars) == "x 354 y 332...");
+    // Not even the first group: it is cut by characters.
+    CHECK(elide_pieces(pieces, 8, chars) == "x 354...");
+    for (float w = 0; w < 60; ++w) CHECK(chars(elide_pieces(pieces, w, chars)) <= std::max(w, 0.f));
+}
+
+TEST_CASE("a long message is cut in its middle: its start and its file name stay") {
+    const std::string text = "Wrote screenshot /home/user/pictures/raytracer-view-20261207.png";
+    CHECK(elide_middle(text, 200, chars) == text);
+    const std::string m = elide_middle(text, 40, chars);
+    CHECK(chars(m) <= 40);
+    CHECK(chars(m) >= 39);  // as much as fits
+    CHECK(m.rfind("Wrote scree", 0) == 0);
+    CHECK(m.find("...") != std::string::npos);
+    CHECK(m.substr(m.size() - 13) == "-20261207.png");
+    CHECK(elide_middle(text, 2, chars).empty());
+    for (float w = 3; w < 70; ++w) CHECK(chars(elide_middle(text, w, chars)) <= w);
+}

@@ -341,3 +341,31 @@ TEST_CASE("scene line colouring: sections, objects, keys, numbers, comments, bra
     CHECK_FALSE(is_scene_number("."));
     CHECK_FALSE(is_scene_number("1e+"));
 }
+
+TEST_CASE("text buffer: matches counted, which one the cursor's is, and a limit") {
+    TextBuffer b("Sphere a\nsphere b sphere\nnone\nsphere");
+    auto c = b.count_matches("sphere", true, {1, 9}, 100);
+    CHECK(c.total == 3);
+    CHECK(c.index == 2);  // (1,0), (1,9), (3,0)
+    CHECK_FALSE(c.more);
+    c = b.count_matches("sphere", false, {0, 0}, 100);  // any case: line 0's too, first
+    CHECK(c.total == 4);
+    CHECK(c.index == 1);
+    c = b.count_matches("sphere", true, {0, 3}, 100);  // not at a match
+    CHECK(c.index == 0);
+    c = b.count_matches("sphere", false, {3, 0}, 2);
+    CHECK(c.total == 2);
+    CHECK(c.more);
+    CHECK(c.index == 0);  // the fourth, past the limit
+    CHECK(b.count_matches("", true, {0, 0}, 100).total == 0);
+    // Brute force over a text of repeats: every match is counted once.
+    std::string text;
+    int expected = 0;
+    for (int i = 0; i < 50; ++i) {
+        text += (i % 3 == 0 ? "ab ab\n" : "xb\n");
+        expected += i % 3 == 0 ? 2 : 0;
+    }
+    TextBuffer many(text);
+    CHECK(many.count_matches("ab", true, {0, 3}, 1000).total == expected);
+    CHECK(many.count_matches("ab", true, {0, 3}, 1000).index == 2);
+}

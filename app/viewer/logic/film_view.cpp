@@ -115,6 +115,9 @@ bool FilmView::linear_at(const rt::Renderer& renderer, double now, double max_ag
         c = region_.image.at(x - r.x0, y - r.y0);
         return true;
     }
+    // The renderer's own pixel: a float copy of a large film costs the UI thread
+    // milliseconds (and holds the render's lock meanwhile).
+    if (renderer.pixel(x, y, width_, height_, c)) return true;
     bool stale = linear_version_ != fast_version_ || linear_.width != width_ || linear_.height != height_;
     if (stale && (now - linear_time_ >= max_age || linear_.width != width_ || linear_.height != height_))
         refresh_linear(renderer, now);

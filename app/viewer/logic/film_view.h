@@ -37,8 +37,9 @@ public:
     // Film pixels are waiting to be mapped (at most kMappedInterval): keep updating.
     bool pending() const { return !uses_fast() && pending_[0] < pending_[2] && pending_[1] < pending_[3]; }
 
-    // The linear value of pixel (x, y) as shown (the region's where it covers it),
-    // from a float copy of the film at most `max_age` seconds behind the renderer.
+    // The linear value of pixel (x, y) as shown (the region's where it covers it): the
+    // renderer's pixel, or (while its film has another size) from a float copy of the
+    // film at most `max_age` seconds behind the renderer.
     // For the pixel readout; false outside the film.
     bool linear_at(const rt::Renderer& renderer, double now, double max_age, int x, int y, rt::Colour& c);
     // The whole picture as shown, linear, exactly now (for snapshots).

@@ -2,6 +2,7 @@
 #include "layout.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace rtview {
@@ -70,6 +71,69 @@ std::vector<std::string> wrap_words(const std::string& text, float width,
     }
     if (!row.empty() || rows.empty()) rows.push_back(row);
     return rows;
+}
+
+std::string elide_end(const std::string& text, float width, const std::function<float(std::string_view)>& measure) {
+    if (measure(text) <= width) return text;
+    // The cut points are character boundaries; the widths grow with the cut's length,
+    // so the longest that fits is found by bisection.
+    std::vector<std::size_t> cuts;
+    for (std::size_t i = 0; i <= text.size(); ++i)
+        if (i == text.size() || (static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) cuts.push_back(i);
+    auto fits = [&](std::size_t n) { return measure(text.substr(0, n) + "...") <= width; };
+    if (!fits(0)) return "";
+    std::size_t lo = 0, hi = cuts.size() - 1;  // cuts[lo] fits; cuts[hi] (the whole text) does not
+    while (hi - lo > 1) {
+        const std::size_t mid = (lo + hi) / 2;
+        (fits(cuts[mid]) ? lo : hi) = mid;
+    }
+    std::string out = text.substr(0, cuts[lo]);
+    if (cuts[lo] < text.size() && text[cuts[lo]] != ' ') {
+        // Inside a word: back to the word's start, or, in the first word, off any
+        // digits at the cut ("5.21" cut to "5." would read as another number).
+        if (const std::size_t sp = out.rfind(' '); sp != std::string::npos) out.erase(sp);
+        else
+            while (!out.empty() && (std::isdigit(static_cast<unsigned char>(out.back())) || out.back() == '.' ||
+                                    out.back() == '-' || out.back() == ','))
+                out.pop_back();
+    }
+    while (!out.empty() && out.back() == ' ') out.pop_back();
+    return out + "...";
+}
+
+std::string elide_middle(const std::string& text, float width, const std::function<float(std::string_view)>& measure) {
+    if (measure(text) <= width) return text;
+    std::vector<std::size_t> cuts;  // character boundaries
+    for (std::size_t i = 0; i <= text.size(); ++i)
+        if (i == text.size() || (static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) cuts.push_back(i);
+    const std::size_t chars = cuts.size() - 1;
+    // k characters kept: two fifths from the start, the rest from the end.
+    auto made = [&](std::size_t k) {
+        const std::size_t head = k * 2 / 5, tail = k - head;
+        return text.substr(0, cuts[head]) + "..." + text.substr(cuts[chars - tail]);
+    };
+    if (measure("...") > width) return "";
+    std::size_t lo = 0, hi = chars;  // made(lo) fits; made(hi) (longer than the text) does not
+    while (hi - lo > 1) {
+        const std::size_t mid = (lo + hi) / 2;
+        (measure(made(mid)) <= width ? lo : hi) = mid;
+    }
+    return made(lo);
+}
+
+std::string elide_pieces(const std::vector<std::pair<std::string, std::string>>& pieces, float width,
+                         const std::function<float(std::string_view)>& measure) {
+    std::string all;
+    for (const auto& [sep, text] : pieces) all += sep + text;
+    if (measure(all) <= width) return all;
+    std::string shown;
+    for (const auto& [sep, text] : pieces) {
+        const std::string more = shown.empty() ? text : shown + sep + text;
+        if (measure(more + "...") > width) break;
+        shown = more;
+    }
+    if (shown.empty()) return pieces.empty() ? std::string() : elide_end(pieces.front().second, width, measure);
+    return shown + "...";
 }
 
 }  // namespace rtview

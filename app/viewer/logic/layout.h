@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "options.h"
@@ -53,5 +54,17 @@ float sidebar_max_width(float window_w, float scale);
 // A word wider than a row on its own is cut where it must be.
 std::vector<std::string> wrap_words(const std::string& text, float width,
                                     const std::function<float(std::string_view)>& measure);
+
+// One line of `width` at most: `text` whole if it fits, else its longest start that
+// fits with "..." after it (never inside a UTF-8 character; "" if not even "..." fits).
+std::string elide_end(const std::string& text, float width, const std::function<float(std::string_view)>& measure);
+// One line of `width` at most with "..." in the middle when `text` does not fit: its
+// start and, mostly, its end (a path's file name) are kept.
+std::string elide_middle(const std::string& text, float width, const std::function<float(std::string_view)>& measure);
+// Pieces of a line, each {separator, text}: joined while whole pieces fit, then "..."
+// (a number or a readout's group is never cut); the first piece is cut by characters
+// (elide_end) when even it does not fit.
+std::string elide_pieces(const std::vector<std::pair<std::string, std::string>>& pieces, float width,
+                         const std::function<float(std::string_view)>& measure);
 
 }  // namespace rtview

@@ -239,6 +239,7 @@ std::string help_text(bool headless_binary) {
              "                       (the same render: zoom and pan only place it on the screen)\n"
              "  Ctrl+right drag      pan the picture (not the camera)\n"
              "  K                    keep a snapshot            B  compare: split / difference / off\n"
+             "                                                  Shift+B  compare with the snapshot before\n"
              "  Ctrl+left drag       render only that region    C  clear the region\n"
              "  Ctrl+R               render to file at the scene's picture_size\n"
              "  Ctrl+= / Ctrl+- / Ctrl+0   UI size larger / smaller / 100%\n"

@@ -571,6 +571,25 @@ std::optional<TextRange> TextBuffer::find(std::string_view needle, TextPos from,
     return std::nullopt;
 }
 
+TextBuffer::MatchCount TextBuffer::count_matches(std::string_view needle, bool match_case, TextPos at, int limit) const {
+    MatchCount c;
+    if (needle.empty() || needle.find('\n') != std::string_view::npos) return c;
+    std::vector<TextRange> hits;
+    for (int line = 0; line < line_count(); ++line) {
+        hits.clear();
+        find_in_line(line, needle, match_case, hits);
+        for (const TextRange& h : hits) {
+            if (c.total == limit) {
+                c.more = true;
+                return c;
+            }
+            ++c.total;
+            if (h.begin == at) c.index = c.total;
+        }
+    }
+    return c;
+}
+
 int parse_line_number(std::string_view typed) {
     // Digits only (the field takes nothing else); a number too big for an int is the
     // last line anyway.

@@ -135,6 +135,13 @@ public:
     std::optional<TextRange> find(std::string_view needle, TextPos from, bool forward, bool match_case) const;
     // All matches in one line (for highlighting the visible ones).
     void find_in_line(int line, std::string_view needle, bool match_case, std::vector<TextRange>& out) const;
+    // How many matches of `needle` the text has, and which of them (1-based) begins at
+    // `at` (0: none does). Counts up to `limit` matches, then stops (`more` says so).
+    struct MatchCount {
+        int total = 0, index = 0;
+        bool more = false;
+    };
+    MatchCount count_matches(std::string_view needle, bool match_case, TextPos at, int limit) const;
     // 1-based line number, clamped; selects nothing, cursor to the line's first column.
     void goto_line(int line1);
 

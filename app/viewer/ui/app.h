@@ -93,6 +93,8 @@ public:
     const Document& document() const { return editor_.doc(); }
     const Navigator& navigator() const { return nav_; }
     bool loading() const { return loader_.active(); }
+    // How long the last frame's film upload took (its bytes made and sent to the texture).
+    double last_upload_seconds() const { return render_.last_upload_seconds(); }
     // The UI scale the user chose (Ctrl+ / Ctrl-); true once after each change, when
     // the host rebuilds the font.
     double ui_scale() const { return tools_.ui_scale(); }

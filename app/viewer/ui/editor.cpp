@@ -389,6 +389,14 @@ void DocumentEditor::sync_widget() {
 }
 
 void DocumentEditor::draw_text_tab(Layout& layout) {
+    // The editor's own shortcuts work whenever its tab is in front, clicked into or not
+    // (the pointer may rest anywhere); with the text clicked into, the widget has them.
+    const ImGuiIO& io = ImGui::GetIO();
+    if (!widget_.focused() && io.KeyCtrl && !io.KeyAlt && !io.WantTextInput &&
+        !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId)) {
+        if (key_pressed(keys::kF)) widget_.open_find();
+        else if (key_pressed(keys::kG)) widget_.open_goto();
+    }
     draw_text_toolbar();
     float diag_h = 0;
     const std::vector<std::string> diag_text = diagnostic_lines(diag_h);

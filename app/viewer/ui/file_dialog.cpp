@@ -3,6 +3,7 @@
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <climits>
 #include <cstdio>
 #include <filesystem>
@@ -115,7 +116,12 @@ bool FileDialog::draw_name_field() {
     const float fs = ImGui::GetFontSize();
     if (focus_field_) ImGui::SetKeyboardFocusHere();
     focus_field_ = false;
-    ImGui::SetNextItemWidth(fs * 30);
+    // The filter's choice is as wide as its longer label (never cut, at any UI scale);
+    // the name field has the rest of the dialog's usual width.
+    const ImGuiStyle& st = ImGui::GetStyle();
+    const float filter_w = std::max(ImGui::CalcTextSize(filter_label().c_str()).x, ImGui::CalcTextSize("All files").x) +
+                           2 * st.FramePadding.x + ImGui::GetFrameHeight();
+    ImGui::SetNextItemWidth(std::max(fs * 12, fs * 39 - filter_w - st.ItemSpacing.x));
     std::pair<const FileBrowser*, std::vector<std::string>*> data{browser_.get(), &candidates_};
     const bool enter = bounded_input(
         "##name", mode_ == Mode::Open ? "file name or path (Tab completes)" : "new file name or path (Tab completes)",
@@ -125,7 +131,7 @@ bool FileDialog::draw_name_field() {
     probe("browser_field", ImGui::IsItemActive() ? "active" : "idle");
     ImGui::SameLine();
     bool all = browser_->show_all();
-    ImGui::SetNextItemWidth(fs * 9);
+    ImGui::SetNextItemWidth(filter_w);
     if (ImGui::BeginCombo("##filter", all ? "All files" : filter_label().c_str())) {
         if (ImGui::Selectable(filter_label().c_str(), !all)) browser_->set_show_all(false);
         if (ImGui::Selectable("All files", all)) browser_->set_show_all(true);

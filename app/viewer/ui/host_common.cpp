@@ -6,6 +6,7 @@
 #include <imgui_impl_opengl2.h>
 
 #include <cstdio>
+#include <ctime>
 #include <exception>
 #include <new>
 
@@ -56,10 +57,15 @@ int open_initial_scene(const char* program, ViewerApp& app, EarlyLoad* early) {
     return st.exit_code();
 }
 
-void app_frame(ViewerApp& app, int width, int height, bool paint) {
+void app_frame(ViewerApp& app, int width, int height, bool paint, double* built) {
     ImGui::NewFrame();
     app.frame();
     ImGui::Render();
+    if (built) {
+        timespec t{};
+        clock_gettime(CLOCK_MONOTONIC, &t);
+        *built = double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
+    }
     if (!paint) return;
     glViewport(0, 0, width, height);
     glClearColor(0.10f, 0.10f, 0.11f, 1.f);

@@ -35,7 +35,9 @@ int open_initial_scene(const char* program, ViewerApp& app, EarlyLoad* early = n
 
 // One ImGui frame of the app: laid out, then (if `paint`) drawn into the current GL
 // framebuffer of width x height pixels. The caller starts its backends' frames first.
-void app_frame(ViewerApp& app, int width, int height, bool paint = true);
+// `built`: if given, receives the monotonic clock (seconds) when the UI is built, before
+// it is drawn.
+void app_frame(ViewerApp& app, int width, int height, bool paint = true, double* built = nullptr);
 
 // main(): runs `run`; an exception that reaches here (out of memory, typically) ends
 // the program with "PROGRAM: what" and status 2, not an abort.

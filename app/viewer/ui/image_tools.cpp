@@ -163,7 +163,10 @@ void ImageTools::handle_keys() {
         message("Zoom to fit");
     }
     if (key_pressed(keys::kK)) keep_snapshot();
-    if (key_pressed(keys::kB)) set_compare((int(compare_) + 1) % 3);
+    if (key_pressed(keys::kB)) {
+        if (io.KeyShift) next_snapshot();
+        else set_compare((int(compare_) + 1) % 3);
+    }
     if (key_pressed(keys::kC) && region_active()) clear_region();
 }
 
@@ -271,7 +274,25 @@ void ImageTools::keep_snapshot() {
     compare_id_ = 0;  // compare with the newest
     compare_made_id_ = -1;
     message("Kept snapshot " + std::to_string(s->id) + (s->change.empty() ? "" : " (" + s->change + ")") +
-            "; B compares");
+            (snapshots_.list().size() > 1 ? "; B compares, Shift+B goes through the snapshots" : "; B compares"));
+}
+
+void ImageTools::next_snapshot() {
+    const std::vector<Snapshot>& list = snapshots_.list();
+    if (list.empty()) {
+        message("No snapshot to compare with: K keeps one", true);
+        return;
+    }
+    // Newest to oldest, then the newest again.
+    const Snapshot* now = compared();
+    std::size_t k = list.size() - 1;
+    for (std::size_t i = 0; i < list.size(); ++i)
+        if (&list[i] == now) k = i == 0 ? list.size() - 1 : i - 1;
+    compare_id_ = list[k].id;
+    compare_made_id_ = -1;
+    if (compare_ == Compare::Off) compare_ = Compare::Split;
+    message("Comparing with snapshot " + std::to_string(list[k].id) + " of " + std::to_string(list.size()) + " (" +
+            clock_time(list[k].time) + ")");
 }
 
 const Snapshot* ImageTools::compared() const {

@@ -130,6 +130,9 @@ private:
     void set_exposure(double stops);
     void set_ui_scale(double scale);
     void set_compare(int mode);
+    // Shift+B: compare with the snapshot before the one compared with (the newest after
+    // the oldest), side by side if comparing was off.
+    void next_snapshot();
     // draw() in steps, along the overlays it draws.
     struct PictureGeometry;
     void draw_picture(ImDrawList* dl, const PictureGeometry& g);

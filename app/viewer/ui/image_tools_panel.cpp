@@ -164,6 +164,7 @@ void ImageTools::view_menu_items() {
         if (ImGui::MenuItem("Off", "B", compare_ == Compare::Off)) set_compare(0);
         if (ImGui::MenuItem("Side by side", "B", compare_ == Compare::Split)) set_compare(1);
         if (ImGui::MenuItem("Difference", "B", compare_ == Compare::Difference)) set_compare(2);
+        if (ImGui::MenuItem("The snapshot before", "Shift+B", false, snapshots_.list().size() > 1)) next_snapshot();
         ImGui::EndMenu();
     }
     if (ImGui::MenuItem("Clear render region", "C", false, region_active())) clear_region();

@@ -51,8 +51,7 @@ public:
     void clear_selection() { selection_ = {}; }
     // --select "object N" etc.
     void select_from_option(const std::string& spec);
-    // The status bar's height in a window `width` wide: at a large UI scale or in a
-    // narrow window its text takes more than one row.
+    // The status bar's height in a window `width` wide: one row (its text is cut to fit).
     float status_height(float width);
     float min_sidebar_width();
     static std::string selection_name(const ItemRef& s);
@@ -77,8 +76,8 @@ private:
     static std::string choice_label(std::string_view key, std::string_view word);
     float field_label_width();
     void draw_render_tab();
-    void status_text(const std::string& text, bool show_message);
-    float usual_status_extra(float width) const;
+    // `message_share`: the part of a row too narrow for both that the message keeps.
+    void status_text(const std::string& text, bool show_message, float message_share = 0.4f);
 
     Commands& commands_;
     DocumentEditor& editor_;
@@ -106,12 +105,6 @@ private:
         std::string field;
     } texture_target_;
     float label_w_ = 0, label_w_font_ = 0;  // field_label_width() at that font size
-    // Shown status text that needed more room than the usual contents: for how long.
-    struct StatusMore {
-        float width = 0, font = 0;
-        std::string text;
-        float extra = 0;
-    } status_more_;
     float edge_grab_ = 0;  // where on the sidebar's edge the drag began
     bool scroll_to_selection_ = false;
     // The outline's filter: the text typed, and the objects it finds.

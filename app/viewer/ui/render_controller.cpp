@@ -215,21 +215,49 @@ void RenderController::start(const rt::Camera& camera, int film_w, int film_h) {
 }
 
 bool RenderController::has_new_picture() const {
-    return started_world_ && (signature(renderer_.progress()) != uploaded_sig_ || view_.pending());
+    return started_world_ && (signature(renderer_.progress()) != uploaded_sig_ || view_.pending() || !dirt_.empty());
 }
 
 void RenderController::upload() {
+    const auto t0 = std::chrono::steady_clock::now();
+    struct Timed {
+        const std::chrono::steady_clock::time_point t0;
+        double& out;
+        ~Timed() { out = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } timed{t0, upload_seconds_};
     rt::RenderProgress before = renderer_.progress();
     uploaded_sig_ = signature(before);
     std::array<int, 4> changed{};
     // With the default display settings and no region these are the renderer's own
     // tile-incremental bytes (see FilmView).
-    if (view_.update(renderer_, display_, region_, ImGui::GetTime(), changed))
-        film_.upload(view_.rgba(), view_.width(), view_.height(), changed);
+    if (view_.update(renderer_, display_, region_, ImGui::GetTime(), changed)) {
+        const int w = view_.width(), h = view_.height();
+        if (!film_.valid() || film_.width() != w || film_.height() != h) {
+            // A new size: the texture is made with all of it, once.
+            film_.upload(view_.rgba(), w, h, {0, 0, w, h});
+            dirt_.reset(w, h);
+            dirt_.take(std::int64_t(w) * h);
+        } else {
+            dirt_.add(changed);
+        }
+    }
+    // What changed goes to the texture a bounded number of pixels a frame (a whole
+    // large film at once would hold up the frame that sends it).
+    for (const TextureDirt::Box& band : dirt_.take(kUploadBudget))
+        film_.upload(view_.rgba(), view_.width(), view_.height(), band);
     if (view_.film_changed()) {
         int w = view_.width(), h = view_.height();
         bool has_picture = before.coarse_level > 0 || before.samples > 0;
-        if (has_picture && before.generation == started_generation_) {
+        if (has_picture && before.generation == started_generation_) picture_due_ = true;
+        if (timing_change_ && has_picture && before.generation == started_generation_ && w == started_w_ &&
+            h == started_h_)
+            first_image_after_change("renderer", before.first_coarse_time, w, h, started_block_);
+    }
+    // The render's picture replaces the moving view's preview once the texture has all
+    // of it (not half of it over the last picture before the move).
+    if (picture_due_ && dirt_.empty()) {
+        picture_due_ = false;
+        if (before.generation == started_generation_) {
             showing_preview_ = false;
             picture_generation_ = before.generation;
             // An adopted world's links (for its first move) once its picture is up.
@@ -239,9 +267,6 @@ void RenderController::upload() {
                 first_picture_reported_ = true;
             }
         }
-        if (timing_change_ && has_picture && before.generation == started_generation_ && w == started_w_ &&
-            h == started_h_)
-            first_image_after_change("renderer", before.first_coarse_time, w, h, started_block_);
     }
     // RenderProgress::elapsed keeps counting after the render is done; the status bar
     // wants the time the render took, so keep the value seen when it finished.
@@ -251,7 +276,8 @@ void RenderController::upload() {
     }
     // The snapshot was taken after `before`: if the render was already done then, the
     // texture now holds the final film.
-    if (before.done && started_world_ && before.generation == started_generation_) final_uploaded_ = true;
+    if (before.done && started_world_ && before.generation == started_generation_ && dirt_.empty())
+        final_uploaded_ = true;
 }
 
 void RenderController::draw(const Rect& image, float fb_scale) {

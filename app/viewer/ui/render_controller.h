@@ -17,6 +17,7 @@
 #include "display.h"
 #include "film_texture.h"
 #include "film_view.h"
+#include "texture_dirt.h"
 #include "region.h"
 #include "pacing.h"
 #include "parallel.h"
@@ -60,6 +61,7 @@ public:
     }
     // New film pixels to the texture. Call once per frame, after update().
     void upload();
+    double last_upload_seconds() const { return upload_seconds_; }
     // The film's bytes and texture (for the picture tools, which draw them).
     FilmView& film_view() { return view_; }
     FilmTexture& texture() { return film_; }
@@ -158,6 +160,11 @@ private:
 
     FilmTexture film_;
     FilmView view_;
+    // Pixels a frame sends to the film texture at most (4 MB): a 1920x1080 film in two
+    // frames, a 2560x1600 one in four.
+    static constexpr std::int64_t kUploadBudget = std::int64_t(1) << 20;
+    TextureDirt dirt_;  // what of the film the texture does not have yet
+    bool picture_due_ = false;  // the render has a picture; it shows once the texture has it all
     DisplaySettings display_;
     const RegionRenderer* region_ = nullptr;
     bool yield_ = false;
@@ -171,6 +178,7 @@ private:
     std::chrono::steady_clock::time_point change_time_{};
     bool timing_change_ = false;
     double last_latency_ms_ = -1;
+    double upload_seconds_ = 0;
 };
 
 }  // namespace rtview

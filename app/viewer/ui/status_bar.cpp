@@ -1,5 +1,5 @@
 // The status bar: the message, the load's progress, the render's numbers and the
-// pixel readout, flowed into as many rows as they need (see panels.h).
+// pixel readout, on one row (cut with "..." where it does not fit; see panels.h).
 #include "panels.h"
 
 #include <imgui.h>
@@ -30,101 +30,37 @@ namespace rtview {
 
 namespace {
 
-// Pieces of status-bar text flowed into rows: a piece stays on the current row if it
-// fits (with its separator), else it starts a row of its own at the left, broken at
-// spaces where it is wider than the bar (never inside a number), and what follows goes
-// on after it. Returns the height of the rows below the first; draws them when `draw`,
-// and gives their text in `shown` (for --print-layout).
+// A piece of status-bar text and the separator before it.
 struct StatusPiece {
     std::string text;
-    const char* sep = "";
-    const ImVec4* colour = nullptr;
+    std::string sep;
 };
 
-float flow_status(const std::vector<StatusPiece>& pieces, float x, float left, float right, bool draw,
-                  std::vector<std::string>* shown = nullptr) {
-    const ImGuiStyle& st = ImGui::GetStyle();
-    const auto measure = [](std::string_view t) { return ImGui::CalcTextSize(t.data(), t.data() + t.size()).x; };
-    float extra = 0;
-    bool first = true;
-    for (const StatusPiece& p : pieces) {
-        const std::string joined = p.sep + p.text;
-        const float w = measure(joined);
-        const bool fits = x + w <= right;
-        const std::vector<std::string> rows = fits ? std::vector<std::string>{joined} : wrap_words(p.text, right - left, measure);
-        if (shown) {
-            if (fits && !shown->empty()) shown->back() += (first ? "" : " ") + joined;
-            else shown->insert(shown->end(), rows.begin(), rows.end());
-        }
-        if (draw) {
-            if (p.colour) ImGui::PushStyleColor(ImGuiCol_Text, *p.colour);
-            for (std::size_t k = 0; k < rows.size(); ++k) {
-                if (fits && !first) ImGui::SameLine();
-                if (!fits && first && k == 0) ImGui::NewLine();
-                if (!fits) ImGui::SetCursorPosX(left);
-                ImGui::TextUnformatted(rows[k].c_str());
-            }
-            if (p.colour) ImGui::PopStyleColor();
-        }
-        if (fits) {
-            x += w + st.ItemSpacing.x;
-        } else {
-            extra += float(rows.size()) * (ImGui::GetTextLineHeight() + st.ItemSpacing.y);
-            x = left + measure(rows.back()) + st.ItemSpacing.x;
-        }
-        first = false;
-    }
-    return extra;
-}
-
-// "spp" names the progress bar's numbers: it stays beside them. The groups of a
-// pixel readout ("RGB 0.107 0.107 0.125", three spaces apart) each move to the next
-// row whole.
+// The text in pieces at runs of two or more spaces (the statistics' parts; a pixel
+// readout's groups, "RGB 0.107 0.107 0.125", three spaces apart), which a narrow bar
+// shows or leaves out whole.
 void add_status_line(std::vector<StatusPiece>& pieces, const std::string& text) {
-    std::string rest = text;
-    const char* sep = "";
-    if (text.rfind("spp  ", 0) == 0) {
-        pieces.push_back({"spp"});
-        rest = text.substr(5);
-        sep = " ";
+    const std::string& rest = text;
+    std::string sep;
+    std::size_t start = 0;
+    while (start <= rest.size()) {
+        std::size_t at = rest.find("  ", start);
+        if (at == std::string::npos) at = rest.size();
+        pieces.push_back({rest.substr(start, at - start), sep});
+        std::size_t end = at;
+        while (end < rest.size() && rest[end] == ' ') ++end;
+        sep = rest.substr(at, end - at);
+        if (at == rest.size()) break;
+        start = end;
     }
-    for (std::size_t at = rest.find("   "); at != std::string::npos; at = rest.find("   ")) {
-        pieces.push_back({rest.substr(0, at), sep});
-        rest.erase(0, at + 3);
-        sep = "   ";
-    }
-    pieces.push_back({rest, sep});
 }
 
 // The status bar's window padding (unscaled, as its one row always had).
 const ImVec2 kStatusPadding(6, 4);
 
-// The pieces of the status bar's usual contents at their usual width: the statistics
-// with the message, and a pixel readout (a longer one makes the bar grow while the
-// message stays: status_more_).
-std::vector<StatusPiece> usual_stats() {
-    std::vector<StatusPiece> p;
-    add_status_line(p, "spp  00.00 Mrays/s  000.0 s  rendering  |  picture frame");
-    return p;
-}
-std::vector<StatusPiece> usual_readout() {
-    std::vector<StatusPiece> p;
-    add_status_line(p, "spp  rendering  | x 000 y 000   RGB 0.000 0.000 0.000   64 spp   object 10 (sphere) at 0.00");
-    return p;
-}
-
-// Where the text starts on the first row: after the button and the progress bar.
-float status_text_x() {
-    const float spacing = ImGui::GetStyle().ItemSpacing.x;
-    return kStatusPadding.x + ImGui::GetFontSize() * (4.5f + 8) + 2 * spacing;
-}
-
-// The pieces followed by the last message, if there is one.
-std::vector<StatusPiece> with_message(const StatusLine& status, std::vector<StatusPiece> pieces) {
-    static const ImVec4 grey(0.75f, 0.75f, 0.75f, 1);
-    if (!status.text().empty()) pieces.push_back({status.text(), "| ", status.error() ? &kErrorColour : &grey});
-    return pieces;
-}
+// The progress bar's width at most: two fifths of what is left beside the button, so a
+// narrow bar (a small window at a large UI scale) still shows some text.
+float narrow_share(float avail) { return std::max(ImGui::GetFontSize() * 3, avail * 0.4f); }
 
 }  // namespace
 
@@ -141,7 +77,8 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             // Loading in the background: its progress replaces the render's.
             if (ImGui::Button("Cancel", ImVec2(ImGui::GetFontSize() * 4.5f, 0))) commands_.run(Command::CancelLoad);
             ImGui::SameLine();
-            ImGui::ProgressBar(float(load.fraction), ImVec2(ImGui::GetFontSize() * 8, 0));
+            ImGui::ProgressBar(float(load.fraction),
+                               ImVec2(std::min(ImGui::GetFontSize() * 8, narrow_share(ImGui::GetContentRegionAvail().x)), 0));
             ImGui::SameLine();
             status_text(load.text + " (Esc cancels)", true);
         } else {
@@ -161,7 +98,7 @@ void Panels::draw_status_bar(const LoadStatus& load) {
                 std::snprintf(buf, sizeof buf, "%lldk px refining", static_cast<long long>((p.refining + 999) / 1000));
             else if (p.refining > 0) std::snprintf(buf, sizeof buf, "%lld px refining", static_cast<long long>(p.refining));
             else if (p.refining == 0) std::snprintf(buf, sizeof buf, "settled");
-            else std::snprintf(buf, sizeof buf, "%d / %d", p.samples, render_.max_samples());
+            else std::snprintf(buf, sizeof buf, "%d / %d spp", p.samples, render_.max_samples());
             if (render_.showing_preview()) {  // the view moves: the last render's state is not the picture's
                 std::snprintf(buf, sizeof buf, "moving");
                 frac = 0;
@@ -174,9 +111,17 @@ void Panels::draw_status_bar(const LoadStatus& load) {
                 std::snprintf(buf, sizeof buf, "updating");
                 frac = 0;
             }
-            // As wide as its longest usual text (up to 100M pixels refining), at any UI scale.
-            const float bar_w = std::max(ImGui::GetFontSize() * 8,
-                                         ImGui::CalcTextSize("99999k px refining").x + ImGui::GetStyle().FramePadding.x * 4);
+            // As wide as its longest usual text (up to 100M pixels refining), at any UI
+            // scale, so it keeps its width; in a narrow bar, as wide as this label, within
+            // a share that leaves the text room, and the percentage if not even that.
+            const float pad = ImGui::GetStyle().FramePadding.x;
+            const float usual = std::max(ImGui::GetFontSize() * 8, ImGui::CalcTextSize("99999k px refining").x + pad * 4);
+            const float share = narrow_share(ImGui::GetContentRegionAvail().x);
+            const float bar_w = usual <= share ? usual
+                                               : std::min(share, std::max(ImGui::GetFontSize() * 3,
+                                                                          ImGui::CalcTextSize(buf).x + pad * 4));
+            if (ImGui::CalcTextSize(buf).x + 2 * pad > bar_w)
+                std::snprintf(buf, sizeof buf, "%d%%", int(std::floor(frac * 100)));
             ImGui::ProgressBar(float(frac), ImVec2(bar_w, 0), buf);
             ImGui::SameLine();
             double rate = elapsed > 0 ? double(p.rays) / elapsed : 0;
@@ -192,68 +137,85 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             const char* shown = render_.showing_preview() ? preview : stale ? "updating the picture..." : state;
             // Over the picture: the readout of the pixel under the cursor instead of the
             // statistics; the last message stays beside it (a screenshot's path, an error).
+            // The readout first: in a narrow bar it is what is cut last.
             char line[512];
-            const char* unit = p.refining >= 0 ? "" : "spp  ";  // (an adaptive bar counts pixels)
             if (!tools_.readout_line().empty())
-                std::snprintf(line, sizeof line, "%s%s  | %s", unit, shown, tools_.readout_line().c_str());
+                std::snprintf(line, sizeof line, "%s  |  %s", tools_.readout_line().c_str(), shown);
             else
-                std::snprintf(line, sizeof line, "%s%.2f Mrays/s  %.1f s  %s  |  %s", unit, rate / 1e6, elapsed, shown,
+                std::snprintf(line, sizeof line, "%.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
                               layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
-            status_text(line, true);
+            // Over the picture the readout is what the user looks for: the message gets less.
+            status_text(line, true, tools_.readout_line().empty() ? 0.4f : 0.25f);
         }
     }
     ImGui::End();
     ImGui::PopStyleVar();
 }
 
-// The rows below the first that the status bar's usual contents need in a window
-// `width` wide: the statistics, or a readout, with the message (the current one, and one
-// of the usual length, so that the next message rarely changes the bar's height).
-float Panels::usual_status_extra(float width) const {
-    const float left = kStatusPadding.x, right = width - kStatusPadding.x, x = status_text_x();
-    StatusLine typical;
-    typical.set("The scene camera is now the view (Ctrl+Z undoes)");
-    return std::max({flow_status(with_message(status_, usual_stats()), x, left, right, false),
-                     flow_status(with_message(typical, usual_stats()), x, left, right, false),
-                     flow_status(with_message(status_, usual_readout()), x, left, right, false),
-                     flow_status(with_message(typical, usual_readout()), x, left, right, false)});
-}
-
-// The status bar's height in a window `width` wide: what its usual contents need
-// rather than what it shows now, so the image area keeps its size when the mouse moves
-// onto the picture, a dialog opens or a message comes. Known before the bar is drawn:
-// the first frame has it right.
-float Panels::status_height(float width) {
-    float extra = usual_status_extra(width);
-    // Shown text that needed more (a long object name), while the message and width last.
-    if (status_more_.width == width && status_more_.font == ImGui::GetFontSize() && status_more_.text == status_.text())
-        extra = std::max(extra, status_more_.extra);
-    return std::ceil(ImGui::GetFrameHeight() + 8 * ImGui::GetFontSize() / 13.f + extra);
+// The status bar's height: one row at any width (what does not fit is cut with "...",
+// the whole text on hover), so the image area keeps its size whatever it says.
+float Panels::status_height(float) {
+    return std::ceil(ImGui::GetFrameHeight() + 8 * ImGui::GetFontSize() / 13.f);
 }
 
 // The status bar's text right of the button and the progress bar, then the last message
-// (`show_message`). What does not fit on the row goes on rows of its own below rather
-// than being cut at the bar's edge (status_height() leaves room for them).
-void Panels::status_text(const std::string& text, bool show_message) {
-    std::vector<StatusPiece> shown;
-    add_status_line(shown, text);
-    if (show_message) shown = with_message(status_, std::move(shown));
-    std::vector<std::string> rows;
-    const float extra = flow_status(shown, ImGui::GetCursorPosX(), ImGui::GetWindowContentRegionMin().x,
-                                    ImGui::GetWindowContentRegionMax().x, true, &rows);
-    std::string all, drawn;
-    for (const StatusPiece& p : shown) all += p.sep + p.text;
-    for (const std::string& r : rows) drawn += (drawn.empty() ? "" : " || ") + r;
-    probe("status_bar", all);
-    if (show_message && status_.error()) {
+// (`show_message`), on one row: when they do not fit, the message keeps its share of
+// it, the statistics or readout lose whole groups from their end, and each part cut
+// ends in "..." (a message with a path has it in the middle); hovering shows all of it.
+void Panels::status_text(const std::string& text, bool show_message, float message_share) {
+    std::vector<StatusPiece> pieces;
+    add_status_line(pieces, text);
+    std::vector<std::pair<std::string, std::string>> parts;
+    std::string stats;
+    for (const StatusPiece& p : pieces) {
+        parts.emplace_back(p.sep, p.text);
+        stats += p.sep + p.text;
+    }
+    const std::string message = show_message ? status_.text() : std::string();
+    const ImGuiStyle& st = ImGui::GetStyle();
+    const auto measure = [](std::string_view t) { return ImGui::CalcTextSize(t.data(), t.data() + t.size()).x; };
+    const bool dismiss = show_message && status_.error() && !message.empty();
+    float room = ImGui::GetWindowContentRegionMax().x - ImGui::GetCursorPosX();
+    if (dismiss) room -= measure("x") + 2 * st.FramePadding.x + st.ItemSpacing.x;
+    const std::string said = message.empty() ? std::string() : "| " + message;
+    if (!said.empty()) room -= st.ItemSpacing.x;
+    const float stats_w = measure(stats), said_w = said.empty() ? 0 : measure(said);
+    std::string shown_stats = stats, shown_said = said;
+    if (stats_w + said_w > room) {
+        const float said_room = said.empty() ? 0 : std::min(said_w, std::max(room * message_share, room - stats_w));
+        shown_stats = elide_pieces(parts, room - said_room, measure);
+        // A path's file name stays (cut in the middle), a sentence's start.
+        if (!said.empty())
+            shown_said = said.find('/') != std::string::npos ? elide_middle(said, room - measure(shown_stats), measure)
+                                                             : elide_end(said, room - measure(shown_stats), measure);
+    }
+    static const ImVec4 grey(0.75f, 0.75f, 0.75f, 1);
+    ImGui::BeginGroup();
+    ImGui::TextUnformatted(shown_stats.c_str());
+    if (!shown_said.empty()) {
+        ImGui::SameLine();
+        ImGui::PushStyleColor(ImGuiCol_Text, status_.error() ? kErrorColour : grey);
+        ImGui::TextUnformatted(shown_said.c_str());
+        ImGui::PopStyleColor();
+    }
+    ImGui::EndGroup();
+    const bool cut = shown_stats != stats || shown_said != said;
+    if (cut && ImGui::IsItemHovered()) {
+        ImGui::BeginTooltip();
+        ImGui::PushTextWrapPos(ImGui::GetIO().DisplaySize.x * 0.8f);
+        ImGui::TextUnformatted(stats.c_str());
+        if (!message.empty()) ImGui::TextUnformatted(message.c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::EndTooltip();
+    }
+    probe("status_bar", stats + said);
+    probe("status_rows", shown_stats + (shown_said.empty() ? "" : " " + shown_said));
+    if (dismiss) {
         // Errors stay until the next message or until dismissed here.
         ImGui::SameLine();
         if (ImGui::SmallButton("x##dismiss")) status_.set("");
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("Dismiss this message");
     }
-    probe("status_rows", drawn);
-    const float width = ImGui::GetWindowWidth();
-    if (extra > usual_status_extra(width)) status_more_ = {width, ImGui::GetFontSize(), status_.text(), extra};
 }
 
 }  // namespace rtview

@@ -21,7 +21,15 @@ void TextEditor::find_next(bool forward) {
         buf_.select(*r);
         scroll_request_ = true;
         scroll_centre_ = true;
+        // "3 of 12": counted over the whole text, which for a very large one could hold
+        // up the frame; it then stops at a limit ("3 of 5000+") or, past 200,000
+        // lines, is not counted.
         find_status_.clear();
+        if (buf_.line_count() <= 200000) {
+            const TextBuffer::MatchCount c = buf_.count_matches(needle, match_case_, r->begin, 5000);
+            find_status_ = (c.index > 0 ? std::to_string(c.index) : std::string("?")) + " of " + std::to_string(c.total) +
+                           (c.more ? "+" : "");
+        }
     } else {
         find_status_ = needle.empty() ? "" : "no match";
     }
@@ -160,7 +168,9 @@ void TextEditor::draw_bar() {
         }
         if (!find_status_.empty()) {
             ImGui::SameLine();
-            ImGui::TextColored(ImVec4(1, 0.8f, 0.35f, 1), "%s", find_status_.c_str());
+            const bool none = find_status_ == "no match";
+            ImGui::TextColored(none ? ImVec4(1, 0.8f, 0.35f, 1) : ImGui::GetStyleColorVec4(ImGuiCol_Text), "%s",
+                               find_status_.c_str());
         }
     } else if (goto_open_) {
         ImGui::AlignTextToFramePadding();

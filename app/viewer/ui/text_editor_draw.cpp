@@ -126,8 +126,20 @@ bool TextEditor::draw(const char* id, const ImVec2& size_arg) {
         probe("editor_grid", grid);
         probe("editor_cursor", std::to_string(f.cur.line + 1) + " " + std::to_string(f.cur.col + 1) +
                                    (focused_ ? " focused" : ""));
+        probe("editor_bar", find_open_   ? "find " + find_field_.line(0) + (find_status_.empty() ? "" : " (" + find_status_ + ")")
+                            : goto_open_ ? "goto " + goto_field_.line(0)
+                                         : std::string("none"));
     }
+    // The keys go where the user last clicked: a frame round the text says it has them
+    // (with the caret, which only then is drawn).
+    const ImRect text_rect = ImGui::GetCurrentWindow()->Rect();
     ImGui::EndChild();
+    if (focused_) {
+        const float t = std::max(1.f, std::floor(ImGui::GetFontSize() / 8));
+        ImGui::GetWindowDrawList()->AddRect(ImVec2(text_rect.Min.x + t / 2, text_rect.Min.y + t / 2),
+                                            ImVec2(text_rect.Max.x - t / 2, text_rect.Max.y - t / 2),
+                                            ImGui::GetColorU32(ImGuiCol_NavHighlight), 0, 0, t);
+    }
     ImGui::PopStyleColor();
     ImGui::EndChild();
     ImGui::PopStyleVar();

