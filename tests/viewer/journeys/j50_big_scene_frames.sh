@@ -8,7 +8,7 @@
 # window shows at least 4 new frames a second (counted on the screen by
 # rtview-xframes: the picture's changes); every typed character is in the field
 # within 2 s of the last key (it showed about two characters a second).
-# Usage: j46_big_scene_frames.sh BIN_DIR OUT_DIR
+# Usage: j50_big_scene_frames.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@" 2560x1600
 
 mkdir -p "$XDG_CONFIG_HOME/raytracer-view"

@@ -4,7 +4,7 @@
 # Checks: K numbers them 1, 2, 3; Shift+B compares side by side with the newest but
 # one, then the oldest, then the newest again, saying which ("snapshot 2 of 3"), and
 # the split's label names the snapshot shown.
-# Usage: j48_snapshots.sh BIN_DIR OUT_DIR
+# Usage: j52_snapshots.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
 start_viewer "$SCENES/default.txt" --samples 4

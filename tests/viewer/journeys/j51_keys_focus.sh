@@ -10,7 +10,7 @@
 # the text again; Ctrl+F and Ctrl+G work with the Text tab in front whether or not the
 # text was clicked, and what follows goes into their field (the 1 for Go to line does
 # not zoom the picture to 1:1); Find says which match of how many ("2 of 5").
-# Usage: j47_keys_focus.sh BIN_DIR OUT_DIR
+# Usage: j51_keys_focus.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
 start_viewer "$SCENES/default.txt" --samples 4
