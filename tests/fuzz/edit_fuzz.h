@@ -160,7 +160,7 @@ public:
         std::vector<std::string> sections;
         // Now and then definitions first: a named material and object the things may use.
         std::string define;
-        if (kDefinitions && c_.one_in(3)) {
+        if (c_.one_in(3)) {
             define = "define {\n  material gold " + material("").substr(1) + "\n";
             defined_ = true;
             define += "  object post { " + object(1) + " }\n}\n";
@@ -291,7 +291,7 @@ private:
     std::vector<std::string> objects() {
         std::vector<std::string> out(std::size_t(c_.between(0, 5)));
         for (std::string& o : out) {
-            if (defined_ && kInstances && c_.one_in(4)) {
+            if (defined_ && c_.one_in(4)) {
                 std::vector<std::string> k = {"object post"};
                 maybe_material(k);
                 o = block("instance", std::move(k));
@@ -357,15 +357,6 @@ private:
 
     Choices& c_;
     bool defined_ = false;  // the scene defines material gold and object post
-    // Instances are left out until the viewer's document knows them (a CSG made of an
-    // instance, which the format refuses, is still offered).
-    static constexpr bool kInstances = false;
-    // So are definitions: with them the viewer's undo history can reach a state the user
-    // never saw, and a CSG made of objects that use a named material writes the
-    // material out, a scene unequal to the one the edit meant (found by this fuzzer,
-    // seeds 355, 397, 467 of test_edit_fuzz with both on; the document does not know
-    // named materials yet).
-    static constexpr bool kDefinitions = false;
     // Includes: the items they bring are shown read only (their edits refused), and an
     // included file changed on disk is read again.
     static constexpr bool kIncludes = true;
@@ -1085,24 +1076,46 @@ private:
         if (rt::Status st = rt::write_file_atomic(path_, text); !st) fail("cannot write the scene file", st.message());
         if (!parse(text).ok()) own_texts_.insert(text);
         const bool was_modified = doc_.modified();
+        const State before = state();
+        const auto included_before = included_counts();
         const Doc::DiskEvent ev = doc_.check_disk();
         log("outside change of the file: event " + std::to_string(int(ev)));
         if (ev == Doc::DiskEvent::Reloaded) {
             if (was_modified) broken("reloaded over unsaved edits");
             saved_ = text;
             if (std::as_const(doc_).editor_text() != text) broken("the reloaded text is not the file's");
+            reloaded(before, included_before);
         } else if (ev == Doc::DiskEvent::Conflict) {
             if (c_.one_in(2)) {
                 log("conflict: reload");
                 doc_.resolve_conflict_reload();
                 saved_ = text;
                 if (std::as_const(doc_).editor_text() != text) broken("the reloaded text is not the file's");
+                reloaded(before, included_before);
             } else {
                 log("conflict: keep mine");
                 doc_.resolve_conflict_keep();
             }
         }
         settle_disk();
+    }
+
+    // How many items of each list the included files brought.
+    std::tuple<std::size_t, std::size_t, std::size_t> included_counts() const {
+        if (!doc_.has_scene()) return {};
+        auto count = [](const auto& v) {
+            return std::size_t(std::count_if(v.begin(), v.end(), [](const auto& x) { return x.origin != 0; }));
+        };
+        const rt::Scene& s = doc_.scene();
+        return {count(s.objects), count(s.planes), count(s.lights)};
+    }
+    // The file was read again (its includes with it): when these brought another number
+    // of items, the history before the reload is gone (its steps name items by their
+    // place), and the reload is its one step.
+    void reloaded(const State& before, const std::tuple<std::size_t, std::size_t, std::size_t>& included_before) {
+        if (!before.has_scene || !doc_.has_scene() || included_counts() == included_before) return;
+        if (doc_.undo_names(2).size() != 1) broken("included items came or went in a reload, and the history stayed");
+        seen_ = {before};
     }
 
     // Another program writes the included file: the viewer reads it again (the text

@@ -296,7 +296,7 @@ bool Document::reads_back(const DocStep& step, bool wide) const {
     if (wide) {
         changed = scene_;
     } else {
-        changed.camera = scene_.camera;
+        changed = item_scene(scene_);
         for (const auto& p : step.objects_after) changed.objects.push_back(p.second);
         for (const auto& p : step.planes_after) changed.planes.push_back(p.second);
         for (const auto& p : step.lights_after) changed.lights.push_back(p.second);
@@ -325,8 +325,7 @@ bool Document::commit_in_place(DocStep& step) {
         return v[*own];
     };
     std::vector<TextReplacement> reps;
-    rt::Scene one;  // carries a valid camera so the writer prints a normal scene
-    one.camera = scene_.camera;
+    rt::Scene one = item_scene(scene_);  // a valid camera, the named materials: as the text has them
     // An item's block keeps its comments and layout when only its changed values can
     // be replaced (block_patch.h); else the writer's block replaces it.
     auto add = [&](TextSpan span, ItemList kind, std::optional<std::string> patched = std::nullopt) {

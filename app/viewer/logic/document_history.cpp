@@ -21,6 +21,32 @@ bool same_except_camera(const rt::Scene& a, const rt::Scene& b) {
            a.height == b.height;
 }
 
+// The items of list `a` read from included files are those of `b`, in order.
+template <class T>
+bool same_included_items(const std::vector<T>& a, const std::vector<T>& b) {
+    auto next = [](const std::vector<T>& v, std::size_t& k) {
+        while (k < v.size() && v[k].origin == 0) ++k;
+        return k < v.size() ? &v[k++] : nullptr;
+    };
+    std::size_t i = 0, j = 0;
+    for (;;) {
+        const T *x = next(a, i), *y = next(b, j);
+        if (!x || !y) return x == y;
+        if (!(*x == *y) || x->origin != y->origin) return false;
+    }
+}
+
+// What a step that keeps only the items it changed cannot give back: the named
+// materials and objects, the includes, and the items read from included files (an undo
+// would bring those back as they were, not as the files are now). A change of any of
+// these makes a step that parses the text again.
+bool same_definitions(const rt::Scene& a, const rt::Scene& b) {
+    if (!(a.materials == b.materials && a.defined == b.defined && a.includes == b.includes)) return false;
+    if (a.includes.empty()) return true;
+    return same_included_items(a.objects, b.objects) && same_included_items(a.planes, b.planes) &&
+           same_included_items(a.lights, b.lights);
+}
+
 }  // namespace
 
 std::size_t DocStep::bytes() const {
@@ -92,7 +118,7 @@ void Document::replace_state(const std::string* editor, std::optional<std::strin
         bool same_counts = has_scene_ && scene->objects.size() == scene_.objects.size() &&
                            scene->planes.size() == scene_.planes.size() &&
                            scene->lights.size() == scene_.lights.size() && scene->width == scene_.width &&
-                           scene->height == scene_.height;
+                           scene->height == scene_.height && same_definitions(*scene, scene_);
         bool small = same_counts &&
                      diff_items(scene_.objects, scene->objects, step.objects_before, step.objects_after, kMaxStepItems) &&
                      diff_items(scene_.planes, scene->planes, step.planes_before, step.planes_after, kMaxStepItems) &&

@@ -100,6 +100,14 @@ std::string written_item(const rt::Scene& one, ItemList list, const std::string&
                     indent);
 }
 
+rt::Scene item_scene(const rt::Scene& s) {
+    rt::Scene one;
+    one.camera = s.camera;
+    one.materials = s.materials;
+    for (rt::NamedMaterial& m : one.materials) m.origin = 0;
+    return one;
+}
+
 SceneLayout scan_layout(std::string_view text, std::size_t objects) {
     SceneLayout l;
     if (objects > 0) {
@@ -161,7 +169,9 @@ ItemList kind_of(const rt::Light&) { return ItemList::Light; }
 // The replacements of one edit, gathered against the layout `l` of `text`.
 class Patcher {
 public:
-    Patcher(const std::string& text, const SceneLayout& l, const rt::Camera& camera) : text_(text), l_(l) {
+    // `names`: the scene whose named materials the items use.
+    Patcher(const std::string& text, const SceneLayout& l, const rt::Scene& names, const rt::Camera& camera)
+        : text_(text), l_(l), one_(item_scene(names)) {
         one_.camera = camera;  // a valid camera, so the writer prints a normal scene
     }
 
@@ -302,7 +312,7 @@ std::optional<std::string> patch_scene_text(const std::string& text, const rt::S
     if (!layout_matches(l, from)) return std::nullopt;
     // Panels never change the picture size; a change there is left to the writer.
     if (from.width != to.width || from.height != to.height) return std::nullopt;
-    Patcher p(text, l, to.camera);
+    Patcher p(text, l, to, to.camera);
     if (!patch_list(p, from.objects, to.objects) || !patch_list(p, from.planes, to.planes) ||
         !patch_list(p, from.lights, to.lights))
         return std::nullopt;
@@ -324,9 +334,10 @@ std::optional<std::string> patch_scene_items(const std::string& text, const rt::
     // What the changed items read back as is all that is checked: the rest of the text
     // is not touched (as a panel edit's commit in the document does).
     rt::Scene changed = values;
+    changed.materials = item_scene(from).materials;  // (the text's names)
     if (!at.camera) changed.camera = from.camera;
     if (!text_holds(changed)) return std::nullopt;
-    Patcher p(text, l, changed.camera);
+    Patcher p(text, l, from, changed.camera);
     // An item read from an included file has no block here: such an edit is not made.
     auto each = [&p, &from](ItemList kind, const auto& list, const std::vector<std::size_t>& indices, const auto& now) {
         for (std::size_t k = 0; k < indices.size(); ++k) {

@@ -85,6 +85,11 @@ enum class ItemList { Object, Plane, Light, Camera };
 // The only item of `one` in `list` as the writer prints it, its lines after the first
 // indented for a line that starts with `indent`; empty if the writer's text is unclear.
 std::string written_item(const rt::Scene& one, ItemList list, const std::string& indent);
+// An empty scene for writing items of `s` on their own (written_item, text_holds): `s`'s
+// camera, so that the writer prints a normal scene, and its named materials (an
+// included file's too, as if the scene's own, so that each keeps its place), so that a
+// use of one is written by its name as the scene's text has it, not spelled out.
+rt::Scene item_scene(const rt::Scene& s);
 
 // The scene file's own items are those of origin 0; items read from an included file
 // have no block in the scene's text. own_index: an item's place among its list's own
