@@ -691,7 +691,11 @@ private:
                                ? int(c_.below(256)) - 1
                                : f.choice->words[c_.below(unsigned(f.choice->words.size()))].value;
                 break;
-            case sc::Kind::Material: material_value(v.material); break;
+            case sc::Kind::Material:
+                // A use of a named material: edited for every user, or made local.
+                if (v.material.named >= 0 && c_.one_in(6)) v.material.named = -1;
+                else material_value(v.material);
+                break;
             case sc::Kind::Operand: break;
             case sc::Kind::File: break;  // (the fuzzer's scenes name no model files)
         }

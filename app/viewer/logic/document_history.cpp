@@ -59,6 +59,9 @@ std::size_t DocStep::bytes() const {
     for (const auto& o : objects_after) b += object_bytes(o.second) + sizeof(std::size_t);
     b += (planes_before.size() + planes_after.size()) * (sizeof(rt::Plane) + sizeof(std::size_t));
     b += (lights_before.size() + lights_after.size()) * (sizeof(rt::Light) + sizeof(std::size_t));
+    b += (materials_before.size() + materials_after.size()) * (sizeof(rt::NamedMaterial) + sizeof(std::size_t));
+    for (const auto* v : {&defined_before, &defined_after})
+        for (const auto& d : *v) b += sizeof(rt::NamedObject) + (d.second.object ? object_bytes(*d.second.object) : 0);
     return b;
 }
 
@@ -170,6 +173,8 @@ void Document::apply_step(const DocStep& s, bool forward) {
             scene_ = std::move(r.scene);
         }
     } else {
+        for (const auto& p : forward ? s.materials_after : s.materials_before) scene_.materials[p.first] = p.second;
+        for (const auto& p : forward ? s.defined_after : s.defined_before) scene_.defined[p.first] = p.second;
         for (const auto& p : forward ? s.objects_after : s.objects_before) restore_object(p.first, p.second);
         for (const auto& p : forward ? s.planes_after : s.planes_before) restore_plane(p.first, p.second);
         for (const auto& p : forward ? s.lights_after : s.lights_before) scene_.lights[p.first] = p.second;
