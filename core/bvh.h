@@ -196,11 +196,13 @@ public:
     template <class Fn>
     RT_TARGET_AVX2 void traverse_nearest_leaves8(const Vec3& origin, const Vec3& dir, double tmax, Fn&& fn) const {
         Leaves<std::remove_reference_t<Fn>> leaves{fn};
+        if (beyond_float(origin, dir)) return every_item(tmax, leaves);
         traverse8(origin, dir, tmax, leaves);
     }
     template <class Fn>
     RT_TARGET_AVX2 bool occluded_leaves8(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn&& fn) const {
         Leaves<std::remove_reference_t<Fn>> leaves{fn};
+        if (beyond_float(origin, dir)) return any_item(leaves);
         return occluded8(origin, dir, len, tmax, leaves);
     }
 #endif
@@ -252,6 +254,7 @@ public:
     template <class Fn>
     void traverse(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn&& fn) const {
         if (nodes.empty()) return;
+        if (beyond_float(origin, dir)) return every_item(tmax, fn);
         nearest_walk<Wide4>(BvhRay::make(origin, dir, len), tmax, fn);
     }
 
@@ -261,7 +264,7 @@ public:
     template <class Fn>
     void traverse_nearest(const Vec3& origin, const Vec3& dir, double tmax, Fn&& fn) const {
 #if RT_HAVE_AVX2_KERNELS
-        if (!nodes8.empty() && avx2_active()) {
+        if (!nodes8.empty() && avx2_active() && !beyond_float(origin, dir)) {
             traverse8(origin, dir, tmax, fn);
             return;
         }
@@ -276,6 +279,7 @@ public:
     template <class Fn>
     bool occluded(const Vec3& origin, const Vec3& dir, double len, double tmax, Fn&& fn) const {
         if (nodes.empty()) return false;
+        if (beyond_float(origin, dir)) return any_item(fn);
 #if RT_HAVE_AVX2_KERNELS
         if (!nodes8.empty() && avx2_active()) return occluded8(origin, dir, len, tmax, fn);
 #endif
@@ -406,6 +410,44 @@ private:
             if (nt < tmax) tmax = nt;
         }
         return true;
+    }
+
+    // A ray from beyond where the float box tests hold (a coordinate of 1e30 or more,
+    // or no number: a hit far out on a plane met at a grazing angle) would enter every
+    // box through its infinities and NaNs, a wide node's empty slots too: such a ray
+    // meets the items one by one instead (every_item, any_item).
+    static bool beyond_float(const Vec3& o, const Vec3& d) {
+        constexpr double kFar = 1e30;
+        return !(std::fabs(o.x) < kFar && std::fabs(o.y) < kFar && std::fabs(o.z) < kFar && std::fabs(d.x) < kFar &&
+                 std::fabs(d.y) < kFar && std::fabs(d.z) < kFar);
+    }
+    template <class Fn>
+    void every_item(double tmax, Fn& fn) const {
+        for (std::size_t k = 0; k < items.size(); ++k) {
+            const double nt = fn(items[k], tmax);
+            if (nt < 0) return;
+            if (nt < tmax) tmax = nt;
+        }
+    }
+    template <class F>
+    void every_item(double tmax, Leaves<F>& leaves) const {
+        for (std::size_t k = 0; k < items.size(); ++k) {
+            const double nt = leaves.fn(std::uint32_t(k), 1u, tmax);
+            if (nt < 0) return;
+            if (nt < tmax) tmax = nt;
+        }
+    }
+    template <class Fn>
+    bool any_item(Fn& fn) const {
+        for (std::size_t k = 0; k < items.size(); ++k)
+            if (fn(items[k])) return true;
+        return false;
+    }
+    template <class F>
+    bool any_item(Leaves<F>& leaves) const {
+        for (std::size_t k = 0; k < items.size(); ++k)
+            if (leaves.fn(std::uint32_t(k), 1u)) return true;
+        return false;
     }
 
     // The lowest set bit's index, cleared from mask (not 0).

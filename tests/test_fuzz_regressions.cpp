@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,7 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "camera.h"
 #include "fuzz/fuzz_common.h"
+#include "renderer.h"
+#include "world.h"
 #include "scene_parser.h"
 #include "scene_writer.h"
 #include "test_util.h"
@@ -91,6 +95,32 @@ TEST_CASE("fuzz regression: a low max_errors must not terminate in the whole-sce
             }));
         }
     }
+}
+
+// Found by the edit fuzzer: a plane met at a grazing angle 2.4e301 away (its third
+// point 1e-300 off the line) sent the refracted ray from there into the objects' tree,
+// whose float box test took its infinities and NaNs for a hit on every box, a wide
+// node's empty slots too, and read past the items. Such a ray now meets the objects
+// one by one.
+TEST_CASE("fuzz regression: a ray from a hit far beyond float's range renders") {
+    const std::string text =
+        "light { lamp { position -3 -4 6 colour 72 60 54 size .4 } }\n"
+        "special_thing { plane { material { refraction 0.1 scattering 0.6 reflection 0.1 }\n"
+        "  point 1 0 0 -2 point 2 1 0 -2 point 3 -1 1e-300 0.18 point 4 0 0 -1 } }\n"
+        "thing { sphere { position -5 -2 3.5 radius 1.4 } sphere { position 6 1 1 radius 0.5 } }\n"
+        "picture_size { y_max 6 x_max 8 }\n"
+        "camera { centre 4 1 1 up 4 1 2 angle_y 54 angle_x 33 position -1 1 3 }\nend\n";
+    const Scene scene = rt_test::parse_ok(text);
+    CHECK(survives([&] {
+        const std::shared_ptr<const World> w = compile_world(scene);
+        const CameraBasis basis = CameraBasis::make(scene.camera, 8, 6, false);
+        std::vector<float> film(8 * 6 * 3, 0.0f);
+        RayStats stats;
+        for (int y = 0; y < 6; ++y)
+            for (int x = 0; x < 8; ++x) accumulate_pixel(*w, basis, x, y, 0, 1, &film[std::size_t(y * 8 + x) * 3], stats);
+        for (float v : film)
+            if (!std::isfinite(v)) _exit(4);
+    }));
 }
 
 // Every input saved in tests/fuzz/regressions/ (crashes, leaks, timeouts and broken

@@ -6,7 +6,7 @@
 // the input's bytes. After every step it checks what the viewer promises:
 //   - the scene is the parse of the text it came from, and the editor text parses
 //     unless it is exactly what was typed;
-//   - the world the viewer renders (ViewerWorld: kept up to date as the viewer does)
+//   - the world the viewer renders (ViewerWorld: WorldSync, as the viewer keeps it)
 //     equals a full compile of that text, table for table and pixel for pixel;
 //   - a saved file holds the editor text, and its render through core (as `raytracer`
 //     renders it) is the viewer's picture;
@@ -15,13 +15,14 @@
 //   - a text widget that follows the document's own changes of the text (as the Text
 //     tab does: text_changes_since(), typing carried the other way) holds its text.
 // A broken promise throws Broken (fuzz_common.h) naming it, with the steps so far.
+// The run's parts: edit_fuzz_choices.h (the input's bytes as choices, numbers),
+// edit_fuzz_scenes.h (random scene texts), edit_fuzz_world.h (the viewer's world and
+// its comparison with a full compile).
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <set>
@@ -30,489 +31,21 @@
 #include <utility>
 #include <vector>
 
-#include "bvh_update.h"
-#include "camera.h"
 #include "document.h"
+#include "edit_fuzz_choices.h"
+#include "edit_fuzz_scenes.h"
+#include "edit_fuzz_world.h"
 #include "fuzz_common.h"
 #include "image_io.h"
 #include "item_fields.h"
-#include "renderer.h"
 #include "scene_edits.h"
 #include "scene_parser.h"
 #include "scene_writer.h"
-#include "shapes.h"
 #include "text_buffer.h"
-#include "world.h"
 
 namespace rtfuzz {
 
-// The choices of one run, read from the input's bytes; zeros once they run out, so
-// that every input is a complete run.
-class Choices {
-public:
-    Choices(const std::uint8_t* data, std::size_t size) : p_(data), n_(size) {}
-    bool more() const { return i_ < n_; }
-    unsigned byte() { return i_ < n_ ? p_[i_++] : 0u; }
-    // 0 .. n - 1.
-    unsigned below(unsigned n) {
-        if (n <= 1) return 0;
-        unsigned v = byte();
-        if (n > 256) v = v << 8 | byte();
-        return v % n;
-    }
-    bool one_in(unsigned n) { return below(n) == 0; }
-    int between(int lo, int hi) { return lo + int(below(unsigned(hi - lo + 1))); }
-
-private:
-    const std::uint8_t* p_;
-    std::size_t n_, i_ = 0;
-};
-
-// ---------------------------------------------------------------------------------
-// Numbers
-
-// Values a user types or drags to, and the edges of what the format takes.
-inline double edge_number(Choices& c) {
-    static const double kEdges[] = {0.0,
-                                    -0.0,
-                                    1e15,
-                                    -1e15,
-                                    1e16,
-                                    -1e16,
-                                    999999999999999.9,
-                                    1e-300,
-                                    4.9e-324,
-                                    1e308,
-                                    std::numeric_limits<double>::infinity(),
-                                    -std::numeric_limits<double>::infinity(),
-                                    std::numeric_limits<double>::quiet_NaN(),
-                                    0.1 + 0.2,
-                                    1.0 / 3,
-                                    2.07 - 2.5,
-                                    123456789.123456789,
-                                    1e-7,
-                                    0.5,
-                                    180,
-                                    179.5,
-                                    16384,
-                                    16385};
-    return kEdges[c.below(sizeof kEdges / sizeof kEdges[0])];
-}
-
-// A number as scenes have them: small, with few digits.
-inline double plain_number(Choices& c) {
-    switch (c.below(4)) {
-        case 0: return c.between(-10, 10);
-        case 1: return c.between(-1000, 1000) / 100.0;
-        case 2: return c.between(0, 100) / 100.0;
-        default: return c.between(-30, 30) / 4.0;
-    }
-}
-
-inline double any_number(Choices& c) { return c.one_in(6) ? edge_number(c) : plain_number(c); }
-
-// `v` written as a user might: the writer's form, or "+2", "2.", ".5", "5e-1".
-inline std::string number_text(double v, Choices& c) {
-    std::string s = rt::format_number(v);
-    switch (c.below(8)) {
-        case 0:
-            if (v >= 0) s = "+" + s;
-            break;
-        case 1:
-            if (s.find_first_of(".e") == std::string::npos) s += ".";
-            break;
-        case 2:
-            if (s.rfind("0.", 0) == 0) s.erase(0, 1);
-            break;
-        case 3:
-            if (s.find('e') == std::string::npos) s += "e0";
-            break;
-        default: break;
-    }
-    return s;
-}
-
-// Text typed into a number field: numbers, numbers with spaces around, and junk.
-inline std::string typed_text(Choices& c, double current) {
-    static const char* const kJunk[] = {"",     " ",      "1e16",   "-1e16", "0x10", "inf",    "nan",   "--1",
-                                        "1.5cm", "1,5",   "\x01",   "\xc3\xa9", "\xff\xfe", "1e-400", "1e400", "+",
-                                        ".",    "e5",     "5e",     "1 2",   "\t7\t", " 3 ",    "\n4",   "0.1\r"};
-    switch (c.below(4)) {
-        case 0: return kJunk[c.below(sizeof kJunk / sizeof kJunk[0])];
-        case 1: return std::string(c.between(250, 300), '1');
-        case 2: return number_text(current + plain_number(c), c);
-        default: return number_text(any_number(c), c);
-    }
-}
-
-inline rt::Vec3 any_vec(Choices& c) { return {any_number(c), any_number(c), any_number(c)}; }
-inline rt::Vec3 plain_vec(Choices& c) { return {plain_number(c), plain_number(c), plain_number(c)}; }
-
-// ---------------------------------------------------------------------------------
-// Random scenes, laid out as people write them: keys in any order, comments, sections
-// split and repeated, CR LF line ends, text after `end`.
-
-class SceneWriter {
-public:
-    explicit SceneWriter(Choices& c) : c_(c) {}
-
-    std::string scene() {
-        std::vector<std::string> sections;
-        // Now and then definitions first: a named material and object the things may use.
-        std::string define;
-        if (kDefinitions && c_.one_in(3)) {
-            define = "define {\n  material gold " + material("").substr(1) + "\n";
-            defined_ = true;
-            define += "  object post { " + object(1) + " }\n}\n";
-        }
-        const int things = c_.between(0, 2);
-        for (int k = 0; k < things; ++k) sections.push_back(section("thing", objects()));
-        if (c_.below(3)) sections.push_back(section("special_thing", planes()));
-        if (c_.below(4)) sections.push_back(section("light", lights()));
-        camera_sections(sections);
-        if (!c_.one_in(24)) sections.push_back(picture_size());
-        // Now and then an include of a file beside it with things and lights of its own
-        // (included_file(): the caller writes it as lib.txt).
-        if (kIncludes && c_.one_in(3)) {
-            sections.push_back(std::string("include ") + (c_.one_in(4) ? "lib.txt" : "\"lib.txt\"") + comment() + "\n");
-            included_ = library();
-        }
-        for (std::size_t i = sections.size(); i > 1; --i) std::swap(sections[i - 1], sections[c_.below(unsigned(i))]);
-        std::string out = c_.one_in(3) ? "// a scene\n" : "";
-        out += define;
-        for (const std::string& s : sections) out += s;
-        out += "end\n";
-        if (c_.one_in(6)) out += c_.one_in(2) ? "after the end { thing {\n" : "camera { }\n";
-        if (c_.one_in(8)) out = crlf(out);
-        return out;
-    }
-
-    // The text of lib.txt when scene() included it, else nothing.
-    const std::optional<std::string>& included_file() const { return included_; }
-    // A file to include: things and lights (no camera, no picture size, no `end`).
-    std::string library() {
-        std::string out = c_.one_in(4) ? "// a library\n" : "";
-        out += section("thing", objects());
-        if (c_.one_in(2)) out += section("light", lights());
-        if (c_.one_in(3)) out += section("special_thing", planes());
-        return out;
-    }
-
-private:
-    std::string comment() {
-        static const char* const kComments[] = {" // note", " // { brace", " // lamp size 3", " // } end", ""};
-        return c_.one_in(5) ? kComments[c_.below(5)] : "";
-    }
-    std::string sep() { return c_.one_in(4) ? "\n      " : c_.one_in(6) ? "\t" : "  "; }
-    std::string num(double v) { return number_text(v, c_); }
-    std::string vec(const rt::Vec3& v) { return num(v.x) + " " + num(v.y) + " " + num(v.z); }
-    // Keys in a random order, each "key value".
-    std::string keys(std::vector<std::string> k) {
-        for (std::size_t i = k.size(); i > 1; --i) std::swap(k[i - 1], k[c_.below(unsigned(i))]);
-        std::string out;
-        for (const std::string& s : k) {
-            const std::string note = comment();
-            out += sep() + s + note + (note.empty() ? "" : "\n      ");
-        }
-        return out;
-    }
-    std::string block(const std::string& name, std::vector<std::string> k) {
-        return name + " {" + keys(std::move(k)) + " }";
-    }
-    std::string section(const std::string& name, const std::vector<std::string>& items) {
-        std::string out = name + " {" + comment() + "\n";
-        for (const std::string& i : items) out += "  " + i + comment() + "\n";
-        return out + "}\n";
-    }
-    std::string material(const char* name = "material") {
-        std::vector<std::string> k;
-        if (c_.one_in(2)) k.push_back("reflection " + num(c_.between(0, 10) / 10.0));
-        if (c_.one_in(3)) k.push_back("refraction " + num(c_.between(0, 10) / 10.0));
-        if (c_.one_in(2)) k.push_back("scattering " + num(c_.between(0, 10) / 10.0));
-        if (c_.one_in(3)) k.push_back("translusans " + num(c_.between(-2, 12) / 10.0));
-        if (c_.one_in(3)) k.push_back("refractive_index " + num(c_.between(5, 25) / 10.0));
-        if (c_.one_in(2)) k.push_back("colour " + vec({c_.between(0, 10) / 10.0, c_.between(0, 10) / 10.0, 1}));
-        return block(name, std::move(k));
-    }
-    void maybe_material(std::vector<std::string>& k) {
-        if (defined_ && c_.one_in(4)) k.push_back("material gold");
-        else if (c_.below(3)) k.push_back(material());
-        // Placement keys now and then (the same call for every object kind).
-        if (c_.one_in(5)) k.push_back("rotation " + vec({double(c_.between(-2, 2) * 45), 0, double(c_.between(0, 7) * 15)}));
-        if (c_.one_in(6)) k.push_back(c_.one_in(2) ? "scale " + num(c_.between(1, 8) / 4.0)
-                                                    : "scale " + vec({1, c_.between(1, 8) / 4.0, 0.5}));
-        if (c_.one_in(5)) k.push_back("translate " + vec({0, c_.between(-2, 2) / 2.0, c_.between(0, 2) / 2.0}));
-    }
-    rt::Vec3 point() { return {double(c_.between(-6, 12)), double(c_.between(-6, 6)), c_.between(0, 8) / 2.0}; }
-    std::string object(int depth) {
-        std::vector<std::string> k;
-        const rt::Vec3 p = point();
-        switch (c_.below(depth < 3 ? 7 : 6)) {
-            case 0:
-                k = {"position " + vec(p), "radius " + num(c_.between(1, 20) / 10.0)};
-                maybe_material(k);
-                return block("sphere", std::move(k));
-            case 1:
-                k = {"end_1 " + vec(p), "end_2 " + vec(p + rt::Vec3{0, c_.between(-2, 2) / 2.0, c_.between(1, 4) / 2.0}),
-                     "radius " + num(c_.between(1, 10) / 10.0)};
-                maybe_material(k);
-                return block("cylinder", std::move(k));
-            case 2:
-                k = {"vect1 " + vec(p), "vect2 " + vec(p + rt::Vec3{1, 0, 0}), "vect3 " + vec(p + rt::Vec3{0, 1, 0}),
-                     "vect4 " + vec(p + rt::Vec3{c_.between(0, 2) / 2.0, 0.5, c_.between(1, 4) / 2.0})};
-                maybe_material(k);
-                return block("tetrahedron", std::move(k));
-            case 3:
-                k = {"position " + vec(p), "major " + num(c_.between(0, 10) / 10.0),
-                     "minor " + num(c_.between(1, 5) / 10.0)};
-                if (c_.one_in(2)) k.push_back("direction " + vec({0, double(c_.between(0, 1)), 1}));
-                maybe_material(k);
-                return block("torus", std::move(k));
-            case 4:
-                k = {"corner_1 " + vec(p),
-                     "corner_2 " + vec(p + rt::Vec3{c_.between(1, 4) / 2.0, -c_.between(1, 4) / 2.0, c_.between(1, 4) / 2.0})};
-                maybe_material(k);
-                return block("box", std::move(k));
-            case 5: {
-                double r1 = c_.between(0, 10) / 10.0, r2 = c_.between(1, 10) / 10.0;
-                if (c_.one_in(2)) std::swap(r1, r2);  // either end may be the point
-                k = {"end_1 " + vec(p), "end_2 " + vec(p + rt::Vec3{0, c_.between(-2, 2) / 2.0, c_.between(1, 4) / 2.0}),
-                     "radius_1 " + num(r1), "radius_2 " + num(r2)};
-                maybe_material(k);
-                return block("cone", std::move(k));
-            }
-            default:
-                k = {"type " + std::string(1, "UIC"[c_.below(3)]), "left { " + object(depth + 1) + " }",
-                     "right { " + object(depth + 1) + " }"};
-                maybe_material(k);
-                return block("constructive_solid_geometry", std::move(k));
-        }
-    }
-    std::vector<std::string> objects() {
-        std::vector<std::string> out(std::size_t(c_.between(0, 5)));
-        for (std::string& o : out) {
-            if (defined_ && kInstances && c_.one_in(4)) {
-                std::vector<std::string> k = {"object post"};
-                maybe_material(k);
-                o = block("instance", std::move(k));
-                continue;
-            }
-            o = object(0);
-        }
-        return out;
-    }
-    std::vector<std::string> planes() {
-        std::vector<std::string> out(std::size_t(c_.between(0, 2)));
-        for (std::string& o : out) {
-            const bool chess = c_.one_in(2);
-            const double z = c_.between(-2, 0);
-            std::vector<std::string> k = {"point 1 " + vec({0, 0, z}), "point 2 " + vec({1, 0, z}),
-                                          "point 3 " + vec({0, double(c_.between(1, 2)), z}),
-                                          "point 4 " + vec({0, 0, z + c_.between(-1, 3)})};
-            if (c_.below(3)) k.push_back(material(chess ? "material 1" : "material"));
-            if (chess && c_.one_in(2)) k.push_back(material("material 2"));
-            o = block(chess ? "chess_plane" : "plane", std::move(k));
-        }
-        return out;
-    }
-    std::vector<std::string> lights() {
-        std::vector<std::string> out(std::size_t(c_.between(0, 3)));
-        for (std::string& o : out) {
-            const bool lamp = c_.one_in(2);
-            std::vector<std::string> k = {"position " + vec({double(c_.between(-3, 6)), double(c_.between(-5, 5)), 6}),
-                                          "colour " + vec({double(c_.between(0, 90)), 60, double(c_.between(0, 90))})};
-            if (lamp) k.push_back("size " + num(c_.between(-1, 5) / 10.0));
-            o = block(lamp ? "lamp" : "spotlight", std::move(k));
-        }
-        return out;
-    }
-    void camera_sections(std::vector<std::string>& sections) {
-        if (c_.one_in(24)) return;  // (a scene without a camera does not parse)
-        const rt::Vec3 pos{double(c_.between(-4, 0)), double(c_.between(-2, 2)), double(c_.between(1, 4))};
-        const rt::Vec3 centre{double(c_.between(4, 8)), double(c_.between(-1, 1)), 1};
-        std::vector<std::string> k = {"position " + vec(pos), "centre " + vec(centre),
-                                      "up " + vec(centre + (c_.one_in(12) ? rt::Vec3{1, 0, 0} : rt::Vec3{0, 0, 1})),
-                                      "angle_x " + num(c_.between(20, 90)), "angle_y " + num(c_.between(15, 70))};
-        if (c_.one_in(4)) k.push_back(std::string("projection ") + (c_.one_in(2) ? "polar" : "linear"));
-        if (c_.one_in(3)) {
-            // Split over two sections: keys accumulate, a repeated key keeps its last value.
-            const std::size_t cut = c_.below(unsigned(k.size()));
-            std::vector<std::string> first(k.begin(), k.begin() + std::ptrdiff_t(cut));
-            if (c_.one_in(2)) first.push_back("angle_x 33");
-            sections.push_back(block("camera", first) + "\n");
-            k.erase(k.begin(), k.begin() + std::ptrdiff_t(cut));
-        }
-        sections.push_back(block("camera", k) + "\n");
-    }
-    std::string picture_size() {
-        return block("picture_size", {"x_max " + std::to_string(c_.between(1, 64)),
-                                      "y_max " + std::to_string(c_.between(1, 48))}) +
-               "\n";
-    }
-    static std::string crlf(const std::string& s) {
-        std::string out;
-        for (char ch : s) out += ch == '\n' ? std::string("\r\n") : std::string(1, ch);
-        return out;
-    }
-
-    Choices& c_;
-    bool defined_ = false;  // the scene defines material gold and object post
-    // Instances are left out until the viewer's document knows them (a CSG made of an
-    // instance, which the format refuses, is still offered).
-    static constexpr bool kInstances = false;
-    // So are definitions: with them the viewer's undo history can reach a state the user
-    // never saw, and a CSG made of objects that use a named material writes the
-    // material out, a scene unequal to the one the edit meant (found by this fuzzer,
-    // seeds 355, 397, 467 of test_edit_fuzz with both on; the document does not know
-    // named materials yet).
-    static constexpr bool kDefinitions = false;
-    // Includes: the items they bring are shown read only (their edits refused), and an
-    // included file changed on disk is read again.
-    static constexpr bool kIncludes = true;
-    std::optional<std::string> included_;
-};
-
-// ---------------------------------------------------------------------------------
-// A world kept up to date from the document's edits, refitted when one object moved,
-// recompiled reusing the BVH when the shapes stayed, compiled anew otherwise (the
-// viewer itself goes through WorldSync and World::update, world_sync.h): the checks
-// compare whatever this holds with a full compile of the text.
-
-class ViewerWorld {
-public:
-    void follow(const rtview::Document& doc, int moved_object, std::uint64_t moved_from) {
-        if (!doc.has_scene()) {
-            world_.reset();
-            version_ = 0;
-            return;
-        }
-        if (world_ && doc.content_version() == version_) return;
-        const rt::Scene& s = doc.scene();
-        if (world_ && moved_object >= 0 && version_ == moved_from) {
-            if (auto w = rt::update_moved_objects(s, *world_, {std::uint32_t(moved_object)}, links_)) {
-                world_ = std::move(w);
-                version_ = doc.content_version();
-                shapes_known_ = false;
-                return;
-            }
-        }
-        const bool same_shapes = world_ && shapes_known_ && same_shape_lists(shapes_, s.objects);
-        world_ = rt::compile_world(s, same_shapes ? world_.get() : nullptr);
-        version_ = doc.content_version();
-        shapes_ = shape_list(s.objects);
-        shapes_known_ = true;
-    }
-    const rt::World* get() const { return world_.get(); }
-
-private:
-    static std::vector<rt::Shape> shape_list(const std::vector<rt::Object>& objects) {
-        std::vector<rt::Shape> out;
-        out.reserve(objects.size());
-        for (const rt::Object& o : objects) out.push_back(o.shape);
-        return out;
-    }
-    static bool same_shape_lists(const std::vector<rt::Shape>& a, const std::vector<rt::Object>& b) {
-        if (a.size() != b.size()) return false;
-        for (std::size_t i = 0; i < a.size(); ++i)
-            if (!(a[i] == b[i].shape)) return false;
-        return true;
-    }
-
-    std::shared_ptr<const rt::World> world_;
-    std::uint64_t version_ = 0;
-    std::vector<rt::Shape> shapes_;
-    bool shapes_known_ = false;
-    std::shared_ptr<const rt::BvhLinks> links_;
-};
-
-// A small film of `world` through `camera`, one sample a pixel, as the renderer makes
-// every pixel (accumulate_pixel): what `raytracer --width 8 --height 6` would write.
-inline std::vector<float> small_film(const rt::World& world, const rt::Camera& camera) {
-    constexpr int kW = 8, kH = 6;
-    const rt::CameraBasis basis = rt::CameraBasis::make(camera, kW, kH, false);
-    std::vector<float> film(std::size_t(kW) * kH * 3, 0.0f);
-    rt::RayStats stats;
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) rt::accumulate_pixel(world, basis, x, y, 0, 1, &film[(std::size_t(y) * kW + x) * 3], stats);
-    return film;
-}
-
-inline bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-inline bool same_bits(const rt::Vec3& a, const rt::Vec3& b) {
-    return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
-}
-inline bool same_material(const rt::ShadeMaterial& a, const rt::ShadeMaterial& b) {
-    return same_bits(a.reflection, b.reflection) && same_bits(a.refraction, b.refraction) &&
-           same_bits(a.scattering, b.scattering) && same_bits(a.translusans, b.translusans) &&
-           same_bits(a.ior, b.ior) && same_bits(a.colour, b.colour) && same_bits(a.log_tint, b.log_tint);
-}
-// Over the world's tables: plain vectors or shared chunks.
-template <class A, class B>
-bool same_materials(const A& a, const B& b) {
-    if (a.size() != b.size()) return false;
-    for (std::size_t i = 0; i < a.size(); ++i)
-        if (!same_material(a[i], b[i])) return false;
-    return true;
-}
-inline bool same_plane(const rt::PlaneShape& a, const rt::PlaneShape& b) {
-    return same_bits(a.n, b.n) && same_bits(a.D, b.D) && same_bits(a.p1, b.p1) && a.chess == b.chess &&
-           a.singular == b.singular && same_bits(a.inv_row[0], b.inv_row[0]) && same_bits(a.inv_row[1], b.inv_row[1]) &&
-           same_bits(a.inv_row[2], b.inv_row[2]);
-}
-
-inline std::string exact_text(const rt::Vec3& v) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "(%a %a %a)", v.x, v.y, v.z);
-    return buf;
-}
-inline std::string plane_text(const rt::PlaneShape& p) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, " D %a%s%s", p.D, p.chess ? " chess" : "", p.singular ? " singular" : "");
-    return "n " + exact_text(p.n) + " p1 " + exact_text(p.p1) + buf + " rows " + exact_text(p.inv_row[0]) +
-           exact_text(p.inv_row[1]) + exact_text(p.inv_row[2]);
-}
-
-// The viewer's world against a full compile of the scene: the tables the tracer reads,
-// and the pictures both make through `camera`. Empty if they agree, else what differs.
-inline std::string world_difference(const rt::World& got, const rt::World& want, const rt::Camera& camera) {
-    if (!same_materials(got.materials, want.materials)) return "object materials";
-    if (got.planes.size() != want.planes.size()) return "plane count";
-    for (std::size_t i = 0; i < got.planes.size(); ++i)
-        if (!same_plane(got.planes[i], want.planes[i]))
-            return "plane " + std::to_string(i + 1) + ": " + plane_text(got.planes[i]) + " against " +
-                   plane_text(want.planes[i]);
-    if (!same_materials(got.plane_mats, want.plane_mats)) return "plane materials";
-    if (got.lights.size() != want.lights.size()) return "light count";
-    for (std::size_t i = 0; i < got.lights.size(); ++i) {
-        const rt::ShadeLight &a = got.lights[i], &b = want.lights[i];
-        if (!same_bits(a.position, b.position) || !same_bits(a.colour, b.colour) || !same_bits(a.glow, b.glow))
-            return "light " + std::to_string(i + 1);
-    }
-    if (got.glows != want.glows) return "glowing lights";
-    if (got.geometry->object_bounds.size() != want.geometry->object_bounds.size()) return "object count";
-    for (std::size_t i = 0; i < got.geometry->object_bounds.size(); ++i) {
-        const rt::Aabb &a = got.geometry->object_bounds[i], &b = want.geometry->object_bounds[i];
-        if (!same_bits(a.lo, b.lo) || !same_bits(a.hi, b.hi)) return "bounds of object " + std::to_string(i + 1);
-    }
-    if (!same_bits(got.omit_weight, want.omit_weight) || !same_bits(got.radiance_bound, want.radiance_bound))
-        return "ray tree bound";
-    // From farther away than this, camera rays that miss the world's camera buffer (a
-    // world compiled for another camera position, as the viewer's is after the scene
-    // camera moved) go through the float BVH, whose box test misses objects a full
-    // compile's camera buffer finds: the pictures then differ in a few pixels. Known,
-    // and left to the BVH; such cameras are still played for the text's sake.
-    constexpr double kFarCamera = 1e9;
-    if (std::fabs(camera.position.x) > kFarCamera || std::fabs(camera.position.y) > kFarCamera ||
-        std::fabs(camera.position.z) > kFarCamera)
-        return {};
-    const std::vector<float> a = small_film(got, camera), b = small_film(want, camera);
-    if (std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) != 0) return "the picture";
-    return {};
-}
-
-// ---------------------------------------------------------------------------------
-// One run
-
+// One run: a random scene opened, then the steps the bytes choose, each checked.
 struct EditRunOptions {
     std::string dir;          // an existing folder for the scene's file (saves, reloads)
     std::size_t max_steps = 48;
@@ -700,7 +233,11 @@ private:
                                ? int(c_.below(256)) - 1
                                : f.choice->words[c_.below(unsigned(f.choice->words.size()))].value;
                 break;
-            case sc::Kind::Material: material_value(v.material); break;
+            case sc::Kind::Material:
+                // A use of a named material: edited for every user, or made local.
+                if (v.material.named >= 0 && c_.one_in(6)) v.material.named = -1;
+                else material_value(v.material);
+                break;
             case sc::Kind::Operand: break;
             case sc::Kind::File: break;  // (the fuzzer's scenes name no model files)
         }
@@ -737,8 +274,7 @@ private:
             if (!v) broken("field_value of a field item_fields gave");
             new_value(f, *v);
             (void)rtview::set_field(doc_, *ref, f, *v);
-            follow_world();
-            check_pending();
+            frame();
         }
         if (!c_.one_in(5)) end_edit();
     }
@@ -791,22 +327,18 @@ private:
             const rt::Vec3 step = c_.one_in(8) ? any_vec(c_) : plain_vec(c_) * 0.25;
             if (!rt::finite(d + step)) continue;
             d = d + step;
-            const std::uint64_t before = doc_.content_version();
-            int moved = -1;
             switch (ref->item.kind) {
                 case Item::Kind::Object: {
                     rt::Object& o = doc_.edit_object(i);
                     o = object;
                     rtview::translate_operand(o, ref->path, d);
-                    moved = int(i);
                     break;
                 }
                 case Item::Kind::Plane: rtview::translate(doc_.edit_plane(i) = plane, d); break;
                 case Item::Kind::Light: rtview::translate(doc_.edit_light(i) = light, d); break;
             }
             doc_.name_edit("Move " + rtview::item_label(doc_.scene(), *ref));
-            follow_world(moved, before);
-            check_pending();
+            frame();
         }
         if (c_.one_in(6)) return;  // still held
         if (d == rt::Vec3{0, 0, 0} || c_.one_in(10)) {
@@ -835,8 +367,7 @@ private:
         log("camera panel");
         if (rt::camera_problem(cam)) return;
         doc_.edit_camera() = cam;
-        follow_world();
-        check_pending();
+        frame();
         if (!c_.one_in(4)) end_edit();
     }
 
@@ -1069,11 +600,11 @@ private:
             return;  // saved with errors at the user's word: raytracer refuses it too
         }
         if (doc_.editor_dirty()) broken("a saved text that parses was not applied");
-        follow_world();
+        const rt::World* got = world_.settled(doc_);
         const std::shared_ptr<const rt::World> want = rt::compile_world(r.scene);
-        if (!world_.get()) broken("no world for a scene");
+        if (!got) broken("no world for a scene");
         if (!(doc_.scene().camera == r.scene.camera)) broken("the saved camera is not the scene's");
-        if (std::string d = world_difference(*world_.get(), *want, r.scene.camera); !d.empty())
+        if (std::string d = world_difference(*got, *want, r.scene.camera); !d.empty())
             broken("raytracer's render of the saved text differs from the viewer's: " + d);
     }
 
@@ -1085,24 +616,46 @@ private:
         if (rt::Status st = rt::write_file_atomic(path_, text); !st) fail("cannot write the scene file", st.message());
         if (!parse(text).ok()) own_texts_.insert(text);
         const bool was_modified = doc_.modified();
+        const State before = state();
+        const auto included_before = included_counts();
         const Doc::DiskEvent ev = doc_.check_disk();
         log("outside change of the file: event " + std::to_string(int(ev)));
         if (ev == Doc::DiskEvent::Reloaded) {
             if (was_modified) broken("reloaded over unsaved edits");
             saved_ = text;
             if (std::as_const(doc_).editor_text() != text) broken("the reloaded text is not the file's");
+            reloaded(before, included_before);
         } else if (ev == Doc::DiskEvent::Conflict) {
             if (c_.one_in(2)) {
                 log("conflict: reload");
                 doc_.resolve_conflict_reload();
                 saved_ = text;
                 if (std::as_const(doc_).editor_text() != text) broken("the reloaded text is not the file's");
+                reloaded(before, included_before);
             } else {
                 log("conflict: keep mine");
                 doc_.resolve_conflict_keep();
             }
         }
         settle_disk();
+    }
+
+    // How many items of each list the included files brought.
+    std::tuple<std::size_t, std::size_t, std::size_t> included_counts() const {
+        if (!doc_.has_scene()) return {};
+        auto count = [](const auto& v) {
+            return std::size_t(std::count_if(v.begin(), v.end(), [](const auto& x) { return x.origin != 0; }));
+        };
+        const rt::Scene& s = doc_.scene();
+        return {count(s.objects), count(s.planes), count(s.lights)};
+    }
+    // The file was read again (its includes with it): when these brought another number
+    // of items, the history before the reload is gone (its steps name items by their
+    // place), and the reload is its one step.
+    void reloaded(const State& before, const std::tuple<std::size_t, std::size_t, std::size_t>& included_before) {
+        if (!before.has_scene || !doc_.has_scene() || included_counts() == included_before) return;
+        if (doc_.undo_names(2).size() != 1) broken("included items came or went in a reload, and the history stayed");
+        seen_ = {before};
     }
 
     // Another program writes the included file: the viewer reads it again (the text
@@ -1166,7 +719,14 @@ private:
     }
 
     // ---- the checks ---------------------------------------------------------------
-    void follow_world(int moved = -1, std::uint64_t before = 0) { world_.follow(doc_, moved, before); }
+    // The viewer's frame: the world follows the document without waiting for a build
+    // (World::update where it can). Now and then a frame goes unchecked, so that a
+    // build may still be under way when the next change comes.
+    void follow_world() { world_.follow(doc_); }
+    void frame() {
+        follow_world();
+        if (!c_.one_in(3)) check_pending();
+    }
 
     bool seen_before(const State& s) {
         // Going back in history, each state is one seen before, earlier than the last.
@@ -1184,9 +744,10 @@ private:
         follow_world_check(doc_.scene(), "the edited scene");
     }
     void follow_world_check(const rt::Scene& want_scene, const char* what) {
+        const rt::World* got = world_.settled(doc_);
         const std::shared_ptr<const rt::World> want = rt::compile_world(want_scene);
-        if (!world_.get()) broken(std::string("no world for ") + what);
-        if (std::string d = world_difference(*world_.get(), *want, want_scene.camera); !d.empty())
+        if (!got) broken(std::string("no world for ") + what);
+        if (std::string d = world_difference(*got, *want, want_scene.camera); !d.empty())
             broken(std::string("the viewer's world differs from a full compile of ") + what + ": " + d);
     }
 
@@ -1232,8 +793,6 @@ private:
             if (!(r.scene == d.scene())) broken("the scene is not the parse of its text");
             rtfuzz::check_scene(d.scene());
             follow_world_check(r.scene, "the scene's text");
-        } else if (world_.get()) {
-            broken("a world without a scene");
         }
         if (d.editor_dirty() || !d.has_scene()) {
             if (!parse(editor).ok() && !own_texts_.count(editor))

@@ -6,10 +6,12 @@
 #include <cmath>
 #include <string>
 
+#include "document.h"
 #include "move_handle.h"
 #include "navigator.h"
 #include "placement.h"
 #include "scene_edits.h"
+#include "transform_handle.h"
 #include "viewer_test_util.h"
 #include "world.h"
 
@@ -256,4 +258,60 @@ TEST_CASE("turn: the translate written is the one a person would write") {
     turn_object(o, {0, 0, 1}, 90, a);
     CHECK(o.transform.get().translate == Vec3{7.65, -13.85, 0});
     CHECK(o.transform.get().rotation == Vec3{0, 0, 90});
+}
+
+namespace {
+
+// Where the operand `path` of object 0 puts its shape's point `local` in the world.
+Vec3 operand_point(const rt::Scene& s, const std::vector<int>& path, Vec3 local) {
+    const rt::Object& top = s.objects[0];
+    return parent_placement(top, path).point_to_world(own_placement(*operand_of(top, path)).point_to_world(local));
+}
+
+const char* kTurnedCsg =
+    "constructive_solid_geometry { type U rotation 0 0 90 translate 10 0 0\n"
+    "  left { box { corner_1 0 0 0 corner_2 2 1 1 } }\n"
+    "  right { sphere { position 5 5 5 radius 1 } } }\n";
+
+}  // namespace
+
+TEST_CASE("turn and size a CSG operand: its own transform changes, about the world axis and point") {
+    rt::Scene s = scene_of(kTurnedCsg);
+    const rt::Object before = s.objects[0];
+    // The CSG maps (x, y, z) to (10 - y, x, z): the box's corner (2 0 0) is at (10 2 0),
+    // its centre (1 0.5 0.5) at (9.5 1 0.5).
+    CHECK(near(operand_point(s, {0}, {2, 0, 0}), {10, 2, 0}));
+    const Vec3 centre{9.5, 1, 0.5};
+    REQUIRE(turn_operand(s.objects[0], {0}, {0, 0, 1}, 90, centre));
+    // (10 2 0) - centre = (0.5 1 -0.5), turned 90 about z: (-1 0.5 -0.5), + centre.
+    CHECK(near(operand_point(s, {0}, {2, 0, 0}), {8.5, 1.5, 0}, 1e-9));
+    CHECK(near(operand_point(s, {0}, {1, 0.5, 0.5}), centre, 1e-9));
+    // The CSG and the other operand are as they were.
+    const rt::Csg& g = std::get<rt::Csg>(s.objects[0].shape), &g0 = std::get<rt::Csg>(before.shape);
+    CHECK(s.objects[0].transform == before.transform);
+    CHECK(g.operands[1] == g0.operands[1]);
+    CHECK(g.operands[0].shape == g0.operands[0].shape);  // the box's corners stay the user's
+    CHECK(!(g.operands[0].transform == g0.operands[0].transform));
+
+    // Sizing by 2 along the operand's own x (the world's y here) about its centre.
+    s = scene_of(kTurnedCsg);
+    const Mat3 axes = operand_axes(s.objects[0], {0});
+    CHECK(near(axes.column(0), {0, 1, 0}, 1e-12));
+    CHECK(near(axes.column(1), {-1, 0, 0}, 1e-12));
+    REQUIRE(size_operand(s.objects[0], {0}, {2, 1, 1}, centre));
+    // Along x the box runs 1 each side of its centre, 2 when sized: (2 0 0) -> (3 0 0)
+    // in the CSG's frame, (10 3 0) in the world.
+    CHECK(near(operand_point(s, {0}, {2, 0, 0}), {10, 3, 0}, 1e-9));
+    CHECK(near(operand_point(s, {0}, {1, 0.5, 0.5}), centre, 1e-9));
+    CHECK(!turn_operand(s.objects[0], {0, 1}, {0, 0, 1}, 90, centre));  // a box has no operands
+
+    // Written into the text and read back: the same operand.
+    Document doc;
+    doc.load_text(std::string("thing {\n") + kTurnedCsg + "}\n" + kCamera, "", "csg");
+    REQUIRE(turn_operand(doc.edit_object(0), {0}, {0, 0, 1}, 90, centre));
+    doc.commit();
+    CHECK(doc.take_refusal() == "");
+    const rt::Scene back = rt_test::parse_ok(doc.editor_text());
+    CHECK(back == doc.scene());
+    CHECK(near(operand_point(back, {0}, {2, 0, 0}), {8.5, 1.5, 0}, 1e-9));
 }

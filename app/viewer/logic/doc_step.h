@@ -61,6 +61,10 @@ struct DocStep {
     std::vector<std::pair<std::size_t, rt::Plane>> planes_before, planes_after;
     std::vector<std::pair<std::size_t, rt::Light>> lights_before, lights_after;
     std::optional<rt::Camera> camera_before, camera_after;
+    // A named material's edit: its definition, and those of the named objects that use
+    // it (the items that use it are among the objects and planes above).
+    std::vector<std::pair<std::size_t, rt::NamedMaterial>> materials_before, materials_after;
+    std::vector<std::pair<std::size_t, rt::NamedObject>> defined_before, defined_after;
     bool has_scene_before = false, has_scene_after = false;
     bool behind_before = false, behind_after = false;
     bool keep_applied = false;  // typing: the applied text is not part of the step

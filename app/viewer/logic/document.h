@@ -93,6 +93,13 @@ public:
     void commit();
     // Drops a held edit, restoring the scene as it was before it.
     void cancel_edit();
+    // The named material `k` (scene().materials) takes the values of `m` for every use
+    // of it, as a held edit (commit() ends it: one undo step that rewrites the
+    // definition in the text; the blocks that name it stay as they are): the items that
+    // use it (a CSG's operands too) and named objects whose definitions do. The world
+    // hears of the items (changes_since). False, with nothing changed, when `k` is not
+    // one of the scene file's own definitions (an included file's cannot be written).
+    bool set_named_material(std::size_t k, const rt::Material& m);
     // Why panel and handle edits cannot be made now (empty: they can): the editor
     // holds unapplied changes that do not parse, so an edit could not be written into
     // the text that Save writes. (Parses the draft once per change of the text.)
@@ -242,6 +249,8 @@ private:
         std::vector<std::pair<std::size_t, rt::Light>> lights;
         std::optional<rt::Camera> camera;
         std::optional<rt::Scene> whole;  // edit(): everything
+        std::vector<std::pair<std::size_t, rt::NamedMaterial>> materials;  // set_named_material()
+        std::vector<std::pair<std::size_t, rt::NamedObject>> defined;
     };
     void hold_edit();
     rt::Scene scene_before_edit() const;  // (a copy: only for the slow paths)

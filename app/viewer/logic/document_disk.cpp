@@ -3,6 +3,7 @@
 #include "document.h"
 
 #include <algorithm>
+#include <array>
 #include <unordered_set>
 #include <utility>
 
@@ -116,11 +117,26 @@ rt::Status Document::save_as(const std::string& path) {
     return {};
 }
 
+namespace {
+
+// How many items of each list included files brought.
+std::array<std::size_t, 3> included_count(const rt::Scene& s) {
+    auto count = [](const auto& v) {
+        return std::size_t(std::count_if(v.begin(), v.end(), [](const auto& x) { return x.origin != 0; }));
+    };
+    return {count(s.objects), count(s.planes), count(s.lights)};
+}
+
+}  // namespace
+
 void Document::reload_text(const std::string& text) {
     flush_typing();
     rt::ParseResult r = rt::parse_scene(text, parse_options(path_));
     diagnostics_ = r.diagnostics;
     if (r.ok()) {
+        // Read with its includes as they are now: when those bring another number of
+        // items, the history's steps would name the wrong ones (as in reload_includes()).
+        if (has_scene_ && included_count(scene_) != included_count(r.scene)) history_.clear();
         replace_state(&text, std::nullopt, std::move(r.scene), false, "Reload from disk");
     } else {
         // Show the new text with its errors; the last good scene keeps rendering.

@@ -137,6 +137,8 @@ rt::Scene Document::scene_before_edit() const {
     for (const auto& p : saved_.objects) s.objects[p.first] = p.second;
     for (const auto& p : saved_.planes) s.planes[p.first] = p.second;
     for (const auto& p : saved_.lights) s.lights[p.first] = p.second;
+    for (const auto& p : saved_.materials) s.materials[p.first] = p.second;
+    for (const auto& p : saved_.defined) s.defined[p.first] = p.second;
     if (saved_.camera) s.camera = *saved_.camera;
     return s;
 }
@@ -175,6 +177,7 @@ void Document::commit() {
         const rt::Scene& b = *saved_.whole;
         if (b.objects.size() != scene_.objects.size() || b.planes.size() != scene_.planes.size() ||
             b.lights.size() != scene_.lights.size() || b.width != scene_.width || b.height != scene_.height ||
+            !(b.materials == scene_.materials) || !(b.defined == scene_.defined) ||
             !diff_items(b.objects, scene_.objects, step.objects_before, step.objects_after, kMaxStepItems) ||
             !diff_items(b.planes, scene_.planes, step.planes_before, step.planes_after, kMaxStepItems) ||
             !diff_items(b.lights, scene_.lights, step.lights_before, step.lights_after, kMaxStepItems)) {
@@ -194,6 +197,8 @@ void Document::commit() {
         diff_saved(saved_.objects, scene_.objects, step.objects_before, step.objects_after);
         diff_saved(saved_.planes, scene_.planes, step.planes_before, step.planes_after);
         diff_saved(saved_.lights, scene_.lights, step.lights_before, step.lights_after);
+        diff_saved(saved_.materials, scene_.materials, step.materials_before, step.materials_after);
+        diff_saved(saved_.defined, scene_.defined, step.defined_before, step.defined_after);
         if (saved_.camera && !(*saved_.camera == scene_.camera)) {
             step.camera_before = saved_.camera;
             step.camera_after = scene_.camera;
@@ -202,7 +207,7 @@ void Document::commit() {
         }
     }
     bool changed = wide || !step.objects_before.empty() || !step.planes_before.empty() || !step.lights_before.empty() ||
-                   step.camera_before.has_value();
+                   step.camera_before.has_value() || !step.materials_before.empty();
     if (!changed) {
         saved_ = {};
         return;
@@ -284,6 +289,8 @@ std::string Document::included_edit(const DocStep& step, bool wide) const {
         if (p.second.origin != 0) return said("plane", p.first, ItemList::Plane);
     for (const auto& p : step.lights_before)
         if (p.second.origin != 0) return said("light", p.first, ItemList::Light);
+    for (const auto& p : step.materials_before)
+        if (p.second.origin != 0) return "material " + p.second.name + " comes from an included file: open that file to edit it";
     return {};
 }
 
@@ -296,7 +303,7 @@ bool Document::reads_back(const DocStep& step, bool wide) const {
     if (wide) {
         changed = scene_;
     } else {
-        changed.camera = scene_.camera;
+        changed = item_scene(scene_);
         for (const auto& p : step.objects_after) changed.objects.push_back(p.second);
         for (const auto& p : step.planes_after) changed.planes.push_back(p.second);
         for (const auto& p : step.lights_after) changed.lights.push_back(p.second);
@@ -307,6 +314,8 @@ bool Document::reads_back(const DocStep& step, bool wide) const {
 // The fast path: no draft, so the editor text is the scene's text; each changed item's
 // block is rewritten where it stands. Nothing else of the text is touched or parsed.
 bool Document::commit_in_place(DocStep& step) {
+    // A named material's definition is rewritten by patch_scene_text (commit_generic).
+    if (!step.materials_before.empty()) return false;
     // The layout of the text is scanned once and then kept up to date through the
     // document's own replacements: an edit costs its block, not a pass over the text.
     const std::uint64_t key = layout_key();
@@ -325,8 +334,7 @@ bool Document::commit_in_place(DocStep& step) {
         return v[*own];
     };
     std::vector<TextReplacement> reps;
-    rt::Scene one;  // carries a valid camera so the writer prints a normal scene
-    one.camera = scene_.camera;
+    rt::Scene one = item_scene(scene_);  // a valid camera, the named materials: as the text has them
     // An item's block keeps its comments and layout when only its changed values can
     // be replaced (block_patch.h); else the writer's block replaces it.
     auto add = [&](TextSpan span, ItemList kind, std::optional<std::string> patched = std::nullopt) {
@@ -452,6 +460,8 @@ rt::Scene Document::scene_before_edit_from(const DocStep& step) const {
     for (const auto& p : step.objects_before) s.objects[p.first] = p.second;
     for (const auto& p : step.planes_before) s.planes[p.first] = p.second;
     for (const auto& p : step.lights_before) s.lights[p.first] = p.second;
+    for (const auto& p : step.materials_before) s.materials[p.first] = p.second;
+    for (const auto& p : step.defined_before) s.defined[p.first] = p.second;
     if (step.camera_before) s.camera = *step.camera_before;
     return s;
 }

@@ -21,6 +21,32 @@ bool same_except_camera(const rt::Scene& a, const rt::Scene& b) {
            a.height == b.height;
 }
 
+// The items of list `a` read from included files are those of `b`, in order.
+template <class T>
+bool same_included_items(const std::vector<T>& a, const std::vector<T>& b) {
+    auto next = [](const std::vector<T>& v, std::size_t& k) {
+        while (k < v.size() && v[k].origin == 0) ++k;
+        return k < v.size() ? &v[k++] : nullptr;
+    };
+    std::size_t i = 0, j = 0;
+    for (;;) {
+        const T *x = next(a, i), *y = next(b, j);
+        if (!x || !y) return x == y;
+        if (!(*x == *y) || x->origin != y->origin) return false;
+    }
+}
+
+// What a step that keeps only the items it changed cannot give back: the named
+// materials and objects, the includes, and the items read from included files (an undo
+// would bring those back as they were, not as the files are now). A change of any of
+// these makes a step that parses the text again.
+bool same_definitions(const rt::Scene& a, const rt::Scene& b) {
+    if (!(a.materials == b.materials && a.defined == b.defined && a.includes == b.includes)) return false;
+    if (a.includes.empty()) return true;
+    return same_included_items(a.objects, b.objects) && same_included_items(a.planes, b.planes) &&
+           same_included_items(a.lights, b.lights);
+}
+
 }  // namespace
 
 std::size_t DocStep::bytes() const {
@@ -38,6 +64,9 @@ std::size_t DocStep::bytes() const {
     for (const auto& o : objects_after) b += object_bytes(o.second) + sizeof(std::size_t);
     b += (planes_before.size() + planes_after.size()) * (sizeof(rt::Plane) + sizeof(std::size_t));
     b += (lights_before.size() + lights_after.size()) * (sizeof(rt::Light) + sizeof(std::size_t));
+    b += (materials_before.size() + materials_after.size()) * (sizeof(rt::NamedMaterial) + sizeof(std::size_t));
+    for (const auto* v : {&defined_before, &defined_after})
+        for (const auto& d : *v) b += sizeof(rt::NamedObject) + (d.second.object ? object_bytes(*d.second.object) : 0);
     return b;
 }
 
@@ -97,7 +126,7 @@ void Document::replace_state(const std::string* editor, std::optional<std::strin
         bool same_counts = has_scene_ && scene->objects.size() == scene_.objects.size() &&
                            scene->planes.size() == scene_.planes.size() &&
                            scene->lights.size() == scene_.lights.size() && scene->width == scene_.width &&
-                           scene->height == scene_.height;
+                           scene->height == scene_.height && same_definitions(*scene, scene_);
         bool small = same_counts &&
                      diff_items(scene_.objects, scene->objects, step.objects_before, step.objects_after, kMaxStepItems) &&
                      diff_items(scene_.planes, scene->planes, step.planes_before, step.planes_after, kMaxStepItems) &&
@@ -159,6 +188,8 @@ void Document::apply_step(const DocStep& s, bool forward) {
         if (layout_valid && !s.keep_applied && !s.applied_before && !s.applied_after && !s.editor.empty())
             follow_layout(forward ? s.editor
                                   : std::vector<TextReplacement>(s.editor_back.rbegin(), s.editor_back.rend()));
+        for (const auto& p : forward ? s.materials_after : s.materials_before) scene_.materials[p.first] = p.second;
+        for (const auto& p : forward ? s.defined_after : s.defined_before) scene_.defined[p.first] = p.second;
         for (const auto& p : forward ? s.objects_after : s.objects_before) restore_object(p.first, p.second);
         for (const auto& p : forward ? s.planes_after : s.planes_before) restore_plane(p.first, p.second);
         for (const auto& p : forward ? s.lights_after : s.lights_before) scene_.lights[p.first] = p.second;

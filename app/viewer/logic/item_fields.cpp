@@ -340,6 +340,20 @@ FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const F
             }
         }
     }
+    // An edit of a use of a named material is an edit of its definition, for all users.
+    if (const rt::Material* now = material_at(one, local, f)) {
+        const int k = named_material_of(doc.scene(), ref, f);
+        if (k >= 0 && now->named == k) {
+            if (!doc.set_named_material(std::size_t(k), *now)) {
+                r.status = refused("material " + doc.scene().materials[std::size_t(k)].name +
+                                   " comes from an included file: open that file to edit it");
+                r.warning.clear();
+                return r;
+            }
+            if (doc.edit_held()) doc.name_edit("Edit material " + doc.scene().materials[std::size_t(k)].name);
+            return r;
+        }
+    }
     switch (ref.item.kind) {
         case SceneItem::Kind::Object:
             if (!(one.objects[0] == doc.scene().objects[i])) doc.edit_object(i) = std::move(one.objects[0]);
@@ -352,6 +366,52 @@ FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const F
             break;
     }
     if (doc.edit_held()) doc.name_edit("Edit " + f.label + " of " + item_label(doc.scene(), ref));
+    return r;
+}
+
+int named_material_of(const rt::Scene& scene, const ItemRef& ref, const Field& f) {
+    const rt::Material* m = material_at(const_cast<rt::Scene&>(scene), ref, f);
+    if (!m || m->named < 0 || std::size_t(m->named) >= scene.materials.size()) return -1;
+    return m->same_bits(scene.materials[std::size_t(m->named)].material) ? m->named : -1;
+}
+
+namespace {
+
+bool uses(const rt::Material& m, const rt::Scene& scene, std::size_t k) {
+    return m.named == int(k) && m.same_bits(scene.materials[k].material);
+}
+
+bool uses(const rt::Object& o, const rt::Scene& scene, std::size_t k) {
+    if (uses(o.material, scene, k)) return true;
+    if (const rt::Csg* g = std::get_if<rt::Csg>(&o.shape))
+        return std::any_of(g->operands.begin(), g->operands.end(), [&](const rt::Object& x) { return uses(x, scene, k); });
+    if (const rt::Instance* in = std::get_if<rt::Instance>(&o.shape)) return in->defined && uses(*in->defined, scene, k);
+    return false;
+}
+
+}  // namespace
+
+std::size_t material_users(const rt::Scene& scene, std::size_t k) {
+    if (k >= scene.materials.size()) return 0;
+    std::size_t n = 0;
+    for (const rt::Object& o : scene.objects) n += uses(o, scene, k);
+    for (const rt::Plane& p : scene.planes) n += uses(p.material, scene, k) || uses(p.material2, scene, k);
+    return n;
+}
+
+FieldResult make_material_local(Document& doc, const ItemRef& ref, const Field& f) {
+    FieldResult r;
+    std::optional<FieldValue> v = doc.has_scene() ? field_value(doc.scene(), ref, f) : std::nullopt;
+    if (!v || named_material_of(doc.scene(), ref, f) < 0) {
+        r.status = refused("the material is not a named one");
+        return r;
+    }
+    const std::string name = doc.scene().materials[std::size_t(v->material.named)].name;
+    v->material.named = -1;
+    doc.commit();
+    r = set_field(doc, ref, f, *v);
+    if (doc.edit_held()) doc.name_edit("Make " + item_label(doc.scene(), ref) + "'s material local (was " + name + ")");
+    doc.commit();
     return r;
 }
 

@@ -71,7 +71,22 @@ FieldResult set_field(rt::Scene& scene, const ItemRef& ref, const Field& f, cons
 // sphere 1". Nothing is touched when the value is refused or unchanged. A material's
 // texture given a new name is read (Document::load_texture): refused, with the
 // reader's message, if it cannot be.
+// A material field whose value uses a named material (`material gold`) edits the
+// definition, for every use of it (Document::set_named_material, named "Edit material
+// gold"); one given with FieldValue::material.named -1 makes the item's own copy (as
+// make_material_local does).
 FieldResult set_field(Document& doc, const ItemRef& ref, const Field& f, const FieldValue& v);
+
+// The named material (an index into scene.materials) the material field `f` of `ref`
+// uses, or -1 when it is written out in place.
+int named_material_of(const rt::Scene& scene, const ItemRef& ref, const Field& f);
+// How many things use named material `k`: objects (for a use anywhere in them, a CSG's
+// operands and named objects' definitions included) and planes, each counted once.
+std::size_t material_users(const rt::Scene& scene, std::size_t k);
+// "Make local": the material field `f` of `ref` gets its own copy of the named material
+// it uses (the same values, written out in its block), as one undo step; the other
+// users keep the name.
+FieldResult make_material_local(Document& doc, const ItemRef& ref, const Field& f);
 
 // A file name the format can hold (a texture's, a mesh's), with the parser's message
 // for one it cannot: empty, too long, or holding a double quote or control character.

@@ -443,8 +443,7 @@ std::optional<SceneEdit> add_model(const std::string& text, const rt::Scene& sce
                             ? std::fabs(up.x) * half.x + std::fabs(up.y) * half.y + std::fabs(up.z) * half.z
                             : 0.0;
     m.position = round_to(at.point + up * lift - (wb.lo + wb.hi) * 0.5, extent);
-    rt::Scene one;
-    one.camera = scene.camera;
+    rt::Scene one = item_scene(scene);
     rt::Object o;
     o.shape = m;
     one.objects.push_back(o);
@@ -530,8 +529,7 @@ std::optional<SceneEdit> duplicate_item(const std::string& text, const rt::Scene
         e.replacement = {s.end, 0, "\n" + indent + text.substr(s.begin, s.end - s.begin)};
         return e;
     }
-    rt::Scene one;
-    one.camera = scene.camera;
+    rt::Scene one = item_scene(scene);
     if (item.kind == SceneItem::Kind::Object) {
         one.objects.push_back(scene.objects[std::size_t(item.index)]);
         translate(one.objects[0], offset);
@@ -582,8 +580,7 @@ std::optional<SceneEdit> delete_operand(const std::string& text, const rt::Scene
         keep.has_material = top.has_material;
     }
     *parent = std::move(keep);
-    rt::Scene one;
-    one.camera = scene.camera;
+    rt::Scene one = item_scene(scene);
     one.objects.push_back(std::move(top));
     const TextSpan s = block->first;
     SceneEdit e;
@@ -612,8 +609,7 @@ std::optional<SceneEdit> make_csg(const std::string& text, const rt::Scene& scen
     o.material = scene.objects[std::size_t(a)].material;
     o.has_material = scene.objects[std::size_t(a)].has_material;
     o.shape = std::move(csg);
-    rt::Scene one;
-    one.camera = scene.camera;
+    rt::Scene one = item_scene(scene);
     one.objects.push_back(std::move(o));
 
     const TextSpan sa = block_a->first, sb = block_b->first;
@@ -636,8 +632,7 @@ std::optional<SceneEdit> switch_light_kind(const std::string& text, const rt::Sc
     const TextSpan s = at->first;
     const std::string old_block = text.substr(s.begin, s.end - s.begin);
     rt::Light li = scene.lights[std::size_t(light)];
-    rt::Scene one;
-    one.camera = scene.camera;
+    rt::Scene one = item_scene(scene);
     std::string indent = line_indent(text, s.begin);
     std::string block;
     if (li.lamp) {

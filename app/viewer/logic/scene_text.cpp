@@ -100,6 +100,16 @@ std::string written_item(const rt::Scene& one, ItemList list, const std::string&
                     indent);
 }
 
+rt::Scene item_scene(const rt::Scene& s) {
+    rt::Scene one;
+    one.camera = s.camera;
+    one.materials = s.materials;
+    for (rt::NamedMaterial& m : one.materials) m.origin = 0;
+    one.defined = s.defined;
+    for (rt::NamedObject& d : one.defined) d.origin = 0;
+    return one;
+}
+
 SceneLayout scan_layout(std::string_view text, std::size_t objects) {
     SceneLayout l;
     if (objects > 0) {
@@ -149,7 +159,68 @@ SceneLayout scan_layout(std::string_view text, std::size_t objects) {
     return l;
 }
 
+std::vector<std::pair<std::string, TextSpan>> material_definitions(std::string_view text) {
+    std::vector<std::pair<std::string, TextSpan>> out;
+    Scanner sc(text);
+    for (;;) {
+        const rt::Token k = sc.next();
+        if (k.eof() || k.text == "end") return out;
+        const rt::schema::Section* section = rt::schema::find_section(k.text);
+        if (!section) return {};
+        if (section->kind == rt::schema::SectionKind::Include) {
+            const rt::Token name = sc.next();
+            if (name.eof() || name.is('{') || name.is('}')) return {};
+            if (name.text[0] == '"' && !sc.skip_quoted(name)) return {};
+            continue;
+        }
+        if (!sc.next().is('{')) return {};
+        if (section->kind != rt::schema::SectionKind::Define) {
+            if (sc.skip_block() == std::string_view::npos) return {};
+            continue;
+        }
+        for (;;) {
+            const rt::Token what = sc.next();
+            if (what.is('}')) break;
+            const rt::Token name = sc.next();
+            const rt::Token open = sc.next();
+            if (what.eof() || name.eof() || !open.is('{')) return {};
+            const std::size_t e = sc.skip_block();
+            if (e == std::string_view::npos) return {};
+            if (what.text == "material") out.push_back({std::string(name.text), {open.offset, e}});
+        }
+    }
+}
+
 namespace {
+
+// `m` as `to` holds it when it is a use of a named material of `from` (the definition's
+// values there): the values of the definition in `to`.
+rt::Material renamed(const rt::Material& m, const rt::Scene& from, const rt::Scene& to) {
+    const std::size_t k = std::size_t(m.named);
+    if (m.named < 0 || k >= from.materials.size() || k >= to.materials.size() ||
+        !m.same_bits(from.materials[k].material))
+        return m;
+    rt::Material out = to.materials[k].material;
+    out.named = m.named;
+    return out;
+}
+
+rt::Object renamed(rt::Object o, const rt::Scene& from, const rt::Scene& to) {
+    o.material = renamed(o.material, from, to);
+    if (rt::Csg* g = std::get_if<rt::Csg>(&o.shape)) {
+        for (rt::Object& x : g->operands) x = renamed(std::move(x), from, to);
+    } else if (rt::Instance* in = std::get_if<rt::Instance>(&o.shape)) {
+        for (std::size_t d = 0; d < from.defined.size() && d < to.defined.size(); ++d)
+            if (in->defined && from.defined[d].object == in->defined) in->defined = to.defined[d].object;
+    }
+    return o;
+}
+rt::Plane renamed(rt::Plane p, const rt::Scene& from, const rt::Scene& to) {
+    p.material = renamed(p.material, from, to);
+    p.material2 = renamed(p.material2, from, to);
+    return p;
+}
+rt::Light renamed(const rt::Light& l, const rt::Scene&, const rt::Scene&) { return l; }
 
 std::vector<rt::Object>& items_of(rt::Scene& s, const rt::Object&) { return s.objects; }
 std::vector<rt::Plane>& items_of(rt::Scene& s, const rt::Plane&) { return s.planes; }
@@ -161,15 +232,22 @@ ItemList kind_of(const rt::Light&) { return ItemList::Light; }
 // The replacements of one edit, gathered against the layout `l` of `text`.
 class Patcher {
 public:
-    Patcher(const std::string& text, const SceneLayout& l, const rt::Camera& camera) : text_(text), l_(l) {
+    // `names`: the scene whose named materials the items use; `from`: the scene the text
+    // holds, if the named materials may have changed.
+    Patcher(const std::string& text, const SceneLayout& l, const rt::Scene& names, const rt::Camera& camera,
+            const rt::Scene* from = nullptr)
+        : text_(text), l_(l), one_(item_scene(names)), names_(names), from_(from) {
         one_.camera = camera;  // a valid camera, so the writer prints a normal scene
     }
 
     // The item at `at` of its list from `was` to `now`: only its changed values where
-    // that can be done (block_patch.h), else the writer's block in its place.
+    // that can be done (block_patch.h), else the writer's block in its place. An item
+    // whose only change is that of a named material it uses stays as it is (its block
+    // names the material).
     template <class T>
     bool item(std::size_t at, const T& was, const T& now) {
         if (was == now) return true;
+        if (from_ && renamed(was, *from_, names_) == now) return true;
         const ItemList kind = kind_of(now);
         const TextSpan span = (kind == ItemList::Object ? l_.objects : kind == ItemList::Plane ? l_.planes : l_.lights)[at];
         if (std::optional<std::string> t =
@@ -198,6 +276,27 @@ public:
         return true;
     }
 
+    // The named materials of the scene file's own define sections from `from`'s to
+    // `to`'s (the same names in the same places); false if that cannot be done.
+    bool definitions(const rt::Scene& from, const rt::Scene& to) {
+        if (from.materials == to.materials) return true;
+        if (from.materials.size() != to.materials.size()) return false;
+        const std::vector<std::pair<std::string, TextSpan>> defs = material_definitions(text_);
+        std::size_t own = 0;
+        for (std::size_t k = 0; k < to.materials.size(); ++k) {
+            const rt::NamedMaterial &a = from.materials[k], &b = to.materials[k];
+            if (a.origin != 0 || b.origin != 0) {
+                if (!(a == b)) return false;  // an included file's: not in this text
+                continue;
+            }
+            const std::size_t at = own++;
+            if (a == b) continue;
+            if (a.name != b.name || at >= defs.size() || defs[at].first != a.name) return false;
+            reps_.push_back({defs[at].second, rt::write_material(b.material)});
+        }
+        return true;
+    }
+
     bool empty() const { return reps_.empty(); }
 
     // The text with every replacement made (back to front, so each span still holds).
@@ -213,6 +312,8 @@ private:
     const std::string& text_;
     const SceneLayout& l_;
     rt::Scene one_;
+    const rt::Scene& names_;
+    const rt::Scene* from_;
     std::vector<Replacement> reps_;
 };
 
@@ -302,8 +403,8 @@ std::optional<std::string> patch_scene_text(const std::string& text, const rt::S
     if (!layout_matches(l, from)) return std::nullopt;
     // Panels never change the picture size; a change there is left to the writer.
     if (from.width != to.width || from.height != to.height) return std::nullopt;
-    Patcher p(text, l, to.camera);
-    if (!patch_list(p, from.objects, to.objects) || !patch_list(p, from.planes, to.planes) ||
+    Patcher p(text, l, to, to.camera, &from);
+    if (!p.definitions(from, to) || !patch_list(p, from.objects, to.objects) || !patch_list(p, from.planes, to.planes) ||
         !patch_list(p, from.lights, to.lights))
         return std::nullopt;
     if (!(from.camera == to.camera) && !p.camera(to.camera)) return std::nullopt;
@@ -324,9 +425,12 @@ std::optional<std::string> patch_scene_items(const std::string& text, const rt::
     // What the changed items read back as is all that is checked: the rest of the text
     // is not touched (as a panel edit's commit in the document does).
     rt::Scene changed = values;
+    const rt::Scene names = item_scene(from);  // (the text's names)
+    changed.materials = names.materials;
+    changed.defined = names.defined;
     if (!at.camera) changed.camera = from.camera;
     if (!text_holds(changed)) return std::nullopt;
-    Patcher p(text, l, changed.camera);
+    Patcher p(text, l, from, changed.camera);
     // An item read from an included file has no block here: such an edit is not made.
     auto each = [&p, &from](ItemList kind, const auto& list, const std::vector<std::size_t>& indices, const auto& now) {
         for (std::size_t k = 0; k < indices.size(); ++k) {

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "scene.h"
@@ -62,6 +63,11 @@ std::optional<std::string> patch_scene_items(const std::string& text, const rt::
 // drag far out; rounding that flattens a tiny tetrahedron); such an edit is not made.
 bool text_holds(const rt::Scene& s);
 
+// The `{ ... }` of each `material NAME { ... }` of the text's define sections (the scene
+// file's own named materials, in order), with its name; empty if the text's sections
+// are unclear.
+std::vector<std::pair<std::string, TextSpan>> material_definitions(std::string_view text);
+
 // patch_scene_text, falling back to write_scene(to). Returns text parsing to `to` for
 // every `to` that text_holds().
 // An edit of an item read from an included file cannot be written into the text: the
@@ -85,6 +91,12 @@ enum class ItemList { Object, Plane, Light, Camera };
 // The only item of `one` in `list` as the writer prints it, its lines after the first
 // indented for a line that starts with `indent`; empty if the writer's text is unclear.
 std::string written_item(const rt::Scene& one, ItemList list, const std::string& indent);
+// An empty scene for writing items of `s` on their own (written_item, text_holds): `s`'s
+// camera, so that the writer prints a normal scene, and its named materials and objects
+// (an included file's too, as if the scene's own, so that each keeps its place), so
+// that a use of one is written by its name as the scene's text has it, not spelled out,
+// and an instance reads back.
+rt::Scene item_scene(const rt::Scene& s);
 
 // What a structural edit's replacement does to the scene's lists, as the edit that
 // planned it knows (scene_edits.h): the document then parses only the block it

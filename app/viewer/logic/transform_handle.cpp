@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "scene_edits.h"
 #include "triangles.h"
 
 namespace rtview {
@@ -184,6 +185,45 @@ void size_object(rt::Object& o, const Vec3& factors, const Vec3& anchor) {
 }
 
 Mat3 object_axes(const rt::Object& o) { return rotation_matrix(placing_of(o).rotation); }
+
+bool turn_operand(rt::Object& top, const std::vector<int>& path, const Vec3& axis, double degrees, const Vec3& anchor) {
+    rt::Object* o = operand_of(top, path);
+    if (!o) return false;
+    if (path.empty()) {
+        turn_object(*o, axis, degrees, anchor);
+        return true;
+    }
+    const rt::MeshInstance p = parent_placement(top, path);
+    const Vec3 a = p.to_model(axis);
+    const double n = rt::length(a);
+    if (!(n > 0) || !std::isfinite(n)) return false;
+    turn_object(*o, a / n, degrees, p.point_to_model(anchor));
+    return true;
+}
+
+bool size_operand(rt::Object& top, const std::vector<int>& path, const Vec3& factors, const Vec3& anchor) {
+    rt::Object* o = operand_of(top, path);
+    if (!o) return false;
+    size_object(*o, factors, path.empty() ? anchor : parent_placement(top, path).point_to_model(anchor));
+    return true;
+}
+
+Mat3 operand_axes(const rt::Object& top, const std::vector<int>& path) {
+    const rt::Object* o = operand_of(top, path);
+    if (!o || path.empty()) return object_axes(o ? *o : top);
+    const rt::MeshInstance p = parent_placement(top, path);
+    const Mat3 own = object_axes(*o);
+    Mat3 out;
+    for (int k = 0; k < 3; ++k) {
+        const Vec3 c = own.column(k);
+        Vec3 w{p.l[0][0] * c.x + p.l[0][1] * c.y + p.l[0][2] * c.z, p.l[1][0] * c.x + p.l[1][1] * c.y + p.l[1][2] * c.z,
+               p.l[2][0] * c.x + p.l[2][1] * c.y + p.l[2][2] * c.z};
+        const double n = rt::length(w);
+        if (n > 0) w = w / n;
+        out.m[0][k] = w.x, out.m[1][k] = w.y, out.m[2][k] = w.z;
+    }
+    return out;
+}
 
 TurnShape turn_shape(const ScreenView& view, const Vec3& anchor, double radius) {
     TurnShape h;

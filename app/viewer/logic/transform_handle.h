@@ -122,4 +122,15 @@ private:
 // The object's own axes in the world (the columns of its rotation), for the size handle.
 Mat3 object_axes(const rt::Object& o);
 
+// The same for the CSG operand `path` names below `top` (top itself for an empty path):
+// its own transform is what changes, the CSGs above it stay. The axis and anchor are
+// the world's, taken into the frame the operand is written in (the CSGs' transforms
+// above it): exact when those scale alike along their axes; with unequal scales the
+// turn is about that axis as their frame sees it. False if there is no such operand.
+bool turn_operand(rt::Object& top, const std::vector<int>& path, const rt::Vec3& axis, double degrees,
+                  const rt::Vec3& anchor);
+bool size_operand(rt::Object& top, const std::vector<int>& path, const rt::Vec3& factors, const rt::Vec3& anchor);
+// The world directions of the operand's own axes (object_axes of top for an empty path).
+Mat3 operand_axes(const rt::Object& top, const std::vector<int>& path);
+
 }  // namespace rtview

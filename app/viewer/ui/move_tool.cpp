@@ -75,7 +75,7 @@ void MoveTool::apply(Document& doc, const rt::Vec3& d) {
 }
 
 HandleMode MoveTool::mode_for(const Document& doc, const ItemRef& sel) const {
-    if (mode_ == HandleMode::Move || !sel.is(SceneItem::Kind::Object) || !sel.path.empty() || !doc.has_scene())
+    if (mode_ == HandleMode::Move || !sel.is(SceneItem::Kind::Object) || !doc.has_scene())
         return HandleMode::Move;
     return mode_;
 }
@@ -83,9 +83,9 @@ HandleMode MoveTool::mode_for(const Document& doc, const ItemRef& sel) const {
 void MoveTool::apply_turn(Document& doc, double degrees) {
     Drag& g = *drag_;
     rt::Object o = g.object;
-    turn_object(o, g.turn->axis(), degrees, g.pivot);
+    turn_operand(o, g.path, g.turn->axis(), degrees, g.pivot);  // (a CSG operand: its own transform)
     doc.edit_object(std::size_t(g.item.index)) = std::move(o);
-    if (g.name.empty()) g.name = "Turn " + item_label(doc.scene(), ItemRef{g.item, {}});
+    if (g.name.empty()) g.name = "Turn " + item_label(doc.scene(), ItemRef{g.item, g.path});
     doc.name_edit(g.name);
     g.degrees = degrees;
 }
@@ -93,9 +93,9 @@ void MoveTool::apply_turn(Document& doc, double degrees) {
 void MoveTool::apply_size(Document& doc, const rt::Vec3& factors) {
     Drag& g = *drag_;
     rt::Object o = g.object;
-    size_object(o, factors, g.pivot);
+    size_operand(o, g.path, factors, g.pivot);
     doc.edit_object(std::size_t(g.item.index)) = std::move(o);
-    if (g.name.empty()) g.name = "Size " + item_label(doc.scene(), ItemRef{g.item, {}});
+    if (g.name.empty()) g.name = "Size " + item_label(doc.scene(), ItemRef{g.item, g.path});
     doc.name_edit(g.name);
     g.factors = factors;
 }
@@ -187,7 +187,7 @@ bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView&
     if (!over) hover_ = HandlePart::None;
     else if (mode == HandleMode::Turn) hover_ = hit_turn(turn_shape(view, *anchor, kArrow * s), mx, my, kTolerance * s);
     else if (mode == HandleMode::Size)
-        hover_ = hit_size(size_shape(view, *anchor, object_axes(doc.scene().objects[i]), kArrow * s), mx, my, kTolerance * s);
+        hover_ = hit_size(size_shape(view, *anchor, operand_axes(doc.scene().objects[i], sel.path), kArrow * s), mx, my, kTolerance * s);
     else hover_ = hit_handle(handle_shape(view, *anchor, kArrow * s), mx, my, kTolerance * s);
     if (hover_ == HandlePart::None || !ImGui::IsMouseClicked(0)) return hover_ != HandlePart::None && ImGui::IsMouseDown(0);
     if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
@@ -201,7 +201,7 @@ bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView&
     drag_->pivot = *anchor;
     if (mode == HandleMode::Turn) drag_->turn.emplace(hover_, *anchor, view, mx, my);
     if (mode == HandleMode::Size)
-        drag_->size.emplace(hover_, size_shape(view, *anchor, object_axes(scene.objects[i]), kArrow * s), kArrow * s, mx, my);
+        drag_->size.emplace(hover_, size_shape(view, *anchor, operand_axes(scene.objects[i], sel.path), kArrow * s), kArrow * s, mx, my);
     if (item->kind == SceneItem::Kind::Object) drag_->object = scene.objects[i];
     else if (item->kind == SceneItem::Kind::Plane) drag_->plane = scene.planes[i];
     else drag_->light = scene.lights[i];
@@ -299,9 +299,10 @@ bool MoveTool::over_handle(const Document& doc, const ItemRef& sel, const Screen
     const double s = ImGui::GetFontSize() / 13.0;
     switch (mode_for(doc, sel)) {
         case HandleMode::Turn: return hit_turn(turn_shape(view, *anchor, kArrow * s), x, y, kTolerance * s) != HandlePart::None;
-        case HandleMode::Size:
-            return hit_size(size_shape(view, *anchor, object_axes(doc.scene().objects[std::size_t(item->index)]), kArrow * s),
-                            x, y, kTolerance * s) != HandlePart::None;
+        case HandleMode::Size: {
+            const Mat3 axes = operand_axes(doc.scene().objects[std::size_t(item->index)], sel.path);
+            return hit_size(size_shape(view, *anchor, axes, kArrow * s), x, y, kTolerance * s) != HandlePart::None;
+        }
         case HandleMode::Move: break;
     }
     return hit_handle(handle_shape(view, *anchor, kArrow * s), x, y, kTolerance * s) != HandlePart::None;
@@ -359,8 +360,8 @@ void MoveTool::draw(const Document& doc, const ItemRef& sel, const ScreenView& v
     if (anchor && mode != HandleMode::Move && item && std::size_t(item->index) < doc.scene().objects.size()) {
         const HandlePart active = drag_ ? (drag_->turn ? drag_->turn->part() : drag_->size->part()) : hover_;
         if (mode == HandleMode::Turn) draw_turn(dl, turn_shape(view, *anchor, kArrow * s), active, s);
-        else draw_size(dl, size_shape(view, *anchor, object_axes(doc.scene().objects[std::size_t(item->index)]), kArrow * s),
-                       active, s);
+        else draw_size(dl, size_shape(view, *anchor, operand_axes(doc.scene().objects[std::size_t(item->index)], sel.path),
+                                      kArrow * s), active, s);
         anchor.reset();
     }
     if (anchor) {

@@ -372,7 +372,25 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
         }
         case sc::Kind::Material: {
             ImGui::Separator();
-            ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
+            const rt::Scene& scene = editor_.doc().scene();
+            if (const int k = named_material_of(scene, ref, f); k >= 0) {
+                // A named material: an edit here changes it for every thing that uses it.
+                const std::string& name = scene.materials[std::size_t(k)].name;
+                const std::size_t users = material_users(scene, std::size_t(k));
+                const std::string said = f.label + " `" + name + "`, used by " + std::to_string(users) +
+                                         (users == 1 ? " thing" : " things") + ": an edit changes it for all";
+                ImGui::TextWrapped("%s", said.c_str());
+                probe("material_shared", said);
+                if (ImGui::Button("Make local")) {
+                    const FieldResult r = make_material_local(editor_.doc(), ref, f);
+                    if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true, {}, {}};
+                }
+                probe_item("make_local");
+                if (ImGui::IsItemHovered()) ImGui::SetTooltip("Give this thing its own copy of %s to edit", name.c_str());
+            } else {
+                ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
+                probe("material_shared", "");
+            }
             bool browse = false;
             // A message about one of its keys shows under that key's field.
             const bool note = field_message_.field == f.label && !field_message_.sub.empty();
