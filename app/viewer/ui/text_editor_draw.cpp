@@ -60,8 +60,11 @@ void TextEditor::scroll_to_cursor(bool centre) {
     else if (y < sy) ImGui::SetScrollY(y);
     else if (y + line_h_ > sy + view_h_) ImGui::SetScrollY(y + line_h_ - view_h_);
     if (!wrap_) {
+        // Back to the left: the cursor half a view in (or the line's start in view, when
+        // the cursor is that near it), so that what it follows, a find's match or a word
+        // typed, shows whole.
         float margin = 4 * char_w_;
-        if (x < sx) ImGui::SetScrollX(std::max(0.f, x - margin));
+        if (x < sx) ImGui::SetScrollX(std::max(0.f, x - view_w_ / 2));
         else if (x + char_w_ > sx + view_w_) ImGui::SetScrollX(x + margin - view_w_);
     }
 }
