@@ -264,24 +264,7 @@ void ViewerApp::frame() {
     if (interactive_ && now - last_disk_check_ >= 1.0) idle_tick();
     update_render(now);
     panels_.draw_surround();
-    if (doc.has_scene() || render_.started()) {
-        // While the view moves, the UI thread's own preview; else the film as the
-        // picture tools show it (zoom, display mapping, A/B, region).
-        if (render_.showing_preview()) {
-            // Zoomed, the picture reaches past the area: the preview stays within it.
-            ImDrawList* dl = ImGui::GetBackgroundDrawList();
-            const Rect& a = layout_.area;
-            dl->PushClipRect(ImVec2(float(a.x), float(a.y)), ImVec2(float(a.x + a.w), float(a.y + a.h)), true);
-            render_.draw(layout_.image, layout_.fb_scale);
-            dl->PopClipRect();
-        } else {
-            tools_.draw();
-        }
-        // Over the picture, not in the film: a saved image stays clean.
-        if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
-            move_.draw(doc, panels_.selection(), screen_view(), render_.world(), layout_.image, layout_.area,
-                       layout_.film_w, layout_.film_h);
-    }
+    if (doc.has_scene() || render_.started()) draw_picture();
     if (!doc.has_scene()) draw_no_image();
     probe_frame();
     publish_outputs();
@@ -289,6 +272,25 @@ void ViewerApp::frame() {
     frame_timing_end();
 }
 
+// The picture: while the view moves, the UI thread's own preview; else the film as the
+// picture tools show it (zoom, display mapping, A/B, region). The move handle over it.
+void ViewerApp::draw_picture() {
+    Document& doc = editor_.doc();
+    if (render_.showing_preview()) {
+        // Zoomed, the picture reaches past the area: the preview stays within it.
+        ImDrawList* dl = ImGui::GetBackgroundDrawList();
+        const Rect& a = layout_.area;
+        dl->PushClipRect(ImVec2(float(a.x), float(a.y)), ImVec2(float(a.x + a.w), float(a.y + a.h)), true);
+        render_.draw(layout_.image, layout_.fb_scale);
+        dl->PopClipRect();
+    } else {
+        tools_.draw();
+    }
+    // Over the picture, not in the film: a saved image stays clean.
+    if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
+        move_.draw(doc, panels_.selection(), screen_view(), render_.world(), layout_.image, layout_.area,
+                   layout_.film_w, layout_.film_h);
+}
 
 void ViewerApp::update_render(double now) {
     Document& doc = editor_.doc();
