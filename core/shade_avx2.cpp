@@ -505,6 +505,38 @@ void World::shade4(const Vec3 o[4], const Vec3 d[4], unsigned live, int depth, c
 }
 
 namespace {
+// The nearest plane of each of the n rays from `o` along d[i] (its index, -1 for none,
+// and its distance), as World::nearest() finds it; none where the world has glows (a
+// disc might be nearer, and then no guess is made for the plane).
+void nearest_planes(const World& w, const Vec3& o, const Vec3* d, int n, double* plane_t, int* plane) {
+    for (int i = 0; i < n; ++i) {
+        plane_t[i] = HUGE_VAL, plane[i] = -1;
+        if (!w.glows.empty()) continue;
+        for (std::size_t k = 0; k < w.planes.size(); ++k) {
+            const PlaneShape& pl = w.planes[k];
+            const double dn = dot(pl.n, d[i]);
+            if (dn == 0) continue;
+            const double t = -(dot(pl.n, o) + pl.D) / dn;
+            if (t > kDelta && t < plane_t[i]) plane_t[i] = t, plane[i] = int(k);
+        }
+    }
+}
+
+// A sphere around the mesh in world space (its centre and squared radius, a little
+// more), from the boxes of its 8-wide tree's root.
+void mesh_sphere(const MeshG& m, Vec3& centre, double& reach2) {
+    const BvhNode8& root = m.accel->bvh.nodes8[0];
+    Aabb box;
+    for (int c = 0; c < 8; ++c) {
+        if (root.child[c] == BvhNode::kEmpty) continue;
+        box.grow(Vec3{root.b[0][c], root.b[1][c], root.b[2][c]});
+        box.grow(Vec3{root.b[3][c], root.b[4][c], root.b[5][c]});
+    }
+    const Aabb wb = m.instance.world_bounds(box);
+    centre = (wb.lo + wb.hi) * 0.5;
+    reach2 = length2(wb.hi - centre) * 1.01 + 1e-9;
+}
+
 // Camera rays from one origin meet a scene's few meshes as packets: before the next
 // TriangleAccel::kPacket rays of a row are shaded, each mesh's nearest triangle for
 // each of them is found by one packet walk (TriangleAccel::prepare), with the very
@@ -526,21 +558,9 @@ void prepare_meshes(const World& w, const Vec3& o, const Vec3* d, int n) {
     const Geometry& g = *w.geometry;
     if (g.meshes.empty() || g.meshes.size() > std::size_t(TriangleAccel::kPrepared)) return;
     constexpr int P = TriangleAccel::kPacket;
-    // The nearest plane of each ray, as World::nearest() finds it (no glows: a disc
-    // might be nearer, and then no guess is made for the plane).
     double plane_t[P];
     int plane[P];
-    for (int i = 0; i < n; ++i) {
-        plane_t[i] = HUGE_VAL, plane[i] = -1;
-        if (!w.glows.empty()) continue;
-        for (std::size_t k = 0; k < w.planes.size(); ++k) {
-            const PlaneShape& pl = w.planes[k];
-            const double dn = dot(pl.n, d[i]);
-            if (dn == 0) continue;
-            const double t = -(dot(pl.n, o) + pl.D) / dn;
-            if (t > kDelta && t < plane_t[i]) plane_t[i] = t, plane[i] = int(k);
-        }
-    }
+    nearest_planes(w, o, d, n, plane_t, plane);
     TriRay r[P];
     TriHit hits[P];
     bool found[P];
@@ -575,18 +595,11 @@ void prepare_meshes(const World& w, const Vec3& o, const Vec3* d, int n) {
                 point[i] = true;
             }
         }
-        // A sphere around the mesh (world space), for the shadow rays from elsewhere
-        // that cannot reach it at all: left out here, they are only walked alone later.
-        const BvhNode8& root = m.accel->bvh.nodes8[0];
-        Aabb box;
-        for (int c = 0; c < 8; ++c) {
-            if (root.child[c] == BvhNode::kEmpty) continue;
-            box.grow(Vec3{root.b[0][c], root.b[1][c], root.b[2][c]});
-            box.grow(Vec3{root.b[3][c], root.b[4][c], root.b[5][c]});
-        }
-        const Aabb wb = m.instance.world_bounds(box);
-        const Vec3 centre = (wb.lo + wb.hi) * 0.5;
-        const double reach2 = length2(wb.hi - centre) * 1.01 + 1e-9;
+        // A sphere around the mesh, for the shadow rays from elsewhere that cannot reach
+        // it at all: left out here, they are only walked alone later.
+        Vec3 centre;
+        double reach2;
+        mesh_sphere(m, centre, reach2);
         for (std::size_t li = 0; li < w.lights.size(); ++li) {
             const ShadeLight& l = w.lights[li];
             if (l.radius > 0) continue;

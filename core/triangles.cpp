@@ -362,6 +362,84 @@ struct Frustum {
            0xffu;
 }
 
+// The packet's frustum `f`, if its rays share an origin (bit for bit) and their signs.
+[[gnu::always_inline]] RT_TARGET_AVX2 inline bool packet_frustum(const Wide8::Ray* br, const TriRay* rays, int n,
+                                                                 Frustum& f) {
+    bool frustum = n > 0;
+    for (int i = 1; i < n && frustum; ++i)
+        frustum = br[i].rows == br[0].rows && std::memcmp(&rays[i].o, &rays[0].o, sizeof(Vec3)) == 0;
+    if (frustum) {
+        f.rows = br[0].rows;
+        f.pad = br[0].pad;
+        for (int k = 0; k < 3; ++k) f.o[k] = br[0].o[k], f.lo[k] = f.hi[k] = br[0].inv[k];
+        for (int i = 1; i < n; ++i) {
+            f.pad = _mm256_max_ps(f.pad, br[i].pad);
+            for (int k = 0; k < 3; ++k) f.lo[k] = _mm256_min_ps(f.lo[k], br[i].inv[k]), f.hi[k] = _mm256_max_ps(f.hi[k], br[i].inv[k]);
+        }
+    }
+    return frustum;
+}
+
+// The greatest of 32 floats (32-byte aligned).
+[[gnu::always_inline]] RT_TARGET_AVX2 inline float greatest32(const float* v) {
+    __m256 mx = _mm256_max_ps(_mm256_load_ps(v), _mm256_load_ps(v + 8));
+    mx = _mm256_max_ps(mx, _mm256_max_ps(_mm256_load_ps(v + 16), _mm256_load_ps(v + 24)));
+    const __m128 h = _mm_max_ps(_mm256_castps256_ps128(mx), _mm256_extractf128_ps(mx, 1));
+    const __m128 h2 = _mm_max_ps(h, _mm_movehl_ps(h, h));
+    return _mm_cvtss_f32(_mm_max_ss(h2, _mm_movehdup_ps(h2)));
+}
+
+// Per child of `nd` among those `reach` allows, the rays of `rays` (a bit each) whose
+// box tests enter it and their least entry distance.
+[[gnu::always_inline]] RT_TARGET_AVX2 inline void children_entered(const BvhNode8& nd, const Wide8::Ray* br,
+                                                                   const float* ftmax, std::uint32_t rays,
+                                                                   unsigned reach, std::uint32_t* rays_in,
+                                                                   float* t_in) {
+    const __m256i one = _mm256_set1_epi32(1);
+    const __m256 allowed = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+        _mm256_and_si256(_mm256_set1_epi32(int(reach)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
+        _mm256_setzero_si256()));
+    __m256i who = _mm256_setzero_si256();  // per child, the rays entering it
+    __m256 near = _mm256_set1_ps(INFINITY);  // per child, their least entry distance
+    for (std::uint32_t m = rays; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        const BoxTest b = box_test(nd, br[i], ftmax[i]);
+        const __m256 in = _mm256_and_ps(b.in, allowed);
+        who = _mm256_or_si256(who, _mm256_and_si256(_mm256_castps_si256(in), _mm256_slli_epi32(one, i)));
+        near = _mm256_min_ps(near, _mm256_blendv_ps(_mm256_set1_ps(INFINITY), b.t0, in));
+    }
+    _mm256_store_si256(reinterpret_cast<__m256i*>(rays_in), who);
+    _mm256_store_ps(t_in, near);
+}
+
+// A subtree of the nearest-hit packet walk, the rays that enter it and their least
+// entry distance.
+struct NearEntry {
+    std::uint32_t ref, rays;
+    float t;
+};
+constexpr int kNearStack = 1024;
+
+// The children some ray enters pushed farthest first, so that the nearest comes up
+// next; the rays of those the stack has no room for go to `overflow`.
+[[gnu::always_inline]] RT_TARGET_AVX2 inline void push_nearest_last(const BvhNode8& nd, const std::uint32_t* rays_in,
+                                                                    const float* t_in, NearEntry* stack, int& sp,
+                                                                    std::uint32_t& overflow) {
+    NearEntry kids[8];
+    int k = 0;
+    for (int c = 0; c < 8; ++c) {
+        if (!rays_in[c]) continue;
+        NearEntry x{nd.child[c], rays_in[c], t_in[c]};
+        int j = k++;
+        for (; j > 0 && kids[j - 1].t < x.t; --j) kids[j] = kids[j - 1];
+        kids[j] = x;
+    }
+    for (int j = 0; j < k; ++j) {
+        if (sp < kNearStack) stack[sp++] = kids[j];
+        else overflow |= kids[j].rays;
+    }
+}
+
 [[gnu::flatten]] RT_TARGET_AVX2 void nearest_packet_avx2(const TriangleAccel& a, const TriRay* rays, int n, double tmin,
                                                           double tmax, TriHit* hits, bool* found) {
     constexpr int P = TriangleAccel::kPacket;
@@ -375,38 +453,20 @@ struct Frustum {
         found[i] = false;
         ftmax[i] = Bvh::widen(tmax);
     }
-    // The frustum, where the rays share an origin (bit for bit) and their signs.
-    bool frustum = n > 0;
-    for (int i = 1; i < n && frustum; ++i)
-        frustum = br[i].rows == br[0].rows && std::memcmp(&rays[i].o, &rays[0].o, sizeof(Vec3)) == 0;
     Frustum f;
-    if (frustum) {
-        f.rows = br[0].rows;
-        f.pad = br[0].pad;
-        for (int k = 0; k < 3; ++k) f.o[k] = br[0].o[k], f.lo[k] = f.hi[k] = br[0].inv[k];
-        for (int i = 1; i < n; ++i) {
-            f.pad = _mm256_max_ps(f.pad, br[i].pad);
-            for (int k = 0; k < 3; ++k) f.lo[k] = _mm256_min_ps(f.lo[k], br[i].inv[k]), f.hi[k] = _mm256_max_ps(f.hi[k], br[i].inv[k]);
-        }
-    }
+    const bool frustum = packet_frustum(br, rays, n, f);
     float packet_tmax = Bvh::widen(tmax);  // the greatest ftmax
     const BvhNode8* flat = a.bvh.nodes8.flat();
     BvhNode8* const* table = a.bvh.nodes8.table();
     auto node = [&](std::uint32_t ref) -> const BvhNode8& {
         return flat ? flat[ref] : table[ref >> Chunked<BvhNode8>::kShift][ref & Chunked<BvhNode8>::kMask];
     };
-    struct Entry {
-        std::uint32_t ref, rays;
-        float t;
-    };
-    constexpr int kStack = 1024;
-    Entry stack[kStack];
+    NearEntry stack[kNearStack];
     int sp = 0;
     stack[sp++] = {0, n == 32 ? ~0u : (1u << n) - 1, 0.f};
     std::uint32_t overflow = 0;  // rays left to the single-ray walk (a stack too shallow)
-    const __m256i one = _mm256_set1_epi32(1);
     while (sp > 0) {
-        const Entry e = stack[--sp];
+        const NearEntry e = stack[--sp];
         if (e.t > packet_tmax) continue;
         if (BvhNode::is_leaf(e.ref)) {
             const std::uint32_t first = BvhNode::leaf_first(e.ref), count = BvhNode::leaf_count(e.ref);
@@ -420,11 +480,7 @@ struct Frustum {
                 found[i] = fi;
                 if (hits[i].t != before) {
                     ftmax[i] = Bvh::widen(hits[i].t);
-                    __m256 mx = _mm256_max_ps(_mm256_load_ps(ftmax), _mm256_load_ps(ftmax + 8));
-                    mx = _mm256_max_ps(mx, _mm256_max_ps(_mm256_load_ps(ftmax + 16), _mm256_load_ps(ftmax + 24)));
-                    const __m128 h = _mm_max_ps(_mm256_castps256_ps128(mx), _mm256_extractf128_ps(mx, 1));
-                    const __m128 h2 = _mm_max_ps(h, _mm_movehl_ps(h, h));
-                    packet_tmax = _mm_cvtss_f32(_mm_max_ss(h2, _mm_movehdup_ps(h2)));
+                    packet_tmax = greatest32(ftmax);
                 }
             }
             continue;
@@ -432,36 +488,10 @@ struct Frustum {
         const BvhNode8& nd = node(e.ref);
         const unsigned reach = frustum ? frustum_test(nd, f, packet_tmax) : 0xffu;
         if (reach == 0) continue;
-        const __m256 allowed = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-            _mm256_and_si256(_mm256_set1_epi32(int(reach)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
-            _mm256_setzero_si256()));
-        __m256i who = _mm256_setzero_si256();  // per child, the rays entering it
-        __m256 near = _mm256_set1_ps(INFINITY);  // per child, their least entry distance
-        for (std::uint32_t m = e.rays; m; m &= m - 1) {
-            const int i = __builtin_ctz(m);
-            const BoxTest b = box_test(nd, br[i], ftmax[i]);
-            const __m256 in = _mm256_and_ps(b.in, allowed);
-            who = _mm256_or_si256(who, _mm256_and_si256(_mm256_castps_si256(in), _mm256_slli_epi32(one, i)));
-            near = _mm256_min_ps(near, _mm256_blendv_ps(_mm256_set1_ps(INFINITY), b.t0, in));
-        }
         alignas(32) std::uint32_t rays_in[8];
         alignas(32) float t_in[8];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(rays_in), who);
-        _mm256_store_ps(t_in, near);
-        // Pushed farthest first, so that the nearest comes up next.
-        Entry kids[8];
-        int k = 0;
-        for (int c = 0; c < 8; ++c) {
-            if (!rays_in[c]) continue;
-            Entry x{nd.child[c], rays_in[c], t_in[c]};
-            int j = k++;
-            for (; j > 0 && kids[j - 1].t < x.t; --j) kids[j] = kids[j - 1];
-            kids[j] = x;
-        }
-        for (int j = 0; j < k; ++j) {
-            if (sp < kStack) stack[sp++] = kids[j];
-            else overflow |= kids[j].rays;
-        }
+        children_entered(nd, br, ftmax, e.rays, reach, rays_in, t_in);
+        push_nearest_last(nd, rays_in, t_in, stack, sp, overflow);
     }
     // The rays a subtree was left out for: walked alone, from the nearest hit found so
     // far (a leaf seen twice changes nothing: its nearest is kept, ties to the lower slot).
@@ -472,6 +502,50 @@ struct Frustum {
         a.bvh.traverse_nearest_leaves8(rays[i].o, rays[i].d, hits[i].t, NearestLeafAvx2{{a, rays[i], tmin, hits[i], fi}, q});
         found[i] = fi;
     }
+}
+
+// The any-hit packet's frustum: its rays' row offsets (the same signs) and per axis the
+// least and greatest origin and inverse direction, the greatest pad. Sums and products
+// rounded are monotonic in each operand, so these bound every ray's slab distances.
+struct SpreadFrustum {
+    __m256 olo[3], ohi[3], lo[3], hi[3], pad;
+    const std::int32_t* rows;
+};
+// `f`, if the packet's rays share the signs of their directions.
+[[gnu::always_inline]] RT_TARGET_AVX2 inline bool spread_frustum(const Wide8::Ray* br, int n, SpreadFrustum& f) {
+    bool frustum = n > 0;
+    for (int i = 1; i < n && frustum; ++i) frustum = br[i].rows == br[0].rows;
+    f.pad = _mm256_setzero_ps();
+    if (frustum) {
+        f.pad = br[0].pad;
+        for (int k = 0; k < 3; ++k) f.olo[k] = f.ohi[k] = br[0].o[k], f.lo[k] = f.hi[k] = br[0].inv[k];
+        for (int i = 1; i < n; ++i) {
+            f.pad = _mm256_max_ps(f.pad, br[i].pad);
+            for (int k = 0; k < 3; ++k) {
+                f.olo[k] = _mm256_min_ps(f.olo[k], br[i].o[k]), f.ohi[k] = _mm256_max_ps(f.ohi[k], br[i].o[k]);
+                f.lo[k] = _mm256_min_ps(f.lo[k], br[i].inv[k]), f.hi[k] = _mm256_max_ps(f.hi[k], br[i].inv[k]);
+            }
+        }
+    }
+    f.rows = br[0].rows;
+    return frustum;
+}
+// The children of `nd` some ray of the packet may enter within `tmax` (a bit each).
+[[gnu::always_inline]] RT_TARGET_AVX2 inline unsigned spread_frustum_test(const BvhNode8& nd, const SpreadFrustum& f,
+                                                                          float tmax) {
+    __m256 near = _mm256_setzero_ps(), far = _mm256_set1_ps(INFINITY);
+    for (int k = 0; k < 3; ++k) {
+        const __m256 bn = Wide8::row(nd, f.rows[k]), bf = Wide8::row(nd, f.rows[3 + k]);
+        const __m256 n0 = _mm256_sub_ps(bn, f.ohi[k]), n1 = _mm256_sub_ps(bn, f.olo[k]);
+        const __m256 f0 = _mm256_sub_ps(bf, f.ohi[k]), f1 = _mm256_sub_ps(bf, f.olo[k]);
+        near = _mm256_max_ps(near, _mm256_min_ps(_mm256_min_ps(_mm256_mul_ps(n0, f.lo[k]), _mm256_mul_ps(n0, f.hi[k])),
+                                                 _mm256_min_ps(_mm256_mul_ps(n1, f.lo[k]), _mm256_mul_ps(n1, f.hi[k]))));
+        far = _mm256_min_ps(far, _mm256_max_ps(_mm256_max_ps(_mm256_mul_ps(f0, f.lo[k]), _mm256_mul_ps(f0, f.hi[k])),
+                                               _mm256_max_ps(_mm256_mul_ps(f1, f.lo[k]), _mm256_mul_ps(f1, f.hi[k]))));
+    }
+    const __m256 t0 = _mm256_max_ps(_mm256_sub_ps(near, f.pad), _mm256_setzero_ps());
+    const __m256 t1 = _mm256_min_ps(_mm256_add_ps(far, f.pad), _mm256_set1_ps(tmax));
+    return ~unsigned(_mm256_movemask_ps(_mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(1.000001f)), _CMP_GT_OQ))) & 0xffu;
 }
 
 // any() for n rays at once: a stack of subtrees with the rays still unblocked that
@@ -493,21 +567,8 @@ struct Frustum {
         packet_tmax = std::max(packet_tmax, ft[i]);
         hit[i] = false;
     }
-    bool frustum = n > 0;
-    for (int i = 1; i < n && frustum; ++i) frustum = br[i].rows == br[0].rows;
-    __m256 olo[3], ohi[3], lo[3], hi[3], pad = _mm256_setzero_ps();
-    if (frustum) {
-        pad = br[0].pad;
-        for (int k = 0; k < 3; ++k) olo[k] = ohi[k] = br[0].o[k], lo[k] = hi[k] = br[0].inv[k];
-        for (int i = 1; i < n; ++i) {
-            pad = _mm256_max_ps(pad, br[i].pad);
-            for (int k = 0; k < 3; ++k) {
-                olo[k] = _mm256_min_ps(olo[k], br[i].o[k]), ohi[k] = _mm256_max_ps(ohi[k], br[i].o[k]);
-                lo[k] = _mm256_min_ps(lo[k], br[i].inv[k]), hi[k] = _mm256_max_ps(hi[k], br[i].inv[k]);
-            }
-        }
-    }
-    const std::int32_t* rows = br[0].rows;
+    SpreadFrustum f;
+    const bool frustum = spread_frustum(br, n, f);
     const BvhNode8* flat = a.bvh.nodes8.flat();
     BvhNode8* const* table = a.bvh.nodes8.table();
     auto node = [&](std::uint32_t ref) -> const BvhNode8& {
@@ -528,23 +589,8 @@ struct Frustum {
         const std::uint32_t live = e.rays & open;
         if (!live) continue;
         const BvhNode8& nd = node(e.ref);
-        unsigned reach = 0xffu;
-        if (frustum) {
-            __m256 near = _mm256_setzero_ps(), far = _mm256_set1_ps(INFINITY);
-            for (int k = 0; k < 3; ++k) {
-                const __m256 bn = Wide8::row(nd, rows[k]), bf = Wide8::row(nd, rows[3 + k]);
-                const __m256 n0 = _mm256_sub_ps(bn, ohi[k]), n1 = _mm256_sub_ps(bn, olo[k]);
-                const __m256 f0 = _mm256_sub_ps(bf, ohi[k]), f1 = _mm256_sub_ps(bf, olo[k]);
-                near = _mm256_max_ps(near, _mm256_min_ps(_mm256_min_ps(_mm256_mul_ps(n0, lo[k]), _mm256_mul_ps(n0, hi[k])),
-                                                         _mm256_min_ps(_mm256_mul_ps(n1, lo[k]), _mm256_mul_ps(n1, hi[k]))));
-                far = _mm256_min_ps(far, _mm256_max_ps(_mm256_max_ps(_mm256_mul_ps(f0, lo[k]), _mm256_mul_ps(f0, hi[k])),
-                                                       _mm256_max_ps(_mm256_mul_ps(f1, lo[k]), _mm256_mul_ps(f1, hi[k]))));
-            }
-            const __m256 t0 = _mm256_max_ps(_mm256_sub_ps(near, pad), _mm256_setzero_ps());
-            const __m256 t1 = _mm256_min_ps(_mm256_add_ps(far, pad), _mm256_set1_ps(packet_tmax));
-            reach = ~unsigned(_mm256_movemask_ps(_mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(1.000001f)), _CMP_GT_OQ))) & 0xffu;
-            if (!reach) continue;
-        }
+        const unsigned reach = frustum ? spread_frustum_test(nd, f, packet_tmax) : 0xffu;
+        if (!reach) continue;
         unsigned leaves = 0;
         for (int c = 0; c < 8; ++c) leaves |= unsigned(BvhNode::is_leaf(nd.child[c])) << c;
         const __m256 inner = _mm256_castsi256_ps(_mm256_cmpgt_epi32(

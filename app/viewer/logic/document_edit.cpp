@@ -60,6 +60,31 @@ std::string changed_name(std::size_t objects, std::size_t planes, std::size_t li
     return std::string("Edit ") + kind + std::to_string(first + 1);
 }
 
+// What an edit held over the whole scene changed, from `b` to `now`, into `step`'s
+// items and camera; true (and no items) when it is wide: the lists' lengths, the size,
+// the named materials or definitions changed, or too many items did (`step` is
+// re-read from the text then).
+bool diff_whole(const rt::Scene& b, const rt::Scene& now, DocStep& step) {
+    const bool wide =
+        b.objects.size() != now.objects.size() || b.planes.size() != now.planes.size() ||
+        b.lights.size() != now.lights.size() || b.width != now.width || b.height != now.height ||
+        !(b.materials == now.materials) || !(b.defined == now.defined) ||
+        !diff_items(b.objects, now.objects, step.objects_before, step.objects_after, kMaxStepItems) ||
+        !diff_items(b.planes, now.planes, step.planes_before, step.planes_after, kMaxStepItems) ||
+        !diff_items(b.lights, now.lights, step.lights_before, step.lights_after, kMaxStepItems);
+    if (!(b.camera == now.camera)) {
+        step.camera_before = b.camera;
+        step.camera_after = now.camera;
+    }
+    if (wide) {
+        step.reparse = true;
+        step.objects_before.clear(), step.objects_after.clear();
+        step.planes_before.clear(), step.planes_after.clear();
+        step.lights_before.clear(), step.lights_after.clear();
+    }
+    return wide;
+}
+
 }  // namespace
 
 void Document::hold_edit() {
@@ -174,25 +199,7 @@ void Document::commit() {
     step.behind_before = behind_;
     bool wide = false;
     if (saved_.whole) {
-        const rt::Scene& b = *saved_.whole;
-        if (b.objects.size() != scene_.objects.size() || b.planes.size() != scene_.planes.size() ||
-            b.lights.size() != scene_.lights.size() || b.width != scene_.width || b.height != scene_.height ||
-            !(b.materials == scene_.materials) || !(b.defined == scene_.defined) ||
-            !diff_items(b.objects, scene_.objects, step.objects_before, step.objects_after, kMaxStepItems) ||
-            !diff_items(b.planes, scene_.planes, step.planes_before, step.planes_after, kMaxStepItems) ||
-            !diff_items(b.lights, scene_.lights, step.lights_before, step.lights_after, kMaxStepItems)) {
-            wide = true;
-        }
-        if (!(b.camera == scene_.camera)) {
-            step.camera_before = b.camera;
-            step.camera_after = scene_.camera;
-        }
-        if (wide) {
-            step.reparse = true;
-            step.objects_before.clear(), step.objects_after.clear();
-            step.planes_before.clear(), step.planes_after.clear();
-            step.lights_before.clear(), step.lights_after.clear();
-        }
+        wide = diff_whole(*saved_.whole, scene_, step);
     } else {
         diff_saved(saved_.objects, scene_.objects, step.objects_before, step.objects_after);
         diff_saved(saved_.planes, scene_.planes, step.planes_before, step.planes_after);

@@ -157,6 +157,138 @@ void move_positions(SceneLayout& l, std::size_t pos, std::size_t old_len, std::s
     fix(l.append_at, true);
 }
 
+// Whether replacing [pos, pos + length) of `doc` by `text` is what `sp` says; if so
+// `anchor` and `anchor_loc` are a place whose line and column are known (an item's
+// start) at or before the replacement.
+bool splice_anchor(const SceneLayout& l, const rt::Scene& scene, std::string_view doc, std::size_t pos,
+                   std::size_t length, const std::string& text, const ItemSplice& sp, std::size_t& anchor,
+                   rt::SourceLoc& anchor_loc) {
+    const std::vector<TextSpan>& spans = spans_of(l, sp.list);
+    const std::size_t n = spans.size();
+    switch (sp.op) {
+        case ItemSplice::Op::Insert:
+            if (length != 0 || sp.index > n) return false;
+            if (sp.section) {
+                if (n != 0 || pos != l.append_at) return false;
+                // From the last block before it, whichever list it is in.
+                for (ItemList k : {ItemList::Object, ItemList::Plane, ItemList::Light}) {
+                    const std::vector<TextSpan>& v = spans_of(l, k);
+                    if (!v.empty() && v.back().begin >= anchor && v.back().begin <= pos) {
+                        anchor = v.back().begin;
+                        anchor_loc = loc_of(scene, k, v.size() - 1);
+                    }
+                }
+            } else {
+                if (sp.index == 0 || pos != spans[sp.index - 1].end) return false;
+                anchor = spans[sp.index - 1].begin;
+                anchor_loc = loc_of(scene, sp.list, sp.index - 1);
+            }
+            break;
+        case ItemSplice::Op::Remove: {
+            if (sp.index >= n || !text.empty()) return false;
+            const TextSpan b = spans[sp.index];
+            if (pos > b.begin || pos + length < b.end || !blank_only(doc, pos, b.begin) ||
+                !tail_only(doc, b.end, pos + length) || other_block_within(l, sp.list, sp.index, pos, pos + length))
+                return false;
+            anchor = b.begin;
+            anchor_loc = loc_of(scene, sp.list, sp.index);
+            break;
+        }
+        case ItemSplice::Op::Replace:
+            if (sp.index >= n || pos != spans[sp.index].begin || length != spans[sp.index].end - pos) return false;
+            anchor = pos;
+            anchor_loc = loc_of(scene, sp.list, sp.index);
+            break;
+    }
+    return true;
+}
+
+// The new block read on its own: inside a section of its list (unless it is one),
+// with the scene's camera and size so that it is a whole scene. It must read as
+// exactly one item of that list with no word from the parser (a name defined
+// elsewhere in the text, say, does not: the whole text is parsed then). Its items,
+// placed in the text at `pos` (from `s.at`), go to `s.after` and its span to
+// `s.block_after`.
+bool read_block(const std::string& text, std::size_t pos, const ItemSplice& sp, const rt::Scene& scene,
+                const rt::ParseOptions& options, SplicedItem& s) {
+    const std::string prefix = sp.section ? std::string() : std::string(section_of(sp.list)) + " { ";
+    rt::Scene frame;
+    frame.camera = scene.camera;
+    frame.width = scene.width;
+    frame.height = scene.height;
+    const std::string block_text = prefix + text + (sp.section ? "\n" : "\n}\n") + rt::write_scene(frame);
+    rt::ParseResult r = rt::parse_scene(block_text, options);
+    if (!r.ok() || !r.diagnostics.empty() || !r.scene.materials.empty() || !r.scene.defined.empty() ||
+        !r.scene.includes.empty() || count_of(r.scene, sp.list) != 1 ||
+        r.scene.objects.size() + r.scene.planes.size() + r.scene.lights.size() != 1)
+        return false;
+    const SceneLayout bl = scan_layout(block_text);
+    const std::vector<TextSpan>& bs = spans_of(bl, sp.list);
+    if (!bl.ok || bs.size() != 1 || bs[0].begin < prefix.size() || bs[0].end > prefix.size() + text.size())
+        return false;
+    s.block_after = {pos + bs[0].begin - prefix.size(), pos + bs[0].end - prefix.size()};
+    const LocMap map{s.at, prefix.size()};
+    for (rt::Object& o : r.scene.objects) map(o);
+    for (rt::Plane& p : r.scene.planes) map(p.loc);
+    for (rt::Light& li : r.scene.lights) map(li.loc);
+    s.after.objects = std::move(r.scene.objects);
+    s.after.planes = std::move(r.scene.planes);
+    s.after.lights = std::move(r.scene.lights);
+    return true;
+}
+
+// Object `i` of `v` removed (`inserted` null) or `*inserted` put before it, each object
+// after the place moved one along and its source positions shifted on the way.
+void move_objects(std::vector<rt::Object>& v, std::size_t i, const rt::Object* inserted, const LocShift& shift) {
+    // In two halves at once where a worker is free: each half's one element that
+    // the other half overwrites is set aside first.
+    const bool two = v.size() - i > (std::size_t(1) << 16);
+    if (!inserted) {
+        // v[k] = v[k + 1] for k in [i, n - 1); split at m.
+        const std::size_t n = v.size(), m = i + (n - 1 - i) / 2;
+        rt::Object saved = std::move(v[m]);
+        rt::two_ways(two, [&](int part) {
+            const std::size_t from = part == 0 ? i : m, to = part == 0 ? m : n - 1;
+            for (std::size_t k = from; k < to; ++k) {
+                v[k] = std::move(k + 1 == m ? saved : v[k + 1]);
+                shift(v[k]);
+            }
+        });
+        v.pop_back();
+    } else {
+        // v[k] = v[k - 1] for k in (i, n]; split at m.
+        v.emplace_back();
+        const std::size_t n = v.size() - 1, m = i + (n - i) / 2;
+        rt::Object saved = std::move(v[m]);
+        rt::two_ways(two, [&](int part) {
+            const std::size_t top = part == 0 ? m : n, bottom = part == 0 ? i : m;
+            for (std::size_t k = top; k > bottom; --k) {
+                v[k] = std::move(k - 1 == m && part == 1 ? saved : v[k - 1]);
+                shift(v[k]);
+            }
+        });
+        v[i] = *inserted;
+    }
+}
+
+// Every source position of `scene` after the replacement moved as `shift` says (the
+// objects' unless `objects_shifted`).
+void shift_positions(rt::Scene& scene, const LocShift& shift, bool objects_shifted) {
+    if (shift.none()) return;
+    // Each list is in the order of the text (a scene without includes): only the
+    // items from the first one after the replacement on move.
+    auto from = [&](auto& v) {
+        return std::partition_point(v.begin(), v.end(), [&](const auto& x) { return before(x.loc, shift.old_end); });
+    };
+    if (!objects_shifted)
+        for (auto it = from(scene.objects); it != scene.objects.end(); ++it) shift(*it);
+    for (auto it = from(scene.planes); it != scene.planes.end(); ++it) shift(it->loc);
+    for (auto it = from(scene.lights); it != scene.lights.end(); ++it) shift(it->loc);
+    for (rt::NamedMaterial& m : scene.materials) shift(m.loc);
+    for (rt::NamedObject& d : scene.defined) shift(d.loc);
+    shift(scene.camera_loc);
+}
+
 }  // namespace
 
 bool Document::follow_layout(const std::vector<TextReplacement>& reps) {
@@ -203,41 +335,7 @@ bool Document::splice_text(std::size_t pos, std::size_t length, const std::strin
     // are known (an item's) must be near it.
     std::size_t anchor = 0;
     rt::SourceLoc anchor_loc{1, 1};
-    switch (sp.op) {
-        case ItemSplice::Op::Insert:
-            if (length != 0 || sp.index > n) return false;
-            if (sp.section) {
-                if (n != 0 || pos != l->append_at) return false;
-                // From the last block before it, whichever list it is in.
-                for (ItemList k : {ItemList::Object, ItemList::Plane, ItemList::Light}) {
-                    const std::vector<TextSpan>& v = spans_of(*l, k);
-                    if (!v.empty() && v.back().begin >= anchor && v.back().begin <= pos) {
-                        anchor = v.back().begin;
-                        anchor_loc = loc_of(scene_, k, v.size() - 1);
-                    }
-                }
-            } else {
-                if (sp.index == 0 || pos != spans[sp.index - 1].end) return false;
-                anchor = spans[sp.index - 1].begin;
-                anchor_loc = loc_of(scene_, sp.list, sp.index - 1);
-            }
-            break;
-        case ItemSplice::Op::Remove: {
-            if (sp.index >= n || !text.empty()) return false;
-            const TextSpan b = spans[sp.index];
-            if (pos > b.begin || pos + length < b.end || !blank_only(editor_, pos, b.begin) ||
-                !tail_only(editor_, b.end, pos + length) || other_block_within(*l, sp.list, sp.index, pos, pos + length))
-                return false;
-            anchor = b.begin;
-            anchor_loc = loc_of(scene_, sp.list, sp.index);
-            break;
-        }
-        case ItemSplice::Op::Replace:
-            if (sp.index >= n || pos != spans[sp.index].begin || length != spans[sp.index].end - pos) return false;
-            anchor = pos;
-            anchor_loc = loc_of(scene_, sp.list, sp.index);
-            break;
-    }
+    if (!splice_anchor(*l, scene_, editor_, pos, length, text, sp, anchor, anchor_loc)) return false;
     if (anchor_loc.line <= 0) return false;
     SplicedItem s;
     s.op = sp.op;
@@ -257,36 +355,7 @@ bool Document::splice_text(std::size_t pos, std::size_t length, const std::strin
         else if (sp.list == ItemList::Plane) s.before.planes.push_back(scene_.planes[sp.index]);
         else s.before.lights.push_back(scene_.lights[sp.index]);
     }
-    if (sp.op != ItemSplice::Op::Remove) {
-        // The new block read on its own: inside a section of its list (unless it is one),
-        // with the scene's camera and size so that it is a whole scene. It must read as
-        // exactly one item of that list with no word from the parser (a name defined
-        // elsewhere in the text, say, does not: the whole text is parsed then).
-        const std::string prefix = sp.section ? std::string() : std::string(section_of(sp.list)) + " { ";
-        rt::Scene frame;
-        frame.camera = scene_.camera;
-        frame.width = scene_.width;
-        frame.height = scene_.height;
-        const std::string block_text = prefix + text + (sp.section ? "\n" : "\n}\n") + rt::write_scene(frame);
-        rt::ParseOptions options = parse_options(path_);
-        rt::ParseResult r = rt::parse_scene(block_text, options);
-        if (!r.ok() || !r.diagnostics.empty() || !r.scene.materials.empty() || !r.scene.defined.empty() ||
-            !r.scene.includes.empty() || count_of(r.scene, sp.list) != 1 ||
-            r.scene.objects.size() + r.scene.planes.size() + r.scene.lights.size() != 1)
-            return false;
-        const SceneLayout bl = scan_layout(block_text);
-        const std::vector<TextSpan>& bs = spans_of(bl, sp.list);
-        if (!bl.ok || bs.size() != 1 || bs[0].begin < prefix.size() || bs[0].end > prefix.size() + text.size())
-            return false;
-        s.block_after = {pos + bs[0].begin - prefix.size(), pos + bs[0].end - prefix.size()};
-        const LocMap map{s.at, prefix.size()};
-        for (rt::Object& o : r.scene.objects) map(o);
-        for (rt::Plane& p : r.scene.planes) map(p.loc);
-        for (rt::Light& li : r.scene.lights) map(li.loc);
-        s.after.objects = std::move(r.scene.objects);
-        s.after.planes = std::move(r.scene.planes);
-        s.after.lights = std::move(r.scene.lights);
-    }
+    if (sp.op != ItemSplice::Op::Remove && !read_block(text, pos, sp, scene_, parse_options(path_), s)) return false;
     DocStep step;
     step.name = name;
     step.has_scene_before = step.has_scene_after = true;
@@ -318,55 +387,13 @@ void Document::apply_splice(const SplicedItem& s, bool forward, std::size_t pos,
     // them (a million objects' list is hundreds of MB: each pass costs).
     bool objects_shifted = false;
     if (s.list == ItemList::Object && (insert || remove)) {
-        // In two halves at once where a worker is free: each half's one element that
-        // the other half overwrites is set aside first.
-        std::vector<rt::Object>& v = scene_.objects;
-        const bool two = v.size() - i > (std::size_t(1) << 16);
-        if (remove) {
-            // v[k] = v[k + 1] for k in [i, n - 1); split at m.
-            const std::size_t n = v.size(), m = i + (n - 1 - i) / 2;
-            rt::Object saved = std::move(v[m]);
-            rt::two_ways(two, [&](int part) {
-                const std::size_t from = part == 0 ? i : m, to = part == 0 ? m : n - 1;
-                for (std::size_t k = from; k < to; ++k) {
-                    v[k] = std::move(k + 1 == m ? saved : v[k + 1]);
-                    shift(v[k]);
-                }
-            });
-            v.pop_back();
-        } else {
-            // v[k] = v[k - 1] for k in (i, n]; split at m.
-            v.emplace_back();
-            const std::size_t n = v.size() - 1, m = i + (n - i) / 2;
-            rt::Object saved = std::move(v[m]);
-            rt::two_ways(two, [&](int part) {
-                const std::size_t top = part == 0 ? m : n, bottom = part == 0 ? i : m;
-                for (std::size_t k = top; k > bottom; --k) {
-                    v[k] = std::move(k - 1 == m && part == 1 ? saved : v[k - 1]);
-                    shift(v[k]);
-                }
-            });
-            v[i] = value.objects.at(0);
-        }
+        move_objects(scene_.objects, i, remove ? nullptr : &value.objects.at(0), shift);
         objects_shifted = true;
     } else if (remove) {
         if (s.list == ItemList::Plane) scene_.planes.erase(scene_.planes.begin() + std::ptrdiff_t(i));
         else scene_.lights.erase(scene_.lights.begin() + std::ptrdiff_t(i));
     }
-    if (!shift.none()) {
-        // Each list is in the order of the text (a scene without includes): only the
-        // items from the first one after the replacement on move.
-        auto from = [&](auto& v) {
-            return std::partition_point(v.begin(), v.end(), [&](const auto& x) { return before(x.loc, shift.old_end); });
-        };
-        if (!objects_shifted)
-            for (auto it = from(scene_.objects); it != scene_.objects.end(); ++it) shift(*it);
-        for (auto it = from(scene_.planes); it != scene_.planes.end(); ++it) shift(it->loc);
-        for (auto it = from(scene_.lights); it != scene_.lights.end(); ++it) shift(it->loc);
-        for (rt::NamedMaterial& m : scene_.materials) shift(m.loc);
-        for (rt::NamedObject& d : scene_.defined) shift(d.loc);
-        shift(scene_.camera_loc);
-    }
+    shift_positions(scene_, shift, objects_shifted);
     if (insert) {
         if (s.list == ItemList::Object) {
             // (Inserted above.)

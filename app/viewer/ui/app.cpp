@@ -1,6 +1,7 @@
-// ViewerApp: the frame loop over the viewer's parts, loading, keyboard shortcuts, the
-// layout and the host interface (see app.h). Its commands: app_commands.cpp;
-// structural edits: app_edits.cpp; --print-layout: app_probe.cpp.
+// ViewerApp: the frame loop over the viewer's parts, loading, the layout and the host
+// interface (see app.h). Its commands: app_commands.cpp; keyboard shortcuts and clicks
+// on the picture: app_input.cpp; structural edits: app_edits.cpp; --print-layout:
+// app_probe.cpp.
 #include "app.h"
 
 #include <imgui.h>
@@ -15,7 +16,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <filesystem>
 #include <optional>
 #include <utility>
@@ -264,24 +264,7 @@ void ViewerApp::frame() {
     if (interactive_ && now - last_disk_check_ >= 1.0) idle_tick();
     update_render(now);
     panels_.draw_surround();
-    if (doc.has_scene() || render_.started()) {
-        // While the view moves, the UI thread's own preview; else the film as the
-        // picture tools show it (zoom, display mapping, A/B, region).
-        if (render_.showing_preview()) {
-            // Zoomed, the picture reaches past the area: the preview stays within it.
-            ImDrawList* dl = ImGui::GetBackgroundDrawList();
-            const Rect& a = layout_.area;
-            dl->PushClipRect(ImVec2(float(a.x), float(a.y)), ImVec2(float(a.x + a.w), float(a.y + a.h)), true);
-            render_.draw(layout_.image, layout_.fb_scale);
-            dl->PopClipRect();
-        } else {
-            tools_.draw();
-        }
-        // Over the picture, not in the film: a saved image stays clean.
-        if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
-            move_.draw(doc, panels_.selection(), screen_view(), render_.world(), layout_.image, layout_.area,
-                       layout_.film_w, layout_.film_h);
-    }
+    if (doc.has_scene() || render_.started()) draw_picture();
     if (!doc.has_scene()) draw_no_image();
     probe_frame();
     publish_outputs();
@@ -289,6 +272,25 @@ void ViewerApp::frame() {
     frame_timing_end();
 }
 
+// The picture: while the view moves, the UI thread's own preview; else the film as the
+// picture tools show it (zoom, display mapping, A/B, region). The move handle over it.
+void ViewerApp::draw_picture() {
+    Document& doc = editor_.doc();
+    if (render_.showing_preview()) {
+        // Zoomed, the picture reaches past the area: the preview stays within it.
+        ImDrawList* dl = ImGui::GetBackgroundDrawList();
+        const Rect& a = layout_.area;
+        dl->PushClipRect(ImVec2(float(a.x), float(a.y)), ImVec2(float(a.x + a.w), float(a.y + a.h)), true);
+        render_.draw(layout_.image, layout_.fb_scale);
+        dl->PopClipRect();
+    } else {
+        tools_.draw();
+    }
+    // Over the picture, not in the film: a saved image stays clean.
+    if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
+        move_.draw(doc, panels_.selection(), screen_view(), render_.world(), layout_.image, layout_.area,
+                   layout_.film_w, layout_.film_h);
+}
 
 void ViewerApp::update_render(double now) {
     Document& doc = editor_.doc();
@@ -430,142 +432,6 @@ ImageFrame ViewerApp::image_frame(double now) {
     f.now = now;
     f.scene_path = doc.path();
     return f;
-}
-
-// --- Keyboard
-
-bool ViewerApp::close_menus_for_keys() {
-    ImGuiContext& g = *GImGui;
-    if (g.OpenPopupStack.empty()) return false;
-    // A modal dialog (or a popup not drawn yet) handles its own keys.
-    for (const ImGuiPopupData& p : g.OpenPopupStack)
-        if (!p.Window || (p.Window->Flags & ImGuiWindowFlags_Modal)) return false;
-    if (imgui_key_pressed(ImGuiKey_Escape)) {
-        ImGui::ClosePopupsExceptModals();
-        return true;
-    }
-    if (ImGui::GetIO().KeyCtrl)
-        for (int k = 'A'; k <= 'Z'; ++k)
-            if (key_pressed(k)) {
-                ImGui::ClosePopupsExceptModals();
-                break;
-            }
-    return false;
-}
-
-void ViewerApp::handle_shortcuts() {
-    ImGuiIO& io = ImGui::GetIO();
-    bool ctrl = io.KeyCtrl, shift = io.KeyShift;
-    if (ctrl) {
-        if (key_pressed(keys::kS)) run(shift ? Command::SaveAsDialog : Command::Save);
-        if (key_pressed(keys::kQ)) run(Command::Quit);  // asks first if there are unsaved edits
-        if (key_pressed(keys::kO)) run(Command::OpenDialog);
-        if (key_pressed(keys::kN)) run(Command::NewScene);
-        if (key_pressed(keys::kP)) run(Command::SaveImageDialog);
-        if (key_pressed(keys::kE)) run(Command::EditText);
-        if (key_pressed(keys::kK)) run(Command::SetSceneCamera);
-        if (imgui_key_pressed(ImGuiKey_Enter) || imgui_key_pressed(ImGuiKey_KeyPadEnter)) run(Command::ApplyText);
-        // In a text field, Ctrl+Z/Y belong to the field's own undo.
-        if (!io.WantTextInput) {
-            if (imgui_key_pressed(ImGuiKey_Z, true)) run(shift ? Command::Redo : Command::Undo);
-            else if (imgui_key_pressed(ImGuiKey_Y, true)) run(Command::Redo);
-        }
-    }
-    if (key_pressed(keys::kF12)) {
-        char name[64];
-        std::time_t t = std::time(nullptr);
-        std::strftime(name, sizeof name, "raytracer-view-%Y%m%d-%H%M%S.png", std::localtime(&t));
-        run(Command::Screenshot, name);
-    }
-    if (loader_.active() && imgui_key_pressed(ImGuiKey_Escape) && !esc_closed_menu_ &&
-        !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId))
-        run(Command::CancelLoad);
-    if (!io.WantCaptureKeyboard && ctrl && !io.KeyAlt && key_pressed(keys::kD)) run(Command::Duplicate);
-    if (!io.WantCaptureKeyboard && !ctrl && !io.KeyAlt) {
-        if (imgui_key_pressed(ImGuiKey_Delete)) run(Command::Delete);
-        if (imgui_key_pressed(ImGuiKey_Space)) run(Command::TogglePause);
-        if (key_pressed(keys::kF)) run(Command::FrameScene);
-        if (key_pressed(keys::kR)) run(Command::ResetView);
-        // The handle: move, turn, size (Blender's G/R/S; R and S are the view's here).
-        const int handle_keys[3] = {keys::kG, keys::kY, keys::kU};
-        for (int k = 0; k < 3; ++k)
-            if (key_pressed(handle_keys[k]) && !move_.dragging()) {
-                move_.set_mode(HandleMode(k));
-                status_.set(k == 0   ? "Move handle (G): arrows along x/y/z, the square in the view plane"
-                            : k == 1 ? "Turn handle (Y): a ring turns about its axis, the outer circle about the view; "
-                                       "Shift snaps to 15 degrees"
-                                     : "Size handle (U): a box sizes along the object's own axis, the middle one all "
-                                       "three; Shift snaps to tenths");
-            }
-        // The picture alone, as Tab hides the panels of image editors.
-        if (imgui_key_pressed(ImGuiKey_Tab) && !io.KeyShift && !ImGui::IsAnyItemActive()) {
-            layout_.sidebar_hidden = !layout_.sidebar_hidden;
-            status_.set(layout_.sidebar_hidden ? "Sidebar hidden (Tab shows it)" : "Sidebar shown (drag its edge to resize)");
-        }
-    }
-}
-
-void ViewerApp::select_at(double px, double py) {
-    const rt::World* w = render_.world();
-    if (!w) return;
-    // What is drawn over the picture comes first: the selection's handle (it stays
-    // selected), a light's marker.
-    if (move_.over_handle(editor_.doc(), panels_.selection(), screen_view(), px, py)) return;
-    if (int light = move_.light_under(px, py); light >= 0) {
-        panels_.select({{SceneItem::Kind::Light, light}, {}});
-        return;
-    }
-    // The world of the scene before an edit (the new one still compiles) numbers the
-    // objects as that scene did: what it would pick is another object of this one.
-    if (render_.world_version() != editor_.doc().content_version()) {
-        status_.set("The picture is being updated to the edited scene: click again once it shows it");
-        return;
-    }
-    rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
-    rt::PickResult r = pick_at(*w, vc, layout_.image, layout_.film_w, layout_.film_h, px, py);
-    ItemRef s;
-    if (r.object >= 0) s = {{SceneItem::Kind::Object, r.object}, {}};
-    else if (r.plane >= 0) s = {{SceneItem::Kind::Plane, r.plane}, {}};
-    else if (r.light >= 0) s = {{SceneItem::Kind::Light, r.light}, {}};
-    panels_.select(s);
-}
-
-void ViewerApp::focus_at(double px, double py) {
-    const rt::World* w = render_.world();
-    Document& doc = editor_.doc();
-    if (!w || !doc.has_scene()) return;
-    if (const std::string blocked = doc.edit_blocker(); !blocked.empty()) {
-        status_.set(blocked, true);
-        return;
-    }
-    const rt::Camera vc = nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window});
-    const rt::PickResult r = pick_at(*w, vc, layout_.image, layout_.film_w, layout_.film_h, px, py);
-    if (!r.hit) {
-        status_.set("Nothing under the cursor to focus on", true);
-        return;
-    }
-    const rt::Camera view = nav_.camera();
-    const bool moved = nav_.differs_from(doc.scene().camera);
-    rt::Camera cam = doc.scene().camera;
-    const double d = focus_distance_to(cam, r.point), dv = focus_distance_to(view, r.point);
-    if (!(d > 0)) {
-        status_.set("That point is behind the scene camera: focus not changed", true);
-        return;
-    }
-    cam.focus_distance = d;
-    if (!doc.set_camera(cam)) return;
-    if (moved && dv > 0) {
-        // The view stays where it was (a scene camera edit would take it back), with
-        // the same focus.
-        nav_.follow(doc.scene().camera);
-        rt::Camera v = view;
-        v.focus_distance = dv;
-        nav_.set(v);
-    }
-    char msg[160];
-    std::snprintf(msg, sizeof msg, "Focus distance %.4g%s (Ctrl+Z undoes)", d,
-                  cam.aperture > 0 ? "" : "; set the camera's aperture to see the blur");
-    status_.set(msg);
 }
 
 ScreenView ViewerApp::screen_view() const {

@@ -118,10 +118,11 @@ private:
     void end_edits();
     void poll_loader();
     // Parts of frame(): the render follows the scene, the view and the picture tools;
-    // the message where there is no picture; the title, --print-layout and
-    // --view-scene once they change.
+    // the message where there is no picture; the picture (the preview or the film, the
+    // move handle over it); the title, --print-layout and --view-scene once they change.
     void update_render(double now);
     void draw_no_image();
+    void draw_picture();
     void publish_outputs();
     // --print-layout: what the frame showed, in words (probe.h).
     void probe_frame();

@@ -62,6 +62,7 @@ public:
 
 private:
     void draw_sidebar_edge();
+    void draw_render_status();  // the status bar's part while no scene loads
     void draw_undo_items();
     void draw_camera_panel();
     bool draw_lens_fields(rt::Camera& cam, float speed);
@@ -72,6 +73,7 @@ private:
     void draw_properties();
     void draw_fields(const ItemRef& ref);
     bool draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float size, const char* vec_format, int& operand);
+    bool draw_material_field(const ItemRef& ref, const Field& f, FieldValue& v);
     bool light_colour_editor(rt::Vec3& colour);
     static std::string choice_label(std::string_view key, std::string_view word);
     float field_label_width();

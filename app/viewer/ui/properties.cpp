@@ -326,6 +326,46 @@ void Panels::draw_fields(const ItemRef& ref) {
     probe("fields", shown);
 }
 
+// A material field: whose it is (a named material's users, Make local), then its
+// editor; true if it changed.
+bool Panels::draw_material_field(const ItemRef& ref, const Field& f, FieldValue& v) {
+    ImGui::Separator();
+    const rt::Scene& scene = editor_.doc().scene();
+    if (const int k = named_material_of(scene, ref, f); k >= 0) {
+        // A named material: an edit here changes it for every thing that uses it.
+        const std::string& name = scene.materials[std::size_t(k)].name;
+        const std::size_t users = material_users(scene, std::size_t(k));
+        const std::string said = f.label + " `" + name + "`, used by " + std::to_string(users) +
+                                 (users == 1 ? " thing" : " things") + ": an edit changes it for all";
+        ImGui::TextWrapped("%s", said.c_str());
+        probe("material_shared", said);
+        if (ImGui::Button("Make local")) {
+            const FieldResult r = make_material_local(editor_.doc(), ref, f);
+            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true, {}, {}};
+        }
+        probe_item("make_local");
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Give this thing its own copy of %s to edit", name.c_str());
+    } else {
+        ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
+        probe("material_shared", "");
+    }
+    bool browse = false;
+    // A message about one of its keys shows under that key's field.
+    const bool note = field_message_.field == f.label && !field_message_.sub.empty();
+    const bool changed = material_editor(f.label.c_str(), v.material, browse, note ? field_message_.sub : std::string(),
+                                         note ? field_message_.text : std::string(), field_message_.error);
+    if (browse) {
+        // The browser starts at the texture's file, else in the scene's folder;
+        // its answer comes back as set_texture().
+        texture_target_ = {ref, f.label};
+        const rt::Material& now = v.material;
+        commands_.run(Command::TextureDialog, now.texture_image && !now.texture_image->path().empty()
+                                                  ? now.texture_image->path()
+                                                  : rt::folder_of(editor_.doc().path()));
+    }
+    return changed;
+}
+
 // The widget of one field of the kind the schema gives it, editing `v`; true if it
 // changed. `size`: the scene's extent (drag speeds); `operand` counts a CSG's operands.
 bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float size, const char* vec_format,
@@ -370,43 +410,7 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
             }
             break;
         }
-        case sc::Kind::Material: {
-            ImGui::Separator();
-            const rt::Scene& scene = editor_.doc().scene();
-            if (const int k = named_material_of(scene, ref, f); k >= 0) {
-                // A named material: an edit here changes it for every thing that uses it.
-                const std::string& name = scene.materials[std::size_t(k)].name;
-                const std::size_t users = material_users(scene, std::size_t(k));
-                const std::string said = f.label + " `" + name + "`, used by " + std::to_string(users) +
-                                         (users == 1 ? " thing" : " things") + ": an edit changes it for all";
-                ImGui::TextWrapped("%s", said.c_str());
-                probe("material_shared", said);
-                if (ImGui::Button("Make local")) {
-                    const FieldResult r = make_material_local(editor_.doc(), ref, f);
-                    if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true, {}, {}};
-                }
-                probe_item("make_local");
-                if (ImGui::IsItemHovered()) ImGui::SetTooltip("Give this thing its own copy of %s to edit", name.c_str());
-            } else {
-                ImGui::TextWrapped("%s%s", f.label.c_str(), v.has_material ? "" : " (none in the file: the default)");
-                probe("material_shared", "");
-            }
-            bool browse = false;
-            // A message about one of its keys shows under that key's field.
-            const bool note = field_message_.field == f.label && !field_message_.sub.empty();
-            changed = material_editor(f.label.c_str(), v.material, browse, note ? field_message_.sub : std::string(),
-                                      note ? field_message_.text : std::string(), field_message_.error);
-            if (browse) {
-                // The browser starts at the texture's file, else in the scene's folder;
-                // its answer comes back as set_texture().
-                texture_target_ = {ref, f.label};
-                const rt::Material& now = v.material;
-                commands_.run(Command::TextureDialog, now.texture_image && !now.texture_image->path().empty()
-                                                          ? now.texture_image->path()
-                                                          : rt::folder_of(editor_.doc().path()));
-            }
-            break;
-        }
+        case sc::Kind::Material: changed = draw_material_field(ref, f, v); break;
         case sc::Kind::File:
             // The model is read with the scene: a new name is typed in the scene text.
             ImGui::TextWrapped("%s: %s", f.label.c_str(), v.text.c_str());

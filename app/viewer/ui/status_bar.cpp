@@ -82,74 +82,80 @@ void Panels::draw_status_bar(const LoadStatus& load) {
             ImGui::SameLine();
             status_text(load.text + " (Esc cancels)", true);
         } else {
-            rt::RenderProgress p = render_.progress();
-            if (ImGui::Button(render_.paused() ? "Resume" : "Pause", ImVec2(ImGui::GetFontSize() * 4.5f, 0)))
-                commands_.run(Command::TogglePause);
-            ImGui::SameLine();
-            double elapsed = p.done && render_.done_generation() == p.generation ? render_.done_elapsed() : p.elapsed;
-            double frac = p.refining >= 0 ? rt::progress_fraction(p, render_.max_samples())
-                                          : std::clamp((p.samples + p.pass_fraction) / std::max(1, render_.max_samples()), 0.0, 1.0);
-            if (render_.time_limit() > 0) frac = std::max(frac, std::min(1.0, elapsed / render_.time_limit()));
-            if (p.done) frac = 1;
-            char buf[64];
-            // Adaptive: how many pixels have not settled yet, until every one has.
-            // (Thousands above 9999, rounded up: "305k px refining" fits the bar.)
-            if (p.refining > 9999)
-                std::snprintf(buf, sizeof buf, "%lldk px refining", static_cast<long long>((p.refining + 999) / 1000));
-            else if (p.refining > 0) std::snprintf(buf, sizeof buf, "%lld px refining", static_cast<long long>(p.refining));
-            else if (p.refining == 0) std::snprintf(buf, sizeof buf, "settled");
-            else std::snprintf(buf, sizeof buf, "%d / %d spp", p.samples, render_.max_samples());
-            if (render_.showing_preview()) {  // the view moves: the last render's state is not the picture's
-                std::snprintf(buf, sizeof buf, "moving");
-                frac = 0;
-            }
-            // The picture is still the scene as it was (its world compiles, or its new
-            // render has not reached the screen): never "settled" or "done" over it.
-            const Document& doc = editor_.doc();
-            const bool stale = doc.has_scene() && !render_.showing_preview() && !render_.picture_current(doc.content_version());
-            if (stale) {
-                std::snprintf(buf, sizeof buf, "updating");
-                frac = 0;
-            }
-            // As wide as its longest usual text (up to 100M pixels refining), at any UI
-            // scale, so it keeps its width; in a narrow bar, as wide as this label, within
-            // a share that leaves the text room, and the percentage if not even that.
-            const float pad = ImGui::GetStyle().FramePadding.x;
-            const float usual = std::max(ImGui::GetFontSize() * 8, ImGui::CalcTextSize("99999k px refining").x + pad * 4);
-            const float share = narrow_share(ImGui::GetContentRegionAvail().x);
-            const float bar_w = usual <= share ? usual
-                                               : std::min(share, std::max(ImGui::GetFontSize() * 3,
-                                                                          ImGui::CalcTextSize(buf).x + pad * 4));
-            if (ImGui::CalcTextSize(buf).x + 2 * pad > bar_w)
-                std::snprintf(buf, sizeof buf, "%d%%", int(std::floor(frac * 100)));
-            ImGui::ProgressBar(float(frac), ImVec2(bar_w, 0), buf);
-            ImGui::SameLine();
-            double rate = elapsed > 0 ? double(p.rays) / elapsed : 0;
-            const char* state = render_.paused() ? "paused"
-                                : p.done         ? "done"
-                                : render_.building() ? "building"
-                                : p.running      ? "rendering"
-                                                 : "idle";
-            char preview[32] = "";
-            if (render_.showing_preview())
-                std::snprintf(preview, sizeof preview, "preview %dx%d", render_.last_preview_block(),
-                              render_.last_preview_block());
-            const char* shown = render_.showing_preview() ? preview : stale ? "updating the picture..." : state;
-            // Over the picture: the readout of the pixel under the cursor instead of the
-            // statistics; the last message stays beside it (a screenshot's path, an error).
-            // The readout first: in a narrow bar it is what is cut last.
-            char line[512];
-            if (!tools_.readout_line().empty())
-                std::snprintf(line, sizeof line, "%s  |  %s", tools_.readout_line().c_str(), shown);
-            else
-                std::snprintf(line, sizeof line, "%.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
-                              layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
-            // Over the picture the readout is what the user looks for: the message gets less.
-            status_text(line, true, tools_.readout_line().empty() ? 0.4f : 0.25f);
+            draw_render_status();
         }
     }
     ImGui::End();
     ImGui::PopStyleVar();
+}
+
+// The render's part of the bar: Pause, its progress, its numbers (or the readout of
+// the pixel under the cursor) and the last message.
+void Panels::draw_render_status() {
+    rt::RenderProgress p = render_.progress();
+    if (ImGui::Button(render_.paused() ? "Resume" : "Pause", ImVec2(ImGui::GetFontSize() * 4.5f, 0)))
+        commands_.run(Command::TogglePause);
+    ImGui::SameLine();
+    double elapsed = p.done && render_.done_generation() == p.generation ? render_.done_elapsed() : p.elapsed;
+    double frac = p.refining >= 0 ? rt::progress_fraction(p, render_.max_samples())
+                                  : std::clamp((p.samples + p.pass_fraction) / std::max(1, render_.max_samples()), 0.0, 1.0);
+    if (render_.time_limit() > 0) frac = std::max(frac, std::min(1.0, elapsed / render_.time_limit()));
+    if (p.done) frac = 1;
+    char buf[64];
+    // Adaptive: how many pixels have not settled yet, until every one has.
+    // (Thousands above 9999, rounded up: "305k px refining" fits the bar.)
+    if (p.refining > 9999)
+        std::snprintf(buf, sizeof buf, "%lldk px refining", static_cast<long long>((p.refining + 999) / 1000));
+    else if (p.refining > 0) std::snprintf(buf, sizeof buf, "%lld px refining", static_cast<long long>(p.refining));
+    else if (p.refining == 0) std::snprintf(buf, sizeof buf, "settled");
+    else std::snprintf(buf, sizeof buf, "%d / %d spp", p.samples, render_.max_samples());
+    if (render_.showing_preview()) {  // the view moves: the last render's state is not the picture's
+        std::snprintf(buf, sizeof buf, "moving");
+        frac = 0;
+    }
+    // The picture is still the scene as it was (its world compiles, or its new
+    // render has not reached the screen): never "settled" or "done" over it.
+    const Document& doc = editor_.doc();
+    const bool stale = doc.has_scene() && !render_.showing_preview() && !render_.picture_current(doc.content_version());
+    if (stale) {
+        std::snprintf(buf, sizeof buf, "updating");
+        frac = 0;
+    }
+    // As wide as its longest usual text (up to 100M pixels refining), at any UI
+    // scale, so it keeps its width; in a narrow bar, as wide as this label, within
+    // a share that leaves the text room, and the percentage if not even that.
+    const float pad = ImGui::GetStyle().FramePadding.x;
+    const float usual = std::max(ImGui::GetFontSize() * 8, ImGui::CalcTextSize("99999k px refining").x + pad * 4);
+    const float share = narrow_share(ImGui::GetContentRegionAvail().x);
+    const float bar_w = usual <= share ? usual
+                                       : std::min(share, std::max(ImGui::GetFontSize() * 3,
+                                                                  ImGui::CalcTextSize(buf).x + pad * 4));
+    if (ImGui::CalcTextSize(buf).x + 2 * pad > bar_w)
+        std::snprintf(buf, sizeof buf, "%d%%", int(std::floor(frac * 100)));
+    ImGui::ProgressBar(float(frac), ImVec2(bar_w, 0), buf);
+    ImGui::SameLine();
+    double rate = elapsed > 0 ? double(p.rays) / elapsed : 0;
+    const char* state = render_.paused() ? "paused"
+                        : p.done         ? "done"
+                        : render_.building() ? "building"
+                        : p.running      ? "rendering"
+                                         : "idle";
+    char preview[32] = "";
+    if (render_.showing_preview())
+        std::snprintf(preview, sizeof preview, "preview %dx%d", render_.last_preview_block(),
+                      render_.last_preview_block());
+    const char* shown = render_.showing_preview() ? preview : stale ? "updating the picture..." : state;
+    // Over the picture: the readout of the pixel under the cursor instead of the
+    // statistics; the last message stays beside it (a screenshot's path, an error).
+    // The readout first: in a narrow bar it is what is cut last.
+    char line[512];
+    if (!tools_.readout_line().empty())
+        std::snprintf(line, sizeof line, "%s  |  %s", tools_.readout_line().c_str(), shown);
+    else
+        std::snprintf(line, sizeof line, "%.2f Mrays/s  %.1f s  %s  |  %s", rate / 1e6, elapsed, shown,
+                      layout_.fit == FitMode::Picture ? "picture frame" : "fill window");
+    // Over the picture the readout is what the user looks for: the message gets less.
+    status_text(line, true, tools_.readout_line().empty() ? 0.4f : 0.25f);
 }
 
 // The status bar's height: one row at any width (what does not fit is cut with "...",
