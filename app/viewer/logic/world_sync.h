@@ -97,6 +97,7 @@ private:
     // second): items changed meanwhile are copied again, a change of the lists starts
     // it over.
     struct Copy {
+        Copy() {}  // (declared: std::optional of a nested struct with member initializers, for clang)
         rt::Scene scene;
         std::size_t objects = 0;  // copied so far, of `total`
         std::size_t total = 0;
