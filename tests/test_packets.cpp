@@ -110,11 +110,21 @@ std::vector<std::uint32_t> slots_of(const TriangleAccel& a, std::uint32_t id) {
     return out;
 }
 
+// A terrain and its tree (built on one thread).
+struct TerrainTree {
+    rt::MeshData m;
+    TriangleAccel a;
+};
+TerrainTree terrain_tree(int n, int copies, unsigned seed) {
+    rt::MeshData m = terrain(n, copies, seed);
+    TriangleAccel a = TriangleAccel::build(m, 1);
+    return {std::move(m), std::move(a)};
+}
+
 }  // namespace
 
 TEST_CASE("packets: camera-like packets through a bumpy terrain, each ray as the single walk and brute force") {
-    const rt::MeshData m = terrain(48, 0, 7);
-    const TriangleAccel a = TriangleAccel::build(m, 1);
+    const auto [m, a] = terrain_tree(48, 0, 7);
     rt_test::Rng rng(11);
     int hits = 0, rays_total = 0;
     for (int p = 0; p < 60; ++p) {
@@ -140,8 +150,7 @@ TEST_CASE("packets: camera-like packets through a bumpy terrain, each ray as the
 }
 
 TEST_CASE("packets: scattered rays (origins and directions at random), and a tmax that cuts") {
-    const rt::MeshData m = terrain(24, 0, 3);
-    const TriangleAccel a = TriangleAccel::build(m, 1);
+    const auto [m, a] = terrain_tree(24, 0, 3);
     rt_test::Rng rng(5);
     int hits = 0;
     for (int p = 0; p < 80; ++p) {
@@ -158,8 +167,7 @@ TEST_CASE("packets: scattered rays (origins and directions at random), and a tma
 }
 
 TEST_CASE("packets: rays through edges and corners shared by two triangles hit, as the single walk") {
-    const rt::MeshData m = terrain(16, 0, 9);
-    const TriangleAccel a = TriangleAccel::build(m, 1);
+    const auto [m, a] = terrain_tree(16, 0, 9);
     rt_test::Rng rng(13);
     const int n = 16;
     for (int p = 0; p < 40; ++p) {
@@ -184,8 +192,7 @@ TEST_CASE("packets: rays through edges and corners shared by two triangles hit, 
 }
 
 TEST_CASE("packets: rays leaving a point on the surface, tmin 0 and a small tmin") {
-    const rt::MeshData m = terrain(16, 0, 21);
-    const TriangleAccel a = TriangleAccel::build(m, 1);
+    const auto [m, a] = terrain_tree(16, 0, 21);
     rt_test::Rng rng(17);
     for (int p = 0; p < 40; ++p) {
         const std::uint32_t t = std::uint32_t(rng.index(m.triangle_count()));
@@ -207,8 +214,7 @@ TEST_CASE("packets: rays leaving a point on the surface, tmin 0 and a small tmin
 }
 
 TEST_CASE("packets: equal triangles at two slots tie; the lower slot wins in packets too") {
-    const rt::MeshData m = terrain(8, 128, 4);  // every triangle of the terrain twice
-    const TriangleAccel a = TriangleAccel::build(m, 1);
+    const auto [m, a] = terrain_tree(8, 128, 4);  // every triangle of the terrain twice
     rt_test::Rng rng(23);
     int hits = 0;
     for (int p = 0; p < 20; ++p) {
@@ -236,8 +242,7 @@ TEST_CASE("packets: one ray that hits among rays that miss keeps its hit (the fr
     // aimed at a corner of the terrain (a box's edge: where a frustum short of that ray's
     // inverse direction would rule the boxes out). A frustum made from the first ray
     // only, or from one end of the inverse directions only, loses it.
-    const rt::MeshData m = terrain(32, 0, 2);
-    const TriangleAccel a = TriangleAccel::build(m, 1);
+    const auto [m, a] = terrain_tree(32, 0, 2);
     rt_test::Rng rng(29);
     const Vec3 corner = vertex(m, 0);  // (0, 0, z)
     const Vec3 far_corner = vertex(m, std::uint32_t(33 * 33 - 1));  // (32, 32, z)
@@ -270,8 +275,7 @@ TEST_CASE("packets: one ray that hits among rays that miss keeps its hit (the fr
 }
 
 TEST_CASE("packets: prepared answers are taken for exactly the rays prepared, and forgotten") {
-    const rt::MeshData m = terrain(16, 0, 31);
-    const TriangleAccel a = TriangleAccel::build(m, 1);
+    const auto [m, a] = terrain_tree(16, 0, 31);
     rt_test::Rng rng(37);
     const Vec3 eye{8, -6, 9};
     std::vector<TriRay> rays;
@@ -335,8 +339,7 @@ int check_any_packet(const TriangleAccel& a, const std::vector<TriRay>& rays, co
 }  // namespace
 
 TEST_CASE("packets: shadow-like packets (points of the surface toward one light) blocked as any() says") {
-    const rt::MeshData m = terrain(24, 0, 41);
-    const TriangleAccel a = TriangleAccel::build(m, 1);
+    const auto [m, a] = terrain_tree(24, 0, 41);
     rt_test::Rng rng(43);
     int blocked = 0, total = 0;
     for (int p = 0; p < 60; ++p) {
@@ -369,8 +372,7 @@ TEST_CASE("packets: shadow-like packets (points of the surface toward one light)
 }
 
 TEST_CASE("packets: any_packet on scattered rays, rays through shared edges, and prepared answers") {
-    const rt::MeshData m = terrain(16, 0, 47);
-    const TriangleAccel a = TriangleAccel::build(m, 1);
+    const auto [m, a] = terrain_tree(16, 0, 47);
     rt_test::Rng rng(53);
     for (int p = 0; p < 60; ++p) {
         const int n = 2 + int(rng.index(TriangleAccel::kPacket - 1));

@@ -310,7 +310,8 @@ TEST_CASE("named materials and instances: each mistake an error at the name") {
          "2:35: scale must be 1e-9 .. 1e9 on every axis (0 and negative scales, mirrors, are refused)"},
     };
     for (const auto& [text, error] : cases) {
-        CAPTURE(text);
-        CHECK(first_error(text) == error);
+        const std::string scene = text;  // (CAPTURE's lambda cannot take a binding)
+        CAPTURE(scene);
+        CHECK(first_error(scene) == error);
     }
 }
