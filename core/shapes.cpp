@@ -723,18 +723,6 @@ MeshG mesh_g(const Mesh& s, const Object& obj) {
     return m;
 }
 
-// a then b: the map p -> a(b(p)).
-MeshInstance compose(const MeshInstance& a, const MeshInstance& b) {
-    MeshInstance out;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-            out.l[i][j] = a.l[i][0] * b.l[0][j] + a.l[i][1] * b.l[1][j] + a.l[i][2] * b.l[2][j];
-            out.m[i][j] = b.m[i][0] * a.m[0][j] + b.m[i][1] * a.m[1][j] + b.m[i][2] * a.m[2][j];
-        }
-    out.position = a.point_to_world(b.position);
-    return out;
-}
-
 // Each definition built so far (each once, however many placements): its root node
 // and that node's box in the definition's own space.
 struct Definition {

@@ -772,6 +772,17 @@ void cos_sin(double degrees, double& c, double& s) {
 }
 }  // namespace
 
+MeshInstance compose(const MeshInstance& a, const MeshInstance& b) {
+    MeshInstance out;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            out.l[i][j] = a.l[i][0] * b.l[0][j] + a.l[i][1] * b.l[1][j] + a.l[i][2] * b.l[2][j];
+            out.m[i][j] = b.m[i][0] * a.m[0][j] + b.m[i][1] * a.m[1][j] + b.m[i][2] * a.m[2][j];
+        }
+    out.position = a.point_to_world(b.position);
+    return out;
+}
+
 MeshInstance MeshInstance::make(const Vec3& position, const Vec3& scale, const Vec3& rotation) {
     double cx, sx, cy, sy, cz, sz;
     cos_sin(rotation.x, cx, sx);

@@ -120,4 +120,7 @@ struct MeshInstance {
     Aabb world_bounds(const Aabb& model) const;
 };
 
+// a then b: the map p -> a(b(p)) (a placement inside a placed frame).
+MeshInstance compose(const MeshInstance& a, const MeshInstance& b);
+
 }  // namespace rt

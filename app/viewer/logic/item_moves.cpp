@@ -2,11 +2,12 @@
 // is written in (see scene_edits.h): what duplicate with an offset and the move tool use.
 #include "scene_edits.h"
 
-#include <charconv>
 #include <cmath>
 #include <utility>
 #include <variant>
 #include <vector>
+
+#include "shown_numbers.h"
 
 namespace rtview {
 
@@ -14,19 +15,9 @@ using rt::Vec3;
 
 namespace {
 
-// A sum like 2.07 - 2.5 gives -0.43000000000000016; twelve significant digits drop
-// that noise, so a moved item's numbers read as a person would write them.
-double tidy(double v) {
-    if (!std::isfinite(v)) return v;
-    char buf[40];
-    auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 12);
-    double back = v;
-    std::from_chars(buf, r.ptr, back);
-    return back;
-}
 void move_point(Vec3& p, Vec3 d) {
     p += d;
-    p = {tidy(p.x), tidy(p.y), tidy(p.z)};
+    p = {twelve_digits(p.x), twelve_digits(p.y), twelve_digits(p.z)};
 }
 
 }  // namespace
@@ -85,17 +76,6 @@ bool translate_operand(rt::Object& top, const std::vector<int>& path, Vec3 d) {
     if (!path.empty()) d = parent_placement(top, path).to_model(d);
     translate(*operand_of(top, path), d);
     return true;
-}
-
-rt::MeshInstance compose(const rt::MeshInstance& a, const rt::MeshInstance& b) {
-    rt::MeshInstance out;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-            out.l[i][j] = a.l[i][0] * b.l[0][j] + a.l[i][1] * b.l[1][j] + a.l[i][2] * b.l[2][j];
-            out.m[i][j] = b.m[i][0] * a.m[0][j] + b.m[i][1] * a.m[1][j] + b.m[i][2] * a.m[2][j];
-        }
-    out.position = a.point_to_world(b.position);
-    return out;
 }
 
 rt::MeshInstance own_placement(const rt::Object& o) {

@@ -127,7 +127,5 @@ rt::MeshInstance own_placement(const rt::Object& o);
 // The map from the frame the operand `path` names below `top` is written in to the
 // world: the transforms of the CSGs above it, composed (the identity for `top` itself).
 rt::MeshInstance parent_placement(const rt::Object& top, const std::vector<int>& path);
-// a then b: the map p -> a(b(p)).
-rt::MeshInstance compose(const rt::MeshInstance& a, const rt::MeshInstance& b);
 
 }  // namespace rtview

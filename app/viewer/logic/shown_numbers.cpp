@@ -6,6 +6,15 @@
 
 namespace rtview {
 
+double twelve_digits(double v) {
+    if (!std::isfinite(v)) return v;
+    char buf[40];
+    auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 12);
+    double back = v;
+    std::from_chars(buf, r.ptr, back);
+    return back;
+}
+
 double as_shown(double v, int decimals) {
     if (!std::isfinite(v)) return v;
     // to_chars/from_chars: the same digits whatever locale the viewer runs in.

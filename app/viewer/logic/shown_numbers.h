@@ -15,4 +15,9 @@ double as_shown(double v, int decimals);
 // back would put 0.800000011920929 into the text), else the value as shown.
 double from_widget(double was, float now, int decimals);
 
+// `v` to twelve significant digits, read back: a sum like 2.07 - 2.5 gives
+// -0.43000000000000016, and a moved or turned item's numbers should read as a person
+// would write them (-0.43). Infinities and NaN are returned as they are.
+double twelve_digits(double v);
+
 }  // namespace rtview

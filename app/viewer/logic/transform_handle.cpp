@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "scene_edits.h"
+#include "shown_numbers.h"
 #include "triangles.h"
 
 namespace rtview {
@@ -19,14 +20,7 @@ const Vec3 kAxes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
 
 // Twelve significant digits, as the move tool keeps its numbers (no float noise in
 // the text), and -0 as 0.
-double tidy(double v) {
-    if (!std::isfinite(v)) return v;
-    char buf[40];
-    auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 12);
-    double back = v;
-    std::from_chars(buf, r.ptr, back);
-    return back + 0.0;
-}
+double tidy(double v) { return twelve_digits(v) + 0.0; }
 
 // `v` on a grid of the power of ten at or below `q` (noise far below what the scene
 // shows gone: 7.6499999999 is 7.65), tidied.
