@@ -56,14 +56,24 @@ rt::Scene parse_file(const std::string& path) {
     return r.scene;
 }
 
+// The main scene and the file it includes, in a folder of their own, and a document
+// that opened the main one.
+struct Included {
+    TempDir dir;
+    const std::string main = (dir / "main.txt").string(), lib = (dir / "lib.txt").string();
+    Document d;
+    Included() {
+        put(lib, kLib, 0);
+        put(main, kMain, 0);
+        REQUIRE(d.load_file(main).ok());
+    }
+};
+
 }  // namespace
 
 TEST_CASE("includes: own items are found by their place among the file's own items") {
-    TempDir dir;
-    put((dir / "lib.txt").string(), kLib, 0);
-    put((dir / "main.txt").string(), kMain, 0);
-    Document d;
-    REQUIRE(d.load_file((dir / "main.txt").string()).ok());
+    Included f;
+    Document& d = f.d;
     const rt::Scene& s = d.scene();
     REQUIRE(s.objects.size() == 3);
     REQUIRE(s.lights.size() == 2);
@@ -80,12 +90,9 @@ TEST_CASE("includes: own items are found by their place among the file's own ite
 }
 
 TEST_CASE("includes: an edit of an own item is written into its own block, comments kept, and saved") {
-    TempDir dir;
-    const std::string main = (dir / "main.txt").string();
-    put((dir / "lib.txt").string(), kLib, 0);
-    put(main, kMain, 0);
-    Document d;
-    REQUIRE(d.load_file(main).ok());
+    Included f;
+    Document& d = f.d;
+    const std::string& main = f.main;
     std::get<rt::Sphere>(d.edit_object(2).shape).radius = 0.75;
     d.commit();
     CHECK(d.take_refusal().empty());
@@ -101,7 +108,7 @@ TEST_CASE("includes: an edit of an own item is written into its own block, comme
     CHECK(d.editor_text() == want);
     REQUIRE(d.save().ok());
     CHECK(slurp(main) == want);
-    CHECK(slurp((dir / "lib.txt").string()) == kLib);
+    CHECK(slurp(f.lib) == kLib);
     CHECK(parse_file(main) == d.scene());
     // Undo takes both back, in the text and the scene alike.
     CHECK(d.undo());
@@ -111,12 +118,9 @@ TEST_CASE("includes: an edit of an own item is written into its own block, comme
 }
 
 TEST_CASE("includes: an edit of an included item is refused, so Save never loses or misplaces it") {
-    TempDir dir;
-    const std::string main = (dir / "main.txt").string(), lib = (dir / "lib.txt").string();
-    put(lib, kLib, 0);
-    put(main, kMain, 0);
-    Document d;
-    REQUIRE(d.load_file(main).ok());
+    Included f;
+    Document& d = f.d;
+    const std::string &main = f.main, &lib = f.lib;
     const rt::Scene before = d.scene();
     std::get<rt::Sphere>(d.edit_object(0).shape).radius = 2;
     CHECK(radius_of(d.scene(), 0) == 2);  // shown while the gesture lasts
@@ -145,12 +149,9 @@ TEST_CASE("includes: an edit of an included item is refused, so Save never loses
 }
 
 TEST_CASE("includes: an included file changed on disk is read again, the text and its edits kept") {
-    TempDir dir;
-    const std::string main = (dir / "main.txt").string(), lib = (dir / "lib.txt").string();
-    put(lib, kLib, 0);
-    put(main, kMain, 0);
-    Document d;
-    REQUIRE(d.load_file(main).ok());
+    Included f;
+    Document& d = f.d;
+    const std::string &main = f.main, &lib = f.lib;
     CHECK(d.check_disk() == Document::DiskEvent::None);
     // An unsaved edit of an own item first: it stays, unsaved.
     std::get<rt::Sphere>(d.edit_object(2).shape).radius = 0.75;
@@ -211,11 +212,8 @@ TEST_CASE("includes: a file included by an included file is watched too") {
 }
 
 TEST_CASE("includes: structural edits work on own items, refuse included ones, and select the right item") {
-    TempDir dir;
-    put((dir / "lib.txt").string(), kLib, 0);
-    put((dir / "main.txt").string(), kMain, 0);
-    Document d;
-    REQUIRE(d.load_file((dir / "main.txt").string()).ok());
+    Included f;
+    Document& d = f.d;
     const std::string text = d.editor_text();
     const rt::Scene s = d.scene();
     // Objects: lib's sphere and box (0, 1), the own sphere (2).
