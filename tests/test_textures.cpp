@@ -49,6 +49,12 @@ std::string refused(const std::string& bytes) {
     return error;
 }
 
+// A lamp, a camera and an 8x6 picture: what a scene of a few things needs after them.
+const std::string kSmallTail =
+    "light { lamp { position 0 0 5 colour 1 1 1 } }\n"
+    "camera { position 0 -5 1 centre 0 0 0 up 0 0 1 angle_x 40 angle_y 30 }\n"
+    "picture_size { x_max 8 y_max 6 }\nend\n";
+
 }  // namespace
 
 TEST_CASE("textures: 8-bit RGB PNG texels are the file's values decoded from sRGB, rows from the top") {
@@ -289,10 +295,7 @@ TEST_CASE("textures: a scene's materials naming one file share one decoded copy;
     put(dir / "bad.png", "not an image");
     ParseOptions o;
     o.base_dir = dir.path.string();
-    const std::string tail =
-        "light { lamp { position 0 0 5 colour 1 1 1 } }\n"
-        "camera { position 0 -5 1 centre 0 0 0 up 0 0 1 angle_x 40 angle_y 30 }\n"
-        "picture_size { x_max 8 y_max 6 }\nend\n";
+    const std::string& tail = kSmallTail;
     {
         const ParseResult r = parse_scene(
             "thing { sphere { position 0 0 0 radius 1 material { texture \"wood.png\" } }\n"
@@ -398,10 +401,7 @@ TEST_CASE("textures: the scene's textures decode while it is read; a late failur
     put(dir / "part.txt", "\nthing { sphere { material {\n  texture \"bad-data.png\" } } }\n");
     ParseOptions o;
     o.base_dir = dir.path.string();
-    const std::string tail =
-        "light { lamp { position 0 0 5 colour 1 1 1 } }\n"
-        "camera { position 0 -5 1 centre 0 0 0 up 0 0 1 angle_x 40 angle_y 30 }\n"
-        "picture_size { x_max 8 y_max 6 }\nend\n";
+    const std::string& tail = kSmallTail;
     {
         const ParseResult r = parse_scene("thing { sphere { material { texture \"wood.png\" } } }\n" + tail, o);
         REQUIRE(r.ok());
