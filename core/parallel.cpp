@@ -100,7 +100,7 @@ void ThreadPool::post(std::function<void()> fn) {
     wake_.notify_one();
 }
 
-void ThreadPool::start_aside(std::function<void()> fn) {
+void ThreadPool::start_aside(std::function<std::function<void()>()> fn) {
     std::lock_guard<std::mutex> lock(aside_mutex_);
     aside_jobs_.push_back(std::move(fn));
     // Every job starts at once: an idle thread takes it, or a new one.
@@ -113,17 +113,24 @@ void ThreadPool::start_aside(std::function<void()> fn) {
 void ThreadPool::work_aside() {
     lower_this_thread(nice_);
     std::unique_lock<std::mutex> lock(aside_mutex_);
+    ++aside_idle_;
     for (;;) {
-        ++aside_idle_;
         aside_wake_.wait(lock, [&] { return aside_quit_ || !aside_jobs_.empty(); });
-        --aside_idle_;
         // The queue is emptied before quitting: a Job's holder waits for its job.
         if (aside_jobs_.empty()) return;
-        std::function<void()> job = std::move(aside_jobs_.front());
+        --aside_idle_;
+        std::function<std::function<void()>()> job = std::move(aside_jobs_.front());
         aside_jobs_.pop_front();
         lock.unlock();
-        job();
-        job = nullptr;  // what it holds goes before the next wait
+        std::function<void()> deliver = job();
+        job = nullptr;  // what it holds goes before its value arrives
+        lock.lock();
+        // Free from here on, before the value arrives: a job its holder starts next
+        // finds this thread (it takes the job once back in the wait above).
+        ++aside_idle_;
+        lock.unlock();
+        deliver();
+        deliver = nullptr;
         lock.lock();
     }
 }

@@ -93,21 +93,23 @@ public:
         auto promise = std::make_shared<std::promise<R>>();
         Job<R> job(promise->get_future());
         // The function (and all it holds) goes before its value arrives: whoever takes
-        // the value finds nothing of it kept alive by the job.
-        start_aside([promise, f = std::make_shared<std::decay_t<F>>(std::forward<F>(fn))]() mutable {
+        // the value finds nothing of it kept alive by the job. The job's run returns
+        // the delivery of its value, made once its thread counts as free again.
+        start_aside([promise, f = std::make_shared<std::decay_t<F>>(std::forward<F>(fn))]() mutable
+                    -> std::function<void()> {
             try {
                 if constexpr (std::is_void_v<R>) {
                     (*f)();
                     f.reset();
-                    promise->set_value();
+                    return [promise] { promise->set_value(); };
                 } else {
-                    R value = (*f)();
+                    auto value = std::make_shared<R>((*f)());
                     f.reset();
-                    promise->set_value(std::move(value));
+                    return [promise, value] { promise->set_value(std::move(*value)); };
                 }
             } catch (...) {
                 f.reset();
-                promise->set_exception(std::current_exception());
+                return [promise, error = std::current_exception()] { promise->set_exception(error); };
             }
         });
         return job;
@@ -131,7 +133,8 @@ private:
     };
     void work();
     void work_aside();
-    void start_aside(std::function<void()> fn);
+    // fn runs the job and returns the delivery of its value.
+    void start_aside(std::function<std::function<void()>()> fn);
     void run_items(Loop& loop);
     // The latest begun loop with items left, or null (under mutex_).
     Loop* loop_with_items() const;
@@ -148,7 +151,7 @@ private:
     mutable std::mutex aside_mutex_;
     std::condition_variable aside_wake_;
     std::vector<std::thread> aside_threads_;
-    std::deque<std::function<void()>> aside_jobs_;  // not yet started (under aside_mutex_)
+    std::deque<std::function<std::function<void()>()>> aside_jobs_;  // not yet started (under aside_mutex_)
     int aside_idle_ = 0;                            // aside threads waiting for a job
     bool aside_quit_ = false;
 };
