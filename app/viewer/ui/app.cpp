@@ -115,6 +115,7 @@ rt::Status ViewerApp::open_initial(EarlyLoad* early) {
 
 void ViewerApp::after_document_replaced() {
     panels_.clear_selection();
+    selection_steps_.clear();
     nav_.cancel_gesture();
     editor_.replaced();
     if (editor_.doc().has_scene()) nav_.reset(editor_.doc().scene().camera);
@@ -248,14 +249,14 @@ void ViewerApp::frame() {
         // Ctrl+wheel, Ctrl+drag and the A/B split line belong to the picture tools:
         // navigation then sees no image under the mouse.
         Layout nav_layout = layout_;
-        bool tool_mouse = tools_.handle_mouse() && !move_.dragging();
+        bool tool_mouse = (box_select(usable) || tools_.handle_mouse()) && !move_.dragging();
         if (tool_mouse) nav_layout.image = Rect{};
         else if (doc.has_scene() && nav_.has_view() &&
-                 move_.handle_mouse(doc, panels_.selection(), screen_view(), layout_.image, usable && !nav_.dragging(),
+                 move_.handle_mouse(doc, panels_.selected(), screen_view(), layout_.image, usable && !nav_.dragging(),
                                     status_))
             nav_layout.image = Rect{};  // the move handle has the pointer
         NavigationInput::Result r = nav_input_.handle(nav_layout, render_.world(), usable, scene_extent(editor_.doc().scene(), render_.world()));
-        if (r.clicked) select_at(r.x, r.y);
+        if (r.clicked) select_at(r.x, r.y, r.shift ? Pick::Toggle : Pick::Only);
         handle_context_menu(usable);
         draw_context_menu();
     }
@@ -288,8 +289,9 @@ void ViewerApp::draw_picture() {
     }
     // Over the picture, not in the film: a saved image stays clean.
     if (interactive_ && doc.has_scene() && nav_.has_view() && render_.world())
-        move_.draw(doc, panels_.selection(), screen_view(), render_.world(), layout_.image, layout_.area,
+        move_.draw(doc, panels_.selected(), screen_view(), render_.world(), layout_.image, layout_.area,
                    layout_.film_w, layout_.film_h);
+    draw_box();
 }
 
 void ViewerApp::update_render(double now) {
@@ -314,7 +316,7 @@ void ViewerApp::update_render(double now) {
     // The outline and handle are for a user at the window (the headless screenshots
     // show the picture alone).
     if (interactive_ && doc.has_scene() && nav_.has_view())
-        move_.update_outline(doc, panels_.selection(), render_,
+        move_.update_outline(doc, panels_.selected(), render_,
                              nav_.display_camera({layout_.image, layout_.film_w, layout_.film_h, layout_.fit == FitMode::Window}),
                              layout_.film_w, layout_.film_h);
     tools_.begin(image_frame(now));  // the world and view as the render now has them

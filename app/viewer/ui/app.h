@@ -26,6 +26,7 @@
 #include "panels.h"
 #include "render_controller.h"
 #include "scene_edits.h"
+#include "selection.h"
 #include "status.h"
 #include "commands.h"
 #include "layout.h"
@@ -136,7 +137,25 @@ private:
     LoadStatus load_status() const;
     void after_document_replaced();
     void start_load(const std::string& path);
-    void select_at(double px, double py);
+    // A click on the picture at (px, py): what is under it selected alone (Only), added
+    // or taken out (Toggle: Shift+click), or, for the context menu, left as it is when
+    // it is one of several selected (KeepGroup).
+    enum class Pick { Only, Toggle, KeepGroup };
+    void select_at(double px, double py, Pick how = Pick::Only);
+    void pick_item(const ItemRef& item, Pick how);
+    // Ctrl+Shift+left drag on the picture: a box; what it sees joins the selection on
+    // the release (true while it has the pointer). Drawn over the picture.
+    bool box_select(bool usable);
+    void finish_box(double x0, double y0, double x1, double y1);
+    void draw_box() const;
+    bool box_active_ = false;
+    double box_x0_ = 0, box_y0_ = 0;
+    // Delete and Duplicate of several things: one undo step, which gives the selection
+    // back (selection_steps_).
+    bool group_edit(Command c);
+    SelectionSteps selection_steps_;
+    // Escape with nothing else to close or cancel: nothing selected.
+    void escape_clears_selection();
     // The scene camera's focus_distance set to the surface under (px, py) (one undo step).
     void focus_at(double px, double py);
     // The view the picture is rendered through, as the move tool projects with it.

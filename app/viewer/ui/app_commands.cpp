@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "default_scene.h"
@@ -100,7 +101,14 @@ bool ViewerApp::run(Command c, const std::string& arg, bool confirmed) {
 bool ViewerApp::undo_redo(bool undo, int steps) {
     Document& doc = editor_.doc();
     int done = 0;
-    while (done < std::max(steps, 1) && (undo ? doc.undo() : doc.redo())) ++done;
+    while (done < std::max(steps, 1) && (undo ? doc.undo() : doc.redo())) {
+        ++done;
+        // A step of several things gives back the selection it had (or made).
+        const std::size_t depth = doc.undo_depth();
+        if (std::optional<Selection> s = undo ? selection_steps_.undone(depth, doc.last_step_name())
+                                               : selection_steps_.redone(depth, doc.last_step_name()))
+            panels_.set_selected(*s);
+    }
     if (done == 0) return false;
     // Say what was taken back or done again: "Undid: Move sphere 3".
     const std::string& last = doc.last_step_name();

@@ -72,6 +72,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     const SceneLayout* layout = doc.layout();
     const std::string& text = std::as_const(doc).editor_text();
     const rt::Scene& scene = doc.scene();
+    if ((c == Command::Delete || c == Command::Duplicate) && !panels_.selected().many.empty()) return group_edit(c);
     std::optional<SceneEdit> e;
     std::string done, name;  // the status bar's message; the undo step's name
     std::optional<SceneItem> sel = item_of_selection(panels_.selection());
@@ -170,7 +171,7 @@ void ViewerApp::handle_context_menu(bool usable) {
         if (std::hypot(mx - rclick_x_, my - rclick_y_) < 4 && usable) {
             menu_prev_selection_ = panels_.selection();
             menu_readout_ = tools_.readout_line();  // the menu takes the hover away
-            select_at(rclick_x_, rclick_y_);
+            select_at(rclick_x_, rclick_y_, Pick::KeepGroup);
             ImGui::OpenPopup("image_menu");
         }
     }
@@ -203,8 +204,10 @@ void ViewerApp::draw_context_menu() {
     }
     probe_item("menu:Add here");
     bool has = !sel.none();
-    if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) run(Command::Duplicate);
-    if (ImGui::MenuItem("Delete", "Del", false, has)) run(Command::Delete);
+    const std::size_t many = panels_.selected().many.size();
+    const std::string all = many ? " " + std::to_string(many) + " things" : std::string();
+    if (ImGui::MenuItem(("Duplicate" + all).c_str(), "Ctrl+D", false, has)) run(Command::Duplicate);
+    if (ImGui::MenuItem(("Delete" + all).c_str(), "Del", false, has)) run(Command::Delete);
     if (sel.is(SceneItem::Kind::Light) && std::size_t(sel.item.index) < scene.lights.size()) {
         bool lamp = scene.lights[std::size_t(sel.item.index)].lamp;
         const char* label = lamp ? "Make it a spotlight" : "Make it a lamp";

@@ -61,6 +61,7 @@ void ViewerApp::handle_shortcuts() {
         run(Command::CancelLoad);
     if (!io.WantCaptureKeyboard && ctrl && !io.KeyAlt && key_pressed(keys::kD)) run(Command::Duplicate);
     if (!io.WantCaptureKeyboard && !ctrl && !io.KeyAlt) {
+        escape_clears_selection();
         if (imgui_key_pressed(ImGuiKey_Delete)) run(Command::Delete);
         if (imgui_key_pressed(ImGuiKey_Space)) run(Command::TogglePause);
         if (key_pressed(keys::kF)) run(Command::FrameScene);
@@ -84,14 +85,38 @@ void ViewerApp::handle_shortcuts() {
     }
 }
 
-void ViewerApp::select_at(double px, double py) {
+void ViewerApp::escape_clears_selection() {
+    if (!imgui_key_pressed(ImGuiKey_Escape) || esc_closed_menu_ || move_.dragging() || box_active_ || loader_.active() ||
+        ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId) || panels_.selection().none())
+        return;
+    panels_.clear_selection();
+    status_.set("Nothing selected (Esc)");
+}
+
+void ViewerApp::pick_item(const ItemRef& s, Pick how) {
+    const Selection& now = panels_.selected();
+    if (how == Pick::Toggle) {
+        if (s.none()) return;  // (Shift+click on nothing keeps the selection)
+        Selection g = now;
+        toggle(g, s.item);
+        panels_.set_selected(g);
+        status_.set(g.one.none() ? std::string("Nothing selected")
+                                 : selection_summary(g) + " (Shift+click adds or takes out; Esc: none)");
+        return;
+    }
+    // The context menu over one of several selected things is for all of them.
+    if (how == Pick::KeepGroup && !now.many.empty() && !s.none() && is_selected(now, s.item)) return;
+    panels_.select(s);
+}
+
+void ViewerApp::select_at(double px, double py, Pick how) {
     const rt::World* w = render_.world();
     if (!w) return;
     // What is drawn over the picture comes first: the selection's handle (it stays
     // selected), a light's marker.
-    if (move_.over_handle(editor_.doc(), panels_.selection(), screen_view(), px, py)) return;
+    if (move_.over_handle(editor_.doc(), panels_.selected(), screen_view(), px, py)) return;
     if (int light = move_.light_under(px, py); light >= 0) {
-        panels_.select({{SceneItem::Kind::Light, light}, {}});
+        pick_item({{SceneItem::Kind::Light, light}, {}}, how);
         return;
     }
     // The world of the scene before an edit (the new one still compiles) numbers the
@@ -106,7 +131,7 @@ void ViewerApp::select_at(double px, double py) {
     if (r.object >= 0) s = {{SceneItem::Kind::Object, r.object}, {}};
     else if (r.plane >= 0) s = {{SceneItem::Kind::Plane, r.plane}, {}};
     else if (r.light >= 0) s = {{SceneItem::Kind::Light, r.light}, {}};
-    panels_.select(s);
+    pick_item(s, how);
 }
 
 void ViewerApp::focus_at(double px, double py) {

@@ -157,7 +157,16 @@ std::string ViewerApp::layout_text() const {
     if (item && doc.has_scene() && nav_.has_view()) anchor = item_anchor(doc.scene(), *item, path);
     std::optional<ScreenPoint> at;
     if (anchor) at = screen_view().project(*anchor);
-    if (at) {
+    const Selection& many = panels_.selected();
+    if (!many.many.empty() && doc.has_scene() && nav_.has_view()) {
+        // Several things: their handle at the centre ("group 3": how many it moves).
+        const std::optional<rt::Vec3> centre = group_anchor(doc.scene(), many.many);
+        if (centre) at = screen_view().project(*centre);
+        if (at)
+            s += "handle " + std::to_string(std::lround(at->x * fb)) + " " + std::to_string(std::lround(at->y * fb)) +
+                 " group " + std::to_string(many.many.size()) + "\n";
+        else s += "handle none\n";
+    } else if (at) {
         const char* kind = item->kind == SceneItem::Kind::Object ? "object" : item->kind == SceneItem::Kind::Plane ? "plane" : "light";
         s += "handle " + std::to_string(std::lround(at->x * fb)) + " " + std::to_string(std::lround(at->y * fb)) + " " +
              kind + " " + std::to_string(item->index + 1);

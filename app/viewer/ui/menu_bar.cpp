@@ -96,12 +96,12 @@ void Panels::draw_menu_bar() {
             ImGui::EndMenu();
         }
         probe_item("menu:Add in front");
-        const bool has = can && !selection_.none();
+        const bool has = can && !sel_.one.none();
         if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) commands_.run(Command::Duplicate);
         if (ImGui::MenuItem("Delete", "Del", false, has)) commands_.run(Command::Delete);
-        const bool light = has && selection_.is(SceneItem::Kind::Light) &&
-                           std::size_t(selection_.item.index) < doc.scene().lights.size();
-        if (ImGui::MenuItem(light && !doc.scene().lights[std::size_t(selection_.item.index)].lamp ? "Make the spotlight a lamp"
+        const bool light = has && sel_.one.is(SceneItem::Kind::Light) &&
+                           std::size_t(sel_.one.item.index) < doc.scene().lights.size();
+        if (ImGui::MenuItem(light && !doc.scene().lights[std::size_t(sel_.one.item.index)].lamp ? "Make the spotlight a lamp"
                                                                                             : "Make the lamp a spotlight",
                             nullptr, false, light))
             commands_.run(Command::SwitchLight);

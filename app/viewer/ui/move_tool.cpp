@@ -21,8 +21,8 @@ constexpr double kOutlineBudget = 0.012;
 // Outline segments drawn at most (two lines each: well within the 65,536 vertices of
 // an ImGui draw list with 16-bit indices, which the picture shares).
 constexpr std::size_t kMaxEdges = 5000;
-// Arrow length, pointer tolerance and a light marker's radius, in unscaled UI units.
-constexpr double kArrow = 90, kTolerance = 7, kMarker = 7;
+// A light marker's radius, in unscaled UI units.
+constexpr double kMarker = 7;
 // Light markers drawn at most (each costs a pick ray a frame).
 constexpr std::size_t kMaxMarkers = 256;
 
@@ -47,6 +47,13 @@ std::optional<SceneItem> item_of_selection(const ItemRef& s) {
 
 void MoveTool::apply(Document& doc, const rt::Vec3& d) {
     Drag& g = *drag_;
+    if (g.group) {
+        g.group->apply(doc, d);
+        if (g.name.empty()) g.name = "Move " + std::to_string(g.group->size()) + " things";
+        doc.name_edit(g.name);
+        g.last = d;
+        return;
+    }
     std::size_t i = std::size_t(g.item.index);
     // (The document notes which item changed: the world takes only that.)
     switch (g.item.kind) {
@@ -136,8 +143,9 @@ bool MoveTool::drag_turn_or_size(Document& doc, double mx, double my, StatusLine
     return true;
 }
 
-bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView& view, const Rect& image, bool usable,
-                            StatusLine& status) {
+bool MoveTool::handle_mouse(Document& doc, const Selection& selection, const ScreenView& view, const Rect& image,
+                            bool usable, StatusLine& status) {
+    const ItemRef& sel = selection.one;
     ImGuiIO& io = ImGui::GetIO();
     double mx = io.MousePos.x, my = io.MousePos.y;
     double s = ImGui::GetFontSize() / 13.0;  // the UI scale
@@ -171,6 +179,7 @@ bool MoveTool::handle_mouse(Document& doc, const ItemRef& sel, const ScreenView&
         return true;
     }
     hover_ = HandlePart::None;
+    if (!selection.many.empty()) return press_group(doc, selection.many, view, image, usable, status);
     std::optional<SceneItem> item = item_of_selection(sel);
     if (!usable || !item || !doc.has_scene() || doc.edit_held() || included(doc.scene(), *item)) return false;
     std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item, sel.path);
@@ -218,21 +227,23 @@ std::shared_ptr<const rt::World> MoveTool::operand_outline_world(const Document&
     return operand_world_ ? operand_world_ : world;
 }
 
-void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const RenderController& render,
+void MoveTool::update_outline(const Document& doc, const Selection& selection, const RenderController& render,
                               const rt::Camera& camera, int film_w, int film_h) {
     refining_ = false;
     last_rays_ = 0;
-    std::optional<SceneItem> item = item_of_selection(sel);
+    const ItemRef& sel = selection.one;
+    std::vector<SceneItem> items = selected_items(selection);
     std::shared_ptr<const rt::World> world = render.world_ptr();
-    if (!item || !world || !doc.has_scene()) {
+    if (items.empty() || !world || !doc.has_scene()) {
         has_ids_ = false;
         return;
     }
-    if (!sel.path.empty() && (world = operand_outline_world(doc, sel, world)) == operand_world_)
-        item = SceneItem{SceneItem::Kind::Object, 0};  // an operand: its own silhouette
-    std::uint32_t code = id_code(*item);
+    if (selection.many.empty() && !sel.path.empty() && (world = operand_outline_world(doc, sel, world)) == operand_world_)
+        items = {SceneItem{SceneItem::Kind::Object, 0}};  // an operand: its own silhouette
+    std::vector<std::uint32_t> codes;
+    for (const SceneItem& i : items) codes.push_back(id_code(i));
     bool same_view = has_ids_ && same_world(ids_world_, world) && ids_camera_ == camera && ids_w_ == film_w && ids_h_ == film_h &&
-                     ids_code_ == code;
+                     ids_codes_ == codes;
     const bool preview = render.showing_preview();
     int block = 8;
     int x0, y0, x1, y1;
@@ -241,17 +252,17 @@ void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const Ren
         // The picture on screen is the UI thread's preview: the outline at its blocks.
         block = std::max(1, render.last_preview_block());
         if (same_view && ids_.block == block) return;
-        item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
+        items_window(*world, camera, film_w, film_h, block, items, x0, y0, x1, y1);
     } else if (same_view) {
         // Resting: one level finer a frame, while a level fits a few frames' budget.
         if (ids_.block <= finest_) return;
         block = ids_.block / 2;
-        item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
+        items_window(*world, camera, film_w, film_h, block, items, x0, y0, x1, y1);
         if (per_ray_ > 0 && cost() > 4 * kOutlineBudget) return;
     } else {
         // A new view at rest: the finest level within the budget.
         for (block = 1;; block *= 2) {
-            item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
+            items_window(*world, camera, film_w, film_h, block, items, x0, y0, x1, y1);
             if (block >= 64 || (per_ray_ > 0 && cost() <= kOutlineBudget)) break;
             if (per_ray_ <= 0 && block >= 8) break;
         }
@@ -267,7 +278,7 @@ void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const Ren
             double sample = took / double(last_rays_);
             per_ray_ = per_ray_ > 0 ? std::min(sample, 0.5 * per_ray_ + 0.5 * sample) : sample;
         }
-        edges = outline_edges(ids, code);
+        edges = codes.size() == 1 ? outline_edges(ids, codes[0]) : outline_edges_of(ids, codes);
         // An outline of more segments than one draw list holds (a plane seen between
         // thousands of spheres) stays at the coarser level.
         if (edges.size() <= kMaxEdges || block >= 64) break;
@@ -276,7 +287,7 @@ void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const Ren
             return;
         }
         block *= 2;
-        item_window(*world, camera, film_w, film_h, block, *item, x0, y0, x1, y1);
+        items_window(*world, camera, film_w, film_h, block, items, x0, y0, x1, y1);
     }
     ids_ = std::move(ids);
     edges_ = std::move(edges);
@@ -285,22 +296,21 @@ void MoveTool::update_outline(const Document& doc, const ItemRef& sel, const Ren
     ids_camera_ = camera;
     ids_w_ = film_w;
     ids_h_ = film_h;
-    ids_code_ = code;
-    ids_sel_ = sel;
+    ids_codes_ = std::move(codes);
+    ids_sel_ = selection;
     refining_ = !preview && ids_.block > finest_;
 }
 
-bool MoveTool::over_handle(const Document& doc, const ItemRef& sel, const ScreenView& view, double x,
+bool MoveTool::over_handle(const Document& doc, const Selection& sel, const ScreenView& view, double x,
                            double y) const {
-    std::optional<SceneItem> item = item_of_selection(sel);
-    if (!item || !doc.has_scene() || included(doc.scene(), *item)) return false;
-    std::optional<rt::Vec3> anchor = item_anchor(doc.scene(), *item, sel.path);
+    HandleMode mode = HandleMode::Move;
+    const std::optional<rt::Vec3> anchor = handle_anchor(doc, sel, mode);
     if (!anchor) return false;
     const double s = ImGui::GetFontSize() / 13.0;
-    switch (mode_for(doc, sel)) {
+    switch (mode) {
         case HandleMode::Turn: return hit_turn(turn_shape(view, *anchor, kArrow * s), x, y, kTolerance * s) != HandlePart::None;
         case HandleMode::Size: {
-            const Mat3 axes = operand_axes(doc.scene().objects[std::size_t(item->index)], sel.path);
+            const Mat3 axes = operand_axes(doc.scene().objects[std::size_t(sel.one.item.index)], sel.one.path);
             return hit_size(size_shape(view, *anchor, axes, kArrow * s), x, y, kTolerance * s) != HandlePart::None;
         }
         case HandleMode::Move: break;
@@ -330,7 +340,7 @@ void MoveTool::draw_light_markers(ImDrawList* dl, float s) const {
     }
 }
 
-void MoveTool::draw(const Document& doc, const ItemRef& sel, const ScreenView& view, const rt::World* world,
+void MoveTool::draw(const Document& doc, const Selection& sel, const ScreenView& view, const rt::World* world,
                     const Rect& image, const Rect& area, int film_w, int film_h) {
     markers_.clear();
     if (!doc.has_scene()) return;
@@ -351,47 +361,52 @@ void MoveTool::draw(const Document& doc, const ItemRef& sel, const ScreenView& v
             for (const Edge& e : edges_) dl->AddLine(ImVec2(wx(e.x0), wy(e.y0)), ImVec2(wx(e.x1), wy(e.y1)), c, w);
         }
     }
-    std::optional<SceneItem> item = item_of_selection(sel);
+    HandleMode mode = HandleMode::Move;
     std::optional<rt::Vec3> anchor;
-    const HandleMode mode = drag_ ? drag_->mode : mode_for(doc, sel);
+    if (drag_) {
+        mode = drag_->mode;
+        anchor = mode == HandleMode::Move ? drag_->drag.anchor() + drag_->last : drag_->pivot;
+    } else {
+        anchor = handle_anchor(doc, sel, mode);
+    }
     probe("handle_mode", handle_mode_name(mode));
-    if (drag_) anchor = mode == HandleMode::Move ? drag_->drag.anchor() + drag_->last : drag_->pivot;
-    else if (item && !included(doc.scene(), *item)) anchor = item_anchor(doc.scene(), *item, sel.path);
+    const std::optional<SceneItem> item = item_of_selection(sel.one);
     if (anchor && mode != HandleMode::Move && item && std::size_t(item->index) < doc.scene().objects.size()) {
         const HandlePart active = drag_ ? (drag_->turn ? drag_->turn->part() : drag_->size->part()) : hover_;
         if (mode == HandleMode::Turn) draw_turn(dl, turn_shape(view, *anchor, kArrow * s), active, s);
-        else draw_size(dl, size_shape(view, *anchor, operand_axes(doc.scene().objects[std::size_t(item->index)], sel.path),
+        else draw_size(dl, size_shape(view, *anchor, operand_axes(doc.scene().objects[std::size_t(item->index)], sel.one.path),
                                       kArrow * s), active, s);
         anchor.reset();
     }
-    if (anchor) {
-        HandleShape h = handle_shape(view, *anchor, kArrow * s);
-        if (h.visible) {
-            HandlePart active = drag_ ? drag_->drag.part() : hover_;
-            ImVec2 o(float(h.origin.x), float(h.origin.y));
-            for (int k = 0; k < 3; ++k) {
-                if (!h.axis_shown[k]) continue;
-                bool hot = active == HandlePart(int(HandlePart::X) + k);
-                ImVec2 t(float(h.tip[k].x), float(h.tip[k].y));
-                float dx = t.x - o.x, dy = t.y - o.y, l = std::sqrt(dx * dx + dy * dy);
-                if (l < 1) continue;
-                float ux = dx / l, uy = dy / l, head = 12 * s;
-                ImVec2 base(t.x - ux * head, t.y - uy * head);
-                dl->AddLine(o, base, IM_COL32(0, 0, 0, 150), 5 * s);
-                dl->AddLine(o, base, axis_colour(k, hot), 3 * s);
-                ImVec2 a(base.x - uy * head * 0.45f, base.y + ux * head * 0.45f);
-                ImVec2 b(base.x + uy * head * 0.45f, base.y - ux * head * 0.45f);
-                dl->AddTriangleFilled(t, a, b, axis_colour(k, hot));
-                dl->AddTriangle(t, a, b, IM_COL32(0, 0, 0, 150), 1.f);
-            }
-            float q = float(h.square);
-            bool hot = active == HandlePart::Plane;
-            dl->AddRectFilled(ImVec2(o.x - q, o.y - q), ImVec2(o.x + q, o.y + q),
-                              hot ? IM_COL32(255, 230, 60, 200) : IM_COL32(240, 240, 240, 120));
-            dl->AddRect(ImVec2(o.x - q, o.y - q), ImVec2(o.x + q, o.y + q), IM_COL32(0, 0, 0, 200), 0, 0, 1.5f * s);
-        }
-    }
+    if (anchor) draw_move_handle(dl, handle_shape(view, *anchor, kArrow * s), s);
     dl->PopClipRect();
+}
+
+// Three arrows in the axes' colours and the view-plane square; the active part bright.
+void MoveTool::draw_move_handle(ImDrawList* dl, const HandleShape& h, float s) const {
+    if (!h.visible) return;
+    HandlePart active = drag_ ? drag_->drag.part() : hover_;
+    ImVec2 o(float(h.origin.x), float(h.origin.y));
+    for (int k = 0; k < 3; ++k) {
+        if (!h.axis_shown[k]) continue;
+        bool hot = active == HandlePart(int(HandlePart::X) + k);
+        ImVec2 t(float(h.tip[k].x), float(h.tip[k].y));
+        float dx = t.x - o.x, dy = t.y - o.y, l = std::sqrt(dx * dx + dy * dy);
+        if (l < 1) continue;
+        float ux = dx / l, uy = dy / l, head = 12 * s;
+        ImVec2 base(t.x - ux * head, t.y - uy * head);
+        dl->AddLine(o, base, IM_COL32(0, 0, 0, 150), 5 * s);
+        dl->AddLine(o, base, axis_colour(k, hot), 3 * s);
+        ImVec2 a(base.x - uy * head * 0.45f, base.y + ux * head * 0.45f);
+        ImVec2 b(base.x + uy * head * 0.45f, base.y - ux * head * 0.45f);
+        dl->AddTriangleFilled(t, a, b, axis_colour(k, hot));
+        dl->AddTriangle(t, a, b, IM_COL32(0, 0, 0, 150), 1.f);
+    }
+    float q = float(h.square);
+    bool hot = active == HandlePart::Plane;
+    dl->AddRectFilled(ImVec2(o.x - q, o.y - q), ImVec2(o.x + q, o.y + q),
+                      hot ? IM_COL32(255, 230, 60, 200) : IM_COL32(240, 240, 240, 120));
+    dl->AddRect(ImVec2(o.x - q, o.y - q), ImVec2(o.x + q, o.y + q), IM_COL32(0, 0, 0, 200), 0, 0, 1.5f * s);
 }
 
 // Three rings in the axes' colours and a wider circle about the view axis; the

@@ -22,6 +22,7 @@
 #include "render_controller.h"
 #include "status_line.h"
 #include "scene_edits.h"
+#include "selection.h"
 
 struct ImDrawList;
 
@@ -32,7 +33,9 @@ public:
     // One frame of pointer input, before navigation sees it. `view` is the view the
     // picture is rendered through; `image` where it is drawn. True while the tool owns
     // the pointer (a press on the handle, a drag): navigation must then ignore it.
-    bool handle_mouse(Document& doc, const ItemRef& sel, const ScreenView& view, const Rect& image, bool usable,
+    // Several things selected: one move handle at their centre moves them all (the
+    // turn and size handles are for one thing at a time).
+    bool handle_mouse(Document& doc, const Selection& sel, const ScreenView& view, const Rect& image, bool usable,
                       StatusLine& status);
     bool dragging() const { return drag_.has_value(); }
     // What the handle does (G, Y, U); turning and sizing are for whole objects: a
@@ -45,16 +48,19 @@ public:
     // The outline's id buffer for this frame's picture: at the preview's block while
     // the view moves, refined toward single pixels (within a time budget per frame)
     // while it rests. Call after RenderController::update().
-    void update_outline(const Document& doc, const ItemRef& sel, const RenderController& render,
+    void update_outline(const Document& doc, const Selection& sel, const RenderController& render,
                         const rt::Camera& camera, int film_w, int film_h);
     // Outline and handle over the picture in `image` (clipped to `area`), and the
     // markers of the lights that have no glow (`world`: what hides them).
-    void draw(const Document& doc, const ItemRef& sel, const ScreenView& view, const rt::World* world,
+    void draw(const Document& doc, const Selection& sel, const ScreenView& view, const rt::World* world,
               const Rect& image, const Rect& area, int film_w, int film_h);
     // What a click at (x, y) finds of what draw() drew over the picture: the selection's
     // handle (the selection stays), or a light's marker (its index; else -1).
-    bool over_handle(const Document& doc, const ItemRef& sel, const ScreenView& view, double x, double y) const;
+    bool over_handle(const Document& doc, const Selection& sel, const ScreenView& view, double x, double y) const;
     int light_under(double x, double y) const;
+    // The lights whose markers lie in the box between (x0, y0) and (x1, y1) (a box
+    // select takes them too: a spotlight has no glow to be seen by).
+    std::vector<int> lights_in_box(double x0, double y0, double x1, double y1) const;
     // Still refining the outline: frames are needed.
     bool wants_frames() const { return refining_; }
     // Rays the last outline update traced (for --verbose and tests).
@@ -78,6 +84,7 @@ private:
         double degrees = 0;                  // turn: as applied
         rt::Vec3 factors{1, 1, 1};           // size: as applied
         bool snapping = false;               // Shift, as the last frame with the button held saw it
+        std::optional<GroupMove> group;      // several things: all move (item, path unused)
     };
     void apply(Document& doc, const rt::Vec3& d);
     // Turn and size: the object from how it was at the press.
@@ -86,6 +93,14 @@ private:
     bool drag_turn_or_size(Document& doc, double mx, double my, StatusLine& status);
     void draw_turn(ImDrawList* dl, const TurnShape& h, HandlePart active, float s) const;
     void draw_size(ImDrawList* dl, const SizeShape& h, HandlePart active, float s) const;
+    // The press on the handle of several things (handle_mouse's part for them).
+    bool press_group(Document& doc, const std::vector<SceneItem>& items, const ScreenView& view, const Rect& image,
+                     bool usable, StatusLine& status);
+    // Where the handle is drawn now, with the mode it has (nothing: no handle).
+    std::optional<rt::Vec3> handle_anchor(const Document& doc, const Selection& sel, HandleMode& mode) const;
+    void draw_move_handle(ImDrawList* dl, const HandleShape& h, float s) const;
+    // The handles' arrow length and the pointer's tolerance, in unscaled UI units.
+    static constexpr double kArrow = 90, kTolerance = 7;
     HandleMode mode_ = HandleMode::Move;
     std::optional<ScreenPoint> before_press_;  // the pointer in the last frame without a button down
 
@@ -102,8 +117,8 @@ private:
     std::weak_ptr<const rt::World> ids_world_;  // compared with, not kept alive
     rt::Camera ids_camera_;
     int ids_w_ = 0, ids_h_ = 0;
-    std::uint32_t ids_code_ = 0;
-    ItemRef ids_sel_;  // the selection ids_ outlines
+    std::vector<std::uint32_t> ids_codes_;
+    Selection ids_sel_;  // the selection ids_ outlines
     bool refining_ = false;
     // A selected CSG operand's world (operand_world()), made again when the document's
     // world or the selection changes; `world` when there is none.

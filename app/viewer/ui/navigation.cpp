@@ -6,12 +6,14 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace rtview {
 
 namespace {
 
 constexpr double kWheelSettle = 0.4;  // seconds after the last notch the view counts as moving
+constexpr double kClickSlop = 3;      // pixels a Shift+click may move and stay a click (as a plain one)
 
 
 }  // namespace
@@ -30,6 +32,8 @@ NavigationInput::Result NavigationInput::handle(const Layout& layout, const rt::
     ImGuiIO& io = ImGui::GetIO();
     double mx = io.MousePos.x, my = io.MousePos.y;
     ViewGeometry g = geometry(layout);
+    const bool shift_click = shift_press_ && !shift_moved_ && std::abs(mx - press_x_) <= kClickSlop &&
+                             std::abs(my - press_y_) <= kClickSlop;
     if (!nav_.dragging()) {
         bool over = usable && !io.WantCaptureMouse && layout.image.contains(mx, my);
         if (over) {
@@ -39,6 +43,9 @@ NavigationInput::Result NavigationInput::handle(const Layout& layout, const rt::
             else if (ImGui::IsMouseClicked(2)) button = 2;
             if (button >= 0) {
                 button_ = button;
+                shift_press_ = button == 0 && io.KeyShift;
+                shift_moved_ = false;
+                press_x_ = mx, press_y_ = my;
                 nav_.press(button, io.KeyShift, mx, my, world, g);
             }
             if (io.MouseWheel != 0 && !nav_.dragging()) {
@@ -50,7 +57,12 @@ NavigationInput::Result NavigationInput::handle(const Layout& layout, const rt::
         res.x = nav_.press_x();
         res.y = nav_.press_y();
         res.clicked = nav_.release() && usable;
+        if (shift_click && usable) res.clicked = res.shift = true;
+        shift_press_ = false;
+    } else if (shift_click) {
+        // A Shift+click in the making: the view stays put until it moves farther.
     } else {
+        shift_moved_ = true;
         // Only the pointer's position at this frame counts: all the motion events
         // since the last frame are one view change.
         nav_.drag(mx, my, world, g);

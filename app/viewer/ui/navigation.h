@@ -15,6 +15,7 @@ public:
 
     struct Result {
         bool clicked = false;  // a click (not a drag) ended: select under (x, y)
+        bool shift = false;    // with Shift (a pan that did not move): add or take out
         double x = 0, y = 0;
     };
     // One frame of input. `usable`: a scene and a world exist and no modal is open.
@@ -30,6 +31,9 @@ private:
     double wheel_time_ = -1;
     bool flying_ = false;
     bool fly_armed_[6] = {};  // D A E Q W S went down without a modifier
+    // A press of the left button with Shift: a pan once it moves, else a Shift+click.
+    bool shift_press_ = false, shift_moved_ = false;
+    double press_x_ = 0, press_y_ = 0;
 };
 
 }  // namespace rtview

@@ -60,8 +60,22 @@ bool selection_valid(const rt::Scene& s, const ItemRef& sel) {
 
 }  // namespace
 
+bool Panels::outline_selected(const ItemRef& me) const {
+    if (sel_.many.empty()) return sel_.one == me;
+    return me.path.empty() && is_selected(sel_, me.item);
+}
+
+void Panels::outline_click(const ItemRef& me) {
+    // Shift, or Ctrl as ImGui's own lists have it: one more, or one fewer (an operand's
+    // whole object: several things are moved, deleted and copied whole).
+    const ImGuiIO& io = ImGui::GetIO();
+    if (io.KeyShift || io.KeyCtrl) toggle(sel_, me.item);
+    else select_one(sel_, me);
+}
+
 void Panels::draw_objects_tab() {
-    if (!selection_valid(editor_.doc().scene(), selection_)) selection_ = {};
+    if (!selection_valid(editor_.doc().scene(), sel_.one)) sel_.one = {};
+    keep_existing(sel_, editor_.doc().scene());
     // At least seven rows of the outline, whatever the UI scale.
     float h = std::max(ImGui::GetTextLineHeightWithSpacing() * 7, ImGui::GetContentRegionAvail().y * 0.45f);
     ImVec2 top = ImGui::GetCursorScreenPos();
@@ -84,13 +98,13 @@ void Panels::draw_object_node(const rt::Object& obj, int top, std::vector<int>& 
     ItemRef me{{SceneItem::Kind::Object, top}, path};
     auto* csg = std::get_if<rt::Csg>(&obj.shape);
     ImGuiTreeNodeFlags f = ImGuiTreeNodeFlags_OpenOnArrow | ImGuiTreeNodeFlags_SpanAvailWidth;
-    if (selection_ == me) f |= ImGuiTreeNodeFlags_Selected;
+    if (outline_selected(me)) f |= ImGuiTreeNodeFlags_Selected;
     if (csg) f |= ImGuiTreeNodeFlags_DefaultOpen;
     else f |= ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen;
     bool open = ImGui::TreeNodeEx("node", f, "%s", label.c_str());
     if (ImGui::IsItemVisible()) probe_item("outline_" + selection_name(me));
-    if (ImGui::IsItemClicked() && !ImGui::IsItemToggledOpen()) selection_ = me;
-    if (selection_ == me && scroll_to_selection_) {
+    if (ImGui::IsItemClicked() && !ImGui::IsItemToggledOpen()) outline_click(me);
+    if (sel_.one == me && scroll_to_selection_) {
         ImGui::SetScrollHereY();
         scroll_to_selection_ = false;
     }
@@ -147,8 +161,8 @@ void Panels::draw_outline_objects(const rt::Scene& s) {
     // The selected object's row among them (n if none): shown past the first rows too,
     // without the rows between (a hundred thousand rows would hold up the frame).
     std::size_t selected = n;
-    if (selection_.is(SceneItem::Kind::Object)) {
-        const std::size_t k = std::size_t(selection_.item.index);
+    if (sel_.one.is(SceneItem::Kind::Object)) {
+        const std::size_t k = std::size_t(sel_.one.item.index);
         if (!filtered) selected = k < n ? k : n;
         else if (auto it = std::lower_bound(outline_filter_.matches().begin(), outline_filter_.matches().end(), k);
                  it != outline_filter_.matches().end() && *it == k)
@@ -180,11 +194,11 @@ void Panels::draw_outline() {
     auto leaf = [&](const ItemRef& me, const std::string& label) {
         ImGuiTreeNodeFlags f = ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen |
                                ImGuiTreeNodeFlags_SpanAvailWidth;
-        if (selection_ == me) f |= ImGuiTreeNodeFlags_Selected;
+        if (outline_selected(me)) f |= ImGuiTreeNodeFlags_Selected;
         ImGui::TreeNodeEx("node", f, "%s", label.c_str());
         if (ImGui::IsItemVisible()) probe_item("outline_" + selection_name(me));
-        if (ImGui::IsItemClicked()) selection_ = me;
-        if (selection_ == me && scroll_to_selection_) {
+        if (ImGui::IsItemClicked()) outline_click(me);
+        if (sel_.one == me && scroll_to_selection_) {
             ImGui::SetScrollHereY();
             scroll_to_selection_ = false;
         }

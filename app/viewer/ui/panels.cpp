@@ -30,8 +30,14 @@
 
 namespace rtview {
 
+void Panels::set_selected(const Selection& s) {
+    sel_ = s;
+    scroll_to_selection_ = true;
+    if (!s.one.none() && current_tab_ != Objects) want_tab_ = Objects;
+}
+
 void Panels::select(const ItemRef& s) {
-    selection_ = s;
+    select_one(sel_, s);
     scroll_to_selection_ = true;
     if (!s.none() && current_tab_ != Objects) want_tab_ = Objects;
 }
@@ -41,16 +47,17 @@ void Panels::select_from_option(const std::string& spec) {
     std::string kind;
     int n = 0;
     in >> kind >> n;
+    sel_.many.clear();
     const rt::Scene& s = editor_.doc().scene();
     if (kind == "object" && n >= 1 && n <= int(s.objects.size())) {
         // "object 5 left right": a CSG operand below it.
         ItemRef sel{{SceneItem::Kind::Object, n - 1}, {}};
         std::string side;
         while (in >> side && (side == "left" || side == "right")) sel.path.push_back(side == "left" ? 0 : 1);
-        if (resolve(s, sel)) selection_ = sel;
+        if (resolve(s, sel)) sel_.one = sel;
     }
-    if (kind == "plane" && n >= 1 && n <= int(s.planes.size())) selection_ = {{SceneItem::Kind::Plane, n - 1}, {}};
-    if (kind == "light" && n >= 1 && n <= int(s.lights.size())) selection_ = {{SceneItem::Kind::Light, n - 1}, {}};
+    if (kind == "plane" && n >= 1 && n <= int(s.planes.size())) sel_.one = {{SceneItem::Kind::Plane, n - 1}, {}};
+    if (kind == "light" && n >= 1 && n <= int(s.lights.size())) sel_.one = {{SceneItem::Kind::Light, n - 1}, {}};
     scroll_to_selection_ = true;
 }
 
@@ -64,7 +71,7 @@ std::string Panels::selection_name(const ItemRef& s) {
 }
 
 void Panels::draw_sidebar() {
-    probe("selection", selection_name(selection_));
+    probe("selection", selection_name(sel_.one));
     if (layout_.sidebar_hidden) return;
     ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - layout_.sidebar_w, layout_.menu_h));

@@ -15,6 +15,7 @@
 #include "item_fields.h"
 #include "navigator.h"
 #include "render_controller.h"
+#include "selection.h"
 #include "commands.h"
 #include "layout.h"
 #include "status_line.h"
@@ -46,9 +47,14 @@ public:
     void show_tab(Tab t) { want_tab_ = t; }
     bool wants_frames() const { return want_tab_ >= 0; }
     Tab current_tab() const { return Tab(current_tab_); }
+    // A plain click: this alone.
     void select(const ItemRef& s);
-    const ItemRef& selection() const { return selection_; }
-    void clear_selection() { selection_ = {}; }
+    // What the panels edit: the one selected item, or of several the last one added.
+    const ItemRef& selection() const { return sel_.one; }
+    // Everything selected (selection.h): several things with Shift+click or a box.
+    const Selection& selected() const { return sel_; }
+    void set_selected(const Selection& s);
+    void clear_selection() { sel_ = {}; }
     // --select "object N" etc.
     void select_from_option(const std::string& spec);
     // The status bar's height in a window `width` wide: one row (its text is cut to fit).
@@ -71,6 +77,11 @@ private:
     void draw_outline();
     void draw_object_node(const rt::Object& obj, int top, std::vector<int>& path, const std::string& label);
     void draw_properties();
+    // The properties of several things: how many, and what is done to all of them.
+    void draw_group_properties();
+    // A click in the outline on `me`: it alone, or with Shift or Ctrl added or taken out.
+    void outline_click(const ItemRef& me);
+    bool outline_selected(const ItemRef& me) const;
     void draw_fields(const ItemRef& ref);
     bool draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float size, const char* vec_format, int& operand);
     bool draw_material_field(const ItemRef& ref, const Field& f, FieldValue& v);
@@ -89,7 +100,7 @@ private:
     StatusLine& status_;
     ImageTools& tools_;
 
-    ItemRef selection_;
+    Selection sel_;
     // The last refusal or warning of a property field, shown under it until that field
     // is set again or another item is selected.
     struct FieldMessage {

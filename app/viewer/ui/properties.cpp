@@ -183,39 +183,40 @@ bool same_value(const FieldValue& a, const FieldValue& b) {
 
 void Panels::draw_properties() {
     if (!editor_.doc().has_scene()) return;
+    if (!sel_.many.empty()) return draw_group_properties();
     const rt::Scene& s = editor_.doc().scene();
-    if (!(field_message_.selection == selection_)) field_message_ = {};
-    if (selection_.none()) {
+    if (!(field_message_.selection == sel_.one)) field_message_ = {};
+    if (sel_.one.none()) {
         wrapped_hint("Click an object in the image or in the list above.");
         return;
     }
-    const ItemRef ref = selection_;
+    const ItemRef ref = sel_.one;
     const char* block = item_block_name(s, ref);
     if (!block) return;
     // "Object 5: constructive_solid_geometry", "Object 5, left, right: sphere".
     std::string title;
-    switch (selection_.item.kind) {
-        case SceneItem::Kind::Object: title = "Object " + std::to_string(selection_.item.index + 1); break;
-        case SceneItem::Kind::Plane: title = "Plane " + std::to_string(selection_.item.index + 1); break;
-        case SceneItem::Kind::Light: title = "Light " + std::to_string(selection_.item.index + 1); break;
+    switch (sel_.one.item.kind) {
+        case SceneItem::Kind::Object: title = "Object " + std::to_string(sel_.one.item.index + 1); break;
+        case SceneItem::Kind::Plane: title = "Plane " + std::to_string(sel_.one.item.index + 1); break;
+        case SceneItem::Kind::Light: title = "Light " + std::to_string(sel_.one.item.index + 1); break;
     }
-    for (int k : selection_.path) title += k == 0 ? ", left" : ", right";
+    for (int k : sel_.one.path) title += k == 0 ? ", left" : ", right";
     title += std::string(": ") + block;
     ImGui::TextWrapped("%s", title.c_str());
     rt::SourceLoc loc;
-    if (selection_.is(SceneItem::Kind::Object)) {
-        if (const rt::Object* o = resolve(s, selection_)) loc = o->loc;
-    } else if (selection_.is(SceneItem::Kind::Plane)) {
-        loc = s.planes[std::size_t(selection_.item.index)].loc;
+    if (sel_.one.is(SceneItem::Kind::Object)) {
+        if (const rt::Object* o = resolve(s, sel_.one)) loc = o->loc;
+    } else if (sel_.one.is(SceneItem::Kind::Plane)) {
+        loc = s.planes[std::size_t(sel_.one.item.index)].loc;
     } else {
-        loc = s.lights[std::size_t(selection_.item.index)].loc;
+        loc = s.lights[std::size_t(sel_.one.item.index)].loc;
     }
     // An item an include brought has no block in this file's text: shown, not edited
     // here (Save could not keep the edit).
-    const ItemList list = selection_.item.kind == SceneItem::Kind::Object  ? ItemList::Object
-                          : selection_.item.kind == SceneItem::Kind::Plane ? ItemList::Plane
+    const ItemList list = sel_.one.item.kind == SceneItem::Kind::Object  ? ItemList::Object
+                          : sel_.one.item.kind == SceneItem::Kind::Plane ? ItemList::Plane
                                                                            : ItemList::Light;
-    const rt::Include* included = included_file(s, list, std::size_t(selection_.item.index));
+    const rt::Include* included = included_file(s, list, std::size_t(sel_.one.item.index));
     if (included) {
         wrapped_coloured(kWarnColour, "From the included file \"" + included->file +
                                           "\" (read only here: open that file to edit it).");
@@ -226,20 +227,20 @@ void Panels::draw_properties() {
     }
     if (loc.line > 0 && ImGui::SmallButton("show in text"))
         editor_.focus(int(offset_of(std::as_const(editor_.doc()).editor_text(), loc.line, loc.col)));
-    if (!selection_.path.empty()) {
+    if (!sel_.one.path.empty()) {
         if (loc.line > 0) same_line_if_fits("select the parent");
         const bool parent = ImGui::SmallButton("select the parent");
         probe_item("button_select_the_parent");
         if (parent) {
-            selection_.path.pop_back();
+            sel_.one.path.pop_back();
             return;
         }
         wrapped_hint("A CSG operand: its shape counts; its colour and finish are the whole CSG's material (select "
                      "the parent to edit it).");
     }
-    if (selection_.is(SceneItem::Kind::Light)) {
+    if (sel_.one.is(SceneItem::Kind::Light)) {
         // The block's kind: switching keeps the lamp's size for switching back.
-        const bool lamp = s.lights[std::size_t(selection_.item.index)].lamp;
+        const bool lamp = s.lights[std::size_t(sel_.one.item.index)].lamp;
         if (ImGui::SmallButton(lamp ? "make it a spotlight" : "make it a lamp")) commands_.run(Command::SwitchLight);
         const char* what = lamp ? "(point light and glow)" : "(point light)";
         same_line_if_fits(what);
@@ -302,15 +303,15 @@ void Panels::draw_fields(const ItemRef& ref) {
             // (A material's own keys are typed into inside the "material" field.)
             const bool inner = !label.empty() && label != f.label;
             if (inner && refused.compare(0, label.size() + 1, label + " ") != 0) refused = label + ": " + refused;
-            field_message_ = {selection_, f.label, refused, error, inner ? label : std::string(), *cur};
+            field_message_ = {sel_.one, f.label, refused, error, inner ? label : std::string(), *cur};
             noted = !error;
             g_new_message = true;
         }
         if (changed) {
             const FieldResult r = set_field(doc, ref, f, v);
-            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true, {}, *cur};
+            if (!r.status) field_message_ = {sel_.one, f.label, r.status.message(), true, {}, *cur};
             // (A material's own warning is shown by its editor already.)
-            else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {selection_, f.label, r.warning, false, {}, {}};
+            else if (!r.warning.empty() && f.kind != rt::schema::Kind::Material) field_message_ = {sel_.one, f.label, r.warning, false, {}, {}};
             else if (field_message_.field == f.label && (field_message_.error || !noted)) field_message_ = {};
             else if (field_message_.field == f.label) field_message_.value.reset();  // about the value set
         }
@@ -341,7 +342,7 @@ bool Panels::draw_material_field(const ItemRef& ref, const Field& f, FieldValue&
         probe("material_shared", said);
         if (ImGui::Button("Make local")) {
             const FieldResult r = make_material_local(editor_.doc(), ref, f);
-            if (!r.status) field_message_ = {selection_, f.label, r.status.message(), true, {}, {}};
+            if (!r.status) field_message_ = {sel_.one, f.label, r.status.message(), true, {}, {}};
         }
         probe_item("make_local");
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("Give this thing its own copy of %s to edit", name.c_str());
@@ -420,7 +421,7 @@ bool Panels::draw_field(const ItemRef& ref, const Field& f, FieldValue& v, float
             const int side = operand++;
             std::string b = f.label + ": " + (v.operand ? sc::object_block(*v.operand).name.data() : "-");
             if (v.operand && ImGui::Button((b + " (edit)").c_str())) {
-                selection_.path.push_back(side);
+                sel_.one.path.push_back(side);
                 scroll_to_selection_ = true;
             }
             break;
