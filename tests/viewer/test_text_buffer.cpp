@@ -124,22 +124,25 @@ TEST_CASE("text buffer: typing merges into one undo step per word; backspace run
 TEST_CASE("text buffer: newline keeps indentation, backspace joins lines, selection is replaced") {
     TextBuffer b("  sphere {\n  }");
     b.set_cursor({0, 10});
-    b.newline();
-    CHECK(b.text() == "  sphere {\n  \n  }");
-    CHECK(b.cursor() == TextPos{1, 2});
+    b.newline();  // (after a `{`: one level more, text_indent's tests)
+    CHECK(b.text() == "  sphere {\n    \n  }");
+    CHECK(b.cursor() == TextPos{1, 4});
     b.insert("radius 2");
+    b.newline();  // the line's own indentation
+    CHECK(b.text() == "  sphere {\n    radius 2\n    \n  }");
+    REQUIRE(b.undo());
     b.set_cursor({2, 0});
     b.backspace();
-    CHECK(b.text() == "  sphere {\n  radius 2  }");
-    b.select({{1, 2}, {1, 8}});
+    CHECK(b.text() == "  sphere {\n    radius 2  }");
+    b.select({{1, 4}, {1, 10}});
     CHECK(b.selected_text() == "radius");
     b.insert("size");
-    CHECK(b.text() == "  sphere {\n  size 2  }");
+    CHECK(b.text() == "  sphere {\n    size 2  }");
     // CRLF files stay CRLF.
     TextBuffer c("a {\r\nb\r\n");
-    c.set_cursor({0, 3});
+    c.set_cursor({0, 1});
     c.newline();
-    CHECK(c.text() == "a {\r\n\r\nb\r\n");
+    CHECK(c.text() == "a\r\n {\r\nb\r\n");
 }
 
 TEST_CASE("text buffer: offsets and positions agree with a hand count after edits far from each other") {
@@ -287,7 +290,7 @@ TEST_CASE("text buffer: the edit log replays onto a copy of the text, undo inclu
         mirror.replace(e.offset, e.removed.size(), e.inserted);
     }
     CHECK(mirror == b.text());
-    CHECK(mirror == "light {\ntorus { }\n}\n");
+    CHECK(mirror == "light {\n  torus { }\n}\n");  // (indented after the `{`)
     CHECK(b.take_edits().empty());
 }
 

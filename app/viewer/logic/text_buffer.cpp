@@ -439,19 +439,6 @@ void TextBuffer::insert(std::string_view s) {
     replace_range(selection(), s, typing, true);
 }
 
-void TextBuffer::newline() {
-    const std::string& l = lines_[std::size_t(cursor_.line)];
-    std::string s = (!l.empty() && l.back() == '\r') ? "\r\n" : "\n";
-    TextPos start = selection().begin;
-    const std::string& sl = lines_[std::size_t(start.line)];
-    std::size_t indent = 0;
-    while (indent < sl.size() && int(indent) < start.col && (sl[indent] == ' ' || sl[indent] == '\t')) ++indent;
-    s += sl.substr(0, indent);
-    merge_ok_ = false;
-    insert(s);
-    merge_ok_ = false;
-}
-
 void TextBuffer::backspace() { erase_toward(Move::Left); }
 
 void TextBuffer::erase_forward() { erase_toward(Move::Right); }

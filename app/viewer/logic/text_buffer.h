@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -46,6 +47,14 @@ struct BufferEdit {
 // The number typed into "go to line": its digits (anything else is skipped), at most
 // INT_MAX however many there are; 0 for none.
 int parse_line_number(std::string_view typed);
+
+// The unit of indentation of a text given line by line (`line(i)` for i < count; the
+// first `max_lines` are looked at): a tab when more indented lines begin with a tab
+// than with a space, else the commonest step (1 to 8 spaces) from a line to a more
+// indented one after it; two spaces when the text says nothing.
+template <class LineAt>
+std::string detect_indent_unit(int count, LineAt line, int max_lines = 4000);
+std::string indent_unit_from(int tab_lines, int space_lines, const int (&steps)[9]);
 
 // ---- the buffer ----------------------------------------------------------------
 class TextBuffer {
@@ -93,7 +102,15 @@ public:
     // ---- editing (each call is one undoable edit; typing merges) ---------------
     // Replaces the selection (or inserts at the cursor).
     void insert(std::string_view s);
-    void newline();  // keeps the current line's indentation
+    // Enter: keeps the current line's indentation, one level more after a `{` (the
+    // text before the cursor ending in one, a // comment aside); between `{` and `}`
+    // the `}` goes to a line of its own below, at the first line's indentation.
+    void newline();
+    // A typed character: `}` on a line blank up to the cursor takes one level of its
+    // indentation away; anything else is insert().
+    void type(std::string_view s);
+    // The text's unit of indentation (detect_indent_unit of its first lines).
+    std::string indent_unit() const;
     void backspace();
     void erase_forward();
     // Replaces `r` with `s`, cursor after it. The primitive every edit goes through.
@@ -191,5 +208,26 @@ private:
     std::size_t last_offset_ = 0;  // of the last apply(), when logging
     std::vector<LineShift> shifts_;
 };
+
+template <class LineAt>
+std::string detect_indent_unit(int count, LineAt line, int max_lines) {
+    int tabs = 0, spaces = 0, steps[9] = {};
+    int prev = 0;
+    for (int i = 0; i < count && i < max_lines; ++i) {
+        const std::string_view l = line(i);
+        std::size_t n = 0;
+        while (n < l.size() && l[n] == ' ') ++n;
+        const bool tab = n < l.size() && l[n] == '\t';
+        if (l.find_first_not_of(" \t\r") == std::string_view::npos) continue;  // blank: says nothing
+        if (tab) {
+            ++tabs;
+            continue;
+        }
+        if (n > 0) ++spaces;
+        if (int(n) > prev) ++steps[std::min<std::size_t>(n - std::size_t(prev), 8)];
+        prev = int(n);
+    }
+    return indent_unit_from(tabs, spaces, steps);
+}
 
 }  // namespace rtview

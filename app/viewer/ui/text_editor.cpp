@@ -264,7 +264,7 @@ void TextEditor::handle_key(const KeyEvent& e) {
         case Key::Backspace: buf_.backspace(); break;
         case Key::Delete: buf_.erase_forward(); break;
         case Key::Enter: buf_.newline(); break;
-        case Key::Tab: buf_.insert("  "); break;
+        case Key::Tab: buf_.insert(buf_.indent_unit()); break;  // the file's own unit
         case Key::Escape:
             // Leaves the editor; the text stays as typed.
             focused_ = false;
@@ -303,7 +303,7 @@ void TextEditor::insert_typed(const std::string& typed) {
     while (i < typed.size()) {
         std::size_t n = 1;
         while (i + n < typed.size() && (static_cast<unsigned char>(typed[i + n]) & 0xC0) == 0x80) ++n;
-        buf_.insert(std::string_view(typed).substr(i, n));
+        buf_.type(std::string_view(typed).substr(i, n));  // (a `}` on a blank line: one level less)
         i += n;
         ++stats_.chars;
     }
