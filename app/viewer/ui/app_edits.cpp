@@ -208,7 +208,7 @@ void ViewerApp::draw_context_menu() {
     const std::string all = many ? " " + std::to_string(many) + " things" : std::string();
     if (ImGui::MenuItem(("Duplicate" + all).c_str(), "Ctrl+D", false, has)) run(Command::Duplicate);
     if (ImGui::MenuItem(("Delete" + all).c_str(), "Del", false, has)) run(Command::Delete);
-    if (sel.is(SceneItem::Kind::Light) && std::size_t(sel.item.index) < scene.lights.size()) {
+    if (!many && sel.is(SceneItem::Kind::Light) && std::size_t(sel.item.index) < scene.lights.size()) {
         bool lamp = scene.lights[std::size_t(sel.item.index)].lamp;
         const char* label = lamp ? "Make it a spotlight" : "Make it a lamp";
         const bool chosen = ImGui::MenuItem(label);
@@ -216,7 +216,7 @@ void ViewerApp::draw_context_menu() {
         if (chosen) run(Command::SwitchLight);
     }
     const ItemRef& prev = menu_prev_selection_;
-    if (sel.is(SceneItem::Kind::Object) && prev.is(SceneItem::Kind::Object) && prev.item.index != sel.item.index &&
+    if (!many && sel.is(SceneItem::Kind::Object) && prev.is(SceneItem::Kind::Object) && prev.item.index != sel.item.index &&
         std::size_t(prev.item.index) < scene.objects.size()) {
         std::string label = "CSG of object " + std::to_string(prev.item.index + 1) + " and this one";
         if (ImGui::BeginMenu(label.c_str())) {

@@ -71,6 +71,11 @@ void ViewerApp::handle_shortcuts() {
         for (int k = 0; k < 3; ++k)
             if (key_pressed(handle_keys[k]) && !move_.dragging()) {
                 move_.set_mode(HandleMode(k));
+                if (k > 0 && !panels_.selected().many.empty()) {
+                    status_.set("Several things selected: they share the move handle; turning and sizing work on "
+                                "one thing at a time (click one alone)");
+                    continue;
+                }
                 status_.set(k == 0   ? "Move handle (G): arrows along x/y/z, the square in the view plane"
                             : k == 1 ? "Turn handle (Y): a ring turns about its axis, the outer circle about the view; "
                                        "Shift snaps to 15 degrees"

@@ -97,9 +97,10 @@ void Panels::draw_menu_bar() {
         }
         probe_item("menu:Add in front");
         const bool has = can && !sel_.one.none();
-        if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, has)) commands_.run(Command::Duplicate);
-        if (ImGui::MenuItem("Delete", "Del", false, has)) commands_.run(Command::Delete);
-        const bool light = has && sel_.one.is(SceneItem::Kind::Light) &&
+        const std::string all = sel_.many.empty() ? std::string() : " " + std::to_string(sel_.many.size()) + " things";
+        if (ImGui::MenuItem(("Duplicate" + all).c_str(), "Ctrl+D", false, has)) commands_.run(Command::Duplicate);
+        if (ImGui::MenuItem(("Delete" + all).c_str(), "Del", false, has)) commands_.run(Command::Delete);
+        const bool light = has && sel_.many.empty() && sel_.one.is(SceneItem::Kind::Light) &&
                            std::size_t(sel_.one.item.index) < doc.scene().lights.size();
         if (ImGui::MenuItem(light && !doc.scene().lights[std::size_t(sel_.one.item.index)].lamp ? "Make the spotlight a lamp"
                                                                                             : "Make the lamp a spotlight",

@@ -71,6 +71,8 @@ std::string Panels::selection_name(const ItemRef& s) {
 }
 
 void Panels::draw_sidebar() {
+    // (An undo or a reload may have taken selected things away, whichever tab shows.)
+    if (editor_.doc().has_scene()) keep_existing(sel_, editor_.doc().scene());
     probe("selection", selection_name(sel_.one));
     if (layout_.sidebar_hidden) return;
     ImGuiIO& io = ImGui::GetIO();
