@@ -42,10 +42,10 @@ void Panels::draw_group_properties() {
             const rt::Material m = s.objects[std::size_t(last.item.index)].material;
             const std::size_t n = give_material(doc, sel_.many, m);
             if (n > 0) {
-                doc.name_edit("Material of " + item_label(s, last) + " for " + std::to_string(n) + " objects");
+                const std::string objects = std::to_string(n) + (n == 1 ? " object" : " objects");
+                doc.name_edit("Material of " + item_label(s, last) + " for " + objects);
                 doc.commit();
-                status_.set("Gave " + std::to_string(n) + " objects the material of " + item_label(s, last) +
-                            " (Ctrl+Z undoes)");
+                status_.set("Gave " + objects + " the material of " + item_label(s, last) + " (Ctrl+Z undoes)");
             } else {
                 status_.set("They have that material already");
             }
