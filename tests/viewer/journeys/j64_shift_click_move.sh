@@ -12,7 +12,6 @@
 
 step "open default.txt; where the two spheres are (their handles, from the outline)"
 start_viewer "$SCENES/default.txt" --samples 4
-wait_state render "done" 60
 click_item outline_object_1
 wait_state selection "^object_1$"
 read -r x1 y1 <<< "$(field handle 1) $(field handle 2)"
