@@ -83,7 +83,7 @@ TEST_CASE("text editor: typing, Enter, Backspace and undo change the text; Escap
     CHECK(f.changed);
     f.ed.push_key(TextEditor::Key::Backspace, false, false);
     f.frame();
-    CHECK(f.ed.text() == "thing {\nsphere { }\n}\n");
+    CHECK(f.ed.text() == "thing {\n  sphere { }\n}\n");  // (Enter after `{`: one level in)
     // Five undo steps: "sphere", " {", " }x" (a space after a word starts a step),
     // the Backspace, the Enter.
     for (int i = 0; i < 5; ++i) f.ed.push_key(TextEditor::Key::Z, false, true);
