@@ -473,38 +473,16 @@ TextureStore::Loaded TextureStore::load(const std::string& path, bool later) {
     };
     struct stat st {};
     const FileId id = ::stat(path.c_str(), &st) == 0 ? FileId::of(st) : FileId{};
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        auto it = entries_.find(path);
-        if (it != entries_.end() && id.known() && it->second.id == id) {
-            if (it->second.failed) {
-                result.error = it->second.error;
-                return result;
-            }
-            if ((result.texture = it->second.texture.lock())) {
-                waited(result);
-                return result;
-            }
-        }
+    if (cache_.find(path, id, result.texture, result.error)) {
+        waited(result);
+        return result;
     }
-    // Decoded outside the lock: another thread may read another file meanwhile.
-    Entry e;
-    e.id = id;
-    if (std::shared_ptr<Texture> t = read_texture(path, result.error, later)) {
-        e.id = t->file_id();  // the version decoded, should the file have changed since the stat
-        e.texture = t;
-        result.texture = std::move(t);
-    } else {
-        e.failed = true;
-        e.error = result.error;
-    }
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        for (auto it = entries_.begin(); it != entries_.end();)
-            it = !it->second.failed && it->second.texture.expired() ? entries_.erase(it) : std::next(it);
-        // A FIFO or device is never kept: its stat says nothing of what it would give.
-        if (id.known() && S_ISREG(st.st_mode)) entries_[path] = std::move(e);
-    }
+    // Decoded outside the cache's lock: another thread may read another file meanwhile.
+    std::shared_ptr<Texture> t = read_texture(path, result.error, later);
+    // A FIFO or device is never kept: its stat says nothing of what it would give. The
+    // version kept is the one decoded, should the file have changed since the stat.
+    cache_.store(path, t ? t->file_id() : id, t, result.error, id.known() && S_ISREG(st.st_mode));
+    result.texture = std::move(t);
     waited(result);
     return result;
 }
