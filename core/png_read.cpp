@@ -1,0 +1,188 @@
+// The PNG reader of png_read.h. The chunks are walked as stb_image walks them (the
+// CRCs unread, ancillary chunks skipped); the IDAT chunks' data, strung together, is
+// inflated by libdeflate into one buffer of the filtered rows. An RGB image is
+// unfiltered in that buffer, each row moved down over the filter bytes before it, so
+// the buffer becomes the texels without a second copy; the other kinds are unfiltered
+// row by row and spread to three bytes a texel.
+#include "png_read.h"
+
+#include <libdeflate.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "texture.h"
+
+namespace rt {
+
+void PngFree::operator()(std::uint8_t* p) const { std::free(p); }
+
+namespace {
+
+std::uint32_t be32(const unsigned char* p) {
+    return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3];
+}
+
+int paeth(int a, int b, int c) {
+    const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
+    if (pa <= pb && pa <= pc) return a;
+    return pb <= pc ? b : c;
+}
+
+// One row of `stride` bytes with filter f unfiltered from src into dst, prev the
+// unfiltered row above (null for the first row: zeros), bpp bytes a pixel. dst may
+// lie below src in the same buffer (dst <= src): each byte of src is read before the
+// byte of dst at the same index is written, and never after. False for a filter type
+// above 4.
+bool unfilter(unsigned f, const std::uint8_t* src, const std::uint8_t* prev, std::uint8_t* dst, std::size_t stride,
+              std::size_t bpp) {
+    const std::size_t first = bpp < stride ? bpp : stride;
+    switch (f) {
+    case 0:
+        std::memmove(dst, src, stride);
+        return true;
+    case 1:
+        for (std::size_t i = 0; i < first; ++i) dst[i] = src[i];
+        for (std::size_t i = bpp; i < stride; ++i) dst[i] = std::uint8_t(src[i] + dst[i - bpp]);
+        return true;
+    case 2:
+        if (!prev) {
+            std::memmove(dst, src, stride);
+        } else {
+            for (std::size_t i = 0; i < stride; ++i) dst[i] = std::uint8_t(src[i] + prev[i]);
+        }
+        return true;
+    case 3:
+        if (!prev) {
+            for (std::size_t i = 0; i < first; ++i) dst[i] = src[i];
+            for (std::size_t i = bpp; i < stride; ++i) dst[i] = std::uint8_t(src[i] + (dst[i - bpp] >> 1));
+        } else {
+            for (std::size_t i = 0; i < first; ++i) dst[i] = std::uint8_t(src[i] + (prev[i] >> 1));
+            for (std::size_t i = bpp; i < stride; ++i)
+                dst[i] = std::uint8_t(src[i] + ((dst[i - bpp] + prev[i]) >> 1));
+        }
+        return true;
+    case 4:
+        if (!prev) {  // Paeth of (a, 0, 0) is a: Sub
+            for (std::size_t i = 0; i < first; ++i) dst[i] = src[i];
+            for (std::size_t i = bpp; i < stride; ++i) dst[i] = std::uint8_t(src[i] + dst[i - bpp]);
+        } else {
+            for (std::size_t i = 0; i < first; ++i) dst[i] = std::uint8_t(src[i] + prev[i]);
+            for (std::size_t i = bpp; i < stride; ++i)
+                dst[i] = std::uint8_t(src[i] + paeth(dst[i - bpp], prev[i], prev[i - bpp]));
+        }
+        return true;
+    default:
+        return false;
+    }
+}
+
+struct Decompressor {
+    libdeflate_decompressor* d = libdeflate_alloc_decompressor();
+    ~Decompressor() {
+        if (d) libdeflate_free_decompressor(d);
+    }
+};
+
+using Buffer = std::unique_ptr<std::uint8_t, PngFree>;
+
+Buffer allocate(std::size_t n) { return Buffer(static_cast<std::uint8_t*>(std::malloc(n ? n : 1))); }
+
+}  // namespace
+
+std::unique_ptr<std::uint8_t, PngFree> read_png8(std::string_view bytes, int& w, int& h) {
+    const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+    const std::size_t size = bytes.size();
+    if (size < 8 || std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) != 0) return nullptr;
+    std::uint32_t width = 0, height = 0;
+    unsigned colour = 0;
+    std::uint8_t palette[256 * 3] = {};  // indices past the PLTE's entries read black
+    bool have_palette = false, seen_idat = false, ended = false;
+    std::string data;  // the IDAT chunks' data, strung together
+    std::size_t i = 8;
+    for (bool first = true; i + 12 <= size; first = false) {
+        const std::uint32_t len = be32(b + i);
+        const unsigned char* type = b + i + 4;
+        if (len > size - i - 12) return nullptr;
+        const unsigned char* c = b + i + 8;
+        const auto is = [&](const char* t) { return std::memcmp(type, t, 4) == 0; };
+        if (first != is("IHDR")) return nullptr;
+        if (is("IHDR")) {
+            if (len != 13) return nullptr;
+            width = be32(c), height = be32(c + 4), colour = c[9];
+            // 8 bits; grey, RGB, palette, grey+alpha, RGBA; deflate; filter method 0;
+            // not interlaced.
+            if (c[8] != 8 || !(colour == 0 || colour == 2 || colour == 3 || colour == 4 || colour == 6) ||
+                c[10] != 0 || c[11] != 0 || c[12] != 0)
+                return nullptr;
+        } else if (is("PLTE")) {
+            if (have_palette || seen_idat || len == 0 || len > 256 * 3 || len % 3 != 0) return nullptr;
+            std::memcpy(palette, c, len);
+            have_palette = true;
+        } else if (is("IDAT")) {
+            if (colour == 3 && !have_palette) return nullptr;
+            seen_idat = true;
+            data.append(reinterpret_cast<const char*>(c), len);
+        } else if (is("IEND")) {
+            ended = true;
+            break;
+        } else if (is("tRNS") || !(type[0] & 0x20)) {
+            return nullptr;  // transparency, or a critical chunk this reader does not know
+        }
+        i += 12 + std::size_t(len);
+    }
+    if (!ended || !seen_idat || width == 0 || height == 0 || width > std::uint32_t(TextureLimits::max_side) ||
+        height > std::uint32_t(TextureLimits::max_side) ||
+        std::uint64_t(width) * height > TextureLimits::max_texels)
+        return nullptr;
+
+    const std::size_t n = colour == 0 ? 1 : colour == 2 ? 3 : colour == 3 ? 1 : colour == 4 ? 2 : 4;
+    const std::size_t stride = std::size_t(width) * n, line = stride + 1, raw_size = line * height;
+    const std::size_t texels = std::size_t(width) * height, out_size = texels * 3;
+    Decompressor inflater;
+    if (!inflater.d) return nullptr;
+    Buffer raw = allocate(raw_size);
+    if (!raw) return nullptr;
+    std::size_t used = 0, got = 0;
+    // The stream must fill the rows exactly (stb_image takes a longer one; it is
+    // left to it) and its Adler-32 must match (stb_image does not look).
+    if (libdeflate_zlib_decompress_ex(inflater.d, data.data(), data.size(), raw.get(), raw_size, &used, &got) !=
+                LIBDEFLATE_SUCCESS ||
+        got != raw_size)
+        return nullptr;
+    std::string().swap(data);
+
+    std::uint8_t* r = raw.get();
+    if (colour == 2) {
+        // In place: row y's bytes move down by y + 1 (its and the rows' above filter bytes).
+        for (std::size_t y = 0; y < height; ++y) {
+            std::uint8_t* dst = r + y * stride;
+            if (!unfilter(r[y * line], r + y * line + 1, y ? dst - stride : nullptr, dst, stride, 3)) return nullptr;
+        }
+        w = int(width), h = int(height);
+        return raw;
+    }
+    Buffer out = allocate(out_size);
+    if (!out) return nullptr;
+    for (std::size_t y = 0; y < height; ++y) {
+        // Unfiltered in place (dst == src) after the row above, whose bytes stay.
+        std::uint8_t* row = r + y * line + 1;
+        if (!unfilter(row[-1], row, y ? row - line : nullptr, row, stride, n)) return nullptr;
+        std::uint8_t* o = out.get() + y * std::size_t(width) * 3;
+        for (std::size_t x = 0; x < width; ++x, o += 3) {
+            const std::uint8_t* p = row + x * n;
+            if (colour == 3) {
+                std::memcpy(o, palette + 3 * std::size_t(p[0]), 3);
+            } else if (n <= 2) {
+                o[0] = o[1] = o[2] = p[0];
+            } else {
+                o[0] = p[0], o[1] = p[1], o[2] = p[2];
+            }
+        }
+    }
+    w = int(width), h = int(height);
+    return out;
+}
+
+}  // namespace rt
