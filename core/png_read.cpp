@@ -89,91 +89,71 @@ using Buffer = std::unique_ptr<std::uint8_t, PngFree>;
 
 Buffer allocate(std::size_t n) { return Buffer(static_cast<std::uint8_t*>(std::malloc(n ? n : 1))); }
 
-}  // namespace
-
-std::unique_ptr<std::uint8_t, PngFree> read_png8(std::string_view bytes, int& w, int& h) {
-    const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
-    const std::size_t size = bytes.size();
-    if (size < 8 || std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) != 0) return nullptr;
+// What the chunks say: the header's fields, the palette and the IDAT data strung
+// together. False for a file this reader leaves to stb_image.
+struct Chunks {
     std::uint32_t width = 0, height = 0;
     unsigned colour = 0;
     std::uint8_t palette[256 * 3] = {};  // indices past the PLTE's entries read black
-    bool have_palette = false, seen_idat = false, ended = false;
-    std::string data;  // the IDAT chunks' data, strung together
+    std::string data;
+};
+
+bool read_chunks(const unsigned char* b, std::size_t size, Chunks& out) {
+    if (size < 8 || std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) != 0) return false;
+    bool have_palette = false, seen_idat = false;
     std::size_t i = 8;
     for (bool first = true; i + 12 <= size; first = false) {
         const std::uint32_t len = be32(b + i);
         const unsigned char* type = b + i + 4;
-        if (len > size - i - 12) return nullptr;
+        if (len > size - i - 12) return false;
         const unsigned char* c = b + i + 8;
         const auto is = [&](const char* t) { return std::memcmp(type, t, 4) == 0; };
-        if (first != is("IHDR")) return nullptr;
+        if (first != is("IHDR")) return false;
         if (is("IHDR")) {
-            if (len != 13) return nullptr;
-            width = be32(c), height = be32(c + 4), colour = c[9];
+            if (len != 13) return false;
+            out.width = be32(c), out.height = be32(c + 4), out.colour = c[9];
             // 8 bits; grey, RGB, palette, grey+alpha, RGBA; deflate; filter method 0;
             // not interlaced.
-            if (c[8] != 8 || !(colour == 0 || colour == 2 || colour == 3 || colour == 4 || colour == 6) ||
-                c[10] != 0 || c[11] != 0 || c[12] != 0)
-                return nullptr;
+            const unsigned k = out.colour;
+            if (c[8] != 8 || !(k == 0 || k == 2 || k == 3 || k == 4 || k == 6) || c[10] != 0 || c[11] != 0 ||
+                c[12] != 0)
+                return false;
         } else if (is("PLTE")) {
-            if (have_palette || seen_idat || len == 0 || len > 256 * 3 || len % 3 != 0) return nullptr;
-            std::memcpy(palette, c, len);
+            if (have_palette || seen_idat || len == 0 || len > 256 * 3 || len % 3 != 0) return false;
+            std::memcpy(out.palette, c, len);
             have_palette = true;
         } else if (is("IDAT")) {
-            if (colour == 3 && !have_palette) return nullptr;
+            if (out.colour == 3 && !have_palette) return false;
             seen_idat = true;
-            data.append(reinterpret_cast<const char*>(c), len);
+            out.data.append(reinterpret_cast<const char*>(c), len);
         } else if (is("IEND")) {
-            ended = true;
-            break;
+            return seen_idat && out.width > 0 && out.height > 0 &&
+                   out.width <= std::uint32_t(TextureLimits::max_side) &&
+                   out.height <= std::uint32_t(TextureLimits::max_side) &&
+                   std::uint64_t(out.width) * out.height <= TextureLimits::max_texels;
         } else if (is("tRNS") || !(type[0] & 0x20)) {
-            return nullptr;  // transparency, or a critical chunk this reader does not know
+            return false;  // transparency, or a critical chunk this reader does not know
         }
         i += 12 + std::size_t(len);
     }
-    if (!ended || !seen_idat || width == 0 || height == 0 || width > std::uint32_t(TextureLimits::max_side) ||
-        height > std::uint32_t(TextureLimits::max_side) ||
-        std::uint64_t(width) * height > TextureLimits::max_texels)
-        return nullptr;
+    return false;  // no IEND
+}
 
-    const std::size_t n = colour == 0 ? 1 : colour == 2 ? 3 : colour == 3 ? 1 : colour == 4 ? 2 : 4;
-    const std::size_t stride = std::size_t(width) * n, line = stride + 1, raw_size = line * height;
-    const std::size_t texels = std::size_t(width) * height, out_size = texels * 3;
-    Decompressor inflater;
-    if (!inflater.d) return nullptr;
-    Buffer raw = allocate(raw_size);
-    if (!raw) return nullptr;
-    std::size_t used = 0, got = 0;
-    // The stream must fill the rows exactly (stb_image takes a longer one; it is
-    // left to it) and its Adler-32 must match (stb_image does not look).
-    if (libdeflate_zlib_decompress_ex(inflater.d, data.data(), data.size(), raw.get(), raw_size, &used, &got) !=
-                LIBDEFLATE_SUCCESS ||
-        got != raw_size)
-        return nullptr;
-    std::string().swap(data);
-
-    std::uint8_t* r = raw.get();
-    if (colour == 2) {
-        // In place: row y's bytes move down by y + 1 (its and the rows' above filter bytes).
-        for (std::size_t y = 0; y < height; ++y) {
-            std::uint8_t* dst = r + y * stride;
-            if (!unfilter(r[y * line], r + y * line + 1, y ? dst - stride : nullptr, dst, stride, 3)) return nullptr;
-        }
-        w = int(width), h = int(height);
-        return raw;
-    }
-    Buffer out = allocate(out_size);
+// The unfiltered rows r (each after its filter byte, `line` bytes apart) of a grey,
+// grey+alpha, RGBA or palette image, n bytes a pixel, spread to 3 bytes a texel.
+Buffer spread(const Chunks& k, std::uint8_t* r, std::size_t n, std::size_t line) {
+    const std::size_t width = k.width, stride = width * n;
+    Buffer out = allocate(width * k.height * 3);
     if (!out) return nullptr;
-    for (std::size_t y = 0; y < height; ++y) {
+    for (std::size_t y = 0; y < k.height; ++y) {
         // Unfiltered in place (dst == src) after the row above, whose bytes stay.
         std::uint8_t* row = r + y * line + 1;
         if (!unfilter(row[-1], row, y ? row - line : nullptr, row, stride, n)) return nullptr;
-        std::uint8_t* o = out.get() + y * std::size_t(width) * 3;
+        std::uint8_t* o = out.get() + y * width * 3;
         for (std::size_t x = 0; x < width; ++x, o += 3) {
             const std::uint8_t* p = row + x * n;
-            if (colour == 3) {
-                std::memcpy(o, palette + 3 * std::size_t(p[0]), 3);
+            if (k.colour == 3) {
+                std::memcpy(o, k.palette + 3 * std::size_t(p[0]), 3);
             } else if (n <= 2) {
                 o[0] = o[1] = o[2] = p[0];
             } else {
@@ -181,8 +161,40 @@ std::unique_ptr<std::uint8_t, PngFree> read_png8(std::string_view bytes, int& w,
             }
         }
     }
-    w = int(width), h = int(height);
     return out;
+}
+
+}  // namespace
+
+std::unique_ptr<std::uint8_t, PngFree> read_png8(std::string_view bytes, int& w, int& h) {
+    Chunks k;
+    if (!read_chunks(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), k)) return nullptr;
+    const std::size_t n = k.colour == 0 ? 1 : k.colour == 2 ? 3 : k.colour == 3 ? 1 : k.colour == 4 ? 2 : 4;
+    const std::size_t stride = std::size_t(k.width) * n, line = stride + 1, raw_size = line * k.height;
+    Decompressor inflater;
+    if (!inflater.d) return nullptr;
+    Buffer raw = allocate(raw_size);
+    if (!raw) return nullptr;
+    std::size_t used = 0, got = 0;
+    // The stream must fill the rows exactly (stb_image takes a longer one; it is
+    // left to it) and its Adler-32 must match (stb_image does not look).
+    if (libdeflate_zlib_decompress_ex(inflater.d, k.data.data(), k.data.size(), raw.get(), raw_size, &used, &got) !=
+                LIBDEFLATE_SUCCESS ||
+        got != raw_size)
+        return nullptr;
+    std::string().swap(k.data);
+    std::uint8_t* r = raw.get();
+    if (k.colour != 2) {
+        raw = spread(k, r, n, line);
+    } else {
+        // In place: row y's bytes move down by y + 1 (its and the rows' above filter bytes).
+        for (std::size_t y = 0; y < k.height; ++y) {
+            std::uint8_t* dst = r + y * stride;
+            if (!unfilter(r[y * line], r + y * line + 1, y ? dst - stride : nullptr, dst, stride, 3)) return nullptr;
+        }
+    }
+    if (raw) w = int(k.width), h = int(k.height);
+    return raw;
 }
 
 }  // namespace rt
