@@ -262,12 +262,15 @@ bool jpeg_tables_ok(std::string_view b) {
 // Whether every chunk of a PNG up to IEND lies within the file. stb_image allocates
 // the room a data chunk claims (up to 2 GB) before it reads the chunk, so a few bytes
 // claiming a huge one are refused before it sees them (found by fuzz_texture).
+// That holds for the last chunk's header too when its CRC is cut off (found by
+// fuzz_texture: 8 bytes claiming 2 GB of IDAT at the file's end).
 bool png_chunks_ok(std::string_view b) {
     std::size_t i = 8;
-    while (i + 12 <= b.size()) {
+    while (i + 8 <= b.size()) {
         std::uint64_t len = 0;
         for (std::size_t k = 0; k < 4; ++k) len = len << 8 | static_cast<unsigned char>(b[i + k]);
-        if (len > b.size() - i - 12) return false;
+        const std::size_t rest = b.size() - i;
+        if (rest >= 12 ? len > rest - 12 : len > rest - 8) return false;
         if (b.compare(i + 4, 4, "IEND") == 0) return true;
         i += 12 + std::size_t(len);
     }

@@ -257,3 +257,20 @@ TEST_CASE("png reader: the small PNGs of tests/textures (every colour type, rows
         same_as_stb(bytes);
     }
 }
+
+// Found by fuzz_texture: the file ends in a chunk header (its CRC cut off) claiming
+// 2 GB of IDAT, which stb_image allocated before it read any. Refused at the header.
+TEST_CASE("png reader: a last chunk header claiming more than the file holds is refused before stb_image") {
+    std::string found;
+    FILE* f = std::fopen(RT_SOURCE_DIR "/tests/fuzz/regressions/png-last-header-claims-2gb", "rb");
+    REQUIRE(f != nullptr);
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) found.append(buf, n);
+    std::fclose(f);
+    std::string error;
+    CHECK_FALSE(bool(decode_texture(found, error)));
+    CHECK(error.find("truncated") != std::string::npos);
+    // A file whose IEND lacks only its CRC is still read, as stb_image reads it.
+    const std::string good = png_filtered(5, 4, 2, pattern(5 * 4 * 3, 2));
+    CHECK(bool(decode_texture(good.substr(0, good.size() - 4), error)));
+}
