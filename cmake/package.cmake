@@ -24,7 +24,8 @@ if(RAYTRACER_DEB_SHLIBDEPS AND RAYTRACER_DPKG_SHLIBDEPS AND RAYTRACER_FILE)
   set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 else()
   # Debian 12's names for what the programs link, as dpkg-shlibdeps would find them.
-  set(deps "libc6 (>= 2.34)" "libgcc-s1 (>= 3.0)" "libstdc++6 (>= 12)" "libstb0 (>= 0.0~git20180212.15.e6afb9c)")
+  set(deps "libc6 (>= 2.34)" "libgcc-s1 (>= 3.0)" "libstdc++6 (>= 12)" "libstb0 (>= 0.0~git20180212.15.e6afb9c)"
+      "libdeflate0 (>= 1.14)")
   if(TARGET raytracer-view)
     list(APPEND deps "libglfw3 (>= 3.3)" "libopengl0")
   endif()

@@ -274,36 +274,18 @@ bool MeshModel::unchanged_on_disk() const { return textures_unchanged() && FileI
 ModelStore::Loaded ModelStore::load(const std::string& path, TextureStore* textures) {
     Loaded result;
     const FileId id = FileId::of(path);
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        auto it = entries_.find(path);
-        if (it != entries_.end() && id.known() && it->second.id == id) {
-            if (it->second.failed) {
-                result.error = it->second.error;
-                return result;
-            }
-            // (A model's textures changed on disk: the model is read again with them.)
-            if ((result.model = it->second.model.lock()) && result.model->textures_unchanged()) return result;
-        }
-    }
-    // Read outside the lock: another thread may read another file meanwhile.
+    // (A model's textures changed on disk: the model is read again with them.)
+    if (cache_.find(path, id, result.model, result.error) && (!result.model || result.model->textures_unchanged()))
+        return result;
+    result.model = nullptr;
+    // Read outside the cache's lock: another thread may read another file meanwhile.
     MeshData data;
-    Entry e;
-    e.id = id;
     if (read_model(path, data, result.error, textures ? textures : &textures_)) {
         auto model = std::make_shared<MeshModel>(path, std::move(data));
         model->id_ = id;
-        e.model = model;
         result.model = std::move(model);
-    } else {
-        e.failed = true;
-        e.error = result.error;
     }
-    std::lock_guard<std::mutex> lock(mutex_);
-    // Entries of models nobody holds any more are dropped as the store is used.
-    for (auto it = entries_.begin(); it != entries_.end();)
-        it = !it->second.failed && it->second.model.expired() ? entries_.erase(it) : std::next(it);
-    if (id.known()) entries_[path] = std::move(e);
+    cache_.store(path, id, result.model, result.error, id.known());
     return result;
 }
 

@@ -129,14 +129,7 @@ public:
     TextureStore& textures() { return textures_; }
 
 private:
-    struct Entry {
-        FileId id;
-        std::weak_ptr<const MeshModel> model;
-        ModelError error;  // the last reading's, when it failed
-        bool failed = false;
-    };
-    std::mutex mutex_;
-    std::map<std::string, Entry> entries_;
+    FileCache<MeshModel, ModelError> cache_;
     TextureStore textures_;
 };
 

@@ -175,15 +175,17 @@ RT_TARGET_AVX2 void cos_sin_turn4(__m256d v, __m256d& c, __m256d& s) {
 }
 
 // sphere_point() (shade.cpp) minus p for four points p at distances d from the centre
-// c, by the samples (u, v): the same operations, so the same bits.
-RT_TARGET_AVX2 V3 sphere_offset4(const V3& p, const Vec3& c, double radius, __m256d d, __m256d u, __m256d v) {
-    const __m256d one = splat(1.0), zero = _mm256_setzero_pd(), inv_d = _mm256_div_pd(one, d);
+// c (inv_d2 = 1 / d^2), by the samples (u, v): the same operations, so the same bits.
+RT_TARGET_AVX2 V3 sphere_offset4(const V3& p, const Vec3& c, double radius, __m256d d, __m256d inv_d2, __m256d u,
+                                 __m256d v) {
+    const __m256d one = splat(1.0), zero = _mm256_setzero_pd(), inv_d = mul(d, inv_d2);
     const V3 w{mul(sub(splat(c.x), p.x), inv_d), mul(sub(splat(c.y), p.y), inv_d), mul(sub(splat(c.z), p.z), inv_d)};
     const __m256d rr = splat(radius * radius), dd = mul(d, d);
-    const __m256d s2 = _mm256_div_pd(rr, dd);
-    const __m256d one_minus = _mm256_div_pd(s2, add(one, _mm256_sqrt_pd(sub(one, s2))));
-    const __m256d cos_t = sub(one, mul(u, one_minus));
-    const __m256d sin_t = _mm256_sqrt_pd(_mm256_max_pd(sub(one, mul(cos_t, cos_t)), zero));
+    const __m256d s2 = mul(rr, inv_d2);
+    const __m256d one_minus = sub(one, _mm256_sqrt_pd(_mm256_max_pd(sub(one, s2), zero)));
+    const __m256d x = mul(u, one_minus);
+    const __m256d cos_t = sub(one, x), sin_t2 = mul(x, sub(splat(2.0), x));
+    const __m256d sin_t = _mm256_sqrt_pd(sin_t2);
     __m256d cos_phi, sin_phi;
     cos_sin_turn4(v, cos_phi, sin_phi);
     const __m256d sign = _mm256_or_pd(_mm256_and_pd(w.z, splat(-0.0)), one);  // copysign(1, w.z)
@@ -195,21 +197,21 @@ RT_TARGET_AVX2 V3 sphere_offset4(const V3& p, const Vec3& c, double radius, __m2
                  add(add(mul(w.y, cos_t), mul(t1.y, sc)), mul(t2.y, ss)),
                  add(add(mul(w.z, cos_t), mul(t1.z, sc)), mul(t2.z, ss))};
     const __m256d along = mul(d, cos_t);
-    const __m256d t = sub(along, _mm256_sqrt_pd(_mm256_max_pd(sub(rr, mul(dd, mul(sin_t, sin_t))), zero)));
+    const __m256d t = sub(along, _mm256_sqrt_pd(_mm256_max_pd(sub(rr, mul(dd, sin_t2)), zero)));
     // (p + dir t) - p, as the scalar code forms the point and then v.
     return {sub(add(p.x, mul(dir.x, t)), p.x), sub(add(p.y, mul(dir.y, t)), p.y), sub(add(p.z, mul(dir.z, t)), p.z)};
 }
 
 // direct_sampled()'s vector toward the sphere light's point chosen by (u, v) from four
 // points p, vc from p to the light's centre (r2 = |vc|^2): vc itself for a point inside
-// the light. `reach`: how far from the centre blockers may lie (the centre's distance,
-// plus the radius from outside).
-RT_TARGET_AVX2 V3 toward_sphere4(const V3& p, const V3& vc, __m256d r2, const ShadeLight& light, __m256d u, __m256d v,
-                                 unsigned live, __m256d& reach) {
+// the light (inv_r2 = 1 / r2). `reach`: how far from the centre blockers may lie (the
+// centre's distance, plus the radius from outside).
+RT_TARGET_AVX2 V3 toward_sphere4(const V3& p, const V3& vc, __m256d r2, __m256d inv_r2, const ShadeLight& light,
+                                 __m256d u, __m256d v, unsigned live, __m256d& reach) {
     const __m256d dc = _mm256_sqrt_pd(r2), outside = _mm256_cmp_pd(dc, splat(light.radius), _CMP_GT_OQ);
     reach = _mm256_blendv_pd(dc, add(dc, splat(light.radius)), outside);
     if (!(lanes(outside) & live)) return vc;
-    const V3 q = sphere_offset4(p, light.position, light.radius, dc, u, v);
+    const V3 q = sphere_offset4(p, light.position, light.radius, dc, inv_r2, u, v);
     return {_mm256_blendv_pd(vc.x, q.x, outside), _mm256_blendv_pd(vc.y, q.y, outside),
             _mm256_blendv_pd(vc.z, q.z, outside)};
 }
@@ -382,7 +384,7 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
         __m256d reach = zero;
         if (light.radius > 0) {
             if (drawn.used == drawn.count) drawn.draw(lights, li, b.sampler, live);
-            v = toward_sphere4(p, vc, r2, light, drawn.u[drawn.used], drawn.v[drawn.used], live, reach);
+            v = toward_sphere4(p, vc, r2, inv_r2, light, drawn.u[drawn.used], drawn.v[drawn.used], live, reach);
             ++drawn.used;
         }
         const __m256d vn = dot(v, n);

@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "file_cache.h"
 #include "file_id.h"
 #include "math.h"
 
@@ -118,14 +119,7 @@ public:
     Loaded load(const std::string& path, bool later = false);
 
 private:
-    struct Entry {
-        FileId id;
-        std::weak_ptr<const Texture> texture;
-        std::string error;  // the last reading's, when it failed
-        bool failed = false;
-    };
-    std::mutex mutex_;
-    std::map<std::string, Entry> entries_;
+    FileCache<Texture, std::string> cache_;
 };
 
 // sRGB-encoded v in [0, 1] to linear (IEC 61966-2-1).

@@ -31,9 +31,10 @@ done
 
 # The build, the tests (doctest, Xvfb and xdotool drive the viewer, ImageMagick's
 # `import` takes its screenshots, python3 runs the function-length check), the viewer's
-# GUI libraries and its UI font (DejaVu), OpenEXR for the .exr pictures.
+# GUI libraries and its UI font (DejaVu), OpenEXR for the .exr pictures, libdeflate for
+# the PNG textures.
 PACKAGES=(build-essential cmake pkg-config libglfw3-dev libimgui-dev libosmesa6-dev libglm-dev
-          doctest-dev libstb-dev libopenexr-dev zlib1g-dev libtinyobjloader-dev xvfb xauth xdotool imagemagick fonts-dejavu-core python3)
+          doctest-dev libstb-dev libdeflate-dev libopenexr-dev zlib1g-dev libtinyobjloader-dev xvfb xauth xdotool imagemagick fonts-dejavu-core python3)
 MPI_PACKAGES=(openmpi-bin libopenmpi-dev)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 MODEL_PACKAGES=(assimp-testmodels)
