@@ -393,6 +393,7 @@ bool Document::commit_in_place(DocStep& step) {
         shift_layout(l, r.offset, r.length, r.text.size());
         step.editor_back.push_back(r.apply(editor_));
         step.editor.push_back(std::move(r));
+        follow_positions(step.editor.back().offset, step.editor_back.back().text, step.editor.back().text);
     }
     // The text changes its version below: the layout stays valid for the new one.
     layout_key_ = layout_key(1);
@@ -411,6 +412,7 @@ bool Document::commit_generic(DocStep& step) {
         // No draft: the editor text is the applied text.
         step.made(diff_texts(editor_, new_applied), editor_);
         editor_ = std::move(new_applied);
+        follow_positions(step.editor.back().offset, step.editor_back.back().text, step.editor.back().text);
         return true;
     }
     // The user has an unapplied draft: carry the edit into it only where that is

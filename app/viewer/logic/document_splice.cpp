@@ -289,7 +289,49 @@ void shift_positions(rt::Scene& scene, const LocShift& shift, bool objects_shift
     shift(scene.camera_loc);
 }
 
+// The line and column of byte `pos` of `text`, counted from its start (the line ends a
+// word at a time where the text has no CR).
+rt::SourceLoc loc_of_offset(std::string_view text, std::size_t pos) {
+    const std::string_view head = text.substr(0, pos);
+    if (head.find('\r') != std::string_view::npos) return advance({1, 1}, head);
+    const std::size_t lines = std::size_t(std::count(head.begin(), head.end(), '\n'));
+    const std::size_t ls = head.rfind('\n');
+    return {int(lines) + 1, int(pos - (ls == std::string_view::npos ? 0 : ls + 1)) + 1};
+}
+
 }  // namespace
+
+void Document::follow_positions(std::size_t pos, std::string_view removed, std::string_view inserted) {
+    const rt::SourceLoc at = loc_of_offset(editor_, pos);
+    const LocShift shift{advance(at, removed), advance(at, inserted)};
+    if (shift.none()) return;
+    if (scene_.includes.empty()) {
+        shift_positions(scene_, shift, false);
+    } else {
+        // Items an include brought are placed in their own files: theirs stay.
+        for (rt::Object& o : scene_.objects)
+            if (o.origin == 0) shift(o);
+        for (rt::Plane& p : scene_.planes)
+            if (p.origin == 0) shift(p.loc);
+        for (rt::Light& l : scene_.lights)
+            if (l.origin == 0) shift(l.loc);
+        for (rt::NamedMaterial& m : scene_.materials)
+            if (m.origin == 0) shift(m.loc);
+        for (rt::NamedObject& d : scene_.defined)
+            if (d.origin == 0) shift(d.loc);
+        for (rt::Include& inc : scene_.includes) shift(inc.loc);
+    }
+    auto move = [&shift](int& line, int& col) {
+        rt::SourceLoc l{line, col};
+        shift(l);
+        line = l.line, col = l.col;
+    };
+    for (rt::Diagnostic& d : diagnostics_) {
+        if (d.file.empty()) move(d.line, d.col);
+        for (rt::Diagnostic::Site& site : d.included_from)
+            if (site.file.empty()) move(site.line, site.col);
+    }
+}
 
 bool Document::follow_layout(const std::vector<TextReplacement>& reps) {
     if (!layout_) return false;
