@@ -174,7 +174,8 @@ void Document::apply_step(const DocStep& s, bool forward) {
     for (std::size_t k = 0; k < made.size(); ++k) {
         const TextReplacement& r = made[forward ? k : made.size() - 1 - k];
         editor_.replace(r.offset, r.length, r.text);
-        if (follow) follow_positions(r.offset, undone[forward ? k : made.size() - 1 - k].text, r.text);
+        const std::size_t i = forward ? k : made.size() - 1 - k;
+        if (follow) follow_positions(r.offset, undone[i].text, r.text, s.editor_at.size() == made.size() ? &s.editor_at[i] : nullptr);
     }
     if (!s.keep_applied) applied_ = forward ? s.applied_after : s.applied_before;
     else normalize_applied();
