@@ -648,3 +648,73 @@ TEST_CASE("a zero's sign follows the text: the scene holds exactly what its text
     CHECK(std::signbit(read.planes[0].point[0].y));
     CHECK(std::signbit(d.scene().planes[0].point[0].y));
 }
+
+namespace {
+
+// The document's source positions are those a parse of its text gives: every item's
+// (a CSG's operands too), the definitions', the camera's and the diagnostics'.
+void check_positions_are_texts(const Document& doc) {
+    const rt::ParseResult r = rt::parse_scene(doc.editor_text());
+    REQUIRE(r.ok());
+    const rt::Scene& s = doc.scene();
+    REQUIRE(s.objects.size() == r.scene.objects.size());
+    auto same = [](const rt::SourceLoc& a, const rt::SourceLoc& b) { return a.line == b.line && a.col == b.col; };
+    for (std::size_t i = 0; i < s.objects.size(); ++i) {
+        INFO("object " << i << " at " << s.objects[i].loc.line << ":" << s.objects[i].loc.col << ", the text's "
+                       << r.scene.objects[i].loc.line << ":" << r.scene.objects[i].loc.col);
+        CHECK(same(s.objects[i].loc, r.scene.objects[i].loc));
+    }
+    for (std::size_t i = 0; i < s.lights.size(); ++i) CHECK(same(s.lights[i].loc, r.scene.lights[i].loc));
+    for (std::size_t i = 0; i < s.planes.size(); ++i) CHECK(same(s.planes[i].loc, r.scene.planes[i].loc));
+    for (std::size_t i = 0; i < s.materials.size(); ++i) CHECK(same(s.materials[i].loc, r.scene.materials[i].loc));
+    CHECK(same(s.camera_loc, r.scene.camera_loc));
+    REQUIRE(doc.diagnostics().size() == r.diagnostics.size());
+    for (std::size_t i = 0; i < r.diagnostics.size(); ++i) {
+        CHECK(doc.diagnostics()[i].line == r.diagnostics[i].line);
+        CHECK(doc.diagnostics()[i].col == r.diagnostics[i].col);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("a panel edit that adds a line moves the positions of everything after it, and undo moves them back") {
+    const std::string text =
+        "define { material gold { reflection 0.5 colour 1 0.8 0.2 } }\n"
+        "thing {\n"
+        "  sphere { position 1 0 0 radius 0.5\n"
+        "  }\n"
+        "  sphere { position 3 0 0 radius 0.5 } sphere { position 5 0 0 radius 0.5 material gold }\n"
+        "}\n"
+        "special_thing { plane { point 1 0 0 -1 point 2 1 0 -1 point 3 0 1 -1 } }\n"
+        "light { lamp { position 0 0 9 colour 2 2 2 } }\n"
+        "camera { position -5 0 0 centre 0 0 0 up 0 0 1 angle_x 60 angle_y 45 }\n"
+        "picture_size { x_max 8 y_max 8 }\nend\nnot read\n";
+    Document doc;
+    doc.load_text(text, "", "lines");
+    REQUIRE(doc.has_scene());
+    REQUIRE(doc.diagnostics().size() == 1);  // the warning for the text after `end`
+    check_positions_are_texts(doc);
+    // A key the first sphere did not give goes on a line of its own before its brace.
+    doc.edit_object(0).transform.edit().scale = {2, 2, 2};
+    doc.commit();
+    REQUIRE(doc.take_refusal() == "");
+    INFO(doc.editor_text());
+    REQUIRE(doc.editor_text().find("    scale 2 2 2\n  }") != std::string::npos);
+    CHECK(doc.scene().objects[1].loc.line == 6);
+    check_positions_are_texts(doc);
+    // A change within a line moves the columns after it on that line.
+    doc.edit_object(1).transform.edit().translate = {0, 0, 12.5};
+    doc.commit();
+    CHECK(doc.scene().objects[2].loc.line == 6);
+    check_positions_are_texts(doc);
+    REQUIRE(doc.undo());
+    check_positions_are_texts(doc);
+    REQUIRE(doc.undo());
+    CHECK(doc.editor_text() == text);
+    CHECK(doc.scene().objects[1].loc.line == 5);
+    check_positions_are_texts(doc);
+    REQUIRE(doc.redo());
+    check_positions_are_texts(doc);
+    REQUIRE(doc.redo());
+    check_positions_are_texts(doc);
+}

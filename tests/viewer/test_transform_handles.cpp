@@ -315,3 +315,86 @@ TEST_CASE("turn and size a CSG operand: its own transform changes, about the wor
     CHECK(back == doc.scene());
     CHECK(near(operand_point(back, {0}, {2, 0, 0}), {8.5, 1.5, 0}, 1e-9));
 }
+
+namespace {
+
+// The eight corners of a box operand's own corners, in its shape's coordinates.
+std::vector<Vec3> corners(const rt::Object& o) {
+    const rt::Box& b = std::get<rt::Box>(o.shape);
+    std::vector<Vec3> out;
+    for (int k = 0; k < 8; ++k)
+        out.push_back({(k & 1 ? b.corner2 : b.corner1).x, (k & 2 ? b.corner2 : b.corner1).y,
+                       (k & 4 ? b.corner2 : b.corner1).z});
+    return out;
+}
+
+// Turns operand `path` of the CSG in `things` by `degrees` about the world `axis`
+// through `centre`; where it can be written, checks that every corner of the operand
+// went where that turn takes it in the world, and that the text reads back the same.
+// Returns whether it was made.
+bool turned_exactly(const std::string& things, const std::vector<int>& path, Vec3 axis, double degrees, Vec3 centre) {
+    rt::Scene s = scene_of(things);
+    const rt::Object before = s.objects[0];
+    std::vector<Vec3> want;
+    const Mat3 q = axis_rotation(axis, degrees);
+    for (const Vec3& c : corners(*operand_of(before, path))) want.push_back(q * (operand_point(s, path, c) - centre) + centre);
+    std::string why;
+    if (!turn_operand(s.objects[0], path, axis, degrees, centre, &why)) {
+        CHECK(why.find("scales unequally") != std::string::npos);
+        CHECK(s.objects[0] == before);  // nothing changed
+        return false;
+    }
+    CHECK(why.empty());
+    const std::vector<Vec3> local = corners(*operand_of(s.objects[0], path));
+    for (std::size_t k = 0; k < local.size(); ++k) {
+        INFO("corner " << k << " of " << things);
+        CHECK(near(operand_point(s, path, local[k]), want[k], 1e-6));
+    }
+    Document doc;
+    doc.load_text("thing {\n" + things + "}\n" + kCamera, "", "csg");
+    REQUIRE(turn_operand(doc.edit_object(0), path, axis, degrees, centre));
+    doc.commit();
+    CHECK(doc.take_refusal() == "");
+    const rt::Scene back = rt_test::parse_ok(doc.editor_text());
+    for (std::size_t k = 0; k < local.size(); ++k) CHECK(near(operand_point(back, path, local[k]), want[k], 1e-6));
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("turn a CSG operand under an uneven scale: exact where its keys can hold it, else refused") {
+    // The CSG doubles y. A quarter turn about z through the box's middle (1 1 0.5): its
+    // corner (2 0 0), at (2 0 0) in the world, goes to (1 1 -0.5) turned, (2 2 0).
+    const std::string stretched = "constructive_solid_geometry { type U scale 1 2 1\n"
+                                  "  left { box { corner_1 0 0 0 corner_2 2 1 1 } }\n"
+                                  "  right { sphere { position 5 5 5 radius 1 } } }\n";
+    CHECK(turned_exactly(stretched, {0}, {0, 0, 1}, 90, {1, 1, 0.5}));
+    rt::Scene s = scene_of(stretched);
+    REQUIRE(turn_operand(s.objects[0], {0}, {0, 0, 1}, 90, {1, 1, 0.5}));
+    CHECK(near(operand_point(s, {0}, {2, 0, 0}), {2, 2, 0}, 1e-9));
+    // The box's own x now lies along the CSG's y, which the CSG doubles: its own scale
+    // halves it, and doubles its own y (along the CSG's x, which stays), so that the
+    // box is 2 by 2 by 1 in the world as before.
+    const rt::Transform& t = std::get<rt::Csg>(s.objects[0].shape).operands[0].transform.get();
+    CHECK(t.scale == Vec3{0.5, 2, 1});
+    CHECK(t.rotation == Vec3{0, 0, 90});
+    // A turn about the axis the scale leaves alone, and half turns, are exact too.
+    CHECK(turned_exactly(stretched, {0}, {0, 1, 0}, 180, {1, 1, 0.5}));
+    CHECK(turned_exactly(stretched, {0}, {0, 0, 1}, 180, {1, 1, 0.5}));
+    // 45 degrees would shear the box in the CSG's frame: refused, nothing changed.
+    CHECK(!turned_exactly(stretched, {0}, {0, 0, 1}, 45, {1, 1, 0.5}));
+    CHECK(!turned_exactly(stretched, {0}, {1, 0, 0}, 30, {1, 1, 0.5}));
+    // Uneven scales on both, the CSG turned too: a quarter turn about the CSG's own x
+    // (the world's y after its 90 degrees about z) keeps its axes on its axes.
+    const std::string both = "constructive_solid_geometry { type U scale 1 2 1 rotation 0 0 90 translate 1 2 3\n"
+                              "  left { box { corner_1 0 0 0 corner_2 2 1 1 scale 3 1 1 rotation 0 0 90 } }\n"
+                              "  right { sphere { position 5 5 5 radius 1 } } }\n";
+    CHECK(turned_exactly(both, {0}, {0, 1, 0}, 90, {0, 2, 3}));
+    CHECK(!turned_exactly(both, {0}, {0, 1, 0}, 60, {0, 2, 3}));
+    // The operand's own uneven scale under an even one: any turn is exact.
+    const std::string even = "constructive_solid_geometry { type U scale 2 rotation 0 0 30\n"
+                             "  left { box { corner_1 0 0 0 corner_2 2 1 1 scale 1 3 1 rotation 0 0 20 } }\n"
+                             "  right { sphere { position 5 5 5 radius 1 } } }\n";
+    CHECK(turned_exactly(even, {0}, {1, 0, 0}, 37, {1, 1, 1}));
+    CHECK(turned_exactly(even, {0}, rt::normalize(Vec3{1, 2, 3}), 71.5, {0, 0, 0}));
+}

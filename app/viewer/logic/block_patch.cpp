@@ -54,6 +54,13 @@ public:
         return body(b, i, before, after) && i == toks_.size();
     }
 
+    // A block's body on its own, its `{` at token 0 (a material's).
+    template <class T>
+    bool bare(const sc::Block<T>& b, const T& before, const T& after) {
+        std::size_t i = 0;
+        return body(b, i, before, after) && i == toks_.size();
+    }
+
     std::string result() const {
         std::vector<TextReplacement> reps = reps_;
         // Insertions at one place keep the order they were made in.
@@ -272,6 +279,28 @@ std::optional<std::string> patch(std::string_view block, const sc::Block<T>& b_b
 }
 
 }  // namespace
+
+std::optional<std::string> patch_material(std::string_view braces, const rt::Material& before,
+                                          const rt::Material& after) {
+    Patcher p(braces);
+    if (!p.bare(sc::material_block(), before, after)) return std::nullopt;
+    std::string out = p.result();
+    // Read back as the definition of a small scene: the values of `after` (its file as
+    // named; the texture itself is not read here).
+    const std::string scene = "define { material m " + out + "\n}\n" + rt::write_camera(rt::Camera{}) +
+                              "picture_size { x_max 1 y_max 1 }\nend\n";
+    rt::ParseOptions o;
+    o.read_models = false;
+    const rt::ParseResult r = rt::parse_scene(scene, o);
+    if (!r.ok() || r.scene.materials.size() != 1) return std::nullopt;
+    rt::Material want = after;
+    want.texture_image.reset();
+    want.named = r.scene.materials[0].material.named;
+    rt::Material got = r.scene.materials[0].material;
+    got.texture_image.reset();
+    if (!(got == want)) return std::nullopt;
+    return out;
+}
 
 std::optional<std::string> patch_block(std::string_view block, const rt::Object& before, const rt::Object& after) {
     return patch(block, sc::object_block(before), sc::object_block(after), before, after, "thing");

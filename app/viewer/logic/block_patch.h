@@ -20,5 +20,10 @@ namespace rtview {
 std::optional<std::string> patch_block(std::string_view block, const rt::Object& before, const rt::Object& after);
 std::optional<std::string> patch_block(std::string_view block, const rt::Plane& before, const rt::Plane& after);
 std::optional<std::string> patch_block(std::string_view block, const rt::Light& before, const rt::Light& after);
+// `braces` is the `{ ... }` of a material (a named material's definition) that reads as
+// `before`: the same with the values that differ in `after` rewritten (its comments and
+// layout kept), or nothing when that cannot be done in place.
+std::optional<std::string> patch_material(std::string_view braces, const rt::Material& before,
+                                          const rt::Material& after);
 
 }  // namespace rtview

@@ -46,6 +46,9 @@ struct DocStep {
     // The editor text's replacements, applied in order going forward; and each one's
     // inverse, applied in reverse order going back.
     std::vector<TextReplacement> editor, editor_back;
+    // The line and column of each replacement's offset, as the text has it both ways
+    // (the positions after it move with it), when known.
+    std::vector<rt::SourceLoc> editor_at;
     // `r`, made in `before` (the editor text before it), is part of the step.
     void made(TextReplacement r, const std::string& before) {
         if (r.empty()) return;

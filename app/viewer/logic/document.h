@@ -12,6 +12,7 @@
 #include <optional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "file_id.h"
@@ -277,6 +278,13 @@ private:
     // (as made) or back: the text's replacement at `pos` of `removed` by `inserted` is made.
     void apply_splice(const SplicedItem& s, bool forward, std::size_t pos, std::string_view removed,
                       std::string_view inserted, bool layout_valid);
+    // The source positions of the scene's own items (and definitions, includes, the
+    // camera) and of the diagnostics after the editor text's replacement at `pos` of
+    // `removed` by `inserted`, just made, moved as the text did: the scene is the
+    // editor text's (no draft). Those inside the replaced text stay. `at`: the line and
+    // column of `pos` if known (else the text before it is counted). Returns them.
+    rt::SourceLoc follow_positions(std::size_t pos, std::string_view removed, std::string_view inserted,
+                                   const rt::SourceLoc* at = nullptr);
     // The layout kept in step with the text through `reps` (made in order), when each
     // replaces one whole block (an undo or redo of a panel edit); else dropped (false).
     bool follow_layout(const std::vector<TextReplacement>& reps);

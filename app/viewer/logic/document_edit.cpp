@@ -341,13 +341,16 @@ bool Document::commit_in_place(DocStep& step) {
         return v[*own];
     };
     std::vector<TextReplacement> reps;
+    std::vector<std::pair<std::size_t, rt::SourceLoc>> at;  // where a block starts: its item's place
     rt::Scene one = item_scene(scene_);  // a valid camera, the named materials: as the text has them
     // An item's block keeps its comments and layout when only its changed values can
     // be replaced (block_patch.h); else the writer's block replaces it.
-    auto add = [&](TextSpan span, ItemList kind, std::optional<std::string> patched = std::nullopt) {
+    auto add = [&](TextSpan span, ItemList kind, std::optional<std::string> patched = std::nullopt,
+                   rt::SourceLoc loc = {}) {
         std::string t = patched ? std::move(*patched) : written_item(one, kind, line_indent(editor_, span.begin));
         if (t.empty()) return false;
         reps.push_back({span.begin, span.end - span.begin, std::move(t)});
+        at.push_back({span.begin, loc});
         return true;
     };
     auto block = [&](TextSpan span) { return std::string_view(editor_).substr(span.begin, span.end - span.begin); };
@@ -355,7 +358,8 @@ bool Document::commit_in_place(DocStep& step) {
         const auto& p = step.objects_after[k];
         one.objects = {p.second};
         const std::optional<TextSpan> span = span_of(ItemList::Object, p.first);
-        if (!span || !add(*span, ItemList::Object, patch_block(block(*span), step.objects_before[k].second, p.second)))
+        if (!span || !add(*span, ItemList::Object, patch_block(block(*span), step.objects_before[k].second, p.second),
+                          step.objects_before[k].second.loc))
             return false;
     }
     one.objects.clear();
@@ -363,7 +367,8 @@ bool Document::commit_in_place(DocStep& step) {
         const auto& p = step.planes_after[k];
         one.planes = {p.second};
         const std::optional<TextSpan> span = span_of(ItemList::Plane, p.first);
-        if (!span || !add(*span, ItemList::Plane, patch_block(block(*span), step.planes_before[k].second, p.second)))
+        if (!span || !add(*span, ItemList::Plane, patch_block(block(*span), step.planes_before[k].second, p.second),
+                          step.planes_before[k].second.loc))
             return false;
     }
     one.planes.clear();
@@ -371,7 +376,8 @@ bool Document::commit_in_place(DocStep& step) {
         const auto& p = step.lights_after[k];
         one.lights = {p.second};
         const std::optional<TextSpan> span = span_of(ItemList::Light, p.first);
-        if (!span || !add(*span, ItemList::Light, patch_block(block(*span), step.lights_before[k].second, p.second)))
+        if (!span || !add(*span, ItemList::Light, patch_block(block(*span), step.lights_before[k].second, p.second),
+                          step.lights_before[k].second.loc))
             return false;
     }
     one.lights.clear();
@@ -391,8 +397,12 @@ bool Document::commit_in_place(DocStep& step) {
               [](const TextReplacement& a, const TextReplacement& b) { return a.offset > b.offset; });
     for (TextReplacement& r : reps) {
         shift_layout(l, r.offset, r.length, r.text.size());
+        const std::size_t pos = r.offset;
         step.editor_back.push_back(r.apply(editor_));
         step.editor.push_back(std::move(r));
+        const auto a = std::find_if(at.begin(), at.end(), [pos](const auto& x) { return x.first == pos; });
+        step.editor_at.push_back(follow_positions(pos, step.editor_back.back().text, step.editor.back().text,
+                                                  a == at.end() ? nullptr : &a->second));
     }
     // The text changes its version below: the layout stays valid for the new one.
     layout_key_ = layout_key(1);
@@ -411,6 +421,8 @@ bool Document::commit_generic(DocStep& step) {
         // No draft: the editor text is the applied text.
         step.made(diff_texts(editor_, new_applied), editor_);
         editor_ = std::move(new_applied);
+        for (std::size_t k = 0; k < step.editor.size(); ++k)
+            step.editor_at.push_back(follow_positions(step.editor[k].offset, step.editor_back[k].text, step.editor[k].text));
         return true;
     }
     // The user has an unapplied draft: carry the edit into it only where that is

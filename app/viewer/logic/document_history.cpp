@@ -165,11 +165,17 @@ void Document::apply_step(const DocStep& s, bool forward) {
     // A typing step leaves the applied text alone: it is the editor text as it is
     // before the step when they are one and the same now.
     if (s.keep_applied && !applied_) applied_ = editor_;
-    if (forward) {
-        for (const TextReplacement& r : s.editor) editor_.replace(r.offset, r.length, r.text);
-    } else {
-        for (auto it = s.editor_back.rbegin(); it != s.editor_back.rend(); ++it)
-            editor_.replace(it->offset, it->length, it->text);
+    // A panel edit's step (the text is the scene's): the positions after each
+    // replacement move with the text.
+    const bool follow = !s.spliced && !s.reparse && !s.keep_applied && !s.applied_before && !s.applied_after;
+    std::vector<rt::Diagnostic> reparsed;
+    const std::vector<TextReplacement>& made = forward ? s.editor : s.editor_back;
+    const std::vector<TextReplacement>& undone = forward ? s.editor_back : s.editor;
+    for (std::size_t k = 0; k < made.size(); ++k) {
+        const TextReplacement& r = made[forward ? k : made.size() - 1 - k];
+        editor_.replace(r.offset, r.length, r.text);
+        const std::size_t i = forward ? k : made.size() - 1 - k;
+        if (follow) follow_positions(r.offset, undone[i].text, r.text, s.editor_at.size() == made.size() ? &s.editor_at[i] : nullptr);
     }
     if (!s.keep_applied) applied_ = forward ? s.applied_after : s.applied_before;
     else normalize_applied();
@@ -183,6 +189,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
         if (has_scene_) {
             rt::ParseResult r = rt::parse_scene(applied_text(), parse_options(path_));
             scene_ = std::move(r.scene);
+            reparsed = std::move(r.diagnostics);
         }
     } else {
         if (layout_valid && !s.keep_applied && !s.applied_before && !s.applied_after && !s.editor.empty())
@@ -205,7 +212,9 @@ void Document::apply_step(const DocStep& s, bool forward) {
         changed(items_of(s.objects_before, s.planes_before, s.lights_before));
     if (!s.editor.empty() || s.applied_before != s.applied_after) text_changed(s, forward);
     typing_base_.reset();
-    diagnostics_ = editor_dirty() ? rt::parse_scene(editor_, parse_options(path_)).diagnostics : std::vector<rt::Diagnostic>{};
+    // The text's warnings: kept (moved with it) through a panel edit's step.
+    if (editor_dirty()) diagnostics_ = rt::parse_scene(editor_, parse_options(path_)).diagnostics;
+    else if (!follow) diagnostics_ = std::move(reparsed);
 }
 
 void Document::restore_object(std::size_t i, const rt::Object& o) {

@@ -280,8 +280,15 @@ void shift_positions(rt::Scene& scene, const LocShift& shift, bool objects_shift
     auto from = [&](auto& v) {
         return std::partition_point(v.begin(), v.end(), [&](const auto& x) { return before(x.loc, shift.old_end); });
     };
-    if (!objects_shifted)
-        for (auto it = from(scene.objects); it != scene.objects.end(); ++it) shift(*it);
+    if (!objects_shifted) {
+        // In two halves at once where a worker is free (a million objects after an edit
+        // near the top).
+        const std::size_t first = std::size_t(from(scene.objects) - scene.objects.begin()), n = scene.objects.size();
+        const std::size_t mid = first + (n - first) / 2;
+        rt::two_ways(n - first > (std::size_t(1) << 16), [&](int part) {
+            for (std::size_t k = part == 0 ? first : mid, end = part == 0 ? mid : n; k < end; ++k) shift(scene.objects[k]);
+        });
+    }
     for (auto it = from(scene.planes); it != scene.planes.end(); ++it) shift(it->loc);
     for (auto it = from(scene.lights); it != scene.lights.end(); ++it) shift(it->loc);
     for (rt::NamedMaterial& m : scene.materials) shift(m.loc);
@@ -289,7 +296,65 @@ void shift_positions(rt::Scene& scene, const LocShift& shift, bool objects_shift
     shift(scene.camera_loc);
 }
 
+// The line and column of byte `pos` of `text`, counted from its start (the line ends a
+// word at a time where the text has no CR).
+rt::SourceLoc loc_of_offset(std::string_view text, std::size_t pos) {
+    const std::string_view head = text.substr(0, pos);
+    if (head.find('\r') != std::string_view::npos) return advance({1, 1}, head);
+    const std::size_t lines = std::size_t(std::count(head.begin(), head.end(), '\n'));
+    const std::size_t ls = head.rfind('\n');
+    return {int(lines) + 1, int(pos - (ls == std::string_view::npos ? 0 : ls + 1)) + 1};
+}
+
 }  // namespace
+
+rt::SourceLoc Document::follow_positions(std::size_t pos, std::string_view removed, std::string_view inserted,
+                                        const rt::SourceLoc* known) {
+    const rt::SourceLoc at = known && known->line > 0 ? *known : loc_of_offset(editor_, pos);
+    const LocShift shift{advance(at, removed), advance(at, inserted)};
+    if (shift.none()) return at;
+    if (scene_.includes.empty() && shift.old_end.line == shift.new_end.line) {
+        // The same lines: only what follows on the replacement's last line moves (the
+        // lists are in the text's order).
+        const int line = shift.old_end.line;
+        auto rest_of_line = [&](auto& v, const auto& f) {
+            auto it = std::partition_point(v.begin(), v.end(), [&](const auto& x) { return before(x.loc, shift.old_end); });
+            for (; it != v.end() && it->loc.line == line; ++it) f(*it);
+        };
+        rest_of_line(scene_.objects, [&](rt::Object& o) { shift(o); });
+        rest_of_line(scene_.planes, [&](rt::Plane& p) { shift(p.loc); });
+        rest_of_line(scene_.lights, [&](rt::Light& l) { shift(l.loc); });
+        for (rt::NamedMaterial& m : scene_.materials) shift(m.loc);
+        for (rt::NamedObject& d : scene_.defined) shift(d.loc);
+        shift(scene_.camera_loc);
+    } else if (scene_.includes.empty()) {
+        shift_positions(scene_, shift, false);
+    } else {
+        // Items an include brought are placed in their own files: theirs stay.
+        for (rt::Object& o : scene_.objects)
+            if (o.origin == 0) shift(o);
+        for (rt::Plane& p : scene_.planes)
+            if (p.origin == 0) shift(p.loc);
+        for (rt::Light& l : scene_.lights)
+            if (l.origin == 0) shift(l.loc);
+        for (rt::NamedMaterial& m : scene_.materials)
+            if (m.origin == 0) shift(m.loc);
+        for (rt::NamedObject& d : scene_.defined)
+            if (d.origin == 0) shift(d.loc);
+        for (rt::Include& inc : scene_.includes) shift(inc.loc);
+    }
+    auto move = [&shift](int& line, int& col) {
+        rt::SourceLoc l{line, col};
+        shift(l);
+        line = l.line, col = l.col;
+    };
+    for (rt::Diagnostic& d : diagnostics_) {
+        if (d.file.empty()) move(d.line, d.col);
+        for (rt::Diagnostic::Site& site : d.included_from)
+            if (site.file.empty()) move(site.line, site.col);
+    }
+    return at;
+}
 
 bool Document::follow_layout(const std::vector<TextReplacement>& reps) {
     if (!layout_) return false;

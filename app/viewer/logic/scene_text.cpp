@@ -343,6 +343,27 @@ rt::Scene carry_edit(const rt::Scene& base, const rt::Scene& old_scene, const rt
         r.width = new_scene.width;
         r.height = new_scene.height;
     }
+    // A named material the edit changed (the same name in the same place in all three)
+    // changes in `base` too, for every use of it there (as the panels change it); an
+    // item whose only change was that is then no change to carry, so the draft's own
+    // changes to it stay.
+    std::optional<rt::Scene> renamed;
+    if (!(old_scene.materials == new_scene.materials)) {
+        const std::size_t n = new_scene.materials.size();
+        if (base.materials.size() != n || old_scene.materials.size() != n) all = false;
+        else renamed = old_scene;
+        for (std::size_t k = 0; renamed && k < n; ++k) {
+            const rt::NamedMaterial &a = old_scene.materials[k], &b = new_scene.materials[k];
+            if (a == b) continue;
+            if (a.name != b.name || base.materials[k].name != b.name || base.materials[k].origin != b.origin) {
+                all = false;
+                continue;
+            }
+            use_named_material(r, k, b.material);
+            use_named_material(*renamed, k, b.material);
+        }
+    }
+    const rt::Scene& was_scene = renamed ? *renamed : old_scene;
     auto carry = [&all](auto& dst, const auto& was, const auto& now) {
         bool same_count = dst.size() == was.size() && was.size() == now.size();
         for (std::size_t k = 0; k < now.size() && k < was.size(); ++k) {
@@ -352,9 +373,9 @@ rt::Scene carry_edit(const rt::Scene& base, const rt::Scene& old_scene, const rt
         }
         if (was.size() != now.size()) all = false;
     };
-    carry(r.objects, old_scene.objects, new_scene.objects);
-    carry(r.planes, old_scene.planes, new_scene.planes);
-    carry(r.lights, old_scene.lights, new_scene.lights);
+    carry(r.objects, was_scene.objects, new_scene.objects);
+    carry(r.planes, was_scene.planes, new_scene.planes);
+    carry(r.lights, was_scene.lights, new_scene.lights);
     if (complete) *complete = all;
     return r;
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -15,6 +16,9 @@
 #include "scene_parser.h"
 
 namespace rtview {
+
+// The list of a scene an item is in (the camera: its one block).
+enum class ItemList { Object, Plane, Light, Camera };
 
 struct TextSpan {
     std::size_t begin = 0, end = 0;  // byte offsets, end exclusive
@@ -82,12 +86,20 @@ std::string sync_scene_text(const std::string& text, const rt::Scene& from, cons
 rt::Scene carry_edit(const rt::Scene& base, const rt::Scene& old_scene, const rt::Scene& new_scene,
                      bool* complete = nullptr);
 
+// The named material `k` of `s` takes the values of `m` (the definition's `named` kept)
+// for every use of it: each material slot that names it with the definition's values (a
+// CSG's operands too; a use the text spells out differs and stays), and the named objects
+// whose definitions use it, their instances given the renewed definition. Before an item
+// changes, `touch(list, i)` is called with it (ItemList::Object or Plane, in order), and
+// before a definition does, `touch_defined(d)`: a caller may keep them as they were.
+void use_named_material(rt::Scene& s, std::size_t k, const rt::Material& m,
+                        const std::function<void(ItemList, std::size_t)>& touch = {},
+                        const std::function<void(std::size_t)>& touch_defined = {});
+
 // The whitespace that starts the line holding `offset` (LF, CR LF and a lone CR end
 // lines, as the parser counts them).
 std::string line_indent(std::string_view text, std::size_t offset);
 
-// The list of a scene an item is in (the camera: its one block).
-enum class ItemList { Object, Plane, Light, Camera };
 // The only item of `one` in `list` as the writer prints it, its lines after the first
 // indented for a line that starts with `indent`; empty if the writer's text is unclear.
 std::string written_item(const rt::Scene& one, ItemList list, const std::string& indent);

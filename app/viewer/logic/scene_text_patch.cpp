@@ -5,6 +5,7 @@
 #include "scene_text.h"
 
 #include <algorithm>
+#include <memory>
 #include <utility>
 
 #include "block_patch.h"
@@ -119,7 +120,11 @@ public:
             const std::size_t at = own++;
             if (a == b) continue;
             if (a.name != b.name || at >= defs.size() || defs[at].first != a.name) return false;
-            reps_.push_back({defs[at].second, rt::write_material(b.material)});
+            // Only the changed values, the user's comments and layout inside kept.
+            const TextSpan span = defs[at].second;
+            std::optional<std::string> t =
+                patch_material(std::string_view(text_).substr(span.begin, span.end - span.begin), a.material, b.material);
+            reps_.push_back({span, t ? std::move(*t) : rt::write_material(b.material)});
         }
         return true;
     }
@@ -160,6 +165,86 @@ bool patch_list(Patcher& p, const std::vector<T>& from, const std::vector<T>& to
 }
 
 }  // namespace
+
+namespace {
+
+// Calls `f` on each material slot of `o` (a CSG's operands too) and tells whether it
+// returned true for any.
+template <class F>
+bool each_material(rt::Object& o, const F& f) {
+    bool any = f(o.material);
+    if (rt::Csg* g = std::get_if<rt::Csg>(&o.shape))
+        for (rt::Object& x : g->operands) any = each_material(x, f) || any;
+    return any;
+}
+
+// Whether `o` (or an operand of it) has a material `use` says yes to, or is an
+// instance of a definition `renewed` says yes to.
+template <class U, class R>
+bool uses_material(const rt::Object& o, const U& use, const R& renewed) {
+    if (use(o.material)) return true;
+    if (const rt::Csg* g = std::get_if<rt::Csg>(&o.shape))
+        return std::any_of(g->operands.begin(), g->operands.end(),
+                           [&](const rt::Object& x) { return uses_material(x, use, renewed); });
+    if (const rt::Instance* in = std::get_if<rt::Instance>(&o.shape)) return renewed(in->defined.get());
+    return false;
+}
+
+}  // namespace
+
+void use_named_material(rt::Scene& s, std::size_t k, const rt::Material& m,
+                        const std::function<void(ItemList, std::size_t)>& touch,
+                        const std::function<void(std::size_t)>& touch_defined) {
+    if (k >= s.materials.size()) return;
+    const rt::Material old = s.materials[k].material;
+    rt::Material now = m;
+    now.named = old.named;  // (the definition's own)
+    s.materials[k].material = now;
+    rt::Material use = now;
+    use.named = int(k);
+    // A use: the name, and the definition's values (a use the text spells out differs).
+    auto rename = [&](rt::Material& x) {
+        if (x.named != int(k) || !x.same_bits(old)) return false;
+        x = use;
+        return true;
+    };
+    // Named objects first: the instances of one that changed are given the new one.
+    std::vector<std::pair<const rt::Object*, std::shared_ptr<const rt::Object>>> renewed;
+    for (std::size_t d = 0; d < s.defined.size(); ++d) {
+        rt::NamedObject& def = s.defined[d];
+        if (!def.object) continue;
+        rt::Object copy = *def.object;
+        if (!each_material(copy, rename)) continue;
+        if (touch_defined) touch_defined(d);
+        auto fresh = std::make_shared<const rt::Object>(std::move(copy));
+        renewed.push_back({def.object.get(), fresh});
+        def.object = std::move(fresh);
+    }
+    auto uses = [&](const rt::Object& o) {
+        return uses_material(o, [&](const rt::Material& x) { return x.named == int(k) && x.same_bits(old); },
+                             [&](const rt::Object* def) {
+                                 return std::any_of(renewed.begin(), renewed.end(),
+                                                    [def](const auto& r) { return r.first == def; });
+                             });
+    };
+    for (std::size_t i = 0; i < s.objects.size(); ++i) {
+        rt::Object& o = s.objects[i];
+        if (!uses(o)) continue;
+        if (touch) touch(ItemList::Object, i);
+        each_material(o, rename);
+        if (rt::Instance* in = std::get_if<rt::Instance>(&o.shape))
+            for (const auto& r : renewed)
+                if (in->defined.get() == r.first) in->defined = r.second;
+    }
+    for (std::size_t i = 0; i < s.planes.size(); ++i) {
+        rt::Plane& p = s.planes[i];
+        rt::Material a = p.material, b = p.material2;
+        if (!rename(a) && !rename(b)) continue;
+        if (touch) touch(ItemList::Plane, i);
+        rename(p.material);
+        rename(p.material2);
+    }
+}
 
 std::optional<std::string> patch_scene_text(const std::string& text, const rt::Scene& from, const rt::Scene& to,
                                             const rt::ParseOptions* options) {

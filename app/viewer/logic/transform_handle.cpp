@@ -180,18 +180,54 @@ void size_object(rt::Object& o, const Vec3& factors, const Vec3& anchor) {
 
 Mat3 object_axes(const rt::Object& o) { return rotation_matrix(placing_of(o).rotation); }
 
-bool turn_operand(rt::Object& top, const std::vector<int>& path, const Vec3& axis, double degrees, const Vec3& anchor) {
+bool turn_operand(rt::Object& top, const std::vector<int>& path, const Vec3& axis, double degrees, const Vec3& anchor,
+                  std::string* why) {
     rt::Object* o = operand_of(top, path);
     if (!o) return false;
     if (path.empty()) {
         turn_object(*o, axis, degrees, anchor);
         return true;
     }
+    // The turn in the frame the operand is written in: q = L^-1 Q L (L: the CSGs' map).
     const rt::MeshInstance p = parent_placement(top, path);
-    const Vec3 a = p.to_model(axis);
-    const double n = rt::length(a);
-    if (!(n > 0) || !std::isfinite(n)) return false;
-    turn_object(*o, a / n, degrees, p.point_to_model(anchor));
+    Mat3 l, inv;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) l.m[i][j] = p.l[i][j], inv.m[i][j] = p.m[i][j];
+    const Mat3 q = inv * axis_rotation(axis, degrees) * l;
+    // The operand's new map from its shape to that frame is q R S; written as R' S' (its
+    // `rotation` and `scale`) only when its columns stay at right angles (S': their
+    // lengths). An even scale above keeps them so; an uneven one does for turns that
+    // keep the CSG's axes on its axes (a quarter turn about one of them).
+    Placing pl = placing_of(*o);
+    const Mat3 m = q * rotation_matrix(pl.rotation);
+    Vec3 c[3] = {}, s{0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+        c[k] = m.column(k) * pl.scale[k];
+        s[k] = rt::length(c[k]);
+        if (!(s[k] > 0) || !std::isfinite(s[k])) return false;
+    }
+    for (int i = 0; i < 3; ++i)
+        for (int j = i + 1; j < 3; ++j)
+            if (std::fabs(rt::dot(c[i], c[j])) > 1e-9 * s[i] * s[j]) {
+                if (why)
+                    *why = "a turn of this operand by " + std::to_string(int(std::lround(degrees))) +
+                           " degrees cannot be written: a CSG it is in scales unequally along its axes, so the "
+                           "turned operand would be sheared (a quarter turn about one of the CSG's axes can be; "
+                           "or turn the whole CSG)";
+                return false;
+            }
+    Mat3 r;
+    for (int k = 0; k < 3; ++k) {
+        const Vec3 u = c[k] / s[k];
+        r.m[0][k] = u.x, r.m[1][k] = u.y, r.m[2][k] = u.z;
+    }
+    const Vec3 a = p.point_to_model(anchor);
+    const Vec3 t = q * (pl.t + pl.after - a) + a - pl.after;
+    pl.rotation = rotation_degrees(r);
+    for (int k = 0; k < 3; ++k) pl.scale[k] = tidy(std::clamp(s[k], 1e-6, 1e9));
+    const double grid = 1e-10 * (1 + max_abs(a) + max_abs(pl.t));
+    pl.t = {on_grid(t.x, grid), on_grid(t.y, grid), on_grid(t.z, grid)};
+    set_placing(*o, pl);
     return true;
 }
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "move_handle.h"
@@ -124,11 +125,12 @@ Mat3 object_axes(const rt::Object& o);
 
 // The same for the CSG operand `path` names below `top` (top itself for an empty path):
 // its own transform is what changes, the CSGs above it stay. The axis and anchor are
-// the world's, taken into the frame the operand is written in (the CSGs' transforms
-// above it): exact when those scale alike along their axes; with unequal scales the
-// turn is about that axis as their frame sees it. False if there is no such operand.
+// the world's: the operand's points turn about them exactly. Where a CSG above it
+// scales unequally along its axes, the turned operand is in general sheared in the
+// frame it is written in, which its `rotation` and `scale` cannot hold: then nothing
+// changes, false, and `why` (if given) says so. False too if there is no such operand.
 bool turn_operand(rt::Object& top, const std::vector<int>& path, const rt::Vec3& axis, double degrees,
-                  const rt::Vec3& anchor);
+                  const rt::Vec3& anchor, std::string* why = nullptr);
 bool size_operand(rt::Object& top, const std::vector<int>& path, const rt::Vec3& factors, const rt::Vec3& anchor);
 // The world directions of the operand's own axes (object_axes of top for an empty path).
 Mat3 operand_axes(const rt::Object& top, const std::vector<int>& path);

@@ -87,14 +87,16 @@ HandleMode MoveTool::mode_for(const Document& doc, const ItemRef& sel) const {
     return mode_;
 }
 
-void MoveTool::apply_turn(Document& doc, double degrees) {
+std::string MoveTool::apply_turn(Document& doc, double degrees) {
     Drag& g = *drag_;
     rt::Object o = g.object;
-    turn_operand(o, g.path, g.turn->axis(), degrees, g.pivot);  // (a CSG operand: its own transform)
+    std::string why;  // (a CSG operand: its own transform, which may not hold the turn)
+    if (!turn_operand(o, g.path, g.turn->axis(), degrees, g.pivot, &why)) return why;
     doc.edit_object(std::size_t(g.item.index)) = std::move(o);
     if (g.name.empty()) g.name = "Turn " + item_label(doc.scene(), ItemRef{g.item, g.path});
     doc.name_edit(g.name);
     g.degrees = degrees;
+    return {};
 }
 
 void MoveTool::apply_size(Document& doc, const rt::Vec3& factors) {
@@ -121,7 +123,8 @@ bool MoveTool::drag_turn_or_size(Document& doc, double mx, double my, StatusLine
     // frames ends where it was let go.)
     if (turn) {
         const double d = g.turn->degrees(mx, my, snap);
-        if (d != g.degrees && std::isfinite(d)) apply_turn(doc, d);
+        if (d != g.degrees && std::isfinite(d))
+            if (const std::string why = apply_turn(doc, d); !why.empty()) status.set(why, true);
     } else {
         const rt::Vec3 f = g.size->factors(mx, my, snap);
         if (!(f == g.factors) && rt::finite(f)) apply_size(doc, f);

@@ -88,7 +88,8 @@ private:
     };
     void apply(Document& doc, const rt::Vec3& d);
     // Turn and size: the object from how it was at the press.
-    void apply_turn(Document& doc, double degrees);
+    // Empty, or why the turn cannot be made (nothing changed then).
+    std::string apply_turn(Document& doc, double degrees);
     void apply_size(Document& doc, const rt::Vec3& factors);
     bool drag_turn_or_size(Document& doc, double mx, double my, StatusLine& status);
     void draw_turn(ImDrawList* dl, const TurnShape& h, HandlePart active, float s) const;

@@ -12,24 +12,8 @@
 # Usage: j53_shared_material.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
-cat > "$OUT/gold.txt" <<'SCENE'
-define {
-  material gold { reflection 0 colour 1 0.8 0.2 }  // the gold
-}
-thing {
-  sphere { position 6 -2.2 1 radius 0.9 material gold }
-  sphere { position 6 0 1 radius 0.9 material gold }  // the middle one
-  sphere { position 6 2.2 1 radius 0.9 material gold }
-}
-special_thing {
-  chess_plane { point 1 0 0 0  point 2 1 0 0  point 3 0 1 0  point 4 0 0 1
-    material 1 { colour 0.9 0.9 0.9 }  material 2 { colour 0.2 0.3 0.5 } }
-}
-light { lamp { position 0 -3 8 colour 80 80 80 size 0.3 } }
-camera { position -2 0 2 centre 6 0 1 up 6 0 2 angle_x 50 angle_y 35 }
-picture_size { x_max 320 y_max 224 }
-end
-SCENE
+# Three gold balls on a chess plane, gold defined once and used by name.
+cp "$HERE/gold_balls.txt" "$OUT/gold.txt"
 start_viewer "$OUT/gold.txt" --samples 2
 cp "$SCENE" "$OUT/original.txt"
 gold_uses() { grep -c "material gold" "$SCENE"; }
