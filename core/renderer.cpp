@@ -254,17 +254,21 @@ std::vector<PixelWindow> tile_grid(int width, int height, const PixelWindow& win
     return tiles;
 }
 
-namespace {
-// Sample passes for samples [from, to): the given batch, or 1, 1, 2, 4, 8, 16, 16, ...
-// samples. Under a time limit the first pass, which always completes, is one sample.
-void add_sample_passes(std::vector<Pass>& passes, const RenderSettings& settings, int from, int to) {
+std::vector<std::array<int, 2>> sample_passes(const RenderSettings& settings, int from, int to) {
+    std::vector<std::array<int, 2>> passes;
     for (int s = from; s < to;) {
         int n = settings.samples_per_pass > 0 ? settings.samples_per_pass : std::clamp(s, 1, 16);
         if (s == 0 && settings.time_limit > 0) n = 1;
         n = std::min(n, to - s);
-        passes.push_back({PassKind::Samples, 0, s, s + n});
+        passes.push_back({s, s + n});
         s += n;
     }
+    return passes;
+}
+
+namespace {
+void add_sample_passes(std::vector<Pass>& passes, const RenderSettings& settings, int from, int to) {
+    for (const auto& p : sample_passes(settings, from, to)) passes.push_back({PassKind::Samples, 0, p[0], p[1]});
 }
 
 // The passes of a render, as start() lists them: the coarse ones, then the sample

@@ -91,6 +91,11 @@ struct RenderSettings {
     bool refine_marked = false;
 };
 
+// The sample passes of samples [from, to), each {s0, s1}: samples_per_pass at a time,
+// or 1, 1, 2, 4, 8, 16, 16, ...; under a time limit the first pass, which always
+// completes, is one sample. A distributed render hands out the same passes.
+std::vector<std::array<int, 2>> sample_passes(const RenderSettings& settings, int from, int to);
+
 // The tiles of a render: the width x height film's grid of side x side tiles, cut to
 // `window`, in `order` (centre-out: nearest the film's centre first, ties in scanline
 // order). A distributed render hands out the same tiles.
@@ -130,8 +135,9 @@ double progress_fraction(const RenderProgress& p, int max_samples);
 void sample_offset(int x, int y, int s, double& dx, double& dy);
 
 // Adds samples [s0, s1) of pixel (x, y) to acc, in sample order: the one definition of
-// a pixel's value, shared by the renderer and distributed rendering. The resolved
-// colour is acc / count (see Film::pixel).
+// a pixel's value (the renderer's sample passes; distributed rendering and the viewer's
+// region are requests to the renderer). The resolved colour is acc / count (see
+// Film::pixel).
 void accumulate_pixel(const World& world, const CameraBasis& camera, int x, int y, int s0, int s1, float acc[3],
                       RayStats& stats);
 
