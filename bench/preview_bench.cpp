@@ -1,7 +1,7 @@
 // preview_bench: the viewer's preview of a moving view without a window, as
 // RenderController traces it on every frame of an orbit drag: the view's world
-// (rt::with_camera_at) and rtview::trace_preview on a pool of the caller and --threads
-// workers (the viewer's: one per hardware thread). Prints per block size the median,
+// (rt::with_camera_at) and rtview::trace_preview, a coarse request to an rt::Renderer on
+// a pool of --threads workers (the viewer's: one per hardware thread). Prints per block size the median,
 // fastest and slowest frame and the time per preview ray.
 //
 //   preview_bench [SCENE] [--size WxH] [--frames N] [--threads N] [--blocks B,B,...]
@@ -68,8 +68,9 @@ int main(int argc, char** argv) {
     const std::optional<rt::Scene> scene = bench::read_scene("preview_bench", scene_path, exit_code);
     if (!scene) return exit_code;
     const std::shared_ptr<const rt::World> world = rt::compile_world(*scene);
-    rt::ThreadPool pool(threads + 1);  // the caller and `threads` workers, as the viewer's
-    std::printf("preview_bench: %s at %dx%d, the caller and %d workers, %d frames a block size\n\n",
+    rt::ThreadPool pool(threads + 1);  // `threads` workers (the size counts a loop's caller), as the viewer's
+    rt::Renderer renderer(pool);
+    std::printf("preview_bench: %s at %dx%d, %d workers, %d frames a block size\n\n",
                 scene_path.c_str(), width, height, threads, frames);
     std::printf("| block | rays a frame | median ms | min ms | max ms | us a ray (median) |\n");
     std::printf("|---|---|---|---|---|---|\n");
@@ -82,7 +83,7 @@ int main(int argc, char** argv) {
             const Clock::time_point t0 = Clock::now();
             const std::shared_ptr<const rt::World> seen = rt::with_camera_at(world, camera.position);
             int pw = 0, ph = 0;
-            rays = rtview::trace_preview(*seen, camera, width, height, b, rgba, pw, ph, &pool).traced;
+            rays = rtview::trace_preview(renderer, seen, camera, width, height, b, 0, rgba, pw, ph).traced;
             t.push_back(since(t0));
         }
         std::sort(t.begin(), t.end());

@@ -132,6 +132,9 @@ struct Film {
     // its samples of the squared colour channels, each clamped to 0..1. Valid where
     // count >= 2 (for one sample it is the sum's own square).
     ZeroedArray<float> squares;
+    // An id pass only (RenderPass::Ids), else empty: per pixel, what its ray hit first
+    // (rt::pick_id), where count is 1.
+    ZeroedArray<std::uint32_t> ids;
 
     void reset(int w, int h, bool with_preview = true) {
         width = w;
@@ -141,6 +144,7 @@ struct Film {
         preview.reset(with_preview ? preview_size(w, h) : 0);
         preview_level = 0;
         squares.reset(0);
+        ids.reset(0);
     }
     // The floats of a preview layer for a w x h film.
     static std::size_t preview_size(int w, int h) {

@@ -48,7 +48,7 @@ void sums_to_bytes(const float* sum, std::size_t n, std::uint8_t* out) {
 
 using Clock = std::chrono::steady_clock;
 
-enum class PassKind : unsigned char { Coarse, Samples, Decide, Refine };
+enum class PassKind : unsigned char { Coarse, Samples, Decide, Refine, Ids };
 
 // Adaptive anti-aliasing's state, shared by the job and its tasks: a decision task
 // writes its own rows of `active` and its own band of `marked` (so a task never waits
@@ -78,6 +78,7 @@ struct RenderTask {
     int s0 = 0, s1 = 0;          // sample pass: samples [s0, s1)
     int reuse = 0;               // block size (a power of 2) of the last coarse pass: its
                                  // corner pixels already hold sample 0 in the preview layer
+    int step = 1;                // film pixel (x, y) is picture pixel (x step, y step)
     std::shared_ptr<AdaptiveJob> aa;  // decision and refine passes
 };
 
@@ -93,7 +94,8 @@ struct Renderer::Job {
     std::shared_ptr<std::atomic<bool>> stop = std::make_shared<std::atomic<bool>>(false);
     RenderSettings settings;
     CameraBasis camera;
-    int width = 0, height = 0;
+    int width = 0, height = 0;  // the film's (the picture's / step)
+    PixelWindow crop;           // of the film: what is rendered (all of it without a crop)
     Clock::time_point start;
     Clock::time_point deadline = Clock::time_point::max();  // start + time limit
     std::vector<Pass> passes;       // the fixed ones; adaptive passes are appended as needed
@@ -179,6 +181,13 @@ void accumulate_pixel(const World& world, const CameraBasis& camera, int x, int 
     }
 }
 
+std::uint32_t pick_id(const PickResult& r) {
+    if (r.object >= 0) return std::uint32_t(r.object + 1) * 4 + 1;
+    if (r.plane >= 0) return std::uint32_t(r.plane + 1) * 4 + 2;
+    if (r.light >= 0) return std::uint32_t(r.light + 1) * 4 + 3;
+    return 0;
+}
+
 Renderer::Renderer(int threads) {
     if (threads <= 0) threads = std::max(1, process_pool().workers());
     // A pool's size counts the caller of its loops: `threads` workers besides it.
@@ -218,40 +227,57 @@ void Renderer::begin_pass_locked(Job& job) {
     // task holds as many rays as a sample pass's, in rows as long (a short row's rays
     // cost more each, and a small task more to take from the queue than it holds).
     if (p.kind == PassKind::Coarse) ts *= p.block;
-    for (int y = 0; y < job.height; y += ts)
-        for (int x = 0; x < job.width; x += ts) {
-            // A refine pass leaves out the tiles with nothing to refine.
-            if (p.kind == PassKind::Refine && job.aa->marked[std::size_t(y / ts * job.aa->cols + x / ts)] == 0)
-                continue;
-            job.tiles.push_back({x, y, std::min(x + ts, job.width), std::min(y + ts, job.height)});
-        }
-    if (job.settings.order == TileOrder::CentreOut) {
-        double cx = job.width / 2.0, cy = job.height / 2.0;
-        std::stable_sort(job.tiles.begin(), job.tiles.end(), [&](const auto& a, const auto& b) {
-            double ax = (a[0] + a[2]) / 2.0 - cx, ay = (a[1] + a[3]) / 2.0 - cy;
-            double bx = (b[0] + b[2]) / 2.0 - cx, by = (b[1] + b[3]) / 2.0 - cy;
-            return ax * ax + ay * ay < bx * bx + by * by;
-        });
+    for (const PixelWindow& t : tile_grid(job.width, job.height, job.crop, ts, job.settings.order)) {
+        // A refine pass leaves out the tiles with nothing to refine.
+        if (p.kind == PassKind::Refine && job.aa->marked[std::size_t(t.y0 / ts * job.aa->cols + t.x0 / ts)] == 0)
+            continue;
+        job.tiles.push_back({t.x0, t.y0, t.x1, t.y1});
     }
 }
 
-namespace {
-// Sample passes for samples [from, to): the given batch, or 1, 1, 2, 4, 8, 16, 16, ...
-// samples. Under a time limit the first pass, which always completes, is one sample.
-void add_sample_passes(std::vector<Pass>& passes, const RenderSettings& settings, int from, int to) {
+std::vector<PixelWindow> tile_grid(int width, int height, const PixelWindow& window, int side, TileOrder order) {
+    std::vector<PixelWindow> tiles;
+    const PixelWindow c{std::max(window.x0, 0), std::max(window.y0, 0), std::min(window.x1, width),
+                        std::min(window.y1, height)};
+    side = std::max(1, side);
+    for (int y = c.y0 / side * side; y < c.y1; y += side)
+        for (int x = c.x0 / side * side; x < c.x1; x += side)
+            tiles.push_back({std::max(x, c.x0), std::max(y, c.y0), std::min(x + side, c.x1), std::min(y + side, c.y1)});
+    if (order == TileOrder::CentreOut) {
+        const double cx = width / 2.0, cy = height / 2.0;
+        std::stable_sort(tiles.begin(), tiles.end(), [&](const PixelWindow& a, const PixelWindow& b) {
+            double ax = (a.x0 + a.x1) / 2.0 - cx, ay = (a.y0 + a.y1) / 2.0 - cy;
+            double bx = (b.x0 + b.x1) / 2.0 - cx, by = (b.y0 + b.y1) / 2.0 - cy;
+            return ax * ax + ay * ay < bx * bx + by * by;
+        });
+    }
+    return tiles;
+}
+
+std::vector<std::array<int, 2>> sample_passes(const RenderSettings& settings, int from, int to) {
+    std::vector<std::array<int, 2>> passes;
     for (int s = from; s < to;) {
         int n = settings.samples_per_pass > 0 ? settings.samples_per_pass : std::clamp(s, 1, 16);
         if (s == 0 && settings.time_limit > 0) n = 1;
         n = std::min(n, to - s);
-        passes.push_back({PassKind::Samples, 0, s, s + n});
+        passes.push_back({s, s + n});
         s += n;
     }
+    return passes;
+}
+
+namespace {
+void add_sample_passes(std::vector<Pass>& passes, const RenderSettings& settings, int from, int to) {
+    for (const auto& p : sample_passes(settings, from, to)) passes.push_back({PassKind::Samples, 0, p[0], p[1]});
 }
 
 // The passes of a render, as start() lists them: the coarse ones, then the sample
 // passes (adaptive: only the first sample; the decisions and refinements follow it).
 std::vector<Pass> plan_passes(const RenderSettings& settings, int width, int height, int max_samples) {
     std::vector<Pass> passes;
+    if (settings.pass == RenderPass::Ids) return {{PassKind::Ids, 0, 0, 1}};
+    if (settings.refine_marked) return {{PassKind::Refine, 0, 0, 0}};
+    if (settings.first_sample > 0) return {{PassKind::Samples, 0, settings.first_sample, max_samples}};
     int first_block = 2;  // the largest power of 2 <= coarse_block (blocks are masks)
     while (first_block < 256 && first_block * 2 <= settings.coarse_block) first_block *= 2;
     if (settings.coarse)
@@ -273,36 +299,67 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
     job->generation = cancel_gen_.load();
     job->world = world;
     job->settings = settings;
-    job->settings.max_samples = std::max(1, settings.max_samples);
-    job->width = settings.width > 0 ? settings.width : world->width;
-    job->height = settings.height > 0 ? settings.height : world->height;
-    job->camera = CameraBasis::make(settings.camera ? *settings.camera : world->camera, job->width, job->height,
+    RenderSettings& st = job->settings;
+    st.max_samples = std::max(1, settings.max_samples);
+    st.step = std::max(1, settings.step);
+    const int picture_w = settings.width > 0 ? settings.width : world->width;
+    const int picture_h = settings.height > 0 ? settings.height : world->height;
+    job->width = (picture_w + st.step - 1) / st.step;
+    job->height = (picture_h + st.step - 1) / st.step;
+    job->camera = CameraBasis::make(settings.camera ? *settings.camera : world->camera, picture_w, picture_h,
                                     settings.mirror);
+    // A coarse film or an id pass is one sample of each pixel; a crop renders its
+    // pixels uniformly, without previews (their blocks belong to the whole film).
+    if (st.step > 1 || st.pass == RenderPass::Ids) st.max_samples = 1, st.aa_threshold = -1, st.coarse = false;
+    if (st.pass == RenderPass::Ids) st.time_limit = 0;
+    job->crop = {0, 0, job->width, job->height};
+    if (!settings.crop.empty()) {
+        const PixelWindow& c = settings.crop;
+        job->crop = {std::clamp(c.x0, 0, job->width), std::clamp(c.y0, 0, job->height),
+                     std::clamp(c.x1, 0, job->width), std::clamp(c.y1, 0, job->height)};
+        st.coarse = false;
+        st.aa_threshold = -1;
+    }
+    // A distributed render's tile goes on from what load_window() put in the film.
+    const bool resume = !settings.crop.empty() && (st.first_sample > 0 || st.refine_marked);
+    if (!resume) st.first_sample = 0, st.refine_marked = false;
+    if (resume) st.time_limit = 0, st.max_samples = std::max(st.max_samples, st.first_sample + 1);
     job->start = Clock::now();
-    if (settings.time_limit > 0)
+    if (st.time_limit > 0)
         job->deadline = job->start + std::chrono::duration_cast<Clock::duration>(
-                                         std::chrono::duration<double>(std::min(settings.time_limit, 1e9)));
-    job->passes = plan_passes(settings, job->width, job->height, job->settings.max_samples);
+                                         std::chrono::duration<double>(std::min(st.time_limit, 1e9)));
+    job->passes = plan_passes(st, job->width, job->height, st.max_samples);
     job->paused = paused_;
     steps_ = 0;
     const std::size_t pixels = std::size_t(job->width) * job->height;
     if (film_.width != job->width || film_.height != job->height) {
-        film_.reset(job->width, job->height, settings.coarse);
-    } else {
-        std::fill(film_.count.begin(), film_.count.end(), 0u);
-        if (settings.coarse && film_.preview.empty()) film_.preview.reset(Film::preview_size(job->width, job->height));
+        film_.reset(job->width, job->height, st.coarse);
+    } else if (!resume) {
+        // (A crop clears its own pixels: a distributed render's tiles come one by one.)
+        for (int y = job->crop.y0; y < job->crop.y1; ++y)
+            std::fill_n(film_.count.data() + std::size_t(y) * std::size_t(job->width) + std::size_t(job->crop.x0),
+                        job->crop.width(), 0u);
+        if (st.coarse && film_.preview.empty()) film_.preview.reset(Film::preview_size(job->width, job->height));
     }
-    if (settings.aa_threshold >= 0) {
+    if (st.pass == RenderPass::Ids && film_.ids.size() != pixels) film_.ids.reset(pixels);
+    if (st.pass == RenderPass::Ids) std::fill(film_.ids.begin(), film_.ids.end(), 0u);
+    if (st.aa_threshold >= 0 || st.refine_marked) {
         auto aa = std::make_shared<AdaptiveJob>();
-        aa->threshold = settings.aa_threshold;
-        aa->max_samples = job->settings.max_samples;
-        aa->tile = std::max(8, settings.tile_size / 8 * 8);
+        aa->threshold = st.aa_threshold;
+        aa->max_samples = st.max_samples;
+        aa->tile = std::max(8, st.tile_size / 8 * 8);
         aa->cols = (job->width + aa->tile - 1) / aa->tile;
         aa->active.reset(pixels);
         aa->changed.reset(pixels);
         aa->marked.assign(std::size_t(aa->cols) * std::size_t((job->height + aa->tile - 1) / aa->tile), 0);
         aa->refining = std::int64_t(pixels);
         if (film_.squares.size() != pixels) film_.squares.reset(pixels);
+        if (st.refine_marked) {
+            // The marks load_window() made, every tile of the crop taken.
+            if (loaded_marks_.size() == pixels) aa->active.swap(loaded_marks_);
+            std::fill(aa->marked.begin(), aa->marked.end(), 1);
+            aa->first = false;
+        }
         job->aa = std::move(aa);
     }
     film_.preview_level = 0;
@@ -311,12 +368,15 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
     changes_.clear();
     begin_pass_locked(*job);
     job_ = job;
+    if (job->tiles.empty()) finish_locked(*job);  // an empty crop (or film): nothing to do
     kick_locked();
 }
 
 bool Renderer::raise_samples(int max_samples) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!job_ || !job_->error.empty() || job_->settings.time_limit > 0 ||
+    if (!job_ || !job_->error.empty() || job_->settings.time_limit > 0 || job_->settings.step > 1 ||
+        job_->settings.first_sample > 0 || job_->settings.refine_marked ||
+        job_->settings.pass == RenderPass::Ids ||
         max_samples <= std::max(job_->settings.max_samples, job_->raise_to))
         return false;
     Job& job = *job_;
@@ -415,6 +475,7 @@ bool Renderer::next_task(RenderTask& task) {
     task.block = p.block;
     task.s0 = p.s0, task.s1 = p.s1;
     task.reuse = job.coarse_level;
+    task.step = job.settings.step;
     task.aa = job.aa;
     return true;
 }
@@ -529,9 +590,11 @@ void first_samples(const RenderTask& task, const Film& film, int y, int step, Ra
     // The row's camera rays are made before any is traced: independent square roots and
     // divisions overlap, where one at a time each would wait for the last.
     if (task.reuse == 0 || (y & mask) != 0) {
-        task.camera.unit_directions(task.x0, step, int(n), y, dirs.data());
+        // (A coarse film's pixel is the picture's pixel at `task.step` times its place.)
+        const int scale = task.step;
+        task.camera.unit_directions(task.x0 * scale, step * scale, int(n), y * scale, dirs.data());
         if (sampled)
-            for (std::size_t k = 0; k < n; ++k) keys[k] = {task.x0 + int(k) * step, y, 0};
+            for (std::size_t k = 0; k < n; ++k) keys[k] = {(task.x0 + int(k) * step) * scale, y * scale, 0};
         trace(n);
         for (std::size_t k = 0; k < n; ++k) put(colours[k], out + 3 * k);
         return;
@@ -612,6 +675,20 @@ bool Renderer::run_task(const RenderTask& task, std::vector<float>& buf, RayStat
             if (cancelled()) return false;
             decide_band(film_, task);
             return !cancelled();
+        case PassKind::Ids: {
+            // Each pixel's id, its bits in the float buffer (copied, never computed with).
+            const int w = task.x1 - task.x0;
+            buf.resize(std::size_t(w) * std::size_t(task.y1 - task.y0));
+            for (int y = task.y0; y < task.y1; ++y) {
+                if (cancelled()) return false;
+                for (int x = task.x0; x < task.x1; ++x) {
+                    const Ray ray = task.camera.ray(double(x) * task.step, double(y) * task.step);
+                    const std::uint32_t id = pick_id(pick(*task.world, ray));
+                    std::memcpy(&buf[std::size_t(y - task.y0) * w + std::size_t(x - task.x0)], &id, sizeof id);
+                }
+            }
+            return !cancelled();
+        }
         case PassKind::Coarse:
             break;
     }
@@ -742,6 +819,14 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
             for (int k = 0; k < n; ++k, out += stride)
                 out[0] = c[3 * k], out[1] = c[3 * k + 1], out[2] = c[3 * k + 2];
         }
+    } else if (task.kind == PassKind::Ids) {
+        const int w = task.x1 - task.x0;
+        for (int y = task.y0; y < task.y1; ++y) {
+            const std::size_t idx = std::size_t(y) * film_.width + task.x0;
+            std::memcpy(film_.ids.data() + idx, &buf[std::size_t(y - task.y0) * w], sizeof(std::uint32_t) * w);
+            std::fill_n(film_.count.data() + idx, w, 1u);
+        }
+        job.film_samples += std::uint64_t(w) * std::uint64_t(task.y1 - task.y0);
     } else if (task.kind != PassKind::Decide) {
         commit_film(task, buf);
     }
@@ -749,7 +834,7 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
     // shows the last complete level, whose corners the pass only traces again); a
     // decision changes nothing at all.
     if (task.kind != PassKind::Decide) ++film_version_;
-    if (task.kind == PassKind::Samples || task.kind == PassKind::Refine) {
+    if (task.kind == PassKind::Samples || task.kind == PassKind::Refine || task.kind == PassKind::Ids) {
         changes_.push_back({film_version_, {task.x0, task.y0, task.x1, task.y1}});
         if (changes_.size() > kMaxChanges) {
             full_version_ = std::max(full_version_, changes_.front().first);
@@ -768,7 +853,7 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
         film_.preview_level = p.block;
         full_version_ = ++film_version_;
         changes_.clear();
-    } else if (p.kind == PassKind::Samples) {
+    } else if (p.kind == PassKind::Samples || p.kind == PassKind::Ids) {
         job.samples_done = p.s1;
     }
     bool out_of_time = job.settings.time_limit > 0 && elapsed >= job.settings.time_limit;
@@ -787,6 +872,7 @@ void Renderer::commit(const RenderTask& task, const std::vector<float>& buf) {
 // pass; false if there is none. An adaptive render decides after the first sample and
 // after every refinement, and is over once a decision marks no pixel.
 bool Renderer::next_pass_locked(Job& job) {
+    if (job.settings.refine_marked) return false;  // a tile's one round
     const PassKind kind = job.passes[job.pass].kind;
     if (job.aa && job.raise_to > 0 && kind != PassKind::Coarse) {
         raise_locked(job);
@@ -872,6 +958,72 @@ bool Renderer::pixel(int x, int y, int width, int height, Colour& c) const {
     const Colour p = film_.pixel(x, y, std::size_t(y) * film_.width + x);
     c = Colour(float(p.x), float(p.y), float(p.z));  // as the float image of snapshot() holds it
     return true;
+}
+
+std::uint64_t Renderer::snapshot_window(const PixelWindow& window, Image& out,
+                                       std::vector<std::uint32_t>& counts) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const int x0 = std::clamp(window.x0, 0, film_.width), x1 = std::clamp(window.x1, x0, film_.width);
+    const int y0 = std::clamp(window.y0, 0, film_.height), y1 = std::clamp(window.y1, y0, film_.height);
+    out.width = x1 - x0;
+    out.height = y1 - y0;
+    out.rgb.resize(3 * std::size_t(out.width) * std::size_t(out.height));
+    counts.resize(std::size_t(out.width) * std::size_t(out.height));
+    std::size_t k = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x, ++k) {
+            const std::size_t idx = std::size_t(y) * film_.width + x;
+            const Colour c = film_.pixel(x, y, idx);
+            out.rgb[3 * k] = float(c.x), out.rgb[3 * k + 1] = float(c.y), out.rgb[3 * k + 2] = float(c.z);
+            counts[k] = film_.count[idx];
+        }
+    return film_version_;
+}
+
+void Renderer::load_window(int width, int height, const PixelWindow& window, const float* sums,
+                           const std::uint32_t* counts, const float* squares, const std::uint8_t* marked) {
+    cancel();
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (film_.width != width || film_.height != height) film_.reset(width, height, false);
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    if (squares && film_.squares.size() != pixels) film_.squares.reset(pixels);
+    if (marked) {
+        if (loaded_marks_.size() != pixels) loaded_marks_.reset(pixels);
+        std::fill(loaded_marks_.begin(), loaded_marks_.end(), std::uint8_t(0));
+    }
+    const int w = window.width();
+    for (int y = window.y0; y < window.y1; ++y) {
+        const std::size_t idx = std::size_t(y) * std::size_t(width) + std::size_t(window.x0);
+        const std::size_t k = std::size_t(y - window.y0) * std::size_t(w);
+        std::copy_n(sums + 3 * k, 3 * w, &film_.sum[3 * idx]);
+        std::copy_n(counts + k, w, &film_.count[idx]);
+        if (squares) std::copy_n(squares + k, w, &film_.squares[idx]);
+        if (marked) std::copy_n(marked + k, w, &loaded_marks_[idx]);
+    }
+}
+
+void Renderer::read_window(const PixelWindow& window, float* sums, float* squares) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const int w = window.width();
+    for (int y = window.y0; y < window.y1; ++y) {
+        const std::size_t idx = std::size_t(y) * std::size_t(film_.width) + std::size_t(window.x0);
+        const std::size_t k = std::size_t(y - window.y0) * std::size_t(w);
+        std::copy_n(&film_.sum[3 * idx], 3 * w, sums + 3 * k);
+        if (squares) std::copy_n(&film_.squares[idx], w, squares + k);
+    }
+}
+
+std::uint64_t Renderer::film_version() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return film_version_;
+}
+
+void Renderer::ids(std::vector<std::uint32_t>& out, int& width, int& height) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    width = film_.width;
+    height = film_.height;
+    out.assign(std::size_t(width) * std::size_t(height), 0u);
+    if (!film_.ids.empty()) std::copy(film_.ids.begin(), film_.ids.end(), out.begin());
 }
 
 void Renderer::sample_counts(std::vector<std::uint32_t>& out, int& width, int& height) const {

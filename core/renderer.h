@@ -8,6 +8,9 @@
 // whatever the thread count, tile order or pass grouping. With adaptive anti-aliasing
 // the passes after the first sample refine only the pixels that a decision between
 // passes picks from the film alone (core/adaptive.h): the same film again.
+// The one render driver: a final render, the viewer's progressive render, its render
+// region (a crop), its previews of a moving view (a coarse step) and its object ids
+// (an id pass), and the tiles of a distributed render are all requests to it.
 #pragma once
 
 #include <array>
@@ -32,6 +35,19 @@ namespace rt {
 
 enum class TileOrder { CentreOut, Scanline };
 
+// What a render puts in the film: colour, or what each pixel's first ray hits.
+enum class RenderPass { Colour, Ids };
+
+// Pixels [x0, x1) x [y0, y1) of a film.
+struct PixelWindow {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+    int width() const { return x1 - x0; }
+    int height() const { return y1 - y0; }
+    int pixels() const { return empty() ? 0 : width() * height(); }
+    bool operator==(const PixelWindow& o) const { return x0 == o.x0 && y0 == o.y0 && x1 == o.x1 && y1 == o.y1; }
+};
+
 struct RenderSettings {
     int width = 0, height = 0;  // 0: the scene's picture size
     int max_samples = 1;        // samples per pixel to stop at (>= 1)
@@ -54,7 +70,36 @@ struct RenderSettings {
     // core/render_request.h and core/adaptive.h), max_samples being the most a pixel
     // gets; samples_per_pass is then not used. < 0: every pixel gets max_samples.
     double aa_threshold = -1;
+    // Only this window of the film is rendered (pbrt's crop window, Cycles' border
+    // render): its pixels are the whole film's, sample for sample; the rest of the film
+    // keeps what it held (nothing, in a new renderer). Empty: the whole film. A crop has no coarse passes and renders
+    // every pixel to max_samples (aa_threshold is not used).
+    PixelWindow crop;
+    // > 1: a coarse film of one pixel per step x step block of the width x height
+    // picture, ceil(width / step) x ceil(height / step), each the block's corner pixel's
+    // sample 0 (the ray of a coarse pass of that block size; any step, not only powers
+    // of 2). One sample, no coarse passes; crop is then in the coarse film's pixels.
+    int step = 1;
+    // Ids: the film holds what each pixel's sample-0 ray hits first (pick_id) instead of
+    // a colour. One sample, no coarse passes, no time limit.
+    RenderPass pass = RenderPass::Colour;
+    // A distributed render's tile (app/mpi): the crop goes on from what load_window()
+    // put there instead of starting afresh. first_sample > 0: samples [first_sample,
+    // max_samples) of each pixel, in one pass; refine_marked: one round of adaptive
+    // refinement, each marked pixel from its n samples to refine_count(n, max_samples).
+    int first_sample = 0;
+    bool refine_marked = false;
 };
+
+// The sample passes of samples [from, to), each {s0, s1}: samples_per_pass at a time,
+// or 1, 1, 2, 4, 8, 16, 16, ...; under a time limit the first pass, which always
+// completes, is one sample. A distributed render hands out the same passes.
+std::vector<std::array<int, 2>> sample_passes(const RenderSettings& settings, int from, int to);
+
+// The tiles of a render: the width x height film's grid of side x side tiles, cut to
+// `window`, in `order` (centre-out: nearest the film's centre first, ties in scanline
+// order). A distributed render hands out the same tiles.
+std::vector<PixelWindow> tile_grid(int width, int height, const PixelWindow& window, int side, TileOrder order);
 
 struct RenderProgress {
     std::uint64_t generation = 0;  // increases on every start()
@@ -90,10 +135,15 @@ double progress_fraction(const RenderProgress& p, int max_samples);
 void sample_offset(int x, int y, int s, double& dx, double& dy);
 
 // Adds samples [s0, s1) of pixel (x, y) to acc, in sample order: the one definition of
-// a pixel's value, shared by the renderer and distributed rendering. The resolved
-// colour is acc / count (see Film::pixel).
+// a pixel's value (the renderer's sample passes; distributed rendering and the viewer's
+// region are requests to the renderer). The resolved colour is acc / count (see
+// Film::pixel).
 void accumulate_pixel(const World& world, const CameraBasis& camera, int x, int y, int s0, int s1, float acc[3],
                       RayStats& stats);
+
+// What an id pass holds for a pick: 0 nothing, else (index + 1) * 4 + kind (1 object,
+// 2 plane, 3 lamp glow).
+std::uint32_t pick_id(const PickResult& r);
 
 struct RenderTask;
 
@@ -142,6 +192,23 @@ public:
     // The film's per-pixel sample counts, top row first; one pixel's (0 outside the film).
     void sample_counts(std::vector<std::uint32_t>& out, int& width, int& height) const;
     int sample_count(int x, int y) const;
+    // A window of the film (cut to it): its pixels resolved as snapshot() has them, and
+    // their sample counts, row by row; returns the film's version (as snapshot_rgba8
+    // counts them: it changes with every tile committed).
+    std::uint64_t snapshot_window(const PixelWindow& window, Image& out, std::vector<std::uint32_t>& counts) const;
+    // The film's version: snapshot_window() would give something new when it changed.
+    std::uint64_t film_version() const;
+    // What a distributed render's tile continues (RenderSettings::first_sample,
+    // refine_marked): the window of a width x height film (made that size) gets, per
+    // pixel row by row, its sums (3 floats) and sample count, and for a refinement its
+    // sum of squares and whether it is marked (nonzero). Call before start().
+    void load_window(int width, int height, const PixelWindow& window, const float* sums, const std::uint32_t* counts,
+                     const float* squares = nullptr, const std::uint8_t* marked = nullptr);
+    // The window's sums (3 floats a pixel, row by row) and, if asked for, sums of squares.
+    void read_window(const PixelWindow& window, float* sums, float* squares = nullptr) const;
+    // An id pass's film (RenderPass::Ids): per pixel, top row first, its pick_id(), 0
+    // where nothing was traced.
+    void ids(std::vector<std::uint32_t>& out, int& width, int& height) const;
     // One pixel of the film (its resolved colour, as snapshot() has it) while the film
     // is width x height: no copy of the whole film. False outside it or at another size.
     bool pixel(int x, int y, int width, int height, Colour& c) const;
@@ -188,6 +255,7 @@ private:
     // level) or before the oldest entry kept, everything.
     std::deque<std::pair<std::uint64_t, std::array<int, 4>>> changes_;
     std::uint64_t full_version_ = 0;
+    ZeroedArray<std::uint8_t> loaded_marks_;  // load_window()'s, for the next start()
     int busy_ = 0;  // runners inside a task
     bool paused_ = false;
     int steps_ = 0;  // tiles that may still be taken while paused

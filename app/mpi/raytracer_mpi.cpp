@@ -267,11 +267,10 @@ JobHeader settle_job(int argc, char** argv, Front& f, rt::Scene& scene) {
     return job;
 }
 
-// A rank's means to render: the World, the camera and the tile pool using both.
+// A rank's means to render: the World and the tile pool that renders it.
 struct Built {
     std::shared_ptr<const rt::World> world;
-    rt::CameraBasis camera;
-    std::unique_ptr<TilePool> pool;  // declared after world and camera: it uses both
+    std::unique_ptr<TilePool> pool;
 };
 
 // Step 2's second half, on every rank: success, or why this rank could not build.
@@ -281,8 +280,8 @@ rt::Status build_rank(const std::string& text, const Models& models, const Textu
         rt::Expected<std::shared_ptr<const rt::World>> world = build_world(text, models, textures, job);
         if (!world) return world.status();
         b.world = std::move(*world);
-        b.camera = rt::CameraBasis::make(b.world->camera, job.width, job.height, job.mirror != 0);
-        b.pool = std::make_unique<TilePool>(*b.world, b.camera, rt::process_pool());
+        b.pool = std::make_unique<TilePool>(b.world, b.world->camera, job.width, job.height, job.mirror != 0,
+                                            job.max_samples, rt::process_pool());
     } catch (const std::bad_alloc&) {
         return rt::Status::error("out of memory building the scene", kExitMpi);
     } catch (const std::exception& e) {

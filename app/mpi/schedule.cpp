@@ -1,6 +1,7 @@
-// Schedule: the pass list and the stop rule copy rt::Renderer's (without coarse
-// passes), so a run with the same settings sums the same samples in the same groups;
-// an adaptive render decides between rounds with the renderer's own decide_rows().
+// Schedule: the pass list is rt::Renderer's (rt::sample_passes, without coarse passes)
+// and the stop rule is its rule, so a run with the same settings sums the same samples
+// in the same groups; an adaptive render decides between rounds with the renderer's own
+// decide_rows(). The tiles themselves are rendered by rt::Renderer (tile_pool.h).
 #include "schedule.h"
 
 #include <algorithm>
@@ -8,21 +9,18 @@
 
 #include "adaptive.h"
 #include "cli.h"
+#include "renderer.h"
 
 namespace rtmpi {
 
 Schedule::Schedule(const ScheduleSettings& settings) : settings_(settings) {
     settings_.max_samples = std::max(1, settings_.max_samples);
     tiles_ = make_tiles(settings_.width, settings_.height, settings_.tile_side);
-    int s = 0;
     // Adaptive: the first sample; the decisions and refine rounds follow it.
-    const int last = adaptive() ? 1 : settings_.max_samples;
-    while (s < last) {
-        int n = settings_.samples_per_pass > 0 ? settings_.samples_per_pass : std::clamp(s, 1, 16);
-        n = std::min(n, last - s);
-        passes_.push_back({s, s + n});
-        s += n;
-    }
+    rt::RenderSettings plan;
+    plan.samples_per_pass = settings_.samples_per_pass;
+    plan.time_limit = settings_.time_limit;
+    for (const auto& p : rt::sample_passes(plan, 0, adaptive() ? 1 : settings_.max_samples)) passes_.push_back({p[0], p[1]});
     film_.reset(settings_.width, settings_.height, false);
     if (adaptive()) {
         const std::size_t pixels = std::size_t(settings_.width) * std::size_t(settings_.height);

@@ -26,7 +26,7 @@ struct ScheduleSettings {
     int width = 0, height = 0;
     int tile_side = 32;
     int max_samples = 1;
-    int samples_per_pass = 0;  // 0: 1, 1, 2, 4, 8, 16, 16, ... as rt::Renderer
+    int samples_per_pass = 0;  // 0: 1, 1, 2, 4, 8, 16, 16, ... (rt::sample_passes)
     double time_limit = 0;     // seconds: past it (every pixel sampled once) no more tiles are handed out
     double aa_threshold = -1;  // >= 0: adaptive anti-aliasing, as rt::RenderSettings
 };
@@ -52,7 +52,7 @@ public:
     void prior_sums(const Assignment& a, float* out) const;
     // For a refine assignment, per pixel of the tile (row by row): its sums (3) and
     // sum of squares so far, and the sample counts it has (n0) and goes to (n1; the
-    // same for a pixel not marked), as rt::refine_row takes them.
+    // same for a pixel not marked), as rt::refine_rect takes them.
     void refine_input(const Assignment& a, float* sums, float* squares, std::uint32_t* n0, std::uint32_t* n1) const;
     // Stores a finished tile (for a refine assignment, sums then squares); a tile that
     // is not out in the current pass (never handed out, or returned twice) is refused,

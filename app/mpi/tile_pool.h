@@ -1,38 +1,33 @@
-// Tiles and the per-rank thread pool that renders them with all cores.
-// Every rank, rank 0 included, renders through TilePool, so a pixel's float sums are
-// the same whichever rank rendered it, and the same as rt::Renderer's.
+// A rank's tiles, and the queue that renders them: each queued tile is a request to
+// rt::Renderer (a crop that goes on from the sums rank 0 holds), one after another.
+// Every rank, rank 0 included, renders through it, so a pixel's float sums are the
+// same whichever rank rendered it, and the same as a render on one machine.
 #pragma once
 
-#include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
-#include <list>
-#include <mutex>
+#include <deque>
+#include <memory>
 #include <vector>
 
 #include "camera.h"
 #include "parallel.h"
+#include "renderer.h"
 #include "world.h"
 
 namespace rtmpi {
 
 // Pixels [x0, x1) x [y0, y1).
-struct Tile {
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-    int pixels() const { return (x1 - x0) * (y1 - y0); }
-};
+using Tile = rt::PixelWindow;
 
-// The picture cut into side x side tiles, centre first (the order rt::Renderer uses),
-// so the interesting part fills first. Every rank computes the same list, so a tile
-// travels as its index.
+// The picture cut into side x side tiles, centre first (rt::tile_grid, the renderer's
+// own), so the interesting part fills first. Every rank computes the same list, so a
+// tile travels as its index.
 std::vector<Tile> make_tiles(int width, int height, int side);
 
-// Renders queued tiles on the workers of a thread pool (rt::ThreadPool). All of them
-// work on the oldest tile that still has pixels to hand out, then go straight on to
-// the next queued one: a thread never waits for the caller between tiles (on a busy
-// machine every such wait costs a trip through the scheduler queue), so keep a tile
-// or two queued.
+// Renders queued tiles with an rt::Renderer on the workers of a thread pool, oldest
+// first. The caller's thread moves the queue on: take_finished() and wait_finished()
+// collect a finished tile and start the next at once, so keep a tile or two queued.
 class TilePool {
 public:
     struct Finished {
@@ -40,22 +35,24 @@ public:
         std::uint64_t rays = 0;
     };
 
-    // Renders on all of `pool`'s workers (at least one); the pool must outlive it.
-    TilePool(const rt::World& world, const rt::CameraBasis& camera, rt::ThreadPool& pool);
+    // Renders width x height pictures of `world` through `camera` (mirrored if asked)
+    // on all of `pool`'s workers (at least one); the pool must outlive it.
+    TilePool(std::shared_ptr<const rt::World> world, const rt::Camera& camera, int width, int height, bool mirror,
+             int max_samples, rt::ThreadPool& pool);
     ~TilePool();
     TilePool(const TilePool&) = delete;
     TilePool& operator=(const TilePool&) = delete;
 
-    int threads() const { return nthreads_; }
+    int threads() const { return renderer_.threads(); }
 
     // Queues samples [s0, s1) of every pixel of `tile`, added to sums (3 floats per
     // pixel, row by row, already holding the sums of samples [0, s0)). sums must stay
     // alive and untouched until the tile comes back from take_finished(). Returns at once.
     void submit(int id, const Tile& tile, int s0, int s1, float* sums);
     // Queues a refine round's work on `tile` (adaptive anti-aliasing): per pixel, row
-    // by row, samples [n0, n1) continuing its sums (3 floats) and squares (1), as
-    // rt::refine_row takes them. The arrays must stay alive and untouched until the
-    // tile comes back from take_finished().
+    // by row, samples [n0, n1) continuing its sums (3 floats) and squares (1), n1 being
+    // refine_count(n0, max_samples) where the pixel is marked, n0 where not. The arrays
+    // must stay alive and untouched until the tile comes back from take_finished().
     void submit_refine(int id, const Tile& tile, const std::uint32_t* n0, const std::uint32_t* n1, float* sums,
                        float* squares);
     // Tiles completed since the last call, in completion order.
@@ -63,7 +60,7 @@ public:
     // Waits until a tile completes (or one is waiting to be taken), at most `timeout`.
     void wait_finished(std::chrono::microseconds timeout);
     // Tiles submitted and not yet taken back.
-    int outstanding() const;
+    int outstanding() const { return outstanding_; }
 
 private:
     struct Job {
@@ -73,28 +70,21 @@ private:
         float* sums = nullptr;
         const std::uint32_t *n0 = nullptr, *n1 = nullptr;  // a refine job's, else null
         float* squares = nullptr;
-        std::atomic<int> next{0};  // next pixel to hand out
-        int workers = 0;           // threads inside this job
-        std::uint64_t rays = 0;
     };
-    // Posts runners, up to threads(), while tiles wait.
-    void kick_locked();
-    // One pool task: renders the queued tiles, oldest first, until none is left.
-    void run();
-    void render_pixels(Job& job, int p0, int p1, rt::RayStats& stats) const;
+    // The running tile's result, if it is done, into its buffers; then the next tile.
+    void advance();
+    void start_front();
 
-    const rt::World& world_;
-    const rt::CameraBasis& camera_;
-    int nthreads_ = 0;
-    rt::ThreadPool& pool_;  // nthreads_ workers
-    mutable std::mutex mutex_;
-    std::condition_variable idle_cv_, done_cv_;
-    int runners_ = 0;  // posted and not yet ended (under mutex_)
-    std::atomic<bool> stop_{false};  // set when the pool ends: the traces in progress stop
-    std::list<Job> jobs_;  // queued or running, oldest first; list: addresses stay put
+    std::shared_ptr<const rt::World> world_;
+    rt::Camera camera_;
+    int width_, height_;
+    bool mirror_;
+    int max_samples_;
+    rt::Renderer renderer_;
+    std::deque<Job> jobs_;  // queued; the front one renders while running_
+    bool running_ = false;
     std::vector<Finished> finished_;
     int outstanding_ = 0;
-    bool quit_ = false;
 };
 
 }  // namespace rtmpi

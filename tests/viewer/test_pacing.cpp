@@ -2,14 +2,12 @@
 // it fits the frame budget.
 #include <doctest/doctest.h>
 
-#include <atomic>
-#include <chrono>
-
 #include "default_scene.h"
 #include "film.h"
 #include "mirror_box.h"
 #include "pacing.h"
 #include "scene_parser.h"
+#include "test_util.h"
 
 using namespace rtview;
 
@@ -60,7 +58,8 @@ TEST_CASE("a preview is the picture's block corners, traced as the camera ray th
         const int w = 101, h = 67, b = 8;
         std::vector<std::uint8_t> rgba;
         int pw = 0, ph = 0;
-        trace_preview(*world, scene.camera, w, h, b, rgba, pw, ph);
+        rt::Renderer renderer(2);
+        trace_preview(renderer, world, scene.camera, w, h, b, 0, rgba, pw, ph);
         CHECK(pw == 13);  // ceil(101 / 8)
         CHECK(ph == 9);   // ceil(67 / 8)
         REQUIRE(rgba.size() == std::size_t(pw * ph * 4));
@@ -100,16 +99,16 @@ TEST_CASE("the viewer's own preview blocks need not be powers of 2: twice the sp
     CHECK(slow.preview_block(1280, 720, 0.010) == 64);
 }
 
-TEST_CASE("a preview traced on a pool has the same bytes as on one thread") {
+TEST_CASE("a preview traced by three threads has the same bytes as by one") {
     rt::ParseResult r = rt::parse_scene(rt::kDefaultScene);
     REQUIRE(r.ok());
     auto world = rt::compile_world(r.scene);
     for (int b : {1, 3, 8}) {
         std::vector<std::uint8_t> alone, pooled;
         int aw = 0, ah = 0, qw = 0, qh = 0;
-        PreviewResult one = trace_preview(*world, r.scene.camera, 161, 97, b, alone, aw, ah);
-        rt::ThreadPool pool(4);
-        PreviewResult many = trace_preview(*world, r.scene.camera, 161, 97, b, pooled, qw, qh, &pool);
+        rt::Renderer single(1), three(3);
+        PreviewResult one = trace_preview(single, world, r.scene.camera, 161, 97, b, 0, alone, aw, ah);
+        PreviewResult many = trace_preview(three, world, r.scene.camera, 161, 97, b, 0, pooled, qw, qh);
         CHECK(aw == qw);
         CHECK(ah == qh);
         CHECK(one.traced == std::uint64_t(aw) * std::uint64_t(ah));
@@ -120,45 +119,20 @@ TEST_CASE("a preview traced on a pool has the same bytes as on one thread") {
     }
 }
 
-namespace {
-// TraceStop::now for every thread of a preview: one millisecond from the epoch per
-// read, that is per poll (every RayStats::kPollRays rays).
-std::atomic<int> g_reads{0};
-std::chrono::steady_clock::time_point counting_clock() {
-    return std::chrono::steady_clock::time_point{} + std::chrono::milliseconds(g_reads.fetch_add(1) + 1);
-}
-}  // namespace
-
-TEST_CASE("a preview of ray trees without end stops at its deadline, within a poll per thread") {
+TEST_CASE("a preview of ray trees without end stops at its time limit, every pixel filled") {
     // Without a stop this preview would not end for hours: every pixel's tree is
     // endless (perfect mirrors around glass, depth 1000, no bound).
     auto world = rt_test::endless_world();
     for (int threads : {1, 3}) {
-        rt::ThreadPool pool(threads);
-        g_reads = 0;
-        rt::TraceStop stop;
-        stop.now = counting_clock;
-        stop.deadline = std::chrono::steady_clock::time_point{} + std::chrono::milliseconds(20);
+        CAPTURE(threads);
+        rt::Renderer renderer(threads);
         std::vector<std::uint8_t> rgba;
         int pw = 0, ph = 0;
-        PreviewResult res = trace_preview(*world, world->camera, 64, 48, 1, rgba, pw, ph, &pool, stop);
+        rt_test::Watchdog dog("a preview did not stop at its time limit");
+        PreviewResult res = trace_preview(renderer, world, world->camera, 64, 48, 1, 0.02, rgba, pw, ph);
         CHECK(res.stopped);
         CHECK(res.traced < std::uint64_t(pw) * std::uint64_t(ph));
-        // The deadline's read, then at most one more poll by each thread (one that
-        // began a row before it saw the others stop): 100 ms of a stop is 100 polls.
-        CHECK(g_reads.load() >= 20);
-        CHECK(g_reads.load() <= 20 + 2 * threads);
         REQUIRE(rgba.size() == std::size_t(pw) * std::size_t(ph) * 4);
         for (std::size_t i = 3; i < rgba.size(); i += 4) REQUIRE(rgba[i] == 255);  // every row filled
     }
-    // A flag raised before it starts: nothing is traced.
-    std::atomic<bool> flag{true};
-    rt::TraceStop stop;
-    stop.flag = &flag;
-    std::vector<std::uint8_t> rgba;
-    int pw = 0, ph = 0;
-    rt::ThreadPool pool(2);
-    PreviewResult res = trace_preview(*world, world->camera, 64, 48, 4, rgba, pw, ph, &pool, stop);
-    CHECK(res.stopped);
-    CHECK(res.traced == 0);
 }

@@ -1,6 +1,6 @@
 // Render region: the rectangle a drag selects at several zooms, region pixels equal
-// to the full renderer's pixels at the same sample count, and a cancel in the middle of
-// a pixel (placed there through the renderer's sample hook) that stops it at once.
+// to the full renderer's pixels at the same sample count, and a cancel while a worker
+// is inside the region (placed there through the renderer's task hook) that waits for it.
 #include <doctest/doctest.h>
 
 #include <atomic>
@@ -166,10 +166,10 @@ TEST_CASE("a region render can be cancelled and started again") {
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
     RegionRenderer rr(2);
-    std::atomic<int> traced{0};
-    rr.set_sample_hook([&](int, int, int) { ++traced; });
+    std::atomic<int> tasks{0};
+    rr.renderer().task_hook = [&] { ++tasks; };
     rr.start(world, s.camera, 64, 48, {0, 0, 64, 48}, 4096);
-    rt_test::wait_until([&] { return traced.load() >= 100; }, "100 samples traced");  // under way
+    rt_test::wait_until([&] { return tasks.load() >= 10; }, "10 tiles taken");  // under way
     rr.cancel();
     CHECK_FALSE(rr.active());
     CHECK(rr.rect().empty());
@@ -181,47 +181,35 @@ TEST_CASE("a region render can be cancelled and started again") {
     CHECK_FALSE(rr.active());
 }
 
-TEST_CASE("a cancel in the middle of a pixel traces none of its other samples, and cancel() waits for the worker") {
+TEST_CASE("a cancel while a worker is inside the region waits for it, and commits nothing of its tile") {
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
-    RegionRenderer rr(1);  // one worker: the samples come in a known order
-    // 4 x 2 pixels to 8 samples, in passes of samples [0, 1), [1, 2), [2, 4), [4, 8),
-    // each pass row by row: the last pass traces pixel (20, 10)'s samples 4 to 7, then
-    // (21, 10)'s. The cancel comes at (21, 10)'s sample 5: in the middle of that pixel.
+    RegionRenderer rr(1);  // one worker: the tiles come in a known order
+    // 4 x 2 pixels (one tile) to 8 samples, in passes of samples [0, 1), [1, 2), [2, 4),
+    // [4, 8): the cancel comes as the worker takes the third pass's tile.
     const PixelRect rect{20, 10, 24, 12};
-    struct Sample {
-        int x, y, s;
-    };
-    std::vector<Sample> traced;  // written by the worker; read once cancel() has returned
+    std::atomic<int> tasks{0};
     std::atomic<bool> at_cancel{false}, cancel_returned{false};
     bool returned_before_the_worker_left = false;
-    rr.set_sample_hook([&](int x, int y, int sample) {
-        traced.push_back({x, y, sample});
-        if (x == 21 && y == 10 && sample == 5) {
-            at_cancel = true;
-            // Until the cancel has begun: the sample below is traced after it.
-            while (rr.active()) std::this_thread::yield();
-            returned_before_the_worker_left = cancel_returned.load();
-        }
-    });
+    rr.renderer().task_hook = [&] {
+        if (++tasks != 3) return;
+        at_cancel = true;
+        // Until the cancel has begun: the tile is traced after it.
+        while (rr.active()) std::this_thread::yield();
+        returned_before_the_worker_left = cancel_returned.load();
+    };
     rr.start(world, s.camera, 64, 48, rect, 8);
-    rt_test::wait_until([&] { return at_cancel.load(); }, "sample 5 of pixel (21, 10)");
+    rt_test::wait_until([&] { return at_cancel.load(); }, "the third pass's tile");
     rr.cancel();
     cancel_returned = true;
-    // Every sample up to the one in progress, and none after it.
-    REQUIRE(traced.size() == 8 + 8 + 16 + 4 + 2);
-    CHECK(traced.back().x == 21);
-    CHECK(traced.back().s == 5);
-    CHECK(traced[37].x == 21);
-    CHECK(traced[36].x == 21);
-    CHECK(traced[35].x == 20);
-    CHECK(traced[35].s == 7);
+    CHECK(tasks.load() == 3);
     CHECK_FALSE(returned_before_the_worker_left);
     CHECK_FALSE(rr.active());
     CHECK(rr.rect().empty());
+    CHECK(rr.renderer().sample_count(21, 10) == 2);  // the two passes done; none of the third
 
     // Started again, the region renders as if nothing had happened.
-    rr.set_sample_hook(nullptr);
+    rr.renderer().task_hook = nullptr;
     rr.start(world, s.camera, 64, 48, rect, 8);
     REQUIRE(wait_done(rr));
     RegionPicture pic;
@@ -235,16 +223,16 @@ TEST_CASE("a cancel stops a pixel inside a ray tree that would never end") {
     rt::Scene s;
     auto world = endless_world(s);
     RegionRenderer rr(1);
-    std::atomic<int> traced{0};
-    rr.set_sample_hook([&](int, int, int) { ++traced; });
+    std::atomic<int> tasks{0};
+    rr.renderer().task_hook = [&] { ++tasks; };
     rr.start(world, s.camera, 16, 12, {7, 5, 9, 7}, 1);
-    // The worker has begun the first pixel's only sample, which never ends by itself.
-    rt_test::wait_until([&] { return traced.load() > 0; }, "the first sample");
+    // The worker has taken the region's one tile, whose first sample never ends by itself.
+    rt_test::wait_until([&] { return tasks.load() > 0; }, "the tile taken");
     {
         rt_test::Watchdog dog("RegionRenderer::cancel() did not stop a ray tree without end");
         rr.cancel();
     }
-    CHECK(traced.load() == 1);
+    CHECK(tasks.load() == 1);
     CHECK_FALSE(rr.active());
     CHECK_FALSE(rr.done());
 }
@@ -279,21 +267,23 @@ TEST_CASE("a region's time limit stops it in the middle of a pass, once every pi
     const double limit = 0.02;
     using Clock = std::chrono::steady_clock;
     Clock::time_point first{};
-    rr.set_sample_hook([&](int x, int y, int sample) {
-        if (first == Clock::time_point{}) first = Clock::now();  // after start() set the deadline
-        // The second pass's first pixel begins once the limit has passed: its trace
-        // must stop there, and the pass with it.
-        if (x == 20 && y == 10 && sample == 1)
+    int tasks = 0;  // (one worker)
+    rr.renderer().task_hook = [&] {
+        if (++tasks == 1) first = Clock::now();  // after start() set the deadline
+        // The second pass's tile begins once the limit has passed: its trace must stop
+        // there, and the pass with it.
+        if (tasks == 2)
             while (Clock::now() < first + std::chrono::duration<double>(limit)) std::this_thread::yield();
-    });
+    };
     rr.start(world, s.camera, 64, 48, {20, 10, 24, 12}, 4, limit);
     REQUIRE(wait_done(rr));
     CHECK(rr.error().empty());
     CHECK(rr.samples() == 1);
+    CHECK(tasks == 2);
     RegionPicture pic;
     std::uint64_t version = 0;
     REQUIRE(rr.snapshot(pic, version));
-    CHECK(pic.row_samples == std::vector<int>{1, 1});  // the stopped row keeps its first sample
+    CHECK(pic.row_samples == std::vector<int>{1, 1});  // the stopped pass leaves the first sample
 }
 
 TEST_CASE("the readout names what a pixel's ray hit as the outline does") {
@@ -329,16 +319,17 @@ TEST_CASE("a region worker that runs out of memory stops the region with a messa
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
     RegionRenderer rr(2);
-    rr.set_sample_hook([&](int x, int y, int sample) {
-        if (x == 21 && y == 11 && sample == 1) throw std::bad_alloc();
-    });
+    std::atomic<int> tasks{0};
+    rr.renderer().task_hook = [&] {
+        if (++tasks == 2) throw std::bad_alloc();  // the second pass's tile
+    };
     rr.start(world, s.camera, 64, 48, {20, 10, 24, 12}, 8);
     REQUIRE(wait_done(rr));
-    CHECK(rr.error() == "out of memory while rendering the region");
-    CHECK(rr.samples() < 8);
+    CHECK(rr.error() == "out of memory while rendering");
+    CHECK(rr.samples() == 1);
     rr.cancel();
     // Started again without the failure: no message, every sample.
-    rr.set_sample_hook(nullptr);
+    rr.renderer().task_hook = nullptr;
     rr.start(world, s.camera, 64, 48, {20, 10, 24, 12}, 8);
     REQUIRE(wait_done(rr));
     CHECK(rr.error().empty());

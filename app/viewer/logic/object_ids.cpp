@@ -4,16 +4,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "parallel.h"
+#include "renderer.h"
 #include "shapes.h"
 
 namespace rtview {
 
-std::uint32_t id_code(const rt::PickResult& r) {
-    if (r.object >= 0) return std::uint32_t(r.object + 1) * 4 + 1;
-    if (r.plane >= 0) return std::uint32_t(r.plane + 1) * 4 + 2;
-    if (r.light >= 0) return std::uint32_t(r.light + 1) * 4 + 3;
-    return 0;
-}
+std::uint32_t id_code(const rt::PickResult& r) { return rt::pick_id(r); }
 
 std::uint32_t id_code(const SceneItem& item) {
     if (item.index < 0) return 0;
@@ -98,13 +95,22 @@ std::size_t trace_ids(const rt::World& world, const rt::Camera& camera, int film
     out.x0 = std::clamp(x0, 0, out.width), out.x1 = std::clamp(x1, out.x0, out.width);
     out.y0 = std::clamp(y0, 0, out.height), out.y1 = std::clamp(y1, out.y0, out.height);
     out.ids.assign(std::size_t(out.width) * std::size_t(out.height), 0);
-    rt::CameraBasis cb = rt::CameraBasis::make(camera, film_w, film_h, false);
-    std::size_t rays = 0;
-    for (int y = out.y0; y < out.y1; ++y)
-        for (int x = out.x0; x < out.x1; ++x, ++rays)
-            out.ids[std::size_t(y) * std::size_t(out.width) + std::size_t(x)] =
-                id_code(rt::pick(world, cb.ray(double(x) * b, double(y) * b)));
-    return rays;
+    if (out.x0 == out.x1 || out.y0 == out.y1) return 0;
+    // An id pass of the window, on the one pool's workers; the world is the caller's
+    // for as long as this waits (a pointer that owns nothing).
+    rt::Renderer renderer(rt::process_pool());
+    rt::RenderSettings st;
+    st.width = film_w;
+    st.height = film_h;
+    st.camera = camera;
+    st.pass = rt::RenderPass::Ids;
+    st.step = b;
+    st.crop = {out.x0, out.y0, out.x1, out.y1};
+    renderer.start(std::shared_ptr<const rt::World>(std::shared_ptr<const rt::World>(), &world), st);
+    renderer.wait();
+    int w = 0, h = 0;
+    renderer.ids(out.ids, w, h);
+    return std::size_t(out.x1 - out.x0) * std::size_t(out.y1 - out.y0);
 }
 
 std::vector<Edge> outline_edges(const IdBuffer& ids, std::uint32_t code) {

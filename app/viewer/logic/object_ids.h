@@ -15,8 +15,8 @@
 
 namespace rtview {
 
-// A pick result as one number: 0 nothing, else (index + 1) * 4 + kind (1 object,
-// 2 plane, 3 lamp glow).
+// A pick result as one number (rt::pick_id): 0 nothing, else (index + 1) * 4 + kind
+// (1 object, 2 plane, 3 lamp glow).
 std::uint32_t id_code(const rt::PickResult& r);
 std::uint32_t id_code(const SceneItem& item);
 
@@ -45,7 +45,9 @@ void item_window(const rt::World& world, const rt::Camera& camera, int film_w, i
 // `sel` names no operand of an object of `scene`.
 std::shared_ptr<const rt::World> operand_world(const rt::Scene& scene, const ItemRef& sel);
 
-// Fills `out` for that window. Returns the number of rays traced.
+// Fills `out` for that window: an id pass of rt::Renderer (RenderPass::Ids) cropped to
+// it, on the process pool's workers while this thread waits. Returns the number of
+// rays traced.
 std::size_t trace_ids(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block, int x0,
                       int y0, int x1, int y1, IdBuffer& out);
 

@@ -5,10 +5,11 @@
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "camera.h"
-#include "parallel.h"
+#include "renderer.h"
 #include "world.h"
 
 namespace rtview {
@@ -39,17 +40,17 @@ private:
 
 // A preview of a film_w x film_h picture of `world` through `camera`: one ray per
 // `block` x `block` block, through its corner pixel (the rays of the renderer's coarse
-// pass of that block size), as RGBA8 of ceil(w / block) x ceil(h / block) pixels. Its
-// rows are shared among `pool`'s threads (null: this thread alone); the pixels are the
-// same for any number of threads. Every trace honours `stop` (a deep ray tree can take
-// minutes): once stopped, the rows not traced repeat the last row that was, and the
-// result says how many pixels were traced.
+// pass of that block size), as RGBA8 of ceil(w / block) x ceil(h / block) pixels: a
+// request to `renderer` (RenderSettings::step), which renders it on its pool's workers
+// while this thread waits. It stops after `time_limit` seconds (0: none), even in the
+// middle of a ray tree (a deep one can take minutes): the pixels not traced then repeat
+// the one above them, and the result says how many pixels were traced.
 struct PreviewResult {
     std::uint64_t traced = 0;  // pixels traced
-    bool stopped = false;      // `stop` ended it before every row was traced
+    bool stopped = false;      // the time limit ended it before every pixel was traced
 };
-PreviewResult trace_preview(const rt::World& world, const rt::Camera& camera, int film_w, int film_h, int block,
-                            std::vector<std::uint8_t>& rgba, int& width, int& height, rt::ThreadPool* pool = nullptr,
-                            const rt::TraceStop& stop = {});
+PreviewResult trace_preview(rt::Renderer& renderer, std::shared_ptr<const rt::World> world, const rt::Camera& camera,
+                            int film_w, int film_h, int block, double time_limit, std::vector<std::uint8_t>& rgba,
+                            int& width, int& height);
 
 }  // namespace rtview

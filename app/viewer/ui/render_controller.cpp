@@ -43,11 +43,15 @@ RenderController::RenderController(rt::ThreadPool& pool, bool interactive, int m
                                    double aa_threshold)
     : interactive_(interactive),
       renderer_(pool),
+      preview_(pool),
       max_samples_(max_samples),
       time_limit_(time_limit),
       aa_threshold_(aa_threshold) {}
 
-RenderController::~RenderController() { renderer_.cancel(); }
+RenderController::~RenderController() {
+    preview_.cancel();
+    renderer_.cancel();
+}
 
 void RenderController::sync_world(const Document& doc) {
     sync_.sync(doc);
@@ -116,10 +120,10 @@ void RenderController::update(const rt::Camera& camera, int film_w, int film_h, 
         change_time_ = std::chrono::steady_clock::now();
         timing_change_ = true;
     }
-    // The view is moving: this frame's picture is traced here and now (by this thread
-    // and the workers of the one pool, whose render jobs are held meanwhile: refining
-    // a view that the next frame replaces would only take the CPU the UI needs). A
-    // view that stopped for a moment counts as resting.
+    // The view is moving: this frame's picture is traced here and now (a coarse request
+    // to the preview renderer, on the workers of the one pool, whose render jobs are held
+    // meanwhile: refining a view that the next frame replaces would only take the CPU
+    // the UI needs). A view that stopped for a moment counts as resting.
     if (interactive_ && moving && seconds_since(last_change_) < kRestAfter) {
         if (!held_ && !paused_) {
             renderer_.set_paused(true);
@@ -139,18 +143,14 @@ void RenderController::update(const rt::Camera& camera, int film_w, int film_h, 
 
 void RenderController::trace_preview(const rt::Camera& camera, int film_w, int film_h) {
     auto t0 = std::chrono::steady_clock::now();
-    // The render threads are held while the view moves: their cores trace the preview
-    // with this one, and blocks shrink with the cores there are.
+    // The render threads are held while the view moves: their cores trace the preview,
+    // and blocks shrink with the cores there are.
     int b = ui_pacer_.preview_block(film_w, film_h, kUiPreviewBudget);
     int pw = 0, ph = 0;
-    rt::TraceStop stop;
-    stop.deadline = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                             std::chrono::duration<double>(kPreviewDeadline));
     // (The camera rays go through a buffer around the view's position where the scene is
     // small enough to make one in passing.)
-    const std::shared_ptr<const rt::World> seen = world_at(camera.position);
-    PreviewResult r = rtview::trace_preview(*seen, camera, film_w, film_h, b, preview_rgba_, pw, ph,
-                                            &renderer_.pool(), stop);
+    PreviewResult r = rtview::trace_preview(preview_, world_at(camera.position), camera, film_w, film_h, b,
+                                            kPreviewDeadline, preview_rgba_, pw, ph);
     double took = seconds_since(t0);
     ui_pacer_.measured(double(std::max<std::uint64_t>(r.traced, 1)), took);
     preview_tex_.upload(preview_rgba_, pw, ph, {0, 0, pw, ph});

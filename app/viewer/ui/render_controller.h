@@ -1,10 +1,10 @@
 // The render side of the viewer: owns the renderer, the compiled world, the preview
 // pacing and the film texture. Each frame it is told what to show (world from the
 // document, view camera, film size). While the view moves, the frame's picture is
-// traced right here, by the UI thread and the workers of the one pool (the render is
-// held meanwhile), as coarse as the measured cost of recent previews requires to fit
-// the frame budget: a picture on every frame whatever the render is doing. When the
-// view rests, the renderer refines it.
+// traced right away, a coarse request (RenderSettings::step) to a second renderer on the
+// workers of the one pool (the render is held meanwhile), as coarse as the measured
+// cost of recent previews requires to fit the frame budget: a picture on every frame
+// whatever the render is doing. When the view rests, the renderer refines it.
 #pragma once
 
 #include <array>
@@ -106,7 +106,7 @@ public:
     std::uint64_t done_generation() const { return done_generation_; }
     double last_latency_ms() const { return last_latency_ms_; }
     int last_coarse_block() const { return started_block_; }
-    int preview_threads() const { return renderer_.pool().size(); }  // tracing a moving view
+    int preview_threads() const { return preview_.threads(); }  // tracing a moving view
     bool verbose = false;
     // Seconds since the program started (for --verbose timings of the first picture).
     double (*clock)() = nullptr;
@@ -124,6 +124,7 @@ private:
 
     bool interactive_;
     rt::Renderer renderer_;
+    rt::Renderer preview_;  // the previews of a moving view (one coarse pass each)
     PreviewPacer pacer_;
     WorldSync sync_;  // the compiled document scene
 
@@ -143,7 +144,7 @@ private:
     bool settings_changed_ = false;
     bool paused_ = false;
 
-    // The previews of a moving view, traced by this thread and the pool's.
+    // The previews of a moving view.
     PreviewPacer ui_pacer_;
     FilmTexture preview_tex_;
     std::vector<std::uint8_t> preview_rgba_;
