@@ -129,8 +129,10 @@ BvhLinks::BvhLinks(const Bvh& bvh, std::size_t item_count)
 }
 
 bool BvhLinks::fits(const Bvh& bvh) const {
-    return bvh.nodes.size() == nodes4_ && bvh.nodes8.size() == nodes8_ && bvh.items.size() == items_ &&
-           shape_hash(bvh) == shape_;
+    // (A tree's own links fit it: every change of its shape made them follow.)
+    if (bvh.links.get() == this) return true;
+    return shape_known_ && bvh.nodes.size() == nodes4_ && bvh.nodes8.size() == nodes8_ &&
+           bvh.items.size() == items_ && shape_hash(bvh) == shape_;
 }
 
 bool BvhLinks::refit(Bvh& bvh, const Chunked<Aabb>& boxes, const std::vector<std::uint32_t>& changed) const {
@@ -292,7 +294,9 @@ void BvhLinks::reshaped(const Bvh& bvh) {
     nodes4_ = bvh.nodes.size();
     nodes8_ = bvh.nodes8.size();
     items_ = bvh.items.size();
-    shape_ = shape_hash(bvh);
+    // (Its fingerprint is a pass over the whole tree: these links fit the tree that
+    // keeps them, and trees refitted from it, which keep them too.)
+    shape_known_ = false;
 }
 
 namespace {

@@ -30,7 +30,8 @@ public:
     BvhLinks(const Bvh& bvh, std::size_t item_count);
 
     // Whether `bvh` has the shape these links were made from: the same sizes and the
-    // same leaves and child references (a fingerprint of them, checked in one pass).
+    // same leaves and child references (a fingerprint of them, checked in one pass), or
+    // keeps these links itself (Bvh::links).
     bool fits(const Bvh& bvh) const;
 
     // After boxes[i] changed for each i in `changed`: every box on the way from those
@@ -53,7 +54,8 @@ public:
     // grows least, or in a new node there with the leaf it would have entered; the
     // boxes above are refitted. False if the box is empty or the tree is full.
     bool insert(Bvh& bvh, const Chunked<Aabb>& boxes, std::uint32_t item);
-    // After remove() and insert(): the sizes and fingerprint of the tree as it is now.
+    // After remove() and insert(): the sizes of the tree as it is now (these links then
+    // fit only the trees that keep them, fits()).
     void reshaped(const Bvh& bvh);
 
 private:
@@ -64,6 +66,7 @@ private:
     };
     std::size_t nodes4_ = 0, nodes8_ = 0, items_ = 0;
     std::uint64_t shape_ = 0;
+    bool shape_known_ = true;  // shape_ is the tree's (false once reshaped())
     Chunked<Slot> parent4_, parent8_;  // inner node -> the slot that refers to it
     Chunked<Slot> leaf4_, leaf8_;      // item -> the slot of the leaf holding it
 };
