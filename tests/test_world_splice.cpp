@@ -110,11 +110,9 @@ Scene random_scene(Rng& rng, std::size_t objects, double size) {
         l.size = k == 0 ? 0.3 : 0;
         s.lights.push_back(l);
     }
-    s.camera.position = {2.5 * size, -1.5 * size, 1.2 * size};
-    s.camera.centre = {0, 0, 0};
-    s.camera.up = s.camera.centre + Vec3{0, 0, 1};
-    s.width = 32;
-    s.height = 24;
+    // (The up point above the centre, the origin.)
+    s.camera.position = {2.5 * size, -1.5 * size, 1.2 * size}, s.camera.centre = {0, 0, 0}, s.camera.up = {0, 0, 1};
+    s.width = 32, s.height = 24;
     return s;
 }
 
