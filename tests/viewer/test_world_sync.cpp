@@ -526,3 +526,42 @@ TEST_CASE("world sync: Add, Duplicate, Delete and their undo and redo go into th
     CHECK(sync.world()->spliced() > 0);
     rt_test::check_same_pictures(sync.world(), rt::compile_world(doc.scene()));
 }
+
+TEST_CASE("world sync: a world far from its compile is compiled anew behind it, the document's all along") {
+    Rng rng(32);
+    Document doc;
+    doc.load_text(random_scene_text(rng, 20), "", "t.txt");
+    WorldSync sync;
+    sync.finish(doc);
+    auto delete_first = [&] {
+        std::optional<SceneEdit> e =
+            delete_item(std::as_const(doc).editor_text(), doc.scene(), {SceneItem::Kind::Object, 0}, doc.layout());
+        REQUIRE(e);
+        REQUIRE(e->splice);
+        REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, "d", &*e->splice));
+    };
+    // Deletes undone: each a removal and an insertion in the world's tables.
+    int pairs = 0;
+    while (!sync.folding()) {
+        delete_first();
+        REQUIRE(sync.sync(doc) == WorldSync::Step::Updated);
+        REQUIRE(doc.undo());
+        REQUIRE(sync.sync(doc) == WorldSync::Step::Updated);
+        REQUIRE(++pairs <= int(WorldSync::kMaxSpliced));
+    }
+    CHECK(pairs == int(WorldSync::kMaxSpliced / 2 + 1));
+    CHECK(sync.world()->spliced() > WorldSync::kMaxSpliced);
+    // The compile behind the world is no lag: nothing waits for it.
+    CHECK(!sync.building());
+    CHECK(sync.version() == doc.content_version());
+    // An edit meanwhile goes into the world on screen at once, and into the new one.
+    delete_first();
+    CHECK(sync.sync(doc) == WorldSync::Step::Updated);
+    CHECK(sync.version() == doc.content_version());
+    while (sync.folding()) sync.sync(doc);
+    CHECK(sync.version() == doc.content_version());
+    CHECK(sync.world()->spliced() <= 2);
+    const std::shared_ptr<const rt::World> fresh = rt::compile_world(doc.scene());
+    rt_test::check_same_world(*sync.world(), *fresh);
+    rt_test::check_same_pictures(sync.world(), fresh);
+}
