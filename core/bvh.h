@@ -159,6 +159,9 @@ public:
     // copies of only the chunks of the nodes it changed.
     Chunked<BvhNode> nodes;        // nodes[0] is the root (when there are items)
     Shared<std::uint32_t> items;   // item ids (indices of the boxes given to build)
+    // An item taken out of the tree since its build (bvh_update.h) leaves this in its
+    // place in `items`, outside every leaf: the walks over all items pass it by.
+    static constexpr std::uint32_t kRemoved = 0xffffffffu;
     // The 8-wide form of the same tree (same leaves), made by build() when the AVX2
     // path is active (simd.h); empty otherwise.
     Chunked<BvhNode8> nodes8;
@@ -424,6 +427,7 @@ private:
     template <class Fn>
     void every_item(double tmax, Fn& fn) const {
         for (std::size_t k = 0; k < items.size(); ++k) {
+            if (items[k] == kRemoved) continue;
             const double nt = fn(items[k], tmax);
             if (nt < 0) return;
             if (nt < tmax) tmax = nt;
@@ -432,6 +436,7 @@ private:
     template <class F>
     void every_item(double tmax, Leaves<F>& leaves) const {
         for (std::size_t k = 0; k < items.size(); ++k) {
+            if (items[k] == kRemoved) continue;
             const double nt = leaves.fn(std::uint32_t(k), 1u, tmax);
             if (nt < 0) return;
             if (nt < tmax) tmax = nt;
@@ -440,13 +445,13 @@ private:
     template <class Fn>
     bool any_item(Fn& fn) const {
         for (std::size_t k = 0; k < items.size(); ++k)
-            if (fn(items[k])) return true;
+            if (items[k] != kRemoved && fn(items[k])) return true;
         return false;
     }
     template <class F>
     bool any_item(Leaves<F>& leaves) const {
         for (std::size_t k = 0; k < items.size(); ++k)
-            if (leaves.fn(std::uint32_t(k), 1u)) return true;
+            if (items[k] != kRemoved && leaves.fn(std::uint32_t(k), 1u)) return true;
         return false;
     }
 

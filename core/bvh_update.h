@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "bvh.h"
@@ -29,7 +30,8 @@ public:
     BvhLinks(const Bvh& bvh, std::size_t item_count);
 
     // Whether `bvh` has the shape these links were made from: the same sizes and the
-    // same leaves and child references (a fingerprint of them, checked in one pass).
+    // same leaves and child references (a fingerprint of them, checked in one pass), or
+    // keeps these links itself (Bvh::links).
     bool fits(const Bvh& bvh) const;
 
     // After boxes[i] changed for each i in `changed`: every box on the way from those
@@ -39,6 +41,23 @@ public:
     // builds again then). `bvh` must fit().
     bool refit(Bvh& bvh, const Chunked<Aabb>& boxes, const std::vector<std::uint32_t>& changed) const;
 
+    // Changes of the tree's shape, these links following (a copy of the links, whose
+    // tables copies share by chunks, for the changed tree; `bvh` must fit() before the
+    // first and reshaped() after the last). Whether `item` is in the tree.
+    bool holds(std::uint32_t item) const { return item < leaf4_.size() && leaf4_[item].node != kNone; }
+    // Takes `item` out of its leaf (the leaf's last item takes its place in bvh.items,
+    // the last place then holds Bvh::kRemoved; a leaf left empty becomes an empty slot)
+    // and refits the boxes above it. False if it is not in the tree.
+    bool remove(Bvh& bvh, const Chunked<Aabb>& boxes, std::uint32_t item);
+    // Adds `item` (boxes[item], not empty) as a leaf of its own at the end of bvh.items:
+    // in an empty slot of the node reached by going down toward the child whose box
+    // grows least, or in a new node there with the leaf it would have entered; the
+    // boxes above are refitted. False if the box is empty or the tree is full.
+    bool insert(Bvh& bvh, const Chunked<Aabb>& boxes, std::uint32_t item);
+    // After remove() and insert(): the sizes of the tree as it is now (these links then
+    // fit only the trees that keep them, fits()).
+    void reshaped(const Bvh& bvh);
+
 private:
     static constexpr std::uint32_t kNone = 0xffffffffu;
     struct Slot {
@@ -47,8 +66,9 @@ private:
     };
     std::size_t nodes4_ = 0, nodes8_ = 0, items_ = 0;
     std::uint64_t shape_ = 0;
-    std::vector<Slot> parent4_, parent8_;  // inner node -> the slot that refers to it
-    std::vector<Slot> leaf4_, leaf8_;      // item -> the slot of the leaf holding it
+    bool shape_known_ = true;  // shape_ is the tree's (false once reshaped())
+    Chunked<Slot> parent4_, parent8_;  // inner node -> the slot that refers to it
+    Chunked<Slot> leaf4_, leaf8_;      // item -> the slot of the leaf holding it
 };
 
 // How object obj's compiled records in g compare with `one`, the object compiled alone
@@ -58,6 +78,10 @@ ObjectRecords compare_object(const Geometry& g, std::uint32_t obj, const Geometr
 // Writes `one`'s records and box over object obj's in g (their chunks copied first
 // where shared); compare_object() must have found the same structure.
 void replace_object(Geometry& g, std::uint32_t obj, const Geometry& one);
+// Appends `one` (an object compiled alone) as g's object g.object_node.size(): its
+// records after g's, their references to one another moved along (the sphere prefix
+// grows when g is all of it and `one` a plain sphere). Not into g's BVH.
+void append_object(Geometry& g, const Geometry& one);
 
 // previous with the objects in `moved` compiled again from `scene` (each with the same
 // structure: moved or otherwise reshaped) and the BVH refitted: a copy that shares all
@@ -68,6 +92,11 @@ void replace_object(Geometry& g, std::uint32_t obj, const Geometry& one);
 std::shared_ptr<const Geometry> move_objects(const Geometry& previous, const Scene& scene,
                                              const std::vector<std::uint32_t>& moved,
                                              std::shared_ptr<const BvhLinks> links = nullptr);
+// The same for objects whose slots in previous (World::slots) are not their numbers in
+// the scene: (slot, object) pairs.
+std::shared_ptr<const Geometry> move_slots(const Geometry& previous, const Scene& scene,
+                                           const std::vector<std::pair<std::uint32_t, std::uint32_t>>& moved,
+                                           std::shared_ptr<const BvhLinks> links = nullptr);
 
 // The world of `scene`, which equals previous's scene but for the objects in `moved`
 // (World::update for that delta). `links` is used when it fits (pass the same pointer

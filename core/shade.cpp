@@ -438,7 +438,7 @@ PickResult pick(const World& world, const Ray& ray) {
     r.hit = true;
     r.t = h.t;
     r.point = ray.origin + normalize(ray.dir) * h.t;
-    if (h.kind == World::HitRec::Object) r.object = int(h.index);
+    if (h.kind == World::HitRec::Object) r.object = world.object_of(h.index);
     if (h.kind == World::HitRec::PlaneHit) r.plane = int(h.index);
     if (h.kind == World::HitRec::Glow) r.light = int(h.index);
     return r;

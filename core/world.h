@@ -246,15 +246,44 @@ public:
     // The world of `scene`, which is this world's scene changed as `delta` says: the
     // entries of the items it names are made again and everything else is shared with
     // this world; moved objects have their boxes refitted into the BVH (bvh_update.h).
-    // The same world, table for table and so picture for picture, as compile_world()
-    // makes of `scene`, but for the BVH's shape. Null when it cannot be done that way
-    // (delta.everything, other numbers of objects, an object whose structure changed,
-    // a box that became empty): compile_world() then. `links`, if given, are this
+    // Objects inserted or removed (delta.object_splices) take new slots of the tables
+    // and leave theirs empty (World::slots): the tree loses a removed object's item
+    // and gains a leaf for an inserted one, without a build; so does an object whose
+    // structure changed (or whose box is or was empty). The same world, entry for
+    // entry and so picture for picture, as compile_world() makes of `scene`, but for
+    // the BVH's shape and the slots' order. Null when it cannot be done that way
+    // (delta.everything, lists that do not add up): compile_world() then. `links`, if given, are this
     // world's tree's parent links made elsewhere (BvhLinks of geometry->bvh, say on
     // another thread while nothing moved): a first move then does not make them. They
     // must have been made from this world's tree or from one it was refitted from.
     std::shared_ptr<const World> update(const Scene& scene, const SceneDelta& delta,
                                         std::shared_ptr<const BvhLinks> links = nullptr) const;
+
+    // The objects' places in the tables (geometry, materials, the BVH's items, the light
+    // buffers) once update() inserted or removed some: a slot per object of the scene
+    // compiled last and per object inserted since, a removed object's slot left empty
+    // (no box, out of the tree, a material that adds nothing). Null: slot i is object i.
+    struct Slots {
+        static constexpr std::uint32_t kNone = 0xffffffffu;
+        std::vector<std::uint32_t> slot;    // per object of the scene, its slot
+        std::vector<std::uint32_t> object;  // per slot, its object, or kNone
+        std::size_t compiled = 0;           // slots made by the compile (the rest inserted)
+    };
+    std::shared_ptr<const Slots> slots;
+    // The scene's number of objects.
+    std::size_t object_count() const { return slots ? slots->slot.size() : materials.size(); }
+    // Object i's slot (i < object_count()).
+    std::uint32_t slot_of(std::size_t i) const { return slots ? slots->slot[i] : std::uint32_t(i); }
+    // The object in slot s, or -1 for an empty slot.
+    int object_of(std::uint32_t s) const {
+        if (!slots) return int(s);
+        return s < slots->object.size() && slots->object[s] != Slots::kNone ? int(slots->object[s]) : -1;
+    }
+    // Objects inserted and removed since the compile: slots the tree holds apart from
+    // its build (0 for a compiled world).
+    std::size_t spliced() const {
+        return slots ? 2 * slots->object.size() - slots->compiled - slots->slot.size() : 0;
+    }
 
     // What compile_world() finds in passes over every object and update() keeps up to
     // date chunk by chunk (per chunk of the object tables): the bounds, the materials'

@@ -335,8 +335,10 @@ int light_buffer_cells(std::size_t objects) {
 void add_light_buffers(World& w, const Scene& scene, const World* previous) {
     const Chunked<Aabb>& boxes = w.geometry->object_bounds;
     w.light_buffers = nullptr;
-    const int cells_n = light_buffer_cells(boxes.size());
-    const bool small = !boxes.empty() && boxes.size() * (w.lights.size() + 1) <= kLightBufferMaxWork;
+    // (By the scene's objects: a world with emptied slots has the buffers of its scene.)
+    const std::size_t objects = w.object_count();
+    const int cells_n = light_buffer_cells(objects);
+    const bool small = objects > 0 && objects * (w.lights.size() + 1) <= kLightBufferMaxWork;
     // The buffers to make: the camera's (index 0) and the lights' (1 + light), unless
     // the previous world's serve.
     std::vector<Vec3> todo;
@@ -425,7 +427,7 @@ std::shared_ptr<const World> with_camera_at(std::shared_ptr<const World> world, 
     auto moved = std::make_shared<World>(*world);
     const Chunked<Aabb>& boxes = world->geometry->object_bounds;
     moved->camera_buffer =
-        std::make_shared<const LightBuffer>(LightBuffer::build(boxes, position, detail::light_buffer_cells(boxes.size())));
+        std::make_shared<const LightBuffer>(LightBuffer::build(boxes, position, detail::light_buffer_cells(world->object_count())));
     return moved;
 }
 

@@ -183,7 +183,7 @@ TEST_CASE("world update: the same among much glass (shadow rays tinted by severa
     g_glass = 0.3;
 }
 
-TEST_CASE("world update: an object whose structure changed, or other numbers of objects, are refused") {
+TEST_CASE("world update: an object whose structure changed takes a new slot; other numbers of objects are refused") {
     Rng rng(3);
     Scene scene = random_scene(rng, 50, 2);
     scene.objects[3].shape = Sphere{{0, 0, 0}, 1};
@@ -191,7 +191,11 @@ TEST_CASE("world update: an object whose structure changed, or other numbers of 
     SceneDelta delta;
     delta.objects = {3};
     scene.objects[3].shape = Cylinder{{0, 0, 0}, {1, 0, 0}, 1};
-    CHECK(!world->update(scene, delta));
+    std::shared_ptr<const World> reshaped = world->update(scene, delta);
+    REQUIRE(bool(reshaped));
+    CHECK(reshaped->slot_of(3) == 50);
+    CHECK(reshaped->object_of(3) == -1);
+    check_same_pictures(reshaped, compile_world(scene));
     delta.objects = {50};  // no such object
     CHECK(!world->update(scene, delta));
     scene.objects.pop_back();

@@ -92,7 +92,11 @@ inline std::string plane_text(const rt::PlaneShape& p) {
 // The viewer's world against a full compile of the scene: the tables the tracer reads,
 // and the pictures both make through `camera`. Empty if they agree, else what differs.
 inline std::string world_difference(const rt::World& got, const rt::World& want, const rt::Camera& camera) {
-    if (!same_materials(got.materials, want.materials)) return "object materials";
+    // (Per object: a world that took inserted or removed objects holds them in other
+    // slots of its tables, World::slots.)
+    if (got.object_count() != want.object_count()) return "object count";
+    for (std::size_t i = 0; i < got.object_count(); ++i)
+        if (!same_material(got.materials[got.slot_of(i)], want.materials[want.slot_of(i)])) return "object materials";
     if (got.planes.size() != want.planes.size()) return "plane count";
     for (std::size_t i = 0; i < got.planes.size(); ++i)
         if (!same_plane(got.planes[i], want.planes[i]))
@@ -106,9 +110,8 @@ inline std::string world_difference(const rt::World& got, const rt::World& want,
             return "light " + std::to_string(i + 1);
     }
     if (got.glows != want.glows) return "glowing lights";
-    if (got.geometry->object_bounds.size() != want.geometry->object_bounds.size()) return "object count";
-    for (std::size_t i = 0; i < got.geometry->object_bounds.size(); ++i) {
-        const rt::Aabb &a = got.geometry->object_bounds[i], &b = want.geometry->object_bounds[i];
+    for (std::size_t i = 0; i < got.object_count(); ++i) {
+        const rt::Aabb &a = got.geometry->object_bounds[got.slot_of(i)], &b = want.geometry->object_bounds[want.slot_of(i)];
         if (!same_bits(a.lo, b.lo) || !same_bits(a.hi, b.hi)) return "bounds of object " + std::to_string(i + 1);
     }
     if (!same_bits(got.omit_weight, want.omit_weight) || !same_bits(got.radiance_bound, want.radiance_bound))

@@ -262,7 +262,8 @@ TEST_CASE("world sync: a scene copied for a compile over several frames takes th
     std::optional<SceneEdit> e =
         delete_item(std::as_const(doc).editor_text(), doc.scene(), {SceneItem::Kind::Object, 100}, doc.layout());
     REQUIRE(e);
-    REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, "d", &*e->splice));
+    // (Parsed whole, not spliced: a change the world cannot take in place.)
+    REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, "d", nullptr));
     CHECK(sync.sync(doc) == WorldSync::Step::Building);  // (copying: 4,096 of 19,999)
     CHECK(sync.building());
     // An object already copied and one not yet, changed in place while the copy goes on.
@@ -455,7 +456,8 @@ TEST_CASE("world sync: a moved mesh and a mesh's new material reach the world as
     doc.commit();
     sync.finish(doc);
     REQUIRE(sync.version() == doc.content_version());
-    CHECK(sync.world()->geometry->object_bounds[1].lo.x == doctest::Approx(before.lo.x + 1.5));
+    // (A moved mesh is compiled anew into a slot of its own.)
+    CHECK(sync.world()->geometry->object_bounds[sync.world()->slot_of(1)].lo.x == doctest::Approx(before.lo.x + 1.5));
     std::shared_ptr<const rt::World> fresh = rt::compile_world(doc.scene());
     rt_test::check_same_world(*sync.world(), *fresh);
     rt_test::check_same_pictures(sync.world(), fresh);
@@ -465,6 +467,101 @@ TEST_CASE("world sync: a moved mesh and a mesh's new material reach the world as
     sync.sync(doc);
     sync.finish(doc);
     fresh = rt::compile_world(doc.scene());
+    rt_test::check_same_world(*sync.world(), *fresh);
+    rt_test::check_same_pictures(sync.world(), fresh);
+}
+
+TEST_CASE("world sync: Add, Duplicate, Delete and their undo and redo go into the world at once, picked by the "
+          "document's numbers") {
+    Rng rng(31);
+    Document doc;
+    doc.load_text(random_scene_text(rng, 300), "", "t.txt");
+    WorldSync sync;
+    sync.finish(doc);
+    auto apply = [&](const std::optional<SceneEdit>& e) {
+        REQUIRE(e);
+        REQUIRE(e->splice);
+        REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, "edit",
+                                 &*e->splice));
+    };
+    // Each step must reach the world in the same frame, and give a full compile's world.
+    auto step = [&] {
+        CHECK(sync.sync(doc) == WorldSync::Step::Updated);
+        CHECK(!sync.building());
+        REQUIRE(sync.version() == doc.content_version());
+        std::shared_ptr<const rt::World> fresh = rt::compile_world(doc.scene());
+        rt_test::check_same_world(*sync.world(), *fresh);
+        // Rays toward every 7th object's box pick what a full compile picks.
+        const rt::Vec3 eye = doc.scene().camera.position;
+        for (std::size_t i = 0; i < doc.scene().objects.size(); i += 7) {
+            const rt::Aabb b = fresh->geometry->object_bounds[i];
+            if (b.empty()) continue;
+            const rt::Ray r{eye, rt::normalize(b.centre() - eye)};
+            const rt::PickResult x = rt::pick(*sync.world(), r), y = rt::pick(*fresh, r);
+            CHECK(x.object == y.object);
+            CHECK(x.t == y.t);
+        }
+    };
+    Placement at;
+    at.point = {0.25, 0.5, 0.0};
+    at.normal = {0, 0, 1};
+    apply(add_item(std::as_const(doc).editor_text(), doc.scene(), NewItem::Sphere, at, doc.layout(),
+                   sync.world().get()));
+    step();
+    REQUIRE(doc.undo());
+    step();
+    REQUIRE(doc.redo());
+    step();
+    apply(duplicate_item(std::as_const(doc).editor_text(), doc.scene(), {SceneItem::Kind::Object, 40},
+                         rt::Vec3{0.7, 0, 0}, doc.layout()));
+    step();
+    apply(delete_item(std::as_const(doc).editor_text(), doc.scene(), {SceneItem::Kind::Object, 12}, doc.layout()));
+    step();
+    REQUIRE(doc.undo());
+    step();
+    REQUIRE(doc.undo());
+    step();
+    REQUIRE(doc.redo());
+    step();
+    CHECK(sync.world()->spliced() > 0);
+    rt_test::check_same_pictures(sync.world(), rt::compile_world(doc.scene()));
+}
+
+TEST_CASE("world sync: a world far from its compile is compiled anew behind it, the document's all along") {
+    Rng rng(32);
+    Document doc;
+    doc.load_text(random_scene_text(rng, 20), "", "t.txt");
+    WorldSync sync;
+    sync.finish(doc);
+    auto delete_first = [&] {
+        std::optional<SceneEdit> e =
+            delete_item(std::as_const(doc).editor_text(), doc.scene(), {SceneItem::Kind::Object, 0}, doc.layout());
+        REQUIRE(e);
+        REQUIRE(e->splice);
+        REQUIRE(doc.replace_text(e->replacement.offset, e->replacement.length, e->replacement.text, "d", &*e->splice));
+    };
+    // Deletes undone: each a removal and an insertion in the world's tables.
+    int pairs = 0;
+    while (!sync.folding()) {
+        delete_first();
+        REQUIRE(sync.sync(doc) == WorldSync::Step::Updated);
+        REQUIRE(doc.undo());
+        REQUIRE(sync.sync(doc) == WorldSync::Step::Updated);
+        REQUIRE(++pairs <= int(WorldSync::kMaxSpliced));
+    }
+    CHECK(pairs == int(WorldSync::kMaxSpliced / 2 + 1));
+    CHECK(sync.world()->spliced() > WorldSync::kMaxSpliced);
+    // The compile behind the world is no lag: nothing waits for it.
+    CHECK(!sync.building());
+    CHECK(sync.version() == doc.content_version());
+    // An edit meanwhile goes into the world on screen at once, and into the new one.
+    delete_first();
+    CHECK(sync.sync(doc) == WorldSync::Step::Updated);
+    CHECK(sync.version() == doc.content_version());
+    while (sync.folding()) sync.sync(doc);
+    CHECK(sync.version() == doc.content_version());
+    CHECK(sync.world()->spliced() <= 2);
+    const std::shared_ptr<const rt::World> fresh = rt::compile_world(doc.scene());
     rt_test::check_same_world(*sync.world(), *fresh);
     rt_test::check_same_pictures(sync.world(), fresh);
 }

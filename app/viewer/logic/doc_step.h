@@ -30,11 +30,19 @@ struct SplicedItem {
     rt::SourceLoc at;
 };
 
-// What a spliced item changes in the scene: the length of a list (the world is compiled
-// anew), or one item in place.
-inline rt::SceneDelta splice_delta(const SplicedItem& s) {
-    if (s.op != ItemSplice::Op::Replace) return rt::SceneDelta::all();
+// What a spliced item changes in the scene, made (`forward`) or undone: an object
+// inserted or removed, the planes' or lights' list made again, or one item in place.
+inline rt::SceneDelta splice_delta(const SplicedItem& s, bool forward = true) {
     rt::SceneDelta d;
+    if (s.op != ItemSplice::Op::Replace) {
+        if (s.list == ItemList::Object)
+            d.object_splices.push_back({std::uint32_t(s.index), (s.op == ItemSplice::Op::Insert) == forward});
+        else if (s.list == ItemList::Plane)
+            d.all_planes = true;
+        else
+            d.all_lights = true;
+        return d;
+    }
     (s.list == ItemList::Object ? d.objects : s.list == ItemList::Plane ? d.planes : d.lights)
         .push_back(std::uint32_t(s.index));
     return d;

@@ -100,7 +100,7 @@ rt::Status Document::load_file(const std::string& path) {
 void Document::changed(rt::SceneDelta delta) {
     const std::uint64_t from = content_version_++;
     // A held edit changes its item every frame: one entry for all of them.
-    if (!changes_.empty() && changes_.back().to == from && !delta.everything && !changes_.back().delta.everything &&
+    if (!changes_.empty() && changes_.back().to == from && delta.in_place() && changes_.back().delta.in_place() &&
         changes_.back().delta.objects == delta.objects && changes_.back().delta.planes == delta.planes &&
         changes_.back().delta.lights == delta.lights) {
         changes_.back().to = content_version_;

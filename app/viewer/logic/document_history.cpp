@@ -207,7 +207,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
     if (s.reparse || s.has_scene_before != s.has_scene_after)
         changed(rt::SceneDelta::all());
     else if (s.spliced)
-        changed(splice_delta(*s.spliced));
+        changed(splice_delta(*s.spliced, forward));
     else if (!s.objects_before.empty() || !s.planes_before.empty() || !s.lights_before.empty())
         changed(items_of(s.objects_before, s.planes_before, s.lights_before));
     if (!s.editor.empty() || s.applied_before != s.applied_after) text_changed(s, forward);

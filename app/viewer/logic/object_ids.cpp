@@ -41,8 +41,8 @@ void item_window(const rt::World& world, const rt::Camera& camera, int film_w, i
     std::size_t i = std::size_t(item.index);
     if (item.index < 0) return;
     if (item.kind == SceneItem::Kind::Object) {
-        if (i >= world.geometry->object_bounds.size()) return;
-        box = world.geometry->object_bounds[i];
+        if (i >= world.object_count()) return;
+        box = world.geometry->object_bounds[world.slot_of(i)];
     } else if (item.kind == SceneItem::Kind::Light) {
         if (i >= world.lights.size()) return;
         const rt::ShadeLight& l = world.lights[i];

@@ -2,6 +2,7 @@
 #include "world_sync.h"
 
 #include <chrono>
+#include <tuple>
 #include <utility>
 
 #ifdef __GLIBC__
@@ -75,32 +76,24 @@ std::shared_ptr<const rt::BvhLinks> WorldSync::current_links() {
     return world_ && world_->geometry == links_geometry_ ? links_ : nullptr;
 }
 
-bool WorldSync::take_build() {
+bool WorldSync::take_build(const Document& doc) {
     if (!build_.valid() || !build_.ready()) return false;
-    world_ = build_.get();
+    std::shared_ptr<const rt::World> built = build_.get();
+    const bool fold = folding_;
+    folding_ = false;
+    if (fold && world_ && build_version_ != version_) {
+        // A fold's world takes at once what the world on screen took since the copy (or
+        // is not taken: the world on screen stays, and folds again).
+        const rt::SceneDelta d = doc.has_scene() ? doc.changes_since(build_version_) : rt::SceneDelta::all();
+        if (d.everything || !(built = built->update(doc.scene(), d))) return false;
+        build_version_ = doc.content_version();
+    }
+    world_ = std::move(built);
     version_ = build_version_;
     return true;
 }
 
-WorldSync::Step WorldSync::sync(const Document& doc) {
-    reap();
-    return_memory();
-    Step step = take_build() ? Step::Built : Step::None;
-    if (step == Step::Built) prepare_links();
-    if (!doc.has_scene() || (world_ && doc.content_version() == version_)) return step;
-    if (world_) {
-        const rt::SceneDelta delta = doc.changes_since(version_);
-        if (!delta.everything && delta.objects.size() + delta.planes.size() + delta.lights.size() <= kMaxDeltaItems) {
-            if (std::shared_ptr<const rt::World> w = world_->update(doc.scene(), delta, current_links())) {
-                world_ = std::move(w);
-                version_ = doc.content_version();
-                return Step::Updated;
-            }
-        }
-    }
-    // One build at a time: what changes meanwhile goes into its world once it is there.
-    if (build_.valid()) return step;
-    if (!copy_on(doc)) return Step::Building;
+void WorldSync::start_build() {
     build_version_ = copy_->version;
     // (The copy is let go of on the compile's thread: freeing a million objects takes a while.)
     build_ = rt::process_pool().aside([scene = std::move(copy_->scene)]() mutable {
@@ -108,6 +101,40 @@ WorldSync::Step WorldSync::sync(const Document& doc) {
         return rt::compile_world(s, nullptr);
     });
     copy_.reset();
+}
+
+WorldSync::Step WorldSync::fold(const Document& doc, Step step) {
+    if (!folding_ && (!world_ || world_->spliced() <= kMaxSpliced || build_.valid())) return step;
+    if (build_.valid()) return step;
+    folding_ = true;
+    if (copy_on(doc)) start_build();
+    return step;
+}
+
+WorldSync::Step WorldSync::sync(const Document& doc) {
+    reap();
+    return_memory();
+    Step step = take_build(doc) ? Step::Built : Step::None;
+    if (step == Step::Built) prepare_links();
+    if (!doc.has_scene()) return step;
+    if (world_ && doc.content_version() == version_) return fold(doc, step);
+    if (world_) {
+        const rt::SceneDelta delta = doc.changes_since(version_);
+        if (!delta.everything && delta.object_splices.size() + delta.objects.size() + delta.planes.size() +
+                                         delta.lights.size() <= kMaxDeltaItems) {
+            if (std::shared_ptr<const rt::World> w = world_->update(doc.scene(), delta, current_links())) {
+                world_ = std::move(w);
+                version_ = doc.content_version();
+                return fold(doc, Step::Updated);
+            }
+        }
+    }
+    // The world lags the document now: a build under way for a fold is the one it waits for.
+    folding_ = false;
+    // One build at a time: what changes meanwhile goes into its world once it is there.
+    if (build_.valid()) return step;
+    if (!copy_on(doc)) return Step::Building;
+    start_build();
     return Step::Building;
 }
 
@@ -116,7 +143,7 @@ bool WorldSync::copy_on(const Document& doc) {
     if (copy_ && copy_->version != doc.content_version()) {
         // The document changed while it was copied: its changed items again, or all of it.
         const rt::SceneDelta d = doc.changes_since(copy_->version);
-        if (d.everything || from.objects.size() != copy_->total) {
+        if (!d.in_place() || from.objects.size() != copy_->total) {
             copy_.reset();
         } else {
             for (std::uint32_t i : d.objects)
@@ -133,16 +160,9 @@ bool WorldSync::copy_on(const Document& doc) {
     }
     // (All but the objects: copied whole each time, being few.)
     rt::Scene& s = copy_->scene;
-    s.files_read = from.files_read;
-    s.materials = from.materials;
-    s.defined = from.defined;
-    s.includes = from.includes;
-    s.planes = from.planes;
-    s.lights = from.lights;
-    s.camera = from.camera;
-    s.width = from.width;
-    s.height = from.height;
-    s.camera_loc = from.camera_loc;
+    std::tie(s.files_read, s.materials, s.defined, s.includes, s.planes, s.lights, s.camera, s.width, s.height,
+             s.camera_loc) = std::tie(from.files_read, from.materials, from.defined, from.includes, from.planes,
+                                      from.lights, from.camera, from.width, from.height, from.camera_loc);
     // About copy_budget_ of copying a sync, checked every few thousand objects.
     constexpr std::size_t kShare = 4096;
     const auto until = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -161,6 +181,7 @@ void WorldSync::adopt(std::shared_ptr<const rt::World> world, std::uint64_t vers
     if (build_.valid()) dropped_.push_back(std::move(build_));
     build_ = {};
     copy_.reset();
+    folding_ = false;
     if (world_ && world_ != world) {
         replaced_ = world_;
         return_pending_ = true;

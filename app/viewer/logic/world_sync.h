@@ -1,10 +1,12 @@
 // The compiled world that follows the document, and the policy of how: what changed
 // since the world's version (Document::changes_since) goes into it at once when the
 // world can take it in place (World::update: a move refits the BVH, a material or a
-// light rewrites its entry);
+// light rewrites its entry, an object inserted or removed takes a leaf or leaves one);
 // when the lists changed, an object's structure changed or too much changed, the
 // scene is compiled anew on another thread while the last world stays on screen, and
-// what changed meanwhile goes into the new world as soon as it is there. A new tree's
+// what changed meanwhile goes into the new world as soon as it is there. Objects
+// inserted and removed go in at once too (World::update), until so many did that the
+// scene is compiled anew behind the world on screen. A new tree's
 // parent links (what a refit walks: 41 ms for a million objects) are made on another
 // thread too, before the first move needs them.
 #pragma once
@@ -41,6 +43,10 @@ public:
     // More changed items than this at once (a text applied with thousands of changed
     // numbers) are compiled anew rather than updated one by one.
     static constexpr std::size_t kMaxDeltaItems = std::size_t(1) << 16;
+    // A world that took more inserted and removed objects than this since its compile
+    // (rt::World::spliced: each insert hangs a leaf where it fits, not where a build
+    // would put it) is compiled anew in the background while it stays on screen.
+    static constexpr std::size_t kMaxSpliced = 1024;
 
     WorldSync() = default;
     ~WorldSync();
@@ -72,16 +78,25 @@ public:
     std::uint64_t version() const { return version_; }
     // A compile is under way: its scene being copied (a share per sync()) or its world
     // being built.
-    bool building() const { return build_.valid() || copy_.has_value(); }
+    // (Not a compile that only folds the inserted and removed objects into a new tree:
+    // the world is the document's meanwhile.)
+    bool building() const { return !folding_ && (build_.valid() || copy_.has_value()); }
     // The scene is being copied for a compile (the first part of building()).
-    bool copying() const { return copy_.has_value(); }
+    bool copying() const { return !folding_ && copy_.has_value(); }
+    // A compile of the document's scene under way for a world that is the document's
+    // already but far from its compile (kMaxSpliced).
+    bool folding() const { return folding_; }
     // The parent links made in the background for the tree of the world last built or
     // adopted; null until they are there.
     const std::shared_ptr<const rt::BvhLinks>& links() const { return links_; }
 
 private:
     // Takes a finished build; true if it did.
-    bool take_build();
+    bool take_build(const Document& doc);
+    // Starts the compile of the copy made.
+    void start_build();
+    // Starts or goes on with the compile of a world far from its compile; returns step.
+    Step fold(const Document& doc, Step step);
     void reap();
     // Gives freed memory back once the world adopt() replaced is gone.
     void return_memory();
@@ -112,6 +127,7 @@ private:
     std::uint64_t version_ = 0;
     rt::Job<std::shared_ptr<const rt::World>> build_;
     std::uint64_t build_version_ = 0;
+    bool folding_ = false;  // the build (or copy) under way is a fold (folding())
     std::vector<rt::Job<std::shared_ptr<const rt::World>>> dropped_;  // still finishing
     std::weak_ptr<const rt::World> replaced_;  // by adopt(), until it is gone
     bool return_pending_ = false;
