@@ -6,15 +6,13 @@
 //   move_bench SCENE.txt [--moves N]
 //   bench/make-grid.sh 100 /tmp/g100.txt && move_bench /tmp/g100.txt    (10,000 spheres)
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "bvh_update.h"
 #include "scene_parser.h"
 #include "shapes.h"
@@ -22,7 +20,7 @@
 
 namespace {
 
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+using bench::now;
 
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -32,13 +30,8 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: move_bench SCENE.txt [--moves N]\n");
-        return 2;
-    }
-    int moves = 50;
-    for (int i = 2; i + 1 < argc; ++i)
-        if (!std::strcmp(argv[i], "--moves")) moves = std::max(1, std::atoi(argv[++i]));
+    if (argc < 2) return bench::usage("move_bench SCENE.txt [--moves N]");
+    const int moves = bench::count_option(argc, argv, "--moves", 50);
     std::ifstream in(argv[1], std::ios::binary);
     std::stringstream ss;
     ss << in.rdbuf();

@@ -9,16 +9,14 @@
 //   structure_bench SCENE.txt [--rounds N]
 //   bench/make-grid.sh 1000 /tmp/g1000.txt && structure_bench /tmp/g1000.txt   (1,000,000 spheres)
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <functional>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "bench_args.h"
 #include "camera.h"
 #include "document.h"
 #include "parallel.h"
@@ -28,7 +26,7 @@
 
 namespace {
 
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+using bench::now;
 
 double timed(const std::function<void()>& f) {
     const double t0 = now();
@@ -44,13 +42,8 @@ struct Row {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: structure_bench SCENE.txt [--rounds N]\n");
-        return 2;
-    }
-    int rounds = 2;
-    for (int i = 2; i + 1 < argc; ++i)
-        if (!std::strcmp(argv[i], "--rounds")) rounds = std::max(1, std::atoi(argv[++i]));
+    if (argc < 2) return bench::usage("structure_bench SCENE.txt [--rounds N]");
+    const int rounds = bench::count_option(argc, argv, "--rounds", 2);
     rtview::Document doc;
     rtview::WorldSync sync;
     {

@@ -121,13 +121,21 @@ Block<Object> tetrahedron() {
             }};
 }
 
+// The keys of a shape between two points (cylinder, cone): end_1, end_2, then `more`,
+// then the material.
+template <class S>
+std::vector<Key<Object>> ends_then(std::vector<Key<Object>> more) {
+    std::vector<Key<Object>> keys{vec3_key<Object>("end_1", [](Object& o, int) -> Vec3& { return shape<S>(o).end1; }),
+                                  vec3_key<Object>("end_2", [](Object& o, int) -> Vec3& { return shape<S>(o).end2; })};
+    keys.insert(keys.end(), more.begin(), more.end());
+    keys.push_back(object_material());
+    return keys;
+}
+
 Block<Object> cylinder() {
     return {"cylinder",
-            {vec3_key<Object>("end_1", [](Object& o, int) -> Vec3& { return shape<Cylinder>(o).end1; }),
-             vec3_key<Object>("end_2", [](Object& o, int) -> Vec3& { return shape<Cylinder>(o).end2; }),
-             number_key<Object>("radius", [](Object& o, int) -> double& { return shape<Cylinder>(o).radius; },
-                                positive("cylinder radius must be greater than 0")),
-             object_material()},
+            ends_then<Cylinder>({number_key<Object>("radius", [](Object& o, int) -> double& { return shape<Cylinder>(o).radius; },
+                                                    positive("cylinder radius must be greater than 0"))}),
             [] { return object_of(Cylinder{}); },
             [](const Object& o) {
                 const Cylinder& s = std::get<Cylinder>(o.shape);
@@ -168,13 +176,10 @@ Block<Object> box() {
 
 Block<Object> cone() {
     return {"cone",
-            {vec3_key<Object>("end_1", [](Object& o, int) -> Vec3& { return shape<Cone>(o).end1; }),
-             vec3_key<Object>("end_2", [](Object& o, int) -> Vec3& { return shape<Cone>(o).end2; }),
-             number_key<Object>("radius_1", [](Object& o, int) -> double& { return shape<Cone>(o).radius1; },
-                                not_negative("cone radius_1 must not be negative")),
-             number_key<Object>("radius_2", [](Object& o, int) -> double& { return shape<Cone>(o).radius2; },
-                                not_negative("cone radius_2 must not be negative")),
-             object_material()},
+            ends_then<Cone>({number_key<Object>("radius_1", [](Object& o, int) -> double& { return shape<Cone>(o).radius1; },
+                                                not_negative("cone radius_1 must not be negative")),
+                             number_key<Object>("radius_2", [](Object& o, int) -> double& { return shape<Cone>(o).radius2; },
+                                                not_negative("cone radius_2 must not be negative"))}),
             [] { return object_of(Cone{}); },
             [](const Object& o) {
                 const Cone& c = std::get<Cone>(o.shape);

@@ -17,9 +17,11 @@
 #include <cerrno>
 #include <cstdio>
 #include <chrono>
+#include <condition_variable>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -137,24 +139,47 @@ pid_t start(const Sandbox& box, const fs::path& cwd, const std::vector<std::stri
     return pid;
 }
 
+// Waits until a file written now in `dir` is stamped later than `t`: from then on, a
+// rewrite of a file stamped `t` shows in its modification time (the file system's clock
+// ticks coarsely).
+void wait_for_later_mtime(const fs::path& dir, const timespec& t) {
+    const fs::path probe = dir / ".clock-probe";
+    rt_test::wait_until(
+        [&] {
+            put(probe, "tick\n");
+            struct stat st;
+            return ::stat(probe.c_str(), &st) == 0 &&
+                   (st.st_mtim.tv_sec > t.tv_sec || (st.st_mtim.tv_sec == t.tv_sec && st.st_mtim.tv_nsec > t.tv_nsec));
+        },
+        "the file system's clock to pass the file's time");
+    fs::remove(probe);
+}
+
 Run finish(const Sandbox& box, pid_t pid, double timeout_s = 120) {
-    int raw = 0;
-    bool ended = false;
-    const auto t0 = std::chrono::steady_clock::now();
-    while (!ended) {
-        pid_t r = waitpid(pid, &raw, WNOHANG);
-        if (r == pid) {
-            ended = true;
-            break;
-        }
-        if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > timeout_s) break;
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    if (!ended) {
+    // Waits for the process to end; a guard kills it if it still runs after timeout_s.
+    // (It is reaped only once the guard knows it ended: the guard never signals a
+    // process id that may have been given to another process.)
+    std::mutex m;
+    std::condition_variable cv;
+    bool ended = false, killed = false;
+    std::thread guard([&] {
+        std::unique_lock<std::mutex> lock(m);
+        if (cv.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return ended; })) return;
         kill(pid, SIGKILL);
-        waitpid(pid, &raw, 0);
-        FAIL("the CLI did not finish within " << timeout_s << " s");
+        killed = true;
+    });
+    siginfo_t info{};
+    while (waitid(P_PID, id_t(pid), &info, WEXITED | WNOWAIT) != 0 && errno == EINTR) {
     }
+    {
+        std::lock_guard<std::mutex> lock(m);
+        ended = true;
+    }
+    cv.notify_all();
+    guard.join();
+    int raw = 0;
+    waitpid(pid, &raw, 0);
+    if (killed) FAIL("the CLI did not finish within " << timeout_s << " s");
     Run run;
     if (WIFEXITED(raw)) run.status = WEXITSTATUS(raw);
     if (WIFSIGNALED(raw)) run.signal = WTERMSIG(raw);
@@ -366,7 +391,7 @@ TEST_CASE("output safety: an interrupted render (SIGINT, SIGTERM, SIGKILL) leave
         put(box.work / "scene.txt", kGoodScene);
         put(box.work / "out.ppm", "precious\n");
         const FileState before = FileState::of(box.work / "out.ppm");
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        wait_for_later_mtime(box.work, before.mtime);
         // Far more work than anyone waits for; the signal comes once it is under way: its
         // handlers in place and 50 ms of CPU used (far more than reading the scene).
         pid_t pid = start(box, box.work,

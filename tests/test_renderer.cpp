@@ -431,14 +431,12 @@ TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversio
             if (before.done) break;
             r.step(1);
             // The tile is committed when the progress moves.
-            auto t0 = std::chrono::steady_clock::now();
-            RenderProgress p;
-            for (;;) {
-                p = r.progress();
-                if (p.done || p.passes != before.passes || p.pass_fraction != before.pass_fraction) break;
-                REQUIRE(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(30));
-                std::this_thread::sleep_for(std::chrono::microseconds(200));
-            }
+            rt_test::wait_until(
+                [&] {
+                    const RenderProgress p = r.progress();
+                    return p.done || p.passes != before.passes || p.pass_fraction != before.pass_fraction;
+                },
+                "the stepped tile to be committed", std::chrono::seconds(30));
             ++steps;
             std::array<int, 4> changed{};
             if (r.snapshot_rgba8(kept, w, h, kept_version, &changed)) {

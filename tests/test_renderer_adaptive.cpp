@@ -320,6 +320,8 @@ TEST_CASE("raising max samples: a render goes on from the samples it has, unifor
         r.wait();
         REQUIRE(r.progress().samples == 2);
         const double took = r.progress().elapsed;
+        // A second with nothing to render: the rest itself is what is checked (not a
+        // wait for anything), so it is a fixed time.
         std::this_thread::sleep_for(std::chrono::milliseconds(1000));
         CHECK(r.raise_samples(6));
         // The rest in between does not count as rendering time.

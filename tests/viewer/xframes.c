@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
     struct timespec wall;
     clock_gettime(CLOCK_REALTIME, &wall);
     printf("start %.6f\n", (double)wall.tv_sec + (double)wall.tv_nsec * 1e-9);
+    fflush(stdout); /* a script waits for this line before it starts what is watched */
     uint64_t prev = 0;
     int changes = 0, samples = 0;
     while (seconds() - t0 < duration) {

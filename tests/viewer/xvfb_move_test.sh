@@ -26,32 +26,24 @@ STABLE_PAUSE=0.3
 STABLE_TRIES=120
 
 # Waits until the layout's handle line is $1 ("none") or not ("some").
-wait_handle() {
-    for _ in $(seq 1 50); do
-        local h
-        h=$(field handle 1)
-        if [ "$1" = none ] && [ "$h" = none ]; then return 0; fi
-        if [ "$1" = some ] && [ -n "$h" ] && [ "$h" != none ]; then return 0; fi
-        sleep 0.1
-    done
-    fail "expected the handle line to be $1, it is '$(field handle 1) $(field handle 2)'"
+handle_is() {
+    local h
+    h=$(field handle 1)
+    if [ "$1" = none ]; then [ "$h" = none ]; else [ -n "$h" ] && [ "$h" != none ]; fi
 }
+wait_handle() {
+    local want=$1
+    wait_until 'handle_is "$want"' 5 "the handle line to be $want"
+}
+edited() { [[ "$(title)" == *"*"* ]]; }
 
 # Saves the edit just made. It waits for the edit to show first (the title's "*"): on
 # a busy machine a frame can take longer than the pause after a key, and a title
 # without "*" would then be the last save's, not this one's.
 save() {
-    for _ in $(seq 1 300); do
-        [[ "$(title)" == *"*"* ]] && break
-        sleep 0.1
-    done
-    [[ "$(title)" == *"*"* ]] || fail "the edit never showed in the title ('$(title)')"
+    wait_until edited 30 "the edit to show in the title"
     xdotool key ctrl+s
-    for _ in $(seq 1 300); do
-        [[ "$(title)" != *"*"* ]] && break
-        sleep 0.1
-    done
-    [[ "$(title)" != *"*"* ]] || fail "Ctrl+S did not save (title '$(title)')"
+    wait_until '! edited' 30 "Ctrl+S to save (the title without its '*')"
     "$BIN/raytracer" --check "$SCENE" > /dev/null || fail "the saved scene does not parse"
 }
 
@@ -80,9 +72,8 @@ cd "$OUT"
 "$BIN/raytracer-view" "$SCENE" --size 1280x800 --samples 1 --print-layout > "$OUT/layout.txt" 2> "$OUT/viewer.err" &
 VIEWER_PID=$!
 WID=$(timeout 30 xdotool search --sync --name 'scene.txt' | head -1) || fail "no window appeared"
-for _ in $(seq 1 300); do case "$(title)" in "(loading)"*) sleep 0.1 ;; *) break ;; esac; done
-for _ in $(seq 1 50); do grep -q end-layout "$OUT/layout.txt" && break; sleep 0.1; done
-sleep 0.3
+wait_until '[[ "$(title)" != "(loading)"* ]]' 30 "the scene to load"
+wait_until '[[ "$(state load)" == ready ]]' 10 "a frame that shows the loaded scene"
 IMAGE=$(region image)
 read -r ix iy iw ih <<< "$IMAGE"
 echo "image $IMAGE"
@@ -92,20 +83,18 @@ n0=$(spheres)
 step "add a sphere on the floor from the right-click menu"
 px=$((ix + iw * 48 / 100)) py=$((iy + ih * 80 / 100))
 xdotool mousemove $px $py click 3
-sleep 0.4
+wait_until '[[ "$(state popups)" != none ]]' 10 "the context menu to open"
 # The menu opens at the pointer; "Add here" is its first row, its submenu opens to
 # the right with "sphere" first.
-xdotool mousemove $((px + 30)) $((py + 12))
-sleep 0.5
+pointer_to $((px + 30)) $((py + 12))
+wait_until '[[ "$(state popups)" == *"|"* ]]' 10 "the Add here submenu to open"
 shot 1-menu
-xdotool mousemove $((px + 120)) $((py + 12))
-sleep 0.2
-xdotool mousemove $((px + 190)) $((py + 12))
-sleep 0.3
+pointer_to $((px + 120)) $((py + 12))
+pointer_to $((px + 190)) $((py + 12))
 shot 1-submenu
 xdotool click 1
 wait_handle some
-sleep 0.3
+input_seen
 shot 1-added
 save
 n1=$(spheres)
@@ -120,14 +109,15 @@ select_at "$hx" "$hy"
 # The y arrow points left in this view (the camera looks along +x, z up): grabbed
 # halfway along it and pulled 150 pixels further left, a frame at a time.
 gx=$((hx - 45)) gy=$hy
-xdotool mousemove $gx $gy mousedown 1
+pointer_to $gx $gy
+xdotool mousedown 1
+wait_until '[[ "$(state pointer)" == *down ]]' 10 "the button to be down"
 for i in $(seq 1 30); do
-    xdotool mousemove $((gx - i * 5)) $gy
-    sleep 0.03
+    pointer_to $((gx - i * 5)) $gy
     [ "$i" = 15 ] && shot 2-mid-drag
 done
 xdotool mouseup 1
-sleep 0.5
+wait_until '[[ "$(state pointer)" != *down ]]' 10 "the button to be up"
 shot 2-dragged
 save
 cp "$SCENE" "$OUT/text-2.txt"
@@ -148,7 +138,7 @@ agree 2-dragged
 step "Ctrl+D duplicates the sphere"
 select_at "$hx2" "$hy2"
 xdotool key ctrl+d
-sleep 0.5
+wait_until edited 30 "Ctrl+D to show in the title"
 shot 3-duplicated
 save
 cp "$SCENE" "$OUT/text-3.txt"
@@ -158,7 +148,7 @@ agree 3-duplicated
 step "Delete deletes one"
 select_at "$hx2" "$hy2"
 xdotool key Delete
-sleep 0.5
+wait_until edited 30 "Delete to show in the title"
 shot 4-deleted
 save
 [ "$(spheres)" = "$n1" ] || fail "expected $n1 spheres after Delete, found $(spheres)"
@@ -166,7 +156,6 @@ agree 4-deleted
 
 step "Ctrl+Z brings it back, the text byte for byte"
 xdotool key ctrl+z
-sleep 0.5
 save
 cmp -s "$SCENE" "$OUT/text-3.txt" || fail "undo did not restore the text: $(diff "$OUT/text-3.txt" "$SCENE" | head)"
 agree 5-undone

@@ -40,18 +40,22 @@ LAYOUT=$OUT/viewer.out   # --verbose --print-layout: the layout and readout line
 readout() { grep '^readout: ' "$OUT/viewer.out" | tail -n 1; }
 # Waits until the last readout line matches a pattern (grep -E).
 wait_readout() {
-    for _ in $(seq 1 100); do
-        readout | grep -Eq "$1" && return 0
-        sleep 0.1
-    done
-    fail "expected a readout matching '$1', the last one is: $(readout)"
+    local re=$1
+    wait_until 'readout | grep -Eq "$re"' 10 "a readout matching '$re'"
 }
 wait_message() {
-    for _ in $(seq 1 100); do
-        grep -q "^message: $1" "$OUT/viewer.out" && return 0
-        sleep 0.1
-    done
-    fail "expected the message '$1'"
+    local m=$1
+    wait_until 'grep -q "^message: $m" "$OUT/viewer.out"' 10 "the message '$m'"
+}
+# The live readout of the sphere's pixel reads blue; else the pointer moves off it and
+# back, for a new readout.
+sphere_reads_blue() {
+    R=$(readout)
+    read -r RR RG RB <<< "$(echo "$R" | awk '{ print $7, $8, $9 }')"
+    awk -v r="$RR" -v b="$RB" 'BEGIN { exit !(b > 2 * r) }' && return 0
+    xdotool mousemove "$((CX + 1))" "$CY"
+    xdotool mousemove "$CX" "$CY"
+    return 1
 }
 # Mean colour "R G B" (0..255) of a region of a screenshot.
 mean() {
@@ -65,8 +69,8 @@ cd "$OUT"
     > "$OUT/viewer.out" 2> "$OUT/viewer.err" &
 VIEWER_PID=$!
 WID=$(timeout 30 xdotool search --sync --name 'picture.txt' | head -1) || fail "no window appeared"
-for _ in $(seq 1 100); do grep -q "first picture on screen" "$OUT/viewer.err" && break; sleep 0.1; done
-sleep 1
+wait_until 'grep -q "first picture on screen" "$OUT/viewer.err"' 10 "the first picture on the screen"
+wait_until '[[ "$(state render)" == *done* ]]' 30 "the render to finish"
 IX=$(field image 1); IY=$(field image 2); IW=$(field image 3); IH=$(field image 4)
 echo "image region ${IW}x${IH} at $IX,$IY"
 [ "$IW" -gt 320 ] || fail "expected the 320x240 picture fitted larger than itself, got ${IW}x${IH}"
@@ -76,15 +80,16 @@ step "hover: the readout names the pixel the fitted picture shows there"
 # letterboxing alone (the picture spans IW x IH from IX, IY).
 MX=$((IX + IW / 3)); MY=$((IY + IH * 2 / 3))
 EX=$(( (MX - IX) * 320 / IW )); EY=$(( (MY - IY) * 240 / IH ))
-xdotool mousemove "$MX" "$MY"; sleep 0.2; xdotool mousemove "$((MX + 1))" "$MY"; sleep 0.2
-xdotool mousemove "$MX" "$MY"
+pointer_to "$MX" "$MY"
+pointer_to "$((MX + 1))" "$MY"
+pointer_to "$MX" "$MY"
 wait_readout "^readout: x $EX y $EY .*plane 1 \(chess_plane\) at "
 echo "$(readout)"
 
 step "1:1: the picture whole and centred, then exact pixel steps"
 xdotool key 1
 wait_message "Zoom 1:1"
-sleep 1
+wait_until '[ "$(field image 3) $(field image 4)" = "320 240" ]' 5 "the picture drawn at 320x240"
 shot one-to-one
 read -r AX AY AW AH <<< "$(region area)"
 read -r ZX ZY ZW ZH <<< "$(region image)"
@@ -93,7 +98,8 @@ read -r ZX ZY ZW ZH <<< "$(region image)"
     [ $((2 * ZY + ZH - 2 * AY - AH)) -le 1 ] && [ $((2 * AY + AH - 2 * ZY - ZH)) -le 1 ] ||
     fail "1:1 should centre the picture in the area ($AX $AY $AW $AH), it is at $ZX $ZY"
 # The pixel under the cursor is where that placement puts it.
-xdotool mousemove "$((MX + 1))" "$MY"; sleep 0.2; xdotool mousemove "$MX" "$MY"
+pointer_to "$((MX + 1))" "$MY"
+pointer_to "$MX" "$MY"
 PX=$((MX - ZX)); PY=$((MY - ZY))
 wait_readout "^readout: x $PX y $PY "
 xdotool mousemove "$((MX + 7))" "$((MY - 5))"
@@ -117,21 +123,14 @@ xdotool key k
 wait_message "Kept snapshot 1"
 write_scene "0.1 0.1 0.9"
 # The window reloads the file (no unsaved edits); the live readout turns blue.
-for _ in $(seq 1 100); do
-    R=$(readout)
-    read -r RR RG RB <<< "$(echo "$R" | awk '{ print $7, $8, $9 }')"
-    awk -v r="$RR" -v b="$RB" 'BEGIN { exit !(b > 2 * r) }' && break
-    sleep 0.1
-    xdotool mousemove "$((CX + 1))" "$CY"; xdotool mousemove "$CX" "$CY"
-done
-awk -v r="$RR" -v b="$RB" 'BEGIN { exit !(b > 2 * r) }' || fail "the reloaded sphere does not read blue: $R"
-sleep 1
+wait_until sphere_reads_blue 10 "the reloaded sphere to read blue"
+wait_until '[[ "$(state render)" == *done* ]]' 30 "the reloaded scene's render to finish"
 # Still at 1:1, so that snapshot and live picture are the same 320x240 film: picture
 # pixel (160, 120) is at (CX, CY), and the split line starts at the picture's middle.
-xdotool mousemove 1000 700  # over the sidebar, away from the picture
+pointer_to 1000 700  # over the sidebar, away from the picture
 xdotool key b
 wait_message "Compare: snapshot"
-sleep 1
+input_seen
 shot ab-split
 read -r lr lg lb <<< "$(mean ab-split $((CX - 14)) $((CY - 4)) 8 8)"
 read -r rr rg rb <<< "$(mean ab-split $((CX + 6)) $((CY - 4)) 8 8)"
@@ -141,7 +140,7 @@ echo "left of the split (snapshot): $lr $lg $lb; right (live): $rr $rg $rb"
 
 xdotool key b
 wait_message "Compare: difference"
-sleep 1
+input_seen
 shot ab-difference
 read -r dr dg db <<< "$(mean ab-difference $((CX - 8)) $((CY - 8)) 16 16)"
 read -r fr fg fb <<< "$(mean ab-difference $((CX - 140)) $((CY + 100)) 20 12)"
@@ -149,8 +148,5 @@ echo "difference on the sphere: $dr $dg $db; on the floor: $fr $fg $fb"
 [ $((dr + db)) -gt 200 ] || fail "the difference image should be bright where the sphere changed ($dr $dg $db)"
 [ $((fr + fg + fb)) -lt 30 ] || fail "the difference image should be black where nothing changed ($fr $fg $fb)"
 
-xdotool key ctrl+q
-for _ in $(seq 1 50); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
-kill -0 "$VIEWER_PID" 2>/dev/null && fail "Ctrl+Q did not close the window"
-VIEWER_PID=
+quit_viewer
 echo "picture tools under Xvfb: ok"

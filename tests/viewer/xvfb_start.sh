@@ -47,13 +47,15 @@ fail() {
 step() { echo "== $*"; }
 shot() { import -window root "$OUT/$1.png"; }
 title() { xdotool getwindowname "$WID"; }
-# wait_for WHAT COMMAND...: runs COMMAND until it succeeds (every 50 ms, for at most
-# 60 s), or fails saying it waited in vain for WHAT. Waits for the event, not a time.
+# shellcheck source=wait_until.sh
+source "$HERE/wait_until.sh"
+# wait_for WHAT COMMAND...: wait_until COMMAND succeeds (within 60 s), or fails saying
+# it waited in vain for WHAT.
 wait_for() {
-    local what=$1
+    local what=$1 _wf_cmd
     shift
-    for _ in $(seq 1 1200); do "$@" && return 0; sleep 0.05; done
-    fail "waited in vain for $what"
+    _wf_cmd=("$@")
+    wait_until '"${_wf_cmd[@]}"' 60 "$what"
 }
 title_is() { [[ "$(title)" == "$1" ]]; }
 # The last value of a --print-layout line (the viewer prints the layout again when it
@@ -61,6 +63,30 @@ title_is() { [[ "$(title)" == "$1" ]]; }
 LAYOUT=$OUT/layout.txt
 field() { awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { print v }' "$LAYOUT"; }
 region() { echo "$(field "$1" 1) $(field "$1" 2) $(field "$1" 3) $(field "$1" 4)"; }
+# The last value of a "state KEY VALUE" line (what the last frame that changed it showed).
+state() { awk -v k="$1" '$1 == "state" && $2 == k { sub("^state " k " ?", ""); v = $0 } END { print v }' "$LAYOUT"; }
+# pointer_to X Y: moves the pointer to (X, Y) and waits for a frame that saw it there.
+pointer_to() {
+    local px=$1 py=$2
+    xdotool mousemove "$px" "$py"
+    wait_until '[[ "$(state pointer)" =~ ^"$px $py"( |$) ]]' 10 "a frame with the pointer at $px $py"
+}
+# input_seen: waits until the viewer has taken every input event sent so far: X
+# delivers them in order, so a frame that saw the pointer move a pixel away and back
+# saw them too.
+input_seen() {
+    local X Y SCREEN WINDOW
+    eval "$(xdotool getmouselocation --shell)"
+    pointer_to $((X + 1)) "$Y"
+    pointer_to "$X" "$Y"
+}
+# quit_viewer: Ctrl+Q, and waits for the process to end.
+quit_viewer() {
+    xdotool key ctrl+q
+    wait_until '! kill -0 "$VIEWER_PID" 2>/dev/null' 10 "the window to close on Ctrl+Q"
+    wait "$VIEWER_PID" 2>/dev/null || true
+    VIEWER_PID=
+}
 
 # wait_stable NAME: screenshots (NAME.png) until the image region ($IMAGE) shows a
 # picture and stops changing (the render has converged); a black region that "stays
@@ -71,6 +97,8 @@ wait_stable() {
     local name=$1 prev="$OUT/.stable-prev.png" d
     shot "$name"
     for _ in $(seq 1 "$STABLE_TRIES"); do
+        # The time over which the picture must not change: the wait itself is what
+        # "settled" means here (a bounded poll).
         sleep "$STABLE_PAUSE"
         cp "$OUT/$name.png" "$prev"
         shot "$name"

@@ -34,9 +34,8 @@ cd "$OUT"
 VIEWER_PID=$!
 WID=$(timeout 30 xdotool search --sync --name 'scene.txt' | head -1) || fail "no window appeared"
 # The file loads in the background; the image area takes the scene's aspect then.
-for _ in $(seq 1 300); do still_loading || break; sleep 0.1; done
-sleep 0.3
-for _ in $(seq 1 50); do grep -q end-layout "$OUT/layout.txt" && break; sleep 0.1; done
+wait_until '! still_loading' 30 "the scene to load"
+wait_until '[[ "$(state load)" == ready ]]' 10 "a frame that shows the loaded scene"
 eval "$(xdotool getwindowgeometry --shell "$WID")"
 [ "$X" = 0 ] && [ "$Y" = 0 ] || fail "expected the window at 0,0 (no window manager), got $X,$Y"
 IMAGE=$(region image)
@@ -60,16 +59,16 @@ XF_PID=$!
 xdotool mousemove $cx $cy mousedown 1
 for i in $(seq 1 60); do   # 30 pointer events a second for 2 s
     xdotool mousemove $((cx + i * 3)) $((cy + i / 2))
-    sleep 0.033
+    sleep 0.033  # the pace of the drag is what is measured: not a wait for anything
 done
 xdotool mouseup 1
 wait "$XF_PID"
 # A screenshot in the middle of a drag, to look at (not during the count: grabbing
 # the screen stalls the X server).
 xdotool mousemove $cx $cy mousedown 1
-for i in $(seq 1 10); do xdotool mousemove $((cx - i * 3)) $((cy - i / 2)); sleep 0.033; done
+for i in $(seq 1 10); do pointer_to $((cx - i * 3)) $((cy - i / 2)); done
 shot mid-drag
-for i in $(seq 11 20); do xdotool mousemove $((cx - i * 3)) $((cy - i / 2)); sleep 0.033; done
+for i in $(seq 11 20); do pointer_to $((cx - i * 3)) $((cy - i / 2)); done
 xdotool mouseup 1
 tail -1 "$OUT/drag-frames.txt"
 drag_changes=$(awk '/^changes/ { print $2 }' "$OUT/drag-frames.txt")
@@ -100,14 +99,14 @@ cp "$SCENE" "$OUT/saved1.txt"
 
 step "a syntax error shows, and the last image stays"
 xdotool key ctrl+e
-sleep 0.3
+wait_until '[[ "$(state editor_grid)" == *nowrap* ]]' 10 "the text editor to open"
 xdotool key ctrl+Home
 xdotool type --delay 30 "zzbad "
 # The live check runs once typing pauses: its diagnostics show.
 has_errors() { [ "$(awk '$1 == "state" && $2 == "diagnostics" { n = $3 } END { print n + 0 }' "$LAYOUT")" -gt 0 ]; }
 wait_for "the live check's diagnostics" has_errors
 xdotool key ctrl+Return
-sleep 0.5
+input_seen
 shot error
 DIAG=$(region diagnostics)
 red=$("$TOOL" near "$OUT/error.png" $DIAG 255 107 107 40)
@@ -128,11 +127,11 @@ wait_for "the file to be the editor text" saved_with_error
 
 step "clicking the error moves the cursor to it"
 read -r dx dy dw dh <<< "$DIAG"
+cursor=$(state editor_cursor)
 xdotool mousemove $((dx + 60)) $((dy + 15)) click 1
-sleep 0.3
+wait_until '[ "$(state editor_cursor)" != "$cursor" ]' 10 "the click on the error to move the cursor"
 xdotool type --delay 30 "//"
 xdotool key ctrl+Return
-sleep 0.3
 xdotool key ctrl+s
 commented_out() { printf '//zzbad ' | cat - "$OUT/saved1.txt" | cmp -s - "$SCENE"; }
 wait_for "'//' to land at the error position (saved)" commented_out
@@ -142,42 +141,37 @@ xdotool mousemove $cx $cy   # keyboard focus follows the pointer without a windo
 
 step "Ctrl+Q with unsaved changes asks first"
 xdotool mousemove $cx $cy mousedown 3   # a right-drag pan
-for dx in 10 20 30 40; do xdotool mousemove $((cx + dx)) $((cy + dx / 4)); sleep 0.05; done
+for dx in 10 20 30 40; do pointer_to $((cx + dx)) $((cy + dx / 4)); done
 xdotool mouseup 3
-sleep 0.5
+wait_until '[[ "$(state pointer)" != *down* ]]' 10 "the end of the pan"
 [[ "$(title)" == *"*"* ]] && fail "the pan modified the document"
 xdotool key ctrl+k   # a real edit, so that quitting asks
 modified() { [[ "$(title)" == *"*"* ]]; }
 wait_for "Ctrl+K to modify the document" modified
 wait_stable panned
 xdotool key ctrl+q
-sleep 0.8
+wait_until '[[ "$(state popups)" == *Unsaved* ]]' 10 "Ctrl+Q to ask about the unsaved changes"
 kill -0 "$VIEWER_PID" 2>/dev/null || fail "the viewer quit without asking"
 shot asking
 dim=$("$TOOL" diff "$OUT/panned.png" "$OUT/asking.png" $IMAGE)
 awk -v c="$dim" 'BEGIN { exit !(c > 0.5) }' || fail "no modal dialog (image region changed only $dim)"
 xdotool key Escape
-sleep 0.5
+wait_until '[[ "$(state popups)" == none ]]' 10 "Escape to close the dialog"
 shot cancelled
 [ "$("$TOOL" diff "$OUT/panned.png" "$OUT/cancelled.png" $IMAGE)" = "0.000000" ] || fail "the dialog did not close"
 
 step "F12 writes a screenshot of the window"
 xdotool key F12
 # Written within a frame or two; a loaded machine may take seconds.
-F12=
-for _ in $(seq 1 100); do
-    F12=$(ls "$OUT"/raytracer-view-2*.png 2>/dev/null | head -1 || true)
-    [ -n "$F12" ] && break
-    sleep 0.1
-done
-[ -n "$F12" ] || fail "no F12 screenshot"
+screenshot_written() { F12=$(ls "$OUT"/raytracer-view-2*.png 2>/dev/null | head -1 || true); [ -n "$F12" ]; }
+wait_until screenshot_written 10 "the F12 screenshot"
 [ "$("$TOOL" colours "$F12" 0 0 1280 800)" -gt 1000 ] || fail "the F12 screenshot looks empty"
 
 step "a change on disk reloads by itself, keeping the moved view"
 xdotool key ctrl+s
-sleep 0.3
+wait_for "the save" title_is "scene.txt - raytracer-view"
 xdotool mousemove $cx $cy mousedown 3   # move the view away from the scene camera
-for dx in 10 20 30; do xdotool mousemove $((cx - dx)) $((cy + dx / 3)); sleep 0.05; done
+for dx in 10 20 30; do pointer_to $((cx - dx)) $((cy + dx / 3)); done
 xdotool mouseup 3
 wait_stable cancelled
 [[ "$(title)" == "scene.txt - raytracer-view" ]] || fail "the pan marked the document modified: '$(title)'"
@@ -195,8 +189,7 @@ step "after saving, Ctrl+Q quits"
 xdotool key ctrl+s
 wait_for "the save" title_is "scene.txt - raytracer-view"
 xdotool key ctrl+q
-for _ in $(seq 1 30); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
-kill -0 "$VIEWER_PID" 2>/dev/null && fail "the viewer did not quit"
+wait_until '! kill -0 "$VIEWER_PID" 2>/dev/null' 10 "the viewer to quit"
 wait "$VIEWER_PID" || fail "the viewer exited with status $?"
 VIEWER_PID=
 grep -q "radius 0.6" "$SCENE" || fail "the final save lost the reloaded change"
@@ -208,17 +201,16 @@ BIG=$OUT/grid100k.txt
 "$BIN/raytracer-view" "$BIG" --size 1280x800 --samples 1 --print-layout > "$OUT/layout.txt" 2> "$OUT/viewer.err" &
 VIEWER_PID=$!
 WID=$(timeout 30 xdotool search --sync --name 'grid100k.txt' | head -1) || fail "no window appeared"
-for _ in $(seq 1 50); do grep -q end-layout "$OUT/layout.txt" && break; sleep 0.1; done
 # The window paints while the file loads: its title says so, then drops the mark.
-for _ in $(seq 1 600); do still_loading || break; sleep 0.1; done
+wait_until '! still_loading' 60 "the big scene to load"
 [[ "$(title)" == "grid100k.txt - raytracer-view" ]] || fail "the big scene did not open: '$(title)'"
-sleep 0.3
+wait_until '[[ "$(state load)" == ready ]]' 10 "a frame that shows the loaded big scene"
 IMAGE=$(region image)
 read -r ix iy iw ih <<< "$IMAGE"
 cx=$((ix + iw / 2)); cy=$((iy + ih / 2))
 wait_stable big-before
 xdotool mousemove $cx $cy mousedown 1
-for i in $(seq 1 20); do xdotool mousemove $((cx + i * 4)) $((cy - i)); sleep 0.033; done
+for i in $(seq 1 20); do pointer_to $((cx + i * 4)) $((cy - i)); done
 xdotool mouseup 1
 xdotool mousemove $cx $cy click --repeat 3 4   # three wheel notches in
 wait_stable big-after
@@ -227,8 +219,7 @@ echo "big scene: image changed $big_change"
 awk -v c="$big_change" 'BEGIN { exit !(c > 0.2) }' || fail "navigating the big scene did not change the image"
 [[ "$(title)" == "grid100k.txt - raytracer-view" ]] || fail "navigating the big scene modified it: '$(title)'"
 xdotool key ctrl+q
-for _ in $(seq 1 50); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
-kill -0 "$VIEWER_PID" 2>/dev/null && fail "the viewer did not quit"
+wait_until '! kill -0 "$VIEWER_PID" 2>/dev/null' 10 "the viewer to quit"
 wait "$VIEWER_PID" || fail "the viewer exited with status $?"
 VIEWER_PID=
 echo "xvfb test passed; screenshots in $OUT"

@@ -22,7 +22,6 @@ cp "$(dirname "$0")/../../scenes/default.txt" "$SCENE"
 STABLE_PAUSE=0.3
 STABLE_TRIES=120
 
-state() { awk -v k="$1" '$1 == "state" && $2 == k { sub("^state " k " ?", ""); v = $0 } END { print v }' "$LAYOUT"; }
 mode_is() { [ "$(state handle_mode)" = "$1" ]; }
 has_state() { [ -n "$(state "$1")" ]; }
 
@@ -42,14 +41,15 @@ tetra_block() { awk '/^[[:space:]]*tetrahedron[[:space:]]*\{/ { on = 1 } on { pr
 drag_round() {
     local x=$1 y=$2 cx=$3 cy=$4 deg=$5 n=$6 i px py
     xdotool keydown shift
-    xdotool mousemove "$x" "$y" mousedown 1
+    pointer_to "$x" "$y"
+    xdotool mousedown 1
+    wait_for "the button to be down" eval '[[ "$(state pointer)" == *down ]]'
     for i in $(seq 1 "$n"); do
         read -r px py <<< "$(awk -v x="$x" -v y="$y" -v cx="$cx" -v cy="$cy" -v a="$deg" -v i="$i" -v n="$n" 'BEGIN {
             t = a * i / n * 3.14159265358979 / 180; dx = x - cx; dy = y - cy
             # counter-clockwise on a screen whose y grows down
             printf "%d %d\n", cx + dx * cos(t) + dy * sin(t), cy - dx * sin(t) + dy * cos(t) }')"
-        xdotool mousemove "$px" "$py"
-        sleep 0.05
+        pointer_to "$px" "$py"
         [ "$i" = $((n / 2)) ] && shot 1-mid-turn
     done
     xdotool mouseup 1
@@ -75,7 +75,7 @@ xdotool mousemove $((ix + 20)) $((iy + ih - 20))
 xdotool key y
 wait_for "the turn handle" mode_is turn
 wait_for "the rings" has_state turn_ring_z
-sleep 0.3
+input_seen
 shot 1-rings
 read -r rx ry <<< "$(state turn_ring_z)"
 echo "z ring at $rx $ry"
@@ -96,7 +96,7 @@ step "U: the size handle; its middle box right by a handle's length with Shift"
 xdotool key u
 wait_for "the size handle" mode_is size
 wait_for "the boxes" eval 'has_state size_box_x || has_state size_box_y'
-sleep 0.3
+input_seen
 shot 2-boxes
 box=$(state size_box_y)
 [ -n "$box" ] || box=$(state size_box_x)
@@ -104,10 +104,11 @@ read -r bx by <<< "$box"
 len=$(awk -v x="$bx" -v y="$by" -v hx="$hx" -v hy="$hy" 'BEGIN { printf "%d\n", sqrt((x - hx) ^ 2 + (y - hy) ^ 2) + 0.5 }')
 echo "handle length $len"
 xdotool keydown shift
-xdotool mousemove "$hx" "$hy" mousedown 1
+pointer_to "$hx" "$hy"
+xdotool mousedown 1
+wait_for "the button to be down" eval '[[ "$(state pointer)" == *down ]]'
 for i in $(seq 1 10); do
-    xdotool mousemove $((hx + len * i / 10)) "$hy"
-    sleep 0.05
+    pointer_to $((hx + len * i / 10)) "$hy"
     [ "$i" = 5 ] && shot 2-mid-size
 done
 xdotool mouseup 1

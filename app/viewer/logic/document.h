@@ -291,6 +291,8 @@ private:
     // The name of the held edit: as given to name_edit(), else from what it touched.
     std::string held_name() const;
     void apply_step(const DocStep& s, bool forward);
+    // undo() (forward false) or redo(): the held edit and typing committed first.
+    bool take_step(bool forward);
     // The scene's content changed as `delta` says: a new content version, logged for
     // changes_since().
     void changed(rt::SceneDelta delta);

@@ -16,6 +16,39 @@ namespace rtview {
 
 namespace {
 
+// A delta of item `i` of one of the scene's lists (`list`, `size` long): empty when `i`
+// is past the end.
+rt::SceneDelta one_item(std::vector<std::uint32_t> rt::SceneDelta::*list, std::size_t i, std::size_t size) {
+    rt::SceneDelta d;
+    if (i < size) (d.*list).push_back(std::uint32_t(i));
+    return d;
+}
+
+// `s` with the items as they were before an edit put back, each (index, item).
+template <class Objects, class Planes, class Lights, class Materials, class Defined>
+rt::Scene put_back(rt::Scene s, const Objects& objects, const Planes& planes, const Lights& lights,
+                   const Materials& materials, const Defined& defined, const std::optional<rt::Camera>& camera) {
+    auto back = [](auto& items, const auto& before) {
+        for (const auto& p : before) items[p.first] = p.second;
+    };
+    back(s.objects, objects);
+    back(s.planes, planes);
+    back(s.lights, lights);
+    back(s.materials, materials);
+    back(s.defined, defined);
+    if (camera) s.camera = *camera;
+    return s;
+}
+
+// Item `i` of `items`, kept in `saved` as it is now the first time the held edit touches
+// it (unless the edit keeps the whole scene).
+template <class T>
+T& keep_first(std::vector<std::pair<std::size_t, T>>& saved, std::vector<T>& items, std::size_t i, bool whole) {
+    if (!whole && std::none_of(saved.begin(), saved.end(), [i](const auto& p) { return p.first == i; }))
+        saved.push_back({i, items.at(i)});
+    return items.at(i);
+}
+
 // The layout after [pos, pos + old_len) of the text became new_len bytes long: spans
 // after it move, the span that was it (if any) takes the new length.
 void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::size_t new_len) {
@@ -112,35 +145,20 @@ std::string Document::held_name() const {
 
 rt::Object& Document::edit_object(std::size_t i) {
     hold_edit();
-    rt::SceneDelta d;
-    if (i < scene_.objects.size()) d.objects.push_back(std::uint32_t(i));
-    changed(std::move(d));
-    auto& v = saved_.objects;
-    if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
-        v.push_back({i, scene_.objects.at(i)});
-    return scene_.objects.at(i);
+    changed(one_item(&rt::SceneDelta::objects, i, scene_.objects.size()));
+    return keep_first(saved_.objects, scene_.objects, i, saved_.whole.has_value());
 }
 
 rt::Plane& Document::edit_plane(std::size_t i) {
     hold_edit();
-    rt::SceneDelta d;
-    if (i < scene_.planes.size()) d.planes.push_back(std::uint32_t(i));
-    changed(std::move(d));
-    auto& v = saved_.planes;
-    if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
-        v.push_back({i, scene_.planes.at(i)});
-    return scene_.planes.at(i);
+    changed(one_item(&rt::SceneDelta::planes, i, scene_.planes.size()));
+    return keep_first(saved_.planes, scene_.planes, i, saved_.whole.has_value());
 }
 
 rt::Light& Document::edit_light(std::size_t i) {
     hold_edit();
-    rt::SceneDelta d;
-    if (i < scene_.lights.size()) d.lights.push_back(std::uint32_t(i));
-    changed(std::move(d));
-    auto& v = saved_.lights;
-    if (!saved_.whole && std::none_of(v.begin(), v.end(), [i](const auto& p) { return p.first == i; }))
-        v.push_back({i, scene_.lights.at(i)});
-    return scene_.lights.at(i);
+    changed(one_item(&rt::SceneDelta::lights, i, scene_.lights.size()));
+    return keep_first(saved_.lights, scene_.lights, i, saved_.whole.has_value());
 }
 
 rt::Camera& Document::edit_camera() {
@@ -158,14 +176,8 @@ rt::Scene& Document::edit() {
 
 rt::Scene Document::scene_before_edit() const {
     if (saved_.whole) return *saved_.whole;
-    rt::Scene s = scene_;
-    for (const auto& p : saved_.objects) s.objects[p.first] = p.second;
-    for (const auto& p : saved_.planes) s.planes[p.first] = p.second;
-    for (const auto& p : saved_.lights) s.lights[p.first] = p.second;
-    for (const auto& p : saved_.materials) s.materials[p.first] = p.second;
-    for (const auto& p : saved_.defined) s.defined[p.first] = p.second;
-    if (saved_.camera) s.camera = *saved_.camera;
-    return s;
+    return put_back(scene_, saved_.objects, saved_.planes, saved_.lights, saved_.materials, saved_.defined,
+                    saved_.camera);
 }
 
 void Document::cancel_edit() {
@@ -475,14 +487,8 @@ std::string Document::take_refusal() {
 
 rt::Scene Document::scene_before_edit_from(const DocStep& step) const {
     if (saved_.whole) return *saved_.whole;
-    rt::Scene s = scene_;
-    for (const auto& p : step.objects_before) s.objects[p.first] = p.second;
-    for (const auto& p : step.planes_before) s.planes[p.first] = p.second;
-    for (const auto& p : step.lights_before) s.lights[p.first] = p.second;
-    for (const auto& p : step.materials_before) s.materials[p.first] = p.second;
-    for (const auto& p : step.defined_before) s.defined[p.first] = p.second;
-    if (step.camera_before) s.camera = *step.camera_before;
-    return s;
+    return put_back(scene_, step.objects_before, step.planes_before, step.lights_before, step.materials_before,
+                    step.defined_before, step.camera_before);
 }
 
 HeldEdit Document::held_edit() const {

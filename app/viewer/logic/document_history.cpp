@@ -234,22 +234,16 @@ void Document::restore_plane(std::size_t i, const rt::Plane& p) {
     refresh_texture(slot.material2);
 }
 
-bool Document::undo() {
-    commit();
-    flush_typing();
-    const DocStep* s = history_.undo();
-    if (!s) return false;
-    apply_step(*s, false);
-    last_step_name_ = s->name;
-    return true;
-}
+bool Document::undo() { return take_step(false); }
 
-bool Document::redo() {
+bool Document::redo() { return take_step(true); }
+
+bool Document::take_step(bool forward) {
     commit();
     flush_typing();
-    const DocStep* s = history_.redo();
+    const DocStep* s = forward ? history_.redo() : history_.undo();
     if (!s) return false;
-    apply_step(*s, true);
+    apply_step(*s, forward);
     last_step_name_ = s->name;
     return true;
 }

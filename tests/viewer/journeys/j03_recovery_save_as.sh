@@ -18,8 +18,7 @@ wait_state editor_grid "nowrap"
 key ctrl+Home
 type_text "// a note"
 key Return
-for _ in $(seq 1 100); do [ "$(copies)" -ge 1 ] && break; sleep 0.1; done
-[ "$(copies)" -ge 1 ] || fail "no recovery copy was written for the unsaved text"
+wait_until '[ "$(copies)" -ge 1 ]' 10 "a recovery copy of the unsaved text"
 
 step "save as b.txt and quit normally"
 key Escape ctrl+shift+s

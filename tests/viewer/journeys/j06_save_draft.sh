@@ -104,7 +104,6 @@ wait_state popups "Unsaved changes"
 click_item button_unsaved_save
 wait_state popups "The scene text has errors"
 click_item button_save_anyway
-for _ in $(seq 1 100); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
-kill -0 "$VIEWER_PID" 2>/dev/null && fail "the window stayed open after Save it anyway"
+wait_until '! kill -0 "$VIEWER_PID" 2>/dev/null' 10 "the window to close after Save it anyway"
 grep -q '^    radius 0.5x$' "$SCENE" || fail "the text was not saved: $(sed -n 6p "$SCENE")"
 echo PASS

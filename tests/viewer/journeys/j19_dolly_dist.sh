@@ -14,8 +14,12 @@ d0=$(state view_angles | awk '{ print $3 }')
 echo "eye $eye0, dist $d0"
 
 step "three wheel notches toward the middle of the picture"
-xdotool mousemove $((ix + iw / 2)) $((iy + ih / 2))
-for _ in 1 2 3; do xdotool click 4; sleep 0.1; done
+pointer_to $((ix + iw / 2)) $((iy + ih / 2))
+for _ in 1 2 3; do
+    eye=$(state view_eye)
+    xdotool click 4
+    wait_until '[ "$(state view_eye)" != "$eye" ]' 5 "a wheel notch to move the eye"
+done
 idle 1
 wait_state render "done" 60
 shot 1-dollied

@@ -12,14 +12,16 @@
 # Usage: j30_zoom_keeps_render.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
 
-# One Ctrl+wheel notch in at (X, Y), the keys and the wheel as separate events.
+# One Ctrl+wheel notch in at (X, Y), the keys and the wheel as separate events: each
+# taken by the viewer (the zoom changed) before the next.
 ctrl_wheel_in() {
-    xdotool mousemove "$1" "$2"
-    sleep 0.1
+    local zoom
+    zoom=$(state zoom)
+    pointer_to "$1" "$2"
     xdotool keydown ctrl
-    sleep 0.1
+    input_seen
     xdotool click 4
-    sleep 0.2
+    wait_until '[ "$(state zoom)" != "$zoom" ]' 3 "Ctrl+wheel to zoom in (zoom $zoom)"
     xdotool keyup ctrl
 }
 
@@ -59,18 +61,17 @@ shot 2-zoomed
 
 step "pan the zoomed picture (Ctrl+right drag)"
 before=$(region image)
-xdotool mousemove $((ix + iw / 2)) $((iy + ih / 2))
+pointer_to $((ix + iw / 2)) $((iy + ih / 2))
 xdotool keydown ctrl
-sleep 0.1
+input_seen
 xdotool mousedown 3
-sleep 0.1
+wait_state pointer " down$"
 for i in $(seq 1 12); do
-    xdotool mousemove $((ix + iw / 2 + i * 8)) $((iy + ih / 2 + i * 5))
-    sleep 0.03
+    pointer_to $((ix + iw / 2 + i * 8)) $((iy + ih / 2 + i * 5))
 done
 shot 3-mid-pan
 xdotool mouseup 3
-sleep 0.1
+wait_state pointer "^[0-9]+ [0-9]+( ui)?$"
 xdotool keyup ctrl
 wait_state popups '^none$' 2
 [ "$(region image)" != "$before" ] || fail "the pan did not move the picture ($before)"
@@ -81,15 +82,15 @@ read -r ax ay aw ah <<< "$(region area)"
 xdotool mousemove $((ax + 25)) $((ay + 25))
 key 1
 wait_state zoom '^1\.0+$' 3
-for _ in $(seq 1 20); do [ "$(field image 3)" = 640 ] && break; sleep 0.1; done
+wait_until '[ "$(field image 3)" = 640 ]' 2 "the picture 640 pixels wide at 1:1"
 read -r zx zy zw zh <<< "$(region image)"
 [ "$zw $zh" = "640 480" ] || fail "at 1:1 the picture should be 640x480 on the screen, it is ${zw}x${zh}"
 dx=$((2 * zx + zw - 2 * ax - aw)) dy=$((2 * zy + zh - 2 * ay - ah))
 [ "${dx#-}" -le 1 ] && [ "${dy#-}" -le 1 ] ||
     fail "at 1:1 the picture is at $zx,$zy, not centred in the area ($ax $ay $aw $ah)"
 same_render "1:1"
-xdotool mousemove $((ax + aw + 50)) $((ay + 50))  # off the picture: no readout over it
-idle 0.5
+pointer_to $((ax + aw + 50)) $((ay + 50))  # off the picture: no readout over it
+wait_state readout '^none$' 5
 IMAGE="$zx $zy $zw $zh"
 wait_stable 4-one-to-one
 "$TOOL" match "$OUT/4-one-to-one.png" "$zx" "$zy" 640 480 "$OUT/ref.png" ||

@@ -18,8 +18,7 @@ snapshot_resize_difference() {
     wait_state message "^Kept snapshot 1" 5
     xdotool windowsize "$WID" 1100 700
     # (Under load the window manager's resize and the next frame may take a while.)
-    for _ in $(seq 1 200); do [ "$(field window 3) $(field window 4)" = "1100 700" ] && break; sleep 0.1; done
-    [ "$(field window 3) $(field window 4)" = "1100 700" ] || fail "the window was not resized: $(region window)"
+    wait_until '[ "$(field window 3) $(field window 4)" = "1100 700" ]' 20 "the window resized to 1100x700"
     idle 1
     wait_state render "^16 done" 120
     key b
@@ -44,9 +43,7 @@ factor=$(echo "$legend" | awk '{ print $5 }')
     fail "the scale slider shows '$(state difference_scale)' while the difference is scaled x $factor"
 
 step "fill the window: snapshot, resize, difference"
-key ctrl+q
-for _ in $(seq 1 50); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
-kill -0 "$VIEWER_PID" 2>/dev/null && fail "Ctrl+Q did not close the window"
+quit_viewer
 start_viewer "$SCENES/default.txt" --samples 16 --aa-threshold off --tab render --fit window
 wait_state render "^16 done" 120
 snapshot_resize_difference

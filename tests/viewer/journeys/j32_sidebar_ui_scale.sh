@@ -29,13 +29,11 @@ shot 1-scale-2x
 step "drag the sidebar's edge 230 pixels to the left"
 wait_state render "^16 done" 120
 film=$(state film)
-xdotool mousemove "$sx" $((wh / 2))
-sleep 0.3
+pointer_to "$sx" $((wh / 2))
 xdotool mousedown 1
-sleep 0.2
+wait_state pointer " down$"
 for i in $(seq 1 23); do
-    xdotool mousemove $((sx - i * 10)) $((wh / 2))
-    sleep 0.04
+    pointer_to $((sx - i * 10)) $((wh / 2))
 done
 idle 0.5
 shot 2-mid-drag
@@ -53,9 +51,8 @@ status_h=$(field status 4)
 read -r ix iy iw ih <<< "$(region image)"
 last=none
 for k in 1 2 3 4 5 6 7; do
-    xdotool mousemove $((ix + iw * k / 8)) $((iy + ih * (9 - k) / 10))
-    idle 0.4
-    for _ in $(seq 1 30); do [ "$(state readout)" != "$last" ] && break; sleep 0.1; done
+    pointer_to $((ix + iw * k / 8)) $((iy + ih * (9 - k) / 10))
+    wait_until '[ "$(state readout)" != "$last" ]' 3 "the readout of the pixel under the pointer"
     last=$(state readout)
     rows=$(state status_rows)
     echo "status bar: $rows"
@@ -82,9 +79,7 @@ idle 0.5
 [ "$(field sidebar 3)" = "$sw2" ] || fail "Tab brought the sidebar back $(field sidebar 3) wide, not $sw2"
 
 step "quit and start again: the sidebar keeps its width"
-key ctrl+q
-for _ in $(seq 1 50); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
-kill -0 "$VIEWER_PID" 2>/dev/null && fail "Ctrl+Q did not close the window"
+quit_viewer
 grep -q '^sidebar_share ' "$XDG_CONFIG_HOME/raytracer-view/settings.txt" ||
     fail "settings.txt does not keep the sidebar's width: $(cat "$XDG_CONFIG_HOME/raytracer-view/settings.txt")"
 start_viewer "$SCENES/default.txt" --samples 16 --aa-threshold off

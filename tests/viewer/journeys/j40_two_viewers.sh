@@ -24,9 +24,8 @@ key ctrl+Home
 type_text "// A's note"
 key Return
 wait_state text "^unapplied$" 5
-for _ in $(seq 1 100); do [ -n "$(copy_of_a)" ] && grep -q "^// A's note$" "$(copy_of_a)" && break; sleep 0.1; done
+wait_until '[ -n "$(copy_of_a)" ] && grep -q "^// A'"'"'s note$" "$(copy_of_a)"' 10 "viewer A's recovery copy"
 COPY=$(copy_of_a)
-[ -n "$COPY" ] && grep -q "^// A's note$" "$COPY" || fail "viewer A wrote no recovery copy"
 wait_state held_elsewhere "^0$" 1
 
 step "viewer B on the same file: no recovery offer, it names A"

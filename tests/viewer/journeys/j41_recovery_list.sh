@@ -19,8 +19,7 @@ wait_state editor_grid "nowrap"
 key ctrl+Home
 type_text "// kept note"
 key Return
-for _ in $(seq 1 100); do grep -lq "^// kept note$" "$RECOVERY"/*.txt 2>/dev/null && break; sleep 0.1; done
-grep -lq "^// kept note$" "$RECOVERY"/*.txt 2>/dev/null || fail "no recovery copy was written"
+wait_until 'grep -lq "^// kept note$" "$RECOVERY"/*.txt 2>/dev/null' 10 "a recovery copy of the typed text"
 kill_viewer
 
 step "start with no file: the copy of s.txt is listed"

@@ -90,7 +90,7 @@ wait_state selection "^plane_1$"
 # (The properties scroll: the wheel over the first point's field.)
 read -r px py <<< "$(item_xy field_point_1)"
 scroll_to button_material_1_texture_browse "$px" "$py"
-xdotool click 5; sleep 0.3  # the whole row in sight
+wheel_down "to bring the whole row in sight"
 choose_texture() {
     click_item button_material_1_texture_browse
     wait_state popups "Choose texture"

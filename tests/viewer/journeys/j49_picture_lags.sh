@@ -58,8 +58,7 @@ after() {
     wait_state scene_size "^$size objects" 60
     # The render of the new scene, then its end.
     wait_state film "generation ([0-9]+)$" 1
-    for _ in $(seq 1 2400); do [ "$(generation)" != "$gen" ] && break; sleep 0.05; done
-    [ "$(generation)" != "$gen" ] || fail "$what: no new render after 120 s"
+    wait_until '[ "$(generation)" != "$gen" ]' 120 "$what: a new render"
     wait_state status_bar "settled|done" 120
     frames_since "$from" "$size" "$gen" "$what"
     wait_state picture "^current$" 1

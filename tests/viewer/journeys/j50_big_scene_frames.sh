@@ -22,11 +22,13 @@ step "start on the grid: the first frame, with the load's progress, at once"
 read -r sw sh <<< "$(echo "$SCREEN" | tr x ' ')"
 "$BIN/rtview-xframes" 0 $((sh - 60)) 1000 60 10 4 > "$OUT/first-frame.txt" &
 XF=$!
-sleep 0.2
+wait_until 'grep -q "^start " "$OUT/first-frame.txt"' 5 "rtview-xframes to start watching"
+launched=$EPOCHREALTIME
 (cd "$OUT" && exec "$BIN/raytracer-view" "$SCENE" --size "$SCREEN" --print-layout --verbose > "$LAYOUT" 2> "$OUT/viewer.err") &
 VIEWER_PID=$!
 wait "$XF"
-first=$(awk '$2 == "change" { print $1 - 0.2; exit }' "$OUT/first-frame.txt")
+# Seconds from the start to the first change: xframes' times count from its "start".
+first=$(awk -v l="${launched/,/.}" '$1 == "start" { s = $2 } $2 == "change" { printf "%.3f\n", s + $1 - l; exit }' "$OUT/first-frame.txt")
 echo "first frame on the screen $first s after the start; load: $(state load)"
 [ -n "$first" ] || fail "nothing was drawn in 4 s"
 [ "$(echo "$first < 1" | bc)" = 1 ] || fail "the first frame came $first s after the start"

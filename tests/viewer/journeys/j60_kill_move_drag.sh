@@ -15,12 +15,11 @@ select_outline object_2
 before=$(state value_position)
 hx=$(field handle 1) hy=$(field handle 2)
 # The y arrow points left in this view (the camera looks along +x, z up).
-xdotool mousemove $((hx - 45)) "$hy"
-sleep 0.1
+pointer_to $((hx - 45)) "$hy"
 xdotool mousedown 1
+wait_state pointer " down$"
 for i in $(seq 1 10); do
-    xdotool mousemove $((hx - 45 - 10 * i)) "$hy"
-    sleep 0.05
+    pointer_to $((hx - 45 - 10 * i)) "$hy"
 done
 wait_changed value_position "$before"
 # Held still for more than a second: no work of the last second is at stake.

@@ -17,12 +17,11 @@ before=$(state value_radius)
 wait_state field_radius "^[0-9]+ [0-9]+ [0-9]+ [0-9]+$"
 read -r fx fy fw fh <<< "$(state field_radius)"
 x0=$((fx + fw / 2)) y0=$((fy + fh / 2))
-xdotool mousemove "$x0" "$y0"
-sleep 0.1
+pointer_to "$x0" "$y0"
 xdotool mousedown 1
+wait_state pointer " down$"
 for i in $(seq 1 10); do
-    xdotool mousemove $((x0 + 6 * i)) "$y0"
-    sleep 0.05
+    pointer_to $((x0 + 6 * i)) "$y0"
 done
 wait_changed value_radius "$before"
 idle 1.5

@@ -22,12 +22,8 @@ select_outline() {
 }
 
 wait_changed() {
-    local i
-    for i in $(seq 1 200); do
-        [ "$(state "$1")" != "$2" ] && return 0
-        sleep 0.05
-    done
-    fail "'$1' stayed '$2'"
+    local k=$1 was=$2
+    wait_until '[ "$(state "$k")" != "$was" ]' 10 "'$k' to change from '$was'"
 }
 
 kill_viewer() {

@@ -14,6 +14,8 @@
 #   start_viewer SCENE [ARGS...]   start the window on a scene file (a copy in $OUT)
 #   state KEY                      the last drawn frame's value of KEY
 #   wait_state KEY REGEX [SECS]    wait (no input) until it matches; fail if it never does
+#   wait_until CONDITION SECS [WHAT]  wait until the shell text CONDITION holds, or fail
+#                                  (../wait_until.sh): the one way a journey waits
 #   idle SECS                      no input at all for SECS
 #   field NAME K / region NAME     the layout's rectangles (as the older Xvfb tests)
 #   click X Y [BUTTON], key KEYS..., type TEXT, shot NAME
@@ -22,6 +24,8 @@
 #   item_xy / click_item / hover_item KEY   a probed item's (probe_item) centre; click it;
 #                                  rest the pointer on it (a submenu opens on hover)
 #   drag X0 Y0 X1 Y1 [BUTTON], scroll_to KEY X Y, region_mid NAME
+#   pointer_to X Y                 move the pointer, wait for a frame that saw it there
+#   input_seen                     wait until the viewer took every input sent so far
 #   type_value FIELD TEXT [NAME]   Ctrl+click a panel field, type TEXT, Enter
 #   picture_agrees NAME            the picture equals `raytracer`'s render of $SCENE
 set -euo pipefail
@@ -63,6 +67,8 @@ fail() {
     exit 1
 }
 step() { echo "== $*"; }
+# shellcheck source=../wait_until.sh
+source "$HERE/../wait_until.sh"
 
 # The X server, on the first free display number. Its key autorepeat waits a minute:
 # on a busy machine xdotool may hold a key for longer than the usual 660 ms between
@@ -71,8 +77,7 @@ exec 5> "$OUT/.display"
 Xvfb -displayfd 5 -screen 0 "${SCREEN}x24" -nolisten tcp -ardelay 60000 > "$OUT/xvfb.log" 2>&1 &
 XVFB_PID=$!
 exec 5>&-
-for _ in $(seq 1 100); do [ -s "$OUT/.display" ] && break; sleep 0.05; done
-[ -s "$OUT/.display" ] || fail "Xvfb did not start: $(cat "$OUT/xvfb.log")"
+wait_until '[ -s "$OUT/.display" ]' 5 "Xvfb to start (its log: $OUT/xvfb.log)"
 export DISPLAY=":$(head -1 "$OUT/.display")"
 
 # The fonts setup.sh installs (fonts-dejavu-core): journeys run with them, as users do.
@@ -85,7 +90,9 @@ title() { xdotool getwindowname "$WID"; }
 click() { xdotool mousemove "$1" "$2" click "${3:-1}"; }
 key() { xdotool key --delay 40 "$@"; }
 type_text() { xdotool type --delay 30 "$1"; }
-# No input at all for $1 seconds: the mouse rests wherever it is.
+# No input at all for $1 seconds: the mouse rests wherever it is. The rest itself is
+# what a journey checks (nothing may change, or wait for input, meanwhile), so it is a
+# fixed time on purpose.
 idle() { sleep "$1"; }
 
 LAYOUT=$OUT/layout.txt
@@ -97,13 +104,10 @@ field() { last_frame | awk -v n="$1" -v k="$2" '$1 == n { v = $(k + 1) } END { p
 region() { echo "$(field "$1" 1) $(field "$1" 2) $(field "$1" 3) $(field "$1" 4)"; }
 state() { last_frame | awk -v k="$1" '$1 == "state" && $2 == k { sub("^state " k " ?", ""); v = $0 } END { print v }'; }
 # Waits, with no input, until state $1 matches the extended regex $2 (within $3 s).
+state_matches() { state "$1" | grep -Eq -- "$2"; }
 wait_state() {
-    local k=$1 re=$2 secs=${3:-10} i
-    for i in $(seq 1 $((secs * 20))); do
-        if state "$k" | grep -Eq -- "$re"; then return 0; fi
-        sleep 0.05
-    done
-    fail "after ${secs} s, '$k' is '$(state "$k")', expected /$re/"
+    local k=$1 re=$2 secs=${3:-10}
+    wait_until 'state_matches "$k" "$re"' "$secs" "'$k' to match /$re/"
 }
 
 # start_viewer SCENE [ARGS...]: the window on a copy of SCENE in $OUT ($SCENE; SCENE
@@ -145,8 +149,7 @@ image_region() {
 
 quit_viewer() {
     key ctrl+q
-    for _ in $(seq 1 100); do kill -0 "$VIEWER_PID" 2>/dev/null || break; sleep 0.1; done
-    kill -0 "$VIEWER_PID" 2>/dev/null && fail "Ctrl+Q did not quit"
+    wait_until '! kill -0 "$VIEWER_PID" 2>/dev/null' 10 "the viewer to quit on Ctrl+Q"
     wait "$VIEWER_PID" 2>/dev/null || true
     VIEWER_PID=
 }
@@ -166,6 +169,8 @@ wait_stable() {
     local name=$1 prev="$OUT/.stable-prev.png" d
     shot "$name"
     for _ in $(seq 1 120); do
+        # The time over which the picture must not change: the wait itself is what
+        # "settled" means here (a bounded poll).
         sleep 0.3
         cp "$OUT/$name.png" "$prev"
         shot "$name"
@@ -234,31 +239,53 @@ type_value() {
     type_text "$2"
     key Return
 }
-# drag X0 Y0 X1 Y1 [BUTTON]: presses at (X0, Y0), moves to (X1, Y1) in 20 steps a frame
-# or so apart, releases.
+# pointer_to X Y: moves the pointer to (X, Y) and waits for a frame that saw it there
+# (state pointer: "X Y", then " ui" over a panel, " down" with a button held).
+pointer_to() {
+    xdotool mousemove "$1" "$2"
+    wait_state pointer "^$1 $2( |\$)"
+}
+# input_seen: waits until the viewer has taken every input event sent so far (a key
+# held, a button): X delivers them in order, so a frame that saw the pointer move a
+# pixel away and back saw them too.
+input_seen() {
+    local X Y SCREEN WINDOW
+    eval "$(xdotool getmouselocation --shell)"
+    pointer_to $((X + 1)) "$Y"
+    pointer_to "$X" "$Y"
+}
+# drag X0 Y0 X1 Y1 [BUTTON]: presses at (X0, Y0), moves to (X1, Y1) in 20 steps, each
+# seen by a frame of its own, releases.
 drag() {
     local x0=$1 y0=$2 x1=$3 y1=$4 b=${5:-1} i
-    xdotool mousemove "$x0" "$y0"
-    sleep 0.1
+    pointer_to "$x0" "$y0"
     xdotool mousedown "$b"
+    wait_state pointer " down\$"
     for i in $(seq 1 20); do
-        xdotool mousemove $((x0 + (x1 - x0) * i / 20)) $((y0 + (y1 - y0) * i / 20))
-        sleep 0.03
+        pointer_to $((x0 + (x1 - x0) * i / 20)) $((y0 + (y1 - y0) * i / 20))
     done
-    sleep 0.1
     xdotool mouseup "$b"
 }
+# The number of layouts the viewer printed: a frame that changed anything adds one.
+layouts() { grep -c '^end-layout$' "$LAYOUT"; }
 # scroll_to KEY X Y: scrolls the wheel at (X, Y) (over the outline, the properties...)
-# until the item KEY is on the screen.
+# a notch at a time, each seen by a frame, until the item KEY is on the screen.
 scroll_to() {
-    local key=$1 i
-    xdotool mousemove "$2" "$3"
+    local key=$1 i n
+    pointer_to "$2" "$3"
     for i in $(seq 1 20); do
         [ -n "$(state "$key")" ] && return 0
-        xdotool click 5
-        sleep 0.15
+        wheel_down "looking for '$key'"
     done
     fail "scrolling at $2 $3 never showed '$key'"
+}
+# wheel_down [WHY]: one notch of the wheel down where the pointer is, and waits for the
+# frame that scrolled.
+wheel_down() {
+    local n
+    n=$(layouts)
+    xdotool click 5
+    wait_until '[ "$(layouts)" -gt "$n" ]' 5 "the wheel to scroll ${1:-}"
 }
 # The middle of the layout's REGION: "x y".
 region_mid() { region "$1" | awk '{ printf "%d %d\n", $1 + $3 / 2, $2 + $4 / 2 }'; }
