@@ -163,6 +163,44 @@ bool update_planes(World& w, const Scene& scene, const SceneDelta& delta) {
     return true;
 }
 
+// The slot of each object number before the edit.
+std::vector<std::uint32_t> slots_before(const World& previous) {
+    if (previous.slots) return previous.slots->slot;
+    std::vector<std::uint32_t> slot_of(previous.object_count());
+    for (std::size_t i = 0; i < slot_of.size(); ++i) slot_of[i] = std::uint32_t(i);
+    return slot_of;
+}
+
+// The slot map after the delta's splices (an inserted object has no slot yet); the slots
+// of removed objects go to `removed`. False if a splice is out of range or the count does
+// not come out as the scene's.
+bool splice_slot_map(const SceneDelta& delta, const World& previous, std::size_t count,
+                     std::vector<std::uint32_t>& slot_of, std::vector<std::uint32_t>& removed) {
+    slot_of = slots_before(previous);
+    for (const SceneDelta::Splice& s : delta.object_splices) {
+        if (s.insert ? s.at > slot_of.size() : s.at >= slot_of.size()) return false;
+        if (s.insert) {
+            slot_of.insert(slot_of.begin() + std::ptrdiff_t(s.at), World::Slots::kNone);
+        } else {
+            if (slot_of[s.at] != World::Slots::kNone) removed.push_back(slot_of[s.at]);
+            slot_of.erase(slot_of.begin() + std::ptrdiff_t(s.at));
+        }
+    }
+    return slot_of.size() == count;
+}
+
+// The changed objects' materials written, and the tallies of every material chunk written
+// (those in `material_chunks` already, and those this writes).
+void update_material_tallies(World& w, const Scene& scene, const SlotPairs& changed,
+                             std::vector<std::size_t>& material_chunks, World::Tallies& tallies) {
+    const std::vector<std::size_t> written = update_materials(w, scene, changed);
+    material_chunks.insert(material_chunks.end(), written.begin(), written.end());
+    std::sort(material_chunks.begin(), material_chunks.end());
+    material_chunks.erase(std::unique(material_chunks.begin(), material_chunks.end()), material_chunks.end());
+    tallies.materials.resize(w.materials.chunk_count());
+    for (std::size_t c : material_chunks) tallies.materials[c] = detail::tally_materials(w.materials, c);
+}
+
 }  // namespace
 
 namespace detail {
@@ -179,40 +217,18 @@ std::shared_ptr<const World> update_world(const World& previous, const Scene& sc
     std::vector<std::size_t> material_chunks;
     SlotPairs changed, which;
     std::vector<std::uint32_t> reslotted, slot_of, removed;
-    {
-        if (spliced) {
-            slot_of = previous.slots ? previous.slots->slot : std::vector<std::uint32_t>();
-            if (!previous.slots) {
-                slot_of.resize(previous.object_count());
-                for (std::size_t i = 0; i < slot_of.size(); ++i) slot_of[i] = std::uint32_t(i);
-            }
-            for (const SceneDelta::Splice& s : delta.object_splices) {
-                if (s.insert ? s.at > slot_of.size() : s.at >= slot_of.size()) return nullptr;
-                if (s.insert) {
-                    slot_of.insert(slot_of.begin() + std::ptrdiff_t(s.at), World::Slots::kNone);
-                } else {
-                    if (slot_of[s.at] != World::Slots::kNone) removed.push_back(slot_of[s.at]);
-                    slot_of.erase(slot_of.begin() + std::ptrdiff_t(s.at));
-                }
-            }
-            if (slot_of.size() != scene.objects.size()) return nullptr;
-        }
-        changed.reserve(delta.objects.size());
-        for (std::uint32_t i : delta.objects) {
-            if (i >= scene.objects.size()) return nullptr;
-            const std::uint32_t s = spliced ? slot_of[i] : previous.slot_of(i);
-            if (s != World::Slots::kNone) changed.push_back({s, i});
-        }
+    if (spliced && !splice_slot_map(delta, previous, scene.objects.size(), slot_of, removed)) return nullptr;
+    changed.reserve(delta.objects.size());
+    for (std::uint32_t i : delta.objects) {
+        if (i >= scene.objects.size()) return nullptr;
+        const std::uint32_t s = spliced ? slot_of[i] : previous.slot_of(i);
+        if (s != World::Slots::kNone) changed.push_back({s, i});
     }
     if (!moved && !find_moved(*previous.geometry, scene, changed, which, reslotted)) return nullptr;
     std::shared_ptr<Geometry> edited;  // the geometry, once splices changed it
     if (spliced || !reslotted.empty()) {
         edited = std::make_shared<Geometry>(*previous.geometry);
-        if (!spliced) {
-            slot_of = previous.slots ? previous.slots->slot : std::vector<std::uint32_t>(scene.objects.size());
-            if (!previous.slots)
-                for (std::size_t i = 0; i < slot_of.size(); ++i) slot_of[i] = std::uint32_t(i);
-        }
+        if (!spliced) slot_of = slots_before(previous);
         if (!splice_objects(*w, previous, *edited, scene, std::move(slot_of), std::move(removed), reslotted, links,
                             material_chunks))
             return nullptr;
@@ -240,12 +256,7 @@ std::shared_ptr<const World> update_world(const World& previous, const Scene& sc
         for (std::size_t c = 0; c < boxes.chunk_count(); ++c)
             if (!boxes.shares_chunk(previous.geometry->object_bounds, c)) tallies->boxes[c] = tally_boxes(boxes, c);
     }
-    const std::vector<std::size_t> written = update_materials(*w, scene, changed);
-    material_chunks.insert(material_chunks.end(), written.begin(), written.end());
-    std::sort(material_chunks.begin(), material_chunks.end());
-    material_chunks.erase(std::unique(material_chunks.begin(), material_chunks.end()), material_chunks.end());
-    tallies->materials.resize(w->materials.chunk_count());
-    for (std::size_t c : material_chunks) tallies->materials[c] = tally_materials(w->materials, c);
+    update_material_tallies(*w, scene, changed, material_chunks, *tallies);
     const bool planes_changed = update_planes(*w, scene, delta);
     const bool lights_changed = update_lights(*w, scene, delta);
     if (lights_changed) add_glow_bvh(*w, &previous);

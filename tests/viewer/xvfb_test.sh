@@ -152,7 +152,7 @@ wait_stable panned
 xdotool key ctrl+q
 wait_until '[[ "$(state popups)" == *Unsaved* ]]' 10 "Ctrl+Q to ask about the unsaved changes"
 kill -0 "$VIEWER_PID" 2>/dev/null || fail "the viewer quit without asking"
-shot asking
+wait_stable asking   # the modal's dimming fades in over a few frames
 dim=$("$TOOL" diff "$OUT/panned.png" "$OUT/asking.png" $IMAGE)
 awk -v c="$dim" 'BEGIN { exit !(c > 0.5) }' || fail "no modal dialog (image region changed only $dim)"
 xdotool key Escape

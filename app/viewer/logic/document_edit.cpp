@@ -366,33 +366,23 @@ bool Document::commit_in_place(DocStep& step) {
         return true;
     };
     auto block = [&](TextSpan span) { return std::string_view(editor_).substr(span.begin, span.end - span.begin); };
-    for (std::size_t k = 0; k < step.objects_after.size(); ++k) {
-        const auto& p = step.objects_after[k];
-        one.objects = {p.second};
-        const std::optional<TextSpan> span = span_of(ItemList::Object, p.first);
-        if (!span || !add(*span, ItemList::Object, patch_block(block(*span), step.objects_before[k].second, p.second),
-                          step.objects_before[k].second.loc))
-            return false;
-    }
-    one.objects.clear();
-    for (std::size_t k = 0; k < step.planes_after.size(); ++k) {
-        const auto& p = step.planes_after[k];
-        one.planes = {p.second};
-        const std::optional<TextSpan> span = span_of(ItemList::Plane, p.first);
-        if (!span || !add(*span, ItemList::Plane, patch_block(block(*span), step.planes_before[k].second, p.second),
-                          step.planes_before[k].second.loc))
-            return false;
-    }
-    one.planes.clear();
-    for (std::size_t k = 0; k < step.lights_after.size(); ++k) {
-        const auto& p = step.lights_after[k];
-        one.lights = {p.second};
-        const std::optional<TextSpan> span = span_of(ItemList::Light, p.first);
-        if (!span || !add(*span, ItemList::Light, patch_block(block(*span), step.lights_before[k].second, p.second),
-                          step.lights_before[k].second.loc))
-            return false;
-    }
-    one.lights.clear();
+    // Each changed item's block, written with `one` holding just that item.
+    auto items = [&](const auto& after, const auto& before, auto& list, ItemList kind) {
+        for (std::size_t k = 0; k < after.size(); ++k) {
+            const auto& p = after[k];
+            list = {p.second};
+            const std::optional<TextSpan> span = span_of(kind, p.first);
+            if (!span ||
+                !add(*span, kind, patch_block(block(*span), before[k].second, p.second), before[k].second.loc))
+                return false;
+        }
+        list.clear();
+        return true;
+    };
+    if (!items(step.objects_after, step.objects_before, one.objects, ItemList::Object) ||
+        !items(step.planes_after, step.planes_before, one.planes, ItemList::Plane) ||
+        !items(step.lights_after, step.lights_before, one.lights, ItemList::Light))
+        return false;
     if (step.camera_after) {
         // Camera keys accumulate over all camera sections, so one complete block in
         // place of the last section gives exactly the new camera.
