@@ -205,6 +205,22 @@ std::vector<SceneItem> sorted_items(const rt::Scene& scene, std::vector<SceneIte
     return items;
 }
 
+// The items' edits as Document::splice_texts() takes them (the last in the text first),
+// or none when one has no splice or two touch.
+std::vector<Document::SpliceEdit> splices_of(std::vector<SceneEdit>& edits) {
+    std::vector<Document::SpliceEdit> out;
+    for (SceneEdit& e : edits) {
+        if (!e.splice) return {};
+        out.push_back({std::move(e.replacement), *e.splice});
+    }
+    std::stable_sort(out.begin(), out.end(), [](const Document::SpliceEdit& a, const Document::SpliceEdit& b) {
+        return a.replacement.offset > b.replacement.offset;
+    });
+    for (std::size_t k = 1; k < out.size(); ++k)
+        if (out[k].replacement.offset + out[k].replacement.length > out[k - 1].replacement.offset) return {};
+    return out;
+}
+
 }  // namespace
 
 std::optional<GroupEdit> delete_items(const std::string& text, const rt::Scene& scene,
@@ -213,18 +229,21 @@ std::optional<GroupEdit> delete_items(const std::string& text, const rt::Scene& 
     if (!layout) layout = &scanned.emplace(scan_layout(text));
     GroupEdit g;
     std::vector<TextReplacement> reps;
+    std::vector<SceneEdit> edits;
     for (const SceneItem& i : sorted_items(scene, items)) {
         std::optional<SceneEdit> e = item_included(scene, i) ? std::nullopt : delete_item(text, scene, i, layout);
         if (!e) {
             ++g.skipped;
             continue;
         }
-        reps.push_back(std::move(e->replacement));
+        reps.push_back(e->replacement);
+        edits.push_back(std::move(*e));
         ++g.done;
     }
     std::optional<TextReplacement> r = merge_replacements(text, std::move(reps));
     if (!r) return std::nullopt;
     g.replacement = std::move(*r);
+    g.splices = splices_of(edits);
     return g;
 }
 
@@ -235,6 +254,7 @@ std::optional<GroupEdit> duplicate_items(const std::string& text, const rt::Scen
     if (!layout) layout = &scanned.emplace(scan_layout(text));
     GroupEdit g;
     std::vector<TextReplacement> reps;
+    std::vector<SceneEdit> edits;
     int before[3] = {0, 0, 0};  // copies made so far ahead of this item in its list
     for (const SceneItem& i : sorted_items(scene, items)) {
         std::optional<SceneEdit> e =
@@ -243,7 +263,8 @@ std::optional<GroupEdit> duplicate_items(const std::string& text, const rt::Scen
             ++g.skipped;
             continue;
         }
-        reps.push_back(std::move(e->replacement));
+        reps.push_back(e->replacement);
+        edits.push_back(std::move(*e));
         // Each copy follows its original in the list: the copies before it (and their
         // originals) push it on by one each.
         int& n = before[int(i.kind)];
@@ -254,6 +275,7 @@ std::optional<GroupEdit> duplicate_items(const std::string& text, const rt::Scen
     std::optional<TextReplacement> r = merge_replacements(text, std::move(reps));
     if (!r) return std::nullopt;
     g.replacement = std::move(*r);
+    g.splices = splices_of(edits);
     return g;
 }
 

@@ -1,6 +1,6 @@
 // The viewer's selection when it holds several things (Shift+click, box select), and
 // what is done to all of them at once: a move as one held edit of the document (one
-// undo step), delete and duplicate as one replacement of the text (one undo step), the
+// undo step), delete and duplicate as one undo step (spliced item by item), the
 // things a box in the picture sees, their joint outline, and the selection before and
 // after such a step, which undo and redo give back. No GL, no ImGui: unit-tested.
 #pragma once
@@ -77,11 +77,16 @@ private:
 // document (commit() makes it one undo step). Returns how many changed.
 std::size_t give_material(Document& doc, const std::vector<SceneItem>& items, const rt::Material& m);
 
-// Delete or duplicate several items as one replacement of the text (one undo step; the
-// document parses the result). `select`: what is selected afterwards (the copies; none
-// after a delete). Items whose block is not in the text (an included file's) are left
-// out and counted in `skipped`; nothing when no item is left.
+// Delete or duplicate several items as one step: `splices`, each item's edit (its
+// replacement of the text and what it does to the scene) in the order to make them
+// (the last in the text first, so each one's place and index hold when it is made),
+// for Document::splice_texts(); when that cannot be (a scene with includes),
+// `replacement`, all of them as one replacement of the text, which the document
+// parses whole. `select`: what is selected afterwards (the copies; none after a
+// delete). Items whose block is not in the text (an included file's) are left out and
+// counted in `skipped`; nothing when no item is left.
 struct GroupEdit {
+    std::vector<Document::SpliceEdit> splices;  // empty when some edit is not a splice
     TextReplacement replacement;
     std::vector<SceneItem> select;
     std::size_t done = 0, skipped = 0;

@@ -92,7 +92,10 @@ bool ViewerApp::group_edit(Command c) {
                                      : duplicate_items(text, scene, before.many, duplicate_offset(scene), layout);
     const std::string what = g ? std::to_string(g->done) + (g->done == 1 ? " thing" : " things") : std::string();
     const std::string name = (del ? "Delete " : "Duplicate ") + what;
-    if (!g || !doc.replace_text(g->replacement.offset, g->replacement.length, g->replacement.text, name)) {
+    // Spliced item by item where it can be (a million-object scene is not parsed again),
+    // else as one replacement of the text.
+    if (!g || !((!g->splices.empty() && doc.splice_texts(g->splices, name)) ||
+                doc.replace_text(g->replacement.offset, g->replacement.length, g->replacement.text, name))) {
         status_.set(g || before.many.empty() ? "Cannot do that to this scene text"
                                              : "Cannot do that: these things come from included files (edit them there)",
                     true);
