@@ -6,7 +6,11 @@
 // edit: 1280x800 in blocks of 8, 160x100 rays on the process pool's threads). Each on
 // the UI thread must stay under 50 ms.
 //
-//   structure_bench SCENE.txt [--rounds N]
+// Then group Delete and Duplicate of several objects spread over the list (multi-select),
+// spliced item by item (Document::splice_texts) and, once, as the one replacement of
+// the text that is parsed whole (the way it was).
+//
+//   structure_bench SCENE.txt [--rounds N] [--group N]
 //   bench/make-grid.sh 1000 /tmp/g1000.txt && structure_bench /tmp/g1000.txt   (1,000,000 spheres)
 #include <algorithm>
 #include <cstdio>
@@ -22,6 +26,7 @@
 #include "parallel.h"
 #include "loader.h"
 #include "scene_edits.h"
+#include "selection.h"
 #include "world_sync.h"
 
 namespace {
@@ -42,8 +47,9 @@ struct Row {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2) return bench::usage("structure_bench SCENE.txt [--rounds N]");
+    if (argc < 2) return bench::usage("structure_bench SCENE.txt [--rounds N] [--group N]");
     const int rounds = bench::count_option(argc, argv, "--rounds", 2);
+    const int group = bench::count_option(argc, argv, "--group", 10);
     rtview::Document doc;
     rtview::WorldSync sync;
     {
@@ -127,13 +133,49 @@ int main(int argc, char** argv) {
         measure("Undo (the delete)", none, undo);
         measure("Redo (the delete)", none, redo);
     }
+    // Group edits of `group` objects spread evenly over the list.
+    std::optional<rtview::GroupEdit> g;
+    auto spread = [&] {
+        std::vector<rtview::SceneItem> items;
+        const std::size_t m = doc.scene().objects.size();
+        for (int k = 0; k < group; ++k)
+            items.push_back({rtview::SceneItem::Kind::Object, int((2 * std::size_t(k) + 1) * m / (2 * std::size_t(group)))});
+        return items;
+    };
+    auto plan_group = [&](bool del) {
+        return [&, del] {
+            const std::string& t = std::as_const(doc).editor_text();
+            g = del ? rtview::delete_items(t, doc.scene(), spread(), doc.layout())
+                    : rtview::duplicate_items(t, doc.scene(), spread(), rt::Vec3{0, 0, 1.5}, doc.layout());
+            return std::optional<rtview::SceneEdit>();
+        };
+    };
+    auto spliced = [&](const std::optional<rtview::SceneEdit>&) {
+        return g && !g->splices.empty() && doc.splice_texts(g->splices, "group");
+    };
+    auto whole = [&](const std::optional<rtview::SceneEdit>&) {
+        if (!g) return false;
+        const auto r = rtview::whole_replacement(std::as_const(doc).editor_text(), *g);
+        return doc.replace_text(r.offset, r.length, r.text, "group");
+    };
+    const std::string nd = std::to_string(group);
+    for (int k = 0; k < rounds; ++k) {
+        measure(("Group delete (" + nd + " objects)").c_str(), plan_group(true), spliced);
+        measure("Undo (the group delete)", none, undo);
+        measure("Redo (the group delete)", none, redo);
+        measure(("Group duplicate (" + nd + " objects)").c_str(), plan_group(false), spliced);
+        measure("Undo (the group duplicate)", none, undo);
+        measure("Redo (the group duplicate)", none, redo);
+    }
+    // (Their text, beyond the undo budget, is no undo step.)
+    measure(("Group delete, parsed whole (" + nd + ")").c_str(), plan_group(true), whole);
+    measure(("Group duplicate, parsed whole (" + nd + ")").c_str(), plan_group(false), whole);
     std::printf("| %-38s | %9s | %9s | %9s | %9s | %10s |\n|---|---:|---:|---:|---:|---:|\n", "operation (ms)", "plan",
                 "document", "sync", "to world", "to picture");
     for (const Row& r : rows)
         std::printf("| %-38s | %9.1f | %9.1f | %9.1f | %9.1f | %10.1f |\n", r.what.c_str(), r.plan * 1e3, r.doc * 1e3,
                     r.sync * 1e3, r.world * 1e3, r.picture * 1e3);
-    std::printf("\n%zu objects at the end (%zu at the start plus %d); %llu of the %zu operations spliced\n",
-                doc.scene().objects.size(), n, 2 * rounds, static_cast<unsigned long long>(doc.spliced_count()),
-                rows.size());
+    std::printf("\n%zu objects at the end (%zu at the start plus %d); %llu items spliced in all\n",
+                doc.scene().objects.size(), n, 2 * rounds, static_cast<unsigned long long>(doc.spliced_count()));
     return 0;
 }

@@ -294,7 +294,7 @@ void check_group(const std::string& text, const std::vector<SceneItem>& items, b
     const std::string before = t;
     const rt::Scene scene_before = doc.scene();
     // The merged replacement (what the text became before splicing) is the text's answer.
-    const std::string after = rtview_test::applied(g->replacement, before);
+    const std::string after = rtview_test::applied(whole_replacement(before, *g), before);
     const std::uint64_t content = doc.content_version();
     const std::size_t depth = doc.undo_depth();
     REQUIRE(doc.splice_texts(g->splices, "group"));

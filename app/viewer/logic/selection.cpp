@@ -2,6 +2,7 @@
 #include "selection.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <utility>
 
@@ -174,6 +175,11 @@ std::size_t give_material(Document& doc, const std::vector<SceneItem>& items, co
     return n;
 }
 
+TextReplacement whole_replacement(const std::string& text, const GroupEdit& g) {
+    std::optional<TextReplacement> r = merge_replacements(text, g.parts);
+    return r ? std::move(*r) : TextReplacement{};
+}
+
 std::optional<TextReplacement> merge_replacements(const std::string& text, std::vector<TextReplacement> reps) {
     if (reps.empty()) return std::nullopt;
     std::stable_sort(reps.begin(), reps.end(),
@@ -203,6 +209,20 @@ std::vector<SceneItem> sorted_items(const rt::Scene& scene, std::vector<SceneIte
                                }),
                 items.end());
     return items;
+}
+
+// Whether `reps` (some) are in `text` and none overlaps another (merge_replacements()
+// would make them one), without copying the text.
+bool apart(const std::string& text, std::vector<TextReplacement>& reps) {
+    if (reps.empty()) return false;
+    std::stable_sort(reps.begin(), reps.end(),
+                     [](const TextReplacement& a, const TextReplacement& b) { return a.offset < b.offset; });
+    std::size_t at = reps.front().offset;
+    for (const TextReplacement& r : reps) {
+        if (r.offset < at || r.offset + r.length > text.size()) return false;
+        at = r.offset + r.length;
+    }
+    return true;
 }
 
 // The items' edits as Document::splice_texts() takes them (the last in the text first),
@@ -240,9 +260,8 @@ std::optional<GroupEdit> delete_items(const std::string& text, const rt::Scene& 
         edits.push_back(std::move(*e));
         ++g.done;
     }
-    std::optional<TextReplacement> r = merge_replacements(text, std::move(reps));
-    if (!r) return std::nullopt;
-    g.replacement = std::move(*r);
+    if (!apart(text, reps)) return std::nullopt;
+    g.parts = std::move(reps);
     g.splices = splices_of(edits);
     return g;
 }
@@ -272,16 +291,16 @@ std::optional<GroupEdit> duplicate_items(const std::string& text, const rt::Scen
         ++n;
         ++g.done;
     }
-    std::optional<TextReplacement> r = merge_replacements(text, std::move(reps));
-    if (!r) return std::nullopt;
-    g.replacement = std::move(*r);
+    if (!apart(text, reps)) return std::nullopt;
+    g.parts = std::move(reps);
     g.splices = splices_of(edits);
     return g;
 }
 
 std::vector<SceneItem> items_in_box(const rt::World& world, const rt::Camera& view_camera, const Rect& image,
                                     int film_w, int film_h, double x0, double y0, double x1, double y1,
-                                    std::size_t max_rays) {
+                                    std::size_t max_rays, double seconds) {
+    const auto start = std::chrono::steady_clock::now();
     std::vector<SceneItem> out;
     if (film_w <= 0 || film_h <= 0 || !(image.w > 0) || !(image.h > 0)) return out;
     if (x1 < x0) std::swap(x0, x1);
@@ -294,18 +313,35 @@ std::vector<SceneItem> items_in_box(const rt::World& world, const rt::Camera& vi
     const int j1 = std::min(film_h - 1, int(std::floor((y1 - image.y) * sy - 0.5)));
     if (i1 < i0 || j1 < j0) return out;
     const double pixels = double(i1 - i0 + 1) * double(j1 - j0 + 1);
-    const int step = std::max(1, int(std::ceil(std::sqrt(pixels / double(std::max<std::size_t>(max_rays, 1))))));
+    auto step_for = [&](std::size_t rays) {
+        return std::max(1, int(std::ceil(std::sqrt(pixels / double(std::max<std::size_t>(rays, 1))))));
+    };
+    const int finest = step_for(max_rays);
     std::vector<int> found[3];  // objects, planes, lights (as SceneItem::Kind numbers them)
-    // (The last row and column too, so that a box's edge counts at any step.)
-    for (int j = j0;; j = std::min(j + step, j1)) {
-        for (int i = i0;; i = std::min(i + step, i1)) {
-            const double px = image.x + (i + 0.5) / sx, py = image.y + (j + 0.5) / sy;
-            const rt::PickResult r = pick_at(world, view_camera, image, film_w, film_h, px, py);
-            const int k = r.object >= 0 ? 0 : r.plane >= 0 ? 1 : r.light >= 0 ? 2 : -1;
-            if (k >= 0) found[k].push_back(k == 0 ? r.object : k == 1 ? r.plane : r.light);
-            if (i == i1) break;
+    // A grid of at most kFirstRays rays first, whatever the time; then grids twice as
+    // fine in turn, up to `finest`, while the time lasts (a pass stops between rows when
+    // it runs out). (The last row and column too, so that a box's edge counts at any step.)
+    constexpr std::size_t kFirstRays = 2500;
+    int step = std::max(finest, step_for(kFirstRays));
+    for (bool first = true;; first = false) {
+        bool out_of_time = false;
+        for (int j = j0;; j = std::min(j + step, j1)) {
+            for (int i = i0;; i = std::min(i + step, i1)) {
+                const double px = image.x + (i + 0.5) / sx, py = image.y + (j + 0.5) / sy;
+                const rt::PickResult r = pick_at(world, view_camera, image, film_w, film_h, px, py);
+                const int k = r.object >= 0 ? 0 : r.plane >= 0 ? 1 : r.light >= 0 ? 2 : -1;
+                if (k >= 0) found[k].push_back(k == 0 ? r.object : k == 1 ? r.plane : r.light);
+                if (i == i1) break;
+            }
+            if (j == j1) break;
+            if (!first && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds) {
+                out_of_time = true;
+                break;
+            }
         }
-        if (j == j1) break;
+        if (out_of_time || step <= finest) break;
+        if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds) break;
+        step = std::max(finest, step / 2);
     }
     for (int k = 0; k < 3; ++k) {
         std::vector<int>& f = found[k];

@@ -81,13 +81,14 @@ std::size_t give_material(Document& doc, const std::vector<SceneItem>& items, co
 // replacement of the text and what it does to the scene) in the order to make them
 // (the last in the text first, so each one's place and index hold when it is made),
 // for Document::splice_texts(); when that cannot be (a scene with includes),
-// `replacement`, all of them as one replacement of the text, which the document
+// whole_replacement(), all of them as one replacement of the text, which the document
 // parses whole. `select`: what is selected afterwards (the copies; none after a
 // delete). Items whose block is not in the text (an included file's) are left out and
-// counted in `skipped`; nothing when no item is left.
+// counted in `skipped`; nothing when no item is left, or when two items' replacements
+// overlap.
 struct GroupEdit {
     std::vector<Document::SpliceEdit> splices;  // empty when some edit is not a splice
-    TextReplacement replacement;
+    std::vector<TextReplacement> parts;         // each item's replacement of the text
     std::vector<SceneItem> select;
     std::size_t done = 0, skipped = 0;
 };
@@ -97,6 +98,9 @@ std::optional<GroupEdit> delete_items(const std::string& text, const rt::Scene& 
 std::optional<GroupEdit> duplicate_items(const std::string& text, const rt::Scene& scene,
                                          const std::vector<SceneItem>& items, const rt::Vec3& offset,
                                          const SceneLayout* layout = nullptr);
+// The group's edits as one replacement of `text` (the text they were planned on): a
+// copy of all the text between the first and the last (only when it cannot be spliced).
+TextReplacement whole_replacement(const std::string& text, const GroupEdit& g);
 // Several replacements of one text that do not overlap, as one (the span from the first
 // to the last, the text between them kept); nothing if two overlap.
 std::optional<TextReplacement> merge_replacements(const std::string& text, std::vector<TextReplacement> reps);
@@ -104,10 +108,12 @@ std::optional<TextReplacement> merge_replacements(const std::string& text, std::
 // The things seen in the window rectangle between (x0, y0) and (x1, y1) (any corners):
 // the primary hit of each of its film pixels (what a click there would select), on a
 // grid of at most about `max_rays` rays (coarser in a big box). Objects first, then
-// planes, then lights (lamp glows), each by index.
+// planes, then lights (lamp glows), each by index. It is called on the UI thread: a
+// grid of a few thousand rays is traced first, then finer ones while `seconds` last
+// (a scene of a million objects sees the box at a coarser grid, not for longer).
 std::vector<SceneItem> items_in_box(const rt::World& world, const rt::Camera& view_camera, const Rect& image,
                                     int film_w, int film_h, double x0, double y0, double x1, double y1,
-                                    std::size_t max_rays = 40000);
+                                    std::size_t max_rays = 40000, double seconds = 0.03);
 
 // The texel window (at `block`) that can see any of `items`: the union of their
 // item_window()s (object_ids.h), or the whole film for very many.

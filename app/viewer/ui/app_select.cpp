@@ -94,8 +94,11 @@ bool ViewerApp::group_edit(Command c) {
     const std::string name = (del ? "Delete " : "Duplicate ") + what;
     // Spliced item by item where it can be (a million-object scene is not parsed again),
     // else as one replacement of the text.
-    if (!g || !((!g->splices.empty() && doc.splice_texts(g->splices, name)) ||
-                doc.replace_text(g->replacement.offset, g->replacement.length, g->replacement.text, name))) {
+    const auto whole = [&] {
+        const TextReplacement r = whole_replacement(text, *g);
+        return !r.empty() && doc.replace_text(r.offset, r.length, r.text, name);
+    };
+    if (!g || !((!g->splices.empty() && doc.splice_texts(g->splices, name)) || whole())) {
         status_.set(g || before.many.empty() ? "Cannot do that to this scene text"
                                              : "Cannot do that: these things come from included files (edit them there)",
                     true);
