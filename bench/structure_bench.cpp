@@ -13,6 +13,7 @@
 //   structure_bench SCENE.txt [--rounds N] [--group N]
 //   bench/make-grid.sh 1000 /tmp/g1000.txt && structure_bench /tmp/g1000.txt   (1,000,000 spheres)
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <optional>
@@ -27,6 +28,7 @@
 #include "loader.h"
 #include "scene_edits.h"
 #include "selection.h"
+#include "viewport.h"
 #include "world_sync.h"
 
 namespace {
@@ -132,6 +134,36 @@ int main(int argc, char** argv) {
         }, apply);
         measure("Undo (the delete)", none, undo);
         measure("Redo (the delete)", none, redo);
+    }
+    // Box select (Ctrl+Shift+drag) on a 1280x800 film shown 1:1, the whole picture and a
+    // quarter of it: a grid of up to 40,000 primary rays traced whole (as it was), and as
+    // items_in_box() traces it now (a coarse grid, then finer ones within 30 ms).
+    {
+        const rt::World& w = *sync.world();
+        const rtview::Rect image{0, 0, 1280, 800};
+        struct Box {
+            const char* what;
+            double x0, y0, x1, y1;
+        };
+        for (const Box& b : {Box{"the whole picture", 0, 0, 1280, 800}, Box{"a quarter", 320, 200, 960, 600}}) {
+            const double pixels = (b.x1 - b.x0) * (b.y1 - b.y0);
+            const int step = std::max(1, int(std::ceil(std::sqrt(pixels / 40000.0))));
+            std::size_t rays = 0, hits = 0;
+            const double whole_grid = timed([&] {
+                for (double y = b.y0 + 0.5; y < b.y1; y += step)
+                    for (double x = b.x0 + 0.5; x < b.x1; x += step, ++rays)
+                        hits += rtview::pick_at(w, w.camera, image, 1280, 800, x, y).object >= 0;
+            });
+            std::size_t found = 0, found_whole = 0;
+            const double now_ms = timed([&] {
+                found = rtview::items_in_box(w, w.camera, image, 1280, 800, b.x0, b.y0, b.x1, b.y1).size();
+            });
+            found_whole = rtview::items_in_box(w, w.camera, image, 1280, 800, b.x0, b.y0, b.x1, b.y1, 40000, 1e9).size();
+            std::printf("box select, %s: %zu rays traced whole %.1f ms; now %.1f ms, %zu things (%zu with time for every ray)\n",
+                        b.what, rays, whole_grid * 1e3, now_ms * 1e3, found, found_whole);
+            (void)hits;
+        }
+        std::printf("\n");
     }
     // Group edits of `group` objects spread evenly over the list.
     std::optional<rtview::GroupEdit> g;

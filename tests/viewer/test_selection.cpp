@@ -244,12 +244,13 @@ TEST_CASE("selection: a box finds what a pick of each pixel in it finds") {
     CHECK(found(12, 22, 40, 40, 1 << 20).empty());
     // Fewer rays than pixels: a coarser grid still sees spheres this big.
     CHECK(found(10, 20, 410, 320, 500) == std::set<int>{0, 1, 2});
-    // No time at all: the first grid (2,500 rays) only, whatever the rays asked for;
-    // it is the grid of 2,500 rays traced with time to spare, and still sees all three.
-    CHECK(found(10, 20, 410, 320, 1 << 20, 0.0) == found(10, 20, 410, 320, 2500));
+    // No time at all: every 8th row of the grid only (and the last), which still sees
+    // all three, and as much as every pixel where one sphere fills the box.
     CHECK(found(10, 20, 410, 320, 1 << 20, 0.0) == std::set<int>{0, 1, 2});
-    // A box of fewer pixels than the first grid's rays is traced whole in no time.
     CHECK(found(190, 150, 230, 190, 1 << 20, 0.0) == brute(190, 150, 230, 190));
+    // A box two pixels high (whose rows are all "first") and 1 wide at a sphere's edge.
+    for (double x : {120.0, 160.0, 250.0, 290.0})
+        CHECK(found(x, 100, x + 1, 103, 1 << 20, 0.0) == brute(x, 100, x + 1, 103));
     // Outside the picture: nothing, and no ray.
     CHECK(found(500, 500, 600, 600, 1 << 20).empty());
 }

@@ -313,35 +313,37 @@ std::vector<SceneItem> items_in_box(const rt::World& world, const rt::Camera& vi
     const int j1 = std::min(film_h - 1, int(std::floor((y1 - image.y) * sy - 0.5)));
     if (i1 < i0 || j1 < j0) return out;
     const double pixels = double(i1 - i0 + 1) * double(j1 - j0 + 1);
-    auto step_for = [&](std::size_t rays) {
-        return std::max(1, int(std::ceil(std::sqrt(pixels / double(std::max<std::size_t>(rays, 1))))));
-    };
-    const int finest = step_for(max_rays);
+    const int step = std::max(1, int(std::ceil(std::sqrt(pixels / double(std::max<std::size_t>(max_rays, 1))))));
+    // The grid's rows (the last one too, so that a box's edge counts at any step), in the
+    // order that makes any first part of them an even grid: every 8th, then those
+    // halfway between, and so on. After the first 8th the rows stop when the time is up
+    // (the box is then seen at a coarser grid, never only in part).
+    std::vector<int> rows;
+    for (int j = j0;; j = std::min(j + step, j1)) {
+        rows.push_back(j);
+        if (j == j1) break;
+    }
+    std::vector<int> order;
+    order.reserve(rows.size());
+    const std::size_t n = rows.size();
+    for (std::size_t k = 0; k < n; k += 8) order.push_back(rows[k]);
+    if ((n - 1) % 8 != 0) order.push_back(rows[n - 1]);
+    const std::size_t first = order.size();
+    for (std::size_t k = 4; k < n - 1; k += 8) order.push_back(rows[k]);
+    for (std::size_t k = 2; k < n - 1; k += 4) order.push_back(rows[k]);
+    for (std::size_t k = 1; k < n - 1; k += 2) order.push_back(rows[k]);
     std::vector<int> found[3];  // objects, planes, lights (as SceneItem::Kind numbers them)
-    // A grid of at most kFirstRays rays first, whatever the time; then grids twice as
-    // fine in turn, up to `finest`, while the time lasts (a pass stops between rows when
-    // it runs out). (The last row and column too, so that a box's edge counts at any step.)
-    constexpr std::size_t kFirstRays = 2500;
-    int step = std::max(finest, step_for(kFirstRays));
-    for (bool first = true;; first = false) {
-        bool out_of_time = false;
-        for (int j = j0;; j = std::min(j + step, j1)) {
-            for (int i = i0;; i = std::min(i + step, i1)) {
-                const double px = image.x + (i + 0.5) / sx, py = image.y + (j + 0.5) / sy;
-                const rt::PickResult r = pick_at(world, view_camera, image, film_w, film_h, px, py);
-                const int k = r.object >= 0 ? 0 : r.plane >= 0 ? 1 : r.light >= 0 ? 2 : -1;
-                if (k >= 0) found[k].push_back(k == 0 ? r.object : k == 1 ? r.plane : r.light);
-                if (i == i1) break;
-            }
-            if (j == j1) break;
-            if (!first && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds) {
-                out_of_time = true;
-                break;
-            }
+    for (std::size_t r = 0; r < order.size(); ++r) {
+        if (r >= first && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds)
+            break;
+        const int j = order[r];
+        for (int i = i0;; i = std::min(i + step, i1)) {
+            const double px = image.x + (i + 0.5) / sx, py = image.y + (j + 0.5) / sy;
+            const rt::PickResult pr = pick_at(world, view_camera, image, film_w, film_h, px, py);
+            const int k = pr.object >= 0 ? 0 : pr.plane >= 0 ? 1 : pr.light >= 0 ? 2 : -1;
+            if (k >= 0) found[k].push_back(k == 0 ? pr.object : k == 1 ? pr.plane : pr.light);
+            if (i == i1) break;
         }
-        if (out_of_time || step <= finest) break;
-        if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds) break;
-        step = std::max(finest, step / 2);
     }
     for (int k = 0; k < 3; ++k) {
         std::vector<int>& f = found[k];

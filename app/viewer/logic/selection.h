@@ -108,9 +108,9 @@ std::optional<TextReplacement> merge_replacements(const std::string& text, std::
 // The things seen in the window rectangle between (x0, y0) and (x1, y1) (any corners):
 // the primary hit of each of its film pixels (what a click there would select), on a
 // grid of at most about `max_rays` rays (coarser in a big box). Objects first, then
-// planes, then lights (lamp glows), each by index. It is called on the UI thread: a
-// grid of a few thousand rays is traced first, then finer ones while `seconds` last
-// (a scene of a million objects sees the box at a coarser grid, not for longer).
+// planes, then lights (lamp glows), each by index. It is called on the UI thread: an
+// eighth of the grid's rows (evenly spread) is traced first, the rest while `seconds`
+// last (a slow scene sees the box at a coarser grid, not for longer).
 std::vector<SceneItem> items_in_box(const rt::World& world, const rt::Camera& view_camera, const Rect& image,
                                     int film_w, int film_h, double x0, double y0, double x1, double y1,
                                     std::size_t max_rays = 40000, double seconds = 0.03);
