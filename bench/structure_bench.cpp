@@ -199,6 +199,30 @@ int main(int argc, char** argv) {
         measure("Undo (the group duplicate)", none, undo);
         measure("Redo (the group duplicate)", none, redo);
     }
+    // A group move (the move handle of several things): 30 frames of the drag, each
+    // moving every item (GroupMove::apply) and the world's sync, then the commit (one
+    // undo step that rewrites each block), its sync, and its undo.
+    for (int count : {10, 100, 1000}) {
+        const std::size_t m = doc.scene().objects.size();
+        std::vector<rtview::SceneItem> items;
+        for (int k = 0; k < count; ++k)
+            items.push_back({rtview::SceneItem::Kind::Object, int((2 * std::size_t(k) + 1) * m / (2 * std::size_t(count)))});
+        const rtview::GroupMove move(doc.scene(), items);
+        double frame = 0, frame_sync = 0;
+        for (int f = 1; f <= 30; ++f) {
+            frame = std::max(frame, timed([&] { move.apply(doc, rt::Vec3{0, 0, 0.05 * f}); }));
+            frame_sync = std::max(frame_sync, timed([&] { sync.sync(doc); }));
+        }
+        while (sync.version() != doc.content_version()) sync.finish(doc);
+        const std::string c = std::to_string(count);
+        std::printf("group move of %d objects: a frame of the drag %.1f ms at most, its sync %.1f ms at most\n", count,
+                    frame * 1e3, frame_sync * 1e3);
+        measure(("Group move, the commit (" + c + ")").c_str(), none, [&](const std::optional<rtview::SceneEdit>&) {
+            doc.commit();
+            return true;
+        });
+        measure(("Undo (the group move of " + c + ")").c_str(), none, undo);
+    }
     // (Their text, beyond the undo budget, is no undo step.)
     measure(("Group delete, parsed whole (" + nd + ")").c_str(), plan_group(true), whole);
     measure(("Group duplicate, parsed whole (" + nd + ")").c_str(), plan_group(false), whole);
