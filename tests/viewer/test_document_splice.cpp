@@ -15,6 +15,7 @@
 #include "scene_edits.h"
 #include "scene_parser.h"
 #include "scene_text.h"
+#include "selection.h"
 #include "viewer_test_util.h"
 
 using namespace rtview;
@@ -273,4 +274,114 @@ TEST_CASE("document splice: a block that does not read alone, or a text with war
     REQUIRE(doc.undo());
     agrees_with_parse(doc);
     CHECK(doc.scene().objects.size() == 1);
+}
+
+namespace {
+
+// A group edit through Document::splice_texts (one undo step, every part spliced)
+// against the same edits made one by one in a second document and a fresh parse of the
+// text, then undone and redone (spliced too).
+void check_group(const std::string& text, const std::vector<SceneItem>& items, bool del, rt::Vec3 offset) {
+    Document doc, one_by_one;
+    doc.load_text(text, "", "demo.txt");
+    one_by_one.load_text(text, "", "demo.txt");
+    REQUIRE(doc.has_scene());
+    const std::string& t = std::as_const(doc).editor_text();
+    const std::optional<GroupEdit> g = del ? delete_items(t, doc.scene(), items, doc.layout())
+                                           : duplicate_items(t, doc.scene(), items, offset, doc.layout());
+    REQUIRE(g);
+    REQUIRE(g->splices.size() == g->done);
+    const std::string before = t;
+    const rt::Scene scene_before = doc.scene();
+    // The merged replacement (what the text became before splicing) is the text's answer.
+    const std::string after = rtview_test::applied(whole_replacement(before, *g), before);
+    const std::uint64_t content = doc.content_version();
+    const std::size_t depth = doc.undo_depth();
+    REQUIRE(doc.splice_texts(g->splices, "group"));
+    CHECK(doc.undo_depth() == depth + 1);
+    CHECK(doc.spliced_count() == g->done);
+    CHECK(t == after);
+    agrees_with_parse(doc);
+    // The world hears of each object as a splice, in order.
+    const rt::SceneDelta d = doc.changes_since(content);
+    CHECK(!d.everything);
+    std::size_t objects = 0;
+    for (const Document::SpliceEdit& e : g->splices) objects += e.splice.list == ItemList::Object;
+    CHECK(d.object_splices.size() == objects);
+    for (const rt::SceneDelta::Splice& s : d.object_splices) CHECK(s.insert == !del);
+    // The same edits one at a time.
+    for (const Document::SpliceEdit& e : g->splices)
+        REQUIRE(one_by_one.replace_text(e.replacement.offset, e.replacement.length, e.replacement.text, "e", &e.splice));
+    CHECK(one_by_one.spliced_count() == g->done);
+    CHECK(std::as_const(one_by_one).editor_text() == after);
+    CHECK(one_by_one.scene() == doc.scene());
+    REQUIRE(doc.undo());
+    CHECK(t == before);
+    CHECK(doc.scene() == scene_before);
+    agrees_with_parse(doc);
+    REQUIRE(doc.redo());
+    CHECK(t == after);
+    agrees_with_parse(doc);
+    CHECK(doc.spliced_count() == 3 * g->done);
+    REQUIRE(doc.undo());
+    CHECK(t == before);
+    agrees_with_parse(doc);
+}
+
+}  // namespace
+
+TEST_CASE("document splice: a group delete or duplicate is one step, spliced item by item, as the edits one by one") {
+    using K = SceneItem::Kind;
+    const std::vector<std::vector<SceneItem>> sets = {
+        {{K::Light, 1}, {K::Object, 2}, {K::Object, 0}},
+        {{K::Object, 3}, {K::Object, 0}, {K::Light, 0}, {K::Plane, 1}},
+        {{K::Object, 4}, {K::Object, 3}, {K::Object, 1}, {K::Object, 0}},
+        {{K::Plane, 0}, {K::Plane, 1}, {K::Light, 0}, {K::Light, 1}},
+    };
+    // Copies of two blocks on one line, and of every object. (Deleting two blocks on one
+    // line is refused: their deletions would both take the line's end.)
+    const std::vector<std::vector<SceneItem>> copies = {
+        {{K::Object, 2}, {K::Object, 3}},
+        {{K::Object, 4}, {K::Object, 3}, {K::Object, 2}, {K::Object, 1}, {K::Object, 0}},
+    };
+    for (const std::string& text : {kDemo, with_crlf(kDemo), with_tabs(kDemo)}) {
+        for (const std::vector<SceneItem>& items : sets) {
+            INFO("items " << items.size() << ", first " << items[0].index);
+            check_group(text, items, true, {});
+            check_group(text, items, false, {});
+            check_group(text, items, false, {0, 2, 0});
+        }
+        for (const std::vector<SceneItem>& items : copies) {
+            INFO("copies of " << items.size());
+            check_group(text, items, false, {});
+            check_group(text, items, false, {0, 2, 0});
+        }
+    }
+}
+
+TEST_CASE("document splice: a group of edits where one cannot be spliced changes nothing") {
+    Document doc;
+    doc.load_text(kDemo, "", "demo.txt");
+    const std::string& t = std::as_const(doc).editor_text();
+    using K = SceneItem::Kind;
+    std::optional<GroupEdit> g = delete_items(t, doc.scene(), {{K::Object, 0}, {K::Object, 3}, {K::Light, 1}}, doc.layout());
+    REQUIRE(g);
+    REQUIRE(g->splices.size() == 3);
+    // The last one (the first object's) told the wrong index: its block is not where it says.
+    g->splices.back().splice.index = 1;
+    const std::string before = t;
+    const rt::Scene scene = doc.scene();
+    const std::uint64_t version = doc.text_version();
+    CHECK(!doc.splice_texts(g->splices, "group"));
+    CHECK(t == before);
+    CHECK(doc.scene() == scene);
+    CHECK(doc.undo_depth() == 0);
+    CHECK(doc.spliced_count() == 0);
+    CHECK(doc.text_version() == version);
+    agrees_with_parse(doc);
+    // Made right, it is made.
+    g->splices.back().splice.index = 0;
+    REQUIRE(doc.splice_texts(g->splices, "group"));
+    agrees_with_parse(doc);
+    CHECK(doc.scene().objects.size() == scene.objects.size() - 2);
 }

@@ -148,7 +148,7 @@ TEST_CASE("selection: delete and duplicate of several things are one replacement
         want.objects.erase(want.objects.begin() + 2);
         want.objects.erase(want.objects.begin());
         want.lights.erase(want.lights.begin() + 1);
-        const std::string t = applied(g->replacement, text);
+        const std::string t = applied(whole_replacement(text, *g), text);
         CHECK(parse_ok(t) == want);
         // The rest of the text, comments included, as it was.
         CHECK(t.find("// a lens") != std::string::npos);
@@ -159,7 +159,7 @@ TEST_CASE("selection: delete and duplicate of several things are one replacement
         std::optional<GroupEdit> g = duplicate_items(text, s, {kObj3, kObj0, kLight0}, d);
         REQUIRE(g);
         CHECK(g->done == 3);
-        const rt::Scene got = parse_ok(applied(g->replacement, text));
+        const rt::Scene got = parse_ok(applied(whole_replacement(text, *g), text));
         REQUIRE(got.objects.size() == s.objects.size() + 2);
         REQUIRE(got.lights.size() == s.lights.size() + 1);
         // Objects: sphere, its copy, tetrahedron, cylinder, torus, its copy, CSG.
@@ -224,9 +224,10 @@ TEST_CASE("selection: a box finds what a pick of each pixel in it finds") {
             }
         return out;
     };
-    auto found = [&](double x0, double y0, double x1, double y1, std::size_t rays) {
+    // (Time enough for every ray asked for, however busy the machine.)
+    auto found = [&](double x0, double y0, double x1, double y1, std::size_t rays, double seconds = 1e9) {
         std::set<int> out;
-        for (const SceneItem& i : items_in_box(*world, cam, image, W, H, x1, y1, x0, y0, rays)) {  // (corners swapped)
+        for (const SceneItem& i : items_in_box(*world, cam, image, W, H, x1, y1, x0, y0, rays, seconds)) {  // (corners swapped)
             CHECK(i.kind == SceneItem::Kind::Object);
             out.insert(i.index);
         }
@@ -243,6 +244,13 @@ TEST_CASE("selection: a box finds what a pick of each pixel in it finds") {
     CHECK(found(12, 22, 40, 40, 1 << 20).empty());
     // Fewer rays than pixels: a coarser grid still sees spheres this big.
     CHECK(found(10, 20, 410, 320, 500) == std::set<int>{0, 1, 2});
+    // No time at all: every 8th row of the grid only (and the last), which still sees
+    // all three, and as much as every pixel where one sphere fills the box.
+    CHECK(found(10, 20, 410, 320, 1 << 20, 0.0) == std::set<int>{0, 1, 2});
+    CHECK(found(190, 150, 230, 190, 1 << 20, 0.0) == brute(190, 150, 230, 190));
+    // A box two pixels high (whose rows are all "first") and 1 wide at a sphere's edge.
+    for (double x : {120.0, 160.0, 250.0, 290.0})
+        CHECK(found(x, 100, x + 1, 103, 1 << 20, 0.0) == brute(x, 100, x + 1, 103));
     // Outside the picture: nothing, and no ray.
     CHECK(found(500, 500, 600, 600, 1 << 20).empty());
 }

@@ -82,6 +82,9 @@ struct DocStep {
     // A structural edit of one item, spliced into the scene rather than parsed again
     // (with `editor` its one replacement).
     std::optional<SplicedItem> spliced;
+    // Several such edits as one step (a group Delete or Duplicate): the i-th is made by
+    // the i-th of `editor`, in order going forward, and undone in reverse order.
+    std::vector<SplicedItem> spliced_many;
     std::size_t bytes() const;
 };
 

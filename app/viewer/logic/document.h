@@ -156,6 +156,18 @@ public:
     // parse of the whole text; where that cannot be known cheaply, it is parsed).
     bool replace_text(std::size_t pos, std::size_t length, const std::string& text,
                       const std::string& name = "Edit the scene text", const ItemSplice* splice = nullptr);
+    // Several structural edits as one undo step (a group Delete or Duplicate): each a
+    // replacement of the text with the ItemSplice that says what it does to the scene (as
+    // replace_text() takes one), made in the order given, each on the text and the scene
+    // the ones before it left. Each is spliced as replace_text() splices one, and so are
+    // the step's undo and redo: N edits cost about N single splices, not a parse of the
+    // whole text. False, with nothing changed, when one of them cannot be spliced (the
+    // caller then replaces the text as a whole).
+    struct SpliceEdit {
+        TextReplacement replacement;
+        ItemSplice splice;
+    };
+    bool splice_texts(const std::vector<SpliceEdit>& edits, const std::string& name);
     // Where the items of the editor text are (scan_layout), kept up to date through the
     // document's own edits: scanned again only after other changes. Null when the text's
     // structure is unclear.
@@ -274,6 +286,11 @@ private:
     // changed) when it cannot be done that way (document_splice.cpp).
     bool splice_text(std::size_t pos, std::size_t length, const std::string& text, const std::string& name,
                      const ItemSplice& splice);
+    // Whether replacing [pos, pos + length) of the editor text by `text` is the item
+    // splice `sp`, the layout `l` being the text's; if so `s` says what it does (its new
+    // block read), and nothing has changed yet.
+    bool plan_splice(std::size_t pos, std::size_t length, const std::string& text, const ItemSplice& sp,
+                     const SceneLayout& l, SplicedItem& s) const;
     // The scene and (when `layout_valid`) the layout changed as the splice says, forward
     // (as made) or back: the text's replacement at `pos` of `removed` by `inserted` is made.
     void apply_splice(const SplicedItem& s, bool forward, std::size_t pos, std::string_view removed,

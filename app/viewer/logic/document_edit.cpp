@@ -55,8 +55,14 @@ void shift_layout(SceneLayout& l, std::size_t pos, std::size_t old_len, std::siz
     auto fix = [&](std::size_t& x) {
         if (x >= pos + old_len) x = x - old_len + new_len;
     };
+    // A replacement of the same length moves nothing (a group move's numbers of the same
+    // width: no pass over a million spans per item).
+    if (old_len == new_len) return;
     for (auto* v : {&l.objects, &l.planes, &l.lights, &l.cameras})
-        for (TextSpan& t : *v) {
+        // (Spans are in order and apart: those ending before pos stay.)
+        for (auto it = std::partition_point(v->begin(), v->end(), [&](const TextSpan& t) { return t.end < pos; });
+             it != v->end(); ++it) {
+            TextSpan& t = *it;
             if (t.begin == pos && t.end == pos + old_len) {
                 t.end = pos + new_len;
                 continue;

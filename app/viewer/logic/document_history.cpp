@@ -54,11 +54,13 @@ std::size_t DocStep::bytes() const {
     for (const auto* v : {&editor, &editor_back})
         for (const TextReplacement& r : *v) b += sizeof(TextReplacement) + r.text.size();
     if (applied_before) b += applied_before->size();
-    if (spliced) {
+    auto spliced_bytes = [&b](const SplicedItem& s) {
         b += sizeof(SplicedItem);
-        for (const rt::Scene* sc : {&spliced->before, &spliced->after})
+        for (const rt::Scene* sc : {&s.before, &s.after})
             for (const rt::Object& o : sc->objects) b += object_bytes(o);
-    }
+    };
+    if (spliced) spliced_bytes(*spliced);
+    for (const SplicedItem& s : spliced_many) spliced_bytes(s);
     if (applied_after) b += applied_after->size();
     for (const auto& o : objects_before) b += object_bytes(o.second) + sizeof(std::size_t);
     for (const auto& o : objects_after) b += object_bytes(o.second) + sizeof(std::size_t);
@@ -167,7 +169,7 @@ void Document::apply_step(const DocStep& s, bool forward) {
     if (s.keep_applied && !applied_) applied_ = editor_;
     // A panel edit's step (the text is the scene's): the positions after each
     // replacement move with the text.
-    const bool follow = !s.spliced && !s.reparse && !s.keep_applied && !s.applied_before && !s.applied_after;
+    const bool follow = !s.spliced && s.spliced_many.empty() && !s.reparse && !s.keep_applied && !s.applied_before && !s.applied_after;
     std::vector<rt::Diagnostic> reparsed;
     const std::vector<TextReplacement>& made = forward ? s.editor : s.editor_back;
     const std::vector<TextReplacement>& undone = forward ? s.editor_back : s.editor;
@@ -185,6 +187,18 @@ void Document::apply_step(const DocStep& s, bool forward) {
         const TextReplacement& back = s.editor_back[0];
         apply_splice(*s.spliced, forward, r.offset, forward ? back.text : r.text, forward ? r.text : back.text,
                      layout_valid);
+    } else if (!s.spliced_many.empty() && s.editor.size() == s.spliced_many.size() &&
+               s.editor_back.size() == s.spliced_many.size()) {
+        // (The text is replaced above; each splice follows it in turn, the last first
+        // going back.)
+        const std::size_t n = s.spliced_many.size();
+        for (std::size_t k = 0; k < n; ++k) {
+            const std::size_t i = forward ? k : n - 1 - k;
+            const TextReplacement& r = s.editor[i];
+            const TextReplacement& back = s.editor_back[i];
+            apply_splice(s.spliced_many[i], forward, r.offset, forward ? back.text : r.text,
+                         forward ? r.text : back.text, layout_valid);
+        }
     } else if (s.reparse) {
         if (has_scene_) {
             rt::ParseResult r = rt::parse_scene(applied_text(), parse_options(path_));
@@ -208,6 +222,12 @@ void Document::apply_step(const DocStep& s, bool forward) {
         changed(rt::SceneDelta::all());
     else if (s.spliced)
         changed(splice_delta(*s.spliced, forward));
+    else if (!s.spliced_many.empty()) {
+        rt::SceneDelta d;
+        const std::size_t n = s.spliced_many.size();
+        for (std::size_t k = 0; k < n; ++k) d.merge(splice_delta(s.spliced_many[forward ? k : n - 1 - k], forward));
+        changed(std::move(d));
+    }
     else if (!s.objects_before.empty() || !s.planes_before.empty() || !s.lights_before.empty())
         changed(items_of(s.objects_before, s.planes_before, s.lights_before));
     if (!s.editor.empty() || s.applied_before != s.applied_after) text_changed(s, forward);

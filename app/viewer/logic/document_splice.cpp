@@ -386,23 +386,17 @@ const SceneLayout* Document::layout() {
     return layout_->ok ? &*layout_ : nullptr;
 }
 
-bool Document::splice_text(std::size_t pos, std::size_t length, const std::string& text, const std::string& name,
-                           const ItemSplice& sp) {
-    // Positions of warnings, and items an include brings, would need more than this.
-    if (!has_scene_ || applied_ || !scene_.includes.empty() || !diagnostics_.empty() || sp.list == ItemList::Camera)
-        return false;
-    const SceneLayout* l = layout();
-    if (!l || !layout_matches(*l, scene_)) return false;
-    const std::vector<TextSpan>& spans = spans_of(*l, sp.list);
-    const std::size_t n = spans.size();
-    if (n != count_of(scene_, sp.list)) return false;
+bool Document::plan_splice(std::size_t pos, std::size_t length, const std::string& text, const ItemSplice& sp,
+                           const SceneLayout& l, SplicedItem& s) const {
+    if (sp.list == ItemList::Camera || pos > editor_.size() || length > editor_.size() - pos) return false;
+    const std::vector<TextSpan>& spans = spans_of(l, sp.list);
+    if (spans.size() != count_of(scene_, sp.list)) return false;
     // The replacement must be what the splice says, and a place whose line and column
     // are known (an item's) must be near it.
     std::size_t anchor = 0;
     rt::SourceLoc anchor_loc{1, 1};
-    if (!splice_anchor(*l, scene_, editor_, pos, length, text, sp, anchor, anchor_loc)) return false;
+    if (!splice_anchor(l, scene_, editor_, pos, length, text, sp, anchor, anchor_loc)) return false;
     if (anchor_loc.line <= 0) return false;
-    SplicedItem s;
     s.op = sp.op;
     s.list = sp.list;
     s.index = sp.index;
@@ -420,7 +414,17 @@ bool Document::splice_text(std::size_t pos, std::size_t length, const std::strin
         else if (sp.list == ItemList::Plane) s.before.planes.push_back(scene_.planes[sp.index]);
         else s.before.lights.push_back(scene_.lights[sp.index]);
     }
-    if (sp.op != ItemSplice::Op::Remove && !read_block(text, pos, sp, scene_, parse_options(path_), s)) return false;
+    return sp.op == ItemSplice::Op::Remove || read_block(text, pos, sp, scene_, parse_options(path_), s);
+}
+
+bool Document::splice_text(std::size_t pos, std::size_t length, const std::string& text, const std::string& name,
+                           const ItemSplice& sp) {
+    // Positions of warnings, and items an include brings, would need more than this.
+    if (!has_scene_ || applied_ || !scene_.includes.empty() || !diagnostics_.empty()) return false;
+    const SceneLayout* l = layout();
+    if (!l || !layout_matches(*l, scene_)) return false;
+    SplicedItem s;
+    if (!plan_splice(pos, length, text, sp, *l, s)) return false;
     DocStep step;
     step.name = name;
     step.has_scene_before = step.has_scene_after = true;
@@ -432,6 +436,51 @@ bool Document::splice_text(std::size_t pos, std::size_t length, const std::strin
     step.spliced = std::move(s);
     ++scene_version_;
     changed(splice_delta(*step.spliced));
+    text_changed(step, true);
+    record(std::move(step));
+    return true;
+}
+
+bool Document::splice_texts(const std::vector<SpliceEdit>& edits, const std::string& name) {
+    if (edits.empty() || held_) return false;
+    flush_typing();  // text typed since the last step is a step of its own, first
+    normalize_applied();
+    if (!has_scene_ || applied_ || behind_ || !scene_.includes.empty() || !diagnostics_.empty()) return false;
+    if (!layout() || !layout_matches(*layout_, scene_)) return false;
+    DocStep step;
+    step.name = name;
+    step.has_scene_before = step.has_scene_after = true;
+    rt::SceneDelta delta;
+    bool ok = true;
+    // Each edit planned on the text, scene and layout the ones before it left (the
+    // layout is kept in step by apply_splice: it is read directly, not through layout()).
+    for (const SpliceEdit& e : edits) {
+        const TextReplacement& r = e.replacement;
+        SplicedItem s;
+        if (r.empty() || !plan_splice(r.offset, r.length, r.text, e.splice, *layout_, s)) {
+            ok = false;
+            break;
+        }
+        step.made(r, editor_);
+        editor_.replace(r.offset, r.length, r.text);
+        apply_splice(s, true, r.offset, step.editor_back.back().text, r.text, true);
+        delta.merge(splice_delta(s));
+        step.spliced_many.push_back(std::move(s));
+    }
+    if (!ok) {
+        // Those made go back, the last first; the layout is scanned again when next asked for.
+        for (std::size_t k = step.spliced_many.size(); k-- > 0;) {
+            const TextReplacement& r = step.editor[k];
+            const TextReplacement& back = step.editor_back[k];
+            editor_.replace(back.offset, back.length, back.text);
+            apply_splice(step.spliced_many[k], false, r.offset, r.text, back.text, false);
+        }
+        spliced_count_ -= 2 * step.spliced_many.size();
+        layout_.reset();
+        return false;
+    }
+    ++scene_version_;
+    changed(std::move(delta));
     text_changed(step, true);
     record(std::move(step));
     return true;

@@ -2,6 +2,7 @@
 #include "selection.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <utility>
 
@@ -174,6 +175,11 @@ std::size_t give_material(Document& doc, const std::vector<SceneItem>& items, co
     return n;
 }
 
+TextReplacement whole_replacement(const std::string& text, const GroupEdit& g) {
+    std::optional<TextReplacement> r = merge_replacements(text, g.parts);
+    return r ? std::move(*r) : TextReplacement{};
+}
+
 std::optional<TextReplacement> merge_replacements(const std::string& text, std::vector<TextReplacement> reps) {
     if (reps.empty()) return std::nullopt;
     std::stable_sort(reps.begin(), reps.end(),
@@ -205,6 +211,36 @@ std::vector<SceneItem> sorted_items(const rt::Scene& scene, std::vector<SceneIte
     return items;
 }
 
+// Whether `reps` (some) are in `text` and none overlaps another (merge_replacements()
+// would make them one), without copying the text.
+bool apart(const std::string& text, std::vector<TextReplacement>& reps) {
+    if (reps.empty()) return false;
+    std::stable_sort(reps.begin(), reps.end(),
+                     [](const TextReplacement& a, const TextReplacement& b) { return a.offset < b.offset; });
+    std::size_t at = reps.front().offset;
+    for (const TextReplacement& r : reps) {
+        if (r.offset < at || r.offset + r.length > text.size()) return false;
+        at = r.offset + r.length;
+    }
+    return true;
+}
+
+// The items' edits as Document::splice_texts() takes them (the last in the text first),
+// or none when one has no splice or two touch.
+std::vector<Document::SpliceEdit> splices_of(std::vector<SceneEdit>& edits) {
+    std::vector<Document::SpliceEdit> out;
+    for (SceneEdit& e : edits) {
+        if (!e.splice) return {};
+        out.push_back({std::move(e.replacement), *e.splice});
+    }
+    std::stable_sort(out.begin(), out.end(), [](const Document::SpliceEdit& a, const Document::SpliceEdit& b) {
+        return a.replacement.offset > b.replacement.offset;
+    });
+    for (std::size_t k = 1; k < out.size(); ++k)
+        if (out[k].replacement.offset + out[k].replacement.length > out[k - 1].replacement.offset) return {};
+    return out;
+}
+
 }  // namespace
 
 std::optional<GroupEdit> delete_items(const std::string& text, const rt::Scene& scene,
@@ -213,18 +249,20 @@ std::optional<GroupEdit> delete_items(const std::string& text, const rt::Scene& 
     if (!layout) layout = &scanned.emplace(scan_layout(text));
     GroupEdit g;
     std::vector<TextReplacement> reps;
+    std::vector<SceneEdit> edits;
     for (const SceneItem& i : sorted_items(scene, items)) {
         std::optional<SceneEdit> e = item_included(scene, i) ? std::nullopt : delete_item(text, scene, i, layout);
         if (!e) {
             ++g.skipped;
             continue;
         }
-        reps.push_back(std::move(e->replacement));
+        reps.push_back(e->replacement);
+        edits.push_back(std::move(*e));
         ++g.done;
     }
-    std::optional<TextReplacement> r = merge_replacements(text, std::move(reps));
-    if (!r) return std::nullopt;
-    g.replacement = std::move(*r);
+    if (!apart(text, reps)) return std::nullopt;
+    g.parts = std::move(reps);
+    g.splices = splices_of(edits);
     return g;
 }
 
@@ -235,6 +273,7 @@ std::optional<GroupEdit> duplicate_items(const std::string& text, const rt::Scen
     if (!layout) layout = &scanned.emplace(scan_layout(text));
     GroupEdit g;
     std::vector<TextReplacement> reps;
+    std::vector<SceneEdit> edits;
     int before[3] = {0, 0, 0};  // copies made so far ahead of this item in its list
     for (const SceneItem& i : sorted_items(scene, items)) {
         std::optional<SceneEdit> e =
@@ -243,7 +282,8 @@ std::optional<GroupEdit> duplicate_items(const std::string& text, const rt::Scen
             ++g.skipped;
             continue;
         }
-        reps.push_back(std::move(e->replacement));
+        reps.push_back(e->replacement);
+        edits.push_back(std::move(*e));
         // Each copy follows its original in the list: the copies before it (and their
         // originals) push it on by one each.
         int& n = before[int(i.kind)];
@@ -251,15 +291,16 @@ std::optional<GroupEdit> duplicate_items(const std::string& text, const rt::Scen
         ++n;
         ++g.done;
     }
-    std::optional<TextReplacement> r = merge_replacements(text, std::move(reps));
-    if (!r) return std::nullopt;
-    g.replacement = std::move(*r);
+    if (!apart(text, reps)) return std::nullopt;
+    g.parts = std::move(reps);
+    g.splices = splices_of(edits);
     return g;
 }
 
 std::vector<SceneItem> items_in_box(const rt::World& world, const rt::Camera& view_camera, const Rect& image,
                                     int film_w, int film_h, double x0, double y0, double x1, double y1,
-                                    std::size_t max_rays) {
+                                    std::size_t max_rays, double seconds) {
+    const auto start = std::chrono::steady_clock::now();
     std::vector<SceneItem> out;
     if (film_w <= 0 || film_h <= 0 || !(image.w > 0) || !(image.h > 0)) return out;
     if (x1 < x0) std::swap(x0, x1);
@@ -273,17 +314,36 @@ std::vector<SceneItem> items_in_box(const rt::World& world, const rt::Camera& vi
     if (i1 < i0 || j1 < j0) return out;
     const double pixels = double(i1 - i0 + 1) * double(j1 - j0 + 1);
     const int step = std::max(1, int(std::ceil(std::sqrt(pixels / double(std::max<std::size_t>(max_rays, 1))))));
-    std::vector<int> found[3];  // objects, planes, lights (as SceneItem::Kind numbers them)
-    // (The last row and column too, so that a box's edge counts at any step.)
+    // The grid's rows (the last one too, so that a box's edge counts at any step), in the
+    // order that makes any first part of them an even grid: every 8th, then those
+    // halfway between, and so on. After the first 8th the rows stop when the time is up
+    // (the box is then seen at a coarser grid, never only in part).
+    std::vector<int> rows;
     for (int j = j0;; j = std::min(j + step, j1)) {
+        rows.push_back(j);
+        if (j == j1) break;
+    }
+    std::vector<int> order;
+    order.reserve(rows.size());
+    const std::size_t n = rows.size();
+    for (std::size_t k = 0; k < n; k += 8) order.push_back(rows[k]);
+    if ((n - 1) % 8 != 0) order.push_back(rows[n - 1]);
+    const std::size_t first = order.size();
+    for (std::size_t k = 4; k < n - 1; k += 8) order.push_back(rows[k]);
+    for (std::size_t k = 2; k < n - 1; k += 4) order.push_back(rows[k]);
+    for (std::size_t k = 1; k < n - 1; k += 2) order.push_back(rows[k]);
+    std::vector<int> found[3];  // objects, planes, lights (as SceneItem::Kind numbers them)
+    for (std::size_t r = 0; r < order.size(); ++r) {
+        if (r >= first && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds)
+            break;
+        const int j = order[r];
         for (int i = i0;; i = std::min(i + step, i1)) {
             const double px = image.x + (i + 0.5) / sx, py = image.y + (j + 0.5) / sy;
-            const rt::PickResult r = pick_at(world, view_camera, image, film_w, film_h, px, py);
-            const int k = r.object >= 0 ? 0 : r.plane >= 0 ? 1 : r.light >= 0 ? 2 : -1;
-            if (k >= 0) found[k].push_back(k == 0 ? r.object : k == 1 ? r.plane : r.light);
+            const rt::PickResult pr = pick_at(world, view_camera, image, film_w, film_h, px, py);
+            const int k = pr.object >= 0 ? 0 : pr.plane >= 0 ? 1 : pr.light >= 0 ? 2 : -1;
+            if (k >= 0) found[k].push_back(k == 0 ? pr.object : k == 1 ? pr.plane : pr.light);
             if (i == i1) break;
         }
-        if (j == j1) break;
     }
     for (int k = 0; k < 3; ++k) {
         std::vector<int>& f = found[k];

@@ -1,6 +1,6 @@
 // The viewer's selection when it holds several things (Shift+click, box select), and
 // what is done to all of them at once: a move as one held edit of the document (one
-// undo step), delete and duplicate as one replacement of the text (one undo step), the
+// undo step), delete and duplicate as one undo step (spliced item by item), the
 // things a box in the picture sees, their joint outline, and the selection before and
 // after such a step, which undo and redo give back. No GL, no ImGui: unit-tested.
 #pragma once
@@ -77,12 +77,18 @@ private:
 // document (commit() makes it one undo step). Returns how many changed.
 std::size_t give_material(Document& doc, const std::vector<SceneItem>& items, const rt::Material& m);
 
-// Delete or duplicate several items as one replacement of the text (one undo step; the
-// document parses the result). `select`: what is selected afterwards (the copies; none
-// after a delete). Items whose block is not in the text (an included file's) are left
-// out and counted in `skipped`; nothing when no item is left.
+// Delete or duplicate several items as one step: `splices`, each item's edit (its
+// replacement of the text and what it does to the scene) in the order to make them
+// (the last in the text first, so each one's place and index hold when it is made),
+// for Document::splice_texts(); when that cannot be (a scene with includes),
+// whole_replacement(), all of them as one replacement of the text, which the document
+// parses whole. `select`: what is selected afterwards (the copies; none after a
+// delete). Items whose block is not in the text (an included file's) are left out and
+// counted in `skipped`; nothing when no item is left, or when two items' replacements
+// overlap.
 struct GroupEdit {
-    TextReplacement replacement;
+    std::vector<Document::SpliceEdit> splices;  // empty when some edit is not a splice
+    std::vector<TextReplacement> parts;         // each item's replacement of the text
     std::vector<SceneItem> select;
     std::size_t done = 0, skipped = 0;
 };
@@ -92,6 +98,9 @@ std::optional<GroupEdit> delete_items(const std::string& text, const rt::Scene& 
 std::optional<GroupEdit> duplicate_items(const std::string& text, const rt::Scene& scene,
                                          const std::vector<SceneItem>& items, const rt::Vec3& offset,
                                          const SceneLayout* layout = nullptr);
+// The group's edits as one replacement of `text` (the text they were planned on): a
+// copy of all the text between the first and the last (only when it cannot be spliced).
+TextReplacement whole_replacement(const std::string& text, const GroupEdit& g);
 // Several replacements of one text that do not overlap, as one (the span from the first
 // to the last, the text between them kept); nothing if two overlap.
 std::optional<TextReplacement> merge_replacements(const std::string& text, std::vector<TextReplacement> reps);
@@ -99,10 +108,12 @@ std::optional<TextReplacement> merge_replacements(const std::string& text, std::
 // The things seen in the window rectangle between (x0, y0) and (x1, y1) (any corners):
 // the primary hit of each of its film pixels (what a click there would select), on a
 // grid of at most about `max_rays` rays (coarser in a big box). Objects first, then
-// planes, then lights (lamp glows), each by index.
+// planes, then lights (lamp glows), each by index. It is called on the UI thread: an
+// eighth of the grid's rows (evenly spread) is traced first, the rest while `seconds`
+// last (a slow scene sees the box at a coarser grid, not for longer).
 std::vector<SceneItem> items_in_box(const rt::World& world, const rt::Camera& view_camera, const Rect& image,
                                     int film_w, int film_h, double x0, double y0, double x1, double y1,
-                                    std::size_t max_rays = 40000);
+                                    std::size_t max_rays = 40000, double seconds = 0.03);
 
 // The texel window (at `block`) that can see any of `items`: the union of their
 // item_window()s (object_ids.h), or the whole film for very many.

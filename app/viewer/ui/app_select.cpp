@@ -92,7 +92,13 @@ bool ViewerApp::group_edit(Command c) {
                                      : duplicate_items(text, scene, before.many, duplicate_offset(scene), layout);
     const std::string what = g ? std::to_string(g->done) + (g->done == 1 ? " thing" : " things") : std::string();
     const std::string name = (del ? "Delete " : "Duplicate ") + what;
-    if (!g || !doc.replace_text(g->replacement.offset, g->replacement.length, g->replacement.text, name)) {
+    // Spliced item by item where it can be (a million-object scene is not parsed again),
+    // else as one replacement of the text.
+    const auto whole = [&] {
+        const TextReplacement r = whole_replacement(text, *g);
+        return !r.empty() && doc.replace_text(r.offset, r.length, r.text, name);
+    };
+    if (!g || !((!g->splices.empty() && doc.splice_texts(g->splices, name)) || whole())) {
         status_.set(g || before.many.empty() ? "Cannot do that to this scene text"
                                              : "Cannot do that: these things come from included files (edit them there)",
                     true);
