@@ -32,25 +32,24 @@ TilePool::~TilePool() { renderer_.cancel(); }
 
 void TilePool::submit(int id, const Tile& tile, int s0, int s1, float* sums) {
     Job job;
-    job.id = id;
-    job.tile = tile;
     job.s0 = s0;
     job.s1 = s1;
-    job.sums = sums;
-    jobs_.push_back(job);
-    ++outstanding_;
-    advance();
+    queue(job, id, tile, sums);
 }
 
 void TilePool::submit_refine(int id, const Tile& tile, const std::uint32_t* n0, const std::uint32_t* n1, float* sums,
                              float* squares) {
     Job job;
-    job.id = id;
-    job.tile = tile;
     job.n0 = n0;
     job.n1 = n1;
-    job.sums = sums;
     job.squares = squares;
+    queue(job, id, tile, sums);
+}
+
+void TilePool::queue(Job job, int id, const Tile& tile, float* sums) {
+    job.id = id;
+    job.tile = tile;
+    job.sums = sums;
     jobs_.push_back(job);
     ++outstanding_;
     advance();

@@ -71,6 +71,8 @@ private:
         const std::uint32_t *n0 = nullptr, *n1 = nullptr;  // a refine job's, else null
         float* squares = nullptr;
     };
+    // A job (its own fields set) with its id, tile and sums, to the queue's end.
+    void queue(Job job, int id, const Tile& tile, float* sums);
     // The running tile's result, if it is done, into its buffers; then the next tile.
     void advance();
     void start_front();

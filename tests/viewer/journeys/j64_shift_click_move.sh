@@ -12,15 +12,8 @@
 
 step "open default.txt; where the two spheres are (their handles, from the outline)"
 start_viewer "$SCENES/default.txt" --samples 4
-click_item outline_object_1
-wait_state selection "^object_1$"
-read -r x1 y1 <<< "$(field handle 1) $(field handle 2)"
-click_item outline_object_2
-wait_state selection "^object_2$"
-read -r x2 y2 <<< "$(field handle 1) $(field handle 2)"
+sphere_handles
 echo "spheres at $x1 $y1 and $x2 $y2"
-key Escape
-wait_state selection "^none$"
 
 step "click the glass sphere, Shift+click the brown one"
 # (Off their centres: clear of a handle's arrows.)

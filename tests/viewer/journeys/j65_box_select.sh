@@ -12,14 +12,7 @@
 
 step "open default.txt; where the two spheres are"
 start_viewer "$SCENES/default.txt" --samples 4
-click_item outline_object_1
-wait_state selection "^object_1$"
-read -r x1 y1 <<< "$(field handle 1) $(field handle 2)"
-click_item outline_object_2
-wait_state selection "^object_2$"
-read -r x2 y2 <<< "$(field handle 1) $(field handle 2)"
-key Escape
-wait_state selection "^none$"
+sphere_handles
 
 step "Ctrl+Shift+drag a box from one sphere's middle to the other's"
 xdotool mousemove "$x1" "$y1" keydown ctrl keydown shift

@@ -297,3 +297,16 @@ hover_item() {
     read -r x y <<< "$(item_xy "$1")"
     xdotool mousemove "$x" "$y"
 }
+
+# The move handles of the default scene's two spheres (objects 1 and 2), read by
+# selecting each from the outline: sets x1 y1 x2 y2 and leaves nothing selected.
+sphere_handles() {
+    click_item outline_object_1
+    wait_state selection "^object_1$"
+    read -r x1 y1 <<< "$(field handle 1) $(field handle 2)"
+    click_item outline_object_2
+    wait_state selection "^object_2$"
+    read -r x2 y2 <<< "$(field handle 1) $(field handle 2)"
+    key Escape
+    wait_state selection "^none$"
+}
