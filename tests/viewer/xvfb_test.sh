@@ -157,7 +157,7 @@ dim=$("$TOOL" diff "$OUT/panned.png" "$OUT/asking.png" $IMAGE)
 awk -v c="$dim" 'BEGIN { exit !(c > 0.5) }' || fail "no modal dialog (image region changed only $dim)"
 xdotool key Escape
 wait_until '[[ "$(state popups)" == none ]]' 10 "Escape to close the dialog"
-shot cancelled
+wait_stable cancelled   # the frame after the dialog, not the one the state was written in
 [ "$("$TOOL" diff "$OUT/panned.png" "$OUT/cancelled.png" $IMAGE)" = "0.000000" ] || fail "the dialog did not close"
 
 step "F12 writes a screenshot of the window"
