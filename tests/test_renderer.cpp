@@ -382,6 +382,30 @@ TEST_CASE("film: zeroed arrays of every size are zero, writable to their ends, a
     }
 }
 
+TEST_CASE("film: an adopted array keeps the numbers' memory and bytes, and leaves the source empty") {
+    for (std::size_t n : {std::size_t(1000), std::size_t(3000001)}) {  // from calloc, mapped
+        CAPTURE(n);
+        ZeroedArray<float> a(n);
+        for (std::size_t i = 0; i < n; ++i) a[i] = float(i % 97);
+        const auto* raw = reinterpret_cast<const unsigned char*>(a.data());
+        std::vector<unsigned char> before(raw, raw + 3 * n);
+        ZeroedArray<std::uint8_t> b(5);
+        b.adopt(a, 3 * n);
+        CHECK(a.empty());
+        CHECK(a.data() == nullptr);
+        REQUIRE(b.size() == 3 * n);
+        CHECK(static_cast<const void*>(b.data()) == static_cast<const void*>(raw));
+        CHECK(std::equal(before.begin(), before.end(), b.begin()));
+        b[3 * n - 1] = 7;  // writable to its end
+        CHECK(b[3 * n - 1] == 7);
+        ZeroedArray<std::uint8_t> c;
+        CHECK_THROWS_AS(c.adopt(b, 3 * n + 1), std::length_error);
+        CHECK(b.size() == 3 * n);  // a refused adoption changes nothing
+        c.adopt(b, 0);  // the memory goes with no elements, and is released with c
+        CHECK(b.empty());
+    }
+}
+
 TEST_CASE("film: a pixel with no sample shows its block's corner colour at the last coarse level") {
     Film f;
     f.reset(10, 7);
