@@ -135,7 +135,7 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
         out.film = renderer.snapshot();
         out.width = out.film.width, out.height = out.film.height;
     } else {
-        renderer.snapshot_rgb8(out.pixels, out.width, out.height);
+        renderer.take_rgb8(out.pixels, out.width, out.height);  // written once: no copy of the film
     }
     if (out.width != scene.width || out.height != scene.height || out.progress.samples < 1)
         return failure(kProgram,

@@ -1039,36 +1039,84 @@ Image Renderer::snapshot(std::uint64_t* generation) const {
     return film_.resolve();
 }
 
+// Row y of the film as 8-bit RGB into out (3 bytes a pixel).
+void Renderer::row_rgb8(int y, std::uint8_t* out) const {
+    // Runs of one-sample pixels (every pixel of a finished one-sample render, most of
+    // an adaptive one) in bulk; the others pixel by pixel.
+    const std::size_t w = std::size_t(film_.width), first = std::size_t(y) * w;
+    const std::uint32_t* count = film_.count.data() + first;
+    for (std::size_t x = 0; x < w;) {
+        std::size_t end = x;
+        while (end < w && count[end] == 1) ++end;
+        sums_to_bytes(film_.sum.data() + 3 * (first + x), 3 * (end - x), out + 3 * x);
+        for (x = end; x < w && count[x] != 1; ++x) {
+            // Through float, exactly as a snapshot() pixel would be.
+            const Colour c = film_.pixel(int(x), y, first + x);
+            std::uint8_t* o = out + 3 * x;
+            o[0] = to_byte(float(c.x)), o[1] = to_byte(float(c.y)), o[2] = to_byte(float(c.z));
+        }
+    }
+}
+
+// A big picture is converted by as many threads as the renderer has: the command line
+// waits for this between the render and the file.
+int Renderer::rgb8_parts() const {
+    const std::size_t n = std::size_t(film_.width) * std::size_t(film_.height);
+    return int(std::min<std::size_t>(std::size_t(max_runners_), n / (1 << 18) + 1));
+}
+
 void Renderer::snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height) const {
     std::lock_guard<std::mutex> lock(mutex_);
     width = film_.width;
     height = film_.height;
-    std::size_t n = std::size_t(width) * height;
-    out.reset(n * 3);
-    auto convert = [&](int y0, int y1) {
-        // Runs of one-sample pixels (every pixel of a finished one-sample render, most
-        // of an adaptive one) in bulk; the others pixel by pixel.
-        const std::size_t w = std::size_t(width);
-        for (int y = y0; y < y1; ++y) {
-            const std::size_t first = std::size_t(y) * w;
-            const std::uint32_t* count = film_.count.data() + first;
-            for (std::size_t x = 0; x < w;) {
-                std::size_t end = x;
-                while (end < w && count[end] == 1) ++end;
-                sums_to_bytes(film_.sum.data() + 3 * (first + x), 3 * (end - x), &out[3 * (first + x)]);
-                for (x = end; x < w && count[x] != 1; ++x) {
-                    // Through float, exactly as a snapshot() pixel would be.
-                    const Colour c = film_.pixel(int(x), y, first + x);
-                    std::uint8_t* o = &out[3 * (first + x)];
-                    o[0] = to_byte(float(c.x)), o[1] = to_byte(float(c.y)), o[2] = to_byte(float(c.z));
-                }
-            }
+    out.reset(std::size_t(width) * std::size_t(height) * 3);
+    const int parts = rgb8_parts();
+    pool_->parallel_for(parts, [&](int k) {
+        for (int y = height * k / parts; y < height * (k + 1) / parts; ++y)
+            row_rgb8(y, &out[3 * std::size_t(y) * std::size_t(width)]);
+    });
+}
+
+void Renderer::take_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (job_ && !job_->done) {
+        // Still rendering: its tiles go on into the film, so a copy.
+        lock.unlock();
+        snapshot_rgb8(out, width, height);
+        return;
+    }
+    // A task cut short by the end of the render may still be reading the film.
+    idle_cv_.wait(lock, [&] { return busy_ == 0; });
+    width = film_.width;
+    height = film_.height;
+    const std::size_t w = std::size_t(width), n = w * std::size_t(height);
+    if (n == 0 || film_.sum.size() != 3 * n) {
+        out.reset(0);
+        return;
+    }
+    // Each part's bytes first go to the start of its own rows' sums: row y's 3w bytes
+    // end before row y + 1's floats begin, so a row is read (into `row`) before any of
+    // its bytes are written and no later row is overwritten. Then the parts move down
+    // to their places, in order: part k's bytes end where part k + 1's begin, far
+    // below its floats.
+    auto* bytes = reinterpret_cast<std::uint8_t*>(film_.sum.data());
+    const int parts = rgb8_parts();
+    pool_->parallel_for(parts, [&](int k) {
+        thread_local std::vector<std::uint8_t> row;
+        row.resize(3 * w);
+        const int y0 = height * k / parts, y1 = height * (k + 1) / parts;
+        std::uint8_t* to = bytes + 12 * std::size_t(y0) * w;
+        for (int y = y0; y < y1; ++y, to += 3 * w) {
+            row_rgb8(y, row.data());
+            std::memcpy(to, row.data(), 3 * w);
         }
-    };
-    // A big picture is converted by as many threads as the renderer has: the command
-    // line waits for this between the render and the file.
-    const int parts = int(std::min<std::size_t>(std::size_t(max_runners_), n / (1 << 18) + 1));
-    pool_->parallel_for(parts, [&](int k) { convert(height * k / parts, height * (k + 1) / parts); });
+    });
+    for (int k = 1; k < parts; ++k) {
+        const std::size_t y0 = std::size_t(height * k / parts), y1 = std::size_t(height * (k + 1) / parts);
+        std::memmove(bytes + 3 * y0 * w, bytes + 12 * y0 * w, 3 * (y1 - y0) * w);
+    }
+    out.adopt(film_.sum, 3 * n);
+    film_.reset(0, 0);  // the next render starts from a new film
 }
 
 bool Renderer::snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version,

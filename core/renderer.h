@@ -182,6 +182,10 @@ public:
     // The film as 8-bit RGB with the original's rounding, as image files hold it
     // (the same bytes as to_rgb8(snapshot()), without the float copy).
     void snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height) const;
+    // The same bytes, made in place of the film's sums (no fresh memory for a picture
+    // written once) and handed over: the film is left empty (0 x 0), for the end of a
+    // one-shot render. While a render runs, a copy as snapshot_rgb8 makes.
+    void take_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height);
     // RGBA8 for display, kept up to date in `out` between calls: returns false if
     // nothing changed since `version`; else brings `out` (as the last call with this
     // `version` left it) up to the film's state, converting only the tiles finished in
@@ -238,6 +242,8 @@ private:
     bool run_samples(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
     bool run_refine(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
     void commit_film(const RenderTask& task, const std::vector<float>& buf);
+    void row_rgb8(int y, std::uint8_t* out) const;
+    int rgb8_parts() const;
 
     std::unique_ptr<ThreadPool> own_pool_;  // null when sharing one
     ThreadPool* pool_ = nullptr;
