@@ -115,6 +115,7 @@ struct Renderer::Job {
     std::shared_ptr<AdaptiveJob> aa;  // null: a uniform render
     std::string error;                // RenderProgress::error
     int raise_to = 0;                 // raise_samples() of an adaptive render, at the next pass
+    bool bytes = false;               // settings.bytes_only in effect: tiles go to film_bytes_
 };
 
 namespace {
@@ -341,6 +342,9 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
                         job->crop.width(), 0u);
         if (st.coarse && film_.preview.empty()) film_.preview.reset(Film::preview_size(job->width, job->height));
     }
+    job->bytes = st.bytes_only && st.max_samples == 1 && st.aa_threshold < 0 && !st.coarse && !resume &&
+                 st.step == 1 && st.pass == RenderPass::Colour && !st.hard_time_limit && settings.crop.empty();
+    film_bytes_.reset(job->bytes ? 3 * pixels : 0);
     if (st.pass == RenderPass::Ids && film_.ids.size() != pixels) film_.ids.reset(pixels);
     if (st.pass == RenderPass::Ids) std::fill(film_.ids.begin(), film_.ids.end(), 0u);
     if (st.aa_threshold >= 0 || st.refine_marked) {
@@ -782,6 +786,12 @@ void Renderer::commit_film(const RenderTask& task, const std::vector<float>& buf
     for (int y = task.y0; y < task.y1; ++y) {
         const std::size_t idx = std::size_t(y) * film_.width + task.x0;
         const float* row = &buf[3 * std::size_t(y - task.y0) * w];
+        if (task.kind == PassKind::Samples && job.bytes) {
+            // (The bytes row_rgb8 would make of one-sample pixels.)
+            sums_to_bytes(row, 3 * std::size_t(w), film_bytes_.data() + 3 * idx);
+            job.film_samples += std::uint64_t(w);
+            continue;
+        }
         if (task.kind == PassKind::Samples) {
             std::copy(row, row + 3 * w, film_.sum.data() + 3 * idx);
             std::fill_n(film_.count.data() + idx, w, std::uint32_t(task.s1));
@@ -1087,6 +1097,15 @@ void Renderer::take_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height
     }
     // A task cut short by the end of the render may still be reading the film.
     idle_cv_.wait(lock, [&] { return busy_ == 0; });
+    if (job_ && job_->bytes) {
+        const bool taken = film_bytes_.empty();  // by an earlier call
+        width = taken ? 0 : job_->width;
+        height = taken ? 0 : job_->height;
+        out.reset(0);
+        out.swap(film_bytes_);
+        film_.reset(0, 0);
+        return;
+    }
     width = film_.width;
     height = film_.height;
     const std::size_t w = std::size_t(width), n = w * std::size_t(height);

@@ -89,6 +89,12 @@ struct RenderSettings {
     // refinement, each marked pixel from its n samples to refine_count(n, max_samples).
     int first_sample = 0;
     bool refine_marked = false;
+    // A one-shot render for an 8-bit file (take_rgb8): when a pixel's one sample is all
+    // there is (max_samples 1, no adaptive anti-aliasing, coarse passes, crop, step, id
+    // pass or hard time limit), each tile goes straight into bytes while it is in cache
+    // and the film's floats are never written: snapshots of that render show nothing.
+    // Otherwise ignored.
+    bool bytes_only = false;
 };
 
 // The sample passes of samples [from, to), each {s0, s1}: samples_per_pass at a time,
@@ -184,7 +190,8 @@ public:
     void snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height) const;
     // The same bytes, made in place of the film's sums (no fresh memory for a picture
     // written once) and handed over: the film is left empty (0 x 0), for the end of a
-    // one-shot render. While a render runs, a copy as snapshot_rgb8 makes.
+    // one-shot render (after bytes_only, the bytes its tiles went into). While a render runs,
+    // a copy as snapshot_rgb8 makes.
     void take_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height);
     // RGBA8 for display, kept up to date in `out` between calls: returns false if
     // nothing changed since `version`; else brings `out` (as the last call with this
@@ -262,6 +269,7 @@ private:
     std::deque<std::pair<std::uint64_t, std::array<int, 4>>> changes_;
     std::uint64_t full_version_ = 0;
     ZeroedArray<std::uint8_t> loaded_marks_;  // load_window()'s, for the next start()
+    ZeroedArray<std::uint8_t> film_bytes_;    // a bytes_only render's picture, 3 bytes a pixel
     int busy_ = 0;  // runners inside a task
     bool paused_ = false;
     int steps_ = 0;  // tiles that may still be taken while paused

@@ -440,6 +440,21 @@ TEST_CASE("renderer: take_rgb8 gives the bytes of to_rgb8(snapshot()) and leaves
             const Image after = r.snapshot();
             CHECK(after.width == 0);
             CHECK(after.rgb.empty());
+            // The same picture made straight into bytes, tile by tile (or, where the
+            // settings need the floats, the same way as above).
+            RenderSettings direct = s;
+            direct.bytes_only = true;
+            direct.coarse = false;
+            direct.tile_size = round == 0 ? 32 : 13;
+            r.start(world, direct);
+            r.wait();
+            if (c.aa < 0) CHECK(r.progress().samples == c.samples);
+            ZeroedArray<std::uint8_t> straight;
+            r.take_rgb8(straight, w, h);
+            CHECK(w == c.w);
+            CHECK(h == c.h);
+            REQUIRE(straight.size() == expected.size());
+            CHECK(std::equal(expected.begin(), expected.end(), straight.begin()));
         }
     }
 }
