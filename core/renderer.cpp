@@ -293,6 +293,14 @@ std::vector<Pass> plan_passes(const RenderSettings& settings, int width, int hei
 }
 }  // namespace
 
+namespace {
+// RenderSettings::bytes_only in effect: every pixel's one sample is its picture.
+bool straight_to_bytes(const RenderSettings& st, bool resume) {
+    return st.bytes_only && st.max_samples == 1 && st.aa_threshold < 0 && !st.coarse && !resume && st.step == 1 &&
+           st.pass == RenderPass::Colour && !st.hard_time_limit && st.crop.empty();
+}
+}  // namespace
+
 void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& settings) {
     cancel();
     std::lock_guard<std::mutex> lock(mutex_);
@@ -342,9 +350,7 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
                         job->crop.width(), 0u);
         if (st.coarse && film_.preview.empty()) film_.preview.reset(Film::preview_size(job->width, job->height));
     }
-    job->bytes = st.bytes_only && st.max_samples == 1 && st.aa_threshold < 0 && !st.coarse && !resume &&
-                 st.step == 1 && st.pass == RenderPass::Colour && !st.hard_time_limit && settings.crop.empty();
-    film_bytes_.reset(job->bytes ? 3 * pixels : 0);
+    film_bytes_.reset((job->bytes = straight_to_bytes(st, resume)) ? 3 * pixels : 0);
     if (st.pass == RenderPass::Ids && film_.ids.size() != pixels) film_.ids.reset(pixels);
     if (st.pass == RenderPass::Ids) std::fill(film_.ids.begin(), film_.ids.end(), 0u);
     if (st.aa_threshold >= 0 || st.refine_marked) {
