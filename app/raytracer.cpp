@@ -114,7 +114,8 @@ struct Rendered {
 // Phase 4: renders with the progress bar.
 rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene& scene, const Options& opt,
            bool floats, Rendered& out) {
-    const rt::RenderSettings settings = render_settings(opt, scene.width, scene.height);
+    rt::RenderSettings settings = render_settings(opt, scene.width, scene.height);
+    settings.bytes_only = !floats;  // the picture is written once, as bytes
 
     rt::Renderer renderer(rt::process_pool());
     ProgressBar bar(!opt.quiet && isatty(STDERR_FILENO));
@@ -135,7 +136,7 @@ rt::Status render(const std::shared_ptr<const rt::World>& world, const rt::Scene
         out.film = renderer.snapshot();
         out.width = out.film.width, out.height = out.film.height;
     } else {
-        renderer.snapshot_rgb8(out.pixels, out.width, out.height);
+        renderer.take_rgb8(out.pixels, out.width, out.height);  // written once: no copy of the film
     }
     if (out.width != scene.width || out.height != scene.height || out.progress.samples < 1)
         return failure(kProgram,

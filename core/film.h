@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <new>
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -62,8 +63,8 @@ public:
         if (n > std::size_t(-1) / sizeof(T)) throw std::bad_alloc();
         const std::size_t bytes = n * sizeof(T);
         if (bytes >= kMapBytes) {
-            p_ = static_cast<T*>(map(bytes));
-            mapped_ = true;
+            mapped_bytes_ = map_size(bytes);
+            p_ = static_cast<T*>(map(mapped_bytes_));
         } else {
             p_ = static_cast<T*>(std::calloc(n, sizeof(T)));
             if (!p_) throw std::bad_alloc();
@@ -73,7 +74,21 @@ public:
     void swap(ZeroedArray& o) noexcept {
         std::swap(p_, o.p_);
         std::swap(n_, o.n_);
-        std::swap(mapped_, o.mapped_);
+        std::swap(mapped_bytes_, o.mapped_bytes_);
+    }
+    // Takes over the memory of `from` (which is left empty) as n elements of T: for
+    // results made in place of the numbers they came from, without fresh pages.
+    template <class U>
+    void adopt(ZeroedArray<U>& from, std::size_t n) {
+        static_assert(alignof(T) <= alignof(U), "the memory must be aligned for T");
+        if (n > from.n_ * sizeof(U) / sizeof(T)) throw std::length_error("ZeroedArray::adopt: too many elements");
+        release();
+        p_ = reinterpret_cast<T*>(from.p_);
+        n_ = p_ ? n : 0;
+        mapped_bytes_ = from.mapped_bytes_;
+        from.p_ = nullptr;
+        from.n_ = 0;
+        from.mapped_bytes_ = 0;
     }
     std::size_t size() const { return n_; }
     bool empty() const { return n_ == 0; }
@@ -87,6 +102,17 @@ public:
     const T* end() const { return p_ + n_; }
 
 private:
+    template <class>
+    friend class ZeroedArray;
+    // The length mapped for `bytes`: from kHugeBytes on, whole huge pages, so that
+    // the last part is one huge page too (faulted at once) instead of up to 511 small
+    // ones; what lies past `bytes` is never written, and the kernel does not tell
+    // the two apart when it backs the page.
+    static std::size_t map_size(std::size_t bytes) {
+        if (bytes < kHugeBytes) return bytes;
+        if (bytes > std::size_t(-1) - kHugeBytes) throw std::bad_alloc();
+        return (bytes + kHugeBytes - 1) & ~(kHugeBytes - 1);
+    }
     // Zeroed pages for `bytes`. From kHugeBytes on, they start on a huge-page boundary
     // and the kernel is asked to back them with huge pages: a film is read and written
     // row by row of tiles, each row on pages of its own, and in small pages the address
@@ -107,15 +133,15 @@ private:
         return reinterpret_cast<void*>(start);
     }
     void release() {
-        if (mapped_) ::munmap(p_, n_ * sizeof(T));
+        if (mapped_bytes_) ::munmap(p_, mapped_bytes_);
         else std::free(p_);
         p_ = nullptr;
         n_ = 0;
-        mapped_ = false;
+        mapped_bytes_ = 0;
     }
     T* p_ = nullptr;
     std::size_t n_ = 0;
-    bool mapped_ = false;
+    std::size_t mapped_bytes_ = 0;  // 0: from calloc
 };
 
 struct Film {

@@ -115,6 +115,7 @@ struct Renderer::Job {
     std::shared_ptr<AdaptiveJob> aa;  // null: a uniform render
     std::string error;                // RenderProgress::error
     int raise_to = 0;                 // raise_samples() of an adaptive render, at the next pass
+    bool bytes = false;               // settings.bytes_only in effect: tiles go to film_bytes_
 };
 
 namespace {
@@ -292,6 +293,14 @@ std::vector<Pass> plan_passes(const RenderSettings& settings, int width, int hei
 }
 }  // namespace
 
+namespace {
+// RenderSettings::bytes_only in effect: every pixel's one sample is its picture.
+bool straight_to_bytes(const RenderSettings& st, bool resume) {
+    return st.bytes_only && st.max_samples == 1 && st.aa_threshold < 0 && !st.coarse && !resume && st.step == 1 &&
+           st.pass == RenderPass::Colour && !st.hard_time_limit && st.crop.empty();
+}
+}  // namespace
+
 void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& settings) {
     cancel();
     std::lock_guard<std::mutex> lock(mutex_);
@@ -341,6 +350,7 @@ void Renderer::start(std::shared_ptr<const World> world, const RenderSettings& s
                         job->crop.width(), 0u);
         if (st.coarse && film_.preview.empty()) film_.preview.reset(Film::preview_size(job->width, job->height));
     }
+    film_bytes_.reset((job->bytes = straight_to_bytes(st, resume)) ? 3 * pixels : 0);
     if (st.pass == RenderPass::Ids && film_.ids.size() != pixels) film_.ids.reset(pixels);
     if (st.pass == RenderPass::Ids) std::fill(film_.ids.begin(), film_.ids.end(), 0u);
     if (st.aa_threshold >= 0 || st.refine_marked) {
@@ -782,6 +792,12 @@ void Renderer::commit_film(const RenderTask& task, const std::vector<float>& buf
     for (int y = task.y0; y < task.y1; ++y) {
         const std::size_t idx = std::size_t(y) * film_.width + task.x0;
         const float* row = &buf[3 * std::size_t(y - task.y0) * w];
+        if (task.kind == PassKind::Samples && job.bytes) {
+            // (The bytes row_rgb8 would make of one-sample pixels.)
+            sums_to_bytes(row, 3 * std::size_t(w), film_bytes_.data() + 3 * idx);
+            job.film_samples += std::uint64_t(w);
+            continue;
+        }
         if (task.kind == PassKind::Samples) {
             std::copy(row, row + 3 * w, film_.sum.data() + 3 * idx);
             std::fill_n(film_.count.data() + idx, w, std::uint32_t(task.s1));
@@ -1039,36 +1055,93 @@ Image Renderer::snapshot(std::uint64_t* generation) const {
     return film_.resolve();
 }
 
+// Row y of the film as 8-bit RGB into out (3 bytes a pixel).
+void Renderer::row_rgb8(int y, std::uint8_t* out) const {
+    // Runs of one-sample pixels (every pixel of a finished one-sample render, most of
+    // an adaptive one) in bulk; the others pixel by pixel.
+    const std::size_t w = std::size_t(film_.width), first = std::size_t(y) * w;
+    const std::uint32_t* count = film_.count.data() + first;
+    for (std::size_t x = 0; x < w;) {
+        std::size_t end = x;
+        while (end < w && count[end] == 1) ++end;
+        sums_to_bytes(film_.sum.data() + 3 * (first + x), 3 * (end - x), out + 3 * x);
+        for (x = end; x < w && count[x] != 1; ++x) {
+            // Through float, exactly as a snapshot() pixel would be.
+            const Colour c = film_.pixel(int(x), y, first + x);
+            std::uint8_t* o = out + 3 * x;
+            o[0] = to_byte(float(c.x)), o[1] = to_byte(float(c.y)), o[2] = to_byte(float(c.z));
+        }
+    }
+}
+
+// A big picture is converted by as many threads as the renderer has: the command line
+// waits for this between the render and the file.
+int Renderer::rgb8_parts() const {
+    const std::size_t n = std::size_t(film_.width) * std::size_t(film_.height);
+    return int(std::min<std::size_t>(std::size_t(max_runners_), n / (1 << 18) + 1));
+}
+
 void Renderer::snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height) const {
     std::lock_guard<std::mutex> lock(mutex_);
     width = film_.width;
     height = film_.height;
-    std::size_t n = std::size_t(width) * height;
-    out.reset(n * 3);
-    auto convert = [&](int y0, int y1) {
-        // Runs of one-sample pixels (every pixel of a finished one-sample render, most
-        // of an adaptive one) in bulk; the others pixel by pixel.
-        const std::size_t w = std::size_t(width);
-        for (int y = y0; y < y1; ++y) {
-            const std::size_t first = std::size_t(y) * w;
-            const std::uint32_t* count = film_.count.data() + first;
-            for (std::size_t x = 0; x < w;) {
-                std::size_t end = x;
-                while (end < w && count[end] == 1) ++end;
-                sums_to_bytes(film_.sum.data() + 3 * (first + x), 3 * (end - x), &out[3 * (first + x)]);
-                for (x = end; x < w && count[x] != 1; ++x) {
-                    // Through float, exactly as a snapshot() pixel would be.
-                    const Colour c = film_.pixel(int(x), y, first + x);
-                    std::uint8_t* o = &out[3 * (first + x)];
-                    o[0] = to_byte(float(c.x)), o[1] = to_byte(float(c.y)), o[2] = to_byte(float(c.z));
-                }
-            }
+    out.reset(std::size_t(width) * std::size_t(height) * 3);
+    const int parts = rgb8_parts();
+    pool_->parallel_for(parts, [&](int k) {
+        for (int y = height * k / parts; y < height * (k + 1) / parts; ++y)
+            row_rgb8(y, &out[3 * std::size_t(y) * std::size_t(width)]);
+    });
+}
+
+void Renderer::take_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (job_ && !job_->done) {
+        // Still rendering: its tiles go on into the film, so a copy.
+        lock.unlock();
+        snapshot_rgb8(out, width, height);
+        return;
+    }
+    // A task cut short by the end of the render may still be reading the film.
+    idle_cv_.wait(lock, [&] { return busy_ == 0; });
+    if (job_ && job_->bytes) {
+        const bool taken = film_bytes_.empty();  // by an earlier call
+        width = taken ? 0 : job_->width;
+        height = taken ? 0 : job_->height;
+        out.reset(0);
+        out.swap(film_bytes_);
+        film_.reset(0, 0);
+        return;
+    }
+    width = film_.width;
+    height = film_.height;
+    const std::size_t w = std::size_t(width), n = w * std::size_t(height);
+    if (n == 0 || film_.sum.size() != 3 * n) {
+        out.reset(0);
+        return;
+    }
+    // Each part's bytes first go to the start of its own rows' sums: row y's 3w bytes
+    // end before row y + 1's floats begin, so a row is read (into `row`) before any of
+    // its bytes are written and no later row is overwritten. Then the parts move down
+    // to their places, in order: part k's bytes end where part k + 1's begin, far
+    // below its floats.
+    auto* bytes = reinterpret_cast<std::uint8_t*>(film_.sum.data());
+    const int parts = rgb8_parts();
+    pool_->parallel_for(parts, [&](int k) {
+        thread_local std::vector<std::uint8_t> row;
+        row.resize(3 * w);
+        const int y0 = height * k / parts, y1 = height * (k + 1) / parts;
+        std::uint8_t* to = bytes + 12 * std::size_t(y0) * w;
+        for (int y = y0; y < y1; ++y, to += 3 * w) {
+            row_rgb8(y, row.data());
+            std::memcpy(to, row.data(), 3 * w);
         }
-    };
-    // A big picture is converted by as many threads as the renderer has: the command
-    // line waits for this between the render and the file.
-    const int parts = int(std::min<std::size_t>(std::size_t(max_runners_), n / (1 << 18) + 1));
-    pool_->parallel_for(parts, [&](int k) { convert(height * k / parts, height * (k + 1) / parts); });
+    });
+    for (int k = 1; k < parts; ++k) {
+        const std::size_t y0 = std::size_t(height * k / parts), y1 = std::size_t(height * (k + 1) / parts);
+        std::memmove(bytes + 3 * y0 * w, bytes + 12 * y0 * w, 3 * (y1 - y0) * w);
+    }
+    out.adopt(film_.sum, 3 * n);
+    film_.reset(0, 0);  // the next render starts from a new film
 }
 
 bool Renderer::snapshot_rgba8(std::vector<std::uint8_t>& out, int& width, int& height, std::uint64_t& version,

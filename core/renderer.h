@@ -89,6 +89,12 @@ struct RenderSettings {
     // refinement, each marked pixel from its n samples to refine_count(n, max_samples).
     int first_sample = 0;
     bool refine_marked = false;
+    // A one-shot render for an 8-bit file (take_rgb8): when a pixel's one sample is all
+    // there is (max_samples 1, no adaptive anti-aliasing, coarse passes, crop, step, id
+    // pass or hard time limit), each tile goes straight into bytes while it is in cache
+    // and the film's floats are never written: snapshots of that render show nothing.
+    // Otherwise ignored.
+    bool bytes_only = false;
 };
 
 // The sample passes of samples [from, to), each {s0, s1}: samples_per_pass at a time,
@@ -182,6 +188,11 @@ public:
     // The film as 8-bit RGB with the original's rounding, as image files hold it
     // (the same bytes as to_rgb8(snapshot()), without the float copy).
     void snapshot_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height) const;
+    // The same bytes, made in place of the film's sums (no fresh memory for a picture
+    // written once) and handed over: the film is left empty (0 x 0), for the end of a
+    // one-shot render (after bytes_only, the bytes its tiles went into). While a render runs,
+    // a copy as snapshot_rgb8 makes.
+    void take_rgb8(ZeroedArray<std::uint8_t>& out, int& width, int& height);
     // RGBA8 for display, kept up to date in `out` between calls: returns false if
     // nothing changed since `version`; else brings `out` (as the last call with this
     // `version` left it) up to the film's state, converting only the tiles finished in
@@ -238,6 +249,8 @@ private:
     bool run_samples(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
     bool run_refine(const RenderTask& task, std::vector<float>& buf, RayStats& stats);
     void commit_film(const RenderTask& task, const std::vector<float>& buf);
+    void row_rgb8(int y, std::uint8_t* out) const;
+    int rgb8_parts() const;
 
     std::unique_ptr<ThreadPool> own_pool_;  // null when sharing one
     ThreadPool* pool_ = nullptr;
@@ -256,6 +269,7 @@ private:
     std::deque<std::pair<std::uint64_t, std::array<int, 4>>> changes_;
     std::uint64_t full_version_ = 0;
     ZeroedArray<std::uint8_t> loaded_marks_;  // load_window()'s, for the next start()
+    ZeroedArray<std::uint8_t> film_bytes_;    // a bytes_only render's picture, 3 bytes a pixel
     int busy_ = 0;  // runners inside a task
     bool paused_ = false;
     int steps_ = 0;  // tiles that may still be taken while paused

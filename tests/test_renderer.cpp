@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "default_scene.h"
+#include "image_io.h"
 #include "parallel.h"
 #include "renderer.h"
 #include "scene_parser.h"
@@ -379,6 +380,82 @@ TEST_CASE("film: zeroed arrays of every size are zero, writable to their ends, a
         a.reset(n);  // again, from a fresh mapping: zero
         CHECK(a[0] == 0.f);
         CHECK(a[n - 1] == 0.f);
+    }
+}
+
+TEST_CASE("film: an adopted array keeps the numbers' memory and bytes, and leaves the source empty") {
+    for (std::size_t n : {std::size_t(1000), std::size_t(3000001)}) {  // from calloc, mapped
+        CAPTURE(n);
+        ZeroedArray<float> a(n);
+        for (std::size_t i = 0; i < n; ++i) a[i] = float(i % 97);
+        const auto* raw = reinterpret_cast<const unsigned char*>(a.data());
+        std::vector<unsigned char> before(raw, raw + 3 * n);
+        ZeroedArray<std::uint8_t> b(5);
+        b.adopt(a, 3 * n);
+        CHECK(a.empty());
+        CHECK(a.data() == nullptr);
+        REQUIRE(b.size() == 3 * n);
+        CHECK(static_cast<const void*>(b.data()) == static_cast<const void*>(raw));
+        CHECK(std::equal(before.begin(), before.end(), b.begin()));
+        b[3 * n - 1] = 7;  // writable to its end
+        CHECK(b[3 * n - 1] == 7);
+        ZeroedArray<std::uint8_t> c;
+        CHECK_THROWS_AS(c.adopt(b, 3 * n + 1), std::length_error);
+        CHECK(b.size() == 3 * n);  // a refused adoption changes nothing
+        c.adopt(b, 0);  // the memory goes with no elements, and is released with c
+        CHECK(b.empty());
+    }
+}
+
+TEST_CASE("renderer: take_rgb8 gives the bytes of to_rgb8(snapshot()) and leaves an empty film for the next render") {
+    // Sizes for one, two and three parts (a part per 2^18 pixels, up to the threads),
+    // rows not divisible by the parts; one sample (the bulk conversion), several
+    // (pixel by pixel) and adaptive (both).
+    struct Case {
+        int w, h, samples;
+        double aa;
+    };
+    for (const Case c : {Case{64, 48, 1, -1}, Case{701, 451, 1, -1}, Case{900, 700, 1, -1}, Case{701, 451, 2, -1},
+                         Case{300, 200, 3, 0.02}}) {
+        CAPTURE(c.w);
+        CAPTURE(c.h);
+        CAPTURE(c.samples);
+        auto world = compile_world(parse_ok(rt_test::mixed_scene(c.w, c.h)));
+        RenderSettings s;
+        s.max_samples = c.samples;
+        s.aa_threshold = c.aa;
+        Renderer r(3);
+        for (int round = 0; round < 2; ++round) {
+            r.start(world, s);
+            r.wait();
+            const std::vector<std::uint8_t> expected = to_rgb8(r.snapshot());
+            REQUIRE(expected.size() == std::size_t(c.w) * c.h * 3);
+            ZeroedArray<std::uint8_t> bytes;
+            int w = 0, h = 0;
+            r.take_rgb8(bytes, w, h);
+            CHECK(w == c.w);
+            CHECK(h == c.h);
+            REQUIRE(bytes.size() == expected.size());
+            CHECK(std::equal(expected.begin(), expected.end(), bytes.begin()));
+            const Image after = r.snapshot();
+            CHECK(after.width == 0);
+            CHECK(after.rgb.empty());
+            // The same picture made straight into bytes, tile by tile (or, where the
+            // settings need the floats, the same way as above).
+            RenderSettings direct = s;
+            direct.bytes_only = true;
+            direct.coarse = false;
+            direct.tile_size = round == 0 ? 32 : 13;
+            r.start(world, direct);
+            r.wait();
+            if (c.aa < 0) CHECK(r.progress().samples == c.samples);
+            ZeroedArray<std::uint8_t> straight;
+            r.take_rgb8(straight, w, h);
+            CHECK(w == c.w);
+            CHECK(h == c.h);
+            REQUIRE(straight.size() == expected.size());
+            CHECK(std::equal(expected.begin(), expected.end(), straight.begin()));
+        }
     }
 }
 
