@@ -60,12 +60,12 @@ constexpr std::size_t kGlowBvhMin = 8;
 // Lamp glow hit: the disc at the lamp's distance, if the line passes within `size`
 // and the lamp is ahead (the original also hit lamps behind the origin).
 inline bool glow_hit(const ShadeLight& l, const Vec3& o, const Vec3& d, double& t) {
-    if (l.glow <= 0) return false;
+    if (l.size <= 0) return false;
     Vec3 co = l.position - o;
     double along = dot(co, d);
     if (!(along > 0)) return false;
     double dist2 = dot(co, co) - along * along;
-    if (dist2 > l.glow * l.glow) return false;
+    if (dist2 > l.size * l.size) return false;
     t = length(co);
     return true;
 }
@@ -312,8 +312,8 @@ inline bool World::shade_surface(const Vec3& o, const Vec3& d, int depth, double
     if (h.kind == HitRec::Glow) {
         const ShadeLight& l = lights[h.index];
         double rho = length(l.position - p);
-        if (!(rho < l.glow)) return false;
-        double f = (l.glow - rho) / l.glow;
+        if (!(rho < l.size)) return false;
+        double f = (l.size - rho) / l.size;
         out = l.colour * (f * f * f * f * f);
         return false;
     }

@@ -74,7 +74,7 @@ struct PlaneShape {
 struct ShadeLight {
     Vec3 position;
     Colour colour;
-    double glow = 0;  // glow-sphere radius; 0 = none
+    double size = 0;  // the lamp's glow-sphere radius (its `size`); 0 = none (a spotlight)
     double radius = 0;  // New: a sphere light of this radius (soft shadows); 0 = a point
 };
 

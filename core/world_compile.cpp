@@ -140,7 +140,7 @@ double radiance_bound(const World& w) {
         const ShadeLight& l = w.lights[li];
         double c = max3(cabs(l.colour));
         if (!std::isfinite(c)) return inf;
-        if (l.glow > 0) glow = std::max(glow, c);
+        if (l.size > 0) glow = std::max(glow, c);
         if (c == 0 || cp == 0) continue;
         double r = t.light_reach[li];
         for (const PlaneShape& pl : w.planes) r = std::min(r, std::fabs(dot(pl.n, l.position) + pl.D));
@@ -286,7 +286,7 @@ void add_glow_bvh(World& w, const World* previous) {
     bool same = previous && previous->glow_bvh && previous->glows == w.glows;
     for (std::size_t k = 0; same && k < w.glows.size(); ++k) {
         const ShadeLight &a = w.lights[w.glows[k]], &b = previous->lights[previous->glows[k]];
-        same = a.position == b.position && a.glow == b.glow;
+        same = a.position == b.position && a.size == b.size;
     }
     if (same) {
         w.glow_bvh = previous->glow_bvh;
@@ -296,7 +296,7 @@ void add_glow_bvh(World& w, const World* previous) {
     boxes.reserve(w.glows.size());
     for (std::uint32_t i : w.glows) {
         const ShadeLight& l = w.lights[i];
-        Vec3 e{l.glow, l.glow, l.glow};
+        Vec3 e{l.size, l.size, l.size};
         boxes.push_back({l.position - e, l.position + e});
     }
     auto bvh = std::make_shared<Bvh>();

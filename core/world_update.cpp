@@ -141,7 +141,7 @@ bool update_lights(World& w, const Scene& scene, const SceneDelta& delta) {
         const Light& l = scene.lights[i];
         const ShadeLight s = detail::shade_light(l);
         const ShadeLight& was = w.lights[i];
-        if (was.position == s.position && was.colour == s.colour && was.glow == s.glow && was.radius == s.radius)
+        if (was.position == s.position && was.colour == s.colour && was.size == s.size && was.radius == s.radius)
             continue;
         w.lights.write(i) = s;
         any = true;
@@ -149,7 +149,7 @@ bool update_lights(World& w, const Scene& scene, const SceneDelta& delta) {
     if (!any) return false;
     w.glows.clear();
     for (std::size_t i = 0; i < w.lights.size(); ++i)
-        if (w.lights[i].glow > 0) w.glows.push_back(std::uint32_t(i));
+        if (w.lights[i].size > 0) w.glows.push_back(std::uint32_t(i));
     return true;
 }
 

@@ -106,7 +106,7 @@ inline std::string world_difference(const rt::World& got, const rt::World& want,
     if (got.lights.size() != want.lights.size()) return "light count";
     for (std::size_t i = 0; i < got.lights.size(); ++i) {
         const rt::ShadeLight &a = got.lights[i], &b = want.lights[i];
-        if (!same_bits(a.position, b.position) || !same_bits(a.colour, b.colour) || !same_bits(a.glow, b.glow))
+        if (!same_bits(a.position, b.position) || !same_bits(a.colour, b.colour) || !same_bits(a.size, b.size))
             return "light " + std::to_string(i + 1);
     }
     if (got.glows != want.glows) return "glowing lights";

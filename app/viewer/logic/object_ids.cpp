@@ -46,8 +46,8 @@ void item_window(const rt::World& world, const rt::Camera& camera, int film_w, i
     } else if (item.kind == SceneItem::Kind::Light) {
         if (i >= world.lights.size()) return;
         const rt::ShadeLight& l = world.lights[i];
-        if (!(l.glow > 0)) return;  // only a lamp's glow disc is seen
-        rt::Vec3 e{l.glow, l.glow, l.glow};
+        if (!(l.size > 0)) return;  // only a lamp's glow disc is seen
+        rt::Vec3 e{l.size, l.size, l.size};
         box = {l.position - e, l.position + e};
     } else {
         if (i >= world.planes.size()) return;

@@ -50,7 +50,7 @@ void ImageTools::draw() {
     if (!f_.texture || !f_.texture->valid() || !f_.film || f_.film->empty()) return;
     PictureGeometry g;
     g.t = transform();
-    g.img = g.t.image(pic_w(), pic_h());
+    g.img = g.t.image(film_w(), film_h());
     g.ratio = zoom_ratio();
     g.a0 = ImVec2(float(f_.area.x), float(f_.area.y));
     g.a1 = ImVec2(float(f_.area.x + f_.area.w), float(f_.area.y + f_.area.h));
@@ -103,7 +103,7 @@ void ImageTools::draw_picture(ImDrawList* dl, const PictureGeometry& g) {
 void ImageTools::draw_pixel_grid(ImDrawList* dl, const PictureGeometry& g) {
     const ViewTransform& t = g.t;
     const Rect& img = g.img;
-    std::array<int, 4> v = visible_pixels(t, f_.area, pic_w(), pic_h());
+    std::array<int, 4> v = visible_pixels(t, f_.area, film_w(), film_h());
     ImU32 c = rgba(128, 128, 128, 110);
     for (int x = v[0]; x <= v[2]; ++x) {
         float wx = float(t.to_window_x(x));
@@ -133,7 +133,7 @@ void ImageTools::draw_region_outline(ImDrawList* dl, const PictureGeometry& g) {
     }
     if (drag_ == Drag::Region) {
         ImGuiIO& io = ImGui::GetIO();
-        PixelRect r = region_from_drag(t, pic_w(), pic_h(), drag_x_, drag_y_, io.MousePos.x, io.MousePos.y);
+        PixelRect r = region_from_drag(t, film_w(), film_h(), drag_x_, drag_y_, io.MousePos.x, io.MousePos.y);
         if (!r.empty()) outline(r, rgba(255, 255, 255));
     }
 }

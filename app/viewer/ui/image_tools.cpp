@@ -83,14 +83,14 @@ ViewTransform ImageTools::transform() const {
         ViewTransform t;
         t.x0 = f_.image.x;
         t.y0 = f_.image.y;
-        t.sx = f_.image.w / pic_w();
-        t.sy = f_.image.h / pic_h();
+        t.sx = f_.image.w / film_w();
+        t.sy = f_.image.h / film_h();
         return t;
     }
-    return view_.transform(f_.area, pic_w(), pic_h(), f_.fb_scale);
+    return view_.transform(f_.area, film_w(), film_h(), f_.fb_scale);
 }
 
-Rect ImageTools::image_rect() const { return transform().image(pic_w(), pic_h()); }
+Rect ImageTools::image_rect() const { return transform().image(film_w(), film_h()); }
 
 double ImageTools::zoom_ratio() const {
     ViewTransform t = transform();
@@ -155,7 +155,7 @@ void ImageTools::handle_keys() {
     bool over = f_.area.contains(m.x, m.y);
     double cx = over ? m.x : f_.area.x + f_.area.w / 2, cy = over ? m.y : f_.area.y + f_.area.h / 2;
     if (key_pressed(keys::k1) || key_pressed(keys::kKp1)) {
-        view_.one_to_one(f_.area, pic_w(), pic_h(), f_.fb_scale, cx, cy);
+        view_.one_to_one(f_.area, film_w(), film_h(), f_.fb_scale, cx, cy);
         message("Zoom 1:1");
     }
     if (key_pressed(ImGui::GetKeyIndex(ImGuiKey_Home))) {
@@ -176,7 +176,7 @@ bool ImageTools::handle_mouse() {
     if (drag_ != Drag::None) {
         const int button = drag_ == Drag::Pan ? 1 : 0;
         if (drag_ == Drag::Pan) {
-            view_.pan(f_.area, pic_w(), pic_h(), mx - drag_last_x_, my - drag_last_y_);
+            view_.pan(f_.area, film_w(), film_h(), mx - drag_last_x_, my - drag_last_y_);
         } else if (drag_ == Drag::Split) {
             Rect img = image_rect();
             if (img.w > 0) split_ = std::clamp((mx - img.x) / img.w, 0.0, 1.0);
@@ -186,7 +186,7 @@ bool ImageTools::handle_mouse() {
         drag_last_y_ = my;
         if (!ImGui::IsMouseDown(button)) {
             if (drag_ == Drag::Region) {
-                PixelRect r = region_from_drag(transform(), pic_w(), pic_h(), drag_x_, drag_y_, mx, my);
+                PixelRect r = region_from_drag(transform(), film_w(), film_h(), drag_x_, drag_y_, mx, my);
                 if (r.empty()) message("The region must overlap the picture", true);
                 else start_region(r);
             }
@@ -197,7 +197,7 @@ bool ImageTools::handle_mouse() {
     if (!f_.mouse_free || !f_.area.contains(mx, my) || !film_ready()) return false;
     // Ctrl+wheel: zoom about the cursor (the plain wheel stays the camera's dolly).
     if (io.KeyCtrl && io.MouseWheel != 0) {
-        view_.zoom_steps(f_.area, pic_w(), pic_h(), f_.fb_scale, mx, my, io.MouseWheel > 0 ? 1 : -1);
+        view_.zoom_steps(f_.area, film_w(), film_h(), f_.fb_scale, mx, my, io.MouseWheel > 0 ? 1 : -1);
         return true;
     }
     Rect img = image_rect();
@@ -219,7 +219,7 @@ bool ImageTools::handle_mouse() {
 
 void ImageTools::start_region(const PixelRect& r) {
     if (!f_.world) return;
-    PixelRect fr = scale_region(r, pic_w(), pic_h(), f_.film_w, f_.film_h);
+    PixelRect fr = scale_region(r, film_w(), film_h(), f_.film_w, f_.film_h);
     if (fr.empty()) return;
     region_rect_ = r;
     region_world_ = f_.world;
@@ -368,7 +368,7 @@ void ImageTools::update_readout() {
     ImGuiIO& io = ImGui::GetIO();
     int x = -1, y = -1;
     const bool over = f_.mouse_free && film_ready() &&
-                      picture_pixel_at(transform(), pic_w(), pic_h(), io.MousePos.x, io.MousePos.y, x, y);
+                      picture_pixel_at(transform(), film_w(), film_h(), io.MousePos.x, io.MousePos.y, x, y);
     if (!over) {
         readout_text_.clear();
         readout_x_ = readout_y_ = -1;
@@ -387,7 +387,7 @@ void ImageTools::update_readout() {
     r.y = y;
     // The film may be a preview of the picture at the size it is shown.
     int fx = x, fy = y;
-    picture_to_film_pixel(x, y, pic_w(), pic_h(), f_.film_w, f_.film_h, fx, fy);
+    picture_to_film_pixel(x, y, film_w(), film_h(), f_.film_w, f_.film_h, fx, fy);
     r.has_colour = f_.film->linear_at(*f_.renderer, f_.now, render_turned ? 0 : kReadoutRefresh, fx, fy, r.linear);
     r.samples = f_.film->samples_at(fx, fy, f_.renderer->sample_count(fx, fy));  // adaptive: each its own
     if (f_.world && f_.scene) {

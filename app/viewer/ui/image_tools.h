@@ -118,8 +118,8 @@ public:
 private:
     enum class Compare { Off, Split, Difference };
     enum class Drag { None, Region, Pan, Split };
-    int pic_w() const { return std::max(1, f_.film_w); }
-    int pic_h() const { return std::max(1, f_.film_h); }
+    int film_w() const { return std::max(1, f_.film_w); }
+    int film_h() const { return std::max(1, f_.film_h); }
     // The film on screen matches the one asked for (it lags a frame after a resize).
     bool film_ready() const {
         return f_.film && f_.renderer && f_.film->width() == f_.film_w && f_.film->height() == f_.film_h;

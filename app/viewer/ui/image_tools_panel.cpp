@@ -69,7 +69,7 @@ void ImageTools::draw_zoom_controls() {
     if (ImGui::SmallButton("Fit (Home)")) view_.fit();
     ImGui::SameLine();
     if (ImGui::SmallButton("1:1 (1)"))
-        view_.one_to_one(f_.area, pic_w(), pic_h(), f_.fb_scale, f_.area.x + f_.area.w / 2, f_.area.y + f_.area.h / 2);
+        view_.one_to_one(f_.area, film_w(), film_h(), f_.fb_scale, f_.area.x + f_.area.w / 2, f_.area.y + f_.area.h / 2);
     hint("Ctrl+wheel zooms about the cursor, Ctrl+right drag pans the picture.");
 }
 
@@ -156,7 +156,7 @@ void ImageTools::view_menu_items() {
         ImGui::EndMenu();
     }
     if (ImGui::MenuItem("Zoom 1:1", "1"))
-        view_.one_to_one(f_.area, pic_w(), pic_h(), f_.fb_scale, f_.area.x + f_.area.w / 2, f_.area.y + f_.area.h / 2);
+        view_.one_to_one(f_.area, film_w(), film_h(), f_.fb_scale, f_.area.x + f_.area.w / 2, f_.area.y + f_.area.h / 2);
     if (ImGui::MenuItem("Zoom to fit", "Home", view_.fitted())) view_.fit();
     ImGui::Separator();
     if (ImGui::MenuItem("Keep snapshot", "K")) keep_snapshot();
