@@ -103,13 +103,14 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "aa_bench: cannot read %s\n", a.scene.c_str());
         return 2;
     }
+    rt::set_process_threads(a.threads);  // the one pool, sized before its first use
     rt::ParseResult parsed = rt::parse_scene(text);
     if (!parsed.ok()) {
         std::fprintf(stderr, "aa_bench: %s has errors\n", a.scene.c_str());
         return 1;
     }
     const auto world = rt::compile_world(parsed.scene);
-    rt::Renderer renderer(a.threads);
+    rt::Renderer renderer(rt::process_pool());
     rt::RenderSettings s;  // the viewer's: coarse previews, progressive passes
     s.width = a.width;
     s.height = a.height;

@@ -159,12 +159,13 @@ int main(int argc, char** argv) {
         return usage();
     }
 
+    rt::set_process_threads(threads);  // the one pool, sized before its first use
     int exit_code = 0;
     std::optional<rt::Scene> read = bench::read_scene("renderer_bench", scene_path, exit_code);
     if (!read) return exit_code;
     rt::Scene scene = std::move(*read);
 
-    rt::Renderer renderer(threads);
+    rt::Renderer renderer(rt::process_pool());
     std::printf("renderer_bench: %s at %dx%d, %d threads, %d repeats\n\n", scene_path.c_str(), width, height,
                 renderer.threads(), repeats);
     std::printf("| %-52s | %9s | %9s | %9s |\n", "measurement (ms)", "median", "min", "max");

@@ -189,20 +189,8 @@ std::uint32_t pick_id(const PickResult& r) {
     return 0;
 }
 
-Renderer::Renderer(int threads) {
-    if (threads <= 0) threads = std::max(1, process_pool().workers());
-    // A pool's size counts the caller of its loops: `threads` workers besides it.
-    own_pool_ = std::make_unique<ThreadPool>(threads + 1);
-    pool_ = own_pool_.get();
-    max_runners_ = threads;
-}
-
 Renderer::Renderer(ThreadPool& pool) : pool_(&pool), max_runners_(pool.workers()) {
-    if (max_runners_ > 0) return;
-    // A pool of the caller alone cannot render in the background: one worker of its own.
-    own_pool_ = std::make_unique<ThreadPool>(2);
-    pool_ = own_pool_.get();
-    max_runners_ = 1;
+    if (max_runners_ < 1) throw std::invalid_argument("a renderer needs a pool with a worker");
 }
 
 Renderer::~Renderer() {

@@ -155,10 +155,10 @@ struct RenderTask;
 
 class Renderer {
 public:
-    // Renders with a pool of its own of `threads` workers (0: as many as the process pool has).
-    explicit Renderer(int threads = 0);
-    // Renders on `pool`'s workers (at least one), shared with whatever else runs there;
-    // the pool must outlive the renderer.
+    // Renders on `pool`'s workers, shared with whatever else runs there (the process
+    // pool in the programs; a pool of a chosen size in tests that compare thread
+    // counts). The pool must have a worker (a render runs in the background) and
+    // outlive the renderer; std::invalid_argument if it has none.
     explicit Renderer(ThreadPool& pool);
     ~Renderer();
     Renderer(const Renderer&) = delete;
@@ -252,7 +252,6 @@ private:
     void row_rgb8(int y, std::uint8_t* out) const;
     int rgb8_parts() const;
 
-    std::unique_ptr<ThreadPool> own_pool_;  // null when sharing one
     ThreadPool* pool_ = nullptr;
     int max_runners_ = 1;
     mutable std::mutex mutex_;

@@ -29,7 +29,8 @@ using rt_test::IsaGuard;
 std::vector<std::uint8_t> render(const Scene& scene, int w, int h, bool& wide_tree) {
     auto world = compile_world(scene);
     wide_tree = !world->geometry->bvh.nodes8.empty();
-    Renderer renderer(2);
+    rt::ThreadPool renderer_pool(3);
+    Renderer renderer(renderer_pool);
     RenderSettings settings;
     settings.width = w;
     settings.height = h;

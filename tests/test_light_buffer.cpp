@@ -230,7 +230,8 @@ namespace {
 using rt_test::IsaGuard;
 
 std::vector<std::uint8_t> render(std::shared_ptr<const World> world, int w, int h) {
-    Renderer renderer(2);
+    rt::ThreadPool renderer_pool(3);
+    Renderer renderer(renderer_pool);
     RenderSettings settings;
     settings.width = w;
     settings.height = h;
@@ -321,7 +322,8 @@ TEST_CASE("light buffer: a view away from the scene's camera gets a buffer of it
     CHECK(moved->geometry.get() == world->geometry.get());
     CHECK(world->camera_buffer->position == scene.camera.position);
     auto through = [&](std::shared_ptr<const World> w) {
-        Renderer renderer(2);
+        rt::ThreadPool renderer_pool(3);
+        Renderer renderer(renderer_pool);
         RenderSettings settings;
         settings.width = 160;
         settings.height = 90;

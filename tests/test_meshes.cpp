@@ -163,7 +163,8 @@ std::vector<std::uint8_t> render(const std::string& text, const std::string& fol
     ParseResult r = parse_scene(text, o);
     INFO(text);
     REQUIRE_MESSAGE(r.ok(), r.status("scene").message());
-    Renderer renderer(2);
+    rt::ThreadPool renderer_pool(3);
+    Renderer renderer(renderer_pool);
     RenderSettings settings;
     settings.width = w;
     settings.height = h;

@@ -136,7 +136,8 @@ TEST_CASE("renderer: cancel() in the middle of one pixel's ray tree returns") {
     auto world = endless_world();
     for (int threads : {1, 2}) {
         CAPTURE(threads);
-        Renderer r(threads);
+        rt::ThreadPool r_pool(threads + 1);
+        Renderer r(r_pool);
         RenderSettings s;
         const double cpu0 = workers_cpu_seconds();
         r.start(world, s);
@@ -172,7 +173,8 @@ end
     auto world = compile_world(parse_ok(text));
     for (double limit : {0.3, 1.0}) {
         CAPTURE(limit);
-        Renderer r(2);
+        rt::ThreadPool r_pool(3);
+        Renderer r(r_pool);
         RenderSettings s;
         s.max_samples = 65536;
         s.samples_per_pass = 4096;
@@ -194,7 +196,8 @@ end
         Image got = r.snapshot();
         RenderSettings one;
         one.coarse = false;
-        Renderer ref(1);
+        rt::ThreadPool ref_pool(2);
+        Renderer ref(ref_pool);
         ref.start(world, one);
         ref.wait();
         Image want = ref.snapshot();
@@ -215,7 +218,8 @@ TEST_CASE("renderer: a time limit over the coarse previews goes on to the first 
     // longer than the limit.
     auto world = std::make_shared<World>(*compile_world(parse_ok(mirror_box(0.9, 0.1, kGlass))));
     world->options.max_depth = 1000;
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     RenderSettings s;
     s.width = 8;
     s.height = 6;
@@ -231,7 +235,8 @@ TEST_CASE("renderer: a time limit over the coarse previews goes on to the first 
 
 TEST_CASE("renderer: a hard time limit stops even the first sample") {
     auto world = endless_world();  // no pixel ever finishes: done means stopped by the limit
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     RenderSettings s;
     s.time_limit = 0.3;
     s.hard_time_limit = true;
@@ -281,7 +286,8 @@ TEST_CASE("ray tree: the bound changes no pixel by half a display step and cuts 
 TEST_CASE("ray tree: a glass ball among mirrors at depth 1000 finishes quickly") {
     auto world = std::make_shared<World>(*compile_world(parse_ok(mirror_box(0.8, 0.2, kGlass))));
     world->options.max_depth = 1000;
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     RenderSettings s;
     s.coarse = false;
     auto t0 = Clock::now();
@@ -400,7 +406,8 @@ TEST_CASE("ray tree: glow discs through their BVH give the same picture as one b
     const auto [world, looped] = GlowWorlds(100);
     RenderSettings s = straight(16, 12);
     s.max_samples = 2;
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     r.start(world, s);
     r.wait();
     Image a = r.snapshot();
@@ -431,7 +438,8 @@ TEST_CASE("ray tree: the cost of lamps grows with lamps + lights, not their prod
     // nor a sanitizer's slowness changes their ratio much.
     const auto [world, looped] = GlowWorlds(5000);
     const RenderSettings s = straight(8, 6);
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     auto cpu_of = [&](const std::shared_ptr<const World>& w) {
         const double cpu0 = workers_cpu_seconds();
         r.start(w, s);

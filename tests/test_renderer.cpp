@@ -13,6 +13,7 @@
 #include <cstring>
 #include <memory>
 #include <new>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -57,7 +58,8 @@ end
 )";
 
 Image render(const std::shared_ptr<const World>& world, const RenderSettings& settings, int threads) {
-    Renderer r(threads);
+    rt::ThreadPool r_pool(threads + 1);
+    Renderer r(r_pool);
     r.start(world, settings);
     r.wait();
     RenderProgress p = r.progress();
@@ -100,6 +102,14 @@ TEST_CASE("renderer: the film is bit-identical for 1, 2 and 4 threads and either
     }
 }
 
+TEST_CASE("renderer: a pool of the caller alone is refused (a render runs on a worker)") {
+    rt::ThreadPool caller_only(1);
+    CHECK_THROWS_AS(Renderer{caller_only}, std::invalid_argument);
+    rt::ThreadPool one_worker(2);
+    Renderer r(one_worker);
+    CHECK(r.threads() == 1);
+}
+
 TEST_CASE("renderer: renderers sharing one pool make the films they make alone, bit for bit") {
     auto world_a = compile_world(parse_ok(kSceneA));
     auto world_b = compile_world(parse_ok(kSceneB));
@@ -110,7 +120,8 @@ TEST_CASE("renderer: renderers sharing one pool make the films they make alone, 
     sb.aa_threshold = 0.05;
     sb.tile_size = 8;
     const Image ref_a = render(world_a, sa, 1);
-    Renderer alone(1);
+    rt::ThreadPool alone_pool(2);
+    Renderer alone(alone_pool);
     alone.start(world_b, sb);  // adaptive: render() would count its samples
     alone.wait();
     const Image ref_b = alone.snapshot();
@@ -200,7 +211,8 @@ TEST_CASE("renderer: the samples after coarse passes of any block, tile or pictu
 
 TEST_CASE("renderer: coarse passes complete at block sizes 8, then 4, then 2, before the first sample") {
     auto world = compile_world(parse_ok(kSceneA));
-    Renderer r(1);
+    rt::ThreadPool r_pool(2);
+    Renderer r(r_pool);
     RenderSettings s;
     s.width = 128;
     s.height = 96;
@@ -256,7 +268,8 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
     RenderSettings s;
     s.max_samples = 2;
     s.tile_size = 16;
-    Renderer r(4);
+    rt::ThreadPool r_pool(5);
+    Renderer r(r_pool);
     std::atomic<bool> stop{false}, torn{false};
     std::atomic<long> reads{0};
     std::thread reader([&] {
@@ -314,7 +327,8 @@ TEST_CASE("renderer: start and cancel hammered from one thread while another rea
 
 TEST_CASE("renderer: cancel() of a long render returns and leaves the renderer reusable") {
     auto world = compile_world(parse_ok(kSceneA));
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     RenderSettings s;
     s.max_samples = 100000;  // would take many minutes
     r.start(world, s);
@@ -424,7 +438,8 @@ TEST_CASE("renderer: take_rgb8 gives the bytes of to_rgb8(snapshot()) and leaves
         RenderSettings s;
         s.max_samples = c.samples;
         s.aa_threshold = c.aa;
-        Renderer r(3);
+        rt::ThreadPool r_pool(4);
+        Renderer r(r_pool);
         for (int round = 0; round < 2; ++round) {
             r.start(world, s);
             r.wait();
@@ -487,7 +502,8 @@ TEST_CASE("film: a pixel with no sample shows its block's corner colour at the l
 
 TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversion at every step") {
     auto world = compile_world(parse_ok(kSceneA));
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     RenderSettings s;
     s.width = 96;
     s.height = 64;
@@ -542,7 +558,8 @@ TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversio
 
 TEST_CASE("renderer: wait() in one thread returns when another cancels, even with every worker idle") {
     auto world = compile_world(parse_ok(kSceneA));
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     RenderSettings s;
     s.max_samples = 100000;
     r.set_paused(true);  // workers stay idle: no tile will ever finish
@@ -681,7 +698,8 @@ TEST_CASE("renderer: a world compiled from an edited scene shares the geometry u
 
 TEST_CASE("a render thread that runs out of memory ends the render with a message, not the program") {
     auto world = compile_world(rt_test::parse_ok(rt::kDefaultScene));
-    Renderer renderer(2);
+    rt::ThreadPool renderer_pool(3);
+    Renderer renderer(renderer_pool);
     std::atomic<int> tasks{0};
     // The third task of the render throws as a failed allocation would.
     renderer.task_hook = [&] {

@@ -58,7 +58,8 @@ struct Result {
 };
 
 Result render(const std::shared_ptr<const World>& world, const RenderSettings& settings, int threads) {
-    Renderer r(threads);
+    rt::ThreadPool r_pool(threads + 1);
+    Renderer r(r_pool);
     r.start(world, settings);
     r.wait();
     Result out;
@@ -257,7 +258,8 @@ TEST_CASE("adaptive: without a threshold, --samples N renders the stored referen
 
 TEST_CASE("adaptive: renders started and cancelled in every kind of pass, while another thread reads; the last is clean") {
     const auto big = compile_world(parse_ok(kScene)), small = compile_world(parse_ok(kBall));
-    Renderer r(3);
+    rt::ThreadPool r_pool(4);
+    Renderer r(r_pool);
     std::atomic<bool> stop{false}, torn{false};
     std::atomic<long> reads{0};
     std::thread reader([&] {
@@ -314,7 +316,8 @@ TEST_CASE("raising max samples: a render goes on from the samples it has, unifor
         straight.coarse = false;
         straight.max_samples = 6;
         const Result want = render(world, straight, 1);
-        Renderer r(2);
+        rt::ThreadPool r_pool(3);
+        Renderer r(r_pool);
         uniform.max_samples = 2;
         r.start(world, uniform);
         r.wait();
@@ -351,7 +354,8 @@ TEST_CASE("raising max samples: a render goes on from the samples it has, unifor
         Image film;
         for (int threads : {1, 3}) {
             CAPTURE(threads);
-            Renderer r(threads);
+            rt::ThreadPool r_pool(threads + 1);
+            Renderer r(r_pool);
             r.start(world, s);
             r.wait();
             const std::vector<std::uint32_t> b = counts_of(r);
@@ -384,7 +388,8 @@ TEST_CASE("raising max samples: a render goes on from the samples it has, unifor
         }
     }
     SUBCASE("adaptive, raised in its first pass: the new limit from the first decision on") {
-        Renderer r(2);
+        rt::ThreadPool r_pool(3);
+        Renderer r(r_pool);
         r.set_paused(true);
         r.start(world, adaptive(0.1, 4));
         r.step(2);
@@ -395,7 +400,8 @@ TEST_CASE("raising max samples: a render goes on from the samples it has, unifor
         const std::vector<std::uint32_t> a = counts_of(r);
         CHECK(r.progress().refining == 0);
         CHECK(*std::max_element(a.begin(), a.end()) == 16u);
-        Renderer fresh(2);
+        rt::ThreadPool fresh_pool(3);
+        Renderer fresh(fresh_pool);
         fresh.start(world, adaptive(0.1, 16));
         fresh.wait();
         // Raised before any decision: the render 16 would have made.
@@ -403,7 +409,8 @@ TEST_CASE("raising max samples: a render goes on from the samples it has, unifor
         CHECK(same_film(fresh.snapshot(), r.snapshot()));
     }
     SUBCASE("nothing to raise: no render, or one under a time limit") {
-        Renderer r(1);
+        rt::ThreadPool r_pool(2);
+        Renderer r(r_pool);
         CHECK_FALSE(r.raise_samples(8));
         RenderSettings limited = uniform;
         limited.max_samples = 2;

@@ -27,7 +27,8 @@ std::shared_ptr<const World> mixed_world() {
 }
 
 Image whole(int samples) {
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     RenderSettings st;
     st.max_samples = samples;
     r.start(mixed_world(), st);
@@ -48,7 +49,8 @@ TEST_CASE("renderer: a crop renders the whole film's pixels there, sample for sa
         for (int tile : {8, 32}) {
             CAPTURE(threads);
             CAPTURE(tile);
-            Renderer r(threads);
+            rt::ThreadPool r_pool(threads + 1);
+            Renderer r(r_pool);
             RenderSettings st;
             st.max_samples = 5;
             st.tile_size = tile;
@@ -93,7 +95,8 @@ TEST_CASE("renderer: a crop renders the whole film's pixels there, sample for sa
 
 TEST_CASE("renderer: a crop raised to more samples is the whole film's pixels at the new count") {
     const Image ref = whole(7);
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     RenderSettings st;
     st.max_samples = 2;
     st.crop = {3, 4, 30, 40};
@@ -113,7 +116,8 @@ TEST_CASE("renderer: a crop raised to more samples is the whole film's pixels at
 }
 
 TEST_CASE("renderer: an empty crop, or one outside the film, is done at once with nothing rendered") {
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     RenderSettings st;
     st.max_samples = 3;
     st.crop = {70, 50, 90, 60};
@@ -127,7 +131,8 @@ TEST_CASE("renderer: a coarse step holds the whole film's sample 0 of each block
     const Image ref = whole(1);
     for (int step : {2, 3, 7}) {
         CAPTURE(step);
-        Renderer r(2);
+        rt::ThreadPool r_pool(3);
+        Renderer r(r_pool);
         RenderSettings st;
         st.step = step;
         st.max_samples = 4;  // (a coarse film is one sample whatever is asked)
@@ -150,7 +155,8 @@ TEST_CASE("renderer: an id pass holds rt::pick's answer along each pixel's first
     const CameraBasis camera = CameraBasis::make(world->camera, 64, 48, false);
     for (int step : {1, 3}) {
         CAPTURE(step);
-        Renderer r(2);
+        rt::ThreadPool r_pool(3);
+        Renderer r(r_pool);
         RenderSettings st;
         st.pass = RenderPass::Ids;
         st.step = step;
@@ -190,7 +196,8 @@ TEST_CASE("renderer: a crop that goes on from loaded sums ends with the whole re
     const PixelWindow tile{16, 8, 48, 40};
     const std::size_t px = std::size_t(tile.pixels());
     auto sums_of = [&](int samples) {
-        Renderer r(2);
+        rt::ThreadPool r_pool(3);
+        Renderer r(r_pool);
         RenderSettings st;
         st.max_samples = samples;
         r.start(world, st);
@@ -201,7 +208,8 @@ TEST_CASE("renderer: a crop that goes on from loaded sums ends with the whole re
     };
     const std::vector<float> two = sums_of(2), five = sums_of(5);
     REQUIRE(two != five);
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     std::vector<std::uint32_t> counts(px, 2u);
     r.load_window(64, 48, tile, two.data(), counts.data());
     RenderSettings st;

@@ -200,7 +200,8 @@ TEST_CASE("include: missing files, folders, devices, itself, a cycle of three an
 
 namespace {
 Image render_text(const std::string& text) {
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     r.start(compile_world(parse_ok(text)), RenderSettings{});
     r.wait();
     return r.snapshot();

@@ -17,7 +17,8 @@ namespace fs = std::filesystem;
 TEST_CASE("every example scene renders like its stored reference") {
     fs::path scenes = fs::path(RT_SOURCE_DIR) / "scenes";
     fs::path refs = fs::path(RT_SOURCE_DIR) / "tests" / "refs";
-    Renderer renderer(2);
+    rt::ThreadPool renderer_pool(3);
+    Renderer renderer(renderer_pool);
     int checked = 0;
     for (const auto& entry : fs::directory_iterator(scenes)) {
         if (entry.path().extension() != ".txt") continue;

@@ -75,7 +75,8 @@ TEST_CASE("shading reference: a lit sphere's centre pixel is the direct-light fo
     // axis: docs/rendering.md §1), through the renderer.
     RenderSettings s;
     s.coarse = false;
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     r.start(world, s);
     r.wait();
     Image img = r.snapshot();

@@ -241,7 +241,8 @@ end
     std::vector<std::vector<std::uint8_t>> pictures;
     for (Isa isa : {Isa::Sse2, Isa::Avx2}) {
         REQUIRE(set_isa(isa));
-        Renderer renderer(2);
+        rt::ThreadPool renderer_pool(3);
+        Renderer renderer(renderer_pool);
         RenderSettings settings;
         settings.width = 64;
         settings.height = 40;

@@ -196,7 +196,8 @@ picture_size { x_max 96 y_max 72 }
 end
 )";
     auto render = [](const std::string& text) {
-        Renderer r(2);
+        rt::ThreadPool r_pool(3);
+        Renderer r(r_pool);
         RenderSettings s;
         r.start(compile_world(parse_ok(text)), s);
         r.wait();

@@ -84,7 +84,8 @@ inline void check_same_world(const World& got, const World& want) {
 
 // The world's whole picture at `samples` per pixel, on two threads.
 inline Image render(const std::shared_ptr<const World>& world, int samples = 2) {
-    Renderer r(2);
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     RenderSettings st;
     st.width = world->width;
     st.height = world->height;

@@ -20,7 +20,8 @@ const std::string kScene = rtview_test::two_spheres(64, 48);
 
 TEST_CASE("the texture shows the renderer's bytes, or the exposed film, and a region over it") {
     rt::Scene s = rtview_test::parse_ok(kScene);
-    rt::Renderer renderer(2);
+    rt::ThreadPool renderer_pool(3);
+    rt::Renderer renderer(renderer_pool);
     rtview_test::render_to_end(renderer, s, 3);
     rt::ZeroedArray<std::uint8_t> file;
     int fw = 0, fh = 0;
@@ -65,14 +66,16 @@ TEST_CASE("the texture shows the renderer's bytes, or the exposed film, and a re
     // outside the last picture stays.
     rt::Scene green = s;
     green.objects[0].material.colour = {0.2, 1, 0.2};
-    RegionRenderer region(2);
+    rt::ThreadPool region_pool(3);
+    RegionRenderer region(region_pool);
     const PixelRect rect{20, 10, 44, 38};
     region.start(rt::compile_world(green), green.camera, 64, 48, rect, 3);
     for (int k = 0; k < 3000 && !region.done(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     REQUIRE(region.done());
     d.exposure = 0;
     REQUIRE(view.update(renderer, d, &region, 10, changed));
-    rt::Renderer green_full(2);
+    rt::ThreadPool green_full_pool(3);
+    rt::Renderer green_full(green_full_pool);
     rtview_test::render_to_end(green_full, green, 3);
     rt::ZeroedArray<std::uint8_t> green_file;
     green_full.snapshot_rgb8(green_file, fw, fh);

@@ -111,7 +111,8 @@ picture_size { x_max 37 y_max 21 }
 end)";
     rt::ParseResult r = rt::parse_scene(text);
     REQUIRE(r.ok());
-    FinalRender fr(2);
+    rt::ThreadPool fr_pool(3);
+    FinalRender fr(fr_pool);
     CHECK_FALSE(fr.start(r.scene, "out.jpg", final_render_request(2, 0)).ok());
     CHECK_FALSE(fr.active());
     const std::string out = "test_final_render_out.ppm";
@@ -144,13 +145,15 @@ end)";
     REQUIRE(r.ok());
     const std::string out = "test_final_render_summary.ppm";
     {
-        FinalRender fr(2);
+        rt::ThreadPool fr_pool(3);
+        FinalRender fr(fr_pool);
         REQUIRE(fr.start(r.scene, out, final_render_request(4, 0)).ok());
         while (!fr.wait_for(1)) {
         }
         CHECK(fr.summary().rfind("40x30, 4 samples per pixel, ", 0) == 0);
     }
-    FinalRender fr(2);
+    rt::ThreadPool fr_pool(3);
+    FinalRender fr(fr_pool);
     REQUIRE(fr.start(r.scene, out, final_render_request(8, 0, 0.05)).ok());
     while (!fr.wait_for(1)) {
     }

@@ -58,7 +58,8 @@ TEST_CASE("a preview is the picture's block corners, traced as the camera ray th
         const int w = 101, h = 67, b = 8;
         std::vector<std::uint8_t> rgba;
         int pw = 0, ph = 0;
-        rt::Renderer renderer(2);
+        rt::ThreadPool renderer_pool(3);
+        rt::Renderer renderer(renderer_pool);
         trace_preview(renderer, world, scene.camera, w, h, b, 0, rgba, pw, ph);
         CHECK(pw == 13);  // ceil(101 / 8)
         CHECK(ph == 9);   // ceil(67 / 8)
@@ -106,7 +107,8 @@ TEST_CASE("a preview traced by three threads has the same bytes as by one") {
     for (int b : {1, 3, 8}) {
         std::vector<std::uint8_t> alone, pooled;
         int aw = 0, ah = 0, qw = 0, qh = 0;
-        rt::Renderer single(1), three(3);
+        rt::ThreadPool single_pool(2), three_pool(4);
+        rt::Renderer single(single_pool), three(three_pool);
         PreviewResult one = trace_preview(single, world, r.scene.camera, 161, 97, b, 0, alone, aw, ah);
         PreviewResult many = trace_preview(three, world, r.scene.camera, 161, 97, b, 0, pooled, qw, qh);
         CHECK(aw == qw);
@@ -125,7 +127,8 @@ TEST_CASE("a preview of ray trees without end stops at its time limit, every pix
     auto world = rt_test::endless_world();
     for (int threads : {1, 3}) {
         CAPTURE(threads);
-        rt::Renderer renderer(threads);
+        rt::ThreadPool renderer_pool(threads + 1);
+        rt::Renderer renderer(renderer_pool);
         std::vector<std::uint8_t> rgba;
         int pw = 0, ph = 0;
         rt_test::Watchdog dog("a preview did not stop at its time limit");

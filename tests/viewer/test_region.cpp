@@ -36,7 +36,8 @@ bool wait_done(const RegionRenderer& rr) {
 
 // The full renderer's picture of `scene` at `samples` samples per pixel.
 rt::Image full_render(const std::shared_ptr<const rt::World>& world, int samples) {
-    rt::Renderer full(2);
+    rt::ThreadPool full_pool(3);
+    rt::Renderer full(full_pool);
     rt::RenderSettings st;
     st.max_samples = samples;
     full.start(world, st);
@@ -107,7 +108,9 @@ TEST_CASE("region pixels are the full render's pixels at the same sample count")
     rt::Image ref = full_render(world, 5);
     REQUIRE(ref.width == 64);
 
-    RegionRenderer rr(2);
+    rt::ThreadPool rr_pool(3);
+
+    RegionRenderer rr(rr_pool);
     const PixelRect rect{7, 9, 41, 30};
     rr.start(world, s.camera, 64, 48, rect, 5);
     REQUIRE(wait_done(rr));
@@ -136,7 +139,8 @@ TEST_CASE("a region raised to more samples goes on from its own: the full render
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
     const rt::Image ref = full_render(world, 7);
-    RegionRenderer rr(2);
+    rt::ThreadPool rr_pool(3);
+    RegionRenderer rr(rr_pool);
     const PixelRect rect{3, 4, 30, 40};
     rr.start(world, s.camera, 64, 48, rect, 2);
     REQUIRE(wait_done(rr));
@@ -165,7 +169,8 @@ TEST_CASE("a region raised to more samples goes on from its own: the full render
 TEST_CASE("a region render can be cancelled and started again") {
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
-    RegionRenderer rr(2);
+    rt::ThreadPool rr_pool(3);
+    RegionRenderer rr(rr_pool);
     std::atomic<int> tasks{0};
     rr.renderer().task_hook = [&] { ++tasks; };
     rr.start(world, s.camera, 64, 48, {0, 0, 64, 48}, 4096);
@@ -184,7 +189,8 @@ TEST_CASE("a region render can be cancelled and started again") {
 TEST_CASE("a cancel while a worker is inside the region waits for it, and commits nothing of its tile") {
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
-    RegionRenderer rr(1);  // one worker: the tiles come in a known order
+    rt::ThreadPool rr_pool(2);
+    RegionRenderer rr(rr_pool);  // one worker: the tiles come in a known order
     // 4 x 2 pixels (one tile) to 8 samples, in passes of samples [0, 1), [1, 2), [2, 4),
     // [4, 8): the cancel comes as the worker takes the third pass's tile.
     const PixelRect rect{20, 10, 24, 12};
@@ -222,7 +228,8 @@ TEST_CASE("a cancel while a worker is inside the region waits for it, and commit
 TEST_CASE("a cancel stops a pixel inside a ray tree that would never end") {
     rt::Scene s;
     auto world = endless_world(s);
-    RegionRenderer rr(1);
+    rt::ThreadPool rr_pool(2);
+    RegionRenderer rr(rr_pool);
     std::atomic<int> tasks{0};
     rr.renderer().task_hook = [&] { ++tasks; };
     rr.start(world, s.camera, 16, 12, {7, 5, 9, 7}, 1);
@@ -263,7 +270,8 @@ TEST_CASE("a region on a shared pool, beside a render on the same pool: both the
 TEST_CASE("a region's time limit stops it in the middle of a pass, once every pixel has its first sample") {
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
-    RegionRenderer rr(1);
+    rt::ThreadPool rr_pool(2);
+    RegionRenderer rr(rr_pool);
     const double limit = 0.02;
     using Clock = std::chrono::steady_clock;
     Clock::time_point first{};
@@ -318,7 +326,8 @@ TEST_CASE("the readout names what a pixel's ray hit as the outline does") {
 TEST_CASE("a region worker that runs out of memory stops the region with a message, not the program") {
     rt::Scene s = rtview_test::parse_ok(kScene);
     auto world = rt::compile_world(s);
-    RegionRenderer rr(2);
+    rt::ThreadPool rr_pool(3);
+    RegionRenderer rr(rr_pool);
     std::atomic<int> tasks{0};
     rr.renderer().task_hook = [&] {
         if (++tasks == 2) throw std::bad_alloc();  // the second pass's tile

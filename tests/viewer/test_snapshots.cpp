@@ -27,7 +27,8 @@ const std::string kScene = rtview_test::two_spheres(48, 36);
 
 TEST_CASE("the difference of a rendered picture with itself is zero") {
     rt::Scene s = rtview_test::parse_ok(kScene);
-    rt::Renderer renderer(2);
+    rt::ThreadPool renderer_pool(3);
+    rt::Renderer renderer(renderer_pool);
     rtview_test::render_to_end(renderer, s, 3);
     rt::Image img = renderer.snapshot();
     REQUIRE(img.width == 48);

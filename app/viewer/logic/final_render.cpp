@@ -23,8 +23,6 @@ rt::RenderRequest final_render_request(int samples, double time_limit, double aa
     return r;
 }
 
-FinalRender::FinalRender(int threads) : renderer_(threads) {}
-
 FinalRender::FinalRender(rt::ThreadPool& pool) : renderer_(pool) {}
 
 FinalRender::~FinalRender() { renderer_.cancel(); }

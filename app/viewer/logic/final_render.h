@@ -38,7 +38,6 @@ private:
 
 class FinalRender {
 public:
-    explicit FinalRender(int threads = 0);  // a pool of its own; 0: as many as the process pool
     explicit FinalRender(rt::ThreadPool& pool);  // on a shared pool (see rt::Renderer)
     ~FinalRender();
     FinalRender(const FinalRender&) = delete;

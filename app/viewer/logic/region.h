@@ -43,8 +43,6 @@ void paste_region_rgba8(const RegionPicture& region, const DisplaySettings& sett
 
 class RegionRenderer {
 public:
-    // Renders with a pool of its own of `threads` workers (0: as many as the process pool has).
-    explicit RegionRenderer(int threads = 0) : renderer_(threads) {}
     // Renders on `pool`'s workers, shared (at least one); the pool must outlive it.
     explicit RegionRenderer(rt::ThreadPool& pool) : renderer_(pool) {}
 
