@@ -95,24 +95,8 @@ void refit_up(Chunked<Node>& nodes, const Links& parent, std::uint32_t node) {
 
 }  // namespace
 
-namespace {
-
-// A fingerprint of a tree's shape: its leaves' items and every child reference. A
-// refit keeps it; a build of other boxes (or in another order) almost surely not.
-std::uint64_t shape_hash(const Bvh& bvh) {
-    std::uint64_t h = 1469598103934665603ull;
-    auto add = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
-    for (std::uint32_t i : bvh.items) add(i);
-    for (const BvhNode& n : bvh.nodes)
-        for (std::uint32_t c : n.child) add(c);
-    add(bvh.nodes8.size());
-    return h;
-}
-
-}  // namespace
-
 BvhLinks::BvhLinks(const Bvh& bvh, std::size_t item_count)
-    : nodes4_(bvh.nodes.size()), nodes8_(bvh.nodes8.size()), items_(bvh.items.size()), shape_(shape_hash(bvh)) {
+    : nodes4_(bvh.nodes.size()), nodes8_(bvh.nodes8.size()), items_(bvh.items.size()) {
     std::vector<std::uint32_t> pn, ps, ln, ls;
     auto pack = [&](Chunked<Slot>& parent, Chunked<Slot>& leaf) {
         parent.reserve(pn.size());
@@ -128,16 +112,9 @@ BvhLinks::BvhLinks(const Bvh& bvh, std::size_t item_count)
     }
 }
 
-bool BvhLinks::fits(const Bvh& bvh) const {
-    // (A tree's own links fit it: every change of its shape made them follow.)
-    if (bvh.links.get() == this) return true;
-    return shape_known_ && bvh.nodes.size() == nodes4_ && bvh.nodes8.size() == nodes8_ &&
-           bvh.items.size() == items_ && shape_hash(bvh) == shape_;
-}
-
 bool BvhLinks::refit(Bvh& bvh, const Chunked<Aabb>& boxes, const std::vector<std::uint32_t>& changed) const {
-    // (Sizes only: the caller has checked fits(), and the walk below stays inside the
-    // arrays whatever the tree.)
+    // (Sizes only: the caller hands in links of this tree or of one it was refitted
+    // from, and the walk below stays inside the arrays whatever the tree.)
     if (bvh.nodes.size() != nodes4_ || bvh.nodes8.size() != nodes8_ || bvh.items.size() != items_) return false;
     for (std::uint32_t item : changed) {
         if (item >= leaf4_.size() || leaf4_[item].node == kNone || item >= boxes.size() || boxes[item].empty())
@@ -294,9 +271,6 @@ void BvhLinks::reshaped(const Bvh& bvh) {
     nodes4_ = bvh.nodes.size();
     nodes8_ = bvh.nodes8.size();
     items_ = bvh.items.size();
-    // (Its fingerprint is a pass over the whole tree: these links fit the tree that
-    // keeps them, and trees refitted from it, which keep them too.)
-    shape_known_ = false;
 }
 
 namespace {
@@ -461,26 +435,6 @@ std::shared_ptr<const Geometry> move_objects(const Geometry& previous, const Sce
     pairs.reserve(moved.size());
     for (std::uint32_t obj : moved) pairs.emplace_back(obj, obj);
     return move_slots(previous, scene, pairs, std::move(links));
-}
-
-std::shared_ptr<const World> update_moved_objects(const Scene& scene, const World& previous,
-                                                  const std::vector<std::uint32_t>& moved,
-                                                  std::shared_ptr<const BvhLinks>& links) {
-    if (!previous.geometry || scene.objects.size() != previous.object_count()) return nullptr;
-    // Links handed in are used where they fit this tree; else the tree's own, or new ones.
-    if (links && !links->fits(previous.geometry->bvh)) links = nullptr;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-    for (std::uint32_t obj : moved) {
-        if (obj >= scene.objects.size()) return nullptr;
-        pairs.emplace_back(previous.slot_of(obj), obj);
-    }
-    std::shared_ptr<const Geometry> g = move_slots(*previous.geometry, scene, pairs, links);
-    if (!g) return nullptr;
-    links = g->bvh.links;
-    SceneDelta delta;
-    delta.objects = moved;
-    delta.normalize();
-    return detail::update_world(previous, scene, delta, std::move(g));
 }
 
 }  // namespace rt

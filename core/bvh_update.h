@@ -3,10 +3,9 @@
 // refitted, in a copy of the geometry that shares every chunk of its arrays but those
 // (chunked.h). The tree keeps its shape, so the refit walks up a few dozen nodes per
 // moved object and copies their chunks. The rest grows with the scene, if slowly: the
-// copy of the geometry takes a pointer per chunk of each of its tables, and
-// update_moved_objects() checks links handed in with a pass over the whole tree
-// (BvhLinks::fits). The world around the geometry costs more where it has light
-// buffers (objects times lights + 1 up to 131,072): a move builds them again.
+// copy of the geometry takes a pointer per chunk of each of its tables. The world
+// around the geometry costs more where it has light buffers (objects times lights + 1
+// up to 131,072): a move builds them again. World::update is the way in.
 #pragma once
 
 #include <cstdint>
@@ -29,11 +28,6 @@ class BvhLinks {
 public:
     BvhLinks(const Bvh& bvh, std::size_t item_count);
 
-    // Whether `bvh` has the shape these links were made from: the same sizes and the
-    // same leaves and child references (a fingerprint of them, checked in one pass), or
-    // keeps these links itself (Bvh::links).
-    bool fits(const Bvh& bvh) const;
-
     // After boxes[i] changed for each i in `changed`: every box on the way from those
     // items' leaves to the root is made again (a leaf's box from its items' boxes as
     // build() makes it, an inner node's from its children's). False, with `bvh` left
@@ -54,8 +48,7 @@ public:
     // grows least, or in a new node there with the leaf it would have entered; the
     // boxes above are refitted. False if the box is empty or the tree is full.
     bool insert(Bvh& bvh, const Chunked<Aabb>& boxes, std::uint32_t item);
-    // After remove() and insert(): the sizes of the tree as it is now (these links then
-    // fit only the trees that keep them, fits()).
+    // After remove() and insert(): the sizes of the tree as it is now.
     void reshaped(const Bvh& bvh);
 
 private:
@@ -65,8 +58,6 @@ private:
         std::uint32_t slot = 0;
     };
     std::size_t nodes4_ = 0, nodes8_ = 0, items_ = 0;
-    std::uint64_t shape_ = 0;
-    bool shape_known_ = true;  // shape_ is the tree's (false once reshaped())
     Chunked<Slot> parent4_, parent8_;  // inner node -> the slot that refers to it
     Chunked<Slot> leaf4_, leaf8_;      // item -> the slot of the leaf holding it
 };
@@ -97,13 +88,5 @@ std::shared_ptr<const Geometry> move_objects(const Geometry& previous, const Sce
 std::shared_ptr<const Geometry> move_slots(const Geometry& previous, const Scene& scene,
                                            const std::vector<std::pair<std::uint32_t, std::uint32_t>>& moved,
                                            std::shared_ptr<const BvhLinks> links = nullptr);
-
-// The world of `scene`, which equals previous's scene but for the objects in `moved`
-// (World::update for that delta). `links` is used when it fits (pass the same pointer
-// for every step of a drag) and is set to the links the new world's tree keeps. Null
-// as move_objects() is.
-std::shared_ptr<const World> update_moved_objects(const Scene& scene, const World& previous,
-                                                  const std::vector<std::uint32_t>& moved,
-                                                  std::shared_ptr<const BvhLinks>& links);
 
 }  // namespace rt

@@ -362,9 +362,12 @@ TEST_CASE("world splice: a tree after many inserts holds every object within its
     std::uint32_t some = 0;
     while (std::holds_alternative<Mesh>(scene.objects[some].shape)) ++some;
     rt_test::translate(scene.objects[some], {1, 1, 1});
-    std::shared_ptr<const BvhLinks> links;
-    std::shared_ptr<const World> moved = update_moved_objects(scene, *world, {some}, links);
+    SceneDelta delta;
+    delta.objects = {some};
+    delta.normalize();
+    std::shared_ptr<const World> moved = world->update(scene, delta);
     REQUIRE(bool(moved));
-    CHECK(links == moved->geometry->bvh.links);
+    CHECK(moved->spliced() == world->spliced());  // refitted: no splice of its own
+    CHECK(moved->geometry->bvh.links == world->geometry->bvh.links);  // the links the splices followed, kept by the refit
     check_same_hits(*moved, *compile_world(scene), rng, 8, 1000);
 }
