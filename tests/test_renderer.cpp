@@ -502,13 +502,13 @@ TEST_CASE("film: a pixel with no sample shows its block's corner colour at the l
 
 TEST_CASE("renderer: snapshot_rgba8 updated tile by tile equals a full conversion at every step") {
     auto world = compile_world(parse_ok(kSceneA));
-    rt::ThreadPool r_pool(3);
-    Renderer r(r_pool);
     RenderSettings s;
     s.width = 96;
     s.height = 64;
     s.tile_size = 8;
     s.max_samples = 3;
+    rt::ThreadPool r_pool(3);
+    Renderer r(r_pool);
     std::vector<std::uint8_t> kept;  // updated in place, as the viewer does
     std::uint64_t kept_version = 0;
     int w = 0, h = 0;
