@@ -424,7 +424,7 @@ private:
                          std::optional<rt::Scene>& want, std::string& what) {
         const unsigned kind = c_.below(5);
         if (kind == 0) {
-            const auto k = rtview::NewItem(c_.below(8));
+            const auto k = rtview::kNewItems[c_.below(unsigned(std::size(rtview::kNewItems)))];
             rtview::Placement at{plain_vec(c_), c_.one_in(2) ? rt::Vec3{0, 0, 1} : rt::Vec3{0, 0, 0}, plain_vec(c_)};
             what = std::string("add a ") + rtview::new_item_name(k);
             e = rtview::add_item(text, s, k, at);

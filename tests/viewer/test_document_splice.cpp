@@ -146,8 +146,7 @@ TEST_CASE("document splice: every structural edit, its undo and redo equal a par
         agrees_with_parse(doc);
         const auto& t = std::as_const(doc).editor_text();
         using K = SceneItem::Kind;
-        for (NewItem k : {NewItem::Sphere, NewItem::Cylinder, NewItem::Tetrahedron, NewItem::Torus, NewItem::Plane,
-                          NewItem::ChessPlane, NewItem::Lamp, NewItem::Spotlight}) {
+        for (NewItem k : kNewItems) {
             INFO("add " << new_item_name(k));
             check_spliced(doc, add_item(t, doc.scene(), k, on_floor({5, 0.5, 0}), doc.layout()));
         }

@@ -208,9 +208,9 @@ TEST_CASE("scene edits: add every kind at a point, sized from the scene, also in
         const rt::Scene s = parse_ok(text);
         const double extent = scene_extent(s);
         const rt::Vec3 p{3, 0.5, 0};
-        for (NewItem k : {NewItem::Sphere, NewItem::Cylinder, NewItem::Tetrahedron, NewItem::Torus, NewItem::Plane,
-                          NewItem::ChessPlane, NewItem::Lamp, NewItem::Spotlight}) {
+        for (NewItem k : kNewItems) {
             CAPTURE(new_item_name(k));
+            CHECK(new_item_kind(new_item_name(k)) == k);
             auto e = add_item(text, s, k, {p, {0, 0, 1}});
             REQUIRE(e);
             std::string t = applied(e->replacement, text);
@@ -272,6 +272,23 @@ TEST_CASE("scene edits: add every kind at a point, sized from the scene, also in
                     auto tt = std::get<rt::Tetrahedron>(o.shape);
                     for (int v = 0; v < 3; ++v) CHECK(tt.v[v].z == doctest::Approx(0));
                     CHECK(tt.v[3].z > 0);
+                } else if (k == NewItem::Box) {
+                    // A cube standing on the surface, centred over the point.
+                    auto b = std::get<rt::Box>(o.shape);
+                    const rt::Vec3 side = b.corner2 - b.corner1;
+                    CHECK(side.x > 0);
+                    CHECK(side.x == doctest::Approx(side.y));
+                    CHECK(side.x == doctest::Approx(side.z));
+                    CHECK(b.corner1.z == doctest::Approx(0));
+                    CHECK(dist((b.corner1 + b.corner2) * 0.5, p + rt::Vec3{0, 0, side.z / 2}) < 1e-9);
+                } else if (k == NewItem::Cone) {
+                    // Its base on the surface at the point, its tip straight above.
+                    auto c = std::get<rt::Cone>(o.shape);
+                    CHECK(dist(c.end1, p) < 1e-9);
+                    CHECK(dist({c.end2.x, c.end2.y, 0}, p) < 1e-9);
+                    CHECK(c.end2.z > 0);
+                    CHECK(c.radius1 > 0);
+                    CHECK(c.radius2 == 0);
                 } else {
                     auto to = std::get<rt::Torus>(o.shape);
                     CHECK(to.direction == rt::Vec3{0, 0, 1});
@@ -451,8 +468,8 @@ TEST_CASE("scene edits: an item added to a scene with a far light is where it wa
     const rt::Scene s = parse_ok(text);
     REQUIRE(scene_extent(s) > 1e14);
     const Placement at{{5, 0, 2}, {0, 0, 1}, {-1, 0, 0}};
-    for (NewItem k : {NewItem::Sphere, NewItem::Cylinder, NewItem::Tetrahedron, NewItem::Torus, NewItem::Plane,
-                      NewItem::ChessPlane, NewItem::Lamp}) {
+    for (NewItem k : {NewItem::Sphere, NewItem::Cylinder, NewItem::Tetrahedron, NewItem::Torus, NewItem::Box,
+                      NewItem::Cone, NewItem::Plane, NewItem::ChessPlane, NewItem::Lamp}) {
         CAPTURE(new_item_name(k));
         const auto e = add_item(text, s, k, at);
         REQUIRE(e);

@@ -24,12 +24,20 @@ const char* new_item_name(NewItem k) {
     case NewItem::Cylinder: return "cylinder";
     case NewItem::Tetrahedron: return "tetrahedron";
     case NewItem::Torus: return "torus";
+    case NewItem::Box: return "box";
+    case NewItem::Cone: return "cone";
     case NewItem::Plane: return "plane";
     case NewItem::ChessPlane: return "chess_plane";
     case NewItem::Lamp: return "lamp";
     case NewItem::Spotlight: return "spotlight";
     }
     return "";
+}
+
+std::optional<NewItem> new_item_kind(std::string_view name) {
+    for (NewItem k : kNewItems)
+        if (name == new_item_name(k)) return k;
+    return std::nullopt;
 }
 
 namespace {
@@ -249,6 +257,14 @@ void new_item(const rt::Scene& scene, NewItem kind, const Placement& at, double 
         o.shape = rt::Torus{rp(p + up * minor), round_to(up, std::min(scale, 10.0)), r, minor};
         break;
     }
+    case NewItem::Box: {
+        // A cube of side 2r resting on the surface at the point (its sides along the
+        // axes: turned with the handle's `rotation`).
+        const Vec3 c = p + up * r;
+        o.shape = rt::Box{rp(c - Vec3{r, r, r}), rp(c + Vec3{r, r, r})};
+        break;
+    }
+    case NewItem::Cone: o.shape = rt::Cone{rp(p), rp(p + up * (2 * r)), r, 0}; break;
     case NewItem::Plane:
     case NewItem::ChessPlane: {
         // Through the point, upright on the surface and facing the viewer (lit on the

@@ -9,6 +9,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "model.h"
@@ -50,8 +51,16 @@ struct SceneEdit {
 };
 
 // (The objects first, up to Torus.)
-enum class NewItem { Sphere, Cylinder, Tetrahedron, Torus, Plane, ChessPlane, Lamp, Spotlight };
+enum class NewItem { Sphere, Cylinder, Tetrahedron, Torus, Box, Cone, Plane, ChessPlane, Lamp, Spotlight };
 const char* new_item_name(NewItem k);  // "sphere", ..., as in the format
+// Every kind, in the Add menus' order.
+inline constexpr NewItem kNewItems[] = {NewItem::Sphere,     NewItem::Cylinder, NewItem::Tetrahedron, NewItem::Torus,
+                                        NewItem::Box,        NewItem::Cone,     NewItem::Plane,       NewItem::ChessPlane,
+                                        NewItem::Lamp,       NewItem::Spotlight};
+// The kind `name` names (new_item_name's words), if any.
+std::optional<NewItem> new_item_kind(std::string_view name);
+// Whether the kind is a thing (an object), not a plane or a light.
+inline bool new_item_is_object(NewItem k) { return k <= NewItem::Cone; }
 
 // All edits take the scene text and the scene it parses to (its items must match
 // the text's blocks one for one), and return nothing when the text's structure is

@@ -44,15 +44,6 @@ rt::Vec3 ViewerApp::duplicate_offset(const rt::Scene& scene) const {
     return rt::finite(off) ? off : rt::Vec3{};
 }
 
-namespace {
-// The item an "add" command names ("sphere", ..., "spotlight"), as in the format.
-std::optional<NewItem> new_item_kind(const std::string& name) {
-    for (NewItem k : {NewItem::Sphere, NewItem::Cylinder, NewItem::Tetrahedron, NewItem::Torus, NewItem::Plane,
-                      NewItem::ChessPlane, NewItem::Lamp, NewItem::Spotlight})
-        if (name == new_item_name(k)) return k;
-    return std::nullopt;
-}
-}  // namespace
 
 bool ViewerApp::scene_edit(const std::string& arg, Command c) {
     Document& doc = editor_.doc();
@@ -81,7 +72,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         case Command::AddItem: {
             const std::optional<NewItem> kind = new_item_kind(arg);
             if (!kind) return false;
-            e = add_item(text, scene, *kind, new_item_placement(*kind <= NewItem::Torus), layout, render_.world());
+            e = add_item(text, scene, *kind, new_item_placement(new_item_is_object(*kind)), layout, render_.world());
             done = std::string("Added a ") + arg;
             name = std::string("Add a ") + arg;
             break;
@@ -183,8 +174,8 @@ void ViewerApp::draw_context_menu() {
     const rt::Scene& scene = editor_.doc().scene();
     // (probe_item: where the rows are, for scripts that click them)
     if (ImGui::BeginMenu("Add here")) {
-        static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
-        for (const char* k : kinds) {
+        for (NewItem kind : kNewItems) {
+            const char* k = new_item_name(kind);
             const bool chosen = ImGui::MenuItem(k);
             probe_item(std::string("menu:") + k);
             if (chosen) {

@@ -87,8 +87,8 @@ void Panels::draw_menu_bar() {
         ImGui::Separator();
         // Structural edits: written into the text as ordinary blocks, one undo step each.
         if (ImGui::BeginMenu("Add (in front of the view)", can)) {
-            static const char* const kinds[] = {"sphere", "cylinder", "tetrahedron", "torus", "plane", "chess_plane", "lamp", "spotlight"};
-            for (const char* k : kinds) {
+            for (NewItem kind : kNewItems) {
+                const char* k = new_item_name(kind);
                 const bool chosen = ImGui::MenuItem(k);
                 probe_item(std::string("menu:") + k);
                 if (chosen) commands_.run(Command::AddItem, k);
