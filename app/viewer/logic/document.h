@@ -186,6 +186,8 @@ public:
     bool can_undo() const { return history_.can_undo(); }
     bool can_redo() const { return history_.can_redo(); }
     std::size_t undo_depth() const { return history_.undo_size(); }
+    // Changes when a step is made, undone or redone, or the history cleared (UndoHistory::changes).
+    std::uint64_t history_changes() const { return history_.changes(); }
     std::size_t undo_bytes() const { return history_.bytes(); }
     void set_undo_budget(std::size_t bytes) { history_.set_budget(bytes); }
     bool undo();

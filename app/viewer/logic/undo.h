@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 #include <utility>
 
@@ -17,6 +18,7 @@ public:
 
     // Records an edit just made. A new edit forgets the redo branch.
     void push(Step step, std::size_t bytes) {
+        ++changes_;
         redo_.clear();
         redo_bytes_ = 0;
         undo_.push_back({std::move(step), bytes});
@@ -26,6 +28,7 @@ public:
     // The step to take back (then on the redo side), or null.
     const Step* undo() {
         if (undo_.empty()) return nullptr;
+        ++changes_;
         undo_bytes_ -= undo_.back().second;
         redo_bytes_ += undo_.back().second;
         redo_.push_back(std::move(undo_.back()));
@@ -35,6 +38,7 @@ public:
     // The step to do again (then on the undo side), or null.
     const Step* redo() {
         if (redo_.empty()) return nullptr;
+        ++changes_;
         redo_bytes_ -= redo_.back().second;
         undo_bytes_ += redo_.back().second;
         undo_.push_back(std::move(redo_.back()));
@@ -48,6 +52,9 @@ public:
     bool can_undo() const { return !undo_.empty(); }
     bool can_redo() const { return !redo_.empty(); }
     std::size_t undo_size() const { return undo_.size(); }
+    // Counts pushes, undos, redos and clears: what the next undo() would take back
+    // is the same while it stays the same.
+    std::uint64_t changes() const { return changes_; }
     // Bytes held by all steps (undo and redo side).
     std::size_t bytes() const { return undo_bytes_ + redo_bytes_; }
     std::size_t budget() const { return budget_; }
@@ -56,6 +63,7 @@ public:
         trim();
     }
     void clear() {
+        ++changes_;
         undo_.clear();
         redo_.clear();
         undo_bytes_ = redo_bytes_ = 0;
@@ -72,6 +80,7 @@ private:
     std::size_t budget_, max_steps_;
     std::deque<std::pair<Step, std::size_t>> undo_, redo_;
     std::size_t undo_bytes_ = 0, redo_bytes_ = 0;
+    std::uint64_t changes_ = 0;
 };
 
 }  // namespace rtview

@@ -114,7 +114,8 @@ bool ViewerApp::undo_redo(bool undo, int steps) {
     const std::string& last = doc.last_step_name();
     const std::string what =
         done == 1 ? ": " + last : " " + std::to_string(done) + " steps, " + (undo ? "back to before " : "up to ") + last;
-    status_.set(std::string(undo ? "Undid" : "Redid") + what + (undo ? " (Ctrl+Y redoes)" : " (Ctrl+Z undoes)"));
+    status_.set_about_step(std::string(undo ? "Undid" : "Redid") + what + (undo ? " (Ctrl+Y redoes)" : " (Ctrl+Z undoes)"),
+                           doc.history_changes());
     return true;
 }
 
@@ -148,7 +149,8 @@ bool ViewerApp::view_command(Command c) {
                 status_.set(blocked, true);
                 return false;
             }
-            if (doc.set_camera(nav_.camera())) status_.set("The scene camera is now the view (Ctrl+Z undoes)");
+            if (doc.set_camera(nav_.camera()))
+                status_.set_about_step("The scene camera is now the view (Ctrl+Z undoes)", doc.history_changes());
             return true;
         case Command::CopyCamera:
             ImGui::SetClipboardText(rt::write_camera(nav_.camera()).c_str());

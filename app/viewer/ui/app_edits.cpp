@@ -122,7 +122,7 @@ bool ViewerApp::scene_edit(const std::string& arg, Command c) {
         return false;
     }
     panels_.select({e->select, {}});
-    status_.set(done + " (Ctrl+Z undoes)" + light_note(doc));
+    status_.set_about_step(done + " (Ctrl+Z undoes)" + light_note(doc), doc.history_changes());
     return true;
 }
 

@@ -174,7 +174,7 @@ void ViewerApp::focus_at(double px, double py) {
     char msg[160];
     std::snprintf(msg, sizeof msg, "Focus distance %.4g%s (Ctrl+Z undoes)", d,
                   cam.aperture > 0 ? "" : "; set the camera's aperture to see the blur");
-    status_.set(msg);
+    status_.set_about_step(msg, doc.history_changes());
 }
 
 }  // namespace rtview

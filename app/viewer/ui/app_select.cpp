@@ -110,7 +110,7 @@ bool ViewerApp::group_edit(Command c) {
     selection_steps_.made(doc.undo_depth(), name, before, after);
     std::string said = (del ? "Deleted " : "Duplicated ") + what;
     if (g->skipped) said += " (" + std::to_string(g->skipped) + " from included files left as they are)";
-    status_.set(said + " (Ctrl+Z undoes)" + light_note(doc));
+    status_.set_about_step(said + " (Ctrl+Z undoes)" + light_note(doc), doc.history_changes());
     return true;
 }
 

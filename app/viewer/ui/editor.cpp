@@ -114,6 +114,8 @@ void DocumentEditor::tick(double now) {
     recovery_finding();
     // "The scene text has errors" once it has none (fixed, reverted, undone).
     if (status_.cause() == StatusLine::Cause::TextErrors && !doc_.has_errors()) status_.clear_if(StatusLine::Cause::TextErrors);
+    // "... (Ctrl+Z undoes)" once Ctrl+Z would take back another step.
+    status_.clear_if_history_moved(doc_.history_changes());
     if (check_due_ >= 0 && now >= check_due_) {
         doc_.check_text();
         check_due_ = -1;
@@ -319,7 +321,8 @@ void DocumentEditor::draw_banners() {
             if (offered_orphan_) recovery_.discard_orphan(*offered_orphan_);
             offered_orphan_.reset();
             want_tab_ = true;
-            status_.set("Restored the unsaved text into the editor (Ctrl+Enter applies it, Ctrl+Z undoes)");
+            status_.set_about_step("Restored the unsaved text into the editor (Ctrl+Enter applies it, Ctrl+Z undoes)",
+                                   doc_.history_changes());
         }
         ImGui::SameLine();
         if (ImGui::Button("Discard it")) {

@@ -45,7 +45,8 @@ void Panels::draw_group_properties() {
                 const std::string objects = std::to_string(n) + (n == 1 ? " object" : " objects");
                 doc.name_edit("Material of " + item_label(s, last) + " for " + objects);
                 doc.commit();
-                status_.set("Gave " + objects + " the material of " + item_label(s, last) + " (Ctrl+Z undoes)");
+                status_.set_about_step("Gave " + objects + " the material of " + item_label(s, last) + " (Ctrl+Z undoes)",
+                                       doc.history_changes());
             } else {
                 status_.set("They have that material already");
             }

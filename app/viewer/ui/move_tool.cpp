@@ -140,7 +140,7 @@ bool MoveTool::drag_turn_or_size(Document& doc, double mx, double my, StatusLine
                                : "the view axis";
         if (turn) std::snprintf(buf, sizeof buf, "Turned by %.6g degrees about %s (Ctrl+Z undoes)", g.degrees, axis);
         else std::snprintf(buf, sizeof buf, "Sized by %.6g %.6g %.6g (Ctrl+Z undoes)", g.factors.x, g.factors.y, g.factors.z);
-        status.set(buf);
+        status.set_about_step(buf, doc.history_changes());
     }
     drag_.reset();
     return true;

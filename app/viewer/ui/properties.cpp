@@ -450,7 +450,7 @@ bool Panels::set_texture(const std::string& path) {
             return false;
         }
         if (field_message_.field == f.label) field_message_ = {};
-        status_.set("Texture " + path + " set (Ctrl+Z undoes)");
+        status_.set_about_step("Texture " + path + " set (Ctrl+Z undoes)", doc.history_changes());
         return true;
     }
     status_.set("The item whose texture was to be set is gone", true);

@@ -1,11 +1,11 @@
 #!/bin/bash
 # Journey: messages beside the pointer's readout, and messages that go stale. With the
 # pointer resting on the picture the user presses F12; types "abc" into sphere 1's
-# radius after typing 1.5, then undoes the 1.5; types an error into the scene text,
+# radius after typing 1.5, then undoes the 1.5 and types 2; types an error into the scene text,
 # applies it and reverts it; opens a PLY model.
 # Checks: the screenshot's message, with its full path, shows beside the readout while
 # the pointer stays on the picture; the radius field's message goes once the radius
-# changes by the undo; "the scene text has errors" goes once the text is reverted; a
+# changes by the undo; the undo's "(Ctrl+Y redoes)" goes once another edit is made; "the scene text has errors" goes once the text is reverted; a
 # model opened says the model's name and the new scene's.
 # Usage: j43_messages.sh BIN_DIR OUT_DIR
 . "$(dirname "$0")/lib.sh" "$@"
@@ -33,6 +33,15 @@ key ctrl+z
 wait_state value_radius '^1$' 5
 idle 0.5
 [ -z "$(state field_message)" ] || fail "the radius message stayed after the radius changed: $(state field_message)"
+
+step "an undo said, then another edit: the undo's message goes (Ctrl+Y would no longer redo it)"
+wait_state message "^Undid: .*\(Ctrl\+Y redoes\)" 5
+type_value radius 2
+wait_state value_radius '^2$' 5
+idle 0.5
+state message | grep -q "Ctrl+Y redoes" && fail "the undo's message stayed after another edit: $(state message)"
+key ctrl+z  # (back to the file's text: the Open below asks nothing)
+wait_state value_radius '^1$' 5
 
 step "an error applied, then reverted: its message goes"
 click_item tab_Text
