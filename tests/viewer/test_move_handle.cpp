@@ -295,3 +295,63 @@ TEST_CASE("object ids: the outline of a block of texels is its four sides") {
     CHECK(outline_edges(b, 0).empty());
     CHECK(outline_edges(b, 13).empty());
 }
+
+namespace {
+double seg_length(const Segment& g) { return std::hypot(double(g.x1 - g.x0), double(g.y1 - g.y0)); }
+}  // namespace
+
+TEST_CASE("object ids: the outline as drawn cuts each corner; a staircase of texels becomes a diagonal") {
+    // A block of 3 x 2 texels: its four sides, each corner cut by a half-texel diagonal.
+    IdBuffer b;
+    b.width = 6, b.height = 5;
+    b.x0 = 0, b.y0 = 0, b.x1 = 6, b.y1 = 5;
+    b.ids.assign(30, 0);
+    for (int y = 1; y < 3; ++y)
+        for (int x = 2; x < 5; ++x) b.ids[std::size_t(y * 6 + x)] = 9;
+    std::vector<Segment> box = smooth_corners(outline_edges(b, 9));
+    REQUIRE(box.size() == 8);
+    int diagonals = 0;
+    double total = 0;
+    for (const Segment& g : box) {
+        total += seg_length(g);
+        if (g.x0 != g.x1 && g.y0 != g.y1) {
+            ++diagonals;
+            CHECK(std::abs(g.x1 - g.x0) == doctest::Approx(0.5));
+            CHECK(std::abs(g.y1 - g.y0) == doctest::Approx(0.5));
+        }
+    }
+    CHECK(diagonals == 4);
+    CHECK(total == doctest::Approx(10 - 8 * 0.5 + 4 * std::sqrt(0.5)));
+
+    // A staircase of single texels (x = y, a diagonal band): its stepped side becomes
+    // diagonals on one straight line.
+    IdBuffer st;
+    st.width = st.height = 8;
+    st.x0 = st.y0 = 0, st.x1 = st.y1 = 8;
+    st.ids.assign(64, 0);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x <= y; ++x) st.ids[std::size_t(y * 8 + x)] = 4;  // below the diagonal
+    const std::vector<Edge> steps = outline_edges(st, 4);
+    const std::vector<Segment> smooth = smooth_corners(steps);
+    // The steps: row y's top from (y, y) to (y + 1, y), then down to (y + 1, y + 1); the
+    // diagonals join their midpoints, on the line y = x - 0.5 (the staircase's middle).
+    int on_line = 0, cuts = 0;
+    for (const Segment& g : smooth)
+        if (g.x0 != g.x1 && g.y0 != g.y1) {
+            ++cuts;
+            on_line += std::abs(g.y0 - g.x0 + 0.5f) < 1e-6f && std::abs(g.y1 - g.x1 + 0.5f) < 1e-6f;
+        }
+    CHECK(on_line == 15);    // the 16 unit steps meet at 15 corners
+    CHECK(cuts == 18);  // and the triangle's three other corners
+    // Nothing of the steps is left between them: each unit run is cut to nothing.
+    for (const Segment& g : smooth)
+        if (g.x0 == g.x1 || g.y0 == g.y1) CHECK(seg_length(g) >= 0.5);
+
+    // Where three edges meet (two selected things side by side), nothing is cut.
+    const std::vector<Edge> tee = {{0, 0, 2, 0}, {2, 0, 4, 0}, {2, 0, 2, 3}};
+    const std::vector<Segment> kept = smooth_corners(tee);
+    REQUIRE(kept.size() == 3);
+    double sum = 0;
+    for (const Segment& g : kept) sum += seg_length(g);
+    CHECK(sum == doctest::Approx(7));
+}

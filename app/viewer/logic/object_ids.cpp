@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
 #include "parallel.h"
 #include "renderer.h"
@@ -140,6 +142,54 @@ std::vector<Edge> outline_edges(const IdBuffer& ids, std::uint32_t code) {
                 run = -1;
             }
         }
+    }
+    return out;
+}
+
+namespace {
+
+// An edge's end as a key: the texel corner's two coordinates.
+std::uint64_t corner_key(int x, int y) { return (std::uint64_t(std::uint32_t(x)) << 32) | std::uint32_t(y); }
+
+}  // namespace
+
+std::vector<Segment> smooth_corners(const std::vector<Edge>& edges) {
+    // The edge ends meeting at each corner (edge index * 2 + which end).
+    std::unordered_map<std::uint64_t, std::vector<std::size_t>> at;
+    at.reserve(edges.size() * 2);
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+        at[corner_key(edges[i].x0, edges[i].y0)].push_back(2 * i);
+        at[corner_key(edges[i].x1, edges[i].y1)].push_back(2 * i + 1);
+    }
+    auto length = [&](std::size_t i) { return float(std::abs(edges[i].x1 - edges[i].x0) + std::abs(edges[i].y1 - edges[i].y0)); };
+    auto horizontal = [&](std::size_t i) { return edges[i].y0 == edges[i].y1; };
+    // How far each end is cut back, and the point it is cut back to.
+    std::vector<float> cut(edges.size() * 2, 0.f);
+    auto cut_point = [&](std::size_t end, float c) {
+        const Edge& e = edges[end / 2];
+        const bool first = end % 2 == 0;
+        const float x = float(first ? e.x0 : e.x1), y = float(first ? e.y0 : e.y1);
+        const float dx = float(first ? e.x1 - e.x0 : e.x0 - e.x1), dy = float(first ? e.y1 - e.y0 : e.y0 - e.y1);
+        const float len = std::abs(dx) + std::abs(dy);
+        return std::pair<float, float>{x + dx / len * c, y + dy / len * c};
+    };
+    std::vector<Segment> out;
+    out.reserve(edges.size() * 2);
+    for (const auto& [key, ends] : at) {
+        if (ends.size() != 2) continue;
+        const std::size_t a = ends[0], b = ends[1];
+        if (horizontal(a / 2) == horizontal(b / 2)) continue;
+        const float c = std::min({0.5f, length(a / 2) / 2, length(b / 2) / 2});
+        cut[a] = cut[b] = c;
+        const auto [ax, ay] = cut_point(a, c);
+        const auto [bx, by] = cut_point(b, c);
+        out.push_back({ax, ay, bx, by});
+    }
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+        if (length(i) - cut[2 * i] - cut[2 * i + 1] <= 0) continue;
+        const auto [x0, y0] = cut_point(2 * i, cut[2 * i]);
+        const auto [x1, y1] = cut_point(2 * i + 1, cut[2 * i + 1]);
+        out.push_back({x0, y0, x1, y1});
     }
     return out;
 }

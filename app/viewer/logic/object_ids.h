@@ -58,4 +58,15 @@ struct Edge {
 // The borders of the region of texels holding `code`, joined into runs.
 std::vector<Edge> outline_edges(const IdBuffer& ids, std::uint32_t code);
 
+// A segment in texel units, where corners are cut at fractions of a texel.
+struct Segment {
+    float x0, y0, x1, y1;
+};
+// An outline's edges as drawn: each corner where exactly two edges meet at a right
+// angle is cut by a diagonal from half a texel before it (at most half of the shorter
+// edge) to as far after it. A staircase of single texels becomes a straight diagonal,
+// a box gets chamfered corners, a curve loses its steps; junctions of three or four
+// edges (the border between two selected things) stay as they are.
+std::vector<Segment> smooth_corners(const std::vector<Edge>& edges);
+
 }  // namespace rtview

@@ -293,7 +293,7 @@ void MoveTool::update_outline(const Document& doc, const Selection& selection, c
         items_window(*world, camera, film_w, film_h, block, items, x0, y0, x1, y1);
     }
     ids_ = std::move(ids);
-    edges_ = std::move(edges);
+    edges_ = smooth_corners(edges);
     has_ids_ = true;
     ids_world_ = world;
     ids_camera_ = camera;
@@ -355,13 +355,13 @@ void MoveTool::draw(const Document& doc, const Selection& sel, const ScreenView&
     if (has_ids_ && ids_sel_ == sel && ids_w_ == film_w &&
         ids_h_ == film_h) {
         // Texel borders to window units: texel k starts at film pixel k * block.
-        auto wx = [&](int tx) { return float(image.x + std::min(tx * ids_.block, film_w) * image.w / film_w); };
-        auto wy = [&](int ty) { return float(image.y + std::min(ty * ids_.block, film_h) * image.h / film_h); };
+        auto wx = [&](float tx) { return float(image.x + std::min(double(tx) * ids_.block, double(film_w)) * image.w / film_w); };
+        auto wy = [&](float ty) { return float(image.y + std::min(double(ty) * ids_.block, double(film_h)) * image.h / film_h); };
         for (int pass = 0; pass < 2; ++pass) {
             // A dark border under a bright line: visible on light and dark pictures.
             ImU32 c = pass == 0 ? IM_COL32(0, 0, 0, 170) : IM_COL32(255, 170, 30, 255);
             float w = pass == 0 ? 3.5f * s : 1.6f * s;
-            for (const Edge& e : edges_) dl->AddLine(ImVec2(wx(e.x0), wy(e.y0)), ImVec2(wx(e.x1), wy(e.y1)), c, w);
+            for (const Segment& e : edges_) dl->AddLine(ImVec2(wx(e.x0), wy(e.y0)), ImVec2(wx(e.x1), wy(e.y1)), c, w);
         }
     }
     HandleMode mode = HandleMode::Move;

@@ -112,7 +112,7 @@ private:
     std::vector<LightMarker> markers_;  // as last drawn
 
     IdBuffer ids_;
-    std::vector<Edge> edges_;  // the outline of ids_
+    std::vector<Segment> edges_;  // the outline of ids_, as drawn (smooth_corners)
     int finest_ = 1;           // the finest block whose outline fits a draw list
     bool has_ids_ = false;
     std::weak_ptr<const rt::World> ids_world_;  // compared with, not kept alive
