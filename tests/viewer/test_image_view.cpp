@@ -158,16 +158,6 @@ TEST_CASE("pan moves the picture up to its edges, and back at once") {
     CHECK(at(v, area, 1600, 1200, 799.5, 599.5) == P{1599, 1199});
 }
 
-TEST_CASE("a preview film of another resolution: the pixel covering the same spot") {
-    int fx, fy;
-    picture_to_film_pixel(799, 599, 800, 600, 400, 300, fx, fy);
-    CHECK((fx == 399 && fy == 299));
-    picture_to_film_pixel(1, 2, 800, 600, 400, 300, fx, fy);
-    CHECK((fx == 0 && fy == 1));
-    picture_to_film_pixel(5, 7, 800, 600, 800, 600, fx, fy);
-    CHECK((fx == 5 && fy == 7));
-}
-
 TEST_CASE("the visible part of the picture, as pixels and as texture coordinates") {
     Rect area{0, 0, 800, 600};
     ImageView v;

@@ -97,9 +97,6 @@ TEST_CASE("a drag selects the pixels under both ends and everything between") {
     t = v.transform(area, 64, 48);
     CHECK(region_from_drag(t, 64, 48, 290.5, 220.5, 299.5, 223.5) == PixelRect{2, 4, 12, 8});
     CHECK(region_from_drag(t, 64, 48, 0, 0, 100, 100).empty());  // all outside
-    // In a film of twice the size the same region covers twice the pixels.
-    CHECK(scale_region({10, 5, 30, 15}, 64, 48, 128, 96) == PixelRect{20, 10, 60, 30});
-    CHECK(scale_region({10, 5, 30, 15}, 64, 48, 64, 48) == PixelRect{10, 5, 30, 15});
 }
 
 TEST_CASE("region pixels are the full render's pixels at the same sample count") {

@@ -14,7 +14,7 @@ namespace rtview {
 struct ViewTransform {
     double x0 = 0, y0 = 0;
     double sx = 1, sy = 1;  // window units per picture pixel (equal unless fitted)
-    Rect image(int pic_w, int pic_h) const { return {x0, y0, sx * pic_w, sy * pic_h}; }
+    Rect image(int film_w, int film_h) const { return {x0, y0, sx * film_w, sy * film_h}; }
     double to_picture_x(double px) const { return (px - x0) / sx; }
     double to_picture_y(double py) const { return (py - y0) / sy; }
     double to_window_x(double x) const { return x0 + x * sx; }
@@ -34,37 +34,34 @@ public:
     // The placement for this frame. Zoomed, along each axis the picture is centred
     // where it fits in the area, and otherwise leaves no gap at either side; with
     // `fb_scale` > 0 its corner is on a whole framebuffer pixel (texels not split).
-    ViewTransform transform(const Rect& area, int pic_w, int pic_h, double fb_scale = 0) const;
+    ViewTransform transform(const Rect& area, int film_w, int film_h, double fb_scale = 0) const;
     // Framebuffer pixels per picture pixel (1 at 1:1).
-    double ratio(const Rect& area, int pic_w, int pic_h, double fb_scale) const;
+    double ratio(const Rect& area, int film_w, int film_h, double fb_scale) const;
 
     // Scale the picture by `factor` keeping the picture point under (px, py) there.
-    void zoom_about(const Rect& area, int pic_w, int pic_h, double fb_scale, double px, double py, double factor);
+    void zoom_about(const Rect& area, int film_w, int film_h, double fb_scale, double px, double py, double factor);
     // Mouse-wheel zoom: `steps` quarter-powers of two, landing on exact powers of two
     // (so 1:1 is reached by wheel too).
-    void zoom_steps(const Rect& area, int pic_w, int pic_h, double fb_scale, double px, double py, double steps);
+    void zoom_steps(const Rect& area, int film_w, int film_h, double fb_scale, double px, double py, double steps);
     // One picture pixel per framebuffer pixel, keeping the picture point under
     // (px, py) there; on whole framebuffer pixels so that texels are not split.
-    void one_to_one(const Rect& area, int pic_w, int pic_h, double fb_scale, double px, double py);
+    void one_to_one(const Rect& area, int film_w, int film_h, double fb_scale, double px, double py);
     // Moves the picture by (dx, dy) window units, as far as its edges allow.
-    void pan(const Rect& area, int pic_w, int pic_h, double dx, double dy);
+    void pan(const Rect& area, int film_w, int film_h, double dx, double dy);
 
 private:
-    void set_from(const Rect& area, int pic_w, int pic_h, const ViewTransform& t);
+    void set_from(const Rect& area, int film_w, int film_h, const ViewTransform& t);
     bool fit_ = true;
     double scale_ = 1;        // window units per picture pixel
     double cx_ = 0, cy_ = 0;  // picture coordinate shown at the area's centre
 };
 
 // The picture pixel under a window point; false outside the picture.
-bool picture_pixel_at(const ViewTransform& t, int pic_w, int pic_h, double px, double py, int& x, int& y);
-// A picture pixel in a film of another resolution (a preview): the film pixel that
-// covers the picture pixel's centre.
-void picture_to_film_pixel(int x, int y, int pic_w, int pic_h, int film_w, int film_h, int& fx, int& fy);
+bool picture_pixel_at(const ViewTransform& t, int film_w, int film_h, double px, double py, int& x, int& y);
 // The picture pixels [x0, x1) x [y0, y1) at least partly visible in the area.
-std::array<int, 4> visible_pixels(const ViewTransform& t, const Rect& area, int pic_w, int pic_h);
+std::array<int, 4> visible_pixels(const ViewTransform& t, const Rect& area, int film_w, int film_h);
 // The texture's part that is visible, as UV in [0, 1], and the window rectangle it
 // fills (the image rectangle cut to the area): for drawing with the area as clip.
-void visible_uv(const ViewTransform& t, const Rect& area, int pic_w, int pic_h, Rect& window, std::array<double, 4>& uv);
+void visible_uv(const ViewTransform& t, const Rect& area, int film_w, int film_h, Rect& window, std::array<double, 4>& uv);
 
 }  // namespace rtview

@@ -7,9 +7,9 @@
 
 namespace rtview {
 
-void picture_film_size(int pic_w, int pic_h, int& film_w, int& film_h) {
-    film_w = std::max(1, pic_w);
-    film_h = std::max(1, pic_h);
+void picture_film_size(int x_max, int y_max, int& film_w, int& film_h) {
+    film_w = std::max(1, x_max);
+    film_h = std::max(1, y_max);
     const double pixels = double(film_w) * film_h;
     if (pixels <= double(kMaxFilmPixels)) return;
     const double s = std::sqrt(double(kMaxFilmPixels) / pixels);

@@ -37,7 +37,7 @@ constexpr std::int64_t kMaxFilmPixels = std::int64_t(4096) * 4096;
 // The film of the picture frame: the scene's picture_size, or, past kMaxFilmPixels,
 // the largest film of its aspect within it (so the viewer says the saved image is
 // smaller). Zoom and pan only place this film on the screen.
-void picture_film_size(int pic_w, int pic_h, int& film_w, int& film_h);
+void picture_film_size(int x_max, int y_max, int& film_w, int& film_h);
 
 // The sidebar's width in a window `window_w` wide at UI scale `scale`: the share
 // `wanted` of the window (as the user dragged it; <= 0: none yet) or else a third of

@@ -36,8 +36,8 @@ const char* shape_name(const rt::Shape& s) {
         s);
 }
 
-rt::PickResult pick_pixel(const rt::World& world, const rt::Camera& view_camera, int pic_w, int pic_h, int x, int y) {
-    rt::CameraBasis basis = rt::CameraBasis::make(view_camera, pic_w, pic_h, false);
+rt::PickResult pick_pixel(const rt::World& world, const rt::Camera& view_camera, int film_w, int film_h, int x, int y) {
+    rt::CameraBasis basis = rt::CameraBasis::make(view_camera, film_w, film_h, false);
     return rt::pick(world, basis.ray(x, y));
 }
 

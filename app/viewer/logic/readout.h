@@ -22,7 +22,7 @@ struct PixelReadout {
 
 // The ray of sample 0 of picture pixel (x, y) (the pixel's corner, the one every
 // render traces) and what it hits.
-rt::PickResult pick_pixel(const rt::World& world, const rt::Camera& view_camera, int pic_w, int pic_h, int x, int y);
+rt::PickResult pick_pixel(const rt::World& world, const rt::Camera& view_camera, int film_w, int film_h, int x, int y);
 
 // "object 3 (sphere)", "plane 1 (chess_plane)", "light 2 (lamp glow)": the outline's
 // 1-based numbers; empty when nothing was hit.

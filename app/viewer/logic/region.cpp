@@ -6,28 +6,16 @@
 
 namespace rtview {
 
-PixelRect region_from_drag(const ViewTransform& t, int pic_w, int pic_h, double ax, double ay, double bx, double by) {
+PixelRect region_from_drag(const ViewTransform& t, int film_w, int film_h, double ax, double ay, double bx, double by) {
     double u0 = std::floor(t.to_picture_x(std::min(ax, bx))), u1 = std::floor(t.to_picture_x(std::max(ax, bx)));
     double v0 = std::floor(t.to_picture_y(std::min(ay, by))), v1 = std::floor(t.to_picture_y(std::max(ay, by)));
     PixelRect r;
-    r.x0 = int(std::clamp(u0, 0.0, double(pic_w)));
-    r.y0 = int(std::clamp(v0, 0.0, double(pic_h)));
-    r.x1 = int(std::clamp(u1 + 1, 0.0, double(pic_w)));
-    r.y1 = int(std::clamp(v1 + 1, 0.0, double(pic_h)));
+    r.x0 = int(std::clamp(u0, 0.0, double(film_w)));
+    r.y0 = int(std::clamp(v0, 0.0, double(film_h)));
+    r.x1 = int(std::clamp(u1 + 1, 0.0, double(film_w)));
+    r.y1 = int(std::clamp(v1 + 1, 0.0, double(film_h)));
     if (r.empty()) return {};
     return r;
-}
-
-PixelRect scale_region(const PixelRect& r, int from_w, int from_h, int to_w, int to_h) {
-    if (r.empty() || from_w < 1 || from_h < 1) return {};
-    if (from_w == to_w && from_h == to_h) return r;
-    auto sc = [](int v, int from, int to, bool up) {
-        double x = double(v) * to / from;
-        return std::clamp(int(up ? std::ceil(x) : std::floor(x)), 0, to);
-    };
-    PixelRect s{sc(r.x0, from_w, to_w, false), sc(r.y0, from_h, to_h, false), sc(r.x1, from_w, to_w, true),
-                sc(r.y1, from_h, to_h, true)};
-    return s.empty() ? PixelRect{} : s;
 }
 
 void paste_region(const RegionPicture& reg, rt::Image& full) {

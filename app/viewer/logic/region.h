@@ -23,9 +23,7 @@ using PixelRect = rt::PixelWindow;  // [x0, x1) x [y0, y1) of the picture
 
 // The picture pixels a drag from (ax, ay) to (bx, by) covers: both end pixels
 // included, cut to the picture; empty if it misses the picture.
-PixelRect region_from_drag(const ViewTransform& t, int pic_w, int pic_h, double ax, double ay, double bx, double by);
-// The same region in a film of another size (the film follows the window's size).
-PixelRect scale_region(const PixelRect& r, int from_w, int from_h, int to_w, int to_h);
+PixelRect region_from_drag(const ViewTransform& t, int film_w, int film_h, double ax, double ay, double bx, double by);
 
 // The region's pixels as rendered so far.
 struct RegionPicture {

@@ -219,15 +219,14 @@ bool ImageTools::handle_mouse() {
 
 void ImageTools::start_region(const PixelRect& r) {
     if (!f_.world) return;
-    PixelRect fr = scale_region(r, film_w(), film_h(), f_.film_w, f_.film_h);
-    if (fr.empty()) return;
+    if (r.empty()) return;
     region_rect_ = r;
     region_world_ = f_.world;
     region_camera_ = f_.view_camera;
     region_samples_ = f_.max_samples;
     region_w_ = f_.film_w;
     region_h_ = f_.film_h;
-    region_.start(f_.world, f_.view_camera, f_.film_w, f_.film_h, fr, f_.max_samples, f_.time_limit);
+    region_.start(f_.world, f_.view_camera, f_.film_w, f_.film_h, r, f_.max_samples, f_.time_limit);
     region_error_said_ = false;
     char buf[128];
     std::snprintf(buf, sizeof buf, "Render region %d,%d - %d,%d (%dx%d); C clears it", r.x0, r.y0, r.x1, r.y1,
@@ -385,9 +384,7 @@ void ImageTools::update_readout() {
     PixelReadout r;
     r.x = x;
     r.y = y;
-    // The film may be a preview of the picture at the size it is shown.
-    int fx = x, fy = y;
-    picture_to_film_pixel(x, y, film_w(), film_h(), f_.film_w, f_.film_h, fx, fy);
+    const int fx = x, fy = y;
     r.has_colour = f_.film->linear_at(*f_.renderer, f_.now, render_turned ? 0 : kReadoutRefresh, fx, fy, r.linear);
     r.samples = f_.film->samples_at(fx, fy, f_.renderer->sample_count(fx, fy));  // adaptive: each its own
     if (f_.world && f_.scene) {
