@@ -82,6 +82,26 @@ TEST_CASE("applying text with errors keeps the scene and never touches the text"
     CHECK(d.editor_dirty());
 }
 
+TEST_CASE("a live check parsed off the UI thread is taken only for the text it checked") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    d.editor_text().insert(0, "oops ");
+    d.note_typed();
+    Document::TextCheck c = d.text_check();
+    CHECK(c.text == d.editor_text());
+    // Typed on while it parsed: the check is for an older text, and is not taken.
+    d.editor_text().insert(0, "x");
+    d.note_typed();
+    CHECK_FALSE(d.take_check(c.key, rt::parse_scene(c.text, c.options).diagnostics));
+    CHECK_FALSE(d.has_errors());
+    // The check of the text as it is: its errors are the document's.
+    c = d.text_check();
+    CHECK(d.take_check(c.key, rt::parse_scene(c.text, c.options).diagnostics));
+    REQUIRE(d.has_errors());
+    CHECK(d.diagnostics().front().line == 1);
+    CHECK(d.diagnostics().front().col == 1);
+}
+
 TEST_CASE("a good apply is undoable, and undo brings the draft back unapplied") {
     Document d;
     d.load_text(rt::kDefaultScene, "", "default.txt");

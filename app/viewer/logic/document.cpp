@@ -198,6 +198,12 @@ bool Document::replace_text(std::size_t pos, std::size_t length, const std::stri
 
 void Document::check_text() { diagnostics_ = rt::parse_scene(editor_, parse_options(path_)).diagnostics; }
 
+bool Document::take_check(std::uint64_t key, std::vector<rt::Diagnostic> diagnostics) {
+    if (key != text_key()) return false;
+    diagnostics_ = std::move(diagnostics);
+    return true;
+}
+
 void Document::revert_text() {
     commit();
     flush_typing();

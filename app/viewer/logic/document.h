@@ -179,6 +179,17 @@ public:
     void restore_draft(const std::string& text);
     // Re-parses the draft to refresh diagnostics() without applying it (live check).
     void check_text();
+    // The live check off the UI thread (a big text's parse takes longer than a frame):
+    // the text as it is now, the options to parse it with and its key (text_key()).
+    // take_check() takes the check's diagnostics if the text is still the one checked
+    // (false, nothing changed, if it changed meanwhile: a newer check is due).
+    struct TextCheck {
+        std::string text;
+        rt::ParseOptions options;
+        std::uint64_t key = 0;
+    };
+    TextCheck text_check() const { return {editor_, parse_options(path_), text_key()}; }
+    bool take_check(std::uint64_t key, std::vector<rt::Diagnostic> diagnostics);
     const std::vector<rt::Diagnostic>& diagnostics() const { return diagnostics_; }
     bool has_errors() const;
 

@@ -18,6 +18,9 @@ namespace {
 // Bigger texts are not edited in the widget: it holds a second copy of the text, as
 // lines (the document's copy is the first).
 constexpr std::size_t kMaxEditableBytes = 64u << 20;
+// Drafts up to this size are checked on the UI thread (a few milliseconds); bigger
+// ones off it.
+constexpr std::size_t kSyncCheckBytes = 1u << 20;
 }  // namespace
 
 DocumentEditor::~DocumentEditor() {
@@ -110,16 +113,32 @@ void DocumentEditor::claim_document() {
     pending_orphan_.reset();
 }
 
+// The live check of the draft once typing pauses: a small text parsed at once, a big
+// one (a parse of more than a frame) off the UI thread, its result taken if the text
+// is still the one checked (else checked again).
+void DocumentEditor::live_check(double now) {
+    if (check_.valid() && check_.ready()) {
+        auto [key, diagnostics] = check_.get();
+        if (!doc_.take_check(key, std::move(diagnostics)) && check_due_ < 0) check_due_ = now;
+    }
+    if (check_due_ < 0 || now < check_due_ || check_.valid()) return;
+    check_due_ = -1;
+    if (doc_.editor_text().size() < kSyncCheckBytes) {
+        doc_.check_text();
+        return;
+    }
+    check_ = rt::process_pool().aside([c = doc_.text_check()] {
+        return std::pair{c.key, rt::parse_scene(c.text, c.options).diagnostics};
+    });
+}
+
 void DocumentEditor::tick(double now) {
     recovery_finding();
     // "The scene text has errors" once it has none (fixed, reverted, undone).
     if (status_.cause() == StatusLine::Cause::TextErrors && !doc_.has_errors()) status_.clear_if(StatusLine::Cause::TextErrors);
     // "... (Ctrl+Z undoes)" once Ctrl+Z would take back another step.
     status_.clear_if_history_moved(doc_.history_changes());
-    if (check_due_ >= 0 && now >= check_due_) {
-        doc_.check_text();
-        check_due_ = -1;
-    }
+    live_check(now);
 }
 
 bool DocumentEditor::idle_tick() {

@@ -61,7 +61,7 @@ public:
     bool active() const { return active_; }
     // ImGui's id of the text widget (a slider drag holds an edit open, the editor not).
     unsigned widget_id() const { return id_; }
-    bool wants_frames() const { return focus_ || pending_cursor_ >= 0 || check_due_ >= 0; }
+    bool wants_frames() const { return focus_ || pending_cursor_ >= 0 || check_due_ >= 0 || check_.valid(); }
 
     // Drawing (inside the sidebar window).
     void draw_banners();   // recovery offer, disk conflict
@@ -121,6 +121,9 @@ private:
     int pending_cursor_ = -1;
     int cursor_ = 0;
     double check_due_ = -1;  // live syntax check of the draft after typing stops
+    // A big draft's live check, parsed off the UI thread: its text's key and diagnostics.
+    rt::Job<std::pair<std::uint64_t, std::vector<rt::Diagnostic>>> check_;
+    void live_check(double now);
 };
 
 }  // namespace rtview
