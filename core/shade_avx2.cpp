@@ -93,12 +93,9 @@ RT_TARGET_AVX2 inline I8 reverse_bits8(I8 v) {
                                                    6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12));
 }
 RT_TARGET_AVX2 inline I8 times(I8 x, std::uint32_t c) { return _mm256_mullo_epi32(x, _mm256_set1_epi32(int(c))); }
-RT_TARGET_AVX2 inline I8 lk_permutation8(I8 x, I8 seed) {
-    x = _mm256_add_epi32(x, seed);
-    x = _mm256_xor_si256(x, times(x, 0x6c50b47cu));
-    x = _mm256_xor_si256(x, times(x, 0xb82f1e52u));
-    x = _mm256_xor_si256(x, times(x, 0xc7afe638u));
-    return _mm256_xor_si256(x, times(x, 0x8d22f6e6u));
+RT_TARGET_AVX2 inline I8 nested_scramble8(I8 x, I8 seed) {
+    const I8 odd = _mm256_or_si256(_mm256_srli_epi32(seed, 16), _mm256_set1_epi32(1));
+    return _mm256_mullo_epi32(_mm256_add_epi32(x, seed), odd);
 }
 RT_TARGET_AVX2 inline I8 hash8(I8 x) {
     x = _mm256_xor_si256(x, _mm256_srli_epi32(x, 16));
@@ -131,24 +128,29 @@ struct LightSamples4 {
     // Draws for the sphere lights from `first` on, up to kMax of them, for the lanes
     // `live` (the others' points are made up).
     RT_TARGET_AVX2 void draw(const Chunked<ShadeLight>& lights, std::size_t first, PathSampler (&s)[4], unsigned live) {
-        alignas(32) std::uint32_t key[kMax][4] = {}, rindex[4] = {};
         count = used = 0;
-        for (std::size_t j = first; j < lights.size() && count < kMax; ++j) {
-            if (!(lights[j].radius > 0)) continue;
-            for (unsigned m = live; m; m &= m - 1) {
-                const int k = __builtin_ctz(m);
-                key[count][k] = s[k].take_key(), rindex[k] = s[k].reversed_index();
-            }
-            ++count;
-        }
-        const I8 index = _mm256_broadcastsi128_si256(_mm_load_si128(reinterpret_cast<const __m128i*>(rindex)));
+        for (std::size_t j = first; j < lights.size() && count < kMax; ++j) count += lights[j].radius > 0;
+        // The lanes' keys built in registers (stored lane by lane and loaded whole, they
+        // would wait for the stores).
+        auto lanes4 = [&](auto field) RT_TARGET_AVX2 {
+            return _mm_setr_epi32(int(field(s[0])), int(field(s[1])), int(field(s[2])), int(field(s[3])));
+        };
+        const __m128i pixel = lanes4([](const PathSampler& p) { return p.pixel(); });
+        const __m128i dim = _mm_mullo_epi32(lanes4([](const PathSampler& p) { return p.dimension(); }),
+                                            _mm_set1_epi32(int(PathSampler::kGolden)));
+        const __m128i rindex = lanes4([](const PathSampler& p) { return p.reversed_index(); });
+        for (unsigned m = live; m; m &= m - 1) s[__builtin_ctz(m)].skip(std::uint32_t(count));
+        const I8 index = _mm256_set_m128i(rindex, rindex);
+        auto key = [&](int j) RT_TARGET_AVX2 {  // pixel ^ (dimension + j) kGolden
+            return _mm_xor_si128(pixel, _mm_add_epi32(dim, _mm_set1_epi32(int(std::uint32_t(j) * PathSampler::kGolden))));
+        };
         for (int pair = 0; pair < count; pair += 2) {
-            const I8 seed = hash8(_mm256_load_si256(reinterpret_cast<const I8*>(key[pair])));
-            const I8 i = reverse_bits8(lk_permutation8(index, seed));
+            const I8 seed = hash8(_mm256_set_m128i(key(pair + 1), key(pair)));
+            const I8 i = reverse_bits8(nested_scramble8(index, seed));
             const I8 su = _mm256_xor_si256(seed, _mm256_set1_epi32(int(PathSampler::kSeedU)));
             const I8 sv = _mm256_xor_si256(seed, _mm256_set1_epi32(int(PathSampler::kSeedV)));
-            const I8 uu = reverse_bits8(lk_permutation8(i, su));
-            const I8 vv = reverse_bits8(lk_permutation8(sobol1_reversed8(i), sv));
+            const I8 uu = reverse_bits8(nested_scramble8(i, su));
+            const I8 vv = reverse_bits8(nested_scramble8(sobol1_reversed8(i), sv));
             u[pair] = fraction4(_mm256_castsi256_si128(uu)), v[pair] = fraction4(_mm256_castsi256_si128(vv));
             u[pair + 1] = fraction4(_mm256_extracti128_si256(uu, 1)), v[pair + 1] = fraction4(_mm256_extracti128_si256(vv, 1));
         }
