@@ -176,46 +176,56 @@ RT_TARGET_AVX2 void cos_sin_turn4(__m256d v, __m256d& c, __m256d& s) {
     s = _mm256_xor_pd(_mm256_blendv_pd(sx, pc, odd), _mm256_and_pd(sign, _mm256_or_pd(is(2), is(3))));
 }
 
-// sphere_point() (shade.cpp) minus p for four points p at distances d from the centre
-// c (inv_d2 = 1 / d^2), by the samples (u, v): the same operations, so the same bits.
-RT_TARGET_AVX2 V3 sphere_offset4(const V3& p, const Vec3& c, double radius, __m256d d, __m256d inv_d2, __m256d u,
-                                 __m256d v) {
-    const __m256d one = splat(1.0), zero = _mm256_setzero_pd(), inv_d = mul(d, inv_d2);
-    const V3 w{mul(sub(splat(c.x), p.x), inv_d), mul(sub(splat(c.y), p.y), inv_d), mul(sub(splat(c.z), p.z), inv_d)};
-    const __m256d rr = splat(radius * radius), dd = mul(d, d);
-    const __m256d s2 = mul(rr, inv_d2);
-    const __m256d one_minus = sub(one, _mm256_sqrt_pd(_mm256_max_pd(sub(one, s2), zero)));
+// shade.cpp's toward_sphere() for four points, vc from each to the light's centre
+// (r2 = |vc|^2): the same operations, so the same bits. The cone's sampling only where a
+// lane of `live` lies outside the sphere.
+struct SphereRay4 {
+    V3 vh, v;
+    __m256d r, inv_r2, reach;
+};
+RT_TARGET_AVX2 SphereRay4 toward_sphere4(const V3& vc, __m256d r2, double radius, __m256d u, __m256d v,
+                                         unsigned live) {
+    const __m256d one = splat(1.0), zero = _mm256_setzero_pd(), minus = splat(-0.0);
+    SphereRay4 q;
+    const __m256d d = _mm256_sqrt_pd(r2);
+    const __m256d sign = _mm256_or_pd(_mm256_and_pd(vc.z, minus), one);  // copysign(1, vc.z)
+    const __m256d y = add(mul(sign, d), vc.z), inv = _mm256_div_pd(one, mul(r2, y));
+    q.inv_r2 = mul(y, inv);
+    const __m256d inv_d = mul(d, q.inv_r2);
+    const V3 w = scaled(vc, inv_d);
+    const __m256d outside = _mm256_cmp_pd(d, splat(radius), _CMP_GT_OQ);
+    q.vh = w, q.v = vc, q.r = d, q.reach = d;
+    if (!(lanes(outside) & live)) return q;
+    const __m256d rr = splat(radius * radius);
+    const __m256d one_minus = sub(one, mul(_mm256_sqrt_pd(_mm256_max_pd(sub(r2, rr), zero)), inv_d));
     const __m256d x = mul(u, one_minus);
     const __m256d cos_t = sub(one, x), sin_t2 = mul(x, sub(splat(2.0), x));
     const __m256d sin_t = _mm256_sqrt_pd(sin_t2);
     __m256d cos_phi, sin_phi;
     cos_sin_turn4(v, cos_phi, sin_phi);
-    const __m256d sign = _mm256_or_pd(_mm256_and_pd(w.z, splat(-0.0)), one);  // copysign(1, w.z)
-    const __m256d a = _mm256_div_pd(splat(-1.0), add(sign, w.z)), b = mul(mul(w.x, w.y), a);
-    const V3 t1{add(one, mul(mul(mul(sign, w.x), w.x), a)), mul(sign, b), mul(_mm256_xor_pd(sign, splat(-0.0)), w.x)};
-    const V3 t2{b, add(sign, mul(mul(w.y, w.y), a)), _mm256_xor_pd(w.y, splat(-0.0))};
+    const __m256d a = mul(_mm256_xor_pd(d, minus), mul(r2, inv)), b = mul(mul(w.x, w.y), a);
+    const V3 t1{add(one, mul(mul(mul(sign, w.x), w.x), a)), mul(sign, b), mul(_mm256_xor_pd(sign, minus), w.x)};
+    const V3 t2{b, add(sign, mul(mul(w.y, w.y), a)), _mm256_xor_pd(w.y, minus)};
     const __m256d sc = mul(sin_t, cos_phi), ss = mul(sin_t, sin_phi);
     const V3 dir{add(add(mul(w.x, cos_t), mul(t1.x, sc)), mul(t2.x, ss)),
                  add(add(mul(w.y, cos_t), mul(t1.y, sc)), mul(t2.y, ss)),
                  add(add(mul(w.z, cos_t), mul(t1.z, sc)), mul(t2.z, ss))};
-    const __m256d along = mul(d, cos_t);
-    const __m256d t = sub(along, _mm256_sqrt_pd(_mm256_max_pd(sub(rr, mul(dd, sin_t2)), zero)));
-    // (p + dir t) - p, as the scalar code forms the point and then v.
-    return {sub(add(p.x, mul(dir.x, t)), p.x), sub(add(p.y, mul(dir.y, t)), p.y), sub(add(p.z, mul(dir.z, t)), p.z)};
+    const __m256d t = sub(mul(d, cos_t), _mm256_sqrt_pd(_mm256_max_pd(sub(rr, mul(r2, sin_t2)), zero)));
+    const V3 dt = scaled(dir, t);
+    auto pick = [&](__m256d in, __m256d out) RT_TARGET_AVX2 { return _mm256_blendv_pd(in, out, outside); };
+    q.vh = {pick(w.x, dir.x), pick(w.y, dir.y), pick(w.z, dir.z)};
+    q.v = {pick(vc.x, dt.x), pick(vc.y, dt.y), pick(vc.z, dt.z)};
+    q.r = pick(d, t);
+    return q;
 }
 
-// direct_sampled()'s vector toward the sphere light's point chosen by (u, v) from four
-// points p, vc from p to the light's centre (r2 = |vc|^2): vc itself for a point inside
-// the light (inv_r2 = 1 / r2). `reach`: how far from the centre blockers may lie (the
-// centre's distance, plus the radius from outside).
-RT_TARGET_AVX2 V3 toward_sphere4(const V3& p, const V3& vc, __m256d r2, __m256d inv_r2, const ShadeLight& light,
-                                 __m256d u, __m256d v, unsigned live, __m256d& reach) {
-    const __m256d dc = _mm256_sqrt_pd(r2), outside = _mm256_cmp_pd(dc, splat(light.radius), _CMP_GT_OQ);
-    reach = _mm256_blendv_pd(dc, add(dc, splat(light.radius)), outside);
-    if (!(lanes(outside) & live)) return vc;
-    const V3 q = sphere_offset4(p, light.position, light.radius, dc, inv_r2, u, v);
-    return {_mm256_blendv_pd(vc.x, q.x, outside), _mm256_blendv_pd(vc.y, q.y, outside),
-            _mm256_blendv_pd(vc.z, q.z, outside)};
+// A light's strength at four points: its colour times 1 / r2, or 1 where r2 is not
+// positive (the lanes not `positive`), as direct_sampled() finds it.
+RT_TARGET_AVX2 inline V3 strength4(const Colour& c, __m256d inv_r2, __m256d positive) {
+    const __m256d one = splat(1.0);
+    return {_mm256_blendv_pd(one, mul(splat(c.x), inv_r2), positive),
+            _mm256_blendv_pd(one, mul(splat(c.y), inv_r2), positive),
+            _mm256_blendv_pd(one, mul(splat(c.z), inv_r2), positive)};
 }
 
 // direct_sampled()'s highlights for the lanes `lit` (normals n, materials m, seen
@@ -373,29 +383,35 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
         const ShadeLight& light = lights[li];
         const V3 vc{sub(splat(light.position.x), p.x), sub(splat(light.position.y), p.y),
                     sub(splat(light.position.z), p.z)};
-        const __m256d r2 = dot(vc, vc), inv_r2 = _mm256_div_pd(one, r2);
-        const __m256d positive = _mm256_cmp_pd(r2, zero, _CMP_GT_OQ);
-        const V3 e{_mm256_blendv_pd(one, mul(splat(light.colour.x), inv_r2), positive),
-                   _mm256_blendv_pd(one, mul(splat(light.colour.y), inv_r2), positive),
-                   _mm256_blendv_pd(one, mul(splat(light.colour.z), inv_r2), positive)};
-        const V3 ec{mul(e.x, cp.x), mul(e.y, cp.y), mul(e.z, cp.z)};
-        sum = {add(sum.x, mul(ec.x, splat(0.1))), add(sum.y, mul(ec.y, splat(0.1))), add(sum.z, mul(ec.z, splat(0.1)))};
+        const __m256d r2 = dot(vc, vc), positive = _mm256_cmp_pd(r2, zero, _CMP_GT_OQ);
         // The ray toward the light's centre, or toward this sample's point of a sphere
         // light (from outside it), whose blockers lie within `reach` of the centre.
-        V3 v = vc;
-        __m256d reach = zero;
-        if (light.radius > 0) {
+        const bool sphere = light.radius > 0;
+        SphereRay4 q;
+        if (sphere) {
             if (drawn.used == drawn.count) drawn.draw(lights, li, b.sampler, live);
-            v = toward_sphere4(p, vc, r2, inv_r2, light, drawn.u[drawn.used], drawn.v[drawn.used], live, reach);
+            q = toward_sphere4(vc, r2, light.radius, drawn.u[drawn.used], drawn.v[drawn.used], live);
             ++drawn.used;
+        } else {
+            q.inv_r2 = _mm256_div_pd(one, r2);
         }
-        const __m256d vn = dot(v, n);
+        const V3 e = strength4(light.colour, q.inv_r2, positive);
+        const V3 ec{mul(e.x, cp.x), mul(e.y, cp.y), mul(e.z, cp.z)};
+        sum = {add(sum.x, mul(ec.x, splat(0.1))), add(sum.y, mul(ec.y, splat(0.1))), add(sum.z, mul(ec.z, splat(0.1)))};
+        const __m256d vn = dot(sphere ? q.vh : vc, n);
         unsigned lit = lanes(_mm256_cmp_pd(vn, zero, _CMP_GT_OQ)) & live;
         if (!lit) continue;
         ctx.stats->rays += unsigned(__builtin_popcount(lit));
-        const __m256d r = _mm256_sqrt_pd(dot(v, v)), inv_r = _mm256_div_pd(one, r);
-        if (!(light.radius > 0)) reach = r;
-        const V3 vh = scaled(v, inv_r);
+        __m256d cos_w;  // 0.9 times the cosine toward the light's point
+        if (sphere) {
+            cos_w = mul(splat(0.9), vn);
+        } else {
+            q.v = vc, q.r = _mm256_sqrt_pd(r2);
+            const __m256d inv_r = _mm256_div_pd(one, q.r);
+            q.vh = scaled(vc, inv_r), q.reach = q.r, cos_w = mul(mul(splat(0.9), vn), inv_r);
+        }
+        const V3 &v = q.v, &vh = q.vh;
+        const __m256d &r = q.r, &reach = q.reach;
         const V3 o{add(p.x, mul(vh.x, splat(kDelta))), add(p.y, mul(vh.y, splat(kDelta))),
                    add(p.z, mul(vh.z, splat(kDelta)))};
         const __m256d limit = sub(r, splat(10 * kDelta));
@@ -417,7 +433,7 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
         lit = shadow_lanes(rays, lb, in_cell, cell, lit, shade, ctx);
         if (!lit) continue;
         const V3 sh{_mm256_load_pd(shade[0]), _mm256_load_pd(shade[1]), _mm256_load_pd(shade[2])};
-        const V3 term = scaled({mul(ec.x, sh.x), mul(ec.y, sh.y), mul(ec.z, sh.z)}, mul(mul(splat(0.9), vn), inv_r));
+        const V3 term = scaled({mul(ec.x, sh.x), mul(ec.y, sh.y), mul(ec.z, sh.z)}, cos_w);
         const __m256i bits = _mm256_and_si256(_mm256_set1_epi64x(lit), _mm256_set_epi64x(8, 4, 2, 1));
         const __m256d use = _mm256_castsi256_pd(_mm256_cmpgt_epi64(bits, _mm256_setzero_si256()));
         sum = {_mm256_blendv_pd(sum.x, add(sum.x, term.x), use), _mm256_blendv_pd(sum.y, add(sum.y, term.y), use),
