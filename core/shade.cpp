@@ -207,13 +207,19 @@ namespace {
 // width (1e-12 at R / d = 0.01); the direction is a unit vector by construction and the
 // entry distance is the ray's length, so the ray takes no normalising division or
 // square root of its own. (Each step as shade_avx2.cpp's toward_sphere4() takes it,
-// for the same bits.)
+// for the same bits; a light below the horizon is dark there whether sampled or not.)
 struct SphereRay {
     Vec3 vh, v;
     double r, inv_r2, d;
     bool outside;
 };
-SphereRay toward_sphere(const Vec3& vc, double r2, double radius, double u, double v) {
+// Whether the whole sphere light lies below the horizon of a surface with normal n, d
+// from its centre (with room for rounding): then no direction toward it is lit.
+bool below_horizon(const Vec3& vc, const Vec3& n, double d, double radius) { return dot(vc, n) < -radius - 1e-9 * d; }
+
+// The sample's point is taken from `sampler` (only its dimension where it is not used:
+// from inside, or below the horizon of the surface with normal n).
+SphereRay toward_sphere(const Vec3& vc, double r2, double radius, const Vec3& n, PathSampler& sampler) {
     SphereRay q;
     q.d = std::sqrt(r2);
     const double sign = std::copysign(1.0, vc.z), y = sign * q.d + vc.z, inv = 1 / (r2 * y);
@@ -221,10 +227,13 @@ SphereRay toward_sphere(const Vec3& vc, double r2, double radius, double u, doub
     const double inv_d = q.d * q.inv_r2;
     const Vec3 w = vc * inv_d;
     q.outside = q.d > radius;
-    if (!q.outside) {
+    if (!q.outside || below_horizon(vc, n, q.d, radius)) {
+        sampler.skip(1);  // the dimensions stay in step
         q.vh = w, q.v = vc, q.r = q.d;
         return q;
     }
+    double u, v;
+    sampler.next(u, v);
     const double rr = radius * radius;
     const double one_minus = 1 - std::sqrt(std::max(0.0, r2 - rr)) * inv_d;  // 1 - cos(theta_max)
     const double x = u * one_minus;                                           // 1 - cos(theta)
@@ -263,9 +272,7 @@ Colour World::direct_sampled(const Vec3& p, const Vec3& n, const Vec3& d, const 
         double r, cos_w, reach;  // cos_w: 0.9 times the cosine toward the point
         Colour e;
         if (light.radius > 0) {
-            double u1, u2;
-            ctx.sampler.next(u1, u2);  // taken whether used or not: the dimensions stay in step
-            const SphereRay q = toward_sphere(vc, rc2, light.radius, u1, u2);
+            const SphereRay q = toward_sphere(vc, rc2, light.radius, n, ctx.sampler);
             e = rc2 > 0 ? light.colour * q.inv_r2 : Colour{1, 1, 1};
             sum += mul(e, cp) * 0.1;
             const double vn = dot(q.vh, n);

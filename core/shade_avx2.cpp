@@ -176,6 +176,11 @@ RT_TARGET_AVX2 void cos_sin_turn4(__m256d v, __m256d& c, __m256d& s) {
     s = _mm256_xor_pd(_mm256_blendv_pd(sx, pc, odd), _mm256_and_pd(sign, _mm256_or_pd(is(2), is(3))));
 }
 
+// shade.cpp's below_horizon() for four points (a mask).
+RT_TARGET_AVX2 inline __m256d below_horizon4(const V3& vc, const V3& n, __m256d d, double radius) {
+    return _mm256_cmp_pd(dot(vc, n), sub(splat(-radius), mul(splat(1e-9), d)), _CMP_LT_OQ);
+}
+
 // shade.cpp's toward_sphere() for four points, vc from each to the light's centre
 // (r2 = |vc|^2): the same operations, so the same bits. The cone's sampling only where a
 // lane of `live` lies outside the sphere.
@@ -184,7 +189,7 @@ struct SphereRay4 {
     __m256d r, inv_r2, reach;
 };
 RT_TARGET_AVX2 SphereRay4 toward_sphere4(const V3& vc, __m256d r2, double radius, __m256d u, __m256d v,
-                                         unsigned live) {
+                                         const V3& n, unsigned live) {
     const __m256d one = splat(1.0), zero = _mm256_setzero_pd(), minus = splat(-0.0);
     SphereRay4 q;
     const __m256d d = _mm256_sqrt_pd(r2);
@@ -195,7 +200,9 @@ RT_TARGET_AVX2 SphereRay4 toward_sphere4(const V3& vc, __m256d r2, double radius
     const V3 w = scaled(vc, inv_d);
     const __m256d outside = _mm256_cmp_pd(d, splat(radius), _CMP_GT_OQ);
     q.vh = w, q.v = vc, q.r = d, q.reach = d;
-    if (!(lanes(outside) & live)) return q;
+    // (Where every lane is inside, or its sphere below its horizon, no direction of the
+    // cone is lit: w is as dark.)
+    if (!(lanes(_mm256_andnot_pd(below_horizon4(vc, n, d, radius), outside)) & live)) return q;
     const __m256d rr = splat(radius * radius);
     const __m256d one_minus = sub(one, mul(_mm256_sqrt_pd(_mm256_max_pd(sub(r2, rr), zero)), inv_d));
     const __m256d x = mul(u, one_minus);
@@ -390,7 +397,7 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
         SphereRay4 q;
         if (sphere) {
             if (drawn.used == drawn.count) drawn.draw(lights, li, b.sampler, live);
-            q = toward_sphere4(vc, r2, light.radius, drawn.u[drawn.used], drawn.v[drawn.used], live);
+            q = toward_sphere4(vc, r2, light.radius, drawn.u[drawn.used], drawn.v[drawn.used], n, live);
             ++drawn.used;
         } else {
             q.inv_r2 = _mm256_div_pd(one, r2);
