@@ -103,9 +103,12 @@ inline void cos_sin_turn(double v, double& c, double& s) {
 class PathSampler {
 public:
     PathSampler() = default;
-    explicit PathSampler(const PixelSample& p)
-        : pixel_(sampling::hash(std::uint32_t(p.x) * 0x8da6b343u ^ sampling::hash(std::uint32_t(p.y) + 0x68e31da4u))),
+    explicit PathSampler(const PixelSample& p) : PathSampler(p, row_hash(p.y)) {}
+    // The same with row = row_hash(p.y), for callers that make many of one row.
+    PathSampler(const PixelSample& p, std::uint32_t row)
+        : pixel_(sampling::hash(std::uint32_t(p.x) * 0x8da6b343u ^ row)),
           rindex_(sampling::reverse_bits(std::uint32_t(p.s))) {}
+    static std::uint32_t row_hash(int y) { return sampling::hash(std::uint32_t(y) + 0x68e31da4u); }
     // A point of [0, 1)^2: Sobol dimensions 0 and 1 of the shuffled index, each
     // Owen-scrambled. (Sobol dimension 0 is the bit reversal of the index, so its
     // scramble needs no reversal of its own: reverse(nested(reverse(reverse(i)))); the

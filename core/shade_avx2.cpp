@@ -666,6 +666,8 @@ void World::trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSa
     // Packets where the rays share the camera's origin (no lens) and the scene has meshes.
     const bool packets = !(keys && cam.lens > 0) && !g.meshes.empty();
     const Prepared forget;
+    int row_y = keys && n > 0 ? keys[0].y : 0;  // the samplers' row and its hash
+    std::uint32_t row = PathSampler::row_hash(row_y);
     for (std::size_t i0 = 0; i0 < n; i0 += 4) {
         if (ctx.stats->stopped) return std::fill(out + i0, out + n, Colour{});
         if (packets && i0 % TriangleAccel::kPacket == 0)
@@ -678,7 +680,8 @@ void World::trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSa
         const Vec3* d = dirs + i0;
         if (keys) {
             for (unsigned k = 0; k < count; ++k) {
-                b.sampler[k] = PathSampler(keys[i0 + k]);
+                if (keys[i0 + k].y != row_y) row_y = keys[i0 + k].y, row = PathSampler::row_hash(row_y);
+                b.sampler[k] = PathSampler(keys[i0 + k], row);
                 lens_dirs[k] = d[k];
                 if (cam.lens > 0) {
                     double u, v;
