@@ -213,8 +213,9 @@ struct SphereRay {
     double r, inv_r2, d;
     bool outside;
 };
-// Whether the whole sphere light lies below the horizon of a surface with normal n, d
-// from its centre (with room for rounding): then no direction toward it is lit.
+// Whether the whole sphere light lies below the horizon of a surface with unit normal n
+// (as every Surface's is), d from its centre (with room for rounding): then no direction
+// toward it is lit.
 bool below_horizon(const Vec3& vc, const Vec3& n, double d, double radius) { return dot(vc, n) < -radius - 1e-9 * d; }
 
 // The sample's point is taken from `sampler` (only its dimension where it is not used:
