@@ -161,9 +161,18 @@ LightBuffer build_light_buffer(const Boxes& boxes, const Vec3& light, int n, dou
         ++objects;
         if (!(norm_inf(b.lo) < 1e30 && norm_inf(b.hi) < 1e30)) return lb;
         Vec3 lo = b.lo - light, hi = b.hi - light;
-        if (pad > 0) lo -= Vec3{pad, pad, pad}, hi += Vec3{pad, pad, pad};
+        // A sphere light's cells list the box grown by its radius, but the entry keeps
+        // the box's own distance: a shadow ray from p to a point of the sphere never goes
+        // farther from the centre than p is (the distance along a segment is convex, and
+        // the sphere's points are nearer), so only boxes within that distance can block.
+        float df_box = 0;
+        if (pad > 0) {
+            origin_distance(lo, hi, df_box);
+            lo -= Vec3{pad, pad, pad}, hi += Vec3{pad, pad, pad};
+        }
         float df;
         double dmin = origin_distance(lo, hi, df);
+        if (pad > 0) df = df_box;
         double scale = std::max({norm_inf(b.lo), norm_inf(b.hi), norm_inf(light)});
         // Nearer than rounding can tell directions apart (or around the light): every
         // ray tests it.

@@ -27,20 +27,14 @@ inline std::uint32_t reverse_bits(std::uint32_t v) {
     return ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
 }
 
-// Laine and Karras' hash: a permutation of x whose low bits depend only on low bits.
-inline std::uint32_t lk_permutation(std::uint32_t x, std::uint32_t seed) {
-    x += seed;
-    x ^= x * 0x6c50b47cu;
-    x ^= x * 0xb82f1e52u;
-    x ^= x * 0xc7afe638u;
-    x ^= x * 0x8d22f6e6u;
-    return x;
-}
-
-// Owen scrambling of a 32-bit fraction: each bit flipped by a hash of the bits above it.
-inline std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
-    return reverse_bits(lk_permutation(reverse_bits(x), seed));
-}
+// A nested scramble of a 32-bit integer: bit k of the result is bit k of x flipped by a
+// function of x's bits below k, the function chosen by the seed (x + seed, times an odd
+// number taken from the seed's high half; both keep the low bits' dependence on low bits
+// only). Applied to a reversed fraction, it is an Owen scramble: each bit flipped by a
+// hash of the bits above it. One multiplication where Laine and Karras' hash takes four,
+// for the same stratification and about the same error (bench/README.md, "Realism,
+// round 4").
+inline std::uint32_t nested_scramble(std::uint32_t x, std::uint32_t seed) { return (x + seed) * ((seed >> 16) | 1u); }
 
 inline std::uint32_t hash(std::uint32_t x) {
     x ^= x >> 16;
@@ -109,27 +103,32 @@ inline void cos_sin_turn(double v, double& c, double& s) {
 class PathSampler {
 public:
     PathSampler() = default;
-    explicit PathSampler(const PixelSample& p)
-        : pixel_(sampling::hash(std::uint32_t(p.x) * 0x8da6b343u ^ sampling::hash(std::uint32_t(p.y) + 0x68e31da4u))),
+    explicit PathSampler(const PixelSample& p) : PathSampler(p, row_hash(p.y)) {}
+    // The same with row = row_hash(p.y), for callers that make many of one row.
+    PathSampler(const PixelSample& p, std::uint32_t row)
+        : pixel_(sampling::hash(std::uint32_t(p.x) * 0x8da6b343u ^ row)),
           rindex_(sampling::reverse_bits(std::uint32_t(p.s))) {}
+    static std::uint32_t row_hash(int y) { return sampling::hash(std::uint32_t(y) + 0x68e31da4u); }
     // A point of [0, 1)^2: Sobol dimensions 0 and 1 of the shuffled index, each
     // Owen-scrambled. (Sobol dimension 0 is the bit reversal of the index, so its
-    // scramble needs no reversal of its own: reverse(lk(reverse(reverse(i)))); the
+    // scramble needs no reversal of its own: reverse(nested(reverse(reverse(i)))); the
     // scramble of dimension 1 starts from its reversal, sobol1_reversed().)
     void next(double& u, double& v) {
         using namespace sampling;
         const std::uint32_t seed = take_seed();
-        const std::uint32_t i = reverse_bits(lk_permutation(rindex_, seed));  // shuffled
-        u = fraction(reverse_bits(lk_permutation(i, seed ^ kSeedU)));
-        v = fraction(reverse_bits(lk_permutation(sobol1_reversed(i), seed ^ kSeedV)));
+        const std::uint32_t i = reverse_bits(nested_scramble(rindex_, seed));  // shuffled
+        u = fraction(reverse_bits(nested_scramble(i, seed ^ kSeedU)));
+        v = fraction(reverse_bits(nested_scramble(sobol1_reversed(i), seed ^ kSeedV)));
     }
     // next()'s parts, for the AVX2 path that draws four samplers' points at once: the
-    // next dimension's seed (one hash a dimension) or what it hashes, the reversed
-    // sample number.
-    std::uint32_t take_seed() { return sampling::hash(take_key()); }
-    std::uint32_t take_key() { return pixel_ ^ (dim_++ * 0x9e3779b9u); }  // what the seed hashes
+    // next dimension's seed (one hash a dimension), what dimension d's seed hashes
+    // (pixel() ^ d kGolden), the next dimension, the reversed sample number.
+    std::uint32_t take_seed() { return sampling::hash(pixel_ ^ (dim_++ * kGolden)); }
+    std::uint32_t pixel() const { return pixel_; }
+    std::uint32_t dimension() const { return dim_; }
+    void skip(std::uint32_t n) { dim_ += n; }
     std::uint32_t reversed_index() const { return rindex_; }
-    static constexpr std::uint32_t kSeedU = 0xa511e9b3u, kSeedV = 0x63d83595u;
+    static constexpr std::uint32_t kSeedU = 0xa511e9b3u, kSeedV = 0x63d83595u, kGolden = 0x9e3779b9u;
 
 private:
     std::uint32_t pixel_ = 0, rindex_ = 0, dim_ = 0;

@@ -194,33 +194,65 @@ Colour World::direct_lights(const Vec3& p, const Vec3& n, const Colour& cp, Ctx&
 }
 
 namespace {
-// A point of the sphere (c, radius) seen from p, d away from c (> radius; inv_d2 =
-// 1 / d^2): uniform over the cone of directions the sphere fills, by the sample (u, v);
-// the nearer point where that direction meets the sphere. One division (the frame's)
-// and three square roots: 1 / d and (R / d)^2 are products with inv_d2, which the
-// light's strength takes anyway, and 1 - cos(theta_max) is 1 - sqrt(1 - (R / d)^2),
-// whose cancellation errs by at most 2^-53 / (R / d)^2 of the cone's width (1e-12 at
-// R / d = 0.01): the divider, shared by divisions and square roots, is what a sphere
-// light's shadow ray waits on.
-Vec3 sphere_point(const Vec3& p, const Vec3& c, double radius, double d, double inv_d2, double u, double v) {
-    const Vec3 w = (c - p) * (d * inv_d2);
-    const double rr = radius * radius, s2 = rr * inv_d2;
-    const double one_minus = 1 - std::sqrt(std::max(0.0, 1 - s2));
-    const double x = u * one_minus;  // 1 - cos(theta)
+// The ray toward a sphere light of radius R whose centre is vc from p (r2 = |vc|^2 > 0):
+// the light's 1 / r2 for its strength, and the unit vector vh and the length r of the
+// shadow ray. From outside (d = |vc| > R) the sample (u, v) picks a direction uniformly
+// in the cone the sphere fills, and the ray ends where that direction enters the
+// sphere; from inside, it goes to the centre. Either way no point of the ray is farther
+// from the centre than p (the distance along a segment is convex): blockers lie within
+// d of it. One division and four square roots (one from inside): the division's
+// 1 / (r2 y), y = d (sign + w_z) (w = vc / d), gives both 1 / r2 = y / (r2 y) and the
+// frame's 1 / (sign + w_z) = d r2 / (r2 y); cos(theta_max) is sqrt(r2 - R^2) / d, whose
+// cancellation in 1 - cos(theta_max) errs by at most 2^-53 / (R / d)^2 of the cone's
+// width (1e-12 at R / d = 0.01); the direction is a unit vector by construction and the
+// entry distance is the ray's length, so the ray takes no normalising division or
+// square root of its own. (Each step as shade_avx2.cpp's toward_sphere4() takes it,
+// for the same bits; a light below the horizon is dark there whether sampled or not.)
+struct SphereRay {
+    Vec3 vh, v;
+    double r, inv_r2, d;
+    bool outside;
+};
+// Whether the whole sphere light lies below the horizon of a surface with unit normal n
+// (as every Surface's is), d from its centre (with room for rounding): then no direction
+// toward it is lit.
+bool below_horizon(const Vec3& vc, const Vec3& n, double d, double radius) { return dot(vc, n) < -radius - 1e-9 * d; }
+
+// The sample's point is taken from `sampler` (only its dimension where it is not used:
+// from inside, or below the horizon of the surface with normal n).
+SphereRay toward_sphere(const Vec3& vc, double r2, double radius, const Vec3& n, PathSampler& sampler) {
+    SphereRay q;
+    q.d = std::sqrt(r2);
+    const double sign = std::copysign(1.0, vc.z), y = sign * q.d + vc.z, inv = 1 / (r2 * y);
+    q.inv_r2 = y * inv;
+    const double inv_d = q.d * q.inv_r2;
+    const Vec3 w = vc * inv_d;
+    q.outside = q.d > radius;
+    if (!q.outside || below_horizon(vc, n, q.d, radius)) {
+        sampler.skip(1);  // the dimensions stay in step
+        q.vh = w, q.v = vc, q.r = q.d;
+        return q;
+    }
+    double u, v;
+    sampler.next(u, v);
+    const double rr = radius * radius;
+    const double one_minus = 1 - std::sqrt(std::max(0.0, r2 - rr)) * inv_d;  // 1 - cos(theta_max)
+    const double x = u * one_minus;                                           // 1 - cos(theta)
     const double cos_t = 1 - x, sin_t2 = x * (2 - x);
     const double sin_t = std::sqrt(sin_t2);
     double cos_phi, sin_phi;
     sampling::cos_sin_turn(v, cos_phi, sin_phi);
-    // An orthonormal frame around w (Duff et al. 2017).
-    const double sign = std::copysign(1.0, w.z);
-    const double a = -1 / (sign + w.z), b = w.x * w.y * a;
+    // An orthonormal frame around w (Duff et al. 2017), a = -1 / (sign + w_z).
+    const double a = -q.d * (r2 * inv), b = w.x * w.y * a;
     const Vec3 t1{1 + sign * w.x * w.x * a, sign * b, -sign * w.x};
     const Vec3 t2{b, sign + w.y * w.y * a, -w.y};
-    const Vec3 dir = w * cos_t + t1 * (sin_t * cos_phi) + t2 * (sin_t * sin_phi);
-    // Where the ray p + t dir enters the sphere (it does: dir lies in the cone).
-    const double along = d * cos_t;
-    const double t = along - std::sqrt(std::max(0.0, rr - d * d * sin_t2));
-    return p + dir * t;
+    const double sc = sin_t * cos_phi, ss = sin_t * sin_phi;
+    q.vh = {w.x * cos_t + t1.x * sc + t2.x * ss, w.y * cos_t + t1.y * sc + t2.y * ss,
+            w.z * cos_t + t1.z * sc + t2.z * ss};
+    // Where the ray p + t vh enters the sphere (it does: vh lies in the cone).
+    q.r = q.d * cos_t - std::sqrt(std::max(0.0, rr - r2 * sin_t2));
+    q.v = q.vh * q.r;
+    return q;
 }
 }  // namespace
 
@@ -235,31 +267,35 @@ Colour World::direct_sampled(const Vec3& p, const Vec3& n, const Vec3& d, const 
         // The 2013 terms (docs/rendering.md §3) at the light's centre: its strength, the
         // unshadowed tenth; then the shadow ray and the cosine toward the light's point
         // that this sample takes (the centre for a point light, or from inside one).
-        Vec3 vc = light.position - p;
-        double rc2 = dot(vc, vc);
-        Colour e = rc2 > 0 ? light.colour * (1 / rc2) : Colour{1, 1, 1};
-        sum += mul(e, cp) * 0.1;
-        Vec3 v = vc;
-        double reach = std::sqrt(rc2);
+        const Vec3 vc = light.position - p;
+        const double rc2 = dot(vc, vc);
+        Vec3 v = vc, vh;
+        double r, cos_w, reach;  // cos_w: 0.9 times the cosine toward the point
+        Colour e;
         if (light.radius > 0) {
-            double u1, u2;
-            ctx.sampler.next(u1, u2);  // taken whether used or not: the dimensions stay in step
-            if (reach > light.radius) {
-                v = sphere_point(p, light.position, light.radius, reach, 1 / rc2, u1, u2) - p;
-                reach += light.radius;  // blockers lie within this of the centre (light_buffer.cpp)
-            }
+            const SphereRay q = toward_sphere(vc, rc2, light.radius, n, ctx.sampler);
+            e = rc2 > 0 ? light.colour * q.inv_r2 : Colour{1, 1, 1};
+            sum += mul(e, cp) * 0.1;
+            const double vn = dot(q.vh, n);
+            if (!(vn > 0)) continue;
+            v = q.v, vh = q.vh, r = q.r, cos_w = 0.9 * vn;
+            reach = q.d;  // blockers lie within this of the centre (toward_sphere())
+        } else {
+            e = rc2 > 0 ? light.colour * (1 / rc2) : Colour{1, 1, 1};
+            sum += mul(e, cp) * 0.1;
+            const double vn = dot(v, n);
+            if (!(vn > 0)) continue;
+            r = length(v);
+            const double inv_r = 1 / r;
+            vh = v * inv_r, cos_w = 0.9 * vn * inv_r, reach = r;
         }
-        double vn = dot(v, n);
-        if (!(vn > 0)) continue;
-        double r = length(v), inv_r = 1 / r;
-        Vec3 vh = v * inv_r;
         const ShadowRay s{p + vh * kDelta, v, vh, r, r - 10 * kDelta, li};
         ++ctx.stats->rays;
         Colour sh{1, 1, 1};
         const bool blocked = light.radius > 0 ? objects_block_toward(s, p1, vc, reach, sh, ctx)
                                               : objects_block(s, p1, sh, ctx);
         if (blocked || (glow_bvh ? others_block<true>(s) : others_block<false>(s))) continue;
-        sum += mul(mul(e, cp), sh) * (0.9 * vn * inv_r);
+        sum += mul(mul(e, cp), sh) * cos_w;
         if (m.specular > 0) {
             // Blinn-Phong: the normal against the half vector of the light and the eye.
             const Vec3 h = vh - d;

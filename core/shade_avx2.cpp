@@ -93,12 +93,9 @@ RT_TARGET_AVX2 inline I8 reverse_bits8(I8 v) {
                                                    6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12));
 }
 RT_TARGET_AVX2 inline I8 times(I8 x, std::uint32_t c) { return _mm256_mullo_epi32(x, _mm256_set1_epi32(int(c))); }
-RT_TARGET_AVX2 inline I8 lk_permutation8(I8 x, I8 seed) {
-    x = _mm256_add_epi32(x, seed);
-    x = _mm256_xor_si256(x, times(x, 0x6c50b47cu));
-    x = _mm256_xor_si256(x, times(x, 0xb82f1e52u));
-    x = _mm256_xor_si256(x, times(x, 0xc7afe638u));
-    return _mm256_xor_si256(x, times(x, 0x8d22f6e6u));
+RT_TARGET_AVX2 inline I8 nested_scramble8(I8 x, I8 seed) {
+    const I8 odd = _mm256_or_si256(_mm256_srli_epi32(seed, 16), _mm256_set1_epi32(1));
+    return _mm256_mullo_epi32(_mm256_add_epi32(x, seed), odd);
 }
 RT_TARGET_AVX2 inline I8 hash8(I8 x) {
     x = _mm256_xor_si256(x, _mm256_srli_epi32(x, 16));
@@ -131,24 +128,29 @@ struct LightSamples4 {
     // Draws for the sphere lights from `first` on, up to kMax of them, for the lanes
     // `live` (the others' points are made up).
     RT_TARGET_AVX2 void draw(const Chunked<ShadeLight>& lights, std::size_t first, PathSampler (&s)[4], unsigned live) {
-        alignas(32) std::uint32_t key[kMax][4] = {}, rindex[4] = {};
         count = used = 0;
-        for (std::size_t j = first; j < lights.size() && count < kMax; ++j) {
-            if (!(lights[j].radius > 0)) continue;
-            for (unsigned m = live; m; m &= m - 1) {
-                const int k = __builtin_ctz(m);
-                key[count][k] = s[k].take_key(), rindex[k] = s[k].reversed_index();
-            }
-            ++count;
-        }
-        const I8 index = _mm256_broadcastsi128_si256(_mm_load_si128(reinterpret_cast<const __m128i*>(rindex)));
+        for (std::size_t j = first; j < lights.size() && count < kMax; ++j) count += lights[j].radius > 0;
+        // The lanes' keys built in registers (stored lane by lane and loaded whole, they
+        // would wait for the stores).
+        auto lanes4 = [&](auto field) RT_TARGET_AVX2 {
+            return _mm_setr_epi32(int(field(s[0])), int(field(s[1])), int(field(s[2])), int(field(s[3])));
+        };
+        const __m128i pixel = lanes4([](const PathSampler& p) { return p.pixel(); });
+        const __m128i dim = _mm_mullo_epi32(lanes4([](const PathSampler& p) { return p.dimension(); }),
+                                            _mm_set1_epi32(int(PathSampler::kGolden)));
+        const __m128i rindex = lanes4([](const PathSampler& p) { return p.reversed_index(); });
+        for (unsigned m = live; m; m &= m - 1) s[__builtin_ctz(m)].skip(std::uint32_t(count));
+        const I8 index = _mm256_set_m128i(rindex, rindex);
+        auto key = [&](int j) RT_TARGET_AVX2 {  // pixel ^ (dimension + j) kGolden
+            return _mm_xor_si128(pixel, _mm_add_epi32(dim, _mm_set1_epi32(int(std::uint32_t(j) * PathSampler::kGolden))));
+        };
         for (int pair = 0; pair < count; pair += 2) {
-            const I8 seed = hash8(_mm256_load_si256(reinterpret_cast<const I8*>(key[pair])));
-            const I8 i = reverse_bits8(lk_permutation8(index, seed));
+            const I8 seed = hash8(_mm256_set_m128i(key(pair + 1), key(pair)));
+            const I8 i = reverse_bits8(nested_scramble8(index, seed));
             const I8 su = _mm256_xor_si256(seed, _mm256_set1_epi32(int(PathSampler::kSeedU)));
             const I8 sv = _mm256_xor_si256(seed, _mm256_set1_epi32(int(PathSampler::kSeedV)));
-            const I8 uu = reverse_bits8(lk_permutation8(i, su));
-            const I8 vv = reverse_bits8(lk_permutation8(sobol1_reversed8(i), sv));
+            const I8 uu = reverse_bits8(nested_scramble8(i, su));
+            const I8 vv = reverse_bits8(nested_scramble8(sobol1_reversed8(i), sv));
             u[pair] = fraction4(_mm256_castsi256_si128(uu)), v[pair] = fraction4(_mm256_castsi256_si128(vv));
             u[pair + 1] = fraction4(_mm256_extracti128_si256(uu, 1)), v[pair + 1] = fraction4(_mm256_extracti128_si256(vv, 1));
         }
@@ -174,46 +176,63 @@ RT_TARGET_AVX2 void cos_sin_turn4(__m256d v, __m256d& c, __m256d& s) {
     s = _mm256_xor_pd(_mm256_blendv_pd(sx, pc, odd), _mm256_and_pd(sign, _mm256_or_pd(is(2), is(3))));
 }
 
-// sphere_point() (shade.cpp) minus p for four points p at distances d from the centre
-// c (inv_d2 = 1 / d^2), by the samples (u, v): the same operations, so the same bits.
-RT_TARGET_AVX2 V3 sphere_offset4(const V3& p, const Vec3& c, double radius, __m256d d, __m256d inv_d2, __m256d u,
-                                 __m256d v) {
-    const __m256d one = splat(1.0), zero = _mm256_setzero_pd(), inv_d = mul(d, inv_d2);
-    const V3 w{mul(sub(splat(c.x), p.x), inv_d), mul(sub(splat(c.y), p.y), inv_d), mul(sub(splat(c.z), p.z), inv_d)};
-    const __m256d rr = splat(radius * radius), dd = mul(d, d);
-    const __m256d s2 = mul(rr, inv_d2);
-    const __m256d one_minus = sub(one, _mm256_sqrt_pd(_mm256_max_pd(sub(one, s2), zero)));
+// shade.cpp's below_horizon() for four points (a mask).
+RT_TARGET_AVX2 inline __m256d below_horizon4(const V3& vc, const V3& n, __m256d d, double radius) {
+    return _mm256_cmp_pd(dot(vc, n), sub(splat(-radius), mul(splat(1e-9), d)), _CMP_LT_OQ);
+}
+
+// shade.cpp's toward_sphere() for four points, vc from each to the light's centre
+// (r2 = |vc|^2): the same operations, so the same bits. The cone's sampling only where a
+// lane of `live` lies outside the sphere.
+struct SphereRay4 {
+    V3 vh, v;
+    __m256d r, inv_r2, reach;
+};
+RT_TARGET_AVX2 SphereRay4 toward_sphere4(const V3& vc, __m256d r2, double radius, __m256d u, __m256d v,
+                                         const V3& n, unsigned live) {
+    const __m256d one = splat(1.0), zero = _mm256_setzero_pd(), minus = splat(-0.0);
+    SphereRay4 q;
+    const __m256d d = _mm256_sqrt_pd(r2);
+    const __m256d sign = _mm256_or_pd(_mm256_and_pd(vc.z, minus), one);  // copysign(1, vc.z)
+    const __m256d y = add(mul(sign, d), vc.z), inv = _mm256_div_pd(one, mul(r2, y));
+    q.inv_r2 = mul(y, inv);
+    const __m256d inv_d = mul(d, q.inv_r2);
+    const V3 w = scaled(vc, inv_d);
+    const __m256d outside = _mm256_cmp_pd(d, splat(radius), _CMP_GT_OQ);
+    q.vh = w, q.v = vc, q.r = d, q.reach = d;
+    // (Where every lane is inside, or its sphere below its horizon, no direction of the
+    // cone is lit: w is as dark.)
+    if (!(lanes(_mm256_andnot_pd(below_horizon4(vc, n, d, radius), outside)) & live)) return q;
+    const __m256d rr = splat(radius * radius);
+    const __m256d one_minus = sub(one, mul(_mm256_sqrt_pd(_mm256_max_pd(sub(r2, rr), zero)), inv_d));
     const __m256d x = mul(u, one_minus);
     const __m256d cos_t = sub(one, x), sin_t2 = mul(x, sub(splat(2.0), x));
     const __m256d sin_t = _mm256_sqrt_pd(sin_t2);
     __m256d cos_phi, sin_phi;
     cos_sin_turn4(v, cos_phi, sin_phi);
-    const __m256d sign = _mm256_or_pd(_mm256_and_pd(w.z, splat(-0.0)), one);  // copysign(1, w.z)
-    const __m256d a = _mm256_div_pd(splat(-1.0), add(sign, w.z)), b = mul(mul(w.x, w.y), a);
-    const V3 t1{add(one, mul(mul(mul(sign, w.x), w.x), a)), mul(sign, b), mul(_mm256_xor_pd(sign, splat(-0.0)), w.x)};
-    const V3 t2{b, add(sign, mul(mul(w.y, w.y), a)), _mm256_xor_pd(w.y, splat(-0.0))};
+    const __m256d a = mul(_mm256_xor_pd(d, minus), mul(r2, inv)), b = mul(mul(w.x, w.y), a);
+    const V3 t1{add(one, mul(mul(mul(sign, w.x), w.x), a)), mul(sign, b), mul(_mm256_xor_pd(sign, minus), w.x)};
+    const V3 t2{b, add(sign, mul(mul(w.y, w.y), a)), _mm256_xor_pd(w.y, minus)};
     const __m256d sc = mul(sin_t, cos_phi), ss = mul(sin_t, sin_phi);
     const V3 dir{add(add(mul(w.x, cos_t), mul(t1.x, sc)), mul(t2.x, ss)),
                  add(add(mul(w.y, cos_t), mul(t1.y, sc)), mul(t2.y, ss)),
                  add(add(mul(w.z, cos_t), mul(t1.z, sc)), mul(t2.z, ss))};
-    const __m256d along = mul(d, cos_t);
-    const __m256d t = sub(along, _mm256_sqrt_pd(_mm256_max_pd(sub(rr, mul(dd, sin_t2)), zero)));
-    // (p + dir t) - p, as the scalar code forms the point and then v.
-    return {sub(add(p.x, mul(dir.x, t)), p.x), sub(add(p.y, mul(dir.y, t)), p.y), sub(add(p.z, mul(dir.z, t)), p.z)};
+    const __m256d t = sub(mul(d, cos_t), _mm256_sqrt_pd(_mm256_max_pd(sub(rr, mul(r2, sin_t2)), zero)));
+    const V3 dt = scaled(dir, t);
+    auto pick = [&](__m256d in, __m256d out) RT_TARGET_AVX2 { return _mm256_blendv_pd(in, out, outside); };
+    q.vh = {pick(w.x, dir.x), pick(w.y, dir.y), pick(w.z, dir.z)};
+    q.v = {pick(vc.x, dt.x), pick(vc.y, dt.y), pick(vc.z, dt.z)};
+    q.r = pick(d, t);
+    return q;
 }
 
-// direct_sampled()'s vector toward the sphere light's point chosen by (u, v) from four
-// points p, vc from p to the light's centre (r2 = |vc|^2): vc itself for a point inside
-// the light (inv_r2 = 1 / r2). `reach`: how far from the centre blockers may lie (the
-// centre's distance, plus the radius from outside).
-RT_TARGET_AVX2 V3 toward_sphere4(const V3& p, const V3& vc, __m256d r2, __m256d inv_r2, const ShadeLight& light,
-                                 __m256d u, __m256d v, unsigned live, __m256d& reach) {
-    const __m256d dc = _mm256_sqrt_pd(r2), outside = _mm256_cmp_pd(dc, splat(light.radius), _CMP_GT_OQ);
-    reach = _mm256_blendv_pd(dc, add(dc, splat(light.radius)), outside);
-    if (!(lanes(outside) & live)) return vc;
-    const V3 q = sphere_offset4(p, light.position, light.radius, dc, inv_r2, u, v);
-    return {_mm256_blendv_pd(vc.x, q.x, outside), _mm256_blendv_pd(vc.y, q.y, outside),
-            _mm256_blendv_pd(vc.z, q.z, outside)};
+// A light's strength at four points: its colour times 1 / r2, or 1 where r2 is not
+// positive (the lanes not `positive`), as direct_sampled() finds it.
+RT_TARGET_AVX2 inline V3 strength4(const Colour& c, __m256d inv_r2, __m256d positive) {
+    const __m256d one = splat(1.0);
+    return {_mm256_blendv_pd(one, mul(splat(c.x), inv_r2), positive),
+            _mm256_blendv_pd(one, mul(splat(c.y), inv_r2), positive),
+            _mm256_blendv_pd(one, mul(splat(c.z), inv_r2), positive)};
 }
 
 // direct_sampled()'s highlights for the lanes `lit` (normals n, materials m, seen
@@ -371,29 +390,35 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
         const ShadeLight& light = lights[li];
         const V3 vc{sub(splat(light.position.x), p.x), sub(splat(light.position.y), p.y),
                     sub(splat(light.position.z), p.z)};
-        const __m256d r2 = dot(vc, vc), inv_r2 = _mm256_div_pd(one, r2);
-        const __m256d positive = _mm256_cmp_pd(r2, zero, _CMP_GT_OQ);
-        const V3 e{_mm256_blendv_pd(one, mul(splat(light.colour.x), inv_r2), positive),
-                   _mm256_blendv_pd(one, mul(splat(light.colour.y), inv_r2), positive),
-                   _mm256_blendv_pd(one, mul(splat(light.colour.z), inv_r2), positive)};
-        const V3 ec{mul(e.x, cp.x), mul(e.y, cp.y), mul(e.z, cp.z)};
-        sum = {add(sum.x, mul(ec.x, splat(0.1))), add(sum.y, mul(ec.y, splat(0.1))), add(sum.z, mul(ec.z, splat(0.1)))};
+        const __m256d r2 = dot(vc, vc), positive = _mm256_cmp_pd(r2, zero, _CMP_GT_OQ);
         // The ray toward the light's centre, or toward this sample's point of a sphere
         // light (from outside it), whose blockers lie within `reach` of the centre.
-        V3 v = vc;
-        __m256d reach = zero;
-        if (light.radius > 0) {
+        const bool sphere = light.radius > 0;
+        SphereRay4 q;
+        if (sphere) {
             if (drawn.used == drawn.count) drawn.draw(lights, li, b.sampler, live);
-            v = toward_sphere4(p, vc, r2, inv_r2, light, drawn.u[drawn.used], drawn.v[drawn.used], live, reach);
+            q = toward_sphere4(vc, r2, light.radius, drawn.u[drawn.used], drawn.v[drawn.used], n, live);
             ++drawn.used;
+        } else {
+            q.inv_r2 = _mm256_div_pd(one, r2);
         }
-        const __m256d vn = dot(v, n);
+        const V3 e = strength4(light.colour, q.inv_r2, positive);
+        const V3 ec{mul(e.x, cp.x), mul(e.y, cp.y), mul(e.z, cp.z)};
+        sum = {add(sum.x, mul(ec.x, splat(0.1))), add(sum.y, mul(ec.y, splat(0.1))), add(sum.z, mul(ec.z, splat(0.1)))};
+        const __m256d vn = dot(sphere ? q.vh : vc, n);
         unsigned lit = lanes(_mm256_cmp_pd(vn, zero, _CMP_GT_OQ)) & live;
         if (!lit) continue;
         ctx.stats->rays += unsigned(__builtin_popcount(lit));
-        const __m256d r = _mm256_sqrt_pd(dot(v, v)), inv_r = _mm256_div_pd(one, r);
-        if (!(light.radius > 0)) reach = r;
-        const V3 vh = scaled(v, inv_r);
+        __m256d cos_w;  // 0.9 times the cosine toward the light's point
+        if (sphere) {
+            cos_w = mul(splat(0.9), vn);
+        } else {
+            q.v = vc, q.r = _mm256_sqrt_pd(r2);
+            const __m256d inv_r = _mm256_div_pd(one, q.r);
+            q.vh = scaled(vc, inv_r), q.reach = q.r, cos_w = mul(mul(splat(0.9), vn), inv_r);
+        }
+        const V3 &v = q.v, &vh = q.vh;
+        const __m256d &r = q.r, &reach = q.reach;
         const V3 o{add(p.x, mul(vh.x, splat(kDelta))), add(p.y, mul(vh.y, splat(kDelta))),
                    add(p.z, mul(vh.z, splat(kDelta)))};
         const __m256d limit = sub(r, splat(10 * kDelta));
@@ -415,7 +440,7 @@ RT_TARGET_AVX2 void World::direct4(const Surface s[4], const Vec3 d[4], unsigned
         lit = shadow_lanes(rays, lb, in_cell, cell, lit, shade, ctx);
         if (!lit) continue;
         const V3 sh{_mm256_load_pd(shade[0]), _mm256_load_pd(shade[1]), _mm256_load_pd(shade[2])};
-        const V3 term = scaled({mul(ec.x, sh.x), mul(ec.y, sh.y), mul(ec.z, sh.z)}, mul(mul(splat(0.9), vn), inv_r));
+        const V3 term = scaled({mul(ec.x, sh.x), mul(ec.y, sh.y), mul(ec.z, sh.z)}, cos_w);
         const __m256i bits = _mm256_and_si256(_mm256_set1_epi64x(lit), _mm256_set_epi64x(8, 4, 2, 1));
         const __m256d use = _mm256_castsi256_pd(_mm256_cmpgt_epi64(bits, _mm256_setzero_si256()));
         sum = {_mm256_blendv_pd(sum.x, add(sum.x, term.x), use), _mm256_blendv_pd(sum.y, add(sum.y, term.y), use),
@@ -641,6 +666,8 @@ void World::trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSa
     // Packets where the rays share the camera's origin (no lens) and the scene has meshes.
     const bool packets = !(keys && cam.lens > 0) && !g.meshes.empty();
     const Prepared forget;
+    int row_y = keys && n > 0 ? keys[0].y : 0;  // the samplers' row and its hash
+    std::uint32_t row = PathSampler::row_hash(row_y);
     for (std::size_t i0 = 0; i0 < n; i0 += 4) {
         if (ctx.stats->stopped) return std::fill(out + i0, out + n, Colour{});
         if (packets && i0 % TriangleAccel::kPacket == 0)
@@ -653,7 +680,8 @@ void World::trace_units4(const CameraBasis& cam, const Vec3* dirs, const PixelSa
         const Vec3* d = dirs + i0;
         if (keys) {
             for (unsigned k = 0; k < count; ++k) {
-                b.sampler[k] = PathSampler(keys[i0 + k]);
+                if (keys[i0 + k].y != row_y) row_y = keys[i0 + k].y, row = PathSampler::row_hash(row_y);
+                b.sampler[k] = PathSampler(keys[i0 + k], row);
                 lens_dirs[k] = d[k];
                 if (cam.lens > 0) {
                     double u, v;

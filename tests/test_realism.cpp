@@ -287,6 +287,27 @@ TEST_CASE("sampler: the points of one pixel are stratified (one in each of 16 ce
     }
 }
 
+TEST_CASE("sampler: the scramble is nested (a bit's flip depends on lower bits only) and a permutation") {
+    std::uint32_t x = 987654321u, seed = 0x2545F491u;
+    int changed = 0;
+    for (int k = 0; k < 20000; ++k) {
+        x = x * 1664525u + 1013904223u, seed = seed * 22695477u + 1u;
+        const std::uint32_t y = sampling::nested_scramble(x, seed);
+        const int j = k % 32;
+        const std::uint32_t z = sampling::nested_scramble(x ^ (1u << j), seed);
+        // Changing bit j changes bit j and no bit below it.
+        CHECK(((y ^ z) & ((2u << j) - 1)) == (1u << j));
+        changed += ((y ^ z) >> j) != 1;  // (and usually some above it)
+    }
+    CHECK(changed > 15000);
+    // On the 256 values of the low byte, a permutation for any seed.
+    for (std::uint32_t s : {0u, 1u, 0xFFFFFFFFu, 0x9e3779b9u}) {
+        bool seen[256] = {};
+        for (std::uint32_t v = 0; v < 256; ++v) seen[sampling::nested_scramble(v, s) & 255] = true;
+        CHECK(std::count(seen, seen + 256, true) == 256);
+    }
+}
+
 TEST_CASE("sampler: Sobol dimension 1 by the superset sum equals the bit-by-bit sum of its columns") {
     std::uint32_t x = 12345;
     for (int k = 0; k < 20000; ++k) {
