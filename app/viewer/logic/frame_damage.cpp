@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
+#include <set>
 
 namespace rtview {
 
@@ -43,14 +45,20 @@ PixelBox triangles_box(const DrawTriangles& t, std::size_t from, std::size_t to)
 }
 
 // The triangles of `now` that differ from `before`'s: those after the common
-// beginning and before the common end, old and new.
-PixelBox changed_box(const DrawTriangles& before, const DrawTriangles& now) {
+// beginning and before the common end, old and new. Where as many changed as were
+// there (a colour, a highlight), each pair that differs is a box of its own.
+void changed_boxes(const DrawTriangles& before, const DrawTriangles& now, std::vector<PixelBox>& out) {
     const std::size_t n0 = before.size() / 3, n1 = now.size() / 3, n = std::min(n0, n1);
     std::size_t head = 0, tail = 0;
     while (head < n && same_triangle(before, head, now, head)) ++head;
-    if (head == n0 && head == n1) return {};
+    if (head == n0 && head == n1) return;
     while (tail < n - head && same_triangle(before, n0 - 1 - tail, now, n1 - 1 - tail)) ++tail;
-    return unite(triangles_box(before, head, n0 - tail), triangles_box(now, head, n1 - tail));
+    if (n0 != n1) {
+        out.push_back(unite(triangles_box(before, head, n0 - tail), triangles_box(now, head, n1 - tail)));
+        return;
+    }
+    for (std::size_t i = head; i < n0 - tail; ++i)
+        if (!same_triangle(before, i, now, i)) out.push_back(unite(triangle_box(&before[3 * i]), triangle_box(&now[3 * i])));
 }
 
 void texture_boxes(const DrawTriangles& list, const std::vector<TextureChange>& changes, std::vector<PixelBox>& out) {
@@ -60,6 +68,53 @@ void texture_boxes(const DrawTriangles& list, const std::vector<TextureChange>& 
                 const PixelBox b = texel_box(&list[i], c);
                 if (!b.empty()) out.push_back(b);
             }
+}
+
+// The boxes of the lists that changed, came or went; false if the lists kept are not
+// in the same order, or two share a name.
+bool list_boxes(const std::vector<DrawTriangles>& before, const std::vector<DrawTriangles>& now,
+                std::vector<PixelBox>& out) {
+    std::map<std::uint64_t, std::size_t> old_at;  // id -> index in `before`
+    for (std::size_t i = 0; i < before.size(); ++i)
+        if (!old_at.emplace(before[i].id, i).second) return false;
+    std::set<std::uint64_t> seen;
+    std::size_t last_old = 0;
+    bool any = false;
+    for (const DrawTriangles& l : now) {
+        if (!seen.insert(l.id).second) return false;
+        auto it = old_at.find(l.id);
+        if (it == old_at.end()) {
+            out.push_back(triangles_box(l, 0, l.size() / 3));  // came
+            continue;
+        }
+        if (any && it->second < last_old) return false;  // reordered
+        last_old = it->second, any = true;
+        changed_boxes(before[it->second], l, out);
+    }
+    for (const DrawTriangles& l : before)
+        if (!seen.count(l.id)) out.push_back(triangles_box(l, 0, l.size() / 3));  // went
+    return true;
+}
+
+// At most FrameDamage::kMaxBoxes boxes: the two whose union adds the fewest pixels
+// joined, again and again (too many to weigh: all of them in one).
+void reduce_boxes(std::vector<PixelBox>& boxes) {
+    if (boxes.size() > 64) {
+        PixelBox all;
+        for (const PixelBox& b : boxes) all = unite(all, b);
+        boxes.assign(1, all);
+    }
+    while (int(boxes.size()) > FrameDamage::kMaxBoxes) {
+        std::size_t bi = 0, bj = 1;
+        std::int64_t best = -1;
+        for (std::size_t i = 0; i < boxes.size(); ++i)
+            for (std::size_t j = i + 1; j < boxes.size(); ++j) {
+                const std::int64_t added = unite(boxes[i], boxes[j]).area() - boxes[i].area() - boxes[j].area();
+                if (best < 0 || added < best) best = added, bi = i, bj = j;
+            }
+        boxes[bi] = unite(boxes[bi], boxes[bj]);
+        boxes.erase(boxes.begin() + std::ptrdiff_t(bj));
+    }
 }
 
 }  // namespace
@@ -112,11 +167,7 @@ std::vector<PixelBox> merge_boxes(std::vector<PixelBox> boxes, int width, int he
         }
         out.push_back(m);
     }
-    if (int(out.size()) > FrameDamage::kMaxBoxes) {
-        PixelBox all;
-        for (const PixelBox& b : out) all = unite(all, b);
-        out.assign(1, all);
-    }
+    reduce_boxes(out);
     std::int64_t area = 0;
     for (const PixelBox& b : out) area += b.area();
     if (double(area) > FrameDamage::kWholeShare * double(window.area())) out.assign(1, window);
@@ -125,15 +176,10 @@ std::vector<PixelBox> merge_boxes(std::vector<PixelBox> boxes, int width, int he
 
 std::vector<PixelBox> FrameDamage::compare(std::vector<DrawTriangles> lists, int width, int height,
                                            const std::vector<TextureChange>& changes) {
-    const bool whole = !valid_ || width != width_ || height != height_ || lists.size() != last_.size();
     std::vector<PixelBox> boxes;
-    if (!whole) {
-        for (std::size_t i = 0; i < lists.size(); ++i) {
-            const PixelBox b = changed_box(last_[i], lists[i]);
-            if (!b.empty()) boxes.push_back(b);
-        }
+    const bool whole = !valid_ || width != width_ || height != height_ || !list_boxes(last_, lists, boxes);
+    if (!whole)
         for (const DrawTriangles& l : lists) texture_boxes(l, changes, boxes);
-    }
     last_ = std::move(lists);
     width_ = width;
     height_ = height;

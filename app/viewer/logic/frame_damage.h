@@ -8,9 +8,10 @@
 //
 // A frame is described as the triangles of its draw lists in drawing order, each
 // vertex with its clip rectangle and texture, in framebuffer pixels (top row 0). Lists
-// are compared one to one: within a list, the triangles after the common beginning
-// and before the common end changed, and their boxes (the old ones' and the new ones')
-// are repainted. Textures whose contents changed (uploaded rows) are mapped through the
+// are matched by their window's name: a list that came (a tooltip, a popup) or went
+// is repainted whole; within a list kept, the triangles after the common beginning and
+// before the common end changed, and their boxes (the old ones' and the new ones')
+// are repainted. Lists kept in another order repaint the window. Textures whose contents changed (uploaded rows) are mapped through the
 // triangles that show them.
 #pragma once
 
@@ -37,8 +38,11 @@ struct DrawVertex {
     bool operator==(const DrawVertex& o) const;
 };
 
-// A draw list: triangles, three vertices each.
-using DrawTriangles = std::vector<DrawVertex>;
+// A draw list: its window's name (hashed) and triangles, three vertices each.
+struct DrawTriangles : std::vector<DrawVertex> {
+    using std::vector<DrawVertex>::vector;
+    std::uint64_t id = 0;
+};
 
 // Texels of a texture that changed, in texture coordinates (0..1), already widened by
 // what filtering spreads them over.

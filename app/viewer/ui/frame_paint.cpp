@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
+#include <string_view>
 
 #include "film_texture.h"
 
@@ -30,6 +32,8 @@ bool frame_triangles(const ImDrawData& data, std::vector<DrawTriangles>& lists) 
         const ImDrawList& l = *data.CmdLists[n];
         DrawTriangles& out = lists[std::size_t(n)];
         out.clear();
+        // Lists are matched by their window's name from frame to frame.
+        out.id = l._OwnerName ? std::hash<std::string_view>()(l._OwnerName) : ~std::uint64_t(n);
         out.reserve(std::size_t(l.IdxBuffer.Size));
         for (const ImDrawCmd& cmd : l.CmdBuffer) {
             if (cmd.UserCallback) return false;
