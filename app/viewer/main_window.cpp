@@ -21,6 +21,8 @@
 
 #include "app.h"
 #include "fonts.h"
+#include "frame_paint.h"
+#include "glx_present.h"
 #include "host_common.h"
 #include "parallel.h"
 #include "ui_settings.h"
@@ -30,6 +32,8 @@ namespace {
 // Input of any kind bumps this; the loop draws a frame only when it moved or the app
 // has something animating, so an idle viewer sleeps in glfwWaitEvents*.
 std::atomic<unsigned> g_events{0};
+// The window was exposed (uncovered, restored): its next frame is painted whole.
+std::atomic<bool> g_exposed{false};
 
 class GlfwHost : public rtview::Host {
 public:
@@ -199,7 +203,10 @@ void install_callbacks(GLFWwindow* w) {
     glfwSetCursorEnterCallback(w, [](GLFWwindow*, int) { ++g_events; });
     glfwSetWindowFocusCallback(w, [](GLFWwindow*, int) { ++g_events; });
     glfwSetFramebufferSizeCallback(w, [](GLFWwindow*, int, int) { ++g_events; });
-    glfwSetWindowRefreshCallback(w, [](GLFWwindow*) { ++g_events; });
+    glfwSetWindowRefreshCallback(w, [](GLFWwindow*) {
+        g_exposed = true;
+        ++g_events;
+    });
     glfwSetDropCallback(w, [](GLFWwindow* win, int n, const char** paths) {
         ++g_events;
         if (auto* app = app_of(win)) app->drop_files(std::vector<std::string>(paths, paths + n));
@@ -273,36 +280,51 @@ double wall_clock() {
     return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
 }
 
-// --verbose: where a frame's wall time goes, said every few seconds: the UI (ImGui and
-// the app, the film's texture upload included), the GL drawing to the end of the
-// rasteriser's work (glFinish), and the swap.
-struct FrameTimes {
-    double start = -1, ui = 0, draw = 0, swap = 0, upload = 0, max_frame = 0;
-    long frames = 0;
-    void add(double t0, double t1, double t2, double t3, double upload_s) {
-        if (start < 0) start = t0;
-        ui += t1 - t0, draw += t2 - t1, swap += t3 - t2, upload += upload_s;
-        max_frame = std::max(max_frame, t3 - t0);
-        ++frames;
-        if (t3 - start < 3) return;
-        const double n = double(frames), ms = 1000 / n;
-        std::fprintf(stderr,
-                     "raytracer-view: %.1f frames/s; a frame's ms: UI %.1f (texture upload %.1f), drawing %.1f, swap %.1f; "
-                     "longest %.0f ms\n",
-                     n / (t3 - start), ui * ms, upload * ms, draw * ms, swap * ms, max_frame * 1000);
-        *this = FrameTimes{};
-    }
-};
-
 double thread_cpu() {
     timespec t{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
     return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
 }
 
+// --verbose: where a frame's wall time goes, said every few seconds: the UI (ImGui and
+// the app, the film's texture upload included), the GL drawing to the end of the
+// rasteriser's work (glFinish), and the swap (or the boxes shown); the share of the
+// window's pixels painted, and the UI thread's processor time.
+struct FrameTimes {
+    double start = -1, ui = 0, draw = 0, swap = 0, upload = 0, max_frame = 0, painted = 0, cpu0 = -1;
+    long frames = 0, unpainted = 0;
+    void add(double t0, double t1, double t2, double t3, double upload_s, double painted_share) {
+        if (start < 0) start = t0, cpu0 = thread_cpu();
+        ui += t1 - t0, draw += t2 - t1, swap += t3 - t2, upload += upload_s, painted += painted_share;
+        unpainted += painted_share == 0;
+        max_frame = std::max(max_frame, t3 - t0);
+        ++frames;
+        if (t3 - start < 3) return;
+        const double n = double(frames), ms = 1000 / n;
+        std::fprintf(stderr,
+                     "raytracer-view: %.1f frames/s; a frame's ms: UI %.1f (texture upload %.1f), drawing %.1f, swap %.1f; "
+                     "longest %.0f ms; painted %.0f%% of the window a frame (%ld frames nothing); UI thread %.1f ms of CPU a frame\n",
+                     n / (t3 - start), ui * ms, upload * ms, draw * ms, swap * ms, max_frame * 1000, painted / n * 100,
+                     unpainted, (thread_cpu() - cpu0) * ms);
+        *this = FrameTimes{};
+    }
+};
+
+// The share of a width x height window the boxes cover.
+double share(const std::vector<rtview::PixelBox>& boxes, int width, int height) {
+    double a = 0;
+    for (const rtview::PixelBox& b : boxes) a += double(b.area());
+    return width > 0 && height > 0 ? a / (double(width) * height) : 0;
+}
+
 // Frames until the window closes: only when input came or the app has something
 // animating, so an idle viewer sleeps in glfwWaitEvents*.
 void event_loop(GLFWwindow* window, rtview::ViewerApp& app, const rtview::Options& opt, float scale) {
+    const rtview::WindowPresenter presenter(window);
+    rtview::FramePainter painter(presenter.partial(), presenter.check());
+    if (opt.verbose)
+        std::fprintf(stderr, "raytracer-view: renderer %s: %s\n", presenter.renderer(),
+                     presenter.partial() ? "frames paint and show only what changed" : "frames painted whole");
     unsigned seen = g_events.load() - 1;  // draw the first frame at once
     int settle = 0;
     bool was_working = false;
@@ -342,18 +364,21 @@ void event_loop(GLFWwindow* window, rtview::ViewerApp& app, const rtview::Option
         int fw, fh;
         glfwGetFramebufferSize(window, &fw, &fh);
         double t1 = 0;
-        rtview::app_frame(app, fw, fh, true, opt.verbose ? &t1 : nullptr);
+        rtview::app_frame(app, fw, fh, false, opt.verbose ? &t1 : nullptr);
+        if (g_exposed.exchange(false)) painter.invalidate();
+        const std::vector<rtview::PixelBox>& painted = painter.paint(ImGui::GetDrawData(), fw, fh);
         if (opt.verbose) glFinish();
         const double t2 = opt.verbose ? wall_clock() : 0;
         app.after_render(fw, fh);
-        glfwSwapBuffers(window);
-        if (opt.verbose) times.add(t0, t1, t2, wall_clock(), app.last_upload_seconds());
+        presenter.present(painted, fh);
+        if (opt.verbose) times.add(t0, t1, t2, wall_clock(), app.last_upload_seconds(), share(painted, fw, fh));
         next_frame_input(window);
         if (app.take_ui_scale_change()) {
             // Between frames: a new font atlas at the new size, and its texture.
             ImGui_ImplOpenGL2_DestroyFontsTexture();
             rtview::build_ui_font_and_style(float(app.ui_scale()) * scale);
             ImGui_ImplOpenGL2_CreateFontsTexture();
+            painter.invalidate();
             settle = 3;
         }
         frame_cpu += thread_cpu() - cpu0;
@@ -362,6 +387,9 @@ void event_loop(GLFWwindow* window, rtview::ViewerApp& app, const rtview::Option
     if (opt.verbose)
         std::fprintf(stderr, "raytracer-view: %ld frames, %.2f ms of UI-thread CPU each\n", frames,
                      frames ? frame_cpu / double(frames) * 1000 : 0.0);
+    if (presenter.check())
+        std::fprintf(stderr, "raytracer-view: %ld partial frames checked, %ld differed from whole ones\n", painter.checked(),
+                     painter.differed());
 }
 
 int run(int argc, char** argv) {

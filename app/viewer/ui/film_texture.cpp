@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "frame_paint.h"
 #include "image_io.h"
 
 namespace rtview {
@@ -35,6 +36,7 @@ void FilmTexture::upload(const std::vector<std::uint8_t>& rgba, int width, int h
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
         width_ = width;
         height_ = height;
+        note_texture_change(tex_, width, height, {0, 0, width, height});
     } else if (rect[0] < rect[2] && rect[1] < rect[3]) {
         // Same size: update what changed in place.
         int x0 = std::max(rect[0], 0), y0 = std::max(rect[1], 0);
@@ -44,6 +46,7 @@ void FilmTexture::upload(const std::vector<std::uint8_t>& rgba, int width, int h
             glTexSubImage2D(GL_TEXTURE_2D, 0, x0, y0, x1 - x0, y1 - y0, GL_RGBA, GL_UNSIGNED_BYTE,
                             rgba.data() + 4 * (std::size_t(y0) * width + x0));
             glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+            note_texture_change(tex_, width, height, {x0, y0, x1, y1});
         }
     }
     if (nearest_ < 0) set_nearest(true);
@@ -56,6 +59,7 @@ void FilmTexture::set_nearest(bool nearest) {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, f);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, f);
     nearest_ = int(nearest);
+    note_texture_change(tex_, width_, height_, {0, 0, width_, height_});
 }
 
 std::vector<std::uint8_t> read_framebuffer(int width, int height) {

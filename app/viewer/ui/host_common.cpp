@@ -1,7 +1,6 @@
 // The set-up both viewer binaries share (host_common.h).
 #include "host_common.h"
 
-#include <GL/gl.h>
 #include <imgui.h>
 #include <imgui_impl_opengl2.h>
 
@@ -9,6 +8,8 @@
 #include <ctime>
 #include <exception>
 #include <new>
+
+#include "frame_paint.h"
 
 namespace rtview {
 
@@ -66,11 +67,7 @@ void app_frame(ViewerApp& app, int width, int height, bool paint, double* built)
         clock_gettime(CLOCK_MONOTONIC, &t);
         *built = double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
     }
-    if (!paint) return;
-    glViewport(0, 0, width, height);
-    glClearColor(0.10f, 0.10f, 0.11f, 1.f);
-    glClear(GL_COLOR_BUFFER_BIT);
-    ImGui_ImplOpenGL2_RenderDrawData(ImGui::GetDrawData());
+    if (paint) paint_whole(ImGui::GetDrawData(), width, height);
 }
 
 int guarded_main(const char* program, int (*run)(int, char**), int argc, char** argv) {
