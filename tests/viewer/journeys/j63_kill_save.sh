@@ -26,8 +26,11 @@ select_outline object_2
 type_value radius 0.77
 wait_state value_radius "^0.77$"
 wait_state title '^big.txt\* - raytracer-view$'
-# Typed more than a second before the kill: a copy of it must survive.
-idle 1.5
+# The recovery copy holds the edit before the save starts. (The viewer writes a copy
+# about a second after a change; of 18 MB, on a machine whose processors are busy, on
+# a thread below the window's priority, the write itself can take longer than that:
+# the journey waits for the copy, not for a fixed time.)
+wait_until 'grep -rqsF "radius 0.77" "$XDG_STATE_HOME/raytracer-view/recovery"' 30 "the recovery copy to hold the edit"
 
 step "Ctrl+S, and the viewer is killed while it writes the file"
 files=$(ls -A "$OUT")
