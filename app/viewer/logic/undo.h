@@ -26,25 +26,9 @@ public:
         trim();
     }
     // The step to take back (then on the redo side), or null.
-    const Step* undo() {
-        if (undo_.empty()) return nullptr;
-        ++changes_;
-        undo_bytes_ -= undo_.back().second;
-        redo_bytes_ += undo_.back().second;
-        redo_.push_back(std::move(undo_.back()));
-        undo_.pop_back();
-        return &redo_.back().first;
-    }
+    const Step* undo() { return move_last(undo_, undo_bytes_, redo_, redo_bytes_); }
     // The step to do again (then on the undo side), or null.
-    const Step* redo() {
-        if (redo_.empty()) return nullptr;
-        ++changes_;
-        redo_bytes_ -= redo_.back().second;
-        undo_bytes_ += redo_.back().second;
-        undo_.push_back(std::move(redo_.back()));
-        redo_.pop_back();
-        return &undo_.back().first;
-    }
+    const Step* redo() { return move_last(redo_, redo_bytes_, undo_, undo_bytes_); }
     // The step the k-th undo() (redo()) from now would return (k = 0: the next), or
     // null: for listing the history without taking anything back.
     const Step* peek_undo(std::size_t k) const { return k < undo_.size() ? &undo_[undo_.size() - 1 - k].first : nullptr; }
@@ -70,6 +54,17 @@ public:
     }
 
 private:
+    using Steps = std::deque<std::pair<Step, std::size_t>>;
+    // The last step of `from` moved to the end of `to`, with its bytes.
+    const Step* move_last(Steps& from, std::size_t& from_bytes, Steps& to, std::size_t& to_bytes) {
+        if (from.empty()) return nullptr;
+        ++changes_;
+        from_bytes -= from.back().second;
+        to_bytes += from.back().second;
+        to.push_back(std::move(from.back()));
+        from.pop_back();
+        return &to.back().first;
+    }
     void trim() {
         while (!undo_.empty() && (bytes() > budget_ || undo_.size() > max_steps_)) {
             undo_bytes_ -= undo_.front().second;
@@ -78,7 +73,7 @@ private:
     }
 
     std::size_t budget_, max_steps_;
-    std::deque<std::pair<Step, std::size_t>> undo_, redo_;
+    Steps undo_, redo_;
     std::size_t undo_bytes_ = 0, redo_bytes_ = 0;
     std::uint64_t changes_ = 0;
 };
