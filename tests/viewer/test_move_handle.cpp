@@ -279,13 +279,21 @@ TEST_CASE("object ids: a selected CSG operand is outlined as its own silhouette,
     CHECK_FALSE(bool(operand_world(s, sel)));
 }
 
-TEST_CASE("object ids: the outline of a block of texels is its four sides") {
+namespace {
+// A 6 x 5 id buffer whose texels x 2..4, y 1..2 (a block of 3 x 2) hold code 9.
+IdBuffer block_of_texels() {
     IdBuffer b;
     b.width = 6, b.height = 5;
     b.x0 = 0, b.y0 = 0, b.x1 = 6, b.y1 = 5;
     b.ids.assign(30, 0);
     for (int y = 1; y < 3; ++y)
         for (int x = 2; x < 5; ++x) b.ids[std::size_t(y * 6 + x)] = 9;
+    return b;
+}
+}  // namespace
+
+TEST_CASE("object ids: the outline of a block of texels is its four sides") {
+    IdBuffer b = block_of_texels();
     b.ids[0] = 5;  // another item
     std::vector<Edge> e = outline_edges(b, 9);
     REQUIRE(e.size() == 4);
@@ -302,12 +310,7 @@ double seg_length(const Segment& g) { return std::hypot(double(g.x1 - g.x0), dou
 
 TEST_CASE("object ids: the outline as drawn cuts each corner; a staircase of texels becomes a diagonal") {
     // A block of 3 x 2 texels: its four sides, each corner cut by a half-texel diagonal.
-    IdBuffer b;
-    b.width = 6, b.height = 5;
-    b.x0 = 0, b.y0 = 0, b.x1 = 6, b.y1 = 5;
-    b.ids.assign(30, 0);
-    for (int y = 1; y < 3; ++y)
-        for (int x = 2; x < 5; ++x) b.ids[std::size_t(y * 6 + x)] = 9;
+    IdBuffer b = block_of_texels();
     std::vector<Segment> box = smooth_corners(outline_edges(b, 9));
     REQUIRE(box.size() == 8);
     int diagonals = 0;
