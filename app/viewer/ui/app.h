@@ -134,6 +134,12 @@ private:
     static constexpr double kSlowFrame = 0.050;
     double frame_cpu0_ = 0, slowest_frame_ = 0;
     long slow_frames_ = 0, very_slow_frames_ = 0;  // over kSlowFrame, over twice that
+    // The frame's wall time too: a frame that waits (for the pool's workers in a parse
+    // it shares, say) stops the window without using the UI thread's CPU. Over
+    // kStalledFrame it counts as stalled.
+    static constexpr double kStalledFrame = 0.250;
+    double frame_wall0_ = 0, longest_frame_ = 0;
+    long stalled_frames_ = 0;
     LoadStatus load_status() const;
     void after_document_replaced();
     void start_load(const std::string& path);

@@ -20,24 +20,32 @@ namespace rtview {
 
 namespace {
 
-double thread_cpu_seconds() {
+double clock_seconds(clockid_t clock) {
     timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    clock_gettime(clock, &t);
     return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
+double thread_cpu_seconds() { return clock_seconds(CLOCK_THREAD_CPUTIME_ID); }
+double wall_seconds() { return clock_seconds(CLOCK_MONOTONIC); }
 
 }  // namespace
 
-void ViewerApp::frame_timing_begin() { frame_cpu0_ = thread_cpu_seconds(); }
+void ViewerApp::frame_timing_begin() {
+    frame_cpu0_ = thread_cpu_seconds();
+    frame_wall0_ = wall_seconds();
+}
 
 void ViewerApp::frame_timing_end() {
+    const double wall = wall_seconds() - frame_wall0_;
+    longest_frame_ = std::max(longest_frame_, wall);
+    if (wall > kStalledFrame) ++stalled_frames_;
     const double took = thread_cpu_seconds() - frame_cpu0_;
     slowest_frame_ = std::max(slowest_frame_, took);
-    if (took <= kSlowFrame) return;
-    ++slow_frames_;
+    if (took > kSlowFrame) ++slow_frames_;
     if (took > 2 * kSlowFrame) ++very_slow_frames_;
-    if (opt_.verbose)
-        std::fprintf(stderr, "raytracer-view: slow frame %d: %.1f ms of UI-thread CPU\n", frames_, took * 1000);
+    if (opt_.verbose && (took > kSlowFrame || wall > kStalledFrame))
+        std::fprintf(stderr, "raytracer-view: slow frame %d: %.1f ms of UI-thread CPU, %.1f ms of wall time\n", frames_,
+                     took * 1000, wall * 1000);
 }
 
 void ViewerApp::probe_frame() {
@@ -46,6 +54,8 @@ void ViewerApp::probe_frame() {
     probe("slow_frames", std::to_string(slow_frames_));
     probe("very_slow_frames", std::to_string(very_slow_frames_));
     probe("slowest_frame_ms", std::to_string(int(slowest_frame_ * 1000)));
+    probe("stalled_frames", std::to_string(stalled_frames_));
+    probe("longest_frame_ms", std::to_string(int(longest_frame_ * 1000)));
     const Document& doc = editor_.doc();
     probe("title", doc.title());
     probe("load", loader_.active() ? "loading" : doc.has_scene() ? "ready" : "no scene");
