@@ -485,7 +485,7 @@ private:
     // Typing in the scene text: a few edits of the editor text, then maybe applied.
     void typing() {
         follow_text();
-        std::string& t = doc_.editor_text();
+        std::string& t = doc_.typing_text();
         const int edits = c_.between(1, 3);
         for (int k = 0; k < edits; ++k) type_once(t);
         typed_in_widget(t);

@@ -69,7 +69,7 @@ TEST_CASE("applying text with errors keeps the scene and never touches the text"
     d.load_text(rt::kDefaultScene, "", "default.txt");
     const rt::Scene good = d.scene();
     std::uint64_t sv = d.scene_version(), tv = d.text_version();
-    d.editor_text().insert(0, "oops ");
+    d.typing_text().insert(0, "oops ");
     std::string typed = d.editor_text();
     CHECK_FALSE(d.apply_text());
     REQUIRE(d.has_errors());
@@ -85,12 +85,12 @@ TEST_CASE("applying text with errors keeps the scene and never touches the text"
 TEST_CASE("a live check parsed off the UI thread is taken only for the text it checked") {
     Document d;
     d.load_text(rt::kDefaultScene, "", "default.txt");
-    d.editor_text().insert(0, "oops ");
+    d.typing_text().insert(0, "oops ");
     d.note_typed();
     Document::TextCheck c = d.text_check();
     CHECK(c.text == d.editor_text());
     // Typed on while it parsed: the check is for an older text, and is not taken.
-    d.editor_text().insert(0, "x");
+    d.typing_text().insert(0, "x");
     d.note_typed();
     CHECK_FALSE(d.take_check(c.key, rt::parse_scene(c.text, c.options).diagnostics));
     CHECK_FALSE(d.has_errors());
@@ -106,7 +106,7 @@ TEST_CASE("a good apply is undoable, and undo brings the draft back unapplied") 
     Document d;
     d.load_text(rt::kDefaultScene, "", "default.txt");
     const rt::Scene before = d.scene();
-    std::string& t = d.editor_text();
+    std::string& t = d.typing_text();
     t.replace(t.find("radius 1.3"), 10, "radius 2.5");
     std::string draft = t;
     REQUIRE(d.apply_text());
@@ -118,10 +118,79 @@ TEST_CASE("a good apply is undoable, and undo brings the draft back unapplied") 
     CHECK(d.editor_dirty());
 }
 
+TEST_CASE("an apply parsed off the UI thread is applied only to the text it parsed") {
+    Document d;
+    d.load_text(rt::kDefaultScene, "", "default.txt");
+    const rt::Scene before = d.scene();
+    const std::uint64_t key0 = d.text_key();
+    CHECK(std::as_const(d).editor_text() == d.editor_text());
+    CHECK(d.text_key() == key0);  // reading the text is not typing into it
+    std::string& t = d.typing_text();
+    t.replace(t.find("radius 1.3"), 10, "radius 2.5");
+    d.note_typed();
+    Document::TextCheck c = d.begin_apply();
+    CHECK(c.text == d.editor_text());
+    // Typed on while it parsed: the parse is of an older text and changes nothing.
+    d.typing_text().replace(t.find("radius 2.5"), 10, "radius 3.5");
+    d.note_typed();
+    CHECK_FALSE(d.finish_apply(c.key, rt::parse_scene(c.text, c.options)).has_value());
+    CHECK(d.scene() == before);
+    CHECK(d.editor_dirty());
+    // The parse of the text as it is: applied as apply_text() applies it, one undo step.
+    const std::size_t depth = d.undo_depth();
+    c = d.begin_apply();
+    std::optional<bool> ok = d.finish_apply(c.key, rt::parse_scene(c.text, c.options));
+    REQUIRE(ok.has_value());
+    CHECK(*ok);
+    CHECK(std::get<rt::Sphere>(d.scene().objects[1].shape).radius == 3.5);
+    CHECK_FALSE(d.editor_dirty());
+    CHECK(d.undo_depth() > depth);
+    // A text with errors: false, the scene kept, the errors listed.
+    d.typing_text().insert(0, "oops ");
+    d.note_typed();
+    const rt::Scene good = d.scene();
+    c = d.begin_apply();
+    ok = d.finish_apply(c.key, rt::parse_scene(c.text, c.options));
+    REQUIRE(ok.has_value());
+    CHECK_FALSE(*ok);
+    CHECK(d.has_errors());
+    CHECK(d.scene() == good);
+}
+
+TEST_CASE("a big draft is not parsed to know whether panel edits may go into it: a check says") {
+    Document d;
+    // A text over the size parsed on the UI thread (a long comment at the end).
+    std::string big = std::string(rt::kDefaultScene) + "// " + std::string(Document::kSyncParseBytes, 'x') + "\n";
+    d.load_text(big, "", "big.txt");
+    REQUIRE(d.has_scene());
+    CHECK(d.edit_blocker().empty());  // no draft
+    CHECK_FALSE(d.blocker_pending());
+    d.typing_text().insert(0, "// a comment\n");
+    d.note_typed();
+    // Not known yet: edits wait, and a check is wanted.
+    CHECK_FALSE(d.edit_blocker().empty());
+    CHECK(d.blocker_pending());
+    Document::TextCheck c = d.text_check();
+    REQUIRE(d.take_check(c.key, rt::parse_scene(c.text, c.options).diagnostics));
+    CHECK(d.edit_blocker().empty());  // it parses
+    CHECK_FALSE(d.blocker_pending());
+    // A draft with an error: blocked once its check says so.
+    d.typing_text().insert(0, "oops ");
+    d.note_typed();
+    CHECK(d.blocker_pending() == false);  // (asked for only through edit_blocker())
+    const std::string waiting = d.edit_blocker();
+    CHECK(d.blocker_pending());
+    c = d.text_check();
+    REQUIRE(d.take_check(c.key, rt::parse_scene(c.text, c.options).diagnostics));
+    CHECK_FALSE(d.blocker_pending());
+    CHECK(d.edit_blocker().find("errors") != std::string::npos);
+    CHECK(d.edit_blocker() != waiting);
+}
+
 TEST_CASE("a panel edit is carried into a draft that parses") {
     Document d;
     d.load_text(rt::kDefaultScene, "", "default.txt");
-    std::string& t = d.editor_text();
+    std::string& t = d.typing_text();
     t.insert(0, "// my note\n");  // a draft change (still the same scene)
     d.edit().camera.angle_y = 50;
     d.commit();
@@ -134,7 +203,7 @@ TEST_CASE("a panel edit that cannot be written into a broken draft is not made: 
     Document d;
     d.load_text(rt::kDefaultScene, "", "default.txt");
     const rt::Scene scene = d.scene();
-    d.editor_text().insert(0, "{ broken\n");  // (after `end` it would be ignored)
+    d.typing_text().insert(0, "{ broken\n");  // (after `end` it would be ignored)
     const std::string draft = d.editor_text();
     CHECK_FALSE(d.edit_blocker().empty());  // the panels say so before an edit
     d.edit().lights[0].colour = {1, 2, 3};
@@ -161,7 +230,7 @@ TEST_CASE("a panel edit that cannot be written into a broken draft is not made: 
 TEST_CASE("saving applies a draft that parses first, so the file is the scene shown") {
     Document d;
     d.load_text(rt::kDefaultScene, "", "default.txt");
-    std::string& t = d.editor_text();
+    std::string& t = d.typing_text();
     t.replace(t.find("radius 1\n"), 9, "radius 0.75\n");
     CHECK_FALSE(d.save_problem());
     CHECK(d.apply_parsing_draft());
@@ -179,7 +248,7 @@ TEST_CASE("a file that does not parse opens with its text and errors, and no sce
     CHECK(d.editor_text() == "thing { sphere { radius x } }");
     // The file as it is: no changes of the user's until they type.
     CHECK_FALSE(d.unapplied());
-    d.editor_text() += " ";
+    d.typing_text() += " ";
     d.note_typed();
     CHECK(d.unapplied());
     CHECK(d.modified());
@@ -193,13 +262,13 @@ TEST_CASE("revert without a scene goes back to the file's text, never to an empt
     REQUIRE(d.load_file(p).ok());
     REQUIRE_FALSE(d.has_scene());
     // A broken file: Revert brings back its text.
-    d.editor_text() += "// typed\n";
+    d.typing_text() += "// typed\n";
     d.note_typed();
     d.revert_text();
     CHECK(d.editor_text() == "thing {\nend\n");
     // Fixed, applied and saved; then the apply is undone: no scene again, and the file
     // as saved (it parses) is not kept. Revert leaves the text as it is.
-    d.editor_text() = rt::kDefaultScene;
+    d.typing_text() = rt::kDefaultScene;
     d.note_typed();
     REQUIRE(d.apply_text());
     REQUIRE(d.save().ok());
@@ -227,7 +296,7 @@ TEST_CASE("save writes the editor text atomically and clears the modified mark")
     CHECK(dir.files() == std::vector<std::string>{"scene.txt"});  // no temporary left
     CHECK(parse_ok(slurp(p)).camera.position == rt::Vec3{-2, 0, 3});  // the file has the camera
     // A draft with errors is saved as typed: the user's text is what gets saved.
-    d.editor_text() += "\nnot valid {";
+    d.typing_text() += "\nnot valid {";
     REQUIRE(d.save().ok());
     CHECK(slurp(p) == d.editor_text());
 }
@@ -494,7 +563,7 @@ void check_against_full_copies(std::uint32_t seed) {
             case 2: d.edit_camera().angle_y = 30 + r; d.commit(); stepped(); break;
             case 3: {
                 // Typing: a comment at the start (the text keeps parsing) or a stray word.
-                std::string& t = d.editor_text();
+                std::string& t = d.typing_text();
                 t.insert(0, next(4) == 0 ? "stray " : "// typed " + std::to_string(k) + "\n");
                 break;
             }
@@ -567,7 +636,7 @@ TEST_CASE("every undo step has a name: the edit's own, or what it changed; undo 
     CHECK(cd.undo_names(9) == Names{"Edit the scene", "Edit the scene camera", "Edit light 1", "Move sphere 2"});
     CHECK(cd.undo_names(2) == Names{"Edit the scene", "Edit the scene camera"});
     // Typing is a step of its own once something else happens; so is applying it.
-    d.editor_text() += "// a comment\n";
+    d.typing_text() += "// a comment\n";
     d.note_typed();
     CHECK(cd.undo_names(1) == Names{"Typing in the scene text"});
     REQUIRE(d.apply_text());

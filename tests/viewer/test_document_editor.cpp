@@ -68,7 +68,7 @@ TEST_CASE("recovery in the viewer: a drag is kept every tick as its items, the t
         CHECK(eventually(ed, [&] { return fs::exists(disk.file_for(path)) && !fs::exists(disk.held_file_for(path)); }));
         CHECK(disk.find(path) == ed.doc().editor_text());
         // Typed on: each tick writes what changed since the last.
-        ed.doc().editor_text() += "// more\n";
+        ed.doc().typing_text() += "// more\n";
         ed.doc().note_typed();
         CHECK(eventually(ed, [&] { return disk.find(path) == ed.doc().editor_text(); }));
         // Saved: no copy is left (one older than the file would be offered after a crash).

@@ -415,7 +415,7 @@ TEST_CASE("block patch: only what it can do in place") {
 TEST_CASE("item fields: with an unapplied draft, the edit reaches both texts with the block's comments") {
     Document doc;
     doc.load_text(kScene, "", "t.txt");
-    doc.editor_text() += "// a draft line\n";
+    doc.typing_text() += "// a draft line\n";
     doc.note_typed();
     REQUIRE(doc.editor_dirty());
     const ItemRef ref = obj(0);

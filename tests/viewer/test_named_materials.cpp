@@ -98,7 +98,7 @@ TEST_CASE("undo past an applied text that changed only definitions gives them ba
     // A draft that changes the unused corner of `post`'s definition and gold's colour.
     std::string draft = doc.editor_text();
     draft.replace(draft.find("corner_2 1 1 4"), 14, "corner_2 1 1 6");
-    doc.editor_text() = draft;
+    doc.typing_text() = draft;
     doc.note_typed();
     REQUIRE(doc.apply_text());
     CHECK(!(doc.scene().defined == start.defined));
@@ -283,7 +283,7 @@ TEST_CASE("a named material edited while the text has a draft that parses: carri
     std::string draft = kShared;
     draft.replace(draft.find("position 1 0 0"), 14, "position 1 2 0");
     draft.replace(draft.find("position 3 0 0"), 14, "position 3 1 0");
-    doc.editor_text() = draft;
+    doc.typing_text() = draft;
     doc.note_typed();
     REQUIRE(doc.unapplied());
     REQUIRE(doc.edit_blocker() == "");

@@ -430,7 +430,7 @@ TEST_CASE("scene edits through the document: one undo step each, undo and redo r
     // Not over an unapplied draft, and not when the result would not parse.
     CHECK_FALSE(doc.replace_text(0, 0, "thing { sphere {"));
     CHECK(std::as_const(doc).editor_text() == texts.back());
-    doc.editor_text() += "\n// typed";
+    doc.typing_text() += "\n// typed";
     doc.note_typed();
     auto e = delete_item(texts.back(), doc.scene(), {SceneItem::Kind::Object, 0});
     REQUIRE(e);
@@ -441,7 +441,7 @@ TEST_CASE("scene edits through the document after typing: the typing stays a ste
     const std::string text = kScene;
     Document doc;
     doc.load_text(text, "", "demo");
-    doc.editor_text().insert(0, "// typed\n");
+    doc.typing_text().insert(0, "// typed\n");
     doc.note_typed();
     REQUIRE(doc.apply_text());
     const std::string typed = std::as_const(doc).editor_text();

@@ -118,7 +118,7 @@ bool random_edit(Rng& rng, Document& doc) {
             return false;  // (an undo of a structural edit is one too: the world follows anyway)
         case 6: {  // typing in the text, then applying it: one object's radius
             const std::string before = doc.editor_text();
-            std::string& text = doc.editor_text();
+            std::string& text = doc.typing_text();
             const std::size_t at = text.find("radius 0.5");
             if (at != std::string::npos) text.replace(at, 10, "radius 0.625");
             doc.note_typed();
@@ -193,7 +193,7 @@ TEST_CASE("document: changes_since names the items each edit changed") {
 
     // A text applied with one changed number names that object; a new object changes
     // the lists.
-    std::string& text = doc.editor_text();
+    std::string& text = doc.typing_text();
     const std::size_t at = text.find("radius 0.5");
     REQUIRE(at != std::string::npos);
     text.replace(at, 10, "radius 0.75");

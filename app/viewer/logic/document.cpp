@@ -131,7 +131,7 @@ bool Document::modified() const {
 
 std::string Document::title() const { return name_ + (modified() ? "*" : "") + " - raytracer-view"; }
 
-std::string& Document::editor_text() {
+std::string& Document::typing_text() {
     // The caller may type into it: from now on the applied text needs its own copy,
     // and the text as it is now is where the typing starts.
     if (!applied_) applied_ = editor_;
@@ -168,7 +168,21 @@ bool Document::has_errors() const {
 bool Document::apply_text() {
     commit();
     flush_typing();
-    rt::ParseResult r = rt::parse_scene(editor_, parse_options(path_));
+    return apply_parsed(rt::parse_scene(editor_, parse_options(path_)));
+}
+
+Document::TextCheck Document::begin_apply() {
+    commit();
+    flush_typing();
+    return text_check();
+}
+
+std::optional<bool> Document::finish_apply(std::uint64_t key, rt::ParseResult r) {
+    if (key != text_key()) return std::nullopt;
+    return apply_parsed(std::move(r));
+}
+
+bool Document::apply_parsed(rt::ParseResult r) {
     diagnostics_ = r.diagnostics;
     if (!r.ok()) return false;
     normalize_applied();
@@ -196,11 +210,15 @@ bool Document::replace_text(std::size_t pos, std::size_t length, const std::stri
     return true;
 }
 
-void Document::check_text() { diagnostics_ = rt::parse_scene(editor_, parse_options(path_)).diagnostics; }
+void Document::check_text() {
+    diagnostics_ = rt::parse_scene(editor_, parse_options(path_)).diagnostics;
+    take_blocker(text_key(), !has_errors());
+}
 
 bool Document::take_check(std::uint64_t key, std::vector<rt::Diagnostic> diagnostics) {
     if (key != text_key()) return false;
     diagnostics_ = std::move(diagnostics);
+    take_blocker(key, !has_errors());
     return true;
 }
 

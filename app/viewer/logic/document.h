@@ -103,8 +103,15 @@ public:
     bool set_named_material(std::size_t k, const rt::Material& m);
     // Why panel and handle edits cannot be made now (empty: they can): the editor
     // holds unapplied changes that do not parse, so an edit could not be written into
-    // the text that Save writes. (Parses the draft once per change of the text.)
+    // the text that Save writes. (Parses the draft once per change of the text if it
+    // is smaller than kSyncParseBytes. A bigger draft is not parsed here: until a check
+    // of it (take_check()) says whether it parses, edits wait, and blocker_pending()
+    // says a check is wanted.)
     std::string edit_blocker() const;
+    bool blocker_pending() const { return blocker_pending_ && blocker_key_ == text_key(); }
+    // Texts up to this size are parsed on the UI thread when needed (a few
+    // milliseconds); bigger ones off it.
+    static constexpr std::size_t kSyncParseBytes = 1u << 20;
     // Why a commit() just now was not made (an edit that could not be carried into
     // the draft: the scene went back), once; empty if none.
     std::string take_refusal();
@@ -114,8 +121,9 @@ public:
 
     // --- editor ----------------------------------------------------------------
     // The text for a widget to edit in place: from here on the applied text is kept
-    // apart (a draft may begin).
-    std::string& editor_text();
+    // apart (a draft may begin) and the text counts as typed into (text_key() changes).
+    // Only for typing: a reader takes editor_text().
+    std::string& typing_text();
     const std::string& editor_text() const { return editor_; }
     // The text the scene was made from.
     const std::string& applied_text() const { return applied_ ? *applied_ : editor_; }
@@ -190,6 +198,13 @@ public:
     };
     TextCheck text_check() const { return {editor_, parse_options(path_), text_key()}; }
     bool take_check(std::uint64_t key, std::vector<rt::Diagnostic> diagnostics);
+    // apply_text() with the parse off the UI thread (a big text's takes seconds):
+    // begin_apply() ends a held edit and the typing step as apply_text() does and gives
+    // the text to parse; finish_apply() takes the parse and applies it as apply_text()
+    // would, if the text is still the one parsed (its key); else nothing changes and
+    // it returns nothing (the text changed meanwhile: parse it again).
+    TextCheck begin_apply();
+    std::optional<bool> finish_apply(std::uint64_t key, rt::ParseResult r);
     const std::vector<rt::Diagnostic>& diagnostics() const { return diagnostics_; }
     bool has_errors() const;
 
@@ -291,6 +306,7 @@ private:
     // Text typed into the editor since the last step becomes a step of its own
     // (every step's replacements hold for the text exactly as the previous step left it).
     void flush_typing();
+    bool apply_parsed(rt::ParseResult r);  // apply_text() once the text is parsed
     // Replaces the texts and scene as one undoable step (apply, revert, reload...).
     // `editor` null: the editor text stays; `scene` empty: the scene stays.
     void replace_state(const std::string* editor, std::optional<std::string> applied, std::optional<rt::Scene> scene,
@@ -399,6 +415,9 @@ private:
     std::string refusal_;
     mutable std::string blocker_;  // edit_blocker() for blocker_key_
     mutable std::uint64_t blocker_key_ = ~std::uint64_t(0);
+    mutable bool blocker_pending_ = false;  // blocker_ waits for a check of the draft
+    // edit_blocker()'s answer for the draft at `key` (if it is still the one asked about).
+    void take_blocker(std::uint64_t key, bool parses) const;
 };
 
 // FNV-1a of a text (the saved file's identity for modified()).

@@ -465,14 +465,23 @@ std::string Document::edit_blocker() const {
     if (key != blocker_key_) {
         blocker_key_ = key;
         blocker_.clear();
-        if (*applied_ != editor_) {
-            const rt::ParseResult draft = rt::parse_scene(editor_, parse_options(path_));
-            if (!draft.ok())
-                blocker_ = "The scene text has unapplied changes with errors: fix them (Ctrl+Enter applies) "
-                           "or revert them before editing here";
+        blocker_pending_ = false;
+        if (*applied_ != editor_ && editor_.size() >= kSyncParseBytes) {
+            blocker_pending_ = true;
+            blocker_ = "The scene text's unapplied changes are being checked: a moment";
+        } else if (*applied_ != editor_) {
+            take_blocker(key, rt::parse_scene(editor_, parse_options(path_)).ok());
         }
     }
     return blocker_;
+}
+
+void Document::take_blocker(std::uint64_t key, bool parses) const {
+    if (key != blocker_key_) return;
+    blocker_pending_ = false;
+    blocker_ = parses ? std::string()
+                      : "The scene text has unapplied changes with errors: fix them (Ctrl+Enter applies) "
+                        "or revert them before editing here";
 }
 
 std::string Document::take_refusal() {

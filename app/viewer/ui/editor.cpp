@@ -18,9 +18,6 @@ namespace {
 // Bigger texts are not edited in the widget: it holds a second copy of the text, as
 // lines (the document's copy is the first).
 constexpr std::size_t kMaxEditableBytes = 64u << 20;
-// Drafts up to this size are checked on the UI thread (a few milliseconds); bigger
-// ones off it.
-constexpr std::size_t kSyncCheckBytes = 1u << 20;
 }  // namespace
 
 DocumentEditor::~DocumentEditor() {
@@ -45,7 +42,7 @@ bool DocumentEditor::recovery_finding() {
 void DocumentEditor::settle_recovery_find() {
     if (!recovery_find_.valid()) return;
     std::optional<std::string> text = recovery_find_.get();
-    if (text && *text != std::as_const(doc_).editor_text()) {
+    if (text && *text != doc_.editor_text()) {
         recovered_text_ = std::move(*text);
         recovery_offer_ = true;
     }
@@ -121,9 +118,11 @@ void DocumentEditor::live_check(double now) {
         auto [key, diagnostics] = check_.get();
         if (!doc_.take_check(key, std::move(diagnostics)) && check_due_ < 0) check_due_ = now;
     }
+    // Panel edits wait for a check of a big draft (Document::edit_blocker): one now.
+    if (check_due_ < 0 && !check_.valid() && doc_.blocker_pending()) check_due_ = now;
     if (check_due_ < 0 || now < check_due_ || check_.valid()) return;
     check_due_ = -1;
-    if (doc_.editor_text().size() < kSyncCheckBytes) {
+    if (doc_.editor_text().size() < Document::kSyncParseBytes) {
         doc_.check_text();
         return;
     }
@@ -134,6 +133,7 @@ void DocumentEditor::live_check(double now) {
 
 void DocumentEditor::tick(double now) {
     recovery_finding();
+    finish_apply();
     // "The scene text has errors" once it has none (fixed, reverted, undone).
     if (status_.cause() == StatusLine::Cause::TextErrors && !doc_.has_errors()) status_.clear_if(StatusLine::Cause::TextErrors);
     // "... (Ctrl+Z undoes)" once Ctrl+Z would take back another step.
@@ -265,7 +265,33 @@ void DocumentEditor::focus(int cursor) {
 }
 
 void DocumentEditor::apply() {
-    bool ok = doc_.apply_text();
+    if (apply_.valid()) return;  // (under way: it applies the text as it is when it ends)
+    if (doc_.editor_text().size() < Document::kSyncParseBytes) {
+        applied(doc_.apply_text());
+        return;
+    }
+    // A big text's parse takes longer than a frame: off the UI thread, the window
+    // answering meanwhile.
+    apply_path_ = doc_.path();
+    apply_ = rt::process_pool().aside([c = doc_.begin_apply()] {
+        return std::pair{c.key, rt::parse_scene(c.text, c.options)};
+    });
+    status_.set("Applying the scene text (reading " + std::to_string(doc_.editor_text().size() >> 20) + " MB)...");
+}
+
+// A parse of apply() that ended: applied if the text is still the one parsed, else the
+// text as it is now is parsed again (what was typed meanwhile is applied too); dropped if
+// another document was opened meanwhile.
+void DocumentEditor::finish_apply() {
+    if (!apply_.valid() || !apply_.ready()) return;
+    auto [key, parsed] = apply_.get();
+    if (doc_.path() != apply_path_) return;
+
+    if (std::optional<bool> ok = doc_.finish_apply(key, std::move(parsed))) applied(*ok);
+    else apply();
+}
+
+void DocumentEditor::applied(bool ok) {
     if (ok) status_.set("Applied the scene text");
     else status_.set("The scene text has errors; still showing the last good scene", true, StatusLine::Cause::TextErrors);
 }
@@ -383,9 +409,9 @@ void DocumentEditor::sync_widget() {
         if (seen_version_ != 0 && doc_.text_changes_since(seen_version_, changes)) {
             for (const TextReplacement& c : changes) widget_.buffer().follow_replacement(c.offset, c.length, c.text);
         } else if (seen_version_ == 0) {
-            widget_.start_over(std::as_const(doc_).editor_text());  // another document
+            widget_.start_over(doc_.editor_text());  // another document
         } else {
-            widget_.set_text(std::as_const(doc_).editor_text());
+            widget_.set_text(doc_.editor_text());
         }
         widget_.buffer().set_logging(true);
         seen_version_ = doc_.text_version();
@@ -497,12 +523,12 @@ std::vector<std::string> DocumentEditor::diagnostic_lines(float& list_h) const {
 // if typing changed the text, which then goes into the document's draft.
 bool DocumentEditor::draw_text_widget(float height) {
     bool changed = false;
-    if (std::as_const(doc_).editor_text().size() > kMaxEditableBytes) {
+    if (doc_.editor_text().size() > kMaxEditableBytes) {
         ImGui::BeginChild("##too_big", ImVec2(-1, height), true);
         ImGui::TextWrapped("This scene text is %.0f MB: too large to edit here. The panels still edit it "
                            "(each change rewrites only its own block), and changes made to the file in "
                            "another editor are reloaded by themselves.",
-                           double(std::as_const(doc_).editor_text().size()) / (1 << 20));
+                           double(doc_.editor_text().size()) / (1 << 20));
         ImGui::EndChild();
         active_ = false;
     } else {
@@ -510,7 +536,7 @@ bool DocumentEditor::draw_text_widget(float height) {
         changed = widget_.draw("scene_text", ImVec2(-1, height));
         active_ = widget_.focused();
         if (changed) {
-            std::string& text = doc_.editor_text();
+            std::string& text = doc_.typing_text();
             for (const BufferEdit& e : widget_.buffer().take_edits()) text.replace(e.offset, e.removed.size(), e.inserted);
             doc_.note_typed();
         }

@@ -61,7 +61,9 @@ public:
     bool active() const { return active_; }
     // ImGui's id of the text widget (a slider drag holds an edit open, the editor not).
     unsigned widget_id() const { return id_; }
-    bool wants_frames() const { return focus_ || pending_cursor_ >= 0 || check_due_ >= 0 || check_.valid(); }
+    bool wants_frames() const {
+        return focus_ || pending_cursor_ >= 0 || check_due_ >= 0 || check_.valid() || apply_.valid();
+    }
 
     // Drawing (inside the sidebar window).
     void draw_banners();   // recovery offer, disk conflict
@@ -124,6 +126,12 @@ private:
     // A big draft's live check, parsed off the UI thread: its text's key and diagnostics.
     rt::Job<std::pair<std::uint64_t, std::vector<rt::Diagnostic>>> check_;
     void live_check(double now);
+    // A big text's Apply, parsed off the UI thread: the parsed text's key and the parse
+    // (and the document it was for).
+    rt::Job<std::pair<std::uint64_t, rt::ParseResult>> apply_;
+    std::string apply_path_;
+    void finish_apply();
+    void applied(bool ok);  // the status line after an Apply
 };
 
 }  // namespace rtview
