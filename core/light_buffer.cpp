@@ -78,6 +78,96 @@ double origin_distance(const Vec3& lo, const Vec3& hi, float& rounded_down) {
     return dmin;
 }
 
+// A sphere light's cells list each box grown by its radius R, but a shadow ray from p
+// (d from the centre c) to a point q of the sphere needs less of that growth the nearer
+// the box is to p. Its point x = p + s (q - p) lies within s R of y = p + s (c - p), a
+// point of the segment from p to c, which the cell toward p holds; and x in a box whose
+// least distance from c is b gives b <= |x - c| <= (1 - s) d + s R, so (for b > R)
+// s <= (d - b) / (d - R): y lies in the box grown by w = R (d - b) / (d - R). A cell
+// that only the box grown by more than g reaches is then needed only while
+// R (d - b) > g (d - R), that is for d > R (b - g) / (R - g): its entry takes that
+// distance instead of b, so that the rays of nearer points stop before it. g comes from
+// the box's ranges grown by a few fractions of R: a cell outside the range grown by g
+// is reached only by more. Each range is cut into the rings between these ranges.
+constexpr int kLevels = 8;
+constexpr double kLevelFraction[kLevels] = {0, 1.0 / 32, 1.0 / 16, 1.0 / 8, 1.0 / 4, 3.0 / 8, 1.0 / 2, 3.0 / 4};
+
+// The float below x (with room for the rounding of the rays' points), as origin_distance().
+float rounded_down(double x) {
+    const double dm = x * (1 - 1e-3);
+    float f = float(dm);
+    if (double(f) > dm) f = std::nextafter(f, 0.0f);
+    return f;
+}
+
+// The distance an entry of a box b from the centre of a sphere light of radius R takes
+// in the cells reached only by the box grown by more than g (b already rounded down;
+// R and g with room for rounding: a larger R and a smaller g give a smaller distance).
+float ring_distance(float b, double R, double g) {
+    const double Rh = R * (1 + 1e-6), gl = g * (1 - 1e-6);
+    return double(b) > Rh ? std::max(b, rounded_down(Rh * (double(b) - gl) / (Rh - gl))) : b;
+}
+
+// Appends the cells of range `a` outside `in` (a range within it, i0 > i1 if none) as
+// up to four ranges with distance dmin.
+void add_ring(const CellRange& a, const CellRange& in, float dmin, std::vector<CellRange>& out) {
+    auto add = [&](int i0, int i1, int j0, int j1) {
+        if (i0 <= i1 && j0 <= j1) out.push_back({a.obj, dmin, a.face, i0, i1, j0, j1});
+    };
+    if (in.i0 > in.i1) return add(a.i0, a.i1, a.j0, a.j1);
+    add(a.i0, a.i1, a.j0, in.j0 - 1);
+    add(a.i0, a.i1, in.j1 + 1, a.j1);
+    add(a.i0, in.i0 - 1, in.j0, in.j1);
+    add(in.i1 + 1, a.i1, in.j0, in.j1);
+}
+
+// Replaces the ranges [first, end) of `ranges`, made for the box [lo, hi] (relative to
+// the light, not grown) with distance b (rounded down) from the light of radius R, by
+// their rings, each with its distance.
+void split_rings(std::vector<CellRange>& ranges, std::size_t first, const Vec3& lo, const Vec3& hi, float b,
+                 double R, int n, double tol, std::vector<CellRange>& grown) {
+    if (!(double(b) > R)) return;  // no ring would take a larger distance
+    // Per face of the full ranges, the range grown by each level's fraction, made to
+    // hold the level below (as they do but for rounding: a cell's level may only be
+    // lower) and to lie within the full range.
+    const std::size_t full = ranges.size() - first;
+    CellRange level[6][kLevels];
+    for (int L = 0; L < kLevels; ++L) {
+        const double w = R * kLevelFraction[L];
+        grown.clear();
+        face_ranges(lo - Vec3{w, w, w}, hi + Vec3{w, w, w}, 0, 0.0f, n, tol, grown);
+        for (std::size_t k = 0; k < full; ++k) {
+            const CellRange& a = ranges[first + k];
+            CellRange r = a;
+            r.i0 = 1, r.i1 = 0;
+            for (const CellRange& g : grown)
+                if (g.face == a.face) r.i0 = g.i0, r.i1 = g.i1, r.j0 = g.j0, r.j1 = g.j1;
+            if (L > 0 && level[k][L - 1].i0 <= level[k][L - 1].i1) {
+                const CellRange& q = level[k][L - 1];
+                if (r.i0 > r.i1) r = q;
+                r.i0 = std::min(r.i0, q.i0), r.i1 = std::max(r.i1, q.i1);
+                r.j0 = std::min(r.j0, q.j0), r.j1 = std::max(r.j1, q.j1);
+            }
+            if (r.i0 <= r.i1) {
+                r.i0 = std::max(r.i0, a.i0), r.i1 = std::min(r.i1, a.i1);
+                r.j0 = std::max(r.j0, a.j0), r.j1 = std::min(r.j1, a.j1);
+            }
+            level[k][L] = r;
+        }
+    }
+    for (std::size_t k = 0; k < full; ++k) {
+        const CellRange a = ranges[first + k];
+        CellRange inner = a;
+        inner.i0 = 1, inner.i1 = 0;
+        for (int L = 0; L <= kLevels; ++L) {
+            const CellRange& r = L < kLevels ? level[k][L] : a;
+            const float dmin = L == 0 ? b : ring_distance(b, R, R * kLevelFraction[L - 1]);
+            if (r.i0 <= r.i1) add_ring(r, inner, dmin, ranges), inner = r;
+        }
+    }
+    ranges.erase(ranges.begin() + std::ptrdiff_t(first), ranges.begin() + std::ptrdiff_t(first + full));
+}
+
 // Sorts the ranges by dmin, ties in their order (which is the objects' order): a
 // stable radix sort on dmin's bits, which order like the values since dmin >= 0.
 void sort_nearest_first(std::vector<CellRange>& ranges) {
@@ -153,6 +243,7 @@ LightBuffer build_light_buffer(const Boxes& boxes, const Vec3& light, int n, dou
     const double tol = 2 * kCellPad / n;  // the padding in face coordinates
     std::vector<CellRange> ranges;
     std::vector<Entry> always;
+    std::vector<CellRange> grown;  // split_rings()'s
     std::size_t total = 0, objects = 0;
     double near = HUGE_VAL;
     for (std::uint32_t obj = 0; obj < boxes.size(); ++obj) {
@@ -166,6 +257,7 @@ LightBuffer build_light_buffer(const Boxes& boxes, const Vec3& light, int n, dou
         // farther from the centre than p is (the distance along a segment is convex, and
         // the sphere's points are nearer), so only boxes within that distance can block.
         float df_box = 0;
+        const Vec3 lo_box = lo, hi_box = hi;
         if (pad > 0) {
             origin_distance(lo, hi, df_box);
             lo -= Vec3{pad, pad, pad}, hi += Vec3{pad, pad, pad};
@@ -189,6 +281,7 @@ LightBuffer build_light_buffer(const Boxes& boxes, const Vec3& light, int n, dou
             always.push_back({obj, df});
             continue;
         }
+        if (pad > 0) split_rings(ranges, first_range, lo_box, hi_box, df_box, pad, n, tol, grown);
         total += covered;
         if (total > kLightBufferMaxEntries * boxes.size() + 8 * cells) return lb;
     }

@@ -69,6 +69,38 @@ Scene random_scene(Rng& rng, const Vec3& light, int count) {
     return s;
 }
 
+// Checks that every object the exact hit test finds on the shadow segment from p to q
+// (a point of the light, whose buffer lb is centred at `light`) is listed in the cell
+// toward p, [first, last), or among lb.always, with a distance no larger than reach.
+// Counts the objects found in `hits`.
+void check_segment(const Geometry& g, const LightBuffer& lb, const Vec3& light, const Vec3& p, const Vec3& q,
+                   double reach, int& hits, const LightBuffer::Entry*& first, const LightBuffer::Entry*& last) {
+    const Vec3 v = q - p;
+    const double r = length(v);
+    const Vec3 vh = v / r, o = p + vh * kDelta;
+    const double limit = r - 10 * kDelta;
+    lb.cell(p - light, first, last);
+    SpanScratch scratch;
+    auto has = [&](std::uint32_t obj, const LightBuffer::Entry* a, const LightBuffer::Entry* b) {
+        for (; a != b; ++a)
+            if (a->obj == obj) return !(double(a->dmin) > reach);
+        return false;
+    };
+    for (std::uint32_t obj = 0; obj < g.object_bounds.size(); ++obj) {
+        SpanEnd e;
+        if (!g.hit(obj, o, vh, 0.0, e, scratch) || !(e.t < limit)) continue;
+        ++hits;
+        if (!has(obj, first, last) && !has(obj, lb.always.data(), lb.always.data() + lb.always.size())) {
+            CAPTURE(rt_test::fmt(p));
+            CAPTURE(rt_test::fmt(q));
+            CAPTURE(rt_test::fmt(light));
+            CAPTURE(obj);
+            CAPTURE(e.t);
+            FAIL("an object on the segment is missing from its cell");
+        }
+    }
+}
+
 }  // namespace
 
 TEST_CASE("light buffer: every object on a segment to the light is listed in its cell") {
@@ -82,7 +114,6 @@ TEST_CASE("light buffer: every object on a segment to the light is listed in its
         LightBuffer lb = LightBuffer::build(g.object_bounds, light, n);
         REQUIRE(lb.n == n);
         REQUIRE(lb.start.size() == 6 * std::size_t(n) * n + 1);
-        SpanScratch scratch;
         for (int k = 0; k < 3000; ++k) {
             // Points on and near objects (where shadow rays start) and anywhere.
             Vec3 p = k % 2 ? rng.in_ball(30) : g.object_bounds[rng.index(g.object_bounds.size())].centre() +
@@ -91,31 +122,10 @@ TEST_CASE("light buffer: every object on a segment to the light is listed in its
             double r = length(v);
             if (!(r > 1e-3)) continue;
             if (!lb.usable(p, r)) continue;
-            Vec3 vh = v / r;
-            Vec3 o = p + vh * kDelta;
-            double limit = r - 10 * kDelta;
             const LightBuffer::Entry *first, *last;
-            lb.cell(p - light, first, last);
+            check_segment(g, lb, light, p, light, r, hits, first, last);
             listed_total += int(last - first);
             ++checked;
-            for (std::uint32_t obj = 0; obj < g.object_bounds.size(); ++obj) {
-                SpanEnd e;
-                if (!g.hit(obj, o, vh, 0.0, e, scratch) || !(e.t < limit)) continue;
-                ++hits;
-                auto has = [&](const LightBuffer::Entry* a, const LightBuffer::Entry* b) {
-                    for (; a != b; ++a)
-                        if (a->obj == obj) return !(double(a->dmin) > r);
-                    return false;
-                };
-                bool found = has(first, last) || has(lb.always.data(), lb.always.data() + lb.always.size());
-                if (!found) {
-                    CAPTURE(rt_test::fmt(p));
-                    CAPTURE(rt_test::fmt(light));
-                    CAPTURE(obj);
-                    CAPTURE(e.t);
-                    FAIL("an object on the segment is missing from its cell");
-                }
-            }
         }
     }
     // The property was exercised: many segments were blocked, and the cells hold far
@@ -123,6 +133,49 @@ TEST_CASE("light buffer: every object on a segment to the light is listed in its
     CHECK(checked > 15000);
     CHECK(hits > 3000);
     CHECK(double(listed_total) / checked < 40);
+}
+
+TEST_CASE("light buffer: a sphere light's cells hold every object on a segment from p to the sphere, sorted") {
+    // A sphere light's entries take a larger distance where only the box grown by much of
+    // the radius reaches the cell (light_buffer.cpp): a ray from a point nearer the light
+    // stops before them. Every object that the exact hit test finds on a segment from p
+    // to a point of the sphere must still be listed in the cell toward p (from the
+    // centre), with a distance no larger than p's from the centre.
+    Rng rng(3841);
+    int checked = 0, hits = 0;
+    std::size_t culled = 0, kept = 0;
+    for (int round = 0; round < 6; ++round) {
+        const Vec3 light = rng.in_ball(15);
+        const double R = round % 3 == 2 ? rng.uni(2, 4) : rng.uni(0.05, 1);
+        Scene scene = random_scene(rng, light, 40 + 30 * round);
+        Geometry g = build_geometry(scene);
+        const int n = round % 2 ? 64 : 16;
+        LightBuffer lb = LightBuffer::build(g.object_bounds, light, n, R);
+        REQUIRE(lb.n == n);
+        for (std::size_t c = 0; c + 1 < lb.start.size(); ++c)
+            for (std::uint32_t k = lb.start[c]; k + 1 < lb.start[c + 1]; ++k)
+                REQUIRE(!(lb.entries[k + 1].dmin < lb.entries[k].dmin));
+        for (int k = 0; k < 4000; ++k) {
+            const Vec3 p = k % 2 ? rng.in_ball(30)
+                                 : g.object_bounds[rng.index(g.object_bounds.size())].centre() + rng.in_ball(3);
+            const double d = length(light - p);
+            if (!(d > R) || !lb.usable(p, d)) continue;
+            // A point of the sphere, or inside it.
+            const Vec3 q = light + (k % 3 ? rng.unit() * R : rng.in_ball(R));
+            const LightBuffer::Entry *first, *last;
+            check_segment(g, lb, light, p, q, d, hits, first, last);
+            ++checked;
+            for (const LightBuffer::Entry* e = first; e != last; ++e) {
+                const Aabb& b = g.object_bounds[e->obj];
+                const Vec3 gap = vmax(vmax(b.lo - light, light - b.hi), Vec3{0, 0, 0});
+                if (!(length(gap) > d)) ++(double(e->dmin) > d ? culled : kept);
+            }
+        }
+    }
+    CHECK(checked > 15000);
+    CHECK(hits > 3000);
+    // The larger distances spare many of the tests that the grown boxes alone would ask.
+    CHECK(culled > kept / 3);
 }
 
 TEST_CASE("light buffer: each cell lists its objects once, nearest box first (ties: earlier object first)") {
