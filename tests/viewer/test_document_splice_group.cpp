@@ -198,3 +198,38 @@ TEST_CASE("document splice group: random groups in one pass equal their edits sp
         CHECK(deletes > 15);
     }
 }
+
+TEST_CASE("document splice group: a group the one pass does not take (a delete and a copy) goes edit by edit") {
+    Document doc, ref;
+    doc.load_text(scene_text(false), "", "groups.txt");
+    ref.load_text(scene_text(false), "", "groups.txt");
+    const std::string& t = std::as_const(doc).editor_text();
+    using K = SceneItem::Kind;
+    // Object 30 deleted and object 3 copied, the last in the text first.
+    std::optional<SceneEdit> del = delete_item(t, doc.scene(), {K::Object, 30}, doc.layout());
+    std::optional<SceneEdit> dup = duplicate_item(t, doc.scene(), {K::Object, 3}, {0, 1, 0}, doc.layout());
+    REQUIRE(del);
+    REQUIRE(dup);
+    REQUIRE(del->splice);
+    REQUIRE(dup->splice);
+    REQUIRE(del->replacement.offset > dup->replacement.offset);
+    const std::vector<Document::SpliceEdit> edits = {{del->replacement, *del->splice}, {dup->replacement, *dup->splice}};
+    std::uint64_t from = doc.content_version(), ref_from = ref.content_version();
+    REQUIRE(doc.splice_texts(edits, "mixed"));
+    for (const Document::SpliceEdit& e : edits)
+        REQUIRE(ref.replace_text(e.replacement.offset, e.replacement.length, e.replacement.text, "e", &e.splice));
+    agree(doc, ref, from, ref_from);
+    CHECK(doc.spliced_count() == 2);
+    from = doc.content_version(), ref_from = ref.content_version();
+    REQUIRE(doc.undo());
+    REQUIRE(ref.undo());
+    REQUIRE(ref.undo());
+    agree(doc, ref, from, ref_from);
+    from = doc.content_version(), ref_from = ref.content_version();
+    REQUIRE(doc.redo());
+    REQUIRE(ref.redo());
+    REQUIRE(ref.redo());
+    agree(doc, ref, from, ref_from);
+    CHECK(doc.spliced_count() == 6);
+    CHECK(doc.group_passes() == 0);
+}
