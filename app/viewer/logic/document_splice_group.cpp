@@ -13,7 +13,6 @@
 #include <string_view>
 #include <utility>
 
-#include "parallel.h"
 #include "splice_locs.h"
 
 namespace rtview {
@@ -188,52 +187,37 @@ void rebuild_text(std::string& text, const Group& g) {
 }
 
 // `v` without the items at the sorted indices `at`, each item kept from `lo` on moved
-// once, front to back, and passed to fix(item, cursor). In two halves at once where a
-// worker is free: the items the second half writes over before the first half reads
-// them are set aside first.
+// once, front to back, and passed to fix(item, cursor). (On one thread: split in two
+// halves on the process pool, as a single splice's move is, it took twice as long at a
+// load of 5 on two cores, the worker's half waiting for a core.)
 template <class T, class Fix>
 void compact(std::vector<T>& v, const std::vector<std::size_t>& at, std::size_t lo, const Fix& fix) {
-    const std::size_t n = v.size(), m = lo + (n - lo) / 2;
-    auto below = [&](std::size_t x) { return std::size_t(std::lower_bound(at.begin(), at.end(), x) - at.begin()); };
-    const std::size_t rm = below(m), aside = m - rm;
-    std::vector<T> saved;
-    for (std::size_t i = aside; i < m; ++i) saved.push_back(std::move(v[i]));
-    rt::two_ways(n - lo > (std::size_t(1) << 16), [&](int half) {
-        std::size_t j = below(half == 0 ? lo : m), cursor = 0;
-        for (std::size_t src = half == 0 ? lo : m, end = half == 0 ? m : n; src < end; ++src) {
-            if (j < at.size() && at[j] == src) {
-                ++j;
-                continue;
-            }
-            T& from = half == 0 && src >= aside ? saved[src - aside] : v[src];
-            if (j != 0 || &from != &v[src]) v[src - j] = std::move(from);
-            fix(v[src - j], cursor);
+    std::size_t j = 0, cursor = 0;
+    for (std::size_t src = lo; src < v.size(); ++src) {
+        if (j < at.size() && at[j] == src) {
+            ++j;
+            continue;
         }
-    });
+        if (j != 0) v[src - j] = std::move(v[src]);
+        fix(v[src - j], cursor);
+    }
     v.erase(v.end() - std::ptrdiff_t(at.size()), v.end());
 }
 
 // `v` with a new item before each item at the sorted indices `at` (the j-th new one,
 // make(j), lands at at[j] + j), each old item from `lo` on moved once, back to front,
-// and passed to fix(item, cursor); in two halves as compact() does.
+// and passed to fix(item, cursor).
 template <class T, class Fix, class Make>
 void spread(std::vector<T>& v, const std::vector<std::size_t>& at, std::size_t lo, const Fix& fix, const Make& make) {
-    const std::size_t n = v.size(), m = lo + (n - lo) / 2;
-    auto upto = [&](std::size_t x) { return std::size_t(std::upper_bound(at.begin(), at.end(), x) - at.begin()); };
-    const std::size_t q = m > 0 ? upto(m - 1) : 0, top = std::min(n, m + q);
-    std::vector<T> saved;
-    for (std::size_t i = m; i < top; ++i) saved.push_back(std::move(v[i]));
+    const std::size_t n = v.size();
     v.resize(n + at.size());
-    rt::two_ways(n - lo > (std::size_t(1) << 16), [&](int half) {
-        std::size_t j = at.size(), cursor = 0;
-        for (std::size_t src = half == 0 ? m : n, bottom = half == 0 ? lo : m; src-- > bottom;) {
-            while (j > 0 && at[j - 1] > src) --j;
-            T& from = half == 1 && src < top ? saved[src - m] : v[src];
-            if (j != 0 || &from != &v[src]) v[src + j] = std::move(from);
-            fix(v[src + j], cursor);
-        }
-    });
-    for (std::size_t j = 0; j < at.size(); ++j) v[at[j] + j] = make(j);
+    std::size_t j = at.size(), cursor = 0;
+    for (std::size_t src = n; src-- > lo;) {
+        while (j > 0 && at[j - 1] > src) --j;
+        if (j != 0) v[src + j] = std::move(v[src]);
+        fix(v[src + j], cursor);
+    }
+    for (j = 0; j < at.size(); ++j) v[at[j] + j] = make(j);
 }
 
 // List `list` of the scene or layout (`v`) after the group: its edits' items removed or
