@@ -277,7 +277,7 @@ TEST_CASE("document splice: a block that does not read alone, or a text with war
 
 namespace {
 
-// A group edit through Document::splice_texts (one undo step, every part spliced)
+// A group edit through Document::splice_texts (one undo step, every part spliced in one pass)
 // against the same edits made one by one in a second document and a fresh parse of the
 // text, then undone and redone (spliced too).
 void check_group(const std::string& text, const std::vector<SceneItem>& items, bool del, rt::Vec3 offset) {
@@ -299,6 +299,7 @@ void check_group(const std::string& text, const std::vector<SceneItem>& items, b
     REQUIRE(doc.splice_texts(g->splices, "group"));
     CHECK(doc.undo_depth() == depth + 1);
     CHECK(doc.spliced_count() == g->done);
+    CHECK(doc.group_passes() == 1);  // (in one pass, not edit by edit)
     CHECK(t == after);
     agrees_with_parse(doc);
     // The world hears of each object as a splice, in order.
@@ -322,6 +323,7 @@ void check_group(const std::string& text, const std::vector<SceneItem>& items, b
     CHECK(t == after);
     agrees_with_parse(doc);
     CHECK(doc.spliced_count() == 3 * g->done);
+    CHECK(doc.group_passes() == 3);
     REQUIRE(doc.undo());
     CHECK(t == before);
     agrees_with_parse(doc);
@@ -329,7 +331,7 @@ void check_group(const std::string& text, const std::vector<SceneItem>& items, b
 
 }  // namespace
 
-TEST_CASE("document splice: a group delete or duplicate is one step, spliced item by item, as the edits one by one") {
+TEST_CASE("document splice: a group delete or duplicate is one step, spliced in one pass, as the edits one by one") {
     using K = SceneItem::Kind;
     const std::vector<std::vector<SceneItem>> sets = {
         {{K::Light, 1}, {K::Object, 2}, {K::Object, 0}},

@@ -167,10 +167,10 @@ public:
     // Several structural edits as one undo step (a group Delete or Duplicate): each a
     // replacement of the text with the ItemSplice that says what it does to the scene (as
     // replace_text() takes one), made in the order given, each on the text and the scene
-    // the ones before it left. Each is spliced as replace_text() splices one, and so are
-    // the step's undo and redo: N edits cost about N single splices, not a parse of the
-    // whole text. False, with nothing changed, when one of them cannot be spliced (the
-    // caller then replaces the text as a whole).
+    // the ones before it left. They are spliced as replace_text() splices one, all in one
+    // pass over the text and the lists, and so are the step's undo and redo: N edits cost
+    // about one single splice, not a parse of the whole text. False, with nothing changed,
+    // when one of them cannot be spliced (the caller then replaces the text as a whole).
     struct SpliceEdit {
         TextReplacement replacement;
         ItemSplice splice;
@@ -183,6 +183,9 @@ public:
     // How many edits, undos and redos so far were made by splicing one item (for tests
     // and benchmarks: the rest parsed the whole text).
     std::uint64_t spliced_count() const { return spliced_count_; }
+    // How many group steps (splice_texts(), and their undos and redos) were made in one
+    // pass over the text and the lists (for tests: the rest went edit by edit).
+    std::uint64_t group_passes() const { return group_passes_; }
     // Puts `text` in the editor as an unapplied draft (undoable): crash recovery.
     void restore_draft(const std::string& text);
     // Re-parses the draft to refresh diagnostics() without applying it (live check).
@@ -324,6 +327,16 @@ private:
     // (as made) or back: the text's replacement at `pos` of `removed` by `inserted` is made.
     void apply_splice(const SplicedItem& s, bool forward, std::size_t pos, std::string_view removed,
                       std::string_view inserted, bool layout_valid);
+    // The edits of a group step (DocStep::spliced_many), made forward or back, as one pass
+    // over the text, the scene's lists and (when `layout_valid`) the layout; false, with
+    // nothing changed, when they are not in the order that needs (document_splice_group.cpp).
+    bool apply_group(const DocStep& s, bool forward, bool layout_valid);
+    // splice_texts()'s edits planned, each on the text as it is, into `step`; false if
+    // one cannot be spliced.
+    bool plan_group(const std::vector<SpliceEdit>& edits, DocStep& step) const;
+    // splice_texts()'s edits made one after the other, each planned on what the ones
+    // before it left, into `step`; false, with nothing changed, if one cannot be spliced.
+    bool splice_each(const std::vector<SpliceEdit>& edits, DocStep& step);
     // The source positions of the scene's own items (and definitions, includes, the
     // camera) and of the diagnostics after the editor text's replacement at `pos` of
     // `removed` by `inserted`, just made, moved as the text did: the scene is the
@@ -409,7 +422,7 @@ private:
     std::uint64_t layout_key(std::uint64_t ahead = 0) const {
         return text_key_of(text_version_ + ahead, typed_);
     }
-    std::uint64_t spliced_count_ = 0;
+    std::uint64_t spliced_count_ = 0, group_passes_ = 0;
     bool conflict_ = false;
     std::string conflict_text_;
     std::string refusal_;

@@ -173,7 +173,9 @@ void Document::apply_step(const DocStep& s, bool forward) {
     std::vector<rt::Diagnostic> reparsed;
     const std::vector<TextReplacement>& made = forward ? s.editor : s.editor_back;
     const std::vector<TextReplacement>& undone = forward ? s.editor_back : s.editor;
-    for (std::size_t k = 0; k < made.size(); ++k) {
+    // A group's edits: the text, the scene and the layout in one pass where they allow it.
+    const bool grouped = !s.spliced_many.empty() && apply_group(s, forward, layout_valid);
+    for (std::size_t k = 0; k < made.size() && !grouped; ++k) {
         const TextReplacement& r = made[forward ? k : made.size() - 1 - k];
         editor_.replace(r.offset, r.length, r.text);
         const std::size_t i = forward ? k : made.size() - 1 - k;
@@ -187,6 +189,8 @@ void Document::apply_step(const DocStep& s, bool forward) {
         const TextReplacement& back = s.editor_back[0];
         apply_splice(*s.spliced, forward, r.offset, forward ? back.text : r.text, forward ? r.text : back.text,
                      layout_valid);
+    } else if (grouped) {
+        // (Made above.)
     } else if (!s.spliced_many.empty() && s.editor.size() == s.spliced_many.size() &&
                s.editor_back.size() == s.spliced_many.size()) {
         // (The text is replaced above; each splice follows it in turn, the last first

@@ -12,61 +12,21 @@
 
 #include "parallel.h"
 #include "scene_writer.h"
+#include "splice_locs.h"
 
 namespace rtview {
 
 namespace {
 
-// The line and column (the parser's: LF, CR LF and a lone CR end a line; columns count
-// bytes from 1) after `text`, which starts at `at`.
-rt::SourceLoc advance(rt::SourceLoc at, std::string_view text) {
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        const char c = text[i];
-        if (c == '\n' || c == '\r') {
-            if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
-            ++at.line;
-            at.col = 1;
-        } else {
-            ++at.col;
-        }
-    }
-    return at;
-}
-
 // The line and column of byte `target` of `text`, from those of byte `anchor` (only
 // the text between them, and the start of target's line, is read).
 rt::SourceLoc loc_at(std::string_view text, std::size_t anchor, rt::SourceLoc anchor_loc, std::size_t target) {
-    if (target >= anchor) return advance(anchor_loc, text.substr(anchor, target - anchor));
+    if (target >= anchor) return loc_after(anchor_loc, text.substr(anchor, target - anchor));
     std::size_t start = target;
     while (start > 0 && text[start - 1] != '\n' && text[start - 1] != '\r') --start;
-    const rt::SourceLoc from_start = advance({1, 1}, text.substr(start, anchor - start));
+    const rt::SourceLoc from_start = loc_after({1, 1}, text.substr(start, anchor - start));
     return {anchor_loc.line - (from_start.line - 1), int(target - start) + 1};
 }
-
-bool before(const rt::SourceLoc& a, const rt::SourceLoc& b) {
-    return a.line < b.line || (a.line == b.line && a.col < b.col);
-}
-
-// Where the source positions after a replacement go: those from the end of the text
-// it removed on move to the end of the text it inserted.
-struct LocShift {
-    rt::SourceLoc old_end, new_end;
-    bool none() const { return old_end.line == new_end.line && old_end.col == new_end.col; }
-    void operator()(rt::SourceLoc& l) const {
-        if (l.line <= 0 || before(l, old_end)) return;
-        if (l.line == old_end.line) {
-            l.col = new_end.col + (l.col - old_end.col);
-            l.line = new_end.line;
-        } else {
-            l.line += new_end.line - old_end.line;
-        }
-    }
-    void operator()(rt::Object& o) const {
-        (*this)(o.loc);
-        if (rt::Csg* g = std::get_if<rt::Csg>(&o.shape))
-            for (rt::Object& k : g->operands) (*this)(k);
-    }
-};
 
 // A source position of the block parsed on its own (after `prefix` bytes on its first
 // line) as one of the text, the block's text starting at `at`.
@@ -84,13 +44,6 @@ struct LocMap {
             for (rt::Object& k : g->operands) (*this)(k);
     }
 };
-
-std::vector<TextSpan>& spans_of(SceneLayout& l, ItemList list) {
-    return list == ItemList::Object ? l.objects : list == ItemList::Plane ? l.planes : l.lights;
-}
-const std::vector<TextSpan>& spans_of(const SceneLayout& l, ItemList list) {
-    return list == ItemList::Object ? l.objects : list == ItemList::Plane ? l.planes : l.lights;
-}
 
 std::size_t count_of(const rt::Scene& s, ItemList list) {
     return list == ItemList::Object ? s.objects.size() : list == ItemList::Plane ? s.planes.size() : s.lights.size();
@@ -300,7 +253,7 @@ void shift_positions(rt::Scene& scene, const LocShift& shift, bool objects_shift
 // word at a time where the text has no CR).
 rt::SourceLoc loc_of_offset(std::string_view text, std::size_t pos) {
     const std::string_view head = text.substr(0, pos);
-    if (head.find('\r') != std::string_view::npos) return advance({1, 1}, head);
+    if (head.find('\r') != std::string_view::npos) return loc_after({1, 1}, head);
     const std::size_t lines = std::size_t(std::count(head.begin(), head.end(), '\n'));
     const std::size_t ls = head.rfind('\n');
     return {int(lines) + 1, int(pos - (ls == std::string_view::npos ? 0 : ls + 1)) + 1};
@@ -311,7 +264,7 @@ rt::SourceLoc loc_of_offset(std::string_view text, std::size_t pos) {
 rt::SourceLoc Document::follow_positions(std::size_t pos, std::string_view removed, std::string_view inserted,
                                         const rt::SourceLoc* known) {
     const rt::SourceLoc at = known && known->line > 0 ? *known : loc_of_offset(editor_, pos);
-    const LocShift shift{advance(at, removed), advance(at, inserted)};
+    const LocShift shift{loc_after(at, removed), loc_after(at, inserted)};
     if (shift.none()) return at;
     if (scene_.includes.empty() && shift.old_end.line == shift.new_end.line) {
         // The same lines: only what follows on the replacement's last line moves (the
@@ -405,7 +358,7 @@ bool Document::plan_splice(std::size_t pos, std::size_t length, const std::strin
     // that shares it: those texts are parsed whole.
     for (const rt::NamedObject& d : scene_.defined)
         if (!before(d.loc, s.at)) return false;
-    const rt::SourceLoc removed_end = advance(s.at, std::string_view(editor_).substr(pos, length));
+    const rt::SourceLoc removed_end = loc_after(s.at, std::string_view(editor_).substr(pos, length));
     for (const rt::NamedMaterial& m : scene_.materials)
         if (!before(m.loc, s.at) && before(m.loc, removed_end)) return false;
     if (sp.op != ItemSplice::Op::Insert) {
@@ -441,51 +394,6 @@ bool Document::splice_text(std::size_t pos, std::size_t length, const std::strin
     return true;
 }
 
-bool Document::splice_texts(const std::vector<SpliceEdit>& edits, const std::string& name) {
-    if (edits.empty() || held_) return false;
-    flush_typing();  // text typed since the last step is a step of its own, first
-    normalize_applied();
-    if (!has_scene_ || applied_ || behind_ || !scene_.includes.empty() || !diagnostics_.empty()) return false;
-    if (!layout() || !layout_matches(*layout_, scene_)) return false;
-    DocStep step;
-    step.name = name;
-    step.has_scene_before = step.has_scene_after = true;
-    rt::SceneDelta delta;
-    bool ok = true;
-    // Each edit planned on the text, scene and layout the ones before it left (the
-    // layout is kept in step by apply_splice: it is read directly, not through layout()).
-    for (const SpliceEdit& e : edits) {
-        const TextReplacement& r = e.replacement;
-        SplicedItem s;
-        if (r.empty() || !plan_splice(r.offset, r.length, r.text, e.splice, *layout_, s)) {
-            ok = false;
-            break;
-        }
-        step.made(r, editor_);
-        editor_.replace(r.offset, r.length, r.text);
-        apply_splice(s, true, r.offset, step.editor_back.back().text, r.text, true);
-        delta.merge(splice_delta(s));
-        step.spliced_many.push_back(std::move(s));
-    }
-    if (!ok) {
-        // Those made go back, the last first; the layout is scanned again when next asked for.
-        for (std::size_t k = step.spliced_many.size(); k-- > 0;) {
-            const TextReplacement& r = step.editor[k];
-            const TextReplacement& back = step.editor_back[k];
-            editor_.replace(back.offset, back.length, back.text);
-            apply_splice(step.spliced_many[k], false, r.offset, r.text, back.text, false);
-        }
-        spliced_count_ -= 2 * step.spliced_many.size();
-        layout_.reset();
-        return false;
-    }
-    ++scene_version_;
-    changed(std::move(delta));
-    text_changed(step, true);
-    record(std::move(step));
-    return true;
-}
-
 void Document::apply_splice(const SplicedItem& s, bool forward, std::size_t pos, std::string_view removed,
                             std::string_view inserted, bool layout_valid) {
     using Op = ItemSplice::Op;
@@ -496,7 +404,7 @@ void Document::apply_splice(const SplicedItem& s, bool forward, std::size_t pos,
     const rt::Scene& value = forward ? s.after : s.before;
     const TextSpan block = forward ? s.block_after : s.block_before;
     const std::size_t i = s.index;
-    const LocShift shift{advance(s.at, removed), advance(s.at, inserted)};
+    const LocShift shift{loc_after(s.at, removed), loc_after(s.at, inserted)};
     // The objects after the place move in the list and in the text in one pass over
     // them (a million objects' list is hundreds of MB: each pass costs).
     bool objects_shifted = false;
