@@ -56,6 +56,12 @@ void TextBuffer::set_text(std::string_view text) {
     // The line starts are indexed here, in the pass that splits the lines, not by the
     // first edit (a first key in a 99 MB text would pay a pass over its 2.8M lines).
     starts_.clear();
+    // (Sized first: a 28 MB text has 1.75M lines, and the three lists grown a line at
+    // a time copied themselves twenty times over.)
+    const std::size_t lines = std::size_t(std::count(text.begin(), text.end(), '\n')) + 1;
+    lines_.reserve(lines);
+    widths_.reserve(lines);
+    starts_.reserve(lines);
     std::size_t i = 0;
     for (;;) {
         std::size_t nl = text.find('\n', i);
