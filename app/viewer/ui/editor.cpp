@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "imgui_common.h"
+#include "panel_widgets.h"
 #include "probe.h"
 #include "scene_text.h"
 
@@ -320,7 +321,7 @@ void DocumentEditor::draw_orphans() {
         ImGui::TextWrapped("%s, %s, %s", name.c_str(), when, size.c_str());
         const bool open = ImGui::SmallButton("Open it");
         probe_item("button_open_orphan_" + std::to_string(k + 1));
-        ImGui::SameLine();
+        same_line_if_fits("Discard");
         const bool drop = ImGui::SmallButton("Discard");
         probe_item("button_discard_orphan_" + std::to_string(k + 1));
         ImGui::PopID();
@@ -369,7 +370,7 @@ void DocumentEditor::draw_banners() {
             status_.set_about_step("Restored the unsaved text into the editor (Ctrl+Enter applies it, Ctrl+Z undoes)",
                                    doc_.history_changes());
         }
-        ImGui::SameLine();
+        same_line_if_fits("Discard it");
         if (ImGui::Button("Discard it")) {
             if (recovery_write_.valid()) recovery_write_.wait();
             recovery_busy();
@@ -391,7 +392,7 @@ void DocumentEditor::draw_banners() {
             doc_.resolve_conflict_reload();
             reloaded_status("Reloaded " + doc_.name() + " (Ctrl+Z brings your edits back)");
         }
-        ImGui::SameLine();
+        same_line_if_fits("Keep mine");
         const bool keep = ImGui::Button("Keep mine");
         probe_item("button_disk_keep");
         if (keep) doc_.resolve_conflict_keep();
@@ -465,13 +466,6 @@ void DocumentEditor::draw_text_tab(Layout& layout) {
 // Apply, Revert, whether the text is the scene, wrap; and a warning while panel edits
 // cannot reach the text.
 void DocumentEditor::draw_text_toolbar() {
-    // The row wraps when the next item would run past the panel's edge (large UI scale).
-    auto same_line_if_fits = [](const char* next, float extra = 0) {
-        const ImGuiStyle& st = ImGui::GetStyle();
-        const float w = ImGui::CalcTextSize(next).x + 2 * st.FramePadding.x + extra;
-        if (ImGui::GetItemRectMax().x + st.ItemSpacing.x + w <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x)
-            ImGui::SameLine();
-    };
     bool can_apply = doc_.editor_dirty() || doc_.has_errors();
     ImGui::BeginDisabled(!can_apply);
     if (ImGui::Button("Apply (Ctrl+Enter)")) apply();

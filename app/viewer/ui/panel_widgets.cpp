@@ -14,9 +14,9 @@ void wrapped_hint(const std::string& text) {
     wrapped_coloured(ImGui::GetStyle().Colors[ImGuiCol_TextDisabled], text);
 }
 
-void same_line_if_fits(const char* next) {
+void same_line_if_fits(const char* next, float extra) {
     const ImGuiStyle& st = ImGui::GetStyle();
-    const float w = ImGui::CalcTextSize(next, nullptr, true).x + 2 * st.FramePadding.x;
+    const float w = ImGui::CalcTextSize(next, nullptr, true).x + 2 * st.FramePadding.x + extra;
     const float right = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
     if (ImGui::GetItemRectMax().x + st.ItemSpacing.x + w <= right) ImGui::SameLine();
 }

@@ -17,8 +17,9 @@ namespace rtview {
 void wrapped_coloured(const ImVec4& colour, const std::string& text);
 void wrapped_hint(const std::string& text);
 // SameLine() if a button labelled `next` still fits on the line, else the button goes
-// on the next line (a row of buttons wraps instead of running past the panel's edge).
-void same_line_if_fits(const char* next);
+// on the next line (a row of buttons wraps instead of running past the panel's edge);
+// `extra`: more width than the label's (a checkbox's box).
+void same_line_if_fits(const char* next, float extra = 0);
 bool drag_vec3(const char* label, rt::Vec3& v, float speed, const char* format = "%.3f");
 // The rectangle from `top_left`, `width` wide, down to the cursor.
 Rect item_block(const ImVec2& top_left, float width);
