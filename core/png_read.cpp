@@ -1,9 +1,12 @@
 // The PNG reader of png_read.h. The chunks are walked as stb_image walks them (the
-// CRCs unread, ancillary chunks skipped); the IDAT chunks' data, strung together, is
-// inflated by libdeflate into one buffer of the filtered rows. An RGB image is
-// unfiltered in that buffer, each row moved down over the filter bytes before it, so
-// the buffer becomes the texels without a second copy; the other kinds are unfiltered
-// row by row and spread to three bytes a texel.
+// CRCs unread, ancillary chunks skipped); the IDAT chunks' data (the file's own bytes
+// when there is one chunk, else strung together) is inflated by libdeflate into one
+// buffer of the filtered rows. An RGB image is unfiltered in that buffer, each row
+// moved down over the filter bytes before it, so the buffer becomes the texels without
+// a second copy; the other kinds are unfiltered row by row and spread to three bytes a
+// texel. The stream's Adler-32 is summed row by row just before each row is unfiltered
+// (one pass over the buffer for both, where a separate sum would read all of it from
+// memory once more).
 #include "png_read.h"
 
 #include <libdeflate.h>
@@ -12,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <vector>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -126,13 +130,13 @@ using Buffer = std::unique_ptr<std::uint8_t, PngFree>;
 
 Buffer allocate(std::size_t n) { return Buffer(static_cast<std::uint8_t*>(std::malloc(n ? n : 1))); }
 
-// What the chunks say: the header's fields, the palette and the IDAT data strung
-// together. False for a file this reader leaves to stb_image.
+// What the chunks say: the header's fields, the palette and where the IDAT chunks'
+// data lies in the file. False for a file this reader leaves to stb_image.
 struct Chunks {
     std::uint32_t width = 0, height = 0;
     unsigned colour = 0;
     std::uint8_t palette[256 * 3] = {};  // indices past the PLTE's entries read black
-    std::string data;
+    std::vector<std::string_view> idat;  // each chunk's data, in the file's order
 };
 
 bool read_chunks(const unsigned char* b, std::size_t size, Chunks& out) {
@@ -162,7 +166,7 @@ bool read_chunks(const unsigned char* b, std::size_t size, Chunks& out) {
         } else if (is("IDAT")) {
             if (out.colour == 3 && !have_palette) return false;
             seen_idat = true;
-            out.data.append(reinterpret_cast<const char*>(c), len);
+            out.idat.emplace_back(reinterpret_cast<const char*>(c), len);
         } else if (is("IEND")) {
             return seen_idat && out.width > 0 && out.height > 0 &&
                    out.width <= std::uint32_t(TextureLimits::max_side) &&
@@ -176,15 +180,17 @@ bool read_chunks(const unsigned char* b, std::size_t size, Chunks& out) {
     return false;  // no IEND
 }
 
-// The unfiltered rows r (each after its filter byte, `line` bytes apart) of a grey,
-// grey+alpha, RGBA or palette image, n bytes a pixel, spread to 3 bytes a texel.
-Buffer spread(const Chunks& k, std::uint8_t* r, std::size_t n, std::size_t line) {
+// The rows r (each after its filter byte, `line` bytes apart) of a grey, grey+alpha,
+// RGBA or palette image, n bytes a pixel, unfiltered and spread to 3 bytes a texel;
+// `adler` summed over the filtered rows.
+Buffer spread(const Chunks& k, std::uint8_t* r, std::size_t n, std::size_t line, std::uint32_t& adler) {
     const std::size_t width = k.width, stride = width * n;
     Buffer out = allocate(width * k.height * 3);
     if (!out) return nullptr;
     for (std::size_t y = 0; y < k.height; ++y) {
         // Unfiltered in place (dst == src) after the row above, whose bytes stay.
         std::uint8_t* row = r + y * line + 1;
+        adler = std::uint32_t(libdeflate_adler32(adler, row - 1, line));
         if (!unfilter(row[-1], row, y ? row - line : nullptr, row, stride, n)) return nullptr;
         std::uint8_t* o = out.get() + y * width * 3;
         for (std::size_t x = 0; x < width; ++x, o += 3) {
@@ -201,6 +207,25 @@ Buffer spread(const Chunks& k, std::uint8_t* r, std::size_t n, std::size_t line)
     return out;
 }
 
+// The IDAT chunks' data as one run of bytes: the file's own when it is one chunk,
+// else strung together in `joined`.
+std::string_view idat_stream(const Chunks& k, std::string& joined) {
+    if (k.idat.size() == 1) return k.idat[0];
+    std::size_t total = 0;
+    for (std::string_view c : k.idat) total += c.size();
+    joined.reserve(total);
+    for (std::string_view c : k.idat) joined += c;
+    return joined;
+}
+
+// A zlib header libdeflate's zlib reader takes: deflate with a window of at most 32 KB,
+// its check bits right, no preset dictionary.
+bool zlib_header(std::string_view z) {
+    if (z.size() < 2) return false;
+    const unsigned cmf = std::uint8_t(z[0]), flg = std::uint8_t(z[1]);
+    return (cmf & 15) == 8 && (cmf >> 4) <= 7 && (cmf * 256 + flg) % 31 == 0 && !(flg & 0x20);
+}
+
 }  // namespace
 
 std::unique_ptr<std::uint8_t, PngFree> read_png8(std::string_view bytes, int& w, int& h) {
@@ -208,28 +233,35 @@ std::unique_ptr<std::uint8_t, PngFree> read_png8(std::string_view bytes, int& w,
     if (!read_chunks(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), k)) return nullptr;
     const std::size_t n = k.colour == 0 ? 1 : k.colour == 2 ? 3 : k.colour == 3 ? 1 : k.colour == 4 ? 2 : 4;
     const std::size_t stride = std::size_t(k.width) * n, line = stride + 1, raw_size = line * k.height;
+    std::string joined;
+    const std::string_view z = idat_stream(k, joined);
+    if (!zlib_header(z)) return nullptr;
     Decompressor inflater;
     if (!inflater.d) return nullptr;
     Buffer raw = allocate(raw_size);
     if (!raw) return nullptr;
     std::size_t used = 0, got = 0;
     // The stream must fill the rows exactly (stb_image takes a longer one; it is
-    // left to it) and its Adler-32 must match (stb_image does not look).
-    if (libdeflate_zlib_decompress_ex(inflater.d, k.data.data(), k.data.size(), raw.get(), raw_size, &used, &got) !=
+    // left to it) and end in its Adler-32 (checked below, which stb_image does not).
+    if (libdeflate_deflate_decompress_ex(inflater.d, z.data() + 2, z.size() - 2, raw.get(), raw_size, &used, &got) !=
                 LIBDEFLATE_SUCCESS ||
-        got != raw_size)
+        got != raw_size || z.size() - 2 - used < 4)
         return nullptr;
-    std::string().swap(k.data);
+    const std::uint32_t expected = be32(reinterpret_cast<const unsigned char*>(z.data()) + 2 + used);
+    std::string().swap(joined);
     std::uint8_t* r = raw.get();
+    std::uint32_t adler = 1;
     if (k.colour != 2) {
-        raw = spread(k, r, n, line);
+        raw = spread(k, r, n, line, adler);
     } else {
         // In place: row y's bytes move down by y + 1 (its and the rows' above filter bytes).
         for (std::size_t y = 0; y < k.height; ++y) {
             std::uint8_t* dst = r + y * stride;
+            adler = std::uint32_t(libdeflate_adler32(adler, r + y * line, line));
             if (!unfilter(r[y * line], r + y * line + 1, y ? dst - stride : nullptr, dst, stride, 3)) return nullptr;
         }
     }
+    if (adler != expected) return nullptr;
     if (raw) w = int(k.width), h = int(k.height);
     return raw;
 }

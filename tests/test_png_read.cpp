@@ -157,6 +157,59 @@ TEST_CASE("png reader: the renderer's own PNGs (strips of sync-flushed streams, 
     CHECK(std::memcmp(got.get(), rgb.data(), rgb.size()) == 0);
 }
 
+// The zlib stream of a PNG made by png_filtered (its IDAT chunks' data strung
+// together) made again into IDAT chunks of `idat` bytes.
+std::string with_stream(int w, int h, int colour, const std::string& z, std::size_t idat) {
+    std::string out = "\x89PNG\r\n\x1a\n";
+    png_chunk(out, "IHDR", png_ihdr(std::uint32_t(w), std::uint32_t(h), 8, colour));
+    for (std::size_t at = 0; at < z.size(); at += idat) png_chunk(out, "IDAT", z.substr(at, idat));
+    png_chunk(out, "IEND", "");
+    return out;
+}
+
+TEST_CASE("png reader: the stream's header and Adler-32 are checked, in one IDAT or many, for every kind of row") {
+    for (int colour : {0, 2, 4, 6}) {
+        CAPTURE(colour);
+        const int w = 11, h = 6;
+        const std::vector<unsigned char> px = pattern(std::size_t(w * h * channels(colour)), unsigned(colour) + 20);
+        const std::string one = png_filtered(w, h, colour, px, 1, 1u << 20);
+        // The stream: the single IDAT's data (after the signature, IHDR and the chunk's
+        // length and type; before its CRC, IEND's 12 bytes).
+        const std::string z = one.substr(8 + 25 + 8, one.size() - (8 + 25 + 8) - 4 - 12);
+        for (std::size_t idat : {std::size_t(1) << 20, std::size_t(9)}) {
+            CAPTURE(idat);
+            int rw = 0, rh = 0;
+            same_as_stb(with_stream(w, h, colour, z, idat));
+            // Any bit of the Adler-32 wrong: left to stb_image (which does not look).
+            for (std::size_t k = z.size() - 4; k < z.size(); ++k) {
+                std::string bad = z;
+                bad[k] = char(bad[k] ^ 0x10);
+                CHECK_FALSE(bool(read_png8(with_stream(w, h, colour, bad, idat), rw, rh)));
+            }
+            // Without its Adler-32, or with part of it: left too.
+            for (std::size_t cut : {1, 4})
+                CHECK_FALSE(bool(read_png8(with_stream(w, h, colour, z.substr(0, z.size() - cut), idat), rw, rh)));
+            // Bytes after it are not looked at (as libdeflate's zlib reader did).
+            CHECK(bool(read_png8(with_stream(w, h, colour, z + "junk", idat), rw, rh)));
+            // A preset dictionary (its check bits made right), a window over 32 KB, a
+            // method other than deflate, wrong check bits: left.
+            const auto header = [&](unsigned cmf, unsigned flg) {
+                flg = (flg & ~31u) | (31 - (cmf * 256 + (flg & ~31u)) % 31) % 31;
+                std::string other = z;
+                other[0] = char(cmf), other[1] = char(flg);
+                return with_stream(w, h, colour, other, idat);
+            };
+            CHECK(bool(read_png8(header(0x78, 0x80), rw, rh)));  // another level: taken
+            CHECK_FALSE(bool(read_png8(header(0x78, 0x20), rw, rh)));
+            CHECK_FALSE(bool(read_png8(header(0x88, 0x00), rw, rh)));
+            CHECK_FALSE(bool(read_png8(header(0x77, 0x00), rw, rh)));
+            std::string check = z;
+            check[1] = char(check[1] ^ 1);
+            CHECK_FALSE(bool(read_png8(with_stream(w, h, colour, check, idat), rw, rh)));
+        }
+    }
+}
+
 TEST_CASE("png reader: what it leaves to stb_image, which decodes or refuses it as before") {
     const std::vector<unsigned char> rgb = pattern(9 * 7 * 3, 3);
     const std::string good = png_filtered(9, 7, 2, rgb, 4);
