@@ -207,23 +207,85 @@ Buffer spread(const Chunks& k, std::uint8_t* r, std::size_t n, std::size_t line,
     return out;
 }
 
-// The IDAT chunks' data as one run of bytes: the file's own when it is one chunk,
-// else strung together in `joined`.
-std::string_view idat_stream(const Chunks& k, std::string& joined) {
-    if (k.idat.size() == 1) return k.idat[0];
-    std::size_t total = 0;
-    for (std::string_view c : k.idat) total += c.size();
-    joined.reserve(total);
-    for (std::string_view c : k.idat) joined += c;
-    return joined;
-}
-
 // A zlib header libdeflate's zlib reader takes: deflate with a window of at most 32 KB,
 // its check bits right, no preset dictionary.
 bool zlib_header(std::string_view z) {
     if (z.size() < 2) return false;
     const unsigned cmf = std::uint8_t(z[0]), flg = std::uint8_t(z[1]);
     return (cmf & 15) == 8 && (cmf >> 4) <= 7 && (cmf * 256 + flg) % 31 == 0 && !(flg & 0x20);
+}
+
+// Whether a stream filled its rows exactly, and the Adler-32 it ends in.
+struct Inflated {
+    bool ok = false;
+    std::uint32_t adler = 0;  // the one the stream ends in
+};
+
+// Inflates `z` (a zlib stream) into out, which it must fill exactly.
+Inflated inflate_whole(libdeflate_decompressor* d, std::string_view z, std::uint8_t* out, std::size_t size) {
+    std::size_t used = 0, got = 0;
+    // The stream must fill the rows exactly (stb_image takes a longer one; it is
+    // left to it) and end in its Adler-32 (checked by the caller, which stb_image does not).
+    if (!zlib_header(z) ||
+        libdeflate_deflate_decompress_ex(d, z.data() + 2, z.size() - 2, out, size, &used, &got) != LIBDEFLATE_SUCCESS ||
+        got != size || z.size() - 2 - used < 4)
+        return {};
+    return {true, be32(reinterpret_cast<const unsigned char*>(z.data()) + 2 + used)};
+}
+
+// Whether chunk data c ends as a sync flush does (the length fields of an empty stored block).
+bool sync_flushed(std::string_view c) {
+    return c.size() >= 4 && c.substr(c.size() - 4) == std::string_view("\0\0\xff\xff", 4);
+}
+
+// The stream inflated without stringing its chunks together, where every chunk but the
+// last ends in a sync flush (an empty stored block, byte-aligned: png.cpp's strips,
+// as in the bench's textures) and no piece refers back into the one before: each
+// piece but the last is copied, with an empty final block after it ("03 00"), to the
+// end of `out` (space its own output cannot reach yet) and inflated from there; the
+// last straight from the file. A piece must be taken whole, up to that final block, or
+// nothing is: a "00 00 ff ff" that was not a flush stops it (and the caller's Adler-32
+// check catches the rest).
+Inflated inflate_pieces(libdeflate_decompressor* d, const Chunks& k, std::uint8_t* out, std::size_t size) {
+    const std::vector<std::string_view>& c = k.idat;
+    if (c.size() < 2 || c[0].size() < 2 || !zlib_header(c[0])) return {};
+    for (std::size_t i = 0; i + 1 < c.size(); ++i)
+        if (!sync_flushed(c[i])) return {};
+    std::size_t at = 0;  // where the next piece's output goes
+    for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+        const std::string_view piece = i == 0 ? c[0].substr(2) : c[i];
+        const std::size_t len = piece.size() + 2;
+        if (len > size - at) return {};
+        std::uint8_t* copy = out + size - len;
+        std::memcpy(copy, piece.data(), piece.size());
+        copy[len - 2] = 3, copy[len - 1] = 0;
+        std::size_t used = 0, got = 0;
+        const libdeflate_result r =
+                libdeflate_deflate_decompress_ex(d, copy, len, out + at, size - len - at, &used, &got);
+        if (r != LIBDEFLATE_SUCCESS || used != len) return {};
+        at += got;
+    }
+    const std::string_view last = c.back();
+    std::size_t used = 0, got = 0;
+    if (libdeflate_deflate_decompress_ex(d, last.data(), last.size(), out + at, size - at, &used, &got) !=
+                LIBDEFLATE_SUCCESS ||
+        got != size - at || last.size() - used < 4)
+        return {};
+    return {true, be32(reinterpret_cast<const unsigned char*>(last.data()) + used)};
+}
+
+// The IDAT chunks' stream inflated into out (size bytes, to be filled exactly): in
+// pieces where it can be, else the file's own bytes when there is one chunk, else the
+// chunks' data strung together.
+Inflated inflate_idat(libdeflate_decompressor* d, const Chunks& k, std::uint8_t* out, std::size_t size) {
+    if (k.idat.size() == 1) return inflate_whole(d, k.idat[0], out, size);
+    if (Inflated pieces = inflate_pieces(d, k, out, size); pieces.ok) return pieces;
+    std::string joined;
+    std::size_t total = 0;
+    for (std::string_view c : k.idat) total += c.size();
+    joined.reserve(total);
+    for (std::string_view c : k.idat) joined += c;
+    return inflate_whole(d, joined, out, size);
 }
 
 }  // namespace
@@ -233,22 +295,12 @@ std::unique_ptr<std::uint8_t, PngFree> read_png8(std::string_view bytes, int& w,
     if (!read_chunks(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), k)) return nullptr;
     const std::size_t n = k.colour == 0 ? 1 : k.colour == 2 ? 3 : k.colour == 3 ? 1 : k.colour == 4 ? 2 : 4;
     const std::size_t stride = std::size_t(k.width) * n, line = stride + 1, raw_size = line * k.height;
-    std::string joined;
-    const std::string_view z = idat_stream(k, joined);
-    if (!zlib_header(z)) return nullptr;
     Decompressor inflater;
     if (!inflater.d) return nullptr;
     Buffer raw = allocate(raw_size);
     if (!raw) return nullptr;
-    std::size_t used = 0, got = 0;
-    // The stream must fill the rows exactly (stb_image takes a longer one; it is
-    // left to it) and end in its Adler-32 (checked below, which stb_image does not).
-    if (libdeflate_deflate_decompress_ex(inflater.d, z.data() + 2, z.size() - 2, raw.get(), raw_size, &used, &got) !=
-                LIBDEFLATE_SUCCESS ||
-        got != raw_size || z.size() - 2 - used < 4)
-        return nullptr;
-    const std::uint32_t expected = be32(reinterpret_cast<const unsigned char*>(z.data()) + 2 + used);
-    std::string().swap(joined);
+    const Inflated z = inflate_idat(inflater.d, k, raw.get(), raw_size);
+    if (!z.ok) return nullptr;
     std::uint8_t* r = raw.get();
     std::uint32_t adler = 1;
     if (k.colour != 2) {
@@ -261,7 +313,7 @@ std::unique_ptr<std::uint8_t, PngFree> read_png8(std::string_view bytes, int& w,
             if (!unfilter(r[y * line], r + y * line + 1, y ? dst - stride : nullptr, dst, stride, 3)) return nullptr;
         }
     }
-    if (adler != expected) return nullptr;
+    if (adler != z.adler) return nullptr;
     if (raw) w = int(k.width), h = int(k.height);
     return raw;
 }
