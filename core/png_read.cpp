@@ -1,12 +1,12 @@
 // The PNG reader of png_read.h. The chunks are walked as stb_image walks them (the
-// CRCs unread, ancillary chunks skipped); the IDAT chunks' data (the file's own bytes
-// when there is one chunk, else strung together) is inflated by libdeflate into one
-// buffer of the filtered rows. An RGB image is unfiltered in that buffer, each row
-// moved down over the filter bytes before it, so the buffer becomes the texels without
-// a second copy; the other kinds are unfiltered row by row and spread to three bytes a
-// texel. The stream's Adler-32 is summed row by row just before each row is unfiltered
-// (one pass over the buffer for both, where a separate sum would read all of it from
-// memory once more).
+// CRCs unread, ancillary chunks skipped); the IDAT chunks' data is inflated by
+// libdeflate into one buffer of the filtered rows: from the file's own bytes when there
+// is one chunk, piece by piece when each chunk ends in a sync flush, else strung
+// together. An RGB image is unfiltered in that buffer, each row moved down over the
+// filter bytes before it, so the buffer becomes the texels without a second copy; the
+// other kinds are unfiltered row by row and spread to three bytes a texel. The stream's
+// Adler-32 is summed row by row just before each row is unfiltered (one pass over the
+// buffer for both, where a separate sum would read all of it from memory once more).
 #include "png_read.h"
 
 #include <libdeflate.h>
