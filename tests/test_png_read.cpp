@@ -63,6 +63,11 @@ std::string png_filtered(int w, int h, int colour, const std::vector<unsigned ch
     return out;
 }
 
+std::uint32_t be32_of(const std::string& s, std::size_t at) {
+    const auto b = [&](std::size_t k) { return std::uint32_t(std::uint8_t(s[at + k])); };
+    return b(0) << 24 | b(1) << 16 | b(2) << 8 | b(3);
+}
+
 // Bytes that look like a picture: gradients, edges and noise, so every filter has work.
 std::vector<unsigned char> pattern(std::size_t n, unsigned seed, unsigned modulo = 256) {
     std::vector<unsigned char> v(n);
@@ -155,6 +160,152 @@ TEST_CASE("png reader: the renderer's own PNGs (strips of sync-flushed streams, 
     auto got = read_png8(png, rw, rh);
     REQUIRE(bool(got));
     CHECK(std::memcmp(got.get(), rgb.data(), rgb.size()) == 0);
+}
+
+// The zlib stream of a PNG made by png_filtered (its IDAT chunks' data strung
+// together) made again into IDAT chunks of `idat` bytes.
+std::string with_stream(int w, int h, int colour, const std::string& z, std::size_t idat) {
+    std::string out = "\x89PNG\r\n\x1a\n";
+    png_chunk(out, "IHDR", png_ihdr(std::uint32_t(w), std::uint32_t(h), 8, colour));
+    for (std::size_t at = 0; at < z.size(); at += idat) png_chunk(out, "IDAT", z.substr(at, idat));
+    png_chunk(out, "IEND", "");
+    return out;
+}
+
+TEST_CASE("png reader: the stream's header and Adler-32 are checked, in one IDAT or many, for every kind of row") {
+    for (int colour : {0, 2, 4, 6}) {
+        CAPTURE(colour);
+        const int w = 11, h = 6;
+        const std::vector<unsigned char> px = pattern(std::size_t(w * h * channels(colour)), unsigned(colour) + 20);
+        const std::string one = png_filtered(w, h, colour, px, 1, 1u << 20);
+        // The stream: the single IDAT's data (after the signature, IHDR and the chunk's
+        // length and type; before its CRC, IEND's 12 bytes).
+        const std::string z = one.substr(8 + 25 + 8, one.size() - (8 + 25 + 8) - 4 - 12);
+        for (std::size_t idat : {std::size_t(1) << 20, std::size_t(9)}) {
+            CAPTURE(idat);
+            int rw = 0, rh = 0;
+            same_as_stb(with_stream(w, h, colour, z, idat));
+            // Any bit of the Adler-32 wrong: left to stb_image (which does not look).
+            for (std::size_t k = z.size() - 4; k < z.size(); ++k) {
+                std::string bad = z;
+                bad[k] = char(bad[k] ^ 0x10);
+                CHECK_FALSE(bool(read_png8(with_stream(w, h, colour, bad, idat), rw, rh)));
+            }
+            // Without its Adler-32, or with part of it: left too.
+            for (std::size_t cut : {1, 4})
+                CHECK_FALSE(bool(read_png8(with_stream(w, h, colour, z.substr(0, z.size() - cut), idat), rw, rh)));
+            // Bytes after it are not looked at (as libdeflate's zlib reader did).
+            CHECK(bool(read_png8(with_stream(w, h, colour, z + "junk", idat), rw, rh)));
+            // A preset dictionary (its check bits made right), a window over 32 KB, a
+            // method other than deflate, wrong check bits: left.
+            const auto header = [&](unsigned cmf, unsigned flg) {
+                flg = (flg & ~31u) | (31 - (cmf * 256 + (flg & ~31u)) % 31) % 31;
+                std::string other = z;
+                other[0] = char(cmf), other[1] = char(flg);
+                return with_stream(w, h, colour, other, idat);
+            };
+            CHECK(bool(read_png8(header(0x78, 0x80), rw, rh)));  // another level: taken
+            CHECK_FALSE(bool(read_png8(header(0x78, 0x20), rw, rh)));
+            CHECK_FALSE(bool(read_png8(header(0x88, 0x00), rw, rh)));
+            CHECK_FALSE(bool(read_png8(header(0x77, 0x00), rw, rh)));
+            std::string check = z;
+            check[1] = char(check[1] ^ 1);
+            CHECK_FALSE(bool(read_png8(with_stream(w, h, colour, check, idat), rw, rh)));
+        }
+    }
+}
+
+// The filtered rows `raw` as a zlib stream in parts: deflated at `level`, each part
+// but the last ended by `flush` (Z_SYNC_FLUSH or Z_FULL_FLUSH), each part an IDAT chunk.
+std::string png_parts(int w, int h, const std::string& raw, const std::vector<std::size_t>& cuts, int flush,
+                      int level = 6) {
+    z_stream zs{};
+    REQUIRE(deflateInit(&zs, level) == Z_OK);
+    std::vector<std::string> parts;
+    std::size_t from = 0;
+    for (std::size_t k = 0; k <= cuts.size(); ++k) {
+        const std::size_t to = k < cuts.size() ? cuts[k] : raw.size();
+        std::string part(deflateBound(&zs, uLong(to - from)) + 64, '\0');
+        zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(raw.data() + from));
+        zs.avail_in = uInt(to - from);
+        zs.next_out = reinterpret_cast<Bytef*>(&part[0]);
+        zs.avail_out = uInt(part.size());
+        const int rc = deflate(&zs, k < cuts.size() ? flush : Z_FINISH);
+        REQUIRE((rc == Z_OK || rc == Z_STREAM_END || rc == Z_BUF_ERROR));  // (the last: an empty part flushed again)
+        part.resize(part.size() - zs.avail_out);
+        parts.push_back(part);
+        from = to;
+    }
+    deflateEnd(&zs);
+    std::string out = "\x89PNG\r\n\x1a\n";
+    png_chunk(out, "IHDR", png_ihdr(std::uint32_t(w), std::uint32_t(h), 8, 2));
+    for (const std::string& part : parts) png_chunk(out, "IDAT", part);
+    png_chunk(out, "IEND", "");
+    return out;
+}
+
+// Rows of filter type 0 (none) holding `px`, w RGB pixels each.
+std::string unfiltered_rows(int w, int h, const std::vector<unsigned char>& px) {
+    std::string raw;
+    for (int y = 0; y < h; ++y) {
+        raw += '\0';
+        raw.append(reinterpret_cast<const char*>(px.data()) + std::size_t(y) * w * 3, std::size_t(w) * 3);
+    }
+    return raw;
+}
+
+TEST_CASE("png reader: chunks ending in sync flushes inflated piece by piece, or strung together where they cannot be") {
+    const int w = 40, h = 30;
+    const std::size_t line = std::size_t(w) * 3 + 1;
+    // Smooth (each piece's copy fits after the output so far), and noise (it does not:
+    // strung together).
+    std::vector<unsigned char> px(std::size_t(w) * h * 3), noise = pattern(px.size(), 31);
+    for (std::size_t i = 0; i < px.size(); ++i) px[i] = static_cast<unsigned char>(i / 3 % 40 + i / 360);
+    for (const std::vector<unsigned char>* p : {&px, &noise}) {
+        // The pieces independent (a full flush forgets the window).
+        same_as_stb(png_parts(w, h, unfiltered_rows(w, h, *p), {line * 7, line * 19}, Z_FULL_FLUSH));
+        // Empty chunks (no flush at their end: strung together), and cuts in the middle
+        // of a row with a last piece too small to leave room for the copy of the one
+        // before it (strung together too).
+        same_as_stb(png_parts(w, h, unfiltered_rows(w, h, *p), {0, 5, 5, line * 29 + 3}, Z_FULL_FLUSH));
+        same_as_stb(png_parts(w, h, unfiltered_rows(w, h, *p), {5, line * 29 + 3}, Z_FULL_FLUSH));
+    }
+    px = pattern(px.size(), 31);
+    // The same rows over again: after a sync flush, the second piece copies from the
+    // first (its window is kept), which a piece alone cannot; strung together instead.
+    std::vector<unsigned char> twice(px.begin(), px.begin() + std::ptrdiff_t(px.size() / 2));
+    twice.insert(twice.end(), twice.begin(), twice.end());
+    same_as_stb(png_parts(w, h, unfiltered_rows(w, h, twice), {line * 15}, Z_SYNC_FLUSH));
+    // Stored blocks whose data holds "00 00 ff ff" where a chunk ends, not a flush: the
+    // piece would read on past it, and is not taken.
+    {
+        std::vector<unsigned char> marks(px.size(), 0);
+        for (std::size_t i = 0; i + 4 <= marks.size(); i += 40) marks[i + 2] = marks[i + 3] = 0xff;
+        const std::string raw = unfiltered_rows(w, h, marks);
+        std::string png = png_parts(w, h, raw, {}, Z_FULL_FLUSH, 0);
+        const std::size_t data = 8 + 25 + 8;  // the one IDAT's data
+        const std::size_t len = be32_of(png, 8 + 25);
+        const std::string z = png.substr(data, len);
+        // Cut after a "00 00 ff ff" of the pixels, well inside the stored block.
+        const std::size_t cut = z.find(std::string("\0\0\xff\xff", 4), 200) + 4;
+        REQUIRE(cut < z.size() - 100);
+        std::string split = "\x89PNG\r\n\x1a\n";
+        png_chunk(split, "IHDR", png_ihdr(std::uint32_t(w), std::uint32_t(h), 8, 2));
+        png_chunk(split, "IDAT", z.substr(0, cut));
+        png_chunk(split, "IDAT", z.substr(cut));
+        png_chunk(split, "IEND", "");
+        same_as_stb(split);
+    }
+    // In pieces too, a wrong Adler-32 or none: left to stb_image.
+    {
+        const std::string good = png_parts(w, h, unfiltered_rows(w, h, px), {line * 10}, Z_FULL_FLUSH);
+        const std::size_t adler = good.size() - 12 - 4 - 4;  // the last IDAT's last 4 data bytes
+        std::string bad = good;
+        bad[adler + 3] = char(bad[adler + 3] ^ 1);
+        int rw = 0, rh = 0;
+        REQUIRE(bool(read_png8(good, rw, rh)));
+        CHECK_FALSE(bool(read_png8(bad, rw, rh)));
+    }
 }
 
 TEST_CASE("png reader: what it leaves to stb_image, which decodes or refuses it as before") {
