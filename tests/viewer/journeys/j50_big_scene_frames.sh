@@ -3,8 +3,8 @@
 # processor renders. The user starts the viewer on a 160,000-sphere grid
 # (bench/make-grid.sh), rests the pointer on the picture while it renders, opens
 # Ctrl+O and types a 40-character path.
-# Checks: the window shows its first frame, with the load's progress, within 1 s
-# (while the file still loads); while the picture renders under the pointer, the
+# Checks: the window shows its first frame, with the load's progress, while the file
+# still loads, within 1.5 s; while the picture renders under the pointer, the
 # window shows at least 4 new frames a second (counted on the screen by
 # rtview-xframes: the picture's changes), each repainting only a small part of the
 # window (the software rasteriser's cost is per pixel painted: a whole frame took
@@ -34,13 +34,16 @@ wait "$XF"
 first=$(awk -v l="${launched/,/.}" '$1 == "start" { s = $2 } $2 == "change" { printf "%.3f\n", s + $1 - l; exit }' "$OUT/first-frame.txt")
 echo "first frame on the screen $first s after the start; load: $(state load)"
 [ -n "$first" ] || fail "nothing was drawn in 4 s"
-[ "$(echo "$first < 1" | bc)" = 1 ] || fail "the first frame came $first s after the start"
 shot 1-first-frames
 # The first frame drawn, as it showed: the load going on, and its progress.
 first_block=$(awk '$1 == "end-layout" { exit } { print }' "$LAYOUT")
 echo "$first_block" | grep -q '^state load loading$' || fail "the first frame came after the load"
 echo "$first_block" | grep -Eq '^state status_bar .*(Reading|Parsing|Building|Opening)' ||
     fail "the first frame shows no progress: $(echo "$first_block" | grep '^state status_bar')"
+# And soon: 0.36-0.41 s here beside two busy processes and a test suite; in one of seven
+# such suite runs the scheduler made it 1.19 s. A window black until the load ends
+# (the defect) shows its first frame after 2 s or more.
+[ "$(echo "$first < 1.5" | bc)" = 1 ] || fail "the first frame came $first s after the start"
 wait_state load "^ready$" 120
 
 step "the picture renders under the pointer: frames on the screen"
