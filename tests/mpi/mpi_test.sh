@@ -47,7 +47,12 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 mpirun_np() { local np=$1; shift; timeout 120 "$MPIEXEC" "${MPI_FLAGS[@]}" -np "$np" "$@"; }
 
 TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
+# Each job's Open MPI session directory in a folder of this test's own: two jobs started
+# at once (ctest -j2) raced to make the shared /tmp/ompi.HOST.UID ("mkdir ... File
+# exists", orte_init failed), once in some 400 runs.
+SESSION=$(mktemp -d)
+trap 'rm -rf "$TMP" "$SESSION"' EXIT
+export TMPDIR=$SESSION
 
 mode=${1:-}
 shift || true
