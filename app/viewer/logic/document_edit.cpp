@@ -466,10 +466,12 @@ std::string Document::edit_blocker() const {
         blocker_key_ = key;
         blocker_.clear();
         blocker_pending_ = false;
-        if (*applied_ != editor_ && editor_.size() >= kSyncParseBytes) {
+        if (*applied_ == editor_) {
+            // (No draft: edits go into the text of the scene.)
+        } else if (editor_.size() >= kSyncParseBytes) {
             blocker_pending_ = true;
             blocker_ = "The scene text's unapplied changes are being checked: a moment";
-        } else if (*applied_ != editor_) {
+        } else {
             take_blocker(key, rt::parse_scene(editor_, parse_options(path_)).ok());
         }
     }

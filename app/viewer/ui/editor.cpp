@@ -287,7 +287,6 @@ void DocumentEditor::finish_apply() {
     if (!apply_.valid() || !apply_.ready()) return;
     auto [key, parsed] = apply_.get();
     if (doc_.path() != apply_path_) return;
-
     if (std::optional<bool> ok = doc_.finish_apply(key, std::move(parsed))) applied(*ok);
     else apply();
 }
